@@ -1,0 +1,39 @@
+# Finds every third-party dependency from Debian 12 packages and defines imported targets for the ones
+# whose packaging is incomplete (nifticlib, imgui backends, epoxy/egl).
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(ZLIB REQUIRED)
+find_package(PNG REQUIRED)
+find_package(glm REQUIRED)
+if(NOT TARGET glm::glm)
+  add_library(glm::glm INTERFACE IMPORTED)
+endif()
+
+# Debian 12's NIFTIConfig.cmake is broken: locate nifticlib by hand. libnifti2 reads NIfTI-1 and NIfTI-2.
+find_path(NIFTI_INCLUDE_DIR nifti2_io.h PATH_SUFFIXES nifti REQUIRED)
+find_library(NIFTI2_LIBRARY nifti2 REQUIRED)
+find_library(ZNZ_LIBRARY znz REQUIRED)
+add_library(dtf_nifti INTERFACE)
+target_include_directories(dtf_nifti SYSTEM INTERFACE ${NIFTI_INCLUDE_DIR})
+target_link_libraries(dtf_nifti INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB::ZLIB m)
+
+find_package(VTK 9 REQUIRED COMPONENTS
+  CommonCore CommonDataModel CommonExecutionModel FiltersCore FiltersGeneral FiltersModeling
+  FiltersSources FiltersGeometry IOGeometry IOPLY IOLegacy IOXML ImagingCore)
+
+find_package(CGAL REQUIRED)
+
+pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
+pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
+find_package(glfw3 REQUIRED)
+
+# Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
+pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")
+if(NOT EXISTS ${DTF_IMGUI_BACKENDS_DIR}/imgui_impl_glfw.cpp)
+  message(FATAL_ERROR "imgui backend sources not found in ${DTF_IMGUI_BACKENDS_DIR} (package libimgui-dev)")
+endif()
+
+if(DTF_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

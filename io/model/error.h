@@ -1,0 +1,38 @@
+// Error types shared by every module. User, data and environment problems throw a type derived from
+// dtf::Error; callers add context on the way up ("while reading tensor volume X: ...") and the app prints
+// the whole chain (CLI) or shows it in a modal (GUI).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace dtf {
+
+// Base of all product errors. what() holds the full message chain, outermost context first.
+class Error : public std::runtime_error {
+public:
+  explicit Error(const std::string& msg) : std::runtime_error(msg) {}
+};
+
+// Bad input data or files (CLI exit code 2).
+class InputError : public Error {
+public:
+  using Error::Error;
+};
+
+// Bad command-line usage (CLI exit code 1).
+class UsageError : public Error {
+public:
+  using Error::Error;
+};
+
+// GL context, shader or GPU-memory failure (CLI exit code 3).
+class GlError : public Error {
+public:
+  using Error::Error;
+};
+
+// Rethrows the active exception with `context` prepended, keeping its type. Call inside a catch block.
+[[noreturn]] void rethrowWithContext(const std::string& context);
+
+} // namespace dtf

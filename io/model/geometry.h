@@ -1,0 +1,30 @@
+// Geometry passed between surfaces, tracts and render: triangle meshes and polylines in world RAS mm.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace dtf {
+
+struct Mesh {
+  std::vector<glm::vec3> positions; // world RAS mm
+  std::vector<glm::vec3> normals;   // unit, per vertex (may be empty until computed)
+  std::vector<std::uint32_t> indices; // 3 per triangle, counter-clockwise seen from outside
+
+  std::size_t triangleCount() const { return indices.size() / 3; }
+  bool empty() const { return indices.empty(); }
+  // Area-weighted vertex normals from the triangles.
+  void computeNormals();
+  void bounds(glm::vec3& lo, glm::vec3& hi) const;
+};
+
+struct Polylines {
+  std::vector<glm::vec3> points;       // world RAS mm, all lines concatenated
+  std::vector<std::uint32_t> offsets;  // start of each line in `points`, plus a final entry = points.size()
+
+  std::size_t lineCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+} // namespace dtf

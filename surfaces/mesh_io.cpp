@@ -1,0 +1,101 @@
+#include "surfaces/mesh_io.h"
+
+#include "io/model/error.h"
+#include "surfaces/detail/vtk_convert.h"
+
+#include <vtkAlgorithm.h>
+#include <vtkExecutive.h>
+#include <vtkNew.h>
+#include <vtkOBJReader.h>
+#include <vtkOBJWriter.h>
+#include <vtkPLYReader.h>
+#include <vtkPLYWriter.h>
+#include <vtkPolyDataReader.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace dtf::surfaces {
+
+namespace {
+std::string lowerExt(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e;
+}
+} // namespace
+
+Mesh readMesh(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
+  std::string ext = lowerExt(path);
+  vtkSmartPointer<vtkPolyData> poly;
+  auto run = [&](auto reader) {
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    poly = reader->GetOutput();
+  };
+  if (ext == ".ply") run(vtkSmartPointer<vtkPLYReader>::New());
+  else if (ext == ".obj") run(vtkSmartPointer<vtkOBJReader>::New());
+  else if (ext == ".vtp") run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
+  else if (ext == ".vtk") {
+    auto r = vtkSmartPointer<vtkPolyDataReader>::New();
+    r->SetFileName(path.c_str());
+    if (!r->IsFilePolyData()) throw InputError("cannot read mesh " + path + ": not a legacy VTK POLYDATA file");
+    r->Update();
+    poly = r->GetOutput();
+  } else {
+    throw InputError("cannot read mesh " + path + ": unknown extension (use .ply, .obj, .vtk or .vtp)");
+  }
+  Mesh m = detail::fromVtk(poly);
+  if (m.empty()) throw InputError("cannot read mesh " + path + ": the file holds no triangles");
+  for (auto i : m.indices)
+    if (i >= m.positions.size()) throw InputError("cannot read mesh " + path + ": triangle index out of range");
+  return m;
+}
+
+void writeMesh(const std::string& path, const Mesh& mesh) {
+  std::string ext = lowerExt(path);
+  fs::path p(path);
+  fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::string temp = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
+  auto poly = detail::toVtk(mesh);
+  int ok = 0;
+  if (ext == ".ply") {
+    vtkNew<vtkPLYWriter> w;
+    w->SetFileName(temp.c_str());
+    w->SetInputData(poly);
+    w->SetFileTypeToBinary();
+    ok = w->Write();
+  } else if (ext == ".vtp") {
+    vtkNew<vtkXMLPolyDataWriter> w;
+    w->SetFileName(temp.c_str());
+    w->SetInputData(poly);
+    ok = w->Write();
+  } else if (ext == ".obj") {
+    vtkNew<vtkOBJWriter> w;
+    w->SetFileName(temp.c_str());
+    w->SetInputData(poly);
+    ok = w->Write();
+  } else {
+    throw InputError("cannot write mesh " + path + ": unknown extension (use .ply, .vtp or .obj)");
+  }
+  std::error_code ec;
+  if (!ok || !fs::exists(temp, ec)) {
+    fs::remove(temp, ec);
+    throw InputError("cannot write mesh " + path);
+  }
+  fs::rename(temp, path, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw InputError("cannot write mesh " + path + ": " + ec.message());
+  }
+}
+
+} // namespace dtf::surfaces

@@ -1,0 +1,1 @@
+# Tests of the fit area (dtf_test(...) lines).

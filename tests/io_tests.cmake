@@ -1,0 +1,1 @@
+# Tests of the io area (dtf_test(...) lines).

@@ -1,0 +1,1 @@
+# Tests of the render area (dtf_test(...) lines).

@@ -1,0 +1,1 @@
+# Tests of the surfaces area (dtf_test(...) lines).
