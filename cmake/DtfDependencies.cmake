@@ -19,7 +19,7 @@ target_link_libraries(dtf_nifti INTERFACE ${NIFTI2_LIBRARY} ${ZNZ_LIBRARY} ZLIB:
 
 find_package(VTK 9 REQUIRED COMPONENTS
   CommonCore CommonDataModel CommonExecutionModel FiltersCore FiltersGeneral FiltersModeling
-  FiltersSources FiltersGeometry IOGeometry IOPLY IOLegacy IOXML ImagingCore)
+  FiltersSources FiltersGeometry IOGeometry IOPLY IOLegacy IOXML ImagingCore ImagingGeneral)
 
 find_package(CGAL REQUIRED)
 
