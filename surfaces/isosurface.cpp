@@ -1,5 +1,6 @@
 #include "surfaces/isosurface.h"
 
+#include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
 #include <vtkCleanPolyData.h>
@@ -15,32 +16,79 @@
 #include <vtkWindowedSincPolyDataFilter.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace dtf::surfaces {
 
-Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const IsosurfaceOptions& options) {
-  const glm::ivec3 d = volume.grid.dims;
-  if (d.x < 2 || d.y < 2 || d.z < 2) return {};
-  // Extract in voxel-index space (origin 0, spacing 1) and map to world afterwards: VTK's filters ignore
-  // an image's direction matrix, and this keeps oblique and LAS affines exact.
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(d.x, d.y, d.z);
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetNumberOfTuples(static_cast<vtkIdType>(volume.grid.voxelCount()));
-  for (std::size_t i = 0; i < volume.grid.voxelCount(); ++i)
-    scalars->SetValue(static_cast<vtkIdType>(i), volume.data[i * volume.components]);
-  image->GetPointData()->SetScalars(scalars);
+struct IsosurfaceSweeper::Impl {
+  vtkSmartPointer<vtkImageData> image; // prepared volume, index space (padded by one voxel when closing)
+  glm::dmat4 voxelToWorld{1.0};
+  IsosurfaceOptions options;
+};
 
-  vtkNew<vtkFlyingEdges3D> contour;
-  vtkNew<vtkImageGaussianSmooth> smooth;
-  if (options.smoothSigmaVoxels > 0) {
-    smooth->SetInputData(image);
-    smooth->SetStandardDeviations(options.smoothSigmaVoxels, options.smoothSigmaVoxels, options.smoothSigmaVoxels);
-    smooth->SetRadiusFactors(2.5, 2.5, 2.5);
-    contour->SetInputConnection(smooth->GetOutputPort());
-  } else {
-    contour->SetInputData(image);
+IsosurfaceSweeper::IsosurfaceSweeper(const ScalarVolume& volume, const IsosurfaceOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->options.mask = nullptr; // only used here
+  impl_->voxelToWorld = volume.grid.voxelToWorld;
+  const glm::ivec3 d = volume.grid.dims;
+  const std::size_t n = volume.grid.voxelCount();
+  if (d.x < 2 || d.y < 2 || d.z < 2) return;
+  if (options.mask && options.mask->grid.dims != d)
+    throw InputError("isosurface mask and volume have different dimensions");
+  // The outside value: the minimum when the object holds high values, else the maximum.
+  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+  for (std::size_t i = 0; i < n; ++i) {
+    float v = volume.data[i * volume.components];
+    if (std::isfinite(v)) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
   }
+  if (lo > hi) lo = hi = 0;
+  const float outside = options.insideIsLow ? hi : lo;
+  // Extract in voxel-index space and map to world afterwards: VTK's filters ignore an image's direction
+  // matrix, and this keeps oblique and LAS affines exact. Padding sits at index -1 and d.
+  const int pad = options.closeAtBorder ? 1 : 0;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(d.x + 2 * pad, d.y + 2 * pad, d.z + 2 * pad);
+  image->SetOrigin(-pad, -pad, -pad);
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetNumberOfTuples(image->GetNumberOfPoints());
+  scalars->FillValue(outside);
+  for (int k = 0; k < d.z; ++k)
+    for (int j = 0; j < d.y; ++j)
+      for (int i = 0; i < d.x; ++i) {
+        std::size_t src = volume.grid.index(i, j, k);
+        float v = volume.data[src * volume.components];
+        if (!std::isfinite(v) || (options.mask && options.mask->data[src] == 0)) v = outside;
+        vtkIdType dst = (i + pad) + static_cast<vtkIdType>(d.x + 2 * pad) *
+                                        ((j + pad) + static_cast<vtkIdType>(d.y + 2 * pad) * (k + pad));
+        scalars->SetValue(dst, v);
+      }
+  image->GetPointData()->SetScalars(scalars);
+  if (options.smoothSigmaVoxels > 0) {
+    vtkNew<vtkImageGaussianSmooth> smooth;
+    smooth->SetInputData(image);
+    const double s = options.smoothSigmaVoxels;
+    smooth->SetStandardDeviations(s, s, s);
+    smooth->SetRadiusFactors(2.5, 2.5, 2.5);
+    smooth->Update();
+    image = smooth->GetOutput();
+  }
+  impl_->image = image;
+}
+
+IsosurfaceSweeper::~IsosurfaceSweeper() = default;
+IsosurfaceSweeper::IsosurfaceSweeper(IsosurfaceSweeper&&) noexcept = default;
+IsosurfaceSweeper& IsosurfaceSweeper::operator=(IsosurfaceSweeper&&) noexcept = default;
+
+Mesh IsosurfaceSweeper::extract(double isovalue) const {
+  if (!impl_ || !impl_->image) return {};
+  const IsosurfaceOptions& options = impl_->options;
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(impl_->image);
   contour->SetValue(0, isovalue);
   contour->ComputeNormalsOn(); // from the volume gradient: smoother than face normals
   contour->ComputeScalarsOff();
@@ -91,20 +139,25 @@ Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const Isosur
   Mesh m = detail::fromVtk(poly);
   // Map index space to world: positions by the affine, normals by its inverse transpose. A reflecting
   // affine (LAS) reverses the triangles' winding, so swap two indices to keep counter-clockwise = front.
-  const glm::dmat4& a = volume.grid.voxelToWorld;
+  const glm::dmat4& a = impl_->voxelToWorld;
   const glm::dmat3 nmat = glm::transpose(glm::inverse(glm::dmat3(a)));
   for (auto& p : m.positions) p = glm::vec3(a * glm::dvec4(glm::dvec3(p), 1.0));
-  const float sign = options.flipNormals ? -1.0f : 1.0f;
-  for (auto& n : m.normals) {
-    glm::vec3 w = glm::vec3(nmat * glm::dvec3(n));
+  // VTK's gradient normals point towards lower values: out of a high-valued object.
+  const float sign = options.insideIsLow ? -1.0f : 1.0f;
+  for (auto& nrm : m.normals) {
+    glm::vec3 w = glm::vec3(nmat * glm::dvec3(nrm));
     float l = glm::length(w);
-    n = sign * (l > 0 ? w / l : glm::vec3(0, 0, 1));
+    nrm = sign * (l > 0 ? w / l : glm::vec3(0, 0, 1));
   }
   bool flipWinding = glm::determinant(glm::dmat3(a)) < 0;
-  if (options.flipNormals) flipWinding = !flipWinding;
+  if (options.insideIsLow) flipWinding = !flipWinding;
   if (flipWinding)
     for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
   return m;
+}
+
+Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const IsosurfaceOptions& options) {
+  return IsosurfaceSweeper(volume, options).extract(isovalue);
 }
 
 } // namespace dtf::surfaces

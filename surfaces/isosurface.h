@@ -1,20 +1,44 @@
 // Scalar isosurfaces (FA, the phantoms' implicit functions) as triangle meshes in world RAS mm, through
-// VTK's flying edges with optional pre-smoothing, small-component removal and consistent outward normals.
+// VTK's flying edges (multithreaded) with optional masking, pre-smoothing, closing at the volume border,
+// small-component removal and volume-preserving mesh smoothing.
 #pragma once
 
 #include "io/model/geometry.h"
 #include "io/model/volume.h"
 
+#include <memory>
+
 namespace dtf::surfaces {
 
 struct IsosurfaceOptions {
-  double smoothSigmaVoxels = 0.0;   // Gaussian pre-smoothing of the volume (0 = none)
-  int meshSmoothIterations = 0;     // windowed-sinc smoothing of the mesh (volume preserving; 0 = none)
-  double minComponentFraction = 0;  // drop connected components with fewer triangles than this fraction of the largest
-  bool flipNormals = false;         // normals point towards lower values by default; flip for "outward" of a low-valued inside
+  double smoothSigmaVoxels = 0.0;  // Gaussian pre-smoothing of the volume (0 = none); done once per sweeper
+  int meshSmoothIterations = 0;    // windowed-sinc smoothing of the mesh (volume preserving; 0 = none)
+  double minComponentFraction = 0; // drop components with fewer triangles than this fraction of the largest
+  bool closeAtBorder = true;       // pad with the outside value so surfaces cut by the border are closed
+  bool insideIsLow = false;        // the object is where values are BELOW the isovalue (distance fields);
+                                   // default: above it (FA). Normals point out of the object either way.
+  const MaskVolume* mask = nullptr; // voxels with mask == 0 take the outside value
 };
 
-// Extracts the isovalue surface of component 0. Returns an empty mesh when the level is never crossed.
+// Holds the prepared (masked, smoothed, padded) volume so that a new isovalue costs one contouring pass:
+// the FA threshold slider re-extracts through this.
+class IsosurfaceSweeper {
+public:
+  IsosurfaceSweeper(const ScalarVolume& volume, const IsosurfaceOptions& options = {});
+  ~IsosurfaceSweeper();
+  IsosurfaceSweeper(IsosurfaceSweeper&&) noexcept;
+  IsosurfaceSweeper& operator=(IsosurfaceSweeper&&) noexcept;
+
+  // The isosurface at `isovalue` in world RAS mm. Empty when the level is never crossed. Thread-compatible:
+  // one extraction at a time per sweeper.
+  Mesh extract(double isovalue) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One-off extraction of component 0 (same as IsosurfaceSweeper(volume, options).extract(isovalue)).
 Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const IsosurfaceOptions& options = {});
 
 } // namespace dtf::surfaces

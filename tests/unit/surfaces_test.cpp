@@ -43,7 +43,7 @@ TEST_P(SphereIso, RadiusNormalsAndWindingInWorldSpace) {
   const double sx = GetParam(); // -1 for a LAS affine
   ScalarVolume v = sphereDistance(affine(sx, 1, 1, n), n);
   surfaces::IsosurfaceOptions o;
-  o.flipNormals = true; // distance grows outward, so flip VTK's towards-lower-values normals
+  o.insideIsLow = true; // distance grows outward
   Mesh m = surfaces::extractIsosurface(v, 12.0, o);
   ASSERT_GT(m.triangleCount(), 1000u);
   ASSERT_EQ(m.normals.size(), m.positions.size());
@@ -59,6 +59,29 @@ TEST_P(SphereIso, RadiusNormalsAndWindingInWorldSpace) {
   EXPECT_NEAR(signedVolume(m), 4.0 / 3.0 * M_PI * 1728.0, 0.02 * 4.0 / 3.0 * M_PI * 1728.0);
 }
 INSTANTIATE_TEST_SUITE_P(Affines, SphereIso, ::testing::Values(1.0, -1.0));
+
+TEST(Isosurface, ClosedAtTheBorderAndMasked) {
+  // A slab of high values touching two faces of the grid: closing at the border caps it.
+  const int n = 12;
+  ScalarVolume v(Grid::fromAffine({n, n, n}, glm::dmat4(1.0)), 1);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) v.at(i, j, k) = (j >= 3 && j <= 8 && k >= 3 && k <= 8) ? 1.0f : 0.0f;
+  surfaces::IsosurfaceOptions open;
+  open.closeAtBorder = false;
+  Mesh closed = surfaces::extractIsosurface(v, 0.5);
+  Mesh opened = surfaces::extractIsosurface(v, 0.5, open);
+  EXPECT_GT(closed.triangleCount(), opened.triangleCount());
+  EXPECT_GT(signedVolume(closed), 0.9 * 12 * 6 * 6); // a closed box of about 12 x 6 x 6 (plus the caps)
+  MaskVolume mask(v.grid, 1, 0);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < 6; ++i) mask.at(i, j, k) = 1;
+  surfaces::IsosurfaceOptions masked;
+  masked.mask = &mask;
+  Mesh half = surfaces::extractIsosurface(v, 0.5, masked);
+  for (const auto& p : half.positions) EXPECT_LT(p.x, 6.0f);
+}
 
 TEST(Isosurface, NoCrossingGivesEmptyMesh) {
   ScalarVolume v = sphereDistance(affine(1, 1, 1, 10), 10);
