@@ -1,1 +1,391 @@
-// placeholder: implemented by the io work
+// NIfTI-1/NIfTI-2 reading and writing through nifticlib's nifti2 API (which reads both versions, .nii and
+// .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
+#include "io/tensor_io.h"
+
+#include "io/atomic_file.h"
+#include "io/model/error.h"
+
+#include <nifti2_io.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace dtf::io {
+
+const char* layoutName(TensorLayout l) {
+  switch (l) {
+  case TensorLayout::Auto: return "auto";
+  case TensorLayout::Fsl: return "fsl";
+  case TensorLayout::Mrtrix: return "mrtrix";
+  case TensorLayout::Symmatrix: return "symmatrix";
+  case TensorLayout::Dtitk: return "dtitk";
+  }
+  return "unknown";
+}
+
+TensorLayout parseLayout(const std::string& name) {
+  for (TensorLayout l : {TensorLayout::Auto, TensorLayout::Fsl, TensorLayout::Mrtrix, TensorLayout::Symmatrix,
+                         TensorLayout::Dtitk})
+    if (name == layoutName(l)) return l;
+  throw UsageError("unknown tensor layout '" + name + "' (expected fsl, mrtrix, symmatrix, dtitk or auto)");
+}
+
+namespace {
+
+// More voxels than this (all dimensions multiplied) is refused before anything is allocated.
+constexpr long long kMaxElements = 1LL << 31;
+// sform/qform disagreement thresholds: translation/scale in mm, rotation as matrix entries.
+constexpr double kAffineTolMm = 1e-3;
+constexpr double kAffineTolRot = 1e-4;
+
+struct NimDeleter {
+  void operator()(nifti_image* nim) const { nifti_image_free(nim); }
+};
+using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path + ": " + problem);
+}
+
+void quietNifti() {
+  // nifticlib reports problems on stderr at debug level >= 1; our exceptions carry the message instead.
+  static std::once_flag once;
+  std::call_once(once, [] { nifti_set_debug_level(0); });
+}
+
+bool isSupportedDatatype(int dt) {
+  switch (dt) {
+  case DT_UINT8: case DT_INT8: case DT_INT16: case DT_UINT16: case DT_INT32: case DT_UINT32:
+  case DT_INT64: case DT_UINT64: case DT_FLOAT32: case DT_FLOAT64:
+    return true;
+  default:
+    return false;
+  }
+}
+
+std::string intentText(int code) {
+  // nifticlib's nifti_intent_string() does not know the vector intents used by FSL and DTI tools.
+  switch (code) {
+  case NIFTI_INTENT_SYMMATRIX: return "SYMMATRIX";
+  case NIFTI_INTENT_VECTOR: return "VECTOR";
+  case NIFTI_INTENT_DISPVECT: return "DISPVECT";
+  case 2003: return "RGB_VECTOR";
+  case 2004: return "RGBA_VECTOR";
+  default: break;
+  }
+  const char* s = nifti_intent_string(code);
+  return s ? s : "code " + std::to_string(code);
+}
+
+glm::dmat4 toGlm(const nifti_dmat44& m) {
+  glm::dmat4 g(1.0);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) g[c][r] = m.m[r][c];
+  return g;
+}
+
+nifti_dmat44 fromGlm(const glm::dmat4& g) {
+  nifti_dmat44 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m.m[r][c] = g[c][r];
+  return m;
+}
+
+// Largest difference between two affines' 3x3 blocks after normalising columns (rotation), and between
+// their columns' lengths and translations (mm).
+void affineDifference(const glm::dmat4& a, const glm::dmat4& b, double& mm, double& rot) {
+  mm = rot = 0;
+  for (int c = 0; c < 3; ++c) {
+    glm::dvec3 ca(a[c]), cb(b[c]);
+    double la = glm::length(ca), lb = glm::length(cb);
+    mm = std::max(mm, std::abs(la - lb));
+    if (la > 0 && lb > 0) {
+      glm::dvec3 d = ca / la - cb / lb;
+      rot = std::max({rot, std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    }
+  }
+  glm::dvec3 t = glm::dvec3(a[3]) - glm::dvec3(b[3]);
+  mm = std::max({mm, std::abs(t.x), std::abs(t.y), std::abs(t.z)});
+}
+
+std::string dimsText(const std::vector<long long>& dims) {
+  std::string s;
+  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? "x" : "") + std::to_string(dims[i]);
+  return s;
+}
+
+// The file holding the voxel data: the file named for single-file .nii/.nii.gz (data offset >= 352),
+// nifticlib's image name for a .hdr/.img pair.
+std::string dataFile(const nifti_image* nim, const std::string& path) {
+  return (nim->iname_offset == 0 && nim->iname) ? std::string(nim->iname) : path;
+}
+
+// Reads and checks the header only: dimensions sane and not absurd, datatype convertible, file long
+// enough (uncompressed files). Fills `h`. Throws InputError naming the file.
+NimPtr openHeader(const std::string& path, VolumeHeader& h) {
+  quietNifti();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "file does not exist");
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a NIfTI file");
+  NimPtr nim(nifti_image_read(path.c_str(), 0));
+  if (!nim)
+    fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
+
+  h = VolumeHeader{};
+  h.path = path;
+  // nifti_type reads back as NIfTI-1 for NIfTI-2 files; ask the header reader for the version.
+  int version = 1;
+  if (void* raw = nifti_read_header(path.c_str(), &version, 0)) std::free(raw);
+  h.niftiVersion = version == 2 ? 2 : 1;
+  long long ndim = nim->dim[0];
+  if (ndim < 1 || ndim > 7) fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
+  long long total = 1;
+  for (long long d = 1; d <= ndim; ++d) {
+    long long n = nim->dim[d];
+    h.dims.push_back(n);
+    if (n <= 0) fail(path, "dimension " + std::to_string(d) + " is " + std::to_string(n) + " (must be >= 1)");
+    if (n > kMaxElements || total > kMaxElements / n)
+      fail(path, "dimensions " + dimsText(h.dims) + (d < ndim ? "..." : "") +
+                     " are absurd (more than 2^31 values); refusing to allocate");
+    total *= n;
+  }
+  h.datatype = nim->datatype;
+  const char* dtName = nifti_datatype_to_string(nim->datatype);
+  h.datatypeName = dtName ? dtName : ("code " + std::to_string(nim->datatype));
+  if (!isSupportedDatatype(nim->datatype))
+    fail(path, "unsupported datatype " + h.datatypeName +
+                   " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
+  h.intentCode = nim->intent_code;
+  h.intentName = nim->intent_name;
+  if (h.intentName.empty() && nim->intent_code != 0) h.intentName = intentText(nim->intent_code);
+  h.sclSlope = nim->scl_slope;
+  h.sclInter = nim->scl_inter;
+  h.qformCode = nim->qform_code;
+  h.sformCode = nim->sform_code;
+
+  // Spatial grid: dims 1..3 (missing ones are 1).
+  glm::ivec3 gdims(1);
+  for (int d = 0; d < 3 && d < ndim; ++d) gdims[d] = static_cast<int>(h.dims[static_cast<std::size_t>(d)]);
+  glm::dmat4 affine(1.0);
+  if (nim->sform_code > 0) {
+    affine = toGlm(nim->sto_xyz);
+    h.affineSource = "sform";
+  } else if (nim->qform_code > 0) {
+    affine = toGlm(nim->qto_xyz);
+    h.affineSource = "qform";
+  } else {
+    for (int d = 0; d < 3; ++d) affine[d][d] = nim->pixdim[d + 1] > 0 ? nim->pixdim[d + 1] : 1.0;
+    h.affineSource = "none (pixdim only)";
+    h.warnings.push_back("neither sform nor qform is set: orientation unknown, assuming RAS voxel axes");
+  }
+  if (nim->sform_code > 0 && nim->qform_code > 0) {
+    double mm, rot;
+    affineDifference(toGlm(nim->sto_xyz), toGlm(nim->qto_xyz), mm, rot);
+    if (mm > kAffineTolMm || rot > kAffineTolRot) {
+      std::ostringstream w;
+      w << "sform and qform disagree (by " << mm << " mm, " << rot << " in rotation); using the sform";
+      h.warnings.push_back(w.str());
+    }
+  }
+  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the voxel-to-world affine is singular");
+  h.grid = Grid::fromAffine(gdims, affine);
+
+  if (const std::string file = dataFile(nim.get(), path); !nifti_is_gzfile(file.c_str())) {
+    long long need = static_cast<long long>(nim->iname_offset) + total * nim->nbyper;
+    long long have = nifti_get_filesize(file.c_str());
+    if (have < need)
+      fail(path, "file is truncated: " + std::to_string(have) + " bytes, header declares " + std::to_string(need));
+  }
+  return nim;
+}
+
+template <typename T> void convert(const void* src, std::size_t n, float* dst) {
+  const T* s = static_cast<const T*>(src);
+  for (std::size_t i = 0; i < n; ++i) dst[i] = static_cast<float>(s[i]);
+}
+
+// Loads the voxel data as float in disk order (i fastest, then j, k, dim4, ...), scaling applied.
+// The data are read here rather than by nifti_image_load, which re-resolves the file name and reads
+// x.nii when asked for x.nii.gz if both exist.
+std::vector<float> loadData(nifti_image* nim, const std::string& path) {
+  std::size_t n = static_cast<std::size_t>(nim->nvox);
+  std::size_t bytes = n * static_cast<std::size_t>(nim->nbyper);
+  std::vector<unsigned char> raw(bytes);
+  const std::string file = dataFile(nim, path);
+  znzFile fp = znzopen(file.c_str(), "rb", nifti_is_gzfile(file.c_str()));
+  if (znz_isnull(fp)) fail(path, "cannot open the file");
+  // znzseek returns 0 (plain files) or the new offset (gzip); -1 on failure.
+  bool ok = znzseek(fp, static_cast<znz_off_t>(nim->iname_offset), SEEK_SET) >= 0;
+  std::size_t got = ok ? znzread(raw.data(), 1, bytes, fp) : 0;
+  znzclose(fp);
+  if (!ok || got != bytes)
+    fail(path, "cannot read the voxel data: got " + std::to_string(got) + " of " + std::to_string(bytes) +
+                   " bytes (file truncated or corrupt gzip stream)");
+  if (nim->byteorder != nifti_short_order() && nim->swapsize > 1)
+    nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw.data());
+  std::vector<float> out(n);
+  switch (nim->datatype) {
+  case DT_UINT8: convert<std::uint8_t>(raw.data(), n, out.data()); break;
+  case DT_INT8: convert<std::int8_t>(raw.data(), n, out.data()); break;
+  case DT_INT16: convert<std::int16_t>(raw.data(), n, out.data()); break;
+  case DT_UINT16: convert<std::uint16_t>(raw.data(), n, out.data()); break;
+  case DT_INT32: convert<std::int32_t>(raw.data(), n, out.data()); break;
+  case DT_UINT32: convert<std::uint32_t>(raw.data(), n, out.data()); break;
+  case DT_INT64: convert<std::int64_t>(raw.data(), n, out.data()); break;
+  case DT_UINT64: convert<std::uint64_t>(raw.data(), n, out.data()); break;
+  case DT_FLOAT32: convert<float>(raw.data(), n, out.data()); break;
+  case DT_FLOAT64: convert<double>(raw.data(), n, out.data()); break;
+  default: fail(path, "unsupported datatype"); // openHeader already refused these
+  }
+  // NIfTI: slope 0 means "no scaling"; a non-finite slope is treated the same way.
+  double slope = nim->scl_slope, inter = nim->scl_inter;
+  if (slope != 0 && std::isfinite(slope) && std::isfinite(inter) && !(slope == 1 && inter == 0))
+    for (float& v : out) v = static_cast<float>(v * slope + inter);
+  return out;
+}
+
+// Disk order (spatial block per component) -> interleaved per voxel.
+ScalarVolume interleave(const Grid& grid, int comps, const std::vector<float>& disk) {
+  ScalarVolume v(grid, comps);
+  std::size_t nv = grid.voxelCount();
+  for (int c = 0; c < comps; ++c) {
+    const float* src = disk.data() + static_cast<std::size_t>(c) * nv;
+    for (std::size_t i = 0; i < nv; ++i) v.data[i * comps + c] = src[i];
+  }
+  return v;
+}
+
+// Writes float32 data (disk order) with sform and qform (code 1, scanner) from grid.voxelToWorld.
+void writeFloatNifti(const std::string& path, const Grid& grid, const std::vector<long long>& extraDims,
+                     const std::vector<float>& disk, int intentCode, const char* intentName,
+                     const std::string& descrip, int niftiVersion) {
+  quietNifti();
+  bool gz = path.size() > 7 && path.compare(path.size() - 7, 7, ".nii.gz") == 0;
+  bool nii = path.size() > 4 && path.compare(path.size() - 4, 4, ".nii") == 0;
+  if (!gz && !nii) throw InputError("cannot write " + path + ": the name must end in .nii or .nii.gz");
+  if (niftiVersion != 1 && niftiVersion != 2)
+    throw InputError("cannot write " + path + ": NIfTI version must be 1 or 2");
+  int64_t dims[8] = {3, grid.dims.x, grid.dims.y, grid.dims.z, 1, 1, 1, 1};
+  for (std::size_t e = 0; e < extraDims.size() && e < 4; ++e) dims[4 + e] = extraDims[e];
+  for (int d = 7; d > 3; --d)
+    if (dims[d] > 1) {
+      dims[0] = d;
+      break;
+    }
+  for (int d = 1; d <= 7; ++d)
+    if (dims[d] > 32767) niftiVersion = 2; // NIfTI-1 stores dims as int16
+  NimPtr nim(nifti_make_new_nim(dims, DT_FLOAT32, 0));
+  if (!nim) throw InputError("cannot write " + path + ": nifticlib could not create the header");
+
+  AtomicOutput out(path);
+  // nifti_set_filenames picks the file names from the type (single .nii file) and then resets the type
+  // from the names to NIfTI-1, so the type is set before and after.
+  const int type = niftiVersion == 2 ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
+  nim->nifti_type = type;
+  if (nifti_set_filenames(nim.get(), out.tempPath().c_str(), 0, 1) != 0)
+    throw InputError("cannot write " + path + ": nifticlib rejected the file name");
+  nim->nifti_type = type;
+
+  nifti_dmat44 a = fromGlm(grid.voxelToWorld);
+  nim->sform_code = NIFTI_XFORM_SCANNER_ANAT;
+  nim->qform_code = NIFTI_XFORM_SCANNER_ANAT;
+  nim->sto_xyz = a;
+  nim->sto_ijk = nifti_dmat44_inverse(a);
+  double qfac = 1;
+  nifti_dmat44_to_quatern(a, &nim->quatern_b, &nim->quatern_c, &nim->quatern_d, &nim->qoffset_x,
+                          &nim->qoffset_y, &nim->qoffset_z, nullptr, nullptr, nullptr, &qfac);
+  nim->qfac = qfac;
+  nim->qto_xyz = a;
+  nim->qto_ijk = nim->sto_ijk;
+  nim->dx = nim->pixdim[1] = grid.spacing.x;
+  nim->dy = nim->pixdim[2] = grid.spacing.y;
+  nim->dz = nim->pixdim[3] = grid.spacing.z;
+  nim->pixdim[0] = qfac;
+  nim->xyz_units = NIFTI_UNITS_MM;
+  nim->intent_code = intentCode;
+  if (intentName) std::snprintf(nim->intent_name, sizeof(nim->intent_name), "%s", intentName);
+  std::snprintf(nim->descrip, sizeof(nim->descrip), "%s", descrip.c_str());
+  nim->scl_slope = 1;
+  nim->scl_inter = 0;
+  if (niftiVersion == 1) {
+    nim->data = const_cast<float*>(disk.data()); // nifticlib only reads it while writing
+    nifti_image_write(nim.get());
+    nim->data = nullptr;
+  } else {
+    // nifticlib 2.1's nifti_image_write computes a zero data offset for single-file NIfTI-2 and then
+    // overwrites the header with the data; write the converted header, extender and data ourselves.
+    nifti_2_header hdr;
+    if (nifti_convert_nim2n2hdr(nim.get(), &hdr) != 0)
+      throw InputError("cannot write " + path + ": nifticlib could not build the NIfTI-2 header");
+    hdr.vox_offset = sizeof(hdr) + 4;
+    std::memcpy(hdr.magic, "n+2\0\r\n\032\n", 8);
+    znzFile fp = znzopen(out.tempPath().c_str(), "wb", gz ? 1 : 0);
+    if (znz_isnull(fp)) throw InputError("cannot write " + path + ": cannot open the file for writing");
+    const char extender[4] = {0, 0, 0, 0};
+    std::size_t bytes = disk.size() * sizeof(float);
+    bool ok = znzwrite(&hdr, sizeof(hdr), 1, fp) == 1 && znzwrite(extender, 1, 4, fp) == 4 &&
+              znzwrite(disk.data(), 1, bytes, fp) == bytes;
+    ok = (znzclose(fp) == 0) && ok;
+    if (!ok) throw InputError("cannot write " + path + ": write failed (disk full?)");
+  }
+
+  std::error_code ec;
+  auto size = fs::file_size(out.tempPath(), ec);
+  if (ec || size < 348) throw InputError("cannot write " + path + ": nifticlib failed to write the file");
+  if (nii && size < (niftiVersion == 2 ? 544 : 352) + disk.size() * sizeof(float))
+    throw InputError("cannot write " + path + ": the file is incomplete (disk full?)");
+  out.commit();
+}
+
+} // namespace
+
+VolumeHeader readHeader(const std::string& path) {
+  VolumeHeader h;
+  openHeader(path, h);
+  return h;
+}
+
+ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
+  VolumeHeader h;
+  NimPtr nim = openHeader(path, h);
+  long long comps = 1;
+  for (std::size_t d = 3; d < h.dims.size(); ++d) comps *= h.dims[d];
+  std::vector<float> disk = loadData(nim.get(), path);
+  ScalarVolume v = interleave(h.grid, static_cast<int>(comps), disk);
+  if (header) *header = std::move(h);
+  return v;
+}
+
+void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
+  std::size_t nv = v.grid.voxelCount();
+  if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
+    throw InputError("cannot write " + path + ": volume data size does not match its grid");
+  std::vector<float> disk(v.data.size());
+  for (std::size_t i = 0; i < nv; ++i)
+    for (int c = 0; c < v.components; ++c)
+      disk[static_cast<std::size_t>(c) * nv + i] = v.data[i * v.components + c];
+  std::vector<long long> extra;
+  if (v.components > 1) extra.push_back(v.components);
+  writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, "dtfabric", niftiVersion);
+}
+
+// Replaced by the tensor implementation in the next commit; keeps the library linkable meanwhile.
+LoadedTensors readTensorVolume(const std::string& path, TensorLayout) {
+  throw InputError(path + ": tensor reading is not implemented yet");
+}
+void writeTensorVolume(const std::string& path, const TensorField&, TensorLayout, int) {
+  throw InputError("cannot write " + path + ": tensor writing is not implemented yet");
+}
+
+} // namespace dtf::io

@@ -1,6 +1,9 @@
-// NIfTI tensor, scalar and DWI volumes in and out. Readers convert into the canonical TensorField form
-// (world RAS, xx xy xz yy yz zz, mm^2/s; see io/model/tensor_field.h); writers convert out of it.
-// All functions throw dtf::InputError naming the file and the problem.
+// NIfTI tensor, scalar and DWI volumes in and out: the first stage of the pipeline (DESIGN.md section 2).
+// Readers convert into the canonical TensorField form (world RAS, xx xy xz yy yz zz, mm^2/s; see
+// io/model/tensor_field.h); writers convert out of it. NIfTI-1 and NIfTI-2, .nii and .nii.gz are read;
+// the affine is the sform when its code is set, else the qform, else pixdim only. scl_slope/scl_inter
+// are applied; integer and float datatypes are converted to float. All functions throw dtf::InputError
+// whose message starts with the file name (UsageError for a bad layout name).
 #pragma once
 
 #include "io/model/tensor_field.h"
@@ -37,7 +40,8 @@ struct VolumeHeader {
   double sclSlope = 1, sclInter = 0;
   int qformCode = 0, sformCode = 0;
   std::string affineSource; // "sform", "qform" or "none (pixdim only)"
-  Grid grid;
+  Grid grid;                // spatial dims 1..3 and the chosen voxel -> world RAS mm affine
+  std::vector<std::string> warnings; // e.g. sform/qform disagreement, no affine at all
 };
 
 struct LoadedTensors {
@@ -45,20 +49,27 @@ struct LoadedTensors {
   TensorLayout layout = TensorLayout::Auto;
   std::string layoutReason;          // why this layout was chosen (always shown to the user)
   VolumeHeader header;
-  std::vector<std::string> warnings; // e.g. sform/qform disagreement
+  std::vector<std::string> warnings; // header warnings plus layout/scale doubts
   std::size_t nanVoxels = 0;         // voxels with NaN/Inf components (stored as invalid)
   std::size_t nonPositiveVoxels = 0; // finite, non-zero voxels with an eigenvalue <= 0
 };
 
+// Reads a tensor volume (4D x 6 or 5D SYMMATRIX) into world RAS mm^2/s. `layout` Auto detects it and
+// says why in layoutReason; an explicit layout overrides detection. NaN/Inf voxels become invalid.
+// Throws InputError for unreadable files, absurd sizes, unsupported datatypes or a non-tensor shape.
 LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout = TensorLayout::Auto);
-// Writes `field` in `layout` (voxel-frame layouts rotate back out of world space). Atomic: a temporary
-// file renamed into place.
-void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout);
+// Writes `field` in `layout` as float32 (voxel-frame layouts rotate back out of world space; DTI-TK
+// scales to 1e-3 mm^2/s), sform = qform = grid.voxelToWorld (code 1). Atomic: a temporary file renamed
+// into place. `niftiVersion` 1 or 2; the name must end in .nii or .nii.gz. Throws InputError.
+void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
+                       int niftiVersion = 1);
 
-// Any 3D or 4D volume as float (scl_slope/inter applied); components = product of dims 4..7.
+// Any 1D-7D volume as float (scl_slope/inter applied); components = product of dims 4..7, interleaved
+// per voxel. Throws InputError.
 ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header = nullptr);
-void writeScalarVolume(const std::string& path, const ScalarVolume& v);
-// Header only (no voxel data read).
+// Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld. Atomic. Throws InputError.
+void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion = 1);
+// Header only (no voxel data read), with the same checks as the readers. Throws InputError.
 VolumeHeader readHeader(const std::string& path);
 
 } // namespace dtf::io
