@@ -169,6 +169,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   h.intentCode = nim->intent_code;
   h.intentName = nim->intent_name;
   if (h.intentName.empty() && nim->intent_code != 0) h.intentName = intentText(nim->intent_code);
+  h.descrip = std::string(nim->descrip, strnlen(nim->descrip, sizeof(nim->descrip)));
   h.sclSlope = nim->scl_slope;
   h.sclInter = nim->scl_inter;
   h.qformCode = nim->qform_code;
@@ -380,12 +381,257 @@ void writeScalarVolume(const std::string& path, const ScalarVolume& v, int nifti
   writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, "dtfabric", niftiVersion);
 }
 
-// Replaced by the tensor implementation in the next commit; keeps the library linkable meanwhile.
-LoadedTensors readTensorVolume(const std::string& path, TensorLayout) {
-  throw InputError(path + ": tensor reading is not implemented yet");
+namespace {
+
+// Disk position of each canonical component (xx xy xz yy yz zz) per layout.
+constexpr int kFslOrder[6] = {0, 1, 2, 3, 4, 5};       // disk: xx xy xz yy yz zz
+constexpr int kMrtrixOrder[6] = {0, 3, 4, 1, 5, 2};    // disk: xx yy zz xy xz yz
+constexpr int kSymmatrixOrder[6] = {0, 1, 3, 2, 4, 5}; // disk: xx xy yy xz yz zz (lower triangle, rows)
+
+const int* diskOrder(TensorLayout l) {
+  switch (l) {
+  case TensorLayout::Mrtrix: return kMrtrixOrder;
+  case TensorLayout::Symmatrix:
+  case TensorLayout::Dtitk: return kSymmatrixOrder;
+  default: return kFslOrder;
+  }
 }
-void writeTensorVolume(const std::string& path, const TensorField&, TensorLayout, int) {
-  throw InputError("cannot write " + path + ": tensor writing is not implemented yet");
+
+// Units of the values on disk, in mm^2/s.
+double diskUnit(TensorLayout l) { return l == TensorLayout::Dtitk ? 1e-3 : 1.0; }
+
+// Rotation taking the on-disk tensor frame to world RAS. MRtrix stores world tensors. FSL, SYMMATRIX and
+// DTI-TK store them in the bvec frame: the voxel axes, with x negated when det(affine) > 0 (FSL's
+// convention, which DIPY and DTI-TK follow), so R_frame = R * diag(-1, 1, 1) in that case.
+glm::dmat3 frameToWorld(const Grid& g, TensorLayout l) {
+  if (l == TensorLayout::Mrtrix) return glm::dmat3(1.0);
+  glm::dmat3 r = g.rotation();
+  if (glm::determinant(glm::dmat3(g.voxelToWorld)) > 0) r[0] = -r[0];
+  return r;
+}
+
+constexpr const char* kDescripMarker = "dtfabric tensor layout=";
+// A median trace/3 above this (mm^2/s) is far beyond free water at body temperature (3e-3 mm^2/s), so the
+// values are taken to be in 1e-3 mm^2/s units.
+constexpr double kScaledTraceThreshold = 0.01;
+
+std::string fmt(double v, int precision = 3) {
+  std::ostringstream o;
+  o.precision(precision);
+  o << v;
+  return o.str();
+}
+
+std::string percent(double fraction) { return fmt(100.0 * fraction, 3) + "%"; }
+
+// Median of trace/3 over voxels with finite components and a positive trace (disk units).
+double medianTrace(const ScalarVolume& raw, const int* order) {
+  std::vector<float> traces;
+  std::size_t nv = raw.grid.voxelCount();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const float* c = &raw.data[i * 6];
+    double t = (double(c[order[0]]) + c[order[3]] + c[order[5]]) / 3.0;
+    if (std::isfinite(t) && t > 0) traces.push_back(static_cast<float>(t));
+  }
+  if (traces.empty()) return 0;
+  auto mid = traces.begin() + static_cast<std::ptrdiff_t>(traces.size() / 2);
+  std::nth_element(traces.begin(), mid, traces.end());
+  return *mid;
+}
+
+// How well a 4D x 6 volume fits a component order: the fraction of non-zero finite voxels whose
+// would-be diagonal is non-negative and whose would-be off-diagonals obey |Dij|^2 <= Dii*Djj (true for
+// every positive semi-definite tensor; off-diagonals put on the diagonal break it in most voxels).
+struct LayoutFit {
+  double plausible = 0;
+  double positive[6] = {0, 0, 0, 0, 0, 0}; // fraction of voxels where each disk volume is > 0
+  std::size_t voxels = 0;
+};
+
+LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
+  LayoutFit f;
+  std::size_t plausible = 0, pos[6] = {0, 0, 0, 0, 0, 0};
+  std::size_t nv = raw.grid.voxelCount();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const float* c = &raw.data[i * 6];
+    bool finite = true, zero = true;
+    for (int k = 0; k < 6; ++k) {
+      finite = finite && std::isfinite(c[k]);
+      zero = zero && c[k] == 0;
+    }
+    if (!finite || zero) continue;
+    ++f.voxels;
+    for (int k = 0; k < 6; ++k) pos[k] += c[k] > 0;
+    double xx = c[o[0]], xy = c[o[1]], xz = c[o[2]], yy = c[o[3]], yz = c[o[4]], zz = c[o[5]];
+    auto fits = [](double off, double a, double b) { return off * off <= a * b * 1.01 + 1e-30; };
+    if (xx >= 0 && yy >= 0 && zz >= 0 && fits(xy, xx, yy) && fits(xz, xx, zz) && fits(yz, yy, zz)) ++plausible;
+  }
+  if (f.voxels) {
+    f.plausible = double(plausible) / double(f.voxels);
+    for (int k = 0; k < 6; ++k) f.positive[k] = double(pos[k]) / double(f.voxels);
+  }
+  return f;
+}
+
+struct Detection {
+  TensorLayout layout = TensorLayout::Fsl;
+  std::string reason;
+  std::vector<std::string> warnings;
+};
+
+Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool fiveD) {
+  Detection d;
+  // Files written by dtfabric name their layout; trust that over heuristics (curvature-tensor phantoms
+  // are not diffusion tensors and would fool the scale test).
+  if (h.descrip.rfind(kDescripMarker, 0) == 0) {
+    std::string name = h.descrip.substr(std::strlen(kDescripMarker));
+    name = name.substr(0, name.find(' '));
+    for (TensorLayout l : {TensorLayout::Fsl, TensorLayout::Mrtrix, TensorLayout::Symmatrix, TensorLayout::Dtitk})
+      if (name == layoutName(l)) {
+        d.layout = l;
+        d.reason = "written by dtfabric: descrip names layout " + name;
+        return d;
+      }
+  }
+  if (h.intentCode == NIFTI_INTENT_SYMMATRIX) {
+    double m = medianTrace(raw, kSymmatrixOrder);
+    std::string base = std::string("intent_code 1005 (SYMMATRIX)") + (fiveD ? ", 5D with dim5 = 6" : "");
+    if (m > kScaledTraceThreshold) {
+      d.layout = TensorLayout::Dtitk;
+      d.reason = base + "; median trace/3 = " + fmt(m) + " looks like 1e-3 mm^2/s units (DTI-TK)";
+    } else {
+      d.layout = TensorLayout::Symmatrix;
+      d.reason = base + "; median trace/3 = " + fmt(m) + " mm^2/s";
+    }
+    return d;
+  }
+  LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
+  std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
+  if (fsl.voxels == 0) {
+    d.layout = TensorLayout::Fsl;
+    d.reason = shape + "; no non-zero voxels to tell layouts apart, assuming FSL";
+    d.warnings.push_back("layout guessed (all voxels zero or NaN); use --layout to override");
+    return d;
+  }
+  const LayoutFit& f = fsl; // positive fractions are per disk volume, the same for both hypotheses
+  std::string evidence = "volumes 3,5 (FSL yy,zz) positive in " + percent(f.positive[3]) + "/" +
+                         percent(f.positive[5]) + ", volumes 1,2 (MRtrix yy,zz) in " + percent(f.positive[1]) +
+                         "/" + percent(f.positive[2]) + " of " + std::to_string(f.voxels) +
+                         " voxels; positive semi-definite as FSL " + percent(fsl.plausible) + ", as MRtrix " +
+                         percent(mrtrix.plausible);
+  if (std::abs(fsl.plausible - mrtrix.plausible) < 0.05) {
+    d.layout = TensorLayout::Fsl;
+    d.reason = shape + "; ambiguous (" + evidence + "), assuming FSL";
+    d.warnings.push_back("tensor layout is ambiguous; assumed FSL, use --layout to override");
+  } else {
+    d.layout = fsl.plausible > mrtrix.plausible ? TensorLayout::Fsl : TensorLayout::Mrtrix;
+    d.reason = shape + "; " + evidence + " => " + layoutName(d.layout);
+  }
+  double m = medianTrace(raw, diskOrder(d.layout));
+  if (m > kScaledTraceThreshold)
+    d.warnings.push_back("median trace/3 = " + fmt(m) +
+                         " is far above free water's 3e-3 mm^2/s: the values may be in 1e-3 mm^2/s units "
+                         "or not diffusion tensors; they are not rescaled");
+  return d;
+}
+
+// Sylvester's criterion: all leading principal minors positive.
+bool positiveDefinite(const glm::dmat3& m) {
+  double m1 = m[0][0], m2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  return m1 > 0 && m2 > 0 && glm::determinant(m) > 0;
+}
+
+} // namespace
+
+LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
+  LoadedTensors out;
+  VolumeHeader& h = out.header;
+  NimPtr nim = openHeader(path, h);
+  // Shape: 4D x 6 or 5D with dim4 = 1 and dim5 = 6 (trailing dimensions of 1 allowed).
+  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)), h.dims.end());
+  while (!extra.empty() && extra.back() == 1) extra.pop_back();
+  bool fourD = extra.size() == 1 && extra[0] == 6;
+  bool fiveD = extra.size() == 2 && extra[0] == 1 && extra[1] == 6;
+  if (!fourD && !fiveD)
+    fail(path, "is not a tensor volume: dimensions " + dimsText(h.dims) +
+                   " (expected 4D with 6 volumes, or 5D SYMMATRIX with dim5 = 6)");
+  std::vector<float> disk = loadData(nim.get(), path);
+  nim.reset();
+  ScalarVolume raw = interleave(h.grid, 6, disk);
+  disk = {};
+
+  out.warnings = h.warnings;
+  if (layout == TensorLayout::Auto) {
+    Detection d = detectLayout(h, raw, fiveD);
+    out.layout = d.layout;
+    out.layoutReason = d.reason;
+    out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());
+  } else {
+    out.layout = layout;
+    out.layoutReason = std::string("given explicitly (") + layoutName(layout) + ")";
+  }
+
+  const int* o = diskOrder(out.layout);
+  const double unit = diskUnit(out.layout);
+  const glm::dmat3 r = frameToWorld(h.grid, out.layout);
+  const bool rotate = out.layout != TensorLayout::Mrtrix;
+  out.field = makeTensorField(h.grid);
+  std::size_t nv = h.grid.voxelCount();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const float* c = &raw.data[i * 6];
+    bool finite = true, zero = true;
+    for (int k = 0; k < 6; ++k) {
+      finite = finite && std::isfinite(c[k]);
+      zero = zero && c[k] == 0;
+    }
+    if (!finite) {
+      ++out.nanVoxels;
+      continue;
+    }
+    if (zero) continue;
+    glm::dmat3 m;
+    m[0][0] = c[o[0]];
+    m[0][1] = m[1][0] = c[o[1]];
+    m[0][2] = m[2][0] = c[o[2]];
+    m[1][1] = c[o[3]];
+    m[1][2] = m[2][1] = c[o[4]];
+    m[2][2] = c[o[5]];
+    m *= unit;
+    if (rotate) m = r * m * glm::transpose(r);
+    out.field.tensors[i] = SymTensor::fromMat(m);
+    out.field.valid[i] = 1;
+    if (!positiveDefinite(m)) ++out.nonPositiveVoxels;
+  }
+  if (out.nanVoxels)
+    out.warnings.push_back(std::to_string(out.nanVoxels) + " voxel(s) hold NaN/Inf components (marked invalid)");
+  return out;
+}
+
+void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout, int niftiVersion) {
+  if (layout == TensorLayout::Auto)
+    throw InputError("cannot write " + path + ": choose a tensor layout (fsl, mrtrix, symmatrix or dtitk)");
+  std::size_t nv = field.grid.voxelCount();
+  if (field.tensors.size() != nv || field.valid.size() != nv)
+    throw InputError("cannot write " + path + ": tensor field size does not match its grid");
+  const int* o = diskOrder(layout);
+  const double unit = diskUnit(layout);
+  const glm::dmat3 r = frameToWorld(field.grid, layout);
+  const bool rotate = layout != TensorLayout::Mrtrix;
+  std::vector<float> disk(nv * 6, 0.0f);
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (!field.valid[i]) continue;
+    glm::dmat3 m = field.tensors[i].toMat();
+    if (rotate) m = glm::transpose(r) * m * r;
+    m /= unit;
+    const double canon[6] = {m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2]};
+    for (int k = 0; k < 6; ++k) disk[static_cast<std::size_t>(o[k]) * nv + i] = static_cast<float>(canon[k]);
+  }
+  bool sym = layout == TensorLayout::Symmatrix || layout == TensorLayout::Dtitk;
+  std::vector<long long> extra = sym ? std::vector<long long>{1, 6} : std::vector<long long>{6};
+  std::string descrip = std::string(kDescripMarker) + layoutName(layout) +
+                        (layout == TensorLayout::Dtitk ? " units=1e-3mm2/s" : " units=mm2/s");
+  writeFloatNifti(path, field.grid, extra, disk, sym ? NIFTI_INTENT_SYMMATRIX : 0, sym ? "DTI" : nullptr, descrip,
+                  niftiVersion);
 }
 
 } // namespace dtf::io

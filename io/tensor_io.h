@@ -37,6 +37,7 @@ struct VolumeHeader {
   std::string datatypeName;
   int intentCode = 0;
   std::string intentName;
+  std::string descrip;      // dtfabric's tensor writer records the layout here ("dtfabric tensor layout=fsl")
   double sclSlope = 1, sclInter = 0;
   int qformCode = 0, sformCode = 0;
   std::string affineSource; // "sform", "qform" or "none (pixdim only)"
@@ -55,7 +56,9 @@ struct LoadedTensors {
 };
 
 // Reads a tensor volume (4D x 6 or 5D SYMMATRIX) into world RAS mm^2/s. `layout` Auto detects it and
-// says why in layoutReason; an explicit layout overrides detection. NaN/Inf voxels become invalid.
+// says why in layoutReason: a dtfabric descrip marker, else intent 1005 (SYMMATRIX, or DTI-TK when the
+// median trace/3 > 0.01 suggests 1e-3 mm^2/s units), else which volumes form a positive semi-definite
+// tensor (FSL vs MRtrix order). An explicit layout overrides detection. NaN/Inf voxels become invalid.
 // Throws InputError for unreadable files, absurd sizes, unsupported datatypes or a non-tensor shape.
 LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout = TensorLayout::Auto);
 // Writes `field` in `layout` as float32 (voxel-frame layouts rotate back out of world space; DTI-TK
