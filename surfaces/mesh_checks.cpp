@@ -1,0 +1,158 @@
+#include "surfaces/mesh_checks.h"
+
+#include "io/model/error.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <vector>
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+namespace dtf::surfaces {
+
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+using FaceIndex = SurfaceMesh::Face_index;
+
+// Builds a Surface_mesh with face i = triangle i of `mesh` (the soup is used as is, so indices match).
+SurfaceMesh toSurfaceMesh(const Mesh& mesh, bool orient) {
+  std::vector<Point> points;
+  points.reserve(mesh.positions.size());
+  for (const auto& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+  std::vector<std::array<std::size_t, 3>> polygons;
+  polygons.reserve(mesh.triangleCount());
+  for (std::size_t t = 0; t < mesh.indices.size(); t += 3)
+    polygons.push_back({mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]});
+  if (orient) PMP::orient_polygon_soup(points, polygons); // may duplicate non-manifold vertices
+  SurfaceMesh sm;
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
+  return sm;
+}
+
+Mesh fromSurfaceMesh(const SurfaceMesh& sm) {
+  Mesh m;
+  std::vector<std::uint32_t> remap(sm.number_of_vertices() + sm.number_of_removed_vertices(), 0);
+  for (auto v : sm.vertices()) {
+    remap[v.idx()] = static_cast<std::uint32_t>(m.positions.size());
+    const Point& p = sm.point(v);
+    m.positions.emplace_back(p.x(), p.y(), p.z());
+  }
+  for (auto f : sm.faces()) {
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) m.indices.push_back(remap[v.idx()]);
+  }
+  m.computeNormals();
+  return m;
+}
+} // namespace
+
+SelfIntersectionReport findSelfIntersections(const Mesh& mesh) {
+  SelfIntersectionReport r;
+  if (mesh.empty()) return r;
+  // A triangle soup keeps face indices equal to the input's; self_intersections works on any face graph,
+  // and combinatorially adjacent faces (shared edge or vertex) only count when they truly overlap.
+  SurfaceMesh sm = toSurfaceMesh(mesh, false);
+  if (sm.number_of_faces() != mesh.triangleCount()) {
+    // Non-manifold input: orient (duplicates vertices where needed), faces stay in input order.
+    sm = toSurfaceMesh(mesh, true);
+  }
+  if (sm.number_of_faces() != mesh.triangleCount())
+    throw InputError("mesh is not a valid polygon mesh (" + std::to_string(mesh.triangleCount() - sm.number_of_faces()) +
+                     " triangles could not be added)");
+  std::vector<std::pair<FaceIndex, FaceIndex>> pairs;
+  PMP::self_intersections(sm, std::back_inserter(pairs));
+  r.intersectingPairs = pairs.size();
+  for (const auto& [a, b] : pairs) {
+    r.faces.push_back(static_cast<std::uint32_t>(a.idx()));
+    r.faces.push_back(static_cast<std::uint32_t>(b.idx()));
+  }
+  std::sort(r.faces.begin(), r.faces.end());
+  r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+  return r;
+}
+
+Mesh removeSelfIntersections(const Mesh& mesh, std::size_t* removed) {
+  SelfIntersectionReport r = findSelfIntersections(mesh);
+  if (removed) *removed = r.faces.size();
+  if (r.faces.empty()) return mesh;
+  Mesh out;
+  out.positions = mesh.positions;
+  std::size_t next = 0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (next < r.faces.size() && r.faces[next] == t) {
+      ++next;
+      continue;
+    }
+    out.indices.insert(out.indices.end(), mesh.indices.begin() + 3 * t, mesh.indices.begin() + 3 * t + 3);
+  }
+  // Drop unused vertices.
+  std::vector<std::int64_t> remap(out.positions.size(), -1);
+  std::vector<glm::vec3> pos;
+  for (auto& i : out.indices) {
+    if (remap[i] < 0) {
+      remap[i] = static_cast<std::int64_t>(pos.size());
+      pos.push_back(out.positions[i]);
+    }
+    i = static_cast<std::uint32_t>(remap[i]);
+  }
+  out.positions = std::move(pos);
+  out.computeNormals();
+  return out;
+}
+
+Mesh remeshIsotropic(const Mesh& mesh, double targetEdgeMm, int iterations) {
+  if (!(targetEdgeMm > 0)) throw UsageError("remeshing edge length must be positive");
+  SurfaceMesh sm = toSurfaceMesh(mesh, true);
+  PMP::isotropic_remeshing(faces(sm), targetEdgeMm, sm,
+                           PMP::parameters::number_of_iterations(iterations).protect_constraints(false));
+  sm.collect_garbage();
+  return fromSurfaceMesh(sm);
+}
+
+struct DistanceQuery::Impl {
+  using Triangle = Kernel::Triangle_3;
+  using Iterator = std::vector<Triangle>::const_iterator;
+  using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  std::vector<Triangle> triangles;
+  Tree tree;
+};
+
+DistanceQuery::DistanceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+  if (mesh.empty()) throw InputError("distance query on an empty mesh");
+  impl_->triangles.reserve(mesh.triangleCount());
+  for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+    auto p = [&](int k) {
+      const glm::vec3& v = mesh.positions[mesh.indices[t + k]];
+      return Point(v.x, v.y, v.z);
+    };
+    impl_->triangles.emplace_back(p(0), p(1), p(2));
+  }
+  impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
+  impl_->tree.build();
+  impl_->tree.accelerate_distance_queries();
+}
+
+DistanceQuery::~DistanceQuery() = default;
+
+double DistanceQuery::distance(const glm::vec3& p, glm::vec3* closest, std::uint32_t* triangle) const {
+  Point q(p.x, p.y, p.z);
+  auto hit = impl_->tree.closest_point_and_primitive(q);
+  if (closest) *closest = glm::vec3(hit.first.x(), hit.first.y(), hit.first.z());
+  if (triangle) *triangle = static_cast<std::uint32_t>(hit.second - impl_->triangles.cbegin());
+  return std::sqrt(CGAL::to_double(CGAL::squared_distance(q, hit.first)));
+}
+
+} // namespace dtf::surfaces
