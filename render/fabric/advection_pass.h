@@ -1,0 +1,50 @@
+// Pass 3 of the fabric (paper §2.5, Eq. 12): iterative advection of the mapped noise beta along both
+// image-space eigenvector fields at once, ping-ponging two RG32F textures. The state persists between
+// frames (the paper runs 3 iterations per frame and continues next frame); reset() restarts from beta.
+//   inputs : projection vectors and surface (beta, coverage), silhouette edges
+//   output : current() RG32F (p1, p2), the size of the guarded target
+// The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
+// atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
+#pragma once
+
+#include "render/gl_objects.h"
+#include "render/shader_program.h"
+
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+struct AdvectionSettings {
+  float k = 0.1f;        // weight of beta in Eq. 12
+  float stepPixels = 1.0f; // length of one step in pixels along the max-norm scaled vectors
+  float epsilon = 0.05f; // change below which a pixel counts as converged
+};
+
+class AdvectionPass {
+public:
+  AdvectionPass();
+  void resize(glm::ivec2 target);
+  // p_0 = beta on covered pixels (an iteration with k = 1).
+  void reset(const Texture& vectors, const Texture& surface, const Texture& edges);
+  // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set.
+  void iterate(const Texture& vectors, const Texture& surface, const Texture& edges,
+               const AdvectionSettings& settings, int count, bool countChanges = true);
+  const Texture& current() const { return state_[current_]; }
+  // Uploads an explicit state (tests: the "forgets its start" property). Values are (p1, p2) pairs.
+  void setState(const float* rg);
+  // Pixels that changed by more than epsilon in the last counted iteration.
+  unsigned changedPixels() const;
+
+private:
+  void step(const Texture& vectors, const Texture& surface, const Texture& edges, float k, float stepPx,
+            float epsilon, bool countChanges);
+  ShaderProgram program_;
+  VertexArray vao_;
+  Buffer counter_;
+  Framebuffer fbo_[2];
+  Texture state_[2];
+  int current_ = 0;
+  glm::ivec2 size_{0};
+};
+
+} // namespace dtf::render

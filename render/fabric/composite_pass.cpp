@@ -1,0 +1,42 @@
+#include "render/fabric/composite_pass.h"
+
+namespace dtf::render {
+
+CompositePass::CompositePass()
+    : engineering_("common/fullscreen.vert", "fabric/composite.frag"),
+      medical_("common/fullscreen.vert", "fabric/composite.frag", {"MEDICAL"}), vao_(createVertexArray()) {}
+
+void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
+  const ShaderProgram& p = s.mode == ColourMode::Medical ? medical_ : engineering_;
+  glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
+  p.set("u_r", s.r);
+  p.set("u_contrast", s.contrast);
+  p.set("u_lightWeight", s.lightWeight);
+  p.set("u_lightMix", s.lightMix);
+  p.set("u_lighting", s.lighting ? 1 : 0);
+  p.set("u_silhouettes", s.silhouettes ? 1 : 0);
+  p.set("u_depthColour", s.depthColour);
+  p.set("u_depthRange", view.depthRange);
+  p.set("u_sharpen", s.sharpen);
+  p.set("u_secondaryRatio", s.secondaryRatio);
+  p.set("u_secondaryFa", s.secondaryFa);
+  p.set("u_fadeOutOfPlane", s.fadeOutOfPlane);
+  p.use();
+  glBindTextureUnit(0, in.advected->id());
+  glBindTextureUnit(1, in.surface->id());
+  glBindTextureUnit(2, in.edges->id());
+  glBindTextureUnit(3, in.normal->id());
+  glBindTextureUnit(4, in.eigen->id());
+  glBindTextureUnit(5, in.lambda->id());
+  glBindTextureUnit(6, in.depth->id());
+  glViewport(0, 0, view.viewport.x, view.viewport.y);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_DEPTH_TEST);
+}
+
+} // namespace dtf::render

@@ -1,0 +1,52 @@
+// Pass 4 of the fabric (paper §2.6, Eq. 13, and the medical colouring of §3.2): combines the advected
+// fields, silhouettes and light into the final colour of the viewport, and writes gl_FragDepth from the
+// projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at
+// the viewport size; empty pixels are discarded (the caller's clear colour stays).
+//   inputs: advected RG32F, projection surface/normal/eigen/lambda/depth, silhouette edges
+#pragma once
+
+#include "render/fabric/frame_view.h"
+#include "render/gl_objects.h"
+#include "render/shader_program.h"
+
+namespace dtf::render {
+
+enum class ColourMode { Medical, Engineering };
+
+struct CompositeSettings {
+  ColourMode mode = ColourMode::Medical;
+  float r = 0.5f;            // Eq. 13 blend between the two directions
+  float contrast = 1.0f;     // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = the raw fields
+  bool lighting = true;
+  float lightWeight = 0.5f;  // engineering: light(L) = lightWeight * L
+  float lightMix = 0.8f;     // medical: colour * mix(1, L, lightMix)
+  bool silhouettes = true;
+  float depthColour = 0.0f;  // 0..1 depth-enhancing colour
+  float sharpen = 0.0f;      // unsharp-mask weight
+  float secondaryRatio = 0.5f; // medical: lambda2'/lambda1' from which the secondary direction shows
+  float secondaryFa = 0.2f;    // medical: FA below which the secondary direction shows
+  float fadeOutOfPlane = 0.0f; // medical: 0..1 fading of structures along the normal
+};
+
+struct CompositeInputs {
+  const Texture* advected;
+  const Texture* surface;
+  const Texture* edges;
+  const Texture* normal;
+  const Texture* eigen;
+  const Texture* lambda;
+  const Texture* depth;
+};
+
+class CompositePass {
+public:
+  CompositePass();
+  // Draws the viewport (guard offset applied) into the bound framebuffer.
+  void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
+
+private:
+  ShaderProgram engineering_, medical_;
+  VertexArray vao_;
+};
+
+} // namespace dtf::render

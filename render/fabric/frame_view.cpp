@@ -1,0 +1,41 @@
+#include "render/fabric/frame_view.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dtf::render {
+
+FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
+                          const glm::vec3& hi) {
+  FrameView f;
+  f.viewport = viewport;
+  f.guard = guard;
+  f.target = viewport + 2 * guard;
+  const double aspect = double(viewport.x) / std::max(viewport.y, 1);
+  glm::dmat4 view = camera.view();
+  glm::dmat4 proj = camera.projection(aspect);
+  // The guarded target sees more of the scene at the same pixel scale: shrink NDC by viewport/target.
+  glm::dmat4 shrink(1.0);
+  shrink[0][0] = double(viewport.x) / f.target.x;
+  shrink[1][1] = double(viewport.y) / f.target.y;
+  f.view = glm::mat4(view);
+  f.viewProj = glm::mat4(shrink * proj * view);
+  f.viewProjViewport = glm::mat4(proj * view);
+  f.viewRot = glm::mat3(view);
+  f.orthographic = camera.orthographic;
+  double dist = glm::length(camera.target - camera.eye);
+  double halfH = camera.orthographic ? camera.orthoHalfHeight
+                                     : dist * std::tan(0.5 * glm::radians(camera.fovYDeg));
+  f.pixelMm = static_cast<float>(2.0 * halfH / std::max(viewport.y, 1));
+  float dmin = 1e30f, dmax = -1e30f;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    float d = -(f.view * glm::vec4(p, 1.0f)).z;
+    dmin = std::min(dmin, d);
+    dmax = std::max(dmax, d);
+  }
+  f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  return f;
+}
+
+} // namespace dtf::render

@@ -1,0 +1,29 @@
+// What every fabric pass needs to know about the current view: matrices of the guarded target (the
+// viewport plus a border of `guard` pixels on each side, so advected threads do not fray at the screen
+// edge), sizes, the pixel size in mm and the depth range of the scene.
+#pragma once
+
+#include "render/camera.h"
+
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+struct FrameView {
+  glm::ivec2 viewport{0};   // output size in pixels
+  int guard = 0;            // border added on each side of the internal targets
+  glm::ivec2 target{0};     // viewport + 2 guard
+  glm::mat4 view{1.0f};     // world -> eye
+  glm::mat4 viewProj{1.0f}; // world -> clip of the guarded target
+  glm::mat4 viewProjViewport{1.0f}; // world -> clip of the viewport alone
+  glm::mat3 viewRot{1.0f};  // world -> eye rotation
+  bool orthographic = true;
+  float pixelMm = 1.0f;     // size of one pixel at the target distance, mm
+  glm::vec2 depthRange{0.0f, 1.0f}; // linear eye depth of the scene bounds, mm
+
+  // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range.
+  static FrameView make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
+                        const glm::vec3& hi);
+};
+
+} // namespace dtf::render

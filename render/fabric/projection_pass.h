@@ -1,0 +1,51 @@
+// Pass 1 of the fabric (paper §2.1, §2.3): renders the surface into the guarded target and writes, per
+// pixel, the image-space in-plane eigenvector directions and everything the later passes need.
+//   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
+//   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
+//            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
+//            normal  RGBA16F (eye-space normal facing the camera, FA)
+//            eigen   RGBA16F (world principal eigenvector of T, lambda2'/lambda1')
+//            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data)
+//            depth   DEPTH32F (window depth, for gl_FragDepth in the composite)
+// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage.
+#pragma once
+
+#include "render/fabric/frame_view.h"
+#include "render/gl_objects.h"
+#include "render/gpu_scene.h"
+#include "render/shader_program.h"
+
+namespace dtf::render {
+
+struct ProjectionSettings {
+  float lod = 10.0f;             // l of Eq. 7, mm
+  glm::vec3 noiseOrigin{0.0f};   // b_min of Eq. 7, mm
+  float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
+  float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
+  bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
+};
+
+class ProjectionPass {
+public:
+  ProjectionPass();
+  // (Re)creates the targets when the size changes; no-op otherwise.
+  void resize(glm::ivec2 target);
+  void run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
+           const ProjectionSettings& settings);
+
+  const Texture& vectors() const { return vectors_; }
+  const Texture& surface() const { return surface_; }
+  const Texture& normal() const { return normal_; }
+  const Texture& eigen() const { return eigen_; }
+  const Texture& lambda() const { return lambda_; }
+  const Texture& depth() const { return depth_; }
+  glm::ivec2 size() const { return size_; }
+
+private:
+  ShaderProgram plain_, principal_;
+  Framebuffer fbo_;
+  Texture vectors_, surface_, normal_, eigen_, lambda_, depth_;
+  glm::ivec2 size_{0};
+};
+
+} // namespace dtf::render

@@ -1,0 +1,31 @@
+// Pass 2 of the fabric (paper §2.4, Eq. 10): silhouettes from the 3x3 Laplacian of the linear depth.
+//   input : projection surface texture (.b linear depth mm, .a coverage)
+//   output: edge R16F (1 on silhouettes, else 0), the size of the guarded target
+#pragma once
+
+#include "render/gl_objects.h"
+#include "render/shader_program.h"
+
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+class SilhouettePass {
+public:
+  SilhouettePass();
+  void resize(glm::ivec2 target);
+  // thresholdMm: |Laplacian| of depth above which a pixel is an edge; backgroundMm: depth of empty pixels.
+  void run(const Texture& surface, float thresholdMm, float backgroundMm);
+  // Clears the edges to 0 (silhouettes off).
+  void clear();
+  const Texture& edges() const { return edges_; }
+
+private:
+  ShaderProgram program_;
+  VertexArray vao_;
+  Framebuffer fbo_;
+  Texture edges_;
+  glm::ivec2 size_{0};
+};
+
+} // namespace dtf::render

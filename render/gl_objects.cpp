@@ -1,0 +1,68 @@
+#include "render/gl_objects.h"
+
+#include "io/model/error.h"
+
+#include <string>
+#include <vector>
+
+namespace dtf::render {
+
+Texture Texture::create2D(GLenum internalFormat, int width, int height, int levels) {
+  Texture t;
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  t.handle_ = GlHandle<detail::deleteTexture>(id);
+  glTextureStorage2D(id, levels, internalFormat, width, height);
+  t.width_ = width;
+  t.height_ = height;
+  t.depth_ = 1;
+  t.format_ = internalFormat;
+  t.setFilter(levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR, GL_LINEAR);
+  t.setWrap(GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+Texture Texture::create3D(GLenum internalFormat, int width, int height, int depth) {
+  Texture t;
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_3D, 1, &id);
+  t.handle_ = GlHandle<detail::deleteTexture>(id);
+  glTextureStorage3D(id, 1, internalFormat, width, height, depth);
+  t.width_ = width;
+  t.height_ = height;
+  t.depth_ = depth;
+  t.format_ = internalFormat;
+  t.setFilter(GL_LINEAR, GL_LINEAR);
+  t.setWrap(GL_CLAMP_TO_BORDER);
+  const float zero[4] = {0, 0, 0, 0};
+  glTextureParameterfv(id, GL_TEXTURE_BORDER_COLOR, zero);
+  return t;
+}
+
+void Texture::setFilter(GLenum minFilter, GLenum magFilter) {
+  glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, static_cast<GLint>(minFilter));
+  glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, static_cast<GLint>(magFilter));
+}
+
+void Texture::setWrap(GLenum wrap) {
+  glTextureParameteri(id(), GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap));
+  glTextureParameteri(id(), GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap));
+  glTextureParameteri(id(), GL_TEXTURE_WRAP_R, static_cast<GLint>(wrap));
+}
+
+void attachTargets(const Framebuffer& fbo, std::initializer_list<const Texture*> colour, const Texture* depth) {
+  std::vector<GLenum> buffers;
+  GLenum n = 0;
+  for (const Texture* t : colour) {
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0 + n, t->id(), 0);
+    buffers.push_back(GL_COLOR_ATTACHMENT0 + n);
+    ++n;
+  }
+  if (depth) glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
+  glNamedFramebufferDrawBuffers(fbo.id(), static_cast<GLsizei>(buffers.size()), buffers.data());
+  GLenum status = glCheckNamedFramebufferStatus(fbo.id(), GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw GlError("framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+}
+
+} // namespace dtf::render

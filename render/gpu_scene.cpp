@@ -1,0 +1,110 @@
+#include "render/gpu_scene.h"
+
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace dtf::render {
+
+void GpuMesh::upload(const Mesh& mesh) {
+  Mesh copy;
+  const Mesh* m = &mesh;
+  if (mesh.normals.size() != mesh.positions.size()) {
+    copy = mesh;
+    copy.computeNormals();
+    m = &copy;
+  }
+  std::vector<float> interleaved;
+  interleaved.reserve(m->positions.size() * 6);
+  for (std::size_t i = 0; i < m->positions.size(); ++i) {
+    const glm::vec3& p = m->positions[i];
+    const glm::vec3& n = m->normals[i];
+    interleaved.insert(interleaved.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
+  }
+  vao_ = createVertexArray();
+  vertices_ = createBuffer();
+  indices_ = createBuffer();
+  glNamedBufferStorage(vertices_.id(), static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
+                       interleaved.empty() ? nullptr : interleaved.data(), 0);
+  glNamedBufferStorage(indices_.id(), static_cast<GLsizeiptr>(m->indices.size() * sizeof(std::uint32_t)),
+                       m->indices.empty() ? nullptr : m->indices.data(), 0);
+  glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, 6 * sizeof(float));
+  glVertexArrayElementBuffer(vao_.id(), indices_.id());
+  glEnableVertexArrayAttrib(vao_.id(), 0);
+  glEnableVertexArrayAttrib(vao_.id(), 1);
+  glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribFormat(vao_.id(), 1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
+  glVertexArrayAttribBinding(vao_.id(), 0, 0);
+  glVertexArrayAttribBinding(vao_.id(), 1, 0);
+  indexCount_ = m->indices.size();
+  if (!m->positions.empty()) {
+    glm::vec3 lo, hi;
+    m->bounds(lo, hi);
+    lo_ = lo;
+    hi_ = hi;
+  }
+}
+
+void GpuMesh::draw() const {
+  if (!indexCount_) return;
+  glBindVertexArray(vao_.id());
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+}
+
+void GpuTensorField::upload(const TensorField& field) {
+  const glm::ivec3 d = field.grid.dims;
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+  if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
+    throw GlError("tensor grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
+                  " does not fit a 3D texture (max " + std::to_string(maxSize) + ")");
+  const std::size_t n = field.grid.voxelCount();
+  if (field.tensors.size() != n) throw GlError("tensor field has " + std::to_string(field.tensors.size()) +
+                                                " tensors for " + std::to_string(n) + " voxels");
+  ScalarVolume fa = computeFaMap(field);
+  std::vector<float> a(n * 4), b(n * 4);
+  for (std::size_t i = 0; i < n; ++i) {
+    const SymTensor& t = field.tensors[i];
+    bool ok = (field.valid.empty() || field.valid[i]) && t.isFinite() && !t.isZero();
+    a[i * 4 + 0] = ok ? t.xx : 0.0f;
+    a[i * 4 + 1] = ok ? t.xy : 0.0f;
+    a[i * 4 + 2] = ok ? t.xz : 0.0f;
+    a[i * 4 + 3] = ok ? t.yy : 0.0f;
+    b[i * 4 + 0] = ok ? t.yz : 0.0f;
+    b[i * 4 + 1] = ok ? t.zz : 0.0f;
+    b[i * 4 + 2] = ok ? fa.data[i] : 0.0f;
+    b[i * 4 + 3] = ok ? 1.0f : 0.0f;
+  }
+  a_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
+  b_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
+  glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
+  glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
+  // tex = (voxel + 0.5) / dims, voxel = world->voxel affine.
+  glm::dmat4 worldToVoxel = glm::inverse(field.grid.voxelToWorld);
+  glm::dmat4 voxelToTex(1.0);
+  for (int c = 0; c < 3; ++c) {
+    voxelToTex[c][c] = 1.0 / d[c];
+    voxelToTex[3][c] = 0.5 / d[c];
+  }
+  worldToTex_ = glm::mat4(voxelToTex * worldToVoxel);
+}
+
+void GpuTensorField::bind() const {
+  glBindTextureUnit(0, a_.id());
+  glBindTextureUnit(1, b_.id());
+}
+
+Texture uploadNoise(const NoiseTile& tile) {
+  int levels = 1;
+  while ((tile.size >> levels) > 0) ++levels;
+  Texture t = Texture::create2D(GL_R32F, tile.size, tile.size, levels);
+  glTextureSubImage2D(t.id(), 0, 0, 0, tile.size, tile.size, GL_RED, GL_FLOAT, tile.values.data());
+  glGenerateTextureMipmap(t.id());
+  t.setWrap(GL_REPEAT);
+  t.setFilter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+  return t;
+}
+
+} // namespace dtf::render

@@ -1,0 +1,54 @@
+// GPU copies of the scene's value types: a Mesh as vertex/index buffers, a TensorField as two RGBA32F 3D
+// textures with its world -> texture transform, and the reaction-diffusion noise as a mipmapped, repeating
+// 2D texture. Uploaded once per change of the data, never per frame.
+#pragma once
+
+#include "io/model/geometry.h"
+#include "io/model/tensor_field.h"
+#include "render/gl_objects.h"
+#include "render/noise.h"
+
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+class GpuMesh {
+public:
+  GpuMesh() = default;
+  // Uploads positions and normals (computed when missing) and the indices. Throws GlError.
+  void upload(const Mesh& mesh);
+  // Draws all triangles with the currently bound program.
+  void draw() const;
+  std::size_t triangleCount() const { return indexCount_ / 3; }
+  glm::vec3 boundsLo() const { return lo_; }
+  glm::vec3 boundsHi() const { return hi_; }
+  bool empty() const { return indexCount_ == 0; }
+
+private:
+  VertexArray vao_;
+  Buffer vertices_, indices_;
+  std::size_t indexCount_ = 0;
+  glm::vec3 lo_{0.0f}, hi_{0.0f};
+};
+
+class GpuTensorField {
+public:
+  GpuTensorField() = default;
+  // Texture A: xx xy xz yy; texture B: yz zz FA valid (world RAS, mm^2/s). Throws GlError when the grid
+  // exceeds GL_MAX_3D_TEXTURE_SIZE.
+  void upload(const TensorField& field);
+  // Binds the textures to units 0 and 1 (the bindings of shaders/common/tensor_field.glsl).
+  void bind() const;
+  // World RAS mm -> 3D texture coordinates (voxel centres at (i + 0.5) / dims).
+  const glm::mat4& worldToTex() const { return worldToTex_; }
+  bool empty() const { return !a_; }
+
+private:
+  Texture a_, b_;
+  glm::mat4 worldToTex_{1.0f};
+};
+
+// The noise tile as a single-channel float texture with mipmaps and GL_REPEAT (seamless).
+Texture uploadNoise(const NoiseTile& tile);
+
+} // namespace dtf::render

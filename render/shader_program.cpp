@@ -1,0 +1,150 @@
+#include "render/shader_program.h"
+
+#include "io/model/error.h"
+#include "shaders/shader_sources.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <regex>
+#include <sstream>
+
+namespace dtf::render {
+
+namespace {
+
+struct Expander {
+  ShaderSource out;
+  std::vector<std::string> stack;
+  std::vector<std::string> defines;
+  bool versionSeen = false;
+
+  int fileIndex(const std::string& name) {
+    auto it = std::find(out.files.begin(), out.files.end(), name);
+    if (it != out.files.end()) return static_cast<int>(it - out.files.begin());
+    out.files.push_back(name);
+    return static_cast<int>(out.files.size() - 1);
+  }
+
+  void expand(const std::string& name) {
+    if (std::find(stack.begin(), stack.end(), name) != stack.end())
+      throw GlError("shader include cycle through " + name);
+    bool alreadyIncluded = std::find(out.files.begin(), out.files.end(), name) != out.files.end();
+    if (alreadyIncluded && !stack.empty()) return; // each include once
+    const char* src = shaders::find(name);
+    if (!src) throw GlError("shader file not embedded: " + name + (stack.empty() ? "" : " (included from " + stack.back() + ")"));
+    stack.push_back(name);
+    int idx = fileIndex(name);
+    static const std::regex includeRe(R"(^\s*#\s*include\s+\"([^\"]+)\")");
+    static const std::regex versionRe(R"(^\s*#\s*version\b)");
+    std::istringstream in(src);
+    std::string line;
+    int lineNo = 0;
+    if (versionSeen) out.text += "#line 1 " + std::to_string(idx) + "\n";
+    while (std::getline(in, line)) {
+      ++lineNo;
+      std::smatch m;
+      if (std::regex_search(line, m, versionRe)) {
+        if (!versionSeen) {
+          versionSeen = true;
+          out.text += line + "\n";
+          for (const auto& d : defines) out.text += "#define " + d + "\n";
+        }
+        out.text += "#line " + std::to_string(lineNo + 1) + " " + std::to_string(idx) + "\n";
+        continue;
+      }
+      if (std::regex_search(line, m, includeRe)) {
+        expand(m[1]);
+        out.text += "#line " + std::to_string(lineNo + 1) + " " + std::to_string(idx) + "\n";
+        continue;
+      }
+      out.text += line + "\n";
+    }
+    stack.pop_back();
+  }
+};
+
+// Rewrites "0:12(3)" / "0:12:" style locations of Mesa and NVIDIA logs to "file:12"; appends the table.
+std::string mapLog(const std::string& log, const std::vector<std::string>& files) {
+  std::string text = log;
+  std::string table = "\nfile indices:";
+  for (std::size_t i = 0; i < files.size(); ++i) table += "\n  " + std::to_string(i) + " = " + files[i];
+  static const std::regex loc(R"((^|\n)(\d+):(\d+))");
+  std::string mapped;
+  std::sregex_iterator it(text.begin(), text.end(), loc), end;
+  std::size_t last = 0;
+  for (; it != end; ++it) {
+    const auto& m = *it;
+    mapped += text.substr(last, m.position() - last);
+    std::size_t idx = std::stoul(m[2]);
+    mapped += m[1].str() + (idx < files.size() ? files[idx] : m[2].str()) + ":" + m[3].str();
+    last = m.position() + m.length();
+  }
+  mapped += text.substr(last);
+  return mapped + table;
+}
+
+GLuint compile(GLenum stage, const std::string& file, const std::vector<std::string>& defines) {
+  ShaderSource src = preprocessShader(file, defines);
+  GLuint s = glCreateShader(stage);
+  const char* text = src.text.c_str();
+  glShaderSource(s, 1, &text, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+    glGetShaderInfoLog(s, len, nullptr, log.data());
+    glDeleteShader(s);
+    throw GlError("compiling " + file + " failed:\n" + mapLog(log, src.files));
+  }
+  return s;
+}
+
+} // namespace
+
+ShaderSource preprocessShader(const std::string& file, const std::vector<std::string>& defines) {
+  Expander e;
+  e.defines = defines;
+  e.expand(file);
+  if (!e.versionSeen) throw GlError("shader " + file + " has no #version line");
+  return std::move(e.out);
+}
+
+ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
+                             const std::vector<std::string>& defines) {
+  GLuint vs = compile(GL_VERTEX_SHADER, vertexFile, defines);
+  GLuint fs = 0;
+  try {
+    fs = compile(GL_FRAGMENT_SHADER, fragmentFile, defines);
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
+  program_ = ProgramHandle(glCreateProgram());
+  glAttachShader(program_.id(), vs);
+  glAttachShader(program_.id(), fs);
+  glLinkProgram(program_.id());
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetProgramiv(program_.id(), GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+    glGetProgramInfoLog(program_.id(), len, nullptr, log.data());
+    throw GlError("linking " + vertexFile + " + " + fragmentFile + " failed:\n" + log);
+  }
+}
+
+void ShaderProgram::set(const char* name, const glm::mat4& m) const {
+  glProgramUniformMatrix4fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+void ShaderProgram::set(const char* name, const glm::mat3& m) const {
+  glProgramUniformMatrix3fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
+} // namespace dtf::render

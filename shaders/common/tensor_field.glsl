@@ -1,0 +1,28 @@
+// Sampling the tensor field uploaded by GpuTensorField: two RGBA32F 3D textures holding
+// (xx, xy, xz, yy) and (yz, zz, FA, valid) per voxel, world RAS mm -> texture coordinates by
+// u_worldToTex. The tensor is interpolated component-wise by the hardware (never its eigenvectors), and
+// renormalised by the interpolated validity so invalid (zero) voxels do not shrink their neighbours.
+
+layout(binding = 0) uniform sampler3D u_tensorA;
+layout(binding = 1) uniform sampler3D u_tensorB;
+uniform mat4 u_worldToTex;
+
+// False outside the data or where fewer than half the interpolation weights are valid voxels.
+bool sampleTensor(vec3 worldPos, out mat3 t, out float fa) {
+  vec3 tc = (u_worldToTex * vec4(worldPos, 1.0)).xyz;
+  vec4 a = texture(u_tensorA, tc);
+  vec4 b = texture(u_tensorB, tc);
+  t = mat3(0.0);
+  fa = 0.0;
+  float valid = b.w;
+  if (!(valid >= 0.5)) return false;
+  float inv = 1.0 / valid;
+  a *= inv;
+  b.xyz *= inv;
+  // mat3 is column-major; symmetric, so the layout of off-diagonals does not matter.
+  t = mat3(a.x, a.y, a.z,
+           a.y, a.w, b.x,
+           a.z, b.x, b.y);
+  fa = clamp(b.z, 0.0, 1.0);
+  return true;
+}

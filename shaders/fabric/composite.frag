@@ -1,0 +1,97 @@
+#version 450 core
+// Composite pass (paper §2.6, Eq. 13, and §3.2). Engineering mode, with f = contrast-stretched p_k:
+//   R = r f(p2) / (8 f(p1)^2) + e + light(L)
+//   G = (1 - r) f(p1) / (8 f(p2)^2) + e + light(L)
+//   B = e + light(L)
+// light(L) adds the same amount to all channels, which changes brightness, not hue. Medical mode:
+// the primary fabric as luminance of the DEC colour of the 3D principal eigenvector (x red, y green,
+// z blue) modulated by FA; where a secondary in-plane direction exists, it is drawn in grey beneath the
+// primary threads. Writes gl_FragDepth from the projection depth so other geometry occludes correctly.
+layout(binding = 0) uniform sampler2D u_advected;   // p1, p2
+layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
+layout(binding = 2) uniform sampler2D u_silhouette; // e
+layout(binding = 3) uniform sampler2D u_normal;     // eye normal, FA
+layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), lambda2'/lambda1'
+layout(binding = 5) uniform sampler2D u_lambda;     // lambda1', lambda2', |e1.n|, data
+layout(binding = 6) uniform sampler2D u_depth;      // window depth of the projection pass
+
+uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
+uniform float u_r = 0.5;      // blend between the two directions (Eq. 13)
+uniform float u_contrast = 1.0; // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = Eq. 13 on the raw fields
+uniform float u_lightWeight = 0.5; // engineering: light(L) = weight * L
+uniform float u_lightMix = 0.8;    // medical: intensity factor mix(1, L, lightMix)
+uniform bool u_lighting = true;
+uniform bool u_silhouettes = true;
+uniform float u_depthColour = 0.0; // 0..1: blend far surfaces towards a cool grey (depth cue)
+uniform vec2 u_depthRange;         // linear depth of the nearest and farthest scene points (mm)
+uniform float u_sharpen = 0.0;     // unsharp mask weight on the composed colour
+uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
+uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
+uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
+uniform vec3 u_noData = vec3(0.45);    // medical: colour of surface points without tensor data
+
+out vec4 o_colour;
+
+float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
+
+vec3 compose(ivec2 t) {
+  vec4 s = texelFetch(u_surface, t, 0);
+  if (s.a < 0.5) return vec3(0.0);
+  vec2 p = texelFetch(u_advected, t, 0).rg;
+  float e = u_silhouettes ? texelFetch(u_silhouette, t, 0).r : 0.0;
+  float L = u_lighting ? s.g : 1.0;
+  vec3 c;
+#ifdef MEDICAL
+  vec4 eig = texelFetch(u_eigen, t, 0);
+  vec4 lam = texelFetch(u_lambda, t, 0);
+  float fa = texelFetch(u_normal, t, 0).a;
+  float p1 = stretch(p.r), p2 = stretch(p.g);
+  if (lam.w < 0.5) {
+    c = u_noData * (0.6 + 0.4 * p1);
+  } else {
+    vec3 dec = abs(eig.xyz);
+    vec3 base = mix(vec3(0.3), dec, clamp(0.35 + fa * 1.3, 0.0, 1.0)) * (0.45 + 0.55 * clamp(fa * 2.0, 0.0, 1.0));
+    vec3 primary = base * (0.25 + 1.1 * p1);
+    // Secondary direction: where the in-plane eigenvalues are close or FA is low.
+    float w2 = max(smoothstep(u_secondaryRatio, 1.0, eig.w), 1.0 - smoothstep(0.0, u_secondaryFa, fa));
+    vec3 secondary = vec3(0.2 + 0.6 * p2) * (0.45 + 0.55 * clamp(fa * 2.0, 0.0, 1.0));
+    float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
+    c = mix(primary, mix(secondary, primary, onTop), w2);
+    c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.z));
+  }
+  c *= mix(1.0, L, u_lightMix);
+  c = mix(c, vec3(0.0), e);
+#else
+  float f1 = max(stretch(p.r), 1e-3), f2 = max(stretch(p.g), 1e-3);
+  float light = u_lighting ? u_lightWeight * L : 0.0;
+  c.r = u_r * f2 / (8.0 * f1 * f1) + e + light;
+  c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
+  c.b = e + light;
+#endif
+  if (u_depthColour > 0.0) {
+    float d = clamp((s.b - u_depthRange.x) / max(u_depthRange.y - u_depthRange.x, 1e-6), 0.0, 1.0);
+    c = mix(c, mix(c, vec3(0.35, 0.4, 0.5) * dot(c, vec3(0.333)), 0.8), u_depthColour * d);
+  }
+  return c;
+}
+
+void main() {
+  ivec2 t = ivec2(gl_FragCoord.xy) + u_guard;
+  vec4 s = texelFetch(u_surface, t, 0);
+  if (s.a < 0.5) discard;
+  vec3 c = compose(t);
+  if (u_sharpen > 0.0) {
+    vec3 sum = vec3(0.0);
+    float n = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
+      if (texelFetch(u_surface, q, 0).a > 0.5) {
+        sum += compose(q);
+        n += 1.0;
+      }
+    }
+    if (n > 0.0) c += u_sharpen * (c - sum / n);
+  }
+  o_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
+  gl_FragDepth = texelFetch(u_depth, t, 0).r;
+}

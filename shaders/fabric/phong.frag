@@ -1,0 +1,14 @@
+#version 450 core
+#include "common/lighting.glsl"
+in vec3 v_normalEye;
+in vec3 v_eye;
+uniform bool u_orthographic;
+uniform vec3 u_colour = vec3(0.8, 0.8, 0.78);
+out vec4 o_colour;
+void main() {
+  vec3 n = normalize(v_normalEye);
+  if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
+  vec3 toEye = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-v_eye);
+  if (dot(n, toEye) < 0.0) n = -n;
+  o_colour = vec4(u_colour * blinnPhong(n, toEye), 1.0);
+}
