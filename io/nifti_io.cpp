@@ -163,6 +163,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   h.datatype = nim->datatype;
   const char* dtName = nifti_datatype_to_string(nim->datatype);
   h.datatypeName = dtName ? dtName : ("code " + std::to_string(nim->datatype));
+  if (h.datatypeName.rfind("NIFTI_TYPE_", 0) == 0) h.datatypeName.erase(0, 11); // "FLOAT32", "INT16", ...
   if (!isSupportedDatatype(nim->datatype))
     fail(path, "unsupported datatype " + h.datatypeName +
                    " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
@@ -341,9 +342,11 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
     if (!ok) throw InputError("cannot write " + path + ": write failed (disk full?)");
   }
 
+  // nifti_image_write reports failure only on stderr: check the result (a .gz may be smaller than a header).
   std::error_code ec;
   auto size = fs::file_size(out.tempPath(), ec);
-  if (ec || size < 348) throw InputError("cannot write " + path + ": nifticlib failed to write the file");
+  NimPtr check(ec || size == 0 ? nullptr : nifti_image_read(out.tempPath().c_str(), 0));
+  if (!check) throw InputError("cannot write " + path + ": nifticlib failed to write the file");
   if (nii && size < (niftiVersion == 2 ? 544 : 352) + disk.size() * sizeof(float))
     throw InputError("cannot write " + path + ": the file is incomplete (disk full?)");
   out.commit();

@@ -1,1 +1,248 @@
-// placeholder: implemented by the io work
+// Analytic phantoms. Every grid is RAS, axis-aligned, centred at the world origin with isotropic spacing.
+#include "io/phantoms.h"
+
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace dtf::io {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Prolate "fibre" tensor eigenvalues (mm^2/s): FA 0.80, MD 7.7e-4, typical of white matter.
+constexpr double kAxial = 1.7e-3, kRadial = 0.3e-3;
+
+Grid centredGrid(glm::ivec3 dims, double spacing) {
+  glm::dmat4 a(1.0);
+  for (int c = 0; c < 3; ++c) {
+    a[c][c] = spacing;
+    a[3][c] = -0.5 * (dims[c] - 1) * spacing;
+  }
+  return Grid::fromAffine(dims, a);
+}
+
+glm::dmat3 prolate(const glm::dvec3& dir, double axial = kAxial, double radial = kRadial) {
+  glm::dvec3 e = glm::normalize(dir);
+  return radial * glm::dmat3(1.0) + (axial - radial) * glm::outerProduct(e, e);
+}
+
+glm::dvec3 direction(double azimuthDeg, double elevationDeg) {
+  double az = azimuthDeg * kPi / 180, el = elevationDeg * kPi / 180;
+  return {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+}
+
+ScalarVolume faOf(const TensorField& f) {
+  ScalarVolume fa(f.grid, 1);
+  for (std::size_t i = 0; i < f.tensors.size(); ++i)
+    if (f.valid[i]) fa.data[i] = static_cast<float>(computeMetrics(eigenDecompose(f.tensors[i])).fa);
+  return fa;
+}
+
+void setTensor(TensorField& f, std::size_t i, const glm::dmat3& m) {
+  SymTensor t = SymTensor::fromMat(m);
+  f.tensors[i] = t;
+  f.valid[i] = t.isFinite() && !t.isZero();
+  if (!f.valid[i]) f.tensors[i] = SymTensor{};
+}
+
+// Calls fn(index, world position) for every voxel.
+void forEachVoxel(const Grid& g, const std::function<void(std::size_t, const glm::dvec3&)>& fn) {
+  for (int k = 0; k < g.dims.z; ++k)
+    for (int j = 0; j < g.dims.y; ++j)
+      for (int i = 0; i < g.dims.x; ++i) fn(g.index(i, j, k), g.toWorld(glm::dvec3(i, j, k)));
+}
+
+Phantom sphere(const PhantomOptions& o) {
+  Phantom p;
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  p.tensors = makeTensorField(g);
+  p.scalar = ScalarVolume(g, 1);
+  p.isovalue = 0.35 * (o.size - 1) * o.spacing;
+  forEachVoxel(g, [&](std::size_t i, const glm::dvec3& x) {
+    double r = glm::length(x);
+    p.scalar.data[i] = static_cast<float>(r);
+    if (r < 1e-9) return; // the Hessian of |x| is undefined at the centre
+    glm::dvec3 n = x / r;
+    setTensor(p.tensors, i, (glm::dmat3(1.0) - glm::outerProduct(n, n)) / r);
+  });
+  return p;
+}
+
+Phantom constant(const PhantomOptions& o) {
+  Phantom p;
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  p.tensors = makeTensorField(g);
+  glm::dmat3 d = prolate(direction(o.angleDeg, o.elevationDeg));
+  for (std::size_t i = 0; i < g.voxelCount(); ++i) setTensor(p.tensors, i, d);
+  p.scalar = faOf(p.tensors);
+  p.isovalue = 0.5;
+  return p;
+}
+
+Phantom crossing(const PhantomOptions& o) {
+  Phantom p;
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  p.tensors = makeTensorField(g);
+  double extent = (o.size - 1) * o.spacing;
+  double halfWidth = 0.12 * extent, halfThickness = 0.2 * extent;
+  glm::dvec3 d1 = direction(-0.5 * o.crossingDeg, 0), d2 = direction(0.5 * o.crossingDeg, 0);
+  glm::dmat3 t1 = prolate(d1), t2 = prolate(d2);
+  forEachVoxel(g, [&](std::size_t i, const glm::dvec3& x) {
+    if (std::abs(x.z) > halfThickness) return;
+    glm::dvec3 inPlane(x.x, x.y, 0);
+    // Distance from the line through the centre along each bundle direction.
+    bool in1 = glm::length(inPlane - glm::dot(inPlane, d1) * d1) <= halfWidth;
+    bool in2 = glm::length(inPlane - glm::dot(inPlane, d2) * d2) <= halfWidth;
+    glm::dmat3 m(0.0);
+    if (in1) m += t1;
+    if (in2) m += t2;
+    if (in1 || in2) setTensor(p.tensors, i, m);
+  });
+  p.scalar = faOf(p.tensors);
+  p.isovalue = 0.5;
+  return p;
+}
+
+// A polyline sampled from a parametric curve; distance queries return the nearest sample's tangent.
+struct Bundle {
+  std::vector<glm::dvec3> points;
+  double radius = 0;
+  // Squared distance to the nearest sample; sets `tangent` to the curve direction there.
+  double distance2(const glm::dvec3& x, glm::dvec3& tangent) const {
+    double best = std::numeric_limits<double>::max();
+    std::size_t bi = 0;
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      glm::dvec3 d = x - points[s];
+      double d2 = glm::dot(d, d);
+      if (d2 < best) best = d2, bi = s;
+    }
+    std::size_t a = bi > 0 ? bi - 1 : bi, b = bi + 1 < points.size() ? bi + 1 : bi;
+    tangent = glm::normalize(points[b] - points[a]);
+    return best;
+  }
+};
+
+Bundle makeBundle(const std::function<glm::dvec3(double)>& curve, double radius, int samples = 160) {
+  Bundle b;
+  b.radius = radius;
+  for (int s = 0; s <= samples; ++s) b.points.push_back(curve(double(s) / samples));
+  return b;
+}
+
+// Head of semi-axes (0.40, 0.46, 0.40) x extent; tissue MD 1e-3, a CSF-like rim with MD 3e-3; fibre bundles
+// in unit coordinates u = world / extent (so the grid spans about [-0.5, 0.5]).
+Phantom brain(const PhantomOptions& o) {
+  Phantom p;
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  p.tensors = makeTensorField(g);
+  double extent = (o.size - 1) * o.spacing;
+  const glm::dvec3 head(0.40, 0.46, 0.40);
+  std::vector<Bundle> bundles;
+  // Corpus callosum: a left-right arch over the midline, highest at x = 0 (red).
+  bundles.push_back(makeBundle(
+      [](double t) {
+        double x = -0.30 + 0.60 * t;
+        return glm::dvec3(x, 0.0, 0.05 + 0.10 * (1 - (x / 0.30) * (x / 0.30)));
+      },
+      0.06));
+  // Corticospinal tracts: two superior-inferior columns bending outwards towards the top (blue).
+  for (double side : {-1.0, 1.0})
+    bundles.push_back(makeBundle(
+        [side](double t) {
+          double z = -0.34 + 0.42 * t;
+          return glm::dvec3(side * (0.12 + 0.25 * (z + 0.34) * (z + 0.34)), -0.02, z);
+        },
+        0.055));
+  // Cingula: anterior-posterior bundles above the callosum, arched along y (green).
+  for (double side : {-1.0, 1.0})
+    bundles.push_back(makeBundle(
+        [side](double t) {
+          double y = -0.32 + 0.64 * t;
+          return glm::dvec3(side * 0.07, y, 0.24 - 0.6 * y * y);
+        },
+        0.045));
+  forEachVoxel(g, [&](std::size_t i, const glm::dvec3& world) {
+    glm::dvec3 u = world / extent;
+    glm::dvec3 q = u / head;
+    double r = glm::length(q);
+    if (r > 1) return;
+    double md = r > 0.88 ? 3e-3 : 1e-3; // CSF rim, then tissue
+    glm::dmat3 m = md * glm::dmat3(1.0);
+    double bestScore = 1; // distance / radius of the nearest bundle containing the voxel
+    for (const Bundle& b : bundles) {
+      glm::dvec3 tangent;
+      double score = std::sqrt(b.distance2(u, tangent)) / b.radius;
+      if (score < bestScore && r <= 0.88) {
+        bestScore = score;
+        m = prolate(tangent);
+      }
+    }
+    setTensor(p.tensors, i, m);
+  });
+  p.scalar = faOf(p.tensors);
+  p.isovalue = 0.4;
+  return p;
+}
+
+} // namespace
+
+Bretzel5Value bretzel5(const glm::dvec3& u) {
+  double x = u.x, y = u.y, z = u.z;
+  double a = x * x + 0.25 * y * y - 1, b = 0.25 * x * x + y * y - 1;
+  double g = a * b;
+  double gx = 2 * x * b + 0.5 * x * a, gy = 0.5 * y * b + 2 * y * a;
+  double gxx = 2 * b + 0.5 * a + 2 * x * x, gyy = 0.5 * b + 2 * a + 2 * y * y, gxy = 4.25 * x * y;
+  Bretzel5Value v;
+  v.f = g * g + z * z - 0.1;
+  v.gradient = {2 * g * gx, 2 * g * gy, 2 * z};
+  glm::dmat3 h(0.0);
+  h[0][0] = 2 * (gx * gx + g * gxx);
+  h[1][1] = 2 * (gy * gy + g * gyy);
+  h[0][1] = h[1][0] = 2 * (gx * gy + g * gxy);
+  h[2][2] = 2;
+  v.hessian = h;
+  return v;
+}
+
+namespace {
+
+// Bretzel5 (paper Eq. 14) on x, y in [-2.2, 2.2], z in [-1, 1] function units; scale = mm per unit. The
+// tensors are the Hessian with respect to world mm: H_world = H_u / scale^2.
+Phantom bretzel5Phantom(const PhantomOptions& o) {
+  Phantom p;
+  double scale = (o.size - 1) * o.spacing / 4.4;
+  int nz = std::max(2, static_cast<int>(std::lround(2.0 * scale / o.spacing)) + 1);
+  Grid g = centredGrid(glm::ivec3(o.size, o.size, nz), o.spacing);
+  p.tensors = makeTensorField(g);
+  p.scalar = ScalarVolume(g, 1);
+  p.isovalue = 0;
+  forEachVoxel(g, [&](std::size_t i, const glm::dvec3& x) {
+    Bretzel5Value v = bretzel5(x / scale);
+    p.scalar.data[i] = static_cast<float>(v.f);
+    setTensor(p.tensors, i, v.hessian / (scale * scale));
+  });
+  return p;
+}
+
+} // namespace
+
+std::vector<std::string> phantomNames() { return {"sphere", "bretzel5", "constant", "crossing", "brain"}; }
+
+Phantom makePhantom(const std::string& name, const PhantomOptions& options) {
+  if (options.size < 4 || options.size > 512)
+    throw UsageError("phantom size must be between 4 and 512 voxels (got " + std::to_string(options.size) + ")");
+  if (!(options.spacing > 0) || !std::isfinite(options.spacing))
+    throw UsageError("phantom spacing must be a positive number of mm");
+  if (name == "sphere") return sphere(options);
+  if (name == "bretzel5") return bretzel5Phantom(options);
+  if (name == "constant") return constant(options);
+  if (name == "crossing") return crossing(options);
+  if (name == "brain") return brain(options);
+  throw UsageError("unknown phantom '" + name + "' (expected sphere, bretzel5, constant, crossing or brain)");
+}
+
+} // namespace dtf::io

@@ -1,5 +1,16 @@
-// Analytic tensor fields for tests and demos (paper section 3.1 and DESIGN.md section 4). Each phantom
-// also carries a scalar field whose isosurface is the natural surface to render it on.
+// Analytic tensor fields for tests and demos (paper section 3.1 and DESIGN.md section 4): synthetic input
+// for every stage after the readers. Each phantom is a canonical TensorField (world RAS) on an RAS grid
+// centred at the origin, plus a scalar field whose isosurface is the natural surface to render it on.
+//   sphere    Hessian of |x| (curvature tensor (I - n n^T)/r, 1/mm; invalid at the centre); scalar |x| mm,
+//             isovalue 0.35 x extent.
+//   bretzel5  Hessian of f = ((x^2 + y^2/4 - 1)(x^2/4 + y^2 - 1))^2 + z^2 - 0.1 (paper Eq. 14) in closed
+//             form, on x, y in [-2.2, 2.2], z in [-1, 1] function units (1/mm^2); scalar f, isovalue 0.
+//   constant  prolate tensor, eigenvalues (1.7, 0.3, 0.3)e-3 mm^2/s, along angleDeg/elevationDeg; scalar FA.
+//   crossing  two such bundles (bands) crossing at crossingDeg in the axial plane, summed where they
+//             overlap; zero and invalid elsewhere; scalar FA.
+//   brain     ellipsoidal head: isotropic tissue (MD 1e-3) and a CSF rim (MD 3e-3), a left-right corpus
+//             callosum arch, superior-inferior corticospinal columns and anterior-posterior cingula
+//             (prolate tensors along the curves); background invalid; scalar FA.
 #pragma once
 
 #include "io/model/tensor_field.h"
@@ -24,8 +35,18 @@ struct Phantom {
   double isovalue = 0;  // level of `scalar` that gives the intended surface
 };
 
-// Names: sphere, bretzel5, constant, crossing, brain. Throws UsageError for an unknown name.
+// Names: sphere, bretzel5, constant, crossing, brain. Throws UsageError for an unknown name, a size outside
+// 4..512 or a non-positive spacing.
 Phantom makePhantom(const std::string& name, const PhantomOptions& options = {});
 std::vector<std::string> phantomNames();
+
+// Bretzel5 function, gradient and Hessian at a point in function units (closed form; used by the phantom
+// and checked against finite differences in the tests).
+struct Bretzel5Value {
+  double f = 0;
+  glm::dvec3 gradient{0.0};
+  glm::dmat3 hessian{0.0};
+};
+Bretzel5Value bretzel5(const glm::dvec3& u);
 
 } // namespace dtf::io
