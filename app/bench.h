@@ -4,9 +4,22 @@
 
 #include "app/commands.h"
 
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
 namespace dtf::app {
 
 int benchIo(const CommandArgs& args);
 int benchRender(const CommandArgs& args);
+int benchSurfaces(const CommandArgs& args);
+
+// The shared real-data folder: `given`, else $DTF_SHARED_DATA, else a shared/data folder beside an ancestor
+// of the executable (the checkout's ../shared/data). nullopt when none exists.
+std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given);
+
+// Median of a non-empty sample (the vector is reordered).
+double median(std::vector<double> v);
 
 } // namespace dtf::app

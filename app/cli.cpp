@@ -14,6 +14,7 @@ const std::vector<Command>& commands() {
       {"info", "describe a tensor, scalar or DWI volume (layout, orientation, ranges, one voxel)", cmdInfo},
       {"fit", "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)", cmdFit},
       {"phantom", "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)", cmdPhantom},
+      {"surface", "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality", cmdSurface},
       {"render", "render the fabric on a surface to PNG, headless", cmdRender},
       {"bench", "benchmarks: io, render", cmdBench},
   };

@@ -3,21 +3,42 @@
 
 #include "io/model/error.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 namespace dtf::app {
 
+std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given) {
+  namespace fs = std::filesystem;
+  if (given) return fs::path(*given);
+  if (const char* env = std::getenv("DTF_SHARED_DATA"); env && *env) return fs::path(env);
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return std::nullopt;
+  for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
+    if (fs::exists(p / "shared" / "data" / "iu_prisma_dwi")) return p / "shared" / "data";
+  return std::nullopt;
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 int cmdBench(const CommandArgs& args) {
   if (args.empty() || args[0] == "--help") {
-    std::printf("usage: dtfabric bench io|render [OPTIONS] [--json]\n"
+    std::printf("usage: dtfabric bench io|render|surfaces [OPTIONS] [--json]\n"
                 "  io      load time of an HCP-sized tensor volume, DWI fit times, FA-map time\n"
-                "  render  per-pass GPU times and ms/frame of the fabric against plain Phong\n");
+                "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
+                "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
   if (args[0] == "io") return benchIo(rest);
   if (args[0] == "render") return benchRender(rest);
-  throw UsageError("unknown benchmark '" + args[0] + "' (io, render)");
+  if (args[0] == "surfaces") return benchSurfaces(rest);
+  throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces)");
 }
 
 } // namespace dtf::app

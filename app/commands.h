@@ -19,6 +19,7 @@ struct Command {
 int cmdInfo(const CommandArgs& args);
 int cmdFit(const CommandArgs& args);
 int cmdPhantom(const CommandArgs& args);
+int cmdSurface(const CommandArgs& args);
 int cmdRender(const CommandArgs& args);
 int cmdBench(const CommandArgs& args);
 

@@ -3,15 +3,12 @@
 #include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
-#include <vtkCleanPolyData.h>
 #include <vtkFlyingEdges3D.h>
 #include <vtkFloatArray.h>
-#include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkImageGaussianSmooth.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
-#include <vtkPolyDataConnectivityFilter.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkWindowedSincPolyDataFilter.h>
 
@@ -97,27 +94,6 @@ Mesh IsosurfaceSweeper::extract(double isovalue) const {
   vtkSmartPointer<vtkPolyData> poly = contour->GetOutput();
   if (!poly || poly->GetNumberOfCells() == 0) return {};
 
-  if (options.minComponentFraction > 0) {
-    vtkNew<vtkPolyDataConnectivityFilter> conn;
-    conn->SetInputData(poly);
-    conn->SetExtractionModeToAllRegions();
-    conn->Update();
-    vtkIdTypeArray* sizes = conn->GetRegionSizes();
-    vtkIdType largest = 0;
-    for (vtkIdType r = 0; r < sizes->GetNumberOfTuples(); ++r) largest = std::max(largest, sizes->GetValue(r));
-    vtkNew<vtkPolyDataConnectivityFilter> keep;
-    keep->SetInputData(poly);
-    keep->SetExtractionModeToSpecifiedRegions();
-    for (vtkIdType r = 0; r < sizes->GetNumberOfTuples(); ++r)
-      if (static_cast<double>(sizes->GetValue(r)) >= options.minComponentFraction * static_cast<double>(largest))
-        keep->AddSpecifiedRegion(static_cast<int>(r));
-    // The connectivity filter keeps every input point; drop the ones no kept triangle uses.
-    vtkNew<vtkCleanPolyData> clean;
-    clean->SetInputConnection(keep->GetOutputPort());
-    clean->PointMergingOff();
-    clean->Update();
-    poly = clean->GetOutput();
-  }
   if (options.meshSmoothIterations > 0) {
     vtkNew<vtkWindowedSincPolyDataFilter> sinc;
     sinc->SetInputData(poly);
@@ -137,6 +113,7 @@ Mesh IsosurfaceSweeper::extract(double isovalue) const {
   }
 
   Mesh m = detail::fromVtk(poly);
+  if (options.minComponentFraction > 0) detail::keepLargeComponents(m, options.minComponentFraction);
   // Map index space to world: positions by the affine, normals by its inverse transpose. A reflecting
   // affine (LAS) reverses the triangles' winding, so swap two indices to keep counter-clockwise = front.
   const glm::dmat4& a = impl_->voxelToWorld;

@@ -13,4 +13,9 @@ vtkSmartPointer<vtkPolyData> toVtk(const Mesh& mesh);
 // Triangles only (other cells are triangulated first); copies point normals when present.
 Mesh fromVtk(vtkPolyData* poly);
 
+// Keeps the connected components (triangles sharing vertices) with at least `fraction` of the largest
+// one's triangle count and drops unused vertices. Union-find: vtkPolyDataConnectivityFilter takes about
+// a second on a 500k-triangle FA surface, this a few milliseconds.
+void keepLargeComponents(Mesh& mesh, double fraction);
+
 } // namespace dtf::surfaces::detail

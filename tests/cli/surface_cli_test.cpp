@@ -1,0 +1,73 @@
+// `dtfabric surface` end to end on the real brain and on bad input.
+#include "support/cli.h"
+#include "support/test_env.h"
+
+#include <regex>
+
+using dtf::test::runDtfabric;
+
+namespace {
+double jsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
+  return std::stod(m[1]);
+}
+} // namespace
+
+TEST(SurfaceCli, FibreSurfaceAlongCorticospinalTractBeatsTheAxialSlice) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  auto dir = dtf::test::scratchDir();
+  // A left-right seed line across the right corticospinal tract (voxel (30,34,15), e1 superior-inferior).
+  auto r = runDtfabric("surface '" + tensor.string() + "' --fibre-surface-voxel 27,34,15:33,34,15 -o '" +
+                           (dir / "cst.ply").string() + "' --json",
+                       dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const double fibre = jsonNumber(r.out, "e1_dot_n"), flat = jsonNumber(r.out, "flat_e1_dot_n");
+  EXPECT_GE(fibre, 0.0) << r.out;
+  EXPECT_LT(fibre, 0.05) << r.out;
+  EXPECT_GT(flat, 0.3) << r.out;
+  EXPECT_NE(r.out.find("\"flat_slice\": \"axial\""), std::string::npos) << r.out;
+  EXPECT_GT(jsonNumber(r.out, "triangles"), 300);
+  EXPECT_TRUE(std::filesystem::exists(dir / "cst.ply"));
+}
+
+TEST(SurfaceCli, FaIsosurfaceAndSliceWriteMeshes) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  auto dir = dtf::test::scratchDir();
+  auto r = runDtfabric("surface '" + tensor.string() + "' --fa 0.3 -o '" + (dir / "fa.vtp").string() + "'", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("FA isosurface at 0.3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("quality:"), std::string::npos);
+  r = runDtfabric("surface '" + tensor.string() + "' --slice axial:22 -o '" + (dir / "ax.obj").string() + "' --json", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_GT(jsonNumber(r.out, "triangles"), 1000);
+}
+
+TEST(SurfaceCli, BadInputIsReportedWithExitCodes) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  auto dir = dtf::test::scratchDir();
+  const std::string in = "'" + tensor.string() + "'";
+  const std::string out = "'" + (dir / "m.ply").string() + "'";
+  auto r = runDtfabric("surface " + in + " --fa 0.99 -o " + out, dir);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("yields no surface"), std::string::npos) << r.err;
+  r = runDtfabric("surface " + in + " --fibre-surface 500,500,500:510,500,500 -o " + out, dir);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("outside the data"), std::string::npos) << r.err;
+  r = runDtfabric("surface " + in + " --slice axial:99 -o " + out, dir);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("outside the volume"), std::string::npos) << r.err;
+  r = runDtfabric("surface " + in + " --surface bogus=1 -o " + out, dir);
+  EXPECT_EQ(r.exitCode, 1);
+  r = runDtfabric("surface " + in + " --fa 0.3 --slice axial -o " + out, dir);
+  EXPECT_EQ(r.exitCode, 1) << "two surfaces at once";
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.ply"));
+  // An existing output is kept unless --force; the input is never overwritten.
+  std::ofstream(dir / "keep.ply") << "precious";
+  r = runDtfabric("surface " + in + " --fa 0.3 -o '" + (dir / "keep.ply").string() + "'", dir);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(dtf::test::readText(dir / "keep.ply"), "precious");
+  r = runDtfabric("surface " + in + " --fa 0.3 --force -o " + in, dir);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
+}
