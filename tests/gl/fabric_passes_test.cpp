@@ -1,0 +1,482 @@
+// Each fabric pass in isolation against a small CPU reference on synthetic input (DESIGN.md §4).
+#include "support/gl_test.h"
+#include "gl/gl_helpers.h"
+
+#include "io/model/tensor.h"
+#include "render/fabric/advection_pass.h"
+#include "render/fabric/composite_pass.h"
+#include "render/fabric/projection_pass.h"
+#include "render/fabric/silhouette_pass.h"
+#include "render/reference/scenes.h"
+#include "render/shader_program.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <random>
+
+using namespace dtf;
+using namespace dtf::render;
+using dtf::test::readTexture;
+using dtf::test::textureFrom;
+
+namespace {
+
+class FabricPass : public GlTest {};
+
+constexpr int kW = 64, kH = 48;
+
+std::vector<float> randomField(int w, int h, int channels, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> v(static_cast<std::size_t>(w) * h * channels);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
+// Surface texture: beta from `beta`, coverage everywhere (or per mask), depth 100.
+std::vector<float> surfaceData(const std::vector<float>& beta, const std::vector<unsigned char>* mask = nullptr) {
+  std::vector<float> s(beta.size() * 4);
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    bool on = !mask || (*mask)[i];
+    s[i * 4 + 0] = on ? beta[i] : 0.0f;
+    s[i * 4 + 1] = 0.5f;
+    s[i * 4 + 2] = 100.0f;
+    s[i * 4 + 3] = on ? 1.0f : 0.0f;
+  }
+  return s;
+}
+
+// CPU reference of one Eq. 12 iteration with GL_LINEAR sampling and clamp-to-edge (advection.frag).
+std::vector<float> advectReference(const std::vector<float>& prev, const std::vector<float>& vectors,
+                                   const std::vector<float>& surface, const std::vector<float>& edges, int w, int h,
+                                   float k, float step) {
+  auto covered = [&](int x, int y) { return surface[(static_cast<std::size_t>(y) * w + x) * 4 + 3] > 0.5f; };
+  auto blocked = [&](double px, double py) {
+    int x = static_cast<int>(std::floor(px)), y = static_cast<int>(std::floor(py));
+    if (x < 0 || y < 0 || x >= w || y >= h) return true;
+    return !covered(x, y) || edges[static_cast<std::size_t>(y) * w + x] > 0.5f;
+  };
+  auto bilinear = [&](double px, double py, int c) {
+    double u = px - 0.5, v = py - 0.5;
+    int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
+    double fx = u - x0, fy = v - y0;
+    auto at = [&](int x, int y) {
+      x = std::clamp(x, 0, w - 1);
+      y = std::clamp(y, 0, h - 1);
+      return prev[(static_cast<std::size_t>(y) * w + x) * 2 + c];
+    };
+    return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+  };
+  std::vector<float> out(prev.size(), 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::size_t i = static_cast<std::size_t>(y) * w + x;
+      if (!covered(x, y)) continue;
+      double beta = surface[i * 4];
+      for (int c = 0; c < 2; ++c) {
+        double here = prev[i * 2 + c];
+        double vx = vectors[i * 4 + 2 * c] * step, vy = vectors[i * 4 + 2 * c + 1] * step;
+        double avg = here;
+        if (vx != 0 || vy != 0) {
+          double cx = x + 0.5, cy = y + 0.5;
+          double a = blocked(cx + vx, cy + vy) ? here : bilinear(cx + vx, cy + vy, c);
+          double b = blocked(cx - vx, cy - vy) ? here : bilinear(cx - vx, cy - vy, c);
+          avg = 0.5 * (a + b);
+        }
+        out[i * 2 + c] = static_cast<float>(k * beta + (1 - k) * avg);
+      }
+    }
+  return out;
+}
+
+// Unit image-space directions at random angles, max-norm scaled.
+std::vector<float> randomVectors(int w, int h, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> ang(0.0f, 6.2831853f);
+  std::vector<float> v(static_cast<std::size_t>(w) * h * 4);
+  for (std::size_t i = 0; i < v.size(); i += 2) {
+    float a = ang(rng);
+    float x = std::cos(a), y = std::sin(a), m = std::max(std::abs(x), std::abs(y));
+    v[i] = x / m;
+    v[i + 1] = y / m;
+  }
+  return v;
+}
+
+} // namespace
+
+TEST_F(FabricPass, ShaderPreprocessorInjectsDefinesAndLineDirectives) {
+  ShaderSource s = preprocessShader("fabric/projection.frag", {"WITH_PRINCIPAL", "ANSWER 42"});
+  ASSERT_EQ(s.text.rfind("#version 450 core\n#define WITH_PRINCIPAL\n#define ANSWER 42\n", 0), 0u) << s.text.substr(0, 200);
+  ASSERT_GE(s.files.size(), 4u);
+  EXPECT_EQ(s.files[0], "fabric/projection.frag");
+  EXPECT_EQ(s.files[1], "common/eigen.glsl");
+  EXPECT_NE(s.text.find("#line 1 1\n"), std::string::npos);
+  EXPECT_NE(s.text.find("void eigenDecompose("), std::string::npos);
+  EXPECT_EQ(s.text.find("#include"), std::string::npos);
+  EXPECT_THROW(preprocessShader("fabric/no_such_file.frag"), GlError);
+}
+
+TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
+  // Random SPD tensors plus the hard cases: zero, isotropic, repeated eigenvalues, diagonal, tiny scale.
+  std::vector<glm::dmat3> cases = {glm::dmat3(0.0), glm::dmat3(1e-3), glm::dmat3(2.0, 0, 0, 0, 1, 0, 0, 0, 1),
+                                   glm::dmat3(1.0, 0, 0, 0, 1, 0, 0, 0, 3), glm::dmat3(3.0, 0, 0, 0, 2, 0, 0, 0, 1)};
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0, 1);
+  while (cases.size() < 64) {
+    glm::dmat3 r;
+    glm::dvec3 a(g(rng), g(rng), g(rng)), b(g(rng), g(rng), g(rng));
+    a = glm::normalize(a);
+    b = glm::normalize(b - a * glm::dot(a, b));
+    r = glm::dmat3(a, b, glm::cross(a, b));
+    glm::dvec3 l(std::abs(g(rng)) * 1e-3, std::abs(g(rng)) * 1e-3, std::abs(g(rng)) * 1e-3);
+    if (cases.size() % 3 == 0) l.y = l.x; // repeated
+    cases.push_back(r * glm::dmat3(l.x, 0, 0, 0, l.y, 0, 0, 0, l.z) * glm::transpose(r));
+  }
+  const int n = static_cast<int>(cases.size());
+  std::vector<float> a(n * 4), b(n * 4);
+  for (int i = 0; i < n; ++i) {
+    SymTensor t = SymTensor::fromMat(cases[i]);
+    a[i * 4] = t.xx, a[i * 4 + 1] = t.xy, a[i * 4 + 2] = t.xz, a[i * 4 + 3] = t.yy;
+    b[i * 4] = t.yz, b[i * 4 + 1] = t.zz;
+  }
+  Texture ta = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, a), tb = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, b);
+  Texture out[4];
+  for (auto& o : out) o = Texture::create2D(GL_RGBA32F, n, 1);
+  Framebuffer fbo = createFramebuffer();
+  attachTargets(fbo, {&out[0], &out[1], &out[2], &out[3]}, nullptr);
+  ShaderProgram prog("common/fullscreen.vert", "test/eigen_probe.frag");
+  VertexArray vao = createVertexArray();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  glViewport(0, 0, n, 1);
+  prog.use();
+  glBindTextureUnit(0, ta.id());
+  glBindTextureUnit(1, tb.id());
+  glBindVertexArray(vao.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  auto vals = readTexture(out[0], 4);
+  std::vector<float> vecs[3] = {readTexture(out[1], 4), readTexture(out[2], 4), readTexture(out[3], 4)};
+  for (int i = 0; i < n; ++i) {
+    glm::dmat3 m = SymTensor::fromMat(cases[i]).toMat();
+    EigenSystem e = eigenDecompose(m);
+    double scale = std::max(std::abs(e.values.x), std::abs(e.values.z)) + 1e-12;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(vals[i * 4 + c], e.values[c], 2e-4 * scale) << "case " << i << " value " << c;
+      glm::dvec3 v(vecs[c][i * 4], vecs[c][i * 4 + 1], vecs[c][i * 4 + 2]);
+      ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) << "case " << i;
+      EXPECT_NEAR(glm::length(v), 1.0, 1e-3) << "case " << i;
+      // Residual |A v - lambda v| small: valid even for repeated eigenvalues, where the basis is free.
+      double res = glm::length(m * v - double(vals[i * 4 + c]) * v);
+      EXPECT_LT(res, 2e-3 * scale + 1e-9) << "case " << i << " vector " << c;
+    }
+  }
+}
+
+namespace {
+struct ProjectionCase {
+  bool perspective;
+};
+} // namespace
+
+TEST_F(FabricPass, ProjectedEigenvectorsLieInTheTangentPlaneAndAreMaxNormScaled) {
+  for (bool perspective : {false, true}) {
+    SCOPED_TRACE(perspective ? "perspective" : "orthographic");
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
+    const glm::dvec3 u = glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0))), v = glm::cross(n, u);
+    Mesh plane = reference::planeMesh({0, 0, 0}, u, v, 50, 50, 4);
+    plane.normals.assign(plane.positions.size(), glm::vec3(n));
+    const glm::dvec3 d = glm::normalize(glm::dvec3(1.0, 0.5, 0.8)); // partly out of the plane
+    Grid grid = reference::centredGrid(32, 2.0);
+    TensorField field = reference::constantField(grid, d, 1.7e-3, 0.3e-3);
+    // Make the two in-plane eigenvalues distinct also for the second direction: add a third component.
+    for (auto& t : field.tensors) t = SymTensor::fromMat(t.toMat() + 0.4e-3 * glm::outerProduct(u, u));
+
+    GpuMesh mesh;
+    mesh.upload(plane);
+    GpuTensorField gpuField;
+    gpuField.upload(field);
+    NoiseTile tile;
+    tile.size = 8;
+    tile.values.assign(64, 0.5f);
+    Texture noise = uploadNoise(tile);
+
+    Camera cam;
+    cam.orthographic = !perspective;
+    cam.lookAt({20, -30, 80}, {0, 0, 0}, {0, 1, 0});
+    cam.fit({-25, -25, -10}, {25, 25, 10}, double(kW) / kH);
+    FrameView view = FrameView::make(cam, {kW, kH}, 4, {-25, -25, -10}, {25, 25, 10});
+    ProjectionPass pass;
+    ProjectionSettings ps;
+    pass.run(mesh, gpuField, noise, view, ps);
+    auto vec = readTexture(pass.vectors(), 4);
+    auto surf = readTexture(pass.surface(), 4);
+
+    // CPU reference directions in the plane.
+    glm::dmat3 P = glm::dmat3(1.0) - glm::outerProduct(n, n);
+    glm::dmat3 T = field.tensors[0].toMat();
+    EigenSystem e = eigenDecompose(P * T * glm::transpose(P));
+    std::vector<glm::dvec3> inPlane;
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(glm::dot(e.vectors[i], n)) < 0.5) inPlane.push_back(e.vectors[i]);
+    ASSERT_EQ(inPlane.size(), 2u);
+
+    glm::dmat4 inv = glm::inverse(glm::dmat4(view.viewProj));
+    auto unproject = [&](glm::dvec2 px) { // pixel -> point on the plane
+      glm::dvec2 ndc = px / glm::dvec2(view.target) * 2.0 - 1.0;
+      glm::dvec4 a = inv * glm::dvec4(ndc, -1, 1), b = inv * glm::dvec4(ndc, 1, 1);
+      glm::dvec3 pa = glm::dvec3(a) / a.w, pb = glm::dvec3(b) / b.w;
+      double t = -glm::dot(pa, n) / glm::dot(pb - pa, n);
+      return pa + t * (pb - pa);
+    };
+    int checked = 0;
+    for (int y = 0; y < view.target.y; y += 3)
+      for (int x = 0; x < view.target.x; x += 3) {
+        std::size_t i = static_cast<std::size_t>(y) * view.target.x + x;
+        if (surf[i * 4 + 3] < 0.5f) continue;
+        for (int c = 0; c < 2; ++c) {
+          glm::dvec2 iv(vec[i * 4 + 2 * c], vec[i * 4 + 2 * c + 1]);
+          EXPECT_NEAR(std::max(std::abs(iv.x), std::abs(iv.y)), 1.0, 2e-3);
+          glm::dvec2 px(x + 0.5, y + 0.5);
+          glm::dvec3 q0 = unproject(px), q1 = unproject(px + 0.25 * iv);
+          glm::dvec3 w = glm::normalize(q1 - q0);
+          EXPECT_NEAR(glm::dot(w, n), 0.0, 1e-6); // in the tangent plane by construction of the unprojection
+          EXPECT_GT(std::abs(glm::dot(w, inPlane[c])), 0.999) << "pixel " << x << "," << y << " dir " << c;
+        }
+        ++checked;
+      }
+    EXPECT_GT(checked, 50);
+  }
+}
+
+TEST_F(FabricPass, DegenerateAndMissingTensorsGiveZeroVectorsAndNoNaN) {
+  Mesh plane = reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 100, 100, 4); // beyond the 64 mm grid
+  Grid grid = reference::centredGrid(32, 2.0);
+  TensorField field = reference::constantField(grid, {1, 0, 0}, 1e-3, 1e-3); // isotropic
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 16; ++i) {
+      field.at(i, j, 15) = SymTensor{}; // left half: no data
+      field.at(i, j, 16) = SymTensor{};
+      field.valid[grid.index(i, j, 15)] = field.valid[grid.index(i, j, 16)] = 0;
+    }
+  GpuMesh mesh;
+  mesh.upload(plane);
+  GpuTensorField gpuField;
+  gpuField.upload(field);
+  NoiseTile tile;
+  tile.size = 8;
+  tile.values.assign(64, 0.5f);
+  Texture noise = uploadNoise(tile);
+  Camera cam = Camera::standard(StandardView::Superior, {-50, -50, -1}, {50, 50, 1}, double(kW) / kH);
+  FrameView view = FrameView::make(cam, {kW, kH}, 0, {-50, -50, -1}, {50, 50, 1});
+  ProjectionPass pass;
+  pass.run(mesh, gpuField, noise, view, {});
+  for (const Texture* t : {&pass.vectors(), &pass.surface(), &pass.normal(), &pass.eigen(), &pass.lambda()}) {
+    auto data = readTexture(*t, 4);
+    for (float x : data) ASSERT_TRUE(std::isfinite(x));
+  }
+  auto vec = readTexture(pass.vectors(), 4);
+  auto lam = readTexture(pass.lambda(), 4);
+  int withData = 0, without = 0;
+  for (std::size_t i = 0; i < vec.size() / 4; ++i) {
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(vec[i * 4 + c], 0.0f);
+    (lam[i * 4 + 3] > 0.5f ? withData : without)++;
+  }
+  EXPECT_GT(withData, 100); // the isotropic half has data but no direction
+  EXPECT_GT(without, 100);  // the invalid half and beyond the grid have none
+}
+
+TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
+  auto beta = randomField(kW, kH, 1, 1);
+  std::vector<unsigned char> mask(beta.size(), 1);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < 6; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0; // uncovered strip
+  auto surface = surfaceData(beta, &mask);
+  auto vectors = randomVectors(kW, kH, 2);
+  std::vector<float> edges(beta.size(), 0.0f);
+  for (int y = 0; y < kH; ++y) edges[static_cast<std::size_t>(y) * kW + 30] = 1.0f; // a silhouette column
+  auto start = randomField(kW, kH, 2, 3);
+  Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, vectors), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  vectors = readTexture(tv, 4); // the 16-bit values the GPU sees
+  AdvectionPass pass;
+  pass.resize({kW, kH});
+  pass.setState(start.data());
+  AdvectionSettings as{0.2f, 1.7f, 0.05f};
+  pass.iterate(tv, ts, te, as, 1);
+  auto gpu = readTexture(pass.current(), 2);
+  auto cpu = advectReference(start, vectors, surface, edges, kW, kH, as.k, as.stepPixels);
+  double maxErr = 0;
+  for (std::size_t i = 0; i < gpu.size(); ++i) maxErr = std::max(maxErr, double(std::abs(gpu[i] - cpu[i])));
+  EXPECT_LT(maxErr, 1e-2); // bilinear weights are 8-bit fixed point on most hardware
+  unsigned changed = pass.changedPixels();
+  // Covered pixels whose change clearly exceeds / clearly stays below epsilon bound the GPU count.
+  unsigned surely = 0, possibly = 0;
+  for (std::size_t i = 0; i < cpu.size() / 2; ++i) {
+    if (!mask[i]) continue;
+    double d = std::max(std::abs(cpu[i * 2] - start[i * 2]), std::abs(cpu[i * 2 + 1] - start[i * 2 + 1]));
+    surely += d > 0.05 + 1e-2;
+    possibly += d > 0.05 - 1e-2;
+  }
+  EXPECT_GE(changed, surely);
+  EXPECT_LE(changed, possibly);
+  EXPECT_GT(surely, 100u);
+}
+
+TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
+  auto beta = randomField(kW, kH, 1, 4);
+  auto surface = surfaceData(beta);
+  std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), edges(beta.size(), 0.0f);
+  Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zero), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  AdvectionPass pass;
+  pass.resize({kW, kH});
+  std::vector<float> start(beta.size() * 2, 1.0f);
+  pass.setState(start.data());
+  const float k = 0.25f;
+  pass.iterate(tv, ts, te, {k, 2.0f, 0.05f}, 20);
+  auto p = readTexture(pass.current(), 2);
+  // p_n = beta + (1 - k)^n (p_0 - beta) exactly when v = 0.
+  for (std::size_t i = 0; i < beta.size(); ++i)
+    for (int c = 0; c < 2; ++c)
+      EXPECT_NEAR(p[i * 2 + c], beta[i] + std::pow(1 - k, 20) * (1 - beta[i]), 1e-5);
+  pass.iterate(tv, ts, te, {k, 2.0f, 0.05f}, 40);
+  p = readTexture(pass.current(), 2);
+  for (std::size_t i = 0; i < beta.size(); ++i) EXPECT_NEAR(p[i * 2], beta[i], 1e-5);
+  EXPECT_EQ(pass.changedPixels(), 0u);
+}
+
+TEST_F(FabricPass, AdvectionIsSymmetricUnderVectorNegation) {
+  auto beta = randomField(kW, kH, 1, 5);
+  auto surface = surfaceData(beta);
+  auto vectors = randomVectors(kW, kH, 6);
+  std::vector<float> negated(vectors);
+  for (auto& x : negated) x = -x;
+  std::vector<float> edges(beta.size(), 0.0f);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  std::vector<float> results[2];
+  for (int s = 0; s < 2; ++s) {
+    Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, s ? negated : vectors);
+    AdvectionPass pass;
+    pass.reset(tv, ts, te);
+    pass.iterate(tv, ts, te, {0.1f, 2.0f, 0.05f}, 15);
+    results[s] = readTexture(pass.current(), 2);
+  }
+  for (std::size_t i = 0; i < results[0].size(); ++i) EXPECT_NEAR(results[0][i], results[1][i], 1e-5);
+}
+
+TEST_F(FabricPass, AdvectionForgetsItsStartAsOneMinusKToTheN) {
+  auto beta = randomField(kW, kH, 1, 7);
+  auto surface = surfaceData(beta);
+  auto vectors = randomVectors(kW, kH, 8);
+  std::vector<float> edges(beta.size(), 0.0f);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, vectors);
+  const float k = 0.2f;
+  const int n = 12;
+  std::vector<float> out[2];
+  for (int s = 0; s < 2; ++s) {
+    AdvectionPass pass;
+    pass.resize({kW, kH});
+    std::vector<float> start(beta.size() * 2, s ? 1.0f : 0.0f);
+    pass.setState(start.data());
+    pass.iterate(tv, ts, te, {k, 1.5f, 0.05f}, n);
+    out[s] = readTexture(pass.current(), 2);
+  }
+  // The map is affine in p with a stochastic (averaging) linear part scaled by 1 - k: two starts differing
+  // by 1 everywhere differ by exactly (1 - k)^n after n iterations (where no sample leaves the image).
+  const double expect = std::pow(1.0 - k, n);
+  double sum = 0;
+  int count = 0;
+  for (int y = 20; y < kH - 20; ++y)
+    for (int x = 20; x < kW - 20; ++x) {
+      std::size_t i = static_cast<std::size_t>(y) * kW + x;
+      for (int c = 0; c < 2; ++c) {
+        double d = out[1][i * 2 + c] - out[0][i * 2 + c];
+        EXPECT_NEAR(d, expect, 1e-3);
+        sum += d;
+        ++count;
+      }
+    }
+  EXPECT_NEAR(sum / count, expect, 1e-4);
+}
+
+TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
+  std::vector<float> surface(static_cast<std::size_t>(kW) * kH * 4, 0.0f);
+  auto depthAt = [&](int x, int y) { // a bowl plus a step; a hole of empty pixels
+    double dx = x - 30.0, dy = y - 20.0;
+    double d = 200.0 + 0.02 * (dx * dx + dy * dy) + (x > 45 ? 15.0 : 0.0);
+    return d;
+  };
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      std::size_t i = static_cast<std::size_t>(y) * kW + x;
+      bool on = !(x > 10 && x < 16 && y > 10 && y < 30);
+      surface[i * 4 + 2] = on ? static_cast<float>(depthAt(x, y)) : 0.0f;
+      surface[i * 4 + 3] = on ? 1.0f : 0.0f;
+    }
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  SilhouettePass pass;
+  const float threshold = 0.5f, background = 1000.0f;
+  pass.run(ts, threshold, background);
+  auto e = readTexture(pass.edges(), 1);
+  int edges = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      std::size_t i = static_cast<std::size_t>(y) * kW + x;
+      if (surface[i * 4 + 3] < 0.5f) {
+        EXPECT_EQ(e[i], 0.0f);
+        continue;
+      }
+      auto d = [&](int xx, int yy) {
+        xx = std::clamp(xx, 0, kW - 1);
+        yy = std::clamp(yy, 0, kH - 1);
+        std::size_t j = static_cast<std::size_t>(yy) * kW + xx;
+        return surface[j * 4 + 3] > 0.5f ? double(surface[j * 4 + 2]) : double(background);
+      };
+      double lap = d(x + 1, y) + d(x - 1, y) + d(x, y + 1) + d(x, y - 1) - 4 * d(x, y);
+      float expect = std::abs(lap) > threshold ? 1.0f : 0.0f;
+      EXPECT_EQ(e[i], expect) << x << "," << y << " lap " << lap;
+      edges += expect > 0;
+    }
+  EXPECT_GT(edges, 40); // the step and the hole's rim
+}
+
+TEST_F(FabricPass, CompositeMatchesEquation13) {
+  auto p = randomField(kW, kH, 2, 9);
+  auto beta = randomField(kW, kH, 1, 10);
+  auto surface = surfaceData(beta);
+  auto light = randomField(kW, kH, 1, 11);
+  for (std::size_t i = 0; i < beta.size(); ++i) surface[i * 4 + 1] = light[i];
+  std::vector<float> edges(beta.size(), 0.0f);
+  for (std::size_t i = 0; i < edges.size(); i += 7) edges[i] = 1.0f;
+  std::vector<float> zeros(beta.size() * 4, 0.0f), depth(beta.size(), 0.5f);
+  Texture ta = textureFrom(GL_RG32F, GL_RG, kW, kH, p), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges), tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
+  Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
+  glTextureSubImage2D(td.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  Texture out = Texture::create2D(GL_RGBA32F, kW, kH);
+  Framebuffer fbo = createFramebuffer();
+  attachTargets(fbo, {&out}, nullptr);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  CompositePass pass;
+  CompositeSettings cs;
+  cs.mode = ColourMode::Engineering;
+  cs.r = 0.3f;
+  cs.contrast = 1.0f;
+  cs.lightWeight = 0.4f;
+  FrameView view;
+  view.viewport = {kW, kH};
+  view.target = {kW, kH};
+  pass.run({&ta, &ts, &te, &tz, &tz, &tz, &td}, view, cs);
+  auto c = readTexture(out, 4);
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);
+    double e = edges[i], l = 0.4 * light[i];
+    double r = std::clamp(0.3 * p2 / (8 * p1 * p1) + e + l, 0.0, 1.0);
+    double g = std::clamp(0.7 * p1 / (8 * p2 * p2) + e + l, 0.0, 1.0);
+    double b = std::clamp(e + l, 0.0, 1.0);
+    ASSERT_NEAR(c[i * 4], r, 1e-4) << i;
+    ASSERT_NEAR(c[i * 4 + 1], g, 1e-4) << i;
+    ASSERT_NEAR(c[i * 4 + 2], b, 1e-4) << i;
+  }
+}
