@@ -3,7 +3,6 @@
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
 #include "app/args.h"
 #include "app/commands.h"
-
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/tensor_io.h"
@@ -88,7 +87,8 @@ public:
   }
   Json& vec(const glm::dvec3& v) {
     begin('[');
-    for (int i = 0; i < 3; ++i) value(v[i]);
+    for (int i = 0; i < 3; ++i)
+      value(v[i]);
     return end(']');
   }
   std::string text() const { return out_.str(); }
@@ -108,11 +108,21 @@ private:
     out_ << '"';
     for (unsigned char c : s) {
       switch (c) {
-      case '"': out_ << "\\\""; break;
-      case '\\': out_ << "\\\\"; break;
-      case '\n': out_ << "\\n"; break;
-      case '\r': out_ << "\\r"; break;
-      case '\t': out_ << "\\t"; break;
+      case '"':
+        out_ << "\\\"";
+        break;
+      case '\\':
+        out_ << "\\\\";
+        break;
+      case '\n':
+        out_ << "\\n";
+        break;
+      case '\r':
+        out_ << "\\r";
+        break;
+      case '\t':
+        out_ << "\\t";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -148,14 +158,17 @@ std::string num(double v, int precision = 6) {
 
 std::string dimsText(const std::vector<long long>& dims) {
   std::string s;
-  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? " x " : "") + std::to_string(dims[i]);
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    s += (i ? " x " : "") + std::to_string(dims[i]);
   return s;
 }
 
 // A tensor volume by shape: 4D x 6 or 5D x 1 x 6 (trailing 1s ignored), or SYMMATRIX intent.
 bool looksLikeTensor(const io::VolumeHeader& h) {
-  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)), h.dims.end());
-  while (!extra.empty() && extra.back() == 1) extra.pop_back();
+  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)),
+                               h.dims.end());
+  while (!extra.empty() && extra.back() == 1)
+    extra.pop_back();
   return h.intentCode == 1005 || (extra.size() == 1 && extra[0] == 6) ||
          (extra.size() == 2 && extra[0] == 1 && extra[1] == 6);
 }
@@ -164,13 +177,15 @@ void headerJson(Json& j, const io::VolumeHeader& h) {
   j.key("file").value(h.path);
   j.key("nifti_version").value(static_cast<long long>(h.niftiVersion));
   j.key("dims").begin('[');
-  for (long long d : h.dims) j.value(d);
+  for (long long d : h.dims)
+    j.value(d);
   j.end(']');
   j.key("voxel_size").vec(h.grid.spacing);
   j.key("affine").begin('[');
   for (int r = 0; r < 4; ++r) {
     j.begin('[');
-    for (int c = 0; c < 4; ++c) j.value(h.grid.voxelToWorld[c][r]);
+    for (int c = 0; c < 4; ++c)
+      j.value(h.grid.voxelToWorld[c][r]);
     j.end(']');
   }
   j.end(']');
@@ -192,8 +207,8 @@ void headerText(const io::VolumeHeader& h) {
   std::printf("dims:         %s\n", dimsText(h.dims).c_str());
   std::printf("voxel size:   %s x %s x %s mm\n", num(h.grid.spacing.x).c_str(), num(h.grid.spacing.y).c_str(),
               num(h.grid.spacing.z).c_str());
-  std::printf("affine:       %s (qform_code %d, sform_code %d), voxel -> world RAS mm\n", h.affineSource.c_str(),
-              h.qformCode, h.sformCode);
+  std::printf("affine:       %s (qform_code %d, sform_code %d), voxel -> world RAS mm\n",
+              h.affineSource.c_str(), h.qformCode, h.sformCode);
   for (int r = 0; r < 4; ++r) {
     std::printf("             ");
     for (int c = 0; c < 4; ++c) {
@@ -210,11 +225,13 @@ void headerText(const io::VolumeHeader& h) {
 void warningsOut(Json* j, const std::vector<std::string>& warnings) {
   if (j) {
     j->key("warnings").begin('[');
-    for (const auto& w : warnings) j->value(w);
+    for (const auto& w : warnings)
+      j->value(w);
     j->end(']');
     return;
   }
-  for (const auto& w : warnings) std::printf("warning:      %s\n", w.c_str());
+  for (const auto& w : warnings)
+    std::printf("warning:      %s\n", w.c_str());
 }
 
 int describeTensors(const io::LoadedTensors& t, bool json) {
@@ -226,13 +243,15 @@ int describeTensors(const io::LoadedTensors& t, bool json) {
     if (!f.valid[i]) continue;
     ++valid;
     auto c = f.tensors[i].components();
-    for (int k = 0; k < 6; ++k) ranges[k].add(c[k]);
+    for (int k = 0; k < 6; ++k)
+      ranges[k].add(c[k]);
     fa.push_back(computeMetrics(eigenDecompose(f.tensors[i])).fa);
   }
   double faMean = std::numeric_limits<double>::quiet_NaN(), faMedian = faMean, faMax = faMean;
   if (!fa.empty()) {
     double sum = 0;
-    for (double v : fa) sum += v;
+    for (double v : fa)
+      sum += v;
     faMean = sum / double(fa.size());
     faMax = *std::max_element(fa.begin(), fa.end());
     auto mid = fa.begin() + static_cast<std::ptrdiff_t>(fa.size() / 2);
@@ -270,11 +289,12 @@ int describeTensors(const io::LoadedTensors& t, bool json) {
   headerText(t.header);
   std::printf("tensor layout: %s (%s)\n", io::layoutName(t.layout), t.layoutReason.c_str());
   std::printf("units:        mm^2/s, world RAS, components xx xy xz yy yz zz\n");
-  std::printf("voxels:       %zu valid of %zu; %zu NaN/Inf; %zu not positive definite\n", valid, f.tensors.size(),
-              t.nanVoxels, t.nonPositiveVoxels);
+  std::printf("voxels:       %zu valid of %zu; %zu NaN/Inf; %zu not positive definite\n", valid,
+              f.tensors.size(), t.nanVoxels, t.nonPositiveVoxels);
   std::printf("ranges (valid voxels):\n");
   for (int k = 0; k < 6; ++k)
-    std::printf("  %s  %12s .. %-12s\n", kComponentNames[k], num(ranges[k].lo).c_str(), num(ranges[k].hi).c_str());
+    std::printf("  %s  %12s .. %-12s\n", kComponentNames[k], num(ranges[k].lo).c_str(),
+                num(ranges[k].hi).c_str());
   std::printf("FA:           mean %s, median %s, max %s\n", num(faMean, 4).c_str(), num(faMedian, 4).c_str(),
               num(faMax, 4).c_str());
   warningsOut(nullptr, t.warnings);
@@ -301,9 +321,14 @@ int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) 
     headerJson(j, h);
     j.key("is_tensor").value(false);
     j.key("components").value(static_cast<long long>(v.components));
-    j.key("value_range").begin('[').value(all.empty() ? NAN : all.lo).value(all.empty() ? NAN : all.hi).end(']');
+    j.key("value_range")
+        .begin('[')
+        .value(all.empty() ? NAN : all.lo)
+        .value(all.empty() ? NAN : all.hi)
+        .end(']');
     j.key("component_ranges").begin('[');
-    for (const auto& r : ranges) j.begin('[').value(r.empty() ? NAN : r.lo).value(r.empty() ? NAN : r.hi).end(']');
+    for (const auto& r : ranges)
+      j.begin('[').value(r.empty() ? NAN : r.lo).value(r.empty() ? NAN : r.hi).end(']');
     j.end(']');
     j.key("nan_values").value(static_cast<long long>(nonFinite));
     warningsOut(&j, h.warnings);
@@ -346,12 +371,14 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
     if (json) {
       j.key("is_tensor").value(false);
       j.key("values").begin('[');
-      for (int c = 0; c < comps; ++c) j.value(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
+      for (int c = 0; c < comps; ++c)
+        j.value(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
       j.end(']').end('}');
       std::printf("%s\n", j.text().c_str());
     } else {
       std::printf("values:      ");
-      for (int c = 0; c < comps; ++c) std::printf(" %s", num(v->at(ijk[0], ijk[1], ijk[2], c)).c_str());
+      for (int c = 0; c < comps; ++c)
+        std::printf(" %s", num(v->at(ijk[0], ijk[1], ijk[2], c)).c_str());
       std::printf("\n");
     }
     return 0;
@@ -367,11 +394,13 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
     j.key("valid").value(valid);
     j.key("units").value(std::string("mm^2/s"));
     j.key("tensor_world").begin('[');
-    for (int r = 0; r < 3; ++r) j.vec(glm::dvec3(m[0][r], m[1][r], m[2][r]));
+    for (int r = 0; r < 3; ++r)
+      j.vec(glm::dvec3(m[0][r], m[1][r], m[2][r]));
     j.end(']');
     j.key("eigenvalues").vec(e.values);
     j.key("eigenvectors").begin('[');
-    for (int i = 0; i < 3; ++i) j.vec(e.vectors[i]);
+    for (int i = 0; i < 3; ++i)
+      j.vec(e.vectors[i]);
     j.end(']');
     j.key("fa").value(mt.fa).key("md").value(mt.md).key("ad").value(mt.ad).key("rd").value(mt.rd);
     j.end('}');

@@ -2,7 +2,6 @@
 // optionally its scalar field, so every later stage can be run on input with a known answer.
 #include "app/args.h"
 #include "app/commands.h"
-
 #include "io/model/error.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
@@ -46,7 +45,8 @@ int cmdPhantom(const CommandArgs& argv) {
   auto output = args.get("output");
   if (!output) throw UsageError("missing -o FILE");
   io::TensorLayout layout = io::parseLayout(args.getOr("layout", "fsl"));
-  if (layout == io::TensorLayout::Auto) throw UsageError("--layout auto cannot be written; choose fsl, mrtrix, symmatrix or dtitk");
+  if (layout == io::TensorLayout::Auto)
+    throw UsageError("--layout auto cannot be written; choose fsl, mrtrix, symmatrix or dtitk");
   io::PhantomOptions o;
   o.size = args.getInt("size", o.size);
   o.spacing = args.getDouble("spacing", o.spacing);
@@ -62,10 +62,11 @@ int cmdPhantom(const CommandArgs& argv) {
   io::Phantom p = io::makePhantom(name, o);
   io::writeTensorVolume(*output, p.tensors, layout, version);
   std::size_t valid = 0;
-  for (unsigned char v : p.tensors.valid) valid += v;
+  for (unsigned char v : p.tensors.valid)
+    valid += v;
   const glm::ivec3 d = p.tensors.grid.dims;
-  std::printf("wrote %s phantom, %dx%dx%d voxels of %g mm, %zu valid, layout %s: %s\n", name.c_str(), d.x, d.y,
-              d.z, o.spacing, valid, io::layoutName(layout), output->c_str());
+  std::printf("wrote %s phantom, %dx%dx%d voxels of %g mm, %zu valid, layout %s: %s\n", name.c_str(), d.x,
+              d.y, d.z, o.spacing, valid, io::layoutName(layout), output->c_str());
   if (scalarPath) {
     io::writeScalarVolume(*scalarPath, p.scalar, version);
     std::printf("wrote scalar field (isovalue %g): %s\n", p.isovalue, scalarPath->c_str());

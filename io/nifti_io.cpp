@@ -1,22 +1,20 @@
 // NIfTI-1/NIfTI-2 reading and writing through nifticlib's nifti2 API (which reads both versions, .nii and
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
-#include "io/tensor_io.h"
-
 #include "io/atomic_file.h"
 #include "io/model/error.h"
-
-#include <nifti2_io.h>
+#include "io/tensor_io.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <nifti2_io.h>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -25,11 +23,16 @@ namespace dtf::io {
 
 const char* layoutName(TensorLayout l) {
   switch (l) {
-  case TensorLayout::Auto: return "auto";
-  case TensorLayout::Fsl: return "fsl";
-  case TensorLayout::Mrtrix: return "mrtrix";
-  case TensorLayout::Symmatrix: return "symmatrix";
-  case TensorLayout::Dtitk: return "dtitk";
+  case TensorLayout::Auto:
+    return "auto";
+  case TensorLayout::Fsl:
+    return "fsl";
+  case TensorLayout::Mrtrix:
+    return "mrtrix";
+  case TensorLayout::Symmatrix:
+    return "symmatrix";
+  case TensorLayout::Dtitk:
+    return "dtitk";
   }
   return "unknown";
 }
@@ -66,8 +69,16 @@ void quietNifti() {
 
 bool isSupportedDatatype(int dt) {
   switch (dt) {
-  case DT_UINT8: case DT_INT8: case DT_INT16: case DT_UINT16: case DT_INT32: case DT_UINT32:
-  case DT_INT64: case DT_UINT64: case DT_FLOAT32: case DT_FLOAT64:
+  case DT_UINT8:
+  case DT_INT8:
+  case DT_INT16:
+  case DT_UINT16:
+  case DT_INT32:
+  case DT_UINT32:
+  case DT_INT64:
+  case DT_UINT64:
+  case DT_FLOAT32:
+  case DT_FLOAT64:
     return true;
   default:
     return false;
@@ -77,12 +88,18 @@ bool isSupportedDatatype(int dt) {
 std::string intentText(int code) {
   // nifticlib's nifti_intent_string() does not know the vector intents used by FSL and DTI tools.
   switch (code) {
-  case NIFTI_INTENT_SYMMATRIX: return "SYMMATRIX";
-  case NIFTI_INTENT_VECTOR: return "VECTOR";
-  case NIFTI_INTENT_DISPVECT: return "DISPVECT";
-  case 2003: return "RGB_VECTOR";
-  case 2004: return "RGBA_VECTOR";
-  default: break;
+  case NIFTI_INTENT_SYMMATRIX:
+    return "SYMMATRIX";
+  case NIFTI_INTENT_VECTOR:
+    return "VECTOR";
+  case NIFTI_INTENT_DISPVECT:
+    return "DISPVECT";
+  case 2003:
+    return "RGB_VECTOR";
+  case 2004:
+    return "RGBA_VECTOR";
+  default:
+    break;
   }
   const char* s = nifti_intent_string(code);
   return s ? s : "code " + std::to_string(code);
@@ -91,14 +108,16 @@ std::string intentText(int code) {
 glm::dmat4 toGlm(const nifti_dmat44& m) {
   glm::dmat4 g(1.0);
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) g[c][r] = m.m[r][c];
+    for (int c = 0; c < 4; ++c)
+      g[c][r] = m.m[r][c];
   return g;
 }
 
 nifti_dmat44 fromGlm(const glm::dmat4& g) {
   nifti_dmat44 m;
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m.m[r][c] = g[c][r];
+    for (int c = 0; c < 4; ++c)
+      m.m[r][c] = g[c][r];
   return m;
 }
 
@@ -121,7 +140,8 @@ void affineDifference(const glm::dmat4& a, const glm::dmat4& b, double& mm, doub
 
 std::string dimsText(const std::vector<long long>& dims) {
   std::string s;
-  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? "x" : "") + std::to_string(dims[i]);
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    s += (i ? "x" : "") + std::to_string(dims[i]);
   return s;
 }
 
@@ -149,7 +169,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   if (void* raw = nifti_read_header(path.c_str(), &version, 0)) std::free(raw);
   h.niftiVersion = version == 2 ? 2 : 1;
   long long ndim = nim->dim[0];
-  if (ndim < 1 || ndim > 7) fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
+  if (ndim < 1 || ndim > 7)
+    fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
   long long total = 1;
   for (long long d = 1; d <= ndim; ++d) {
     long long n = nim->dim[d];
@@ -178,7 +199,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
 
   // Spatial grid: dims 1..3 (missing ones are 1).
   glm::ivec3 gdims(1);
-  for (int d = 0; d < 3 && d < ndim; ++d) gdims[d] = static_cast<int>(h.dims[static_cast<std::size_t>(d)]);
+  for (int d = 0; d < 3 && d < ndim; ++d)
+    gdims[d] = static_cast<int>(h.dims[static_cast<std::size_t>(d)]);
   glm::dmat4 affine(1.0);
   if (nim->sform_code > 0) {
     affine = toGlm(nim->sto_xyz);
@@ -187,7 +209,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     affine = toGlm(nim->qto_xyz);
     h.affineSource = "qform";
   } else {
-    for (int d = 0; d < 3; ++d) affine[d][d] = nim->pixdim[d + 1] > 0 ? nim->pixdim[d + 1] : 1.0;
+    for (int d = 0; d < 3; ++d)
+      affine[d][d] = nim->pixdim[d + 1] > 0 ? nim->pixdim[d + 1] : 1.0;
     h.affineSource = "none (pixdim only)";
     h.warnings.push_back("neither sform nor qform is set: orientation unknown, assuming RAS voxel axes");
   }
@@ -200,21 +223,24 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
       h.warnings.push_back(w.str());
     }
   }
-  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the voxel-to-world affine is singular");
+  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12)
+    fail(path, "the voxel-to-world affine is singular");
   h.grid = Grid::fromAffine(gdims, affine);
 
   if (const std::string file = dataFile(nim.get(), path); !nifti_is_gzfile(file.c_str())) {
     long long need = static_cast<long long>(nim->iname_offset) + total * nim->nbyper;
     long long have = nifti_get_filesize(file.c_str());
     if (have < need)
-      fail(path, "file is truncated: " + std::to_string(have) + " bytes, header declares " + std::to_string(need));
+      fail(path,
+           "file is truncated: " + std::to_string(have) + " bytes, header declares " + std::to_string(need));
   }
   return nim;
 }
 
 template <typename T> void convert(const void* src, std::size_t n, float* dst) {
   const T* s = static_cast<const T*>(src);
-  for (std::size_t i = 0; i < n; ++i) dst[i] = static_cast<float>(s[i]);
+  for (std::size_t i = 0; i < n; ++i)
+    dst[i] = static_cast<float>(s[i]);
 }
 
 // Loads the voxel data as float in disk order (i fastest, then j, k, dim4, ...), scaling applied.
@@ -227,33 +253,68 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   const std::string file = dataFile(nim, path);
   znzFile fp = znzopen(file.c_str(), "rb", nifti_is_gzfile(file.c_str()));
   if (znz_isnull(fp)) fail(path, "cannot open the file");
-  // znzseek returns 0 (plain files) or the new offset (gzip); -1 on failure.
+  // znzseek returns 0 (plain files) or the new offset (gzip); -1 on failure. znzread returns (size_t)-1 on
+  // a gzip error.
   bool ok = znzseek(fp, static_cast<znz_off_t>(nim->iname_offset), SEEK_SET) >= 0;
   std::size_t got = ok ? znzread(raw.data(), 1, bytes, fp) : 0;
+  ok = ok && got == bytes;
+  if (ok && nifti_is_gzfile(file.c_str())) {
+    // Read on to the end of the stream so zlib checks the CRC: corruption that still inflates is caught.
+    char extra[64];
+    std::size_t r;
+    while ((r = znzread(extra, 1, sizeof(extra), fp)) > 0 && r != static_cast<std::size_t>(-1)) {
+    }
+    ok = r != static_cast<std::size_t>(-1);
+  }
   znzclose(fp);
-  if (!ok || got != bytes)
-    fail(path, "cannot read the voxel data: got " + std::to_string(got) + " of " + std::to_string(bytes) +
-                   " bytes (file truncated or corrupt gzip stream)");
+  if (!ok) {
+    std::string detail = got == static_cast<std::size_t>(-1) || got == bytes
+                             ? ""
+                             : " (got " + std::to_string(got) + " of " + std::to_string(bytes) + " bytes)";
+    fail(path, "cannot read the voxel data: the file is truncated or its gzip stream is corrupt" + detail);
+  }
   if (nim->byteorder != nifti_short_order() && nim->swapsize > 1)
     nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw.data());
   std::vector<float> out(n);
   switch (nim->datatype) {
-  case DT_UINT8: convert<std::uint8_t>(raw.data(), n, out.data()); break;
-  case DT_INT8: convert<std::int8_t>(raw.data(), n, out.data()); break;
-  case DT_INT16: convert<std::int16_t>(raw.data(), n, out.data()); break;
-  case DT_UINT16: convert<std::uint16_t>(raw.data(), n, out.data()); break;
-  case DT_INT32: convert<std::int32_t>(raw.data(), n, out.data()); break;
-  case DT_UINT32: convert<std::uint32_t>(raw.data(), n, out.data()); break;
-  case DT_INT64: convert<std::int64_t>(raw.data(), n, out.data()); break;
-  case DT_UINT64: convert<std::uint64_t>(raw.data(), n, out.data()); break;
-  case DT_FLOAT32: convert<float>(raw.data(), n, out.data()); break;
-  case DT_FLOAT64: convert<double>(raw.data(), n, out.data()); break;
-  default: fail(path, "unsupported datatype"); // openHeader already refused these
+  case DT_UINT8:
+    convert<std::uint8_t>(raw.data(), n, out.data());
+    break;
+  case DT_INT8:
+    convert<std::int8_t>(raw.data(), n, out.data());
+    break;
+  case DT_INT16:
+    convert<std::int16_t>(raw.data(), n, out.data());
+    break;
+  case DT_UINT16:
+    convert<std::uint16_t>(raw.data(), n, out.data());
+    break;
+  case DT_INT32:
+    convert<std::int32_t>(raw.data(), n, out.data());
+    break;
+  case DT_UINT32:
+    convert<std::uint32_t>(raw.data(), n, out.data());
+    break;
+  case DT_INT64:
+    convert<std::int64_t>(raw.data(), n, out.data());
+    break;
+  case DT_UINT64:
+    convert<std::uint64_t>(raw.data(), n, out.data());
+    break;
+  case DT_FLOAT32:
+    convert<float>(raw.data(), n, out.data());
+    break;
+  case DT_FLOAT64:
+    convert<double>(raw.data(), n, out.data());
+    break;
+  default:
+    fail(path, "unsupported datatype"); // openHeader already refused these
   }
   // NIfTI: slope 0 means "no scaling"; a non-finite slope is treated the same way.
   double slope = nim->scl_slope, inter = nim->scl_inter;
   if (slope != 0 && std::isfinite(slope) && std::isfinite(inter) && !(slope == 1 && inter == 0))
-    for (float& v : out) v = static_cast<float>(v * slope + inter);
+    for (float& v : out)
+      v = static_cast<float>(v * slope + inter);
   return out;
 }
 
@@ -263,7 +324,8 @@ ScalarVolume interleave(const Grid& grid, int comps, const std::vector<float>& d
   std::size_t nv = grid.voxelCount();
   for (int c = 0; c < comps; ++c) {
     const float* src = disk.data() + static_cast<std::size_t>(c) * nv;
-    for (std::size_t i = 0; i < nv; ++i) v.data[i * comps + c] = src[i];
+    for (std::size_t i = 0; i < nv; ++i)
+      v.data[i * comps + c] = src[i];
   }
   return v;
 }
@@ -279,7 +341,8 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
   if (niftiVersion != 1 && niftiVersion != 2)
     throw InputError("cannot write " + path + ": NIfTI version must be 1 or 2");
   int64_t dims[8] = {3, grid.dims.x, grid.dims.y, grid.dims.z, 1, 1, 1, 1};
-  for (std::size_t e = 0; e < extraDims.size() && e < 4; ++e) dims[4 + e] = extraDims[e];
+  for (std::size_t e = 0; e < extraDims.size() && e < 4; ++e)
+    dims[4 + e] = extraDims[e];
   for (int d = 7; d > 3; --d)
     if (dims[d] > 1) {
       dims[0] = d;
@@ -364,7 +427,8 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
   VolumeHeader h;
   NimPtr nim = openHeader(path, h);
   long long comps = 1;
-  for (std::size_t d = 3; d < h.dims.size(); ++d) comps *= h.dims[d];
+  for (std::size_t d = 3; d < h.dims.size(); ++d)
+    comps *= h.dims[d];
   std::vector<float> disk = loadData(nim.get(), path);
   ScalarVolume v = interleave(h.grid, static_cast<int>(comps), disk);
   if (header) *header = std::move(h);
@@ -393,15 +457,20 @@ constexpr int kSymmatrixOrder[6] = {0, 1, 3, 2, 4, 5}; // disk: xx xy yy xz yz z
 
 const int* diskOrder(TensorLayout l) {
   switch (l) {
-  case TensorLayout::Mrtrix: return kMrtrixOrder;
+  case TensorLayout::Mrtrix:
+    return kMrtrixOrder;
   case TensorLayout::Symmatrix:
-  case TensorLayout::Dtitk: return kSymmatrixOrder;
-  default: return kFslOrder;
+  case TensorLayout::Dtitk:
+    return kSymmatrixOrder;
+  default:
+    return kFslOrder;
   }
 }
 
 // Units of the values on disk, in mm^2/s.
-double diskUnit(TensorLayout l) { return l == TensorLayout::Dtitk ? 1e-3 : 1.0; }
+double diskUnit(TensorLayout l) {
+  return l == TensorLayout::Dtitk ? 1e-3 : 1.0;
+}
 
 // Rotation taking the on-disk tensor frame to world RAS. MRtrix stores world tensors. FSL, SYMMATRIX and
 // DTI-TK store them in the bvec frame: the voxel axes, with x negated when det(affine) > 0 (FSL's
@@ -425,7 +494,9 @@ std::string fmt(double v, int precision = 3) {
   return o.str();
 }
 
-std::string percent(double fraction) { return fmt(100.0 * fraction, 3) + "%"; }
+std::string percent(double fraction) {
+  return fmt(100.0 * fraction, 3) + "%";
+}
 
 // Median of trace/3 over voxels with finite components and a positive trace (disk units).
 double medianTrace(const ScalarVolume& raw, const int* order) {
@@ -464,14 +535,17 @@ LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
     }
     if (!finite || zero) continue;
     ++f.voxels;
-    for (int k = 0; k < 6; ++k) pos[k] += c[k] > 0;
+    for (int k = 0; k < 6; ++k)
+      pos[k] += c[k] > 0;
     double xx = c[o[0]], xy = c[o[1]], xz = c[o[2]], yy = c[o[3]], yz = c[o[4]], zz = c[o[5]];
     auto fits = [](double off, double a, double b) { return off * off <= a * b * 1.01 + 1e-30; };
-    if (xx >= 0 && yy >= 0 && zz >= 0 && fits(xy, xx, yy) && fits(xz, xx, zz) && fits(yz, yy, zz)) ++plausible;
+    if (xx >= 0 && yy >= 0 && zz >= 0 && fits(xy, xx, yy) && fits(xz, xx, zz) && fits(yz, yy, zz))
+      ++plausible;
   }
   if (f.voxels) {
     f.plausible = double(plausible) / double(f.voxels);
-    for (int k = 0; k < 6; ++k) f.positive[k] = double(pos[k]) / double(f.voxels);
+    for (int k = 0; k < 6; ++k)
+      f.positive[k] = double(pos[k]) / double(f.voxels);
   }
   return f;
 }
@@ -489,7 +563,8 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   if (h.descrip.rfind(kDescripMarker, 0) == 0) {
     std::string name = h.descrip.substr(std::strlen(kDescripMarker));
     name = name.substr(0, name.find(' '));
-    for (TensorLayout l : {TensorLayout::Fsl, TensorLayout::Mrtrix, TensorLayout::Symmatrix, TensorLayout::Dtitk})
+    for (TensorLayout l :
+         {TensorLayout::Fsl, TensorLayout::Mrtrix, TensorLayout::Symmatrix, TensorLayout::Dtitk})
       if (name == layoutName(l)) {
         d.layout = l;
         d.reason = "written by dtfabric: descrip names layout " + name;
@@ -518,10 +593,10 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   const LayoutFit& f = fsl; // positive fractions are per disk volume, the same for both hypotheses
   std::string evidence = "volumes 3,5 (FSL yy,zz) positive in " + percent(f.positive[3]) + "/" +
-                         percent(f.positive[5]) + ", volumes 1,2 (MRtrix yy,zz) in " + percent(f.positive[1]) +
-                         "/" + percent(f.positive[2]) + " of " + std::to_string(f.voxels) +
-                         " voxels; positive semi-definite as FSL " + percent(fsl.plausible) + ", as MRtrix " +
-                         percent(mrtrix.plausible);
+                         percent(f.positive[5]) + ", volumes 1,2 (MRtrix yy,zz) in " +
+                         percent(f.positive[1]) + "/" + percent(f.positive[2]) + " of " +
+                         std::to_string(f.voxels) + " voxels; positive semi-definite as FSL " +
+                         percent(fsl.plausible) + ", as MRtrix " + percent(mrtrix.plausible);
   if (std::abs(fsl.plausible - mrtrix.plausible) < 0.05) {
     d.layout = TensorLayout::Fsl;
     d.reason = shape + "; ambiguous (" + evidence + "), assuming FSL";
@@ -551,8 +626,10 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
   VolumeHeader& h = out.header;
   NimPtr nim = openHeader(path, h);
   // Shape: 4D x 6 or 5D with dim4 = 1 and dim5 = 6 (trailing dimensions of 1 allowed).
-  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)), h.dims.end());
-  while (!extra.empty() && extra.back() == 1) extra.pop_back();
+  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)),
+                               h.dims.end());
+  while (!extra.empty() && extra.back() == 1)
+    extra.pop_back();
   bool fourD = extra.size() == 1 && extra[0] == 6;
   bool fiveD = extra.size() == 2 && extra[0] == 1 && extra[1] == 6;
   if (!fourD && !fiveD)
@@ -605,12 +682,17 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
     out.field.valid[i] = 1;
     if (!positiveDefinite(m)) ++out.nonPositiveVoxels;
   }
+  if (out.nanVoxels &&
+      std::none_of(out.field.valid.begin(), out.field.valid.end(), [](unsigned char v) { return v; }))
+    fail(path, "every voxel with data holds NaN/Inf values (" + std::to_string(out.nanVoxels) + " voxels)");
   if (out.nanVoxels)
-    out.warnings.push_back(std::to_string(out.nanVoxels) + " voxel(s) hold NaN/Inf components (marked invalid)");
+    out.warnings.push_back(std::to_string(out.nanVoxels) +
+                           " voxel(s) hold NaN/Inf components (marked invalid)");
   return out;
 }
 
-void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout, int niftiVersion) {
+void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
+                       int niftiVersion) {
   if (layout == TensorLayout::Auto)
     throw InputError("cannot write " + path + ": choose a tensor layout (fsl, mrtrix, symmatrix or dtitk)");
   std::size_t nv = field.grid.voxelCount();
@@ -627,14 +709,15 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
     if (rotate) m = glm::transpose(r) * m * r;
     m /= unit;
     const double canon[6] = {m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2]};
-    for (int k = 0; k < 6; ++k) disk[static_cast<std::size_t>(o[k]) * nv + i] = static_cast<float>(canon[k]);
+    for (int k = 0; k < 6; ++k)
+      disk[static_cast<std::size_t>(o[k]) * nv + i] = static_cast<float>(canon[k]);
   }
   bool sym = layout == TensorLayout::Symmatrix || layout == TensorLayout::Dtitk;
   std::vector<long long> extra = sym ? std::vector<long long>{1, 6} : std::vector<long long>{6};
   std::string descrip = std::string(kDescripMarker) + layoutName(layout) +
                         (layout == TensorLayout::Dtitk ? " units=1e-3mm2/s" : " units=mm2/s");
-  writeFloatNifti(path, field.grid, extra, disk, sym ? NIFTI_INTENT_SYMMATRIX : 0, sym ? "DTI" : nullptr, descrip,
-                  niftiVersion);
+  writeFloatNifti(path, field.grid, extra, disk, sym ? NIFTI_INTENT_SYMMATRIX : 0, sym ? "DTI" : nullptr,
+                  descrip, niftiVersion);
 }
 
 } // namespace dtf::io

@@ -53,7 +53,8 @@ void setTensor(TensorField& f, std::size_t i, const glm::dmat3& m) {
 void forEachVoxel(const Grid& g, const std::function<void(std::size_t, const glm::dvec3&)>& fn) {
   for (int k = 0; k < g.dims.z; ++k)
     for (int j = 0; j < g.dims.y; ++j)
-      for (int i = 0; i < g.dims.x; ++i) fn(g.index(i, j, k), g.toWorld(glm::dvec3(i, j, k)));
+      for (int i = 0; i < g.dims.x; ++i)
+        fn(g.index(i, j, k), g.toWorld(glm::dvec3(i, j, k)));
 }
 
 Phantom sphere(const PhantomOptions& o) {
@@ -77,7 +78,8 @@ Phantom constant(const PhantomOptions& o) {
   Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
   p.tensors = makeTensorField(g);
   glm::dmat3 d = prolate(direction(o.angleDeg, o.elevationDeg));
-  for (std::size_t i = 0; i < g.voxelCount(); ++i) setTensor(p.tensors, i, d);
+  for (std::size_t i = 0; i < g.voxelCount(); ++i)
+    setTensor(p.tensors, i, d);
   p.scalar = faOf(p.tensors);
   p.isovalue = 0.5;
   return p;
@@ -129,7 +131,8 @@ struct Bundle {
 Bundle makeBundle(const std::function<glm::dvec3(double)>& curve, double radius, int samples = 160) {
   Bundle b;
   b.radius = radius;
-  for (int s = 0; s <= samples; ++s) b.points.push_back(curve(double(s) / samples));
+  for (int s = 0; s <= samples; ++s)
+    b.points.push_back(curve(double(s) / samples));
   return b;
 }
 
@@ -230,11 +233,14 @@ Phantom bretzel5Phantom(const PhantomOptions& o) {
 
 } // namespace
 
-std::vector<std::string> phantomNames() { return {"sphere", "bretzel5", "constant", "crossing", "brain"}; }
+std::vector<std::string> phantomNames() {
+  return {"sphere", "bretzel5", "constant", "crossing", "brain"};
+}
 
 Phantom makePhantom(const std::string& name, const PhantomOptions& options) {
   if (options.size < 4 || options.size > 512)
-    throw UsageError("phantom size must be between 4 and 512 voxels (got " + std::to_string(options.size) + ")");
+    throw UsageError("phantom size must be between 4 and 512 voxels (got " + std::to_string(options.size) +
+                     ")");
   if (!(options.spacing > 0) || !std::isfinite(options.spacing))
     throw UsageError("phantom spacing must be a positive number of mm");
   if (name == "sphere") return sphere(options);

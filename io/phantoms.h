@@ -22,17 +22,17 @@
 namespace dtf::io {
 
 struct PhantomOptions {
-  int size = 64;            // voxels per side
-  double spacing = 1.0;     // mm
-  double angleDeg = 30.0;   // constant: in-plane angle of the principal direction from +x towards +y
-  double elevationDeg = 0;  // constant: angle out of the axial plane towards +z
-  double crossingDeg = 90;  // crossing: angle between the two bundles
+  int size = 64;           // voxels per side
+  double spacing = 1.0;    // mm
+  double angleDeg = 30.0;  // constant: in-plane angle of the principal direction from +x towards +y
+  double elevationDeg = 0; // constant: angle out of the axial plane towards +z
+  double crossingDeg = 90; // crossing: angle between the two bundles
 };
 
 struct Phantom {
   TensorField tensors;
-  ScalarVolume scalar;  // sphere/bretzel5: the implicit function; others: FA
-  double isovalue = 0;  // level of `scalar` that gives the intended surface
+  ScalarVolume scalar; // sphere/bretzel5: the implicit function; others: FA
+  double isovalue = 0; // level of `scalar` that gives the intended surface
 };
 
 // Names: sphere, bretzel5, constant, crossing, brain. Throws UsageError for an unknown name, a size outside

@@ -37,18 +37,18 @@ struct VolumeHeader {
   std::string datatypeName;
   int intentCode = 0;
   std::string intentName;
-  std::string descrip;      // dtfabric's tensor writer records the layout here ("dtfabric tensor layout=fsl")
+  std::string descrip; // dtfabric's tensor writer records the layout here ("dtfabric tensor layout=fsl")
   double sclSlope = 1, sclInter = 0;
   int qformCode = 0, sformCode = 0;
-  std::string affineSource; // "sform", "qform" or "none (pixdim only)"
-  Grid grid;                // spatial dims 1..3 and the chosen voxel -> world RAS mm affine
+  std::string affineSource;          // "sform", "qform" or "none (pixdim only)"
+  Grid grid;                         // spatial dims 1..3 and the chosen voxel -> world RAS mm affine
   std::vector<std::string> warnings; // e.g. sform/qform disagreement, no affine at all
 };
 
 struct LoadedTensors {
   TensorField field;
   TensorLayout layout = TensorLayout::Auto;
-  std::string layoutReason;          // why this layout was chosen (always shown to the user)
+  std::string layoutReason; // why this layout was chosen (always shown to the user)
   VolumeHeader header;
   std::vector<std::string> warnings; // header warnings plus layout/scale doubts
   std::size_t nanVoxels = 0;         // voxels with NaN/Inf components (stored as invalid)
