@@ -19,8 +19,25 @@ constexpr double kBScale = 1e-3;
 
 using Mat7 = double[kUnknowns][kUnknowns];
 
-// In-place Cholesky A = L L^T of a symmetric 7x7 matrix (lower triangle written). Returns false when a
-// pivot is not positive relative to the matrix scale (singular or indefinite).
+// Dot product with four independent partial sums: a single running sum is bound by the add latency
+// (the compiler may not reassociate floating point), which dominated the per-voxel cost.
+inline double dot(const double* a, const double* b, int n) {
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  int v = 0;
+  for (; v + 4 <= n; v += 4) {
+    s0 += a[v] * b[v];
+    s1 += a[v + 1] * b[v + 1];
+    s2 += a[v + 2] * b[v + 2];
+    s3 += a[v + 3] * b[v + 3];
+  }
+  for (; v < n; ++v)
+    s0 += a[v] * b[v];
+  return (s0 + s1) + (s2 + s3);
+}
+
+// In-place Cholesky A = L L^T of a symmetric 7x7 matrix (lower triangle written; the diagonal of L is
+// stored inverted, so the solve multiplies instead of dividing). Returns false when a pivot is not
+// positive relative to the matrix scale (singular or indefinite).
 bool cholesky7(Mat7& a) {
   double scale = 0;
   for (int i = 0; i < kUnknowns; ++i)
@@ -31,41 +48,42 @@ bool cholesky7(Mat7& a) {
     for (int k = 0; k < j; ++k)
       d -= a[j][k] * a[j][k];
     if (!(d > 1e-13 * scale)) return false;
-    d = std::sqrt(d);
-    a[j][j] = d;
+    const double inv = 1.0 / std::sqrt(d);
+    a[j][j] = inv;
     for (int i = j + 1; i < kUnknowns; ++i) {
       double s = a[i][j];
       for (int k = 0; k < j; ++k)
         s -= a[i][k] * a[j][k];
-      a[i][j] = s / d;
+      a[i][j] = s * inv;
     }
   }
   return true;
 }
 
-// Solves L L^T x = b with the factor from cholesky7.
+// Solves L L^T x = b with the factor from cholesky7 (inverted diagonal).
 void choleskySolve7(const Mat7& l, const double* b, double* x) {
   double y[kUnknowns];
   for (int i = 0; i < kUnknowns; ++i) {
     double s = b[i];
     for (int k = 0; k < i; ++k)
       s -= l[i][k] * y[k];
-    y[i] = s / l[i][i];
+    y[i] = s * l[i][i];
   }
   for (int i = kUnknowns - 1; i >= 0; --i) {
     double s = y[i];
     for (int k = i + 1; k < kUnknowns; ++k)
       s -= l[k][i] * x[k];
-    x[i] = s / l[i][i];
+    x[i] = s * l[i][i];
   }
 }
 
 // Everything about the gradient scheme that does not depend on the voxel, computed once.
 struct Design {
   int volumes = 0;
-  std::vector<double> rows;  // volumes x 7: the design matrix X
-  std::vector<double> pinv;  // 7 x volumes: (X^T X)^-1 X^T
-  std::vector<double> outer; // volumes x 28: upper triangle of x_v x_v^T, for X^T W X
+  std::vector<double> rows;    // volumes x 7: the design matrix X
+  std::vector<double> columns; // 7 x volumes: X^T, so predictions and X^T W y are contiguous dot products
+  std::vector<double> pinv;    // 7 x volumes: (X^T X)^-1 X^T
+  std::vector<double> outer;   // 28 x volumes: upper triangle of x_v x_v^T, so X^T W X = outer * w
 };
 
 Design makeDesign(const Dwi& dwi) {
@@ -86,16 +104,18 @@ Design makeDesign(const Dwi& dwi) {
     r[6] = -b * g.z * g.z;
   }
   Mat7 xtx{};
+  d.columns.resize(static_cast<std::size_t>(n) * kUnknowns);
   d.outer.resize(static_cast<std::size_t>(n) * kPacked);
   for (int v = 0; v < n; ++v) {
     const double* r = &d.rows[static_cast<std::size_t>(v) * kUnknowns];
-    double* o = &d.outer[static_cast<std::size_t>(v) * kPacked];
     int p = 0;
-    for (int i = 0; i < kUnknowns; ++i)
+    for (int i = 0; i < kUnknowns; ++i) {
+      d.columns[static_cast<std::size_t>(i) * n + v] = r[i];
       for (int j = i; j < kUnknowns; ++j) {
-        o[p++] = r[i] * r[j];
+        d.outer[static_cast<std::size_t>(p++) * n + v] = r[i] * r[j];
         xtx[i][j] += r[i] * r[j];
       }
+    }
   }
   for (int i = 0; i < kUnknowns; ++i)
     for (int j = 0; j < i; ++j)
@@ -122,10 +142,10 @@ bool positiveDefinite(const double* t) { // t = xx xy xz yy yz zz
   return m1 > 0 && m2 > 0 && m3 > 0;
 }
 
-// Fits one axial slice. `logs` and `weights` are per-thread scratch of `volumes` entries each.
+// Fits one axial slice. `logs`, `weights` and `weightedLogs` are per-thread scratch of `volumes` entries.
 void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<unsigned char>& inside,
               const FitOptions& options, TensorField& out, FitStats& stats, std::vector<double>& logs,
-              std::vector<double>& weights) {
+              std::vector<double>& weights, std::vector<double>& weightedLogs) {
   const Grid& grid = dwi.signal.grid;
   const int n = design.volumes;
   const std::size_t slice = static_cast<std::size_t>(grid.dims.x) * grid.dims.y;
@@ -150,36 +170,31 @@ void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<uns
       continue;
     }
     double beta[kUnknowns];
-    for (int i = 0; i < kUnknowns; ++i) {
-      const double* p = &design.pinv[static_cast<std::size_t>(i) * n];
-      double acc = 0;
-      for (int v = 0; v < n; ++v)
-        acc += p[v] * logs[v];
-      beta[i] = acc;
-    }
+    for (int i = 0; i < kUnknowns; ++i)
+      beta[i] = dot(&design.pinv[static_cast<std::size_t>(i) * n], logs.data(), n);
     if (options.method == FitMethod::Wls) {
       // Weights S_hat^2 = exp(2 x_v . beta_ols), relative to the largest so nothing overflows.
+      double* w = weights.data();
+      for (int v = 0; v < n; ++v)
+        w[v] = 0;
+      for (int i = 0; i < kUnknowns; ++i) {
+        const double* c = &design.columns[static_cast<std::size_t>(i) * n];
+        for (int v = 0; v < n; ++v)
+          w[v] += c[v] * beta[i];
+      }
       double maxPred = -1e300;
-      for (int v = 0; v < n; ++v) {
-        const double* r = &design.rows[static_cast<std::size_t>(v) * kUnknowns];
-        double pred = 0;
-        for (int i = 0; i < kUnknowns; ++i)
-          pred += r[i] * beta[i];
-        weights[v] = pred;
-        maxPred = std::max(maxPred, pred);
-      }
-      double packed[kPacked] = {};
-      double rhs[kUnknowns] = {};
-      for (int v = 0; v < n; ++v) {
-        const double w = std::exp(2.0 * (weights[v] - maxPred));
-        const double* o = &design.outer[static_cast<std::size_t>(v) * kPacked];
-        for (int p = 0; p < kPacked; ++p)
-          packed[p] += w * o[p];
-        const double* r = &design.rows[static_cast<std::size_t>(v) * kUnknowns];
-        const double wy = w * logs[v];
-        for (int i = 0; i < kUnknowns; ++i)
-          rhs[i] += wy * r[i];
-      }
+      for (int v = 0; v < n; ++v)
+        maxPred = std::max(maxPred, w[v]);
+      for (int v = 0; v < n; ++v)
+        w[v] = std::exp(2.0 * (w[v] - maxPred));
+      double* wy = weightedLogs.data();
+      for (int v = 0; v < n; ++v)
+        wy[v] = w[v] * logs[v];
+      double packed[kPacked], rhs[kUnknowns];
+      for (int p = 0; p < kPacked; ++p)
+        packed[p] = dot(&design.outer[static_cast<std::size_t>(p) * n], w, n);
+      for (int i = 0; i < kUnknowns; ++i)
+        rhs[i] = dot(&design.columns[static_cast<std::size_t>(i) * n], wy, n);
       Mat7 a;
       int p = 0;
       for (int i = 0; i < kUnknowns; ++i)
@@ -267,9 +282,9 @@ TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions&
   std::atomic<bool> cancelled{false};
   std::vector<FitStats> threadStats(static_cast<std::size_t>(threads));
   auto work = [&](int t, bool reportProgress) {
-    std::vector<double> logs(static_cast<std::size_t>(n)), weights(static_cast<std::size_t>(n));
+    std::vector<double> logs(static_cast<std::size_t>(n)), weights(logs), weightedLogs(logs);
     for (int k = nextSlice++; k < slices && !cancelled; k = nextSlice++) {
-      fitSlice(k, dwi, design, inside, options, out, threadStats[t], logs, weights);
+      fitSlice(k, dwi, design, inside, options, out, threadStats[t], logs, weights, weightedLogs);
       const int done = ++doneSlices;
       if (reportProgress && progress) progress(static_cast<double>(done) / slices);
     }
