@@ -1,3 +1,4 @@
 # Tests of the render area (dtf_test(...) lines).
 dtf_test(test_render_passes LABEL gl SOURCES gl/fabric_passes_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_unit LABEL unit SOURCES gl/camera_noise_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_render_fabric LABEL gl SOURCES gl/fabric_render_test.cpp LIBS dtf_render dtf_model)

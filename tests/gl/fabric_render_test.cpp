@@ -1,0 +1,121 @@
+// The whole fabric pipeline on synthetic fields: threads follow the data, crossings show both directions,
+// degenerate regions render calmly, same input gives the same image.
+#include "support/gl_test.h"
+#include "gl/gl_helpers.h"
+
+#include "render/fabric_renderer.h"
+#include "render/reference/scenes.h"
+
+using namespace dtf;
+using namespace dtf::render;
+
+namespace {
+
+class FabricRender : public GlTest {};
+
+struct AxialScene {
+  Mesh mesh = reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 60, 60, 8);
+  Grid grid = reference::centredGrid(32, 2.0);
+  glm::dvec3 lo{-30, -30, -1}, hi{30, 30, 1};
+};
+
+Image channelImage(const std::vector<float>& rg, int w, int h, int c, int x0, int y0) {
+  // GL rows (bottom first) of the guarded target -> an image of the viewport (top first).
+  Image img(w, h);
+  int tw = w + 2 * x0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v = rg[(static_cast<std::size_t>(h - 1 - y + y0) * tw + x + x0) * 2 + c];
+      auto* p = img.pixel(x, y);
+      p[0] = p[1] = p[2] = static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+      p[3] = 255;
+    }
+  return img;
+}
+
+} // namespace
+
+TEST_F(FabricRender, ThreadsFollowConstantDirectionsOnAnAxialSliceSeenFromSuperior) {
+  AxialScene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.resize(256, 256);
+  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  for (double angle : {0.0, 30.0, 60.0, 120.0}) {
+    SCOPED_TRACE(angle);
+    double a = glm::radians(angle);
+    r.setField(reference::constantField(s.grid, {std::cos(a), std::sin(a), 0}));
+    Image img = r.renderStill(cam, FabricParams{});
+    double coherence = 0;
+    double measured = test::dominantOrientation(img, 40, 40, 216, 216, &coherence);
+    // Seen from superior, image right = +x and image up = +y: the world angle is the image angle.
+    EXPECT_LT(test::orientationDiff(measured, angle), 4.0) << "measured " << measured;
+    EXPECT_GT(coherence, 0.3);
+    // Medical colour: DEC of the direction (red = x, green = y), no blue.
+    const auto* c = img.pixel(128, 128);
+    if (angle == 0.0) EXPECT_GT(c[0], 3 * std::max<int>(c[1], 1));
+    if (angle == 60.0) EXPECT_GT(c[1], c[0]);
+    EXPECT_LT(c[2], 30);
+  }
+}
+
+TEST_F(FabricRender, CrossingFieldShowsBothDirections) {
+  AxialScene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  const double a = glm::radians(20.0), b = glm::radians(110.0);
+  r.setField(reference::crossingField(s.grid, {std::cos(a), std::sin(a), 0}, {std::cos(b), std::sin(b), 0}, 0.6));
+  r.resize(256, 256);
+  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  p.colour = ColourMode::Engineering;
+  r.renderStill(cam, p);
+  auto rg = test::readTexture(r.advection().current(), 2);
+  const int g = r.frameView().guard;
+  for (int c = 0; c < 2; ++c) {
+    Image img = channelImage(rg, 256, 256, c, g, g);
+    double coherence = 0;
+    double measured = test::dominantOrientation(img, 40, 40, 216, 216, &coherence);
+    EXPECT_LT(test::orientationDiff(measured, c == 0 ? 20.0 : 110.0), 4.0) << "field " << c << " measured " << measured;
+    EXPECT_GT(coherence, 0.3);
+  }
+}
+
+TEST_F(FabricRender, IsotropicRegionsRenderCalmlyAndStillsAreDeterministic) {
+  AxialScene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.setField(reference::constantField(s.grid, {1, 0, 0}, 1e-3, 1e-3));
+  r.resize(128, 128);
+  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  Image a = r.renderStill(cam, p);
+  Image b = r.renderStill(cam, p);
+  EXPECT_EQ(a.rgba, b.rgba);
+  double coherence = 1;
+  test::dominantOrientation(a, 20, 20, 108, 108, &coherence);
+  EXPECT_LT(coherence, 0.2); // no direction: the noise stays unsmeared
+  int lit = 0;
+  for (int y = 20; y < 108; ++y)
+    for (int x = 20; x < 108; ++x) lit += a.pixel(x, y)[0] + a.pixel(x, y)[1] + a.pixel(x, y)[2] > 0;
+  EXPECT_GT(lit, 88 * 88 * 9 / 10); // drawn, not black
+}
+
+TEST_F(FabricRender, InteractiveFramesContinueAndRestartOnCameraMotion) {
+  AxialScene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.setField(reference::constantField(s.grid, {1, 0, 0}));
+  r.resize(96, 96);
+  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  for (int i = 0; i < 20; ++i) r.renderFrame(cam, p);
+  // With a still camera the state converges: few pixels change by more than epsilon.
+  EXPECT_LT(r.changedPixels(), 96u * 96u / 50u);
+  Image still = r.readback();
+  cam.trackball({0, 0}, {0.05, 0});
+  r.renderFrame(cam, p);
+  Image moved = r.readback();
+  EXPECT_NE(still.rgba, moved.rgba);
+  EXPECT_TRUE(r.projection().size() == glm::ivec2(96 + 2 * p.guard, 96 + 2 * p.guard));
+}
