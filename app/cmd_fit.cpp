@@ -83,6 +83,12 @@ int cmdFit(const CommandArgs& argv) {
   if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   const auto output = args.get("output");
   if (!output) throw UsageError("missing -o OUT.nii.gz");
+  auto endsWith = [&](const char* ext) {
+    const std::string e(ext);
+    return output->size() > e.size() && output->compare(output->size() - e.size(), e.size(), e) == 0;
+  };
+  if (!endsWith(".nii") && !endsWith(".nii.gz"))
+    throw UsageError("the output must be a .nii or .nii.gz file, got '" + *output + "'");
   auto bval = args.get("bval");
   auto bvec = args.get("bvec");
   const auto maskPath = args.get("mask");

@@ -138,6 +138,11 @@ TEST(FitCli, BadInputExitsTwoNamingTheFile) {
   CliResult nonNumeric = dtfabric({"fit", dwi.string(), "--bval", text.string(), "--bvec", bvec, "-o", out});
   EXPECT_EQ(nonNumeric.code, 2);
   EXPECT_NE(nonNumeric.err.find(text.string() + " line 2"), std::string::npos) << nonNumeric.err;
+  const fs::path noDwi = dir / "absent.nii.gz";
+  CliResult missingDwi =
+      dtfabric({"fit", noDwi.string(), "--bval", text.string(), "--bvec", bvec, "-o", out});
+  EXPECT_EQ(missingDwi.code, 2);
+  EXPECT_NE(missingDwi.err.find(noDwi.string()), std::string::npos) << missingDwi.err;
   EXPECT_FALSE(fs::exists(out)) << "no output after a failure";
 }
 
@@ -150,4 +155,5 @@ TEST(FitCli, UsageErrorsExitOneAndHelpExitsZero) {
   EXPECT_EQ(dtfabric({"fit", "x.nii.gz", "-o", "y.nii.gz", "--method", "lsq"}).code, 1);
   EXPECT_EQ(dtfabric({"fit", "x.nii.gz", "-o", "y.nii.gz", "--layout", "nope"}).code, 1);
   EXPECT_EQ(dtfabric({"fit", "x.nii.gz", "-o", "y.nii.gz", "--bogus", "1"}).code, 1);
+  EXPECT_EQ(dtfabric({"fit", "x.nii.gz", "-o", "y.txt"}).code, 1);
 }
