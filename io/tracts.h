@@ -1,0 +1,63 @@
+// Streamline files in and out: MRtrix .tck and TrackVis .trk (DESIGN.md section 5). Tracts enter and leave
+// the pipeline here as dtf::Polylines in world RAS millimetres, the same frame as TensorField and Mesh, so
+// tracking output, comparison and rendering never see a file's own convention. Legacy VTK polylines are
+// read and written in surfaces/polyline_io.h (io does not link VTK).
+//
+// .tck: text header starting "mrtrix tracks", ending "END", with `datatype: Float32LE|Float32BE|Float64LE|
+//       Float64BE` and `file: . OFFSET`; from OFFSET on, xyz triplets in world RAS mm, a NaN triplet after
+//       each streamline and an Inf triplet at the end of the file.
+// .trk: TrackVis v1/v2, a 1000-byte little- or big-endian header. Points are in "voxmm" space of the
+//       header's grid with the half-voxel corner convention: voxel index = p / voxel_size - 0.5, world =
+//       vox_to_ras * index. When vox_to_ras is all zero (v1 files) the voxel axes come from voxel_order
+//       and voxel_size, with voxel (0,0,0) at the world origin (the file holds no origin).
+// All readers throw dtf::InputError whose message starts with the file name; counts are checked against
+// the file size before anything is allocated.
+#pragma once
+
+#include "io/model/geometry.h"
+#include "io/model/grid.h"
+
+#include <string>
+#include <vector>
+
+namespace dtf::io {
+
+// Facts from a .tck header (besides the points).
+struct TckInfo {
+  std::string datatype;         // e.g. "Float32LE"
+  std::size_t dataOffset = 0;   // byte offset of the first triplet
+  long long declaredCount = -1; // `count:` (-1 when absent)
+  std::vector<std::pair<std::string, std::string>> fields; // every "key: value" line, in order
+};
+
+// Reads a .tck file into world RAS mm. Throws InputError (bad magic, missing END/datatype/file, bad offset,
+// unsupported datatype, partial triplet, coordinates that are partly NaN/Inf, a missing end marker).
+// A `count:` that disagrees with the streamlines found is logged as a warning (tckgen leaves 0 there when
+// interrupted).
+Polylines readTck(const std::string& path, TckInfo* info = nullptr);
+// Writes Float32LE .tck atomically. Throws InputError when the file cannot be written or a point is not
+// finite.
+void writeTck(const std::string& path, const Polylines& lines);
+
+// Facts from a .trk header.
+struct TrkInfo {
+  int version = 0;
+  bool bigEndian = false;
+  glm::ivec3 dims{0};
+  glm::dvec3 voxelSize{0.0};
+  std::string voxelOrder;       // e.g. "LAS"; may be empty in v1 files
+  glm::dmat4 voxToRas{0.0};     // as stored (all zero in v1 files)
+  glm::dmat4 indexToWorld{1.0}; // the affine actually used: voxel index -> world RAS mm
+  int nScalars = 0, nProperties = 0;
+  long long declaredCount = 0;  // n_count (0 = unknown)
+};
+
+// Reads a .trk file (v1 or v2, either byte order) into world RAS mm; per-point scalars and per-track
+// properties are skipped. Throws InputError (bad magic, header size or version, absurd dims/voxel size/
+// counts, truncated data, non-finite coordinates, a singular affine).
+Polylines readTrk(const std::string& path, TrkInfo* info = nullptr);
+// Writes a little-endian TrackVis v2 file atomically on `reference`'s grid: dim, voxel_size = its
+// spacing, vox_to_ras = its voxelToWorld, voxel_order = its orientation code. Throws InputError.
+void writeTrk(const std::string& path, const Polylines& lines, const Grid& reference);
+
+} // namespace dtf::io
