@@ -16,6 +16,8 @@ const std::vector<Command>& commands() {
       {"phantom", "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)", cmdPhantom},
       {"surface", "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality", cmdSurface},
       {"render", "render the fabric on a surface to PNG, headless", cmdRender},
+      {"track", "deterministic tensor tractography to .tck/.trk/.vtk", cmdTrack},
+      {"compare", "angle between tracts and the fabric direction on a surface", cmdCompare},
       {"bench", "benchmarks: io, render", cmdBench},
   };
   return list;

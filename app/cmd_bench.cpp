@@ -31,13 +31,15 @@ int cmdBench(const CommandArgs& args) {
     std::printf("usage: dtfabric bench io|render|surfaces [OPTIONS] [--json]\n"
                 "  io      load time of an HCP-sized tensor volume, DWI fit times, FA-map time\n"
                 "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
-                "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n");
+                "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
+                "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
   if (args[0] == "io") return benchIo(rest);
   if (args[0] == "render") return benchRender(rest);
   if (args[0] == "surfaces") return benchSurfaces(rest);
+  if (args[0] == "tracts") return benchTracts(rest);
   throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces)");
 }
 

@@ -22,6 +22,8 @@ int cmdPhantom(const CommandArgs& args);
 int cmdSurface(const CommandArgs& args);
 int cmdRender(const CommandArgs& args);
 int cmdBench(const CommandArgs& args);
+int cmdTrack(const CommandArgs& args);
+int cmdCompare(const CommandArgs& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();
