@@ -233,7 +233,7 @@ MaskVolume automaticMask(const Dwi& dwi, double b0Threshold) {
       double s = 0;
       for (int v : vols)
         s += dwi.signal.data[i * volumes + v];
-      mean[i] = static_cast<float>(s / vols.size());
+      mean[i] = static_cast<float>(s / static_cast<double>(vols.size()));
     }
     return mean;
   };

@@ -149,7 +149,7 @@ void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<uns
   const Grid& grid = dwi.signal.grid;
   const int n = design.volumes;
   const std::size_t slice = static_cast<std::size_t>(grid.dims.x) * grid.dims.y;
-  const float minSignal = static_cast<float>(options.minSignal);
+  const auto minSignal = static_cast<float>(options.minSignal);
   const double logMin = std::log(static_cast<double>(minSignal));
   for (std::size_t idx = slice * k; idx < slice * (k + 1); ++idx) {
     if (!inside[idx]) continue;
