@@ -249,16 +249,37 @@ template <typename T> void convert(const void* src, std::size_t n, float* dst) {
 std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   std::size_t n = static_cast<std::size_t>(nim->nvox);
   std::size_t bytes = n * static_cast<std::size_t>(nim->nbyper);
-  std::vector<unsigned char> raw(bytes);
   const std::string file = dataFile(nim, path);
-  znzFile fp = znzopen(file.c_str(), "rb", nifti_is_gzfile(file.c_str()));
+  const bool gz = nifti_is_gzfile(file.c_str());
+  znzFile fp = znzopen(file.c_str(), "rb", gz);
   if (znz_isnull(fp)) fail(path, "cannot open the file");
   // znzseek returns 0 (plain files) or the new offset (gzip); -1 on failure. znzread returns (size_t)-1 on
   // a gzip error.
   bool ok = znzseek(fp, static_cast<znz_off_t>(nim->iname_offset), SEEK_SET) >= 0;
-  std::size_t got = ok ? znzread(raw.data(), 1, bytes, fp) : 0;
+  // A plain file's length was checked against the header, so its buffer is allocated at once. A gzip
+  // stream's length is unknown until inflated: grow the buffer as data arrives, so a small file whose
+  // header declares gigabytes fails on its short data instead of allocating them.
+  std::vector<unsigned char> raw;
+  std::size_t got = 0;
+  constexpr std::size_t kChunk = std::size_t(64) << 20;
+  try {
+    while (ok && got < bytes) {
+      std::size_t want = gz ? std::min(kChunk, bytes - got) : bytes;
+      raw.resize(got + want);
+      std::size_t r = znzread(raw.data() + got, 1, want, fp);
+      if (r == static_cast<std::size_t>(-1)) {
+        got = r;
+        break;
+      }
+      got += r;
+      if (r < want) break;
+    }
+  } catch (const std::bad_alloc&) {
+    znzclose(fp);
+    fail(path, "not enough memory for " + std::to_string(bytes) + " bytes of voxel data");
+  }
   ok = ok && got == bytes;
-  if (ok && nifti_is_gzfile(file.c_str())) {
+  if (ok && gz) {
     // Read on to the end of the stream so zlib checks the CRC: corruption that still inflates is caught.
     char extra[64];
     std::size_t r;
