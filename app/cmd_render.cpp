@@ -1,7 +1,161 @@
+// `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
+#include "app/args.h"
 #include "app/commands.h"
+#include "app/surface_spec.h"
+#include "app/tensor_input.h"
 
 #include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/png_io.h"
+#include "render/fabric_renderer.h"
+#include "render/gl_context.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
 
 namespace dtf::app {
-int cmdRender(const CommandArgs&) { throw Error("'render' is not implemented yet"); }
+
+namespace {
+const char* kHelp = R"(usage: dtfabric render INPUT -o OUT.png [OPTIONS]
+
+Renders the fabric-like tensor texture (Eichelbaum et al.) on a surface of INPUT, headless (EGL, no
+display needed), to an RGBA PNG. INPUT is any tensor volume dtfabric reads (FSL, MRtrix, SYMMATRIX,
+DTI-TK layouts), or a DWI (4D with a volume count other than 6, or with --bval/--bvec) fitted first.
+The same arguments always give the same PNG.
+
+Surface (default: the middle axial slice, clipped to the data)
+  --surface SPEC      fa=T            FA isosurface at T
+                      iso=FILE:VALUE  isosurface of a scalar NIfTI volume
+                      slice=AXIS[:I]  axial|coronal|sagittal slice I (default the middle)
+                      plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)
+
+View (world RAS: +x patient's right, +y anterior, +z superior)
+  --view V            axial|coronal|sagittal (display views) or superior|inferior|anterior|posterior|left|right
+                      (camera positions). Default: the slice's own view, else superior.
+                        superior  from above, anterior up, patient's right on the image RIGHT
+                        inferior  from below, anterior up, patient's right on the image LEFT
+                        anterior  from the front, superior up, patient's right on the image LEFT
+                        posterior from behind, superior up, patient's right on the image RIGHT
+                        left      from the patient's left, superior up, anterior on the image LEFT
+                        right     from the patient's right, superior up, anterior on the image RIGHT
+                      Display views are RADIOLOGICAL by default (patient's right on the image left):
+                        axial = inferior, coronal = anterior, sagittal = left (anterior on the left).
+  --neurological      neurological display convention: axial = superior, coronal = posterior,
+                      sagittal = right. Has no effect on the plain camera positions.
+  --perspective       perspective instead of orthographic projection
+  --size WxH          image size in pixels (default 768x768)
+
+Fabric (paper §2)
+  --color MODE        medical (default: DEC colour of the principal direction x red, y green, z blue,
+                      modulated by FA; secondary direction in grey beneath) | engineering (paper Eq. 13)
+  --iterations N      advection iterations at most (default 100; stops earlier once converged)
+  --lod L             noise voxel edge l in mm (paper Eq. 7; default: automatic from the pixel size)
+  --blend-k K         k of Eq. 12, the weight of the input noise per iteration (default 0.1)
+  --blend-r R         r of Eq. 13, blend between the two directions (default 0.5)
+  --seed S            reaction-diffusion noise seed (default 1)
+  --step PX           advection step in pixels (default 2)
+  --no-lighting --no-silhouette --sharpen W --depth-color W --fade-out-of-plane W
+
+Input
+  --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk)
+  --bval F --bvec F   treat INPUT as a DWI and fit tensors (WLS)
+  --mask F            DWI fit mask
+
+Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.
+)";
+
+render::StandardView defaultView(const SurfaceSpec& spec) {
+  if (spec.kind == SurfaceSpec::Kind::Slice) return render::parseView(spec.axis);
+  return render::StandardView::Superior;
+}
+} // namespace
+
+int cmdRender(const CommandArgs& argv) {
+  Args args(argv, {"help", "neurological", "perspective", "no-lighting", "no-silhouette"});
+  if (args.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  const std::string input = args.positional(0, "INPUT");
+  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
+  const std::string output = args.getOr("output", "");
+  if (output.empty()) throw UsageError("missing -o OUT.png");
+  int width = 768, height = 768;
+  if (auto s = args.get("size")) parseSize(*s, width, height);
+  if (width < 16 || height < 16 || width > 8192 || height > 8192)
+    throw UsageError("--size must be between 16x16 and 8192x8192");
+  SurfaceSpec spec = parseSurfaceSpec(args.getOr("surface", "slice=axial"));
+  const bool neurological = args.flag("neurological");
+  render::StandardView view = args.get("view") ? render::parseView(*args.get("view")) : defaultView(spec);
+  const bool perspective = args.flag("perspective");
+
+  render::FabricParams p;
+  const std::string colour = args.getOr("color", "medical");
+  if (colour == "medical") p.colour = render::ColourMode::Medical;
+  else if (colour == "engineering") p.colour = render::ColourMode::Engineering;
+  else throw UsageError("--color must be medical or engineering, not '" + colour + "'");
+  p.stillMaxIterations = args.getInt("iterations", p.stillMaxIterations);
+  if (p.stillMaxIterations < 0 || p.stillMaxIterations > 10000) throw UsageError("--iterations must be in [0, 10000]");
+  p.lod = args.getDouble("lod", 0.0);
+  if (p.lod < 0) throw UsageError("--lod must be positive (mm)");
+  p.k = args.getDouble("blend-k", p.k);
+  if (!(p.k > 0 && p.k <= 1)) throw UsageError("--blend-k must be in (0, 1]");
+  p.r = args.getDouble("blend-r", p.r);
+  if (!(p.r >= 0 && p.r <= 1)) throw UsageError("--blend-r must be in [0, 1]");
+  const int seed = args.getInt("seed", 1);
+  if (seed < 0) throw UsageError("--seed must be non-negative");
+  p.seed = static_cast<std::uint32_t>(seed);
+  p.stepPixels = args.getDouble("step", p.stepPixels);
+  if (!(p.stepPixels > 0 && p.stepPixels <= 16)) throw UsageError("--step must be in (0, 16] pixels");
+  p.lighting = !args.flag("no-lighting");
+  p.silhouette = !args.flag("no-silhouette");
+  p.sharpen = args.getDouble("sharpen", 0.0);
+  p.depthColour = args.getDouble("depth-color", 0.0);
+  p.fadeOutOfPlane = static_cast<float>(args.getDouble("fade-out-of-plane", 0.0));
+
+  TensorInputOptions in;
+  in.layout = io::parseLayout(args.getOr("layout", "auto"));
+  in.bval = args.getOr("bval", "");
+  in.bvec = args.getOr("bvec", "");
+  in.mask = args.getOr("mask", "");
+  args.finish();
+
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(output) && fs::equivalent(output, input, ec))
+    throw UsageError("output " + output + " is the input: refusing to overwrite it");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  io::LoadedTensors loaded = loadTensorInput(input, in);
+  const TensorField& field = loaded.field;
+  ScalarVolume fa = computeFaMap(field);
+  Mesh mesh;
+  try {
+    mesh = buildSurface(spec, field, fa);
+  } catch (...) {
+    rethrowWithContext("while building the surface " + describeSurface(spec));
+  }
+  if (mesh.empty()) throw InputError("the surface " + describeSurface(spec) + " is empty");
+
+  render::GlContext::headless();
+  render::FabricRenderer renderer;
+  renderer.setMesh(mesh);
+  renderer.setField(field);
+  renderer.resize(width, height);
+  glm::vec3 lo, hi;
+  mesh.bounds(lo, hi);
+  render::Camera camera = render::Camera::standard(view, glm::dvec3(lo), glm::dvec3(hi), double(width) / height,
+                                                   neurological, !perspective);
+  Image image = renderer.renderStill(camera, p);
+  render::checkGl("rendering " + output);
+  io::writePng(output, image);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  logInfo("rendered " + describeSurface(spec) + " (" + std::to_string(mesh.triangleCount()) + " triangles), view " +
+          render::viewName(view) + (neurological ? " (neurological)" : "") + ", " +
+          std::to_string(renderer.lastIterations()) + " advection iterations, " + std::to_string(width) + "x" +
+          std::to_string(height) + " -> " + output + " in " + std::to_string(seconds).substr(0, 5) + " s");
+  return 0;
+}
+
 } // namespace dtf::app
