@@ -142,10 +142,19 @@ bool positiveDefinite(const double* t) { // t = xx xy xz yy yz zz
   return m1 > 0 && m2 > 0 && m3 > 0;
 }
 
+void addStats(FitStats& total, const FitStats& s) {
+  total.voxelsFitted += s.voxelsFitted;
+  total.clampedSignals += s.clampedSignals;
+  total.nonPositiveTensors += s.nonPositiveTensors;
+  total.invalidVoxels += s.invalidVoxels;
+  total.wlsFallbacks += s.wlsFallbacks;
+}
+
 // Fits one axial slice. `logs`, `weights` and `weightedLogs` are per-thread scratch of `volumes` entries.
 void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<unsigned char>& inside,
-              const FitOptions& options, TensorField& out, FitStats& stats, std::vector<double>& logs,
+              const FitOptions& options, TensorField& out, FitStats& sliceStats, std::vector<double>& logs,
               std::vector<double>& weights, std::vector<double>& weightedLogs) {
+  FitStats stats; // local: per-thread counters side by side in one vector would share cache lines
   const Grid& grid = dwi.signal.grid;
   const int n = design.volumes;
   const std::size_t slice = static_cast<std::size_t>(grid.dims.x) * grid.dims.y;
@@ -223,14 +232,7 @@ void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<uns
     out.valid[idx] = 1;
     if (!positiveDefinite(t)) ++stats.nonPositiveTensors;
   }
-}
-
-void addStats(FitStats& total, const FitStats& s) {
-  total.voxelsFitted += s.voxelsFitted;
-  total.clampedSignals += s.clampedSignals;
-  total.nonPositiveTensors += s.nonPositiveTensors;
-  total.invalidVoxels += s.invalidVoxels;
-  total.wlsFallbacks += s.wlsFallbacks;
+  addStats(sliceStats, stats);
 }
 
 bool sameGrid(const Grid& a, const Grid& b) {
