@@ -1,0 +1,272 @@
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace dtf::ui {
+
+const std::array<const char*, 5> kLayoutNames = {"auto", "fsl", "mrtrix", "symmatrix", "dtitk"};
+
+namespace {
+
+// Records the centre of the last widget for tests (PanelBuffers::itemCentres).
+void probe(PanelBuffers& b, const char* label) {
+  if (!b.itemCentres) return;
+  ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+  (*b.itemCentres)[label] = {0.5f * (lo.x + hi.x), 0.5f * (lo.y + hi.y)};
+}
+
+bool sliderDouble(const char* label, double& v, float lo, float hi, const char* format, bool logarithmic = false) {
+  float f = static_cast<float>(v);
+  if (!ImGui::SliderFloat(label, &f, lo, hi, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0)) return false;
+  v = f;
+  return true;
+}
+
+void copyPath(std::array<char, 1024>& dst, const std::string& src) {
+  std::snprintf(dst.data(), dst.size(), "%s", src.c_str());
+}
+
+constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+
+} // namespace
+
+void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]) {
+  rect[0] = std::min(layout.sideWidth, width - 1);
+  rect[1] = 0;
+  rect[2] = std::max(width - rect[0], 1.0f);
+  rect[3] = std::max(height - layout.statusHeight, 1.0f);
+}
+
+void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  if (!ImGui::CollapsingHeader("Data", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  const bool enter = ImGui::InputText("##path", b.openPath.data(), b.openPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+  probe(b, "path");
+  ImGui::SameLine();
+  const bool open = ImGui::Button("Open");
+  probe(b, "Open");
+  ImGui::Combo("layout", &b.layout, kLayoutNames.data(), static_cast<int>(kLayoutNames.size()));
+  probe(b, "layout");
+  if ((enter || open) && b.openPath[0] != '\0') out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout]});
+  if (s.hasData) {
+    ImGui::SameLine();
+    if (ImGui::Button("Reload")) out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout]});
+    probe(b, "Reload");
+  }
+  if (!s.recent.empty() && ImGui::TreeNodeEx("Recent files", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (std::size_t i = 0; i < s.recent.size() && i < 8; ++i) {
+      ImGui::PushID(static_cast<int>(i));
+      if (ImGui::Selectable(s.recent[i].c_str(), s.hasData && s.recent[i] == s.data.path)) {
+        copyPath(b.openPath, s.recent[i]);
+        out.push_back(LoadFile{s.recent[i], kLayoutNames[b.layout]});
+      }
+      ImGui::PopID();
+    }
+    ImGui::TreePop();
+  }
+  if (!s.hasData) {
+    ImGui::TextDisabled(s.busy ? "loading..." : "no data loaded");
+    return;
+  }
+  const DataInfo& d = s.data;
+  ImGui::TextWrapped("%s", d.path.c_str());
+  ImGui::Text("%d x %d x %d voxels, %.2f x %.2f x %.2f mm", d.dims.x, d.dims.y, d.dims.z, d.spacing.x, d.spacing.y,
+              d.spacing.z);
+  ImGui::Text("orientation %s, %zu valid voxels", d.orientation.c_str(), d.validVoxels);
+  ImGui::Text("layout %s", d.layout.c_str());
+  if (!d.layoutReason.empty()) ImGui::TextWrapped("(%s)", d.layoutReason.c_str());
+  for (const auto& w : d.warnings) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "warning: %s", w.c_str());
+}
+
+void surfacePanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  if (!ImGui::CollapsingHeader("Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::BeginDisabled(!s.hasData);
+  static const char* const kinds[] = {"FA isosurface", "axial slice", "coronal slice", "sagittal slice",
+                                      "fibre surface", "other (from a spec)"};
+  int kind = static_cast<int>(s.surface);
+  if (ImGui::Combo("type", &kind, kinds, 6) && kind != static_cast<int>(SurfaceKind::Other))
+    out.push_back(SetSurfaceKind{static_cast<SurfaceKind>(kind)});
+  probe(b, "type");
+
+  ImGui::BeginDisabled(s.surface != SurfaceKind::FaIsosurface);
+  double fa = s.faThreshold;
+  // Live sweep: every change while dragging is sent; the viewer re-extracts the latest on its worker.
+  if (sliderDouble("FA threshold", fa, 0.05f, 0.9f, "%.3f")) out.push_back(SetFaThreshold{fa});
+  probe(b, "FA threshold");
+  ImGui::EndDisabled();
+
+  static const char* const axes[] = {"axial", "coronal", "sagittal"};
+  for (int a = 0; a < 3; ++a) {
+    ImGui::BeginDisabled(sliceAxisOf(s.surface) != a);
+    int idx = s.slice[a];
+    if (ImGui::SliderInt(axes[a], &idx, 0, std::max(s.sliceCount[a] - 1, 0))) out.push_back(SetSlice{a, idx});
+    probe(b, axes[a]);
+    ImGui::EndDisabled();
+  }
+
+  if (s.surface == SurfaceKind::Fibre) {
+    ImGui::TextWrapped("Seed line (voxel indices); the stream surface of e1 grows from it.");
+    ImGui::InputInt3("from", b.fibreFrom.data());
+    ImGui::InputInt3("to", b.fibreTo.data());
+    if (ImGui::Button("Build fibre surface")) {
+      char spec[160];
+      std::snprintf(spec, sizeof spec, "fibre-voxel=%d,%d,%d:%d,%d,%d", b.fibreFrom[0], b.fibreFrom[1], b.fibreFrom[2],
+                    b.fibreTo[0], b.fibreTo[1], b.fibreTo[2]);
+      out.push_back(SetSurfaceSpec{spec});
+    }
+    probe(b, "Build fibre surface");
+  }
+  ImGui::EndDisabled();
+  if (!s.surfaceText.empty())
+    ImGui::TextWrapped("%s, %zu triangles%s", s.surfaceText.c_str(), s.triangles, s.surfacePending ? " (updating)" : "");
+}
+
+void fabricPanel(const ViewerState& s, ActionList& out) {
+  if (!ImGui::CollapsingHeader("Fabric", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  render::FabricParams p = s.fabric;
+  bool changed = false;
+  changed |= sliderDouble("l (mm, 0 = auto)", p.lod, 0.0f, 40.0f, "%.1f");
+  changed |= sliderDouble("k", p.k, 0.01f, 0.5f, "%.3f", true);
+  changed |= ImGui::SliderInt("iterations/frame", &p.iterations, 1, 20);
+  changed |= sliderDouble("epsilon", p.epsilon, 0.005f, 0.2f, "%.3f", true);
+  changed |= sliderDouble("r", p.r, 0.0f, 1.0f, "%.2f");
+  int colour = p.colour == render::ColourMode::Medical ? 0 : 1;
+  static const char* const colours[] = {"medical", "engineering"};
+  if (ImGui::Combo("colour", &colour, colours, 2)) {
+    p.colour = colour == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
+    changed = true;
+  }
+  changed |= ImGui::Checkbox("lighting", &p.lighting);
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("silhouette", &p.silhouette);
+  changed |= sliderDouble("sharpen", p.sharpen, 0.0f, 1.0f, "%.2f");
+  changed |= sliderDouble("depth colour", p.depthColour, 0.0f, 1.0f, "%.2f");
+  changed |= sliderDouble("contrast", p.contrast, 1.0f, 8.0f, "%.1f");
+  changed |= sliderDouble("step (px)", p.stepPixels, 0.5f, 4.0f, "%.2f");
+  changed |= ImGui::SliderFloat("fade out-of-plane", &p.fadeOutOfPlane, 0.0f, 1.0f, "%.2f");
+  if (changed) out.push_back(SetFabricParams{p});
+}
+
+void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  using V = render::StandardView;
+  static const V views[] = {V::Superior, V::Inferior, V::Anterior, V::Posterior, V::Left,
+                            V::Right,    V::Axial,    V::Coronal,  V::Sagittal};
+  for (int i = 0; i < 9; ++i) {
+    if (i % 3) ImGui::SameLine();
+    const char* name = render::viewName(views[i]);
+    if (ImGui::Button(name, ImVec2(88, 0))) out.push_back(SetView{views[i]});
+    probe(b, name);
+  }
+  if (ImGui::RadioButton("radiological", !s.neurological) && s.neurological) out.push_back(SetNeurological{false});
+  probe(b, "radiological");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("neurological", s.neurological) && !s.neurological) out.push_back(SetNeurological{true});
+  probe(b, "neurological");
+  bool split = s.split, linked = s.linked;
+  if (ImGui::Checkbox("split", &split)) out.push_back(SetSplit{split});
+  probe(b, "split");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("linked camera", &linked)) out.push_back(SetLinkedCameras{linked});
+  probe(b, "linked camera");
+  int second = static_cast<int>(s.secondPane);
+  static const char* const panes[] = {"other colour mode", "Phong shading"};
+  if (ImGui::Combo("right pane", &second, panes, 2)) out.push_back(SetSecondPane{static_cast<SecondPane>(second)});
+  if (ImGui::Button("Reset view (R)")) out.push_back(ResetView{});
+  probe(b, "Reset view");
+
+  ImGui::InputText("##shot", b.screenshotPath.data(), b.screenshotPath.size());
+  if (ImGui::Button("Screenshot window")) out.push_back(Screenshot{b.screenshotPath.data(), false});
+  probe(b, "Screenshot window");
+  ImGui::SameLine();
+  if (ImGui::Button("scene only")) out.push_back(Screenshot{b.screenshotPath.data(), true});
+  ImGui::InputText("##camera", b.cameraPath.data(), b.cameraPath.size());
+  if (ImGui::Button("Save camera")) out.push_back(SaveCamera{b.cameraPath.data()});
+  ImGui::SameLine();
+  if (ImGui::Button("Load camera")) out.push_back(LoadCamera{b.cameraPath.data()});
+}
+
+void statusBar(const ViewerState& s, const PanelLayout& layout) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout.statusHeight));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x, layout.statusHeight));
+  ImGui::Begin("##status", nullptr, kFixed | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar);
+  if (s.busy) {
+    // Indeterminate progress: the loader reports stages, not fractions.
+    const float phase = static_cast<float>(std::fmod(s.busySeconds, 1.5) / 1.5);
+    ImGui::ProgressBar(phase, ImVec2(120, 0), "");
+    ImGui::SameLine();
+    ImGui::Text("%s (%.0f s)", s.busyStage.c_str(), s.busySeconds);
+    ImGui::SameLine();
+  }
+  const ProbeInfo& p = s.probe;
+  if (p.onSurface) {
+    ImGui::Text("(%.1f, %.1f, %.1f) mm", p.world.x, p.world.y, p.world.z);
+    if (p.inData) {
+      ImGui::SameLine();
+      ImGui::Text("voxel %d,%d,%d  FA %.3f  lambda %.2e %.2e %.2e  e1 (%.2f, %.2f, %.2f)", p.voxel.x, p.voxel.y,
+                  p.voxel.z, p.fa, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z, p.e1.x, p.e1.y, p.e1.z);
+    }
+  } else {
+    ImGui::TextDisabled("cursor not on the surface");
+  }
+  ImGui::SameLine(std::max(ImGui::GetWindowWidth() - 200.0f, ImGui::GetCursorPosX() + 10));
+  ImGui::Text("%5.1f ms %s", s.frameMs, s.converged ? "still" : "refining");
+  ImGui::End();
+}
+
+void errorModal(const ViewerState& s, ActionList& out) {
+  if (s.errorChain.empty()) return;
+  if (!ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 0), ImVec2(std::max(io.DisplaySize.x * 0.9f, 300.0f), FLT_MAX));
+  if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    for (std::size_t i = 0; i < s.errorChain.size(); ++i) {
+      if (i) ImGui::Indent(12);
+      ImGui::TextWrapped("%s", s.errorChain[i].c_str());
+    }
+    if (s.errorChain.size() > 1) ImGui::Unindent(12.0f * static_cast<float>(s.errorChain.size() - 1));
+    if (ImGui::Button("OK", ImVec2(120, 0))) {
+      out.push_back(DismissError{});
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+}
+
+void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout, ActionList& out) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(layout.sideWidth, std::max(io.DisplaySize.y - layout.statusHeight, 1.0f)));
+  ImGui::Begin("dtfabric", nullptr, kFixed);
+  ImGui::PushItemWidth(-120);
+  dataPanel(s, b, out);
+  surfacePanel(s, b, out);
+  fabricPanel(s, out);
+  viewPanel(s, b, out);
+  ImGui::PopItemWidth();
+  ImGui::End();
+  statusBar(s, layout);
+  errorModal(s, out);
+}
+
+std::vector<std::string> splitErrorChain(const std::string& message) {
+  // Contexts are added as "while ...: " prefixes (dtf::rethrowWithContext); the rest is the cause.
+  std::vector<std::string> links;
+  std::size_t start = 0;
+  while (message.compare(start, 6, "while ") == 0) {
+    const std::size_t colon = message.find(": ", start);
+    if (colon == std::string::npos) break;
+    links.push_back(message.substr(start, colon - start));
+    start = colon + 2;
+  }
+  if (start < message.size() || links.empty()) links.push_back(message.substr(start));
+  return links;
+}
+
+} // namespace dtf::ui

@@ -1,0 +1,54 @@
+// The viewer's Dear ImGui panels: Data, Surface, Fabric and View in a side bar, a status bar with the voxel
+// under the cursor, a progress line for work on the worker thread and the error modal. Each panel reads the
+// ViewerState by const reference and appends what the user asked for to an ActionList; nothing is changed
+// here (the app's viewer performs the actions). Needs a current ImGui context inside NewFrame()/Render();
+// no renderer backend is needed, so the panels also run headless in tests.
+#pragma once
+
+#include "ui/actions.h"
+#include "ui/viewer_state.h"
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dtf::ui {
+
+// Widget state that ImGui needs to own between frames (text fields), owned by the caller.
+struct PanelBuffers {
+  std::array<char, 1024> openPath{};
+  int layout = 0; // index into the layout names: auto, fsl, mrtrix, symmatrix, dtitk
+  std::array<char, 1024> screenshotPath{};
+  std::array<char, 1024> cameraPath{};
+  std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
+  // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
+  std::map<std::string, std::array<float, 2>>* itemCentres = nullptr;
+};
+
+// Layout of the window: the side bar on the left, the status bar at the bottom, the scene in between.
+struct PanelLayout {
+  float sideWidth = 300;
+  float statusHeight = 26;
+};
+
+// Scene rectangle (window pixels, y down) left free by the panels for a window of the given size.
+void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]);
+
+void dataPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+void surfacePanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+void fabricPanel(const ViewerState& state, ActionList& out);
+void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+void statusBar(const ViewerState& state, const PanelLayout& layout);
+void errorModal(const ViewerState& state, ActionList& out);
+
+// All of the above for one frame.
+void drawPanels(const ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout, ActionList& out);
+
+// Splits an error message chain "while A: while B: cause" into its links, outermost first.
+std::vector<std::string> splitErrorChain(const std::string& message);
+
+// Layout names in the order of PanelBuffers::layout.
+extern const std::array<const char*, 5> kLayoutNames;
+
+} // namespace dtf::ui

@@ -1,0 +1,73 @@
+// The viewer's state as the panels see it: a plain snapshot the app's viewer keeps up to date and hands to
+// ui/panels.h by const reference each frame. Strings here change only when the data or the surface
+// change, so drawing the panels from it does not allocate.
+#pragma once
+
+#include "render/camera.h"
+#include "render/fabric_renderer.h"
+#include "ui/actions.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace dtf::ui {
+
+// Facts about the loaded tensor volume (Data panel).
+struct DataInfo {
+  std::string path;
+  std::string layout;       // layout used, e.g. "fsl"
+  std::string layoutReason; // why it was chosen
+  std::string orientation;  // e.g. "LAS"
+  glm::ivec3 dims{0};
+  glm::dvec3 spacing{0.0};
+  std::size_t validVoxels = 0;
+  std::vector<std::string> warnings;
+};
+
+// The voxel under the mouse cursor (status bar).
+struct ProbeInfo {
+  bool onSurface = false;    // the cursor is over the rendered surface
+  bool inData = false;       // ... and inside the tensor grid with a valid tensor
+  glm::dvec3 world{0.0};     // world RAS mm
+  glm::ivec3 voxel{0};       // nearest voxel index
+  double fa = 0;
+  glm::dvec3 eigenvalues{0.0}; // mm^2/s, descending
+  glm::dvec3 e1{0.0};          // principal direction, world RAS
+};
+
+struct ViewerState {
+  bool hasData = false;
+  DataInfo data;
+  std::vector<std::string> recent; // most recent first
+
+  SurfaceKind surface = SurfaceKind::FaIsosurface;
+  double faThreshold = 0.25;
+  std::array<int, 3> slice{0, 0, 0};      // axial, coronal, sagittal indices
+  std::array<int, 3> sliceCount{1, 1, 1}; // slices along each axis
+  std::string surfaceText;                // description of the mesh on screen
+  std::size_t triangles = 0;
+  bool surfacePending = false;            // a re-extraction is running; the previous mesh stays on screen
+
+  render::FabricParams fabric;
+  render::StandardView view = render::StandardView::Axial;
+  bool neurological = false;
+  bool split = false;
+  bool linked = true;
+  SecondPane secondPane = SecondPane::OtherColourMode;
+
+  bool busy = false;      // loading / fitting on the worker thread
+  std::string busyStage;  // e.g. "reading tensors"
+  double busySeconds = 0; // time since the work started
+
+  ProbeInfo probe;
+  std::vector<std::string> errorChain; // non-empty: the error modal is open (outermost context first)
+
+  double frameMs = 0;
+  bool converged = false; // the fabric reached still quality; rendering idles
+  std::size_t tractCount = 0;
+};
+
+} // namespace dtf::ui
