@@ -1,0 +1,236 @@
+#include "app/view_script.h"
+
+#include "app/surface_spec.h"
+#include "io/model/error.h"
+#include "surfaces/slices.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace dtf::app {
+
+namespace {
+
+struct LineError {
+  std::string message;
+};
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> w;
+  std::istringstream in(s);
+  for (std::string t; in >> t;) w.push_back(t);
+  return w;
+}
+
+double number(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw LineError{what + ": '" + text + "' is not a number"};
+  return v;
+}
+
+int integer(const std::string& text, const std::string& what) {
+  const double v = number(text, what);
+  if (v != std::floor(v) || std::abs(v) > 1e9) throw LineError{what + ": '" + text + "' is not an integer"};
+  return static_cast<int>(v);
+}
+
+bool onOff(const std::string& text, const std::string& what) {
+  if (text == "on" || text == "1" || text == "true") return true;
+  if (text == "off" || text == "0" || text == "false") return false;
+  throw LineError{what + " takes on or off, got '" + text + "'"};
+}
+
+void expectArgs(const std::vector<std::string>& w, std::size_t n, const char* usage) {
+  if (w.size() != n + 1) throw LineError{std::string("usage: ") + usage};
+}
+
+ScriptSetParam parseParam(const std::string& name, const std::string& value) {
+  struct Range {
+    const char* name;
+    double lo, hi;
+    bool integral;
+  };
+  static const Range ranges[] = {{"lod", 0, 1000, false},        {"k", 1e-4, 1, false},
+                                 {"iterations", 1, 1000, true},  {"epsilon", 1e-5, 1, false},
+                                 {"r", 0, 1, false},             {"sharpen", 0, 4, false},
+                                 {"depth-colour", 0, 1, false},  {"contrast", 0.1, 100, false},
+                                 {"step", 0.1, 16, false},       {"fade", 0, 1, false},
+                                 {"auto-lod-pixels", 8, 4096, false}};
+  if (name == "colour" || name == "color") {
+    if (value == "medical") return {"colour", 0};
+    if (value == "engineering") return {"colour", 1};
+    throw LineError{"colour takes medical or engineering, got '" + value + "'"};
+  }
+  if (name == "lighting" || name == "silhouette") return {name, onOff(value, name) ? 1.0 : 0.0};
+  for (const auto& r : ranges) {
+    if (name != r.name) continue;
+    const double v = r.integral ? integer(value, name) : number(value, name);
+    if (v < r.lo || v > r.hi)
+      throw LineError{name + " must lie in [" + std::to_string(r.lo) + ", " + std::to_string(r.hi) + "], got " + value};
+    return {name, v};
+  }
+  throw LineError{"unknown fabric parameter '" + name +
+                  "' (lod, k, iterations, epsilon, r, colour, lighting, silhouette, sharpen, depth-colour, contrast, "
+                  "step, fade, auto-lod-pixels)"};
+}
+
+// Everything after the command word, for paths that may hold spaces.
+std::string restOf(const std::string& line, const std::string& command) {
+  return trim(line.substr(line.find(command) + command.size()));
+}
+
+ScriptStep parseLine(const std::string& line, int number_) {
+  ScriptStep step;
+  step.line = number_;
+  const auto w = words(line);
+  const std::string& c = w[0];
+  auto pathArg = [&](const char* usage) {
+    std::string p = restOf(line, c);
+    if (p.empty()) throw LineError{std::string("usage: ") + usage};
+    return p;
+  };
+  if (c == "load") {
+    step.command = ui::Action(ui::LoadFile{pathArg("load PATH"), "auto"});
+  } else if (c == "surface") {
+    expectArgs(w, 1, "surface SPEC");
+    try {
+      parseSurfaceSpec(w[1]);
+    } catch (const UsageError& e) {
+      throw LineError{e.what()};
+    }
+    step.command = ui::Action(ui::SetSurfaceSpec{w[1]});
+  } else if (c == "fa") {
+    expectArgs(w, 1, "fa T");
+    const double t = number(w[1], "fa threshold");
+    if (t <= 0 || t >= 1) throw LineError{"fa threshold must lie in (0, 1), got " + w[1]};
+    step.command = ui::Action(ui::SetFaThreshold{t});
+  } else if (c == "slice") {
+    expectArgs(w, 2, "slice axial|coronal|sagittal INDEX");
+    int axis = 0;
+    try {
+      axis = static_cast<int>(surfaces::parseSliceAxis(w[1]));
+    } catch (const UsageError& e) {
+      throw LineError{e.what()};
+    }
+    const int index = integer(w[2], "slice index");
+    if (index < 0) throw LineError{"slice index must not be negative"};
+    step.command = ui::Action(ui::SetSlice{axis, index});
+  } else if (c == "key") {
+    expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
+    auto key = ui::parseKey(w[1]);
+    if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
+    step.command = *key;
+  } else if (c == "rotate" || c == "pan") {
+    expectArgs(w, 2, c == "rotate" ? "rotate DX DY" : "pan DX DY");
+    const double dx = number(w[1], c + " DX"), dy = number(w[2], c + " DY");
+    if (std::abs(dx) > 1e5 || std::abs(dy) > 1e5) throw LineError{c + ": drag too large"};
+    step.command = c == "rotate" ? ui::Action(ui::Rotate{dx, dy}) : ui::Action(ui::Pan{dx, dy});
+  } else if (c == "zoom") {
+    expectArgs(w, 1, "zoom F");
+    const double f = number(w[1], "zoom factor");
+    if (f <= 0.01 || f > 100) throw LineError{"zoom factor must lie in (0.01, 100], got " + w[1]};
+    step.command = ui::Action(ui::Zoom{f});
+  } else if (c == "view") {
+    expectArgs(w, 1, "view NAME");
+    try {
+      step.command = ui::Action(ui::SetView{render::parseView(w[1])});
+    } catch (const UsageError& e) {
+      throw LineError{e.what()};
+    }
+  } else if (c == "split") {
+    expectArgs(w, 1, "split on|off");
+    step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+  } else if (c == "linked") {
+    expectArgs(w, 1, "linked on|off");
+    step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
+  } else if (c == "neurological") {
+    expectArgs(w, 1, "neurological on|off");
+    step.command = ui::Action(ui::SetNeurological{onOff(w[1], "neurological")});
+  } else if (c == "set") {
+    expectArgs(w, 2, "set PARAM VALUE");
+    step.command = parseParam(w[1], w[2]);
+  } else if (c == "wait") {
+    expectArgs(w, 1, "wait FRAMES");
+    const int n = integer(w[1], "wait frames");
+    if (n < 0 || n > 100000) throw LineError{"wait frames must lie in [0, 100000], got " + w[1]};
+    step.command = ScriptWait{n};
+  } else if (c == "screenshot" || c == "screenshot-scene") {
+    std::string p = pathArg(c == "screenshot" ? "screenshot PATH" : "screenshot-scene PATH");
+    if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0) throw LineError{c + ": the path must end in .png"};
+    step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene"});
+  } else if (c == "camera-save") {
+    step.command = ui::Action(ui::SaveCamera{pathArg("camera-save PATH")});
+  } else if (c == "camera-load") {
+    step.command = ui::Action(ui::LoadCamera{pathArg("camera-load PATH")});
+  } else if (c == "quit") {
+    expectArgs(w, 0, "quit");
+    step.command = ui::Action(ui::Quit{});
+  } else {
+    throw LineError{"unknown command '" + c +
+                    "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
+                    "wait, screenshot, screenshot-scene, camera-save, camera-load, quit)"};
+  }
+  return step;
+}
+
+} // namespace
+
+ViewScript parseViewScript(const std::string& text, const std::string& file) {
+  ViewScript script;
+  script.file = file;
+  std::istringstream in(text);
+  std::string raw;
+  int n = 0;
+  while (std::getline(in, raw)) {
+    ++n;
+    if (raw.find('\0') != std::string::npos) throw UsageError(file + ":" + std::to_string(n) + ": NUL byte in script");
+    const auto hash = raw.find('#');
+    const std::string line = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
+    if (line.empty()) continue;
+    try {
+      script.steps.push_back(parseLine(line, n));
+    } catch (const LineError& e) {
+      throw UsageError(file + ":" + std::to_string(n) + ": " + e.message);
+    }
+  }
+  return script;
+}
+
+ViewScript loadViewScript(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the script");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (ss.str().size() > (16u << 20)) throw InputError(path + ": script larger than 16 MiB");
+  return parseViewScript(ss.str(), path);
+}
+
+void applyScriptParam(render::FabricParams& p, const ScriptSetParam& s) {
+  const std::string& n = s.name;
+  if (n == "lod") p.lod = s.value;
+  else if (n == "k") p.k = s.value;
+  else if (n == "iterations") p.iterations = static_cast<int>(s.value);
+  else if (n == "epsilon") p.epsilon = s.value;
+  else if (n == "r") p.r = s.value;
+  else if (n == "colour") p.colour = s.value == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
+  else if (n == "lighting") p.lighting = s.value != 0;
+  else if (n == "silhouette") p.silhouette = s.value != 0;
+  else if (n == "sharpen") p.sharpen = s.value;
+  else if (n == "depth-colour") p.depthColour = s.value;
+  else if (n == "contrast") p.contrast = s.value;
+  else if (n == "step") p.stepPixels = s.value;
+  else if (n == "fade") p.fadeOutOfPlane = static_cast<float>(s.value);
+  else if (n == "auto-lod-pixels") p.autoLodPixels = s.value;
+}
+
+} // namespace dtf::app

@@ -1,0 +1,60 @@
+// Viewer scripts (`dtfabric view --script FILE`): one command per line, replayed by the viewer as if the
+// user had done it, so every figure can be reproduced. Parsing is pure (text in, steps out) and checks
+// everything it can before a window opens; a bad line is a UsageError "FILE:LINE: ...".
+//
+//   load PATH                 open a tensor volume (or DWI with sibling .bval/.bvec)
+//   surface SPEC              any surface of app/surface_spec.h (fa=0.3, slice=axial:20, fibre-voxel=...)
+//   fa T                      FA isosurface at T (0 < T < 1)
+//   slice AXIS INDEX          axial|coronal|sagittal slice INDEX
+//   key NAME                  Up, Down, PgUp, PgDn, A, C, S, R
+//   rotate DX DY              trackball drag by DX, DY window pixels (y down)
+//   pan DX DY                 pan by DX, DY pixels
+//   zoom F                    magnify by F (2 = twice as large)
+//   view NAME                 superior|inferior|anterior|posterior|left|right|axial|coronal|sagittal
+//   split on|off, linked on|off, neurological on|off
+//   set PARAM VALUE           fabric parameter: lod k iterations epsilon r colour(medical|engineering)
+//                             lighting(on|off) silhouette(on|off) sharpen depth-colour contrast step fade
+//   wait FRAMES               render FRAMES more frames
+//   screenshot PATH           PNG of the whole window, panels included
+//   screenshot-scene PATH     PNG of the fabric panes only (no panels, no labels)
+//   camera-save PATH, camera-load PATH
+//   quit                      close the viewer
+// `#` starts a comment; blank lines are skipped.
+#pragma once
+
+#include "render/fabric_renderer.h"
+#include "ui/actions.h"
+#include "ui/keymap.h"
+
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace dtf::app {
+
+struct ScriptWait {
+  int frames;
+};
+struct ScriptSetParam {
+  std::string name; // canonical name from the list above
+  double value;     // on/off -> 1/0, medical/engineering -> 0/1
+};
+
+struct ScriptStep {
+  int line = 0; // 1-based line in the file
+  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam> command;
+};
+
+struct ViewScript {
+  std::string file;
+  std::vector<ScriptStep> steps;
+};
+
+// Parses script text; `file` names it in messages. Throws UsageError "FILE:LINE: what is wrong".
+ViewScript parseViewScript(const std::string& text, const std::string& file);
+// Reads and parses a script file. Throws InputError when it cannot be read, UsageError for a bad line.
+ViewScript loadViewScript(const std::string& path);
+// Applies a `set` line to fabric parameters (values already validated by the parser).
+void applyScriptParam(render::FabricParams& params, const ScriptSetParam& param);
+
+} // namespace dtf::app
