@@ -1,0 +1,529 @@
+#include "app/viewer.h"
+
+#include "io/model/error.h"
+#include "io/model/tensor.h"
+#include "render/gl_context.h"
+#include "surfaces/slices.h"
+#include "ui/panels.h"
+
+#include <epoxy/gl.h>
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace dtf::app {
+
+namespace {
+
+constexpr int kStillIterations = 12;        // advection iterations per frame once the camera is still
+constexpr double kMotionSeconds = 0.15;     // a camera change keeps frames interactive this long
+constexpr std::size_t kMaxRecent = 8;
+const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
+
+std::string currentError() {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown error";
+  }
+}
+
+ui::SurfaceKind sliceKind(int axis) {
+  return axis == 0 ? ui::SurfaceKind::Axial : axis == 1 ? ui::SurfaceKind::Coronal : ui::SurfaceKind::Sagittal;
+}
+
+render::StandardView homeViewFor(ui::SurfaceKind k) {
+  switch (k) {
+  case ui::SurfaceKind::Axial: return render::StandardView::Axial;
+  case ui::SurfaceKind::Coronal: return render::StandardView::Coronal;
+  case ui::SurfaceKind::Sagittal: return render::StandardView::Sagittal;
+  default: return render::StandardView::Superior;
+  }
+}
+
+// The draw framebuffer the renderer left bound: its output target (FabricRenderer has no accessor for it).
+unsigned boundOutput(int w, int h) {
+  GLint fbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+  if (fbo <= 0) return 0;
+  GLint type = 0, tex = 0;
+  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+  if (type != GL_TEXTURE) return 0;
+  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &tex);
+  GLint tw = 0, th = 0;
+  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_WIDTH, &tw);
+  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_HEIGHT, &th);
+  return tw == w && th == h ? static_cast<unsigned>(fbo) : 0u;
+}
+
+} // namespace
+
+ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) {
+  for (auto& r : renderers_) r = std::make_unique<render::FabricRenderer>();
+  if (!surface.empty()) {
+    try {
+      applySpec(parseSurfaceSpec(surface));
+    } catch (...) {
+      setError(currentError());
+    }
+  }
+}
+
+ViewerScene::~ViewerScene() = default;
+
+render::FabricRenderer& ViewerScene::renderer(int p) { return *renderers_[p]; }
+
+void ViewerScene::setError(const std::string& message) {
+  state_.errorChain = ui::splitErrorChain(message);
+  ++errorSerial_;
+}
+
+void ViewerScene::addRecent(const std::string& path) {
+  auto& r = state_.recent;
+  r.erase(std::remove(r.begin(), r.end(), path), r.end());
+  r.insert(r.begin(), path);
+  if (r.size() > kMaxRecent) r.resize(kMaxRecent);
+}
+
+bool ViewerScene::settled() const { return !worker_.busy() && !state_.busy; }
+
+bool ViewerScene::converged() const {
+  for (int p = 0; p < paneCount(); ++p)
+    if (dirty_[p] && hasMesh_) return false;
+  return true;
+}
+
+std::array<int, 4> ViewerScene::paneRect(int p) const {
+  if (!state_.split) return {0, 0, width_, height_};
+  const int half = std::max(width_ / 2, 1);
+  return p == 0 ? std::array<int, 4>{0, 0, half, height_} : std::array<int, 4>{half, 0, std::max(width_ - half, 1), height_};
+}
+
+int ViewerScene::paneAt(double x) const { return state_.split && x >= paneRect(1)[0] ? 1 : 0; }
+
+double ViewerScene::paneAspect(int p) const {
+  auto r = paneRect(p);
+  return static_cast<double>(r[2]) / std::max(r[3], 1);
+}
+
+render::Camera& ViewerScene::cameraFor(int pane) {
+  if (state_.linked) return cameras_[0];
+  return cameras_[pane < 0 ? activePane_ : std::clamp(pane, 0, 1)];
+}
+
+void ViewerScene::cameraChanged() {
+  lastMotion_ = std::chrono::steady_clock::now();
+  dataChanged();
+}
+
+void ViewerScene::dataChanged() {
+  dirty_.fill(true);
+  iterationsSinceRestart_.fill(0);
+  covered_.fill(0);
+  state_.converged = false;
+}
+
+void ViewerScene::setView(render::StandardView v) {
+  state_.view = v;
+  if (!data_) return;
+  for (int p = 0; p < 2; ++p) {
+    if (!state_.linked && p != activePane_) continue;
+    cameras_[p] = render::Camera::standard(v, data_->lo, data_->hi, paneAspect(p), state_.neurological);
+  }
+  if (state_.linked) cameras_[1] = cameras_[0];
+  cameraChanged();
+}
+
+SurfaceSpec ViewerScene::currentSpec() const {
+  SurfaceSpec s;
+  const int axis = ui::sliceAxisOf(state_.surface);
+  if (state_.surface == ui::SurfaceKind::FaIsosurface) {
+    s.kind = SurfaceSpec::Kind::Fa;
+    s.value = state_.faThreshold;
+    s.text = "fa=" + std::to_string(state_.faThreshold);
+  } else if (axis >= 0) {
+    s.kind = SurfaceSpec::Kind::Slice;
+    s.axis = kAxisNames[axis];
+    s.index = data_ ? state_.slice[axis] : -1;
+    s.text = "slice=" + s.axis;
+  } else {
+    s = otherSpec_;
+  }
+  return s;
+}
+
+void ViewerScene::applySpec(const SurfaceSpec& spec) {
+  switch (spec.kind) {
+  case SurfaceSpec::Kind::Fa:
+    state_.surface = ui::SurfaceKind::FaIsosurface;
+    state_.faThreshold = spec.value;
+    break;
+  case SurfaceSpec::Kind::Slice: {
+    const int axis = static_cast<int>(surfaces::parseSliceAxis(spec.axis));
+    state_.surface = sliceKind(axis);
+    if (spec.index >= 0) state_.slice[axis] = std::min(spec.index, std::max(state_.sliceCount[axis] - 1, 0));
+    break;
+  }
+  case SurfaceSpec::Kind::Fibre:
+    state_.surface = ui::SurfaceKind::Fibre;
+    otherSpec_ = spec;
+    break;
+  default:
+    state_.surface = ui::SurfaceKind::Other;
+    otherSpec_ = spec;
+    break;
+  }
+}
+
+void ViewerScene::requestSurface() {
+  if (!data_) return;
+  if ((state_.surface == ui::SurfaceKind::Fibre && otherSpec_.kind != SurfaceSpec::Kind::Fibre) ||
+      (state_.surface == ui::SurfaceKind::Other && otherSpec_.text.empty()))
+    return; // waits for a seed line / spec
+  latestSurface_ = nextId_++;
+  state_.surfacePending = true;
+  worker_.requestSurface(latestSurface_, data_, currentSpec());
+}
+
+void ViewerScene::loadFile(const ui::LoadFile& a) {
+  const io::TensorLayout layout = io::parseLayout(a.layout.empty() ? "auto" : a.layout);
+  SurfaceSpec first = currentSpec();
+  if (first.kind == SurfaceSpec::Kind::Slice && !data_) {
+    // A slice index from the command line is kept; the viewer clamps it once the grid is known.
+    if (!initialSurface_.empty()) first = parseSurfaceSpec(initialSurface_);
+  } else if (first.kind == SurfaceSpec::Kind::Slice) {
+    first.index = -1; // a new grid: start in the middle
+  }
+  if ((first.kind == SurfaceSpec::Kind::Fibre || first.kind == SurfaceSpec::Kind::Mesh ||
+       first.kind == SurfaceSpec::Kind::Iso || first.kind == SurfaceSpec::Kind::Plane) &&
+      first.text.empty()) {
+    first = parseSurfaceSpec("fa=0.25");
+  }
+  latestLoad_ = nextId_++;
+  latestSurface_ = latestLoad_;
+  state_.busy = true;
+  state_.busyStage = "reading " + a.path;
+  busySince_ = std::chrono::steady_clock::now();
+  worker_.requestLoad(latestLoad_, a.path, layout, first);
+}
+
+void ViewerScene::setMesh(const Mesh& mesh) {
+  for (auto& r : renderers_) r->setMesh(mesh);
+  hasMesh_ = true;
+  ++meshSerial_;
+  state_.triangles = mesh.triangleCount();
+  cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
+}
+
+void ViewerScene::onResult(WorkerResult& r) {
+  using K = WorkerResult::Kind;
+  if (r.id < latestLoad_) return; // belongs to data already replaced
+  if (r.kind == K::Loaded) {
+    data_ = r.data;
+    const ViewerDataset& d = *data_;
+    const TensorField& f = d.loaded.field;
+    state_.busy = false;
+    state_.hasData = true;
+    ui::DataInfo& info = state_.data;
+    info.path = d.path;
+    info.layout = io::layoutName(d.loaded.layout);
+    info.layoutReason = d.loaded.layoutReason;
+    info.orientation = f.grid.orientationCode();
+    info.dims = f.grid.dims;
+    info.spacing = f.grid.spacing;
+    info.validVoxels = static_cast<std::size_t>(std::count(f.valid.begin(), f.valid.end(), 1));
+    info.warnings = d.loaded.warnings;
+    for (int a = 0; a < 3; ++a) {
+      state_.sliceCount[a] = surfaces::sliceCount(f.grid, static_cast<surfaces::SliceAxis>(a));
+      state_.slice[a] = state_.sliceCount[a] / 2;
+    }
+    applySpec(r.spec);
+    if (r.spec.kind == SurfaceSpec::Kind::Slice && r.spec.index < 0) {
+      const int axis = ui::sliceAxisOf(state_.surface);
+      state_.slice[axis] = state_.sliceCount[axis] / 2;
+    }
+    for (auto& rr : renderers_) rr->setField(f);
+    hasField_ = true;
+    hasMesh_ = false;
+    state_.surfacePending = false;
+    state_.surfaceText = describeSurface(currentSpec());
+    if (!r.mesh.empty()) setMesh(r.mesh);
+    else if (!r.error.empty()) setError(r.error);
+    else state_.surfaceText += ": empty";
+    addRecent(d.path);
+    homeView_ = homeViewFor(state_.surface);
+    setView(homeView_);
+    return;
+  }
+  if (r.id == latestLoad_ && r.kind == K::Failed) {
+    state_.busy = false;
+    setError(r.error);
+    return;
+  }
+  state_.surfacePending = r.id < latestSurface_;
+  if (r.kind == K::Failed) {
+    setError("while building the " + describeSurface(r.spec) + ": " + r.error);
+    return;
+  }
+  state_.surfaceText = describeSurface(r.spec);
+  if (r.mesh.empty()) {
+    state_.surfaceText += ": empty (previous surface shown)";
+    return;
+  }
+  setMesh(r.mesh);
+}
+
+void ViewerScene::update() {
+  WorkerResult r;
+  while (worker_.poll(r)) {
+    try {
+      onResult(r);
+    } catch (...) {
+      setError(currentError());
+    }
+  }
+  if (state_.busy) {
+    worker_.loading(&state_.busyStage);
+    state_.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - busySince_).count();
+  }
+}
+
+void ViewerScene::render(int width, int height) {
+  width = std::max(width, 1);
+  height = std::max(height, 1);
+  if (width != width_ || height != height_) {
+    width_ = width;
+    height_ = height;
+    dataChanged();
+  }
+  if (!hasMesh_ || !hasField_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const bool moving = interacting_ || std::chrono::duration<double>(now - lastMotion_).count() < kMotionSeconds;
+  try {
+    for (int p = 0; p < paneCount(); ++p) {
+      if (!dirty_[p]) continue;
+      const auto rect = paneRect(p);
+      render::FabricRenderer& r = renderer(p);
+      r.resize(rect[2], rect[3]);
+      const render::Camera& cam = camera(p);
+      if (p == 1 && state_.secondPane == ui::SecondPane::Phong) {
+        r.renderPhong(cam);
+        outputFbo_[p] = boundOutput(rect[2], rect[3]);
+        dirty_[p] = false;
+        continue;
+      }
+      render::FabricParams params = state_.fabric;
+      if (p == 1)
+        params.colour = params.colour == render::ColourMode::Medical ? render::ColourMode::Engineering
+                                                                      : render::ColourMode::Medical;
+      if (!moving) params.iterations = std::max(params.iterations, kStillIterations);
+      r.renderFrame(cam, params);
+      outputFbo_[p] = boundOutput(rect[2], rect[3]);
+      if (!outputFbo_[p]) throw GlError("the fabric renderer's output framebuffer was not left bound");
+      iterationsSinceRestart_[p] += params.iterations;
+      if (moving) continue;
+      // Still: refine until almost no covered pixel changes by more than epsilon (the renderStill rule).
+      if (covered_[p] == 0) covered_[p] = std::max(r.coveredPixels(), 1u);
+      if (r.changedPixels() <= params.stillChangedFraction * covered_[p] ||
+          iterationsSinceRestart_[p] >= std::max(params.stillMaxIterations, kStillIterations))
+        dirty_[p] = false;
+    }
+    render::checkGl("rendering the fabric");
+  } catch (...) {
+    dirty_.fill(false); // do not repeat a failing frame every frame
+    setError("while rendering: " + currentError());
+  }
+  state_.converged = converged();
+}
+
+void ViewerScene::present(unsigned fbo, int x, int y) {
+  for (int p = 0; p < paneCount(); ++p) {
+    if (!outputFbo_[p] || !hasMesh_) continue;
+    const auto rect = paneRect(p);
+    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, rect[2], rect[3], x + rect[0], y, x + rect[0] + rect[2],
+                           y + rect[3], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+}
+
+void ViewerScene::probe(double x, double y) {
+  ui::ProbeInfo& out = state_.probe;
+  out.onSurface = out.inData = false;
+  if (!hasMesh_ || !data_) return;
+  const int p = paneAt(x);
+  const auto rect = paneRect(p);
+  const int px = static_cast<int>(x) - rect[0], py = rect[3] - 1 - static_cast<int>(y);
+  if (!outputFbo_[p] || px < 0 || py < 0 || px >= rect[2] || py >= rect[3]) return;
+  float depth = 1.0f;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, outputFbo_[p]);
+  glReadPixels(px, py, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  if (!(depth < 1.0f)) return;
+  // Unproject through the guarded target the renderer drew with (its depth is the output's depth).
+  const render::FrameView& v = renderers_[p]->frameView();
+  const glm::dvec4 ndc(2.0 * (px + v.guard + 0.5) / v.target.x - 1.0, 2.0 * (py + v.guard + 0.5) / v.target.y - 1.0,
+                       2.0 * depth - 1.0, 1.0);
+  const glm::dvec4 w = glm::inverse(glm::dmat4(v.viewProj)) * ndc;
+  if (std::abs(w.w) < 1e-12) return;
+  out.onSurface = true;
+  out.world = glm::dvec3(w) / w.w;
+  const TensorField& f = data_->loaded.field;
+  const glm::dvec3 ijk = glm::round(f.grid.toVoxel(out.world));
+  out.voxel = glm::ivec3(ijk);
+  if (!f.grid.contains(out.voxel.x, out.voxel.y, out.voxel.z)) return;
+  const std::size_t i = f.grid.index(out.voxel.x, out.voxel.y, out.voxel.z);
+  if (!f.valid[i]) return;
+  const EigenSystem e = eigenDecompose(f.tensors[i]);
+  out.inData = true;
+  out.fa = fractionalAnisotropy(e.values);
+  out.eigenvalues = e.values;
+  out.e1 = e.vectors[0];
+}
+
+void ViewerScene::applyKey(ui::Key key) {
+  ui::ActionList actions;
+  ui::keyActions(key, state_, actions);
+  for (const auto& a : actions) apply(a);
+}
+
+void ViewerScene::apply(const ui::Action& action) {
+  try {
+    std::visit(
+        [&](const auto& a) {
+          using T = std::decay_t<decltype(a)>;
+          if constexpr (std::is_same_v<T, ui::LoadFile>) {
+            loadFile(a);
+          } else if constexpr (std::is_same_v<T, ui::SetSurfaceKind>) {
+            if (a.kind == ui::SurfaceKind::Other || a.kind == state_.surface) return;
+            state_.surface = a.kind;
+            if (a.kind == ui::SurfaceKind::Fibre && otherSpec_.kind != SurfaceSpec::Kind::Fibre)
+              state_.surfaceText = "fibre surface: enter a seed line and press Build";
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, ui::SetSurfaceSpec>) {
+            applySpec(parseSurfaceSpec(a.text));
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, ui::SetFaThreshold>) {
+            state_.faThreshold = std::clamp(a.value, 0.01, 0.99);
+            state_.surface = ui::SurfaceKind::FaIsosurface;
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, ui::SetSlice>) {
+            const int axis = std::clamp(a.axis, 0, 2);
+            state_.slice[axis] = std::clamp(a.index, 0, std::max(state_.sliceCount[axis] - 1, 0));
+            state_.surface = sliceKind(axis);
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, ui::SetFabricParams>) {
+            state_.fabric = a.params;
+            dataChanged();
+          } else if constexpr (std::is_same_v<T, ui::SetView>) {
+            setView(a.view);
+          } else if constexpr (std::is_same_v<T, ui::SetNeurological>) {
+            state_.neurological = a.on;
+            using V = render::StandardView;
+            if (state_.view == V::Axial || state_.view == V::Coronal || state_.view == V::Sagittal) setView(state_.view);
+          } else if constexpr (std::is_same_v<T, ui::SetSplit>) {
+            if (a.on == state_.split) return;
+            state_.split = a.on;
+            if (a.on) cameras_[1] = cameras_[0];
+            if (data_)
+              for (int p = 0; p < 2; ++p) cameras_[p].fit(data_->lo, data_->hi, paneAspect(p));
+            activePane_ = 0;
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::SetLinkedCameras>) {
+            state_.linked = a.on;
+            cameras_[1] = cameras_[0];
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::SetSecondPane>) {
+            state_.secondPane = a.mode;
+            dataChanged();
+          } else if constexpr (std::is_same_v<T, ui::ResetView>) {
+            setView(homeView_);
+          } else if constexpr (std::is_same_v<T, ui::Rotate>) {
+            const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
+            const double s = std::max(std::min(rect[2], rect[3]), 1);
+            // Arcball from the pane centre in steps of <= 10 pixels, like a real drag.
+            const int n = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(a.dx), std::abs(a.dy)) / 10.0)));
+            render::Camera& cam = cameraFor(a.pane);
+            for (int i = 0; i < n; ++i) cam.trackball({0.0, 0.0}, {2.0 * a.dx / n / s, -2.0 * a.dy / n / s});
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::Pan>) {
+            const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
+            render::Camera& cam = cameraFor(a.pane);
+            const double dist = glm::length(cam.target - cam.eye);
+            const double halfH = cam.orthographic ? cam.orthoHalfHeight : dist * std::tan(0.5 * glm::radians(cam.fovYDeg));
+            const double mmPerPixel = 2.0 * halfH / std::max(rect[3], 1);
+            const glm::dvec3 right = cam.right(), up = glm::normalize(glm::cross(right, cam.forward()));
+            const glm::dvec3 shift = (-a.dx * right + a.dy * up) * mmPerPixel;
+            cam.eye += shift;
+            cam.target += shift;
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::Zoom>) {
+            if (a.factor > 0) cameraFor(a.pane).zoom(1.0 / a.factor);
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::SaveCamera>) {
+            writeCameraFile(a.path, cameraFor(-1));
+          } else if constexpr (std::is_same_v<T, ui::LoadCamera>) {
+            cameraFor(-1) = readCameraFile(a.path);
+            if (state_.linked) cameras_[1] = cameras_[0];
+            cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::DismissError>) {
+            state_.errorChain.clear();
+          }
+          // Screenshot and Quit are performed by the window.
+        },
+        action);
+  } catch (...) {
+    setError(currentError());
+  }
+}
+
+void writeCameraFile(const std::string& path, const render::Camera& c) {
+  if (path.empty()) throw InputError("camera file: no path given");
+  std::ofstream out(path);
+  out.precision(17);
+  out << "dtfabric-camera 1\n"
+      << "eye " << c.eye.x << " " << c.eye.y << " " << c.eye.z << "\n"
+      << "target " << c.target.x << " " << c.target.y << " " << c.target.z << "\n"
+      << "up " << c.up.x << " " << c.up.y << " " << c.up.z << "\n"
+      << "orthographic " << (c.orthographic ? 1 : 0) << "\n"
+      << "fov " << c.fovYDeg << "\nhalf-height " << c.orthoHalfHeight << "\n"
+      << "near " << c.nearPlane << "\nfar " << c.farPlane << "\n";
+  if (!out) throw InputError(path + ": cannot write the camera file");
+}
+
+render::Camera readCameraFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the camera file");
+  std::string magic;
+  int version = 0;
+  in >> magic >> version;
+  if (magic != "dtfabric-camera" || version != 1) throw InputError(path + ": not a dtfabric camera file");
+  render::Camera c;
+  std::string key;
+  while (in >> key) {
+    auto vec = [&](glm::dvec3& v) { in >> v.x >> v.y >> v.z; };
+    if (key == "eye") vec(c.eye);
+    else if (key == "target") vec(c.target);
+    else if (key == "up") vec(c.up);
+    else if (key == "orthographic") in >> c.orthographic;
+    else if (key == "fov") in >> c.fovYDeg;
+    else if (key == "half-height") in >> c.orthoHalfHeight;
+    else if (key == "near") in >> c.nearPlane;
+    else if (key == "far") in >> c.farPlane;
+    else throw InputError(path + ": unknown camera key '" + key + "'");
+    if (!in) throw InputError(path + ": bad value for '" + key + "'");
+  }
+  auto finiteVec = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const bool finite = finiteVec(c.eye) && finiteVec(c.target) && finiteVec(c.up);
+  if (!finite || glm::length(c.target - c.eye) <= 0 || glm::length(c.up) <= 0 || c.orthoHalfHeight <= 0 ||
+      c.nearPlane <= 0 || c.farPlane <= c.nearPlane || c.fovYDeg <= 0 || c.fovYDeg >= 180)
+    throw InputError(path + ": degenerate camera");
+  return c;
+}
+
+} // namespace dtf::app

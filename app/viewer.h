@@ -1,0 +1,107 @@
+// The viewer's scene, separate from the window: the loaded data, the surface on screen, one or two fabric
+// panes (FabricRenderer each, the batch renderer's path), their cameras, and the actions of ui/actions.h
+// applied to them. It needs a current GL 4.5 context but no GLFW, so `dtfabric view` drives it from a
+// window and `dtfabric bench view` from the headless context. Errors never escape: they become the
+// error chain in state(), which the window shows as a modal.
+#pragma once
+
+#include "app/surface_spec.h"
+#include "app/viewer_worker.h"
+#include "io/model/image.h"
+#include "render/camera.h"
+#include "render/fabric_renderer.h"
+#include "ui/actions.h"
+#include "ui/keymap.h"
+#include "ui/viewer_state.h"
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dtf::app {
+
+class ViewerScene {
+public:
+  // `surface`: the first surface in app/surface_spec.h syntax (empty = FA isosurface at 0.25).
+  explicit ViewerScene(const std::string& surface = {});
+  ~ViewerScene();
+
+  // Performs an action (Screenshot and Quit are the window's; they are ignored here).
+  void apply(const ui::Action& action);
+  void applyKey(ui::Key key);
+  // Takes finished work from the worker thread and uploads it. Call once per frame.
+  void update();
+  // Renders the panes for a scene area of width x height pixels: interactive frames while the camera moves
+  // or the data change, more iterations per frame when still, nothing once converged.
+  void render(int width, int height);
+  // Copies the panes into draw framebuffer `fbo` with the scene's lower-left corner at (x, y) (GL pixels).
+  void present(unsigned fbo, int x, int y);
+  // The surface point under pixel (x, y) of the scene area (y down), into state().probe.
+  void probe(double x, double y);
+  // Marks the camera as moving (mouse held) so frames stay interactive.
+  void setInteracting(bool on) { interacting_ = on; }
+
+  const ui::ViewerState& state() const { return state_; }
+  // No load or extraction queued or running.
+  bool settled() const;
+  // Every pane reached still quality.
+  bool converged() const;
+  int paneCount() const { return state_.split ? 2 : 1; }
+  // Pane p's rectangle in scene pixels (x, y down, w, h) and its camera.
+  std::array<int, 4> paneRect(int p) const;
+  const render::Camera& camera(int p) const { return cameras_[state_.linked ? 0 : p]; }
+  int paneAt(double x) const;
+  void setActivePane(int p) { activePane_ = p; }
+  // Shows an error (outermost context first) in the modal; errorSerial() counts the errors shown so far.
+  void setError(const std::string& message);
+  std::uint64_t errorSerial() const { return errorSerial_; }
+  void setFrameMs(double ms) { state_.frameMs = ms; }
+  // Meshes put on screen so far (benchmarks count sweep results with it).
+  std::uint64_t meshSerial() const { return meshSerial_; }
+  void addRecent(const std::string& path);
+
+private:
+  void loadFile(const ui::LoadFile& a);
+  void requestSurface();
+  void applySpec(const SurfaceSpec& spec);
+  SurfaceSpec currentSpec() const;
+  void onResult(WorkerResult& r);
+  void setMesh(const Mesh& mesh);
+  void setView(render::StandardView v);
+  void cameraChanged();
+  void dataChanged();
+  render::Camera& cameraFor(int pane);
+  render::FabricRenderer& renderer(int p);
+  double paneAspect(int p) const;
+  void saveCamera(const std::string& path) const;
+  void loadCamera(const std::string& path);
+
+  ui::ViewerState state_;
+  ViewerWorker worker_;
+  std::shared_ptr<const ViewerDataset> data_;
+  std::string initialSurface_;
+  SurfaceSpec otherSpec_;            // the spec behind SurfaceKind::Fibre / Other
+  std::uint64_t nextId_ = 1, latestLoad_ = 0, latestSurface_ = 0;
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_;
+  std::array<render::Camera, 2> cameras_;
+  std::array<unsigned, 2> outputFbo_{0, 0};
+  std::array<bool, 2> dirty_{true, true};
+  std::array<int, 2> iterationsSinceRestart_{0, 0};
+  std::array<unsigned, 2> covered_{0, 0};
+  bool hasMesh_ = false, hasField_ = false;
+  bool interacting_ = false;
+  int activePane_ = 0;
+  render::StandardView homeView_ = render::StandardView::Superior;
+  int width_ = 1, height_ = 1;
+  std::uint64_t errorSerial_ = 0, meshSerial_ = 0;
+  std::chrono::steady_clock::time_point lastMotion_{}, busySince_{};
+};
+
+// Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.
+void writeCameraFile(const std::string& path, const render::Camera& camera);
+render::Camera readCameraFile(const std::string& path);
+
+} // namespace dtf::app
