@@ -14,6 +14,7 @@ namespace dtf::app {
 int benchIo(const CommandArgs& args);
 int benchRender(const CommandArgs& args);
 int benchSurfaces(const CommandArgs& args);
+int benchView(const CommandArgs& args);
 int benchTracts(const CommandArgs& args);
 
 // The shared real-data folder: `given`, else $DTF_SHARED_DATA, else a shared/data folder beside an ancestor

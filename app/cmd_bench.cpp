@@ -28,7 +28,7 @@ double median(std::vector<double> v) {
 
 int cmdBench(const CommandArgs& args) {
   if (args.empty() || args[0] == "--help") {
-    std::printf("usage: dtfabric bench io|render|surfaces [OPTIONS] [--json]\n"
+    std::printf("usage: dtfabric bench io|render|surfaces|view [OPTIONS] [--json]\n"
                 "  io      load time of an HCP-sized tensor volume, DWI fit times, FA-map time\n"
                 "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
                 "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
@@ -39,8 +39,9 @@ int cmdBench(const CommandArgs& args) {
   if (args[0] == "io") return benchIo(rest);
   if (args[0] == "render") return benchRender(rest);
   if (args[0] == "surfaces") return benchSurfaces(rest);
+  if (args[0] == "view") return benchView(rest);
   if (args[0] == "tracts") return benchTracts(rest);
-  throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces)");
+  throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces, view)");
 }
 
 } // namespace dtf::app

@@ -22,6 +22,7 @@ int cmdPhantom(const CommandArgs& args);
 int cmdSurface(const CommandArgs& args);
 int cmdRender(const CommandArgs& args);
 int cmdBench(const CommandArgs& args);
+int cmdView(const CommandArgs& args);
 int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
 

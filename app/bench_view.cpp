@@ -1,0 +1,148 @@
+// `dtfabric bench view`: frame times of the viewer's scene (app/viewer.h, the code the window runs) while
+// the FA threshold is swept and while the camera rotates, on the real brain's FA isosurface. Runs in the
+// headless context: the window adds only ImGui and a blit.
+#include "app/args.h"
+#include "app/bench.h"
+#include "app/viewer.h"
+
+#include "io/model/error.h"
+#include "render/gl_context.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <thread>
+
+namespace dtf::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Stats {
+  double mean = 0, median = 0, p95 = 0, fps = 0;
+  int frames = 0;
+};
+
+Stats stats(std::vector<double> ms) {
+  Stats s;
+  s.frames = static_cast<int>(ms.size());
+  if (ms.empty()) return s;
+  s.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+  std::sort(ms.begin(), ms.end());
+  s.median = ms[ms.size() / 2];
+  s.p95 = ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * ms.size())) - 1)];
+  s.fps = 1000.0 / s.mean;
+  return s;
+}
+
+void waitSettled(ViewerScene& scene, double seconds) {
+  const auto t0 = Clock::now();
+  while (!scene.settled()) {
+    scene.update();
+    if (std::chrono::duration<double>(Clock::now() - t0).count() > seconds)
+      throw Error("bench view: the scene did not settle within " + std::to_string(seconds) + " s");
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  scene.update();
+  if (!scene.state().errorChain.empty()) throw InputError("bench view: " + scene.state().errorChain.back());
+}
+
+} // namespace
+
+int benchView(const CommandArgs& argv) {
+  Args args(argv, {"json", "help"});
+  if (args.flag("help")) {
+    std::printf("usage: dtfabric bench view [--data DIR] [--input TENSOR] [--size WxH] [--frames N] [--json]\n"
+                "Frame times of the viewer scene (headless) while sweeping the FA threshold and while rotating\n"
+                "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz).\n");
+    return 0;
+  }
+  const bool json = args.flag("json");
+  const auto dataDir = args.get("data");
+  std::string input = args.getOr("input", "");
+  int width = 1024, height = 768;
+  parseSize(args.getOr("size", "1024x768"), width, height);
+  const int frames = std::clamp(args.getInt("frames", 120), 10, 100000);
+  args.finish();
+  if (input.empty()) {
+    auto dir = findSharedDataDir(dataDir);
+    if (!dir) throw InputError("bench view: shared data not found (give --data DIR or --input TENSOR)");
+    input = (*dir / "iu_prisma_dwi" / "derived" / "dti_tensor.nii.gz").string();
+  }
+
+  render::GlContext& gl = render::GlContext::headless();
+  ViewerScene scene("fa=0.25");
+  const auto loadStart = Clock::now();
+  scene.apply(ui::LoadFile{input, "auto"});
+  waitSettled(scene, 300);
+  const double loadMs = std::chrono::duration<double, std::milli>(Clock::now() - loadStart).count();
+
+  auto frame = [&] {
+    const auto t0 = Clock::now();
+    scene.update();
+    scene.render(width, height);
+    glFinish();
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  };
+  // Warm-up: converge once.
+  for (int i = 0; i < 200 && !scene.converged(); ++i) frame();
+
+  // Sweep: the slider moves every frame, as when dragged; extraction runs on the worker meanwhile.
+  std::vector<double> sweepMs;
+  const auto meshesBefore = scene.meshSerial();
+  const auto sweepStart = Clock::now();
+  for (int i = 0; i < frames; ++i) {
+    const double phase = static_cast<double>(i % 60) / 60.0;
+    const double t = 0.15 + 0.30 * (phase < 0.5 ? 2 * phase : 2 - 2 * phase);
+    scene.apply(ui::SetFaThreshold{t});
+    sweepMs.push_back(frame());
+  }
+  const double sweepSeconds = std::chrono::duration<double>(Clock::now() - sweepStart).count();
+  const auto meshesShown = scene.meshSerial() - meshesBefore;
+  waitSettled(scene, 120);
+
+  std::vector<double> rotateMs;
+  for (int i = 0; i < frames; ++i) {
+    scene.apply(ui::Rotate{6.0, 2.0});
+    rotateMs.push_back(frame());
+  }
+  // Still: frames until the fabric converges after the camera stops.
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  int stillFrames = 0;
+  double stillMs = 0;
+  while (!scene.converged() && stillFrames < 500) {
+    stillMs += frame();
+    ++stillFrames;
+  }
+  const std::size_t triangles = scene.state().triangles;
+  gl.checkErrors("bench view");
+
+  const Stats sw = stats(sweepMs), ro = stats(rotateMs);
+  if (json) {
+    std::printf("{\"input\": \"%s\", \"width\": %d, \"height\": %d, \"load_ms\": %.1f, \"triangles\": %zu, "
+                "\"sweep\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f, "
+                "\"surfaces_shown\": %llu, \"surfaces_per_s\": %.2f}, "
+                "\"rotate\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
+                "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"gl\": \"%s\"}\n",
+                input.c_str(), width, height, loadMs, triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
+                static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds, ro.frames, ro.mean,
+                ro.median, ro.p95, ro.fps, stillFrames, stillMs, gl.description().c_str());
+  } else {
+    std::printf("bench view: %s at %dx%d (%s)\n", input.c_str(), width, height, gl.description().c_str());
+    std::printf("  load + FA + sweeper + first surface: %.0f ms, %zu triangles\n", loadMs, triangles);
+    std::printf("  %-8s %6s %9s %9s %9s %7s\n", "phase", "frames", "mean ms", "median", "p95", "fps");
+    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (%llu surfaces shown, %.2f/s)\n", "sweep", sw.frames, sw.mean,
+                sw.median, sw.p95, sw.fps, static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds);
+    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f\n", "rotate", ro.frames, ro.mean, ro.median, ro.p95, ro.fps);
+    std::printf("  still: converged in %d frames, %.0f ms\n", stillFrames, stillMs);
+    std::printf("  goal: >= 15 fps while sweeping and rotating: %s\n", sw.fps >= 15 && ro.fps >= 15 ? "met" : "NOT met");
+  }
+  return 0;
+}
+
+} // namespace dtf::app
