@@ -146,7 +146,7 @@ struct Range {
     lo = std::min(lo, v);
     hi = std::max(hi, v);
   }
-  bool empty() const { return lo > hi; }
+  [[nodiscard]] bool empty() const { return lo > hi; }
 };
 
 std::string num(double v, int precision = 6) {

@@ -212,7 +212,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     for (int d = 0; d < 3; ++d)
       affine[d][d] = nim->pixdim[d + 1] > 0 ? nim->pixdim[d + 1] : 1.0;
     h.affineSource = "none (pixdim only)";
-    h.warnings.push_back("neither sform nor qform is set: orientation unknown, assuming RAS voxel axes");
+    h.warnings.emplace_back("neither sform nor qform is set: orientation unknown, assuming RAS voxel axes");
   }
   if (nim->sform_code > 0 && nim->qform_code > 0) {
     double mm, rot;
@@ -247,7 +247,7 @@ template <typename T> void convert(const void* src, std::size_t n, float* dst) {
 // The data are read here rather than by nifti_image_load, which re-resolves the file name and reads
 // x.nii when asked for x.nii.gz if both exist.
 std::vector<float> loadData(nifti_image* nim, const std::string& path) {
-  std::size_t n = static_cast<std::size_t>(nim->nvox);
+  auto n = static_cast<std::size_t>(nim->nvox);
   std::size_t bytes = n * static_cast<std::size_t>(nim->nbyper);
   const std::string file = dataFile(nim, path);
   const bool gz = nifti_is_gzfile(file.c_str());
@@ -609,7 +609,7 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   if (fsl.voxels == 0) {
     d.layout = TensorLayout::Fsl;
     d.reason = shape + "; no non-zero voxels to tell layouts apart, assuming FSL";
-    d.warnings.push_back("layout guessed (all voxels zero or NaN); use --layout to override");
+    d.warnings.emplace_back("layout guessed (all voxels zero or NaN); use --layout to override");
     return d;
   }
   const LayoutFit& f = fsl; // positive fractions are per disk volume, the same for both hypotheses
@@ -621,7 +621,7 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   if (std::abs(fsl.plausible - mrtrix.plausible) < 0.05) {
     d.layout = TensorLayout::Fsl;
     d.reason = shape + "; ambiguous (" + evidence + "), assuming FSL";
-    d.warnings.push_back("tensor layout is ambiguous; assumed FSL, use --layout to override");
+    d.warnings.emplace_back("tensor layout is ambiguous; assumed FSL, use --layout to override");
   } else {
     d.layout = fsl.plausible > mrtrix.plausible ? TensorLayout::Fsl : TensorLayout::Mrtrix;
     d.reason = shape + "; " + evidence + " => " + layoutName(d.layout);
