@@ -10,6 +10,7 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+#include <cstdlib>
 #include <mutex>
 #include <sstream>
 
@@ -61,7 +62,7 @@ bool tryContext(EGLDisplay dpy, std::string& why) {
   }
   const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                            EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE, EGL_NONE};
+                            EGL_CONTEXT_OPENGL_DEBUG, std::getenv("DTF_GL_NO_DEBUG") ? EGL_FALSE : EGL_TRUE, EGL_NONE};
   EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
   if (ctx == EGL_NO_CONTEXT) {
     why += " eglCreateContext(4.5 core) failed;";
@@ -112,7 +113,7 @@ struct GlContextAccess {
     const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     c->description_ = std::string(renderer ? renderer : "?") + " / " + (version ? version : "?");
-    enableDebugOutput();
+    if (!std::getenv("DTF_GL_NO_DEBUG")) enableDebugOutput();
     logInfo("headless GL: " + c->description_);
     return c;
   }

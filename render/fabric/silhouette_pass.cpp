@@ -10,6 +10,9 @@ void SilhouettePass::resize(glm::ivec2 target) {
   size_ = target;
   edges_ = Texture::create2D(GL_R16F, target.x, target.y);
   edges_.setFilter(GL_NEAREST, GL_NEAREST);
+  edges_.setWrap(GL_CLAMP_TO_BORDER); // outside the target counts as blocked for the advection
+  const float one[4] = {1, 1, 1, 1};
+  glTextureParameterfv(edges_.id(), GL_TEXTURE_BORDER_COLOR, one);
   fbo_ = createFramebuffer();
   attachTargets(fbo_, {&edges_}, nullptr);
 }

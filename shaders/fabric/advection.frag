@@ -7,7 +7,7 @@
 layout(binding = 0) uniform sampler2D u_prev;       // p_i (rg)
 layout(binding = 1) uniform sampler2D u_vectors;    // v1.xy, v2.xy
 layout(binding = 2) uniform sampler2D u_surface;    // .r beta, .a coverage
-layout(binding = 3) uniform sampler2D u_silhouette; // .r e
+layout(binding = 3) uniform sampler2D u_silhouette; // .r e (1 also off the surface; border 1, nearest)
 layout(binding = 0, offset = 0) uniform atomic_uint u_changed;
 
 uniform float u_k;
@@ -17,19 +17,11 @@ uniform bool u_count;
 
 out vec2 o_p;
 
-bool blocked(vec2 pos) {
-  ivec2 q = ivec2(floor(pos));
-  ivec2 size = textureSize(u_surface, 0);
-  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) return true;
-  return texelFetch(u_surface, q, 0).a < 0.5 || texelFetch(u_silhouette, q, 0).r > 0.5;
-}
-
-float along(vec2 x, vec2 v, int channel, float here) {
-  if (v == vec2(0.0)) return here;
-  vec2 inv = 1.0 / vec2(textureSize(u_prev, 0));
-  vec2 a = x + v, b = x - v;
-  float pa = blocked(a) ? here : texture(u_prev, a * inv)[channel];
-  float pb = blocked(b) ? here : texture(u_prev, b * inv)[channel];
+float along(vec2 x, vec2 v, vec2 inv, int channel, float here) {
+  vec2 a = (x + v) * inv, b = (x - v) * inv;
+  // Nearest fetch of the silhouette texture; its border is 1, so leaving the target also blocks.
+  float pa = texture(u_silhouette, a).r > 0.5 ? here : texture(u_prev, a)[channel];
+  float pb = texture(u_silhouette, b).r > 0.5 ? here : texture(u_prev, b)[channel];
   return 0.5 * (pa + pb);
 }
 
@@ -44,9 +36,11 @@ void main() {
   vec2 x = gl_FragCoord.xy;
   vec2 prev = texelFetch(u_prev, p, 0).rg;
   vec4 v = texelFetch(u_vectors, p, 0) * u_step;
-  vec2 next;
-  next.r = u_k * beta + (1.0 - u_k) * along(x, v.xy, 0, prev.r);
-  next.g = u_k * beta + (1.0 - u_k) * along(x, v.zw, 1, prev.g);
+  vec2 inv = 1.0 / vec2(textureSize(u_prev, 0));
+  vec2 avg = prev;
+  if (v.xy != vec2(0.0)) avg.r = along(x, v.xy, inv, 0, prev.r);
+  if (v.zw != vec2(0.0)) avg.g = along(x, v.zw, inv, 1, prev.g);
+  vec2 next = u_k * beta + (1.0 - u_k) * avg;
   if (u_count && any(greaterThan(abs(next - prev), vec2(u_epsilon)))) atomicCounterIncrement(u_changed);
   o_p = next;
 }

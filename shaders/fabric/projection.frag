@@ -29,33 +29,42 @@ layout(location = 2) out vec4 o_normal;  // eye-space unit normal (facing the ca
 layout(location = 3) out vec4 o_eigen;   // world principal eigenvector of T (unit), lambda2'/lambda1'
 layout(location = 4) out vec4 o_lambda;  // lambda1', lambda2' (mm^2/s), |e1 . n|, 1 = tensor data here
 
-vec2 toPixel(vec3 p) {
-  vec4 c = u_viewProj * vec4(p, 1.0);
-  return (c.xy / c.w * 0.5 + 0.5) * u_targetSize;
-}
-
-// Image-space direction of world direction v at p, max-norm scaled; zero when it degenerates.
-vec2 imageDirection(vec3 p, vec3 v) {
-  vec2 d = toPixel(p + u_eps * v) - toPixel(p);
+// Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
+// and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
+// scaled (Eq. 4-5); zero when it degenerates (v along the view ray).
+vec2 imageDirection(vec4 c0, vec3 v) {
+  vec4 c1 = c0 + u_eps * (u_viewProj * vec4(v, 0.0));
+  vec2 d = (c1.xy / c1.w - c0.xy / c0.w) * 0.5 * u_targetSize;
   float m = max(abs(d.x), abs(d.y));
   return m > 1e-4 ? d / m : vec2(0.0);
 }
 
 float sampleNoise(vec3 p, vec3 n) {
   vec3 vox = (p - u_noiseOrigin) / u_lod; // Eq. 7
-  vec3 hit = fract(vox);                   // Eq. 8
   vec3 an = abs(n);
-  // Gradients of the continuous voxel coordinate: mip level without the seams of fract().
+  // Gradients of the continuous voxel coordinate: the mip level without the seams of fract().
   vec3 dx = dFdx(vox), dy = dFdy(vox);
-  float bx = textureGrad(u_noise, hit.yz, dx.yz, dy.yz).r;
-  float by = textureGrad(u_noise, hit.xz, dx.xz, dy.xz).r;
-  float bz = textureGrad(u_noise, hit.xy, dx.xy, dy.xy).r;
-  if (u_noiseBlend <= 0.0) { // Eq. 9: the voxel face whose normal is closest to the surface normal
-    if (an.x >= an.y && an.x >= an.z) return bx;
-    return an.y >= an.z ? by : bz;
+  if (u_noiseBlend > 0.0) { // softened switch between voxel faces (not Eq. 9 exactly)
+    float bx = textureGrad(u_noise, fract(vox.yz), dx.yz, dy.yz).r;
+    float by = textureGrad(u_noise, fract(vox.xz), dx.xz, dy.xz).r;
+    float bz = textureGrad(u_noise, fract(vox.xy), dx.xy, dy.xy).r;
+    vec3 w = pow(an, vec3(1.0 / u_noiseBlend));
+    return dot(w, vec3(bx, by, bz)) / max(w.x + w.y + w.z, 1e-6);
   }
-  vec3 w = pow(an, vec3(1.0 / u_noiseBlend));
-  return dot(w, vec3(bx, by, bz)) / max(w.x + w.y + w.z, 1e-6);
+  // Eq. 8-9: the two components of frac(vox) spanning the voxel face whose normal is closest to n.
+  vec2 t, gx, gy;
+  if (an.x >= an.y && an.x >= an.z) {
+    t = vox.yz; gx = dx.yz; gy = dy.yz;
+  } else if (an.y >= an.z) {
+    t = vox.xz; gx = dx.xz; gy = dy.xz;
+  } else {
+    t = vox.xy; gx = dx.xy; gy = dy.xy;
+  }
+  // textureLod with the level from the continuous coordinates: the same mip choice as textureGrad
+  // (isotropic), far cheaper on software rasterisers.
+  vec2 size = vec2(textureSize(u_noise, 0));
+  float rho = max(dot(gx * size, gx * size), dot(gy * size, gy * size));
+  return textureLod(u_noise, fract(t), max(0.5 * log2(max(rho, 1e-12)), 0.0)).r;
 }
 
 void main() {
@@ -78,19 +87,17 @@ void main() {
   if (sampleTensor(v_world, t, fa)) {
     mat3 P = mat3(1.0) - outerProduct(n, n);   // Eq. 2
     mat3 tp = P * t * transpose(P);            // Eq. 1
-    vec3 vals;
-    mat3 vecs;
-    eigenDecompose(tp, vals, vecs);
-    // The eigenvector along n (eigenvalue 0) is not in the plane: drop the one most aligned with n.
-    vec3 an = abs(vec3(dot(vecs[0], n), dot(vecs[1], n), dot(vecs[2], n)));
-    int drop = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
-    int ia = drop == 0 ? 1 : 0;
-    int ib = drop == 2 ? 1 : 2;
-    float l1 = vals[ia], l2 = vals[ib]; // descending
-    vec3 e1p = vecs[ia], e2p = vecs[ib];
+    // T' has n as an eigenvector with eigenvalue 0 by construction, so the closed-form solver's
+    // "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in the tangent plane.
+    vec3 e1p, e2p;
+    eigenPlane(tp, n, e1p, e2p);
+    float l1 = dot(e1p, tp * e1p), l2 = dot(e2p, tp * e2p); // l1 >= l2
     float mag = max(abs(l1), abs(l2));
     bool directional = mag > 0.0 && (l1 - l2) > u_degenerateTol * mag;
-    if (directional) vectors = vec4(imageDirection(v_world, e1p), imageDirection(v_world, e2p));
+    if (directional) {
+      vec4 c0 = u_viewProj * vec4(v_world, 1.0);
+      vectors = vec4(imageDirection(c0, e1p), imageDirection(c0, e2p));
+    }
 #ifdef WITH_PRINCIPAL
     vec3 tv;
     mat3 tvecs;

@@ -1,7 +1,8 @@
 #version 450 core
 // Silhouette pass (paper §2.4, Eq. 10): 3x3 Laplacian of the LINEAR depth (mm from the eye, written by
 // the projection pass), thresholded. Pixels without geometry count as depth u_background so the outline
-// of the surface is found too. Output e in {0, 1}.
+// of the surface is found too. Output e in {0, 1}; empty pixels get 1 as well, so the advection pass
+// finds "do not sample here" (silhouette or off the surface) with a single fetch.
 layout(binding = 0) uniform sampler2D u_surface; // .b linear depth, .a coverage
 
 uniform float u_threshold;   // mm of |Laplacian| above which a pixel is a silhouette
@@ -18,7 +19,7 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 s = texelFetch(u_surface, p, 0);
   if (s.a < 0.5) {
-    o_edge = 0.0;
+    o_edge = 1.0;
     return;
   }
   float lap = depthAt(p + ivec2(1, 0)) + depthAt(p - ivec2(1, 0)) + depthAt(p + ivec2(0, 1)) +

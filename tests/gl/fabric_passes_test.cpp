@@ -89,6 +89,17 @@ std::vector<float> advectReference(const std::vector<float>& prev, const std::ve
   return out;
 }
 
+// The silhouette texture as the silhouette pass leaves it: 1 on edges and off the surface, border 1.
+Texture edgeTexture(std::vector<float> edges, const std::vector<float>& surface) {
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    if (surface[i * 4 + 3] < 0.5f) edges[i] = 1.0f;
+  Texture t = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  t.setWrap(GL_CLAMP_TO_BORDER);
+  const float one[4] = {1, 1, 1, 1};
+  glTextureParameterfv(t.id(), GL_TEXTURE_BORDER_COLOR, one);
+  return t;
+}
+
 // Unit image-space directions at random angles, max-norm scaled.
 std::vector<float> randomVectors(int w, int h, unsigned seed) {
   std::mt19937 rng(seed);
@@ -296,7 +307,7 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   for (int y = 0; y < kH; ++y) edges[static_cast<std::size_t>(y) * kW + 30] = 1.0f; // a silhouette column
   auto start = randomField(kW, kH, 2, 3);
   Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, vectors), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
-  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  Texture te = edgeTexture(edges, surface);
   vectors = readTexture(tv, 4); // the 16-bit values the GPU sees
   AdvectionPass pass;
   pass.resize({kW, kH});
@@ -327,7 +338,7 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
   auto surface = surfaceData(beta);
   std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), edges(beta.size(), 0.0f);
   Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zero), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
-  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  Texture te = edgeTexture(edges, surface);
   AdvectionPass pass;
   pass.resize({kW, kH});
   std::vector<float> start(beta.size() * 2, 1.0f);
@@ -352,7 +363,7 @@ TEST_F(FabricPass, AdvectionIsSymmetricUnderVectorNegation) {
   std::vector<float> negated(vectors);
   for (auto& x : negated) x = -x;
   std::vector<float> edges(beta.size(), 0.0f);
-  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = edgeTexture(edges, surface);
   std::vector<float> results[2];
   for (int s = 0; s < 2; ++s) {
     Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, s ? negated : vectors);
@@ -369,7 +380,7 @@ TEST_F(FabricPass, AdvectionForgetsItsStartAsOneMinusKToTheN) {
   auto surface = surfaceData(beta);
   auto vectors = randomVectors(kW, kH, 8);
   std::vector<float> edges(beta.size(), 0.0f);
-  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = textureFrom(GL_R16F, GL_RED, kW, kH, edges);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface), te = edgeTexture(edges, surface);
   Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, vectors);
   const float k = 0.2f;
   const int n = 12;
@@ -424,7 +435,7 @@ TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
     for (int x = 0; x < kW; ++x) {
       std::size_t i = static_cast<std::size_t>(y) * kW + x;
       if (surface[i * 4 + 3] < 0.5f) {
-        EXPECT_EQ(e[i], 0.0f);
+        EXPECT_EQ(e[i], 1.0f); // off the surface: blocked for the advection
         continue;
       }
       auto d = [&](int xx, int yy) {
