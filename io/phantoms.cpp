@@ -109,12 +109,15 @@ Phantom crossing(const PhantomOptions& o) {
   return p;
 }
 
-// A polyline sampled from a parametric curve; distance queries return the nearest sample's tangent.
+// A polyline sampled from a parametric curve, optionally swept along y into a sheet (|y| <= sheetHalfY);
+// distance queries return the nearest sample's tangent.
 struct Bundle {
   std::vector<glm::dvec3> points;
   double radius = 0;
+  double sheetHalfY = 0;
   // Squared distance to the nearest sample; sets `tangent` to the curve direction there.
-  double distance2(const glm::dvec3& x, glm::dvec3& tangent) const {
+  double distance2(glm::dvec3 x, glm::dvec3& tangent) const {
+    x.y -= std::clamp(x.y, -sheetHalfY, sheetHalfY); // inside the sheet only the x-z distance counts
     double best = std::numeric_limits<double>::max();
     std::size_t bi = 0;
     for (std::size_t s = 0; s < points.size(); ++s) {
@@ -128,16 +131,20 @@ struct Bundle {
   }
 };
 
-Bundle makeBundle(const std::function<glm::dvec3(double)>& curve, double radius, int samples = 160) {
+Bundle makeBundle(const std::function<glm::dvec3(double)>& curve, double radius, double sheetHalfY = 0,
+                  int samples = 160) {
   Bundle b;
   b.radius = radius;
+  b.sheetHalfY = sheetHalfY;
   for (int s = 0; s <= samples; ++s)
     b.points.push_back(curve(double(s) / samples));
   return b;
 }
 
 // Head of semi-axes (0.40, 0.46, 0.40) x extent; tissue MD 1e-3, a CSF-like rim with MD 3e-3; fibre bundles
-// in unit coordinates u = world / extent (so the grid spans about [-0.5, 0.5]).
+// in unit coordinates u = world / extent (so the grid spans about [-0.5, 0.5]). The middle axial slice
+// (z = 0) cuts all three kinds of bundle: the callosum body (red), the cingula before and behind it
+// (green) and the corticospinal columns (blue).
 Phantom brain(const PhantomOptions& o) {
   Phantom p;
   Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
@@ -145,29 +152,30 @@ Phantom brain(const PhantomOptions& o) {
   double extent = (o.size - 1) * o.spacing;
   const glm::dvec3 head(0.40, 0.46, 0.40);
   std::vector<Bundle> bundles;
-  // Corpus callosum: a left-right arch over the midline, highest at x = 0 (red).
+  // Corpus callosum: a left-right arch, highest at the midline, swept 0.12 anterior and posterior (red).
   bundles.push_back(makeBundle(
       [](double t) {
         double x = -0.30 + 0.60 * t;
-        return glm::dvec3(x, 0.0, 0.05 + 0.10 * (1 - (x / 0.30) * (x / 0.30)));
+        return glm::dvec3(x, 0.0, -0.02 + 0.06 * (1 - (x / 0.30) * (x / 0.30)));
       },
-      0.06));
-  // Corticospinal tracts: two superior-inferior columns bending outwards towards the top (blue).
+      0.05, 0.12));
+  // Cingula: anterior-posterior bundles beside the midline, arching over the callosum (green).
   for (double side : {-1.0, 1.0})
     bundles.push_back(makeBundle(
         [side](double t) {
-          double z = -0.34 + 0.42 * t;
-          return glm::dvec3(side * (0.12 + 0.25 * (z + 0.34) * (z + 0.34)), -0.02, z);
+          double y = -0.38 + 0.76 * t;
+          return glm::dvec3(side * 0.07, y, 0.11 * std::exp(-(y / 0.12) * (y / 0.12)));
+        },
+        0.04));
+  // Corticospinal tracts: two superior-inferior columns behind the callosum, bending outwards as they
+  // rise (blue).
+  for (double side : {-1.0, 1.0})
+    bundles.push_back(makeBundle(
+        [side](double t) {
+          double z = -0.38 + 0.53 * t;
+          return glm::dvec3(side * (0.20 + 0.15 * (z + 0.38) * (z + 0.38)), -0.22, z);
         },
         0.055));
-  // Cingula: anterior-posterior bundles above the callosum, arched along y (green).
-  for (double side : {-1.0, 1.0})
-    bundles.push_back(makeBundle(
-        [side](double t) {
-          double y = -0.32 + 0.64 * t;
-          return glm::dvec3(side * 0.07, y, 0.24 - 0.6 * y * y);
-        },
-        0.045));
   forEachVoxel(g, [&](std::size_t i, const glm::dvec3& world) {
     glm::dvec3 u = world / extent;
     glm::dvec3 q = u / head;
