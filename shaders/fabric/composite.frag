@@ -51,7 +51,7 @@ vec3 compose(ivec2 t) {
   } else {
     vec3 dec = abs(eig.xyz);
     // DEC modulated by FA: saturation and brightness grow with FA, so grey matter stays calm.
-    vec3 base = mix(vec3(0.35), dec, smoothstep(0.05, 0.45, fa)) * (0.4 + 0.6 * smoothstep(0.05, 0.6, fa));
+    vec3 base = mix(vec3(0.35), dec, smoothstep(0.05, 0.45, fa)) * (0.55 + 0.45 * smoothstep(0.05, 0.6, fa));
     vec3 primary = base * (0.25 + 1.1 * p1);
     // Secondary direction: where the in-plane eigenvalues are close or FA is low.
     float w2 = max(smoothstep(u_secondaryRatio, 1.0, eig.w), 1.0 - smoothstep(0.0, u_secondaryFa, fa));
