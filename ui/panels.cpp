@@ -219,7 +219,7 @@ void statusBar(const ViewerState& s, const PanelLayout& layout) {
   ImGui::End();
 }
 
-void errorModal(const ViewerState& s, ActionList& out) {
+void errorModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (s.errorChain.empty()) return;
   if (!ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
   const ImGuiIO& io = ImGui::GetIO();
@@ -235,6 +235,7 @@ void errorModal(const ViewerState& s, ActionList& out) {
       out.push_back(DismissError{});
       ImGui::CloseCurrentPopup();
     }
+    probe(b, "OK");
     ImGui::EndPopup();
   }
 }
@@ -252,7 +253,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   ImGui::PopItemWidth();
   ImGui::End();
   statusBar(s, layout);
-  errorModal(s, out);
+  errorModal(s, b, out);
 }
 
 std::vector<std::string> splitErrorChain(const std::string& message) {

@@ -40,7 +40,7 @@ void surfacePanel(const ViewerState& state, PanelBuffers& buffers, ActionList& o
 void fabricPanel(const ViewerState& state, ActionList& out);
 void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void statusBar(const ViewerState& state, const PanelLayout& layout);
-void errorModal(const ViewerState& state, ActionList& out);
+void errorModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 
 // All of the above for one frame.
 void drawPanels(const ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout, ActionList& out);

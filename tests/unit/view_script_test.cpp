@@ -1,0 +1,126 @@
+// The viewer script parser (app/view_script.h): every command, comments, and FILE:LINE errors.
+#include "app/view_script.h"
+#include "io/model/error.h"
+
+#include <gtest/gtest.h>
+
+using namespace dtf;
+using namespace dtf::app;
+
+namespace {
+template <typename T> const T& actionAt(const ViewScript& s, std::size_t i) {
+  const auto* a = std::get_if<ui::Action>(&s.steps.at(i).command);
+  EXPECT_NE(a, nullptr) << "step " << i << " is not a ui action";
+  return std::get<T>(*a);
+}
+
+std::string parseError(const std::string& text) {
+  try {
+    parseViewScript(text, "demo.txt");
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+} // namespace
+
+TEST(ViewScript, ParsesEveryCommand) {
+  const std::string text = "# a figure\n"
+                           "load /data/my brain.nii.gz\n"
+                           "surface slice=coronal:12\n"
+                           "fa 0.3   # threshold\n"
+                           "\n"
+                           "slice sagittal 7\n"
+                           "key PgUp\n"
+                           "rotate 40 -10\n"
+                           "pan 5 6\n"
+                           "zoom 2\n"
+                           "view anterior\n"
+                           "split on\n"
+                           "linked off\n"
+                           "neurological on\n"
+                           "set k 0.2\n"
+                           "set colour engineering\n"
+                           "set lighting off\n"
+                           "wait 5\n"
+                           "screenshot out/a.png\n"
+                           "screenshot-scene out/b.png\n"
+                           "camera-save cam.txt\n"
+                           "camera-load cam.txt\n"
+                           "quit\n";
+  const ViewScript s = parseViewScript(text, "fig.txt");
+  ASSERT_EQ(s.steps.size(), 21u);
+  EXPECT_EQ(s.file, "fig.txt");
+  EXPECT_EQ(s.steps[0].line, 2);
+  EXPECT_EQ(actionAt<ui::LoadFile>(s, 0).path, "/data/my brain.nii.gz"); // paths keep their spaces
+  EXPECT_EQ(actionAt<ui::SetSurfaceSpec>(s, 1).text, "slice=coronal:12");
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetFaThreshold>(s, 2).value, 0.3);
+  EXPECT_EQ(actionAt<ui::SetSlice>(s, 3).axis, 2);
+  EXPECT_EQ(actionAt<ui::SetSlice>(s, 3).index, 7);
+  EXPECT_EQ(std::get<ui::Key>(s.steps[4].command), ui::Key::PageUp);
+  EXPECT_DOUBLE_EQ(actionAt<ui::Rotate>(s, 5).dx, 40);
+  EXPECT_DOUBLE_EQ(actionAt<ui::Rotate>(s, 5).dy, -10);
+  EXPECT_DOUBLE_EQ(actionAt<ui::Pan>(s, 6).dy, 6);
+  EXPECT_DOUBLE_EQ(actionAt<ui::Zoom>(s, 7).factor, 2);
+  EXPECT_EQ(actionAt<ui::SetView>(s, 8).view, render::StandardView::Anterior);
+  EXPECT_TRUE(actionAt<ui::SetSplit>(s, 9).on);
+  EXPECT_FALSE(actionAt<ui::SetLinkedCameras>(s, 10).on);
+  EXPECT_TRUE(actionAt<ui::SetNeurological>(s, 11).on);
+  EXPECT_EQ(std::get<ScriptSetParam>(s.steps[12].command).name, "k");
+  EXPECT_EQ(std::get<ScriptWait>(s.steps[15].command).frames, 5);
+  EXPECT_FALSE(actionAt<ui::Screenshot>(s, 16).sceneOnly);
+  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 17).sceneOnly);
+  EXPECT_EQ(actionAt<ui::Screenshot>(s, 17).path, "out/b.png");
+  EXPECT_EQ(actionAt<ui::LoadCamera>(s, 19).path, "cam.txt");
+  EXPECT_TRUE(std::holds_alternative<ui::Quit>(std::get<ui::Action>(s.steps[20].command)));
+  EXPECT_EQ(s.steps[20].line, 23);
+}
+
+TEST(ViewScript, SetParamsApplyToFabricParams) {
+  const ViewScript s = parseViewScript("set k 0.2\nset colour engineering\nset lighting off\nset iterations 7\n"
+                                       "set lod 3.5\nset silhouette on\n",
+                                       "p.txt");
+  render::FabricParams p;
+  p.silhouette = false;
+  for (const auto& step : s.steps) applyScriptParam(p, std::get<ScriptSetParam>(step.command));
+  EXPECT_DOUBLE_EQ(p.k, 0.2);
+  EXPECT_EQ(p.colour, render::ColourMode::Engineering);
+  EXPECT_FALSE(p.lighting);
+  EXPECT_EQ(p.iterations, 7);
+  EXPECT_DOUBLE_EQ(p.lod, 3.5);
+  EXPECT_TRUE(p.silhouette);
+}
+
+TEST(ViewScript, EmptyAndCommentOnlyScriptsHaveNoSteps) {
+  EXPECT_TRUE(parseViewScript("", "e.txt").steps.empty());
+  EXPECT_TRUE(parseViewScript("# only\n   \n\t# comments\r\n", "e.txt").steps.empty());
+}
+
+TEST(ViewScript, BadLinesNameFileAndLine) {
+  EXPECT_EQ(parseError("fa 0.3\n\nfly away\n").rfind("demo.txt:3: unknown command 'fly'", 0), 0u)
+      << parseError("fa 0.3\n\nfly away\n");
+  EXPECT_NE(parseError("fa 1.5").find("demo.txt:1: fa threshold must lie in (0, 1)"), std::string::npos);
+  EXPECT_NE(parseError("fa x").find("demo.txt:1: fa threshold: 'x' is not a number"), std::string::npos);
+  EXPECT_NE(parseError("slice diagonal 3").find("demo.txt:1:"), std::string::npos);
+  EXPECT_NE(parseError("slice axial 2.5").find("not an integer"), std::string::npos);
+  EXPECT_NE(parseError("slice axial -1").find("must not be negative"), std::string::npos);
+  EXPECT_NE(parseError("key F13").find("unknown key 'F13'"), std::string::npos);
+  EXPECT_NE(parseError("rotate 1").find("usage: rotate DX DY"), std::string::npos);
+  EXPECT_NE(parseError("zoom 0").find("zoom factor must lie in"), std::string::npos);
+  EXPECT_NE(parseError("view upside-down").find("demo.txt:1:"), std::string::npos);
+  EXPECT_NE(parseError("split maybe").find("split takes on or off"), std::string::npos);
+  EXPECT_NE(parseError("set warp 3").find("unknown fabric parameter 'warp'"), std::string::npos);
+  EXPECT_NE(parseError("set k 7").find("k must lie in"), std::string::npos);
+  EXPECT_NE(parseError("set colour purple").find("colour takes medical or engineering"), std::string::npos);
+  EXPECT_NE(parseError("wait -3").find("wait frames must lie in"), std::string::npos);
+  EXPECT_NE(parseError("screenshot out.jpg").find("must end in .png"), std::string::npos);
+  EXPECT_NE(parseError("screenshot").find("usage: screenshot PATH"), std::string::npos);
+  EXPECT_NE(parseError("load").find("usage: load PATH"), std::string::npos);
+  EXPECT_NE(parseError("quit now").find("usage: quit"), std::string::npos);
+  EXPECT_NE(parseError("surface fa=2").find("demo.txt:1: fa threshold must lie in (0, 1)"), std::string::npos);
+  EXPECT_NE(parseError(std::string("fa 0.3\nfa\0 0.2\n", 16)).find("demo.txt:2: NUL byte"), std::string::npos);
+}
+
+TEST(ViewScript, MissingFileIsAnInputError) {
+  EXPECT_THROW(loadViewScript("/nonexistent/dir/script.txt"), InputError);
+}

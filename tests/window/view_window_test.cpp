@@ -1,0 +1,174 @@
+// `dtfabric view` in a real GLFW window under Xvfb, driven by scripts: panels drawn, screenshots written,
+// the FA slider, slice keys and split view change what is on screen. Skips without xvfb-run unless
+// DTF_REQUIRE_GL=1. Each test runs the viewer once at 640x480 on the bundled brain phantom.
+#include "io/png_io.h"
+#include "support/cli.h"
+#include "support/test_env.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+namespace fs = std::filesystem;
+using dtf::Image;
+
+namespace {
+
+bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+
+#define DTF_WINDOW_TEST_SETUP()                                                                             \
+  do {                                                                                                      \
+    if (!haveXvfb()) {                                                                                      \
+      if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "xvfb-run is missing";                          \
+      GTEST_SKIP() << "xvfb-run is missing";                                                                \
+    }                                                                                                       \
+  } while (0)
+
+const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
+
+// Runs the viewer on the phantom with `script` (written to the scratch folder) under Xvfb.
+dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script, const std::string& extra = "") {
+  const fs::path scriptFile = scratch / "script.txt";
+  std::ofstream(scriptFile) << script;
+  const std::string args = "view '" + kSample.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
+  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt";
+  const std::string cmd = "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) + "' " + args +
+                          " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
+  const int status = std::system(cmd.c_str());
+  dtf::test::CliResult r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  r.out = dtf::test::readText(outFile);
+  r.err = dtf::test::readText(errFile);
+  return r;
+}
+
+std::string shot(const fs::path& scratch, const char* name) { return (scratch / name).string(); }
+
+// Fraction of pixels in which some channel differs by more than 40.
+double differingFraction(const Image& a, const Image& b) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  if (a.rgba.size() != b.rgba.size() || a.rgba.empty()) return 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])) > 40) {
+        ++n;
+        break;
+      }
+  return double(n) / (a.rgba.size() / 4);
+}
+
+// Fraction of pixels of the rectangle [x0, x1) x [y0, y1) that pass `test`.
+template <typename F> double fraction(const Image& img, int x0, int y0, int x1, int y1, F test) {
+  std::size_t n = 0, total = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++total) {
+      const auto* p = img.pixel(x, y);
+      if (test(p[0], p[1], p[2])) ++n;
+    }
+  return total ? double(n) / total : 0;
+}
+
+bool lit(int r, int g, int b) { return r + g + b > 60; }
+
+} // namespace
+
+TEST(ViewWindow, PanelsAndScreenshotsAreWritten) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "fa 0.25\nscreenshot " + shot(dir, "window.png") + "\nscreenshot-scene " +
+                                    shot(dir, "scene.png") + "\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image win = dtf::io::readPng(shot(dir, "window.png"));
+  const Image scene = dtf::io::readPng(shot(dir, "scene.png"));
+  ASSERT_EQ(win.width, 640);
+  ASSERT_EQ(win.height, 480);
+  // The scene is the window minus the 300 px side bar and the 26 px status bar.
+  EXPECT_EQ(scene.width, 340);
+  EXPECT_EQ(scene.height, 454);
+  // Side bar: ImGui's blue collapsing headers and sliders, and light text.
+  const double blue = fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return b > 90 && b > r_ + 40 && b > g + 20; });
+  const double text = fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return r_ > 180 && g > 180 && b > 180; });
+  EXPECT_GT(blue, 0.01) << "no panel headers in the side bar";
+  EXPECT_GT(text, 0.01) << "no panel text in the side bar";
+  // Status bar: its own background, not the scene's.
+  EXPECT_GT(fraction(win, 0, 460, 640, 478, [](int r_, int g, int b) { return r_ + g + b > 15; }), 0.5);
+  // The fabric covers part of the scene, and the window shows the same pixels there.
+  const double covered = fraction(scene, 0, 0, scene.width, scene.height, lit);
+  EXPECT_GT(covered, 0.05);
+  EXPECT_LT(covered, 0.9);
+  std::size_t same = 0;
+  for (int y = 40; y < 400; ++y)
+    for (int x = 40; x < 300; ++x)
+      same += std::equal(scene.pixel(x, y), scene.pixel(x, y) + 3, win.pixel(x + 300, y));
+  EXPECT_GT(same, 0.9 * 360 * 260) << "the window's scene area is not the scene screenshot";
+}
+
+TEST(ViewWindow, FaSliderSweepChangesTheSurface) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "fa 0.2\nscreenshot-scene " + shot(dir, "fa02.png") + "\nfa 0.4\nscreenshot-scene " +
+                                    shot(dir, "fa04.png") + "\nfa 0.2\nscreenshot-scene " + shot(dir, "fa02b.png") +
+                                    "\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image a = dtf::io::readPng(shot(dir, "fa02.png")), b = dtf::io::readPng(shot(dir, "fa04.png"));
+  const Image c = dtf::io::readPng(shot(dir, "fa02b.png"));
+  const double changed = differingFraction(a, b);
+  EXPECT_GT(changed, 0.01) << "FA 0.2 and 0.4 look the same";
+  // Sweeping back restores the first surface (same mesh, same camera: the fabric converges to the same image).
+  EXPECT_LT(differingFraction(a, c), 0.5 * changed);
+}
+
+TEST(ViewWindow, SliceKeysMoveTheSlice) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "key A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
+                                    shot(dir, "s1.png") + "\nkey Down\nkey Down\nscreenshot-scene " +
+                                    shot(dir, "s2.png") + "\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image s0 = dtf::io::readPng(shot(dir, "s0.png")), s1 = dtf::io::readPng(shot(dir, "s1.png"));
+  const Image s2 = dtf::io::readPng(shot(dir, "s2.png"));
+  EXPECT_GT(fraction(s0, 0, 0, s0.width, s0.height, lit), 0.1) << "the axial slice fills much of the view";
+  EXPECT_GT(differingFraction(s0, s1), 0.05) << "PgUp did not move the slice";
+  EXPECT_GT(differingFraction(s1, s2), 0.01) << "Down did not move the slice";
+}
+
+TEST(ViewWindow, SplitViewShowsTwoPanes) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "key C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
+                                    shot(dir, "two.png") + "\nscreenshot " + shot(dir, "two_window.png") + "\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image one = dtf::io::readPng(shot(dir, "one.png")), two = dtf::io::readPng(shot(dir, "two.png"));
+  const int half = two.width / 2;
+  const double left = fraction(two, 0, 0, half, two.height, lit);
+  const double right = fraction(two, half, 0, two.width, two.height, lit);
+  EXPECT_GT(left, 0.05);
+  EXPECT_GT(right, 0.05);
+  // Linked cameras: both panes show the slice at the same place, in different colour modes.
+  EXPECT_NEAR(left, right, 0.2 * std::max(left, right));
+  std::size_t sameColour = 0, coveredBoth = 0;
+  for (int y = 0; y < two.height; ++y)
+    for (int x = 0; x < half; ++x) {
+      const auto *p = two.pixel(x, y), *q = two.pixel(x + half, y);
+      if (!lit(p[0], p[1], p[2]) || !lit(q[0], q[1], q[2])) continue;
+      ++coveredBoth;
+      sameColour += std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 30;
+    }
+  EXPECT_GT(coveredBoth, 1000u);
+  EXPECT_LT(sameColour, 0.7 * coveredBoth) << "the second pane should use the other colour mode";
+  EXPECT_GT(differingFraction(one, two), 0.05) << "split did not change the scene";
+}
+
+TEST(ViewWindow, RuntimeErrorShowsModalAndExitCode2) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "load /nonexistent/brain.nii.gz\nscreenshot " + shot(dir, "error.png") + "\nquit\n");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("script.txt:1: error: while loading /nonexistent/brain.nii.gz"), std::string::npos) << r.err;
+  // The viewer kept running: the screenshot after the error was written.
+  const Image win = dtf::io::readPng(shot(dir, "error.png"));
+  EXPECT_EQ(win.width, 640);
+}
