@@ -4,7 +4,6 @@
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
 #include "app/tract_files.h"
-
 #include "io/model/error.h"
 #include "surfaces/agreement.h"
 
@@ -71,29 +70,36 @@ int cmdCompare(const CommandArgs& argv) {
   const surfaces::AgreementResult r = surfaces::tractSurfaceAgreement(tracts, mesh, field, ao);
 
   if (json) {
-    std::printf("{\"points\": %zu, \"mean_deg\": %.4f, \"median_deg\": %.4f, \"frac_below_15\": %.6f, \"histogram\": [",
+    std::printf("{\"points\": %zu, \"mean_deg\": %.4f, \"median_deg\": %.4f, \"frac_below_15\": %.6f, "
+                "\"histogram\": [",
                 r.anglesDeg.size(), r.meanDeg, r.medianDeg, r.fracBelow15);
-    for (std::size_t b = 0; b < r.histogram.size(); ++b) std::printf("%s%zu", b ? ", " : "", r.histogram[b]);
-    std::printf("], \"bin_deg\": %g, \"near_points\": %zu, \"skipped_tangent\": %zu, \"skipped_degenerate\": %zu, "
-                "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\"}\n",
-                r.binDeg, r.nearPoints, r.skippedTangent, r.skippedDegenerate, tracts.lineCount(), ao.nearMm,
-                describeSurface(spec).c_str());
+    for (std::size_t b = 0; b < r.histogram.size(); ++b)
+      std::printf("%s%zu", b ? ", " : "", r.histogram[b]);
+    std::printf(
+        "], \"bin_deg\": %g, \"near_points\": %zu, \"skipped_tangent\": %zu, \"skipped_degenerate\": %zu, "
+        "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\"}\n",
+        r.binDeg, r.nearPoints, r.skippedTangent, r.skippedDegenerate, tracts.lineCount(), ao.nearMm,
+        describeSurface(spec).c_str());
     return 0;
   }
-  std::printf("tracts: %s (%zu streamlines, %zu points)\n", tractsPath.c_str(), tracts.lineCount(), tracts.points.size());
+  std::printf("tracts: %s (%zu streamlines, %zu points)\n", tractsPath.c_str(), tracts.lineCount(),
+              tracts.points.size());
   std::printf("surface: %s (%zu triangles)\n", describeSurface(spec).c_str(), mesh.triangleCount());
-  std::printf("points within %g mm: %zu; compared %zu (skipped: %zu steep crossings, %zu without an in-surface "
-              "direction)\n",
-              ao.nearMm, r.nearPoints, r.anglesDeg.size(), r.skippedTangent, r.skippedDegenerate);
+  std::printf(
+      "points within %g mm: %zu; compared %zu (skipped: %zu steep crossings, %zu without an in-surface "
+      "direction)\n",
+      ao.nearMm, r.nearPoints, r.anglesDeg.size(), r.skippedTangent, r.skippedDegenerate);
   if (r.anglesDeg.empty()) {
     std::printf("no tract point could be compared\n");
     return 0;
   }
-  std::printf("angle between tract and fabric: mean %.1f deg, median %.1f deg, %.1f%% below 15 deg\n", r.meanDeg,
-              r.medianDeg, 100.0 * r.fracBelow15);
+  std::printf("angle between tract and fabric: mean %.1f deg, median %.1f deg, %.1f%% below 15 deg\n",
+              r.meanDeg, r.medianDeg, 100.0 * r.fracBelow15);
   const std::size_t peak = *std::max_element(r.histogram.begin(), r.histogram.end());
   for (std::size_t b = 0; b < r.histogram.size(); ++b) {
-    const int width = peak ? static_cast<int>(50.0 * static_cast<double>(r.histogram[b]) / static_cast<double>(peak) + 0.5) : 0;
+    const int width =
+        peak ? static_cast<int>(50.0 * static_cast<double>(r.histogram[b]) / static_cast<double>(peak) + 0.5)
+             : 0;
     std::printf("  %5.1f-%5.1f deg %8zu %s\n", b * r.binDeg, (b + 1) * r.binDeg, r.histogram[b],
                 std::string(static_cast<std::size_t>(width), '#').c_str());
   }

@@ -4,7 +4,6 @@
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
 #include "app/tract_files.h"
-
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -57,7 +56,8 @@ Other
 MaskVolume loadMask(const std::string& path) {
   ScalarVolume m = io::readScalarVolume(path);
   MaskVolume out(m.grid, 1);
-  for (std::size_t i = 0; i < m.grid.voxelCount(); ++i) out.data[i] = m.data[i * m.components] > 0 ? 1 : 0;
+  for (std::size_t i = 0; i < m.grid.voxelCount(); ++i)
+    out.data[i] = m.data[i * m.components] > 0 ? 1 : 0;
   return out;
 }
 
@@ -68,7 +68,8 @@ std::vector<double> parseList(const std::string& text, std::size_t n, const std:
   while (std::getline(ss, part, ',')) {
     char* end = nullptr;
     double d = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(d)) throw UsageError(what + ": '" + part + "' is not a number");
+    if (part.empty() || *end != '\0' || !std::isfinite(d))
+      throw UsageError(what + ": '" + part + "' is not a number");
     v.push_back(d);
   }
   if (v.size() != n) throw UsageError(what + " expects " + std::to_string(n) + " comma-separated numbers");
@@ -77,7 +78,8 @@ std::vector<double> parseList(const std::string& text, std::size_t n, const std:
 
 double lineLength(const Polylines& l, std::size_t i) {
   double s = 0;
-  for (std::uint32_t p = l.offsets[i] + 1; p < l.offsets[i + 1]; ++p) s += glm::length(l.points[p] - l.points[p - 1]);
+  for (std::uint32_t p = l.offsets[i] + 1; p < l.offsets[i + 1]; ++p)
+    s += glm::length(l.points[p] - l.points[p - 1]);
   return s;
 }
 } // namespace
@@ -92,15 +94,17 @@ int cmdTrack(const CommandArgs& argv) {
   const std::string output = args.getOr("output", "");
   if (output.empty()) throw UsageError("missing -o OUT.tck|.trk|.vtk");
   if (!isTractFileName(output)) throw UsageError("output " + output + " must end in .tck, .trk or .vtk");
-  auto seedsMask = args.get("seeds-mask"), seedSphere = args.get("seed-sphere"), seedSurface = args.get("seed-surface"),
-       seedSlice = args.get("seed-slice");
+  auto seedsMask = args.get("seeds-mask"), seedSphere = args.get("seed-sphere"),
+       seedSurface = args.get("seed-surface"), seedSlice = args.get("seed-slice");
   const int seedKinds = !!seedsMask + !!seedSphere + !!seedSurface + !!seedSlice;
-  if (seedKinds > 1) throw UsageError("give at most one of --seeds-mask, --seed-sphere, --seed-surface, --seed-slice");
+  if (seedKinds > 1)
+    throw UsageError("give at most one of --seeds-mask, --seed-sphere, --seed-surface, --seed-slice");
   auto select = args.get("select"), seedsN = args.get("seeds");
   if (select && seedsN) throw UsageError("give either --select or --seeds, not both");
   const int selectN = args.getInt("select", 1000), seedCount = args.getInt("seeds", 0);
   const int perVoxel = args.getInt("seeds-per-voxel", 0);
-  if (perVoxel < 0 || (perVoxel > 0 && !seedsMask)) throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
+  if (perVoxel < 0 || (perVoxel > 0 && !seedsMask))
+    throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
   if (select && selectN <= 0) throw UsageError("--select must be positive");
   if (seedsN && seedCount <= 0) throw UsageError("--seeds must be positive");
 
@@ -131,8 +135,10 @@ int cmdTrack(const CommandArgs& argv) {
     surfaceSpec = parseSurfaceSpec(*seedSurface);
     surfaceFile = surfaceSpec.file;
   }
-  io::refuseOverwritingInput(output, {input, in.bval, in.bvec, stopMask, seedsMask.value_or(""), surfaceFile});
-  if (!force && std::filesystem::exists(output)) throw InputError(output + " exists (use --force to overwrite)");
+  io::refuseOverwritingInput(output,
+                             {input, in.bval, in.bvec, stopMask, seedsMask.value_or(""), surfaceFile});
+  if (!force && std::filesystem::exists(output))
+    throw InputError(output + " exists (use --force to overwrite)");
 
   in.quiet = json;
   io::LoadedTensors loaded = loadTensorInput(input, in);
@@ -201,8 +207,9 @@ int cmdTrack(const CommandArgs& argv) {
   if (interactive) std::fputs("\n", stderr);
   if (r.lines.lineCount() == 0) {
     std::ostringstream msg;
-    msg << "no streamline passed from " << r.seedsTried << " seeds (" << r.seedsBelowFa << " below FA " << to.faStop
-        << " or outside the data, " << r.tooShort << " shorter than " << to.minLengthMm << " mm)";
+    msg << "no streamline passed from " << r.seedsTried << " seeds (" << r.seedsBelowFa << " below FA "
+        << to.faStop << " or outside the data, " << r.tooShort << " shorter than " << to.minLengthMm
+        << " mm)";
     throw InputError(msg.str());
   }
   if (!seedsN && perVoxel == 0 && r.lines.lineCount() < static_cast<std::size_t>(selectN))
@@ -211,24 +218,27 @@ int cmdTrack(const CommandArgs& argv) {
   writeTracts(output, r.lines, &field.grid);
 
   std::vector<double> lengths(r.lines.lineCount());
-  for (std::size_t i = 0; i < lengths.size(); ++i) lengths[i] = lineLength(r.lines, i);
+  for (std::size_t i = 0; i < lengths.size(); ++i)
+    lengths[i] = lineLength(r.lines, i);
   std::sort(lengths.begin(), lengths.end());
   const double medLen = lengths[lengths.size() / 2];
   if (json) {
-    std::printf("{\"output\": \"%s\", \"streamlines\": %zu, \"points\": %zu, \"seeds_tried\": %zu, "
-                "\"seeds_below_fa\": %zu, \"too_short\": %zu, \"length_min_mm\": %.3f, \"length_median_mm\": %.3f, "
-                "\"length_max_mm\": %.3f, \"seconds\": %.4f, \"threads\": %d, \"integrator\": \"%s\", "
-                "\"step_mm\": %g, \"fa_stop\": %g, \"angle_deg\": %g, \"seed\": %d, \"cancelled\": %s}\n",
-                output.c_str(), r.lines.lineCount(), r.lines.points.size(), r.seedsTried, r.seedsBelowFa, r.tooShort,
-                lengths.front(), medLen, lengths.back(), seconds, r.threads, to.rk4 ? "rk4" : "euler", to.stepMm,
-                to.faStop, to.maxAngleDeg, rngSeed, r.cancelled ? "true" : "false");
+    std::printf(
+        "{\"output\": \"%s\", \"streamlines\": %zu, \"points\": %zu, \"seeds_tried\": %zu, "
+        "\"seeds_below_fa\": %zu, \"too_short\": %zu, \"length_min_mm\": %.3f, \"length_median_mm\": %.3f, "
+        "\"length_max_mm\": %.3f, \"seconds\": %.4f, \"threads\": %d, \"integrator\": \"%s\", "
+        "\"step_mm\": %g, \"fa_stop\": %g, \"angle_deg\": %g, \"seed\": %d, \"cancelled\": %s}\n",
+        output.c_str(), r.lines.lineCount(), r.lines.points.size(), r.seedsTried, r.seedsBelowFa, r.tooShort,
+        lengths.front(), medLen, lengths.back(), seconds, r.threads, to.rk4 ? "rk4" : "euler", to.stepMm,
+        to.faStop, to.maxAngleDeg, rngSeed, r.cancelled ? "true" : "false");
   } else {
     std::printf("seeds: %s (%s)\n", source.description.c_str(), mode.c_str());
     std::printf("tracking: %s, step %g mm, FA stop %g, angle %g deg/step, length %g..%g mm%s\n",
-                to.rk4 ? "RK4" : "Euler", to.stepMm, to.faStop, to.maxAngleDeg, to.minLengthMm, to.maxLengthMm,
-                stopMask.empty() ? "" : (", stop mask " + stopMask).c_str());
+                to.rk4 ? "RK4" : "Euler", to.stepMm, to.faStop, to.maxAngleDeg, to.minLengthMm,
+                to.maxLengthMm, stopMask.empty() ? "" : (", stop mask " + stopMask).c_str());
     std::printf("wrote %zu streamlines (%zu points; length %.1f / %.1f / %.1f mm min/median/max) to %s\n",
-                r.lines.lineCount(), r.lines.points.size(), lengths.front(), medLen, lengths.back(), output.c_str());
+                r.lines.lineCount(), r.lines.points.size(), lengths.front(), medLen, lengths.back(),
+                output.c_str());
     std::printf("from %zu seeds (%zu below FA or outside the data, %zu too short) in %.2f s on %d threads\n",
                 r.seedsTried, r.seedsBelowFa, r.tooShort, seconds, r.threads);
   }

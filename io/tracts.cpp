@@ -106,7 +106,8 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
     std::string line = trim(data.substr(pos, nl - pos));
     pos = nl + 1;
     if (first) {
-      if (line != "mrtrix tracks") throw InputError(path + ": not an MRtrix .tck file (no 'mrtrix tracks' line)");
+      if (line != "mrtrix tracks")
+        throw InputError(path + ": not an MRtrix .tck file (no 'mrtrix tracks' line)");
       first = false;
       continue;
     }
@@ -124,8 +125,10 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
 
   std::string file;
   for (const auto& [k, v] : info.fields) {
-    if (k == "datatype") info.datatype = v;
-    else if (k == "file") file = v;
+    if (k == "datatype")
+      info.datatype = v;
+    else if (k == "file")
+      file = v;
     else if (k == "count") {
       try {
         std::size_t used = 0;
@@ -138,12 +141,18 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
   }
   int width = 0;
   bool big = false;
-  if (info.datatype == "Float32LE") width = 4;
-  else if (info.datatype == "Float32BE") width = 4, big = true;
-  else if (info.datatype == "Float64LE") width = 8;
-  else if (info.datatype == "Float64BE") width = 8, big = true;
-  else if (info.datatype.empty()) throw InputError(path + ": .tck header has no datatype");
-  else throw InputError(path + ": unsupported .tck datatype '" + info.datatype + "'");
+  if (info.datatype == "Float32LE")
+    width = 4;
+  else if (info.datatype == "Float32BE")
+    width = 4, big = true;
+  else if (info.datatype == "Float64LE")
+    width = 8;
+  else if (info.datatype == "Float64BE")
+    width = 8, big = true;
+  else if (info.datatype.empty())
+    throw InputError(path + ": .tck header has no datatype");
+  else
+    throw InputError(path + ": unsupported .tck datatype '" + info.datatype + "'");
 
   if (file.empty()) throw InputError(path + ": .tck header has no 'file:' entry");
   {
@@ -151,11 +160,14 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
     std::string dot;
     long long off = -1;
     ss >> dot >> off;
-    if (dot != ".") throw InputError(path + ": .tck data in a separate file ('" + file + "') is not supported");
+    if (dot != ".")
+      throw InputError(path + ": .tck data in a separate file ('" + file + "') is not supported");
     if (ss.fail() || off < 0) throw InputError(path + ": bad .tck data offset in 'file: " + file + "'");
-    if (static_cast<unsigned long long>(off) < headerEnd || static_cast<unsigned long long>(off) > data.size())
+    if (static_cast<unsigned long long>(off) < headerEnd ||
+        static_cast<unsigned long long>(off) > data.size())
       throw InputError(path + ": .tck data offset " + std::to_string(off) + " lies " +
-                       (static_cast<unsigned long long>(off) < headerEnd ? "inside the header" : "beyond the end of the file") +
+                       (static_cast<unsigned long long>(off) < headerEnd ? "inside the header"
+                                                                         : "beyond the end of the file") +
                        " (file size " + std::to_string(data.size()) + " bytes)");
     info.dataOffset = static_cast<std::size_t>(off);
   }
@@ -191,7 +203,8 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
       break;
     }
     if (nans || infs)
-      throw InputError(path + ": non-finite coordinate in triplet " + std::to_string(t) + " of the .tck data");
+      throw InputError(path + ": non-finite coordinate in triplet " + std::to_string(t) +
+                       " of the .tck data");
     if (std::abs(v[0]) > 1e7 || std::abs(v[1]) > 1e7 || std::abs(v[2]) > 1e7)
       throw InputError(path + ": absurd coordinate in triplet " + std::to_string(t) + " of the .tck data");
     if (out.points.size() >= std::numeric_limits<std::uint32_t>::max())
@@ -226,10 +239,13 @@ void writeTck(const std::string& path, const Polylines& lines) {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   for (std::size_t l = 0; l < lines.lineCount(); ++l) {
     for (std::uint32_t i = lines.offsets[l]; i < lines.offsets[l + 1]; ++i)
-      for (int c = 0; c < 3; ++c) storeLe(bytes, lines.points[i][c]);
-    for (int c = 0; c < 3; ++c) storeLe(bytes, nan);
+      for (int c = 0; c < 3; ++c)
+        storeLe(bytes, lines.points[i][c]);
+    for (int c = 0; c < 3; ++c)
+      storeLe(bytes, nan);
   }
-  for (int c = 0; c < 3; ++c) storeLe(bytes, inf);
+  for (int c = 0; c < 3; ++c)
+    storeLe(bytes, inf);
   writeFileAtomically(path, bytes);
 }
 
@@ -248,13 +264,26 @@ bool affineFromVoxelOrder(const std::string& order, const glm::dvec3& vs, glm::d
     int world = -1;
     double sign = 1;
     switch (c) {
-    case 'R': world = 0; break;
-    case 'L': world = 0, sign = -1; break;
-    case 'A': world = 1; break;
-    case 'P': world = 1, sign = -1; break;
-    case 'S': world = 2; break;
-    case 'I': world = 2, sign = -1; break;
-    default: return false;
+    case 'R':
+      world = 0;
+      break;
+    case 'L':
+      world = 0, sign = -1;
+      break;
+    case 'A':
+      world = 1;
+      break;
+    case 'P':
+      world = 1, sign = -1;
+      break;
+    case 'S':
+      world = 2;
+      break;
+    case 'I':
+      world = 2, sign = -1;
+      break;
+    default:
+      return false;
     }
     if (used[world]) return false;
     used[world] = true;
@@ -268,17 +297,22 @@ bool affineFromVoxelOrder(const std::string& order, const glm::dvec3& vs, glm::d
 Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   const std::string data = readAll(path, "tract file");
   if (data.size() < kTrkHeaderSize)
-    throw InputError(path + ": truncated TrackVis header (" + std::to_string(data.size()) + " of 1000 bytes)");
+    throw InputError(path + ": truncated TrackVis header (" + std::to_string(data.size()) +
+                     " of 1000 bytes)");
   const char* h = data.data();
-  if (std::memcmp(h, "TRACK", 5) != 0) throw InputError(path + ": not a TrackVis .trk file (no 'TRACK' magic)");
+  if (std::memcmp(h, "TRACK", 5) != 0)
+    throw InputError(path + ": not a TrackVis .trk file (no 'TRACK' magic)");
   TrkInfo info;
   // hdr_size (offset 996) tells the byte order.
   bool swap = false;
   const int hdrLe = loadScalar<std::int32_t>(h + 996, !kHostLittle);
   const int hdrBe = loadScalar<std::int32_t>(h + 996, kHostLittle);
-  if (hdrLe == 1000) swap = !kHostLittle;
-  else if (hdrBe == 1000) swap = kHostLittle, info.bigEndian = true;
-  else throw InputError(path + ": bad TrackVis header size " + std::to_string(hdrLe) + " (expected 1000)");
+  if (hdrLe == 1000)
+    swap = !kHostLittle;
+  else if (hdrBe == 1000)
+    swap = kHostLittle, info.bigEndian = true;
+  else
+    throw InputError(path + ": bad TrackVis header size " + std::to_string(hdrLe) + " (expected 1000)");
 
   for (int a = 0; a < 3; ++a) {
     info.dims[a] = loadScalar<std::int16_t>(h + 6 + 2 * a, swap);
@@ -287,7 +321,8 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   info.nScalars = loadScalar<std::int16_t>(h + 36, swap);
   info.nProperties = loadScalar<std::int16_t>(h + 238, swap);
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) info.voxToRas[c][r] = loadScalar<float>(h + 440 + 4 * (4 * r + c), swap);
+    for (int c = 0; c < 4; ++c)
+      info.voxToRas[c][r] = loadScalar<float>(h + 440 + 4 * (4 * r + c), swap);
   info.voxelOrder.assign(h + 948, strnlen(h + 948, 4));
   info.declaredCount = loadScalar<std::int32_t>(h + 988, swap);
   info.version = loadScalar<std::int32_t>(h + 992, swap);
@@ -313,8 +348,10 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
                " with voxel (0,0,0) at the origin");
   } else {
     info.indexToWorld = glm::dmat4(1.0);
-    for (int a = 0; a < 3; ++a) info.indexToWorld[a][a] = info.voxelSize[a];
-    logWarning(path + ": TrackVis header has neither vox_to_ras nor a voxel_order; assuming RAS at the origin");
+    for (int a = 0; a < 3; ++a)
+      info.indexToWorld[a][a] = info.voxelSize[a];
+    logWarning(path +
+               ": TrackVis header has neither vox_to_ras nor a voxel_order; assuming RAS at the origin");
   }
   if (!(std::abs(glm::determinant(glm::dmat3(info.indexToWorld))) > 1e-12))
     throw InputError(path + ": singular TrackVis vox_to_ras");
@@ -349,11 +386,13 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
     pos += 4;
     if (n < 0 || static_cast<std::size_t>(n) > (data.size() - pos) / perPoint ||
         static_cast<std::size_t>(n) * perPoint + perTrackExtra > data.size() - pos)
-      throw InputError(path + ": truncated TrackVis data (track " + std::to_string(out.lineCount()) + " claims " +
-                       std::to_string(n) + " points, " + std::to_string(data.size() - pos) + " bytes left)");
+      throw InputError(path + ": truncated TrackVis data (track " + std::to_string(out.lineCount()) +
+                       " claims " + std::to_string(n) + " points, " + std::to_string(data.size() - pos) +
+                       " bytes left)");
     for (std::int32_t i = 0; i < n; ++i) {
       const char* p = data.data() + pos + static_cast<std::size_t>(i) * perPoint;
-      glm::dvec4 v(loadScalar<float>(p, swap), loadScalar<float>(p + 4, swap), loadScalar<float>(p + 8, swap), 1.0);
+      glm::dvec4 v(loadScalar<float>(p, swap), loadScalar<float>(p + 4, swap), loadScalar<float>(p + 8, swap),
+                   1.0);
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
         throw InputError(path + ": non-finite coordinate in track " + std::to_string(out.lineCount()));
       glm::dvec4 w = toWorld * v;
@@ -386,7 +425,8 @@ void writeTrk(const std::string& path, const Polylines& lines, const Grid& refer
     putLe<float>(h + 12 + 4 * a, static_cast<float>(reference.spacing[a]));
   }
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) putLe<float>(h + 440 + 4 * (4 * r + c), static_cast<float>(reference.voxelToWorld[c][r]));
+    for (int c = 0; c < 4; ++c)
+      putLe<float>(h + 440 + 4 * (4 * r + c), static_cast<float>(reference.voxelToWorld[c][r]));
   const std::string order = reference.orientationCode();
   std::memcpy(h + 948, order.data(), std::min<std::size_t>(3, order.size()));
   putLe<std::int32_t>(h + 988, static_cast<std::int32_t>(lines.lineCount()));
@@ -397,7 +437,8 @@ void writeTrk(const std::string& path, const Polylines& lines, const Grid& refer
   // using the header's numbers inverts exactly what was applied.
   glm::dmat4 stored(0.0);
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) stored[c][r] = static_cast<double>(static_cast<float>(reference.voxelToWorld[c][r]));
+    for (int c = 0; c < 4; ++c)
+      stored[c][r] = static_cast<double>(static_cast<float>(reference.voxelToWorld[c][r]));
   const glm::dmat4 worldToIndex = glm::inverse(stored);
   bytes.reserve(kTrkHeaderSize + 4 * lines.lineCount() + 12 * lines.points.size());
   for (std::size_t l = 0; l < lines.lineCount(); ++l) {

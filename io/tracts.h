@@ -24,9 +24,9 @@ namespace dtf::io {
 
 // Facts from a .tck header (besides the points).
 struct TckInfo {
-  std::string datatype;         // e.g. "Float32LE"
-  std::size_t dataOffset = 0;   // byte offset of the first triplet
-  long long declaredCount = -1; // `count:` (-1 when absent)
+  std::string datatype;                                    // e.g. "Float32LE"
+  std::size_t dataOffset = 0;                              // byte offset of the first triplet
+  long long declaredCount = -1;                            // `count:` (-1 when absent)
   std::vector<std::pair<std::string, std::string>> fields; // every "key: value" line, in order
 };
 
@@ -49,7 +49,7 @@ struct TrkInfo {
   glm::dmat4 voxToRas{0.0};     // as stored (all zero in v1 files)
   glm::dmat4 indexToWorld{1.0}; // the affine actually used: voxel index -> world RAS mm
   int nScalars = 0, nProperties = 0;
-  long long declaredCount = 0;  // n_count (0 = unknown)
+  long long declaredCount = 0; // n_count (0 = unknown)
 };
 
 // Reads a .trk file (v1 or v2, either byte order) into world RAS mm; per-point scalars and per-track

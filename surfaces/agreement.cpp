@@ -8,8 +8,8 @@
 
 namespace dtf::surfaces {
 
-bool projectedPrincipalDirection(const SymTensor& t, const glm::dvec3& n, glm::dvec3& dir, double minPlanarAnisotropy,
-                                 double* planarAnisotropy) {
+bool projectedPrincipalDirection(const SymTensor& t, const glm::dvec3& n, glm::dvec3& dir,
+                                 double minPlanarAnisotropy, double* planarAnisotropy) {
   if (t.isZero() || !t.isFinite()) return false;
   const glm::dmat3 p = glm::dmat3(1.0) - glm::outerProduct(n, n);
   const glm::dmat3 tp = p * t.toMat() * glm::transpose(p);
@@ -65,7 +65,8 @@ AgreementResult tractSurfaceAgreement(const Polylines& tracts, const Mesh& surfa
       const glm::dvec3 tangent =
           glm::dvec3(tracts.points[std::min(i + 1, e - 1)]) - glm::dvec3(tracts.points[i > b ? i - 1 : b]);
       const glm::dvec3 a(surface.positions[surface.indices[3 * tri]]),
-          bb(surface.positions[surface.indices[3 * tri + 1]]), c(surface.positions[surface.indices[3 * tri + 2]]);
+          bb(surface.positions[surface.indices[3 * tri + 1]]),
+          c(surface.positions[surface.indices[3 * tri + 2]]);
       glm::dvec3 n = glm::cross(bb - a, c - a);
       const double tl = glm::length(tangent), nl = glm::length(n);
       if (!(tl > 0) || !(nl > 0)) {

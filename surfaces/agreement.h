@@ -29,14 +29,14 @@ struct AgreementOptions {
 };
 
 struct AgreementResult {
-  std::vector<double> anglesDeg;       // per compared point, 0..90
-  std::vector<std::uint32_t> lineOf;   // per compared point, its streamline
-  std::size_t nearPoints = 0;          // tract points within nearMm
-  std::size_t skippedTangent = 0;      // ... skipped: projected tangent too short
-  std::size_t skippedDegenerate = 0;   // ... skipped: T' degenerate or outside the data
+  std::vector<double> anglesDeg;     // per compared point, 0..90
+  std::vector<std::uint32_t> lineOf; // per compared point, its streamline
+  std::size_t nearPoints = 0;        // tract points within nearMm
+  std::size_t skippedTangent = 0;    // ... skipped: projected tangent too short
+  std::size_t skippedDegenerate = 0; // ... skipped: T' degenerate or outside the data
   double meanDeg = 0, medianDeg = 0, fracBelow15 = 0;
   double binDeg = 10;
-  std::vector<std::size_t> histogram;  // counts per bin [b*binDeg, (b+1)*binDeg)
+  std::vector<std::size_t> histogram; // counts per bin [b*binDeg, (b+1)*binDeg)
 };
 
 // For every tract point within nearMm of `surface`: the angle between the tract tangent (central

@@ -2,6 +2,12 @@
 
 #include "io/model/error.h"
 
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <system_error>
+#include <unistd.h>
 #include <vtkCellArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
@@ -10,13 +16,6 @@
 #include <vtkPolyDataReader.h>
 #include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
-
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <limits>
-#include <system_error>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -49,8 +48,9 @@ Polylines readVtkPolylines(const std::string& path) {
   while (cells->GetNextCell(ids)) {
     for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i) {
       vtkIdType id = ids->GetId(i);
-      if (id < 0 || id >= nPoints) throw InputError(path + ": VTK line refers to point " + std::to_string(id) +
-                                                    " of " + std::to_string(nPoints));
+      if (id < 0 || id >= nPoints)
+        throw InputError(path + ": VTK line refers to point " + std::to_string(id) + " of " +
+                         std::to_string(nPoints));
       double p[3];
       pts->GetPoint(id, p);
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
@@ -80,13 +80,15 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   vtkNew<vtkCellArray> cells;
   for (std::size_t l = 0; l < lines.lineCount(); ++l) {
     cells->InsertNextCell(static_cast<vtkIdType>(lines.offsets[l + 1] - lines.offsets[l]));
-    for (std::uint32_t i = lines.offsets[l]; i < lines.offsets[l + 1]; ++i) cells->InsertCellPoint(i);
+    for (std::uint32_t i = lines.offsets[l]; i < lines.offsets[l + 1]; ++i)
+      cells->InsertCellPoint(i);
   }
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(pts);
   poly->SetLines(cells);
 
-  const std::string temp = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ".vtk")).string();
+  const std::string temp =
+      (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ".vtk")).string();
   vtkNew<vtkPolyDataWriter> w;
   w->SetFileName(temp.c_str());
   w->SetInputData(poly);

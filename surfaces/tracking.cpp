@@ -101,20 +101,25 @@ public:
 private:
   bool sample(const glm::dvec3& v, double c[6]) const {
     const glm::ivec3 d = f_.grid.dims;
-    if (!(v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x <= d.x - 1 && v.y <= d.y - 1 && v.z <= d.z - 1)) return false;
+    if (!(v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x <= d.x - 1 && v.y <= d.y - 1 && v.z <= d.z - 1))
+      return false;
     const int i0 = static_cast<int>(v.x), j0 = static_cast<int>(v.y), k0 = static_cast<int>(v.z);
     const double fx = v.x - i0, fy = v.y - j0, fz = v.z - k0;
     const std::size_t sx = 1, sy = static_cast<std::size_t>(d.x), sz = sy * static_cast<std::size_t>(d.y);
     const std::size_t base = static_cast<std::size_t>(i0) * sx + static_cast<std::size_t>(j0) * sy +
                              static_cast<std::size_t>(k0) * sz;
     const std::size_t di = i0 + 1 < d.x ? sx : 0, dj = j0 + 1 < d.y ? sy : 0, dk = k0 + 1 < d.z ? sz : 0;
-    for (int n = 0; n < 6; ++n) c[n] = 0;
+    for (int n = 0; n < 6; ++n)
+      c[n] = 0;
     bool any = false;
     for (int corner = 0; corner < 8; ++corner) {
-      const double w = ((corner & 1) ? fx : 1 - fx) * ((corner & 2) ? fy : 1 - fy) * ((corner & 4) ? fz : 1 - fz);
+      const double w =
+          ((corner & 1) ? fx : 1 - fx) * ((corner & 2) ? fy : 1 - fy) * ((corner & 4) ? fz : 1 - fz);
       if (w == 0) continue;
-      const SymTensor& t = f_.tensors[base + ((corner & 1) ? di : 0) + ((corner & 2) ? dj : 0) + ((corner & 4) ? dk : 0)];
-      c[0] += w * t.xx, c[1] += w * t.xy, c[2] += w * t.xz, c[3] += w * t.yy, c[4] += w * t.yz, c[5] += w * t.zz;
+      const SymTensor& t =
+          f_.tensors[base + ((corner & 1) ? di : 0) + ((corner & 2) ? dj : 0) + ((corner & 4) ? dk : 0)];
+      c[0] += w * t.xx, c[1] += w * t.xy, c[2] += w * t.xz, c[3] += w * t.yy, c[4] += w * t.yz,
+          c[5] += w * t.zz;
       any = true;
     }
     return any;
@@ -157,7 +162,8 @@ void follow(const Sampler& s, const TrackingOptions& o, glm::dvec3 p, glm::dvec3
 
 enum class Outcome : unsigned char { Pending, Accepted, BelowFa, TooShort };
 
-Outcome trackFrom(const Sampler& s, const TrackingOptions& o, const glm::dvec3& seed, std::vector<glm::vec3>& line) {
+Outcome trackFrom(const Sampler& s, const TrackingOptions& o, const glm::dvec3& seed,
+                  std::vector<glm::vec3>& line) {
   line.clear();
   glm::dvec3 e1;
   double fa;
@@ -183,9 +189,9 @@ int threadCount(const TrackingOptions& o) {
 
 // Tracks seeds [first, first + n) into slots[0 .. n) in parallel; progress/cancel on the calling thread.
 // Returns false when cancelled (unfinished slots stay Pending).
-bool runBatch(const TensorField& field, const SeedSource& seeds, const TrackingOptions& o, std::uint64_t first,
-              std::size_t n, std::vector<std::vector<glm::vec3>>& lines, std::vector<Outcome>& outcome,
-              std::size_t doneBefore, std::size_t planned, int nThreads) {
+bool runBatch(const TensorField& field, const SeedSource& seeds, const TrackingOptions& o,
+              std::uint64_t first, std::size_t n, std::vector<std::vector<glm::vec3>>& lines,
+              std::vector<Outcome>& outcome, std::size_t doneBefore, std::size_t planned, int nThreads) {
   lines.assign(n, {});
   outcome.assign(n, Outcome::Pending);
   Sampler sampler(field, o);
@@ -216,9 +222,11 @@ bool runBatch(const TensorField& field, const SeedSource& seeds, const TrackingO
     ++finished;
     cv.notify_all();
   };
-  const int workers = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(nThreads), (n + kChunk - 1) / kChunk));
+  const int workers =
+      static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(nThreads), (n + kChunk - 1) / kChunk));
   std::vector<std::thread> pool;
-  for (int t = 0; t < workers; ++t) pool.emplace_back(worker);
+  for (int t = 0; t < workers; ++t)
+    pool.emplace_back(worker);
   {
     std::unique_lock<std::mutex> lk(m);
     while (!cv.wait_for(lk, std::chrono::milliseconds(100), [&] { return finished == workers; }))
@@ -228,7 +236,8 @@ bool runBatch(const TensorField& field, const SeedSource& seeds, const TrackingO
         lk.lock();
       }
   }
-  for (auto& t : pool) t.join();
+  for (auto& t : pool)
+    t.join();
   if (o.progress) o.progress(doneBefore + n, planned);
   return !stop && !(o.cancel && o.cancel->load());
 }
@@ -268,7 +277,8 @@ glm::dvec3 voxelOf(const Grid& g, std::size_t idx) {
 void validate(const TrackingOptions& o) {
   if (!(o.stepMm > 0) || o.stepMm > 100) throw UsageError("tracking step must be in (0, 100] mm");
   if (!(o.faStop >= 0) || o.faStop >= 1) throw UsageError("FA stop must be in [0, 1)");
-  if (!(o.maxAngleDeg > 0) || o.maxAngleDeg > 180) throw UsageError("angle limit must be in (0, 180] degrees");
+  if (!(o.maxAngleDeg > 0) || o.maxAngleDeg > 180)
+    throw UsageError("angle limit must be in (0, 180] degrees");
   if (!(o.minLengthMm >= 0) || !(o.maxLengthMm > 0) || o.minLengthMm > o.maxLengthMm)
     throw UsageError("length limits must satisfy 0 <= min <= max, max > 0");
   if (o.maxLengthMm / o.stepMm > 1e6) throw UsageError("maximum length is more than a million steps");
@@ -286,9 +296,10 @@ SeedSource seedsFromMask(const MaskVolume& mask, int perVoxel, std::uint64_t rng
                                      std::to_string(voxels->size()) + " mask voxels"
                                : "random seeds in " + std::to_string(voxels->size()) + " mask voxels";
   s.at = [voxels, g, per, rngSeed](std::uint64_t i) {
-    std::size_t v = per > 0 ? static_cast<std::size_t>(i / per)
-                            : std::min(voxels->size() - 1,
-                                       static_cast<std::size_t>(uniform(rngSeed, i, 0) * static_cast<double>(voxels->size())));
+    std::size_t v =
+        per > 0 ? static_cast<std::size_t>(i / per)
+                : std::min(voxels->size() - 1, static_cast<std::size_t>(uniform(rngSeed, i, 0) *
+                                                                        static_cast<double>(voxels->size())));
     glm::dvec3 ijk = voxelOf(g, (*voxels)[std::min(v, voxels->size() - 1)]);
     ijk += glm::dvec3(uniform(rngSeed, i, 1), uniform(rngSeed, i, 2), uniform(rngSeed, i, 3)) - 0.5;
     return g.toWorld(ijk);
@@ -302,7 +313,8 @@ SeedSource seedsInSphere(const glm::dvec3& centre, double radiusMm, std::uint64_
   s.description = "random seeds in a sphere of radius " + std::to_string(radiusMm) + " mm";
   s.at = [centre, radiusMm, rngSeed](std::uint64_t i) {
     for (std::uint64_t k = 0; k + 2 < 16; k += 3) { // rejection sampling; P(fail 5 times) = 0.48^5
-      glm::dvec3 u(2 * uniform(rngSeed, i, k) - 1, 2 * uniform(rngSeed, i, k + 1) - 1, 2 * uniform(rngSeed, i, k + 2) - 1);
+      glm::dvec3 u(2 * uniform(rngSeed, i, k) - 1, 2 * uniform(rngSeed, i, k + 1) - 1,
+                   2 * uniform(rngSeed, i, k + 2) - 1);
       if (glm::dot(u, u) <= 1) return centre + radiusMm * u;
     }
     return centre;
@@ -337,7 +349,8 @@ SeedSource seedsOnSurface(const Mesh& mesh, std::uint64_t rngSeed) {
   return s;
 }
 
-SeedSource seedsOnSlice(const TensorField& field, int axis, int index, const MaskVolume* mask, std::uint64_t rngSeed) {
+SeedSource seedsOnSlice(const TensorField& field, int axis, int index, const MaskVolume* mask,
+                        std::uint64_t rngSeed) {
   const Grid& g = field.grid;
   if (axis < 0 || axis > 2 || index < 0 || index >= g.dims[axis])
     throw InputError("seed slice " + std::to_string(index) + " is outside the volume (0.." +
@@ -358,12 +371,13 @@ SeedSource seedsOnSlice(const TensorField& field, int axis, int index, const Mas
       }
   if (voxels->empty()) throw InputError("seed slice " + std::to_string(index) + " holds no valid voxel");
   SeedSource s;
-  s.description = "random seeds in " + std::to_string(voxels->size()) + " voxels of slice " + std::to_string(index) +
-                  " along voxel axis " + "ijk"[axis];
+  s.description = "random seeds in " + std::to_string(voxels->size()) + " voxels of slice " +
+                  std::to_string(index) + " along voxel axis " + "ijk"[axis];
   const Grid grid = g;
   s.at = [voxels, grid, axis, rngSeed](std::uint64_t i) {
-    std::size_t v = std::min(voxels->size() - 1,
-                             static_cast<std::size_t>(uniform(rngSeed, i, 0) * static_cast<double>(voxels->size())));
+    std::size_t v =
+        std::min(voxels->size() - 1,
+                 static_cast<std::size_t>(uniform(rngSeed, i, 0) * static_cast<double>(voxels->size())));
     glm::dvec3 ijk = (*voxels)[v];
     for (int a = 0, k = 1; a < 3; ++a)
       if (a != axis) ijk[a] += uniform(rngSeed, i, static_cast<std::uint64_t>(k++)) - 0.5;
@@ -372,7 +386,8 @@ SeedSource seedsOnSlice(const TensorField& field, int axis, int index, const Mas
   return s;
 }
 
-std::vector<glm::vec3> trackOne(const TensorField& field, const glm::dvec3& seed, const TrackingOptions& options) {
+std::vector<glm::vec3> trackOne(const TensorField& field, const glm::dvec3& seed,
+                                const TrackingOptions& options) {
   validate(options);
   Sampler s(field, options);
   std::vector<glm::vec3> line;
@@ -415,12 +430,14 @@ TrackingResult trackSelect(const TensorField& field, const SeedSource& seeds, st
   std::uint64_t first = 0;
   while (r.lines.lineCount() < select && first < maxSeeds) {
     // Batch size from the acceptance rate so far (the first batch guesses 1 in 2).
-    const double rate = r.seedsTried > 0 ? std::max(1e-3, static_cast<double>(r.lines.lineCount()) / r.seedsTried) : 0.5;
+    const double rate =
+        r.seedsTried > 0 ? std::max(1e-3, static_cast<double>(r.lines.lineCount()) / r.seedsTried) : 0.5;
     const double need = static_cast<double>(select - r.lines.lineCount()) / rate * 1.1 + 256;
     std::size_t n = static_cast<std::size_t>(std::clamp(need, 1024.0, 65536.0));
     n = static_cast<std::size_t>(std::min<std::uint64_t>(n, maxSeeds - first));
     const std::size_t planned = static_cast<std::size_t>(first) + n;
-    bool ok = runBatch(field, seeds, o, first, n, lines, outcome, static_cast<std::size_t>(first), planned, r.threads);
+    bool ok = runBatch(field, seeds, o, first, n, lines, outcome, static_cast<std::size_t>(first), planned,
+                       r.threads);
     collect(r, first, lines, outcome, select);
     first += n;
     if (!ok) {

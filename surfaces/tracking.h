@@ -34,9 +34,9 @@ struct TrackingOptions {
   double maxAngleDeg = 60.0; // largest turn between successive steps
   double minLengthMm = 30.0; // shorter streamlines are discarded
   double maxLengthMm = 250.0;
-  bool rk4 = true;           // false: Euler (MRtrix Tensor_Det's default)
+  bool rk4 = true;                  // false: Euler (MRtrix Tensor_Det's default)
   const MaskVolume* mask = nullptr; // stop where the nearest voxel of this mask is 0 (any grid); optional
-  int threads = 0;           // 0 = all hardware threads
+  int threads = 0;                  // 0 = all hardware threads
   // Called on the calling thread about every 100 ms with (seeds done, seeds planned so far).
   std::function<void(std::size_t, std::size_t)> progress;
   const std::atomic<bool>* cancel = nullptr; // set to stop early; the result then has cancelled = true
@@ -68,8 +68,8 @@ struct TrackingResult {
   Polylines lines;
   std::vector<std::uint64_t> seedIndex; // per streamline, the seed it grew from
   std::size_t seedsTried = 0;
-  std::size_t seedsBelowFa = 0;  // seed rejected: outside the data or FA < faStop
-  std::size_t tooShort = 0;      // rejected by minLengthMm
+  std::size_t seedsBelowFa = 0; // seed rejected: outside the data or FA < faStop
+  std::size_t tooShort = 0;     // rejected by minLengthMm
   bool cancelled = false;
   int threads = 1;
 };
@@ -84,7 +84,8 @@ TrackingResult trackSelect(const TensorField& field, const SeedSource& seeds, st
 
 // One streamline from one seed (both directions joined, seed in the middle); empty when the seed is
 // rejected. Exposed for tests and interactive single-seed tracking.
-std::vector<glm::vec3> trackOne(const TensorField& field, const glm::dvec3& seed, const TrackingOptions& options);
+std::vector<glm::vec3> trackOne(const TensorField& field, const glm::dvec3& seed,
+                                const TrackingOptions& options);
 
 // Throws UsageError when an option is out of range (non-positive step, angle outside (0, 180], ...).
 void validate(const TrackingOptions& options);

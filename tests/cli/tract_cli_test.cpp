@@ -13,7 +13,9 @@ double jsonNumber(const std::string& json, const std::string& key) {
   if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
   return std::stod(m[1]);
 }
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string q(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
 } // namespace
 
 TEST(TractCli, TrackWritesTheSameFileForAnyThreadCount) {
@@ -49,13 +51,15 @@ TEST(TractCli, TrackOtherSeedsAndFormatsOnAPhantom) {
                        dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("wrote "), std::string::npos) << r.out;
-  r = runDtfabric("track " + in + " --seed-surface slice=coronal:24 --select 50 --min-length 10 --euler --json -o " +
+  r = runDtfabric("track " + in +
+                      " --seed-surface slice=coronal:24 --select 50 --min-length 10 --euler --json -o " +
                       q(dir / "s.vtk"),
                   dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(jsonNumber(r.out, "streamlines"), 50);
   EXPECT_NE(r.out.find("\"integrator\": \"euler\""), std::string::npos);
-  r = runDtfabric("track " + in + " --seed-sphere 0,0,0,6 --select 20 --min-length 5 --json -o " + q(dir / "s.tck"), dir);
+  r = runDtfabric(
+      "track " + in + " --seed-sphere 0,0,0,6 --select 20 --min-length 5 --json -o " + q(dir / "s.tck"), dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   // The tracts read back through compare (every format).
   for (const char* f : {"s.trk", "s.vtk", "s.tck"}) {
@@ -71,14 +75,16 @@ TEST(TractCli, CompareRealTracksWithTheFabric) {
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
   auto dir = dtf::test::scratchDir();
-  auto r = runDtfabric("compare " + q(tensor) + " --tracts " + q(tck) + " --surface slice=axial:22 --json", dir);
+  auto r =
+      runDtfabric("compare " + q(tensor) + " --tracts " + q(tck) + " --surface slice=axial:22 --json", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_GT(jsonNumber(r.out, "points"), 5000) << r.out;
   EXPECT_LT(jsonNumber(r.out, "median_deg"), 10) << r.out;
   EXPECT_GT(jsonNumber(r.out, "frac_below_15"), 0.7) << r.out;
   EXPECT_EQ(jsonNumber(r.out, "bin_deg"), 10);
   EXPECT_NE(r.out.find("\"histogram\": ["), std::string::npos);
-  r = runDtfabric("compare " + q(tensor) + " --tracts " + q(tck) + " --surface slice=axial:22 --bins 6 --near 1", dir);
+  r = runDtfabric(
+      "compare " + q(tensor) + " --tracts " + q(tck) + " --surface slice=axial:22 --bins 6 --near 1", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("median"), std::string::npos);
   EXPECT_NE(r.out.find("75.0- 90.0 deg"), std::string::npos) << r.out;
@@ -109,7 +115,8 @@ TEST(TractCli, BadTractFilesAndUsage) {
   EXPECT_EQ(r.exitCode, 1) << r.err;
   r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.tck") + " --seed-sphere 1,2", dir);
   EXPECT_EQ(r.exitCode, 1) << r.err;
-  r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.tck") + " --seed-sphere 500,500,500,2 --select 5", dir);
+  r = runDtfabric(
+      "track " + q(tensor) + " -o " + q(dir / "x.tck") + " --seed-sphere 500,500,500,2 --select 5", dir);
   EXPECT_EQ(r.exitCode, 2) << r.err;
   EXPECT_NE(r.err.find("no streamline"), std::string::npos) << r.err;
   r = runDtfabric("compare " + q(tensor) + " --surface slice=axial", dir);

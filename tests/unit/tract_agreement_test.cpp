@@ -1,10 +1,9 @@
 // Tract/fabric agreement on a surface: the projected principal direction in closed form, agreement near
 // 0 degrees on a constant-direction phantom (and the known angle when tracts and field differ), and the
 // two populations of a crossing phantom.
-#include "support/test_env.h"
-
 #include "io/model/error.h"
 #include "io/phantoms.h"
+#include "support/test_env.h"
 #include "surfaces/agreement.h"
 #include "surfaces/slices.h"
 #include "surfaces/tracking.h"
@@ -29,7 +28,8 @@ double angleDeg(const glm::dvec3& a, const glm::dvec3& b) {
   return std::acos(std::min(1.0, std::abs(glm::dot(glm::normalize(a), glm::normalize(b))))) * 180 / kPi;
 }
 
-dtf::io::Phantom phantom(const char* name, double angle, double elevation, double crossing = 90, int size = 40) {
+dtf::io::Phantom phantom(const char* name, double angle, double elevation, double crossing = 90,
+                         int size = 40) {
   dtf::io::PhantomOptions po;
   po.size = size;
   po.angleDeg = angle;
@@ -41,7 +41,8 @@ dtf::io::Phantom phantom(const char* name, double angle, double elevation, doubl
 // Straight polyline through the origin along d, points every 0.5 mm for |s| <= half.
 void addLine(Polylines& l, const glm::dvec3& d, double half, double z) {
   if (l.offsets.empty()) l.offsets.push_back(0);
-  for (double s = -half; s <= half + 1e-9; s += 0.5) l.points.emplace_back(glm::dvec3(s * d.x, s * d.y, z));
+  for (double s = -half; s <= half + 1e-9; s += 0.5)
+    l.points.emplace_back(glm::dvec3(s * d.x, s * d.y, z));
   l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
 }
 } // namespace
@@ -77,7 +78,8 @@ TEST(Agreement, ConstantPhantomAgreesNearZero) {
   const TensorField& f = p.tensors;
   dtf::surfaces::TrackingOptions o;
   o.minLengthMm = 10;
-  const auto tracts = dtf::surfaces::trackSelect(f, dtf::surfaces::seedsOnSlice(f, 2, 20, nullptr, 3), 200, o).lines;
+  const auto tracts =
+      dtf::surfaces::trackSelect(f, dtf::surfaces::seedsOnSlice(f, 2, 20, nullptr, 3), 200, o).lines;
   ASSERT_EQ(tracts.lineCount(), 200u);
   const dtf::Mesh slice = dtf::surfaces::makeSlice(f.grid, dtf::surfaces::SliceAxis::Axial, 20);
   const auto r = dtf::surfaces::tractSurfaceAgreement(tracts, slice, f);
@@ -92,7 +94,9 @@ TEST(Agreement, ConstantPhantomAgreesNearZero) {
   // Negative control: tracts along 75 degrees compared with the 30-degree field read 45 degrees.
   const auto other = phantom("constant", 75, 0);
   const auto tracts2 =
-      dtf::surfaces::trackSelect(other.tensors, dtf::surfaces::seedsOnSlice(other.tensors, 2, 20, nullptr, 3), 50, o).lines;
+      dtf::surfaces::trackSelect(other.tensors, dtf::surfaces::seedsOnSlice(other.tensors, 2, 20, nullptr, 3),
+                                 50, o)
+          .lines;
   const auto r2 = dtf::surfaces::tractSurfaceAgreement(tracts2, slice, f);
   ASSERT_GT(r2.anglesDeg.size(), 100u);
   EXPECT_NEAR(r2.medianDeg, 45.0, 0.5);
@@ -121,11 +125,13 @@ TEST(Agreement, CrossingPhantomIsBimodal) {
   ASSERT_EQ(r.anglesDeg.size(), tracts.points.size());
   const auto& h = r.histogram;
   std::string text;
-  for (auto c : h) text += std::to_string(c) + " ";
+  for (auto c : h)
+    text += std::to_string(c) + " ";
   EXPECT_GT(h[0], h[1]) << text;
   EXPECT_GT(h[2], h[1]) << text;
   EXPECT_GT(h[2], r.anglesDeg.size() / 5) << text;
-  for (std::size_t b = 3; b < h.size(); ++b) EXPECT_EQ(h[b], 0u) << text;
+  for (std::size_t b = 3; b < h.size(); ++b)
+    EXPECT_EQ(h[b], 0u) << text;
 
   // Per point: 0 deg well outside the overlap, 25 deg well inside, for both bundles.
   for (std::size_t i = 0; i < r.anglesDeg.size(); ++i) {

@@ -1,12 +1,11 @@
 // Tract files: round trips through .tck, .trk (LAS and RAS reference grids) and .vtk, the TrackVis
 // half-voxel convention in closed form, byte orders and datatypes, the real MRtrix/nibabel files against
 // each other and the brain mask, and bad files refused with InputError naming the file.
-#include "support/test_env.h"
-
 #include "app/tract_files.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 #include "io/tracts.h"
+#include "support/test_env.h"
 #include "surfaces/polyline_io.h"
 
 #include <bit>
@@ -29,7 +28,8 @@ Polylines sampleLines() {
   for (int line = 0; line < 3; ++line) {
     for (int i = 0; i < 50 + 10 * line; ++i) {
       double t = i / 10.0;
-      l.points.emplace_back(-90.0 + 3.7 * i + line, 40.0 * std::sin(t + line) - 20.0, 25.0 * std::cos(0.7 * t) + 10.0 * line);
+      l.points.emplace_back(-90.0 + 3.7 * i + line, 40.0 * std::sin(t + line) - 20.0,
+                            25.0 * std::cos(0.7 * t) + 10.0 * line);
     }
     l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
   }
@@ -44,7 +44,8 @@ double maxDifference(const Polylines& a, const Polylines& b) {
   EXPECT_EQ(a.offsets, b.offsets);
   if (a.offsets != b.offsets || a.points.size() != b.points.size()) return 1e9;
   double m = 0;
-  for (std::size_t i = 0; i < a.points.size(); ++i) m = std::max(m, static_cast<double>(glm::length(a.points[i] - b.points[i])));
+  for (std::size_t i = 0; i < a.points.size(); ++i)
+    m = std::max(m, static_cast<double>(glm::length(a.points[i] - b.points[i])));
   return m;
 }
 
@@ -81,7 +82,9 @@ template <typename T> T leAt(const std::string& b, std::size_t off) {
   std::memcpy(&v, b.data() + off, sizeof(T));
   return v; // the test machines are little-endian (checked below)
 }
-template <typename T> void putAt(std::string& b, std::size_t off, T v) { std::memcpy(b.data() + off, &v, sizeof(T)); }
+template <typename T> void putAt(std::string& b, std::size_t off, T v) {
+  std::memcpy(b.data() + off, &v, sizeof(T));
+}
 
 // Expects InputError whose message names `file` and contains `what`.
 template <typename Fn> void expectInputError(Fn fn, const fs::path& file, const std::string& what) {
@@ -96,7 +99,8 @@ template <typename Fn> void expectInputError(Fn fn, const fs::path& file, const 
 
 } // namespace
 
-static_assert(std::endian::native == std::endian::little, "the byte-level checks below assume a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "the byte-level checks below assume a little-endian host");
 
 TEST(TractIo, TckRoundTripIsExactInFloat32) {
   auto dir = dtf::test::scratchDir();
@@ -127,7 +131,8 @@ TEST(TractIo, TckBigEndianAndFloat64AreRead) {
     std::string data = head;
     auto put = [&](double v) {
       char b[8];
-      if (f64) std::memcpy(b, &v, 8);
+      if (f64)
+        std::memcpy(b, &v, 8);
       else {
         float f = static_cast<float>(v);
         std::memcpy(b, &f, 4);
@@ -137,7 +142,8 @@ TEST(TractIo, TckBigEndianAndFloat64AreRead) {
       data.append(b, static_cast<std::size_t>(n));
     };
     for (int i = 0; i < 4; ++i) {
-      for (double v : pts[i]) put(v);
+      for (double v : pts[i])
+        put(v);
       if (i == 1 || i == 3) put(nan), put(nan), put(nan);
     }
     put(inf), put(inf), put(inf);
@@ -147,7 +153,8 @@ TEST(TractIo, TckBigEndianAndFloat64AreRead) {
     ASSERT_EQ(l.lineCount(), 2u) << type;
     EXPECT_EQ(l.offsets[1], 2u);
     for (int i = 0; i < 4; ++i)
-      for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(l.points[static_cast<std::size_t>(i)][c], static_cast<float>(pts[i][c])) << type;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_FLOAT_EQ(l.points[static_cast<std::size_t>(i)][c], static_cast<float>(pts[i][c])) << type;
   }
 }
 
@@ -164,7 +171,8 @@ TEST(TractIo, TrkRoundTripOnLasAndObliqueRasGrids) {
     EXPECT_EQ(info.dims, g.dims);
     EXPECT_EQ(info.voxelOrder, g.orientationCode());
     EXPECT_EQ(info.declaredCount, 4);
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(info.voxelSize[a], g.spacing[a], 1e-6);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(info.voxelSize[a], g.spacing[a], 1e-6);
   }
   EXPECT_EQ(lasGrid().orientationCode(), "LAS");
   EXPECT_EQ(rasObliqueGrid().orientationCode(), "RAS");
@@ -189,7 +197,7 @@ TEST(TractIo, TrkUsesTheHalfVoxelCornerConvention) {
   EXPECT_NEAR(leAt<float>(b, 1020), 61.5f, 1e-4);
   EXPECT_NEAR(leAt<float>(b, 1024), 91.5f, 1e-4);
   EXPECT_EQ(b.substr(948, 3), "LAS");
-  EXPECT_FLOAT_EQ(leAt<float>(b, 440), -3.0f); // vox_to_ras[0][0]
+  EXPECT_FLOAT_EQ(leAt<float>(b, 440), -3.0f);  // vox_to_ras[0][0]
   EXPECT_FLOAT_EQ(leAt<float>(b, 452), 108.0f); // vox_to_ras[0][3]
 }
 
@@ -198,8 +206,12 @@ TEST(TractIo, TrkUsesTheHalfVoxelCornerConvention) {
 TEST(TractIo, TrkV1BigEndianWithScalarsAndProperties) {
   auto dir = dtf::test::scratchDir();
   std::string h(1000, '\0');
-  auto be16 = [](std::int16_t v) { return static_cast<std::int16_t>(__builtin_bswap16(static_cast<std::uint16_t>(v))); };
-  auto be32 = [](std::int32_t v) { return static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(v))); };
+  auto be16 = [](std::int16_t v) {
+    return static_cast<std::int16_t>(__builtin_bswap16(static_cast<std::uint16_t>(v)));
+  };
+  auto be32 = [](std::int32_t v) {
+    return static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(v)));
+  };
   auto bef = [](float v) { return std::bit_cast<float>(__builtin_bswap32(std::bit_cast<std::uint32_t>(v))); };
   std::memcpy(h.data(), "TRACK", 5);
   for (int a = 0; a < 3; ++a) {
@@ -253,7 +265,8 @@ TEST(TractIo, VtkRoundTripAndDispatcher) {
     EXPECT_LT(maxDifference(lines, dtf::app::readTracts(p)), 1e-4) << name;
   }
   EXPECT_THROW(dtf::app::writeTracts((dir / "e.trk").string(), lines, nullptr), dtf::UsageError);
-  expectInputError([&] { dtf::app::readTracts((dir / "a.txt").string()); }, dir / "a.txt", "unknown tract file extension");
+  expectInputError([&] { dtf::app::readTracts((dir / "a.txt").string()); }, dir / "a.txt",
+                   "unknown tract file extension");
 }
 
 TEST(TractIo, WritersAreAtomicAndRefuseNonFinitePoints) {
@@ -266,7 +279,8 @@ TEST(TractIo, WritersAreAtomicAndRefuseNonFinitePoints) {
   EXPECT_THROW(dtf::io::writeTrk((dir / "b.trk").string(), bad, lasGrid()), InputError);
   EXPECT_THROW(dtf::surfaces::writeVtkPolylines((dir / "b.vtk").string(), bad), InputError);
   for (const auto& e : fs::directory_iterator(dir))
-    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary file left: " << e.path();
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos)
+        << "temporary file left: " << e.path();
 }
 
 TEST(TractIo, BadFilesAreRefusedWithTheFileName) {
@@ -301,7 +315,8 @@ TEST(TractIo, BadFilesAreRefusedWithTheFileName) {
   s = tck;
   putAt<float>(s, info.dataOffset + 4, std::numeric_limits<float>::quiet_NaN());
   tckCase("nan.tck", s, "non-finite");
-  expectInputError([&] { dtf::io::readTck((dir / "missing.tck").string()); }, dir / "missing.tck", "no such file");
+  expectInputError([&] { dtf::io::readTck((dir / "missing.tck").string()); }, dir / "missing.tck",
+                   "no such file");
 
   auto trkCase = [&](const std::string& name, const std::string& bytes, const std::string& what) {
     writeBytes(dir / name, bytes);
@@ -329,11 +344,12 @@ TEST(TractIo, BadFilesAreRefusedWithTheFileName) {
   putAt<std::int32_t>(s, 992, 7);
   trkCase("version.trk", s, "version");
 
-  writeBytes(dir / "bad.vtk", "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n1 2 3\n");
+  writeBytes(dir / "bad.vtk",
+             "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n1 2 3\n");
   expectInputError([&] { dtf::surfaces::readVtkPolylines((dir / "bad.vtk").string()); }, dir / "bad.vtk", "");
   writeBytes(dir / "notvtk.vtk", "hello\n");
-  expectInputError([&] { dtf::surfaces::readVtkPolylines((dir / "notvtk.vtk").string()); }, dir / "notvtk.vtk",
-                   "not a legacy VTK");
+  expectInputError([&] { dtf::surfaces::readVtkPolylines((dir / "notvtk.vtk").string()); },
+                   dir / "notvtk.vtk", "not a legacy VTK");
 }
 
 // README: tracks_det.trk is tracks_det.tck converted by nibabel; a round trip differs by at most 7.6e-6 mm.
@@ -359,10 +375,12 @@ TEST(TractIoRealData, VtkHoldsTheFirst500TckStreamlines) {
   Polylines vtk = dtf::surfaces::readVtkPolylines(vtkPath.string());
   ASSERT_EQ(vtk.lineCount(), 500u);
   ASSERT_EQ(vtk.points.size(), 36700u);
-  for (std::size_t l = 0; l <= 500; ++l) ASSERT_EQ(vtk.offsets[l], tck.offsets[l]);
+  for (std::size_t l = 0; l <= 500; ++l)
+    ASSERT_EQ(vtk.offsets[l], tck.offsets[l]);
   for (std::size_t i = 0; i < vtk.points.size(); ++i)
     for (int c = 0; c < 3; ++c)
-      ASSERT_NEAR(vtk.points[i][c], tck.points[i][c], 5e-6 * std::abs(tck.points[i][c]) + 1e-6) << "point " << i;
+      ASSERT_NEAR(vtk.points[i][c], tck.points[i][c], 5e-6 * std::abs(tck.points[i][c]) + 1e-6)
+          << "point " << i;
 }
 
 // Streamlines tracked inside mask.nii.gz stay in it: >= 95% of points in mask voxels dilated by one voxel.
@@ -385,7 +403,8 @@ TEST(TractIoRealData, RealTractsLandInsideTheBrainMask) {
   std::size_t inside = 0, strictlyInside = 0;
   for (const auto& p : tck.points) {
     glm::dvec3 v = g.toVoxel(glm::dvec3(p));
-    int i = static_cast<int>(std::lround(v.x)), j = static_cast<int>(std::lround(v.y)), k = static_cast<int>(std::lround(v.z));
+    int i = static_cast<int>(std::lround(v.x)), j = static_cast<int>(std::lround(v.y)),
+        k = static_cast<int>(std::lround(v.z));
     if (!g.contains(i, j, k)) continue;
     inside += dilated[g.index(i, j, k)];
     strictlyInside += mask.at(i, j, k) > 0;

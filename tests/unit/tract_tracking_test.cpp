@@ -1,12 +1,11 @@
 // Deterministic tensor tracking: exact behaviour on closed-form fields (constant direction, FA boundary,
 // a 90-degree turn, length limits), seed generators, determinism across thread counts, progress and
 // cancellation, and reproduction of MRtrix's reference tracks on the real brain.
-#include "support/test_env.h"
-
 #include "io/model/error.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
 #include "io/tracts.h"
+#include "support/test_env.h"
 #include "surfaces/slices.h"
 #include "surfaces/tracking.h"
 
@@ -65,7 +64,8 @@ TEST(Tracking, ConstantFieldIsFollowedExactlyToTheEdge) {
       glm::dvec3 s = glm::dvec3(line[i]) - glm::dvec3(line[i - 1]);
       EXPECT_NEAR(glm::length(s), 0.7, 1e-5);
       EXPECT_NEAR(std::abs(glm::dot(glm::normalize(s), d)), 1.0, 1e-9) << "step " << i;
-      EXPECT_GT(glm::dot(s, glm::dvec3(line[1]) - glm::dvec3(line[0])), 0) << "direction flipped at step " << i;
+      EXPECT_GT(glm::dot(s, glm::dvec3(line[1]) - glm::dvec3(line[0])), 0)
+          << "direction flipped at step " << i;
     }
     // Both ends are inside the grid and one more step would leave it.
     const glm::dvec3 a(line.front()), b(line.back());
@@ -120,7 +120,8 @@ TEST(Tracking, LengthLimits) {
 // limit lets through.
 TEST(Tracking, AngleLimitStopsSharpTurns) {
   TensorField f = constantField(40, 0, 0);
-  const dtf::SymTensor ty = dtf::SymTensor::fromMat(0.3e-3 * glm::dmat3(1.0) + 1.4e-3 * glm::outerProduct(glm::dvec3(0, 1, 0), glm::dvec3(0, 1, 0)));
+  const dtf::SymTensor ty = dtf::SymTensor::fromMat(
+      0.3e-3 * glm::dmat3(1.0) + 1.4e-3 * glm::outerProduct(glm::dvec3(0, 1, 0), glm::dvec3(0, 1, 0)));
   for (int k = 0; k < 40; ++k)
     for (int j = 0; j < 40; ++j)
       for (int i = 0; i < 40; ++i)
@@ -132,13 +133,16 @@ TEST(Tracking, AngleLimitStopsSharpTurns) {
   o.maxAngleDeg = 89;
   auto stopped = dtf::surfaces::trackOne(f, glm::dvec3(-10.3, 0, 0), o);
   double maxX = -100, maxY = 0;
-  for (const auto& p : stopped) maxX = std::max(maxX, static_cast<double>(p.x)), maxY = std::max(maxY, std::abs(static_cast<double>(p.y)));
+  for (const auto& p : stopped)
+    maxX = std::max(maxX, static_cast<double>(p.x)),
+    maxY = std::max(maxY, std::abs(static_cast<double>(p.y)));
   EXPECT_NEAR(maxX, 0.7, 1e-5);
   EXPECT_LT(maxY, 1e-6);
   o.maxAngleDeg = 91;
   auto turned = dtf::surfaces::trackOne(f, glm::dvec3(-10.3, 0, 0), o);
   maxY = 0;
-  for (const auto& p : turned) maxY = std::max(maxY, std::abs(static_cast<double>(p.y)));
+  for (const auto& p : turned)
+    maxY = std::max(maxY, std::abs(static_cast<double>(p.y)));
   EXPECT_GT(maxY, 10.0);
 }
 
@@ -160,7 +164,8 @@ TEST(Tracking, SeedGenerators) {
   dtf::Mesh plane = dtf::surfaces::makeSlice(f.grid, dtf::surfaces::SliceAxis::Axial, 5);
   auto onSurface = dtf::surfaces::seedsOnSurface(plane, 3);
   const double z = f.grid.toWorld(glm::dvec3(0, 0, 5)).z;
-  for (std::uint64_t i = 0; i < 500; ++i) EXPECT_NEAR(onSurface.at(i).z, z, 1e-5);
+  for (std::uint64_t i = 0; i < 500; ++i)
+    EXPECT_NEAR(onSurface.at(i).z, z, 1e-5);
 
   auto slice = dtf::surfaces::seedsOnSlice(f, 1, 7, nullptr, 5);
   for (std::uint64_t i = 0; i < 500; ++i) {
@@ -179,7 +184,8 @@ TEST(Tracking, SeedGenerators) {
   for (std::uint64_t i = 0; i < 6; ++i) {
     glm::dvec3 v = f.grid.toVoxel(perVoxel.at(i));
     glm::dvec3 expect = i < 3 ? glm::dvec3(3, 4, 5) : glm::dvec3(10, 11, 12);
-    for (int a = 0; a < 3; ++a) EXPECT_LE(std::abs(v[a] - expect[a]), 0.5 + 1e-9);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_LE(std::abs(v[a] - expect[a]), 0.5 + 1e-9);
   }
   EXPECT_THROW(dtf::surfaces::seedsFromMask(dtf::MaskVolume(f.grid, 1), 1, 1), dtf::InputError);
 }
@@ -263,13 +269,15 @@ public:
         for (int dx = -1; dx <= 1; ++dx) {
           auto it = cells_.find(pack(c + glm::ivec3(dx, dy, dz)));
           if (it != cells_.end())
-            for (auto l : it->second) fn(l);
+            for (auto l : it->second)
+              fn(l);
         }
   }
 
 private:
   static std::int64_t pack(const glm::ivec3& c) {
-    return (static_cast<std::int64_t>(c.x + 4096) << 26) | (static_cast<std::int64_t>(c.y + 4096) << 13) | (c.z + 4096);
+    return (static_cast<std::int64_t>(c.x + 4096) << 26) | (static_cast<std::int64_t>(c.y + 4096) << 13) |
+           (c.z + 4096);
   }
   std::int64_t key(const glm::dvec3& p) const { return pack(glm::ivec3(glm::floor(p / cell_))); }
   double cell_;
@@ -309,7 +317,8 @@ std::vector<double> nearestStreamlineDistances(const Polylines& a, const Polylin
       });
     }
     std::vector<std::pair<int, std::uint32_t>> ranked;
-    for (auto l : touched) ranked.emplace_back(-hits[l], l), hits[l] = 0;
+    for (auto l : touched)
+      ranked.emplace_back(-hits[l], l), hits[l] = 0;
     std::sort(ranked.begin(), ranked.end());
     double best = 1e30;
     for (std::size_t c = 0; c < std::min<std::size_t>(12, ranked.size()); ++c)
@@ -335,7 +344,8 @@ TEST(TrackingRealData, ReproducesTheMrtrixReferenceBundles) {
   const TensorField field = dtf::io::readTensorVolume(tensorPath.string()).field;
   const dtf::ScalarVolume m = dtf::io::readScalarVolume(maskPath.string());
   dtf::MaskVolume mask(m.grid, 1);
-  for (std::size_t i = 0; i < m.data.size(); ++i) mask.data[i] = m.data[i] > 0;
+  for (std::size_t i = 0; i < m.data.size(); ++i)
+    mask.data[i] = m.data[i] > 0;
   const Polylines reference = dtf::io::readTck(tckPath.string());
 
   TrackingOptions o;
@@ -359,9 +369,11 @@ TEST(TrackingRealData, ReproducesTheMrtrixReferenceBundles) {
     return d[d.size() / 2];
   };
   const double refFrac = fractionBelow(refToOurs, 4.0), ourFrac = fractionBelow(oursToRef, 4.0);
-  std::printf("reference -> ours: median %.2f mm, %.1f%% < 3 mm, %.1f%% < 4 mm; ours -> reference: median %.2f mm, "
-              "%.1f%% < 4 mm\n",
-              medianOf(refToOurs), 100 * fractionBelow(refToOurs, 3.0), 100 * refFrac, medianOf(oursToRef), 100 * ourFrac);
+  std::printf(
+      "reference -> ours: median %.2f mm, %.1f%% < 3 mm, %.1f%% < 4 mm; ours -> reference: median %.2f mm, "
+      "%.1f%% < 4 mm\n",
+      medianOf(refToOurs), 100 * fractionBelow(refToOurs, 3.0), 100 * refFrac, medianOf(oursToRef),
+      100 * ourFrac);
   EXPECT_GE(refFrac, 0.8);
   EXPECT_GE(ourFrac, 0.8); // and we do not invent bundles MRtrix does not have
   EXPECT_LT(medianOf(refToOurs), 3.0);
