@@ -3,3 +3,4 @@ dtf_test(test_render_passes LABEL gl SOURCES gl/fabric_passes_test.cpp LIBS dtf_
 dtf_test(test_render_unit LABEL unit SOURCES gl/camera_noise_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_fabric LABEL gl SOURCES gl/fabric_render_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_baseline LABEL baseline SOURCES gl/baseline_test.cpp LIBS dtf_render dtf_surfaces dtf_io dtf_model)
+dtf_test(test_render_cli LABEL cli SOURCES gl/render_cli_test.cpp LIBS dtf_render dtf_io dtf_model)

@@ -1,0 +1,89 @@
+// `dtfabric render` end to end: writes a PNG, the same arguments give the same bytes, bad input and
+// usage give the documented exit codes (1 usage, 2 bad input).
+#include "support/gl_test.h"
+
+#include "io/png_io.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string output; // stdout and stderr
+};
+
+CliRun dtfabric(const std::string& args) {
+  // Not scratchDir(): that empties the test's directory on every call.
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  fs::path log = dtf::test::binaryDir() / "test_scratch" / (std::string("render_cli_") + info->name() + ".log");
+  fs::create_directories(log.parent_path());
+  std::string cmd = std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  int status = std::system(cmd.c_str());
+  CliRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  r.output.assign(std::istreambuf_iterator<char>(in), {});
+  return r;
+}
+
+std::string bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+const fs::path kPhantom = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
+
+} // namespace
+
+TEST(RenderCli, WritesTheSamePngTwice) {
+  DTF_GL_TEST_SETUP();
+  ASSERT_TRUE(fs::exists(kPhantom)) << kPhantom;
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path a = dir / "a.png", b = dir / "b.png";
+  const std::string common = kPhantom.string() + " --size 160x128 --surface fa=0.25 --view anterior --seed 3";
+  CliRun r1 = dtfabric("render " + common + " -o " + a.string());
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  CliRun r2 = dtfabric("render " + common + " -o " + b.string());
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  dtf::Image img = dtf::io::readPng(a.string());
+  EXPECT_EQ(img.width, 160);
+  EXPECT_EQ(img.height, 128);
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < img.rgba.size(); i += 4) lit += (img.rgba[i] | img.rgba[i + 1] | img.rgba[i + 2]) != 0;
+  EXPECT_GT(lit, img.rgba.size() / 4 / 10); // something was drawn
+  EXPECT_EQ(bytes(a), bytes(b));
+  // Another seed gives another texture.
+  CliRun r3 = dtfabric("render " + kPhantom.string() + " --size 160x128 --surface fa=0.25 --view anterior --seed 4 -o " +
+                    (dir / "c.png").string());
+  ASSERT_EQ(r3.code, 0) << r3.output;
+  EXPECT_NE(bytes(a), bytes(dir / "c.png"));
+}
+
+TEST(RenderCli, HelpStatesTheViewConventions) {
+  CliRun r = dtfabric("render --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("RADIOLOGICAL"), std::string::npos);
+  EXPECT_NE(r.output.find("--neurological"), std::string::npos);
+}
+
+TEST(RenderCli, BadUsageAndInputGiveTheirExitCodes) {
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string out = " -o " + (dir / "x.png").string();
+  EXPECT_EQ(dtfabric("render " + kPhantom.string()).code, 1);                                // no -o
+  EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --color purple").code, 1);      // bad option value
+  EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --view oblique").code, 1);      // bad view
+  EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --size 0x0").code, 1);
+  EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --frobnicate 1").code, 1);      // unknown option
+  CliRun missing = dtfabric("render " + (dir / "missing.nii.gz").string() + out);
+  EXPECT_EQ(missing.code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("missing.nii.gz"), std::string::npos);
+  std::ofstream(dir / "garbage.nii.gz") << "not a nifti file";
+  EXPECT_EQ(dtfabric("render " + (dir / "garbage.nii.gz").string() + out).code, 2);
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
