@@ -107,6 +107,18 @@ double fractionalAnisotropy(const glm::dvec3& l) {
   return std::clamp(std::sqrt(0.5 * num / den), 0.0, 1.0);
 }
 
+double fractionalAnisotropy(const SymTensor& t) {
+  const double q = (static_cast<double>(t.xx) + t.yy + t.zz) / 3.0;
+  const double off = 2.0 * (static_cast<double>(t.xy) * t.xy + static_cast<double>(t.xz) * t.xz +
+                            static_cast<double>(t.yz) * t.yz);
+  const double dxx = t.xx - q, dyy = t.yy - q, dzz = t.zz - q;
+  const double norm2 = static_cast<double>(t.xx) * t.xx + static_cast<double>(t.yy) * t.yy +
+                       static_cast<double>(t.zz) * t.zz + off;
+  if (!(norm2 > 0)) return 0;
+  const double dev2 = dxx * dxx + dyy * dyy + dzz * dzz + off;
+  return std::clamp(std::sqrt(1.5 * dev2 / norm2), 0.0, 1.0);
+}
+
 double tensorMode(const glm::dmat3& d) {
   double q = (d[0][0] + d[1][1] + d[2][2]) / 3.0;
   glm::dmat3 dev = d - q * glm::dmat3(1.0);

@@ -42,6 +42,9 @@ struct TensorMetrics {
 
 TensorMetrics computeMetrics(const EigenSystem& e);
 double fractionalAnisotropy(const glm::dvec3& eigenvalues);
+// The same from the tensor's invariants, without an eigen-decomposition:
+// FA = sqrt(3/2) |D - tr(D)/3 I|_F / |D|_F (the hot path of FA maps).
+double fractionalAnisotropy(const SymTensor& t);
 // Tensor mode from the deviatoric part: 3*sqrt(6)*det(D~/|D~|).
 double tensorMode(const glm::dmat3& d);
 // Directionally encoded colour: |e1| (x red, y green, z blue) scaled by FA, each channel in [0, 1].

@@ -87,7 +87,7 @@ ScalarVolume computeFaMap(const TensorField& field) {
   parallelSlices(field.grid.dims.z, [&](int k) {
     for (std::size_t idx = slice * k; idx < slice * (k + 1); ++idx) {
       if (!field.valid[idx]) continue;
-      fa.data[idx] = static_cast<float>(fractionalAnisotropy(eigenDecompose(field.tensors[idx]).values));
+      fa.data[idx] = static_cast<float>(fractionalAnisotropy(field.tensors[idx]));
     }
   });
   return fa;

@@ -101,6 +101,17 @@ TEST(Metrics, ClosedForms) {
   EXPECT_EQ(computeMetrics(e).fa, 0.0);
 }
 
+TEST(Metrics, InvariantFaEqualsEigenvalueFa) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1e-3, 3e-3);
+  for (int trial = 0; trial < 500; ++trial) {
+    glm::dvec3 l(u(rng), u(rng), u(rng));
+    SymTensor t = SymTensor::fromMat(fromEigen(l, randomRotation(rng)));
+    EXPECT_NEAR(fractionalAnisotropy(t), fractionalAnisotropy(eigenDecompose(t).values), 1e-5);
+  }
+  EXPECT_EQ(fractionalAnisotropy(SymTensor{}), 0.0);
+}
+
 TEST(Metrics, DecColourFollowsPrincipalDirection) {
   EigenSystem e = eigenDecompose(glm::dmat3(1e-4, 0, 0, 0, 1e-4, 0, 0, 0, 2e-3)); // along z
   glm::dvec3 c = decColor(e, 0.8);
