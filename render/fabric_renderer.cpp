@@ -91,11 +91,12 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
 
   beginTimer(kSilhouette);
   const float background = view_.depthRange.y + (view_.depthRange.y - view_.depthRange.x) + 1.0f;
-  silhouette_.run(projection_.surface(), static_cast<float>(p.silhouettePixels) * view_.pixelMm, background);
-  if (!p.silhouette) silhouette_.clear();
+  // Without silhouettes the pass still marks the background, which the advection must not sample.
+  const float threshold = p.silhouette ? static_cast<float>(p.silhouettePixels) * view_.pixelMm : 3.0e38f;
+  silhouette_.run(projection_.surface(), threshold, background);
   endTimer();
 
-  if (restart) advection_.reset(projection_.vectors(), projection_.surface(), silhouette_.edges());
+  if (restart) advection_.reset(projection_.surface(), silhouette_.edges());
   dataChanged_ = false;
   lastViewProj_ = view_.viewProj;
   lastParams_ = p;
@@ -116,8 +117,8 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.depthColour = static_cast<float>(p.depthColour);
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
-  CompositeInputs in{&advection_.current(), &projection_.surface(), &silhouette_.edges(), &projection_.normal(),
-                     &projection_.eigen(),  &projection_.lambda(),  &projection_.depth()};
+  CompositeInputs in{&advection_.current(), &projection_.surface(), &silhouette_.edges(),
+                     &projection_.eigen(),    &projection_.lambda(),  &projection_.depth()};
   beginTimer(kComposite);
   composite_.run(in, view_, cs);
   endTimer();
@@ -128,7 +129,7 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   prepare(camera, p, restart);
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), projection_.surface(), silhouette_.edges(), as, p.iterations, true);
+  advection_.iterate(projection_.vectors(), as, p.iterations, true);
   endTimer();
   composite(p);
 }
@@ -152,7 +153,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), projection_.surface(), silhouette_.edges(), as, n, check);
+    advection_.iterate(projection_.vectors(), as, n, check);
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

@@ -1,9 +1,12 @@
 #include "render/fabric/advection_pass.h"
 
+#include <vector>
+
 namespace dtf::render {
 
 AdvectionPass::AdvectionPass()
-    : program_("common/fullscreen.vert", "fabric/advection.frag"), vao_(createVertexArray()),
+    : program_("common/fullscreen.vert", "fabric/advection.frag"),
+      reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}), vao_(createVertexArray()),
       counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
@@ -13,24 +16,26 @@ void AdvectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
   for (int i = 0; i < 2; ++i) {
-    state_[i] = Texture::create2D(GL_RG32F, target.x, target.y);
+    state_[i] = Texture::create2D(GL_RGBA32F, target.x, target.y);
     state_[i].setFilter(GL_LINEAR, GL_LINEAR);
+    state_[i].setWrap(GL_CLAMP_TO_BORDER); // outside the target: blocked
+    const float border[4] = {0, 0, 0, 1};
+    glTextureParameterfv(state_[i].id(), GL_TEXTURE_BORDER_COLOR, border);
     fbo_[i] = createFramebuffer();
     attachTargets(fbo_[i], {&state_[i]}, nullptr);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, 0, zero);
+    const float blocked[4] = {0, 0, 0, 1};
+    glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, 0, blocked);
   }
   current_ = 0;
 }
 
-void AdvectionPass::step(const Texture& vectors, const Texture& surface, const Texture& edges, float k,
-                         float stepPx, float epsilon, bool countChanges) {
+void AdvectionPass::step(const Texture& vectors, const AdvectionSettings& s, bool countChanges) {
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  program_.set("u_k", k);
-  program_.set("u_step", stepPx);
-  program_.set("u_epsilon", epsilon);
+  program_.set("u_k", s.k);
+  program_.set("u_step", s.stepPixels);
+  program_.set("u_epsilon", s.epsilon);
   program_.set("u_count", countChanges ? 1 : 0);
   if (countChanges) {
     const GLuint zero = 0;
@@ -40,6 +45,17 @@ void AdvectionPass::step(const Texture& vectors, const Texture& surface, const T
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
   glBindTextureUnit(0, state_[current_].id());
   glBindTextureUnit(1, vectors.id());
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  current_ = next;
+}
+
+void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
+  resize({surface.width(), surface.height()});
+  const int next = 1 - current_;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
+  glViewport(0, 0, size_.x, size_.y);
+  reset_.use();
   glBindTextureUnit(2, surface.id());
   glBindTextureUnit(3, edges.id());
   glBindVertexArray(vao_.id());
@@ -47,20 +63,19 @@ void AdvectionPass::step(const Texture& vectors, const Texture& surface, const T
   current_ = next;
 }
 
-void AdvectionPass::reset(const Texture& vectors, const Texture& surface, const Texture& edges) {
-  resize({surface.width(), surface.height()});
-  step(vectors, surface, edges, 1.0f, 0.0f, 0.0f, false);
+void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges) {
+  for (int i = 0; i < count; ++i) step(vectors, s, countChanges && i == count - 1);
 }
 
-void AdvectionPass::iterate(const Texture& vectors, const Texture& surface, const Texture& edges,
-                            const AdvectionSettings& s, int count, bool countChanges) {
-  resize({surface.width(), surface.height()});
-  for (int i = 0; i < count; ++i)
-    step(vectors, surface, edges, s.k, s.stepPixels, s.epsilon, countChanges && i == count - 1);
-}
-
-void AdvectionPass::setState(const float* rg) {
-  glTextureSubImage2D(state_[current_].id(), 0, 0, 0, size_.x, size_.y, GL_RG, GL_FLOAT, rg);
+void AdvectionPass::setFields(const float* rg) {
+  std::vector<float> rgba(static_cast<std::size_t>(size_.x) * size_.y * 4);
+  glGetTextureImage(state_[current_].id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)),
+                    rgba.data());
+  for (std::size_t i = 0; i < rgba.size() / 4; ++i) {
+    rgba[i * 4] = rg[i * 2];
+    rgba[i * 4 + 1] = rg[i * 2 + 1];
+  }
+  glTextureSubImage2D(state_[current_].id(), 0, 0, 0, size_.x, size_.y, GL_RGBA, GL_FLOAT, rgba.data());
 }
 
 unsigned AdvectionPass::changedPixels() const {

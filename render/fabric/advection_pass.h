@@ -1,8 +1,10 @@
 // Pass 3 of the fabric (paper §2.5, Eq. 12): iterative advection of the mapped noise beta along both
-// image-space eigenvector fields at once, ping-ponging two RG32F textures. The state persists between
-// frames (the paper runs 3 iterations per frame and continues next frame); reset() restarts from beta.
-//   inputs : projection vectors and surface (beta, coverage), silhouette edges
-//   output : current() RG32F (p1, p2), the size of the guarded target
+// image-space eigenvector fields at once, ping-ponging two RGBA32F state textures (p1, p2, beta, blocked).
+// The state persists between frames (the paper runs 3 iterations per frame and continues next frame);
+// reset() restarts from beta and takes beta and the blocked pixels (silhouettes, background) from the
+// projection and silhouette passes.
+//   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
+//   output : current() RGBA32F (p1, p2, beta, blocked), the size of the guarded target
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
 #pragma once
@@ -24,21 +26,20 @@ class AdvectionPass {
 public:
   AdvectionPass();
   void resize(glm::ivec2 target);
-  // p_0 = beta on covered pixels (an iteration with k = 1).
-  void reset(const Texture& vectors, const Texture& surface, const Texture& edges);
+  // p_0 = beta on covered pixels; beta and the blocked flags are kept in the state.
+  void reset(const Texture& surface, const Texture& edges);
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set.
-  void iterate(const Texture& vectors, const Texture& surface, const Texture& edges,
-               const AdvectionSettings& settings, int count, bool countChanges = true);
+  void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true);
   const Texture& current() const { return state_[current_]; }
-  // Uploads an explicit state (tests: the "forgets its start" property). Values are (p1, p2) pairs.
-  void setState(const float* rg);
+  // Replaces p1, p2 of the current state, keeping beta and the blocked flags (tests: the "forgets its
+  // start" property). Values are (p1, p2) pairs in GL row order.
+  void setFields(const float* rg);
   // Pixels that changed by more than epsilon in the last counted iteration.
   unsigned changedPixels() const;
 
 private:
-  void step(const Texture& vectors, const Texture& surface, const Texture& edges, float k, float stepPx,
-            float epsilon, bool countChanges);
-  ShaderProgram program_;
+  void step(const Texture& vectors, const AdvectionSettings& s, bool countChanges);
+  ShaderProgram program_, reset_;
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2];

@@ -25,7 +25,6 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glBindTextureUnit(0, in.advected->id());
   glBindTextureUnit(1, in.surface->id());
   glBindTextureUnit(2, in.edges->id());
-  glBindTextureUnit(3, in.normal->id());
   glBindTextureUnit(4, in.eigen->id());
   glBindTextureUnit(5, in.lambda->id());
   glBindTextureUnit(6, in.depth->id());

@@ -27,6 +27,7 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   double halfH = camera.orthographic ? camera.orthoHalfHeight
                                      : dist * std::tan(0.5 * glm::radians(camera.fovYDeg));
   f.pixelMm = static_cast<float>(2.0 * halfH / std::max(viewport.y, 1));
+  f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(viewport.y, 1));
   float dmin = 1e30f, dmax = -1e30f;
   for (int i = 0; i < 8; ++i) {
     glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);

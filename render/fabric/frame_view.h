@@ -19,6 +19,7 @@ struct FrameView {
   glm::mat3 viewRot{1.0f};  // world -> eye rotation
   bool orthographic = true;
   float pixelMm = 1.0f;     // size of one pixel at the target distance, mm
+  float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth
   glm::vec2 depthRange{0.0f, 1.0f}; // linear eye depth of the scene bounds, mm
 
   // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range.

@@ -11,13 +11,12 @@ void ProjectionPass::resize(glm::ivec2 target) {
   size_ = target;
   vectors_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
-  normal_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
   eigen_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   depth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, target.x, target.y);
-  for (Texture* t : {&vectors_, &surface_, &normal_, &eigen_, &lambda_, &depth_}) t->setFilter(GL_NEAREST, GL_NEAREST);
+  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_}) t->setFilter(GL_NEAREST, GL_NEAREST);
   fbo_ = createFramebuffer();
-  attachTargets(fbo_, {&vectors_, &surface_, &normal_, &eigen_, &lambda_}, &depth_);
+  attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, &depth_);
 }
 
 void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
@@ -26,7 +25,7 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, size_.x, size_.y);
   const float zero[4] = {0, 0, 0, 0};
-  for (int i = 0; i < 5; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+  for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
   const float one = 1.0f;
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
   glEnable(GL_DEPTH_TEST);
@@ -42,6 +41,8 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   p.set("u_eps", 0.5f * view.pixelMm);
   p.set("u_degenerateTol", s.degenerateTol);
   p.set("u_orthographic", view.orthographic ? 1 : 0);
+  p.set("u_pixelMm", view.pixelMm);
+  p.set("u_pixelMmPerDepth", view.pixelMmPerDepth);
   p.set("u_noiseOrigin", s.noiseOrigin);
   p.set("u_lod", s.lod);
   p.set("u_noiseBlend", s.noiseBlend);

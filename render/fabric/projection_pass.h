@@ -3,11 +3,11 @@
 //   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
 //   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
-//            normal  RGBA16F (eye-space normal facing the camera, FA)
-//            eigen   RGBA16F (world principal eigenvector of T, lambda2'/lambda1')
+//            eigen   RGBA16F (world principal eigenvector of T (medical mode only), FA)
 //            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data)
 //            depth   DEPTH32F (window depth, for gl_FragDepth in the composite)
-// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage.
+// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage. The normal itself is
+// used here (projection, lighting, noise face) and not stored: no later pass needs it.
 #pragma once
 
 #include "render/fabric/frame_view.h"
@@ -35,7 +35,6 @@ public:
 
   const Texture& vectors() const { return vectors_; }
   const Texture& surface() const { return surface_; }
-  const Texture& normal() const { return normal_; }
   const Texture& eigen() const { return eigen_; }
   const Texture& lambda() const { return lambda_; }
   const Texture& depth() const { return depth_; }
@@ -44,7 +43,7 @@ public:
 private:
   ShaderProgram plain_, principal_;
   Framebuffer fbo_;
-  Texture vectors_, surface_, normal_, eigen_, lambda_, depth_;
+  Texture vectors_, surface_, eigen_, lambda_, depth_;
   glm::ivec2 size_{0};
 };
 

@@ -75,3 +75,26 @@ void eigenDecompose(mat3 a, out vec3 values, out mat3 vectors) {
   values = vec3(l1, l2, l3) * scale;
   vectors = mat3(v1, v2, v3);
 }
+
+// The 2x2 sub-problem alone, without trigonometry: eigenvectors of A restricted to the plane orthogonal to
+// the unit vector `axis` (larger first) and their eigenvalues. The eigenvector of the larger eigenvalue of
+// [[a, b], [b, c]] is (b, l1 - a) or (l1 - c, b), whichever is longer (the other may vanish). Returns
+// equal eigenvalues and an arbitrary basis when the plane problem is isotropic.
+void eigenPlaneValues(mat3 m, vec3 axis, out vec3 big, out vec3 small, out float l1, out float l2) {
+  vec3 u = eigenAnyOrthogonal(axis);
+  vec3 w = cross(axis, u);
+  vec3 mu = m * u, mw = m * w;
+  float a = dot(u, mu), b = dot(u, mw), c = dot(w, mw);
+  float h = 0.5 * (a - c);
+  float r = sqrt(h * h + b * b);
+  float mean = 0.5 * (a + c);
+  l1 = mean + r;
+  l2 = mean - r;
+  vec2 e0 = vec2(b, l1 - a), e1 = vec2(l1 - c, b);
+  float n0 = dot(e0, e0), n1 = dot(e1, e1);
+  vec2 e = n0 >= n1 ? e0 : e1;
+  float n = max(n0, n1);
+  e = n > 0.0 ? e * inversesqrt(n) : vec2(1.0, 0.0);
+  big = e.x * u + e.y * w;
+  small = cross(axis, big);
+}

@@ -10,8 +10,7 @@
 layout(binding = 0) uniform sampler2D u_advected;   // p1, p2
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
-layout(binding = 3) uniform sampler2D u_normal;     // eye normal, FA
-layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), lambda2'/lambda1'
+layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), FA
 layout(binding = 5) uniform sampler2D u_lambda;     // lambda1', lambda2', |e1.n|, data
 layout(binding = 6) uniform sampler2D u_depth;      // window depth of the projection pass
 
@@ -44,7 +43,7 @@ vec3 compose(ivec2 t) {
 #ifdef MEDICAL
   vec4 eig = texelFetch(u_eigen, t, 0);
   vec4 lam = texelFetch(u_lambda, t, 0);
-  float fa = texelFetch(u_normal, t, 0).a;
+  float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
   if (lam.w < 0.5) {
     c = u_noData * (0.6 + 0.4 * p1);
@@ -54,7 +53,8 @@ vec3 compose(ivec2 t) {
     vec3 base = mix(vec3(0.35), dec, smoothstep(0.05, 0.45, fa)) * (0.55 + 0.45 * smoothstep(0.05, 0.6, fa));
     vec3 primary = base * (0.25 + 1.1 * p1);
     // Secondary direction: where the in-plane eigenvalues are close or FA is low.
-    float w2 = max(smoothstep(u_secondaryRatio, 1.0, eig.w), 1.0 - smoothstep(0.0, u_secondaryFa, fa));
+    float ratio = lam.x > 0.0 ? clamp(lam.y / lam.x, 0.0, 1.0) : 1.0; // lambda2' / lambda1'
+    float w2 = max(smoothstep(u_secondaryRatio, 1.0, ratio), 1.0 - smoothstep(0.0, u_secondaryFa, fa));
     vec3 secondary = vec3(0.2 + 0.6 * p2) * (0.45 + 0.55 * clamp(fa * 2.0, 0.0, 1.0));
     float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
     c = mix(primary, mix(secondary, primary, onTop), w2);

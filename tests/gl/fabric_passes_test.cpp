@@ -46,41 +46,47 @@ std::vector<float> surfaceData(const std::vector<float>& beta, const std::vector
   return s;
 }
 
-// CPU reference of one Eq. 12 iteration with GL_LINEAR sampling and clamp-to-edge (advection.frag).
+// CPU reference of one Eq. 12 iteration (advection.frag): bilinear sampling in pixel units; a sample whose
+// footprint touches a blocked texel (silhouette, off the surface, outside) is replaced by p_i(x); blocked
+// pixels keep their value.
 std::vector<float> advectReference(const std::vector<float>& prev, const std::vector<float>& vectors,
                                    const std::vector<float>& surface, const std::vector<float>& edges, int w, int h,
                                    float k, float step) {
-  auto covered = [&](int x, int y) { return surface[(static_cast<std::size_t>(y) * w + x) * 4 + 3] > 0.5f; };
-  auto blocked = [&](double px, double py) {
-    int x = static_cast<int>(std::floor(px)), y = static_cast<int>(std::floor(py));
+  auto blockedTexel = [&](int x, int y) {
     if (x < 0 || y < 0 || x >= w || y >= h) return true;
-    return !covered(x, y) || edges[static_cast<std::size_t>(y) * w + x] > 0.5f;
+    std::size_t i = static_cast<std::size_t>(y) * w + x;
+    return surface[i * 4 + 3] < 0.5f || edges[i] > 0.5f;
   };
-  auto bilinear = [&](double px, double py, int c) {
+  // Returns false when the footprint touches a blocked texel.
+  auto bilinear = [&](double px, double py, int c, double& out) {
     double u = px - 0.5, v = py - 0.5;
     int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
     double fx = u - x0, fy = v - y0;
-    auto at = [&](int x, int y) {
-      x = std::clamp(x, 0, w - 1);
-      y = std::clamp(y, 0, h - 1);
-      return prev[(static_cast<std::size_t>(y) * w + x) * 2 + c];
-    };
-    return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+    double acc = 0;
+    for (int n = 0; n < 4; ++n) {
+      int x = x0 + (n & 1), y = y0 + (n >> 1);
+      double wgt = ((n & 1) ? fx : 1 - fx) * ((n >> 1) ? fy : 1 - fy);
+      if (wgt <= 0) continue;
+      if (blockedTexel(x, y)) return false;
+      acc += wgt * prev[(static_cast<std::size_t>(y) * w + x) * 2 + c];
+    }
+    out = acc;
+    return true;
   };
-  std::vector<float> out(prev.size(), 0.0f);
+  std::vector<float> out(prev);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       std::size_t i = static_cast<std::size_t>(y) * w + x;
-      if (!covered(x, y)) continue;
+      if (blockedTexel(x, y)) continue;
       double beta = surface[i * 4];
       for (int c = 0; c < 2; ++c) {
         double here = prev[i * 2 + c];
         double vx = vectors[i * 4 + 2 * c] * step, vy = vectors[i * 4 + 2 * c + 1] * step;
         double avg = here;
         if (vx != 0 || vy != 0) {
-          double cx = x + 0.5, cy = y + 0.5;
-          double a = blocked(cx + vx, cy + vy) ? here : bilinear(cx + vx, cy + vy, c);
-          double b = blocked(cx - vx, cy - vy) ? here : bilinear(cx - vx, cy - vy, c);
+          double cx = x + 0.5, cy = y + 0.5, a = here, b = here;
+          if (!bilinear(cx + vx, cy + vy, c, a)) a = here;
+          if (!bilinear(cx - vx, cy - vy, c, b)) b = here;
           avg = 0.5 * (a + b);
         }
         out[i * 2 + c] = static_cast<float>(k * beta + (1 - k) * avg);
@@ -281,7 +287,7 @@ TEST_F(FabricPass, DegenerateAndMissingTensorsGiveZeroVectorsAndNoNaN) {
   FrameView view = FrameView::make(cam, {kW, kH}, 0, {-50, -50, -1}, {50, 50, 1});
   ProjectionPass pass;
   pass.run(mesh, gpuField, noise, view, {});
-  for (const Texture* t : {&pass.vectors(), &pass.surface(), &pass.normal(), &pass.eigen(), &pass.lambda()}) {
+  for (const Texture* t : {&pass.vectors(), &pass.surface(), &pass.eigen(), &pass.lambda()}) {
     auto data = readTexture(*t, 4);
     for (float x : data) ASSERT_TRUE(std::isfinite(x));
   }
@@ -310,26 +316,30 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   Texture te = edgeTexture(edges, surface);
   vectors = readTexture(tv, 4); // the 16-bit values the GPU sees
   AdvectionPass pass;
-  pass.resize({kW, kH});
-  pass.setState(start.data());
+  pass.reset(ts, te);
+  pass.setFields(start.data());
   AdvectionSettings as{0.2f, 1.7f, 0.05f};
-  pass.iterate(tv, ts, te, as, 1);
-  auto gpu = readTexture(pass.current(), 2);
+  pass.iterate(tv, as, 1);
+  auto state = readTexture(pass.current(), 4);
   auto cpu = advectReference(start, vectors, surface, edges, kW, kH, as.k, as.stepPixels);
-  double maxErr = 0;
-  for (std::size_t i = 0; i < gpu.size(); ++i) maxErr = std::max(maxErr, double(std::abs(gpu[i] - cpu[i])));
-  EXPECT_LT(maxErr, 1e-2); // bilinear weights are 8-bit fixed point on most hardware
+  // Bilinear weights are 8-bit fixed point on most hardware: values agree to ~1e-2, and a footprint
+  // weight below 1/256 may round to zero, which decides "blocked" differently on a few pixels.
+  int off = 0;
+  for (std::size_t i = 0; i < cpu.size() / 2; ++i)
+    for (int c = 0; c < 2; ++c) off += std::abs(state[i * 4 + c] - cpu[i * 2 + c]) > 1e-2;
+  EXPECT_LT(off, kW * kH / 100) << off << " values differ";
+  for (std::size_t i = 0; i < cpu.size() / 2; ++i) EXPECT_EQ(state[i * 4 + 2], mask[i] ? beta[i] : 0.0f);
   unsigned changed = pass.changedPixels();
   // Covered pixels whose change clearly exceeds / clearly stays below epsilon bound the GPU count.
   unsigned surely = 0, possibly = 0;
   for (std::size_t i = 0; i < cpu.size() / 2; ++i) {
-    if (!mask[i]) continue;
+    if (!mask[i] || edges[i] > 0.5f) continue;
     double d = std::max(std::abs(cpu[i * 2] - start[i * 2]), std::abs(cpu[i * 2 + 1] - start[i * 2 + 1]));
     surely += d > 0.05 + 1e-2;
     possibly += d > 0.05 - 1e-2;
   }
-  EXPECT_GE(changed, surely);
-  EXPECT_LE(changed, possibly);
+  EXPECT_GE(changed, surely - static_cast<unsigned>(off));
+  EXPECT_LE(changed, possibly + static_cast<unsigned>(off));
   EXPECT_GT(surely, 100u);
 }
 
@@ -340,17 +350,17 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
   Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zero), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = edgeTexture(edges, surface);
   AdvectionPass pass;
-  pass.resize({kW, kH});
+  pass.reset(ts, te);
   std::vector<float> start(beta.size() * 2, 1.0f);
-  pass.setState(start.data());
+  pass.setFields(start.data());
   const float k = 0.25f;
-  pass.iterate(tv, ts, te, {k, 2.0f, 0.05f}, 20);
+  pass.iterate(tv, {k, 2.0f, 0.05f}, 20);
   auto p = readTexture(pass.current(), 2);
   // p_n = beta + (1 - k)^n (p_0 - beta) exactly when v = 0.
   for (std::size_t i = 0; i < beta.size(); ++i)
     for (int c = 0; c < 2; ++c)
       EXPECT_NEAR(p[i * 2 + c], beta[i] + std::pow(1 - k, 20) * (1 - beta[i]), 1e-5);
-  pass.iterate(tv, ts, te, {k, 2.0f, 0.05f}, 40);
+  pass.iterate(tv, {k, 2.0f, 0.05f}, 40);
   p = readTexture(pass.current(), 2);
   for (std::size_t i = 0; i < beta.size(); ++i) EXPECT_NEAR(p[i * 2], beta[i], 1e-5);
   EXPECT_EQ(pass.changedPixels(), 0u);
@@ -368,8 +378,8 @@ TEST_F(FabricPass, AdvectionIsSymmetricUnderVectorNegation) {
   for (int s = 0; s < 2; ++s) {
     Texture tv = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, s ? negated : vectors);
     AdvectionPass pass;
-    pass.reset(tv, ts, te);
-    pass.iterate(tv, ts, te, {0.1f, 2.0f, 0.05f}, 15);
+    pass.reset(ts, te);
+    pass.iterate(tv, {0.1f, 2.0f, 0.05f}, 15);
     results[s] = readTexture(pass.current(), 2);
   }
   for (std::size_t i = 0; i < results[0].size(); ++i) EXPECT_NEAR(results[0][i], results[1][i], 1e-5);
@@ -387,10 +397,10 @@ TEST_F(FabricPass, AdvectionForgetsItsStartAsOneMinusKToTheN) {
   std::vector<float> out[2];
   for (int s = 0; s < 2; ++s) {
     AdvectionPass pass;
-    pass.resize({kW, kH});
+    pass.reset(ts, te);
     std::vector<float> start(beta.size() * 2, s ? 1.0f : 0.0f);
-    pass.setState(start.data());
-    pass.iterate(tv, ts, te, {k, 1.5f, 0.05f}, n);
+    pass.setFields(start.data());
+    pass.iterate(tv, {k, 1.5f, 0.05f}, n);
     out[s] = readTexture(pass.current(), 2);
   }
   // The map is affine in p with a stochastic (averaging) linear part scaled by 1 - k: two starts differing
@@ -478,7 +488,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   FrameView view;
   view.viewport = {kW, kH};
   view.target = {kW, kH};
-  pass.run({&ta, &ts, &te, &tz, &tz, &tz, &td}, view, cs);
+  pass.run({&ta, &ts, &te, &tz, &tz, &td}, view, cs);
   auto c = readTexture(out, 4);
   for (std::size_t i = 0; i < beta.size(); ++i) {
     double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);
