@@ -414,3 +414,44 @@ TEST(TractIoRealData, RealTractsLandInsideTheBrainMask) {
   // A wrong frame (e.g. ignoring the LAS flip) would put about half the points outside.
   EXPECT_GE(static_cast<double>(strictlyInside) / static_cast<double>(tck.points.size()), 0.9);
 }
+
+// Every truncation and a deterministic set of byte corruptions of small valid files: the readers either
+// return finite points with consistent offsets or throw InputError, never anything else.
+TEST(TractIo, CorruptedFilesNeverCrash) {
+  auto dir = dtf::test::scratchDir();
+  Polylines small;
+  small.offsets = {0, 3, 5};
+  small.points = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {-1, -2, -3}, {10, 20, 30}};
+  dtf::io::writeTck((dir / "s.tck").string(), small);
+  dtf::io::writeTrk((dir / "s.trk").string(), small, lasGrid());
+  std::size_t refused = 0, read = 0;
+  for (const char* name : {"s.tck", "s.trk"}) {
+    const std::string good = readBytes(dir / name);
+    const fs::path p = dir / (std::string("c_") + name);
+    auto attempt = [&](const std::string& bytes) {
+      writeBytes(p, bytes);
+      try {
+        Polylines l = dtf::app::readTracts(p.string());
+        ASSERT_FALSE(l.offsets.empty());
+        ASSERT_EQ(l.offsets.back(), l.points.size());
+        for (const auto& q : l.points)
+          ASSERT_TRUE(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z));
+        ++read;
+      } catch (const InputError&) {
+        ++refused;
+      }
+    };
+    for (std::size_t n = 0; n < good.size(); ++n)
+      attempt(good.substr(0, n));
+    std::uint32_t state = 12345;
+    for (int k = 0; k < 1500; ++k) {
+      state = state * 1664525u + 1013904223u;
+      std::string b = good;
+      const std::size_t at = (state >> 8) % b.size();
+      b[at] = static_cast<char>(state >> 24);
+      attempt(b);
+    }
+  }
+  EXPECT_GT(refused, 0u);
+  EXPECT_GT(read, 0u);
+}
