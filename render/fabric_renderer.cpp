@@ -76,6 +76,11 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
     }
   }
   view_ = FrameView::make(camera, size_, std::max(p.guard, 0), mesh_.boundsLo(), mesh_.boundsHi());
+  const bool moving = view_.viewProjViewport != lastCameraViewProj_;
+  lastCameraViewProj_ = view_.viewProjViewport;
+  if (moving && !still_ && p.movingScale < 1.0)
+    view_ = FrameView::make(camera, size_, std::max(p.guard, 0), mesh_.boundsLo(), mesh_.boundsHi(),
+                            static_cast<float>(p.movingScale));
   restart = dataChanged_ || view_.viewProj != lastViewProj_ || stateKey(p) != stateKey(lastParams_);
 
   ProjectionSettings ps;
@@ -137,7 +142,9 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
 Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   bool restart = false;
   dataChanged_ = true; // a still always starts from beta: same arguments, same image
+  still_ = true;
   prepare(camera, p, restart);
+  still_ = false;
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
   const unsigned covered = coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,

@@ -47,6 +47,7 @@ struct FabricParams {
   int stillMaxIterations = 100;       // renderStill: iteration cap
   double stillChangedFraction = 0.002; // renderStill: stop when fewer covered pixels than this changed
   float fadeOutOfPlane = 0.0f;
+  double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
 };
 
 // GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).
@@ -118,8 +119,10 @@ private:
   bool timing_ = false;
   bool dataChanged_ = true;
   glm::mat4 lastViewProj_{0.0f};
+  glm::mat4 lastCameraViewProj_{0.0f}; // viewport matrix of the last frame: tells a moving camera
   FabricParams lastParams_;
   int lastIterations_ = 0;
+  bool still_ = false;
 };
 
 } // namespace dtf::render

@@ -9,6 +9,7 @@ CompositePass::CompositePass()
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
   const ShaderProgram& p = s.mode == ColourMode::Medical ? medical_ : engineering_;
   glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
+  p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
   p.set("u_r", s.r);
   p.set("u_contrast", s.contrast);
   p.set("u_lightWeight", s.lightWeight);

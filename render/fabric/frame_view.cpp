@@ -6,18 +6,20 @@
 namespace dtf::render {
 
 FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
-                          const glm::vec3& hi) {
+                          const glm::vec3& hi, float scale) {
   FrameView f;
   f.viewport = viewport;
+  f.scale = std::clamp(scale, 0.1f, 1.0f);
+  f.internal = glm::max(glm::ivec2(glm::round(glm::vec2(viewport) * f.scale)), glm::ivec2(1));
   f.guard = guard;
-  f.target = viewport + 2 * guard;
+  f.target = f.internal + 2 * guard;
   const double aspect = double(viewport.x) / std::max(viewport.y, 1);
   glm::dmat4 view = camera.view();
   glm::dmat4 proj = camera.projection(aspect);
   // The guarded target sees more of the scene at the same pixel scale: shrink NDC by viewport/target.
   glm::dmat4 shrink(1.0);
-  shrink[0][0] = double(viewport.x) / f.target.x;
-  shrink[1][1] = double(viewport.y) / f.target.y;
+  shrink[0][0] = double(f.internal.x) / f.target.x;
+  shrink[1][1] = double(f.internal.y) / f.target.y;
   f.view = glm::mat4(view);
   f.viewProj = glm::mat4(shrink * proj * view);
   f.viewProjViewport = glm::mat4(proj * view);
@@ -26,8 +28,9 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   double dist = glm::length(camera.target - camera.eye);
   double halfH = camera.orthographic ? camera.orthoHalfHeight
                                      : dist * std::tan(0.5 * glm::radians(camera.fovYDeg));
-  f.pixelMm = static_cast<float>(2.0 * halfH / std::max(viewport.y, 1));
-  f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(viewport.y, 1));
+  // Sizes of one internal pixel.
+  f.pixelMm = static_cast<float>(2.0 * halfH / std::max(f.internal.y, 1));
+  f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(f.internal.y, 1));
   float dmin = 1e30f, dmax = -1e30f;
   for (int i = 0; i < 8; ++i) {
     glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);

@@ -11,8 +11,10 @@ namespace dtf::render {
 
 struct FrameView {
   glm::ivec2 viewport{0};   // output size in pixels
+  glm::ivec2 internal{0};   // size the fabric is computed at (viewport * scale)
+  float scale = 1.0f;       // internal / viewport resolution (< 1: lower resolution while moving)
   int guard = 0;            // border added on each side of the internal targets
-  glm::ivec2 target{0};     // viewport + 2 guard
+  glm::ivec2 target{0};     // internal + 2 guard
   glm::mat4 view{1.0f};     // world -> eye
   glm::mat4 viewProj{1.0f}; // world -> clip of the guarded target
   glm::mat4 viewProjViewport{1.0f}; // world -> clip of the viewport alone
@@ -22,9 +24,10 @@ struct FrameView {
   float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth
   glm::vec2 depthRange{0.0f, 1.0f}; // linear eye depth of the scene bounds, mm
 
-  // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range.
+  // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range;
+  // the fabric targets are computed at `scale` times the viewport resolution.
   static FrameView make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
-                        const glm::vec3& hi);
+                        const glm::vec3& hi, float scale = 1.0f);
 };
 
 } // namespace dtf::render

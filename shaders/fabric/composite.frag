@@ -15,6 +15,7 @@ layout(binding = 5) uniform sampler2D u_lambda;     // lambda1', lambda2', |e1.n
 layout(binding = 6) uniform sampler2D u_depth;      // window depth of the projection pass
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
+uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
 uniform float u_r = 0.5;      // blend between the two directions (Eq. 13)
 uniform float u_contrast = 1.0; // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = Eq. 13 on the raw fields
 uniform float u_lightWeight = 0.5; // engineering: light(L) = weight * L
@@ -77,7 +78,7 @@ vec3 compose(ivec2 t) {
 }
 
 void main() {
-  ivec2 t = ivec2(gl_FragCoord.xy) + u_guard;
+  ivec2 t = ivec2(gl_FragCoord.xy * u_scale) + u_guard;
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) discard;
   vec3 c = compose(t);

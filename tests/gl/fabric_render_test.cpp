@@ -118,4 +118,15 @@ TEST_F(FabricRender, InteractiveFramesContinueAndRestartOnCameraMotion) {
   Image moved = r.readback();
   EXPECT_NE(still.rgba, moved.rgba);
   EXPECT_TRUE(r.projection().size() == glm::ivec2(96 + 2 * p.guard, 96 + 2 * p.guard));
+  // Lower internal resolution while moving; full resolution again once the camera stops.
+  p.movingScale = 0.5;
+  cam.trackball({0, 0}, {0.05, 0});
+  r.renderFrame(cam, p);
+  EXPECT_TRUE(r.projection().size() == glm::ivec2(48 + 2 * p.guard, 48 + 2 * p.guard));
+  Image half = r.readback();
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < half.rgba.size(); i += 4) lit += (half.rgba[i] | half.rgba[i + 1]) != 0;
+  EXPECT_GT(lit, half.rgba.size() / 4 / 2);
+  r.renderFrame(cam, p);
+  EXPECT_TRUE(r.projection().size() == glm::ivec2(96 + 2 * p.guard, 96 + 2 * p.guard));
 }
