@@ -63,6 +63,7 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, Screenshot>) return (a.sceneOnly ? "Screenshot scene " : "Screenshot ") + a.path;
         else if constexpr (std::is_same_v<T, SaveCamera>) return "SaveCamera " + a.path;
         else if constexpr (std::is_same_v<T, LoadCamera>) return "LoadCamera " + a.path;
+        else if constexpr (std::is_same_v<T, LoadTracts>) return "LoadTracts " + a.path;
         else if constexpr (std::is_same_v<T, DismissError>) return "DismissError";
         else return "Quit";
       },

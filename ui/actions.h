@@ -86,12 +86,16 @@ struct SaveCamera {
 struct LoadCamera {
   std::string path;
 };
+// Streamlines (.tck, .trk, .vtk) to load and list; they are not drawn yet.
+struct LoadTracts {
+  std::string path;
+};
 struct DismissError {};
 struct Quit {};
 
 using Action = std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams,
                             SetView, SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate,
-                            Pan, Zoom, Screenshot, SaveCamera, LoadCamera, DismissError, Quit>;
+                            Pan, Zoom, Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

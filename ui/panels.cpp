@@ -13,11 +13,13 @@ const std::array<const char*, 5> kLayoutNames = {"auto", "fsl", "mrtrix", "symma
 
 namespace {
 
-// Records the centre of the last widget for tests (PanelBuffers::itemCentres).
+// Records the centre of the last widget for tests (PanelBuffers::itemCentres): of its frame, without the
+// label that sliders and combos draw to the right of it.
 void probe(PanelBuffers& b, const char* label) {
   if (!b.itemCentres) return;
-  ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-  (*b.itemCentres)[label] = {0.5f * (lo.x + hi.x), 0.5f * (lo.y + hi.y)};
+  const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+  const float right = std::min(hi.x, lo.x + ImGui::CalcItemWidth());
+  (*b.itemCentres)[label] = {0.5f * (lo.x + right), 0.5f * (lo.y + hi.y)};
 }
 
 bool sliderDouble(const char* label, double& v, float lo, float hi, const char* format, bool logarithmic = false) {
@@ -99,12 +101,14 @@ void surfacePanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   probe(b, "FA threshold");
   ImGui::EndDisabled();
 
-  static const char* const axes[] = {"axial", "coronal", "sagittal"};
+  // "##slice" keeps the IDs apart from the View panel's axial/coronal/sagittal buttons.
+  static const char* const axes[] = {"axial##slice", "coronal##slice", "sagittal##slice"};
+  static const char* const probes[] = {"axial slice", "coronal slice", "sagittal slice"};
   for (int a = 0; a < 3; ++a) {
     ImGui::BeginDisabled(sliceAxisOf(s.surface) != a);
     int idx = s.slice[a];
     if (ImGui::SliderInt(axes[a], &idx, 0, std::max(s.sliceCount[a] - 1, 0))) out.push_back(SetSlice{a, idx});
-    probe(b, axes[a]);
+    probe(b, probes[a]);
     ImGui::EndDisabled();
   }
 
@@ -190,6 +194,24 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (ImGui::Button("Load camera")) out.push_back(LoadCamera{b.cameraPath.data()});
 }
 
+void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  if (!ImGui::CollapsingHeader("Tracts")) return;
+  const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  const bool load = ImGui::Button("Load tracts");
+  probe(b, "Load tracts");
+  if ((enter || load) && b.tractPath[0] != '\0') out.push_back(LoadTracts{b.tractPath.data()});
+  if (s.tractsLoading) ImGui::TextDisabled("loading...");
+  if (s.tractPath.empty()) {
+    ImGui::TextDisabled(".tck, .trk or .vtk streamlines (world RAS mm)");
+    return;
+  }
+  ImGui::TextWrapped("%s", s.tractPath.c_str());
+  ImGui::Text("%zu streamlines, %zu points", s.tractCount, s.tractPoints);
+  ImGui::Text("mean length %.1f mm", s.tractMeanLengthMm);
+  ImGui::TextDisabled("(listed only: tracts are not drawn yet)");
+}
+
 void statusBar(const ViewerState& s, const PanelLayout& layout) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout.statusHeight));
@@ -250,6 +272,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   surfacePanel(s, b, out);
   fabricPanel(s, out);
   viewPanel(s, b, out);
+  tractsPanel(s, b, out);
   ImGui::PopItemWidth();
   ImGui::End();
   statusBar(s, layout);

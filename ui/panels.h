@@ -1,4 +1,4 @@
-// The viewer's Dear ImGui panels: Data, Surface, Fabric and View in a side bar, a status bar with the voxel
+// The viewer's Dear ImGui panels: Data, Surface, Fabric, View and Tracts in a side bar, a status bar with the voxel
 // under the cursor, a progress line for work on the worker thread and the error modal. Each panel reads the
 // ViewerState by const reference and appends what the user asked for to an ActionList; nothing is changed
 // here (the app's viewer performs the actions). Needs a current ImGui context inside NewFrame()/Render();
@@ -21,6 +21,7 @@ struct PanelBuffers {
   int layout = 0; // index into the layout names: auto, fsl, mrtrix, symmatrix, dtitk
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};
+  std::array<char, 1024> tractPath{};
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
   // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
   std::map<std::string, std::array<float, 2>>* itemCentres = nullptr;
@@ -39,6 +40,7 @@ void dataPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out)
 void surfacePanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void fabricPanel(const ViewerState& state, ActionList& out);
 void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+void tractsPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void statusBar(const ViewerState& state, const PanelLayout& layout);
 void errorModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 

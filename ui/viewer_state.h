@@ -67,7 +67,11 @@ struct ViewerState {
 
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles
-  std::size_t tractCount = 0;
+  // Loaded tracts (Tracts panel).
+  std::string tractPath;     // empty: none
+  bool tractsLoading = false;
+  std::size_t tractCount = 0, tractPoints = 0;
+  double tractMeanLengthMm = 0;
 };
 
 } // namespace dtf::ui
