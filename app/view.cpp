@@ -44,7 +44,7 @@ Options
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
   --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate, pan,
-                   zoom, view, split, linked, neurological, set, wait, screenshot (whole window, panels
+                   zoom, view, split, linked, neurological, set, tracts, wait, screenshot (whole window, panels
                    included), screenshot-scene (fabric panes only), camera-save, camera-load, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed.

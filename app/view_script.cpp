@@ -172,13 +172,15 @@ ScriptStep parseLine(const std::string& line, int number_) {
     step.command = ui::Action(ui::SaveCamera{pathArg("camera-save PATH")});
   } else if (c == "camera-load") {
     step.command = ui::Action(ui::LoadCamera{pathArg("camera-load PATH")});
+  } else if (c == "tracts") {
+    step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
   } else if (c == "quit") {
     expectArgs(w, 0, "quit");
     step.command = ui::Action(ui::Quit{});
   } else {
     throw LineError{"unknown command '" + c +
                     "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-                    "wait, screenshot, screenshot-scene, camera-save, camera-load, quit)"};
+                    "wait, screenshot, screenshot-scene, camera-save, camera-load, tracts, quit)"};
   }
   return step;
 }

@@ -18,6 +18,7 @@
 //   screenshot PATH           PNG of the whole window, panels included
 //   screenshot-scene PATH     PNG of the fabric panes only (no panels, no labels)
 //   camera-save PATH, camera-load PATH
+//   tracts PATH               load .tck/.trk/.vtk streamlines (listed in the Tracts panel)
 //   quit                      close the viewer
 // `#` starts a comment; blank lines are skipped.
 #pragma once

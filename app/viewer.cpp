@@ -1,6 +1,8 @@
 #include "app/viewer.h"
 
+#include "app/tract_files.h"
 #include "io/model/error.h"
+#include "io/model/log.h"
 #include "io/model/tensor.h"
 #include "render/gl_context.h"
 #include "surfaces/slices.h"
@@ -20,6 +22,7 @@ namespace {
 
 constexpr int kStillIterations = 12;        // advection iterations per frame once the camera is still
 constexpr double kMotionSeconds = 0.15;     // a camera change keeps frames interactive this long
+constexpr double kTargetFrameMs = 66;       // interactive frame time the resolution adapts to (15 fps)
 constexpr std::size_t kMaxRecent = 8;
 const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
 
@@ -67,6 +70,7 @@ unsigned boundOutput(int w, int h) {
 
 ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) {
   for (auto& r : renderers_) r = std::make_unique<render::FabricRenderer>();
+  for (auto& r : lowRes_) r = std::make_unique<render::FabricRenderer>();
   if (!surface.empty()) {
     try {
       applySpec(parseSurfaceSpec(surface));
@@ -92,7 +96,7 @@ void ViewerScene::addRecent(const std::string& path) {
   if (r.size() > kMaxRecent) r.resize(kMaxRecent);
 }
 
-bool ViewerScene::settled() const { return !worker_.busy() && !state_.busy; }
+bool ViewerScene::settled() const { return !worker_.busy() && !state_.busy && !state_.tractsLoading; }
 
 bool ViewerScene::converged() const {
   for (int p = 0; p < paneCount(); ++p)
@@ -216,6 +220,7 @@ void ViewerScene::loadFile(const ui::LoadFile& a) {
 
 void ViewerScene::setMesh(const Mesh& mesh) {
   for (auto& r : renderers_) r->setMesh(mesh);
+  for (auto& r : lowRes_) r->setMesh(mesh);
   hasMesh_ = true;
   ++meshSerial_;
   state_.triangles = mesh.triangleCount();
@@ -250,6 +255,7 @@ void ViewerScene::onResult(WorkerResult& r) {
       state_.slice[axis] = state_.sliceCount[axis] / 2;
     }
     for (auto& rr : renderers_) rr->setField(f);
+    for (auto& rr : lowRes_) rr->setField(f);
     hasField_ = true;
     hasMesh_ = false;
     state_.surfacePending = false;
@@ -289,6 +295,25 @@ void ViewerScene::update() {
       setError(currentError());
     }
   }
+  if (state_.tractsLoading && tracts_.valid() &&
+      tracts_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    state_.tractsLoading = false;
+    try {
+      const Polylines lines = tracts_.get();
+      state_.tractPath = pendingTractPath_;
+      state_.tractCount = lines.lineCount();
+      state_.tractPoints = lines.points.size();
+      double total = 0;
+      for (std::size_t l = 0; l < lines.lineCount(); ++l)
+        for (std::uint32_t i = lines.offsets[l] + 1; i < lines.offsets[l + 1]; ++i)
+          total += glm::length(lines.points[i] - lines.points[i - 1]);
+      state_.tractMeanLengthMm = lines.lineCount() ? total / lines.lineCount() : 0;
+      logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
+              std::to_string(state_.tractPoints) + " points");
+    } catch (...) {
+      setError(currentError());
+    }
+  }
   if (state_.busy) {
     worker_.loading(&state_.busyStage);
     state_.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - busySince_).count();
@@ -306,29 +331,47 @@ void ViewerScene::render(int width, int height) {
   if (!hasMesh_ || !hasField_) return;
   const auto now = std::chrono::steady_clock::now();
   const bool moving = interacting_ || std::chrono::duration<double>(now - lastMotion_).count() < kMotionSeconds;
+  if (moving && state_.frameMs > 0 && interactiveScale_ < 1.0) {
+    const double wanted = scale_ * std::clamp(std::sqrt(kTargetFrameMs / state_.frameMs), 0.7, 1.3);
+    scale_ = std::clamp(std::round(wanted * 8.0) / 8.0, 0.25, interactiveScale_);
+  }
   try {
     for (int p = 0; p < paneCount(); ++p) {
       if (!dirty_[p]) continue;
       const auto rect = paneRect(p);
-      render::FabricRenderer& r = renderer(p);
-      r.resize(rect[2], rect[3]);
       const render::Camera& cam = camera(p);
+      const bool low = moving && interactiveScale_ < 1.0;
+      const double scale = low ? scale_ : 1.0;
+      const glm::ivec2 size(std::max(1, static_cast<int>(rect[2] * scale)), std::max(1, static_cast<int>(rect[3] * scale)));
+      render::FabricRenderer& r = low ? *lowRes_[p] : renderer(p);
+      r.resize(size.x, size.y);
+      outputRenderer_[p] = &r;
+      outputSize_[p] = size;
       if (p == 1 && state_.secondPane == ui::SecondPane::Phong) {
         r.renderPhong(cam);
-        outputFbo_[p] = boundOutput(rect[2], rect[3]);
-        dirty_[p] = false;
+        outputFbo_[p] = boundOutput(size.x, size.y);
+        dirty_[p] = low;
         continue;
       }
       render::FabricParams params = state_.fabric;
       if (p == 1)
         params.colour = params.colour == render::ColourMode::Medical ? render::ColourMode::Engineering
                                                                       : render::ColourMode::Medical;
+      if (low) {
+        params.autoLodPixels *= scale;
+        params.stepPixels *= scale;
+        params.guard = std::max(1, static_cast<int>(params.guard * scale));
+      }
       if (!moving) params.iterations = std::max(params.iterations, kStillIterations);
       r.renderFrame(cam, params);
-      outputFbo_[p] = boundOutput(rect[2], rect[3]);
+      outputFbo_[p] = boundOutput(size.x, size.y);
       if (!outputFbo_[p]) throw GlError("the fabric renderer's output framebuffer was not left bound");
+      if (moving) {
+        iterationsSinceRestart_[p] = 0;
+        covered_[p] = 0;
+        continue;
+      }
       iterationsSinceRestart_[p] += params.iterations;
-      if (moving) continue;
       // Still: refine until almost no covered pixel changes by more than epsilon (the renderStill rule).
       if (covered_[p] == 0) covered_[p] = std::max(r.coveredPixels(), 1u);
       if (r.changedPixels() <= params.stillChangedFraction * covered_[p] ||
@@ -347,8 +390,10 @@ void ViewerScene::present(unsigned fbo, int x, int y) {
   for (int p = 0; p < paneCount(); ++p) {
     if (!outputFbo_[p] || !hasMesh_) continue;
     const auto rect = paneRect(p);
-    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, rect[2], rect[3], x + rect[0], y, x + rect[0] + rect[2],
-                           y + rect[3], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    const glm::ivec2 src = outputSize_[p];
+    const bool same = src.x == rect[2] && src.y == rect[3];
+    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, src.x, src.y, x + rect[0], y, x + rect[0] + rect[2], y + rect[3],
+                           GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
   }
 }
 
@@ -358,15 +403,19 @@ void ViewerScene::probe(double x, double y) {
   if (!hasMesh_ || !data_) return;
   const int p = paneAt(x);
   const auto rect = paneRect(p);
-  const int px = static_cast<int>(x) - rect[0], py = rect[3] - 1 - static_cast<int>(y);
-  if (!outputFbo_[p] || px < 0 || py < 0 || px >= rect[2] || py >= rect[3]) return;
+  if (!outputFbo_[p] || !outputRenderer_[p] || rect[2] < 1 || rect[3] < 1) return;
+  // Pixel of the output target (smaller than the pane after an interactive frame), y up.
+  const glm::ivec2 size = outputSize_[p];
+  const int px = static_cast<int>((x - rect[0]) * size.x / rect[2]);
+  const int py = size.y - 1 - static_cast<int>(y * size.y / rect[3]);
+  if (px < 0 || py < 0 || px >= size.x || py >= size.y) return;
   float depth = 1.0f;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, outputFbo_[p]);
   glReadPixels(px, py, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   if (!(depth < 1.0f)) return;
   // Unproject through the guarded target the renderer drew with (its depth is the output's depth).
-  const render::FrameView& v = renderers_[p]->frameView();
+  const render::FrameView& v = outputRenderer_[p]->frameView();
   const glm::dvec4 ndc(2.0 * (px + v.guard + 0.5) / v.target.x - 1.0, 2.0 * (py + v.guard + 0.5) / v.target.y - 1.0,
                        2.0 * depth - 1.0, 1.0);
   const glm::dvec4 w = glm::inverse(glm::dmat4(v.viewProj)) * ndc;
@@ -471,6 +520,19 @@ void ViewerScene::apply(const ui::Action& action) {
             cameraFor(-1) = readCameraFile(a.path);
             if (state_.linked) cameras_[1] = cameras_[0];
             cameraChanged();
+          } else if constexpr (std::is_same_v<T, ui::LoadTracts>) {
+            if (state_.tractsLoading) throw UsageError("tracts are still loading");
+            const std::string path = a.path;
+            state_.tractsLoading = true;
+            tracts_ = std::async(std::launch::async, [path] {
+              try {
+                return readTracts(path);
+              } catch (...) {
+                rethrowWithContext("while loading tracts " + path);
+              }
+            });
+            state_.tractPath.clear();
+            pendingTractPath_ = path;
           } else if constexpr (std::is_same_v<T, ui::DismissError>) {
             state_.errorChain.clear();
           }

@@ -14,8 +14,10 @@
 #include "ui/keymap.h"
 #include "ui/viewer_state.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <future>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,9 +45,18 @@ public:
   void probe(double x, double y);
   // Marks the camera as moving (mouse held) so frames stay interactive.
   void setInteracting(bool on) { interacting_ = on; }
+  // Interactive frames render at a fraction of the pane size (noise and step scaled with it, so the fabric
+  // keeps its size on screen) and are magnified by the blit; still frames are full size. The fraction adapts
+  // to the frame time (setFrameMs) between 1/4 and `s`, in steps of 1/8 so targets are rarely re-created.
+  // 1 = off.
+  void setInteractiveScale(double s) { interactiveScale_ = scale_ = std::clamp(s, 0.25, 1.0); }
+  // Renders every pane again on the next render() as if the camera had moved (benchmarks).
+  void redraw() { cameraChanged(); }
+  // Pane p's full-size renderer (pass timings in benchmarks).
+  render::FabricRenderer& paneRenderer(int p) { return *renderers_[p]; }
 
   const ui::ViewerState& state() const { return state_; }
-  // No load or extraction queued or running.
+  // No load, extraction or tract loading queued or running.
   bool settled() const;
   // Every pane reached still quality.
   bool converged() const;
@@ -85,7 +96,13 @@ private:
   std::string initialSurface_;
   SurfaceSpec otherSpec_;            // the spec behind SurfaceKind::Fibre / Other
   std::uint64_t nextId_ = 1, latestLoad_ = 0, latestSurface_ = 0;
-  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_;
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
+  std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr}; // what outputFbo_ belongs to
+  std::array<glm::ivec2, 2> outputSize_{};
+  double interactiveScale_ = 0.5, scale_ = 0.5;
+  std::future<Polylines> tracts_; // loading on its own thread
+  std::string pendingTractPath_;
   std::array<render::Camera, 2> cameras_;
   std::array<unsigned, 2> outputFbo_{0, 0};
   std::array<bool, 2> dirty_{true, true};
