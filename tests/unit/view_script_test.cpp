@@ -91,6 +91,13 @@ TEST(ViewScript, SetParamsApplyToFabricParams) {
   EXPECT_TRUE(p.silhouette);
 }
 
+TEST(ViewScript, TractsLineLoadsStreamlines) {
+  const ViewScript s = parseViewScript("tracts /data/cst left.tck\n", "t.txt");
+  ASSERT_EQ(s.steps.size(), 1u);
+  EXPECT_EQ(actionAt<ui::LoadTracts>(s, 0).path, "/data/cst left.tck");
+  EXPECT_NE(parseError("tracts").find("usage: tracts PATH"), std::string::npos);
+}
+
 TEST(ViewScript, EmptyAndCommentOnlyScriptsHaveNoSteps) {
   EXPECT_TRUE(parseViewScript("", "e.txt").steps.empty());
   EXPECT_TRUE(parseViewScript("# only\n   \n\t# comments\r\n", "e.txt").steps.empty());

@@ -172,3 +172,15 @@ TEST(ViewWindow, RuntimeErrorShowsModalAndExitCode2) {
   const Image win = dtf::io::readPng(shot(dir, "error.png"));
   EXPECT_EQ(win.width, 640);
 }
+
+TEST(ViewWindow, TractsAreLoadedAndCounted) {
+  DTF_WINDOW_TEST_SETUP();
+  DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(dir, "tracts " + tck.string() + "\nwait 2\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto at = r.err.find(tck.string() + ": ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const long count = std::strtol(r.err.c_str() + at + tck.string().size() + 2, nullptr, 10);
+  EXPECT_GT(count, 100) << r.err;
+}
