@@ -346,6 +346,9 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   } else if (affineFromVoxelOrder(info.voxelOrder, info.voxelSize, info.indexToWorld)) {
     logWarning(path + ": TrackVis header has no vox_to_ras; using voxel_order " + info.voxelOrder +
                " with voxel (0,0,0) at the origin");
+  } else if (!info.voxelOrder.empty()) {
+    throw InputError(path + ": bad TrackVis voxel_order '" + info.voxelOrder +
+                     "' and no vox_to_ras (orientation unknown)");
   } else {
     info.indexToWorld = glm::dmat4(1.0);
     for (int a = 0; a < 3; ++a)

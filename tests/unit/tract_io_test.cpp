@@ -251,6 +251,10 @@ TEST(TractIo, TrkV1BigEndianWithScalarsAndProperties) {
   EXPECT_NEAR(glm::length(l.points[0] - glm::vec3(0, 0, 0)), 0, 1e-6);
   EXPECT_NEAR(glm::length(l.points[1] - glm::vec3(-4, 2, 0)), 0, 1e-6);
   EXPECT_NEAR(glm::length(l.points[2] - glm::vec3(-2, 2, 2)), 0, 1e-6);
+  // Without vox_to_ras, an unreadable voxel_order leaves the orientation unknown: refused.
+  std::memcpy(body.data() + 948, "LQS", 3);
+  writeBytes(dir / "v1bad.trk", body);
+  expectInputError([&] { dtf::io::readTrk((dir / "v1bad.trk").string()); }, dir / "v1bad.trk", "voxel_order");
 }
 
 TEST(TractIo, VtkRoundTripAndDispatcher) {
