@@ -72,7 +72,7 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   return c;
 }
 
-Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames) {
+Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode) {
   Result res;
   res.name = c.name;
   res.triangles = c.mesh.triangleCount();
@@ -85,6 +85,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   render::Camera cam = render::Camera::standard(render::StandardView::Superior, lo, hi, double(width) / height);
   render::FabricParams p;
   p.iterations = 3;
+  p.colour = mode;
   // Zoom until about 3/4 of the viewport is covered (paper Table 1), measured on the composited image.
   auto coverage = [&] {
     Image img = r.readback();
@@ -153,6 +154,7 @@ int benchRender(const CommandArgs& argv) {
   Args args(argv, {"json", "help", "no-brain"});
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench render [--size 1024x768] [--frames N] [--json] [--no-brain] [--data DIR]\n"
+                "       [--color medical|engineering] [--only sphere_41k|sphere_572k|brain_fa025]\n"
                 "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
                 "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
                 "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n");
@@ -164,6 +166,10 @@ int benchRender(const CommandArgs& argv) {
   const int frames = args.getInt("frames", 10);
   if (frames < 1 || frames > 1000) throw UsageError("--frames must be in [1, 1000]");
   const bool noBrain = args.flag("no-brain");
+  const std::string colour = args.getOr("color", "medical");
+  if (colour != "medical" && colour != "engineering") throw UsageError("--color must be medical or engineering");
+  const auto mode = colour == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
+  const std::string only = args.getOr("only", "");
   const auto dataDir = args.get("data");
   args.finish();
 
@@ -175,7 +181,8 @@ int benchRender(const CommandArgs& argv) {
   if (!noBrain)
     if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
   std::vector<Result> results;
-  for (const auto& c : cases) results.push_back(runCase(renderer, c, width, height, frames));
+  for (const auto& c : cases)
+    if (only.empty() || c.name == only) results.push_back(runCase(renderer, c, width, height, frames, mode));
 
   if (json) {
     std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", ctx.description().c_str(),

@@ -4,7 +4,8 @@ namespace dtf::render {
 
 ProjectionPass::ProjectionPass()
     : plain_("fabric/projection.vert", "fabric/projection.frag"),
-      principal_("fabric/projection.vert", "fabric/projection.frag", {"WITH_PRINCIPAL"}) {}
+      principal_("fabric/projection.vert", "fabric/projection.frag", {"WITH_PRINCIPAL"}),
+      depthOnly_("fabric/projection.vert", "fabric/depth_only.frag") {}
 
 void ProjectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
@@ -47,10 +48,22 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   p.set("u_lod", s.lod);
   p.set("u_noiseBlend", s.noiseBlend);
   p.set("u_worldToTex", field.worldToTex());
+  if (s.depthPrepass && !field.empty()) {
+    depthOnly_.set("u_viewProj", view.viewProj);
+    depthOnly_.set("u_view", view.view);
+    depthOnly_.use();
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    mesh.draw();
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+  }
   p.use();
   field.bind();
   glBindTextureUnit(2, noise.id());
   if (!field.empty()) mesh.draw();
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 }
 

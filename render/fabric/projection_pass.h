@@ -23,6 +23,7 @@ struct ProjectionSettings {
   float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
   float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
   bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
+  bool depthPrepass = true;      // draw depth first so the projection shader runs once per visible pixel
 };
 
 class ProjectionPass {
@@ -41,7 +42,7 @@ public:
   glm::ivec2 size() const { return size_; }
 
 private:
-  ShaderProgram plain_, principal_;
+  ShaderProgram plain_, principal_, depthOnly_;
   Framebuffer fbo_;
   Texture vectors_, surface_, eigen_, lambda_, depth_;
   glm::ivec2 size_{0};

@@ -7,6 +7,9 @@ layout(location = 1) in vec3 a_normal;
 uniform mat4 u_viewProj; // world -> clip of the guarded target
 uniform mat4 u_view;     // world -> eye
 
+// Invariant: the depth pre-pass and the projection pass must produce bit-identical depths.
+invariant gl_Position;
+
 out vec3 v_world;
 out vec3 v_normal;
 out vec3 v_eye;

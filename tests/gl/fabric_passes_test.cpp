@@ -487,6 +487,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   cs.lightWeight = 0.4f;
   FrameView view;
   view.viewport = {kW, kH};
+  view.internal = {kW, kH};
   view.target = {kW, kH};
   pass.run({&ta, &ts, &te, &tz, &tz, &td}, view, cs);
   auto c = readTexture(out, 4);
