@@ -44,7 +44,7 @@ Options
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
   --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate, pan,
-                   zoom, view, split, linked, neurological, set, tracts, wait, screenshot (whole window, panels
+                   zoom, view, split, linked, neurological, set, probe, tracts, wait, screenshot (whole window, panels
                    included), screenshot-scene (fabric panes only), camera-save, camera-load, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed.
@@ -346,7 +346,9 @@ private:
       const ScriptStep& step = script_->steps[next_];
       const auto* action = std::get_if<ui::Action>(&step.command);
       const bool shot = action && std::holds_alternative<ui::Screenshot>(*action);
-      const bool ready = scene_->settled() && (!shot || scene_->converged());
+      const bool probe = std::holds_alternative<ScriptProbe>(step.command);
+      // Screenshots and probes read the rendered image: they wait for the fabric to converge.
+      const bool ready = scene_->settled() && (!(shot || probe) || scene_->converged());
       if (!ready) {
         if (!waitingSince_) waitingSince_ = now;
         if (std::chrono::duration<double>(now - *waitingSince_).count() < kStepTimeoutSeconds) return;
@@ -372,6 +374,15 @@ private:
       } else if (const auto* wait = std::get_if<ScriptWait>(&step.command)) {
         waitFrames_ = wait->frames;
         return;
+      } else if (const auto* at = std::get_if<ScriptProbe>(&step.command)) {
+        scene_->probe(at->x, at->y);
+        const ui::ProbeInfo& p = scene_->state().probe;
+        std::fprintf(stderr, "%s:%d: probe %g %g: ", script_->file.c_str(), step.line, at->x, at->y);
+        if (!p.onSurface) std::fprintf(stderr, "background\n");
+        else if (!p.inData) std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, outside the data\n", p.world.x, p.world.y, p.world.z);
+        else
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, voxel %d %d %d, FA %.4f, e1 %.3f %.3f %.3f\n", p.world.x,
+                       p.world.y, p.world.z, p.voxel.x, p.voxel.y, p.voxel.z, p.fa, p.e1.x, p.e1.y, p.e1.z);
       } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
         render::FabricParams p = scene_->state().fabric;
         applyScriptParam(p, *param);

@@ -172,6 +172,11 @@ ScriptStep parseLine(const std::string& line, int number_) {
     step.command = ui::Action(ui::SaveCamera{pathArg("camera-save PATH")});
   } else if (c == "camera-load") {
     step.command = ui::Action(ui::LoadCamera{pathArg("camera-load PATH")});
+  } else if (c == "probe") {
+    expectArgs(w, 2, "probe X Y");
+    const double x = number(w[1], "probe X"), y = number(w[2], "probe Y");
+    if (x < 0 || y < 0 || x > 1e5 || y > 1e5) throw LineError{"probe: pixel coordinates must be non-negative"};
+    step.command = ScriptProbe{x, y};
   } else if (c == "tracts") {
     step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
   } else if (c == "quit") {
@@ -180,7 +185,7 @@ ScriptStep parseLine(const std::string& line, int number_) {
   } else {
     throw LineError{"unknown command '" + c +
                     "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-                    "wait, screenshot, screenshot-scene, camera-save, camera-load, tracts, quit)"};
+                    "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, tracts, quit)"};
   }
   return step;
 }

@@ -18,6 +18,7 @@
 //   screenshot PATH           PNG of the whole window, panels included
 //   screenshot-scene PATH     PNG of the fabric panes only (no panels, no labels)
 //   camera-save PATH, camera-load PATH
+//   probe X Y                 print the status bar's voxel under scene pixel (X, Y) (y down) to stderr
 //   tracts PATH               load .tck/.trk/.vtk streamlines (listed in the Tracts panel)
 //   quit                      close the viewer
 // `#` starts a comment; blank lines are skipped.
@@ -36,6 +37,9 @@ namespace dtf::app {
 struct ScriptWait {
   int frames;
 };
+struct ScriptProbe {
+  double x, y; // scene pixels, y down
+};
 struct ScriptSetParam {
   std::string name; // canonical name from the list above
   double value;     // on/off -> 1/0, medical/engineering -> 0/1
@@ -43,7 +47,7 @@ struct ScriptSetParam {
 
 struct ScriptStep {
   int line = 0; // 1-based line in the file
-  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam> command;
+  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam, ScriptProbe> command;
 };
 
 struct ViewScript {

@@ -378,7 +378,8 @@ void ViewerScene::render(int width, int height) {
           iterationsSinceRestart_[p] >= std::max(params.stillMaxIterations, kStillIterations))
         dirty_[p] = false;
     }
-    render::checkGl("rendering the fabric");
+    static const std::string where = "rendering the fabric"; // no allocation per frame
+    render::checkGl(where);
   } catch (...) {
     dirty_.fill(false); // do not repeat a failing frame every frame
     setError("while rendering: " + currentError());

@@ -98,6 +98,13 @@ TEST(ViewScript, TractsLineLoadsStreamlines) {
   EXPECT_NE(parseError("tracts").find("usage: tracts PATH"), std::string::npos);
 }
 
+TEST(ViewScript, ProbeLineTakesScenePixels) {
+  const ViewScript s = parseViewScript("probe 10 20.5\n", "p.txt");
+  ASSERT_EQ(s.steps.size(), 1u);
+  EXPECT_DOUBLE_EQ(std::get<ScriptProbe>(s.steps[0].command).y, 20.5);
+  EXPECT_NE(parseError("probe -1 3").find("non-negative"), std::string::npos);
+}
+
 TEST(ViewScript, EmptyAndCommentOnlyScriptsHaveNoSteps) {
   EXPECT_TRUE(parseViewScript("", "e.txt").steps.empty());
   EXPECT_TRUE(parseViewScript("# only\n   \n\t# comments\r\n", "e.txt").steps.empty());

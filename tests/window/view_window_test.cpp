@@ -184,3 +184,34 @@ TEST(ViewWindow, TractsAreLoadedAndCounted) {
   const long count = std::strtol(r.err.c_str() + at + tck.string().size() + 2, nullptr, 10);
   EXPECT_GT(count, 100) << r.err;
 }
+
+TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  // The phantom: 48^3 voxels of 3.5 mm, RAS, voxel 0 at -82.25 mm. Axial view, scene 340x454: its centre
+  // lies on the middle axial slice (k = 24, z = 1.75 mm), then on slice 30 (z = 22.75 mm).
+  const auto r = runViewer(dir, "key A\nprobe 170 227\nprobe 2 2\nslice axial 30\nprobe 170 227\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto line = [&](int n) {
+    const std::string tag = "script.txt:" + std::to_string(n) + ": probe ";
+    const auto at = r.err.find(tag);
+    return at == std::string::npos ? std::string() : r.err.substr(at, r.err.find('\n', at) - at);
+  };
+  double x = 0, y = 0, z = 0;
+  int i = 0, j = 0, k = 0;
+  ASSERT_EQ(std::sscanf(line(2).c_str(), "script.txt:2: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y,
+                        &z, &i, &j, &k),
+            6)
+      << r.err;
+  EXPECT_NEAR(z, 1.75, 0.2);
+  EXPECT_EQ(k, 24);
+  EXPECT_NEAR(x, -82.25 + 3.5 * i, 1.75 + 1e-6);
+  EXPECT_NEAR(y, -82.25 + 3.5 * j, 1.75 + 1e-6);
+  EXPECT_NE(line(3).find("background"), std::string::npos) << r.err;
+  ASSERT_EQ(std::sscanf(line(5).c_str(), "script.txt:5: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y,
+                        &z, &i, &j, &k),
+            6)
+      << r.err;
+  EXPECT_NEAR(z, 22.75, 0.2);
+  EXPECT_EQ(k, 30);
+}
