@@ -4,16 +4,14 @@
 #include "app/args.h"
 #include "app/bench.h"
 #include "app/viewer.h"
-
 #include "io/model/error.h"
 #include "render/gl_context.h"
-
-#include <epoxy/gl.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <epoxy/gl.h>
 #include <numeric>
 #include <thread>
 
@@ -57,9 +55,10 @@ void waitSettled(ViewerScene& scene, double seconds) {
 int benchView(const CommandArgs& argv) {
   Args args(argv, {"json", "help"});
   if (args.flag("help")) {
-    std::printf("usage: dtfabric bench view [--data DIR] [--input TENSOR] [--size WxH] [--frames N] [--json]\n"
-                "Frame times of the viewer scene (headless) while sweeping the FA threshold and while rotating\n"
-                "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz).\n");
+    std::printf(
+        "usage: dtfabric bench view [--data DIR] [--input TENSOR] [--size WxH] [--frames N] [--json]\n"
+        "Frame times of the viewer scene (headless) while sweeping the FA threshold and while rotating\n"
+        "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz).\n");
     return 0;
   }
   const bool json = args.flag("json");
@@ -99,7 +98,8 @@ int benchView(const CommandArgs& argv) {
     return ms;
   };
   // Warm-up: converge once.
-  for (int i = 0; i < 300 && !scene.converged(); ++i) frame();
+  for (int i = 0; i < 300 && !scene.converged(); ++i)
+    frame();
 
   // Sweep: the slider moves every frame, as when dragged, for `frames` frames; extraction runs on the worker
   // meanwhile and each new surface restarts the fabric (interactive, then still refinement).
@@ -150,31 +150,39 @@ int benchView(const CommandArgs& argv) {
 
   const Stats sw = stats(sweepMs), ro = stats(rotateMs), rf = stats(rotateFullMs);
   if (json) {
-    std::printf("{\"input\": \"%s\", \"width\": %d, \"height\": %d, \"load_ms\": %.1f, \"triangles\": %zu, "
-                "\"sweep\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f, "
-                "\"surfaces_shown\": %llu, \"surfaces_per_s\": %.2f}, "
-                "\"rotate\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
-                "\"rotate_full_size\": {\"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
-                "\"passes_ms\": {\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f}, "
-                "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"gl\": \"%s\"}\n",
-                input.c_str(), width, height, loadMs, triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
-                static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds, ro.frames, ro.mean,
-                ro.median, ro.p95, ro.fps, rf.mean, rf.median, rf.p95, rf.fps, pt.projection, pt.silhouette, pt.advection,
-                pt.composite, stillFrames, stillMs, gl.description().c_str());
+    std::printf(
+        "{\"input\": \"%s\", \"width\": %d, \"height\": %d, \"load_ms\": %.1f, \"triangles\": %zu, "
+        "\"sweep\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": "
+        "%.1f, "
+        "\"surfaces_shown\": %llu, \"surfaces_per_s\": %.2f}, "
+        "\"rotate\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": "
+        "%.1f}, "
+        "\"rotate_full_size\": {\"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
+        "\"passes_ms\": {\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": "
+        "%.2f}, "
+        "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"gl\": \"%s\"}\n",
+        input.c_str(), width, height, loadMs, triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
+        static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds, ro.frames, ro.mean,
+        ro.median, ro.p95, ro.fps, rf.mean, rf.median, rf.p95, rf.fps, pt.projection, pt.silhouette,
+        pt.advection, pt.composite, stillFrames, stillMs, gl.description().c_str());
   } else {
     std::printf("bench view: %s at %dx%d (%s)\n", input.c_str(), width, height, gl.description().c_str());
     std::printf("  load + FA + sweeper + first surface: %.0f ms, %zu triangles\n", loadMs, triangles);
     std::printf("  %-8s %6s %9s %9s %9s %7s\n", "phase", "frames", "mean ms", "median", "p95", "fps");
-    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (%llu surfaces shown, %.2f/s)\n", "sweep", sw.frames, sw.mean,
-                sw.median, sw.p95, sw.fps, static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds);
-    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (interactive frames at adaptive size)\n", "rotate", ro.frames,
-                ro.mean, ro.median, ro.p95, ro.fps);
-    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (interactive frames at full size)\n", "rotate", rf.frames,
-                rf.mean, rf.median, rf.p95, rf.fps);
-    std::printf("  one full-size interactive frame, GPU ms: projection %.1f, silhouette %.1f, advection %.1f, "
-                "composite %.1f\n", pt.projection, pt.silhouette, pt.advection, pt.composite);
+    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (%llu surfaces shown, %.2f/s)\n", "sweep", sw.frames,
+                sw.mean, sw.median, sw.p95, sw.fps, static_cast<unsigned long long>(meshesShown),
+                meshesShown / sweepSeconds);
+    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (interactive frames at adaptive size)\n", "rotate",
+                ro.frames, ro.mean, ro.median, ro.p95, ro.fps);
+    std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (interactive frames at full size)\n", "rotate",
+                rf.frames, rf.mean, rf.median, rf.p95, rf.fps);
+    std::printf(
+        "  one full-size interactive frame, GPU ms: projection %.1f, silhouette %.1f, advection %.1f, "
+        "composite %.1f\n",
+        pt.projection, pt.silhouette, pt.advection, pt.composite);
     std::printf("  still: converged in %d frames, %.0f ms\n", stillFrames, stillMs);
-    std::printf("  goal: >= 15 fps while sweeping and rotating: %s\n", sw.fps >= 15 && ro.fps >= 15 ? "met" : "NOT met");
+    std::printf("  goal: >= 15 fps while sweeping and rotating: %s\n",
+                sw.fps >= 15 && ro.fps >= 15 ? "met" : "NOT met");
   }
   return 0;
 }

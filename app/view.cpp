@@ -6,23 +6,21 @@
 #include "app/surface_spec.h"
 #include "app/view_script.h"
 #include "app/viewer.h"
-
 #include "io/model/error.h"
 #include "io/png_io.h"
 #include "render/gl_context.h"
 #include "ui/panels.h"
 
-#include <epoxy/gl.h>
 #include <GLFW/glfw3.h>
-#include <imgui.h>
-#include <imgui_impl_glfw.h>
-#include <imgui_impl_opengl3.h>
-
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <epoxy/gl.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -43,9 +41,10 @@ Options
   --surface SPEC   first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
-  --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate, pan,
-                   zoom, view, split, linked, neurological, set, probe, tracts, wait, screenshot (whole window, panels
-                   included), screenshot-scene (fabric panes only), camera-save, camera-load, quit.
+  --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate,
+                   pan, zoom, view, split, linked, neurological, set, probe, tracts, wait, screenshot (whole
+                   window, panels included), screenshot-scene (fabric panes only), camera-save, camera-load,
+                   quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed.
 )";
@@ -73,15 +72,24 @@ void onScroll(GLFWwindow* w, double, double dy) {
 
 std::optional<ui::Key> mapKey(int key) {
   switch (key) {
-  case GLFW_KEY_UP: return ui::Key::Up;
-  case GLFW_KEY_DOWN: return ui::Key::Down;
-  case GLFW_KEY_PAGE_UP: return ui::Key::PageUp;
-  case GLFW_KEY_PAGE_DOWN: return ui::Key::PageDown;
-  case GLFW_KEY_A: return ui::Key::A;
-  case GLFW_KEY_C: return ui::Key::C;
-  case GLFW_KEY_S: return ui::Key::S;
-  case GLFW_KEY_R: return ui::Key::R;
-  default: return std::nullopt;
+  case GLFW_KEY_UP:
+    return ui::Key::Up;
+  case GLFW_KEY_DOWN:
+    return ui::Key::Down;
+  case GLFW_KEY_PAGE_UP:
+    return ui::Key::PageUp;
+  case GLFW_KEY_PAGE_DOWN:
+    return ui::Key::PageDown;
+  case GLFW_KEY_A:
+    return ui::Key::A;
+  case GLFW_KEY_C:
+    return ui::Key::C;
+  case GLFW_KEY_S:
+    return ui::Key::S;
+  case GLFW_KEY_R:
+    return ui::Key::R;
+  default:
+    return std::nullopt;
   }
 }
 
@@ -101,13 +109,17 @@ Image readFramebuffer(int x, int y, int w, int h) {
   glReadPixels(x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
   const std::size_t stride = static_cast<std::size_t>(w) * 4;
   for (int r = 0; r < h; ++r)
-    std::memcpy(&img.rgba[static_cast<std::size_t>(r) * stride], &rows[static_cast<std::size_t>(h - 1 - r) * stride], stride);
-  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+    std::memcpy(&img.rgba[static_cast<std::size_t>(r) * stride],
+                &rows[static_cast<std::size_t>(h - 1 - r) * stride], stride);
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4)
+    img.rgba[i] = 255;
   return img;
 }
 
 std::string glfwErrorText;
-void onGlfwError(int code, const char* text) { glfwErrorText = "GLFW error " + std::to_string(code) + ": " + text; }
+void onGlfwError(int code, const char* text) {
+  glfwErrorText = "GLFW error " + std::to_string(code) + ": " + text;
+}
 
 struct GlfwSession {
   GlfwSession() {
@@ -166,8 +178,10 @@ public:
     auto last = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(window_) && !quit_) {
       const bool idle = scene_->converged() && scene_->settled() && !dragging_ && !runningScript();
-      if (idle) glfwWaitEventsTimeout(0.25);
-      else glfwPollEvents();
+      if (idle)
+        glfwWaitEventsTimeout(0.25);
+      else
+        glfwPollEvents();
       frame();
       const auto now = std::chrono::steady_clock::now();
       scene_->setFrameMs(std::chrono::duration<double, std::milli>(now - last).count());
@@ -204,7 +218,8 @@ private:
     ui::drawPanels(scene_->state(), buffers_, layout_, actions_);
     drawOrientationLabels();
     ImGui::Render();
-    for (const auto& a : actions_) perform(a);
+    for (const auto& a : actions_)
+      perform(a);
 
     scene_->render(sceneW_, sceneH_);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -234,9 +249,12 @@ private:
   }
 
   void perform(const ui::Action& a) {
-    if (const auto* s = std::get_if<ui::Screenshot>(&a)) pendingShot_ = *s;
-    else if (std::holds_alternative<ui::Quit>(a)) quit_ = true;
-    else scene_->apply(a);
+    if (const auto* s = std::get_if<ui::Screenshot>(&a))
+      pendingShot_ = *s;
+    else if (std::holds_alternative<ui::Quit>(a))
+      quit_ = true;
+    else
+      scene_->apply(a);
   }
 
   bool inScene(double x, double y) const {
@@ -265,8 +283,10 @@ private:
     scene_->setInteracting(dragging_);
     if (dragging_ && (x != lastX_ || y != lastY_)) {
       const double dx = (x - lastX_) * scale_, dy = (y - lastY_) * scale_;
-      if (panning_) scene_->apply(ui::Pan{dx, dy, dragPane_});
-      else scene_->apply(ui::Rotate{dx, dy, dragPane_});
+      if (panning_)
+        scene_->apply(ui::Pan{dx, dy, dragPane_});
+      else
+        scene_->apply(ui::Rotate{dx, dy, dragPane_});
       lastX_ = x;
       lastY_ = y;
     }
@@ -275,7 +295,8 @@ private:
     input_.scroll = 0;
     for (std::size_t i = 0; i < input_.keyCount; ++i) {
       if (io.WantCaptureKeyboard) break;
-      if (input_.keys[i] == GLFW_KEY_ESCAPE && !scene_->state().errorChain.empty()) scene_->apply(ui::DismissError{});
+      if (input_.keys[i] == GLFW_KEY_ESCAPE && !scene_->state().errorChain.empty())
+        scene_->apply(ui::DismissError{});
       if (auto k = mapKey(input_.keys[i]); k && !(input_.mods[i] & (GLFW_MOD_CONTROL | GLFW_MOD_ALT)))
         scene_->applyKey(*k);
     }
@@ -324,7 +345,8 @@ private:
     if (scene_->errorSerial() == reportedErrors_) return;
     reportedErrors_ = scene_->errorSerial();
     std::string text;
-    for (const auto& link : scene_->state().errorChain) text += (text.empty() ? "" : ": ") + link;
+    for (const auto& link : scene_->state().errorChain)
+      text += (text.empty() ? "" : ": ") + link;
     if (script_) {
       std::cerr << script_->file << ":" << lastLine_ << ": error: " << text << "\n";
       scriptFailed_ = true;
@@ -352,8 +374,8 @@ private:
       if (!ready) {
         if (!waitingSince_) waitingSince_ = now;
         if (std::chrono::duration<double>(now - *waitingSince_).count() < kStepTimeoutSeconds) return;
-        std::cerr << script_->file << ":" << step.line << ": warning: still busy after " << kStepTimeoutSeconds
-                  << " s; going on\n";
+        std::cerr << script_->file << ":" << step.line << ": warning: still busy after "
+                  << kStepTimeoutSeconds << " s; going on\n";
       }
       waitingSince_.reset();
       // ImGui lays out a newly opened window (the error modal, say) one frame before drawing it.
@@ -378,11 +400,15 @@ private:
         scene_->probe(at->x, at->y);
         const ui::ProbeInfo& p = scene_->state().probe;
         std::fprintf(stderr, "%s:%d: probe %g %g: ", script_->file.c_str(), step.line, at->x, at->y);
-        if (!p.onSurface) std::fprintf(stderr, "background\n");
-        else if (!p.inData) std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, outside the data\n", p.world.x, p.world.y, p.world.z);
+        if (!p.onSurface)
+          std::fprintf(stderr, "background\n");
+        else if (!p.inData)
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, outside the data\n", p.world.x, p.world.y,
+                       p.world.z);
         else
-          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, voxel %d %d %d, FA %.4f, e1 %.3f %.3f %.3f\n", p.world.x,
-                       p.world.y, p.world.z, p.voxel.x, p.voxel.y, p.voxel.z, p.fa, p.e1.x, p.e1.y, p.e1.z);
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, voxel %d %d %d, FA %.4f, e1 %.3f %.3f %.3f\n",
+                       p.world.x, p.world.y, p.world.z, p.voxel.x, p.voxel.y, p.voxel.z, p.fa, p.e1.x, p.e1.y,
+                       p.e1.z);
       } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
         render::FabricParams p = scene_->state().fabric;
         applyScriptParam(p, *param);
@@ -446,7 +472,8 @@ int cmdView(const CommandArgs& argv) {
 
   GlfwSession glfw;
   ViewerWindow window(width, height, surface, script ? &*script : nullptr);
-  for (auto it = inputs.rbegin(); it != inputs.rend(); ++it) window.scene().addRecent(*it);
+  for (auto it = inputs.rbegin(); it != inputs.rend(); ++it)
+    window.scene().addRecent(*it);
   if (!inputs.empty()) {
     window.setOpenPath(inputs.front());
     window.scene().apply(ui::LoadFile{inputs.front(), layout});

@@ -27,14 +27,16 @@ std::string trim(const std::string& s) {
 std::vector<std::string> words(const std::string& s) {
   std::vector<std::string> w;
   std::istringstream in(s);
-  for (std::string t; in >> t;) w.push_back(t);
+  for (std::string t; in >> t;)
+    w.push_back(t);
   return w;
 }
 
 double number(const std::string& text, const std::string& what) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw LineError{what + ": '" + text + "' is not a number"};
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw LineError{what + ": '" + text + "' is not a number"};
   return v;
 }
 
@@ -60,11 +62,16 @@ ScriptSetParam parseParam(const std::string& name, const std::string& value) {
     double lo, hi;
     bool integral;
   };
-  static const Range ranges[] = {{"lod", 0, 1000, false},        {"k", 1e-4, 1, false},
-                                 {"iterations", 1, 1000, true},  {"epsilon", 1e-5, 1, false},
-                                 {"r", 0, 1, false},             {"sharpen", 0, 4, false},
-                                 {"depth-colour", 0, 1, false},  {"contrast", 0.1, 100, false},
-                                 {"step", 0.1, 16, false},       {"fade", 0, 1, false},
+  static const Range ranges[] = {{"lod", 0, 1000, false},
+                                 {"k", 1e-4, 1, false},
+                                 {"iterations", 1, 1000, true},
+                                 {"epsilon", 1e-5, 1, false},
+                                 {"r", 0, 1, false},
+                                 {"sharpen", 0, 4, false},
+                                 {"depth-colour", 0, 1, false},
+                                 {"contrast", 0.1, 100, false},
+                                 {"step", 0.1, 16, false},
+                                 {"fade", 0, 1, false},
                                  {"auto-lod-pixels", 8, 4096, false}};
   if (name == "colour" || name == "color") {
     if (value == "medical") return {"colour", 0};
@@ -76,12 +83,14 @@ ScriptSetParam parseParam(const std::string& name, const std::string& value) {
     if (name != r.name) continue;
     const double v = r.integral ? integer(value, name) : number(value, name);
     if (v < r.lo || v > r.hi)
-      throw LineError{name + " must lie in [" + std::to_string(r.lo) + ", " + std::to_string(r.hi) + "], got " + value};
+      throw LineError{name + " must lie in [" + std::to_string(r.lo) + ", " + std::to_string(r.hi) +
+                      "], got " + value};
     return {name, v};
   }
-  throw LineError{"unknown fabric parameter '" + name +
-                  "' (lod, k, iterations, epsilon, r, colour, lighting, silhouette, sharpen, depth-colour, contrast, "
-                  "step, fade, auto-lod-pixels)"};
+  throw LineError{
+      "unknown fabric parameter '" + name +
+      "' (lod, k, iterations, epsilon, r, colour, lighting, silhouette, sharpen, depth-colour, contrast, "
+      "step, fade, auto-lod-pixels)"};
 }
 
 // Everything after the command word, for paths that may hold spaces.
@@ -166,7 +175,8 @@ ScriptStep parseLine(const std::string& line, int number_) {
     step.command = ScriptWait{n};
   } else if (c == "screenshot" || c == "screenshot-scene") {
     std::string p = pathArg(c == "screenshot" ? "screenshot PATH" : "screenshot-scene PATH");
-    if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0) throw LineError{c + ": the path must end in .png"};
+    if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
+      throw LineError{c + ": the path must end in .png"};
     step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene"});
   } else if (c == "camera-save") {
     step.command = ui::Action(ui::SaveCamera{pathArg("camera-save PATH")});
@@ -175,7 +185,8 @@ ScriptStep parseLine(const std::string& line, int number_) {
   } else if (c == "probe") {
     expectArgs(w, 2, "probe X Y");
     const double x = number(w[1], "probe X"), y = number(w[2], "probe Y");
-    if (x < 0 || y < 0 || x > 1e5 || y > 1e5) throw LineError{"probe: pixel coordinates must be non-negative"};
+    if (x < 0 || y < 0 || x > 1e5 || y > 1e5)
+      throw LineError{"probe: pixel coordinates must be non-negative"};
     step.command = ScriptProbe{x, y};
   } else if (c == "tracts") {
     step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
@@ -183,9 +194,10 @@ ScriptStep parseLine(const std::string& line, int number_) {
     expectArgs(w, 0, "quit");
     step.command = ui::Action(ui::Quit{});
   } else {
-    throw LineError{"unknown command '" + c +
-                    "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-                    "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, tracts, quit)"};
+    throw LineError{
+        "unknown command '" + c +
+        "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
+        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, tracts, quit)"};
   }
   return step;
 }
@@ -200,7 +212,8 @@ ViewScript parseViewScript(const std::string& text, const std::string& file) {
   int n = 0;
   while (std::getline(in, raw)) {
     ++n;
-    if (raw.find('\0') != std::string::npos) throw UsageError(file + ":" + std::to_string(n) + ": NUL byte in script");
+    if (raw.find('\0') != std::string::npos)
+      throw UsageError(file + ":" + std::to_string(n) + ": NUL byte in script");
     const auto hash = raw.find('#');
     const std::string line = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
     if (line.empty()) continue;
@@ -224,20 +237,34 @@ ViewScript loadViewScript(const std::string& path) {
 
 void applyScriptParam(render::FabricParams& p, const ScriptSetParam& s) {
   const std::string& n = s.name;
-  if (n == "lod") p.lod = s.value;
-  else if (n == "k") p.k = s.value;
-  else if (n == "iterations") p.iterations = static_cast<int>(s.value);
-  else if (n == "epsilon") p.epsilon = s.value;
-  else if (n == "r") p.r = s.value;
-  else if (n == "colour") p.colour = s.value == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
-  else if (n == "lighting") p.lighting = s.value != 0;
-  else if (n == "silhouette") p.silhouette = s.value != 0;
-  else if (n == "sharpen") p.sharpen = s.value;
-  else if (n == "depth-colour") p.depthColour = s.value;
-  else if (n == "contrast") p.contrast = s.value;
-  else if (n == "step") p.stepPixels = s.value;
-  else if (n == "fade") p.fadeOutOfPlane = static_cast<float>(s.value);
-  else if (n == "auto-lod-pixels") p.autoLodPixels = s.value;
+  if (n == "lod")
+    p.lod = s.value;
+  else if (n == "k")
+    p.k = s.value;
+  else if (n == "iterations")
+    p.iterations = static_cast<int>(s.value);
+  else if (n == "epsilon")
+    p.epsilon = s.value;
+  else if (n == "r")
+    p.r = s.value;
+  else if (n == "colour")
+    p.colour = s.value == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
+  else if (n == "lighting")
+    p.lighting = s.value != 0;
+  else if (n == "silhouette")
+    p.silhouette = s.value != 0;
+  else if (n == "sharpen")
+    p.sharpen = s.value;
+  else if (n == "depth-colour")
+    p.depthColour = s.value;
+  else if (n == "contrast")
+    p.contrast = s.value;
+  else if (n == "step")
+    p.stepPixels = s.value;
+  else if (n == "fade")
+    p.fadeOutOfPlane = static_cast<float>(s.value);
+  else if (n == "auto-lod-pixels")
+    p.autoLodPixels = s.value;
 }
 
 } // namespace dtf::app

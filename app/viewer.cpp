@@ -8,21 +8,20 @@
 #include "surfaces/slices.h"
 #include "ui/panels.h"
 
-#include <epoxy/gl.h>
-#include <glm/gtc/matrix_inverse.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <epoxy/gl.h>
 #include <fstream>
+#include <glm/gtc/matrix_inverse.hpp>
 #include <sstream>
 
 namespace dtf::app {
 
 namespace {
 
-constexpr int kStillIterations = 12;        // advection iterations per frame once the camera is still
-constexpr double kMotionSeconds = 0.15;     // a camera change keeps frames interactive this long
-constexpr double kTargetFrameMs = 66;       // interactive frame time the resolution adapts to (15 fps)
+constexpr int kStillIterations = 12;    // advection iterations per frame once the camera is still
+constexpr double kMotionSeconds = 0.15; // a camera change keeps frames interactive this long
+constexpr double kTargetFrameMs = 66;   // interactive frame time the resolution adapts to (15 fps)
 constexpr std::size_t kMaxRecent = 8;
 const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
 
@@ -39,15 +38,21 @@ std::string currentError() {
 }
 
 ui::SurfaceKind sliceKind(int axis) {
-  return axis == 0 ? ui::SurfaceKind::Axial : axis == 1 ? ui::SurfaceKind::Coronal : ui::SurfaceKind::Sagittal;
+  return axis == 0   ? ui::SurfaceKind::Axial
+         : axis == 1 ? ui::SurfaceKind::Coronal
+                     : ui::SurfaceKind::Sagittal;
 }
 
 render::StandardView homeViewFor(ui::SurfaceKind k) {
   switch (k) {
-  case ui::SurfaceKind::Axial: return render::StandardView::Axial;
-  case ui::SurfaceKind::Coronal: return render::StandardView::Coronal;
-  case ui::SurfaceKind::Sagittal: return render::StandardView::Sagittal;
-  default: return render::StandardView::Superior;
+  case ui::SurfaceKind::Axial:
+    return render::StandardView::Axial;
+  case ui::SurfaceKind::Coronal:
+    return render::StandardView::Coronal;
+  case ui::SurfaceKind::Sagittal:
+    return render::StandardView::Sagittal;
+  default:
+    return render::StandardView::Superior;
   }
 }
 
@@ -57,9 +62,11 @@ unsigned boundOutput(int w, int h) {
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
   if (fbo <= 0) return 0;
   GLint type = 0, tex = 0;
-  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+                                             &type);
   if (type != GL_TEXTURE) return 0;
-  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &tex);
+  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                             &tex);
   GLint tw = 0, th = 0;
   glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_WIDTH, &tw);
   glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_HEIGHT, &th);
@@ -69,8 +76,10 @@ unsigned boundOutput(int w, int h) {
 } // namespace
 
 ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) {
-  for (auto& r : renderers_) r = std::make_unique<render::FabricRenderer>();
-  for (auto& r : lowRes_) r = std::make_unique<render::FabricRenderer>();
+  for (auto& r : renderers_)
+    r = std::make_unique<render::FabricRenderer>();
+  for (auto& r : lowRes_)
+    r = std::make_unique<render::FabricRenderer>();
   if (!surface.empty()) {
     try {
       applySpec(parseSurfaceSpec(surface));
@@ -82,7 +91,9 @@ ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) 
 
 ViewerScene::~ViewerScene() = default;
 
-render::FabricRenderer& ViewerScene::renderer(int p) { return *renderers_[p]; }
+render::FabricRenderer& ViewerScene::renderer(int p) {
+  return *renderers_[p];
+}
 
 void ViewerScene::setError(const std::string& message) {
   state_.errorChain = ui::splitErrorChain(message);
@@ -96,7 +107,9 @@ void ViewerScene::addRecent(const std::string& path) {
   if (r.size() > kMaxRecent) r.resize(kMaxRecent);
 }
 
-bool ViewerScene::settled() const { return !worker_.busy() && !state_.busy && !state_.tractsLoading; }
+bool ViewerScene::settled() const {
+  return !worker_.busy() && !state_.busy && !state_.tractsLoading;
+}
 
 bool ViewerScene::converged() const {
   for (int p = 0; p < paneCount(); ++p)
@@ -107,10 +120,13 @@ bool ViewerScene::converged() const {
 std::array<int, 4> ViewerScene::paneRect(int p) const {
   if (!state_.split) return {0, 0, width_, height_};
   const int half = std::max(width_ / 2, 1);
-  return p == 0 ? std::array<int, 4>{0, 0, half, height_} : std::array<int, 4>{half, 0, std::max(width_ - half, 1), height_};
+  return p == 0 ? std::array<int, 4>{0, 0, half, height_}
+                : std::array<int, 4>{half, 0, std::max(width_ - half, 1), height_};
 }
 
-int ViewerScene::paneAt(double x) const { return state_.split && x >= paneRect(1)[0] ? 1 : 0; }
+int ViewerScene::paneAt(double x) const {
+  return state_.split && x >= paneRect(1)[0] ? 1 : 0;
+}
 
 double ViewerScene::paneAspect(int p) const {
   auto r = paneRect(p);
@@ -219,8 +235,10 @@ void ViewerScene::loadFile(const ui::LoadFile& a) {
 }
 
 void ViewerScene::setMesh(const Mesh& mesh) {
-  for (auto& r : renderers_) r->setMesh(mesh);
-  for (auto& r : lowRes_) r->setMesh(mesh);
+  for (auto& r : renderers_)
+    r->setMesh(mesh);
+  for (auto& r : lowRes_)
+    r->setMesh(mesh);
   hasMesh_ = true;
   ++meshSerial_;
   state_.triangles = mesh.triangleCount();
@@ -254,15 +272,20 @@ void ViewerScene::onResult(WorkerResult& r) {
       const int axis = ui::sliceAxisOf(state_.surface);
       state_.slice[axis] = state_.sliceCount[axis] / 2;
     }
-    for (auto& rr : renderers_) rr->setField(f);
-    for (auto& rr : lowRes_) rr->setField(f);
+    for (auto& rr : renderers_)
+      rr->setField(f);
+    for (auto& rr : lowRes_)
+      rr->setField(f);
     hasField_ = true;
     hasMesh_ = false;
     state_.surfacePending = false;
     state_.surfaceText = describeSurface(currentSpec());
-    if (!r.mesh.empty()) setMesh(r.mesh);
-    else if (!r.error.empty()) setError(r.error);
-    else state_.surfaceText += ": empty";
+    if (!r.mesh.empty())
+      setMesh(r.mesh);
+    else if (!r.error.empty())
+      setError(r.error);
+    else
+      state_.surfaceText += ": empty";
     addRecent(d.path);
     homeView_ = homeViewFor(state_.surface);
     setView(homeView_);
@@ -330,7 +353,8 @@ void ViewerScene::render(int width, int height) {
   }
   if (!hasMesh_ || !hasField_) return;
   const auto now = std::chrono::steady_clock::now();
-  const bool moving = interacting_ || std::chrono::duration<double>(now - lastMotion_).count() < kMotionSeconds;
+  const bool moving =
+      interacting_ || std::chrono::duration<double>(now - lastMotion_).count() < kMotionSeconds;
   if (moving && state_.frameMs > 0 && interactiveScale_ < 1.0) {
     const double wanted = scale_ * std::clamp(std::sqrt(kTargetFrameMs / state_.frameMs), 0.7, 1.3);
     scale_ = std::clamp(std::round(wanted * 8.0) / 8.0, 0.25, interactiveScale_);
@@ -342,7 +366,8 @@ void ViewerScene::render(int width, int height) {
       const render::Camera& cam = camera(p);
       const bool low = moving && interactiveScale_ < 1.0;
       const double scale = low ? scale_ : 1.0;
-      const glm::ivec2 size(std::max(1, static_cast<int>(rect[2] * scale)), std::max(1, static_cast<int>(rect[3] * scale)));
+      const glm::ivec2 size(std::max(1, static_cast<int>(rect[2] * scale)),
+                            std::max(1, static_cast<int>(rect[3] * scale)));
       render::FabricRenderer& r = low ? *lowRes_[p] : renderer(p);
       r.resize(size.x, size.y);
       outputRenderer_[p] = &r;
@@ -356,7 +381,7 @@ void ViewerScene::render(int width, int height) {
       render::FabricParams params = state_.fabric;
       if (p == 1)
         params.colour = params.colour == render::ColourMode::Medical ? render::ColourMode::Engineering
-                                                                      : render::ColourMode::Medical;
+                                                                     : render::ColourMode::Medical;
       if (low) {
         params.autoLodPixels *= scale;
         params.stepPixels *= scale;
@@ -393,8 +418,8 @@ void ViewerScene::present(unsigned fbo, int x, int y) {
     const auto rect = paneRect(p);
     const glm::ivec2 src = outputSize_[p];
     const bool same = src.x == rect[2] && src.y == rect[3];
-    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, src.x, src.y, x + rect[0], y, x + rect[0] + rect[2], y + rect[3],
-                           GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, src.x, src.y, x + rect[0], y, x + rect[0] + rect[2],
+                           y + rect[3], GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
   }
 }
 
@@ -417,8 +442,8 @@ void ViewerScene::probe(double x, double y) {
   if (!(depth < 1.0f)) return;
   // Unproject through the guarded target the renderer drew with (its depth is the output's depth).
   const render::FrameView& v = outputRenderer_[p]->frameView();
-  const glm::dvec4 ndc(2.0 * (px + v.guard + 0.5) / v.target.x - 1.0, 2.0 * (py + v.guard + 0.5) / v.target.y - 1.0,
-                       2.0 * depth - 1.0, 1.0);
+  const glm::dvec4 ndc(2.0 * (px + v.guard + 0.5) / v.target.x - 1.0,
+                       2.0 * (py + v.guard + 0.5) / v.target.y - 1.0, 2.0 * depth - 1.0, 1.0);
   const glm::dvec4 w = glm::inverse(glm::dmat4(v.viewProj)) * ndc;
   if (std::abs(w.w) < 1e-12) return;
   out.onSurface = true;
@@ -439,7 +464,8 @@ void ViewerScene::probe(double x, double y) {
 void ViewerScene::applyKey(ui::Key key) {
   ui::ActionList actions;
   ui::keyActions(key, state_, actions);
-  for (const auto& a : actions) apply(a);
+  for (const auto& a : actions)
+    apply(a);
 }
 
 void ViewerScene::apply(const ui::Action& action) {
@@ -475,13 +501,15 @@ void ViewerScene::apply(const ui::Action& action) {
           } else if constexpr (std::is_same_v<T, ui::SetNeurological>) {
             state_.neurological = a.on;
             using V = render::StandardView;
-            if (state_.view == V::Axial || state_.view == V::Coronal || state_.view == V::Sagittal) setView(state_.view);
+            if (state_.view == V::Axial || state_.view == V::Coronal || state_.view == V::Sagittal)
+              setView(state_.view);
           } else if constexpr (std::is_same_v<T, ui::SetSplit>) {
             if (a.on == state_.split) return;
             state_.split = a.on;
             if (a.on) cameras_[1] = cameras_[0];
             if (data_)
-              for (int p = 0; p < 2; ++p) cameras_[p].fit(data_->lo, data_->hi, paneAspect(p));
+              for (int p = 0; p < 2; ++p)
+                cameras_[p].fit(data_->lo, data_->hi, paneAspect(p));
             activePane_ = 0;
             cameraChanged();
           } else if constexpr (std::is_same_v<T, ui::SetLinkedCameras>) {
@@ -497,15 +525,18 @@ void ViewerScene::apply(const ui::Action& action) {
             const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
             const double s = std::max(std::min(rect[2], rect[3]), 1);
             // Arcball from the pane centre in steps of <= 10 pixels, like a real drag.
-            const int n = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(a.dx), std::abs(a.dy)) / 10.0)));
+            const int n =
+                std::max(1, static_cast<int>(std::ceil(std::max(std::abs(a.dx), std::abs(a.dy)) / 10.0)));
             render::Camera& cam = cameraFor(a.pane);
-            for (int i = 0; i < n; ++i) cam.trackball({0.0, 0.0}, {2.0 * a.dx / n / s, -2.0 * a.dy / n / s});
+            for (int i = 0; i < n; ++i)
+              cam.trackball({0.0, 0.0}, {2.0 * a.dx / n / s, -2.0 * a.dy / n / s});
             cameraChanged();
           } else if constexpr (std::is_same_v<T, ui::Pan>) {
             const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
             render::Camera& cam = cameraFor(a.pane);
             const double dist = glm::length(cam.target - cam.eye);
-            const double halfH = cam.orthographic ? cam.orthoHalfHeight : dist * std::tan(0.5 * glm::radians(cam.fovYDeg));
+            const double halfH =
+                cam.orthographic ? cam.orthoHalfHeight : dist * std::tan(0.5 * glm::radians(cam.fovYDeg));
             const double mmPerPixel = 2.0 * halfH / std::max(rect[3], 1);
             const glm::dvec3 right = cam.right(), up = glm::normalize(glm::cross(right, cam.forward()));
             const glm::dvec3 shift = (-a.dx * right + a.dy * up) * mmPerPixel;
@@ -570,18 +601,29 @@ render::Camera readCameraFile(const std::string& path) {
   std::string key;
   while (in >> key) {
     auto vec = [&](glm::dvec3& v) { in >> v.x >> v.y >> v.z; };
-    if (key == "eye") vec(c.eye);
-    else if (key == "target") vec(c.target);
-    else if (key == "up") vec(c.up);
-    else if (key == "orthographic") in >> c.orthographic;
-    else if (key == "fov") in >> c.fovYDeg;
-    else if (key == "half-height") in >> c.orthoHalfHeight;
-    else if (key == "near") in >> c.nearPlane;
-    else if (key == "far") in >> c.farPlane;
-    else throw InputError(path + ": unknown camera key '" + key + "'");
+    if (key == "eye")
+      vec(c.eye);
+    else if (key == "target")
+      vec(c.target);
+    else if (key == "up")
+      vec(c.up);
+    else if (key == "orthographic")
+      in >> c.orthographic;
+    else if (key == "fov")
+      in >> c.fovYDeg;
+    else if (key == "half-height")
+      in >> c.orthoHalfHeight;
+    else if (key == "near")
+      in >> c.nearPlane;
+    else if (key == "far")
+      in >> c.farPlane;
+    else
+      throw InputError(path + ": unknown camera key '" + key + "'");
     if (!in) throw InputError(path + ": bad value for '" + key + "'");
   }
-  auto finiteVec = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finiteVec = [](const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   const bool finite = finiteVec(c.eye) && finiteVec(c.target) && finiteVec(c.up);
   if (!finite || glm::length(c.target - c.eye) <= 0 || glm::length(c.up) <= 0 || c.orthoHalfHeight <= 0 ||
       c.nearPlane <= 0 || c.farPlane <= c.nearPlane || c.fovYDeg <= 0 || c.fovYDeg >= 180)

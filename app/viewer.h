@@ -17,8 +17,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <future>
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -94,10 +94,10 @@ private:
   ViewerWorker worker_;
   std::shared_ptr<const ViewerDataset> data_;
   std::string initialSurface_;
-  SurfaceSpec otherSpec_;            // the spec behind SurfaceKind::Fibre / Other
+  SurfaceSpec otherSpec_; // the spec behind SurfaceKind::Fibre / Other
   std::uint64_t nextId_ = 1, latestLoad_ = 0, latestSurface_ = 0;
-  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
-  std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_;        // full size
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;           // interactive frames
   std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr}; // what outputFbo_ belongs to
   std::array<glm::ivec2, 2> outputSize_{};
   double interactiveScale_ = 0.5, scale_ = 0.5;

@@ -157,8 +157,9 @@ void ViewerWorker::run() {
       try {
         // An empty FA isosurface is a normal result while sweeping, not an error.
         const ViewerDataset& d = *surface->data;
-        r.mesh = surface->spec.kind == SurfaceSpec::Kind::Fa && d.sweeper ? d.sweeper->extract(surface->spec.value)
-                                                                           : extractViewerSurface(d, surface->spec);
+        r.mesh = surface->spec.kind == SurfaceSpec::Kind::Fa && d.sweeper
+                     ? d.sweeper->extract(surface->spec.value)
+                     : extractViewerSurface(d, surface->spec);
         r.kind = WorkerResult::Kind::Surface;
       } catch (...) {
         r.kind = WorkerResult::Kind::Failed;

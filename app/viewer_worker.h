@@ -13,12 +13,12 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
-#include <deque>
 
 namespace dtf::app {
 
@@ -34,12 +34,12 @@ struct ViewerDataset {
 
 struct WorkerResult {
   enum class Kind { Loaded, Surface, Failed } kind = Kind::Failed;
-  std::uint64_t id = 0;                        // the request's id
-  std::shared_ptr<const ViewerDataset> data;   // Loaded
-  Mesh mesh;                                   // Loaded and Surface; empty: no surface at this FA
-  SurfaceSpec spec;                            // the surface extracted
-  std::string error;                           // Failed; for Loaded, why the first surface failed
-  double ms = 0;                               // work time
+  std::uint64_t id = 0;                      // the request's id
+  std::shared_ptr<const ViewerDataset> data; // Loaded
+  Mesh mesh;                                 // Loaded and Surface; empty: no surface at this FA
+  SurfaceSpec spec;                          // the surface extracted
+  std::string error;                         // Failed; for Loaded, why the first surface failed
+  double ms = 0;                             // work time
 };
 
 class ViewerWorker {
@@ -51,7 +51,8 @@ public:
   ViewerWorker& operator=(const ViewerWorker&) = delete;
 
   // Loads `path` (tensor volume or DWI) and extracts `first` from it.
-  void requestLoad(std::uint64_t id, const std::string& path, io::TensorLayout layout, const SurfaceSpec& first);
+  void requestLoad(std::uint64_t id, const std::string& path, io::TensorLayout layout,
+                   const SurfaceSpec& first);
   // Extracts `spec` from `data`; replaces a surface request that has not started yet.
   void requestSurface(std::uint64_t id, std::shared_ptr<const ViewerDataset> data, const SurfaceSpec& spec);
   // Takes the oldest finished result, if any.

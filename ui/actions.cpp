@@ -7,22 +7,32 @@ namespace dtf::ui {
 
 const char* surfaceKindName(SurfaceKind kind) {
   switch (kind) {
-  case SurfaceKind::FaIsosurface: return "FA isosurface";
-  case SurfaceKind::Axial: return "axial slice";
-  case SurfaceKind::Coronal: return "coronal slice";
-  case SurfaceKind::Sagittal: return "sagittal slice";
-  case SurfaceKind::Fibre: return "fibre surface";
-  case SurfaceKind::Other: return "other surface";
+  case SurfaceKind::FaIsosurface:
+    return "FA isosurface";
+  case SurfaceKind::Axial:
+    return "axial slice";
+  case SurfaceKind::Coronal:
+    return "coronal slice";
+  case SurfaceKind::Sagittal:
+    return "sagittal slice";
+  case SurfaceKind::Fibre:
+    return "fibre surface";
+  case SurfaceKind::Other:
+    return "other surface";
   }
   return "?";
 }
 
 int sliceAxisOf(SurfaceKind kind) {
   switch (kind) {
-  case SurfaceKind::Axial: return 0;
-  case SurfaceKind::Coronal: return 1;
-  case SurfaceKind::Sagittal: return 2;
-  default: return -1;
+  case SurfaceKind::Axial:
+    return 0;
+  case SurfaceKind::Coronal:
+    return 1;
+  case SurfaceKind::Sagittal:
+    return 2;
+  default:
+    return -1;
   }
 }
 
@@ -31,9 +41,12 @@ std::string describe(const Action& action) {
   return std::visit(
       [&](const auto& a) -> std::string {
         using T = std::decay_t<decltype(a)>;
-        if constexpr (std::is_same_v<T, LoadFile>) return "LoadFile " + a.path + " layout=" + a.layout;
-        else if constexpr (std::is_same_v<T, SetSurfaceKind>) return std::string("SetSurfaceKind ") + surfaceKindName(a.kind);
-        else if constexpr (std::is_same_v<T, SetSurfaceSpec>) return "SetSurfaceSpec " + a.text;
+        if constexpr (std::is_same_v<T, LoadFile>)
+          return "LoadFile " + a.path + " layout=" + a.layout;
+        else if constexpr (std::is_same_v<T, SetSurfaceKind>)
+          return std::string("SetSurfaceKind ") + surfaceKindName(a.kind);
+        else if constexpr (std::is_same_v<T, SetSurfaceSpec>)
+          return "SetSurfaceSpec " + a.text;
         else if constexpr (std::is_same_v<T, SetFaThreshold>) {
           std::snprintf(buf, sizeof buf, "SetFaThreshold %g", a.value);
           return buf;
@@ -41,16 +54,21 @@ std::string describe(const Action& action) {
           std::snprintf(buf, sizeof buf, "SetSlice %d %d", a.axis, a.index);
           return buf;
         } else if constexpr (std::is_same_v<T, SetFabricParams>) {
-          std::snprintf(buf, sizeof buf, "SetFabricParams k=%g iterations=%d r=%g", a.params.k, a.params.iterations,
-                        a.params.r);
+          std::snprintf(buf, sizeof buf, "SetFabricParams k=%g iterations=%d r=%g", a.params.k,
+                        a.params.iterations, a.params.r);
           return buf;
-        } else if constexpr (std::is_same_v<T, SetView>) return std::string("SetView ") + render::viewName(a.view);
-        else if constexpr (std::is_same_v<T, SetNeurological>) return a.on ? "SetNeurological on" : "SetNeurological off";
-        else if constexpr (std::is_same_v<T, SetSplit>) return a.on ? "SetSplit on" : "SetSplit off";
-        else if constexpr (std::is_same_v<T, SetLinkedCameras>) return a.on ? "SetLinkedCameras on" : "SetLinkedCameras off";
+        } else if constexpr (std::is_same_v<T, SetView>)
+          return std::string("SetView ") + render::viewName(a.view);
+        else if constexpr (std::is_same_v<T, SetNeurological>)
+          return a.on ? "SetNeurological on" : "SetNeurological off";
+        else if constexpr (std::is_same_v<T, SetSplit>)
+          return a.on ? "SetSplit on" : "SetSplit off";
+        else if constexpr (std::is_same_v<T, SetLinkedCameras>)
+          return a.on ? "SetLinkedCameras on" : "SetLinkedCameras off";
         else if constexpr (std::is_same_v<T, SetSecondPane>)
           return a.mode == SecondPane::Phong ? "SetSecondPane phong" : "SetSecondPane other-colour";
-        else if constexpr (std::is_same_v<T, ResetView>) return "ResetView";
+        else if constexpr (std::is_same_v<T, ResetView>)
+          return "ResetView";
         else if constexpr (std::is_same_v<T, Rotate>) {
           std::snprintf(buf, sizeof buf, "Rotate %g %g", a.dx, a.dy);
           return buf;
@@ -60,12 +78,18 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, Zoom>) {
           std::snprintf(buf, sizeof buf, "Zoom %g", a.factor);
           return buf;
-        } else if constexpr (std::is_same_v<T, Screenshot>) return (a.sceneOnly ? "Screenshot scene " : "Screenshot ") + a.path;
-        else if constexpr (std::is_same_v<T, SaveCamera>) return "SaveCamera " + a.path;
-        else if constexpr (std::is_same_v<T, LoadCamera>) return "LoadCamera " + a.path;
-        else if constexpr (std::is_same_v<T, LoadTracts>) return "LoadTracts " + a.path;
-        else if constexpr (std::is_same_v<T, DismissError>) return "DismissError";
-        else return "Quit";
+        } else if constexpr (std::is_same_v<T, Screenshot>)
+          return (a.sceneOnly ? "Screenshot scene " : "Screenshot ") + a.path;
+        else if constexpr (std::is_same_v<T, SaveCamera>)
+          return "SaveCamera " + a.path;
+        else if constexpr (std::is_same_v<T, LoadCamera>)
+          return "LoadCamera " + a.path;
+        else if constexpr (std::is_same_v<T, LoadTracts>)
+          return "LoadTracts " + a.path;
+        else if constexpr (std::is_same_v<T, DismissError>)
+          return "DismissError";
+        else
+          return "Quit";
       },
       action);
 }

@@ -93,9 +93,10 @@ struct LoadTracts {
 struct DismissError {};
 struct Quit {};
 
-using Action = std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams,
-                            SetView, SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate,
-                            Pan, Zoom, Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, Quit>;
+using Action =
+    std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
+                 Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -7,7 +7,8 @@ namespace dtf::ui {
 
 std::optional<Key> parseKey(const std::string& name) {
   std::string n(name);
-  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(n.begin(), n.end(), n.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (n == "up") return Key::Up;
   if (n == "down") return Key::Down;
   if (n == "pgup" || n == "pageup") return Key::PageUp;
@@ -21,14 +22,22 @@ std::optional<Key> parseKey(const std::string& name) {
 
 const char* keyName(Key key) {
   switch (key) {
-  case Key::Up: return "Up";
-  case Key::Down: return "Down";
-  case Key::PageUp: return "PgUp";
-  case Key::PageDown: return "PgDn";
-  case Key::A: return "A";
-  case Key::C: return "C";
-  case Key::S: return "S";
-  case Key::R: return "R";
+  case Key::Up:
+    return "Up";
+  case Key::Down:
+    return "Down";
+  case Key::PageUp:
+    return "PgUp";
+  case Key::PageDown:
+    return "PgDn";
+  case Key::A:
+    return "A";
+  case Key::C:
+    return "C";
+  case Key::S:
+    return "S";
+  case Key::R:
+    return "R";
   }
   return "?";
 }
@@ -40,14 +49,30 @@ void keyActions(Key key, const ViewerState& state, ActionList& out) {
   };
   int step = 0;
   switch (key) {
-  case Key::Up: step = 1; break;
-  case Key::Down: step = -1; break;
-  case Key::PageUp: step = kPageSlices; break;
-  case Key::PageDown: step = -kPageSlices; break;
-  case Key::A: pick(SurfaceKind::Axial, render::StandardView::Axial); return;
-  case Key::C: pick(SurfaceKind::Coronal, render::StandardView::Coronal); return;
-  case Key::S: pick(SurfaceKind::Sagittal, render::StandardView::Sagittal); return;
-  case Key::R: out.push_back(ResetView{}); return;
+  case Key::Up:
+    step = 1;
+    break;
+  case Key::Down:
+    step = -1;
+    break;
+  case Key::PageUp:
+    step = kPageSlices;
+    break;
+  case Key::PageDown:
+    step = -kPageSlices;
+    break;
+  case Key::A:
+    pick(SurfaceKind::Axial, render::StandardView::Axial);
+    return;
+  case Key::C:
+    pick(SurfaceKind::Coronal, render::StandardView::Coronal);
+    return;
+  case Key::S:
+    pick(SurfaceKind::Sagittal, render::StandardView::Sagittal);
+    return;
+  case Key::R:
+    out.push_back(ResetView{});
+    return;
   }
   const int axis = sliceAxisOf(state.surface);
   if (axis < 0 || !state.hasData) return;

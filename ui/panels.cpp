@@ -1,11 +1,10 @@
 #include "ui/panels.h"
 
-#include <imgui.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <imgui.h>
 
 namespace dtf::ui {
 
@@ -22,9 +21,11 @@ void probe(PanelBuffers& b, const char* label) {
   (*b.itemCentres)[label] = {0.5f * (lo.x + right), 0.5f * (lo.y + hi.y)};
 }
 
-bool sliderDouble(const char* label, double& v, float lo, float hi, const char* format, bool logarithmic = false) {
+bool sliderDouble(const char* label, double& v, float lo, float hi, const char* format,
+                  bool logarithmic = false) {
   float f = static_cast<float>(v);
-  if (!ImGui::SliderFloat(label, &f, lo, hi, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0)) return false;
+  if (!ImGui::SliderFloat(label, &f, lo, hi, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+    return false;
   v = f;
   return true;
 }
@@ -33,7 +34,8 @@ void copyPath(std::array<char, 1024>& dst, const std::string& src) {
   std::snprintf(dst.data(), dst.size(), "%s", src.c_str());
 }
 
-constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+constexpr ImGuiWindowFlags kFixed =
+    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
 
 } // namespace
 
@@ -46,14 +48,16 @@ void sceneRect(const PanelLayout& layout, float width, float height, float rect[
 
 void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (!ImGui::CollapsingHeader("Data", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const bool enter = ImGui::InputText("##path", b.openPath.data(), b.openPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+  const bool enter =
+      ImGui::InputText("##path", b.openPath.data(), b.openPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
   probe(b, "path");
   ImGui::SameLine();
   const bool open = ImGui::Button("Open");
   probe(b, "Open");
   ImGui::Combo("layout", &b.layout, kLayoutNames.data(), static_cast<int>(kLayoutNames.size()));
   probe(b, "layout");
-  if ((enter || open) && b.openPath[0] != '\0') out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout]});
+  if ((enter || open) && b.openPath[0] != '\0')
+    out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout]});
   if (s.hasData) {
     ImGui::SameLine();
     if (ImGui::Button("Reload")) out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout]});
@@ -76,19 +80,20 @@ void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   }
   const DataInfo& d = s.data;
   ImGui::TextWrapped("%s", d.path.c_str());
-  ImGui::Text("%d x %d x %d voxels, %.2f x %.2f x %.2f mm", d.dims.x, d.dims.y, d.dims.z, d.spacing.x, d.spacing.y,
-              d.spacing.z);
+  ImGui::Text("%d x %d x %d voxels, %.2f x %.2f x %.2f mm", d.dims.x, d.dims.y, d.dims.z, d.spacing.x,
+              d.spacing.y, d.spacing.z);
   ImGui::Text("orientation %s, %zu valid voxels", d.orientation.c_str(), d.validVoxels);
   ImGui::Text("layout %s", d.layout.c_str());
   if (!d.layoutReason.empty()) ImGui::TextWrapped("(%s)", d.layoutReason.c_str());
-  for (const auto& w : d.warnings) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "warning: %s", w.c_str());
+  for (const auto& w : d.warnings)
+    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "warning: %s", w.c_str());
 }
 
 void surfacePanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (!ImGui::CollapsingHeader("Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::BeginDisabled(!s.hasData);
-  static const char* const kinds[] = {"FA isosurface", "axial slice", "coronal slice", "sagittal slice",
-                                      "fibre surface", "other (from a spec)"};
+  static const char* const kinds[] = {"FA isosurface",  "axial slice",   "coronal slice",
+                                      "sagittal slice", "fibre surface", "other (from a spec)"};
   int kind = static_cast<int>(s.surface);
   if (ImGui::Combo("type", &kind, kinds, 6) && kind != static_cast<int>(SurfaceKind::Other))
     out.push_back(SetSurfaceKind{static_cast<SurfaceKind>(kind)});
@@ -118,15 +123,16 @@ void surfacePanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     ImGui::InputInt3("to", b.fibreTo.data());
     if (ImGui::Button("Build fibre surface")) {
       char spec[160];
-      std::snprintf(spec, sizeof spec, "fibre-voxel=%d,%d,%d:%d,%d,%d", b.fibreFrom[0], b.fibreFrom[1], b.fibreFrom[2],
-                    b.fibreTo[0], b.fibreTo[1], b.fibreTo[2]);
+      std::snprintf(spec, sizeof spec, "fibre-voxel=%d,%d,%d:%d,%d,%d", b.fibreFrom[0], b.fibreFrom[1],
+                    b.fibreFrom[2], b.fibreTo[0], b.fibreTo[1], b.fibreTo[2]);
       out.push_back(SetSurfaceSpec{spec});
     }
     probe(b, "Build fibre surface");
   }
   ImGui::EndDisabled();
   if (!s.surfaceText.empty())
-    ImGui::TextWrapped("%s, %zu triangles%s", s.surfaceText.c_str(), s.triangles, s.surfacePending ? " (updating)" : "");
+    ImGui::TextWrapped("%s, %zu triangles%s", s.surfaceText.c_str(), s.triangles,
+                       s.surfacePending ? " (updating)" : "");
 }
 
 void fabricPanel(const ViewerState& s, ActionList& out) {
@@ -166,10 +172,12 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     if (ImGui::Button(name, ImVec2(88, 0))) out.push_back(SetView{views[i]});
     probe(b, name);
   }
-  if (ImGui::RadioButton("radiological", !s.neurological) && s.neurological) out.push_back(SetNeurological{false});
+  if (ImGui::RadioButton("radiological", !s.neurological) && s.neurological)
+    out.push_back(SetNeurological{false});
   probe(b, "radiological");
   ImGui::SameLine();
-  if (ImGui::RadioButton("neurological", s.neurological) && !s.neurological) out.push_back(SetNeurological{true});
+  if (ImGui::RadioButton("neurological", s.neurological) && !s.neurological)
+    out.push_back(SetNeurological{true});
   probe(b, "neurological");
   bool split = s.split, linked = s.linked;
   if (ImGui::Checkbox("split", &split)) out.push_back(SetSplit{split});
@@ -179,7 +187,8 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   probe(b, "linked camera");
   int second = static_cast<int>(s.secondPane);
   static const char* const panes[] = {"other colour mode", "Phong shading"};
-  if (ImGui::Combo("right pane", &second, panes, 2)) out.push_back(SetSecondPane{static_cast<SecondPane>(second)});
+  if (ImGui::Combo("right pane", &second, panes, 2))
+    out.push_back(SetSecondPane{static_cast<SecondPane>(second)});
   if (ImGui::Button("Reset view (R)")) out.push_back(ResetView{});
   probe(b, "Reset view");
 
@@ -196,7 +205,8 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
 
 void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (!ImGui::CollapsingHeader("Tracts")) return;
-  const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+  const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(),
+                                      ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
   const bool load = ImGui::Button("Load tracts");
   probe(b, "Load tracts");
@@ -230,8 +240,9 @@ void statusBar(const ViewerState& s, const PanelLayout& layout) {
     ImGui::Text("(%.1f, %.1f, %.1f) mm", p.world.x, p.world.y, p.world.z);
     if (p.inData) {
       ImGui::SameLine();
-      ImGui::Text("voxel %d,%d,%d  FA %.3f  lambda %.2e %.2e %.2e  e1 (%.2f, %.2f, %.2f)", p.voxel.x, p.voxel.y,
-                  p.voxel.z, p.fa, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z, p.e1.x, p.e1.y, p.e1.z);
+      ImGui::Text("voxel %d,%d,%d  FA %.3f  lambda %.2e %.2e %.2e  e1 (%.2f, %.2f, %.2f)", p.voxel.x,
+                  p.voxel.y, p.voxel.z, p.fa, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z, p.e1.x,
+                  p.e1.y, p.e1.z);
     }
   } else {
     ImGui::TextDisabled("cursor not on the surface");
@@ -245,8 +256,10 @@ void errorModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (s.errorChain.empty()) return;
   if (!ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
   const ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
-  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 0), ImVec2(std::max(io.DisplaySize.x * 0.9f, 300.0f), FLT_MAX));
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 0),
+                                      ImVec2(std::max(io.DisplaySize.x * 0.9f, 300.0f), FLT_MAX));
   if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     for (std::size_t i = 0; i < s.errorChain.size(); ++i) {
       if (i) ImGui::Indent(12);

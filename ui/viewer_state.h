@@ -7,9 +7,8 @@
 #include "render/fabric_renderer.h"
 #include "ui/actions.h"
 
-#include <glm/glm.hpp>
-
 #include <array>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
@@ -29,10 +28,10 @@ struct DataInfo {
 
 // The voxel under the mouse cursor (status bar).
 struct ProbeInfo {
-  bool onSurface = false;    // the cursor is over the rendered surface
-  bool inData = false;       // ... and inside the tensor grid with a valid tensor
-  glm::dvec3 world{0.0};     // world RAS mm
-  glm::ivec3 voxel{0};       // nearest voxel index
+  bool onSurface = false; // the cursor is over the rendered surface
+  bool inData = false;    // ... and inside the tensor grid with a valid tensor
+  glm::dvec3 world{0.0};  // world RAS mm
+  glm::ivec3 voxel{0};    // nearest voxel index
   double fa = 0;
   glm::dvec3 eigenvalues{0.0}; // mm^2/s, descending
   glm::dvec3 e1{0.0};          // principal direction, world RAS
@@ -49,7 +48,7 @@ struct ViewerState {
   std::array<int, 3> sliceCount{1, 1, 1}; // slices along each axis
   std::string surfaceText;                // description of the mesh on screen
   std::size_t triangles = 0;
-  bool surfacePending = false;            // a re-extraction is running; the previous mesh stays on screen
+  bool surfacePending = false; // a re-extraction is running; the previous mesh stays on screen
 
   render::FabricParams fabric;
   render::StandardView view = render::StandardView::Axial;
@@ -68,7 +67,7 @@ struct ViewerState {
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles
   // Loaded tracts (Tracts panel).
-  std::string tractPath;     // empty: none
+  std::string tractPath; // empty: none
   bool tractsLoading = false;
   std::size_t tractCount = 0, tractPoints = 0;
   double tractMeanLengthMm = 0;

@@ -77,12 +77,14 @@ TEST(ViewScript, ParsesEveryCommand) {
 }
 
 TEST(ViewScript, SetParamsApplyToFabricParams) {
-  const ViewScript s = parseViewScript("set k 0.2\nset colour engineering\nset lighting off\nset iterations 7\n"
-                                       "set lod 3.5\nset silhouette on\n",
-                                       "p.txt");
+  const ViewScript s =
+      parseViewScript("set k 0.2\nset colour engineering\nset lighting off\nset iterations 7\n"
+                      "set lod 3.5\nset silhouette on\n",
+                      "p.txt");
   render::FabricParams p;
   p.silhouette = false;
-  for (const auto& step : s.steps) applyScriptParam(p, std::get<ScriptSetParam>(step.command));
+  for (const auto& step : s.steps)
+    applyScriptParam(p, std::get<ScriptSetParam>(step.command));
   EXPECT_DOUBLE_EQ(p.k, 0.2);
   EXPECT_EQ(p.colour, render::ColourMode::Engineering);
   EXPECT_FALSE(p.lighting);
@@ -131,8 +133,10 @@ TEST(ViewScript, BadLinesNameFileAndLine) {
   EXPECT_NE(parseError("screenshot").find("usage: screenshot PATH"), std::string::npos);
   EXPECT_NE(parseError("load").find("usage: load PATH"), std::string::npos);
   EXPECT_NE(parseError("quit now").find("usage: quit"), std::string::npos);
-  EXPECT_NE(parseError("surface fa=2").find("demo.txt:1: fa threshold must lie in (0, 1)"), std::string::npos);
-  EXPECT_NE(parseError(std::string("fa 0.3\nfa\0 0.2\n", 16)).find("demo.txt:2: NUL byte"), std::string::npos);
+  EXPECT_NE(parseError("surface fa=2").find("demo.txt:1: fa threshold must lie in (0, 1)"),
+            std::string::npos);
+  EXPECT_NE(parseError(std::string("fa 0.3\nfa\0 0.2\n", 16)).find("demo.txt:2: NUL byte"),
+            std::string::npos);
 }
 
 TEST(ViewScript, MissingFileIsAnInputError) {

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 #include <imgui.h>
-
 #include <map>
 #include <optional>
 
@@ -115,7 +114,8 @@ TEST(ViewKeymap, LettersPickSliceAndViewAndReset) {
 }
 
 TEST(ViewPanels, ErrorChainSplitsAtContexts) {
-  const auto links = splitErrorChain("while loading a.nii: while reading tensor volume a.nii: a.nii: truncated");
+  const auto links =
+      splitErrorChain("while loading a.nii: while reading tensor volume a.nii: a.nii: truncated");
   ASSERT_EQ(links.size(), 3u);
   EXPECT_EQ(links[0], "while loading a.nii");
   EXPECT_EQ(links[1], "while reading tensor volume a.nii");
@@ -133,7 +133,8 @@ TEST(ViewPanels, SceneRectLeavesRoomForPanels) {
 }
 
 TEST_F(ViewHeadlessUi, NoInputNoActions) {
-  for (int i = 0; i < 3; ++i) EXPECT_TRUE(frame(-1, -1, false).empty());
+  for (int i = 0; i < 3; ++i)
+    EXPECT_TRUE(frame(-1, -1, false).empty());
   EXPECT_GT(centres.size(), 10u) << "panels drew their widgets";
 }
 

@@ -3,9 +3,8 @@
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-
 #include <fstream>
+#include <gtest/gtest.h>
 
 using dtf::test::runDtfabric;
 

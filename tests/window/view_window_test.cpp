@@ -5,36 +5,39 @@
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <fstream>
+#include <gtest/gtest.h>
 
 namespace fs = std::filesystem;
 using dtf::Image;
 
 namespace {
 
-bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+bool haveXvfb() {
+  return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
+}
 
-#define DTF_WINDOW_TEST_SETUP()                                                                             \
-  do {                                                                                                      \
-    if (!haveXvfb()) {                                                                                      \
-      if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "xvfb-run is missing";                          \
-      GTEST_SKIP() << "xvfb-run is missing";                                                                \
-    }                                                                                                       \
+#define DTF_WINDOW_TEST_SETUP()                                                                              \
+  do {                                                                                                       \
+    if (!haveXvfb()) {                                                                                       \
+      if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "xvfb-run is missing";                             \
+      GTEST_SKIP() << "xvfb-run is missing";                                                                 \
+    }                                                                                                        \
   } while (0)
 
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
 // Runs the viewer on the phantom with `script` (written to the scratch folder) under Xvfb.
-dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script, const std::string& extra = "") {
+dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script,
+                               const std::string& extra = "") {
   const fs::path scriptFile = scratch / "script.txt";
   std::ofstream(scriptFile) << script;
-  const std::string args = "view '" + kSample.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
+  const std::string args =
+      "view '" + kSample.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
   const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt";
-  const std::string cmd = "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) + "' " + args +
-                          " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
+  const std::string cmd = "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) +
+                          "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
   const int status = std::system(cmd.c_str());
   dtf::test::CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
@@ -43,7 +46,9 @@ dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& scrip
   return r;
 }
 
-std::string shot(const fs::path& scratch, const char* name) { return (scratch / name).string(); }
+std::string shot(const fs::path& scratch, const char* name) {
+  return (scratch / name).string();
+}
 
 // Fraction of pixels in which some channel differs by more than 40.
 double differingFraction(const Image& a, const Image& b) {
@@ -71,7 +76,9 @@ template <typename F> double fraction(const Image& img, int x0, int y0, int x1, 
   return total ? double(n) / total : 0;
 }
 
-bool lit(int r, int g, int b) { return r + g + b > 60; }
+bool lit(int r, int g, int b) {
+  return r + g + b > 60;
+}
 
 } // namespace
 
@@ -89,8 +96,10 @@ TEST(ViewWindow, PanelsAndScreenshotsAreWritten) {
   EXPECT_EQ(scene.width, 340);
   EXPECT_EQ(scene.height, 454);
   // Side bar: ImGui's blue collapsing headers and sliders, and light text.
-  const double blue = fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return b > 90 && b > r_ + 40 && b > g + 20; });
-  const double text = fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return r_ > 180 && g > 180 && b > 180; });
+  const double blue =
+      fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return b > 90 && b > r_ + 40 && b > g + 20; });
+  const double text =
+      fraction(win, 0, 0, 300, 454, [](int r_, int g, int b) { return r_ > 180 && g > 180 && b > 180; });
   EXPECT_GT(blue, 0.01) << "no panel headers in the side bar";
   EXPECT_GT(text, 0.01) << "no panel text in the side bar";
   // Status bar: its own background, not the scene's.
@@ -109,24 +118,26 @@ TEST(ViewWindow, PanelsAndScreenshotsAreWritten) {
 TEST(ViewWindow, FaSliderSweepChangesTheSurface) {
   DTF_WINDOW_TEST_SETUP();
   const auto dir = dtf::test::scratchDir();
-  const auto r = runViewer(dir, "fa 0.2\nscreenshot-scene " + shot(dir, "fa02.png") + "\nfa 0.4\nscreenshot-scene " +
-                                    shot(dir, "fa04.png") + "\nfa 0.2\nscreenshot-scene " + shot(dir, "fa02b.png") +
-                                    "\nquit\n");
+  const auto r = runViewer(dir, "fa 0.2\nscreenshot-scene " + shot(dir, "fa02.png") +
+                                    "\nfa 0.4\nscreenshot-scene " + shot(dir, "fa04.png") +
+                                    "\nfa 0.2\nscreenshot-scene " + shot(dir, "fa02b.png") + "\nquit\n");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image a = dtf::io::readPng(shot(dir, "fa02.png")), b = dtf::io::readPng(shot(dir, "fa04.png"));
   const Image c = dtf::io::readPng(shot(dir, "fa02b.png"));
   const double changed = differingFraction(a, b);
   EXPECT_GT(changed, 0.01) << "FA 0.2 and 0.4 look the same";
-  // Sweeping back restores the first surface (same mesh, same camera: the fabric converges to the same image).
+  // Sweeping back restores the first surface (same mesh, same camera: the fabric converges to the same
+  // image).
   EXPECT_LT(differingFraction(a, c), 0.5 * changed);
 }
 
 TEST(ViewWindow, SliceKeysMoveTheSlice) {
   DTF_WINDOW_TEST_SETUP();
   const auto dir = dtf::test::scratchDir();
-  const auto r = runViewer(dir, "key A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
-                                    shot(dir, "s1.png") + "\nkey Down\nkey Down\nscreenshot-scene " +
-                                    shot(dir, "s2.png") + "\nquit\n");
+  const auto r =
+      runViewer(dir, "key A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
+                         shot(dir, "s1.png") + "\nkey Down\nkey Down\nscreenshot-scene " +
+                         shot(dir, "s2.png") + "\nquit\n");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image s0 = dtf::io::readPng(shot(dir, "s0.png")), s1 = dtf::io::readPng(shot(dir, "s1.png"));
   const Image s2 = dtf::io::readPng(shot(dir, "s2.png"));
@@ -138,8 +149,9 @@ TEST(ViewWindow, SliceKeysMoveTheSlice) {
 TEST(ViewWindow, SplitViewShowsTwoPanes) {
   DTF_WINDOW_TEST_SETUP();
   const auto dir = dtf::test::scratchDir();
-  const auto r = runViewer(dir, "key C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
-                                    shot(dir, "two.png") + "\nscreenshot " + shot(dir, "two_window.png") + "\nquit\n");
+  const auto r =
+      runViewer(dir, "key C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
+                         shot(dir, "two.png") + "\nscreenshot " + shot(dir, "two_window.png") + "\nquit\n");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image one = dtf::io::readPng(shot(dir, "one.png")), two = dtf::io::readPng(shot(dir, "two.png"));
   const int half = two.width / 2;
@@ -165,9 +177,11 @@ TEST(ViewWindow, SplitViewShowsTwoPanes) {
 TEST(ViewWindow, RuntimeErrorShowsModalAndExitCode2) {
   DTF_WINDOW_TEST_SETUP();
   const auto dir = dtf::test::scratchDir();
-  const auto r = runViewer(dir, "load /nonexistent/brain.nii.gz\nscreenshot " + shot(dir, "error.png") + "\nquit\n");
+  const auto r =
+      runViewer(dir, "load /nonexistent/brain.nii.gz\nscreenshot " + shot(dir, "error.png") + "\nquit\n");
   EXPECT_EQ(r.exitCode, 2) << r.err;
-  EXPECT_NE(r.err.find("script.txt:1: error: while loading /nonexistent/brain.nii.gz"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("script.txt:1: error: while loading /nonexistent/brain.nii.gz"), std::string::npos)
+      << r.err;
   // The viewer kept running: the screenshot after the error was written.
   const Image win = dtf::io::readPng(shot(dir, "error.png"));
   EXPECT_EQ(win.width, 640);
@@ -199,8 +213,9 @@ TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
   };
   double x = 0, y = 0, z = 0;
   int i = 0, j = 0, k = 0;
-  ASSERT_EQ(std::sscanf(line(2).c_str(), "script.txt:2: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y,
-                        &z, &i, &j, &k),
+  ASSERT_EQ(std::sscanf(line(2).c_str(),
+                        "script.txt:2: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y, &z,
+                        &i, &j, &k),
             6)
       << r.err;
   EXPECT_NEAR(z, 1.75, 0.2);
@@ -208,8 +223,9 @@ TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
   EXPECT_NEAR(x, -82.25 + 3.5 * i, 1.75 + 1e-6);
   EXPECT_NEAR(y, -82.25 + 3.5 * j, 1.75 + 1e-6);
   EXPECT_NE(line(3).find("background"), std::string::npos) << r.err;
-  ASSERT_EQ(std::sscanf(line(5).c_str(), "script.txt:5: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y,
-                        &z, &i, &j, &k),
+  ASSERT_EQ(std::sscanf(line(5).c_str(),
+                        "script.txt:5: probe 170 227: surface at %lf %lf %lf mm, voxel %d %d %d", &x, &y, &z,
+                        &i, &j, &k),
             6)
       << r.err;
   EXPECT_NEAR(z, 22.75, 0.2);
