@@ -6,6 +6,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <regex>
 #include <sstream>
 
@@ -97,6 +98,7 @@ GLuint compile(GLenum stage, const std::string& file, const std::vector<std::str
     glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
     std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
     glGetShaderInfoLog(s, len, nullptr, log.data());
+    log.resize(std::strlen(log.c_str())); // drop the terminating NUL(s)
     glDeleteShader(s);
     throw GlError("compiling " + file + " failed:\n" + mapLog(log, src.files));
   }
@@ -136,6 +138,7 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
     glGetProgramiv(program_.id(), GL_INFO_LOG_LENGTH, &len);
     std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
     glGetProgramInfoLog(program_.id(), len, nullptr, log.data());
+    log.resize(std::strlen(log.c_str()));
     throw GlError("linking " + vertexFile + " + " + fragmentFile + " failed:\n" + log);
   }
 }

@@ -134,6 +134,18 @@ TEST_F(FabricPass, ShaderPreprocessorInjectsDefinesAndLineDirectives) {
   EXPECT_THROW(preprocessShader("fabric/no_such_file.frag"), GlError);
 }
 
+TEST_F(FabricPass, CompileErrorsNameTheFileAndLine) {
+  try {
+    ShaderProgram p("common/fullscreen.vert", "test/broken.frag");
+    FAIL() << "the broken shader compiled";
+  } catch (const GlError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("test/broken.frag:6"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("1 = common/eigen.glsl"), std::string::npos) << msg;
+  }
+  takeDebugMessages(); // the compiler's own debug message about the failure is expected here
+}
+
 TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
   // Random SPD tensors plus the hard cases: zero, isotropic, repeated eigenvalues, diagonal, tiny scale.
   std::vector<glm::dmat3> cases = {glm::dmat3(0.0), glm::dmat3(1e-3), glm::dmat3(2.0, 0, 0, 0, 1, 0, 0, 0, 1),

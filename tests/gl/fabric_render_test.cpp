@@ -53,8 +53,12 @@ TEST_F(FabricRender, ThreadsFollowConstantDirectionsOnAnAxialSliceSeenFromSuperi
     EXPECT_GT(coherence, 0.3);
     // Medical colour: DEC of the direction (red = x, green = y), no blue.
     const auto* c = img.pixel(128, 128);
-    if (angle == 0.0) EXPECT_GT(c[0], 3 * std::max<int>(c[1], 1));
-    if (angle == 60.0) EXPECT_GT(c[1], c[0]);
+    if (angle == 0.0) {
+      EXPECT_GT(c[0], 3 * std::max<int>(c[1], 1));
+    }
+    if (angle == 60.0) {
+      EXPECT_GT(c[1], c[0]);
+    }
     EXPECT_LT(c[2], 30);
   }
 }

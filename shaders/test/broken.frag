@@ -1,0 +1,6 @@
+#version 450 core
+// Test fixture: a deliberate compile error on line 6, after an include, so the tests can check that
+// ShaderProgram maps the error back to this file and line.
+#include "common/eigen.glsl"
+out vec4 o_colour;
+void main() { o_colour = vec4(undefinedThing); }
