@@ -42,9 +42,9 @@ Options
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
   --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate,
-                   pan, zoom, view, split, linked, neurological, set, probe, tracts, wait, screenshot (whole
-                   window, panels included), screenshot-scene (fabric panes only), camera-save, camera-load,
-                   quit.
+                   pan, zoom, view, split, linked, neurological, set, probe, resize, tracts, wait,
+                   screenshot (whole window, panels included), screenshot-scene (fabric panes only),
+                   camera-save, camera-load, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed.
 )";
@@ -395,6 +395,10 @@ private:
         if (!scene_->settled()) return;
       } else if (const auto* wait = std::get_if<ScriptWait>(&step.command)) {
         waitFrames_ = wait->frames;
+        return;
+      } else if (const auto* size = std::get_if<ScriptResize>(&step.command)) {
+        glfwSetWindowSize(window_, size->width, size->height);
+        waitFrames_ = 2; // the new size arrives with the next events
         return;
       } else if (const auto* at = std::get_if<ScriptProbe>(&step.command)) {
         scene_->probe(at->x, at->y);

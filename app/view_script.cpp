@@ -188,6 +188,15 @@ ScriptStep parseLine(const std::string& line, int number_) {
     if (x < 0 || y < 0 || x > 1e5 || y > 1e5)
       throw LineError{"probe: pixel coordinates must be non-negative"};
     step.command = ScriptProbe{x, y};
+  } else if (c == "resize") {
+    expectArgs(w, 1, "resize WxH");
+    const auto x = w[1].find('x');
+    if (x == std::string::npos) throw LineError{"usage: resize WxH"};
+    const int width = integer(w[1].substr(0, x), "resize width");
+    const int height = integer(w[1].substr(x + 1), "resize height");
+    if (width < 320 || height < 240 || width > 8192 || height > 8192)
+      throw LineError{"resize: the size must lie between 320x240 and 8192x8192"};
+    step.command = ScriptResize{width, height};
   } else if (c == "tracts") {
     step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
   } else if (c == "quit") {
@@ -197,7 +206,7 @@ ScriptStep parseLine(const std::string& line, int number_) {
     throw LineError{
         "unknown command '" + c +
         "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, tracts, quit)"};
+        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, resize, tracts, quit)"};
   }
   return step;
 }

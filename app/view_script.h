@@ -19,6 +19,7 @@
 //   screenshot-scene PATH     PNG of the fabric panes only (no panels, no labels)
 //   camera-save PATH, camera-load PATH
 //   probe X Y                 print the status bar's voxel under scene pixel (X, Y) (y down) to stderr
+//   resize WxH                resize the window (e.g. 800x600)
 //   tracts PATH               load .tck/.trk/.vtk streamlines (listed in the Tracts panel)
 //   quit                      close the viewer
 // `#` starts a comment; blank lines are skipped.
@@ -40,6 +41,9 @@ struct ScriptWait {
 struct ScriptProbe {
   double x, y; // scene pixels, y down
 };
+struct ScriptResize {
+  int width, height; // window pixels
+};
 struct ScriptSetParam {
   std::string name; // canonical name from the list above
   double value;     // on/off -> 1/0, medical/engineering -> 0/1
@@ -47,7 +51,7 @@ struct ScriptSetParam {
 
 struct ScriptStep {
   int line = 0; // 1-based line in the file
-  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam, ScriptProbe> command;
+  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize> command;
 };
 
 struct ViewScript {

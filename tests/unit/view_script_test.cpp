@@ -107,6 +107,15 @@ TEST(ViewScript, ProbeLineTakesScenePixels) {
   EXPECT_NE(parseError("probe -1 3").find("non-negative"), std::string::npos);
 }
 
+TEST(ViewScript, ResizeLineTakesAWindowSize) {
+  const ViewScript s = parseViewScript("resize 800x600\n", "r.txt");
+  ASSERT_EQ(s.steps.size(), 1u);
+  EXPECT_EQ(std::get<ScriptResize>(s.steps[0].command).width, 800);
+  EXPECT_EQ(std::get<ScriptResize>(s.steps[0].command).height, 600);
+  EXPECT_NE(parseError("resize 10x10").find("must lie between"), std::string::npos);
+  EXPECT_NE(parseError("resize big").find("usage: resize WxH"), std::string::npos);
+}
+
 TEST(ViewScript, EmptyAndCommentOnlyScriptsHaveNoSteps) {
   EXPECT_TRUE(parseViewScript("", "e.txt").steps.empty());
   EXPECT_TRUE(parseViewScript("# only\n   \n\t# comments\r\n", "e.txt").steps.empty());

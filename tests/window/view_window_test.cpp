@@ -231,3 +231,23 @@ TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
   EXPECT_NEAR(z, 22.75, 0.2);
   EXPECT_EQ(k, 30);
 }
+
+TEST(ViewWindow, ResizeKeepsTheFabricCoherent) {
+  DTF_WINDOW_TEST_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const auto r =
+      runViewer(dir, "fa 0.25\nscreenshot-scene " + shot(dir, "small.png") +
+                         "\nresize 900x700\nscreenshot-scene " + shot(dir, "large.png") + "\nquit\n");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image small = dtf::io::readPng(shot(dir, "small.png")),
+              large = dtf::io::readPng(shot(dir, "large.png"));
+  ASSERT_EQ(large.width, 600);  // 900 - 300 px side bar
+  ASSERT_EQ(large.height, 674); // 700 - 26 px status bar
+  // The orthographic view keeps its height in mm: the surface grows with the scene height, in area by
+  // (674 / 454)^2 = 2.2, and the fabric covers it as before.
+  const double smallPixels =
+      fraction(small, 0, 0, small.width, small.height, lit) * small.width * small.height;
+  const double largePixels =
+      fraction(large, 0, 0, large.width, large.height, lit) * large.width * large.height;
+  EXPECT_NEAR(largePixels / smallPixels, 2.2, 0.4);
+}
