@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -40,6 +41,7 @@ struct Result {
   std::size_t triangles = 0;
   double coverage = 0;
   double fabricMs = 0, movingMs = 0, movingHalfMs = 0, phongMs = 0;
+  double fabricCpuMs = 0, phongCpuMs = 0; // process CPU time (all llvmpipe threads) per frame
   render::PassTimes passes;
   int frames = 0;
 };
@@ -102,6 +104,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   // Static camera: the paper's frame (projection, silhouette, 3 advections, composite), state carried on.
   r.setTiming(true);
   render::PassTimes sum;
+  std::clock_t c0 = std::clock();
   auto t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     r.renderFrame(cam, p);
@@ -113,6 +116,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   }
   glFinish();
   res.fabricMs = msSince(t0) / frames;
+  res.fabricCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
   res.passes = {sum.projection / frames, sum.silhouette / frames, sum.advection / frames, sum.composite / frames, 0};
   // Moving camera: a small trackball step every frame; the advection restarts from beta each frame.
   t0 = std::chrono::steady_clock::now();
@@ -135,6 +139,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   res.movingHalfMs = msSince(t0) / frames;
   // Plain Phong of the same mesh and camera.
   double phongGpu = 0;
+  c0 = std::clock();
   t0 = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     r.renderPhong(cam);
@@ -142,6 +147,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   }
   glFinish();
   res.phongMs = msSince(t0) / frames;
+  res.phongCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
   res.passes.phong = phongGpu / frames;
   r.setTiming(false);
   render::checkGl("bench render " + c.name);
@@ -190,11 +196,11 @@ int benchRender(const CommandArgs& argv) {
     for (std::size_t i = 0; i < results.size(); ++i) {
       const Result& r = results[i];
       std::printf("%s{\"name\": \"%s\", \"triangles\": %zu, \"fabric_ms\": %.2f, \"phong_ms\": %.2f, "
-                  "\"moving_ms\": %.2f, \"moving_half_res_ms\": %.2f, \"ratio\": %.2f, \"coverage\": %.3f, \"passes_ms\": {\"projection\": %.2f, "
+                  "\"moving_ms\": %.2f, \"moving_half_res_ms\": %.2f, \"fabric_cpu_ms\": %.2f, \"phong_cpu_ms\": %.2f, \"ratio\": %.2f, \"coverage\": %.3f, \"passes_ms\": {\"projection\": %.2f, "
                   "\"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f, \"phong\": %.2f}}",
                   i ? ", " : "", r.name.c_str(), r.triangles, r.fabricMs, r.phongMs, r.movingMs, r.movingHalfMs,
-                  r.fabricMs / std::max(r.phongMs, 1e-9), r.coverage, r.passes.projection, r.passes.silhouette,
-                  r.passes.advection, r.passes.composite, r.passes.phong);
+                  r.fabricCpuMs, r.phongCpuMs, r.fabricMs / std::max(r.phongMs, 1e-9), r.coverage,
+                  r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
     }
     std::printf("]}\n");
     return 0;
@@ -214,6 +220,12 @@ int benchRender(const CommandArgs& argv) {
                 r.name.c_str(), r.triangles, 100 * r.coverage, r.fabricMs, r.movingMs, r.movingHalfMs, r.phongMs,
                 r.fabricMs / std::max(r.phongMs, 1e-9),
                 r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
+  std::printf("\nCPU time per frame (all llvmpipe threads; less sensitive to other processes' load):\n");
+  for (const Result& r : results)
+    std::printf("  %-12s fabric %7.1f ms  phong %6.1f ms  -> uncontended on %u cores about %.0f ms / %.0f ms\n",
+                r.name.c_str(), r.fabricCpuMs, r.phongCpuMs, std::thread::hardware_concurrency(),
+                r.fabricCpuMs / std::max(1u, std::thread::hardware_concurrency()),
+                r.phongCpuMs / std::max(1u, std::thread::hardware_concurrency()));
   std::printf("\nfabric: static camera, advection state carried between frames; moving: a trackball step per frame,\n"
               "the advection restarts from the mapped noise (no smearing); mov 1/2: the same with the fabric computed\n"
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"
