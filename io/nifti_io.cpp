@@ -158,19 +158,69 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "file does not exist");
   if (fs::is_directory(path, ec)) fail(path, "is a directory, not a NIfTI file");
+  // The raw header is checked before nifti_image_read converts it: nifticlib reads ANALYZE 7.5 (no magic),
+  // turns dimensions <= 0 into 1, and can crash converting absurd NIfTI-2 dimensions.
+  // nifti_type reads back as NIfTI-1 for NIfTI-2 files; the header reader gives the version.
+  int version = 1;
+  long long rawDims[8] = {};
+  void* raw = nifti_read_header(path.c_str(), &version, 0);
+  if (!raw)
+    fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
+  const char* magic = version == 2 ? static_cast<const nifti_2_header*>(raw)->magic
+                                   : static_cast<const nifti_1_header*>(raw)->magic;
+  const bool isNifti = version == 2 ? !std::memcmp(magic, "n+2", 4) || !std::memcmp(magic, "ni2", 4)
+                                    : !std::memcmp(magic, "n+1", 4) || !std::memcmp(magic, "ni1", 4);
+  // A header that still reads in the other byte order (sizeof_hdr not 348/540) is swapped here.
+  const int sizeofHdr = version == 2 ? static_cast<const nifti_2_header*>(raw)->sizeof_hdr
+                                     : static_cast<const nifti_1_header*>(raw)->sizeof_hdr;
+  const int expectHdr = version == 2 ? 540 : 348;
+  const auto swappedHdr = static_cast<int>(__builtin_bswap32(static_cast<std::uint32_t>(sizeofHdr)));
+  const bool sizeOk = sizeofHdr == expectHdr || swappedHdr == expectHdr;
+  if (version == 2) {
+    const auto* h2 = static_cast<const nifti_2_header*>(raw);
+    const bool swap = h2->sizeof_hdr != 540;
+    for (int d = 0; d < 8; ++d) {
+      const auto v = static_cast<std::uint64_t>(h2->dim[d]);
+      rawDims[d] = static_cast<long long>(swap ? __builtin_bswap64(v) : v);
+    }
+  } else {
+    const auto* h1 = static_cast<const nifti_1_header*>(raw);
+    const bool swap = h1->sizeof_hdr != 348;
+    for (int d = 0; d < 8; ++d) {
+      const auto v = static_cast<std::uint16_t>(h1->dim[d]);
+      rawDims[d] = static_cast<std::int16_t>(swap ? __builtin_bswap16(v) : v);
+    }
+  }
+  std::free(raw);
+  if (!sizeOk) fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
+  if (!isNifti)
+    fail(path, "not a NIfTI file: no 'n+1', 'ni1', 'n+2' or 'ni2' magic (ANALYZE 7.5 is not supported)");
+  const long long ndim = rawDims[0];
+  if (ndim < 1 || ndim > 7)
+    fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
+  {
+    std::vector<long long> dims;
+    long long total = 1;
+    for (long long d = 1; d <= ndim; ++d) {
+      const long long n = rawDims[d];
+      dims.push_back(n);
+      if (n <= 0)
+        fail(path, "dimension " + std::to_string(d) + " is " + std::to_string(n) + " (must be >= 1)");
+      if (n > kMaxElements || total > kMaxElements / n)
+        fail(path, "dimensions " + dimsText(dims) + (d < ndim ? "..." : "") +
+                       " are absurd (more than 2^31 values); refusing to allocate");
+      total *= n;
+    }
+  }
   NimPtr nim(nifti_image_read(path.c_str(), 0));
   if (!nim)
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
 
   h = VolumeHeader{};
   h.path = path;
-  // nifti_type reads back as NIfTI-1 for NIfTI-2 files; ask the header reader for the version.
-  int version = 1;
-  if (void* raw = nifti_read_header(path.c_str(), &version, 0)) std::free(raw);
   h.niftiVersion = version == 2 ? 2 : 1;
-  long long ndim = nim->dim[0];
-  if (ndim < 1 || ndim > 7)
-    fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
+  if (nim->dim[0] != ndim)
+    fail(path, "inconsistent header: nifticlib reads " + std::to_string(nim->dim[0]) + " dimensions");
   long long total = 1;
   for (long long d = 1; d <= ndim; ++d) {
     long long n = nim->dim[d];
@@ -223,8 +273,21 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
       h.warnings.push_back(w.str());
     }
   }
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(affine[c][r]))
+        fail(path, "the voxel-to-world affine (" + h.affineSource + ") is not finite");
   if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12)
     fail(path, "the voxel-to-world affine is singular");
+  // Without an sform the voxel size comes from pixdim, where nifticlib and the pixdim-only affine use 1 mm
+  // in place of a value that is not positive: say so rather than show a silently changed size.
+  for (int d = 0; d < 3 && d < ndim && nim->sform_code <= 0; ++d)
+    if (!(nim->pixdim[d + 1] > 0)) {
+      std::ostringstream w;
+      w << "pixdim[" << d + 1 << "] is " << nim->pixdim[d + 1]
+        << " (a voxel size must be positive); using 1 mm";
+      h.warnings.push_back(w.str());
+    }
   h.grid = Grid::fromAffine(gdims, affine);
 
   if (const std::string file = dataFile(nim.get(), path); !nifti_is_gzfile(file.c_str())) {
