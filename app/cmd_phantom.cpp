@@ -7,6 +7,7 @@
 #include "io/tensor_io.h"
 
 #include <cstdio>
+#include <filesystem>
 
 namespace dtf::app {
 
@@ -32,11 +33,12 @@ const char* kHelp =
     "  --elevation DEG    constant: direction out of the axial plane towards +z (default 0)\n"
     "  --crossing DEG     crossing: angle between the bundles (default 90)\n"
     "  --scalar FILE      also write the scalar field (sphere: distance, bretzel5: f, others: FA)\n"
-    "  --nifti2           write NIfTI-2 instead of NIfTI-1\n";
+    "  --nifti2           write NIfTI-2 instead of NIfTI-1\n"
+    "  --force            overwrite existing output files\n";
 } // namespace
 
 int cmdPhantom(const CommandArgs& argv) {
-  Args args(argv, {"help", "nifti2"});
+  Args args(argv, {"help", "nifti2", "force"});
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -55,9 +57,13 @@ int cmdPhantom(const CommandArgs& argv) {
   o.crossingDeg = args.getDouble("crossing", o.crossingDeg);
   auto scalarPath = args.get("scalar");
   int version = args.flag("nifti2") ? 2 : 1;
+  const bool force = args.flag("force");
   if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   args.finish();
   if (scalarPath && *scalarPath == *output) throw UsageError("--scalar must name a different file than -o");
+  for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr})
+    if (out && !force && std::filesystem::exists(*out))
+      throw InputError(*out + " exists (use --force to overwrite it)");
 
   io::Phantom p = io::makePhantom(name, o);
   io::writeTensorVolume(*output, p.tensors, layout, version);
