@@ -4,6 +4,7 @@
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
 
+#include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/png_io.h"
@@ -61,6 +62,7 @@ Input
   --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --bval F --bvec F   treat INPUT as a DWI and fit tensors (WLS)
   --mask F            DWI fit mask
+  --force             overwrite an existing OUT.png (never an input)
 
 Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.
 )";
@@ -72,7 +74,7 @@ render::StandardView defaultView(const SurfaceSpec& spec) {
 } // namespace
 
 int cmdRender(const CommandArgs& argv) {
-  Args args(argv, {"help", "neurological", "perspective", "no-lighting", "no-silhouette"});
+  Args args(argv, {"help", "neurological", "perspective", "no-lighting", "no-silhouette", "force"});
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -119,12 +121,15 @@ int cmdRender(const CommandArgs& argv) {
   in.bval = args.getOr("bval", "");
   in.bvec = args.getOr("bvec", "");
   in.mask = args.getOr("mask", "");
+  const bool force = args.flag("force");
   args.finish();
 
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(output) && fs::equivalent(output, input, ec))
     throw UsageError("output " + output + " is the input: refusing to overwrite it");
+  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file});
+  if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
 
   const auto t0 = std::chrono::steady_clock::now();
   io::LoadedTensors loaded = loadTensorInput(input, in);
