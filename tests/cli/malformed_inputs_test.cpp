@@ -1,0 +1,830 @@
+// A catalogue of malformed inputs, each generated here from bytes (nothing binary is committed), run
+// through the real dtfabric executable: NIfTI volumes (`info`, `fit`), bval/bvec tables (`fit`), .tck/.trk
+// tracts (`compare --tracts`, the only command that reads tracts) and viewer scripts (`view --script`,
+// which parses the whole script before a window opens, so it runs headless). Every case asserts the exit
+// code (2 bad input, 1 usage; never a signal), that stderr names the file and the problem, and, for
+// commands with -o, that no output file (not even a temporary one) is left behind.
+#include "support/cli.h"
+#include "support/test_env.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <nifti1.h>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+#include <zlib.h>
+
+namespace fs = std::filesystem;
+using dtf::test::CliResult;
+using dtf::test::runDtfabric;
+
+namespace {
+
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
+
+void writeBytes(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string readBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+template <typename T> void put(std::string& s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+template <typename T> void poke(std::string& s, std::size_t at, T v) {
+  std::memcpy(s.data() + at, &v, sizeof(T));
+}
+
+// A single-file NIfTI-1 volume: 348-byte header, 4 zero extension bytes, then `data` verbatim.
+struct Nifti {
+  std::vector<int> dims{4, 4, 4};
+  short datatype = DT_FLOAT32;
+  short bitpix = 32;
+  float pixdim[3] = {2, 2, 2};
+  short qformCode = 0, sformCode = 1;
+  float srow[3][4] = {{2, 0, 0, -4}, {0, 2, 0, -4}, {0, 0, 2, -4}};
+  float sclSlope = 1;
+  std::string data; // empty: float zeros of the right size
+  const char* magic = "n+1";
+
+  std::size_t values() const {
+    std::size_t n = 1;
+    for (int d : dims)
+      n *= static_cast<std::size_t>(std::max(d, 0));
+    return n;
+  }
+  std::string bytes() const {
+    nifti_1_header h;
+    std::memset(&h, 0, sizeof h);
+    h.sizeof_hdr = 348;
+    h.dim[0] = static_cast<short>(dims.size());
+    for (std::size_t i = 0; i < dims.size() && i < 7; ++i)
+      h.dim[i + 1] = static_cast<short>(dims[i]);
+    h.datatype = datatype;
+    h.bitpix = bitpix;
+    h.pixdim[0] = 1;
+    for (int i = 0; i < 3; ++i)
+      h.pixdim[i + 1] = pixdim[i];
+    h.vox_offset = 352;
+    h.scl_slope = sclSlope;
+    h.qform_code = qformCode;
+    h.sform_code = sformCode;
+    std::memcpy(h.srow_x, srow[0], sizeof h.srow_x);
+    std::memcpy(h.srow_y, srow[1], sizeof h.srow_y);
+    std::memcpy(h.srow_z, srow[2], sizeof h.srow_z);
+    std::memcpy(h.magic, magic, 4); // three letters and the NUL
+    std::string s(reinterpret_cast<const char*>(&h), sizeof h);
+    s.append(4, '\0');
+    s += data.empty() ? std::string(values() * 4, '\0') : data;
+    return s;
+  }
+};
+
+// A NIfTI-2 header (540 bytes, float32, vox_offset 544) with the given dim[0..7], then 64 zero bytes.
+std::string nifti2Bytes(const std::vector<std::int64_t>& dims) {
+  std::string h(540, '\0');
+  poke<std::int32_t>(h, 0, 540);
+  std::memcpy(h.data() + 4, "n+2\0\r\n\032\n", 8);
+  poke<std::int16_t>(h, 12, DT_FLOAT32);
+  poke<std::int16_t>(h, 14, 32);
+  for (std::size_t d = 0; d < dims.size() && d < 8; ++d)
+    poke<std::int64_t>(h, 16 + 8 * d, dims[d]);
+  for (int d = 0; d < 8; ++d)
+    poke<double>(h, 104 + 8 * d, 1.0);
+  poke<std::int64_t>(h, 168, 544);
+  poke<double>(h, 176, 1.0);
+  return h + std::string(4 + 64, '\0');
+}
+
+std::string floats(const std::vector<float>& v) {
+  std::string s;
+  for (float f : v)
+    put(s, f);
+  return s;
+}
+
+// A valid FSL-layout tensor volume (2x2x2 x 6, diagonal 1e-3 mm^2/s) with every component set to `fill`
+// when given.
+Nifti tensorNifti(std::optional<float> fill = std::nullopt) {
+  Nifti n;
+  n.dims = {2, 2, 2, 6};
+  std::vector<float> v(8 * 6, 0.0f);
+  for (int c : {0, 3, 5})
+    for (int i = 0; i < 8; ++i)
+      v[static_cast<std::size_t>(c * 8 + i)] = 1e-3f;
+  if (fill) std::fill(v.begin(), v.end(), *fill);
+  n.data = floats(v);
+  return n;
+}
+
+// A valid 4x4x4 DWI with 8 volumes (b=0 first and last) and signal 1000 * exp(-b * 1e-3).
+Nifti dwiNifti() {
+  Nifti n;
+  n.dims = {4, 4, 4, 8};
+  std::vector<float> v(64 * 8);
+  for (int t = 0; t < 8; ++t)
+    for (int i = 0; i < 64; ++i)
+      v[static_cast<std::size_t>(t * 64 + i)] = (t == 0 || t == 7) ? 1000.0f : 367.9f + static_cast<float>(t);
+  n.data = floats(v);
+  return n;
+}
+const char* kBval = "0 1000 1000 1000 1000 1000 1000 0\n";
+const char* kBvec = "0 1 0 0 0.7071 0.7071 0 0\n0 0 1 0 0.7071 0 0.7071 0\n0 0 0 1 0 0.7071 0.7071 0\n";
+
+// A tensor volume of 8x8x8 x 6 pseudo-random floats: its gzip stream is long, so damage to it lands in the
+// voxel data rather than in the header.
+std::string noisyTensorBytes() {
+  Nifti n;
+  n.dims = {8, 8, 8, 6};
+  std::vector<float> v(512 * 6);
+  std::uint32_t x = 12345;
+  for (float& f : v) {
+    x = x * 1664525u + 1013904223u;
+    f = static_cast<float>(x >> 8) * 1e-10f;
+  }
+  n.data = floats(v);
+  return n.bytes();
+}
+
+std::string gzip(const std::string& raw) {
+  uLongf cap = compressBound(static_cast<uLong>(raw.size())) + 32;
+  std::string out(cap, '\0');
+  z_stream z{};
+  deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY); // 15 + 16: gzip wrapper
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data()));
+  z.avail_in = static_cast<uInt>(raw.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(cap);
+  deflate(&z, Z_FINISH);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+// MRtrix .tck: `header` lines between "mrtrix tracks" and "END"; "file: . OFFSET" is added (pointing right
+// after END) unless the header names `file:` itself; then `points` as Float32LE triplets.
+std::string tck(const std::string& header, const std::vector<float>& points, bool addFile = true) {
+  std::string head = "mrtrix tracks\n" + header;
+  std::string tail = "END\n";
+  if (addFile && header.find("file:") == std::string::npos) {
+    std::size_t offset = head.size() + std::strlen("file: . 0000000000\n") + tail.size();
+    char line[40];
+    std::snprintf(line, sizeof line, "file: . %010zu\n", offset);
+    head += line;
+  }
+  return head + tail + floats(points);
+}
+const float kNaN = std::numeric_limits<float>::quiet_NaN(), kInf = std::numeric_limits<float>::infinity();
+// One streamline of two points, its NaN separator and the end-of-file Inf triplet.
+const std::vector<float> kTckPoints = {0, 0, 0, 1, 1, 1, kNaN, kNaN, kNaN, kInf, kInf, kInf};
+
+// TrackVis v2 little-endian header (1000 bytes) on a 4x4x4 grid of 2 mm voxels, LAS, identity-like
+// vox_to_ras, followed by one track of two points unless `body` is given.
+std::string trk(const std::function<void(std::string&)>& edit = {}, std::optional<std::string> body = {}) {
+  std::string h(1000, '\0');
+  std::memcpy(h.data(), "TRACK", 5);
+  for (int a = 0; a < 3; ++a) {
+    poke<std::int16_t>(h, 6 + 2 * a, 4);
+    poke<float>(h, 12 + 4 * a, 2.0f);
+  }
+  for (int r = 0; r < 4; ++r)
+    poke<float>(h, 440 + 4 * (4 * r + r), r < 3 ? 2.0f : 1.0f);
+  std::memcpy(h.data() + 948, "RAS", 3);
+  poke<std::int32_t>(h, 988, 1);
+  poke<std::int32_t>(h, 992, 2);
+  poke<std::int32_t>(h, 996, 1000);
+  if (edit) edit(h);
+  if (body) return h + *body;
+  std::string b;
+  put<std::int32_t>(b, 2);
+  b += floats({1, 1, 1, 3, 3, 3});
+  return h + b;
+}
+
+struct Case {
+  std::string name;
+  // Writes the inputs into `dir` and returns the dtfabric arguments.
+  std::function<std::string(const fs::path& dir)> setup;
+  int exitCode = 2;
+  std::vector<std::string> errHas; // substrings of stderr
+  std::string output;              // file name the command would write (must not exist afterwards)
+  std::string outHas;              // for cases that succeed with a warning: a substring of stdout
+};
+
+// `info` on a NIfTI file written from `bytes`.
+Case infoCase(std::string name, std::string file, std::function<std::string()> bytes,
+              std::vector<std::string> errHas, std::string extra = "") {
+  return {name,
+          [file, bytes, extra](const fs::path& dir) {
+            writeBytes(dir / file, bytes());
+            return "info " + q(dir / file) + extra;
+          },
+          2,
+          [&] {
+            errHas.insert(errHas.begin(), file);
+            return errHas;
+          }()};
+}
+
+// `fit` of a DWI with bval/bvec written from the given texts, output fit.nii.
+Case fitCase(std::string name, std::function<std::string()> dwi, std::string bval, std::string bvec,
+             std::vector<std::string> errHas) {
+  return {name,
+          [dwi, bval, bvec](const fs::path& dir) {
+            writeBytes(dir / "dwi.nii", dwi());
+            writeBytes(dir / "dwi.bval", bval);
+            writeBytes(dir / "dwi.bvec", bvec);
+            return "fit " + q(dir / "dwi.nii") + " --bval " + q(dir / "dwi.bval") + " --bvec " +
+                   q(dir / "dwi.bvec") + " -o " + q(dir / "fit.nii");
+          },
+          2, errHas, "fit.nii"};
+}
+
+// `compare` of a valid constant phantom with a tract file written from `bytes`.
+Case tractCase(std::string name, std::string file, std::function<std::string()> bytes,
+               std::vector<std::string> errHas) {
+  return {name,
+          [file, bytes](const fs::path& dir) {
+            auto ph = runDtfabric("phantom constant --size 8 -o " + q(dir / "t.nii"), dir);
+            if (ph.exitCode != 0) throw std::runtime_error("phantom failed: " + ph.err);
+            writeBytes(dir / file, bytes());
+            return "compare " + q(dir / "t.nii") + " --tracts " + q(dir / file) + " --surface slice=axial:4";
+          },
+          2,
+          [&] {
+            errHas.insert(errHas.begin(), file);
+            return errHas;
+          }()};
+}
+
+// `view --script` of a script file holding `text`.
+Case scriptCase(std::string name, std::string text, std::vector<std::string> errHas) {
+  return {name,
+          [text](const fs::path& dir) {
+            writeBytes(dir / "bad.dtfs", text);
+            return "view --script " + q(dir / "bad.dtfs");
+          },
+          2,
+          [&] {
+            errHas.insert(errHas.begin(), "bad.dtfs:");
+            return errHas;
+          }()};
+}
+
+std::vector<Case> catalogue() {
+  std::vector<Case> c;
+  const std::string notNifti = "not a readable NIfTI";
+  // ---- NIfTI headers
+  c.push_back(infoCase("NiftiEmptyFile", "empty.nii", [] { return std::string(); }, {notNifti}));
+  c.push_back(infoCase("NiftiTruncatedHeader", "short.nii",
+                       [] { return tensorNifti().bytes().substr(0, 200); }, {notNifti}));
+  c.push_back(infoCase("NiftiBadSizeofHdr", "sizeof.nii",
+                       [] {
+                         auto b = tensorNifti().bytes();
+                         poke<std::int32_t>(b, 0, 123);
+                         return b;
+                       },
+                       {"bad sizeof_hdr 123"}));
+  c.push_back(infoCase("NiftiWrongMagic", "magic.nii",
+                       [] {
+                         Nifti n = tensorNifti();
+                         n.magic = "XY1";
+                         return n.bytes();
+                       },
+                       {"no 'n+1', 'ni1', 'n+2' or 'ni2' magic"}));
+  c.push_back(infoCase("NiftiRandomBytes", "noise.nii",
+                       [] {
+                         std::string s(1000, '\0');
+                         for (std::size_t i = 0; i < s.size(); ++i)
+                           s[i] = static_cast<char>((i * 2654435761u) >> 13);
+                         return s;
+                       },
+                       {"NIfTI"}));
+  c.push_back(infoCase("NiftiTruncatedData", "cut.nii",
+                       [] {
+                         auto b = tensorNifti().bytes();
+                         return b.substr(0, b.size() - 10);
+                       },
+                       {"truncated", "bytes"}));
+  c.push_back(infoCase("NiftiVoxOffsetPastEnd", "offset.nii",
+                       [] {
+                         auto b = tensorNifti().bytes();
+                         poke<float>(b, 108, 1e6f);
+                         return b;
+                       },
+                       {"truncated"}));
+  c.push_back(infoCase("NiftiGzipTruncated", "cut.nii.gz",
+                       [] {
+                         auto z = gzip(noisyTensorBytes());
+                         return z.substr(0, z.size() * 2 / 3);
+                       },
+                       {"truncated or its gzip stream is corrupt"}));
+  c.push_back(infoCase("NiftiGzipCorruptDeflateData", "flip.nii.gz",
+                       [] {
+                         auto z = gzip(noisyTensorBytes());
+                         for (std::size_t i = z.size() / 2; i < z.size() / 2 + 8; ++i)
+                           z[i] = static_cast<char>(z[i] ^ 0x5a);
+                         return z;
+                       },
+                       {"NIfTI"}));
+  c.push_back(infoCase("NiftiGzipBadCrc", "crc.nii.gz",
+                       [] {
+                         auto z = gzip(noisyTensorBytes());
+                         z[z.size() - 8] = static_cast<char>(z[z.size() - 8] ^ 0xff); // CRC32 in the trailer
+                         return z;
+                       },
+                       {"gzip stream"}));
+  c.push_back(infoCase("NiftiGzipHeaderOnlyDeclaringGigabytes", "huge.nii.gz",
+                       [] {
+                         Nifti n;
+                         n.dims = {1600, 1200, 1000}; // 1.9e9 floats (7.2 GiB) declared, none present
+                         n.data = "x";
+                         return gzip(n.bytes());
+                       },
+                       {"truncated or its gzip stream is corrupt"}));
+  // ---- NIfTI dimensions and datatypes
+  c.push_back(infoCase("NiftiDimsOverflowSizeT", "overflow.nii",
+                       [] {
+                         Nifti n;
+                         n.dims = {32767, 32767, 32767, 32767, 32767, 32767, 32767};
+                         n.data = "x";
+                         return n.bytes();
+                       },
+                       {"absurd", "refusing to allocate"}));
+  c.push_back(infoCase("NiftiDimsExceedMemory", "big.nii",
+                       [] {
+                         Nifti n;
+                         n.dims = {30000, 30000, 3000};
+                         n.data = "x";
+                         return n.bytes();
+                       },
+                       {"absurd"}));
+  // Fuzz finding: nifticlib crashed (stack overflow) converting a NIfTI-2 header with an absurd dim[0].
+  c.push_back(infoCase("Nifti2AbsurdDimCount", "ndim.nii",
+                       [] {
+                         return nifti2Bytes({724235330553511936LL, 4, 4, 4, 1, 1, 1, 1});
+                       },
+                       {"header has 724235330553511936 dimensions"}));
+  c.push_back(infoCase("Nifti2AbsurdDims", "huge2.nii",
+                       [] {
+                         return nifti2Bytes({3, 1LL << 40, 1LL << 40, 4});
+                       },
+                       {"absurd", "refusing to allocate"}));
+  c.push_back(infoCase("NiftiEightDims", "ndim8.nii",
+                       [] {
+                         auto b = tensorNifti().bytes();
+                         poke<std::int16_t>(b, 40, 8);
+                         return b;
+                       },
+                       {"NIfTI"}));
+  c.push_back(infoCase("NiftiZeroDim", "zero.nii",
+                       [] {
+                         Nifti n;
+                         n.dims = {4, 0, 4};
+                         return n.bytes();
+                       },
+                       {"dimension 2 is 0"}));
+  c.push_back(infoCase("NiftiNegativeDim", "negative.nii",
+                       [] {
+                         Nifti n;
+                         n.dims = {4, 4, -3};
+                         n.data = std::string(64 * 4, '\0');
+                         return n.bytes();
+                       },
+                       {"dimension 3 is -3"}));
+  c.push_back(infoCase("NiftiZeroNdim", "ndim0.nii",
+                       [] {
+                         auto b = tensorNifti().bytes();
+                         poke<std::int16_t>(b, 40, 0);
+                         return b;
+                       },
+                       {"NIfTI"}));
+  c.push_back(infoCase(
+      "NiftiSevenDimsReadAsTensors", "sevend.nii",
+      [] {
+        Nifti n;
+        n.dims = {2, 2, 2, 1, 1, 1, 6};
+        return n.bytes();
+      },
+      {"is not a tensor volume", "2x2x2x1x1x1x6"}, " --layout fsl"));
+  c.push_back(infoCase("NiftiComplexDatatype", "complex.nii",
+                       [] {
+                         Nifti n;
+                         n.datatype = DT_COMPLEX64;
+                         n.bitpix = 64;
+                         n.data = std::string(64 * 8, '\0');
+                         return n.bytes();
+                       },
+                       {"unsupported datatype COMPLEX64"}));
+  c.push_back(infoCase("NiftiRgbDatatype", "rgb.nii",
+                       [] {
+                         Nifti n;
+                         n.datatype = DT_RGB24;
+                         n.bitpix = 24;
+                         n.data = std::string(64 * 3, '\0');
+                         return n.bytes();
+                       },
+                       {"unsupported datatype RGB24"}));
+  c.push_back(infoCase("NiftiUnknownDatatypeCode", "dt999.nii",
+                       [] {
+                         Nifti n;
+                         n.datatype = 999;
+                         return n.bytes();
+                       },
+                       {"NIfTI"}));
+  c.push_back(
+      infoCase("NiftiAllNaNTensors", "nan.nii", [] { return tensorNifti(kNaN).bytes(); }, {"NaN/Inf"}));
+  c.push_back(
+      infoCase("NiftiAllInfTensors", "inf.nii", [] { return tensorNifti(kInf).bytes(); }, {"NaN/Inf"}));
+  c.push_back(infoCase("NiftiSingularSform", "singular.nii",
+                       [] {
+                         Nifti n = tensorNifti();
+                         std::memset(n.srow, 0, sizeof n.srow);
+                         return n.bytes();
+                       },
+                       {"affine is singular"}));
+  c.push_back(infoCase("NiftiNonFiniteSform", "nansform.nii",
+                       [] {
+                         Nifti n = tensorNifti();
+                         n.srow[1][1] = kNaN;
+                         return n.bytes();
+                       },
+                       {"affine"}));
+  // Accepted with a warning: orientation problems do not stop a look at the data, but are reported.
+  c.push_back({"NiftiNegativePixdimIsReported",
+               [](const fs::path& dir) {
+                 Nifti n = tensorNifti();
+                 n.sformCode = 0;
+                 n.pixdim[1] = -2;
+                 writeBytes(dir / "pixdim.nii", n.bytes());
+                 return "info " + q(dir / "pixdim.nii");
+               },
+               0,
+               {},
+               "",
+               "pixdim[2] is -2"});
+  c.push_back({"NiftiInconsistentQformSformIsReported",
+               [](const fs::path& dir) {
+                 Nifti n = tensorNifti();
+                 n.qformCode = 1; // quaternion zero, offsets zero: 2 mm voxels at the origin, sform at -4 mm
+                 writeBytes(dir / "qs.nii", n.bytes());
+                 return "info " + q(dir / "qs.nii");
+               },
+               0,
+               {},
+               "",
+               "sform and qform disagree"});
+  c.push_back({"NiftiMissingFile",
+               [](const fs::path& dir) { return "info " + q(dir / "missing.nii"); },
+               2,
+               {"missing.nii", "does not exist"}});
+  c.push_back({"NiftiDirectory",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "folder.nii");
+                 return "info " + q(dir / "folder.nii");
+               },
+               2,
+               {"folder.nii", "is a directory"}});
+  // ---- DWI and gradient tables through `fit` (nothing may be written)
+  auto dwi = [] { return dwiNifti().bytes(); };
+  c.push_back(fitCase("FitTruncatedDwi",
+                      [] {
+                        auto b = dwiNifti().bytes();
+                        return b.substr(0, b.size() / 2);
+                      },
+                      kBval, kBvec, {"dwi.nii", "truncated"}));
+  c.push_back(fitCase("FitDwiWithComplexData",
+                      [] {
+                        Nifti n = dwiNifti();
+                        n.datatype = DT_COMPLEX64;
+                        n.bitpix = 64;
+                        n.data += n.data;
+                        return n.bytes();
+                      },
+                      kBval, kBvec, {"dwi.nii", "unsupported datatype"}));
+  c.push_back(fitCase("BvalCountMismatch", dwi, "0 1000 1000 1000 1000 0\n", kBvec,
+                      {"dwi.bval", "6 b-values", "8 volumes"}));
+  c.push_back(fitCase("BvecCountMismatch", dwi, kBval, "0 1 0 0 0\n0 0 1 0 0\n0 0 0 1 0\n",
+                      {"dwi.bvec", "5 directions", "8"}));
+  c.push_back(fitCase("BvalNonNumeric", dwi, "0 1000 abc 1000 1000 1000 1000 0\n", kBvec,
+                      {"dwi.bval", "line 1", "'abc' is not a number"}));
+  c.push_back(fitCase("BvecNonNumeric", dwi, kBval,
+                      "0 1 0 0 0.7071 0.7071 0 0\n0 0 1 0 x 0 0.7071 0\n0 0 0 1 0 0.7071 0.7071 0\n",
+                      {"dwi.bvec", "line 2", "'x' is not a number"}));
+  c.push_back(fitCase("BvalEmptyFile", dwi, "", kBvec, {"dwi.bval", "holds no numbers"}));
+  c.push_back(fitCase("BvecEmptyFile", dwi, kBval, "\n\n", {"dwi.bvec", "holds no numbers"}));
+  c.push_back(fitCase("BvalNegative", dwi, "0 1000 -1000 1000 1000 1000 1000 0\n", kBvec,
+                      {"dwi.bval", "not a finite non-negative number"}));
+  c.push_back(fitCase("BvalNaN", dwi, "0 1000 nan 1000 1000 1000 1000 0\n", kBvec,
+                      {"dwi.bval", "not a finite non-negative number"}));
+  c.push_back(fitCase("BvecZeroVectorAtPositiveB", dwi, kBval,
+                      "0 1 0 0 0.7071 0 0 0\n0 0 1 0 0.7071 0 0.7071 0\n0 0 0 1 0 0 0.7071 0\n",
+                      {"dwi.bvec", "volume 5 has b = 1000", "zero gradient direction"}));
+  c.push_back(fitCase("BvecInfinite", dwi, kBval,
+                      "0 1 0 0 0.7071 inf 0 0\n0 0 1 0 0.7071 0 0.7071 0\n0 0 0 1 0 0.7071 0.7071 0\n",
+                      {"dwi.bvec", "infinite"}));
+  c.push_back(fitCase("BvecRaggedShape", dwi, kBval, "0 1 0 0 0.7071 0.7071 0 0\n0 0 1 0 0.7071 0 0.7071 0\n",
+                      {"dwi.bvec", "3 rows of N numbers"}));
+  c.push_back(fitCase("FitTooFewVolumes",
+                      [] {
+                        Nifti n = dwiNifti();
+                        n.dims = {4, 4, 4, 3};
+                        n.data.resize(64 * 3 * 4);
+                        return n.bytes();
+                      },
+                      "0 1000 1000\n", "0 1 0\n0 0 1\n0 0 0\n", {"volumes"}));
+  // ---- outputs: never an input, never an existing file without --force
+  c.push_back({"FitOutputIsAnInput",
+               [](const fs::path& dir) {
+                 writeBytes(dir / "dwi.nii", dwiNifti().bytes());
+                 writeBytes(dir / "dwi.bval", kBval);
+                 writeBytes(dir / "dwi.bvec", kBvec);
+                 return "fit " + q(dir / "dwi.nii") + " --bval " + q(dir / "dwi.bval") + " --bvec " +
+                        q(dir / "dwi.bvec") + " --force -o " + q(dir / "dwi.nii");
+               },
+               2,
+               {"dwi.nii"}});
+  c.push_back({"PhantomExistingOutputNeedsForce",
+               [](const fs::path& dir) {
+                 writeBytes(dir / "keep.nii", "precious");
+                 return "phantom constant --size 8 -o " + q(dir / "keep.nii");
+               },
+               2,
+               {"keep.nii", "exists", "--force"}});
+  // ---- .tck
+  c.push_back(
+      tractCase("TckEmptyFile", "empty.tck", [] { return std::string(); }, {"not an MRtrix .tck file"}));
+  c.push_back(tractCase("TckBadMagic", "magic.tck",
+                        [] {
+                          auto s = tck("datatype: Float32LE\n", kTckPoints);
+                          s[0] = 'M';
+                          return s;
+                        },
+                        {"not an MRtrix .tck file"}));
+  c.push_back(tractCase("TckNoEnd", "noend.tck",
+                        [] { return std::string("mrtrix tracks\ndatatype: Float32LE\n"); }, {"no END line"}));
+  c.push_back(tractCase("TckMissingFileEntry", "nofile.tck",
+                        [] { return tck("datatype: Float32LE\n", kTckPoints, false); },
+                        {"no 'file:' entry"}));
+  c.push_back(tractCase("TckMissingDatatype", "nodt.tck", [] { return tck("count: 1\n", kTckPoints); },
+                        {"no datatype"}));
+  c.push_back(tractCase("TckUnsupportedDatatype", "int.tck",
+                        [] { return tck("datatype: Int32LE\n", kTckPoints); },
+                        {"unsupported .tck datatype 'Int32LE'"}));
+  c.push_back(tractCase("TckOffsetPastTheEnd", "offset.tck",
+                        [] { return tck("datatype: Float32LE\nfile: . 99999\n", kTckPoints); },
+                        {"beyond the end of the file"}));
+  c.push_back(tractCase("TckOffsetInsideHeader", "inside.tck",
+                        [] { return tck("datatype: Float32LE\nfile: . 4\n", kTckPoints); },
+                        {"inside the header"}));
+  c.push_back(tractCase("TckNegativeOffset", "negoff.tck",
+                        [] { return tck("datatype: Float32LE\nfile: . -40\n", kTckPoints); },
+                        {"bad .tck data offset"}));
+  c.push_back(tractCase("TckSeparateDataFile", "sep.tck",
+                        [] { return tck("datatype: Float32LE\nfile: other.dat 0\n", kTckPoints); },
+                        {"separate file"}));
+  c.push_back(tractCase("TckTruncatedPointData", "cut.tck",
+                        [] {
+                          auto s = tck("datatype: Float32LE\n", kTckPoints);
+                          return s.substr(0, s.size() - 14);
+                        },
+                        {"truncated .tck data", "ends inside a triplet"}));
+  c.push_back(tractCase("TckNoEndMarker", "noinf.tck",
+                        [] {
+                          return tck("datatype: Float32LE\n", {0, 0, 0, 1, 1, 1, kNaN, kNaN, kNaN});
+                        },
+                        {"no end-of-file marker"}));
+  c.push_back(tractCase("TckCountImpossible", "count.tck",
+                        [] { return tck("datatype: Float32LE\ncount: 1000000\n", kTckPoints); },
+                        {"count 1000000 is impossible"}));
+  c.push_back(tractCase("TckCountNotANumber", "countnan.tck",
+                        [] { return tck("datatype: Float32LE\ncount: many\n", kTckPoints); },
+                        {"bad .tck count 'many'"}));
+  c.push_back(tractCase(
+      "TckPartlyNaNPoint", "halfnan.tck",
+      [] {
+        return tck("datatype: Float32LE\n", {0, kNaN, 0, 1, 1, 1, kNaN, kNaN, kNaN, kInf, kInf, kInf});
+      },
+      {"non-finite coordinate in triplet 0"}));
+  // ---- .trk
+  c.push_back(tractCase("TrkTruncatedHeader", "short.trk", [] { return trk().substr(0, 500); },
+                        {"truncated TrackVis header"}));
+  c.push_back(tractCase("TrkBadMagic", "magic.trk",
+                        [] {
+                          auto s = trk();
+                          s[0] = 'X';
+                          return s;
+                        },
+                        {"no 'TRACK' magic"}));
+  c.push_back(tractCase("TrkBadHeaderSize", "hdr.trk",
+                        [] { return trk([](std::string& h) { poke<std::int32_t>(h, 996, 999); }); },
+                        {"bad TrackVis header size 999"}));
+  c.push_back(tractCase("TrkBadVersion", "version.trk",
+                        [] { return trk([](std::string& h) { poke<std::int32_t>(h, 992, 7); }); },
+                        {"unsupported TrackVis version 7"}));
+  c.push_back(tractCase("TrkBadVoxelOrder", "order.trk",
+                        [] {
+                          return trk([](std::string& h) {
+                            std::memset(h.data() + 440, 0,
+                                        64); // no vox_to_ras: the orientation must come from voxel_order
+                            std::memcpy(h.data() + 948, "XYZ", 3);
+                          });
+                        },
+                        {"voxel_order 'XYZ'"}));
+  c.push_back(tractCase("TrkRepeatedAxisInVoxelOrder", "order2.trk",
+                        [] {
+                          return trk([](std::string& h) {
+                            std::memset(h.data() + 440, 0, 64);
+                            std::memcpy(h.data() + 948, "LRS", 3);
+                          });
+                        },
+                        {"voxel_order 'LRS'"}));
+  c.push_back(tractCase("TrkZeroVoxelSize", "vs.trk",
+                        [] { return trk([](std::string& h) { poke<float>(h, 16, 0.0f); }); },
+                        {"bad TrackVis voxel size"}));
+  c.push_back(tractCase("TrkNaNVoxelSize", "vsnan.trk",
+                        [] { return trk([](std::string& h) { poke<float>(h, 16, kNaN); }); },
+                        {"bad TrackVis voxel size"}));
+  c.push_back(tractCase("TrkTruncatedPointData", "cut.trk",
+                        [] {
+                          auto s = trk();
+                          return s.substr(0, s.size() - 6);
+                        },
+                        {"truncated TrackVis data", "claims 2 points"}));
+  c.push_back(tractCase("TrkAbsurdCount", "count.trk",
+                        [] { return trk([](std::string& h) { poke<std::int32_t>(h, 988, 2147483647); }); },
+                        {"count 2147483647 is impossible"}));
+  c.push_back(tractCase("TrkNegativeCount", "negcount.trk",
+                        [] { return trk([](std::string& h) { poke<std::int32_t>(h, 988, -5); }); },
+                        {"negative TrackVis track count"}));
+  c.push_back(tractCase("TrkNegativePointCount", "negpts.trk",
+                        [] {
+                          std::string b;
+                          put<std::int32_t>(b, -2);
+                          b += floats({1, 1, 1, 3, 3, 3});
+                          return trk({}, b);
+                        },
+                        {"claims -2 points"}));
+  c.push_back(tractCase("TrkHugePointCount", "hugepts.trk",
+                        [] {
+                          std::string b;
+                          put<std::int32_t>(b, 2147483647);
+                          b += floats({1, 1, 1});
+                          return trk({}, b);
+                        },
+                        {"claims 2147483647 points"}));
+  c.push_back(tractCase("TrkTooManyScalars", "scalars.trk",
+                        [] { return trk([](std::string& h) { poke<std::int16_t>(h, 36, 1000); }); },
+                        {"n_scalars"}));
+  c.push_back(tractCase("TrkNaNPoint", "nanpt.trk",
+                        [] {
+                          std::string b;
+                          put<std::int32_t>(b, 2);
+                          b += floats({1, kNaN, 1, 3, 3, 3});
+                          return trk({}, b);
+                        },
+                        {"non-finite coordinate in track 0"}));
+  c.push_back(tractCase("TractUnknownExtension", "tracts.xyz", [] { return std::string("x"); }, {}));
+  // ---- viewer scripts (parsed completely before a window opens)
+  c.push_back(scriptCase("ScriptUnknownCommand", "wait 1\nfrobnicate 3\n", {"2:", "frobnicate"}));
+  c.push_back(scriptCase("ScriptWrongArity", "rotate 10\n", {"1:", "usage: rotate"}));
+  c.push_back(scriptCase("ScriptNonNumericValue", "# comment\nzoom big\n", {"2:", "'big' is not a number"}));
+  c.push_back(scriptCase("ScriptNonIntegerFrames", "wait 2.5\n", {"1:", "not an integer"}));
+  c.push_back(scriptCase("ScriptValueOutOfRange", "fa 1.5\n", {"1:", "fa"}));
+  c.push_back(scriptCase("ScriptBadOnOff", "split maybe\n", {"1:", "on or off"}));
+  c.push_back(scriptCase("ScriptUnknownParam", "set warp 3\n", {"1:", "warp"}));
+  c.push_back({"ScriptMissingFile",
+               [](const fs::path& dir) { return "view --script " + q(dir / "none.dtfs"); },
+               2,
+               {"none.dtfs"}});
+  return c;
+}
+
+// Names the case in gtest output instead of dumping its bytes.
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class MalformedInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(MalformedInput, IsRefusedCleanly) {
+  const Case& c = GetParam();
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string args = c.setup(dir);
+  const CliResult r = runDtfabric(args, dir);
+  EXPECT_LT(r.exitCode, 128) << "killed by signal " << r.exitCode - 128 << "\n" << r.err;
+  EXPECT_EQ(r.exitCode, c.exitCode) << "dtfabric " << args << "\nstdout:\n"
+                                    << r.out << "\nstderr:\n"
+                                    << r.err;
+  for (const auto& s : c.errHas)
+    EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks '" << s << "':\n" << r.err;
+  if (c.exitCode != 0) {
+    EXPECT_NE(r.err.find("dtfabric "), std::string::npos) << r.err;
+  }
+  if (!c.outHas.empty()) {
+    EXPECT_NE(r.out.find(c.outHas), std::string::npos) << "stdout lacks '" << c.outHas << "':\n" << r.out;
+  }
+  if (!c.output.empty()) {
+    EXPECT_FALSE(fs::exists(dir / c.output)) << c.output << " was written";
+  }
+  // No temporary output left behind either (AtomicOutput names them beside the target).
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalogue, MalformedInput, ::testing::ValuesIn(catalogue()),
+                         [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });
+
+const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
+
+// An existing output is kept byte for byte unless --force is given.
+TEST(OutputProtection, ExistingOutputsNeedForce) {
+  const fs::path dir = dtf::test::scratchDir();
+  writeBytes(dir / "keep.nii", "precious");
+  writeBytes(dir / "keep.png", "precious");
+  for (const std::string& args :
+       {"phantom constant --size 8 -o " + q(dir / "keep.nii"),
+        "phantom constant --size 8 -o " + q(dir / "new.nii") + " --scalar " + q(dir / "keep.nii"),
+        "render " + q(kSample) + " -o " + q(dir / "keep.png")}) {
+    const CliResult r = runDtfabric(args, dir);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("keep."), std::string::npos) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(" exists (use --force"), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(readBytes(dir / "keep.nii"), "precious") << args;
+    EXPECT_EQ(readBytes(dir / "keep.png"), "precious") << args;
+    EXPECT_FALSE(fs::exists(dir / "new.nii")) << args;
+  }
+  const CliResult r = runDtfabric("phantom constant --size 8 --force -o " + q(dir / "keep.nii"), dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(readBytes(dir / "keep.nii"), "precious");
+}
+
+// Inputs are never outputs, whatever --force says.
+TEST(OutputProtection, AnInputIsNeverOverwritten) {
+  const fs::path dir = dtf::test::scratchDir();
+  ASSERT_EQ(runDtfabric("phantom constant --size 8 -o " + q(dir / "t.nii"), dir).exitCode, 0);
+  const std::string before = readBytes(dir / "t.nii");
+  struct Run {
+    std::string args;
+    int exitCode;
+  };
+  // Stand-ins for a mesh and a mask: the refusal comes before they are read.
+  writeBytes(dir / "m.ply", "mesh");
+  writeBytes(dir / "x.vtk", "mask");
+  const std::string t = q(dir / "t.nii"), m = q(dir / "m.ply"), x = q(dir / "x.vtk");
+  for (const Run& run : {Run{"render " + t + " --force -o " + t, 1},
+                         Run{"surface " + t + " --surface mesh=" + m + " --force -o " + m, 2},
+                         Run{"track " + t + " --mask " + x + " --force -o " + x, 2}}) {
+    const CliResult r = runDtfabric(run.args, dir);
+    EXPECT_EQ(r.exitCode, run.exitCode) << run.args << "\n" << r.err;
+    EXPECT_TRUE(r.err.find("is the input") != std::string::npos ||
+                r.err.find("it is an input file") != std::string::npos)
+        << run.args << "\n"
+        << r.err;
+    EXPECT_EQ(readBytes(dir / "t.nii"), before) << run.args;
+    EXPECT_EQ(readBytes(dir / "m.ply"), "mesh") << run.args;
+    EXPECT_EQ(readBytes(dir / "x.vtk"), "mask") << run.args;
+  }
+}
+
+// No GL context (EGL finds no vendor library) or no GL 4.5 (Mesa told to offer 3.3): a clear message and
+// exit code 3, no output file.
+TEST(Environment, RenderWithoutGl45ContextExitsWith3) {
+  const fs::path dir = dtf::test::scratchDir();
+  struct Env {
+    const char* name;
+    const char* value;
+    const char* errHas;
+  };
+  for (const Env& env : {Env{"__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/egl_vendor.json", "EGL"},
+                         Env{"MESA_GL_VERSION_OVERRIDE", "3.3", "4.5 core"}}) {
+    ASSERT_EQ(setenv(env.name, env.value, 1), 0);
+    const CliResult r = runDtfabric("render " + q(kSample) + " --size 64x64 -o " + q(dir / "x.png"), dir);
+    unsetenv(env.name);
+    if (r.exitCode == 0 && std::string(env.name) == "MESA_GL_VERSION_OVERRIDE") {
+      fs::remove(dir / "x.png"); // not Mesa: the variable is ignored
+      continue;
+    }
+    EXPECT_EQ(r.exitCode, 3) << env.name << "\n" << r.err;
+    EXPECT_NE(r.err.find("GL error: cannot create a headless OpenGL 4.5 core context"), std::string::npos)
+        << env.name << "\n"
+        << r.err;
+    EXPECT_NE(r.err.find(env.errHas), std::string::npos) << env.name << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.png")) << env.name;
+  }
+}
+
+} // namespace
