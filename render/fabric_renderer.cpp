@@ -88,6 +88,7 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.noiseOrigin = mesh_.boundsLo();
   ps.noiseBlend = static_cast<float>(p.noiseBlend);
   ps.principal = p.colour == ColourMode::Medical;
+  ps.depthPrepass = p.depthPrepass;
   beginTimer(kProjection);
   glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   projection_.run(mesh_, field_, noise_, view_, ps);
