@@ -1,0 +1,31 @@
+// libFuzzer target: NIfTI header, scalar and tensor readers (io/tensor_io.h). Inputs that start with the
+// gzip magic are read as .nii.gz, the others as .nii. Any dtf::Error is an accepted outcome; a crash, a
+// sanitizer report, a leak or an allocation beyond -rss_limit_mb is a finding.
+#include "fuzz_file.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/tensor_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const bool quiet = (dtf::setLogSink([](dtf::LogLevel, const std::string&) {}), true);
+  (void)quiet;
+  const bool gz = size >= 2 && data[0] == 0x1f && data[1] == 0x8b;
+  static const std::string plain = dtf::fuzz::scratchPath("in", ".nii");
+  static const std::string packed = dtf::fuzz::scratchPath("in", ".nii.gz");
+  const std::string& path = gz ? packed : plain;
+  dtf::fuzz::writeInput(path, data, size);
+  try {
+    dtf::io::readHeader(path);
+  } catch (const dtf::Error&) {
+    return 0; // the volume readers run the same header checks first
+  }
+  try {
+    dtf::io::readScalarVolume(path);
+  } catch (const dtf::Error&) {
+  }
+  try {
+    dtf::io::readTensorVolume(path);
+  } catch (const dtf::Error&) {
+  }
+  return 0;
+}
