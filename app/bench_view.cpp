@@ -38,6 +38,16 @@ Stats stats(std::vector<double> ms) {
   return s;
 }
 
+// The 1-minute load average: on a shared 2-core machine llvmpipe gets a fraction of the CPU.
+double loadAverage() {
+  double l = -1;
+  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
+    std::fclose(f);
+  }
+  return l;
+}
+
 void waitSettled(ViewerScene& scene, double seconds) {
   const auto t0 = Clock::now();
   while (!scene.settled()) {
@@ -148,6 +158,7 @@ int benchView(const CommandArgs& argv) {
   const std::size_t triangles = scene.state().triangles;
   gl.checkErrors("bench view");
 
+  const double load = loadAverage();
   const Stats sw = stats(sweepMs), ro = stats(rotateMs), rf = stats(rotateFullMs);
   if (json) {
     std::printf(
@@ -160,11 +171,11 @@ int benchView(const CommandArgs& argv) {
         "\"rotate_full_size\": {\"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
         "\"passes_ms\": {\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": "
         "%.2f}, "
-        "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"gl\": \"%s\"}\n",
+        "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"load_average\": %.2f, \"gl\": \"%s\"}\n",
         input.c_str(), width, height, loadMs, triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
         static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds, ro.frames, ro.mean,
         ro.median, ro.p95, ro.fps, rf.mean, rf.median, rf.p95, rf.fps, pt.projection, pt.silhouette,
-        pt.advection, pt.composite, stillFrames, stillMs, gl.description().c_str());
+        pt.advection, pt.composite, stillFrames, stillMs, load, gl.description().c_str());
   } else {
     std::printf("bench view: %s at %dx%d (%s)\n", input.c_str(), width, height, gl.description().c_str());
     std::printf("  load + FA + sweeper + first surface: %.0f ms, %zu triangles\n", loadMs, triangles);
@@ -181,6 +192,8 @@ int benchView(const CommandArgs& argv) {
         "composite %.1f\n",
         pt.projection, pt.silhouette, pt.advection, pt.composite);
     std::printf("  still: converged in %d frames, %.0f ms\n", stillFrames, stillMs);
+    std::printf("  load average %.2f on %u cores while measuring\n", load,
+                std::thread::hardware_concurrency());
     std::printf("  goal: >= 15 fps while sweeping and rotating: %s\n",
                 sw.fps >= 15 && ro.fps >= 15 ? "met" : "NOT met");
   }

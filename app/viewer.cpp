@@ -91,10 +91,6 @@ ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) 
 
 ViewerScene::~ViewerScene() = default;
 
-render::FabricRenderer& ViewerScene::renderer(int p) {
-  return *renderers_[p];
-}
-
 void ViewerScene::setError(const std::string& message) {
   state_.errorChain = ui::splitErrorChain(message);
   ++errorSerial_;
@@ -234,14 +230,24 @@ void ViewerScene::loadFile(const ui::LoadFile& a) {
   worker_.requestLoad(latestLoad_, a.path, layout, first);
 }
 
-void ViewerScene::setMesh(const Mesh& mesh) {
-  for (auto& r : renderers_)
-    r->setMesh(mesh);
-  for (auto& r : lowRes_)
-    r->setMesh(mesh);
+render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRenderer>& r, int slot) {
+  if (data_ && fieldUploaded_[slot] != fieldSerial_) {
+    r->setField(data_->loaded.field);
+    fieldUploaded_[slot] = fieldSerial_;
+  }
+  if (hasMesh_ && meshUploaded_[slot] != meshSerial_) {
+    r->setMesh(mesh_);
+    meshUploaded_[slot] = meshSerial_;
+  }
+  return *r;
+}
+
+void ViewerScene::setMesh(Mesh&& mesh) {
+  // Uploaded when a renderer next draws: a sweep without split view feeds one or two renderers, not four.
+  mesh_ = std::move(mesh);
   hasMesh_ = true;
   ++meshSerial_;
-  state_.triangles = mesh.triangleCount();
+  state_.triangles = mesh_.triangleCount();
   cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
 }
 
@@ -272,16 +278,13 @@ void ViewerScene::onResult(WorkerResult& r) {
       const int axis = ui::sliceAxisOf(state_.surface);
       state_.slice[axis] = state_.sliceCount[axis] / 2;
     }
-    for (auto& rr : renderers_)
-      rr->setField(f);
-    for (auto& rr : lowRes_)
-      rr->setField(f);
+    ++fieldSerial_;
     hasField_ = true;
     hasMesh_ = false;
     state_.surfacePending = false;
     state_.surfaceText = describeSurface(currentSpec());
     if (!r.mesh.empty())
-      setMesh(r.mesh);
+      setMesh(std::move(r.mesh));
     else if (!r.error.empty())
       setError(r.error);
     else
@@ -306,7 +309,7 @@ void ViewerScene::onResult(WorkerResult& r) {
     state_.surfaceText += ": empty (previous surface shown)";
     return;
   }
-  setMesh(r.mesh);
+  setMesh(std::move(r.mesh));
 }
 
 void ViewerScene::update() {
@@ -368,7 +371,7 @@ void ViewerScene::render(int width, int height) {
       const double scale = low ? scale_ : 1.0;
       const glm::ivec2 size(std::max(1, static_cast<int>(rect[2] * scale)),
                             std::max(1, static_cast<int>(rect[3] * scale)));
-      render::FabricRenderer& r = low ? *lowRes_[p] : renderer(p);
+      render::FabricRenderer& r = low ? upToDate(lowRes_[p], 2 + p) : upToDate(renderers_[p], p);
       r.resize(size.x, size.y);
       outputRenderer_[p] = &r;
       outputSize_[p] = size;

@@ -53,7 +53,7 @@ public:
   // Renders every pane again on the next render() as if the camera had moved (benchmarks).
   void redraw() { cameraChanged(); }
   // Pane p's full-size renderer (pass timings in benchmarks).
-  render::FabricRenderer& paneRenderer(int p) { return *renderers_[p]; }
+  render::FabricRenderer& paneRenderer(int p) { return upToDate(renderers_[p], p); }
 
   const ui::ViewerState& state() const { return state_; }
   // No load, extraction or tract loading queued or running.
@@ -80,12 +80,13 @@ private:
   void applySpec(const SurfaceSpec& spec);
   SurfaceSpec currentSpec() const;
   void onResult(WorkerResult& r);
-  void setMesh(const Mesh& mesh);
+  void setMesh(Mesh&& mesh);
+  // Uploads the current mesh / field to `r` when it has not seen them yet (4 renderers, used as needed).
+  render::FabricRenderer& upToDate(std::unique_ptr<render::FabricRenderer>& r, int slot);
   void setView(render::StandardView v);
   void cameraChanged();
   void dataChanged();
   render::Camera& cameraFor(int pane);
-  render::FabricRenderer& renderer(int p);
   double paneAspect(int p) const;
   void saveCamera(const std::string& path) const;
   void loadCamera(const std::string& path);
@@ -96,8 +97,11 @@ private:
   std::string initialSurface_;
   SurfaceSpec otherSpec_; // the spec behind SurfaceKind::Fibre / Other
   std::uint64_t nextId_ = 1, latestLoad_ = 0, latestSurface_ = 0;
-  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_;        // full size
-  std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;           // interactive frames
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
+  std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
+  Mesh mesh_;                                                     // on screen; uploaded to renderers lazily
+  std::array<std::uint64_t, 4> meshUploaded_{}, fieldUploaded_{}; // serials each renderer holds
+  std::uint64_t fieldSerial_ = 0;
   std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr}; // what outputFbo_ belongs to
   std::array<glm::ivec2, 2> outputSize_{};
   double interactiveScale_ = 0.5, scale_ = 0.5;
