@@ -4,3 +4,4 @@ dtf_test(test_view_script LABEL unit SOURCES unit/view_script_test.cpp LIBS dtf_
 dtf_test(test_view_ui LABEL unit SOURCES unit/view_ui_test.cpp LIBS dtf_ui)
 dtf_test(test_view_cli LABEL cli SOURCES window/view_cli_test.cpp LIBS dtf_model)
 dtf_test(test_view_window LABEL window SOURCES window/view_window_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_view_scene LABEL gl SOURCES unit/view_scene_alloc_test.cpp LIBS dtf_app)

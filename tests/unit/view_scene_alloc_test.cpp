@@ -1,0 +1,75 @@
+// The viewer scene's steady state does not allocate: frames of a still, converged scene, and interactive
+// frames while the camera rotates, run without a heap allocation in the viewer's own code. Counts every
+// operator new of this process between frames (headless GL; skips without a context).
+#include "app/viewer.h"
+#include "support/gl_test.h"
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <new>
+#include <thread>
+#include <vector>
+
+namespace {
+std::atomic<long> allocations{0};
+std::atomic<bool> counting{false};
+} // namespace
+
+void* operator new(std::size_t n) {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+TEST(ViewScene, FramesDoNotAllocate) {
+  DTF_GL_TEST_SETUP();
+  dtf::app::ViewerScene scene("slice=axial");
+  scene.apply(
+      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  for (int i = 0; i < 3000 && !scene.settled(); ++i) {
+    scene.update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  scene.update();
+  ASSERT_TRUE(scene.state().errorChain.empty()) << scene.state().errorChain.back();
+  ASSERT_TRUE(scene.state().hasData);
+  for (int i = 0; i < 400 && !scene.converged(); ++i) {
+    scene.update();
+    scene.render(160, 120);
+  }
+  ASSERT_TRUE(scene.converged());
+  // Warm-up of the interactive path (its renderer's targets are created on first use).
+  for (int i = 0; i < 3; ++i) {
+    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.update();
+    scene.render(160, 120);
+  }
+  allocations = 0;
+  counting = true;
+  for (int i = 0; i < 5; ++i) {
+    scene.update();
+    scene.render(160, 120); // still: nothing to do
+  }
+  const long still = allocations.exchange(0);
+  for (int i = 0; i < 5; ++i) {
+    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.update();
+    scene.render(160, 120);
+  }
+  counting = false;
+  const long moving = allocations.load();
+  // The counter sees allocations at all (the replaced operator new is the one in use).
+  counting = true;
+  auto probe = std::make_unique<std::vector<int>>(100);
+  counting = false;
+  EXPECT_GE(allocations.load() - moving, 2);
+  EXPECT_EQ(still, 0);
+  EXPECT_EQ(moving, 0) << "interactive frames allocated " << moving << " times";
+}
