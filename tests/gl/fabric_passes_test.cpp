@@ -514,3 +514,48 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
     ASSERT_NEAR(c[i * 4 + 2], b, 1e-4) << i;
   }
 }
+
+TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary) {
+  // Four pixels, principal direction x (red), FA 0.7, no light, no silhouettes:
+  //   0: one dominant direction (lambda2'/lambda1' = 0.1), p1 low  -> still red (no secondary shown)
+  //   1: secondary present (ratio 0.95), p1 high (primary thread)  -> red on top
+  //   2: secondary present, p1 low, p2 high (secondary thread)     -> grey
+  //   3: no tensor data                                            -> grey, no DEC colour
+  const int n = 4;
+  std::vector<float> adv = {0.1f, 0.9f, 0.95f, 0.5f, 0.05f, 0.95f, 0.5f, 0.5f};
+  std::vector<float> surface(n * 4), eigen(n * 4), lambda(n * 4), edges(n, 0.0f), depth(n, 0.5f);
+  for (int i = 0; i < n; ++i) {
+    surface[i * 4 + 0] = 0.5f, surface[i * 4 + 1] = 1.0f, surface[i * 4 + 2] = 100.0f, surface[i * 4 + 3] = 1.0f;
+    eigen[i * 4 + 0] = 1.0f, eigen[i * 4 + 3] = 0.7f;
+    lambda[i * 4 + 0] = 1e-3f, lambda[i * 4 + 1] = (i == 0 ? 0.1f : 0.95f) * 1e-3f, lambda[i * 4 + 3] = i == 3 ? 0.0f : 1.0f;
+  }
+  Texture ta = textureFrom(GL_RG32F, GL_RG, n, 1, adv), ts = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, surface);
+  Texture te = textureFrom(GL_R16F, GL_RED, n, 1, edges), tg = textureFrom(GL_RGBA16F, GL_RGBA, n, 1, eigen);
+  Texture tl = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, lambda);
+  Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, n, 1);
+  glTextureSubImage2D(td.id(), 0, 0, 0, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  Texture out = Texture::create2D(GL_RGBA32F, n, 1);
+  Framebuffer fbo = createFramebuffer();
+  attachTargets(fbo, {&out}, nullptr);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  CompositePass pass;
+  CompositeSettings cs;
+  cs.mode = ColourMode::Medical;
+  cs.lighting = false;
+  cs.silhouettes = false;
+  FrameView view;
+  view.viewport = view.internal = view.target = {n, 1};
+  pass.run({&ta, &ts, &te, &tg, &tl, &td}, view, cs);
+  auto c = readTexture(out, 4);
+  auto saturation = [&](int i) {
+    float mx = std::max({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]}), mn = std::min({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]});
+    return mx > 0 ? (mx - mn) / mx : 0.0f;
+  };
+  EXPECT_GT(c[0], 2 * c[1]);            // red hue even on a dark stretch of the only direction
+  EXPECT_GT(saturation(0), 0.5f);
+  EXPECT_GT(c[4], 2 * c[5]);            // primary thread drawn over the secondary
+  EXPECT_GT(saturation(1), 0.5f);
+  EXPECT_LT(saturation(2), 0.1f);       // the secondary thread is grey
+  EXPECT_GT(c[8], 0.2f);                // and visible
+  EXPECT_LT(saturation(3), 0.05f);      // no data: grey
+}
