@@ -187,10 +187,22 @@ void ViewerScene::applySpec(const SurfaceSpec& spec) {
     if (spec.index >= 0) state_.slice[axis] = std::min(spec.index, std::max(state_.sliceCount[axis] - 1, 0));
     break;
   }
-  case SurfaceSpec::Kind::Fibre:
+  case SurfaceSpec::Kind::Fibre: {
     state_.surface = ui::SurfaceKind::Fibre;
     otherSpec_ = spec;
+    // The Surface panel edits the seed line in voxel indices.
+    glm::dvec3 a = spec.a, b = spec.b;
+    if (!spec.voxelCoords && data_) {
+      a = data_->loaded.field.grid.toVoxel(a);
+      b = data_->loaded.field.grid.toVoxel(b);
+    }
+    if (spec.voxelCoords || data_) {
+      const glm::ivec3 ia(glm::round(a)), ib(glm::round(b));
+      state_.fibreSeed = {ia.x, ia.y, ia.z, ib.x, ib.y, ib.z};
+      ++state_.fibreSeedSerial;
+    }
     break;
+  }
   default:
     state_.surface = ui::SurfaceKind::Other;
     otherSpec_ = spec;

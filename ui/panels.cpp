@@ -117,6 +117,11 @@ void surfacePanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     ImGui::EndDisabled();
   }
 
+  if (b.fibreSeedSerial != s.fibreSeedSerial) { // a seed line set elsewhere (script, command line)
+    b.fibreSeedSerial = s.fibreSeedSerial;
+    std::copy(s.fibreSeed.begin(), s.fibreSeed.begin() + 3, b.fibreFrom.begin());
+    std::copy(s.fibreSeed.begin() + 3, s.fibreSeed.end(), b.fibreTo.begin());
+  }
   if (s.surface == SurfaceKind::Fibre) {
     ImGui::TextWrapped("Seed line (voxel indices); the stream surface of e1 grows from it.");
     ImGui::InputInt3("from", b.fibreFrom.data());

@@ -23,6 +23,7 @@ struct PanelBuffers {
   std::array<char, 1024> cameraPath{};
   std::array<char, 1024> tractPath{};
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
+  unsigned fibreSeedSerial = 0; // ViewerState::fibreSeedSerial last copied into fibreFrom/To
   // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
   std::map<std::string, std::array<float, 2>>* itemCentres = nullptr;
 };

@@ -48,7 +48,10 @@ struct ViewerState {
   std::array<int, 3> sliceCount{1, 1, 1}; // slices along each axis
   std::string surfaceText;                // description of the mesh on screen
   std::size_t triangles = 0;
-  bool surfacePending = false; // a re-extraction is running; the previous mesh stays on screen
+  bool surfacePending = false;
+  // Seed line of the fibre surface on screen, voxel indices (from, to); the serial changes with it.
+  std::array<int, 6> fibreSeed{0, 0, 0, 0, 0, 0};
+  unsigned fibreSeedSerial = 0; // a re-extraction is running; the previous mesh stays on screen
 
   render::FabricParams fabric;
   render::StandardView view = render::StandardView::Axial;

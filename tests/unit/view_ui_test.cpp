@@ -191,3 +191,15 @@ TEST_F(ViewHeadlessUi, ErrorModalOpensAndOkDismisses) {
   const auto d = find<DismissError>(click("OK"));
   EXPECT_TRUE(d);
 }
+
+TEST_F(ViewHeadlessUi, FibreSeedFromTheViewerFillsTheSeedFieldsAndBuildSendsIt) {
+  state.surface = SurfaceKind::Fibre;
+  state.fibreSeed = {17, 12, 24, 23, 12, 24};
+  state.fibreSeedSerial = 1;
+  frame(-1, -1, false);
+  EXPECT_EQ(buffers.fibreFrom, (std::array<int, 3>{17, 12, 24}));
+  EXPECT_EQ(buffers.fibreTo, (std::array<int, 3>{23, 12, 24}));
+  const auto spec = find<SetSurfaceSpec>(click("Build fibre surface"));
+  ASSERT_TRUE(spec);
+  EXPECT_EQ(spec->text, "fibre-voxel=17,12,24:23,12,24");
+}
