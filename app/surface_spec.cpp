@@ -49,7 +49,32 @@ ScalarVolume validMask(const TensorField& field) {
 
 } // namespace
 
+namespace {
+bool startsWithKind(const std::string& t) {
+  for (const char* k : {"fa=", "iso=", "slice=", "plane=", "fibre=", "fiber=", "fibre-voxel=", "fiber-voxel=", "mesh="})
+    if (t.rfind(k, 0) == 0) return true;
+  return false;
+}
+} // namespace
+
 SurfaceSpec parseSurfaceSpec(const std::string& text) {
+  // Split on '+' where the next part starts a new surface (a '+' inside a file name stays).
+  std::vector<std::string> pieces;
+  std::size_t start = 0;
+  for (std::size_t p = text.find('+'); p != std::string::npos; p = text.find('+', p + 1)) {
+    if (startsWithKind(text.substr(p + 1))) {
+      pieces.push_back(text.substr(start, p - start));
+      start = p + 1;
+    }
+  }
+  pieces.push_back(text.substr(start));
+  if (pieces.size() > 1) {
+    SurfaceSpec c;
+    c.kind = SurfaceSpec::Kind::Combined;
+    c.text = text;
+    for (const auto& piece : pieces) c.parts.push_back(parseSurfaceSpec(piece));
+    return c;
+  }
   SurfaceSpec s;
   s.text = text;
   auto eq = text.find('=');
@@ -106,6 +131,9 @@ std::string describeSurface(const SurfaceSpec& s) {
   case SurfaceSpec::Kind::Plane: o << "oblique plane " << s.text.substr(6); break;
   case SurfaceSpec::Kind::Fibre: o << "fibre-following surface from " << s.text.substr(s.text.find('=') + 1); break;
   case SurfaceSpec::Kind::Mesh: o << "mesh " << s.file; break;
+  case SurfaceSpec::Kind::Combined:
+    for (std::size_t i = 0; i < s.parts.size(); ++i) o << (i ? " + " : "") << describeSurface(s.parts[i]);
+    break;
   }
   return o.str();
 }
@@ -163,6 +191,17 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
     break;
   }
   case SurfaceSpec::Kind::Mesh: m = surfaces::readMesh(s.file); break;
+  case SurfaceSpec::Kind::Combined:
+    for (const auto& part : s.parts) {
+      Mesh p = buildSurface(part, field, fa, o);
+      const auto base = static_cast<std::uint32_t>(m.positions.size());
+      if (p.normals.size() != p.positions.size()) p.computeNormals();
+      if (m.normals.size() != m.positions.size()) m.computeNormals();
+      m.positions.insert(m.positions.end(), p.positions.begin(), p.positions.end());
+      m.normals.insert(m.normals.end(), p.normals.begin(), p.normals.end());
+      for (auto i : p.indices) m.indices.push_back(base + i);
+    }
+    break;
   }
   return m;
 }

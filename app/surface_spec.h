@@ -7,17 +7,19 @@
 //   fibre=X0,Y0,Z0:X1,Y1,Z1     fibre-following stream surface seeded on a world-space line (mm)
 //   fibre-voxel=I0,J0,K0:I1,J1,K1  the same with the seed line in voxel indices
 //   mesh=FILE                   a PLY/OBJ/VTK/VTP mesh in world RAS mm
+// Several surfaces at once are joined with '+', e.g. slice=axial:22+slice=coronal:40+slice=sagittal:36.
 #pragma once
 
 #include "io/model/geometry.h"
 #include "io/model/tensor_field.h"
 
 #include <string>
+#include <vector>
 
 namespace dtf::app {
 
 struct SurfaceSpec {
-  enum class Kind { Fa, Iso, Slice, Plane, Fibre, Mesh } kind = Kind::Fa;
+  enum class Kind { Fa, Iso, Slice, Plane, Fibre, Mesh, Combined } kind = Kind::Fa;
   double value = 0.25;          // fa / iso level
   std::string file;             // iso / mesh
   std::string axis = "axial";   // slice
@@ -25,6 +27,7 @@ struct SurfaceSpec {
   glm::dvec3 a{0.0}, b{0.0};    // plane point+normal, fibre seed line ends (world mm)
   bool voxelCoords = false;     // fibre-voxel: a, b are voxel indices
   std::string text;             // as given, for messages
+  std::vector<SurfaceSpec> parts; // Combined: the joined surfaces
 };
 
 struct SurfaceBuildOptions {
