@@ -92,6 +92,10 @@ public:
   double effectiveLod(const FrameView& view, const FabricParams& params) const;
 
   const FrameView& frameView() const { return view_; }
+  // The output framebuffer: colour plus the depth the composite writes (gl_FragDepth). Overlays such as
+  // TractRenderer bind it after renderFrame/renderStill and draw with depth test without clearing it;
+  // readback() then returns the overlaid image.
+  const Framebuffer& output() const { return output_; }
   const ProjectionPass& projection() const { return projection_; }
   const SilhouettePass& silhouette() const { return silhouette_; }
   const AdvectionPass& advection() const { return advection_; }

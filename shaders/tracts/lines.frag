@@ -1,0 +1,29 @@
+#version 450 core
+// Tract overlay colour: DEC of the world tangent (|t.x| red, |t.y| green, |t.z| blue), lit with the
+// tangent-based line lighting of Zöckler, Stalling and Hege (headlight: L = V, so diffuse = sqrt(1 -
+// (L.t)^2) and specular = (1 - (L.t)^2 - (L.t)^2)^n), darkened towards the tube's edges. Fragments
+// farther than u_slabMm from the slab plane are discarded (u_slabMm <= 0: no slab).
+in vec3 g_tangent;
+in float g_across;
+in float g_planeDist;
+uniform mat3 u_viewRot;
+uniform float u_slabMm;
+uniform float u_ambient = 0.35;
+uniform float u_diffuse = 0.6;
+uniform float u_specular = 0.3;
+out vec4 o_colour;
+
+void main() {
+  if (u_slabMm > 0.0 && abs(g_planeDist) > u_slabMm) discard;
+  vec3 t = normalize(g_tangent);
+  vec3 te = u_viewRot * t;
+  float lt = te.z; // L = V = +z in eye space (orthographic headlight)
+  float sinLt = sqrt(max(1.0 - lt * lt, 0.0));
+  float spec = max(sinLt * sinLt - lt * lt, 0.0);
+  spec *= spec;
+  spec *= spec;
+  spec *= spec;
+  float tube = sqrt(max(1.0 - g_across * g_across, 0.0));
+  float light = (u_ambient + u_diffuse * sinLt) * (0.55 + 0.45 * tube) + u_specular * spec * tube;
+  o_colour = vec4(clamp(abs(t) * light, 0.0, 1.0), 1.0);
+}
