@@ -18,9 +18,9 @@ struct LineError {
 };
 
 std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
+  const auto b = s.find_first_not_of(" \t\r\v\f"); // all that words() splits on
   if (b == std::string::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r");
+  const auto e = s.find_last_not_of(" \t\r\v\f");
   return s.substr(b, e - b + 1);
 }
 
