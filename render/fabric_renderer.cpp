@@ -19,7 +19,7 @@ auto stateKey(const FabricParams& p) {
 }
 } // namespace
 
-FabricRenderer::FabricRenderer() : samples_(createQuery(GL_SAMPLES_PASSED)) {
+FabricRenderer::FabricRenderer() {
   for (auto& q : timers_) q = createQuery(GL_TIME_ELAPSED);
 }
 
@@ -90,9 +90,7 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.principal = p.colour == ColourMode::Medical;
   ps.depthPrepass = p.depthPrepass;
   beginTimer(kProjection);
-  glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   projection_.run(mesh_, field_, noise_, view_, ps);
-  glEndQuery(GL_SAMPLES_PASSED);
   endTimer();
 
   beginTimer(kSilhouette);
@@ -209,10 +207,6 @@ PassTimes FabricRenderer::lastTimes() const {
   return t;
 }
 
-unsigned FabricRenderer::coveredPixels() const {
-  GLuint n = 0;
-  glGetQueryObjectuiv(samples_.id(), GL_QUERY_RESULT, &n);
-  return n;
-}
+unsigned FabricRenderer::coveredPixels() const { return projection_.coveredPixels(); }
 
 } // namespace dtf::render

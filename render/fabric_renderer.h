@@ -87,7 +87,7 @@ public:
   // Advection iterations of the last renderStill / changed pixels after the last counted iteration.
   int lastIterations() const { return lastIterations_; }
   unsigned changedPixels() const { return advection_.changedPixels(); }
-  // Covered pixels of the last projection (occlusion query; waits).
+  // Covered pixels of the last projection, guard border included (occlusion query; waits).
   unsigned coveredPixels() const;
   double effectiveLod(const FrameView& view, const FabricParams& params) const;
 
@@ -121,7 +121,6 @@ private:
   FrameView view_;
   std::array<Query, 5> timers_;
   std::array<bool, 5> timerUsed_{};
-  Query samples_;
   bool timing_ = false;
   bool dataChanged_ = true;
   glm::mat4 lastViewProj_{0.0f};

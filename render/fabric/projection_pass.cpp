@@ -5,7 +5,8 @@ namespace dtf::render {
 ProjectionPass::ProjectionPass()
     : plain_("fabric/projection.vert", "fabric/projection.frag"),
       principal_("fabric/projection.vert", "fabric/projection.frag", {"WITH_PRINCIPAL"}),
-      depthOnly_("fabric/projection.vert", "fabric/depth_only.frag") {}
+      depthOnly_("fabric/projection.vert", "fabric/depth_only.frag"),
+      samples_(createQuery(GL_SAMPLES_PASSED)) {}
 
 void ProjectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
@@ -61,10 +62,20 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   p.use();
   field.bind();
   glBindTextureUnit(2, noise.id());
+  glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   if (!field.empty()) mesh.draw();
+  glEndQuery(GL_SAMPLES_PASSED);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 }
 
+} // namespace dtf::render
+
+namespace dtf::render {
+unsigned ProjectionPass::coveredPixels() const {
+  GLuint n = 0;
+  glGetQueryObjectuiv(samples_.id(), GL_QUERY_RESULT, &n);
+  return n;
+}
 } // namespace dtf::render

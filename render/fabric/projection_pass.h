@@ -40,9 +40,13 @@ public:
   const Texture& lambda() const { return lambda_; }
   const Texture& depth() const { return depth_; }
   glm::ivec2 size() const { return size_; }
+  // Samples that passed the depth test in the last run's shading draw (= visible covered pixels with the
+  // depth pre-pass). Waits for the GPU.
+  unsigned coveredPixels() const;
 
 private:
   ShaderProgram plain_, principal_, depthOnly_;
+  Query samples_;
   Framebuffer fbo_;
   Texture vectors_, surface_, eigen_, lambda_, depth_;
   glm::ivec2 size_{0};
