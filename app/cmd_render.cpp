@@ -1,8 +1,10 @@
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
 #include "app/args.h"
 #include "app/commands.h"
+#include "app/render_split.h"
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
+#include "app/tract_files.h"
 
 #include "io/atomic_file.h"
 #include "io/model/error.h"
@@ -10,10 +12,12 @@
 #include "io/png_io.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
+#include "render/tract_renderer.h"
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 namespace dtf::app {
 
@@ -57,6 +61,19 @@ Fabric (paper §2)
   --seed S            reaction-diffusion noise seed (default 1)
   --step PX           advection step in pixels (default 2)
   --no-lighting --no-silhouette --sharpen W --depth-color W --fade-out-of-plane W
+
+Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y green, z blue)
+  --tracts FILE       .tck, .trk or .vtk tracts (world RAS mm)
+  --tracts-near MM    show only tract segments within MM of the surface (default 3; 0 = all). On a planar
+                      surface (slice, plane) this is a slab of half-width MM around the plane.
+  --tracts-slab MM    also clip to a slab of half-width MM around the surface's plane (curved surfaces:
+                      the plane through the centre of the surface facing the camera)
+  --tract-width PX    tube width in pixels (default 2)
+  --split MODE        two linked panes (same camera) side by side in one 2W x H image:
+                        tracts          fabric alone | fabric with the tracts (needs --tracts)
+                        colour          medical | engineering colour
+                        surface=SPEC    the --surface | this second surface
+                        input=FILE      INPUT | a second tensor/DWI file, same surface spec
 
 Input
   --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk)
@@ -122,13 +139,22 @@ int cmdRender(const CommandArgs& argv) {
   in.bvec = args.getOr("bvec", "");
   in.mask = args.getOr("mask", "");
   const bool force = args.flag("force");
+  const std::string tractsPath = args.getOr("tracts", "");
+  const double tractsNear = args.getDouble("tracts-near", 3.0);
+  if (!(tractsNear >= 0 && tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
+  const double tractsSlab = args.getDouble("tracts-slab", 0.0);
+  if (!(tractsSlab >= 0 && tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
+  const double tractWidth = args.getDouble("tract-width", 2.0);
+  if (!(tractWidth > 0 && tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
+  const SplitMode split = args.get("split") ? parseSplitMode(*args.get("split")) : SplitMode{};
+  if (split.kind == SplitMode::Kind::Tracts && tractsPath.empty()) throw UsageError("--split tracts needs --tracts FILE");
   args.finish();
 
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(output) && fs::equivalent(output, input, ec))
     throw UsageError("output " + output + " is the input: refusing to overwrite it");
-  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file});
+  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value});
   if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -142,17 +168,88 @@ int cmdRender(const CommandArgs& argv) {
     rethrowWithContext("while building the surface " + describeSurface(spec));
   }
   if (mesh.empty()) throw InputError("the surface " + describeSurface(spec) + " is empty");
+  const Polylines tracts = tractsPath.empty() ? Polylines{} : readTracts(tractsPath);
+
+  // The second pane's data: another surface of the same field, or the same surface of another input.
+  io::LoadedTensors loaded2;
+  Mesh mesh2;
+  if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
+    const TensorField* field2 = &field;
+    const ScalarVolume* fa2 = &fa;
+    ScalarVolume faOther;
+    SurfaceSpec spec2 = spec;
+    if (split.kind == SplitMode::Kind::Input) {
+      loaded2 = loadTensorInput(split.value, in);
+      faOther = computeFaMap(loaded2.field);
+      field2 = &loaded2.field;
+      fa2 = &faOther;
+    } else {
+      spec2 = parseSurfaceSpec(split.value);
+    }
+    try {
+      mesh2 = buildSurface(spec2, *field2, *fa2);
+    } catch (...) {
+      rethrowWithContext("while building the second pane's surface " + describeSurface(spec2));
+    }
+    if (mesh2.empty()) throw InputError("the second pane's surface " + describeSurface(spec2) + " is empty");
+  }
 
   render::GlContext::headless();
   render::FabricRenderer renderer;
-  renderer.setMesh(mesh);
-  renderer.setField(field);
   renderer.resize(width, height);
   glm::vec3 lo, hi;
   mesh.bounds(lo, hi);
+  // Both panes share this camera (linked views).
   render::Camera camera = render::Camera::standard(view, glm::dvec3(lo), glm::dvec3(hi), double(width) / height,
                                                    neurological, !perspective);
-  Image image = renderer.renderStill(camera, p);
+  std::optional<render::TractRenderer> tractRenderer;
+  if (!tractsPath.empty()) tractRenderer.emplace();
+  // The tracts shown on `m`: a slab around a planar surface, else the segments within --tracts-near of it.
+  auto overlay = [&](const Mesh& m, const Image& fabric) {
+    render::TractStyle style;
+    style.widthPx = static_cast<float>(tractWidth);
+    const std::optional<glm::vec4> plane = meshPlane(m);
+    if (plane) {
+      style.plane = *plane;
+      style.slabMm = static_cast<float>(tractsSlab > 0 ? tractsSlab : tractsNear);
+      tractRenderer->setTracts(tracts);
+    } else {
+      const glm::vec3 f(camera.forward()), c = 0.5f * (lo + hi);
+      style.plane = glm::vec4(f, -glm::dot(f, c));
+      style.slabMm = static_cast<float>(tractsSlab);
+      tractRenderer->setTracts(tractsNear > 0 ? selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear)
+                                              : tracts);
+    }
+    if (tractRenderer->lineCount() == 0) {
+      logWarning("no tract of " + tractsPath + " lies near the surface");
+      return fabric;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, renderer.output().id());
+    tractRenderer->draw(renderer.frameView(), style);
+    return renderer.readback();
+  };
+  auto pane = [&](const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
+    renderer.setMesh(m);
+    renderer.setField(f);
+    Image img = renderer.renderStill(camera, params);
+    return withTracts && tractRenderer ? overlay(m, img) : img;
+  };
+  Image image;
+  if (split.kind == SplitMode::Kind::Tracts) {
+    Image plain = pane(mesh, field, p, false);
+    image = sideBySide(plain, overlay(mesh, plain));
+  } else if (split.kind == SplitMode::Kind::Colour) {
+    render::FabricParams p2 = p;
+    p.colour = render::ColourMode::Medical;
+    p2.colour = render::ColourMode::Engineering;
+    Image left = pane(mesh, field, p, true);
+    image = sideBySide(left, pane(mesh, field, p2, true));
+  } else if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
+    Image left = pane(mesh, field, p, true);
+    image = sideBySide(left, pane(mesh2, split.kind == SplitMode::Kind::Input ? loaded2.field : field, p, true));
+  } else {
+    image = pane(mesh, field, p, true);
+  }
   render::checkGl("rendering " + output);
   io::writePng(output, image);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

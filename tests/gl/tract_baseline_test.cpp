@@ -1,0 +1,117 @@
+// Baseline images of the tract overlay, rendered by the real `dtfabric render`: the real brain's axial
+// slice 22 with its deterministic tractogram overlaid (tracts within 3 mm of the slice), and the
+// `--split tracts` view of the same (two 256x256 panes: 512x256). Compared exactly like
+// tests/gl/baseline_test.cpp (same tolerances); regenerate on purpose only (DTF_UPDATE_BASELINES=1) and
+// look at the images before committing them.
+#include "support/gl_test.h"
+
+#include "io/png_io.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <sys/wait.h>
+
+using namespace dtf;
+namespace fs = std::filesystem;
+
+namespace {
+
+class TractBaseline : public GlTest {};
+
+constexpr int kChannelTolerance = 8;     // as baseline_test.cpp
+constexpr double kMaxBadFraction = 0.01;
+constexpr double kMaxMeanDiff = 1.5;
+
+void compareToBaseline(const std::string& name, const Image& actual) {
+  const fs::path expectedPath = test::sourceDir() / "tests/baseline/images" / (name + ".png");
+  if (test::envFlag("DTF_UPDATE_BASELINES")) {
+    io::writePng(expectedPath.string(), actual);
+    std::printf("updated baseline %s\n", expectedPath.c_str());
+    return;
+  }
+  ASSERT_TRUE(fs::exists(expectedPath)) << "no baseline " << expectedPath << " (DTF_UPDATE_BASELINES=1 creates it)";
+  Image expected = io::readPng(expectedPath.string());
+  ASSERT_EQ(expected.width, actual.width);
+  ASSERT_EQ(expected.height, actual.height);
+  Image diff(actual.width, actual.height);
+  std::size_t bad = 0;
+  double sum = 0;
+  for (std::size_t i = 0; i < actual.rgba.size(); i += 4) {
+    int worst = 0;
+    for (int c = 0; c < 4; ++c) {
+      int d = std::abs(int(actual.rgba[i + c]) - int(expected.rgba[i + c]));
+      worst = std::max(worst, d);
+      sum += d;
+      if (c < 3) diff.rgba[i + c] = static_cast<std::uint8_t>(std::min(255, d * 8));
+    }
+    diff.rgba[i + 3] = 255;
+    bad += worst > kChannelTolerance;
+  }
+  const double pixels = double(actual.width) * actual.height;
+  const double badFraction = bad / pixels, meanDiff = sum / (pixels * 4);
+  if (badFraction > kMaxBadFraction || meanDiff > kMaxMeanDiff) {
+    const fs::path dir = test::binaryDir() / "baseline_failures";
+    fs::create_directories(dir);
+    io::writePng((dir / (name + "_actual.png")).string(), actual);
+    io::writePng((dir / (name + "_expected.png")).string(), expected);
+    io::writePng((dir / (name + "_diff.png")).string(), diff);
+    ADD_FAILURE() << name << ": " << 100 * badFraction << "% bad pixels, mean difference " << meanDiff
+                  << "; images in " << dir;
+  }
+}
+
+// Runs `dtfabric render ARGS -o OUT` and returns the PNG.
+Image renderCli(const std::string& args, const fs::path& out) {
+  const std::string cmd = std::string(DTF_EXE) + " render " + args + " -o " + out.string() + " --force";
+  const int status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  return fs::exists(out) ? io::readPng(out.string()) : Image();
+}
+
+// Pixels that are strongly DEC coloured (one channel far above the others): the tracts, mostly.
+std::size_t saturated(const Image& img) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < img.rgba.size(); i += 4) {
+    const int r = img.rgba[i], g = img.rgba[i + 1], b = img.rgba[i + 2];
+    n += std::max({r, g, b}) > 150 && std::min({r, g, b}) < 40;
+  }
+  return n;
+}
+
+} // namespace
+
+TEST_F(TractBaseline, RealBrainAxialSliceWithTracts) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(tracts, "iu_prisma_dwi/derived/tracks_det.tck");
+  const fs::path dir = test::scratchDir();
+  const std::string common = tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " + tracts.string();
+  Image img = renderCli(common, dir / "overlay.png");
+  ASSERT_EQ(img.width, 256);
+  ASSERT_EQ(img.height, 256);
+  Image plain = renderCli(tensor.string() + " --surface slice=axial:22 --size 256x256", dir / "plain.png");
+  ASSERT_EQ(plain.width, 256);
+  // The overlay adds saturated tract pixels to the fabric.
+  EXPECT_GT(saturated(img), saturated(plain) + 500);
+  compareToBaseline("brain_axial22_tracts", img);
+}
+
+TEST_F(TractBaseline, RealBrainSplitFabricAndTracts) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(tracts, "iu_prisma_dwi/derived/tracks_det.tck");
+  const fs::path dir = test::scratchDir();
+  Image img = renderCli(tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " + tracts.string() +
+                         " --split tracts",
+                     dir / "split.png");
+  ASSERT_EQ(img.width, 512);
+  ASSERT_EQ(img.height, 256);
+  // Left pane: the fabric alone; right pane: the same fabric with the tracts.
+  Image left(256, 256), right(256, 256);
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x)
+      for (int c = 0; c < 4; ++c) {
+        left.pixel(x, y)[c] = img.pixel(x, y)[c];
+        right.pixel(x, y)[c] = img.pixel(x + 256, y)[c];
+      }
+  EXPECT_GT(saturated(right), saturated(left) + 500);
+  compareToBaseline("brain_axial22_split_tracts", img);
+}

@@ -1,0 +1,89 @@
+// `dtfabric render --tracts/--split` end to end: the PNG has the right size (2W x H for a split), the same
+// arguments give the same bytes, and a bad tract file is exit 2 naming the file.
+#include "support/gl_test.h"
+
+#include "io/png_io.h"
+#include "io/tracts.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string output; // stdout and stderr
+};
+
+CliRun dtfabric(const std::string& args, const fs::path& dir) {
+  const fs::path log = dir / "cli.log";
+  std::string cmd = std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  int status = std::system(cmd.c_str());
+  CliRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  r.output.assign(std::istreambuf_iterator<char>(in), {});
+  return r;
+}
+
+std::string bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+const fs::path kPhantom = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
+
+// A fan of straight tracts through the phantom's centre region (world mm).
+dtf::Polylines fan() {
+  dtf::Polylines l;
+  l.offsets = {0};
+  for (int i = 0; i < 12; ++i) {
+    const float a = 0.26f * float(i);
+    const glm::vec3 d(std::cos(a), std::sin(a), 0.3f * std::sin(2.0f * a));
+    for (int k = -30; k <= 30; ++k) l.points.push_back(d * float(k));
+    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
+  }
+  return l;
+}
+
+} // namespace
+
+TEST(TractRenderCli, OverlayAndSplitWriteTheSamePngTwice) {
+  DTF_GL_TEST_SETUP();
+  ASSERT_TRUE(fs::exists(kPhantom)) << kPhantom;
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path tck = dir / "fan.tck";
+  dtf::io::writeTck(tck.string(), fan());
+  const std::string common = kPhantom.string() + " --size 96x80 --tracts " + tck.string() + " --tracts-near 0";
+  for (const std::string split : {"", " --split tracts", " --split colour", " --split surface=fa=0.25"}) {
+    SCOPED_TRACE(split);
+    const fs::path a = dir / "a.png", b = dir / "b.png";
+    CliRun r1 = dtfabric("render " + common + split + " --force -o " + a.string(), dir);
+    ASSERT_EQ(r1.code, 0) << r1.output;
+    CliRun r2 = dtfabric("render " + common + split + " --force -o " + b.string(), dir);
+    ASSERT_EQ(r2.code, 0) << r2.output;
+    dtf::Image img = dtf::io::readPng(a.string());
+    EXPECT_EQ(img.width, split.empty() ? 96 : 192);
+    EXPECT_EQ(img.height, 80);
+    EXPECT_EQ(bytes(a), bytes(b));
+  }
+}
+
+TEST(TractRenderCli, BadTractFileIsExit2NamingIt) {
+  DTF_GL_TEST_SETUP();
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path bad = dir / "broken.tck";
+  std::ofstream(bad) << "mrtrix tracks\nnot really\n";
+  CliRun r = dtfabric("render " + kPhantom.string() + " --size 64x64 --tracts " + bad.string() + " -o " +
+                          (dir / "out.png").string(),
+                      dir);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("broken.tck"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out.png"));
+  CliRun u = dtfabric("render " + kPhantom.string() + " --split tracts -o " + (dir / "u.png").string(), dir);
+  EXPECT_EQ(u.code, 1) << u.output;
+}

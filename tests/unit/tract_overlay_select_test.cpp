@@ -1,0 +1,90 @@
+// CPU side of the tract overlay: display decimation (render/tract_renderer.h) and the near-surface
+// selection (app/render_split.h) on a plane, where the distance to the surface is |z|.
+#include "app/render_split.h"
+#include "render/reference/scenes.h"
+#include "render/tract_renderer.h"
+
+#include <gtest/gtest.h>
+
+using namespace dtf;
+
+namespace {
+
+Polylines gridLines(std::size_t lines, std::size_t points) {
+  Polylines l;
+  l.offsets = {0};
+  for (std::size_t i = 0; i < lines; ++i) {
+    for (std::size_t k = 0; k < points; ++k) l.points.emplace_back(float(k), float(i), 0.0f);
+    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
+  }
+  return l;
+}
+
+void expectEndpointsKept(const Polylines& in, const Polylines& out) {
+  ASSERT_EQ(out.lineCount(), in.lineCount());
+  for (std::size_t l = 0; l < in.lineCount(); ++l) {
+    EXPECT_EQ(out.points[out.offsets[l]], in.points[in.offsets[l]]);
+    EXPECT_EQ(out.points[out.offsets[l + 1] - 1], in.points[in.offsets[l + 1] - 1]);
+  }
+}
+
+} // namespace
+
+TEST(TractDecimation, KeepsEndpointsAndStaysUnderTheCap) {
+  const Polylines in = gridLines(1000, 1500); // 1.5M points
+  const Polylines out = render::decimateForDisplay(in);
+  EXPECT_LE(out.points.size(), render::kTractDisplayPointCap);
+  EXPECT_GT(out.points.size(), render::kTractDisplayPointCap / 2);
+  expectEndpointsKept(in, out);
+  for (std::size_t cap : {7u, 1001u, 12345u}) {
+    SCOPED_TRACE(cap);
+    const Polylines small = gridLines(3, 1234);
+    const Polylines o = render::decimateForDisplay(small, cap);
+    EXPECT_LE(o.points.size(), cap);
+    expectEndpointsKept(small, o);
+  }
+}
+
+TEST(TractDecimation, UnderTheCapNothingChangesAndTooManyLinesAreThinned) {
+  const Polylines in = gridLines(10, 50);
+  const Polylines same = render::decimateForDisplay(in, 500);
+  EXPECT_EQ(same.points, in.points);
+  EXPECT_EQ(same.offsets, in.offsets);
+  const Polylines thin = render::decimateForDisplay(gridLines(101, 10), 21); // 2 per line: 10 lines fit
+  EXPECT_LE(thin.points.size(), 21u);
+  EXPECT_GE(thin.lineCount(), 10u);
+  for (std::size_t l = 0; l < thin.lineCount(); ++l) EXPECT_EQ(thin.offsets[l + 1] - thin.offsets[l], 2u);
+}
+
+TEST(TractSelection, KeepsExactlyTheSegmentsWithinDOfAPlane) {
+  const Mesh plane = render::reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 100, 100, 4);
+  const surfaces::DistanceQuery query(plane);
+  // Distance |z|; D = 2.5: near flags 1 1 1 0 1 1 0 1 1 0 -> runs [0, 2], [4, 5], [7, 8].
+  const float z[] = {0, 1, -2, 3, 2, -1, 5, 0.5f, 0.2f, -2.6f};
+  Polylines in;
+  in.offsets = {0};
+  for (int i = 0; i < 10; ++i) in.points.emplace_back(float(i), 0.0f, z[i]);
+  in.offsets.push_back(10);
+  // A second line entirely far away, a third entirely near.
+  in.points.emplace_back(0, 5, 10);
+  in.points.emplace_back(1, 5, 11);
+  in.offsets.push_back(12);
+  in.points.emplace_back(0, 9, 0.1f);
+  in.points.emplace_back(3, 9, -0.1f);
+  in.offsets.push_back(14);
+  const Polylines out = app::selectNearSurface(in, query, 2.5);
+  ASSERT_EQ(out.lineCount(), 4u);
+  EXPECT_EQ(out.offsets, (std::vector<std::uint32_t>{0, 3, 5, 7, 9}));
+  const std::vector<std::size_t> from = {0, 1, 2, 4, 5, 7, 8, 12, 13};
+  for (std::size_t i = 0; i < from.size(); ++i) EXPECT_EQ(out.points[i], in.points[from[i]]) << i;
+  const Polylines all = app::selectNearSurface(in, query, 0.0);
+  EXPECT_EQ(all.points, in.points);
+}
+
+TEST(TractSelection, MeshPlaneFindsSlicesAndRejectsCurvedMeshes) {
+  const auto p = app::meshPlane(render::reference::planeMesh({0, 0, 7}, {1, 0, 0}, {0, 1, 0}, 10, 10, 3));
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(std::abs(p->z), 1.0f, 1e-6f);
+  EXPECT_NEAR(p->w / p->z, -7.0f, 1e-5f);
+  EXPECT_FALSE(app::meshPlane(render::reference::uvSphere({0, 0, 0}, 10, 8, 8)).has_value());
+}
