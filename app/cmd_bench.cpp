@@ -32,7 +32,8 @@ int cmdBench(const CommandArgs& args) {
                 "  io      load time of an HCP-sized tensor volume, DWI fit times, FA-map time\n"
                 "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
                 "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
-                "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n");
+                "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n"
+                "  overlay   ms/frame of the tract overlay over the fabric (brain slice + 2000 tracts, 1M points)\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
@@ -41,6 +42,7 @@ int cmdBench(const CommandArgs& args) {
   if (args[0] == "surfaces") return benchSurfaces(rest);
   if (args[0] == "view") return benchView(rest);
   if (args[0] == "tracts") return benchTracts(rest);
+  if (args[0] == "overlay") return benchOverlay(rest);
   throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces, view)");
 }
 
