@@ -163,6 +163,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   // nifti_type reads back as NIfTI-1 for NIfTI-2 files; the header reader gives the version.
   int version = 1;
   long long rawDims[8] = {};
+  int rawDatatype = 0;
   void* raw = nifti_read_header(path.c_str(), &version, 0);
   if (!raw)
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
@@ -183,6 +184,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
       const auto v = static_cast<std::uint64_t>(h2->dim[d]);
       rawDims[d] = static_cast<long long>(swap ? __builtin_bswap64(v) : v);
     }
+    const auto dt = static_cast<std::uint16_t>(h2->datatype);
+    rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
   } else {
     const auto* h1 = static_cast<const nifti_1_header*>(raw);
     const bool swap = h1->sizeof_hdr != 348;
@@ -190,6 +193,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
       const auto v = static_cast<std::uint16_t>(h1->dim[d]);
       rawDims[d] = static_cast<std::int16_t>(swap ? __builtin_bswap16(v) : v);
     }
+    const auto dt = static_cast<std::uint16_t>(h1->datatype);
+    rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
   }
   std::free(raw);
   if (!sizeOk) fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
@@ -198,6 +203,13 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   const long long ndim = rawDims[0];
   if (ndim < 1 || ndim > 7)
     fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
+  if (!isSupportedDatatype(rawDatatype)) {
+    const char* name = nifti_datatype_to_string(rawDatatype);
+    std::string text = name && std::strcmp(name, "DT_UNKNOWN") ? name : "code " + std::to_string(rawDatatype);
+    if (text.rfind("NIFTI_TYPE_", 0) == 0) text.erase(0, 11);
+    fail(path, "unsupported datatype " + text +
+                   " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
+  }
   {
     std::vector<long long> dims;
     long long total = 1;
