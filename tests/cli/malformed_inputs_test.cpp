@@ -444,7 +444,7 @@ std::vector<Case> catalogue() {
                          n.datatype = 999;
                          return n.bytes();
                        },
-                       {"NIfTI"}));
+                       {"unsupported datatype code 999"}));
   c.push_back(
       infoCase("NiftiAllNaNTensors", "nan.nii", [] { return tensorNifti(kNaN).bytes(); }, {"NaN/Inf"}));
   c.push_back(
@@ -699,6 +699,8 @@ std::vector<Case> catalogue() {
                         {"non-finite coordinate in track 0"}));
   c.push_back(tractCase("TractUnknownExtension", "tracts.xyz", [] { return std::string("x"); }, {}));
   // ---- viewer scripts (parsed completely before a window opens)
+  // Fuzz finding: a line of only \v or \f was not blank to the parser but had no words (out-of-bounds read).
+  c.push_back(scriptCase("ScriptVerticalTabLine", "\v\f \nfrobnicate\n", {"2:", "frobnicate"}));
   c.push_back(scriptCase("ScriptUnknownCommand", "wait 1\nfrobnicate 3\n", {"2:", "frobnicate"}));
   c.push_back(scriptCase("ScriptWrongArity", "rotate 10\n", {"1:", "usage: rotate"}));
   c.push_back(scriptCase("ScriptNonNumericValue", "# comment\nzoom big\n", {"2:", "'big' is not a number"}));
