@@ -14,10 +14,14 @@
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 namespace dtf::app {
 
@@ -62,6 +66,11 @@ Fabric (paper §2)
   --step PX           advection step in pixels (default 2)
   --no-lighting --no-silhouette --sharpen W --depth-color W --fade-out-of-plane W
 
+Background (grey where the fabric is absent; slices and planes then cover the whole grid, not only the data)
+  --background B      fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)
+  --background-window LO,HI   grey ramp (default: fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile)
+  --fa-floor F        the fabric only where FA >= F (default 0)
+
 Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y green, z blue)
   --tracts FILE       .tck, .trk or .vtk tracts (world RAS mm)
   --tracts-near MM    show only tract segments within MM of the surface (default 3; 0 = all). On a planar
@@ -83,6 +92,49 @@ Input
 
 Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.
 )";
+
+struct Background {
+  ScalarVolume volume; // empty: none
+  float lo = 0, hi = 1;
+};
+
+// --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile).
+Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
+                          const ScalarVolume& fa) {
+  Background b;
+  if (what.empty()) {
+    if (!window.empty()) throw UsageError("--background-window needs --background");
+    return b;
+  }
+  if (what == "fa") {
+    b.volume = fa;
+  } else if (what == "md") {
+    b.volume = computeMetricMaps(field, false, false).md;
+    b.hi = 0.003f;
+  } else {
+    b.volume = io::readScalarVolume(what);
+    std::vector<float> v;
+    for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
+      const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
+      if (std::isfinite(x) && x != 0) v.push_back(x);
+    }
+    if (v.empty()) throw InputError(what + ": the background volume holds no non-zero values");
+    std::sort(v.begin(), v.end());
+    b.lo = v[v.size() / 100];
+    b.hi = v[v.size() - 1 - v.size() / 100];
+  }
+  if (!window.empty()) {
+    const auto comma = window.find(',');
+    char* end = nullptr;
+    const std::string a = window.substr(0, comma), c = comma == std::string::npos ? "" : window.substr(comma + 1);
+    b.lo = std::strtof(a.c_str(), &end);
+    const bool okA = !a.empty() && *end == '\0';
+    b.hi = std::strtof(c.c_str(), &end);
+    if (!okA || c.empty() || *end != '\0' || !(b.hi > b.lo))
+      throw UsageError("--background-window must be LO,HI with LO < HI, got '" + window + "'");
+  }
+  return b;
+}
 
 render::StandardView defaultView(const SurfaceSpec& spec) {
   if (spec.kind == SurfaceSpec::Kind::Slice) return render::parseView(spec.axis);
@@ -144,6 +196,10 @@ int cmdRender(const CommandArgs& argv) {
   if (!(tractsNear >= 0 && tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
   const double tractsSlab = args.getDouble("tracts-slab", 0.0);
   if (!(tractsSlab >= 0 && tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
+  const std::string backgroundArg = args.getOr("background", "");
+  const std::string backgroundWindow = args.getOr("background-window", "");
+  p.faFloor = static_cast<float>(args.getDouble("fa-floor", 0.0));
+  if (!(p.faFloor >= 0 && p.faFloor < 1)) throw UsageError("--fa-floor must be in [0, 1)");
   const double tractWidth = args.getDouble("tract-width", 2.0);
   if (!(tractWidth > 0 && tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   const SplitMode split = args.get("split") ? parseSplitMode(*args.get("split")) : SplitMode{};
@@ -154,16 +210,19 @@ int cmdRender(const CommandArgs& argv) {
   std::error_code ec;
   if (fs::exists(output) && fs::equivalent(output, input, ec))
     throw UsageError("output " + output + " is the input: refusing to overwrite it");
-  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value});
+  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg});
   if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
 
   const auto t0 = std::chrono::steady_clock::now();
   io::LoadedTensors loaded = loadTensorInput(input, in);
   const TensorField& field = loaded.field;
   ScalarVolume fa = computeFaMap(field);
+  SurfaceBuildOptions buildOptions;
+  buildOptions.clipToData = backgroundArg.empty();
+  Background background = loadBackground(backgroundArg, backgroundWindow, field, fa);
   Mesh mesh;
   try {
-    mesh = buildSurface(spec, field, fa);
+    mesh = buildSurface(spec, field, fa, buildOptions);
   } catch (...) {
     rethrowWithContext("while building the surface " + describeSurface(spec));
   }
@@ -187,7 +246,7 @@ int cmdRender(const CommandArgs& argv) {
       spec2 = parseSurfaceSpec(split.value);
     }
     try {
-      mesh2 = buildSurface(spec2, *field2, *fa2);
+      mesh2 = buildSurface(spec2, *field2, *fa2, buildOptions);
     } catch (...) {
       rethrowWithContext("while building the second pane's surface " + describeSurface(spec2));
     }
@@ -197,6 +256,7 @@ int cmdRender(const CommandArgs& argv) {
   render::GlContext::headless();
   render::FabricRenderer renderer;
   renderer.resize(width, height);
+  if (!background.volume.data.empty()) renderer.setBackground(&background.volume, background.lo, background.hi);
   glm::vec3 lo, hi;
   mesh.bounds(lo, hi);
   // Both panes share this camera (linked views).

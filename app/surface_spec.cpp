@@ -164,7 +164,7 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
     int idx = s.index < 0 ? surfaces::sliceCount(field.grid, axis) / 2 : s.index;
     ScalarVolume clip = validMask(field);
     surfaces::SliceOptions so;
-    so.clip = &clip;
+    if (o.clipToData) so.clip = &clip;
     m = surfaces::makeSlice(field.grid, axis, idx, so);
     if (m.empty()) throw InputError(describeSurface(s) + " holds no tensor data");
     break;
@@ -172,7 +172,7 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
   case SurfaceSpec::Kind::Plane: {
     ScalarVolume clip = validMask(field);
     surfaces::SliceOptions so;
-    so.clip = &clip;
+    if (o.clipToData) so.clip = &clip;
     double step = o.planeStepMm > 0 ? o.planeStepMm
                                      : 0.5 * std::min({field.grid.spacing.x, field.grid.spacing.y, field.grid.spacing.z});
     m = surfaces::makePlane(field.grid, s.a, s.b, step, so);

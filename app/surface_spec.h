@@ -35,6 +35,8 @@ struct SurfaceBuildOptions {
   double minComponentFraction = 0.02;
   int meshSmoothIterations = 0;
   double planeStepMm = 0.0;         // oblique planes: 0 = half the smallest voxel size
+  bool clipToData = true;           // slices and planes: only where there is tensor data (false: whole grid,
+                                    // for a background volume to show around the brain)
   double fibreStepMm = 0.5, fibreLengthMm = 40, fibreFaStop = 0.15, fibreSeedSpacingMm = 0.75;
 };
 

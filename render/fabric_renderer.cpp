@@ -15,7 +15,7 @@ enum Pass { kProjection = 0, kSilhouette, kAdvection, kComposite, kPhong };
 // Parameters whose change invalidates the advection state.
 auto stateKey(const FabricParams& p) {
   return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
-                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour);
+                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor);
 }
 } // namespace
 
@@ -32,6 +32,12 @@ void FabricRenderer::setMesh(const Mesh& mesh) {
 
 void FabricRenderer::setField(const TensorField& field) {
   field_.upload(field);
+  dataChanged_ = true;
+}
+
+void FabricRenderer::setBackground(const ScalarVolume* volume, float lo, float hi) {
+  if (volume) background_.upload(*volume, lo, hi);
+  else background_.clear();
   dataChanged_ = true;
 }
 
@@ -89,8 +95,9 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.noiseBlend = static_cast<float>(p.noiseBlend);
   ps.principal = p.colour == ColourMode::Medical;
   ps.depthPrepass = p.depthPrepass;
+  ps.faFloor = p.faFloor;
   beginTimer(kProjection);
-  projection_.run(mesh_, field_, noise_, view_, ps);
+  projection_.run(mesh_, field_, noise_, view_, ps, &background_);
   endTimer();
 
   beginTimer(kSilhouette);
@@ -121,6 +128,7 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.depthColour = static_cast<float>(p.depthColour);
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
+  cs.background = !background_.empty();
   CompositeInputs in{&advection_.current(), &projection_.surface(), &silhouette_.edges(),
                      &projection_.eigen(),    &projection_.lambda(),  &projection_.depth()};
   beginTimer(kComposite);

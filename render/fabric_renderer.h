@@ -47,6 +47,7 @@ struct FabricParams {
   int stillMaxIterations = 100;       // renderStill: iteration cap
   double stillChangedFraction = 0.002; // renderStill: stop when fewer covered pixels than this changed
   float fadeOutOfPlane = 0.0f;
+  float faFloor = 0.0f;       // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
   bool depthPrepass = true;   // depth-only pass first: 2.5x faster projection on the brain's FA isosurface
                               // (overdraw), about 1.3x slower on a convex sphere
@@ -65,6 +66,9 @@ public:
 
   void setMesh(const Mesh& mesh);
   void setField(const TensorField& field);
+  // A grey background (FA, MD, a T1 on any grid) shown where the surface has no tensor data, windowed to
+  // [lo, hi]; nullptr removes it.
+  void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
   // Output size in pixels; targets are re-created only when it changes.
   void resize(int width, int height);
 
@@ -113,6 +117,7 @@ private:
   PhongPass phong_;
   GpuMesh mesh_;
   GpuTensorField field_;
+  GpuScalarVolume background_;
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;
   Framebuffer output_;

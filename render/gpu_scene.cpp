@@ -53,13 +53,30 @@ void GpuMesh::draw() const {
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
 }
 
-void GpuTensorField::upload(const TensorField& field) {
-  const glm::ivec3 d = field.grid.dims;
+namespace {
+void checkFits3D(const glm::ivec3& d, const char* what) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
   if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
-    throw GlError("tensor grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
-                  " does not fit a 3D texture (max " + std::to_string(maxSize) + ")");
+    throw GlError(std::string(what) + " grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
+                  std::to_string(d.z) + " does not fit a 3D texture (max " + std::to_string(maxSize) + ")");
+}
+
+// tex = (voxel + 0.5) / dims, voxel = world->voxel affine.
+glm::mat4 worldToTexture(const Grid& grid) {
+  glm::dmat4 worldToVoxel = glm::inverse(grid.voxelToWorld);
+  glm::dmat4 voxelToTex(1.0);
+  for (int c = 0; c < 3; ++c) {
+    voxelToTex[c][c] = 1.0 / grid.dims[c];
+    voxelToTex[3][c] = 0.5 / grid.dims[c];
+  }
+  return glm::mat4(voxelToTex * worldToVoxel);
+}
+} // namespace
+
+void GpuTensorField::upload(const TensorField& field) {
+  const glm::ivec3 d = field.grid.dims;
+  checkFits3D(d, "tensor");
   const std::size_t n = field.grid.voxelCount();
   if (field.tensors.size() != n) throw GlError("tensor field has " + std::to_string(field.tensors.size()) +
                                                 " tensors for " + std::to_string(n) + " voxels");
@@ -81,15 +98,31 @@ void GpuTensorField::upload(const TensorField& field) {
   b_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
   glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
   glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
-  // tex = (voxel + 0.5) / dims, voxel = world->voxel affine.
-  glm::dmat4 worldToVoxel = glm::inverse(field.grid.voxelToWorld);
-  glm::dmat4 voxelToTex(1.0);
-  for (int c = 0; c < 3; ++c) {
-    voxelToTex[c][c] = 1.0 / d[c];
-    voxelToTex[3][c] = 0.5 / d[c];
-  }
-  worldToTex_ = glm::mat4(voxelToTex * worldToVoxel);
+  worldToTex_ = worldToTexture(field.grid);
 }
+
+void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
+  const glm::ivec3 d = volume.grid.dims;
+  checkFits3D(d, "background");
+  const std::size_t n = volume.grid.voxelCount();
+  const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+  std::vector<float> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = volume.data[i * static_cast<std::size_t>(volume.components)];
+    v[i] = std::isfinite(x) ? std::clamp((x - lo) * scale, 0.0f, 1.0f) : 0.0f;
+  }
+  texture_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
+  glTextureSubImage3D(texture_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, v.data());
+  texture_.setFilter(GL_LINEAR, GL_LINEAR);
+  glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+  glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+  glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_BORDER);
+  const float black[4] = {0, 0, 0, 0};
+  glTextureParameterfv(texture_.id(), GL_TEXTURE_BORDER_COLOR, black);
+  worldToTex_ = worldToTexture(volume.grid);
+}
+
+void GpuScalarVolume::bind(int unit) const { glBindTextureUnit(static_cast<GLuint>(unit), texture_.id()); }
 
 void GpuTensorField::bind() const {
   glBindTextureUnit(0, a_.id());

@@ -48,6 +48,24 @@ private:
   glm::mat4 worldToTex_{1.0f};
 };
 
+// A scalar volume (FA, MD, a T1) shown in grey where the surface has no tensor data: one R32F 3D texture
+// holding (value - lo) / (hi - lo) clamped to [0, 1], black outside the grid.
+class GpuScalarVolume {
+public:
+  GpuScalarVolume() = default;
+  // Uploads component 0 windowed to [lo, hi]. Throws GlError when the grid does not fit a 3D texture.
+  void upload(const ScalarVolume& volume, float lo, float hi);
+  void clear() { texture_ = Texture(); }
+  // Binds the texture to `unit`.
+  void bind(int unit) const;
+  const glm::mat4& worldToTex() const { return worldToTex_; }
+  bool empty() const { return !texture_; }
+
+private:
+  Texture texture_;
+  glm::mat4 worldToTex_{1.0f};
+};
+
 // The noise tile as a single-channel float texture with mipmaps and GL_REPEAT (seamless).
 Texture uploadNoise(const NoiseTile& tile);
 

@@ -22,6 +22,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set("u_secondaryRatio", s.secondaryRatio);
   p.set("u_secondaryFa", s.secondaryFa);
   p.set("u_fadeOutOfPlane", s.fadeOutOfPlane);
+  p.set("u_hasBackground", s.background ? 1 : 0);
   p.use();
   glBindTextureUnit(0, in.advected->id());
   glBindTextureUnit(1, in.surface->id());

@@ -26,6 +26,7 @@ struct CompositeSettings {
   float secondaryRatio = 0.5f; // medical: lambda2'/lambda1' from which the secondary direction shows
   float secondaryFa = 0.2f;    // medical: FA below which the secondary direction shows
   float fadeOutOfPlane = 0.0f; // medical: 0..1 fading of structures along the normal
+  bool background = false;     // grey background values where there is no tensor data
 };
 
 struct CompositeInputs {

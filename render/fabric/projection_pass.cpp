@@ -22,7 +22,7 @@ void ProjectionPass::resize(glm::ivec2 target) {
 }
 
 void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
-                         const FrameView& view, const ProjectionSettings& s) {
+                         const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background) {
   resize(view.target);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, size_.x, size_.y);
@@ -49,6 +49,13 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   p.set("u_lod", s.lod);
   p.set("u_noiseBlend", s.noiseBlend);
   p.set("u_worldToTex", field.worldToTex());
+  p.set("u_faFloor", s.faFloor);
+  const bool hasBackground = background && !background->empty();
+  p.set("u_hasBackground", hasBackground ? 1 : 0);
+  if (hasBackground) {
+    p.set("u_backgroundWorldToTex", background->worldToTex());
+    background->bind(3);
+  }
   if (s.depthPrepass && !field.empty()) {
     depthOnly_.set("u_viewProj", view.viewProj);
     depthOnly_.set("u_view", view.view);

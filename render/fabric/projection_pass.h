@@ -4,7 +4,8 @@
 //   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
 //            eigen   RGBA16F (world principal eigenvector of T (medical mode only), FA)
-//            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data)
+//            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data); where there is no
+//                    tensor data, x holds the background volume's grey value (0 without a background)
 //            depth   DEPTH32F (window depth, for gl_FragDepth in the composite)
 // Everything is cleared to 0 first: a cleared pixel has no vector and no coverage. The normal itself is
 // used here (projection, lighting, noise face) and not stored: no later pass needs it.
@@ -24,6 +25,7 @@ struct ProjectionSettings {
   float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
   bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
   bool depthPrepass = true;      // draw depth first so the projection shader runs once per visible pixel
+  float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
 };
 
 class ProjectionPass {
@@ -31,8 +33,9 @@ public:
   ProjectionPass();
   // (Re)creates the targets when the size changes; no-op otherwise.
   void resize(glm::ivec2 target);
+  // `background` (optional) is sampled where the surface has no tensor data.
   void run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
-           const ProjectionSettings& settings);
+           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr);
 
   const Texture& vectors() const { return vectors_; }
   const Texture& surface() const { return surface_; }

@@ -28,7 +28,8 @@ uniform float u_sharpen = 0.0;     // unsharp mask weight on the composed colour
 uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
 uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
-uniform vec3 u_noData = vec3(0.45);    // medical: colour of surface points without tensor data
+uniform vec3 u_noData = vec3(0.45);    // colour of surface points without tensor data (no background)
+uniform bool u_hasBackground = false;  // lambda.x holds a grey background value where there is no data
 
 out vec4 o_colour;
 
@@ -47,7 +48,7 @@ vec3 compose(ivec2 t) {
   float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
   if (lam.w < 0.5) {
-    c = u_noData * (0.6 + 0.4 * p1);
+    c = u_hasBackground ? vec3(lam.x) : u_noData * (0.6 + 0.4 * p1);
   } else {
     vec3 dec = abs(eig.xyz);
     // DEC modulated by FA: saturation and brightness grow with FA, so grey matter stays calm.
@@ -69,6 +70,7 @@ vec3 compose(ivec2 t) {
   c.r = u_r * f2 / (8.0 * f1 * f1) + e + light;
   c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
   c.b = e + light;
+  if (u_hasBackground && texelFetch(u_lambda, t, 0).w < 0.5) c = vec3(texelFetch(u_lambda, t, 0).x) + e;
 #endif
   if (u_depthColour > 0.0) {
     float d = clamp((s.b - u_depthRange.x) / max(u_depthRange.y - u_depthRange.x, 1e-6), 0.0, 1.0);

@@ -24,6 +24,10 @@ uniform vec3 u_noiseOrigin;  // b_min of Eq. 7 (world mm)
 uniform float u_lod;         // l of Eq. 7: implicit voxel edge in mm
 uniform float u_noiseBlend = 0.0; // 0 = Eq. 9 exactly; > 0 softens the switch between voxel faces
 layout(binding = 2) uniform sampler2D u_noise;
+layout(binding = 3) uniform sampler3D u_background; // grey shown where there is no tensor data
+uniform bool u_hasBackground = false;
+uniform mat4 u_backgroundWorldToTex;
+uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
 layout(location = 0) out vec4 o_vectors; // v1.xy, v2.xy: image-space directions (pixels, max-norm 1)
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
@@ -82,7 +86,7 @@ void main() {
   vec4 lambda = vec4(0.0);
   mat3 t;
   float fa;
-  if (sampleTensor(v_world, t, fa)) {
+  if (sampleTensor(v_world, t, fa) && fa >= u_faFloor) {
     // Eq. 1-2: T' = P T P^T with P = I - n n^T. T' has n as an eigenvector with eigenvalue 0, so the
     // closed-form solver's "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in
     // the tangent plane, where u^T T' w = u^T T w for u, w orthogonal to n: T' need not be formed.
@@ -105,6 +109,8 @@ void main() {
 #endif
     lambda.xy = vec2(l1, l2);
     lambda.w = 1.0;
+  } else if (u_hasBackground) {
+    lambda.x = texture(u_background, (u_backgroundWorldToTex * vec4(v_world, 1.0)).xyz).r;
   }
   o_vectors = vectors;
   o_surface = vec4(beta, light, depth, 1.0);

@@ -240,3 +240,49 @@ TEST_F(MedicalBrain, PatternStaysAttachedWhenTheIsovalueChanges) {
   saveImage(c.image, "coherence_fa032.png");
   saveImage(other.image, "coherence_fa032_seed7.png");
 }
+
+TEST_F(MedicalBrain, GreyBackgroundWhereThereIsNoTensorDataOrFaIsBelowTheFloor) {
+  // Left half of the grid holds an x-aligned tensor (FA 0.8), the right half none; the background volume
+  // is 0.5 everywhere (window 0..1). Seen from superior, image left = world -x.
+  const int n = 32;
+  glm::dmat4 a(1.0);
+  a[3] = glm::dvec4(-(n - 1) / 2.0, -(n - 1) / 2.0, 0.0, 1.0);
+  TensorField f = makeTensorField(Grid::fromAffine({n, n, 3}, a));
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n / 2; ++i) {
+        f.at(i, j, k) = SymTensor{1.7e-3f, 0, 0, 3e-4f, 0, 3e-4f};
+        f.valid[f.grid.index(i, j, k)] = 1;
+      }
+  ScalarVolume grey(f.grid, 1, 0.5f);
+  Mesh slice = surfaces::makeSlice(f.grid, surfaces::SliceAxis::Axial, 1);
+  render::FabricRenderer r;
+  r.setMesh(slice);
+  r.setField(f);
+  r.setBackground(&grey, 0.0f, 1.0f);
+  r.resize(kSize, kSize);
+  glm::vec3 lo, hi;
+  slice.bounds(lo, hi);
+  auto cam = render::Camera::standard(render::StandardView::Superior, glm::dvec3(lo), glm::dvec3(hi), 1.0);
+  render::FabricParams p;
+  Image img = r.renderStill(cam, p);
+  saveImage(img, "background_half.png");
+  auto chroma = [](glm::dvec3 c) { return std::max({c.x, c.y, c.z}) - std::min({c.x, c.y, c.z}); };
+  glm::dvec3 left = meanColour(img, {kSize * 0.25, kSize * 0.5}, 8), right = meanColour(img, {kSize * 0.75, kSize * 0.5}, 8);
+  EXPECT_GT(left.x, 2.0 * left.y) << "the fabric half is red (x-aligned)";
+  EXPECT_LT(chroma(right), 3.0) << "the background is grey";
+  EXPECT_GT(right.x, 0.5 * 127) << "grey 0.5, dimmed at most by the lighting";
+  EXPECT_LT(right.x, 1.05 * 128);
+  // An FA floor above the data's FA turns the fabric half into background too.
+  p.faFloor = 0.9f;
+  img = r.renderStill(cam, p);
+  left = meanColour(img, {kSize * 0.25, kSize * 0.5}, 8);
+  EXPECT_LT(chroma(left), 3.0);
+  EXPECT_NEAR(left.x, right.x, 3.0);
+  // Without a background the data-less half keeps the neutral no-data grey of the composite.
+  r.setBackground(nullptr);
+  p.faFloor = 0;
+  img = r.renderStill(cam, p);
+  right = meanColour(img, {kSize * 0.75, kSize * 0.5}, 8);
+  EXPECT_LT(chroma(right), 3.0);
+}
