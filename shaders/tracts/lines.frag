@@ -1,8 +1,9 @@
 #version 450 core
 // Tract overlay colour: DEC of the world tangent (|t.x| red, |t.y| green, |t.z| blue), lit with the
-// tangent-based line lighting of Zöckler, Stalling and Hege (headlight: L = V, so diffuse = sqrt(1 -
-// (L.t)^2) and specular = (1 - (L.t)^2 - (L.t)^2)^n), darkened towards the tube's edges. Fragments
-// farther than u_slabMm from the slab plane are discarded (u_slabMm <= 0: no slab).
+// tangent-based line lighting of Zöckler, Stalling and Hege with a headlight along the eye-space view
+// axis (L = V = +z, exact for orthographic views): diffuse = sqrt(1 - (L.t)^2), specular =
+// (1 - 2 (L.t)^2)^8; darkened towards the tube's edges. Fragments farther than u_slabMm from the slab
+// plane are discarded (u_slabMm <= 0: no slab).
 in vec3 g_tangent;
 in float g_across;
 in float g_planeDist;

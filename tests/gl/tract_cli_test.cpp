@@ -5,6 +5,7 @@
 #include "io/png_io.h"
 #include "io/tracts.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -59,7 +60,9 @@ TEST(TractRenderCli, OverlayAndSplitWriteTheSamePngTwice) {
   const fs::path tck = dir / "fan.tck";
   dtf::io::writeTck(tck.string(), fan());
   const std::string common = kPhantom.string() + " --size 96x80 --tracts " + tck.string() + " --tracts-near 0";
-  for (const std::string split : {"", " --split tracts", " --split colour", " --split surface=fa=0.25"}) {
+  const std::string second = " --split input=" + kPhantom.string();
+  for (const std::string& split : {std::string(), std::string(" --split tracts"), std::string(" --split colour"),
+                                  std::string(" --split surface=fa=0.25"), second}) {
     SCOPED_TRACE(split);
     const fs::path a = dir / "a.png", b = dir / "b.png";
     CliRun r1 = dtfabric("render " + common + split + " --force -o " + a.string(), dir);
@@ -70,6 +73,13 @@ TEST(TractRenderCli, OverlayAndSplitWriteTheSamePngTwice) {
     EXPECT_EQ(img.width, split.empty() ? 96 : 192);
     EXPECT_EQ(img.height, 80);
     EXPECT_EQ(bytes(a), bytes(b));
+    if (split == " --split tracts") {
+      // Left pane the fabric alone, right pane with the fan: they differ.
+      std::size_t changed = 0;
+      for (int y = 0; y < 80; ++y)
+        for (int x = 0; x < 96; ++x) changed += !std::equal(img.pixel(x, y), img.pixel(x, y) + 3, img.pixel(x + 96, y));
+      EXPECT_GT(changed, 50u);
+    }
   }
 }
 

@@ -6,6 +6,8 @@
 #include "render/reference/scenes.h"
 #include "render/tract_renderer.h"
 
+#include <algorithm>
+
 using namespace dtf;
 using namespace dtf::render;
 
