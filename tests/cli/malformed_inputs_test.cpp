@@ -214,6 +214,8 @@ std::string trk(const std::function<void(std::string&)>& edit = {}, std::optiona
   return h + b;
 }
 
+const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
+
 struct Case {
   std::string name;
   // Writes the inputs into `dir` and returns the dtfabric arguments.
@@ -708,6 +710,16 @@ std::vector<Case> catalogue() {
   c.push_back(scriptCase("ScriptValueOutOfRange", "fa 1.5\n", {"1:", "fa"}));
   c.push_back(scriptCase("ScriptBadOnOff", "split maybe\n", {"1:", "on or off"}));
   c.push_back(scriptCase("ScriptUnknownParam", "set warp 3\n", {"1:", "warp"}));
+  // Fuzz finding: a slice index beyond int (here 3.4e18) was converted to int (undefined behaviour).
+  c.push_back(scriptCase("ScriptHugeSliceIndex", "surface slice=coronal:3355555555555555555\n",
+                         {"1:", "slice index 3355555555555555555 is absurd"}));
+  c.push_back({"SurfaceHugeSliceIndex",
+               [](const fs::path& dir) {
+                 return "surface " + q(kSample) + " --surface slice=axial:1e300 -o " + q(dir / "s.ply");
+               },
+               1,
+               {"slice index 1e300 is absurd"},
+               "s.ply"});
   c.push_back({"ScriptMissingFile",
                [](const fs::path& dir) { return "view --script " + q(dir / "none.dtfs"); },
                2,
@@ -749,8 +761,6 @@ TEST_P(MalformedInput, IsRefusedCleanly) {
 
 INSTANTIATE_TEST_SUITE_P(Catalogue, MalformedInput, ::testing::ValuesIn(catalogue()),
                          [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });
-
-const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
 // An existing output is kept byte for byte unless --force is given.
 TEST(OutputProtection, ExistingOutputsNeedForce) {
