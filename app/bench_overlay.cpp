@@ -58,7 +58,8 @@ OverlayResult timeOverlay(const std::string& name, render::FabricRenderer& fabri
     r.gpuMs += double(ns) * 1e-6;
   }
   glFinish();
-  r.wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / frames;
+  const auto t1 = std::chrono::steady_clock::now();
+  r.wallMs = std::chrono::duration<double, std::milli>(t1 - t0).count() / frames;
   r.gpuMs /= frames;
   render::checkGl("bench overlay " + name);
   return r;
@@ -88,8 +89,8 @@ int benchOverlay(const CommandArgs& argv) {
   Args args(argv, {"help"});
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench overlay [--size 1024x768] [--frames N] [--data DIR]\n"
-                "  ms/frame of the tract overlay pass over a finished fabric: brain axial slice 22 with 2000\n"
-                "  tracts (all / 3 mm slab), and a synthetic 1M-point tractogram over a plane\n");
+                "  ms/frame of the tract overlay pass over a finished fabric: brain axial slice 22 with\n"
+                "  2000 tracts (all / 3 mm slab), and a synthetic 1M-point tractogram over a plane\n");
     return 0;
   }
   int width = 1024, height = 768;
@@ -110,7 +111,8 @@ int benchOverlay(const CommandArgs& argv) {
       Mesh slice = buildSurface(parseSurfaceSpec("slice=axial:22"), field, computeFaMap(field));
       Polylines all = readTracts(tck.string());
       Polylines first;
-      first.offsets.assign(all.offsets.begin(), all.offsets.begin() + std::min<std::size_t>(all.lineCount(), 2000) + 1);
+      const std::size_t n = std::min<std::size_t>(all.lineCount(), 2000);
+      first.offsets.assign(all.offsets.begin(), all.offsets.begin() + static_cast<std::ptrdiff_t>(n) + 1);
       first.points.assign(all.points.begin(), all.points.begin() + first.offsets.back());
       render::TractStyle style;
       results.push_back(timeOverlay("brain_slice22_2000_all", fabric, slice, field, first, style,
@@ -122,10 +124,12 @@ int benchOverlay(const CommandArgs& argv) {
     }
   }
   const Mesh plane = render::reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 110, 110, 16);
-  const TensorField field = render::reference::constantField(render::reference::centredGrid(48, 2.5), {0, 1, 0});
+  const Grid grid = render::reference::centredGrid(48, 2.5);
+  const TensorField field = render::reference::constantField(grid, {0, 1, 0});
   results.push_back(timeOverlay("synthetic_1M", fabric, plane, field, syntheticTracts(5000, 200), {},
                                 render::StandardView::Superior, width, height, frames));
-  std::printf("dtfabric bench overlay: %dx%d, %d frames, %s\n", width, height, frames, ctx.description().c_str());
+  std::printf("dtfabric bench overlay: %dx%d, %d frames, %s\n", width, height, frames,
+              ctx.description().c_str());
   std::printf("%-26s %9s %7s | %9s %9s\n", "case", "points", "lines", "GPU ms", "wall ms");
   for (const auto& r : results)
     std::printf("%-26s %9zu %7zu | %9.2f %9.2f\n", r.name.c_str(), r.points, r.lines, r.gpuMs, r.wallMs);

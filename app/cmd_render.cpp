@@ -203,7 +203,8 @@ int cmdRender(const CommandArgs& argv) {
   const double tractWidth = args.getDouble("tract-width", 2.0);
   if (!(tractWidth > 0 && tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   const SplitMode split = args.get("split") ? parseSplitMode(*args.get("split")) : SplitMode{};
-  if (split.kind == SplitMode::Kind::Tracts && tractsPath.empty()) throw UsageError("--split tracts needs --tracts FILE");
+  if (split.kind == SplitMode::Kind::Tracts && tractsPath.empty())
+    throw UsageError("--split tracts needs --tracts FILE");
   args.finish();
 
   namespace fs = std::filesystem;
@@ -277,8 +278,8 @@ int cmdRender(const CommandArgs& argv) {
       const glm::vec3 f(camera.forward()), c = 0.5f * (lo + hi);
       style.plane = glm::vec4(f, -glm::dot(f, c));
       style.slabMm = static_cast<float>(tractsSlab);
-      tractRenderer->setTracts(tractsNear > 0 ? selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear)
-                                              : tracts);
+      if (tractsNear > 0) tractRenderer->setTracts(selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear));
+      else tractRenderer->setTracts(tracts);
     }
     if (tractRenderer->lineCount() == 0) {
       logWarning("no tract of " + tractsPath + " lies near the surface");
@@ -306,7 +307,8 @@ int cmdRender(const CommandArgs& argv) {
     image = sideBySide(left, pane(mesh, field, p2, true));
   } else if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
     Image left = pane(mesh, field, p, true);
-    image = sideBySide(left, pane(mesh2, split.kind == SplitMode::Kind::Input ? loaded2.field : field, p, true));
+    const TensorField& field2 = split.kind == SplitMode::Kind::Input ? loaded2.field : field;
+    image = sideBySide(left, pane(mesh2, field2, p, true));
   } else {
     image = pane(mesh, field, p, true);
   }

@@ -29,7 +29,8 @@ void compareToBaseline(const std::string& name, const Image& actual) {
     std::printf("updated baseline %s\n", expectedPath.c_str());
     return;
   }
-  ASSERT_TRUE(fs::exists(expectedPath)) << "no baseline " << expectedPath << " (DTF_UPDATE_BASELINES=1 creates it)";
+  ASSERT_TRUE(fs::exists(expectedPath))
+      << "no baseline " << expectedPath << " (DTF_UPDATE_BASELINES=1 creates it)";
   Image expected = io::readPng(expectedPath.string());
   ASSERT_EQ(expected.width, actual.width);
   ASSERT_EQ(expected.height, actual.height);
@@ -84,7 +85,8 @@ TEST_F(TractBaseline, RealBrainAxialSliceWithTracts) {
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(tracts, "iu_prisma_dwi/derived/tracks_det.tck");
   const fs::path dir = test::scratchDir();
-  const std::string common = tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " + tracts.string();
+  const std::string common =
+      tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " + tracts.string();
   Image img = renderCli(common, dir / "overlay.png");
   ASSERT_EQ(img.width, 256);
   ASSERT_EQ(img.height, 256);
@@ -99,9 +101,9 @@ TEST_F(TractBaseline, RealBrainSplitFabricAndTracts) {
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(tracts, "iu_prisma_dwi/derived/tracks_det.tck");
   const fs::path dir = test::scratchDir();
-  Image img = renderCli(tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " + tracts.string() +
-                         " --split tracts",
-                     dir / "split.png");
+  Image img = renderCli(tensor.string() + " --surface slice=axial:22 --size 256x256 --tracts " +
+                            tracts.string() + " --split tracts",
+                        dir / "split.png");
   ASSERT_EQ(img.width, 512);
   ASSERT_EQ(img.height, 256);
   // Left pane: the fabric alone; right pane: the same fabric with the tracts.

@@ -59,10 +59,11 @@ TEST(TractRenderCli, OverlayAndSplitWriteTheSamePngTwice) {
   const fs::path dir = dtf::test::scratchDir();
   const fs::path tck = dir / "fan.tck";
   dtf::io::writeTck(tck.string(), fan());
-  const std::string common = kPhantom.string() + " --size 96x80 --tracts " + tck.string() + " --tracts-near 0";
+  const std::string common =
+      kPhantom.string() + " --size 96x80 --tracts " + tck.string() + " --tracts-near 0";
   const std::string second = " --split input=" + kPhantom.string();
-  for (const std::string& split : {std::string(), std::string(" --split tracts"), std::string(" --split colour"),
-                                  std::string(" --split surface=fa=0.25"), second}) {
+  const std::string splits[] = {"", " --split tracts", " --split colour", " --split surface=fa=0.25", second};
+  for (const std::string& split : splits) {
     SCOPED_TRACE(split);
     const fs::path a = dir / "a.png", b = dir / "b.png";
     CliRun r1 = dtfabric("render " + common + split + " --force -o " + a.string(), dir);
@@ -77,7 +78,8 @@ TEST(TractRenderCli, OverlayAndSplitWriteTheSamePngTwice) {
       // Left pane the fabric alone, right pane with the fan: they differ.
       std::size_t changed = 0;
       for (int y = 0; y < 80; ++y)
-        for (int x = 0; x < 96; ++x) changed += !std::equal(img.pixel(x, y), img.pixel(x, y) + 3, img.pixel(x + 96, y));
+        for (int x = 0; x < 96; ++x)
+          changed += !std::equal(img.pixel(x, y), img.pixel(x, y) + 3, img.pixel(x + 96, y));
       EXPECT_GT(changed, 50u);
     }
   }

@@ -43,7 +43,8 @@ struct Scene {
   // Image pixel (row 0 at the top) of a world point.
   glm::ivec2 pixel(const glm::vec3& p) const {
     glm::vec4 c = fabric.frameView().viewProjViewport * glm::vec4(p, 1.0f);
-    return {static_cast<int>((c.x / c.w * 0.5f + 0.5f) * kSize), static_cast<int>((0.5f - c.y / c.w * 0.5f) * kSize)};
+    return {static_cast<int>((c.x / c.w * 0.5f + 0.5f) * kSize),
+            static_cast<int>((0.5f - c.y / c.w * 0.5f) * kSize)};
   }
 };
 
