@@ -99,7 +99,7 @@ SurfaceSpec parseSurfaceSpec(const std::string& text) {
     if (colon != std::string::npos) {
       double idx = parseNumbers(rest.substr(colon + 1), 1, "slice index")[0];
       if (idx != std::floor(idx)) throw UsageError("slice index must be an integer, got " + rest.substr(colon + 1));
-      if (idx > 1e6) throw UsageError("slice index " + rest.substr(colon + 1) + " is absurd (more than 10^6)");
+      if (std::abs(idx) > 1e6) throw UsageError("slice index " + rest.substr(colon + 1) + " is absurd (beyond 10^6)");
       s.index = static_cast<int>(idx);
       if (s.index < 0) throw UsageError("slice index must not be negative");
     }
