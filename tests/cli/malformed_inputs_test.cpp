@@ -713,6 +713,8 @@ std::vector<Case> catalogue() {
   // Fuzz finding: a slice index beyond int (here 3.4e18) was converted to int (undefined behaviour).
   c.push_back(scriptCase("ScriptHugeSliceIndex", "surface slice=coronal:3355555555555555555\n",
                          {"1:", "slice index 3355555555555555555 is absurd"}));
+  c.push_back(scriptCase("ScriptHugeNegativeSliceIndex", "surface slice=axial:-2e114\n",
+                         {"1:", "slice index -2e114 is absurd"}));
   c.push_back({"SurfaceHugeSliceIndex",
                [](const fs::path& dir) {
                  return "surface " + q(kSample) + " --surface slice=axial:1e300 -o " + q(dir / "s.ply");
