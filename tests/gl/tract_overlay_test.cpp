@@ -128,3 +128,17 @@ TEST_F(TractOverlay, DrawIsDeterministic) {
   EXPECT_EQ(a.rgba, b.rgba);
   EXPECT_NE(a.rgba, s.plain.rgba);
 }
+
+TEST_F(TractOverlay, TractsLyingInTheSurfaceStayVisible) {
+  // TractStyle::depthBiasMm pulls the tube towards the viewer, so a tract in the slice plane is not lost
+  // to z-fighting with the fabric's depth.
+  Scene s(StandardView::Superior);
+  Image img = s.overlay(line({-20, 5, 0}, {20, 5, 0}));
+  int red = 0, samples = 0;
+  for (float x = -18; x <= 18; x += 2.0f, ++samples) {
+    glm::ivec2 p = s.pixel({x, 5, 0});
+    const auto* c = img.pixel(p.x, p.y);
+    red += c[0] > 150 && c[1] < 10 && c[2] < 10;
+  }
+  EXPECT_EQ(red, samples);
+}
