@@ -71,3 +71,17 @@ TEST(SurfaceCli, BadInputIsReportedWithExitCodes) {
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
 }
+
+TEST(SurfaceCli, RenderAcceptsTheSameSurfaceShorthands) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  auto dir = dtf::test::scratchDir();
+  const std::string in = "'" + tensor.string() + "'";
+  auto a = runDtfabric("render " + in + " --slice axial:20 --size 128x128 -o '" + (dir / "a.png").string() + "'", dir);
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  auto b = runDtfabric("render " + in + " --surface slice=axial:20 --size 128x128 -o '" + (dir / "b.png").string() + "'",
+                       dir);
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  EXPECT_EQ(dtf::test::readText(dir / "a.png"), dtf::test::readText(dir / "b.png"));
+  auto c = runDtfabric("render " + in + " --fa 0.3 --slice axial -o '" + (dir / "c.png").string() + "'", dir);
+  EXPECT_EQ(c.exitCode, 1) << "two surfaces at once";
+}
