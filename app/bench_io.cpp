@@ -137,17 +137,6 @@ void upsample2(const io::Dwi& in, const MaskVolume& mask, io::Dwi& out, MaskVolu
   }
 }
 
-// --data, then $DTF_SHARED_DATA, then a shared/data folder beside an ancestor of the executable.
-std::optional<fs::path> findDataDir(const std::optional<std::string>& given) {
-  if (given) return fs::path(*given);
-  if (const char* env = std::getenv("DTF_SHARED_DATA"); env && *env) return fs::path(env);
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return std::nullopt;
-  for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
-    if (fs::exists(p / "shared" / "data" / "iu_prisma_dwi")) return p / "shared" / "data";
-  return std::nullopt;
-}
 
 MaskVolume toMask(const ScalarVolume& v) {
   MaskVolume m(v.grid, 1, 0);
@@ -204,7 +193,7 @@ int benchIo(const CommandArgs& argv) {
     fa.t = medianTiming(5, [&] { computeFaMap(field); });
   }
 
-  const auto dataDir = findDataDir(dataArg);
+  const auto dataDir = findSharedDataDir(dataArg);
   const fs::path dwiDir = dataDir ? *dataDir / "iu_prisma_dwi" : fs::path();
   if (!dataDir || !fs::exists(dwiDir / "dwi.nii.gz") || !fs::exists(dwiDir / "derived" / "mask.nii.gz")) {
     notes.push_back("fit skipped: no iu_prisma_dwi data found (use --data DIR or DTF_SHARED_DATA)");
