@@ -137,7 +137,6 @@ void upsample2(const io::Dwi& in, const MaskVolume& mask, io::Dwi& out, MaskVolu
   }
 }
 
-
 MaskVolume toMask(const ScalarVolume& v) {
   MaskVolume m(v.grid, 1, 0);
   for (std::size_t i = 0; i < m.data.size(); ++i)
