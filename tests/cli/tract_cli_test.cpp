@@ -139,5 +139,7 @@ TEST(TractCli, BenchTractsRunsSmall) {
   // The peer runs in the same invocation exactly when MRtrix's tckgen is on the PATH.
   const bool haveTckgen = std::system("command -v tckgen >/dev/null 2>&1") == 0;
   EXPECT_NE(r.out.find(haveTckgen ? "\"peer_ran\": true" : "\"peer_ran\": false"), std::string::npos) << r.out;
-  if (haveTckgen) EXPECT_GT(jsonNumber(r.out, "peer_seconds"), 0);
+  if (haveTckgen) {
+    EXPECT_GT(jsonNumber(r.out, "peer_seconds"), 0);
+  }
 }
