@@ -3,6 +3,7 @@
 // both colour modes. Compared with a per-channel tolerance, a bad-pixel fraction and a mean difference;
 // on failure actual/expected/diff PNGs are written to the build directory. Regenerate on purpose only:
 // DTF_UPDATE_BASELINES=1, then look at every image before committing it.
+#include "support/baseline.h"
 #include "support/gl_test.h"
 
 #include "io/png_io.h"
@@ -23,47 +24,6 @@ namespace {
 class Baseline : public GlTest {};
 
 constexpr int kSize = 256;
-constexpr int kChannelTolerance = 8;     // 0..255
-constexpr double kMaxBadFraction = 0.01; // pixels with any channel beyond the tolerance
-constexpr double kMaxMeanDiff = 1.5;     // mean |difference| over all channels
-
-void compareToBaseline(const std::string& name, const Image& actual) {
-  const fs::path expectedPath = test::sourceDir() / "tests/baseline/images" / (name + ".png");
-  if (test::envFlag("DTF_UPDATE_BASELINES")) {
-    io::writePng(expectedPath.string(), actual);
-    std::printf("updated baseline %s\n", expectedPath.c_str());
-    return;
-  }
-  ASSERT_TRUE(fs::exists(expectedPath)) << "no baseline " << expectedPath << " (DTF_UPDATE_BASELINES=1 creates it)";
-  Image expected = io::readPng(expectedPath.string());
-  ASSERT_EQ(expected.width, actual.width);
-  ASSERT_EQ(expected.height, actual.height);
-  Image diff(actual.width, actual.height);
-  std::size_t bad = 0;
-  double sum = 0;
-  for (std::size_t i = 0; i < actual.rgba.size(); i += 4) {
-    int worst = 0;
-    for (int c = 0; c < 4; ++c) {
-      int d = std::abs(int(actual.rgba[i + c]) - int(expected.rgba[i + c]));
-      worst = std::max(worst, d);
-      sum += d;
-      if (c < 3) diff.rgba[i + c] = static_cast<std::uint8_t>(std::min(255, d * 8));
-    }
-    diff.rgba[i + 3] = 255;
-    bad += worst > kChannelTolerance;
-  }
-  const double pixels = double(actual.width) * actual.height;
-  const double badFraction = bad / pixels, meanDiff = sum / (pixels * 4);
-  if (badFraction > kMaxBadFraction || meanDiff > kMaxMeanDiff) {
-    const fs::path dir = test::binaryDir() / "baseline_failures";
-    fs::create_directories(dir);
-    io::writePng((dir / (name + "_actual.png")).string(), actual);
-    io::writePng((dir / (name + "_expected.png")).string(), expected);
-    io::writePng((dir / (name + "_diff.png")).string(), diff);
-    ADD_FAILURE() << name << ": " << 100 * badFraction << "% bad pixels, mean difference " << meanDiff
-                  << "; images in " << dir;
-  }
-}
 
 // Fraction of non-black pixels: guards against committing an empty baseline.
 double coverage(const Image& img) {
@@ -112,7 +72,7 @@ TEST_F(Baseline, SphereHessianOnItsIsosurface) {
   p.colour = ColourMode::Engineering;
   Image img = renderFabric(a.mesh, a.field, cam, p);
   EXPECT_GT(coverage(img), 0.4);
-  compareToBaseline("sphere_engineering", img);
+  test::compareToBaseline("sphere_engineering", img);
 }
 
 TEST_F(Baseline, Bretzel5HessianOnItsIsosurface) {
@@ -128,7 +88,7 @@ TEST_F(Baseline, Bretzel5HessianOnItsIsosurface) {
     p.colour = mode;
     Image img = renderFabric(a.mesh, a.field, cam, p);
     EXPECT_GT(coverage(img), 0.2);
-    compareToBaseline(mode == ColourMode::Engineering ? "bretzel5_engineering" : "bretzel5_medical", img);
+    test::compareToBaseline(mode == ColourMode::Engineering ? "bretzel5_engineering" : "bretzel5_medical", img);
   }
 }
 
@@ -179,7 +139,7 @@ TEST_F(Baseline, RealBrainAxialSlice) {
       EXPECT_GT(r, 1.5 * g) << "genu at pixel " << gx << "," << gy;
       EXPECT_GT(r, 1.5 * bl);
     }
-    compareToBaseline(mode == ColourMode::Medical ? "brain_axial_medical" : "brain_axial_engineering", img);
+    test::compareToBaseline(mode == ColourMode::Medical ? "brain_axial_medical" : "brain_axial_engineering", img);
   }
 }
 
@@ -199,6 +159,6 @@ TEST_F(Baseline, RealBrainFaIsosurface) {
     p.colour = mode;
     Image img = renderFabric(mesh, b.field, cam, p);
     EXPECT_GT(coverage(img), 0.25);
-    compareToBaseline(mode == ColourMode::Medical ? "brain_fa025_medical" : "brain_fa025_engineering", img);
+    test::compareToBaseline(mode == ColourMode::Medical ? "brain_fa025_medical" : "brain_fa025_engineering", img);
   }
 }

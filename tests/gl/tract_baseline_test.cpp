@@ -3,6 +3,7 @@
 // `--split tracts` view of the same (two 256x256 panes: 512x256). Compared exactly like
 // tests/gl/baseline_test.cpp (same tolerances); regenerate on purpose only (DTF_UPDATE_BASELINES=1) and
 // look at the images before committing them.
+#include "support/baseline.h"
 #include "support/gl_test.h"
 
 #include "io/png_io.h"
@@ -18,48 +19,6 @@ namespace {
 
 class TractBaseline : public GlTest {};
 
-constexpr int kChannelTolerance = 8;     // as baseline_test.cpp
-constexpr double kMaxBadFraction = 0.01;
-constexpr double kMaxMeanDiff = 1.5;
-
-void compareToBaseline(const std::string& name, const Image& actual) {
-  const fs::path expectedPath = test::sourceDir() / "tests/baseline/images" / (name + ".png");
-  if (test::envFlag("DTF_UPDATE_BASELINES")) {
-    io::writePng(expectedPath.string(), actual);
-    std::printf("updated baseline %s\n", expectedPath.c_str());
-    return;
-  }
-  ASSERT_TRUE(fs::exists(expectedPath))
-      << "no baseline " << expectedPath << " (DTF_UPDATE_BASELINES=1 creates it)";
-  Image expected = io::readPng(expectedPath.string());
-  ASSERT_EQ(expected.width, actual.width);
-  ASSERT_EQ(expected.height, actual.height);
-  Image diff(actual.width, actual.height);
-  std::size_t bad = 0;
-  double sum = 0;
-  for (std::size_t i = 0; i < actual.rgba.size(); i += 4) {
-    int worst = 0;
-    for (int c = 0; c < 4; ++c) {
-      int d = std::abs(int(actual.rgba[i + c]) - int(expected.rgba[i + c]));
-      worst = std::max(worst, d);
-      sum += d;
-      if (c < 3) diff.rgba[i + c] = static_cast<std::uint8_t>(std::min(255, d * 8));
-    }
-    diff.rgba[i + 3] = 255;
-    bad += worst > kChannelTolerance;
-  }
-  const double pixels = double(actual.width) * actual.height;
-  const double badFraction = bad / pixels, meanDiff = sum / (pixels * 4);
-  if (badFraction > kMaxBadFraction || meanDiff > kMaxMeanDiff) {
-    const fs::path dir = test::binaryDir() / "baseline_failures";
-    fs::create_directories(dir);
-    io::writePng((dir / (name + "_actual.png")).string(), actual);
-    io::writePng((dir / (name + "_expected.png")).string(), expected);
-    io::writePng((dir / (name + "_diff.png")).string(), diff);
-    ADD_FAILURE() << name << ": " << 100 * badFraction << "% bad pixels, mean difference " << meanDiff
-                  << "; images in " << dir;
-  }
-}
 
 // Runs `dtfabric render ARGS -o OUT` and returns the PNG.
 Image renderCli(const std::string& args, const fs::path& out) {
@@ -94,7 +53,7 @@ TEST_F(TractBaseline, RealBrainAxialSliceWithTracts) {
   ASSERT_EQ(plain.width, 256);
   // The overlay adds saturated tract pixels to the fabric.
   EXPECT_GT(saturated(img), saturated(plain) + 500);
-  compareToBaseline("brain_axial22_tracts", img);
+  test::compareToBaseline("brain_axial22_tracts", img);
 }
 
 TEST_F(TractBaseline, RealBrainSplitFabricAndTracts) {
@@ -115,5 +74,5 @@ TEST_F(TractBaseline, RealBrainSplitFabricAndTracts) {
         right.pixel(x, y)[c] = img.pixel(x + 256, y)[c];
       }
   EXPECT_GT(saturated(right), saturated(left) + 500);
-  compareToBaseline("brain_axial22_split_tracts", img);
+  test::compareToBaseline("brain_axial22_split_tracts", img);
 }
