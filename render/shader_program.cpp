@@ -85,25 +85,6 @@ std::string mapLog(const std::string& log, const std::vector<std::string>& files
   return mapped + table;
 }
 
-GLuint compile(GLenum stage, const std::string& file, const std::vector<std::string>& defines) {
-  ShaderSource src = preprocessShader(file, defines);
-  GLuint s = glCreateShader(stage);
-  const char* text = src.text.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
-    glGetShaderInfoLog(s, len, nullptr, log.data());
-    log.resize(std::strlen(log.c_str())); // drop the terminating NUL(s)
-    glDeleteShader(s);
-    throw GlError("compiling " + file + " failed:\n" + mapLog(log, src.files));
-  }
-  return s;
-}
 
 } // namespace
 
@@ -117,10 +98,10 @@ ShaderSource preprocessShader(const std::string& file, const std::vector<std::st
 
 ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
                              const std::vector<std::string>& defines) {
-  GLuint vs = compile(GL_VERTEX_SHADER, vertexFile, defines);
+  GLuint vs = compileShaderStage(GL_VERTEX_SHADER, vertexFile, defines);
   GLuint fs = 0;
   try {
-    fs = compile(GL_FRAGMENT_SHADER, fragmentFile, defines);
+    fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentFile, defines);
   } catch (...) {
     glDeleteShader(vs);
     throw;
@@ -148,6 +129,26 @@ void ShaderProgram::set(const char* name, const glm::mat4& m) const {
 }
 void ShaderProgram::set(const char* name, const glm::mat3& m) const {
   glProgramUniformMatrix3fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
+GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vector<std::string>& defines) {
+  ShaderSource src = preprocessShader(file, defines);
+  GLuint s = glCreateShader(stage);
+  const char* text = src.text.c_str();
+  glShaderSource(s, 1, &text, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint len = 0;
+    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
+    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+    glGetShaderInfoLog(s, len, nullptr, log.data());
+    log.resize(std::strlen(log.c_str())); // drop the terminating NUL(s)
+    glDeleteShader(s);
+    throw GlError("compiling " + file + " failed:\n" + mapLog(log, src.files));
+  }
+  return s;
 }
 
 } // namespace dtf::render

@@ -21,6 +21,9 @@ struct ShaderSource {
 // Expands `file` (a name relative to shaders/, e.g. "fabric/advection.frag") with its includes and the
 // given defines ("NAME" or "NAME VALUE"). Throws GlError for a missing file or an include cycle.
 ShaderSource preprocessShader(const std::string& file, const std::vector<std::string>& defines = {});
+// Preprocesses and compiles one stage; returns the shader object (the caller links and deletes it).
+// Throws GlError with the file/line-mapped log.
+GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vector<std::string>& defines = {});
 
 class ShaderProgram {
 public:

@@ -13,26 +13,6 @@ namespace dtf::render {
 
 namespace {
 
-GLuint compileStage(GLenum stage, const std::string& file) {
-  ShaderSource src = preprocessShader(file);
-  GLuint s = glCreateShader(stage);
-  const char* text = src.text.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
-    glGetShaderInfoLog(s, len, nullptr, log.data());
-    log.resize(std::strlen(log.c_str()));
-    glDeleteShader(s);
-    throw GlError("compiling " + file + " failed:\n" + log);
-  }
-  return s;
-}
-
 // Points kept from a line of n >= 2 points with step `step` (first, every step-th, last).
 std::size_t keptPoints(std::size_t n, std::size_t step) { return (n - 2) / step + 2; }
 
@@ -83,10 +63,10 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
 }
 
 TractRenderer::TractRenderer() : vao_(createVertexArray()) {
-  GLuint stages[3] = {compileStage(GL_VERTEX_SHADER, "tracts/lines.vert"), 0, 0};
+  GLuint stages[3] = {compileShaderStage(GL_VERTEX_SHADER, "tracts/lines.vert"), 0, 0};
   try {
-    stages[1] = compileStage(GL_GEOMETRY_SHADER, "tracts/lines.geom");
-    stages[2] = compileStage(GL_FRAGMENT_SHADER, "tracts/lines.frag");
+    stages[1] = compileShaderStage(GL_GEOMETRY_SHADER, "tracts/lines.geom");
+    stages[2] = compileShaderStage(GL_FRAGMENT_SHADER, "tracts/lines.frag");
   } catch (...) {
     for (GLuint s : stages)
       if (s) glDeleteShader(s);
