@@ -74,8 +74,7 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   return c;
 }
 
-Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode,
-               bool prepass) {
+Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode) {
   Result res;
   res.name = c.name;
   res.triangles = c.mesh.triangleCount();
@@ -89,7 +88,6 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   render::FabricParams p;
   p.iterations = 3;
   p.colour = mode;
-  p.depthPrepass = prepass;
   // Zoom until about 3/4 of the viewport is covered (paper Table 1), measured on the composited image.
   auto coverage = [&] {
     Image img = r.readback();
@@ -159,10 +157,10 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
 } // namespace
 
 int benchRender(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "no-brain", "no-depth-prepass"});
+  Args args(argv, {"json", "help", "no-brain"});
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench render [--size 1024x768] [--frames N] [--json] [--no-brain] [--data DIR]\n"
-                "       [--color medical|engineering] [--only sphere_41k|sphere_572k|brain_fa025] [--no-depth-prepass]\n"
+                "       [--color medical|engineering] [--only sphere_41k|sphere_572k|brain_fa025]\n"
                 "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
                 "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
                 "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n");
@@ -178,7 +176,6 @@ int benchRender(const CommandArgs& argv) {
   if (colour != "medical" && colour != "engineering") throw UsageError("--color must be medical or engineering");
   const auto mode = colour == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
   const std::string only = args.getOr("only", "");
-  const bool prepass = !args.flag("no-depth-prepass");
   const auto dataDir = args.get("data");
   args.finish();
 
@@ -191,7 +188,7 @@ int benchRender(const CommandArgs& argv) {
     if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
   std::vector<Result> results;
   for (const auto& c : cases)
-    if (only.empty() || c.name == only) results.push_back(runCase(renderer, c, width, height, frames, mode, prepass));
+    if (only.empty() || c.name == only) results.push_back(runCase(renderer, c, width, height, frames, mode));
 
   if (json) {
     std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", ctx.description().c_str(),

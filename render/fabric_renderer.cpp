@@ -94,7 +94,6 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.noiseOrigin = mesh_.boundsLo();
   ps.noiseBlend = static_cast<float>(p.noiseBlend);
   ps.principal = p.colour == ColourMode::Medical;
-  ps.depthPrepass = p.depthPrepass;
   ps.faFloor = p.faFloor;
   beginTimer(kProjection);
   projection_.run(mesh_, field_, noise_, view_, ps, &background_);
@@ -104,7 +103,7 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   const float background = view_.depthRange.y + (view_.depthRange.y - view_.depthRange.x) + 1.0f;
   // Without silhouettes the pass still marks the background, which the advection must not sample.
   const float threshold = p.silhouette ? static_cast<float>(p.silhouettePixels) * view_.pixelMm : 3.0e38f;
-  silhouette_.run(projection_.surface(), threshold, background);
+  silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
   endTimer();
 
   if (restart) advection_.reset(projection_.surface(), silhouette_.edges());
@@ -141,7 +140,7 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   prepare(camera, p, restart);
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), as, p.iterations, true);
+  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth());
   endTimer();
   composite(p);
 }
@@ -167,7 +166,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check);
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth());
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

@@ -49,8 +49,6 @@ struct FabricParams {
   float fadeOutOfPlane = 0.0f;
   float faFloor = 0.0f;       // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
-  bool depthPrepass = true;   // depth-only pass first: 2.5x faster projection on the brain's FA isosurface
-                              // (overdraw), about 1.3x slower on a convex sphere
 };
 
 // GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).

@@ -151,4 +151,23 @@ GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vect
   return s;
 }
 
+ShaderVariants::ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
+                               std::vector<std::string> always)
+    : vertex_(std::move(vertexFile)), fragment_(std::move(fragmentFile)), defines_(std::move(defines)),
+      always_(std::move(always)) {
+  if (defines_.size() > kMaxDefines) throw GlError("ShaderVariants: too many defines for " + fragment_);
+}
+
+const ShaderProgram& ShaderVariants::get(unsigned mask) {
+  mask &= (1u << defines_.size()) - 1u;
+  auto& slot = programs_[mask];
+  if (!slot) {
+    std::vector<std::string> defines = always_;
+    for (std::size_t i = 0; i < defines_.size(); ++i)
+      if (mask & (1u << i)) defines.push_back(defines_[i]);
+    slot = std::make_unique<ShaderProgram>(vertex_, fragment_, defines);
+  }
+  return *slot;
+}
+
 } // namespace dtf::render

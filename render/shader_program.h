@@ -8,6 +8,8 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,6 +54,24 @@ public:
 
 private:
   ProgramHandle program_;
+};
+
+// Compile-time variants of one vertex + fragment program: bit i of a variant mask defines the i-th name.
+// Features are switched by defines rather than uniform branches because a software rasteriser (llvmpipe)
+// executes both sides of a branch. A variant is compiled on first use and kept, so frames never compile
+// after the first use of a setting.
+class ShaderVariants {
+public:
+  static constexpr int kMaxDefines = 5;
+  ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
+                 std::vector<std::string> always = {});
+  // The program with the defines of `mask` (bit i = defines[i]). Throws GlError on a compile failure.
+  const ShaderProgram& get(unsigned mask);
+
+private:
+  std::string vertex_, fragment_;
+  std::vector<std::string> defines_, always_;
+  std::array<std::unique_ptr<ShaderProgram>, 1u << kMaxDefines> programs_;
 };
 
 } // namespace dtf::render

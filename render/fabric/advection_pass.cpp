@@ -6,6 +6,7 @@ namespace dtf::render {
 
 AdvectionPass::AdvectionPass()
     : program_("common/fullscreen.vert", "fabric/advection.frag"),
+      covered_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE"}),
       reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}), vao_(createVertexArray()),
       counter_(createBuffer()) {
   const GLuint zero = 0;
@@ -26,22 +27,26 @@ void AdvectionPass::resize(glm::ivec2 target) {
     const float blocked[4] = {0, 0, 0, 1};
     glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, 0, blocked);
   }
+  resetFbo_ = createFramebuffer();
+  attachTargets(resetFbo_, {&state_[0], &state_[1]}, nullptr);
+  attachedDepth_ = 0;
   current_ = 0;
 }
 
-void AdvectionPass::step(const Texture& vectors, const AdvectionSettings& s, bool countChanges) {
+void AdvectionPass::step(const Texture& vectors, const AdvectionSettings& s, bool countChanges, bool covered) {
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  program_.set("u_k", s.k);
-  program_.set("u_step", s.stepPixels);
-  program_.set("u_epsilon", s.epsilon);
-  program_.set("u_count", countChanges ? 1 : 0);
+  const ShaderProgram& program = covered ? covered_ : program_;
+  program.set("u_k", s.k);
+  program.set("u_step", s.stepPixels);
+  program.set("u_epsilon", s.epsilon);
+  program.set("u_count", countChanges ? 1 : 0);
   if (countChanges) {
     const GLuint zero = 0;
     glClearNamedBufferSubData(counter_.id(), GL_R32UI, 0, sizeof(GLuint), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
-  program_.use();
+  program.use();
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
   glBindTextureUnit(0, state_[current_].id());
   glBindTextureUnit(1, vectors.id());
@@ -52,19 +57,36 @@ void AdvectionPass::step(const Texture& vectors, const AdvectionSettings& s, boo
 
 void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
   resize({surface.width(), surface.height()});
-  const int next = 1 - current_;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
+  glBindFramebuffer(GL_FRAMEBUFFER, resetFbo_.id());
   glViewport(0, 0, size_.x, size_.y);
   reset_.use();
   glBindTextureUnit(2, surface.id());
   glBindTextureUnit(3, edges.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  current_ = next;
+  current_ = 0;
 }
 
-void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges) {
-  for (int i = 0; i < count; ++i) step(vectors, s, countChanges && i == count - 1);
+void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
+                            const Texture* depth) {
+  if (count <= 0) return;
+  const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
+  const GLuint depthId = covered ? depth->id() : 0;
+  if (depthId != attachedDepth_) {
+    for (auto& f : fbo_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
+    attachedDepth_ = depthId;
+  }
+  if (covered) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+  }
+  for (int i = 0; i < count; ++i) step(vectors, s, countChanges && i == count - 1, covered);
+  if (covered) {
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+  }
 }
 
 void AdvectionPass::setFields(const float* rg) {

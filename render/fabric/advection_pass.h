@@ -26,10 +26,14 @@ class AdvectionPass {
 public:
   AdvectionPass();
   void resize(glm::ivec2 target);
-  // p_0 = beta on covered pixels; beta and the blocked flags are kept in the state.
+  // p_0 = beta on covered pixels; beta and the blocked flags are kept in the state. Writes both ping-pong
+  // textures, so pixels the iterations skip (see iterate) hold the blocked state in either.
   void reset(const Texture& surface, const Texture& edges);
-  // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set.
-  void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true);
+  // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
+  // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
+  // would keep their state anyway), which skips the background on a software rasteriser.
+  void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
+               const Texture* depth = nullptr);
   const Texture& current() const { return state_[current_]; }
   // Replaces p1, p2 of the current state, keeping beta and the blocked flags (tests: the "forgets its
   // start" property). Values are (p1, p2) pairs in GL row order.
@@ -38,11 +42,12 @@ public:
   unsigned changedPixels() const;
 
 private:
-  void step(const Texture& vectors, const AdvectionSettings& s, bool countChanges);
-  ShaderProgram program_, reset_;
+  void step(const Texture& vectors, const AdvectionSettings& s, bool countChanges, bool covered);
+  ShaderProgram program_, covered_, reset_;
   VertexArray vao_;
   Buffer counter_;
-  Framebuffer fbo_[2];
+  Framebuffer fbo_[2], resetFbo_;
+  GLuint attachedDepth_ = 0;
   Texture state_[2];
   int current_ = 0;
   glm::ivec2 size_{0};

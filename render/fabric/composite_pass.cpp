@@ -3,11 +3,16 @@
 namespace dtf::render {
 
 CompositePass::CompositePass()
-    : engineering_("common/fullscreen.vert", "fabric/composite.frag"),
-      medical_("common/fullscreen.vert", "fabric/composite.frag", {"MEDICAL"}), vao_(createVertexArray()) {}
+    : programs_("common/fullscreen.vert", "fabric/composite.frag",
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN"}),
+      vao_(createVertexArray()) {
+  programs_.get(3); // medical with silhouettes, the default, compiles with the pass
+}
 
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
-  const ShaderProgram& p = s.mode == ColourMode::Medical ? medical_ : engineering_;
+  const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
+                        (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u);
+  const ShaderProgram& p = programs_.get(mask);
   glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
   p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
   p.set("u_r", s.r);
@@ -15,14 +20,14 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set("u_lightWeight", s.lightWeight);
   p.set("u_lightMix", s.lightMix);
   p.set("u_lighting", s.lighting ? 1 : 0);
-  p.set("u_silhouettes", s.silhouettes ? 1 : 0);
-  p.set("u_depthColour", s.depthColour);
-  p.set("u_depthRange", view.depthRange);
-  p.set("u_sharpen", s.sharpen);
+  if (s.depthColour > 0.0f) {
+    p.set("u_depthColour", s.depthColour);
+    p.set("u_depthRange", view.depthRange);
+  }
+  if (s.sharpen > 0.0f) p.set("u_sharpen", s.sharpen);
   p.set("u_secondaryRatio", s.secondaryRatio);
   p.set("u_secondaryFa", s.secondaryFa);
   p.set("u_fadeOutOfPlane", s.fadeOutOfPlane);
-  p.set("u_hasBackground", s.background ? 1 : 0);
   p.use();
   glBindTextureUnit(0, in.advected->id());
   glBindTextureUnit(1, in.surface->id());

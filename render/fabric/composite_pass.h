@@ -45,7 +45,7 @@ public:
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
 
 private:
-  ShaderProgram engineering_, medical_;
+  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN
   VertexArray vao_;
 };
 

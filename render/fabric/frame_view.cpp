@@ -24,6 +24,8 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   f.viewProj = glm::mat4(shrink * proj * view);
   f.viewProjViewport = glm::mat4(proj * view);
   f.viewRot = glm::mat3(view);
+  f.eyeToWorld = glm::mat4(glm::inverse(view));
+  f.clipToEye = glm::mat4(glm::inverse(shrink * proj));
   f.orthographic = camera.orthographic;
   double dist = glm::length(camera.target - camera.eye);
   double halfH = camera.orthographic ? camera.orthoHalfHeight

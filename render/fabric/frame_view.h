@@ -19,6 +19,8 @@ struct FrameView {
   glm::mat4 viewProj{1.0f}; // world -> clip of the guarded target
   glm::mat4 viewProjViewport{1.0f}; // world -> clip of the viewport alone
   glm::mat3 viewRot{1.0f};  // world -> eye rotation
+  glm::mat4 eyeToWorld{1.0f}; // inverse of view
+  glm::mat4 clipToEye{1.0f};  // inverse projection of the guarded target
   bool orthographic = true;
   float pixelMm = 1.0f;     // size of one pixel at the target distance, mm
   float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth

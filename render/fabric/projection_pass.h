@@ -1,14 +1,20 @@
 // Pass 1 of the fabric (paper §2.1, §2.3): renders the surface into the guarded target and writes, per
-// pixel, the image-space in-plane eigenvector directions and everything the later passes need.
+// pixel, the image-space in-plane eigenvector directions and everything the later passes need. Deferred in
+// two draws: the geometry stage rasterises the mesh with a trivial shader into `geometry` (normal, linear
+// depth) and the depth buffer; the fullscreen stage then does the tensor work once per covered pixel
+// (the early depth test skips the background). On a software rasteriser this is what makes the pass
+// cheap: shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3
+// depth pre-pass, without drawing the mesh twice).
 //   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
 //   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
 //            eigen   RGBA16F (world principal eigenvector of T (medical mode only), FA)
 //            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data); where there is no
 //                    tensor data, x holds the background volume's grey value (0 without a background)
-//            depth   DEPTH32F (window depth, for gl_FragDepth in the composite)
-// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage. The normal itself is
-// used here (projection, lighting, noise face) and not stored: no later pass needs it.
+//            depth   DEPTH32F (window depth, for gl_FragDepth in the composite and the early depth test
+//                    of the later fullscreen passes)
+//            geometry RGBA32F (world normal, linear depth mm; 0 = no surface)
+// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage.
 #pragma once
 
 #include "render/fabric/frame_view.h"
@@ -24,7 +30,6 @@ struct ProjectionSettings {
   float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
   float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
   bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
-  bool depthPrepass = true;      // draw depth first so the projection shader runs once per visible pixel
   float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
 };
 
@@ -42,16 +47,18 @@ public:
   const Texture& eigen() const { return eigen_; }
   const Texture& lambda() const { return lambda_; }
   const Texture& depth() const { return depth_; }
+  const Texture& geometry() const { return geometry_; }
   glm::ivec2 size() const { return size_; }
-  // Samples that passed the depth test in the last run's shading draw (= visible covered pixels with the
-  // depth pre-pass). Waits for the GPU.
+  // Pixels shaded by the last run's fullscreen stage (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const;
 
 private:
-  ShaderProgram plain_, principal_, depthOnly_;
+  ShaderProgram geometryProgram_;
+  ShaderVariants fullscreen_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND
+  VertexArray vao_;
   Query samples_;
-  Framebuffer fbo_;
-  Texture vectors_, surface_, eigen_, lambda_, depth_;
+  Framebuffer geometryFbo_, fbo_;
+  Texture vectors_, surface_, eigen_, lambda_, depth_, geometry_;
   glm::ivec2 size_{0};
 };
 

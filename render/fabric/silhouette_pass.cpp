@@ -3,7 +3,8 @@
 namespace dtf::render {
 
 SilhouettePass::SilhouettePass()
-    : program_("common/fullscreen.vert", "fabric/silhouette.frag"), vao_(createVertexArray()) {}
+    : program_("common/fullscreen.vert", "fabric/silhouette.frag"),
+      covered_("common/fullscreen.vert", "fabric/silhouette.frag", {"FAR_PLANE"}), vao_(createVertexArray()) {}
 
 void SilhouettePass::resize(glm::ivec2 target) {
   if (target == size_) return;
@@ -15,18 +16,37 @@ void SilhouettePass::resize(glm::ivec2 target) {
   glTextureParameterfv(edges_.id(), GL_TEXTURE_BORDER_COLOR, one);
   fbo_ = createFramebuffer();
   attachTargets(fbo_, {&edges_}, nullptr);
+  attachedDepth_ = 0;
 }
 
-void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgroundMm) {
+void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgroundMm, const Texture* depth) {
   resize({surface.width(), surface.height()});
+  const GLuint depthId = depth ? depth->id() : 0;
+  if (depthId != attachedDepth_) {
+    glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
+    attachedDepth_ = depthId;
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, size_.x, size_.y);
-  program_.set("u_threshold", thresholdMm);
-  program_.set("u_background", backgroundMm);
-  program_.use();
+  const ShaderProgram& p = depth ? covered_ : program_;
+  p.set("u_threshold", thresholdMm);
+  p.set("u_background", backgroundMm);
+  p.use();
   glBindTextureUnit(0, surface.id());
   glBindVertexArray(vao_.id());
+  if (depth) {
+    const float one[4] = {1, 1, 1, 1};
+    glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, one);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+  }
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (depth) {
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+  }
 }
 
 void SilhouettePass::clear() {

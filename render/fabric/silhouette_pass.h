@@ -15,15 +15,18 @@ public:
   SilhouettePass();
   void resize(glm::ivec2 target);
   // thresholdMm: |Laplacian| of depth above which a pixel is an edge; backgroundMm: depth of empty pixels.
-  void run(const Texture& surface, float thresholdMm, float backgroundMm);
+  // With the projection's depth buffer given, only covered pixels are shaded (the rest are set to 1 by a
+  // clear), which skips the background on a software rasteriser.
+  void run(const Texture& surface, float thresholdMm, float backgroundMm, const Texture* depth = nullptr);
   // Clears the edges to 0 (silhouettes off).
   void clear();
   const Texture& edges() const { return edges_; }
 
 private:
-  ShaderProgram program_;
+  ShaderProgram program_, covered_;
   VertexArray vao_;
   Framebuffer fbo_;
+  GLuint attachedDepth_ = 0;
   Texture edges_;
   glm::ivec2 size_{0};
 };

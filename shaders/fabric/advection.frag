@@ -6,7 +6,9 @@
 // in .a, whether any texel of its footprint is blocked: such a sample is replaced by p_i(x), so nothing is
 // carried across silhouettes or in from the background. Blocked pixels keep their state. Pixels whose
 // value changed by more than u_epsilon are counted in an atomic counter (the stopping criterion of §2.5).
-// With RESET defined, the pass initialises the state: p1 = p2 = beta, blocked from the silhouette pass.
+// With RESET defined, the pass initialises the state: p1 = p2 = beta, blocked from the silhouette pass,
+// into both ping-pong textures at once. With FAR_PLANE, only covered pixels are shaded (early depth test
+// against the surface's depth; see common/fullscreen.vert).
 layout(binding = 0) uniform sampler2D u_prev;       // (p1, p2, beta, blocked), bilinear, border blocked
 layout(binding = 1) uniform sampler2D u_vectors;    // v1.xy, v2.xy (pixels, max-norm 1)
 layout(binding = 2) uniform sampler2D u_surface;    // RESET: .r beta, .a coverage
@@ -18,17 +20,25 @@ uniform float u_step;     // pixels per unit of the max-norm scaled vectors
 uniform float u_epsilon;
 uniform bool u_count;
 
-out vec4 o_state;
+#ifdef FAR_PLANE
+layout(early_fragment_tests) in;
+#endif
 
 #ifdef RESET
+layout(location = 0) out vec4 o_state;
+layout(location = 1) out vec4 o_state2;
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 s = texelFetch(u_surface, p, 0);
   float blocked = (s.a < 0.5 || texelFetch(u_silhouette, p, 0).r > 0.5) ? 1.0 : 0.0;
   float beta = s.a < 0.5 ? 0.0 : s.r;
   o_state = vec4(beta, beta, beta, blocked);
+  o_state2 = o_state;
 }
 #else
+out vec4 o_state;
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 s = texelFetch(u_prev, p, 0);

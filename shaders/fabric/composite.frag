@@ -7,6 +7,8 @@
 // the primary fabric as luminance of the DEC colour of the 3D principal eigenvector (x red, y green,
 // z blue) modulated by FA; where a secondary in-plane direction exists, it is drawn in grey beneath the
 // primary threads. Writes gl_FragDepth from the projection depth so other geometry occludes correctly.
+// Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
+// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
 layout(binding = 0) uniform sampler2D u_advected;   // p1, p2
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
@@ -21,15 +23,13 @@ uniform float u_contrast = 1.0; // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = E
 uniform float u_lightWeight = 0.5; // engineering: light(L) = weight * L
 uniform float u_lightMix = 0.8;    // medical: intensity factor mix(1, L, lightMix)
 uniform bool u_lighting = true;
-uniform bool u_silhouettes = true;
-uniform float u_depthColour = 0.0; // 0..1: blend far surfaces towards a cool grey (depth cue)
+uniform float u_depthColour = 0.5; // DEPTH_COLOUR: 0..1 blend of far surfaces towards a cool grey
 uniform vec2 u_depthRange;         // linear depth of the nearest and farthest scene points (mm)
-uniform float u_sharpen = 0.0;     // unsharp mask weight on the composed colour
+uniform float u_sharpen = 0.5;     // SHARPEN: unsharp mask weight on the composed colour
 uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
 uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
 uniform vec3 u_noData = vec3(0.45);    // colour of surface points without tensor data (no background)
-uniform bool u_hasBackground = false;  // lambda.x holds a grey background value where there is no data
 
 out vec4 o_colour;
 
@@ -39,7 +39,11 @@ vec3 compose(ivec2 t) {
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) return vec3(0.0);
   vec2 p = texelFetch(u_advected, t, 0).rg;
-  float e = u_silhouettes ? texelFetch(u_silhouette, t, 0).r : 0.0;
+#ifdef SILHOUETTES
+  float e = texelFetch(u_silhouette, t, 0).r;
+#else
+  float e = 0.0;
+#endif
   float L = u_lighting ? s.g : 1.0;
   vec3 c;
 #ifdef MEDICAL
@@ -48,7 +52,11 @@ vec3 compose(ivec2 t) {
   float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
   if (lam.w < 0.5) {
-    c = u_hasBackground ? vec3(lam.x) : u_noData * (0.6 + 0.4 * p1);
+#ifdef BACKGROUND
+    c = vec3(lam.x);
+#else
+    c = u_noData * (0.6 + 0.4 * p1);
+#endif
   } else {
     vec3 dec = abs(eig.xyz);
     // DEC modulated by FA: saturation and brightness grow with FA, so grey matter stays calm.
@@ -70,12 +78,15 @@ vec3 compose(ivec2 t) {
   c.r = u_r * f2 / (8.0 * f1 * f1) + e + light;
   c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
   c.b = e + light;
-  if (u_hasBackground && texelFetch(u_lambda, t, 0).w < 0.5) c = vec3(texelFetch(u_lambda, t, 0).x) + e;
+#ifdef BACKGROUND
+  vec4 lam = texelFetch(u_lambda, t, 0);
+  if (lam.w < 0.5) c = vec3(lam.x) + e;
 #endif
-  if (u_depthColour > 0.0) {
-    float d = clamp((s.b - u_depthRange.x) / max(u_depthRange.y - u_depthRange.x, 1e-6), 0.0, 1.0);
-    c = mix(c, mix(c, vec3(0.35, 0.4, 0.5) * dot(c, vec3(0.333)), 0.8), u_depthColour * d);
-  }
+#endif
+#ifdef DEPTH_COLOUR
+  float d = clamp((s.b - u_depthRange.x) / max(u_depthRange.y - u_depthRange.x, 1e-6), 0.0, 1.0);
+  c = mix(c, mix(c, vec3(0.35, 0.4, 0.5) * dot(c, vec3(0.333)), 0.8), u_depthColour * d);
+#endif
   return c;
 }
 
@@ -84,7 +95,8 @@ void main() {
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) discard;
   vec3 c = compose(t);
-  if (u_sharpen > 0.0) {
+#ifdef SHARPEN
+  {
     vec3 sum = vec3(0.0);
     float n = 0.0;
     for (int i = 0; i < 4; ++i) {
@@ -96,6 +108,7 @@ void main() {
     }
     if (n > 0.0) c += u_sharpen * (c - sum / n);
   }
+#endif
   o_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
   gl_FragDepth = texelFetch(u_depth, t, 0).r;
 }

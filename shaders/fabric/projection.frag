@@ -1,17 +1,25 @@
 #version 450 core
-// Projection pass (paper §2.1 and §2.3, Eq. 1-5 and 7-9). Per fragment: interpolate the tensor, project it
-// onto the tangent plane (T' = P T P^T, P = I - n n^T), decompose T', take its two in-plane eigenvectors,
-// project each to image space as the pixel difference of p + eps v and p (perspective-correct), and scale
-// by the max-norm. Also writes the mapped noise beta, light intensity, depth, FA, the in-plane
-// eigenvalues and the 3D principal eigenvector. A cleared (zero) vector means "no direction here".
+// Projection pass (paper §2.1 and §2.3, Eq. 1-5 and 7-9), fullscreen stage: once per covered pixel of
+// the geometry stage's target (early depth test against the surface's depth, see common/deferred.vert).
+// Per pixel: rebuild the world position from the linear depth, interpolate the tensor, project it onto the
+// tangent plane (T' = P T P^T, P = I - n n^T), decompose T', take its two in-plane eigenvectors, project
+// each to image space as the pixel difference of p + eps v and p (perspective-correct), and scale by the
+// max-norm. Also writes the mapped noise beta, light intensity, depth, FA, the in-plane eigenvalues and the
+// 3D principal eigenvector. A cleared (zero) vector means "no direction here".
+// Variants (compile-time, since a software rasteriser pays for untaken branches): WITH_PRINCIPAL (3D
+// eigenvector for the medical colours), NOISE_BLEND (softened face switch), BACKGROUND (grey volume where
+// there is no tensor data).
 #include "common/eigen.glsl"
 #include "common/tensor_field.glsl"
 #include "common/lighting.glsl"
 
-in vec3 v_world;
-in vec3 v_normal;
-in vec3 v_eye;
+layout(early_fragment_tests) in;
 
+noperspective in vec3 v_nearEye;
+noperspective in vec3 v_farEye;
+
+layout(binding = 4) uniform sampler2D u_geometry; // world normal, linear depth (0 = no surface)
+uniform mat4 u_eyeToWorld;
 uniform mat4 u_viewProj;
 uniform mat3 u_viewRot;      // world -> eye rotation (normals)
 uniform vec2 u_targetSize;   // guarded target size in pixels
@@ -22,11 +30,12 @@ uniform float u_pixelMm;         // orthographic: pixel size in mm
 uniform float u_pixelMmPerDepth; // perspective: pixel size in mm per mm of depth
 uniform vec3 u_noiseOrigin;  // b_min of Eq. 7 (world mm)
 uniform float u_lod;         // l of Eq. 7: implicit voxel edge in mm
-uniform float u_noiseBlend = 0.0; // 0 = Eq. 9 exactly; > 0 softens the switch between voxel faces
+uniform float u_noiseBlend = 0.5; // NOISE_BLEND: > 0 softens the switch between voxel faces
 layout(binding = 2) uniform sampler2D u_noise;
+#ifdef BACKGROUND
 layout(binding = 3) uniform sampler3D u_background; // grey shown where there is no tensor data
-uniform bool u_hasBackground = false;
 uniform mat4 u_backgroundWorldToTex;
+#endif
 uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
 layout(location = 0) out vec4 o_vectors; // v1.xy, v2.xy: image-space directions (pixels, max-norm 1)
@@ -55,38 +64,42 @@ float noiseLod(float depth, float cosView, float cosFace) {
 float sampleNoise(vec3 p, vec3 n, float lod) {
   vec3 vox = (p - u_noiseOrigin) / u_lod; // Eq. 7
   vec3 an = abs(n);
-  if (u_noiseBlend > 0.0) { // softened switch between voxel faces (not Eq. 9 exactly)
-    float bx = textureLod(u_noise, fract(vox.yz), lod).r;
-    float by = textureLod(u_noise, fract(vox.xz), lod).r;
-    float bz = textureLod(u_noise, fract(vox.xy), lod).r;
-    vec3 w = pow(an, vec3(1.0 / u_noiseBlend));
-    return dot(w, vec3(bx, by, bz)) / max(w.x + w.y + w.z, 1e-6);
-  }
+#ifdef NOISE_BLEND // softened switch between voxel faces (not Eq. 9 exactly)
+  float bx = textureLod(u_noise, fract(vox.yz), lod).r;
+  float by = textureLod(u_noise, fract(vox.xz), lod).r;
+  float bz = textureLod(u_noise, fract(vox.xy), lod).r;
+  vec3 w = pow(an, vec3(1.0 / u_noiseBlend));
+  return dot(w, vec3(bx, by, bz)) / max(w.x + w.y + w.z, 1e-6);
+#endif
   // Eq. 8-9: the two components of frac(vox) spanning the voxel face whose normal is closest to n.
   vec2 t = an.x >= an.y && an.x >= an.z ? vox.yz : (an.y >= an.z ? vox.xz : vox.xy);
   return textureLod(u_noise, fract(t), lod).r;
 }
 
 void main() {
-  vec3 n = normalize(v_normal);
+  vec4 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0);
+  float depth = g.w;
+  // The eye position on the pixel's ray at linear depth `depth` (eye z = -depth).
+  vec3 eye = mix(v_nearEye, v_farEye, (-depth - v_nearEye.z) / (v_farEye.z - v_nearEye.z));
+  vec3 world = (u_eyeToWorld * vec4(eye, 1.0)).xyz;
+  vec3 n = dot(g.xyz, g.xyz) > 0.0 ? normalize(g.xyz) : vec3(0.0, 0.0, 1.0);
   if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
   vec3 nEye = normalize(u_viewRot * n);
-  vec3 toEye = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-v_eye);
+  vec3 toEye = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-eye);
   if (dot(nEye, toEye) < 0.0) { // two-sided: back faces (e.g. a slice seen from below) face the camera
     nEye = -nEye;
   }
   float light = blinnPhong(nEye, toEye);
   vec3 an = abs(n);
-  float lod = noiseLod(-v_eye.z, abs(dot(nEye, toEye)), max(an.x, max(an.y, an.z)));
-  float beta = sampleNoise(v_world, n, lod);
-  float depth = -v_eye.z;
+  float lod = noiseLod(depth, abs(dot(nEye, toEye)), max(an.x, max(an.y, an.z)));
+  float beta = sampleNoise(world, n, lod);
 
   vec4 vectors = vec4(0.0);
   vec4 eigen = vec4(0.0);
   vec4 lambda = vec4(0.0);
   mat3 t;
   float fa;
-  if (sampleTensor(v_world, t, fa) && fa >= u_faFloor) {
+  if (sampleTensor(world, t, fa) && fa >= u_faFloor) {
     // Eq. 1-2: T' = P T P^T with P = I - n n^T. T' has n as an eigenvector with eigenvalue 0, so the
     // closed-form solver's "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in
     // the tangent plane, where u^T T' w = u^T T w for u, w orthogonal to n: T' need not be formed.
@@ -96,7 +109,7 @@ void main() {
     float mag = max(abs(l1), abs(l2));
     bool directional = mag > 0.0 && (l1 - l2) > u_degenerateTol * mag;
     if (directional) {
-      vec4 c0 = u_viewProj * vec4(v_world, 1.0);
+      vec4 c0 = u_viewProj * vec4(world, 1.0);
       vectors = vec4(imageDirection(c0, e1p), imageDirection(c0, e2p));
     }
 #ifdef WITH_PRINCIPAL
@@ -109,9 +122,12 @@ void main() {
 #endif
     lambda.xy = vec2(l1, l2);
     lambda.w = 1.0;
-  } else if (u_hasBackground) {
-    lambda.x = texture(u_background, (u_backgroundWorldToTex * vec4(v_world, 1.0)).xyz).r;
   }
+#ifdef BACKGROUND
+  else {
+    lambda.x = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
+  }
+#endif
   o_vectors = vectors;
   o_surface = vec4(beta, light, depth, 1.0);
   eigen.w = fa;

@@ -3,6 +3,9 @@
 // the projection pass), thresholded. Pixels without geometry count as depth u_background so the outline
 // of the surface is found too. Output e in {0, 1}; empty pixels get 1 as well, so the advection pass
 // finds "do not sample here" (silhouette or off the surface) with a single fetch.
+#ifdef FAR_PLANE
+layout(early_fragment_tests) in; // only covered pixels are shaded
+#endif
 layout(binding = 0) uniform sampler2D u_surface; // .b linear depth, .a coverage
 
 uniform float u_threshold;   // mm of |Laplacian| above which a pixel is a silhouette
