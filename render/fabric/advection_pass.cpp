@@ -5,8 +5,7 @@
 namespace dtf::render {
 
 AdvectionPass::AdvectionPass()
-    : program_("common/fullscreen.vert", "fabric/advection.frag"),
-      covered_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE"}),
+    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT"}),
       reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}), vao_(createVertexArray()),
       counter_(createBuffer()) {
   const GLuint zero = 0;
@@ -17,14 +16,13 @@ void AdvectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
   for (int i = 0; i < 2; ++i) {
-    state_[i] = Texture::create2D(GL_RGBA32F, target.x, target.y);
+    state_[i] = Texture::create2D(GL_RG32F, target.x, target.y);
     state_[i].setFilter(GL_LINEAR, GL_LINEAR);
-    state_[i].setWrap(GL_CLAMP_TO_BORDER); // outside the target: blocked
-    const float border[4] = {0, 0, 0, 1};
-    glTextureParameterfv(state_[i].id(), GL_TEXTURE_BORDER_COLOR, border);
+    // Beyond the edge the blocked outer ring repeats (cheaper than a border colour on llvmpipe).
+    state_[i].setWrap(GL_CLAMP_TO_EDGE);
     fbo_[i] = createFramebuffer();
     attachTargets(fbo_[i], {&state_[i]}, nullptr);
-    const float blocked[4] = {0, 0, 0, 1};
+    const float blocked[4] = {kBlocked, kBlocked, 0, 0};
     glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, 0, blocked);
   }
   resetFbo_ = createFramebuffer();
@@ -33,23 +31,21 @@ void AdvectionPass::resize(glm::ivec2 target) {
   current_ = 0;
 }
 
-void AdvectionPass::step(const Texture& vectors, const AdvectionSettings& s, bool countChanges, bool covered) {
+void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered) {
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  const ShaderProgram& program = covered ? covered_ : program_;
+  const ShaderProgram& program = iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u));
   program.set("u_k", s.k);
   program.set("u_step", s.stepPixels);
-  program.set("u_epsilon", s.epsilon);
-  program.set("u_count", countChanges ? 1 : 0);
   if (countChanges) {
+    program.set("u_epsilon", s.epsilon);
     const GLuint zero = 0;
     glClearNamedBufferSubData(counter_.id(), GL_R32UI, 0, sizeof(GLuint), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
   program.use();
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
   glBindTextureUnit(0, state_[current_].id());
-  glBindTextureUnit(1, vectors.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
@@ -67,8 +63,8 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
   current_ = 0;
 }
 
-void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
-                            const Texture* depth) {
+void AdvectionPass::iterate(const Texture& vectors, const Texture& surface, const AdvectionSettings& s, int count,
+                            bool countChanges, const Texture* depth) {
   if (count <= 0) return;
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   const GLuint depthId = covered ? depth->id() : 0;
@@ -81,7 +77,9 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_FALSE);
   }
-  for (int i = 0; i < count; ++i) step(vectors, s, countChanges && i == count - 1, covered);
+  glBindTextureUnit(1, vectors.id());
+  glBindTextureUnit(2, surface.id());
+  for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered);
   if (covered) {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -90,14 +88,12 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
 }
 
 void AdvectionPass::setFields(const float* rg) {
-  std::vector<float> rgba(static_cast<std::size_t>(size_.x) * size_.y * 4);
-  glGetTextureImage(state_[current_].id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(rgba.size() * sizeof(float)),
-                    rgba.data());
-  for (std::size_t i = 0; i < rgba.size() / 4; ++i) {
-    rgba[i * 4] = rg[i * 2];
-    rgba[i * 4 + 1] = rg[i * 2 + 1];
-  }
-  glTextureSubImage2D(state_[current_].id(), 0, 0, 0, size_.x, size_.y, GL_RGBA, GL_FLOAT, rgba.data());
+  std::vector<float> state(static_cast<std::size_t>(size_.x) * size_.y * 2);
+  glGetTextureImage(state_[current_].id(), 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(state.size() * sizeof(float)),
+                    state.data());
+  for (std::size_t i = 0; i < state.size(); ++i)
+    if (state[i] != kBlocked) state[i] = rg[i];
+  glTextureSubImage2D(state_[current_].id(), 0, 0, 0, size_.x, size_.y, GL_RG, GL_FLOAT, state.data());
 }
 
 unsigned AdvectionPass::changedPixels() const {

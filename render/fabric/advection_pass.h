@@ -1,10 +1,12 @@
 // Pass 3 of the fabric (paper §2.5, Eq. 12): iterative advection of the mapped noise beta along both
-// image-space eigenvector fields at once, ping-ponging two RGBA32F state textures (p1, p2, beta, blocked).
+// image-space eigenvector fields at once, ping-ponging two RG32F state textures (p1, p2); blocked pixels
+// (silhouettes, background, the target's outermost ring) hold kBlocked in both components.
 // The state persists between frames (the paper runs 3 iterations per frame and continues next frame);
 // reset() restarts from beta and takes beta and the blocked pixels (silhouettes, background) from the
 // projection and silhouette passes.
 //   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
-//   output : current() RGBA32F (p1, p2, beta, blocked), the size of the guarded target
+//            and surface (beta)
+//   output : current() RG32F (p1, p2, or kBlocked), the size of the guarded target
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
 #pragma once
@@ -16,6 +18,9 @@
 
 namespace dtf::render {
 
+// The state value of blocked pixels: any bilinear weight on it makes a sample negative.
+constexpr float kBlocked = -1e20f;
+
 struct AdvectionSettings {
   float k = 0.1f;        // weight of beta in Eq. 12
   float stepPixels = 1.0f; // length of one step in pixels along the max-norm scaled vectors
@@ -26,24 +31,26 @@ class AdvectionPass {
 public:
   AdvectionPass();
   void resize(glm::ivec2 target);
-  // p_0 = beta on covered pixels; beta and the blocked flags are kept in the state. Writes both ping-pong
-  // textures, so pixels the iterations skip (see iterate) hold the blocked state in either.
+  // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
+  // iterations skip (see iterate) hold the blocked state in either.
   void reset(const Texture& surface, const Texture& edges);
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.
-  void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
-               const Texture* depth = nullptr);
+  // `surface` is the texture given to reset() (beta in .r).
+  void iterate(const Texture& vectors, const Texture& surface, const AdvectionSettings& settings, int count,
+               bool countChanges = true, const Texture* depth = nullptr);
   const Texture& current() const { return state_[current_]; }
-  // Replaces p1, p2 of the current state, keeping beta and the blocked flags (tests: the "forgets its
-  // start" property). Values are (p1, p2) pairs in GL row order.
+  // Replaces p1, p2 of the current state except at blocked pixels (tests: the "forgets its start"
+  // property). Values are (p1, p2) pairs in GL row order.
   void setFields(const float* rg);
   // Pixels that changed by more than epsilon in the last counted iteration.
   unsigned changedPixels() const;
 
 private:
-  void step(const Texture& vectors, const AdvectionSettings& s, bool countChanges, bool covered);
-  ShaderProgram program_, covered_, reset_;
+  void step(const AdvectionSettings& s, bool countChanges, bool covered);
+  ShaderVariants iteration_; // FAR_PLANE, COUNT
+  ShaderProgram reset_;
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2], resetFbo_;

@@ -49,7 +49,9 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
 
   // Fullscreen stage at the far plane: GL_GREATER passes exactly where the surface was drawn.
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+  // Only the surface target is cleared (its .a is the coverage the later passes test); the others are
+  // read where the surface is covered only, and clearing them costs as much as a fullscreen pass.
+  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
   const bool hasBackground = background && !background->empty();

@@ -14,7 +14,8 @@
 //            depth   DEPTH32F (window depth, for gl_FragDepth in the composite and the early depth test
 //                    of the later fullscreen passes)
 //            geometry RGBA32F (world normal, linear depth mm; 0 = no surface)
-// Everything is cleared to 0 first: a cleared pixel has no vector and no coverage.
+// The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where
+// surface.a = 1. A zero vector there means "no direction".
 #pragma once
 
 #include "render/fabric/frame_view.h"

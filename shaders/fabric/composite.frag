@@ -9,7 +9,7 @@
 // primary threads. Writes gl_FragDepth from the projection depth so other geometry occludes correctly.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
-layout(binding = 0) uniform sampler2D u_advected;   // p1, p2
+layout(binding = 0) uniform sampler2D u_advected;   // p1, p2 (negative where the advection is blocked)
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
 layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), FA
@@ -39,6 +39,7 @@ vec3 compose(ivec2 t) {
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) return vec3(0.0);
   vec2 p = texelFetch(u_advected, t, 0).rg;
+  p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
 #ifdef SILHOUETTES
   float e = texelFetch(u_silhouette, t, 0).r;
 #else
