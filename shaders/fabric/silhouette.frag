@@ -6,26 +6,26 @@
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in; // only covered pixels are shaded
 #endif
-layout(binding = 0) uniform sampler2D u_surface; // .b linear depth, .a coverage
+layout(binding = 0) uniform sampler2D u_surface; // .b linear depth (0 = no surface)
 
 uniform float u_threshold;   // mm of |Laplacian| above which a pixel is a silhouette
 uniform float u_background;  // linear depth assigned to empty pixels (beyond the far side of the scene)
 
 out float o_edge;
 
-float depthAt(ivec2 p) {
-  vec4 s = texelFetch(u_surface, clamp(p, ivec2(0), textureSize(u_surface, 0) - 1), 0);
-  return s.a > 0.5 ? s.b : u_background;
-}
+// Linear depth, or u_background where there is no surface (the surface target is cleared to 0 and covered
+// pixels have depth > 0).
+vec4 orBackground(vec4 d) { return mix(d, vec4(u_background), lessThanEqual(d, vec4(0.0))); }
 
 void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec4 s = texelFetch(u_surface, p, 0);
-  if (s.a < 0.5) {
-    o_edge = 1.0;
-    return;
-  }
-  float lap = depthAt(p + ivec2(1, 0)) + depthAt(p - ivec2(1, 0)) + depthAt(p + ivec2(0, 1)) +
-              depthAt(p - ivec2(0, 1)) - 4.0 * s.b;
-  o_edge = abs(lap) > u_threshold ? 1.0 : 0.0;
+  // Two gathers of the depth component give the pixel and its four neighbours (clamped at the edges):
+  // at the corner (x, y + 1): (x-1, y+1), (x, y+1), (x, y), (x-1, y); at (x + 1, y): (x, y), (x+1, y),
+  // (x+1, y-1), (x, y-1).
+  vec2 inv = 1.0 / vec2(textureSize(u_surface, 0));
+  vec2 c = floor(gl_FragCoord.xy);
+  vec4 a = orBackground(textureGather(u_surface, (c + vec2(0.0, 1.0)) * inv, 2));
+  vec4 b = orBackground(textureGather(u_surface, (c + vec2(1.0, 0.0)) * inv, 2));
+  float lap = a.y + a.w + b.y + b.w - 4.0 * a.z;
+  // Off the surface: 1, so the advection finds "do not sample here" with a single fetch.
+  o_edge = a.z == u_background || abs(lap) > u_threshold ? 1.0 : 0.0;
 }
