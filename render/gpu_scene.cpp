@@ -39,6 +39,7 @@ void GpuMesh::upload(const Mesh& mesh) {
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
   glVertexArrayAttribBinding(vao_.id(), 1, 0);
   indexCount_ = m->indices.size();
+  closedOutward_ = m->isClosedOutward();
   if (!m->positions.empty()) {
     glm::vec3 lo, hi;
     m->bounds(lo, hi);
@@ -51,6 +52,17 @@ void GpuMesh::draw() const {
   if (!indexCount_) return;
   glBindVertexArray(vao_.id());
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+}
+
+void GpuMesh::drawVisible(bool viewOutside) const {
+  const bool cull = closedOutward_ && viewOutside;
+  if (cull) {
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
+    glEnable(GL_CULL_FACE);
+  }
+  draw();
+  if (cull) glDisable(GL_CULL_FACE);
 }
 
 namespace {

@@ -23,12 +23,19 @@ public:
   glm::vec3 boundsLo() const { return lo_; }
   glm::vec3 boundsHi() const { return hi_; }
   bool empty() const { return indexCount_ == 0; }
+  // Mesh::isClosedOutward() of the uploaded mesh: back faces may be culled when seen from outside.
+  bool closedOutward() const { return closedOutward_; }
+  // Draws with back faces culled when the mesh is closed and outward and `viewOutside` (the whole mesh
+  // lies beyond the near plane, so no back face can be seen through a cut): the same image for half the
+  // rasterisation work.
+  void drawVisible(bool viewOutside) const;
 
 private:
   VertexArray vao_;
   Buffer vertices_, indices_;
   std::size_t indexCount_ = 0;
   glm::vec3 lo_{0.0f}, hi_{0.0f};
+  bool closedOutward_ = false;
 };
 
 class GpuTensorField {

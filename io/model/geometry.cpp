@@ -1,6 +1,10 @@
 #include "io/model/geometry.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace dtf {
 
@@ -28,6 +32,68 @@ void Mesh::bounds(glm::vec3& lo, glm::vec3& hi) const {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
+}
+
+namespace {
+
+// Every directed edge a->b (canonical vertex ids) must occur once, and b->a once: closed, consistently
+// oriented, no edge shared by more than two triangles. Degenerate triangles fail the test.
+bool edgesPaired(const std::vector<std::uint32_t>& indices, const std::vector<std::uint32_t>& canonical,
+                 std::size_t vertexCount) {
+  std::vector<std::uint32_t> start(vertexCount + 1, 0);
+  const std::size_t tris = indices.size() / 3;
+  for (std::size_t t = 0; t < tris; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = canonical[indices[3 * t + k]], b = canonical[indices[3 * t + (k + 1) % 3]];
+      if (a == b) return false;
+      ++start[a + 1];
+    }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1), target(indices.size());
+  for (std::size_t t = 0; t < tris; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = canonical[indices[3 * t + k]], b = canonical[indices[3 * t + (k + 1) % 3]];
+      target[next[a]++] = b;
+    }
+  auto count = [&](std::uint32_t from, std::uint32_t to) {
+    return std::count(target.begin() + start[from], target.begin() + start[from + 1], to);
+  };
+  for (std::uint32_t a = 0; a < vertexCount; ++a)
+    for (std::uint32_t e = start[a]; e < start[a + 1]; ++e)
+      if (count(a, target[e]) != 1 || count(target[e], a) != 1) return false;
+  return true;
+}
+
+} // namespace
+
+bool Mesh::isClosedOutward() const {
+  if (indices.empty() || indices.size() % 3 != 0) return false;
+  for (std::uint32_t i : indices)
+    if (i >= positions.size()) return false;
+  // Shared vertices first; if that fails, weld vertices within 2^-20 of the mesh's extent of each other
+  // (UV-sphere seams and poles, per-face vertices) and check again. Welding can only close cracks far
+  // below a pixel; vertices it fails to weld leave the mesh "open", the safe answer.
+  std::vector<std::uint32_t> canonical(positions.size());
+  std::iota(canonical.begin(), canonical.end(), 0u);
+  if (!edgesPaired(indices, canonical, positions.size())) {
+    glm::vec3 lo, hi;
+    bounds(lo, hi);
+    const double cell = std::max(double(glm::length(hi - lo)), 1e-30) / (1 << 20);
+    std::vector<std::array<std::int64_t, 3>> keys(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      for (int c = 0; c < 3; ++c) keys[i][c] = std::llround((double(positions[i][c]) - lo[c]) / cell);
+    std::vector<std::uint32_t> order(positions.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    for (std::size_t i = 1; i < order.size(); ++i)
+      if (keys[order[i]] == keys[order[i - 1]]) canonical[order[i]] = canonical[order[i - 1]];
+    if (!edgesPaired(indices, canonical, positions.size())) return false;
+  }
+  double volume = 0; // 6 x signed volume
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    volume += glm::dot(glm::dvec3(positions[indices[t]]),
+                       glm::cross(glm::dvec3(positions[indices[t + 1]]), glm::dvec3(positions[indices[t + 2]])));
+  return volume > 0;
 }
 
 } // namespace dtf

@@ -18,6 +18,11 @@ struct Mesh {
   // Area-weighted vertex normals from the triangles.
   void computeNormals();
   void bounds(glm::vec3& lo, glm::vec3& hi) const;
+  // True when the triangles enclose a volume with outward winding: every edge (vertices at the same
+  // position count as one) is shared by exactly two triangles that traverse it in opposite directions,
+  // and the signed volume is positive. Then, seen from outside, every back face is hidden behind a front
+  // face, so a renderer may cull back faces. O(n log n) in the vertices, O(n) in the triangles.
+  bool isClosedOutward() const;
 };
 
 struct Polylines {

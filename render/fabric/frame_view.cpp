@@ -41,6 +41,7 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
     dmax = std::max(dmax, d);
   }
   f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  f.boundsInFront = dmin > camera.nearPlane;
   return f;
 }
 

@@ -25,6 +25,7 @@ struct FrameView {
   float pixelMm = 1.0f;     // size of one pixel at the target distance, mm
   float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth
   glm::vec2 depthRange{0.0f, 1.0f}; // linear eye depth of the scene bounds, mm
+  bool boundsInFront = false; // every corner of the scene bounds lies beyond the near plane
 
   // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range;
   // the fabric targets are computed at `scale` times the viewport resolution.

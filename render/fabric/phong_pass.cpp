@@ -15,7 +15,7 @@ void PhongPass::run(const GpuMesh& mesh, const FrameView& view, const glm::vec3&
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
-  mesh.draw();
+  mesh.drawVisible(view.boundsInFront);
   glDisable(GL_DEPTH_TEST);
 }
 

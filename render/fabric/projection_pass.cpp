@@ -45,7 +45,7 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   geometryProgram_.set("u_viewProj", view.viewProj);
   geometryProgram_.set("u_view", view.view);
   geometryProgram_.use();
-  if (!field.empty()) mesh.draw();
+  if (!field.empty()) mesh.drawVisible(s.cullHidden && view.boundsInFront);
 
   // Fullscreen stage at the far plane: GL_GREATER passes exactly where the surface was drawn.
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());

@@ -31,6 +31,7 @@ struct ProjectionSettings {
   float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
   float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
   bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
+  bool cullHidden = true;        // cull back faces of closed meshes seen from outside (same image)
   float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
 };
 

@@ -574,3 +574,59 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   EXPECT_GT(c[8], 0.2f);                // and visible
   EXPECT_LT(saturation(3), 0.05f);      // no data: grey
 }
+
+TEST_F(FabricPass, CullingBackFacesOfAClosedSurfaceChangesNothingAndStopsWhenTheNearPlaneCuts) {
+  Mesh sphere = reference::uvSphere({0, 0, 0}, 20.0, 24, 32);
+  ASSERT_TRUE(sphere.isClosedOutward());
+  Grid grid = reference::centredGrid(24, 2.0);
+  TensorField field = reference::constantField(grid, glm::normalize(glm::dvec3(1, 0.3, 0.2)), 1.7e-3, 0.3e-3);
+  GpuMesh mesh;
+  mesh.upload(sphere);
+  EXPECT_TRUE(mesh.closedOutward());
+  GpuTensorField gpuField;
+  gpuField.upload(field);
+  NoiseTile tile;
+  tile.size = 8;
+  tile.values.assign(64, 0.5f);
+  Texture noise = uploadNoise(tile);
+
+  // Outside: the same targets with and without culling.
+  Camera cam = Camera::standard(StandardView::Anterior, {-20, -20, -20}, {20, 20, 20}, double(kW) / kH);
+  FrameView view = FrameView::make(cam, {kW, kH}, 2, mesh.boundsLo(), mesh.boundsHi());
+  ASSERT_TRUE(view.boundsInFront);
+  std::vector<float> out[2][3];
+  for (int cull = 0; cull < 2; ++cull) {
+    ProjectionPass pass;
+    ProjectionSettings ps;
+    ps.cullHidden = cull == 1;
+    pass.run(mesh, gpuField, noise, view, ps);
+    out[cull][0] = readTexture(pass.surface(), 4);
+    out[cull][1] = readTexture(pass.vectors(), 4);
+    out[cull][2] = readTexture(pass.geometry(), 4);
+  }
+  int covered = 0;
+  for (std::size_t i = 0; i < out[0][0].size() / 4; ++i) {
+    if (out[0][0][i * 4 + 3] < 0.5f) {
+      EXPECT_EQ(out[1][0][i * 4 + 3], 0.0f);
+      continue;
+    }
+    ++covered;
+    for (int t = 0; t < 3; ++t)
+      for (int c = 0; c < 4; ++c) ASSERT_EQ(out[0][t][i * 4 + c], out[1][t][i * 4 + c]) << "pixel " << i;
+  }
+  EXPECT_GT(covered, kW * kH / 4);
+
+  // Inside (perspective eye at the centre): the near plane cuts the bounds, nothing is culled, and the
+  // inner side of the sphere fills the view.
+  Camera inside;
+  inside.orthographic = false;
+  inside.fovYDeg = 60;
+  inside.nearPlane = 0.5;
+  inside.lookAt({0, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  FrameView in = FrameView::make(inside, {kW, kH}, 2, mesh.boundsLo(), mesh.boundsHi());
+  EXPECT_FALSE(in.boundsInFront);
+  ProjectionPass pass;
+  pass.run(mesh, gpuField, noise, in, {});
+  auto surf = readTexture(pass.surface(), 4);
+  for (std::size_t i = 0; i < surf.size() / 4; ++i) ASSERT_EQ(surf[i * 4 + 3], 1.0f) << "pixel " << i;
+}
