@@ -128,7 +128,7 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
-  CompositeInputs in{&advection_.current(), &projection_.surface(), &silhouette_.edges(),
+  CompositeInputs in{&advection_.field(0),  &advection_.field(1),   &projection_.surface(), &silhouette_.edges(),
                      &projection_.eigen(),    &projection_.lambda(),  &projection_.depth()};
   beginTimer(kComposite);
   composite_.run(in, view_, cs);

@@ -15,18 +15,20 @@ AdvectionPass::AdvectionPass()
 void AdvectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
+  const float blocked[4] = {kBlocked, 0, 0, 0};
   for (int i = 0; i < 2; ++i) {
-    state_[i] = Texture::create2D(GL_RG32F, target.x, target.y);
-    state_[i].setFilter(GL_LINEAR, GL_LINEAR);
-    // Beyond the edge the blocked outer ring repeats (cheaper than a border colour on llvmpipe).
-    state_[i].setWrap(GL_CLAMP_TO_EDGE);
+    for (int c = 0; c < 2; ++c) {
+      state_[i][c] = Texture::create2D(GL_R32F, target.x, target.y);
+      state_[i][c].setFilter(GL_LINEAR, GL_LINEAR);
+      // Beyond the edge the blocked outer ring repeats (cheaper than a border colour on llvmpipe).
+      state_[i][c].setWrap(GL_CLAMP_TO_EDGE);
+    }
     fbo_[i] = createFramebuffer();
-    attachTargets(fbo_[i], {&state_[i]}, nullptr);
-    const float blocked[4] = {kBlocked, kBlocked, 0, 0};
-    glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, 0, blocked);
+    attachTargets(fbo_[i], {&state_[i][0], &state_[i][1]}, nullptr);
+    for (int c = 0; c < 2; ++c) glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, c, blocked);
   }
   resetFbo_ = createFramebuffer();
-  attachTargets(resetFbo_, {&state_[0], &state_[1]}, nullptr);
+  attachTargets(resetFbo_, {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1]}, nullptr);
   attachedDepth_ = 0;
   current_ = 0;
 }
@@ -45,7 +47,8 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   }
   program.use();
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
-  glBindTextureUnit(0, state_[current_].id());
+  glBindTextureUnit(0, state_[current_][0].id());
+  glBindTextureUnit(4, state_[current_][1].id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
@@ -88,12 +91,26 @@ void AdvectionPass::iterate(const Texture& vectors, const Texture& surface, cons
 }
 
 void AdvectionPass::setFields(const float* rg) {
-  std::vector<float> state(static_cast<std::size_t>(size_.x) * size_.y * 2);
-  glGetTextureImage(state_[current_].id(), 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(state.size() * sizeof(float)),
-                    state.data());
-  for (std::size_t i = 0; i < state.size(); ++i)
-    if (state[i] != kBlocked) state[i] = rg[i];
-  glTextureSubImage2D(state_[current_].id(), 0, 0, 0, size_.x, size_.y, GL_RG, GL_FLOAT, state.data());
+  std::vector<float> p(static_cast<std::size_t>(size_.x) * size_.y);
+  for (int c = 0; c < 2; ++c) {
+    const Texture& t = state_[current_][c];
+    glGetTextureImage(t.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(p.size() * sizeof(float)), p.data());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p[i] != kBlocked) p[i] = rg[i * 2 + c];
+    glTextureSubImage2D(t.id(), 0, 0, 0, size_.x, size_.y, GL_RED, GL_FLOAT, p.data());
+  }
+}
+
+std::vector<float> AdvectionPass::readFields() const {
+  const std::size_t n = static_cast<std::size_t>(size_.x) * size_.y;
+  std::vector<float> p(n), rg(n * 2);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  for (int c = 0; c < 2; ++c) {
+    glGetTextureImage(state_[current_][c].id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)),
+                      p.data());
+    for (std::size_t i = 0; i < n; ++i) rg[i * 2 + c] = p[i];
+  }
+  return rg;
 }
 
 unsigned AdvectionPass::changedPixels() const {

@@ -1,12 +1,13 @@
 // Pass 3 of the fabric (paper §2.5, Eq. 12): iterative advection of the mapped noise beta along both
-// image-space eigenvector fields at once, ping-ponging two RG32F state textures (p1, p2); blocked pixels
-// (silhouettes, background, the target's outermost ring) hold kBlocked in both components.
+// image-space eigenvector fields at once, ping-ponging two pairs of R32F state textures (p1 and p2, one
+// channel each: a software rasteriser's bilinear fetch costs per channel of the texture); blocked pixels
+// (silhouettes, background, the target's outermost ring) hold kBlocked in both.
 // The state persists between frames (the paper runs 3 iterations per frame and continues next frame);
 // reset() restarts from beta and takes beta and the blocked pixels (silhouettes, background) from the
 // projection and silhouette passes.
 //   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
 //            and surface (beta)
-//   output : current() RG32F (p1, p2, or kBlocked), the size of the guarded target
+//   output : field(0), field(1) R32F (p1, p2, or kBlocked), the size of the guarded target
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
 #pragma once
@@ -15,6 +16,8 @@
 #include "render/shader_program.h"
 
 #include <glm/glm.hpp>
+
+#include <vector>
 
 namespace dtf::render {
 
@@ -40,10 +43,13 @@ public:
   // `surface` is the texture given to reset() (beta in .r).
   void iterate(const Texture& vectors, const Texture& surface, const AdvectionSettings& settings, int count,
                bool countChanges = true, const Texture* depth = nullptr);
-  const Texture& current() const { return state_[current_]; }
+  // The current p1 (c = 0) or p2 (c = 1).
+  const Texture& field(int c) const { return state_[current_][c]; }
   // Replaces p1, p2 of the current state except at blocked pixels (tests: the "forgets its start"
   // property). Values are (p1, p2) pairs in GL row order.
   void setFields(const float* rg);
+  // The current (p1, p2) pairs in GL row order (reads back; tests and diagnostics).
+  std::vector<float> readFields() const;
   // Pixels that changed by more than epsilon in the last counted iteration.
   unsigned changedPixels() const;
 
@@ -55,7 +61,7 @@ private:
   Buffer counter_;
   Framebuffer fbo_[2], resetFbo_;
   GLuint attachedDepth_ = 0;
-  Texture state_[2];
+  Texture state_[2][2]; // [ping-pong][component]
   int current_ = 0;
   glm::ivec2 size_{0};
 };

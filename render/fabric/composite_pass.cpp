@@ -29,7 +29,8 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set("u_secondaryFa", s.secondaryFa);
   p.set("u_fadeOutOfPlane", s.fadeOutOfPlane);
   p.use();
-  glBindTextureUnit(0, in.advected->id());
+  glBindTextureUnit(0, in.p1->id());
+  glBindTextureUnit(3, in.p2->id());
   glBindTextureUnit(1, in.surface->id());
   glBindTextureUnit(2, in.edges->id());
   glBindTextureUnit(4, in.eigen->id());

@@ -1,15 +1,16 @@
 #version 450 core
 // Advection pass (paper §2.5, Eq. 12), both eigenvector fields at once:
 //   p_{i+1} = k beta + (1 - k) (p_i(x + v) + p_i(x - v)) / 2.
-// The state texture holds (p1, p2) per pixel; blocked pixels (silhouettes, off the surface, and the
-// outermost ring of the target, which clamp-to-edge repeats beyond the edge) hold BLOCKED (-1e20) in both.
+// The state is p1 and p2 in two single-channel textures; blocked pixels (silhouettes, off the surface, and
+// the outermost ring of the target, which clamp-to-edge repeats beyond the edge) hold BLOCKED (-1e20).
 // A bilinear sample whose footprint gives any weight to a blocked texel is therefore negative: such a
 // sample is replaced by p_i(x), so nothing is carried across silhouettes or in from the background.
 // Blocked pixels keep their state. With COUNT, pixels whose value changed by more than u_epsilon are
 // counted in an atomic counter (the stopping criterion of §2.5). With RESET, the pass initialises both
 // ping-pong textures at once: p1 = p2 = beta, or BLOCKED. With FAR_PLANE, only covered pixels are shaded
 // (early depth test against the surface's depth; see common/fullscreen.vert).
-layout(binding = 0) uniform sampler2D u_prev;       // (p1, p2), bilinear, clamp to edge
+layout(binding = 0) uniform sampler2D u_prev1;      // p1, bilinear, clamp to edge
+layout(binding = 4) uniform sampler2D u_prev2;      // p2
 layout(binding = 1) uniform sampler2D u_vectors;    // v1.xy, v2.xy (pixels, max-norm 1)
 layout(binding = 2) uniform sampler2D u_surface;    // .r beta; RESET: .a coverage
 layout(binding = 3) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
@@ -21,8 +22,10 @@ layout(early_fragment_tests) in;
 #endif
 
 #ifdef RESET
-layout(location = 0) out vec2 o_state;
-layout(location = 1) out vec2 o_state2;
+layout(location = 0) out float o_p1;  // both ping-pong textures
+layout(location = 1) out float o_p2;
+layout(location = 2) out float o_p1b;
+layout(location = 3) out float o_p2b;
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
@@ -30,8 +33,7 @@ void main() {
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
   bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
-  o_state = vec2(blocked ? BLOCKED : s.r);
-  o_state2 = o_state;
+  o_p1 = o_p2 = o_p1b = o_p2b = blocked ? BLOCKED : s.r;
 }
 #else
 #ifdef COUNT
@@ -41,28 +43,31 @@ uniform float u_epsilon;
 uniform float u_k;
 uniform float u_step; // pixels per unit of the max-norm scaled vectors
 
-out vec2 o_state;
+layout(location = 0) out float o_p1;
+layout(location = 1) out float o_p2;
 
-// The mean of p at x + d and x - d (component c), with p_i(x) standing in for a blocked sample.
-float advect(vec2 x, vec2 d, vec2 inv, float here, int c) {
-  float a = texture(u_prev, (x + d) * inv)[c], b = texture(u_prev, (x - d) * inv)[c];
+// The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
+float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
+  float a = texture(prev, (x + d) * inv).r, b = texture(prev, (x - d) * inv).r;
   return 0.5 * ((a < 0.0 ? here : a) + (b < 0.0 ? here : b));
 }
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  vec2 s = texelFetch(u_prev, p, 0).rg;
-  vec2 inv = 1.0 / vec2(textureSize(u_prev, 0));
+  vec2 s = vec2(texelFetch(u_prev1, p, 0).r, texelFetch(u_prev2, p, 0).r);
+  vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
   vec2 x = gl_FragCoord.xy;
   vec4 v = texelFetch(u_vectors, p, 0) * u_step;
   float beta = texelFetch(u_surface, p, 0).r;
   // A zero vector (no direction) averages p_i(x) with itself.
-  vec2 avg = vec2(advect(x, v.xy, inv, s.r, 0), advect(x, v.zw, inv, s.g, 1));
+  vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
   vec2 next = u_k * beta + (1.0 - u_k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef COUNT
   if (!blocked && any(greaterThan(abs(next - s), vec2(u_epsilon)))) atomicCounterIncrement(u_changed);
 #endif
-  o_state = blocked ? s : next;
+  vec2 out2 = blocked ? s : next;
+  o_p1 = out2.x;
+  o_p2 = out2.y;
 }
 #endif

@@ -9,7 +9,8 @@
 // primary threads. Writes gl_FragDepth from the projection depth so other geometry occludes correctly.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
-layout(binding = 0) uniform sampler2D u_advected;   // p1, p2 (negative where the advection is blocked)
+layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
+layout(binding = 3) uniform sampler2D u_p2;
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
 layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), FA
@@ -38,7 +39,7 @@ float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 vec3 compose(ivec2 t) {
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) return vec3(0.0);
-  vec2 p = texelFetch(u_advected, t, 0).rg;
+  vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
   p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
 #ifdef SILHOUETTES
   float e = texelFetch(u_silhouette, t, 0).r;

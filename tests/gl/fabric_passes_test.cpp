@@ -332,7 +332,7 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   pass.setFields(start.data());
   AdvectionSettings as{0.2f, 1.7f, 0.05f};
   pass.iterate(tv, ts, as, 1);
-  auto state = readTexture(pass.current(), 2);
+  auto state = pass.readFields();
   auto cpu = advectReference(start, vectors, surface, edges, kW, kH, as.k, as.stepPixels);
   auto blocked = [&](std::size_t i) {
     int x = static_cast<int>(i % kW), y = static_cast<int>(i / kW);
@@ -378,7 +378,7 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
   pass.setFields(start.data());
   const float k = 0.25f;
   pass.iterate(tv, ts, {k, 2.0f, 0.05f}, 20);
-  auto p = readTexture(pass.current(), 2);
+  auto p = pass.readFields();
   auto ring = [&](std::size_t i) {
     int x = static_cast<int>(i % kW), y = static_cast<int>(i / kW);
     return x == 0 || y == 0 || x == kW - 1 || y == kH - 1;
@@ -388,7 +388,7 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
     for (int c = 0; c < 2; ++c)
       EXPECT_NEAR(p[i * 2 + c], ring(i) ? kBlocked : beta[i] + std::pow(1 - k, 20) * (1 - beta[i]), 1e-5);
   pass.iterate(tv, ts, {k, 2.0f, 0.05f}, 40);
-  p = readTexture(pass.current(), 2);
+  p = pass.readFields();
   for (std::size_t i = 0; i < beta.size(); ++i) EXPECT_NEAR(p[i * 2], ring(i) ? kBlocked : beta[i], 1e-5);
   EXPECT_EQ(pass.changedPixels(), 0u);
 }
@@ -407,7 +407,7 @@ TEST_F(FabricPass, AdvectionIsSymmetricUnderVectorNegation) {
     AdvectionPass pass;
     pass.reset(ts, te);
     pass.iterate(tv, ts, {0.1f, 2.0f, 0.05f}, 15);
-    results[s] = readTexture(pass.current(), 2);
+    results[s] = pass.readFields();
   }
   for (std::size_t i = 0; i < results[0].size(); ++i) EXPECT_NEAR(results[0][i], results[1][i], 1e-5);
 }
@@ -428,7 +428,7 @@ TEST_F(FabricPass, AdvectionForgetsItsStartAsOneMinusKToTheN) {
     std::vector<float> start(beta.size() * 2, s ? 1.0f : 0.0f);
     pass.setFields(start.data());
     pass.iterate(tv, ts, {k, 1.5f, 0.05f}, n);
-    out[s] = readTexture(pass.current(), 2);
+    out[s] = pass.readFields();
   }
   // The map is affine in p with a stochastic (averaging) linear part scaled by 1 - k: two starts differing
   // by 1 everywhere differ by exactly (1 - k)^n after n iterations (where no sample leaves the image).
@@ -498,7 +498,10 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   std::vector<float> edges(beta.size(), 0.0f);
   for (std::size_t i = 0; i < edges.size(); i += 7) edges[i] = 1.0f;
   std::vector<float> zeros(beta.size() * 4, 0.0f), depth(beta.size(), 0.5f);
-  Texture ta = textureFrom(GL_RG32F, GL_RG, kW, kH, p), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  std::vector<float> p1(beta.size()), p2(beta.size());
+  for (std::size_t i = 0; i < beta.size(); ++i) p1[i] = p[i * 2], p2[i] = p[i * 2 + 1];
+  Texture ta = textureFrom(GL_R32F, GL_RED, kW, kH, p1), tb = textureFrom(GL_R32F, GL_RED, kW, kH, p2);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges), tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
   glTextureSubImage2D(td.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
@@ -516,7 +519,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   view.viewport = {kW, kH};
   view.internal = {kW, kH};
   view.target = {kW, kH};
-  pass.run({&ta, &ts, &te, &tz, &tz, &td}, view, cs);
+  pass.run({&ta, &tb, &ts, &te, &tz, &tz, &td}, view, cs);
   auto c = readTexture(out, 4);
   for (std::size_t i = 0; i < beta.size(); ++i) {
     double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);
@@ -544,7 +547,10 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
     eigen[i * 4 + 0] = 1.0f, eigen[i * 4 + 3] = 0.7f;
     lambda[i * 4 + 0] = 1e-3f, lambda[i * 4 + 1] = (i == 0 ? 0.1f : 0.95f) * 1e-3f, lambda[i * 4 + 3] = i == 3 ? 0.0f : 1.0f;
   }
-  Texture ta = textureFrom(GL_RG32F, GL_RG, n, 1, adv), ts = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, surface);
+  std::vector<float> adv1(n), adv2(n);
+  for (int i = 0; i < n; ++i) adv1[i] = adv[i * 2], adv2[i] = adv[i * 2 + 1];
+  Texture ta = textureFrom(GL_R32F, GL_RED, n, 1, adv1), tb = textureFrom(GL_R32F, GL_RED, n, 1, adv2);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, surface);
   Texture te = textureFrom(GL_R16F, GL_RED, n, 1, edges), tg = textureFrom(GL_RGBA16F, GL_RGBA, n, 1, eigen);
   Texture tl = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, lambda);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, n, 1);
@@ -560,7 +566,7 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   cs.silhouettes = false;
   FrameView view;
   view.viewport = view.internal = view.target = {n, 1};
-  pass.run({&ta, &ts, &te, &tg, &tl, &td}, view, cs);
+  pass.run({&ta, &tb, &ts, &te, &tg, &tl, &td}, view, cs);
   auto c = readTexture(out, 4);
   auto saturation = [&](int i) {
     float mx = std::max({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]}), mn = std::min({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]});

@@ -74,7 +74,7 @@ TEST_F(FabricRender, CrossingFieldShowsBothDirections) {
   FabricParams p;
   p.colour = ColourMode::Engineering;
   r.renderStill(cam, p);
-  auto rg = test::readTexture(r.advection().current(), 2);
+  auto rg = r.advection().readFields();
   const int g = r.frameView().guard;
   for (int c = 0; c < 2; ++c) {
     Image img = channelImage(rg, 256, 256, c, g, g);
