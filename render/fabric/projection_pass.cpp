@@ -14,8 +14,8 @@ void ProjectionPass::resize(glm::ivec2 target) {
   size_ = target;
   vectors_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
-  eigen_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
-  lambda_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
+  eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
+  lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   depth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, target.x, target.y);
   geometry_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_, &geometry_})

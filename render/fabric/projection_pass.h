@@ -8,9 +8,10 @@
 //   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
 //   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
-//            eigen   RGBA16F (world principal eigenvector of T (medical mode only), FA)
-//            lambda  RGBA32F (lambda1', lambda2' in mm^2/s, |e1 . n|, 1 = tensor data); where there is no
-//                    tensor data, x holds the background volume's grey value (0 without a background)
+//            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
+//                    FA)
+//            lambda  RGBA8 (lambda2'/lambda1' of the in-plane eigenvalues (1 without a positive lambda1'),
+//                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor data)
 //            depth   DEPTH32F (window depth, for gl_FragDepth in the composite and the early depth test
 //                    of the later fullscreen passes)
 //            geometry RGBA32F (world normal, linear depth mm; 0 = no surface)

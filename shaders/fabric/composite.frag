@@ -13,8 +13,8 @@ layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative
 layout(binding = 3) uniform sampler2D u_p2;
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
-layout(binding = 4) uniform sampler2D u_eigen;      // e1 (world), FA
-layout(binding = 5) uniform sampler2D u_lambda;     // lambda1', lambda2', |e1.n|, data
+layout(binding = 4) uniform sampler2D u_eigen;      // |e1| (world), FA
+layout(binding = 5) uniform sampler2D u_lambda;     // lambda2'/lambda1', |e1.n|, background grey, data
 layout(binding = 6) uniform sampler2D u_depth;      // window depth of the projection pass
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
@@ -36,8 +36,7 @@ out vec4 o_colour;
 
 float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 
-vec3 compose(ivec2 t) {
-  vec4 s = texelFetch(u_surface, t, 0);
+vec3 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec3(0.0);
   vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
   p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
@@ -55,7 +54,7 @@ vec3 compose(ivec2 t) {
   float p1 = stretch(p.r), p2 = stretch(p.g);
   if (lam.w < 0.5) {
 #ifdef BACKGROUND
-    c = vec3(lam.x);
+    c = vec3(lam.z);
 #else
     c = u_noData * (0.6 + 0.4 * p1);
 #endif
@@ -65,12 +64,12 @@ vec3 compose(ivec2 t) {
     vec3 base = mix(vec3(0.35), dec, smoothstep(0.05, 0.45, fa)) * (0.55 + 0.45 * smoothstep(0.05, 0.6, fa));
     vec3 primary = base * (0.25 + 1.1 * p1);
     // Secondary direction: where the in-plane eigenvalues are close or FA is low.
-    float ratio = lam.x > 0.0 ? clamp(lam.y / lam.x, 0.0, 1.0) : 1.0; // lambda2' / lambda1'
+    float ratio = lam.x; // lambda2' / lambda1'
     float w2 = max(smoothstep(u_secondaryRatio, 1.0, ratio), 1.0 - smoothstep(0.0, u_secondaryFa, fa));
     vec3 secondary = vec3(0.2 + 0.6 * p2) * (0.45 + 0.55 * clamp(fa * 2.0, 0.0, 1.0));
     float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
     c = mix(primary, mix(secondary, primary, onTop), w2);
-    c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.z));
+    c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.y));
   }
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
@@ -82,7 +81,7 @@ vec3 compose(ivec2 t) {
   c.b = e + light;
 #ifdef BACKGROUND
   vec4 lam = texelFetch(u_lambda, t, 0);
-  if (lam.w < 0.5) c = vec3(lam.x) + e;
+  if (lam.w < 0.5) c = vec3(lam.z) + e;
 #endif
 #endif
 #ifdef DEPTH_COLOUR
@@ -96,7 +95,7 @@ void main() {
   ivec2 t = ivec2(gl_FragCoord.xy * u_scale) + u_guard;
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) discard;
-  vec3 c = compose(t);
+  vec3 c = compose(t, s);
 #ifdef SHARPEN
   {
     vec3 sum = vec3(0.0);
@@ -104,7 +103,7 @@ void main() {
     for (int i = 0; i < 4; ++i) {
       ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
       if (texelFetch(u_surface, q, 0).a > 0.5) {
-        sum += compose(q);
+        sum += compose(q, texelFetch(u_surface, q, 0));
         n += 1.0;
       }
     }

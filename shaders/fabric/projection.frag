@@ -4,8 +4,8 @@
 // Per pixel: rebuild the world position from the linear depth, interpolate the tensor, project it onto the
 // tangent plane (T' = P T P^T, P = I - n n^T), decompose T', take its two in-plane eigenvectors, project
 // each to image space as the pixel difference of p + eps v and p (perspective-correct), and scale by the
-// max-norm. Also writes the mapped noise beta, light intensity, depth, FA, the in-plane eigenvalues and the
-// 3D principal eigenvector. A cleared (zero) vector means "no direction here".
+// max-norm. Also writes the mapped noise beta, light intensity, depth, FA, the ratio of the in-plane
+// eigenvalues and the 3D principal eigenvector's DEC colour. A zero vector means "no direction here".
 // Variants (compile-time, since a software rasteriser pays for untaken branches): WITH_PRINCIPAL (3D
 // eigenvector for the medical colours), NOISE_BLEND (softened face switch), BACKGROUND (grey volume where
 // there is no tensor data).
@@ -40,8 +40,8 @@ uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
 layout(location = 0) out vec4 o_vectors; // v1.xy, v2.xy: image-space directions (pixels, max-norm 1)
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
-layout(location = 2) out vec4 o_eigen;   // world principal eigenvector of T (unit), FA
-layout(location = 3) out vec4 o_lambda;  // lambda1', lambda2' (mm^2/s), |e1 . n|, 1 = tensor data here
+layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
+layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, 1 = tensor data
 
 // Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
 // and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
@@ -117,15 +117,15 @@ void main() {
     mat3 tvecs;
     eigenDecompose(t, tv, tvecs);
     vec3 e1 = tvecs[0];
-    eigen.xyz = e1;
-    lambda.z = abs(dot(e1, n));
+    eigen.xyz = abs(e1);
+    lambda.y = abs(dot(e1, n));
 #endif
-    lambda.xy = vec2(l1, l2);
+    lambda.x = l1 > 0.0 ? clamp(l2 / l1, 0.0, 1.0) : 1.0;
     lambda.w = 1.0;
   }
 #ifdef BACKGROUND
   else {
-    lambda.x = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
+    lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
   }
 #endif
   o_vectors = vectors;

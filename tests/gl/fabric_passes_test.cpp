@@ -545,14 +545,14 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   for (int i = 0; i < n; ++i) {
     surface[i * 4 + 0] = 0.5f, surface[i * 4 + 1] = 1.0f, surface[i * 4 + 2] = 100.0f, surface[i * 4 + 3] = 1.0f;
     eigen[i * 4 + 0] = 1.0f, eigen[i * 4 + 3] = 0.7f;
-    lambda[i * 4 + 0] = 1e-3f, lambda[i * 4 + 1] = (i == 0 ? 0.1f : 0.95f) * 1e-3f, lambda[i * 4 + 3] = i == 3 ? 0.0f : 1.0f;
+    lambda[i * 4 + 0] = i == 0 ? 0.1f : 0.95f, lambda[i * 4 + 3] = i == 3 ? 0.0f : 1.0f; // lambda2'/lambda1', data
   }
   std::vector<float> adv1(n), adv2(n);
   for (int i = 0; i < n; ++i) adv1[i] = adv[i * 2], adv2[i] = adv[i * 2 + 1];
   Texture ta = textureFrom(GL_R32F, GL_RED, n, 1, adv1), tb = textureFrom(GL_R32F, GL_RED, n, 1, adv2);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, surface);
-  Texture te = textureFrom(GL_R16F, GL_RED, n, 1, edges), tg = textureFrom(GL_RGBA16F, GL_RGBA, n, 1, eigen);
-  Texture tl = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, lambda);
+  Texture te = textureFrom(GL_R16F, GL_RED, n, 1, edges), tg = textureFrom(GL_RGBA8, GL_RGBA, n, 1, eigen);
+  Texture tl = textureFrom(GL_RGBA8, GL_RGBA, n, 1, lambda);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, n, 1);
   glTextureSubImage2D(td.id(), 0, 0, 0, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
   Texture out = Texture::create2D(GL_RGBA32F, n, 1);
