@@ -98,3 +98,31 @@ void eigenPlaneValues(mat3 m, vec3 axis, out vec3 big, out vec3 small, out float
   big = e.x * u + e.y * w;
   small = cross(axis, big);
 }
+
+// The unit eigenvector of the largest eigenvalue of symmetric A (any unit vector when A is isotropic), for
+// the DEC colour: eigenDecompose's first vector by the same branches, without its trigonometric 2x2 step
+// (a software rasteriser executes both branches, so each must be cheap).
+vec3 principalEigenvector(mat3 a) {
+  float xx = a[0][0], yy = a[1][1], zz = a[2][2];
+  float xy = a[1][0], xz = a[2][0], yz = a[2][1];
+  float scale = max(max(max(abs(xx), abs(yy)), max(abs(zz), abs(xy))), max(abs(xz), abs(yz)));
+  if (!(scale > 0.0) || isinf(scale) || isnan(scale)) return vec3(1.0, 0.0, 0.0);
+  mat3 b = a / scale;
+  xx /= scale; yy /= scale; zz /= scale; xy /= scale; xz /= scale; yz /= scale;
+  float q = (xx + yy + zz) / 3.0;
+  float p2 = (xx - q) * (xx - q) + (yy - q) * (yy - q) + (zz - q) * (zz - q) + 2.0 * (xy * xy + xz * xz + yz * yz);
+  float p = sqrt(p2 / 6.0);
+  if (p <= 1e-6) return vec3(1.0, 0.0, 0.0);
+  float r = clamp(determinant((b - q * mat3(1.0)) / p) * 0.5, -1.0, 1.0);
+  float phi = acos(r) / 3.0;
+  float l1 = q + 2.0 * p * cos(phi);
+  float l3 = q + 2.0 * p * cos(phi + 2.0 * kEigenPi / 3.0);
+  float l2 = clamp(3.0 * q - l1 - l3, l3, l1);
+  vec3 v1, v3;
+  eigenNullVector(b, l1, v1);
+  if (!eigenNullVector(b, l3, v3)) v3 = vec3(0.0, 0.0, 1.0);
+  vec3 big, small;
+  float m1, m2;
+  eigenPlaneValues(b, v3, big, small, m1, m2);
+  return l1 - l2 >= l2 - l3 ? v1 : big;
+}

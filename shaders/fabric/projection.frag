@@ -113,10 +113,7 @@ void main() {
       vectors = vec4(imageDirection(c0, e1p), imageDirection(c0, e2p));
     }
 #ifdef WITH_PRINCIPAL
-    vec3 tv;
-    mat3 tvecs;
-    eigenDecompose(t, tv, tvecs);
-    vec3 e1 = tvecs[0];
+    vec3 e1 = principalEigenvector(t);
     eigen.xyz = abs(e1);
     lambda.y = abs(dot(e1, n));
 #endif

@@ -1,6 +1,7 @@
 #version 450 core
 // Test probe for common/eigen.glsl: decomposes the tensor stored in texels of two RGBA32F textures
-// (xx xy xz yy / yz zz - -) and writes eigenvalues and eigenvectors for comparison with the CPU solver.
+// (xx xy xz yy / yz zz - -) and writes eigenvalues and eigenvectors, and the principal eigenvector alone,
+// for comparison with the CPU solver.
 #include "common/eigen.glsl"
 layout(binding = 0) uniform sampler2D u_a;
 layout(binding = 1) uniform sampler2D u_b;
@@ -8,6 +9,7 @@ layout(location = 0) out vec4 o_values;
 layout(location = 1) out vec4 o_v0;
 layout(location = 2) out vec4 o_v1;
 layout(location = 3) out vec4 o_v2;
+layout(location = 4) out vec4 o_principal; // principalEigenvector
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 a = texelFetch(u_a, p, 0), b = texelFetch(u_b, p, 0);
@@ -19,4 +21,5 @@ void main() {
   o_v0 = vec4(vecs[0], 0.0);
   o_v1 = vec4(vecs[1], 0.0);
   o_v2 = vec4(vecs[2], 0.0);
+  o_principal = vec4(principalEigenvector(t), 0.0);
 }

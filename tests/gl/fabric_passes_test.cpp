@@ -170,10 +170,10 @@ TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
     b[i * 4] = t.yz, b[i * 4 + 1] = t.zz;
   }
   Texture ta = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, a), tb = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, b);
-  Texture out[4];
+  Texture out[5];
   for (auto& o : out) o = Texture::create2D(GL_RGBA32F, n, 1);
   Framebuffer fbo = createFramebuffer();
-  attachTargets(fbo, {&out[0], &out[1], &out[2], &out[3]}, nullptr);
+  attachTargets(fbo, {&out[0], &out[1], &out[2], &out[3], &out[4]}, nullptr);
   ShaderProgram prog("common/fullscreen.vert", "test/eigen_probe.frag");
   VertexArray vao = createVertexArray();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
@@ -185,6 +185,7 @@ TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   auto vals = readTexture(out[0], 4);
   std::vector<float> vecs[3] = {readTexture(out[1], 4), readTexture(out[2], 4), readTexture(out[3], 4)};
+  auto principal = readTexture(out[4], 4);
   for (int i = 0; i < n; ++i) {
     glm::dmat3 m = SymTensor::fromMat(cases[i]).toMat();
     EigenSystem e = eigenDecompose(m);
@@ -198,6 +199,13 @@ TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
       double res = glm::length(m * v - double(vals[i * 4 + c]) * v);
       EXPECT_LT(res, 2e-3 * scale + 1e-9) << "case " << i << " vector " << c;
     }
+    // principalEigenvector: a unit eigenvector of the largest eigenvalue, the same as eigenDecompose's
+    // first vector wherever that eigenvalue is separated from the second.
+    glm::dvec3 pv(principal[i * 4], principal[i * 4 + 1], principal[i * 4 + 2]);
+    EXPECT_NEAR(glm::length(pv), 1.0, 1e-3) << "case " << i;
+    EXPECT_LT(glm::length(m * pv - double(vals[i * 4]) * pv), 2e-3 * scale + 1e-9) << "case " << i;
+    if (e.values.x - e.values.y > 1e-2 * scale)
+      EXPECT_GT(std::abs(glm::dot(pv, e.vectors[0])), 0.999) << "case " << i;
   }
 }
 
