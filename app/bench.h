@@ -43,7 +43,8 @@ struct RenderPeerResult {
   double licDefaultMs = 0, licOneStepMs = 0, surfaceMs = 0; // wall-clock ms/frame
   double coverage = 0;                                      // fraction of pixels covered by the surface
   int licDefaultSteps = 0, frames = 0;
-  std::string png; // the saved frame, when asked for and written
+  std::string pixels; // the size ParaView rendered at, "WxH"
+  std::string png;    // the saved frame, when asked for and written
 };
 // Runs the peer when pvbatch (or pvpython) is on the PATH and an X display is set or xvfb-run can provide
 // one; $DTF_PARAVIEW_PYTHONPATH is prepended to its PYTHONPATH (for an unpacked python3-paraview). Never

@@ -233,6 +233,7 @@ RenderPeerResult parseRenderPeerOutput(const std::string& text) {
   r.coverage = std::max(0.0, number("coverage"));
   r.licDefaultSteps = static_cast<int>(std::max(0.0, number("lic_default_steps")));
   if (v.count("png")) r.png = v["png"];
+  if (v.count("pixels")) r.pixels = v["pixels"];
   r.ran = r.surfaceMs > 0 && r.licDefaultMs > 0 && r.licOneStepMs > 0;
   if (v.count("error"))
     r.note = v["error"];
@@ -299,6 +300,12 @@ RenderPeerResult runRenderPeer(const Mesh& mesh, const TensorField& field, const
   const int code = status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   RenderPeerResult parsed = parseRenderPeerOutput(readAll(dir / "out.txt"));
   parsed.frames = std::max(1, o.frames);
+  const std::string size = std::to_string(o.width) + "x" + std::to_string(o.height);
+  if (parsed.ran && parsed.pixels != size) { // e.g. a real display smaller than the view
+    parsed.ran = false;
+    parsed.note =
+        "rendered at " + (parsed.pixels.empty() ? "an unknown size" : parsed.pixels) + ", not " + size;
+  }
   if (parsed.ran) {
     fs::remove_all(dir, ec);
     return parsed;

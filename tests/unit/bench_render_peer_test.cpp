@@ -41,6 +41,7 @@ TEST(BenchRenderPeer, ParsesFiguresAndFailures) {
   EXPECT_DOUBLE_EQ(r.coverage, 0.744);
   EXPECT_EQ(r.licDefaultSteps, 40);
   EXPECT_EQ(r.png, "/tmp/a.png");
+  EXPECT_EQ(r.pixels, "1024x768");
   EXPECT_TRUE(r.note.empty());
 
   // A timing missing (the script died in the middle) is no result.
