@@ -41,7 +41,10 @@ struct RenderPeerResult {
   std::string name; // e.g. "ParaView 5.11.0 Surface LIC"
   std::string note; // why there are no figures (absent, no display, failed), empty when ran
   double licDefaultMs = 0, licOneStepMs = 0, surfaceMs = 0; // wall-clock ms/frame
-  double coverage = 0;                                      // fraction of pixels covered by the surface
+  // pvbatch's CPU time per frame, all its threads (llvmpipe's included; not Xvfb's): less sensitive to
+  // other processes' load than the wall clock. -1 when not reported.
+  double licDefaultCpuMs = -1, licOneStepCpuMs = -1, surfaceCpuMs = -1;
+  double coverage = 0; // fraction of pixels covered by the surface
   int licDefaultSteps = 0, frames = 0;
   std::string pixels; // the size ParaView rendered at, "WxH"
   std::string png;    // the saved frame, when asked for and written
@@ -58,9 +61,12 @@ RenderPeerResult parseRenderPeerOutput(const std::string& text);
 // The unit eigenvector of the larger eigenvalue of T projected onto the plane with unit normal n
 // (T' = P T P, P = I - n n^T), in world coordinates; any in-plane unit vector where they are equal.
 glm::dvec3 principalInSurfaceDirection(const glm::dmat3& t, const glm::dvec3& n);
-// The peer's lines for the `bench render` table, and the ", \"peer\": ..." members of its JSON object;
-// `fabricMs` and `movingMs` are ours on the same mesh (0 when not measured).
-void printRenderPeerTable(const RenderPeerResult& peer, double fabricMs, double movingMs, double phongMs);
-void printRenderPeerJson(const RenderPeerResult& peer, double fabricMs, double movingMs);
+// Our figures on the same mesh, ms/frame (0 when not measured), for the ratios.
+struct RenderPeerOurs {
+  double fabricMs = 0, movingMs = 0, phongMs = 0, fabricCpuMs = 0, phongCpuMs = 0;
+};
+// The peer's lines for the `bench render` table, and the ", \"peer\": ..." members of its JSON object.
+void printRenderPeerTable(const RenderPeerResult& peer, const RenderPeerOurs& ours);
+void printRenderPeerJson(const RenderPeerResult& peer, const RenderPeerOurs& ours);
 
 } // namespace dtf::app

@@ -206,6 +206,9 @@ int benchRender(const CommandArgs& argv) {
   peer.note = noPeer ? "skipped (--no-peer)" : "ParaView Surface LIC runs on sphere_41k only";
   if (!noPeer && ours)
     peer = runRenderPeer(cases[0].mesh, cases[0].field, {width, height, peerFrames, peerPng});
+  const RenderPeerOurs mine = ours ? RenderPeerOurs{ours->fabricMs, ours->movingMs, ours->phongMs,
+                                                    ours->fabricCpuMs, ours->phongCpuMs}
+                                   : RenderPeerOurs{};
 
   if (json) {
     std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", ctx.description().c_str(),
@@ -220,7 +223,7 @@ int benchRender(const CommandArgs& argv) {
                   r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
     }
     std::printf("]");
-    printRenderPeerJson(peer, ours ? ours->fabricMs : 0, ours ? ours->movingMs : 0);
+    printRenderPeerJson(peer, mine);
     std::printf("}\n");
     return 0;
   }
@@ -249,7 +252,7 @@ int benchRender(const CommandArgs& argv) {
               "the advection restarts from the mapped noise (no smearing); mov 1/2: the same with the fabric computed\n"
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"
               "them (the load average is printed above).\n");
-  printRenderPeerTable(peer, ours ? ours->fabricMs : 0, ours ? ours->movingMs : 0, ours ? ours->phongMs : 0);
+  printRenderPeerTable(peer, mine);
   return 0;
 }
 

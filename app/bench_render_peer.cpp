@@ -85,29 +85,32 @@ try:
 
     # Mean wall-clock ms/frame over FRAMES renders after one warm-up, the camera turning 0.5 deg about
     # the view-up axis before each; WaitForCompletion (glFinish) makes each frame's pixels final.
+    # process_time() is pvbatch's CPU time over all its threads (llvmpipe's included).
     def timeFrames(key):
         camera.Azimuth(0.5)
         Render(view)
         window.WaitForCompletion()
-        total = 0.0
+        total = cpu = 0.0
         for i in range(FRAMES):
             camera.Azimuth(0.5)
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             Render(view)
             window.WaitForCompletion()
             total += time.perf_counter() - t0
-        out(key, '%.2f' % (1000.0 * total / FRAMES))
+            cpu += time.process_time() - c0
+        out(key + '_ms', '%.2f' % (1000.0 * total / FRAMES))
+        out(key + '_cpu_ms', '%.2f' % (1000.0 * cpu / FRAMES))
 
-    timeFrames('surface_ms')
+    timeFrames('surface')
     disp.SetRepresentationType('Surface LIC')
     disp.SelectInputVectors = ['POINTS', 'v']
     out('lic_default_steps', disp.NumberOfSteps)
-    timeFrames('lic_default_ms')
+    timeFrames('lic_default')
     if PNG:
         SaveScreenshot(PNG, view, ImageResolution=[WIDTH, HEIGHT])
         out('png', PNG)
     disp.NumberOfSteps = 1
-    timeFrames('lic_one_step_ms')
+    timeFrames('lic_one_step')
 except Exception as e:
     out('error', str(e).replace('\n', ' '))
     sys.exit(4)
@@ -230,6 +233,9 @@ RenderPeerResult parseRenderPeerOutput(const std::string& text) {
   r.surfaceMs = number("surface_ms");
   r.licDefaultMs = number("lic_default_ms");
   r.licOneStepMs = number("lic_one_step_ms");
+  r.surfaceCpuMs = number("surface_cpu_ms");
+  r.licDefaultCpuMs = number("lic_default_cpu_ms");
+  r.licOneStepCpuMs = number("lic_one_step_cpu_ms");
   r.coverage = std::max(0.0, number("coverage"));
   r.licDefaultSteps = static_cast<int>(std::max(0.0, number("lic_default_steps")));
   if (v.count("png")) r.png = v["png"];
@@ -339,26 +345,39 @@ RenderPeerResult runRenderPeer(const Mesh& mesh, const TensorField& field, const
   return parsed;
 }
 
-void printRenderPeerTable(const RenderPeerResult& p, double fabricMs, double movingMs, double phongMs) {
+void printRenderPeerTable(const RenderPeerResult& p, const RenderPeerOurs& ours) {
   if (!p.ran) {
     std::printf("\npeer: %s\n", p.note.c_str());
     return;
   }
+  auto ratio = [](double a, double b) { return a > 0 && b > 0 ? a / b : 0.0; };
   std::printf("\npeer: %s (one vector direction: the principal in-surface eigenvector), sphere_41k, %.0f%% "
               "covered,\n      camera turning 0.5 deg per frame, mean of %d frames after a warm-up:\n",
               p.name.c_str(), 100 * p.coverage, p.frames);
-  std::printf("  LIC defaults (%d steps) %8.1f ms | LIC 1 step %7.1f ms | plain surface %6.1f ms\n",
-              p.licDefaultSteps, p.licDefaultMs, p.licOneStepMs, p.surfaceMs);
-  if (fabricMs > 0)
+  std::printf(
+      "  LIC defaults (%d steps) %8.1f ms | LIC 1 step %7.1f ms | plain surface %6.1f ms   (wall clock)\n",
+      p.licDefaultSteps, p.licDefaultMs, p.licOneStepMs, p.surfaceMs);
+  if (p.licDefaultCpuMs >= 0)
+    std::printf(
+        "                          %8.1f ms |            %7.1f ms |               %6.1f ms   (CPU time)\n",
+        p.licDefaultCpuMs, p.licOneStepCpuMs, p.surfaceCpuMs);
+  if (ours.fabricMs > 0) {
     std::printf(
         "  -> its default LIC / our fabric (two directions) = %.1fx (moving camera %.1fx; goal >= 20x),\n"
         "     its 1-step LIC / our fabric = %.2fx, its plain surface / our Phong = %.2fx\n",
-        p.licDefaultMs / fabricMs, movingMs > 0 ? p.licDefaultMs / movingMs : 0.0, p.licOneStepMs / fabricMs,
-        phongMs > 0 ? p.surfaceMs / phongMs : 0.0);
+        ratio(p.licDefaultMs, ours.fabricMs), ratio(p.licDefaultMs, ours.movingMs),
+        ratio(p.licOneStepMs, ours.fabricMs), ratio(p.surfaceMs, ours.phongMs));
+    if (p.licDefaultCpuMs >= 0)
+      std::printf(
+          "     in CPU time: default LIC / fabric = %.1fx, 1-step LIC / fabric = %.2fx, surface / Phong = "
+          "%.2fx\n",
+          ratio(p.licDefaultCpuMs, ours.fabricCpuMs), ratio(p.licOneStepCpuMs, ours.fabricCpuMs),
+          ratio(p.surfaceCpuMs, ours.phongCpuMs));
+  }
   if (!p.png.empty()) std::printf("  one frame of its default LIC: %s\n", p.png.c_str());
 }
 
-void printRenderPeerJson(const RenderPeerResult& p, double fabricMs, double movingMs) {
+void printRenderPeerJson(const RenderPeerResult& p, const RenderPeerOurs& ours) {
   std::string note;
   for (char c : p.note) {
     if (c == '"' || c == '\\') note += '\\';
@@ -373,12 +392,16 @@ void printRenderPeerJson(const RenderPeerResult& p, double fabricMs, double movi
     if (std::fscanf(f, "%lf", &load) != 1) load = -1;
     std::fclose(f);
   }
+  auto ratio = [](double a, double b) { return a > 0 && b > 0 ? a / b : 0.0; };
   std::printf(
       ", \"peer\": {\"name\": \"%s\", \"case\": \"sphere_41k\", \"frames\": %d, \"coverage\": %.3f, "
-      "\"lic_default_steps\": %d, \"lic_default_ms\": %.2f, \"lic_one_step_ms\": %.2f, \"surface_ms\": "
-      "%.2f, \"default_over_fabric\": %.2f, \"default_over_moving\": %.2f, \"load_average\": %.2f}",
+      "\"lic_default_steps\": %d, \"lic_default_ms\": %.2f, \"lic_one_step_ms\": %.2f, \"surface_ms\": %.2f, "
+      "\"lic_default_cpu_ms\": %.2f, \"lic_one_step_cpu_ms\": %.2f, \"surface_cpu_ms\": %.2f, "
+      "\"default_over_fabric\": %.2f, \"default_over_moving\": %.2f, \"default_over_fabric_cpu\": %.2f, "
+      "\"load_average\": %.2f}",
       p.name.c_str(), p.frames, p.coverage, p.licDefaultSteps, p.licDefaultMs, p.licOneStepMs, p.surfaceMs,
-      fabricMs > 0 ? p.licDefaultMs / fabricMs : 0.0, movingMs > 0 ? p.licDefaultMs / movingMs : 0.0, load);
+      p.licDefaultCpuMs, p.licOneStepCpuMs, p.surfaceCpuMs, ratio(p.licDefaultMs, ours.fabricMs),
+      ratio(p.licDefaultMs, ours.movingMs), ratio(p.licDefaultCpuMs, ours.fabricCpuMs), load);
 }
 
 } // namespace dtf::app

@@ -30,7 +30,8 @@ TEST(BenchRenderPeer, ScriptCarriesTheSettings) {
 TEST(BenchRenderPeer, ParsesFiguresAndFailures) {
   const std::string good =
       "noise\nDTF_PEER version 5.11.0\nDTF_PEER coverage 0.744\nDTF_PEER pixels 1024x768\n"
-      "DTF_PEER surface_ms 59.25\nDTF_PEER lic_default_steps 40\nDTF_PEER lic_default_ms "
+      "DTF_PEER surface_ms 59.25\nDTF_PEER surface_cpu_ms 80.5\nDTF_PEER lic_default_steps 40\nDTF_PEER "
+      "lic_default_ms "
       "1900.5\nDTF_PEER png /tmp/a.png\nDTF_PEER lic_one_step_ms 201.00\n";
   app::RenderPeerResult r = app::parseRenderPeerOutput(good);
   EXPECT_TRUE(r.ran);
@@ -38,6 +39,8 @@ TEST(BenchRenderPeer, ParsesFiguresAndFailures) {
   EXPECT_DOUBLE_EQ(r.surfaceMs, 59.25);
   EXPECT_DOUBLE_EQ(r.licDefaultMs, 1900.5);
   EXPECT_DOUBLE_EQ(r.licOneStepMs, 201.0);
+  EXPECT_DOUBLE_EQ(r.surfaceCpuMs, 80.5);
+  EXPECT_LT(r.licDefaultCpuMs, 0) << "not reported: -1";
   EXPECT_DOUBLE_EQ(r.coverage, 0.744);
   EXPECT_EQ(r.licDefaultSteps, 40);
   EXPECT_EQ(r.png, "/tmp/a.png");
