@@ -42,8 +42,9 @@ try:
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 except Exception as e:
-    out('error', 'cannot import paraview.simple (%s): install python3-paraview or set '
-        'DTF_PARAVIEW_PYTHONPATH' % str(e).replace('\n', ' '))
+    out('error', 'cannot import paraview.simple (%s): unpack python3-paraview and set '
+        'DTF_PARAVIEW_PYTHONPATH to its dist-packages (see README; installing it removes libvtk9-dev)'
+        % str(e).replace('\n', ' '))
     sys.exit(3)
 
 try:
