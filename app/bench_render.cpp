@@ -157,13 +157,17 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
 } // namespace
 
 int benchRender(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "no-brain"});
+  Args args(argv, {"json", "help", "no-brain", "no-peer"});
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench render [--size 1024x768] [--frames N] [--json] [--no-brain] [--data DIR]\n"
                 "       [--color medical|engineering] [--only sphere_41k|sphere_572k|brain_fa025]\n"
+                "       [--no-peer] [--peer-frames N] [--peer-png FILE]\n"
                 "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
                 "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
-                "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n");
+                "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n"
+                "  Peer on sphere_41k when pvbatch is on the PATH (Debian package paraview): ParaView's\n"
+                "  Surface LIC with its defaults and with 1 step, and its plain surface (--peer-frames,\n"
+                "  default min(N, 10); --peer-png saves one of its LIC frames).\n");
     return 0;
   }
   const bool json = args.flag("json");
@@ -177,6 +181,10 @@ int benchRender(const CommandArgs& argv) {
   const auto mode = colour == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
   const std::string only = args.getOr("only", "");
   const auto dataDir = args.get("data");
+  const bool noPeer = args.flag("no-peer");
+  const int peerFrames = args.getInt("peer-frames", std::min(frames, 10));
+  if (peerFrames < 1 || peerFrames > 1000) throw UsageError("--peer-frames must be in [1, 1000]");
+  const std::string peerPng = args.getOr("peer-png", "");
   args.finish();
 
   auto& ctx = render::GlContext::headless();
@@ -189,6 +197,15 @@ int benchRender(const CommandArgs& argv) {
   std::vector<Result> results;
   for (const auto& c : cases)
     if (only.empty() || c.name == only) results.push_back(runCase(renderer, c, width, height, frames, mode));
+  // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench_render_peer.cpp).
+  const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
+  RenderPeerResult peer;
+  peer.note = noPeer ? "skipped (--no-peer)" : "ParaView Surface LIC runs on sphere_41k only";
+  if (!noPeer && ours)
+    peer = runRenderPeer(cases[0].mesh, cases[0].field, {width, height, peerFrames, peerPng});
+  const RenderPeerOurs mine = ours ? RenderPeerOurs{ours->fabricMs, ours->movingMs, ours->phongMs,
+                                                    ours->fabricCpuMs, ours->phongCpuMs}
+                                   : RenderPeerOurs{};
 
   if (json) {
     std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", ctx.description().c_str(),
@@ -202,7 +219,9 @@ int benchRender(const CommandArgs& argv) {
                   r.fabricCpuMs, r.phongCpuMs, r.fabricMs / std::max(r.phongMs, 1e-9), r.coverage,
                   r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
     }
-    std::printf("]}\n");
+    std::printf("]");
+    printRenderPeerJson(peer, mine);
+    std::printf("}\n");
     return 0;
   }
   double load = -1;
@@ -230,6 +249,7 @@ int benchRender(const CommandArgs& argv) {
               "the advection restarts from the mapped noise (no smearing); mov 1/2: the same with the fabric computed\n"
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"
               "them (the load average is printed above).\n");
+  printRenderPeerTable(peer, mine);
   return 0;
 }
 

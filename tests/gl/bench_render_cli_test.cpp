@@ -1,0 +1,45 @@
+// `dtfabric bench render` end to end on a tiny viewport: the fabric and Phong figures for sphere_41k, and
+// the ParaView Surface LIC peer attempted exactly when pvbatch (or pvpython) is on the PATH, as bench tracts
+// does with tckgen. Either case passes: CI does not install ParaView.
+#include "support/cli.h"
+#include "support/gl_test.h"
+
+#include <regex>
+
+namespace {
+double jsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
+  return std::stod(m[1]);
+}
+} // namespace
+
+TEST(BenchRenderCli, ReportsTheParaViewPeerExactlyWhenItIsOnThePath) {
+  DTF_GL_TEST_SETUP();
+  auto dir = dtf::test::scratchDir();
+  auto r =
+      dtf::test::runDtfabric("bench render --size 96x72 --frames 1 --only sphere_41k --no-brain --json", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("\"name\": \"sphere_41k\""), std::string::npos) << r.out;
+  EXPECT_GT(jsonNumber(r.out, "fabric_ms"), 0) << r.out;
+  const bool havePeer =
+      std::system("command -v pvbatch >/dev/null 2>&1 || command -v pvpython >/dev/null 2>&1") == 0;
+  const bool notOnPath = r.out.find("is not on the PATH") != std::string::npos;
+  EXPECT_EQ(notOnPath, !havePeer) << r.out;
+  if (!havePeer) {
+    EXPECT_NE(r.out.find("\"peer\": null"), std::string::npos) << r.out;
+  } else if (r.out.find("\"peer\": {") != std::string::npos) {
+    EXPECT_GT(jsonNumber(r.out, "lic_default_ms"), 0) << r.out;
+    EXPECT_GT(jsonNumber(r.out, "lic_one_step_ms"), 0) << r.out;
+    EXPECT_GT(jsonNumber(r.out, "surface_ms"), 0) << r.out;
+    EXPECT_GT(jsonNumber(r.out, "default_over_fabric"), 0) << r.out;
+  } else {
+    // On the PATH but unable to run here (no paraview.simple, no display): tried, and says why.
+    EXPECT_NE(r.out.find("\"peer_note\""), std::string::npos) << r.out;
+  }
+  // --no-peer skips it in either case.
+  r = dtf::test::runDtfabric("bench render --size 64x48 --frames 1 --only sphere_41k --no-brain --no-peer",
+                             dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("peer: skipped (--no-peer)"), std::string::npos) << r.out;
+}
