@@ -9,7 +9,7 @@ SilhouettePass::SilhouettePass()
 void SilhouettePass::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
-  edges_ = Texture::create2D(GL_R16F, target.x, target.y);
+  edges_ = Texture::create2D(GL_R8, target.x, target.y);
   edges_.setFilter(GL_NEAREST, GL_NEAREST);
   edges_.setWrap(GL_CLAMP_TO_BORDER); // outside the target counts as blocked for the advection
   const float one[4] = {1, 1, 1, 1};
