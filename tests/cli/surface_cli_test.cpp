@@ -4,15 +4,8 @@
 
 #include <regex>
 
+using dtf::test::jsonNumber;
 using dtf::test::runDtfabric;
-
-namespace {
-double jsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
-  return std::stod(m[1]);
-}
-} // namespace
 
 TEST(SurfaceCli, FibreSurfaceAlongCorticospinalTractBeatsTheAxialSlice) {
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");

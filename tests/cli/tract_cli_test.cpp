@@ -5,14 +5,10 @@
 
 #include <regex>
 
+using dtf::test::jsonNumber;
 using dtf::test::runDtfabric;
 
 namespace {
-double jsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
-  return std::stod(m[1]);
-}
 std::string q(const std::filesystem::path& p) {
   return "'" + p.string() + "'";
 }

@@ -6,13 +6,7 @@
 
 #include <regex>
 
-namespace {
-double jsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
-  return std::stod(m[1]);
-}
-} // namespace
+using dtf::test::jsonNumber;
 
 TEST(BenchRenderCli, ReportsTheParaViewPeerExactlyWhenItIsOnThePath) {
   DTF_GL_TEST_SETUP();

@@ -106,6 +106,14 @@ Texture edgeTexture(std::vector<float> edges, const std::vector<float>& surface)
   return t;
 }
 
+// A constant noise tile (beta = 0.5): the projection tests look at directions, not at the noise.
+Texture flatNoise() {
+  NoiseTile tile;
+  tile.size = 8;
+  tile.values.assign(64, 0.5f);
+  return uploadNoise(tile);
+}
+
 // Unit image-space directions at random angles, max-norm scaled.
 std::vector<float> randomVectors(int w, int h, unsigned seed) {
   std::mt19937 rng(seed);
@@ -232,10 +240,7 @@ TEST_F(FabricPass, ProjectedEigenvectorsLieInTheTangentPlaneAndAreMaxNormScaled)
     mesh.upload(plane);
     GpuTensorField gpuField;
     gpuField.upload(field);
-    NoiseTile tile;
-    tile.size = 8;
-    tile.values.assign(64, 0.5f);
-    Texture noise = uploadNoise(tile);
+    Texture noise = flatNoise();
 
     Camera cam;
     cam.orthographic = !perspective;
@@ -299,10 +304,7 @@ TEST_F(FabricPass, DegenerateAndMissingTensorsGiveZeroVectorsAndNoNaN) {
   mesh.upload(plane);
   GpuTensorField gpuField;
   gpuField.upload(field);
-  NoiseTile tile;
-  tile.size = 8;
-  tile.values.assign(64, 0.5f);
-  Texture noise = uploadNoise(tile);
+  Texture noise = flatNoise();
   Camera cam = Camera::standard(StandardView::Superior, {-50, -50, -1}, {50, 50, 1}, double(kW) / kH);
   FrameView view = FrameView::make(cam, {kW, kH}, 0, {-50, -50, -1}, {50, 50, 1});
   ProjectionPass pass;
@@ -599,10 +601,7 @@ TEST_F(FabricPass, CullingBackFacesOfAClosedSurfaceChangesNothingAndStopsWhenThe
   EXPECT_TRUE(mesh.closedOutward());
   GpuTensorField gpuField;
   gpuField.upload(field);
-  NoiseTile tile;
-  tile.size = 8;
-  tile.values.assign(64, 0.5f);
-  Texture noise = uploadNoise(tile);
+  Texture noise = flatNoise();
 
   // Outside: the same targets with and without culling.
   Camera cam = Camera::standard(StandardView::Anterior, {-20, -20, -20}, {20, 20, 20}, double(kW) / kH);

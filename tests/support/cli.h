@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -33,6 +34,13 @@ inline CliResult runDtfabric(const std::string& args, const std::filesystem::pat
   r.out = readText(outFile);
   r.err = readText(errFile);
   return r;
+}
+
+// The number after `"key": ` in a JSON text; -1 when absent.
+inline double jsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
+  return std::stod(m[1]);
 }
 
 } // namespace dtf::test
