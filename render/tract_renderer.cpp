@@ -188,14 +188,6 @@ std::size_t TractRenderer::segmentCount(int level) const {
   return levelOffsets_[static_cast<std::size_t>(level) + 1] - levelOffsets_[static_cast<std::size_t>(level)];
 }
 
-std::pair<int, std::size_t> TractRenderer::levelFor(std::size_t budget) const {
-  const int n = levelCount();
-  if (n == 0) return {0, 0};
-  for (int k = 0; k < n; ++k)
-    if (segmentCount(k) <= budget) return {k, segmentCount(k)};
-  return {n - 1, std::max<std::size_t>(budget, 1)};
-}
-
 void TractRenderer::draw(const FrameView& view, const TractStyle& style) const {
   draw(view, style, 0, 0, segmentCount(0));
 }

@@ -79,10 +79,6 @@ public:
   void draw(const FrameView& view, const TractStyle& style, int level, std::size_t first,
             std::size_t count) const;
 
-  // The finest level whose segments all fit `budget`, with its segment count; when none fits, the coarsest
-  // level and max(budget, 1) of its segments (a prefix: an even sample of its lines).
-  std::pair<int, std::size_t> levelFor(std::size_t budget) const;
-
   std::size_t pointCount() const { return pointCount_; }
   std::size_t lineCount() const { return lineCount_; }
   int levelCount() const { return static_cast<int>(levelOffsets_.size()) - 1; }

@@ -83,23 +83,39 @@ TEST(TractLevels, ShortLinesGetNoUselessLevelsAndTheCapHolds) {
   EXPECT_TRUE(render::prepareDisplayTracts(Polylines{{}, {0}}).segments.empty());
 }
 
-TEST(TractBudget, ConvergesToTheTargetTimeOfALinearCost) {
-  render::TractBudget b(20.0, 10'000);
-  const double msPerSegment = 0.0004; // 50'000 segments per 20 ms
-  for (int i = 0; i < 20; ++i)
-    b.measured(b.segments(), msPerSegment * double(b.segments()));
-  EXPECT_NEAR(double(b.segments()), 50'000.0, 500.0);
-  // A sudden 10x slower draw halves the budget at most per sample, then settles again.
-  const std::size_t before = b.segments();
-  b.measured(before, 10 * msPerSegment * double(before));
-  EXPECT_EQ(b.segments(), before / 2);
-  for (int i = 0; i < 20; ++i)
-    b.measured(b.segments(), 10 * msPerSegment * double(b.segments()));
-  EXPECT_NEAR(double(b.segments()), 5'000.0, 100.0);
+TEST(TractBudget, LearnsACostPerLevelAndChoosesTheFinestLevelThatFits) {
+  render::TractBudget b(20.0);
+  EXPECT_DOUBLE_EQ(b.msPerSegment(3), render::TractBudget::kInitialMsPerSegment);
+  b.measured(0, 10'000, 10.0); // 1 us per segment at level 0
+  EXPECT_DOUBLE_EQ(b.msPerSegment(0), 1e-3);
+  EXPECT_DOUBLE_EQ(b.msPerSegment(2), 1e-3) << "an unmeasured level borrows the nearest measured cost";
+  EXPECT_EQ(b.chunk(), 20'000u);
+  b.measured(2, 10'000, 30.0); // coarse segments cost more (longer: more fragments)
+  EXPECT_DOUBLE_EQ(b.msPerSegment(2), 3e-3);
+  EXPECT_DOUBLE_EQ(b.msPerSegment(1), 3e-3) << "the coarser neighbour wins a tie";
+  b.measured(2, 10'000, 10.0);
+  EXPECT_DOUBLE_EQ(b.msPerSegment(2), 2e-3) << "halfway towards the new sample";
   // Tiny draws and bad timings are ignored.
-  const std::size_t settled = b.segments();
-  b.measured(10, 1000.0);
-  b.measured(settled, 0.0);
-  b.measured(settled, std::nan(""));
-  EXPECT_EQ(b.segments(), settled);
+  b.measured(2, 10, 1000.0);
+  b.measured(2, 10'000, 0.0);
+  b.measured(2, 10'000, std::nan(""));
+  b.measured(-1, 10'000, 5.0);
+  EXPECT_DOUBLE_EQ(b.msPerSegment(2), 2e-3);
+  EXPECT_EQ(b.chunk(), 20'000u);
+  // Levels of 100k, 50k, 25k, 12.5k segments at 1, 2 (borrowed from level 2), 2 and 4 us each.
+  b.measured(3, 10'000, 40.0);
+  const std::size_t levels[] = {100'000, 50'000, 25'000, 12'500};
+  // 20 ms: none fits whole (100, 100, 50, 50 ms); level 2's 10k of 25k segments (40%) beat level 3's 5k of
+  // 12.5k (40%, not clearly more) and level 0's 20k of 100k (20%).
+  auto c = b.choose(levels);
+  EXPECT_EQ(c.level, 2);
+  EXPECT_EQ(c.segments, 10'000u);
+  // 60 ms: level 2 fits whole (50 ms); level 1 (100 ms) does not.
+  render::TractBudget wide(60.0);
+  wide.measured(0, 10'000, 10.0);
+  wide.measured(2, 10'000, 20.0);
+  c = wide.choose(levels);
+  EXPECT_EQ(c.level, 2);
+  EXPECT_EQ(c.segments, 25'000u);
+  EXPECT_EQ(render::TractBudget().choose(std::span<const std::size_t>()).segments, 0u);
 }
