@@ -393,8 +393,11 @@ private:
       lastLine_ = step.line;
       ++next_;
       if (action) {
+        const auto errorsBefore = scene_->errorSerial();
         perform(*action);
         if (shot || std::holds_alternative<ui::Quit>(*action)) return;
+        if (scene_->errorSerial() != errorsBefore)
+          return;                       // reported at the end of this frame, with this line
         if (!scene_->settled()) return; // started work on the worker
       } else if (const auto* key = std::get_if<ui::Key>(&step.command)) {
         scene_->applyKey(*key);

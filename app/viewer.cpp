@@ -107,14 +107,15 @@ void ViewerScene::addRecent(const std::string& path) {
 }
 
 bool ViewerScene::settled() const {
-  return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy();
+  return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy() &&
+         !pendingAgreement_;
 }
 
 bool ViewerScene::converged() const {
   for (int p = 0; p < paneCount(); ++p) {
     if (dirty_[p] && hasMesh_) return false;
     if (paneShowsTracts(p) && hasMesh_ &&
-        (!tractLayers_[p] || !tractLayers_[p]->complete() ||
+        (!tractLayer_[p] || !tractLayer_[p]->complete() ||
          tractKeys_[p] != displaySerial_ * 1000003 + meshSerial_))
       return false;
   }
@@ -367,7 +368,16 @@ void ViewerScene::update() {
     }
   }
   if (state_.tracking) tractWorker_.tracking(&state_.trackSeedsDone, &state_.trackProgress);
-  state_.agreementRunning = tractWorker_.agreementRunning();
+  if (pendingAgreement_ && !state_.busy && !state_.surfacePending && !state_.tractsLoading) {
+    const ui::ComputeAgreement a = *pendingAgreement_;
+    pendingAgreement_.reset();
+    try {
+      startAgreement(a);
+    } catch (...) {
+      setError(currentError());
+    }
+  }
+  state_.agreementRunning = pendingAgreement_.has_value() || tractWorker_.agreementRunning();
   if (state_.busy) {
     worker_.loading(&state_.busyStage);
     state_.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - busySince_).count();
@@ -395,7 +405,8 @@ void ViewerScene::render(int width, int height) {
     for (int p = 0; p < paneCount(); ++p) {
       const bool shows = paneShowsTracts(p);
       if (tractsShown_[p] && !shows) { // the output holds tracts: render the fabric alone again
-        if (tractLayers_[p]) tractLayers_[p]->reset();
+        for (int slot : {p, 2 + p})
+          if (tractLayers_[slot]) tractLayers_[slot]->reset();
         dirty_[p] = true;
       }
       tractsShown_[p] = shows;
@@ -594,9 +605,11 @@ void ViewerScene::onTractResult(TractResult& r) {
 }
 
 void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
-  if (!tractLayers_[p]) tractLayers_[p] = std::make_unique<render::TractLayer>();
-  render::TractLayer& layer = *tractLayers_[p];
   render::FabricRenderer& r = *outputRenderer_[p];
+  const int slot = &r == lowRes_[p].get() ? 2 + p : p;
+  if (!tractLayers_[slot]) tractLayers_[slot] = std::make_unique<render::TractLayer>();
+  render::TractLayer& layer = *tractLayers_[slot];
+  tractLayer_[p] = &layer;
   const auto rect = paneRect(p);
   render::TractLayer::Frame f;
   f.fabric = &r.output();
@@ -644,10 +657,15 @@ void ViewerScene::startTracking(const ui::TrackRequest& request) {
 }
 
 void ViewerScene::startAgreement(const ui::ComputeAgreement& a) {
-  if (!tracts_) throw UsageError("load or track tracts before computing the agreement");
-  if (!data_ || !hasMesh_) throw UsageError("the agreement needs a tensor volume and a surface on screen");
   if (!(a.nearMm >= 0 && a.nearMm <= 1000)) throw UsageError("agreement distance must lie in [0, 1000] mm");
   if (a.bins < 1 || a.bins > 90) throw UsageError("agreement bins must lie in 1..90");
+  if (state_.busy || state_.surfacePending || state_.tractsLoading) {
+    pendingAgreement_ = a; // for the surface and tracts on their way, not the ones they replace
+    state_.agreementRunning = true;
+    return;
+  }
+  if (!tracts_) throw UsageError("load or track tracts before computing the agreement");
+  if (!data_ || !hasMesh_) throw UsageError("the agreement needs a tensor volume and a surface on screen");
   AgreementJob job;
   job.id = latestAgreement_ = nextId_++;
   job.tracts = tracts_;

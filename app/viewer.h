@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -146,10 +147,14 @@ private:
   std::uint64_t displaySerial_ = 0;                       // changes with every selection result
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
-  std::array<std::unique_ptr<render::TractLayer>, 2> tractLayers_;
-  std::array<std::uint64_t, 2> tractKeys_{}; // key each layer last drew with
+  // Per pane, one layer for full-size and one for interactive frames (as the renderers: switching between
+  // the two sizes re-creates no targets); tractLayer_[p] is the one pane p drew with last.
+  std::array<std::unique_ptr<render::TractLayer>, 4> tractLayers_;
+  std::array<render::TractLayer*, 2> tractLayer_{nullptr, nullptr};
+  std::array<std::uint64_t, 2> tractKeys_{}; // key pane p's layer last drew with
   std::array<bool, 2> tractsShown_{false, false};
   render::TractBudget tractBudget_;
+  std::optional<ui::ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 };
 
 // Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.

@@ -209,8 +209,9 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
 }
 
 void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
-  if (!ImGui::CollapsingHeader("Tracts")) return;
+  const bool open = ImGui::CollapsingHeader("Tracts");
   probe(b, "Tracts");
+  if (!open) return;
   const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(),
                                       ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
@@ -250,8 +251,9 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     if (!s.saveStatus.empty()) ImGui::TextDisabled("%s", s.saveStatus.c_str());
   }
 
-  if (ImGui::TreeNode("Tracking")) {
-    probe(b, "Tracking");
+  const bool tracking = ImGui::TreeNode("Tracking");
+  probe(b, "Tracking");
+  if (tracking) {
     TrackRequest& t = b.track;
     static const char* const seedKinds[] = {"surface on screen", "slice", "sphere (ROI)", "FA mask"};
     int seeds = static_cast<int>(t.seeds);
@@ -303,8 +305,9 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     ImGui::TreePop();
   }
 
-  if (ImGui::TreeNode("Agreement with the fabric")) {
-    probe(b, "Agreement with the fabric");
+  const bool agreement = ImGui::TreeNode("Agreement with the fabric");
+  probe(b, "Agreement with the fabric");
+  if (agreement) {
     sliderDouble("within (mm)", b.agreementNearMm, 0.5f, 10.0f, "%.1f");
     ImGui::SliderInt("bins", &b.agreementBins, 3, 30);
     ImGui::BeginDisabled(s.tractPath.empty() || !s.hasData || s.agreementRunning);
