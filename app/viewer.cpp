@@ -115,8 +115,7 @@ bool ViewerScene::converged() const {
   for (int p = 0; p < paneCount(); ++p) {
     if (dirty_[p] && hasMesh_) return false;
     if (paneShowsTracts(p) && hasMesh_ &&
-        (!tractLayer_[p] || !tractLayer_[p]->complete() ||
-         tractKeys_[p] != displaySerial_ * 1000003 + meshSerial_))
+        (!tractLayer_[p] || !tractLayer_[p]->complete() || tractKeys_[p] != tractKey()))
       return false;
   }
   return true;
@@ -621,7 +620,7 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
     f.style.plane = tractsPlane_;
     f.style.slabMm = static_cast<float>(state_.tractsNearMm);
   }
-  f.key = tractKeys_[p] = displaySerial_ * 1000003 + meshSerial_;
+  f.key = tractKeys_[p] = tractKey();
   f.moving = moving;
   f.draw = tractBudget_.choose(*tractRenderer_);
   f.chunk = tractBudget_.chunk();

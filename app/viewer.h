@@ -109,6 +109,8 @@ private:
   void startTracking(const ui::TrackRequest& request);
   void startAgreement(const ui::ComputeAgreement& a);
   void saveTracts(const ui::SaveTracts& a);
+  // What the tract layers draw: the selection uploaded and the surface they are depth-tested against.
+  std::uint64_t tractKey() const { return displaySerial_ * 1000003 + meshSerial_; }
 
   ui::ViewerState state_;
   ViewerWorker worker_;
