@@ -223,8 +223,8 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     ImGui::TextDisabled(".tck, .trk or .vtk streamlines (world RAS mm), or track below");
   } else {
     ImGui::TextWrapped("%s", s.tractPath.c_str());
-    ImGui::Text("%zu streamlines, %zu points, mean length %.1f mm", s.tractCount, s.tractPoints,
-                s.tractMeanLengthMm);
+    ImGui::TextWrapped("%zu streamlines, %zu points, mean length %.1f mm", s.tractCount, s.tractPoints,
+                       s.tractMeanLengthMm);
     bool visible = s.tractsVisible;
     if (ImGui::Checkbox("show tracts", &visible)) out.push_back(SetTractsVisible{visible});
     probe(b, "show tracts");
@@ -321,11 +321,13 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     if (s.hasAgreement) {
       ImGui::PlotHistogram("##angles", s.agreementHistogram.data(),
                            static_cast<int>(s.agreementHistogram.size()), 0,
-                           "tract vs fabric angle, 0-90 deg", 0.0f, FLT_MAX, ImVec2(-1, 80));
-      ImGui::Text("%zu points: median %.1f, mean %.1f deg", s.agreementPoints, s.agreementMedianDeg,
-                  s.agreementMeanDeg);
-      ImGui::Text("%.1f%% below 15 deg (%zu within %.1f mm, %zu skipped)", 100.0 * s.agreementFracBelow15,
-                  s.agreementNearPoints, s.agreementNearMm, s.agreementSkipped);
+                           "tract-fabric angle, 0-90 deg", 0.0f, FLT_MAX,
+                           ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
+      ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "
+                         "%zu skipped)",
+                         s.agreementPoints, s.agreementMedianDeg, s.agreementMeanDeg,
+                         100.0 * s.agreementFracBelow15, s.agreementNearPoints, s.agreementNearMm,
+                         s.agreementSkipped);
       ImGui::TextDisabled("on the %s", s.agreementSurface.c_str());
     }
     ImGui::TreePop();
