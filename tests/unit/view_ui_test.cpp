@@ -284,6 +284,8 @@ TEST_F(ViewTractsPanel, AgreementComputesWithCompareDefaultsAndShowsTheHistogram
   state.agreementHistogram = {50, 20, 10, 5, 3, 2, 1, 1, 0};
   state.agreementPoints = 92;
   EXPECT_TRUE(frame(-1, -1, false).empty());
+  ASSERT_TRUE(centres.count("agreement histogram"));
+  EXPECT_GT(centres["agreement histogram"][0], 70.0f) << "the histogram has the panel's width";
   state.agreementRunning = true;
   EXPECT_FALSE(find<ComputeAgreement>(click("Compute"))) << "disabled while computing";
 }
