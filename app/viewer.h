@@ -1,8 +1,10 @@
 // The viewer's scene, separate from the window: the loaded data, the surface on screen, one or two fabric
-// panes (FabricRenderer each, the batch renderer's path), their cameras, and the actions of ui/actions.h
-// applied to them. It needs a current GL 4.5 context but no GLFW, so `dtfabric view` drives it from a
-// window and `dtfabric bench view` from the headless context. Errors never escape: they become the
-// error chain in state(), which the window shows as a modal.
+// panes (FabricRenderer each, the batch renderer's path), their cameras, the tracts drawn over them
+// (render/tract_layer.h under a frame budget; selection, tracking, agreement and saving on the
+// app/tract_worker.h threads), and the actions of ui/actions.h applied to them. It needs a current GL 4.5
+// context but no GLFW, so `dtfabric view` drives it from a window and `dtfabric bench view` from the
+// headless context. Errors never escape: they become the error chain in state(), which the window shows as
+// a modal.
 #pragma once
 
 #include "app/surface_spec.h"
