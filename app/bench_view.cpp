@@ -63,17 +63,20 @@ void waitSettled(ViewerScene& scene, double seconds) {
 } // namespace
 
 int benchView(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
+  Args args(argv, {"json", "help", "no-tracts"});
   if (args.flag("help")) {
     std::printf(
-        "usage: dtfabric bench view [--data DIR] [--input TENSOR] [--size WxH] [--frames N] [--json]\n"
+        "usage: dtfabric bench view [--data DIR] [--input TENSOR] [--tracts FILE | --no-tracts] [--size WxH]\n"
+        "                           [--frames N] [--json]\n"
         "Frame times of the viewer scene (headless) while sweeping the FA threshold and while rotating\n"
-        "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz).\n");
+        "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz), then while\n"
+        "rotating it with tracts within 3 mm drawn over it (default: the shared tracks_det.tck).\n");
     return 0;
   }
-  const bool json = args.flag("json");
+  const bool json = args.flag("json"), tractsOn = !args.flag("no-tracts");
   const auto dataDir = args.get("data");
   std::string input = args.getOr("input", "");
+  std::string tractsPath = args.getOr("tracts", "");
   int width = 1024, height = 768;
   parseSize(args.getOr("size", "1024x768"), width, height);
   const int frames = std::clamp(args.getInt("frames", 240), 10, 100000);
@@ -82,6 +85,7 @@ int benchView(const CommandArgs& argv) {
     auto dir = findSharedDataDir(dataDir);
     if (!dir) throw InputError("bench view: shared data not found (give --data DIR or --input TENSOR)");
     input = (*dir / "iu_prisma_dwi" / "derived" / "dti_tensor.nii.gz").string();
+    if (tractsPath.empty()) tractsPath = (*dir / "iu_prisma_dwi" / "derived" / "tracks_det.tck").string();
   }
 
   render::GlContext& gl = render::GlContext::headless();
@@ -156,10 +160,33 @@ int benchView(const CommandArgs& argv) {
   const render::PassTimes pt = full.lastTimes();
   full.setTiming(false);
   const std::size_t triangles = scene.state().triangles;
+  // Tracts: the time to select those within 3 mm of the FA isosurface (worker), then rotating with them
+  // drawn through the budgeted tract layer, interactive frames at the adaptive size.
+  std::vector<double> rotateTractsMs;
+  double tractsReadyMs = 0, tractsStillMs = 0;
+  int tractsStillFrames = 0;
+  std::size_t tractPoints = 0, tractsShown = 0;
+  if (!tractsPath.empty() && tractsOn) {
+    scene.setInteractiveScale(0.5); // as in the first rotation
+    const auto t0 = Clock::now();
+    scene.apply(ui::LoadTracts{tractsPath});
+    waitSettled(scene, 300);
+    tractsReadyMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    tractPoints = scene.state().tractPoints;
+    tractsShown = scene.state().tractsShownPoints;
+    for (int i = 0; i < 300 && !scene.converged(); ++i)
+      frame();
+    rotateTractsMs = rotate();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    while (!scene.converged() && tractsStillFrames < 1000) {
+      tractsStillMs += frame();
+      ++tractsStillFrames;
+    }
+  }
   gl.checkErrors("bench view");
 
   const double load = loadAverage();
-  const Stats sw = stats(sweepMs), ro = stats(rotateMs), rf = stats(rotateFullMs);
+  const Stats sw = stats(sweepMs), ro = stats(rotateMs), rf = stats(rotateFullMs), rt = stats(rotateTractsMs);
   if (json) {
     std::printf(
         "{\"input\": \"%s\", \"width\": %d, \"height\": %d, \"load_ms\": %.1f, \"triangles\": %zu, "
@@ -171,11 +198,15 @@ int benchView(const CommandArgs& argv) {
         "\"rotate_full_size\": {\"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
         "\"passes_ms\": {\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": "
         "%.2f}, "
-        "\"still\": {\"frames\": %d, \"ms\": %.1f}, \"load_average\": %.2f, \"gl\": \"%s\"}\n",
+        "\"still\": {\"frames\": %d, \"ms\": %.1f}, "
+        "\"tracts\": {\"points\": %zu, \"shown\": %zu, \"load_select_ms\": %.1f, \"rotate_mean_ms\": %.2f, "
+        "\"rotate_median_ms\": %.2f, \"rotate_p95_ms\": %.2f, \"rotate_fps\": %.1f, \"still_frames\": %d, "
+        "\"still_ms\": %.1f}, \"load_average\": %.2f, \"gl\": \"%s\"}\n",
         input.c_str(), width, height, loadMs, triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
         static_cast<unsigned long long>(meshesShown), meshesShown / sweepSeconds, ro.frames, ro.mean,
         ro.median, ro.p95, ro.fps, rf.mean, rf.median, rf.p95, rf.fps, pt.projection, pt.silhouette,
-        pt.advection, pt.composite, stillFrames, stillMs, load, gl.description().c_str());
+        pt.advection, pt.composite, stillFrames, stillMs, tractPoints, tractsShown, tractsReadyMs, rt.mean,
+        rt.median, rt.p95, rt.fps, tractsStillFrames, tractsStillMs, load, gl.description().c_str());
   } else {
     std::printf("bench view: %s at %dx%d (%s)\n", input.c_str(), width, height, gl.description().c_str());
     std::printf("  load + FA + sweeper + first surface: %.0f ms, %zu triangles\n", loadMs, triangles);
@@ -192,6 +223,13 @@ int benchView(const CommandArgs& argv) {
         "composite %.1f\n",
         pt.projection, pt.silhouette, pt.advection, pt.composite);
     std::printf("  still: converged in %d frames, %.0f ms\n", stillFrames, stillMs);
+    if (!rotateTractsMs.empty()) {
+      std::printf("  tracts: %zu points, %zu within 3 mm of the surface; loaded and selected in %.0f ms\n",
+                  tractPoints, tractsShown, tractsReadyMs);
+      std::printf("  %-8s %6d %9.2f %9.2f %9.2f %7.1f   (rotating with the tracts drawn)\n", "+tracts",
+                  rt.frames, rt.mean, rt.median, rt.p95, rt.fps);
+      std::printf("  still with tracts: converged in %d frames, %.0f ms\n", tractsStillFrames, tractsStillMs);
+    }
     std::printf("  load average %.2f on %u cores while measuring\n", load,
                 std::thread::hardware_concurrency());
     std::printf("  goal: >= 15 fps while sweeping and rotating: %s\n",

@@ -33,7 +33,7 @@ int cmdBench(const CommandArgs& args) {
                 "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
                 "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
                 "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n"
-                "  overlay   ms/frame of the tract overlay over the fabric (brain slice + 2000 tracts, 1M points)\n");
+                "  overlay   the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());

@@ -32,7 +32,9 @@ namespace {
 const char* kHelp = R"(usage: dtfabric view [INPUT ...] [OPTIONS]
 
 Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, or a DWI with sibling
-.bval/.bvec), with Data, Surface, Fabric and View panels. Further INPUTs are listed under recent files.
+.bval/.bvec), with Data, Surface, Fabric, View and Tracts panels (load or track streamlines, draw them over
+the fabric near the surface, save them, and measure their agreement with the fabric). Further INPUTs are
+listed under recent files.
 
 Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.
 Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.
@@ -41,10 +43,11 @@ Options
   --surface SPEC   first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
-  --script FILE    replay a viewer script (see app/view_script.h): load, surface, fa, slice, key, rotate,
-                   pan, zoom, view, split, linked, neurological, set, probe, resize, tracts, wait,
-                   screenshot (whole window, panels included), screenshot-scene (fabric panes only),
-                   camera-save, camera-load, quit.
+  --script FILE    replay a viewer script (see app/view_script.h and the README): load, surface, fa, slice,
+                   key, rotate, pan, zoom, view, split (on|off|colour|phong|tracts), linked, neurological,
+                   set, probe, resize, wait, screenshot (whole window, panels included), screenshot-scene
+                   (fabric panes only), camera-save, camera-load, tracts, tracts-visible, tracts-near,
+                   tract-width, track, track-cancel, tracts-save, agreement, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed.
 )";
@@ -157,6 +160,7 @@ public:
     scene_ = std::make_unique<ViewerScene>(surface);
     std::snprintf(buffers_.screenshotPath.data(), buffers_.screenshotPath.size(), "dtfabric.png");
     std::snprintf(buffers_.cameraPath.data(), buffers_.cameraPath.size(), "dtfabric.camera");
+    std::snprintf(buffers_.tractSavePath.data(), buffers_.tractSavePath.size(), "tracts.tck");
     actions_.reserve(32);
   }
 
@@ -369,8 +373,10 @@ private:
       const auto* action = std::get_if<ui::Action>(&step.command);
       const bool shot = action && std::holds_alternative<ui::Screenshot>(*action);
       const bool probe = std::holds_alternative<ScriptProbe>(step.command);
+      // track-cancel is meant for the running tracking: it does not wait for the worker.
+      const bool cancel = action && std::holds_alternative<ui::CancelTracking>(*action);
       // Screenshots and probes read the rendered image: they wait for the fabric to converge.
-      const bool ready = scene_->settled() && (!(shot || probe) || scene_->converged());
+      const bool ready = cancel || (scene_->settled() && (!(shot || probe) || scene_->converged()));
       if (!ready) {
         if (!waitingSince_) waitingSince_ = now;
         if (std::chrono::duration<double>(now - *waitingSince_).count() < kStepTimeoutSeconds) return;
@@ -387,8 +393,11 @@ private:
       lastLine_ = step.line;
       ++next_;
       if (action) {
+        const auto errorsBefore = scene_->errorSerial();
         perform(*action);
         if (shot || std::holds_alternative<ui::Quit>(*action)) return;
+        if (scene_->errorSerial() != errorsBefore)
+          return;                       // reported at the end of this frame, with this line
         if (!scene_->settled()) return; // started work on the worker
       } else if (const auto* key = std::get_if<ui::Key>(&step.command)) {
         scene_->applyKey(*key);

@@ -1,6 +1,7 @@
 #include "app/view_script.h"
 
 #include "app/surface_spec.h"
+#include "app/tract_worker.h"
 #include "io/model/error.h"
 #include "surfaces/slices.h"
 
@@ -93,6 +94,101 @@ ScriptSetParam parseParam(const std::string& name, const std::string& value) {
       "step, fade, auto-lod-pixels)"};
 }
 
+// `track KEY=VALUE ...`: the options of `dtfabric track` (see view_script.h).
+ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
+  ui::TrackRequest r;
+  bool counted = false;
+  for (std::size_t i = 1; i < w.size(); ++i) {
+    const std::string& a = w[i];
+    if (a == "rk4" || a == "euler") {
+      r.rk4 = a == "rk4";
+      continue;
+    }
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq + 1 == a.size())
+      throw LineError{"track: expected KEY=VALUE, got '" + a + "'"};
+    const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
+    auto setCount = [&](ui::SeedCount kind) {
+      if (counted) throw LineError{"track: give one of select=, seeds=, per-voxel="};
+      counted = true;
+      r.count = kind;
+      r.number = integer(value, "track " + key);
+      if (r.number < 1 || r.number > 10'000'000) throw LineError{"track " + key + " must lie in [1, 10^7]"};
+    };
+    if (key == "from") {
+      const auto colon = value.find(':');
+      const std::string kind = value.substr(0, colon),
+                        rest = colon == std::string::npos ? "" : value.substr(colon + 1);
+      if (kind == "surface" && rest.empty()) {
+        r.seeds = ui::SeedKind::Surface;
+      } else if (kind == "slice" && !rest.empty()) {
+        r.seeds = ui::SeedKind::Slice;
+        const auto c2 = rest.find(':');
+        try {
+          r.sliceAxis = static_cast<int>(surfaces::parseSliceAxis(rest.substr(0, c2)));
+        } catch (const UsageError& e) {
+          throw LineError{e.what()};
+        }
+        r.sliceIndex = c2 == std::string::npos ? -1 : integer(rest.substr(c2 + 1), "track slice index");
+        if (c2 != std::string::npos && (r.sliceIndex < 0 || r.sliceIndex > 1'000'000))
+          throw LineError{"track: slice index must lie in [0, 10^6]"};
+      } else if (kind == "sphere" && !rest.empty()) {
+        r.seeds = ui::SeedKind::Sphere;
+        double v[4];
+        std::size_t at = 0;
+        for (int k = 0; k < 4; ++k) {
+          const auto comma = rest.find(',', at);
+          if ((k < 3) == (comma == std::string::npos)) throw LineError{"track: from=sphere:X,Y,Z,R"};
+          v[k] =
+              number(rest.substr(at, comma == std::string::npos ? std::string::npos : comma - at), "sphere");
+          at = comma + 1;
+        }
+        if (!(v[3] > 0 && v[3] <= 1000)) throw LineError{"track: the sphere radius must lie in (0, 1000] mm"};
+        r.centre = glm::dvec3(v[0], v[1], v[2]);
+        r.radiusMm = v[3];
+      } else if (kind == "fa" && !rest.empty()) {
+        r.seeds = ui::SeedKind::FaMask;
+        r.faMask = number(rest, "track FA mask");
+        if (!(r.faMask > 0 && r.faMask < 1)) throw LineError{"track: from=fa:T needs 0 < T < 1"};
+      } else {
+        throw LineError{"track: from=surface | slice:AXIS[:I] | sphere:X,Y,Z,R | fa:T, got '" + value + "'"};
+      }
+    } else if (key == "select") {
+      setCount(ui::SeedCount::Select);
+    } else if (key == "seeds") {
+      setCount(ui::SeedCount::Seeds);
+    } else if (key == "per-voxel") {
+      setCount(ui::SeedCount::PerVoxel);
+    } else if (key == "fa-stop") {
+      r.faStop = number(value, "track fa-stop");
+    } else if (key == "angle") {
+      r.angleDeg = number(value, "track angle");
+    } else if (key == "step") {
+      r.stepMm = number(value, "track step");
+    } else if (key == "min-length") {
+      r.minLengthMm = number(value, "track min-length");
+    } else if (key == "max-length") {
+      r.maxLengthMm = number(value, "track max-length");
+    } else if (key == "seed") {
+      r.rngSeed = integer(value, "track seed");
+      if (r.rngSeed < 0) throw LineError{"track: seed must not be negative"};
+    } else {
+      throw LineError{
+          "track: unknown option '" + key +
+          "' (from, select, seeds, per-voxel, fa-stop, angle, step, min-length, max-length, seed, "
+          "rk4, euler)"};
+    }
+  }
+  if (r.count == ui::SeedCount::PerVoxel && r.seeds != ui::SeedKind::FaMask)
+    throw LineError{"track: per-voxel needs from=fa:T"};
+  try {
+    surfaces::validate(dtf::app::trackingOptions(r));
+  } catch (const UsageError& e) {
+    throw LineError{std::string("track: ") + e.what()};
+  }
+  return r;
+}
+
 // Everything after the command word, for paths that may hold spaces.
 std::string restOf(const std::string& line, const std::string& command) {
   return trim(line.substr(line.find(command) + command.size()));
@@ -157,8 +253,17 @@ ScriptStep parseLine(const std::string& line, int number_) {
       throw LineError{e.what()};
     }
   } else if (c == "split") {
-    expectArgs(w, 1, "split on|off");
-    step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+    expectArgs(w, 1, "split on|off|colour|phong|tracts");
+    if (w[1] == "colour" || w[1] == "color")
+      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::OtherColourMode});
+    else if (w[1] == "phong")
+      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Phong});
+    else if (w[1] == "tracts")
+      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Tracts});
+    else if (w[1] == "on" || w[1] == "off" || w[1] == "1" || w[1] == "0" || w[1] == "true" || w[1] == "false")
+      step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+    else
+      throw LineError{"split takes on or off (or colour, phong, tracts), got '" + w[1] + "'"};
   } else if (c == "linked") {
     expectArgs(w, 1, "linked on|off");
     step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
@@ -199,6 +304,40 @@ ScriptStep parseLine(const std::string& line, int number_) {
     step.command = ScriptResize{width, height};
   } else if (c == "tracts") {
     step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
+  } else if (c == "tracts-visible") {
+    expectArgs(w, 1, "tracts-visible on|off");
+    step.command = ui::Action(ui::SetTractsVisible{onOff(w[1], "tracts-visible")});
+  } else if (c == "tracts-near") {
+    expectArgs(w, 1, "tracts-near MM");
+    const double mm = number(w[1], "tracts-near");
+    if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
+    step.command = ui::Action(ui::SetTractsNear{mm});
+  } else if (c == "tract-width") {
+    expectArgs(w, 1, "tract-width PX");
+    const double px = number(w[1], "tract-width");
+    if (px <= 0 || px > 32) throw LineError{"tract-width must lie in (0, 32] pixels, got " + w[1]};
+    step.command = ui::Action(ui::SetTractWidth{px});
+  } else if (c == "track") {
+    step.command = ui::Action(ui::TrackTracts{parseTrack(w)});
+  } else if (c == "track-cancel") {
+    expectArgs(w, 0, "track-cancel");
+    step.command = ui::Action(ui::CancelTracking{});
+  } else if (c == "tracts-save") {
+    std::string p = pathArg("tracts-save PATH [force]");
+    bool force = false;
+    if (w.size() > 2 && w.back() == "force") {
+      force = true;
+      p = trim(p.substr(0, p.size() - 5));
+    }
+    step.command = ui::Action(ui::SaveTracts{p, force, false});
+  } else if (c == "agreement") {
+    if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
+    ui::ComputeAgreement a;
+    if (w.size() > 1) a.nearMm = number(w[1], "agreement distance");
+    if (w.size() > 2) a.bins = integer(w[2], "agreement bins");
+    if (a.nearMm < 0 || a.nearMm > 1000) throw LineError{"agreement distance must lie in [0, 1000] mm"};
+    if (a.bins < 1 || a.bins > 90) throw LineError{"agreement bins must lie in 1..90"};
+    step.command = ui::Action(a);
   } else if (c == "quit") {
     expectArgs(w, 0, "quit");
     step.command = ui::Action(ui::Quit{});
@@ -206,7 +345,9 @@ ScriptStep parseLine(const std::string& line, int number_) {
     throw LineError{
         "unknown command '" + c +
         "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, resize, tracts, quit)"};
+        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, resize, tracts, "
+        "tracts-visible, "
+        "tracts-near, tract-width, track, track-cancel, tracts-save, agreement, quit)"};
   }
   return step;
 }

@@ -11,7 +11,10 @@
 //   pan DX DY                 pan by DX, DY pixels
 //   zoom F                    magnify by F (2 = twice as large)
 //   view NAME                 superior|inferior|anterior|posterior|left|right|axial|coronal|sagittal
-//   split on|off, linked on|off, neurological on|off
+//   split on|off              two panes (linked on|off: one camera); split colour|phong|tracts also picks the
+//                             right pane: the other colour mode, Phong shading, or fabric + tracts (the left
+//                             pane then shows the fabric alone)
+//   linked on|off, neurological on|off
 //   set PARAM VALUE           fabric parameter: lod k iterations epsilon r colour(medical|engineering)
 //                             lighting(on|off) silhouette(on|off) sharpen depth-colour contrast step fade
 //   wait FRAMES               render FRAMES more frames
@@ -20,7 +23,20 @@
 //   camera-save PATH, camera-load PATH
 //   probe X Y                 print the status bar's voxel under scene pixel (X, Y) (y down) to stderr
 //   resize WxH                resize the window (e.g. 800x600)
-//   tracts PATH               load .tck/.trk/.vtk streamlines (listed in the Tracts panel)
+//   tracts PATH               load .tck/.trk/.vtk streamlines and draw them over the fabric
+//   tracts-visible on|off     show or hide the tracts
+//   tracts-near MM            only tract segments within MM of the surface (a slab on planar surfaces);
+//                             0 = every tract (default 3)
+//   tract-width PX            tube width in pixels (default 2)
+//   track [KEY=VALUE ...]     deterministic tracking on the worker (replaces the tracts on screen):
+//                             from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T (default surface),
+//                             select=N|seeds=N|per-voxel=K (default select=1000; per-voxel with from=fa),
+//                             fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler
+//   track-cancel              cancel a running `track` (runs without waiting for it)
+//   tracts-save PATH [force]  write the tracts (all points) to .tck/.trk/.vtk; an existing file only with
+//   force agreement [MM [BINS]]     tract/fabric angles within MM (default 2) of the surface, BINS bins
+//   (default 9):
+//                             the numbers of `dtfabric compare`, printed to stderr
 //   quit                      close the viewer
 // `#` starts a comment; blank lines are skipped.
 #pragma once

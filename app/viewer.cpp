@@ -1,6 +1,7 @@
 #include "app/viewer.h"
 
 #include "app/tract_files.h"
+#include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
@@ -10,7 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <epoxy/gl.h>
+#include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <sstream>
@@ -104,13 +107,23 @@ void ViewerScene::addRecent(const std::string& path) {
 }
 
 bool ViewerScene::settled() const {
-  return !worker_.busy() && !state_.busy && !state_.tractsLoading;
+  return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy() &&
+         !pendingAgreement_;
 }
 
 bool ViewerScene::converged() const {
-  for (int p = 0; p < paneCount(); ++p)
+  for (int p = 0; p < paneCount(); ++p) {
     if (dirty_[p] && hasMesh_) return false;
+    if (paneShowsTracts(p) && hasMesh_ &&
+        (!tractLayer_[p] || !tractLayer_[p]->complete() || tractKeys_[p] != tractKey()))
+      return false;
+  }
   return true;
+}
+
+bool ViewerScene::paneShowsTracts(int p) const {
+  if (!state_.tractsVisible || !tractRenderer_ || tractRenderer_->segmentCount(0) == 0) return false;
+  return !(state_.split && state_.secondPane == ui::SecondPane::Tracts && p == 0);
 }
 
 std::array<int, 4> ViewerScene::paneRect(int p) const {
@@ -248,7 +261,7 @@ render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRend
     fieldUploaded_[slot] = fieldSerial_;
   }
   if (hasMesh_ && meshUploaded_[slot] != meshSerial_) {
-    r->setMesh(mesh_);
+    r->setMesh(*mesh_);
     meshUploaded_[slot] = meshSerial_;
   }
   return *r;
@@ -256,11 +269,12 @@ render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRend
 
 void ViewerScene::setMesh(Mesh&& mesh) {
   // Uploaded when a renderer next draws: a sweep without split view feeds one or two renderers, not four.
-  mesh_ = std::move(mesh);
+  mesh_ = std::make_shared<const Mesh>(std::move(mesh));
   hasMesh_ = true;
   ++meshSerial_;
-  state_.triangles = mesh_.triangleCount();
+  state_.triangles = mesh_->triangleCount();
   cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
+  requestSelection();
 }
 
 void ViewerScene::onResult(WorkerResult& r) {
@@ -333,25 +347,36 @@ void ViewerScene::update() {
       setError(currentError());
     }
   }
-  if (state_.tractsLoading && tracts_.valid() &&
-      tracts_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+  if (state_.tractsLoading && tractsLoading_.valid() &&
+      tractsLoading_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     state_.tractsLoading = false;
     try {
-      const Polylines lines = tracts_.get();
-      state_.tractPath = pendingTractPath_;
-      state_.tractCount = lines.lineCount();
-      state_.tractPoints = lines.points.size();
-      double total = 0;
-      for (std::size_t l = 0; l < lines.lineCount(); ++l)
-        for (std::uint32_t i = lines.offsets[l] + 1; i < lines.offsets[l + 1]; ++i)
-          total += glm::length(lines.points[i] - lines.points[i - 1]);
-      state_.tractMeanLengthMm = lines.lineCount() ? total / lines.lineCount() : 0;
+      setTracts(std::make_shared<const Polylines>(tractsLoading_.get()), pendingTractPath_);
       logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
               std::to_string(state_.tractPoints) + " points");
     } catch (...) {
       setError(currentError());
     }
   }
+  TractResult tr;
+  while (tractWorker_.poll(tr)) {
+    try {
+      onTractResult(tr);
+    } catch (...) {
+      setError(currentError());
+    }
+  }
+  if (state_.tracking) tractWorker_.tracking(&state_.trackSeedsDone, &state_.trackProgress);
+  if (pendingAgreement_ && !state_.busy && !state_.surfacePending && !state_.tractsLoading) {
+    const ui::ComputeAgreement a = *pendingAgreement_;
+    pendingAgreement_.reset();
+    try {
+      startAgreement(a);
+    } catch (...) {
+      setError(currentError());
+    }
+  }
+  state_.agreementRunning = pendingAgreement_.has_value() || tractWorker_.agreementRunning();
   if (state_.busy) {
     worker_.loading(&state_.busyStage);
     state_.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - busySince_).count();
@@ -374,9 +399,20 @@ void ViewerScene::render(int width, int height) {
     const double wanted = scale_ * std::clamp(std::sqrt(kTargetFrameMs / state_.frameMs), 0.7, 1.3);
     scale_ = std::clamp(std::round(wanted * 8.0) / 8.0, 0.25, interactiveScale_);
   }
+  std::array<bool, 2> fabricChanged{false, false};
   try {
     for (int p = 0; p < paneCount(); ++p) {
+      const bool shows = paneShowsTracts(p);
+      if (tractsShown_[p] && !shows) { // the output holds tracts: render the fabric alone again
+        for (int slot : {p, 2 + p})
+          if (tractLayers_[slot]) tractLayers_[slot]->reset();
+        dirty_[p] = true;
+      }
+      tractsShown_[p] = shows;
+    }
+    for (int p = 0; p < paneCount(); ++p) {
       if (!dirty_[p]) continue;
+      fabricChanged[p] = true;
       const auto rect = paneRect(p);
       const render::Camera& cam = camera(p);
       const bool low = moving && interactiveScale_ < 1.0;
@@ -394,7 +430,7 @@ void ViewerScene::render(int width, int height) {
         continue;
       }
       render::FabricParams params = state_.fabric;
-      if (p == 1)
+      if (p == 1 && state_.secondPane == ui::SecondPane::OtherColourMode)
         params.colour = params.colour == render::ColourMode::Medical ? render::ColourMode::Engineering
                                                                      : render::ColourMode::Medical;
       if (low) {
@@ -418,6 +454,8 @@ void ViewerScene::render(int width, int height) {
           iterationsSinceRestart_[p] >= std::max(params.stillMaxIterations, kStillIterations))
         dirty_[p] = false;
     }
+    for (int p = 0; p < paneCount(); ++p)
+      if (tractsShown_[p] && outputRenderer_[p] && outputFbo_[p]) tractFrame(p, fabricChanged[p], moving);
     static const std::string where = "rendering the fabric"; // no allocation per frame
     render::checkGl(where);
   } catch (...) {
@@ -476,6 +514,200 @@ void ViewerScene::probe(double x, double y) {
   out.e1 = e.vectors[0];
 }
 
+void ViewerScene::setTracts(std::shared_ptr<const Polylines> lines, const std::string& label) {
+  tracts_ = std::move(lines);
+  ++tractsSerial_;
+  const Polylines& l = *tracts_;
+  state_.tractPath = label;
+  state_.tractCount = l.lineCount();
+  state_.tractPoints = l.points.size();
+  double total = 0;
+  for (std::size_t i = 0; i < l.lineCount(); ++i)
+    for (std::uint32_t k = l.offsets[i] + 1; k < l.offsets[i + 1]; ++k)
+      total += glm::length(l.points[k] - l.points[k - 1]);
+  state_.tractMeanLengthMm = l.lineCount() ? total / static_cast<double>(l.lineCount()) : 0;
+  state_.hasAgreement = false; // computed for other tracts
+  requestSelection();
+}
+
+void ViewerScene::requestSelection() {
+  if (!tracts_) return;
+  SelectionJob job;
+  job.id = latestSelection_ = nextId_++;
+  job.tracts = tracts_;
+  job.tractsSerial = tractsSerial_;
+  if (hasMesh_) job.mesh = mesh_;
+  job.nearMm = state_.tractsNearMm;
+  state_.tractsSelecting = true;
+  tractWorker_.requestSelection(std::move(job));
+}
+
+void ViewerScene::onTractResult(TractResult& r) {
+  using K = TractResult::Kind;
+  if (r.kind == K::Failed) {
+    if (r.id == latestSelection_) state_.tractsSelecting = false;
+    if (r.id == latestTracking_) {
+      state_.tracking = false;
+      state_.trackStatus = "failed: " + r.error;
+    }
+    setError("while " + r.what + ": " + r.error);
+    return;
+  }
+  if (r.kind == K::Selection) {
+    if (r.id != latestSelection_) return; // a newer selection is on its way
+    state_.tractsSelecting = false;
+    if (!tractRenderer_) tractRenderer_ = std::make_unique<render::TractRenderer>();
+    if (r.display != uploaded_) {
+      tractRenderer_->upload(*r.display);
+      uploaded_ = r.display;
+    }
+    ++displaySerial_;
+    tractsSlab_ = r.slab;
+    tractsPlane_ = r.plane;
+    state_.tractsSlab = r.slab;
+    state_.tractsShownLines = tractRenderer_->lineCount();
+    state_.tractsShownPoints = tractRenderer_->pointCount();
+    logInfo("tracts shown: " + std::to_string(r.lines) + " streamline pieces, " + std::to_string(r.points) +
+            " points" + (r.slab ? " (slab around the plane)" : ""));
+  } else if (r.kind == K::Tracking) {
+    if (r.id != latestTracking_) return;
+    state_.tracking = false;
+    state_.trackStatus = r.report;
+    logInfo(r.report);
+    if (!r.cancelled) setTracts(std::move(r.tracts), "tracked in the viewer");
+  } else if (r.kind == K::Agreement) {
+    if (r.id != latestAgreement_) return;
+    const surfaces::AgreementResult& a = r.agreement;
+    state_.hasAgreement = true;
+    state_.agreementHistogram.assign(a.histogram.begin(), a.histogram.end());
+    state_.agreementBinDeg = a.binDeg;
+    state_.agreementMeanDeg = a.meanDeg;
+    state_.agreementMedianDeg = a.medianDeg;
+    state_.agreementFracBelow15 = a.fracBelow15;
+    state_.agreementPoints = a.anglesDeg.size();
+    state_.agreementNearPoints = a.nearPoints;
+    state_.agreementSkipped = a.skippedTangent + a.skippedDegenerate;
+    std::string histogram;
+    for (std::size_t b = 0; b < a.histogram.size(); ++b)
+      histogram += (b ? " " : "") + std::to_string(a.histogram[b]);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "agreement: %zu points compared, %zu within %g mm (%zu steep crossings, %zu without an "
+                  "in-surface direction), mean %.4f deg, median %.4f deg, below 15 deg %.6f, histogram [",
+                  a.anglesDeg.size(), a.nearPoints, state_.agreementNearMm, a.skippedTangent,
+                  a.skippedDegenerate, a.meanDeg, a.medianDeg, a.fracBelow15);
+    logInfo(text + histogram + "] on the " + state_.agreementSurface);
+  } else if (r.kind == K::Saved) {
+    state_.saveStatus = "wrote " + r.path;
+    logInfo(state_.saveStatus);
+  }
+}
+
+void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
+  render::FabricRenderer& r = *outputRenderer_[p];
+  const int slot = &r == lowRes_[p].get() ? 2 + p : p;
+  if (!tractLayers_[slot]) tractLayers_[slot] = std::make_unique<render::TractLayer>();
+  render::TractLayer& layer = *tractLayers_[slot];
+  tractLayer_[p] = &layer;
+  const auto rect = paneRect(p);
+  render::TractLayer::Frame f;
+  f.fabric = &r.output();
+  f.fabricChanged = fabricChanged;
+  f.view = r.frameView();
+  // The width on screen: an interactive frame is magnified by the blit.
+  f.style.widthPx = static_cast<float>(state_.tractWidthPx * outputSize_[p].x / std::max(rect[2], 1));
+  if (tractsSlab_ && state_.tractsNearMm > 0) {
+    f.style.plane = tractsPlane_;
+    f.style.slabMm = static_cast<float>(state_.tractsNearMm);
+  }
+  f.key = tractKeys_[p] = tractKey();
+  f.moving = moving;
+  f.draw = tractBudget_.choose(*tractRenderer_);
+  f.chunk = tractBudget_.chunk();
+  layer.frame(*tractRenderer_, f);
+  int level = 0;
+  std::size_t segments = 0;
+  double ms = 0;
+  while (layer.takeTiming(level, segments, ms))
+    tractBudget_.measured(level, segments, ms);
+  state_.tractsLevel = layer.shownLevel();
+  const std::size_t all = tractRenderer_->segmentCount(layer.shownLevel());
+  state_.tractsLevelFraction =
+      all ? static_cast<double>(layer.shownSegments()) / static_cast<double>(all) : 1.0;
+}
+
+void ViewerScene::startTracking(const ui::TrackRequest& request) {
+  if (!data_) throw UsageError("load a tensor volume before tracking");
+  ui::TrackRequest r = request;
+  if (r.seeds == ui::SeedKind::Slice && r.sliceIndex < 0)
+    r.sliceIndex = state_.slice[static_cast<std::size_t>(std::clamp(r.sliceAxis, 0, 2))];
+  surfaces::validate(trackingOptions(r));
+  TrackingJob job;
+  job.id = nextId_++;
+  job.data = data_;
+  if (hasMesh_) job.mesh = mesh_;
+  job.request = r;
+  tractWorker_.requestTracking(std::move(job)); // throws while tracking runs
+  latestTracking_ = nextId_ - 1;
+  state_.tracking = true;
+  state_.trackProgress = 0;
+  state_.trackSeedsDone = 0;
+  state_.trackStatus = "tracking...";
+}
+
+void ViewerScene::startAgreement(const ui::ComputeAgreement& a) {
+  if (!(a.nearMm >= 0 && a.nearMm <= 1000)) throw UsageError("agreement distance must lie in [0, 1000] mm");
+  if (a.bins < 1 || a.bins > 90) throw UsageError("agreement bins must lie in 1..90");
+  if (state_.busy || state_.surfacePending || state_.tractsLoading) {
+    pendingAgreement_ = a; // for the surface and tracts on their way, not the ones they replace
+    state_.agreementRunning = true;
+    return;
+  }
+  if (!tracts_) throw UsageError("load or track tracts before computing the agreement");
+  if (!data_ || !hasMesh_) throw UsageError("the agreement needs a tensor volume and a surface on screen");
+  AgreementJob job;
+  job.id = latestAgreement_ = nextId_++;
+  job.tracts = tracts_;
+  job.mesh = mesh_;
+  job.data = data_;
+  job.options.nearMm = a.nearMm;
+  job.options.bins = a.bins;
+  state_.agreementNearMm = a.nearMm;
+  state_.agreementSurface = state_.surfaceText;
+  state_.agreementRunning = true;
+  tractWorker_.requestAgreement(std::move(job));
+}
+
+void ViewerScene::saveTracts(const ui::SaveTracts& a) {
+  state_.savePrompt.clear();
+  if (!tracts_) throw UsageError("no tracts to save");
+  if (a.path.empty()) throw UsageError("saving tracts: no path given");
+  if (!isTractFileName(a.path)) throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
+  std::vector<std::string> inputs;
+  if (data_) inputs.push_back(data_->path);
+  if (!pendingTractPath_.empty()) inputs.push_back(pendingTractPath_);
+  io::refuseOverwritingInput(a.path, inputs);
+  std::error_code ec;
+  if (!a.overwrite && std::filesystem::exists(a.path, ec)) {
+    if (a.askFirst) {
+      state_.savePrompt = a.path; // the panel asks; Overwrite sends the action again with overwrite set
+      return;
+    }
+    throw InputError(a.path + " exists: refusing to overwrite it (tracts-save PATH force replaces it)");
+  }
+  SaveJob job;
+  job.id = nextId_++;
+  job.tracts = tracts_;
+  job.path = a.path;
+  job.overwrite = a.overwrite;
+  if (data_)
+    job.reference = data_->loaded.field.grid;
+  else if (a.path.size() >= 4 && (a.path.ends_with(".trk") || a.path.ends_with(".TRK")))
+    throw UsageError("a .trk file needs a loaded tensor volume for its voxel grid");
+  state_.saveStatus = "saving " + a.path;
+  tractWorker_.requestSave(std::move(job));
+}
+
 void ViewerScene::applyKey(ui::Key key) {
   ui::ActionList actions;
   ui::keyActions(key, state_, actions);
@@ -519,6 +751,10 @@ void ViewerScene::apply(const ui::Action& action) {
             if (state_.view == V::Axial || state_.view == V::Coronal || state_.view == V::Sagittal)
               setView(state_.view);
           } else if constexpr (std::is_same_v<T, ui::SetSplit>) {
+            if (a.mode && *a.mode != state_.secondPane) {
+              state_.secondPane = *a.mode;
+              dataChanged();
+            }
             if (a.on == state_.split) return;
             state_.split = a.on;
             if (a.on) cameras_[1] = cameras_[0];
@@ -571,7 +807,7 @@ void ViewerScene::apply(const ui::Action& action) {
             if (state_.tractsLoading) throw UsageError("tracts are still loading");
             const std::string path = a.path;
             state_.tractsLoading = true;
-            tracts_ = std::async(std::launch::async, [path] {
+            tractsLoading_ = std::async(std::launch::async, [path] {
               try {
                 return readTracts(path);
               } catch (...) {
@@ -580,6 +816,25 @@ void ViewerScene::apply(const ui::Action& action) {
             });
             state_.tractPath.clear();
             pendingTractPath_ = path;
+          } else if constexpr (std::is_same_v<T, ui::SetTractsVisible>) {
+            state_.tractsVisible = a.on;
+          } else if constexpr (std::is_same_v<T, ui::SetTractsNear>) {
+            if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("tract distance must lie in [0, 1000] mm");
+            state_.tractsNearMm = a.mm;
+            requestSelection();
+          } else if constexpr (std::is_same_v<T, ui::SetTractWidth>) {
+            if (!(a.px > 0 && a.px <= 32)) throw UsageError("tract width must lie in (0, 32] pixels");
+            state_.tractWidthPx = a.px;
+          } else if constexpr (std::is_same_v<T, ui::TrackTracts>) {
+            startTracking(a.request);
+          } else if constexpr (std::is_same_v<T, ui::CancelTracking>) {
+            tractWorker_.cancelTracking();
+          } else if constexpr (std::is_same_v<T, ui::SaveTracts>) {
+            saveTracts(a);
+          } else if constexpr (std::is_same_v<T, ui::DismissSavePrompt>) {
+            state_.savePrompt.clear();
+          } else if constexpr (std::is_same_v<T, ui::ComputeAgreement>) {
+            startAgreement(a);
           } else if constexpr (std::is_same_v<T, ui::DismissError>) {
             state_.errorChain.clear();
           }

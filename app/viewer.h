@@ -1,15 +1,20 @@
 // The viewer's scene, separate from the window: the loaded data, the surface on screen, one or two fabric
-// panes (FabricRenderer each, the batch renderer's path), their cameras, and the actions of ui/actions.h
-// applied to them. It needs a current GL 4.5 context but no GLFW, so `dtfabric view` drives it from a
-// window and `dtfabric bench view` from the headless context. Errors never escape: they become the
-// error chain in state(), which the window shows as a modal.
+// panes (FabricRenderer each, the batch renderer's path), their cameras, the tracts drawn over them
+// (render/tract_layer.h under a frame budget; selection, tracking, agreement and saving on the
+// app/tract_worker.h threads), and the actions of ui/actions.h applied to them. It needs a current GL 4.5
+// context but no GLFW, so `dtfabric view` drives it from a window and `dtfabric bench view` from the
+// headless context. Errors never escape: they become the error chain in state(), which the window shows as
+// a modal.
 #pragma once
 
 #include "app/surface_spec.h"
+#include "app/tract_worker.h"
 #include "app/viewer_worker.h"
 #include "io/model/image.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
+#include "render/tract_layer.h"
+#include "render/tract_renderer.h"
 #include "ui/actions.h"
 #include "ui/keymap.h"
 #include "ui/viewer_state.h"
@@ -20,6 +25,7 @@
 #include <cstdint>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,10 +62,16 @@ public:
   render::FabricRenderer& paneRenderer(int p) { return upToDate(renderers_[p], p); }
 
   const ui::ViewerState& state() const { return state_; }
-  // No load, extraction or tract loading queued or running.
+  // No load, extraction, tract loading, selection, tracking, agreement or save queued or running.
   bool settled() const;
-  // Every pane reached still quality.
+  // Every pane reached still quality, its tracts included.
   bool converged() const;
+  // Pane p draws the tracts: some are loaded and visible, and p is not the plain left pane of the split
+  // mode "fabric | fabric + tracts".
+  bool paneShowsTracts(int p) const;
+  // The tract renderer (nullptr before the first tracts are shown) and the frame budget (benchmarks).
+  const render::TractRenderer* tractRenderer() const { return tractRenderer_.get(); }
+  const render::TractBudget& tractBudget() const { return tractBudget_; }
   int paneCount() const { return state_.split ? 2 : 1; }
   // Pane p's rectangle in scene pixels (x, y down, w, h) and its camera.
   std::array<int, 4> paneRect(int p) const;
@@ -90,6 +102,17 @@ private:
   double paneAspect(int p) const;
   void saveCamera(const std::string& path) const;
   void loadCamera(const std::string& path);
+  // Tracts: the set on screen (`label` names it in the panel), the selection for the current surface,
+  // worker results, one frame of pane p's tract layer, and the panel's long actions.
+  void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label);
+  void requestSelection();
+  void onTractResult(TractResult& r);
+  void tractFrame(int p, bool fabricChanged, bool moving);
+  void startTracking(const ui::TrackRequest& request);
+  void startAgreement(const ui::ComputeAgreement& a);
+  void saveTracts(const ui::SaveTracts& a);
+  // What the tract layers draw: the selection uploaded and the surface they are depth-tested against.
+  std::uint64_t tractKey() const { return displaySerial_ * 1000003 + meshSerial_; }
 
   ui::ViewerState state_;
   ViewerWorker worker_;
@@ -99,13 +122,13 @@ private:
   std::uint64_t nextId_ = 1, latestLoad_ = 0, latestSurface_ = 0;
   std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
   std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
-  Mesh mesh_;                                                     // on screen; uploaded to renderers lazily
+  std::shared_ptr<const Mesh> mesh_; // on screen; uploaded to renderers lazily, shared with tract jobs
   std::array<std::uint64_t, 4> meshUploaded_{}, fieldUploaded_{}; // serials each renderer holds
   std::uint64_t fieldSerial_ = 0;
   std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr}; // what outputFbo_ belongs to
   std::array<glm::ivec2, 2> outputSize_{};
   double interactiveScale_ = 0.5, scale_ = 0.5;
-  std::future<Polylines> tracts_; // loading on its own thread
+  std::future<Polylines> tractsLoading_; // loading on its own thread
   std::string pendingTractPath_;
   std::array<render::Camera, 2> cameras_;
   std::array<unsigned, 2> outputFbo_{0, 0};
@@ -119,6 +142,23 @@ private:
   int width_ = 1, height_ = 1;
   std::uint64_t errorSerial_ = 0, meshSerial_ = 0;
   std::chrono::steady_clock::time_point lastMotion_{}, busySince_{};
+
+  TractWorker tractWorker_;
+  std::shared_ptr<const Polylines> tracts_; // every point: analysis and saving use these
+  std::uint64_t tractsSerial_ = 0, latestSelection_ = 0, latestTracking_ = 0, latestAgreement_ = 0;
+  std::unique_ptr<render::TractRenderer> tractRenderer_;  // created with the first selection result
+  std::shared_ptr<const render::DisplayTracts> uploaded_; // what tractRenderer_ holds
+  std::uint64_t displaySerial_ = 0;                       // changes with every selection result
+  bool tractsSlab_ = false;
+  glm::vec4 tractsPlane_{0, 0, 1, 0};
+  // Per pane, one layer for full-size and one for interactive frames (as the renderers: switching between
+  // the two sizes re-creates no targets); tractLayer_[p] is the one pane p drew with last.
+  std::array<std::unique_ptr<render::TractLayer>, 4> tractLayers_;
+  std::array<render::TractLayer*, 2> tractLayer_{nullptr, nullptr};
+  std::array<std::uint64_t, 2> tractKeys_{}; // key pane p's layer last drew with
+  std::array<bool, 2> tractsShown_{false, false};
+  render::TractBudget tractBudget_;
+  std::optional<ui::ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 };
 
 // Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.

@@ -3,10 +3,9 @@
 #include "io/model/error.h"
 #include "render/shader_program.h"
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include <algorithm>
 #include <cstring>
+#include <glm/gtc/type_ptr.hpp>
 #include <string>
 
 namespace dtf::render {
@@ -14,7 +13,25 @@ namespace dtf::render {
 namespace {
 
 // Points kept from a line of n >= 2 points with step `step` (first, every step-th, last).
-std::size_t keptPoints(std::size_t n, std::size_t step) { return (n - 2) / step + 2; }
+std::size_t keptPoints(std::size_t n, std::size_t step) {
+  return (n - 2) / step + 2;
+}
+
+// 0 .. n-1 in bit-reversed order of a power-of-two range: every prefix is spread evenly over 0 .. n-1.
+std::vector<std::uint32_t> stratifiedOrder(std::size_t n) {
+  std::vector<std::uint32_t> order;
+  order.reserve(n);
+  int bits = 0;
+  while ((std::size_t(1) << bits) < n)
+    ++bits;
+  for (std::size_t i = 0; i < (std::size_t(1) << bits); ++i) {
+    std::size_t r = 0;
+    for (int b = 0; b < bits; ++b)
+      if (i & (std::size_t(1) << b)) r |= std::size_t(1) << (bits - 1 - b);
+    if (r < n) order.push_back(static_cast<std::uint32_t>(r));
+  }
+  return order;
+}
 
 } // namespace
 
@@ -45,8 +62,10 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   std::size_t lo = 1, hi = std::max<std::size_t>(longest, 1);
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (total(mid) <= maxPoints) hi = mid;
-    else lo = mid + 1;
+    if (total(mid) <= maxPoints)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   const std::size_t step = lo;
   out.points.reserve(total(step));
@@ -55,11 +74,45 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   for (std::size_t l = 0; l < count; ++l) {
     const std::size_t b = lines.offsets[l], n = lines.offsets[l + 1] - b;
     if (n < 2 || k++ % lineStep != 0) continue;
-    for (std::size_t i = 0; i < n - 1; i += step) out.points.push_back(lines.points[b + i]);
+    for (std::size_t i = 0; i < n - 1; i += step)
+      out.points.push_back(lines.points[b + i]);
     out.points.push_back(lines.points[b + n - 1]);
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
   }
   return out;
+}
+
+DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints, int maxLevels) {
+  Polylines shown = decimateForDisplay(lines, maxPoints);
+  DisplayTracts d;
+  d.points = std::move(shown.points);
+  d.lines = shown.lineCount();
+  if (d.lines == 0) return d;
+  const std::vector<std::uint32_t> order = stratifiedOrder(d.lines);
+  std::size_t previous = 0;
+  for (int k = 0; k < std::max(maxLevels, 1); ++k) {
+    const std::uint32_t step = 1u << k;
+    const std::size_t start = d.segments.size();
+    for (std::uint32_t l : order) {
+      const std::uint32_t b = shown.offsets[l], last = shown.offsets[l + 1] - 1;
+      std::uint32_t from = b;
+      for (std::uint32_t i = b + step; i < last; i += step) {
+        d.segments.push_back(from);
+        d.segments.push_back(i);
+        from = i;
+      }
+      d.segments.push_back(from);
+      d.segments.push_back(last);
+    }
+    const std::size_t count = (d.segments.size() - start) / 2;
+    if (k > 0 && 4 * count > 3 * previous) { // not worth a level: lines are already short
+      d.segments.resize(start);
+      break;
+    }
+    d.levelOffsets.push_back(d.segments.size() / 2);
+    previous = count;
+  }
+  return d;
 }
 
 TractRenderer::TractRenderer() : vao_(createVertexArray()) {
@@ -73,9 +126,11 @@ TractRenderer::TractRenderer() : vao_(createVertexArray()) {
     throw;
   }
   program_ = ProgramHandle(glCreateProgram());
-  for (GLuint s : stages) glAttachShader(program_.id(), s);
+  for (GLuint s : stages)
+    glAttachShader(program_.id(), s);
   glLinkProgram(program_.id());
-  for (GLuint s : stages) glDeleteShader(s);
+  for (GLuint s : stages)
+    glDeleteShader(s);
   GLint ok = 0;
   glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -98,29 +153,50 @@ TractRenderer::TractRenderer() : vao_(createVertexArray()) {
 }
 
 void TractRenderer::setTracts(const Polylines& lines, std::size_t maxPoints) {
-  Polylines shown = decimateForDisplay(lines, maxPoints);
-  firsts_.clear();
-  counts_.clear();
-  pointCount_ = shown.points.size();
+  upload(prepareDisplayTracts(lines, maxPoints));
+}
+
+void TractRenderer::upload(const DisplayTracts& t) {
   points_ = Buffer();
-  if (pointCount_ == 0) return;
-  firsts_.reserve(shown.lineCount());
-  counts_.reserve(shown.lineCount());
-  for (std::size_t l = 0; l < shown.lineCount(); ++l) {
-    firsts_.push_back(static_cast<GLint>(shown.offsets[l]));
-    counts_.push_back(static_cast<GLsizei>(shown.offsets[l + 1] - shown.offsets[l]));
-  }
+  segments_ = Buffer();
+  levelOffsets_.assign(1, 0);
+  pointCount_ = lineCount_ = 0;
+  if (t.points.empty() || t.segments.empty()) return;
   points_ = createBuffer();
-  glNamedBufferStorage(points_.id(), static_cast<GLsizeiptr>(pointCount_ * sizeof(glm::vec3)),
-                       shown.points.data(), 0);
+  glNamedBufferStorage(points_.id(), static_cast<GLsizeiptr>(t.points.size() * sizeof(glm::vec3)),
+                       t.points.data(), 0);
+  segments_ = createBuffer();
+  glNamedBufferStorage(segments_.id(), static_cast<GLsizeiptr>(t.segments.size() * sizeof(std::uint32_t)),
+                       t.segments.data(), 0);
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    points_ = Buffer();
+    segments_ = Buffer();
+    throw GlError("out of GPU memory for " + std::to_string(t.points.size()) + " tract points");
+  }
   glVertexArrayVertexBuffer(vao_.id(), 0, points_.id(), 0, sizeof(glm::vec3));
   glEnableVertexArrayAttrib(vao_.id(), 0);
   glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
+  glVertexArrayElementBuffer(vao_.id(), segments_.id());
+  levelOffsets_ = t.levelOffsets;
+  pointCount_ = t.points.size();
+  lineCount_ = t.lines;
+}
+
+std::size_t TractRenderer::segmentCount(int level) const {
+  if (level < 0 || level >= levelCount()) return 0;
+  return levelOffsets_[static_cast<std::size_t>(level) + 1] - levelOffsets_[static_cast<std::size_t>(level)];
 }
 
 void TractRenderer::draw(const FrameView& view, const TractStyle& style) const {
-  if (counts_.empty()) return;
+  draw(view, style, 0, 0, segmentCount(0));
+}
+
+void TractRenderer::draw(const FrameView& view, const TractStyle& style, int level, std::size_t first,
+                         std::size_t count) const {
+  const std::size_t available = segmentCount(level);
+  if (first >= available || count == 0) return;
+  count = std::min(count, available - first);
   // FrameView keeps world -> clip of the viewport and world -> eye; the projection is their quotient.
   const glm::mat4 proj = view.viewProjViewport * glm::inverse(view.view);
   const GLuint p = program_.id();
@@ -138,7 +214,10 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style) const {
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
-  glMultiDrawArrays(GL_LINE_STRIP, firsts_.data(), counts_.data(), static_cast<GLsizei>(counts_.size()));
+  // GL_LINES over the element buffer of point index pairs; the geometry shader widens each segment.
+  const std::size_t start = levelOffsets_[static_cast<std::size_t>(level)] + first;
+  glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,
+                 reinterpret_cast<const void*>(start * 2 * sizeof(std::uint32_t)));
   glBindVertexArray(0);
   glDisable(GL_DEPTH_TEST);
 }

@@ -4,17 +4,25 @@
 // clearing it, so the opaque fabric surface hides the tracts behind it. Each segment is a screen-aligned
 // tube impostor (a quad widened in a geometry shader), coloured in DEC by its tangent (|t.x| red, |t.y|
 // green, |t.z| blue) and lit with tangent-based line lighting. A slab keeps only what lies near a plane.
-// The points are uploaded once into one vertex buffer (one line strip per tract, glMultiDrawArrays);
-// draw() allocates nothing. Needs a current GL 4.5 context.
+// The points are one vertex buffer, the segments an element buffer of index pairs drawn as GL_LINES
+// (widening in a vertex shader that pulls both end points runs 3-4x slower on llvmpipe, whose vertex
+// stage is single-threaded).
+//
+// Levels of detail for interactive frames: level k joins every 2^k-th point of each line (first and last
+// always kept). Within a level the segments are stored line by line in a stratified line order (bit-reversed
+// index), so any prefix of a level's segments is an even sample of the lines: a frame budget can be met by
+// drawing a coarser level, or a prefix of one, and a still image built up in chunks. Display only: analysis
+// (agreement, selection) uses the full polylines. Needs a current GL 4.5 context; draw() allocates nothing.
 #pragma once
 
 #include "io/model/geometry.h"
 #include "render/fabric/frame_view.h"
 #include "render/gl_objects.h"
 
-#include <glm/glm.hpp>
-
 #include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <utility>
 #include <vector>
 
 namespace dtf::render {
@@ -28,6 +36,8 @@ struct TractStyle {
   float slabMm = 0.0f;         // > 0: only points within slabMm of `plane` are drawn
   glm::vec4 plane{0, 0, 1, 0}; // unit normal n and offset w: signed distance dot(n, p) + w (world mm)
   float depthBiasMm = 0.05f;   // towards the viewer, so tracts lying in a surface are not lost to z-fighting
+
+  bool operator==(const TractStyle&) const = default;
 };
 
 // For display only: keeps every n-th point of each line (n the smallest step that fits the cap) and always
@@ -35,28 +45,51 @@ struct TractStyle {
 // cap, every m-th line is kept. Lines with fewer than two points are dropped. Deterministic.
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
 
+// What TractRenderer uploads, prepared on any thread: the display points and the segments of each level.
+struct DisplayTracts {
+  std::vector<glm::vec3> points;            // decimateForDisplay(lines, maxPoints).points
+  std::size_t lines = 0;                    // lines drawn (>= 2 points each)
+  std::vector<std::uint32_t> segments;      // point index pairs, level after level
+  std::vector<std::size_t> levelOffsets{0}; // level k's segments: [levelOffsets[k], levelOffsets[k + 1])
+
+  int levelCount() const { return static_cast<int>(levelOffsets.size()) - 1; }
+  std::size_t segmentCount(int level) const {
+    return levelOffsets[static_cast<std::size_t>(level) + 1] - levelOffsets[static_cast<std::size_t>(level)];
+  }
+};
+
+// Display decimation to maxPoints, then up to maxLevels levels of detail (a level is added only while it
+// has at most 3/4 of the previous level's segments).
+DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap,
+                                   int maxLevels = 5);
+
 class TractRenderer {
 public:
   // Compiles the program; throws GlError.
   TractRenderer();
 
-  // Uploads `lines` (world RAS mm), decimated for display with decimateForDisplay(lines, maxPoints).
-  // Throws GlError when the buffer cannot be created.
+  // Uploads `lines` (world RAS mm) via prepareDisplayTracts(lines, maxPoints). Throws GlError.
   void setTracts(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
-  // Draws into the currently bound framebuffer (e.g. FabricRenderer::output()) at view.viewport, with
-  // depth test (GL_LESS) against its depth and depth writes on; clears nothing.
+  // Uploads prepared display tracts (the GL part of setTracts). Throws GlError.
+  void upload(const DisplayTracts& tracts);
+  // Draws every segment of level 0 into the currently bound framebuffer (e.g. FabricRenderer::output()) at
+  // view.viewport, with depth test (GL_LESS) against its depth and depth writes on; clears nothing.
   void draw(const FrameView& view, const TractStyle& style) const;
+  // Draws segments [first, first + count) of `level` (clamped to the level) the same way.
+  void draw(const FrameView& view, const TractStyle& style, int level, std::size_t first,
+            std::size_t count) const;
 
   std::size_t pointCount() const { return pointCount_; }
-  std::size_t lineCount() const { return counts_.size(); }
+  std::size_t lineCount() const { return lineCount_; }
+  int levelCount() const { return static_cast<int>(levelOffsets_.size()) - 1; }
+  std::size_t segmentCount(int level = 0) const;
 
 private:
   ProgramHandle program_;
   VertexArray vao_;
-  Buffer points_;
-  std::vector<GLint> firsts_;
-  std::vector<GLsizei> counts_;
-  std::size_t pointCount_ = 0;
+  Buffer points_, segments_;
+  std::vector<std::size_t> levelOffsets_{0};
+  std::size_t pointCount_ = 0, lineCount_ = 0;
   GLint uView_ = -1, uProj_ = -1, uViewRot_ = -1, uViewport_ = -1, uWidth_ = -1, uBias_ = -1, uPlane_ = -1,
         uSlab_ = -1;
 };

@@ -155,4 +155,41 @@ double DistanceQuery::distance(const glm::vec3& p, glm::vec3* closest, std::uint
   return std::sqrt(CGAL::to_double(CGAL::squared_distance(q, hit.first)));
 }
 
+namespace {
+// AABB traversal for "is a triangle within sqrt(r2) of q": enters only boxes within that distance and stops
+// at the first triangle found.
+template <typename Primitive> struct WithinTraits {
+  Point q;
+  double r2;
+  bool found = false;
+  bool go_further() const { return !found; }
+  void intersection(const Point&, const Primitive& p) {
+    if (CGAL::squared_distance(q, *p.id()) <= r2) found = true;
+  }
+  template <typename Node> bool do_intersect(const Point&, const Node& node) const {
+    const CGAL::Bbox_3& b = node.bbox();
+    double d2 = 0;
+    const double c[3] = {q.x(), q.y(), q.z()};
+    for (int i = 0; i < 3; ++i) {
+      const double lo = b.min(i), hi = b.max(i);
+      const double d = c[i] < lo ? lo - c[i] : c[i] > hi ? c[i] - hi : 0.0;
+      d2 += d * d;
+    }
+    return d2 <= r2;
+  }
+};
+} // namespace
+
+bool DistanceQuery::within(const glm::vec3& p, double r) const {
+  WithinTraits<Impl::Primitive> t{Point(p.x, p.y, p.z), r * r};
+  impl_->tree.traversal(t.q, t);
+  return t.found;
+}
+
+void DistanceQuery::bounds(glm::vec3& lo, glm::vec3& hi) const {
+  const auto box = impl_->tree.bbox();
+  lo = glm::vec3(box.xmin(), box.ymin(), box.zmin());
+  hi = glm::vec3(box.xmax(), box.ymax(), box.zmax());
+}
+
 } // namespace dtf::surfaces

@@ -23,7 +23,8 @@ Mesh removeSelfIntersections(const Mesh& mesh, std::size_t* removed = nullptr);
 // Isotropic remeshing to the target edge length (mm), keeping borders; normals recomputed.
 Mesh remeshIsotropic(const Mesh& mesh, double targetEdgeMm, int iterations = 3);
 
-// Closest-point queries against a fixed mesh (CGAL AABB tree built once).
+// Closest-point queries against a fixed mesh (CGAL AABB tree and its search tree built once; const queries
+// may run on several threads at once).
 class DistanceQuery {
 public:
   explicit DistanceQuery(const Mesh& mesh);
@@ -33,6 +34,11 @@ public:
 
   // Euclidean distance (mm) from `p` to the surface; the closest point and its triangle when asked.
   double distance(const glm::vec3& p, glm::vec3* closest = nullptr, std::uint32_t* triangle = nullptr) const;
+  // True when the surface comes within r mm of `p` (distance <= r): a traversal that stops at the first
+  // triangle found and never enters boxes farther than r, cheaper than distance().
+  bool within(const glm::vec3& p, double r) const;
+  // Bounding box of the mesh (world mm).
+  void bounds(glm::vec3& lo, glm::vec3& hi) const;
 
 private:
   struct Impl;

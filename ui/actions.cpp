@@ -23,6 +23,18 @@ const char* surfaceKindName(SurfaceKind kind) {
   return "?";
 }
 
+const char* secondPaneName(SecondPane mode) {
+  switch (mode) {
+  case SecondPane::OtherColourMode:
+    return "colour";
+  case SecondPane::Phong:
+    return "phong";
+  case SecondPane::Tracts:
+    return "tracts";
+  }
+  return "?";
+}
+
 int sliceAxisOf(SurfaceKind kind) {
   switch (kind) {
   case SurfaceKind::Axial:
@@ -62,11 +74,12 @@ std::string describe(const Action& action) {
         else if constexpr (std::is_same_v<T, SetNeurological>)
           return a.on ? "SetNeurological on" : "SetNeurological off";
         else if constexpr (std::is_same_v<T, SetSplit>)
-          return a.on ? "SetSplit on" : "SetSplit off";
+          return std::string(a.on ? "SetSplit on" : "SetSplit off") +
+                 (a.mode ? std::string(" ") + secondPaneName(*a.mode) : std::string());
         else if constexpr (std::is_same_v<T, SetLinkedCameras>)
           return a.on ? "SetLinkedCameras on" : "SetLinkedCameras off";
         else if constexpr (std::is_same_v<T, SetSecondPane>)
-          return a.mode == SecondPane::Phong ? "SetSecondPane phong" : "SetSecondPane other-colour";
+          return std::string("SetSecondPane ") + secondPaneName(a.mode);
         else if constexpr (std::is_same_v<T, ResetView>)
           return "ResetView";
         else if constexpr (std::is_same_v<T, Rotate>) {
@@ -86,7 +99,33 @@ std::string describe(const Action& action) {
           return "LoadCamera " + a.path;
         else if constexpr (std::is_same_v<T, LoadTracts>)
           return "LoadTracts " + a.path;
-        else if constexpr (std::is_same_v<T, DismissError>)
+        else if constexpr (std::is_same_v<T, SetTractsVisible>)
+          return a.on ? "SetTractsVisible on" : "SetTractsVisible off";
+        else if constexpr (std::is_same_v<T, SetTractsNear>) {
+          std::snprintf(buf, sizeof buf, "SetTractsNear %g", a.mm);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetTractWidth>) {
+          std::snprintf(buf, sizeof buf, "SetTractWidth %g", a.px);
+          return buf;
+        } else if constexpr (std::is_same_v<T, TrackTracts>) {
+          static const char* const seeds[] = {"surface", "slice", "sphere", "fa-mask"};
+          static const char* const counts[] = {"select", "seeds", "per-voxel"};
+          const TrackRequest& r = a.request;
+          std::snprintf(buf, sizeof buf,
+                        "TrackTracts seeds=%s %s=%d fa-stop=%g angle=%g step=%g length=%g..%g",
+                        seeds[static_cast<int>(r.seeds)], counts[static_cast<int>(r.count)], r.number,
+                        r.faStop, r.angleDeg, r.stepMm, r.minLengthMm, r.maxLengthMm);
+          return buf;
+        } else if constexpr (std::is_same_v<T, CancelTracking>)
+          return "CancelTracking";
+        else if constexpr (std::is_same_v<T, SaveTracts>)
+          return "SaveTracts " + a.path + (a.overwrite ? " (overwrite)" : "");
+        else if constexpr (std::is_same_v<T, DismissSavePrompt>)
+          return "DismissSavePrompt";
+        else if constexpr (std::is_same_v<T, ComputeAgreement>) {
+          std::snprintf(buf, sizeof buf, "ComputeAgreement near=%g bins=%d", a.nearMm, a.bins);
+          return buf;
+        } else if constexpr (std::is_same_v<T, DismissError>)
           return "DismissError";
         else
           return "Quit";

@@ -7,6 +7,8 @@
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 
+#include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -21,8 +23,11 @@ const char* surfaceKindName(SurfaceKind kind);
 // Slice axis index 0 = axial, 1 = coronal, 2 = sagittal for a slice kind; -1 otherwise.
 int sliceAxisOf(SurfaceKind kind);
 
-// What the right pane of a split view shows.
-enum class SecondPane { OtherColourMode, Phong };
+// What the right pane of a split view shows: the other colour mode, Phong shading, or the same fabric with
+// the tracts (the left pane then shows the fabric alone).
+enum class SecondPane { OtherColourMode, Phong, Tracts };
+// "colour", "phong", "tracts" (the script's names).
+const char* secondPaneName(SecondPane mode);
 
 struct LoadFile {
   std::string path;
@@ -53,6 +58,7 @@ struct SetNeurological {
 };
 struct SetSplit {
   bool on;
+  std::optional<SecondPane> mode = std::nullopt; // also sets what the right pane shows
 };
 struct SetLinkedCameras {
   bool on;
@@ -86,9 +92,54 @@ struct SaveCamera {
 struct LoadCamera {
   std::string path;
 };
-// Streamlines (.tck, .trk, .vtk) to load and list; they are not drawn yet.
+// Streamlines (.tck, .trk, .vtk, world RAS mm) to load and draw over the fabric.
 struct LoadTracts {
   std::string path;
+};
+struct SetTractsVisible {
+  bool on;
+};
+// Only tract segments within `mm` of the surface are shown (a slab of half-width `mm` around a planar
+// surface); 0 shows every tract.
+struct SetTractsNear {
+  double mm;
+};
+struct SetTractWidth {
+  double px;
+};
+// Deterministic tensor tractography from the viewer (the options of `dtfabric track`).
+enum class SeedKind { Surface, Slice, Sphere, FaMask };
+enum class SeedCount { Select, Seeds, PerVoxel };
+struct TrackRequest {
+  SeedKind seeds = SeedKind::Surface; // the surface on screen, a slice, a ball or the voxels above an FA
+  int sliceAxis = 0;                  // Slice: 0 axial, 1 coronal, 2 sagittal
+  int sliceIndex = -1;                // Slice: -1 = the viewer's current slice on that axis
+  glm::dvec3 centre{0.0};             // Sphere: world mm
+  double radiusMm = 10.0;
+  double faMask = 0.3; // FaMask: seeds in the voxels with FA >= faMask
+  SeedCount count = SeedCount::Select;
+  int number = 1000; // streamlines to keep (Select), seeds (Seeds), seeds per voxel (PerVoxel, FaMask only)
+  double faStop = 0.15, angleDeg = 60.0, stepMm = 1.0, minLengthMm = 30.0, maxLengthMm = 250.0;
+  bool rk4 = true;
+  int rngSeed = 1;
+};
+struct TrackTracts {
+  TrackRequest request;
+};
+struct CancelTracking {};
+// Writes the tracts on screen (all points, not the display decimation) to .tck/.trk/.vtk, atomically. An
+// existing file is replaced only with `overwrite`; otherwise the panel asks first (`askFirst`) and a
+// script fails.
+struct SaveTracts {
+  std::string path;
+  bool overwrite = false;
+  bool askFirst = false;
+};
+struct DismissSavePrompt {};
+// Angle between the tracts near the surface and the fabric's direction (surfaces/agreement.h, all points).
+struct ComputeAgreement {
+  double nearMm = 2.0;
+  int bins = 9;
 };
 struct DismissError {};
 struct Quit {};
@@ -96,7 +147,9 @@ struct Quit {};
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
-                 Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, Quit>;
+                 Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
+                 SetTractWidth, TrackTracts, CancelTracking, SaveTracts, DismissSavePrompt, ComputeAgreement,
+                 DismissError, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

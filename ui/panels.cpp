@@ -191,8 +191,8 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if (ImGui::Checkbox("linked camera", &linked)) out.push_back(SetLinkedCameras{linked});
   probe(b, "linked camera");
   int second = static_cast<int>(s.secondPane);
-  static const char* const panes[] = {"other colour mode", "Phong shading"};
-  if (ImGui::Combo("right pane", &second, panes, 2))
+  static const char* const panes[] = {"other colour mode", "Phong shading", "fabric + tracts"};
+  if (ImGui::Combo("right pane", &second, panes, 3))
     out.push_back(SetSecondPane{static_cast<SecondPane>(second)});
   if (ImGui::Button("Reset view (R)")) out.push_back(ResetView{});
   probe(b, "Reset view");
@@ -209,7 +209,9 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
 }
 
 void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
-  if (!ImGui::CollapsingHeader("Tracts")) return;
+  const bool open = ImGui::CollapsingHeader("Tracts");
+  probe(b, "Tracts");
+  if (!open) return;
   const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(),
                                       ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
@@ -218,13 +220,143 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   if ((enter || load) && b.tractPath[0] != '\0') out.push_back(LoadTracts{b.tractPath.data()});
   if (s.tractsLoading) ImGui::TextDisabled("loading...");
   if (s.tractPath.empty()) {
-    ImGui::TextDisabled(".tck, .trk or .vtk streamlines (world RAS mm)");
-    return;
+    ImGui::TextDisabled(".tck, .trk or .vtk streamlines (world RAS mm), or track below");
+  } else {
+    ImGui::TextWrapped("%s", s.tractPath.c_str());
+    ImGui::TextWrapped("%zu streamlines, %zu points, mean length %.1f mm", s.tractCount, s.tractPoints,
+                       s.tractMeanLengthMm);
+    bool visible = s.tractsVisible;
+    if (ImGui::Checkbox("show tracts", &visible)) out.push_back(SetTractsVisible{visible});
+    probe(b, "show tracts");
+    double width = s.tractWidthPx;
+    if (sliderDouble("width (px)", width, 0.5f, 8.0f, "%.1f")) out.push_back(SetTractWidth{width});
+    probe(b, "width (px)");
+    double near = s.tractsNearMm;
+    if (sliderDouble("near surface (mm)", near, 0.0f, 20.0f, "%.1f")) out.push_back(SetTractsNear{near});
+    probe(b, "near surface (mm)");
+    if (s.tractsNearMm <= 0)
+      ImGui::TextDisabled("every tract is shown");
+    else if (s.tractsSlab)
+      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", s.tractsNearMm);
+    ImGui::Text("shown: %zu pieces, %zu points%s", s.tractsShownLines, s.tractsShownPoints,
+                s.tractsSelecting ? " (selecting...)" : "");
+    if (s.tractsLevel > 0 || s.tractsLevelFraction < 1)
+      ImGui::TextDisabled("drawing level %d (every %d-th point), %.0f%% of the lines", s.tractsLevel,
+                          1 << s.tractsLevel, 100.0 * s.tractsLevelFraction);
+    ImGui::InputText("##savetracts", b.tractSavePath.data(), b.tractSavePath.size());
+    ImGui::SameLine();
+    if (ImGui::Button("Save") && b.tractSavePath[0] != '\0')
+      out.push_back(SaveTracts{b.tractSavePath.data(), false, true});
+    probe(b, "Save");
+    if (!s.saveStatus.empty()) ImGui::TextDisabled("%s", s.saveStatus.c_str());
   }
-  ImGui::TextWrapped("%s", s.tractPath.c_str());
-  ImGui::Text("%zu streamlines, %zu points", s.tractCount, s.tractPoints);
-  ImGui::Text("mean length %.1f mm", s.tractMeanLengthMm);
-  ImGui::TextDisabled("(listed only: tracts are not drawn yet)");
+
+  const bool tracking = ImGui::TreeNode("Tracking");
+  probe(b, "Tracking");
+  if (tracking) {
+    TrackRequest& t = b.track;
+    static const char* const seedKinds[] = {"surface on screen", "slice", "sphere (ROI)", "FA mask"};
+    int seeds = static_cast<int>(t.seeds);
+    if (ImGui::Combo("seeds", &seeds, seedKinds, 4)) t.seeds = static_cast<SeedKind>(seeds);
+    probe(b, "seeds");
+    if (t.seeds == SeedKind::Slice) {
+      static const char* const axes[] = {"axial", "coronal", "sagittal"};
+      ImGui::Combo("slice axis", &t.sliceAxis, axes, 3);
+      ImGui::InputInt("slice (-1 current)", &t.sliceIndex);
+      t.sliceIndex = std::max(t.sliceIndex, -1);
+    } else if (t.seeds == SeedKind::Sphere) {
+      float c[3] = {static_cast<float>(t.centre.x), static_cast<float>(t.centre.y),
+                    static_cast<float>(t.centre.z)};
+      if (ImGui::InputFloat3("centre (mm)", c)) t.centre = glm::dvec3(c[0], c[1], c[2]);
+      if (s.probe.onSurface && ImGui::Button("centre at the last probed point")) t.centre = s.probe.world;
+      sliderDouble("radius (mm)", t.radiusMm, 1.0f, 50.0f, "%.1f");
+    } else if (t.seeds == SeedKind::FaMask) {
+      sliderDouble("mask FA >=", t.faMask, 0.05f, 0.9f, "%.2f");
+    }
+    static const char* const counts[] = {"streamlines", "seeds", "seeds per voxel"};
+    int count = static_cast<int>(t.count);
+    if (ImGui::Combo("count", &count, counts, t.seeds == SeedKind::FaMask ? 3 : 2))
+      t.count = static_cast<SeedCount>(count);
+    if (t.seeds != SeedKind::FaMask && t.count == SeedCount::PerVoxel) t.count = SeedCount::Select;
+    ImGui::InputInt("number", &t.number);
+    t.number = std::clamp(t.number, 1, 10'000'000);
+    sliderDouble("FA stop", t.faStop, 0.0f, 0.6f, "%.2f");
+    sliderDouble("angle (deg/step)", t.angleDeg, 5.0f, 90.0f, "%.0f");
+    sliderDouble("step (mm)", t.stepMm, 0.1f, 3.0f, "%.2f");
+    sliderDouble("min length (mm)", t.minLengthMm, 0.0f, 200.0f, "%.0f");
+    sliderDouble("max length (mm)", t.maxLengthMm, 10.0f, 500.0f, "%.0f");
+    ImGui::Checkbox("RK4 (off: Euler)", &t.rk4);
+    ImGui::InputInt("random seed", &t.rngSeed);
+    t.rngSeed = std::max(t.rngSeed, 0);
+    if (s.tracking) {
+      char overlay[64];
+      std::snprintf(overlay, sizeof overlay, "%zu seeds", s.trackSeedsDone);
+      ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(-80, 0), overlay);
+      ImGui::SameLine();
+      if (ImGui::Button("Cancel")) out.push_back(CancelTracking{});
+      probe(b, "Cancel");
+    } else {
+      ImGui::BeginDisabled(!s.hasData);
+      if (ImGui::Button("Track")) out.push_back(TrackTracts{t});
+      probe(b, "Track");
+      ImGui::EndDisabled();
+    }
+    if (!s.trackStatus.empty()) ImGui::TextWrapped("%s", s.trackStatus.c_str());
+    ImGui::TreePop();
+  }
+
+  const bool agreement = ImGui::TreeNode("Agreement with the fabric");
+  probe(b, "Agreement with the fabric");
+  if (agreement) {
+    sliderDouble("within (mm)", b.agreementNearMm, 0.5f, 10.0f, "%.1f");
+    ImGui::SliderInt("bins", &b.agreementBins, 3, 30);
+    ImGui::BeginDisabled(s.tractPath.empty() || !s.hasData || s.agreementRunning);
+    if (ImGui::Button("Compute")) out.push_back(ComputeAgreement{b.agreementNearMm, b.agreementBins});
+    probe(b, "Compute");
+    ImGui::EndDisabled();
+    if (s.agreementRunning) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("computing...");
+    }
+    if (s.hasAgreement) {
+      ImGui::PlotHistogram("##angles", s.agreementHistogram.data(),
+                           static_cast<int>(s.agreementHistogram.size()), 0,
+                           "tract-fabric angle, 0-90 deg", 0.0f, FLT_MAX,
+                           ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
+      probe(b, "agreement histogram");
+      ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "
+                         "%zu skipped)",
+                         s.agreementPoints, s.agreementMedianDeg, s.agreementMeanDeg,
+                         100.0 * s.agreementFracBelow15, s.agreementNearPoints, s.agreementNearMm,
+                         s.agreementSkipped);
+      ImGui::TextDisabled("on the %s", s.agreementSurface.c_str());
+    }
+    ImGui::TreePop();
+  }
+}
+
+void savePromptModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  if (s.savePrompt.empty()) return;
+  if (!ImGui::IsPopupOpen("Overwrite?")) ImGui::OpenPopup("Overwrite?");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("%s exists.", s.savePrompt.c_str());
+    ImGui::Text("Replace it with the tracts on screen?");
+    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
+      out.push_back(SaveTracts{s.savePrompt, true, false});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Overwrite");
+    ImGui::SameLine();
+    if (ImGui::Button("Keep it", ImVec2(120, 0))) {
+      out.push_back(DismissSavePrompt{});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Keep it");
+    ImGui::EndPopup();
+  }
 }
 
 void statusBar(const ViewerState& s, const PanelLayout& layout) {
@@ -238,6 +370,15 @@ void statusBar(const ViewerState& s, const PanelLayout& layout) {
     ImGui::ProgressBar(phase, ImVec2(120, 0), "");
     ImGui::SameLine();
     ImGui::Text("%s (%.0f s)", s.busyStage.c_str(), s.busySeconds);
+    ImGui::SameLine();
+  }
+  if (s.tracking) { // long work on the tract worker: progress with its own bar
+    ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(120, 0), "");
+    ImGui::SameLine();
+    ImGui::Text("tracking: %zu seeds", s.trackSeedsDone);
+    ImGui::SameLine();
+  } else if (s.tractsSelecting || s.agreementRunning) {
+    ImGui::TextDisabled(s.agreementRunning ? "agreement..." : "selecting tracts...");
     ImGui::SameLine();
   }
   const ProbeInfo& p = s.probe;
@@ -295,6 +436,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   ImGui::End();
   statusBar(s, layout);
   errorModal(s, b, out);
+  savePromptModal(s, b, out);
 }
 
 std::vector<std::string> splitErrorChain(const std::string& message) {

@@ -22,6 +22,10 @@ struct PanelBuffers {
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};
   std::array<char, 1024> tractPath{};
+  std::array<char, 1024> tractSavePath{};
+  TrackRequest track;           // the tracking parameters being edited
+  double agreementNearMm = 2.0; // `dtfabric compare --near`
+  int agreementBins = 9;
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
   unsigned fibreSeedSerial = 0; // ViewerState::fibreSeedSerial last copied into fibreFrom/To
   // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
@@ -44,6 +48,8 @@ void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out)
 void tractsPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void statusBar(const ViewerState& state, const PanelLayout& layout);
 void errorModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+// Asks whether to overwrite state.savePrompt (an existing file the tracts were to be saved to).
+void savePromptModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 
 // All of the above for one frame.
 void drawPanels(const ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout, ActionList& out);

@@ -69,11 +69,35 @@ struct ViewerState {
 
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles
-  // Loaded tracts (Tracts panel).
-  std::string tractPath; // empty: none
+  // Tracts (Tracts panel): the set on screen, loaded or tracked; analysis uses all its points.
+  std::string tractPath; // file, or "tracked (...)"; empty: none
   bool tractsLoading = false;
   std::size_t tractCount = 0, tractPoints = 0;
   double tractMeanLengthMm = 0;
+  bool tractsVisible = true;
+  double tractsNearMm = 3.0; // 0: every tract
+  double tractWidthPx = 2.0;
+  bool tractsSelecting = false; // the selection for the current surface is being computed
+  bool tractsSlab = false;      // planar surface: a slab of half-width tractsNearMm, no selection
+  std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation
+  int tractsLevel = 0;            // level of detail on screen (0 = every display point)
+  double tractsLevelFraction = 1; // share of that level's segments drawn
+  // Tracking on the worker thread.
+  bool tracking = false;
+  double trackProgress = 0; // 0..1 (seeds done / planned)
+  std::size_t trackSeedsDone = 0;
+  std::string trackStatus; // the last run: what it produced, or why not
+  // Saving: non-empty asks whether to overwrite this file.
+  std::string savePrompt;
+  std::string saveStatus;
+  // Agreement of the tracts near the surface with the fabric (surfaces/agreement.h).
+  bool agreementRunning = false;
+  bool hasAgreement = false;
+  std::vector<float> agreementHistogram; // counts per bin of agreementBinDeg over 0..90 degrees
+  double agreementBinDeg = 10, agreementMeanDeg = 0, agreementMedianDeg = 0, agreementFracBelow15 = 0;
+  double agreementNearMm = 0;
+  std::size_t agreementPoints = 0, agreementNearPoints = 0, agreementSkipped = 0;
+  std::string agreementSurface; // the surface it was computed on
 };
 
 } // namespace dtf::ui

@@ -2,10 +2,12 @@
 // frames while the camera rotates, run without a heap allocation in the viewer's own code. Counts every
 // operator new of this process between frames (headless GL; skips without a context).
 #include "app/viewer.h"
+#include "io/tracts.h"
 #include "support/gl_test.h"
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 #include <thread>
@@ -20,6 +22,15 @@ void* operator new(std::size_t n) {
   if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
+}
+// The nothrow pair too (std::stable_sort's temporary buffer): with only the plain pair replaced, ASan sees
+// its own nothrow new freed by the replaced delete (alloc-dealloc-mismatch).
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(n ? n : 1);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
 }
 void operator delete(void* p) noexcept {
   std::free(p);
@@ -72,4 +83,68 @@ TEST(ViewScene, FramesDoNotAllocate) {
   EXPECT_GE(allocations.load() - moving, 2);
   EXPECT_EQ(still, 0);
   EXPECT_EQ(moving, 0) << "interactive frames allocated " << moving << " times";
+}
+
+TEST(ViewScene, FramesWithTractsDoNotAllocate) {
+  DTF_GL_TEST_SETUP();
+  // 400 helices of 150 points through the phantom's slab around the middle axial slice.
+  dtf::Polylines lines;
+  lines.offsets = {0};
+  for (int i = 0; i < 400; ++i) {
+    for (int k = 0; k < 150; ++k) {
+      const float t = float(k) / 149.0f;
+      lines.points.emplace_back(float(i % 20) * 6.0f - 60.0f + 3.0f * std::cos(9.0f * t),
+                                float(i / 20) * 6.0f - 60.0f + 3.0f * std::sin(9.0f * t), 20.0f * t - 8.0f);
+    }
+    lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  }
+  const auto tck = dtf::test::scratchDir() / "helices.tck";
+  dtf::io::writeTck(tck.string(), lines);
+  dtf::app::ViewerScene scene("slice=axial");
+  scene.apply(
+      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  scene.apply(dtf::ui::LoadTracts{tck.string()});
+  for (int i = 0; i < 3000 && !(scene.settled() && scene.converged()); ++i) {
+    scene.update();
+    scene.render(160, 120);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_TRUE(scene.state().errorChain.empty()) << scene.state().errorChain.back();
+  ASSERT_TRUE(scene.converged());
+  ASSERT_TRUE(scene.paneShowsTracts(0));
+  ASSERT_GT(scene.state().tractsShownPoints, 0u);
+  for (int i = 0; i < 3; ++i) { // warm-up of the interactive path
+    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.update();
+    scene.render(160, 120);
+  }
+  allocations = 0;
+  counting = true;
+  for (int i = 0; i < 5; ++i) {
+    scene.update();
+    scene.render(160, 120);
+  }
+  const long still = allocations.exchange(0);
+  for (int i = 0; i < 5; ++i) {
+    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.update();
+    scene.render(160, 120);
+  }
+  counting = false;
+  const long moving = allocations.exchange(0);
+  // The camera stops: still refinement of the fabric and the full tract set, until converged.
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  counting = true;
+  int refining = 0;
+  for (; refining < 400 && !scene.converged(); ++refining) {
+    scene.update();
+    scene.render(160, 120);
+  }
+  counting = false;
+  EXPECT_GT(refining, 0);
+  EXPECT_TRUE(scene.converged());
+  EXPECT_EQ(still, 0);
+  EXPECT_EQ(moving, 0) << "interactive frames with tracts allocated " << moving << " times";
+  EXPECT_EQ(allocations.load(), 0) << "refining frames with tracts allocated " << allocations.load()
+                                   << " times";
 }

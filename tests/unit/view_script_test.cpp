@@ -151,3 +151,99 @@ TEST(ViewScript, BadLinesNameFileAndLine) {
 TEST(ViewScript, MissingFileIsAnInputError) {
   EXPECT_THROW(loadViewScript("/nonexistent/dir/script.txt"), InputError);
 }
+
+TEST(ViewScript, TractLinesParse) {
+  const ViewScript s = parseViewScript("tracts-visible off\n"
+                                       "tracts-near 2.5\n"
+                                       "tract-width 3\n"
+                                       "split tracts\n"
+                                       "split phong\n"
+                                       "track-cancel\n"
+                                       "tracts-save out/my tracts.tck\n"
+                                       "tracts-save out/t.trk force\n"
+                                       "agreement\n"
+                                       "agreement 3 18\n",
+                                       "t.txt");
+  ASSERT_EQ(s.steps.size(), 10u);
+  EXPECT_FALSE(actionAt<ui::SetTractsVisible>(s, 0).on);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsNear>(s, 1).mm, 2.5);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractWidth>(s, 2).px, 3.0);
+  EXPECT_TRUE(actionAt<ui::SetSplit>(s, 3).on);
+  EXPECT_EQ(actionAt<ui::SetSplit>(s, 3).mode, ui::SecondPane::Tracts);
+  EXPECT_EQ(actionAt<ui::SetSplit>(s, 4).mode, ui::SecondPane::Phong);
+  actionAt<ui::CancelTracking>(s, 5);
+  EXPECT_EQ(actionAt<ui::SaveTracts>(s, 6).path, "out/my tracts.tck");
+  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).overwrite);
+  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).askFirst) << "a script never waits for a question";
+  EXPECT_EQ(actionAt<ui::SaveTracts>(s, 7).path, "out/t.trk");
+  EXPECT_TRUE(actionAt<ui::SaveTracts>(s, 7).overwrite);
+  EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 8).nearMm, 2.0); // `dtfabric compare`'s defaults
+  EXPECT_EQ(actionAt<ui::ComputeAgreement>(s, 8).bins, 9);
+  EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 9).nearMm, 3.0);
+  EXPECT_EQ(actionAt<ui::ComputeAgreement>(s, 9).bins, 18);
+}
+
+TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
+  const ViewScript s = parseViewScript("track\n"
+                                       "track from=slice:coronal:12 seeds=500 fa-stop=0.2 angle=45 step=0.5 "
+                                       "min-length=10 max-length=100 seed=7 euler\n"
+                                       "track from=sphere:1.5,-2,30,8 select=20\n"
+                                       "track from=fa:0.4 per-voxel=2\n"
+                                       "track from=slice:axial\n",
+                                       "t.txt");
+  const ui::TrackRequest def = actionAt<ui::TrackTracts>(s, 0).request;
+  EXPECT_EQ(def.seeds, ui::SeedKind::Surface);
+  EXPECT_EQ(def.count, ui::SeedCount::Select);
+  EXPECT_EQ(def.number, 1000);
+  EXPECT_DOUBLE_EQ(def.faStop, 0.15);
+  EXPECT_TRUE(def.rk4);
+  const ui::TrackRequest a = actionAt<ui::TrackTracts>(s, 1).request;
+  EXPECT_EQ(a.seeds, ui::SeedKind::Slice);
+  EXPECT_EQ(a.sliceAxis, 1);
+  EXPECT_EQ(a.sliceIndex, 12);
+  EXPECT_EQ(a.count, ui::SeedCount::Seeds);
+  EXPECT_EQ(a.number, 500);
+  EXPECT_DOUBLE_EQ(a.faStop, 0.2);
+  EXPECT_DOUBLE_EQ(a.angleDeg, 45);
+  EXPECT_DOUBLE_EQ(a.stepMm, 0.5);
+  EXPECT_DOUBLE_EQ(a.minLengthMm, 10);
+  EXPECT_DOUBLE_EQ(a.maxLengthMm, 100);
+  EXPECT_EQ(a.rngSeed, 7);
+  EXPECT_FALSE(a.rk4);
+  const ui::TrackRequest b = actionAt<ui::TrackTracts>(s, 2).request;
+  EXPECT_EQ(b.seeds, ui::SeedKind::Sphere);
+  EXPECT_EQ(b.centre, glm::dvec3(1.5, -2, 30));
+  EXPECT_DOUBLE_EQ(b.radiusMm, 8);
+  EXPECT_EQ(b.number, 20);
+  const ui::TrackRequest c = actionAt<ui::TrackTracts>(s, 3).request;
+  EXPECT_EQ(c.seeds, ui::SeedKind::FaMask);
+  EXPECT_DOUBLE_EQ(c.faMask, 0.4);
+  EXPECT_EQ(c.count, ui::SeedCount::PerVoxel);
+  EXPECT_EQ(c.number, 2);
+  EXPECT_EQ(actionAt<ui::TrackTracts>(s, 4).request.sliceIndex, -1) << "no index: the viewer's current slice";
+}
+
+TEST(ViewScript, BadTractLinesNameTheProblem) {
+  EXPECT_NE(parseError("tracts-near -1").find("demo.txt:1: tracts-near must lie in [0, 1000]"),
+            std::string::npos);
+  EXPECT_NE(parseError("tract-width 0").find("tract-width must lie in (0, 32]"), std::string::npos);
+  EXPECT_NE(parseError("tracts-visible maybe").find("tracts-visible takes on or off"), std::string::npos);
+  EXPECT_NE(parseError("tracts-save").find("usage: tracts-save PATH [force]"), std::string::npos);
+  EXPECT_NE(parseError("agreement 2 0").find("agreement bins must lie in 1..90"), std::string::npos);
+  EXPECT_NE(parseError("agreement 1 2 3").find("usage: agreement"), std::string::npos);
+  EXPECT_NE(parseError("track-cancel now").find("usage: track-cancel"), std::string::npos);
+  EXPECT_NE(parseError("track from=moon").find("track: from=surface | slice"), std::string::npos);
+  EXPECT_NE(parseError("track from=slice:diagonal").find("demo.txt:1:"), std::string::npos);
+  EXPECT_NE(parseError("track from=sphere:1,2,3").find("from=sphere:X,Y,Z,R"), std::string::npos);
+  EXPECT_NE(parseError("track from=sphere:1,2,3,0").find("radius must lie in"), std::string::npos);
+  EXPECT_NE(parseError("track select=10 seeds=5").find("give one of select=, seeds=, per-voxel="),
+            std::string::npos);
+  EXPECT_NE(parseError("track per-voxel=2").find("per-voxel needs from=fa:T"), std::string::npos);
+  EXPECT_NE(parseError("track select=0").find("select must lie in [1, 10^7]"), std::string::npos);
+  EXPECT_NE(parseError("track angle=200").find("track: angle limit must be in (0, 180]"), std::string::npos);
+  EXPECT_NE(parseError("track min-length=50 max-length=20").find("track: length limits"), std::string::npos);
+  EXPECT_NE(parseError("track warp=9").find("track: unknown option 'warp'"), std::string::npos);
+  EXPECT_NE(parseError("track fast").find("track: expected KEY=VALUE, got 'fast'"), std::string::npos);
+  EXPECT_NE(parseError("split sideways").find("split takes on or off (or colour, phong, tracts)"),
+            std::string::npos);
+}

@@ -203,3 +203,89 @@ TEST_F(ViewHeadlessUi, FibreSeedFromTheViewerFillsTheSeedFieldsAndBuildSendsIt) 
   ASSERT_TRUE(spec);
   EXPECT_EQ(spec->text, "fibre-voxel=17,12,24:23,12,24");
 }
+
+namespace {
+// The Tracts panel lies at the bottom of the side bar: a tall display keeps it on screen.
+class ViewTractsPanel : public ViewHeadlessUi {
+protected:
+  void SetUp() override {
+    ViewHeadlessUi::SetUp();
+    ImGui::GetIO().DisplaySize = ImVec2(1280, 3000);
+    state.tractPath = "/data/tracks.tck";
+    state.tractCount = 2000;
+    state.tractPoints = 147545;
+  }
+  // Opens the Tracts header, and the tree nodes named.
+  void open(std::initializer_list<const char*> nodes = {}) {
+    click("Tracts");
+    for (const char* n : nodes)
+      click(n);
+  }
+};
+} // namespace
+
+TEST_F(ViewTractsPanel, ShowCheckboxAndDistanceSliderSendTheirActions) {
+  open();
+  const auto v = find<SetTractsVisible>(click("show tracts"));
+  ASSERT_TRUE(v);
+  EXPECT_FALSE(v->on);
+  const auto n = find<SetTractsNear>(click("near surface (mm)"));
+  ASSERT_TRUE(n);
+  EXPECT_NEAR(n->mm, 10.0, 1.0); // the middle of 0..20 mm
+  const auto w = find<SetTractWidth>(click("width (px)"));
+  ASSERT_TRUE(w);
+  EXPECT_NEAR(w->px, 4.25, 0.4); // the middle of 0.5..8 px
+}
+
+TEST_F(ViewTractsPanel, TrackSendsTheEditedRequestAndCancelStopsIt) {
+  state.hasData = true;
+  buffers.track.number = 123;
+  buffers.track.seeds = SeedKind::FaMask;
+  buffers.track.faMask = 0.45;
+  open({"Tracking"});
+  const auto t = find<TrackTracts>(click("Track"));
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->request.number, 123);
+  EXPECT_EQ(t->request.seeds, SeedKind::FaMask);
+  EXPECT_DOUBLE_EQ(t->request.faMask, 0.45);
+  state.tracking = true;
+  state.trackProgress = 0.4;
+  EXPECT_TRUE(find<CancelTracking>(click("Cancel")));
+  EXPECT_FALSE(centres.count("Track") && find<TrackTracts>(click("Track"))) << "one tracking at a time";
+}
+
+TEST_F(ViewTractsPanel, SaveAsksBeforeReplacingAFile) {
+  std::snprintf(buffers.tractSavePath.data(), buffers.tractSavePath.size(), "out/t.tck");
+  open();
+  const auto s = find<SaveTracts>(click("Save"));
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->path, "out/t.tck");
+  EXPECT_FALSE(s->overwrite);
+  EXPECT_TRUE(s->askFirst);
+  // The viewer found the file: the prompt's Overwrite sends it again with overwrite set, Keep it drops it.
+  state.savePrompt = "out/t.tck";
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  const auto o = find<SaveTracts>(click("Overwrite"));
+  ASSERT_TRUE(o);
+  EXPECT_TRUE(o->overwrite);
+  EXPECT_EQ(o->path, "out/t.tck");
+  EXPECT_TRUE(find<DismissSavePrompt>(click("Keep it")));
+}
+
+TEST_F(ViewTractsPanel, AgreementComputesWithCompareDefaultsAndShowsTheHistogram) {
+  state.hasData = true;
+  open({"Agreement with the fabric"});
+  const auto a = find<ComputeAgreement>(click("Compute"));
+  ASSERT_TRUE(a);
+  EXPECT_DOUBLE_EQ(a->nearMm, 2.0);
+  EXPECT_EQ(a->bins, 9);
+  state.hasAgreement = true;
+  state.agreementHistogram = {50, 20, 10, 5, 3, 2, 1, 1, 0};
+  state.agreementPoints = 92;
+  EXPECT_TRUE(frame(-1, -1, false).empty());
+  ASSERT_TRUE(centres.count("agreement histogram"));
+  EXPECT_GT(centres["agreement histogram"][0], 70.0f) << "the histogram has the panel's width";
+  state.agreementRunning = true;
+  EXPECT_FALSE(find<ComputeAgreement>(click("Compute"))) << "disabled while computing";
+}

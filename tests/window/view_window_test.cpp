@@ -2,9 +2,12 @@
 // the FA slider, slice keys and split view change what is on screen. Skips without xvfb-run unless
 // DTF_REQUIRE_GL=1. Each test runs the viewer once at 640x480 on the bundled brain phantom.
 #include "io/png_io.h"
+#include "io/tracts.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -37,11 +40,11 @@ const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom
 
 // Runs the viewer on the phantom with `script` (written to the scratch folder) under Xvfb.
 dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script,
-                               const std::string& extra = "") {
+                               const std::string& extra = "", const fs::path& input = kSample) {
   const fs::path scriptFile = scratch / "script.txt";
   std::ofstream(scriptFile) << script;
   const std::string args =
-      "view '" + kSample.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
+      "view '" + input.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
   const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt";
   const std::string cmd = "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) +
                           "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
@@ -282,4 +285,119 @@ TEST(ViewWindow, SavedCameraRestoresTheSameImage) {
   EXPECT_GT(differingFraction(a, b), 0.02) << "rotating did not change the view";
   // Same camera, same mesh: the still fabric starts from the same noise and converges to the same image.
   EXPECT_LT(differingFraction(a, c), 0.005);
+}
+
+namespace {
+
+// Changed pixels of `with` against `without` that look like a tract: a saturated DEC colour.
+std::size_t tractPixels(const Image& with, const Image& without) {
+  std::size_t n = 0;
+  for (int y = 0; y < with.height; ++y)
+    for (int x = 0; x < with.width; ++x) {
+      const auto *p = with.pixel(x, y), *q = without.pixel(x, y);
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 60) continue;
+      const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
+      n += hi > 120 && hi - lo > 80;
+    }
+  return n;
+}
+
+// Pixels where the left and right halves of a split scene differ.
+std::size_t paneDifference(const Image& split) {
+  std::size_t n = 0;
+  for (int y = 0; y < split.height; ++y)
+    for (int x = 0; x < split.width / 2; ++x) {
+      const auto *l = split.pixel(x, y), *r = split.pixel(x + split.width / 2, y);
+      n += std::abs(l[0] - r[0]) + std::abs(l[1] - r[1]) + std::abs(l[2] - r[2]) > 60;
+    }
+  return n;
+}
+
+} // namespace
+
+TEST(ViewWindow, TractsOverTheRealBrainShowHideAndSplit) {
+  DTF_WINDOW_TEST_SETUP();
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
+  const auto dir = dtf::test::scratchDir();
+  const auto r = runViewer(
+      dir,
+      "slice axial 22\nscreenshot-scene " + shot(dir, "plain.png") + "\ntracts " + tck.string() +
+          "\nscreenshot-scene " + shot(dir, "tracts.png") + "\ntracts-visible off\nscreenshot-scene " +
+          shot(dir, "hidden.png") + "\ntracts-visible on\nsplit tracts\nscreenshot-scene " +
+          shot(dir, "split.png") + "\ntracts-visible off\nscreenshot-scene " + shot(dir, "split_hidden.png") +
+          "\ntracts-visible on\nscreenshot " + shot(dir, "window.png") + "\nquit\n",
+      "", tensor);
+  DTF_SKIP_WITHOUT_WINDOW_GL(r);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("tracts shown: 2000 streamline pieces, 147545 points (slab around the plane)"),
+            std::string::npos)
+      << r.err;
+  const Image plain = dtf::io::readPng(shot(dir, "plain.png")),
+              tracts = dtf::io::readPng(shot(dir, "tracts.png"));
+  const Image hidden = dtf::io::readPng(shot(dir, "hidden.png"));
+  const std::size_t drawn = tractPixels(tracts, plain);
+  EXPECT_GT(drawn, 3000u) << "DEC-coloured tracts over the fabric";
+  EXPECT_LT(tractPixels(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
+  const Image split = dtf::io::readPng(shot(dir, "split.png"));
+  const Image splitHidden = dtf::io::readPng(shot(dir, "split_hidden.png"));
+  const std::size_t panes = paneDifference(split);
+  EXPECT_GT(panes, 1500u) << "fabric | fabric + tracts: the right pane carries the tracts";
+  EXPECT_LT(paneDifference(splitHidden), panes / 20) << "without tracts both panes show the same fabric";
+}
+
+TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
+  DTF_WINDOW_TEST_SETUP();
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
+  const auto dir = dtf::test::scratchDir();
+  const std::string out = (dir / "tracked.tck").string();
+  const auto r =
+      runViewer(dir,
+                "slice axial 22\nscreenshot-scene " + shot(dir, "plain.png") + "\ntracts " + tck.string() +
+                    "\nagreement\ntrack from=slice:axial:22 select=100\nscreenshot-scene " +
+                    shot(dir, "tracked.png") + "\ntracts-save " + out + "\ntracts-save " + out + "\nquit\n",
+                "", tensor);
+  DTF_SKIP_WITHOUT_WINDOW_GL(r);
+  // The second save fails (exit code 2) naming the file; the viewer went on to `quit`.
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("script.txt:8: error: " + out + " exists: refusing to overwrite it"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("tracked 100 streamlines"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wrote " + out), std::string::npos) << r.err;
+  EXPECT_EQ(dtf::io::readTck(out).lineCount(), 100u);
+  // The agreement printed for the slice is `dtfabric compare`'s.
+  const auto c = dtf::test::runDtfabric("compare '" + tensor.string() + "' --tracts '" + tck.string() +
+                                            "' --surface slice=axial:22 --json",
+                                        dir);
+  ASSERT_EQ(c.exitCode, 0) << c.err;
+  std::size_t points = 0;
+  double mean = 0, median = 0, below = 0;
+  ASSERT_EQ(std::sscanf(c.out.c_str(),
+                        "{\"points\": %zu, \"mean_deg\": %lf, \"median_deg\": %lf, \"frac_below_15\": %lf",
+                        &points, &mean, &median, &below),
+            4);
+  char expected[200];
+  std::snprintf(expected, sizeof expected, "agreement: %zu points compared, ", points);
+  const auto at = r.err.find(expected);
+  ASSERT_NE(at, std::string::npos) << r.err << "\nexpected " << expected;
+  std::snprintf(expected, sizeof expected, "mean %.4f deg, median %.4f deg, below 15 deg %.6f", mean, median,
+                below);
+  EXPECT_NE(r.err.find(expected, at), std::string::npos) << r.err << "\nexpected " << expected;
+  // The tracked streamlines are drawn over the slice.
+  EXPECT_GT(tractPixels(dtf::io::readPng(shot(dir, "tracked.png")), dtf::io::readPng(shot(dir, "plain.png"))),
+            1000u);
+}
+
+TEST(ViewWindow, TrackCancelStopsALongRun) {
+  DTF_WINDOW_TEST_SETUP();
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  const auto dir = dtf::test::scratchDir();
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = runViewer(dir, "track from=fa:0.2 select=5000000\ntrack-cancel\nwait 2\nquit\n", "", tensor);
+  DTF_SKIP_WITHOUT_WINDOW_GL(r);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("tracking cancelled after"), std::string::npos) << r.err;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 100.0);
 }

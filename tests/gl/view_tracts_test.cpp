@@ -1,0 +1,368 @@
+// Tracts in the viewer scene (app/viewer.h), headless: drawn over the fabric and hidden on request, the
+// selection redone for each surface, the split mode "fabric | fabric + tracts", tracking, saving and the
+// agreement measure on the worker threads, each checked against the command line that does the same
+// (`dtfabric compare`, `dtfabric track`) or against the library call. Real brain: the shared
+// iu_prisma_dwi tensors and their 2000 deterministic streamlines.
+#include "app/render_split.h"
+#include "app/surface_spec.h"
+#include "app/tract_files.h"
+#include "app/viewer.h"
+#include "io/png_io.h"
+#include "io/tensor_io.h"
+#include "io/tracts.h"
+#include "support/cli.h"
+#include "support/gl_test.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+using namespace dtf;
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kW = 256, kH = 256;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The viewer scene with the frame loop of the window, minus ImGui.
+struct Scene {
+  app::ViewerScene scene;
+  explicit Scene(const std::string& surface) : scene(surface) {}
+
+  void frame(int w = kW, int h = kH) {
+    scene.update();
+    scene.render(w, h);
+  }
+  // Frames until the workers are idle and every pane (tracts included) is still.
+  void converge(double timeout = 180) {
+    const auto t0 = Clock::now();
+    do {
+      frame();
+      if (!scene.settled()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ASSERT_LT(secondsSince(t0), timeout) << "the scene did not settle";
+    } while (!scene.settled() || !scene.converged());
+    frame();
+    ASSERT_TRUE(scene.converged());
+  }
+  void apply(const ui::Action& a) { scene.apply(a); }
+  const ui::ViewerState& state() const { return scene.state(); }
+  std::string lastError() const { return state().errorChain.empty() ? "" : state().errorChain.back(); }
+  // What the window would show: the panes blitted into a w x h target, row 0 at the top.
+  Image image(int w = kW, int h = kH) {
+    render::Texture colour = render::Texture::create2D(GL_RGBA8, w, h);
+    render::Framebuffer fbo = render::createFramebuffer();
+    render::attachTargets(fbo, {&colour}, nullptr);
+    const float black[4] = {0, 0, 0, 1};
+    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, black);
+    scene.present(fbo.id(), 0, 0);
+    Image img(w, h);
+    std::vector<std::uint8_t> rows(img.rgba.size());
+    glGetTextureImage(colour.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()),
+                      rows.data());
+    const std::size_t stride = static_cast<std::size_t>(w) * 4;
+    for (int y = 0; y < h; ++y)
+      std::memcpy(&img.rgba[static_cast<std::size_t>(y) * stride],
+                  &rows[static_cast<std::size_t>(h - 1 - y) * stride], stride);
+    return img;
+  }
+};
+
+// Pixels of the rectangle [x0, x1) x [0, h) whose colour differs by more than 40 in some channel.
+std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {
+  if (x1 < 0) x1 = a.width;
+  std::size_t n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const auto *p = a.pixel(x, y), *q = b.pixel(x, y);
+      n += std::abs(p[0] - q[0]) > 40 || std::abs(p[1] - q[1]) > 40 || std::abs(p[2] - q[2]) > 40;
+    }
+  return n;
+}
+
+// Changed pixels that look like a tract: one saturated DEC channel clearly above the others.
+std::size_t tractLike(const Image& with, const Image& without) {
+  std::size_t n = 0;
+  for (int y = 0; y < with.height; ++y)
+    for (int x = 0; x < with.width; ++x) {
+      const auto *p = with.pixel(x, y), *q = without.pixel(x, y);
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 60) continue;
+      const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
+      n += hi > 120 && hi - lo > 80;
+    }
+  return n;
+}
+
+#define BRAIN_FILES()                                                                                        \
+  DTF_GL_TEST_SETUP();                                                                                       \
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");                                        \
+  DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck")
+
+} // namespace
+
+TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
+  BRAIN_FILES();
+  Scene s("slice=axial:22");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image plain = s.image();
+  s.apply(ui::LoadTracts{tck.string()});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_EQ(s.state().tractCount, 2000u);
+  EXPECT_TRUE(s.state().tractsSlab) << "a slice: every tract, clipped to a slab around it";
+  const Image tracts = s.image();
+  const std::size_t drawn = tractLike(tracts, plain);
+  EXPECT_GT(drawn, 2000u) << "DEC-coloured tract pixels over the fabric";
+  // A thin slab keeps fewer of them.
+  s.apply(ui::SetTractsNear{0.5});
+  s.converge();
+  EXPECT_LT(tractLike(s.image(), plain), drawn * 3 / 4);
+  s.apply(ui::SetTractsNear{3.0});
+  s.apply(ui::SetTractsVisible{false});
+  s.converge();
+  const Image hidden = s.image();
+  EXPECT_LT(tractLike(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
+  s.apply(ui::SetTractsVisible{true});
+  s.converge();
+  EXPECT_LT(differing(s.image(), tracts), tracts.rgba.size() / 4 / 100)
+      << "showing them again restores the image";
+
+  // Split "fabric | fabric + tracts": one camera, the same fabric in the same colour mode, so the panes
+  // differ by the tracts alone, and not at all once they are hidden.
+  auto paneDifference = [](const Image& split) {
+    std::size_t n = 0;
+    for (int y = 0; y < split.height; ++y)
+      for (int x = 0; x < split.width / 2; ++x) {
+        const auto *l = split.pixel(x, y), *r = split.pixel(x + split.width / 2, y);
+        n += std::abs(l[0] - r[0]) + std::abs(l[1] - r[1]) + std::abs(l[2] - r[2]) > 60;
+      }
+    return n;
+  };
+  s.apply(ui::SetSplit{true, ui::SecondPane::Tracts});
+  s.converge();
+  const Image split = s.image();
+  io::writePng((test::scratchDir() / "split.png").string(), split);
+  const std::size_t withTracts = paneDifference(split);
+  EXPECT_GT(withTracts, 500u) << "the right pane carries the tracts";
+  s.apply(ui::SetTractsVisible{false});
+  s.converge();
+  EXPECT_LT(paneDifference(s.image()), withTracts / 20) << "without tracts both panes show the same fabric";
+  s.apply(ui::SetTractsVisible{true});
+  s.converge();
+  EXPECT_FALSE(s.scene.paneShowsTracts(0));
+  EXPECT_TRUE(s.scene.paneShowsTracts(1));
+}
+
+TEST(ViewTracts, SelectionFollowsTheSurfaceAndEqualsTheLibrarySelection) {
+  BRAIN_FILES();
+  Scene s("fa=0.3");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(ui::LoadTracts{tck.string()});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_FALSE(s.state().tractsSlab);
+  const TensorField field = io::readTensorVolume(tensor.string()).field;
+  const Polylines all = app::readTracts(tck.string());
+  const ScalarVolume fa = computeFaMap(field);
+  auto expected = [&](double t, double near) {
+    const Mesh m = app::buildSurface(app::parseSurfaceSpec("fa=" + std::to_string(t)), field, fa);
+    return app::selectNearSurface(all, surfaces::DistanceQuery(m), near).points.size();
+  };
+  const std::size_t at03 = s.state().tractsShownPoints;
+  EXPECT_EQ(at03, expected(0.3, 3.0));
+  s.apply(ui::SetFaThreshold{0.2});
+  s.converge();
+  EXPECT_EQ(s.state().tractsShownPoints, expected(0.2, 3.0));
+  EXPECT_NE(s.state().tractsShownPoints, at03);
+  s.apply(ui::SetTractsNear{1.5});
+  s.converge();
+  EXPECT_EQ(s.state().tractsShownPoints, expected(0.2, 1.5));
+  s.apply(ui::SetTractsNear{0});
+  s.converge();
+  EXPECT_EQ(s.state().tractsShownPoints, all.points.size()) << "0 mm: every tract";
+}
+
+TEST(ViewTracts, AgreementMatchesTheCompareCommand) {
+  BRAIN_FILES();
+  Scene s("fa=0.25");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(ui::LoadTracts{tck.string()});
+  s.converge();
+  const auto dir = test::scratchDir();
+  for (const char* surface : {"fa=0.25", "slice=axial:22"}) {
+    SCOPED_TRACE(surface);
+    s.apply(ui::SetSurfaceSpec{surface});
+    s.apply(ui::ComputeAgreement{2.0, 9});
+    s.converge();
+    ASSERT_EQ(s.lastError(), "");
+    ASSERT_TRUE(s.state().hasAgreement);
+    const auto r = test::runDtfabric("compare '" + tensor.string() + "' --tracts '" + tck.string() +
+                                         "' --surface " + surface + " --json",
+                                     dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::size_t points = 0;
+    double mean = 0, median = 0, below = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str(),
+                          "{\"points\": %zu, \"mean_deg\": %lf, \"median_deg\": %lf, \"frac_below_15\": %lf",
+                          &points, &mean, &median, &below),
+              4)
+        << r.out;
+    const ui::ViewerState& v = s.state();
+    EXPECT_EQ(v.agreementPoints, points);
+    EXPECT_NEAR(v.agreementMeanDeg, mean, 1e-4);
+    EXPECT_NEAR(v.agreementMedianDeg, median, 1e-4);
+    EXPECT_NEAR(v.agreementFracBelow15, below, 1e-6);
+    std::string histogram;
+    for (float h : v.agreementHistogram)
+      histogram += (histogram.empty() ? "" : ", ") + std::to_string(int(h));
+    EXPECT_NE(r.out.find("\"histogram\": [" + histogram + "]"), std::string::npos) << histogram << "\n"
+                                                                                   << r.out;
+  }
+}
+
+TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
+  BRAIN_FILES();
+  Scene s("slice=axial:22");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.converge();
+  ui::TrackRequest r;
+  r.seeds = ui::SeedKind::Slice;
+  r.sliceAxis = 0;
+  r.sliceIndex = -1; // the slice on screen: 22
+  r.number = 150;
+  s.apply(ui::TrackTracts{r});
+  EXPECT_TRUE(s.state().tracking);
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_FALSE(s.state().tracking);
+  EXPECT_EQ(s.state().tractCount, 150u) << s.state().trackStatus;
+  const auto dir = test::scratchDir();
+  const auto viewer = dir / "viewer.tck", cli = dir / "cli.tck";
+  s.apply(ui::SaveTracts{viewer.string()});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_EQ(s.state().saveStatus, "wrote " + viewer.string());
+  const auto t = test::runDtfabric(
+      "track '" + tensor.string() + "' --seed-slice axial:22 --select 150 -o '" + cli.string() + "'", dir);
+  ASSERT_EQ(t.exitCode, 0) << t.err;
+  const Polylines a = io::readTck(viewer.string()), b = io::readTck(cli.string());
+  EXPECT_EQ(a.offsets, b.offsets);
+  EXPECT_EQ(a.points, b.points) << "same seeds and options: the same streamlines";
+
+  // An existing file is not replaced unless asked: scripts fail naming it, the panel asks first.
+  const auto before = fs::file_size(viewer);
+  s.apply(ui::SaveTracts{viewer.string()});
+  EXPECT_NE(s.lastError().find(viewer.string() + " exists"), std::string::npos) << s.lastError();
+  s.apply(ui::DismissError{});
+  s.apply(ui::SaveTracts{viewer.string(), false, true});
+  EXPECT_EQ(s.state().savePrompt, viewer.string());
+  EXPECT_EQ(s.lastError(), "");
+  s.apply(ui::SaveTracts{viewer.string(), true, false}); // the prompt's Overwrite
+  EXPECT_EQ(s.state().savePrompt, "");
+  s.converge();
+  EXPECT_EQ(s.lastError(), "");
+  EXPECT_EQ(fs::file_size(viewer), before);
+  // Only tract files.
+  s.apply(ui::SaveTracts{tensor.string(), true, false});
+  EXPECT_NE(s.lastError().find("tract files end in .tck, .trk or .vtk"), std::string::npos) << s.lastError();
+}
+
+TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
+  BRAIN_FILES();
+  Scene s("slice=axial:22");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(ui::LoadTracts{tck.string()});
+  s.converge();
+  ui::TrackRequest r;
+  r.seeds = ui::SeedKind::FaMask;
+  r.faMask = 0.2;
+  r.number = 5'000'000; // minutes of work
+  s.apply(ui::TrackTracts{r});
+  const auto t0 = Clock::now();
+  while (s.state().trackSeedsDone == 0 && secondsSince(t0) < 30) {
+    s.frame();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_GT(s.state().trackSeedsDone, 0u) << "progress is reported while tracking";
+  EXPECT_GT(s.state().trackProgress, 0.0);
+  s.apply(ui::TrackTracts{r});
+  EXPECT_NE(s.lastError().find("tracking is already running"), std::string::npos) << s.lastError();
+  s.apply(ui::DismissError{});
+  const auto c0 = Clock::now();
+  s.apply(ui::CancelTracking{});
+  s.converge();
+  EXPECT_LT(secondsSince(c0), 20.0);
+  EXPECT_NE(s.state().trackStatus.find("tracking cancelled"), std::string::npos) << s.state().trackStatus;
+  EXPECT_EQ(s.state().tractPath, tck.string()) << "a cancelled run keeps the tracts on screen";
+  EXPECT_EQ(s.state().tractCount, 2000u);
+  // The loaded file is an input: never overwritten, whatever the flags.
+  s.apply(ui::SaveTracts{tck.string(), true, false});
+  EXPECT_EQ(s.lastError(), "refusing to write " + tck.string() + ": it is an input file");
+  s.apply(ui::DismissError{});
+
+  const auto dir = test::scratchDir();
+  const auto bad = dir / "broken.tck";
+  std::ofstream(bad) << "mrtrix tracks\nfile: . 20\ndatatype: Float32LE\nEND\n";
+  s.apply(ui::LoadTracts{bad.string()});
+  s.converge();
+  ASSERT_FALSE(s.state().errorChain.empty());
+  EXPECT_EQ(s.state().errorChain.front(), "while loading tracts " + bad.string());
+  EXPECT_EQ(s.state().tractCount, 2000u) << "the previous tracts stay";
+  s.apply(ui::DismissError{});
+  r = ui::TrackRequest{};
+  r.seeds = ui::SeedKind::Sphere;
+  r.centre = glm::dvec3(500, 500, 500); // outside the brain: no streamline
+  r.number = 5;
+  s.apply(ui::TrackTracts{r});
+  s.converge();
+  ASSERT_FALSE(s.state().errorChain.empty());
+  EXPECT_EQ(s.state().errorChain.front(), "while tracking");
+  EXPECT_NE(s.lastError().find("no streamline passed"), std::string::npos) << s.lastError();
+}
+
+TEST(ViewTracts, AMillionPointsStayInteractiveAndEndComplete) {
+  DTF_GL_TEST_SETUP();
+  // 5000 helices of 200 points (1M) through the phantom's 168 mm cube.
+  Polylines big;
+  big.offsets = {0};
+  for (int i = 0; i < 5000; ++i) {
+    const float cx = float(i % 70) * 2.0f - 70.0f, cy = float(i / 70 % 70) * 2.0f - 70.0f;
+    for (int k = 0; k < 200; ++k) {
+      const float t = float(k) / 199.0f;
+      big.points.emplace_back(cx + 3.0f * std::cos(12.0f * t + float(i)),
+                              cy + 3.0f * std::sin(12.0f * t + float(i)), 120.0f * t - 60.0f);
+    }
+    big.offsets.push_back(static_cast<std::uint32_t>(big.points.size()));
+  }
+  const auto dir = test::scratchDir();
+  io::writeTck((dir / "big.tck").string(), big);
+  Scene s("slice=axial");
+  s.apply(ui::LoadFile{(test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  s.apply(ui::LoadTracts{(dir / "big.tck").string()});
+  s.apply(ui::SetTractsNear{0});
+  s.converge(300);
+  ASSERT_EQ(s.lastError(), "");
+  ASSERT_NE(s.scene.tractRenderer(), nullptr);
+  EXPECT_EQ(s.scene.tractRenderer()->pointCount(), 1'000'000u);
+  EXPECT_EQ(s.state().tractsLevel, 0) << "still: every display point";
+  EXPECT_DOUBLE_EQ(s.state().tractsLevelFraction, 1.0);
+  // Moving: each frame draws what its budget allows, a coarser level or part of one.
+  bool reduced = false;
+  for (int i = 0; i < 8; ++i) {
+    s.apply(ui::Rotate{6, 0});
+    s.frame();
+    reduced |= s.state().tractsLevel > 0 || s.state().tractsLevelFraction < 1.0;
+  }
+  EXPECT_TRUE(reduced) << "1M points drawn whole while moving";
+  EXPECT_GT(s.scene.tractBudget().msPerSegment(0), 0.0);
+  s.converge(300);
+  EXPECT_EQ(s.state().tractsLevel, 0);
+  EXPECT_DOUBLE_EQ(s.state().tractsLevelFraction, 1.0);
+}
