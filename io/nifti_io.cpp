@@ -164,6 +164,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   int version = 1;
   long long rawDims[8] = {};
   int rawDatatype = 0;
+  double rawVoxOffset = 0;
   void* raw = nifti_read_header(path.c_str(), &version, 0);
   if (!raw)
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
@@ -186,6 +187,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     }
     const auto dt = static_cast<std::uint16_t>(h2->datatype);
     rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+    const auto off = static_cast<std::uint64_t>(h2->vox_offset);
+    rawVoxOffset = static_cast<double>(static_cast<std::int64_t>(swap ? __builtin_bswap64(off) : off));
   } else {
     const auto* h1 = static_cast<const nifti_1_header*>(raw);
     const bool swap = h1->sizeof_hdr != 348;
@@ -195,11 +198,31 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     }
     const auto dt = static_cast<std::uint16_t>(h1->datatype);
     rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+    std::uint32_t off;
+    std::memcpy(&off, &h1->vox_offset, sizeof off);
+    if (swap) off = __builtin_bswap32(off);
+    float voxOffset;
+    std::memcpy(&voxOffset, &off, sizeof voxOffset);
+    rawVoxOffset = voxOffset;
   }
+  // nifticlib replaces a vox_offset it cannot use (negative, inside the header, beyond int) with the header
+  // size and reads the data from there: the wrong bytes, silently. Refuse such headers instead.
+  const bool singleFile = !std::memcmp(magic, "n+", 2);
+  const double minOffset = singleFile ? expectHdr + 4 : 0;
   std::free(raw);
   if (!sizeOk) fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
   if (!isNifti)
     fail(path, "not a NIfTI file: no 'n+1', 'ni1', 'n+2' or 'ni2' magic (ANALYZE 7.5 is not supported)");
+  {
+    std::ostringstream m;
+    m << "vox_offset " << rawVoxOffset;
+    if (!std::isfinite(rawVoxOffset) || rawVoxOffset > (version == 2 ? 0x1p62 : 0x1p31 - 1))
+      fail(path, m.str() + " is absurd");
+    if (rawVoxOffset < 0) fail(path, m.str() + " is negative");
+    if (rawVoxOffset < minOffset)
+      fail(path, m.str() + " lies inside the header (a single-file NIfTI-" + std::to_string(version) +
+                     "'s data start at byte " + std::to_string(static_cast<int>(minOffset)) + " or later)");
+  }
   const long long ndim = rawDims[0];
   if (ndim < 1 || ndim > 7)
     fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
@@ -233,6 +256,9 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   h.niftiVersion = version == 2 ? 2 : 1;
   if (nim->dim[0] != ndim)
     fail(path, "inconsistent header: nifticlib reads " + std::to_string(nim->dim[0]) + " dimensions");
+  if (nim->iname_offset != static_cast<long long>(rawVoxOffset))
+    fail(path, "inconsistent header: vox_offset " + std::to_string(static_cast<long long>(rawVoxOffset)) +
+                   " but nifticlib would read the data at byte " + std::to_string(nim->iname_offset));
   long long total = 1;
   for (long long d = 1; d <= ndim; ++d) {
     long long n = nim->dim[d];
