@@ -1,6 +1,8 @@
 #include "app/viewer.h"
 
+#include "app/tensor_input.h"
 #include "app/tract_files.h"
+#include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
@@ -11,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <epoxy/gl.h>
+#include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <sstream>
@@ -94,6 +97,37 @@ ViewerScene::~ViewerScene() = default;
 void ViewerScene::setError(const std::string& message) {
   state_.errorChain = ui::splitErrorChain(message);
   ++errorSerial_;
+}
+
+void ViewerScene::addInput(const std::string& path) {
+  if (!path.empty() && std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end())
+    inputs_.push_back(path);
+}
+
+bool ViewerScene::mayWrite(const std::string& path, bool force, const ui::Action& action) {
+  try {
+    io::refuseOverwritingInput(path, inputs_);
+    std::error_code ec;
+    if (force || !std::filesystem::exists(path, ec)) return true;
+    if (!askBeforeOverwrite_)
+      throw InputError(path + " exists (use --force to overwrite it: `view --force`, or a script line's "
+                              "--force before the path)");
+    pendingOverwrite_ = action;
+    state_.overwritePath = path;
+  } catch (...) {
+    setError(currentError());
+  }
+  return false;
+}
+
+std::optional<ui::Action> ViewerScene::answerOverwrite(bool overwrite) {
+  std::optional<ui::Action> a;
+  a.swap(pendingOverwrite_);
+  state_.overwritePath.clear();
+  if (!a || !overwrite) return std::nullopt;
+  if (auto* shot = std::get_if<ui::Screenshot>(&*a)) shot->force = true;
+  if (auto* cam = std::get_if<ui::SaveCamera>(&*a)) cam->force = true;
+  return a;
 }
 
 void ViewerScene::addRecent(const std::string& path) {
@@ -234,6 +268,9 @@ void ViewerScene::loadFile(const ui::LoadFile& a) {
       first.text.empty()) {
     first = parseSurfaceSpec("fa=0.25");
   }
+  addInput(a.path);
+  addInput(gradientSibling(a.path, ".bval"));
+  addInput(gradientSibling(a.path, ".bvec"));
   latestLoad_ = nextId_++;
   latestSurface_ = latestLoad_;
   state_.busy = true;
@@ -422,6 +459,16 @@ void ViewerScene::render(int width, int height) {
     render::checkGl(where);
   } catch (...) {
     dirty_.fill(false); // do not repeat a failing frame every frame
+    try {
+      throw;
+    } catch (const GlError&) {
+      // The field or the passes do not fit this GL (texture limits, GPU memory, shaders): draw nothing more
+      // of these data; the window stays up and another file can be loaded.
+      glFailed_ = true;
+      hasField_ = false;
+      outputFbo_.fill(0);
+    } catch (...) {
+    }
     setError("while rendering: " + currentError());
   }
   state_.converged = converged();
@@ -497,7 +544,11 @@ void ViewerScene::apply(const ui::Action& action) {
               state_.surfaceText = "fibre surface: enter a seed line and press Build";
             requestSurface();
           } else if constexpr (std::is_same_v<T, ui::SetSurfaceSpec>) {
-            applySpec(parseSurfaceSpec(a.text));
+            const SurfaceSpec spec = parseSurfaceSpec(a.text);
+            addInput(spec.file);
+            for (const auto& part : spec.parts)
+              addInput(part.file);
+            applySpec(spec);
             requestSurface();
           } else if constexpr (std::is_same_v<T, ui::SetFaThreshold>) {
             state_.faThreshold = std::clamp(a.value, 0.01, 0.99);
@@ -562,7 +613,12 @@ void ViewerScene::apply(const ui::Action& action) {
             if (a.factor > 0) cameraFor(a.pane).zoom(1.0 / a.factor);
             cameraChanged();
           } else if constexpr (std::is_same_v<T, ui::SaveCamera>) {
-            writeCameraFile(a.path, cameraFor(-1));
+            if (mayWrite(a.path, a.force, action)) writeCameraFile(a.path, cameraFor(-1));
+          } else if constexpr (std::is_same_v<T, ui::ConfirmOverwrite>) {
+            // Screenshots are the window's: it answers the prompt itself and takes them.
+            if (auto forced = answerOverwrite(a.overwrite);
+                forced && std::holds_alternative<ui::SaveCamera>(*forced))
+              apply(*forced);
           } else if constexpr (std::is_same_v<T, ui::LoadCamera>) {
             cameraFor(-1) = readCameraFile(a.path);
             if (state_.linked) cameras_[1] = cameras_[0];
@@ -570,6 +626,7 @@ void ViewerScene::apply(const ui::Action& action) {
           } else if constexpr (std::is_same_v<T, ui::LoadTracts>) {
             if (state_.tractsLoading) throw UsageError("tracts are still loading");
             const std::string path = a.path;
+            addInput(path);
             state_.tractsLoading = true;
             tracts_ = std::async(std::launch::async, [path] {
               try {
@@ -593,7 +650,9 @@ void ViewerScene::apply(const ui::Action& action) {
 
 void writeCameraFile(const std::string& path, const render::Camera& c) {
   if (path.empty()) throw InputError("camera file: no path given");
-  std::ofstream out(path);
+  io::AtomicOutput file(path); // a failed write leaves any earlier camera file as it was
+  std::ofstream out(file.tempPath());
+  if (!out) throw InputError(path + ": cannot write the camera file");
   out.precision(17);
   out << "dtfabric-camera 1\n"
       << "eye " << c.eye.x << " " << c.eye.y << " " << c.eye.z << "\n"
@@ -602,7 +661,9 @@ void writeCameraFile(const std::string& path, const render::Camera& c) {
       << "orthographic " << (c.orthographic ? 1 : 0) << "\n"
       << "fov " << c.fovYDeg << "\nhalf-height " << c.orthoHalfHeight << "\n"
       << "near " << c.nearPlane << "\nfar " << c.farPlane << "\n";
+  out.close();
   if (!out) throw InputError(path + ": cannot write the camera file");
+  file.commit();
 }
 
 render::Camera readCameraFile(const std::string& path) {

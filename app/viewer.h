@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,19 @@ public:
   std::uint64_t meshSerial() const { return meshSerial_; }
   void addRecent(const std::string& path);
 
+  // Output files (screenshots, camera files). A file this session read (volume and its gradient tables,
+  // tracts, meshes, the script) is never replaced, whatever `force` says; an existing file is replaced only
+  // with `force`. Otherwise the refusal goes to the error modal, or, when asking is on (the GUI, not a
+  // script), `action` waits for the overwrite prompt (state().overwritePath). Returns whether to write now.
+  bool mayWrite(const std::string& path, bool force, const ui::Action& action);
+  // Closes the overwrite prompt: the waiting action with force set when `overwrite`, else nothing.
+  std::optional<ui::Action> answerOverwrite(bool overwrite);
+  void setAskBeforeOverwrite(bool on) { askBeforeOverwrite_ = on; }
+  // Records a file read outside the scene's actions (the script) as an input.
+  void addInput(const std::string& path);
+  // A GL failure (GlError: context, shaders, GPU memory, texture limits) was reported since construction.
+  bool glFailed() const { return glFailed_; }
+
 private:
   void loadFile(const ui::LoadFile& a);
   void requestSurface();
@@ -88,8 +102,6 @@ private:
   void dataChanged();
   render::Camera& cameraFor(int pane);
   double paneAspect(int p) const;
-  void saveCamera(const std::string& path) const;
-  void loadCamera(const std::string& path);
 
   ui::ViewerState state_;
   ViewerWorker worker_;
@@ -119,6 +131,9 @@ private:
   int width_ = 1, height_ = 1;
   std::uint64_t errorSerial_ = 0, meshSerial_ = 0;
   std::chrono::steady_clock::time_point lastMotion_{}, busySince_{};
+  std::vector<std::string> inputs_;            // files read so far: never written (mayWrite)
+  std::optional<ui::Action> pendingOverwrite_; // waits for the overwrite prompt
+  bool askBeforeOverwrite_ = true, glFailed_ = false;
 };
 
 // Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.

@@ -79,15 +79,18 @@ std::string describe(const Action& action) {
           std::snprintf(buf, sizeof buf, "Zoom %g", a.factor);
           return buf;
         } else if constexpr (std::is_same_v<T, Screenshot>)
-          return (a.sceneOnly ? "Screenshot scene " : "Screenshot ") + a.path;
+          return std::string(a.sceneOnly ? "Screenshot scene " : "Screenshot ") +
+                 (a.force ? "--force " : "") + a.path;
         else if constexpr (std::is_same_v<T, SaveCamera>)
-          return "SaveCamera " + a.path;
+          return "SaveCamera " + std::string(a.force ? "--force " : "") + a.path;
         else if constexpr (std::is_same_v<T, LoadCamera>)
           return "LoadCamera " + a.path;
         else if constexpr (std::is_same_v<T, LoadTracts>)
           return "LoadTracts " + a.path;
         else if constexpr (std::is_same_v<T, DismissError>)
           return "DismissError";
+        else if constexpr (std::is_same_v<T, ConfirmOverwrite>)
+          return a.overwrite ? "ConfirmOverwrite yes" : "ConfirmOverwrite no";
         else
           return "Quit";
       },

@@ -75,13 +75,16 @@ struct Zoom {
   double factor;
   int pane = -1;
 };
-// A PNG of the whole window (panels included) or of the fabric panes only.
+// A PNG of the whole window (panels included) or of the fabric panes only. Outputs never replace an input
+// file; an existing file is replaced only with `force` (the GUI asks first, a script line says --force).
 struct Screenshot {
   std::string path;
   bool sceneOnly = false;
+  bool force = false;
 };
 struct SaveCamera {
   std::string path;
+  bool force = false;
 };
 struct LoadCamera {
   std::string path;
@@ -91,12 +94,16 @@ struct LoadTracts {
   std::string path;
 };
 struct DismissError {};
+// The answer to the overwrite prompt (ViewerState::overwritePath): write the pending output or drop it.
+struct ConfirmOverwrite {
+  bool overwrite;
+};
 struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
-                 Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, Quit>;
+                 Screenshot, SaveCamera, LoadCamera, LoadTracts, DismissError, ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -280,6 +280,30 @@ void errorModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   }
 }
 
+void overwriteModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  // The error modal goes first: ImGui stacks popups, and an error hides the question until dismissed.
+  if (s.overwritePath.empty() || !s.errorChain.empty()) return;
+  if (!ImGui::IsPopupOpen("Overwrite?")) ImGui::OpenPopup("Overwrite?");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextWrapped("%s exists. Replace it?", s.overwritePath.c_str());
+    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
+      out.push_back(ConfirmOverwrite{true});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Overwrite");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(120, 0))) {
+      out.push_back(ConfirmOverwrite{false});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Cancel");
+    ImGui::EndPopup();
+  }
+}
+
 void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout, ActionList& out) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos(ImVec2(0, 0));
@@ -295,6 +319,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   ImGui::End();
   statusBar(s, layout);
   errorModal(s, b, out);
+  overwriteModal(s, b, out);
 }
 
 std::vector<std::string> splitErrorChain(const std::string& message) {

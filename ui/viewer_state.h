@@ -66,6 +66,7 @@ struct ViewerState {
 
   ProbeInfo probe;
   std::vector<std::string> errorChain; // non-empty: the error modal is open (outermost context first)
+  std::string overwritePath; // non-empty: an output the user asked for exists; the prompt asks to replace it
 
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles

@@ -815,6 +815,44 @@ TEST(OutputProtection, ExistingOutputsNeedForce) {
   EXPECT_NE(readBytes(dir / "keep.nii"), "precious");
 }
 
+// `view --script`: screenshot and camera-save lines are checked before a window opens (so this runs without
+// a display): an existing file needs --force, an input is refused whatever --force says.
+TEST(OutputProtection, ViewScriptOutputsAreCheckedBeforeTheWindow) {
+  const fs::path dir = dtf::test::scratchDir();
+  ASSERT_EQ(runDtfabric("phantom constant --size 8 -o " + q(dir / "t.nii"), dir).exitCode, 0);
+  const std::string volume = readBytes(dir / "t.nii");
+  writeBytes(dir / "old.png", "precious");
+  writeBytes(dir / "old.camera", "precious");
+  struct Run {
+    std::string script, args, errHas;
+  };
+  for (const Run& run :
+       {Run{"fa 0.3\nscreenshot " + (dir / "old.png").string() + "\n", "",
+            "fig.dtfs:2: " + (dir / "old.png").string() + " exists (use --force"},
+        Run{"camera-save " + (dir / "old.camera").string() + "\n", "",
+            "fig.dtfs:1: " + (dir / "old.camera").string() + " exists (use --force"},
+        Run{"camera-save --force " + (dir / "t.nii").string() + "\n", q(dir / "t.nii") + " --force",
+            "fig.dtfs:1: refusing to write " + (dir / "t.nii").string() + ": it is an input file"},
+        Run{"load " + (dir / "t.nii").string() + "\ncamera-save --force " + (dir / "t.nii").string() + "\n",
+            "--force",
+            "fig.dtfs:2: refusing to write " + (dir / "t.nii").string() + ": it is an input file"}}) {
+    writeBytes(dir / "fig.dtfs", run.script);
+    const CliResult r = runDtfabric("view " + run.args + " --script " + q(dir / "fig.dtfs"), dir);
+    EXPECT_EQ(r.exitCode, 2) << run.script << r.err;
+    EXPECT_NE(r.err.find(run.errHas), std::string::npos) << run.script << r.err;
+    EXPECT_EQ(readBytes(dir / "old.png"), "precious");
+    EXPECT_EQ(readBytes(dir / "old.camera"), "precious");
+    EXPECT_EQ(readBytes(dir / "t.nii"), volume);
+  }
+  // `view --force` lets the existing files through the check (the window then opens, or without a display
+  // the viewer stops with exit code 3).
+  writeBytes(dir / "fig.dtfs", "screenshot " + (dir / "old.png").string() + "\ncamera-save " +
+                                   (dir / "old.camera").string() + "\nquit\n");
+  const CliResult r = runDtfabric("view --force --script " + q(dir / "fig.dtfs"), dir);
+  EXPECT_NE(r.exitCode, 2) << r.err;
+  EXPECT_EQ(r.err.find(" exists (use --force"), std::string::npos) << r.err;
+}
+
 // Inputs are never outputs, whatever --force says.
 TEST(OutputProtection, AnInputIsNeverOverwritten) {
   const fs::path dir = dtf::test::scratchDir();

@@ -192,6 +192,37 @@ TEST_F(ViewHeadlessUi, ErrorModalOpensAndOkDismisses) {
   EXPECT_TRUE(d);
 }
 
+TEST_F(ViewHeadlessUi, OverwritePromptAsksBeforeReplacingAFile) {
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("Overwrite")) << "no prompt without a pending output";
+  state.overwritePath = "/figures/fig1.png";
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  // Modal: the panels under it take no clicks.
+  EXPECT_FALSE(find<SetView>(click("anterior")));
+  const auto cancel = find<ConfirmOverwrite>(click("Cancel"));
+  ASSERT_TRUE(cancel);
+  EXPECT_FALSE(cancel->overwrite);
+  // The viewer clears the question on the answer; a later one opens the prompt again.
+  state.overwritePath.clear();
+  frame(-1, -1, false);
+  state.overwritePath = "/figures/fig2.png";
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  const auto yes = find<ConfirmOverwrite>(click("Overwrite"));
+  ASSERT_TRUE(yes);
+  EXPECT_TRUE(yes->overwrite);
+}
+
+TEST_F(ViewHeadlessUi, AnErrorHidesTheOverwritePromptUntilDismissed) {
+  state.overwritePath = "/figures/fig1.png";
+  state.errorChain = {"while saving: disk full"};
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("Overwrite"));
+  EXPECT_TRUE(centres.count("OK"));
+}
+
 TEST_F(ViewHeadlessUi, FibreSeedFromTheViewerFillsTheSeedFieldsAndBuildSendsIt) {
   state.surface = SurfaceKind::Fibre;
   state.fibreSeed = {17, 12, 24, 23, 12, 24};
