@@ -151,6 +151,34 @@ std::string dataFile(const nifti_image* nim, const std::string& path) {
   return (nim->iname_offset == 0 && nim->iname) ? std::string(nim->iname) : path;
 }
 
+// Reads the start of the file before nifticlib does: for a file shorter than the header its sizeof_hdr
+// announces, nifti_read_header prints "** ERROR ... short header read" on stderr whatever its debug level.
+void checkHeaderLength(const std::string& path) {
+  const std::string unreadable = "not a readable NIfTI-1/NIfTI-2 file";
+  znzFile fp = znzopen(path.c_str(), "rb", nifti_is_gzfile(path.c_str()));
+  if (znz_isnull(fp)) fail(path, "cannot open the file");
+  unsigned char head[540];
+  std::size_t got = 0, r = 0;
+  while (got < sizeof head && (r = znzread(head + got, 1, sizeof head - got, fp)) > 0 &&
+         r != static_cast<std::size_t>(-1))
+    got += r;
+  znzclose(fp);
+  if (r == static_cast<std::size_t>(-1)) fail(path, unreadable + " (corrupt gzip stream in the header)");
+  if (got < 4) fail(path, unreadable + " (" + std::to_string(got) + " bytes: no header)");
+  std::uint32_t raw;
+  std::memcpy(&raw, head, sizeof raw);
+  const auto sizeofHdr = static_cast<std::int32_t>(raw);
+  const auto swapped = static_cast<std::int32_t>(__builtin_bswap32(raw));
+  const std::size_t need = sizeofHdr == 540 || swapped == 540   ? 540
+                           : sizeofHdr == 348 || swapped == 348 ? 348
+                                                                : 0;
+  if (need == 0)
+    fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
+  if (got < need)
+    fail(path, unreadable + " (the NIfTI-" + (need == 540 ? "2" : "1") + " header is truncated: " +
+                   std::to_string(got) + " of " + std::to_string(need) + " bytes)");
+}
+
 // Reads and checks the header only: dimensions sane and not absurd, datatype convertible, file long
 // enough (uncompressed files). Fills `h`. Throws InputError naming the file.
 NimPtr openHeader(const std::string& path, VolumeHeader& h) {
@@ -161,6 +189,7 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   // The raw header is checked before nifti_image_read converts it: nifticlib reads ANALYZE 7.5 (no magic),
   // turns dimensions <= 0 into 1, and can crash converting absurd NIfTI-2 dimensions.
   // nifti_type reads back as NIfTI-1 for NIfTI-2 files; the header reader gives the version.
+  checkHeaderLength(path);
   int version = 1;
   long long rawDims[8] = {};
   int rawDatatype = 0;

@@ -294,6 +294,18 @@ std::vector<Case> catalogue() {
   c.push_back(infoCase("NiftiEmptyFile", "empty.nii", [] { return std::string(); }, {notNifti}));
   c.push_back(infoCase("NiftiTruncatedHeader", "short.nii",
                        [] { return tensorNifti().bytes().substr(0, 200); }, {notNifti}));
+  // Fuzz finding: a file shorter than the NIfTI-2 header its sizeof_hdr announces made nifticlib print
+  // "** ERROR (nifti_read_header): short NIFTI-2 header read" whatever its debug level.
+  c.push_back(infoCase("Nifti2TruncatedHeader", "short2.nii",
+                       [] {
+                         return nifti2Bytes({3, 4, 4, 4}).substr(0, 400);
+                       },
+                       {notNifti, "the NIfTI-2 header is truncated: 400 of 540 bytes"}));
+  c.push_back(infoCase("Nifti2GzipTruncatedHeader", "short2.nii.gz",
+                       [] {
+                         return gzip(nifti2Bytes({3, 4, 4, 4}).substr(0, 400));
+                       },
+                       {notNifti, "the NIfTI-2 header is truncated: 400 of 540 bytes"}));
   c.push_back(infoCase("NiftiBadSizeofHdr", "sizeof.nii",
                        [] {
                          auto b = tensorNifti().bytes();
