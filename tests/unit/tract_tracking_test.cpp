@@ -415,6 +415,7 @@ TEST(TrackingRealData, ReproducesTheMrtrixReferenceBundles) {
     std::printf("unrotated tensors: reference -> ours %.1f%% < 4 mm\n", 100 * frac);
     EXPECT_LT(frac, 0.6);
   }
-  if (!kSanitizedBuild) // about 60 s under ASan
+  if (!kSanitizedBuild) { // about 60 s under ASan
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
+  }
 }
