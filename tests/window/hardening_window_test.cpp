@@ -30,20 +30,28 @@ bool haveXvfb() {
 
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
-// Runs `dtfabric view ARGS --size 640x480 --script scratch/script.txt` under Xvfb.
+// Runs `dtfabric view ARGS --size 640x480 --script scratch/script.txt` under Xvfb. The exit code is
+// dtfabric's, written by a wrapper: xvfb-run's own can be 5 when removing its temporary folder fails
+// beside parallel runs, after dtfabric exited normally.
 dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script,
                                const std::string& args = "") {
-  const fs::path scriptFile = scratch / "script.txt";
+  const fs::path scriptFile = scratch / "script.txt", runner = scratch / "run.sh",
+                 rcFile = scratch / "rc.txt";
   std::ofstream(scriptFile) << script;
-  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt";
-  const std::string cmd = "timeout 180 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) +
-                          "' view " + args + " --size 640x480 --script '" + scriptFile.string() + "' >'" +
-                          outFile.string() + "' 2>'" + errFile.string() + "'";
+  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt",
+             xvfbErr = scratch / "xvfb.txt";
+  std::ofstream(runner) << "'" << DTF_EXE << "' view " << args << " --size 640x480 --script '"
+                        << scriptFile.string() << "' >'" << outFile.string() << "' 2>'" << errFile.string()
+                        << "'\necho $? >'" << rcFile.string() << "'\n";
+  const std::string cmd = "timeout 180 xvfb-run -a -s '-screen 0 1280x1024x24' sh '" + runner.string() +
+                          "' >/dev/null 2>'" + xvfbErr.string() + "'";
   const int status = std::system(cmd.c_str());
   dtf::test::CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  const std::string rc = dtf::test::readText(rcFile);
+  if (!rc.empty()) r.exitCode = std::atoi(rc.c_str());
   r.out = dtf::test::readText(outFile);
-  r.err = dtf::test::readText(errFile);
+  r.err = dtf::test::readText(errFile) + dtf::test::readText(xvfbErr);
   return r;
 }
 
