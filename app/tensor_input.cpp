@@ -10,9 +10,7 @@ namespace fs = std::filesystem;
 
 namespace dtf::app {
 
-namespace {
-// dwi.nii.gz -> dwi.bval (or .bvec)
-std::string sibling(const std::string& path, const std::string& ext) {
+std::string gradientSibling(const std::string& path, const std::string& ext) {
   std::string base = path;
   for (const char* suffix : {".nii.gz", ".nii"}) {
     std::string s(suffix);
@@ -23,7 +21,6 @@ std::string sibling(const std::string& path, const std::string& ext) {
   }
   return base + ext;
 }
-} // namespace
 
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& o) {
   std::string bval = o.bval, bvec = o.bvec;
@@ -33,8 +30,8 @@ io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOpti
     const bool fourD = h.dims.size() == 4 && h.dims[3] > 1;
     if (fourD && h.dims[3] != 6 && h.intentCode != 1005) {
       dwi = true;
-      bval = sibling(path, ".bval");
-      bvec = sibling(path, ".bvec");
+      bval = gradientSibling(path, ".bval");
+      bvec = gradientSibling(path, ".bvec");
       if (!fs::exists(bval) || !fs::exists(bvec))
         throw InputError(path + ": a 4D volume with " + std::to_string(h.dims[3]) +
                          " volumes is not a tensor file; as a DWI it needs --bval and --bvec (no " + bval + ")");

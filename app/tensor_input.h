@@ -15,6 +15,9 @@ struct TensorInputOptions {
   bool quiet = false;     // no progress/notes on stderr
 };
 
+// INPUT's sibling gradient file: dwi.nii.gz -> dwi.bval for ext ".bval".
+std::string gradientSibling(const std::string& path, const std::string& ext);
+
 // Loads INPUT. A 4D file whose volume count is not 6 (or any file given --bval/--bvec) is treated as a DWI
 // and fitted. Throws InputError/UsageError naming the file.
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& options);

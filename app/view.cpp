@@ -49,7 +49,12 @@ Options
                    (fabric panes only), camera-save, camera-load, tracts, tracts-visible, tracts-near,
                    tract-width, track, track-cancel, tracts-save, agreement, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
-                   when any step failed.
+                   when any step failed (3 when the failure was GL's: context, texture limits, GPU memory).
+  --force          let the script's screenshot, camera-save and tracts-save lines replace existing files
+                   (never an input); without it such a line fails, unless it says `screenshot --force PATH`
+
+Screenshots, camera and tract files are written atomically. An input file is never replaced; in the window an
+existing file is replaced only after the overwrite prompt says so.
 )";
 
 constexpr std::size_t kMaxKeys = 64;
@@ -158,6 +163,9 @@ public:
     ImGui_ImplGlfw_InitForOpenGL(window_, true);
     ImGui_ImplOpenGL3_Init("#version 450 core");
     scene_ = std::make_unique<ViewerScene>(surface);
+    // A script cannot answer the overwrite prompt: its outputs fail instead unless they say --force.
+    scene_->setAskBeforeOverwrite(script == nullptr);
+    if (script) scene_->addInput(script->file);
     std::snprintf(buffers_.screenshotPath.data(), buffers_.screenshotPath.size(), "dtfabric.png");
     std::snprintf(buffers_.cameraPath.data(), buffers_.cameraPath.size(), "dtfabric.camera");
     std::snprintf(buffers_.tractSavePath.data(), buffers_.tractSavePath.size(), "tracts.tck");
@@ -191,7 +199,7 @@ public:
       scene_->setFrameMs(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    return scriptFailed_ ? 2 : 0;
+    return scriptFailed_ ? (scene_->glFailed() ? 3 : 2) : 0;
   }
 
 private:
@@ -253,9 +261,11 @@ private:
   }
 
   void perform(const ui::Action& a) {
-    if (const auto* s = std::get_if<ui::Screenshot>(&a))
-      pendingShot_ = *s;
-    else if (std::holds_alternative<ui::Quit>(a))
+    if (const auto* s = std::get_if<ui::Screenshot>(&a)) {
+      if (scene_->mayWrite(s->path, s->force, a)) pendingShot_ = *s;
+    } else if (const auto* c = std::get_if<ui::ConfirmOverwrite>(&a)) {
+      if (auto forced = scene_->answerOverwrite(c->overwrite)) perform(*forced);
+    } else if (std::holds_alternative<ui::Quit>(a))
       quit_ = true;
     else
       scene_->apply(a);
@@ -399,6 +409,8 @@ private:
         if (scene_->errorSerial() != errorsBefore)
           return;                       // reported at the end of this frame, with this line
         if (!scene_->settled()) return; // started work on the worker
+        // An error is reported at the end of this frame with lastLine_: this line's, not a later one's.
+        if (scene_->errorSerial() != reportedErrors_) return;
       } else if (const auto* key = std::get_if<ui::Key>(&step.command)) {
         scene_->applyKey(*key);
         if (!scene_->settled()) return;
@@ -457,7 +469,7 @@ private:
 } // namespace
 
 int cmdView(const CommandArgs& argv) {
-  Args args(argv, {"help"});
+  Args args(argv, {"help", "force"});
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -470,6 +482,7 @@ int cmdView(const CommandArgs& argv) {
     throw UsageError("--size must lie between 320x240 and 8192x8192");
   const std::string surface = args.getOr("surface", "");
   const std::string layout = args.getOr("layout", "auto");
+  const bool force = args.flag("force");
   args.finish();
   if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
   io::parseLayout(layout);
@@ -481,6 +494,13 @@ int cmdView(const CommandArgs& argv) {
     } catch (const UsageError& e) {
       throw InputError(e.what()); // a bad script is bad input (exit code 2), not bad usage
     }
+    checkScriptOutputs(*script, inputs, force);
+    if (force)
+      for (ScriptStep& step : script->steps)
+        if (auto* a = std::get_if<ui::Action>(&step.command)) {
+          if (auto* shot = std::get_if<ui::Screenshot>(a)) shot->force = true;
+          if (auto* camera = std::get_if<ui::SaveCamera>(a)) camera->force = true;
+        }
   }
 
   GlfwSession glfw;

@@ -1,12 +1,16 @@
 #include "app/view_script.h"
 
 #include "app/surface_spec.h"
+#include "app/tensor_input.h"
 #include "app/tract_worker.h"
+#include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/slices.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -194,6 +198,17 @@ std::string restOf(const std::string& line, const std::string& command) {
   return trim(line.substr(line.find(command) + command.size()));
 }
 
+// An output line's argument: "[--force] PATH".
+std::pair<std::string, bool> outputArg(const std::string& arg, const char* usage) {
+  const std::string flag = "--force";
+  if (arg.compare(0, flag.size(), flag) != 0 ||
+      (arg.size() > flag.size() && !std::isspace(static_cast<unsigned char>(arg[flag.size()]))))
+    return {arg, false};
+  std::string p = trim(arg.substr(flag.size()));
+  if (p.empty()) throw LineError{std::string("usage: ") + usage};
+  return {p, true};
+}
+
 ScriptStep parseLine(const std::string& line, int number_) {
   ScriptStep step;
   step.line = number_;
@@ -279,12 +294,14 @@ ScriptStep parseLine(const std::string& line, int number_) {
     if (n < 0 || n > 100000) throw LineError{"wait frames must lie in [0, 100000], got " + w[1]};
     step.command = ScriptWait{n};
   } else if (c == "screenshot" || c == "screenshot-scene") {
-    std::string p = pathArg(c == "screenshot" ? "screenshot PATH" : "screenshot-scene PATH");
+    const char* usage = c == "screenshot" ? "screenshot [--force] PATH" : "screenshot-scene [--force] PATH";
+    const auto [p, force] = outputArg(pathArg(usage), usage);
     if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
       throw LineError{c + ": the path must end in .png"};
-    step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene"});
+    step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene", force});
   } else if (c == "camera-save") {
-    step.command = ui::Action(ui::SaveCamera{pathArg("camera-save PATH")});
+    const auto [p, force] = outputArg(pathArg("camera-save [--force] PATH"), "camera-save [--force] PATH");
+    step.command = ui::Action(ui::SaveCamera{p, force});
   } else if (c == "camera-load") {
     step.command = ui::Action(ui::LoadCamera{pathArg("camera-load PATH")});
   } else if (c == "probe") {
@@ -323,13 +340,8 @@ ScriptStep parseLine(const std::string& line, int number_) {
     expectArgs(w, 0, "track-cancel");
     step.command = ui::Action(ui::CancelTracking{});
   } else if (c == "tracts-save") {
-    std::string p = pathArg("tracts-save PATH [force]");
-    bool force = false;
-    if (w.size() > 2 && w.back() == "force") {
-      force = true;
-      p = trim(p.substr(0, p.size() - 5));
-    }
-    step.command = ui::Action(ui::SaveTracts{p, force, false});
+    const auto [p, force] = outputArg(pathArg("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
+    step.command = ui::Action(ui::SaveTracts{p, force});
   } else if (c == "agreement") {
     if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
     ui::ComputeAgreement a;
@@ -383,6 +395,46 @@ ViewScript loadViewScript(const std::string& path) {
   ss << in.rdbuf();
   if (ss.str().size() > (16u << 20)) throw InputError(path + ": script larger than 16 MiB");
   return parseViewScript(ss.str(), path);
+}
+
+void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force) {
+  inputs.push_back(script.file);
+  for (const ScriptStep& step : script.steps) {
+    const auto* a = std::get_if<ui::Action>(&step.command);
+    if (!a) continue;
+    if (const auto* load = std::get_if<ui::LoadFile>(a)) {
+      inputs.push_back(load->path);
+      inputs.push_back(gradientSibling(load->path, ".bval"));
+      inputs.push_back(gradientSibling(load->path, ".bvec"));
+    } else if (const auto* tracts = std::get_if<ui::LoadTracts>(a)) {
+      inputs.push_back(tracts->path);
+    } else if (const auto* surface = std::get_if<ui::SetSurfaceSpec>(a)) {
+      const SurfaceSpec spec = parseSurfaceSpec(surface->text);
+      inputs.push_back(spec.file);
+      for (const auto& part : spec.parts)
+        inputs.push_back(part.file);
+    }
+  }
+  for (const ScriptStep& step : script.steps) {
+    const auto* a = std::get_if<ui::Action>(&step.command);
+    const auto* shot = a ? std::get_if<ui::Screenshot>(a) : nullptr;
+    const auto* camera = a ? std::get_if<ui::SaveCamera>(a) : nullptr;
+    const auto* tracts = a ? std::get_if<ui::SaveTracts>(a) : nullptr;
+    if (!shot && !camera && !tracts) continue;
+    const std::string& path = shot ? shot->path : camera ? camera->path : tracts->path;
+    const bool lineForce = shot ? shot->force : camera ? camera->force : tracts->force;
+    const std::string where = script.file + ":" + std::to_string(step.line) + ": ";
+    try {
+      io::refuseOverwritingInput(path, inputs);
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    }
+    std::error_code ec;
+    if (!force && !lineForce && std::filesystem::exists(path, ec))
+      throw InputError(where + path +
+                       " exists (use --force to overwrite it: `view --force`, or --force before "
+                       "the path on this line)");
+  }
 }
 
 void applyScriptParam(render::FabricParams& p, const ScriptSetParam& s) {

@@ -18,9 +18,11 @@
 //   set PARAM VALUE           fabric parameter: lod k iterations epsilon r colour(medical|engineering)
 //                             lighting(on|off) silhouette(on|off) sharpen depth-colour contrast step fade
 //   wait FRAMES               render FRAMES more frames
-//   screenshot PATH           PNG of the whole window, panels included
-//   screenshot-scene PATH     PNG of the fabric panes only (no panels, no labels)
-//   camera-save PATH, camera-load PATH
+//   screenshot [--force] PATH        PNG of the whole window, panels included
+//   screenshot-scene [--force] PATH  PNG of the fabric panes only (no panels, no labels)
+//   camera-save [--force] PATH, camera-load PATH
+//                             outputs never replace an input; an existing file only with --force (or
+//                             `view --force` for the whole script)
 //   probe X Y                 print the status bar's voxel under scene pixel (X, Y) (y down) to stderr
 //   resize WxH                resize the window (e.g. 800x600)
 //   tracts PATH               load .tck/.trk/.vtk streamlines and draw them over the fabric
@@ -79,6 +81,11 @@ struct ViewScript {
 ViewScript parseViewScript(const std::string& text, const std::string& file);
 // Reads and parses a script file. Throws InputError when it cannot be read, UsageError for a bad line.
 ViewScript loadViewScript(const std::string& path);
+// Checks the outputs of screenshot/camera-save lines before a window opens: a path naming one of `inputs`,
+// the script itself or a file the script reads (load with its .bval/.bvec, tracts, surface files) is
+// refused whatever --force says; an existing file is refused unless its line or `force` says --force.
+// Throws InputError "FILE:LINE: ...". The viewer checks again when it writes (files may appear meanwhile).
+void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force);
 // Applies a `set` line to fabric parameters (values already validated by the parser).
 void applyScriptParam(render::FabricParams& params, const ScriptSetParam& param);
 

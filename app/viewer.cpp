@@ -1,5 +1,6 @@
 #include "app/viewer.h"
 
+#include "app/tensor_input.h"
 #include "app/tract_files.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
@@ -97,6 +98,38 @@ ViewerScene::~ViewerScene() = default;
 void ViewerScene::setError(const std::string& message) {
   state_.errorChain = ui::splitErrorChain(message);
   ++errorSerial_;
+}
+
+void ViewerScene::addInput(const std::string& path) {
+  if (!path.empty() && std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end())
+    inputs_.push_back(path);
+}
+
+bool ViewerScene::mayWrite(const std::string& path, bool force, const ui::Action& action) {
+  try {
+    io::refuseOverwritingInput(path, inputs_);
+    std::error_code ec;
+    if (force || !std::filesystem::exists(path, ec)) return true;
+    if (!askBeforeOverwrite_)
+      throw InputError(path + " exists (use --force to overwrite it: `view --force`, or a script line's "
+                              "--force before the path)");
+    pendingOverwrite_ = action;
+    state_.overwritePath = path;
+  } catch (...) {
+    setError(currentError());
+  }
+  return false;
+}
+
+std::optional<ui::Action> ViewerScene::answerOverwrite(bool overwrite) {
+  std::optional<ui::Action> a;
+  a.swap(pendingOverwrite_);
+  state_.overwritePath.clear();
+  if (!a || !overwrite) return std::nullopt;
+  if (auto* shot = std::get_if<ui::Screenshot>(&*a)) shot->force = true;
+  if (auto* cam = std::get_if<ui::SaveCamera>(&*a)) cam->force = true;
+  if (auto* tracts = std::get_if<ui::SaveTracts>(&*a)) tracts->force = true;
+  return a;
 }
 
 void ViewerScene::addRecent(const std::string& path) {
@@ -247,6 +280,9 @@ void ViewerScene::loadFile(const ui::LoadFile& a) {
       first.text.empty()) {
     first = parseSurfaceSpec("fa=0.25");
   }
+  addInput(a.path);
+  addInput(gradientSibling(a.path, ".bval"));
+  addInput(gradientSibling(a.path, ".bvec"));
   latestLoad_ = nextId_++;
   latestSurface_ = latestLoad_;
   state_.busy = true;
@@ -460,6 +496,16 @@ void ViewerScene::render(int width, int height) {
     render::checkGl(where);
   } catch (...) {
     dirty_.fill(false); // do not repeat a failing frame every frame
+    try {
+      throw;
+    } catch (const GlError&) {
+      // The field or the passes do not fit this GL (texture limits, GPU memory, shaders): draw nothing more
+      // of these data; the window stays up and another file can be loaded.
+      glFailed_ = true;
+      hasField_ = false;
+      outputFbo_.fill(0);
+    } catch (...) {
+    }
     setError("while rendering: " + currentError());
   }
   state_.converged = converged();
@@ -679,27 +725,15 @@ void ViewerScene::startAgreement(const ui::ComputeAgreement& a) {
 }
 
 void ViewerScene::saveTracts(const ui::SaveTracts& a) {
-  state_.savePrompt.clear();
   if (!tracts_) throw UsageError("no tracts to save");
   if (a.path.empty()) throw UsageError("saving tracts: no path given");
   if (!isTractFileName(a.path)) throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
-  std::vector<std::string> inputs;
-  if (data_) inputs.push_back(data_->path);
-  if (!pendingTractPath_.empty()) inputs.push_back(pendingTractPath_);
-  io::refuseOverwritingInput(a.path, inputs);
-  std::error_code ec;
-  if (!a.overwrite && std::filesystem::exists(a.path, ec)) {
-    if (a.askFirst) {
-      state_.savePrompt = a.path; // the panel asks; Overwrite sends the action again with overwrite set
-      return;
-    }
-    throw InputError(a.path + " exists: refusing to overwrite it (tracts-save PATH force replaces it)");
-  }
+  if (!mayWrite(a.path, a.force, ui::Action(a))) return; // an input, or the overwrite prompt
   SaveJob job;
   job.id = nextId_++;
   job.tracts = tracts_;
   job.path = a.path;
-  job.overwrite = a.overwrite;
+  job.overwrite = a.force;
   if (data_)
     job.reference = data_->loaded.field.grid;
   else if (a.path.size() >= 4 && (a.path.ends_with(".trk") || a.path.ends_with(".TRK")))
@@ -729,7 +763,11 @@ void ViewerScene::apply(const ui::Action& action) {
               state_.surfaceText = "fibre surface: enter a seed line and press Build";
             requestSurface();
           } else if constexpr (std::is_same_v<T, ui::SetSurfaceSpec>) {
-            applySpec(parseSurfaceSpec(a.text));
+            const SurfaceSpec spec = parseSurfaceSpec(a.text);
+            addInput(spec.file);
+            for (const auto& part : spec.parts)
+              addInput(part.file);
+            applySpec(spec);
             requestSurface();
           } else if constexpr (std::is_same_v<T, ui::SetFaThreshold>) {
             state_.faThreshold = std::clamp(a.value, 0.01, 0.99);
@@ -798,7 +836,12 @@ void ViewerScene::apply(const ui::Action& action) {
             if (a.factor > 0) cameraFor(a.pane).zoom(1.0 / a.factor);
             cameraChanged();
           } else if constexpr (std::is_same_v<T, ui::SaveCamera>) {
-            writeCameraFile(a.path, cameraFor(-1));
+            if (mayWrite(a.path, a.force, action)) writeCameraFile(a.path, cameraFor(-1));
+          } else if constexpr (std::is_same_v<T, ui::ConfirmOverwrite>) {
+            // Screenshots are the window's: it answers the prompt itself and takes them.
+            if (auto forced = answerOverwrite(a.overwrite);
+                forced && !std::holds_alternative<ui::Screenshot>(*forced))
+              apply(*forced);
           } else if constexpr (std::is_same_v<T, ui::LoadCamera>) {
             cameraFor(-1) = readCameraFile(a.path);
             if (state_.linked) cameras_[1] = cameras_[0];
@@ -806,6 +849,7 @@ void ViewerScene::apply(const ui::Action& action) {
           } else if constexpr (std::is_same_v<T, ui::LoadTracts>) {
             if (state_.tractsLoading) throw UsageError("tracts are still loading");
             const std::string path = a.path;
+            addInput(path);
             state_.tractsLoading = true;
             tractsLoading_ = std::async(std::launch::async, [path] {
               try {
@@ -831,8 +875,6 @@ void ViewerScene::apply(const ui::Action& action) {
             tractWorker_.cancelTracking();
           } else if constexpr (std::is_same_v<T, ui::SaveTracts>) {
             saveTracts(a);
-          } else if constexpr (std::is_same_v<T, ui::DismissSavePrompt>) {
-            state_.savePrompt.clear();
           } else if constexpr (std::is_same_v<T, ui::ComputeAgreement>) {
             startAgreement(a);
           } else if constexpr (std::is_same_v<T, ui::DismissError>) {
@@ -848,7 +890,9 @@ void ViewerScene::apply(const ui::Action& action) {
 
 void writeCameraFile(const std::string& path, const render::Camera& c) {
   if (path.empty()) throw InputError("camera file: no path given");
-  std::ofstream out(path);
+  io::AtomicOutput file(path); // a failed write leaves any earlier camera file as it was
+  std::ofstream out(file.tempPath());
+  if (!out) throw InputError(path + ": cannot write the camera file");
   out.precision(17);
   out << "dtfabric-camera 1\n"
       << "eye " << c.eye.x << " " << c.eye.y << " " << c.eye.z << "\n"
@@ -857,7 +901,9 @@ void writeCameraFile(const std::string& path, const render::Camera& c) {
       << "orthographic " << (c.orthographic ? 1 : 0) << "\n"
       << "fov " << c.fovYDeg << "\nhalf-height " << c.orthoHalfHeight << "\n"
       << "near " << c.nearPlane << "\nfar " << c.farPlane << "\n";
+  out.close();
   if (!out) throw InputError(path + ": cannot write the camera file");
+  file.commit();
 }
 
 render::Camera readCameraFile(const std::string& path) {

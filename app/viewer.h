@@ -86,6 +86,19 @@ public:
   std::uint64_t meshSerial() const { return meshSerial_; }
   void addRecent(const std::string& path);
 
+  // Output files (screenshots, camera files). A file this session read (volume and its gradient tables,
+  // tracts, meshes, the script) is never replaced, whatever `force` says; an existing file is replaced only
+  // with `force`. Otherwise the refusal goes to the error modal, or, when asking is on (the GUI, not a
+  // script), `action` waits for the overwrite prompt (state().overwritePath). Returns whether to write now.
+  bool mayWrite(const std::string& path, bool force, const ui::Action& action);
+  // Closes the overwrite prompt: the waiting action with force set when `overwrite`, else nothing.
+  std::optional<ui::Action> answerOverwrite(bool overwrite);
+  void setAskBeforeOverwrite(bool on) { askBeforeOverwrite_ = on; }
+  // Records a file read outside the scene's actions (the script) as an input.
+  void addInput(const std::string& path);
+  // A GL failure (GlError: context, shaders, GPU memory, texture limits) was reported since construction.
+  bool glFailed() const { return glFailed_; }
+
 private:
   void loadFile(const ui::LoadFile& a);
   void requestSurface();
@@ -100,8 +113,6 @@ private:
   void dataChanged();
   render::Camera& cameraFor(int pane);
   double paneAspect(int p) const;
-  void saveCamera(const std::string& path) const;
-  void loadCamera(const std::string& path);
   // Tracts: the set on screen (`label` names it in the panel), the selection for the current surface,
   // worker results, one frame of pane p's tract layer, and the panel's long actions.
   void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label);
@@ -159,6 +170,9 @@ private:
   std::array<bool, 2> tractsShown_{false, false};
   render::TractBudget tractBudget_;
   std::optional<ui::ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
+  std::vector<std::string> inputs_;            // files read so far: never written (mayWrite)
+  std::optional<ui::Action> pendingOverwrite_; // waits for the overwrite prompt
+  bool askBeforeOverwrite_ = true, glFailed_ = false;
 };
 
 // Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.

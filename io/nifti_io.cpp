@@ -151,6 +151,34 @@ std::string dataFile(const nifti_image* nim, const std::string& path) {
   return (nim->iname_offset == 0 && nim->iname) ? std::string(nim->iname) : path;
 }
 
+// Reads the start of the file before nifticlib does: for a file shorter than the header its sizeof_hdr
+// announces, nifti_read_header prints "** ERROR ... short header read" on stderr whatever its debug level.
+void checkHeaderLength(const std::string& path) {
+  const std::string unreadable = "not a readable NIfTI-1/NIfTI-2 file";
+  znzFile fp = znzopen(path.c_str(), "rb", nifti_is_gzfile(path.c_str()));
+  if (znz_isnull(fp)) fail(path, "cannot open the file");
+  unsigned char head[540];
+  std::size_t got = 0, r = 0;
+  while (got < sizeof head && (r = znzread(head + got, 1, sizeof head - got, fp)) > 0 &&
+         r != static_cast<std::size_t>(-1))
+    got += r;
+  znzclose(fp);
+  if (r == static_cast<std::size_t>(-1)) fail(path, unreadable + " (corrupt gzip stream in the header)");
+  if (got < 4) fail(path, unreadable + " (" + std::to_string(got) + " bytes: no header)");
+  std::uint32_t raw;
+  std::memcpy(&raw, head, sizeof raw);
+  const auto sizeofHdr = static_cast<std::int32_t>(raw);
+  const auto swapped = static_cast<std::int32_t>(__builtin_bswap32(raw));
+  const std::size_t need = sizeofHdr == 540 || swapped == 540   ? 540
+                           : sizeofHdr == 348 || swapped == 348 ? 348
+                                                                : 0;
+  if (need == 0)
+    fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
+  if (got < need)
+    fail(path, unreadable + " (the NIfTI-" + (need == 540 ? "2" : "1") + " header is truncated: " +
+                   std::to_string(got) + " of " + std::to_string(need) + " bytes)");
+}
+
 // Reads and checks the header only: dimensions sane and not absurd, datatype convertible, file long
 // enough (uncompressed files). Fills `h`. Throws InputError naming the file.
 NimPtr openHeader(const std::string& path, VolumeHeader& h) {
@@ -161,9 +189,11 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   // The raw header is checked before nifti_image_read converts it: nifticlib reads ANALYZE 7.5 (no magic),
   // turns dimensions <= 0 into 1, and can crash converting absurd NIfTI-2 dimensions.
   // nifti_type reads back as NIfTI-1 for NIfTI-2 files; the header reader gives the version.
+  checkHeaderLength(path);
   int version = 1;
   long long rawDims[8] = {};
   int rawDatatype = 0;
+  double rawVoxOffset = 0;
   void* raw = nifti_read_header(path.c_str(), &version, 0);
   if (!raw)
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
@@ -186,6 +216,8 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     }
     const auto dt = static_cast<std::uint16_t>(h2->datatype);
     rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+    const auto off = static_cast<std::uint64_t>(h2->vox_offset);
+    rawVoxOffset = static_cast<double>(static_cast<std::int64_t>(swap ? __builtin_bswap64(off) : off));
   } else {
     const auto* h1 = static_cast<const nifti_1_header*>(raw);
     const bool swap = h1->sizeof_hdr != 348;
@@ -195,11 +227,31 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     }
     const auto dt = static_cast<std::uint16_t>(h1->datatype);
     rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+    std::uint32_t off;
+    std::memcpy(&off, &h1->vox_offset, sizeof off);
+    if (swap) off = __builtin_bswap32(off);
+    float voxOffset;
+    std::memcpy(&voxOffset, &off, sizeof voxOffset);
+    rawVoxOffset = voxOffset;
   }
+  // nifticlib replaces a vox_offset it cannot use (negative, inside the header, beyond int) with the header
+  // size and reads the data from there: the wrong bytes, silently. Refuse such headers instead.
+  const bool singleFile = !std::memcmp(magic, "n+", 2);
+  const double minOffset = singleFile ? expectHdr + 4 : 0;
   std::free(raw);
   if (!sizeOk) fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
   if (!isNifti)
     fail(path, "not a NIfTI file: no 'n+1', 'ni1', 'n+2' or 'ni2' magic (ANALYZE 7.5 is not supported)");
+  {
+    std::ostringstream m;
+    m << "vox_offset " << rawVoxOffset;
+    if (!std::isfinite(rawVoxOffset) || rawVoxOffset > (version == 2 ? 0x1p62 : 0x1p31 - 1))
+      fail(path, m.str() + " is absurd");
+    if (rawVoxOffset < 0) fail(path, m.str() + " is negative");
+    if (rawVoxOffset < minOffset)
+      fail(path, m.str() + " lies inside the header (a single-file NIfTI-" + std::to_string(version) +
+                     "'s data start at byte " + std::to_string(static_cast<int>(minOffset)) + " or later)");
+  }
   const long long ndim = rawDims[0];
   if (ndim < 1 || ndim > 7)
     fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
@@ -233,6 +285,9 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
   h.niftiVersion = version == 2 ? 2 : 1;
   if (nim->dim[0] != ndim)
     fail(path, "inconsistent header: nifticlib reads " + std::to_string(nim->dim[0]) + " dimensions");
+  if (nim->iname_offset != static_cast<long long>(rawVoxOffset))
+    fail(path, "inconsistent header: vox_offset " + std::to_string(static_cast<long long>(rawVoxOffset)) +
+                   " but nifticlib would read the data at byte " + std::to_string(nim->iname_offset));
   long long total = 1;
   for (long long d = 1; d <= ndim; ++d) {
     long long n = nim->dim[d];

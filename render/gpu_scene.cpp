@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace dtf::render {
@@ -71,7 +72,23 @@ void checkFits3D(const glm::ivec3& d, const char* what) {
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
   if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
     throw GlError(std::string(what) + " grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
-                  std::to_string(d.z) + " does not fit a 3D texture (max " + std::to_string(maxSize) + ")");
+                  std::to_string(d.z) + " exceeds this GL's 3D texture size limit (" +
+                  std::to_string(maxSize) + " voxels per axis); crop or resample the volume");
+}
+
+// After the 3D textures of `what` were allocated and filled: GL_OUT_OF_MEMORY becomes a GlError that says
+// which data did not fit, instead of a later failure with textures that hold nothing.
+void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what) {
+  const GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return;
+  const std::string grid = std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z);
+  if (e == GL_OUT_OF_MEMORY)
+    throw GlError(std::string("out of GPU memory for the ") + what + " 3D textures (" + grid + " voxels, " +
+                  std::to_string(bytes >> 20) + " MiB)");
+  char code[16];
+  std::snprintf(code, sizeof code, "0x%04x", e);
+  throw GlError(std::string("uploading the ") + what + " 3D textures (" + grid +
+                " voxels) failed: GL error " + code);
 }
 
 // tex = (voxel + 0.5) / dims, voxel = world->voxel affine.
@@ -88,7 +105,7 @@ glm::mat4 worldToTexture(const Grid& grid) {
 
 void GpuTensorField::upload(const TensorField& field) {
   const glm::ivec3 d = field.grid.dims;
-  checkFits3D(d, "tensor");
+  checkFits3D(d, "the tensor field's");
   const std::size_t n = field.grid.voxelCount();
   if (field.tensors.size() != n) throw GlError("tensor field has " + std::to_string(field.tensors.size()) +
                                                 " tensors for " + std::to_string(n) + " voxels");
@@ -110,12 +127,13 @@ void GpuTensorField::upload(const TensorField& field) {
   b_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
   glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
   glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
+  checkUploaded(d, 2 * a.size() * sizeof(float), "tensor field's");
   worldToTex_ = worldToTexture(field.grid);
 }
 
 void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
   const glm::ivec3 d = volume.grid.dims;
-  checkFits3D(d, "background");
+  checkFits3D(d, "the background volume's");
   const std::size_t n = volume.grid.voxelCount();
   const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
   std::vector<float> v(n);
@@ -125,6 +143,7 @@ void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
   }
   texture_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
   glTextureSubImage3D(texture_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, v.data());
+  checkUploaded(d, v.size() * sizeof(float), "background volume's");
   texture_.setFilter(GL_LINEAR, GL_LINEAR);
   glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
   glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);

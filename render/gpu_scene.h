@@ -42,7 +42,7 @@ class GpuTensorField {
 public:
   GpuTensorField() = default;
   // Texture A: xx xy xz yy; texture B: yz zz FA valid (world RAS, mm^2/s). Throws GlError when the grid
-  // exceeds GL_MAX_3D_TEXTURE_SIZE.
+  // exceeds GL_MAX_3D_TEXTURE_SIZE or the GPU runs out of memory for the textures (GL_OUT_OF_MEMORY).
   void upload(const TensorField& field);
   // Binds the textures to units 0 and 1 (the bindings of shaders/common/tensor_field.glsl).
   void bind() const;

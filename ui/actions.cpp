@@ -92,9 +92,10 @@ std::string describe(const Action& action) {
           std::snprintf(buf, sizeof buf, "Zoom %g", a.factor);
           return buf;
         } else if constexpr (std::is_same_v<T, Screenshot>)
-          return (a.sceneOnly ? "Screenshot scene " : "Screenshot ") + a.path;
+          return std::string(a.sceneOnly ? "Screenshot scene " : "Screenshot ") +
+                 (a.force ? "--force " : "") + a.path;
         else if constexpr (std::is_same_v<T, SaveCamera>)
-          return "SaveCamera " + a.path;
+          return "SaveCamera " + std::string(a.force ? "--force " : "") + a.path;
         else if constexpr (std::is_same_v<T, LoadCamera>)
           return "LoadCamera " + a.path;
         else if constexpr (std::is_same_v<T, LoadTracts>)
@@ -119,14 +120,14 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, CancelTracking>)
           return "CancelTracking";
         else if constexpr (std::is_same_v<T, SaveTracts>)
-          return "SaveTracts " + a.path + (a.overwrite ? " (overwrite)" : "");
-        else if constexpr (std::is_same_v<T, DismissSavePrompt>)
-          return "DismissSavePrompt";
+          return "SaveTracts " + a.path + (a.force ? " (force)" : "");
         else if constexpr (std::is_same_v<T, ComputeAgreement>) {
           std::snprintf(buf, sizeof buf, "ComputeAgreement near=%g bins=%d", a.nearMm, a.bins);
           return buf;
         } else if constexpr (std::is_same_v<T, DismissError>)
           return "DismissError";
+        else if constexpr (std::is_same_v<T, ConfirmOverwrite>)
+          return a.overwrite ? "ConfirmOverwrite yes" : "ConfirmOverwrite no";
         else
           return "Quit";
       },

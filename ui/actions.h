@@ -81,13 +81,16 @@ struct Zoom {
   double factor;
   int pane = -1;
 };
-// A PNG of the whole window (panels included) or of the fabric panes only.
+// A PNG of the whole window (panels included) or of the fabric panes only. Outputs never replace an input
+// file; an existing file is replaced only with `force` (the GUI asks first, a script line says --force).
 struct Screenshot {
   std::string path;
   bool sceneOnly = false;
+  bool force = false;
 };
 struct SaveCamera {
   std::string path;
+  bool force = false;
 };
 struct LoadCamera {
   std::string path;
@@ -130,26 +133,30 @@ struct CancelTracking {};
 // Writes the tracts on screen (all points, not the display decimation) to .tck/.trk/.vtk, atomically. An
 // existing file is replaced only with `overwrite`; otherwise the panel asks first (`askFirst`) and a
 // script fails.
+// Writes the tracts on screen (.tck, .trk, .vtk); an existing file is replaced only with `force` (the
+// overwrite prompt sets it), an input never.
 struct SaveTracts {
   std::string path;
-  bool overwrite = false;
-  bool askFirst = false;
+  bool force = false;
 };
-struct DismissSavePrompt {};
 // Angle between the tracts near the surface and the fabric's direction (surfaces/agreement.h, all points).
 struct ComputeAgreement {
   double nearMm = 2.0;
   int bins = 9;
 };
 struct DismissError {};
+// The answer to the overwrite prompt (ViewerState::overwritePath): write the pending output or drop it.
+struct ConfirmOverwrite {
+  bool overwrite;
+};
 struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
-                 SetTractWidth, TrackTracts, CancelTracking, SaveTracts, DismissSavePrompt, ComputeAgreement,
-                 DismissError, Quit>;
+                 SetTractWidth, TrackTracts, CancelTracking, SaveTracts, ComputeAgreement, DismissError,
+                 ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

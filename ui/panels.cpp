@@ -246,7 +246,7 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     ImGui::InputText("##savetracts", b.tractSavePath.data(), b.tractSavePath.size());
     ImGui::SameLine();
     if (ImGui::Button("Save") && b.tractSavePath[0] != '\0')
-      out.push_back(SaveTracts{b.tractSavePath.data(), false, true});
+      out.push_back(SaveTracts{b.tractSavePath.data()});
     probe(b, "Save");
     if (!s.saveStatus.empty()) ImGui::TextDisabled("%s", s.saveStatus.c_str());
   }
@@ -335,30 +335,6 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   }
 }
 
-void savePromptModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
-  if (s.savePrompt.empty()) return;
-  if (!ImGui::IsPopupOpen("Overwrite?")) ImGui::OpenPopup("Overwrite?");
-  const ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
-                          ImVec2(0.5f, 0.5f));
-  if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    ImGui::Text("%s exists.", s.savePrompt.c_str());
-    ImGui::Text("Replace it with the tracts on screen?");
-    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
-      out.push_back(SaveTracts{s.savePrompt, true, false});
-      ImGui::CloseCurrentPopup();
-    }
-    probe(b, "Overwrite");
-    ImGui::SameLine();
-    if (ImGui::Button("Keep it", ImVec2(120, 0))) {
-      out.push_back(DismissSavePrompt{});
-      ImGui::CloseCurrentPopup();
-    }
-    probe(b, "Keep it");
-    ImGui::EndPopup();
-  }
-}
-
 void statusBar(const ViewerState& s, const PanelLayout& layout) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout.statusHeight));
@@ -421,6 +397,30 @@ void errorModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   }
 }
 
+void overwriteModal(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  // The error modal goes first: ImGui stacks popups, and an error hides the question until dismissed.
+  if (s.overwritePath.empty() || !s.errorChain.empty()) return;
+  if (!ImGui::IsPopupOpen("Overwrite?")) ImGui::OpenPopup("Overwrite?");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextWrapped("%s exists. Replace it?", s.overwritePath.c_str());
+    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
+      out.push_back(ConfirmOverwrite{true});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Overwrite");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(120, 0))) {
+      out.push_back(ConfirmOverwrite{false});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Cancel");
+    ImGui::EndPopup();
+  }
+}
+
 void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout, ActionList& out) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos(ImVec2(0, 0));
@@ -436,7 +436,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   ImGui::End();
   statusBar(s, layout);
   errorModal(s, b, out);
-  savePromptModal(s, b, out);
+  overwriteModal(s, b, out);
 }
 
 std::vector<std::string> splitErrorChain(const std::string& message) {

@@ -1,8 +1,8 @@
 // The viewer's Dear ImGui panels: Data, Surface, Fabric, View and Tracts in a side bar, a status bar with the
-// voxel under the cursor, a progress line for work on the worker thread and the error modal. Each panel reads
-// the ViewerState by const reference and appends what the user asked for to an ActionList; nothing is changed
-// here (the app's viewer performs the actions). Needs a current ImGui context inside NewFrame()/Render();
-// no renderer backend is needed, so the panels also run headless in tests.
+// voxel under the cursor, a progress line for work on the worker thread, the error modal and the overwrite
+// prompt. Each panel reads the ViewerState by const reference and appends what the user asked for to an
+// ActionList; nothing is changed here (the app's viewer performs the actions). Needs a current ImGui context
+// inside NewFrame()/Render(); no renderer backend is needed, so the panels also run headless in tests.
 #pragma once
 
 #include "ui/actions.h"
@@ -48,8 +48,9 @@ void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out)
 void tractsPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void statusBar(const ViewerState& state, const PanelLayout& layout);
 void errorModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
-// Asks whether to overwrite state.savePrompt (an existing file the tracts were to be saved to).
-void savePromptModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
+// Asks whether to replace the existing file state.overwritePath (a screenshot, camera or tract file the
+// user asked for): ConfirmOverwrite{true} or {false}.
+void overwriteModal(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 
 // All of the above for one frame.
 void drawPanels(const ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout, ActionList& out);

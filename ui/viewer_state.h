@@ -66,6 +66,7 @@ struct ViewerState {
 
   ProbeInfo probe;
   std::vector<std::string> errorChain; // non-empty: the error modal is open (outermost context first)
+  std::string overwritePath; // non-empty: an output the user asked for exists; the prompt asks to replace it
 
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles
@@ -87,8 +88,6 @@ struct ViewerState {
   double trackProgress = 0; // 0..1 (seeds done / planned)
   std::size_t trackSeedsDone = 0;
   std::string trackStatus; // the last run: what it produced, or why not
-  // Saving: non-empty asks whether to overwrite this file.
-  std::string savePrompt;
   std::string saveStatus;
   // Agreement of the tracts near the surface with the fabric (surfaces/agreement.h).
   bool agreementRunning = false;

@@ -15,6 +15,7 @@
 #include <nifti1.h>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 #include <zlib.h>
 
@@ -293,6 +294,18 @@ std::vector<Case> catalogue() {
   c.push_back(infoCase("NiftiEmptyFile", "empty.nii", [] { return std::string(); }, {notNifti}));
   c.push_back(infoCase("NiftiTruncatedHeader", "short.nii",
                        [] { return tensorNifti().bytes().substr(0, 200); }, {notNifti}));
+  // Fuzz finding: a file shorter than the NIfTI-2 header its sizeof_hdr announces made nifticlib print
+  // "** ERROR (nifti_read_header): short NIFTI-2 header read" whatever its debug level.
+  c.push_back(infoCase("Nifti2TruncatedHeader", "short2.nii",
+                       [] {
+                         return nifti2Bytes({3, 4, 4, 4}).substr(0, 400);
+                       },
+                       {notNifti, "the NIfTI-2 header is truncated: 400 of 540 bytes"}));
+  c.push_back(infoCase("Nifti2GzipTruncatedHeader", "short2.nii.gz",
+                       [] {
+                         return gzip(nifti2Bytes({3, 4, 4, 4}).substr(0, 400));
+                       },
+                       {notNifti, "the NIfTI-2 header is truncated: 400 of 540 bytes"}));
   c.push_back(infoCase("NiftiBadSizeofHdr", "sizeof.nii",
                        [] {
                          auto b = tensorNifti().bytes();
@@ -328,6 +341,31 @@ std::vector<Case> catalogue() {
                          return b;
                        },
                        {"truncated"}));
+  // nifticlib reads the data from byte 348 when vox_offset is negative, inside the header or beyond int:
+  // the wrong bytes (the extension flag first), with no error. Each is refused.
+  for (const auto& [name, offset, message] : std::vector<std::tuple<std::string, float, std::string>>{
+           {"NiftiVoxOffsetInsideHeader", 10.0f,
+            "vox_offset 10 lies inside the header (a single-file NIfTI-1's "
+            "data start at byte 352 or later)"},
+           {"NiftiVoxOffsetNegative", -5.0f, "vox_offset -5 is negative"},
+           {"NiftiVoxOffsetBeyondInt", 1e12f, "vox_offset 1e+12 is absurd"},
+           {"NiftiVoxOffsetNaN", std::numeric_limits<float>::quiet_NaN(), "vox_offset nan is absurd"}}) {
+    c.push_back(infoCase(name, "voxoffset.nii",
+                         [offset = offset] {
+                           auto b = tensorNifti().bytes();
+                           poke<float>(b, 108, offset);
+                           return b;
+                         },
+                         {message}));
+  }
+  c.push_back(
+      infoCase("Nifti2VoxOffsetInsideHeader", "voxoffset2.nii",
+               [] {
+                 auto b = nifti2Bytes({3, 4, 4, 1});
+                 poke<std::int64_t>(b, 168, 540);
+                 return b;
+               },
+               {"vox_offset 540 lies inside the header (a single-file NIfTI-2's data start at byte 544"}));
   c.push_back(infoCase("NiftiGzipTruncated", "cut.nii.gz",
                        [] {
                          auto z = gzip(noisyTensorBytes());
@@ -747,6 +785,9 @@ TEST_P(MalformedInput, IsRefusedCleanly) {
                                     << r.err;
   for (const auto& s : c.errHas)
     EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks '" << s << "':\n" << r.err;
+  // Only dtfabric's message: nifticlib's own "** ERROR ..." lines (printed at its default debug level for the
+  // empty, truncated, random, bad sizeof_hdr and corrupt gzip cases) are silenced.
+  EXPECT_EQ(r.err.find("** "), std::string::npos) << "a library's message leaked:\n" << r.err;
   if (c.exitCode != 0) {
     EXPECT_NE(r.err.find("dtfabric "), std::string::npos) << r.err;
   }
@@ -784,6 +825,44 @@ TEST(OutputProtection, ExistingOutputsNeedForce) {
   const CliResult r = runDtfabric("phantom constant --size 8 --force -o " + q(dir / "keep.nii"), dir);
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(readBytes(dir / "keep.nii"), "precious");
+}
+
+// `view --script`: screenshot and camera-save lines are checked before a window opens (so this runs without
+// a display): an existing file needs --force, an input is refused whatever --force says.
+TEST(OutputProtection, ViewScriptOutputsAreCheckedBeforeTheWindow) {
+  const fs::path dir = dtf::test::scratchDir();
+  ASSERT_EQ(runDtfabric("phantom constant --size 8 -o " + q(dir / "t.nii"), dir).exitCode, 0);
+  const std::string volume = readBytes(dir / "t.nii");
+  writeBytes(dir / "old.png", "precious");
+  writeBytes(dir / "old.camera", "precious");
+  struct Run {
+    std::string script, args, errHas;
+  };
+  for (const Run& run :
+       {Run{"fa 0.3\nscreenshot " + (dir / "old.png").string() + "\n", "",
+            "fig.dtfs:2: " + (dir / "old.png").string() + " exists (use --force"},
+        Run{"camera-save " + (dir / "old.camera").string() + "\n", "",
+            "fig.dtfs:1: " + (dir / "old.camera").string() + " exists (use --force"},
+        Run{"camera-save --force " + (dir / "t.nii").string() + "\n", q(dir / "t.nii") + " --force",
+            "fig.dtfs:1: refusing to write " + (dir / "t.nii").string() + ": it is an input file"},
+        Run{"load " + (dir / "t.nii").string() + "\ncamera-save --force " + (dir / "t.nii").string() + "\n",
+            "--force",
+            "fig.dtfs:2: refusing to write " + (dir / "t.nii").string() + ": it is an input file"}}) {
+    writeBytes(dir / "fig.dtfs", run.script);
+    const CliResult r = runDtfabric("view " + run.args + " --script " + q(dir / "fig.dtfs"), dir);
+    EXPECT_EQ(r.exitCode, 2) << run.script << r.err;
+    EXPECT_NE(r.err.find(run.errHas), std::string::npos) << run.script << r.err;
+    EXPECT_EQ(readBytes(dir / "old.png"), "precious");
+    EXPECT_EQ(readBytes(dir / "old.camera"), "precious");
+    EXPECT_EQ(readBytes(dir / "t.nii"), volume);
+  }
+  // `view --force` lets the existing files through the check (the window then opens, or without a display
+  // the viewer stops with exit code 3).
+  writeBytes(dir / "fig.dtfs", "screenshot " + (dir / "old.png").string() + "\ncamera-save " +
+                                   (dir / "old.camera").string() + "\nquit\n");
+  const CliResult r = runDtfabric("view --force --script " + q(dir / "fig.dtfs"), dir);
+  EXPECT_NE(r.exitCode, 2) << r.err;
+  EXPECT_EQ(r.err.find(" exists (use --force"), std::string::npos) << r.err;
 }
 
 // Inputs are never outputs, whatever --force says.
@@ -839,6 +918,32 @@ TEST(Environment, RenderWithoutGl45ContextExitsWith3) {
     EXPECT_NE(r.err.find(env.errHas), std::string::npos) << env.name << "\n" << r.err;
     EXPECT_FALSE(fs::exists(dir / "x.png")) << env.name;
   }
+}
+
+// A tensor volume wider than GL_MAX_3D_TEXTURE_SIZE (32767 voxels, the largest NIfTI-1 axis; llvmpipe allows
+// 2048, GPU drivers at most 16384) but only 3 MiB: the render stops with a GL error (exit code 3) naming the
+// grid and the limit, and writes nothing. Real GPU memory exhaustion cannot be forced reliably; this is the
+// same path (GlError from the tensor upload).
+TEST(Environment, VolumeBeyondThe3DTextureLimitExitsWith3) {
+  const fs::path dir = dtf::test::scratchDir();
+  Nifti n;
+  n.dims = {32767, 2, 2, 6};
+  std::vector<float> v(n.values(), 0.0f);
+  const std::size_t voxels = 32767 * 4;
+  for (int c : {0, 3, 5})
+    std::fill_n(v.begin() + static_cast<std::ptrdiff_t>(c * voxels), voxels, 1e-3f);
+  n.data = floats(v);
+  writeBytes(dir / "wide.nii", n.bytes());
+  const CliResult r =
+      runDtfabric("render " + q(dir / "wide.nii") + " --layout fsl --surface slice=axial:0 --size 64x64 -o " +
+                      q(dir / "x.png"),
+                  dir);
+  if (r.err.find("cannot create a headless OpenGL") != std::string::npos &&
+      !dtf::test::envFlag("DTF_REQUIRE_GL"))
+    GTEST_SKIP() << r.err;
+  EXPECT_EQ(r.exitCode, 3) << r.err;
+  EXPECT_NE(r.err.find("32767x2x2 exceeds this GL's 3D texture size limit"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
 
 } // namespace

@@ -1,4 +1,5 @@
-// libFuzzer target: the viewer script parser (app/view_script.h), pure text in, steps or a UsageError out.
+// libFuzzer target: the viewer script parser (app/view_script.h), pure text in, steps or a UsageError out;
+// then the output check that runs before a window opens (reads the file system only: exists/equivalent).
 #include "app/view_script.h"
 #include "io/model/error.h"
 
@@ -14,6 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& step : script.steps)
       if (const auto* set = std::get_if<dtf::app::ScriptSetParam>(&step.command))
         dtf::app::applyScriptParam(params, *set);
+    dtf::app::checkScriptOutputs(script, {}, false);
   } catch (const dtf::Error&) {
   }
   return 0;

@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
        "4\n"
        "zoom 2\nview anterior\nsplit on\nlinked off\nneurological on\nset lod 1.5\nset colour engineering\n"
        "set lighting off\nwait 3\nscreenshot a.png\nscreenshot-scene b.png\ncamera-save c.json\n"
-       "camera-load c.json\nquit\n");
+       "camera-load c.json\nscreenshot --force a.png\ncamera-save --force c.json\ntracts t.tck\nquit\n");
   text(dir / "view_script" / "surfaces.dtfs",
        "surface slice=coronal:3\nsurface plane=0,0,0:0,0,1\nsurface iso=f.nii:0.5\nsurface mesh=m.vtk\n");
   std::printf("seeds written to %s\n", dir.c_str());

@@ -256,21 +256,27 @@ TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
   EXPECT_EQ(a.offsets, b.offsets);
   EXPECT_EQ(a.points, b.points) << "same seeds and options: the same streamlines";
 
-  // An existing file is not replaced unless asked: scripts fail naming it, the panel asks first.
+  // An existing file is not replaced unless asked: scripts fail naming it, the window asks first.
   const auto before = fs::file_size(viewer);
+  s.scene.setAskBeforeOverwrite(false); // as under --script
   s.apply(ui::SaveTracts{viewer.string()});
   EXPECT_NE(s.lastError().find(viewer.string() + " exists"), std::string::npos) << s.lastError();
   s.apply(ui::DismissError{});
-  s.apply(ui::SaveTracts{viewer.string(), false, true});
-  EXPECT_EQ(s.state().savePrompt, viewer.string());
+  s.scene.setAskBeforeOverwrite(true);
+  s.apply(ui::SaveTracts{viewer.string()});
+  EXPECT_EQ(s.state().overwritePath, viewer.string());
   EXPECT_EQ(s.lastError(), "");
-  s.apply(ui::SaveTracts{viewer.string(), true, false}); // the prompt's Overwrite
-  EXPECT_EQ(s.state().savePrompt, "");
+  s.apply(ui::ConfirmOverwrite{false}); // Cancel: nothing written
+  EXPECT_EQ(s.state().overwritePath, "");
+  fs::resize_file(viewer, 10);
+  s.apply(ui::SaveTracts{viewer.string()});
+  s.apply(ui::ConfirmOverwrite{true}); // Overwrite
+  EXPECT_EQ(s.state().overwritePath, "");
   s.converge();
   EXPECT_EQ(s.lastError(), "");
-  EXPECT_EQ(fs::file_size(viewer), before);
+  EXPECT_EQ(fs::file_size(viewer), before) << "the prompt's Overwrite rewrote the file";
   // Only tract files.
-  s.apply(ui::SaveTracts{tensor.string(), true, false});
+  s.apply(ui::SaveTracts{tensor.string(), true});
   EXPECT_NE(s.lastError().find("tract files end in .tck, .trk or .vtk"), std::string::npos) << s.lastError();
 }
 
@@ -303,7 +309,7 @@ TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
   EXPECT_EQ(s.state().tractPath, tck.string()) << "a cancelled run keeps the tracts on screen";
   EXPECT_EQ(s.state().tractCount, 2000u);
   // The loaded file is an input: never overwritten, whatever the flags.
-  s.apply(ui::SaveTracts{tck.string(), true, false});
+  s.apply(ui::SaveTracts{tck.string(), true});
   EXPECT_EQ(s.lastError(), "refusing to write " + tck.string() + ": it is an input file");
   s.apply(ui::DismissError{});
 

@@ -18,24 +18,40 @@ std::atomic<long> allocations{0};
 std::atomic<bool> counting{false};
 } // namespace
 
-void* operator new(std::size_t n) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-// The nothrow pair too (std::stable_sort's temporary buffer): with only the plain pair replaced, ASan sees
-// its own nothrow new freed by the replaced delete (alloc-dealloc-mismatch).
+// Every replaceable form that allocates with malloc is replaced, so that each pointer is freed by the
+// allocator that made it: with only the plain forms replaced, a nothrow new (std::stable_sort's temporary
+// buffer) came from ASan's operator new and was released by the free() below (alloc-dealloc-mismatch).
+// Aligned forms are left to the library: they pair among themselves.
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
   if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
   return std::malloc(n ? n : 1);
 }
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
+void* operator new(std::size_t n) {
+  if (void* p = operator new(n, std::nothrow)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
+  return operator new(n);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  return operator new(n, std::nothrow);
 }
 void operator delete(void* p) noexcept {
   std::free(p);
 }
 void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 

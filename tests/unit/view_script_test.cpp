@@ -1,7 +1,10 @@
 // The viewer script parser (app/view_script.h): every command, comments, and FILE:LINE errors.
 #include "app/view_script.h"
 #include "io/model/error.h"
+#include "support/test_env.h"
 
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 
 using namespace dtf;
@@ -139,7 +142,9 @@ TEST(ViewScript, BadLinesNameFileAndLine) {
   EXPECT_NE(parseError("set colour purple").find("colour takes medical or engineering"), std::string::npos);
   EXPECT_NE(parseError("wait -3").find("wait frames must lie in"), std::string::npos);
   EXPECT_NE(parseError("screenshot out.jpg").find("must end in .png"), std::string::npos);
-  EXPECT_NE(parseError("screenshot").find("usage: screenshot PATH"), std::string::npos);
+  EXPECT_NE(parseError("screenshot").find("usage: screenshot [--force] PATH"), std::string::npos);
+  EXPECT_NE(parseError("screenshot --force").find("usage: screenshot [--force] PATH"), std::string::npos);
+  EXPECT_NE(parseError("camera-save --force  ").find("usage: camera-save [--force] PATH"), std::string::npos);
   EXPECT_NE(parseError("load").find("usage: load PATH"), std::string::npos);
   EXPECT_NE(parseError("quit now").find("usage: quit"), std::string::npos);
   EXPECT_NE(parseError("surface fa=2").find("demo.txt:1: fa threshold must lie in (0, 1)"),
@@ -160,7 +165,7 @@ TEST(ViewScript, TractLinesParse) {
                                        "split phong\n"
                                        "track-cancel\n"
                                        "tracts-save out/my tracts.tck\n"
-                                       "tracts-save out/t.trk force\n"
+                                       "tracts-save --force out/t.trk\n"
                                        "agreement\n"
                                        "agreement 3 18\n",
                                        "t.txt");
@@ -173,10 +178,9 @@ TEST(ViewScript, TractLinesParse) {
   EXPECT_EQ(actionAt<ui::SetSplit>(s, 4).mode, ui::SecondPane::Phong);
   actionAt<ui::CancelTracking>(s, 5);
   EXPECT_EQ(actionAt<ui::SaveTracts>(s, 6).path, "out/my tracts.tck");
-  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).overwrite);
-  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).askFirst) << "a script never waits for a question";
+  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).force);
   EXPECT_EQ(actionAt<ui::SaveTracts>(s, 7).path, "out/t.trk");
-  EXPECT_TRUE(actionAt<ui::SaveTracts>(s, 7).overwrite);
+  EXPECT_TRUE(actionAt<ui::SaveTracts>(s, 7).force);
   EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 8).nearMm, 2.0); // `dtfabric compare`'s defaults
   EXPECT_EQ(actionAt<ui::ComputeAgreement>(s, 8).bins, 9);
   EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 9).nearMm, 3.0);
@@ -228,7 +232,7 @@ TEST(ViewScript, BadTractLinesNameTheProblem) {
             std::string::npos);
   EXPECT_NE(parseError("tract-width 0").find("tract-width must lie in (0, 32]"), std::string::npos);
   EXPECT_NE(parseError("tracts-visible maybe").find("tracts-visible takes on or off"), std::string::npos);
-  EXPECT_NE(parseError("tracts-save").find("usage: tracts-save PATH [force]"), std::string::npos);
+  EXPECT_NE(parseError("tracts-save").find("usage: tracts-save [--force] PATH"), std::string::npos);
   EXPECT_NE(parseError("agreement 2 0").find("agreement bins must lie in 1..90"), std::string::npos);
   EXPECT_NE(parseError("agreement 1 2 3").find("usage: agreement"), std::string::npos);
   EXPECT_NE(parseError("track-cancel now").find("usage: track-cancel"), std::string::npos);
@@ -246,4 +250,74 @@ TEST(ViewScript, BadTractLinesNameTheProblem) {
   EXPECT_NE(parseError("track fast").find("track: expected KEY=VALUE, got 'fast'"), std::string::npos);
   EXPECT_NE(parseError("split sideways").find("split takes on or off (or colour, phong, tracts)"),
             std::string::npos);
+}
+
+TEST(ViewScript, OutputLinesTakeForceBeforeThePath) {
+  const ViewScript s = parseViewScript("screenshot a b.png\nscreenshot --force out/a.png\n"
+                                       "screenshot-scene --force  my shot.png\ncamera-save --force cam 1\n"
+                                       "camera-save --forced.cam\n",
+                                       "f.txt");
+  ASSERT_EQ(s.steps.size(), 5u);
+  EXPECT_FALSE(actionAt<ui::Screenshot>(s, 0).force);
+  EXPECT_EQ(actionAt<ui::Screenshot>(s, 0).path, "a b.png");
+  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 1).force);
+  EXPECT_EQ(actionAt<ui::Screenshot>(s, 1).path, "out/a.png");
+  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 2).force);
+  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 2).sceneOnly);
+  EXPECT_EQ(actionAt<ui::Screenshot>(s, 2).path, "my shot.png");
+  EXPECT_TRUE(actionAt<ui::SaveCamera>(s, 3).force);
+  EXPECT_EQ(actionAt<ui::SaveCamera>(s, 3).path, "cam 1");
+  EXPECT_FALSE(actionAt<ui::SaveCamera>(s, 4).force); // a path that merely starts with --force
+  EXPECT_EQ(actionAt<ui::SaveCamera>(s, 4).path, "--forced.cam");
+}
+
+namespace {
+// The message of checkScriptOutputs, or "(no error)".
+std::string outputError(const ViewScript& s, const std::vector<std::string>& inputs, bool force) {
+  try {
+    checkScriptOutputs(s, inputs, force);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+} // namespace
+
+TEST(ViewScript, ExistingOutputsNeedForceAndInputsAreNeverOutputs) {
+  namespace fs = std::filesystem;
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string shot = (dir / "old.png").string(), cam = (dir / "old.camera").string();
+  const std::string volume = (dir / "brain.nii.gz").string(), tracts = (dir / "t.tck").string();
+  const std::string script = (dir / "fig.txt").string();
+  for (const auto& f : {shot, cam, volume, (dir / "brain.bval").string(), tracts, script})
+    std::ofstream(f) << "x";
+  const std::string fresh = (dir / "new.png").string();
+  auto parse = [&](const std::string& text) { return parseViewScript(text, script); };
+
+  EXPECT_EQ(
+      outputError(parse("screenshot " + fresh + "\ncamera-save " + (dir / "new.camera").string()), {}, false),
+      "(no error)");
+  // An existing screenshot or camera file: FILE:LINE, the path, and how to force it.
+  const std::string e1 = outputError(parse("fa 0.3\nscreenshot " + shot), {}, false);
+  EXPECT_EQ(e1.rfind(script + ":2: " + shot + " exists (use --force", 0), 0u) << e1;
+  const std::string e2 = outputError(parse("camera-save " + cam), {}, false);
+  EXPECT_EQ(e2.rfind(script + ":1: " + cam + " exists (use --force", 0), 0u) << e2;
+  // --force on the line or for the whole script lets them through.
+  EXPECT_EQ(outputError(parse("screenshot --force " + shot + "\ncamera-save --force " + cam), {}, false),
+            "(no error)");
+  EXPECT_EQ(outputError(parse("screenshot " + shot + "\ncamera-save " + cam), {}, true), "(no error)");
+  // Inputs are refused whatever --force says: the command line's, the script's own loads (and the DWI's
+  // gradient tables beside them), tracts, and the script itself.
+  const std::string png = (dir / "input.png").string();
+  std::ofstream(png) << "x";
+  for (const auto& [text, inputs] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"screenshot --force " + png, {png}},
+           {"load " + volume + "\ncamera-save --force " + volume, {}},
+           {"load " + volume + "\ncamera-save --force " + (dir / "brain.bval").string(), {}},
+           {"tracts " + tracts + "\ncamera-save --force " + tracts, {}},
+           {"camera-save --force " + script, {}}}) {
+    const std::string e = outputError(parse(text), inputs, true);
+    EXPECT_NE(e.find("it is an input file"), std::string::npos) << text << "\n" << e;
+    EXPECT_EQ(e.rfind(script + ":", 0), 0u) << e;
+  }
 }

@@ -192,6 +192,37 @@ TEST_F(ViewHeadlessUi, ErrorModalOpensAndOkDismisses) {
   EXPECT_TRUE(d);
 }
 
+TEST_F(ViewHeadlessUi, OverwritePromptAsksBeforeReplacingAFile) {
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("Overwrite")) << "no prompt without a pending output";
+  state.overwritePath = "/figures/fig1.png";
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  // Modal: the panels under it take no clicks.
+  EXPECT_FALSE(find<SetView>(click("anterior")));
+  const auto cancel = find<ConfirmOverwrite>(click("Cancel"));
+  ASSERT_TRUE(cancel);
+  EXPECT_FALSE(cancel->overwrite);
+  // The viewer clears the question on the answer; a later one opens the prompt again.
+  state.overwritePath.clear();
+  frame(-1, -1, false);
+  state.overwritePath = "/figures/fig2.png";
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  const auto yes = find<ConfirmOverwrite>(click("Overwrite"));
+  ASSERT_TRUE(yes);
+  EXPECT_TRUE(yes->overwrite);
+}
+
+TEST_F(ViewHeadlessUi, AnErrorHidesTheOverwritePromptUntilDismissed) {
+  state.overwritePath = "/figures/fig1.png";
+  state.errorChain = {"while saving: disk full"};
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("Overwrite"));
+  EXPECT_TRUE(centres.count("OK"));
+}
+
 TEST_F(ViewHeadlessUi, FibreSeedFromTheViewerFillsTheSeedFieldsAndBuildSendsIt) {
   state.surface = SurfaceKind::Fibre;
   state.fibreSeed = {17, 12, 24, 23, 12, 24};
@@ -260,17 +291,14 @@ TEST_F(ViewTractsPanel, SaveAsksBeforeReplacingAFile) {
   const auto s = find<SaveTracts>(click("Save"));
   ASSERT_TRUE(s);
   EXPECT_EQ(s->path, "out/t.tck");
-  EXPECT_FALSE(s->overwrite);
-  EXPECT_TRUE(s->askFirst);
-  // The viewer found the file: the prompt's Overwrite sends it again with overwrite set, Keep it drops it.
-  state.savePrompt = "out/t.tck";
+  EXPECT_FALSE(s->force) << "the viewer asks before replacing an existing file";
+  // The viewer found the file: the overwrite prompt answers with ConfirmOverwrite.
+  state.overwritePath = "out/t.tck";
   frame(-1, -1, false);
   frame(-1, -1, false);
-  const auto o = find<SaveTracts>(click("Overwrite"));
+  const auto o = find<ConfirmOverwrite>(click("Overwrite"));
   ASSERT_TRUE(o);
   EXPECT_TRUE(o->overwrite);
-  EXPECT_EQ(o->path, "out/t.tck");
-  EXPECT_TRUE(find<DismissSavePrompt>(click("Keep it")));
 }
 
 TEST_F(ViewTractsPanel, AgreementComputesWithCompareDefaultsAndShowsTheHistogram) {

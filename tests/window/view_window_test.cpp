@@ -361,7 +361,7 @@ TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
   // The second save fails (exit code 2) naming the file; the viewer went on to `quit`.
   EXPECT_EQ(r.exitCode, 2) << r.err;
-  EXPECT_NE(r.err.find("script.txt:8: error: " + out + " exists: refusing to overwrite it"),
+  EXPECT_NE(r.err.find("script.txt:8: error: " + out + " exists (use --force to overwrite it"),
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("tracked 100 streamlines"), std::string::npos) << r.err;
