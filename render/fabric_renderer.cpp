@@ -140,7 +140,7 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   prepare(camera, p, restart);
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), projection_.surface(), as, p.iterations, true, &projection_.depth());
+  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth());
   endTimer();
   composite(p);
 }
@@ -166,7 +166,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), projection_.surface(), as, n, check, &projection_.depth());
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth());
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

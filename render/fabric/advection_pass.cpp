@@ -66,8 +66,8 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
   current_ = 0;
 }
 
-void AdvectionPass::iterate(const Texture& vectors, const Texture& surface, const AdvectionSettings& s, int count,
-                            bool countChanges, const Texture* depth) {
+void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
+                            const Texture* depth) {
   if (count <= 0) return;
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   const GLuint depthId = covered ? depth->id() : 0;
@@ -81,7 +81,6 @@ void AdvectionPass::iterate(const Texture& vectors, const Texture& surface, cons
     glDepthMask(GL_FALSE);
   }
   glBindTextureUnit(1, vectors.id());
-  glBindTextureUnit(2, surface.id());
   for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered);
   if (covered) {
     glDepthFunc(GL_LESS);

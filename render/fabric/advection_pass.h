@@ -6,7 +6,7 @@
 // reset() restarts from beta and takes beta and the blocked pixels (silhouettes, background) from the
 // projection and silhouette passes.
 //   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
-//            and surface (beta)
+//            (RGBA32UI: directions and beta)
 //   output : field(0), field(1) R32F (p1, p2, or kBlocked), the size of the guarded target
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
@@ -40,9 +40,8 @@ public:
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.
-  // `surface` is the texture given to reset() (beta in .r).
-  void iterate(const Texture& vectors, const Texture& surface, const AdvectionSettings& settings, int count,
-               bool countChanges = true, const Texture* depth = nullptr);
+  void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
+               const Texture* depth = nullptr);
   // The current p1 (c = 0) or p2 (c = 1).
   const Texture& field(int c) const { return state_[current_][c]; }
   // Replaces p1, p2 of the current state except at blocked pixels (tests: the "forgets its start"

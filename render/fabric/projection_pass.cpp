@@ -12,7 +12,7 @@ ProjectionPass::ProjectionPass()
 void ProjectionPass::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
-  vectors_ = Texture::create2D(GL_RGBA16F, target.x, target.y);
+  vectors_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);

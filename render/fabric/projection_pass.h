@@ -6,7 +6,8 @@
 // cheap: shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3
 // depth pre-pass, without drawing the mesh twice).
 //   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
-//   outputs: vectors RGBA16F (v1.xy, v2.xy, pixels, max-norm 1; 0 = no direction)
+//   outputs: vectors RGBA32UI (packSnorm2x16(v1.xy), packSnorm2x16(v2.xy): image-space directions,
+//                    max-norm 1, 0 = no direction; floatBitsToUint(beta); 0)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
 //            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
 //                    FA)

@@ -11,8 +11,8 @@
 // (early depth test against the surface's depth; see common/fullscreen.vert).
 layout(binding = 0) uniform sampler2D u_prev1;      // p1, bilinear, clamp to edge
 layout(binding = 4) uniform sampler2D u_prev2;      // p2
-layout(binding = 1) uniform sampler2D u_vectors;    // v1.xy, v2.xy (pixels, max-norm 1)
-layout(binding = 2) uniform sampler2D u_surface;    // .r beta; RESET: .a coverage
+layout(binding = 1) uniform usampler2D u_vectors;   // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
+layout(binding = 2) uniform sampler2D u_surface;    // RESET: .r beta, .a coverage
 layout(binding = 3) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
 
 const float BLOCKED = -1e20;
@@ -57,8 +57,9 @@ void main() {
   vec2 s = vec2(texelFetch(u_prev1, p, 0).r, texelFetch(u_prev2, p, 0).r);
   vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
   vec2 x = gl_FragCoord.xy;
-  vec4 v = texelFetch(u_vectors, p, 0) * u_step;
-  float beta = texelFetch(u_surface, p, 0).r;
+  uvec4 q = texelFetch(u_vectors, p, 0);
+  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
+  float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
   vec2 next = u_k * beta + (1.0 - u_k) * avg;

@@ -38,7 +38,9 @@ uniform mat4 u_backgroundWorldToTex;
 #endif
 uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
-layout(location = 0) out vec4 o_vectors; // v1.xy, v2.xy: image-space directions (pixels, max-norm 1)
+// Image-space directions v1.xy, v2.xy (max-norm 1) as snorm16 pairs, and beta's bits: everything an advection
+// iteration reads of the projection in one integer fetch (a software rasteriser pays per channel).
+layout(location = 0) out uvec4 o_vectors;
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, 1 = tensor data
@@ -125,7 +127,7 @@ void main() {
     lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
   }
 #endif
-  o_vectors = vectors;
+  o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), 0u);
   o_surface = vec4(beta, light, depth, 1.0);
   eigen.w = fa;
   o_eigen = eigen;
