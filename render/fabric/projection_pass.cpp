@@ -17,7 +17,7 @@ void ProjectionPass::resize(glm::ivec2 target) {
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   depth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, target.x, target.y);
-  geometry_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
+  geometry_ = Texture::create2D(GL_RG32UI, target.x, target.y);
   for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_, &geometry_})
     t->setFilter(GL_NEAREST, GL_NEAREST);
   geometryFbo_ = createFramebuffer();
@@ -37,7 +37,8 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
 
   // Geometry stage: normal and linear depth of the nearest surface.
   glBindFramebuffer(GL_FRAMEBUFFER, geometryFbo_.id());
-  glClearNamedFramebufferfv(geometryFbo_.id(), GL_COLOR, 0, zero);
+  const GLuint none[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferuiv(geometryFbo_.id(), GL_COLOR, 0, none);
   glClearNamedFramebufferfv(geometryFbo_.id(), GL_DEPTH, 0, &one);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);

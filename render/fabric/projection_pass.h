@@ -1,7 +1,7 @@
 // Pass 1 of the fabric (paper §2.1, §2.3): renders the surface into the guarded target and writes, per
 // pixel, the image-space in-plane eigenvector directions and everything the later passes need. Deferred in
 // two draws: the geometry stage rasterises the mesh with a trivial shader into `geometry` (normal, linear
-// depth) and the depth buffer; the fullscreen stage then does the tensor work once per covered pixel
+// depth, 8 bytes) and the depth buffer; the fullscreen stage then does the tensor work once per covered pixel
 // (the early depth test skips the background). On a software rasteriser this is what makes the pass
 // cheap: shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3
 // depth pre-pass, without drawing the mesh twice).
@@ -15,7 +15,8 @@
 //                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor data)
 //            depth   DEPTH32F (window depth, for gl_FragDepth in the composite and the early depth test
 //                    of the later fullscreen passes)
-//            geometry RGBA32F (world normal, linear depth mm; 0 = no surface)
+//            geometry RG32UI (octahedral world normal as snorm16 x2, linear depth mm as float bits;
+//                    0 = no surface)
 // The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where
 // surface.a = 1. A zero vector there means "no direction".
 #pragma once

@@ -18,7 +18,13 @@ layout(early_fragment_tests) in;
 noperspective in vec3 v_nearEye;
 noperspective in vec3 v_farEye;
 
-layout(binding = 4) uniform sampler2D u_geometry; // world normal, linear depth (0 = no surface)
+layout(binding = 4) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
+
+vec3 fromOctahedral(vec2 e) {
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
 uniform mat4 u_eyeToWorld;
 uniform mat4 u_viewProj;
 uniform mat3 u_viewRot;      // world -> eye rotation (normals)
@@ -79,12 +85,12 @@ float sampleNoise(vec3 p, vec3 n, float lod) {
 }
 
 void main() {
-  vec4 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0);
-  float depth = g.w;
+  uvec2 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0).xy;
+  float depth = uintBitsToFloat(g.y);
   // The eye position on the pixel's ray at linear depth `depth` (eye z = -depth).
   vec3 eye = mix(v_nearEye, v_farEye, (-depth - v_nearEye.z) / (v_farEye.z - v_nearEye.z));
   vec3 world = (u_eyeToWorld * vec4(eye, 1.0)).xyz;
-  vec3 n = dot(g.xyz, g.xyz) > 0.0 ? normalize(g.xyz) : vec3(0.0, 0.0, 1.0);
+  vec3 n = fromOctahedral(unpackSnorm2x16(g.x));
   if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
   vec3 nEye = normalize(u_viewRot * n);
   vec3 toEye = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-eye);
