@@ -129,7 +129,7 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
   CompositeInputs in{&advection_.field(0),  &advection_.field(1),   &projection_.surface(), &silhouette_.edges(),
-                     &projection_.eigen(),    &projection_.lambda(),  &projection_.depth()};
+                     &projection_.eigen(),    &projection_.lambda()};
   beginTimer(kComposite);
   composite_.run(in, view_, cs);
   endTimer();

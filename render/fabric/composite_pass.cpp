@@ -15,6 +15,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   const ShaderProgram& p = programs_.get(mask);
   glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
   p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
+  p.set("u_eyeDepth", view.eyeDepth);
   p.set("u_r", s.r);
   p.set("u_contrast", s.contrast);
   p.set("u_lightWeight", s.lightWeight);
@@ -35,7 +36,6 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glBindTextureUnit(2, in.edges->id());
   glBindTextureUnit(4, in.eigen->id());
   glBindTextureUnit(5, in.lambda->id());
-  glBindTextureUnit(6, in.depth->id());
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);

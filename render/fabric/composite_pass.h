@@ -2,7 +2,7 @@
 // fields, silhouettes and light into the final colour of the viewport, and writes gl_FragDepth from the
 // projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at
 // the viewport size; empty pixels are discarded (the caller's clear colour stays).
-//   inputs: advected p1, p2, projection surface/eigen/lambda/depth, silhouette edges
+//   inputs: advected p1, p2, projection surface/eigen/lambda, silhouette edges
 #pragma once
 
 #include "render/fabric/frame_view.h"
@@ -36,7 +36,6 @@ struct CompositeInputs {
   const Texture* edges;
   const Texture* eigen;
   const Texture* lambda;
-  const Texture* depth;
 };
 
 class CompositePass {

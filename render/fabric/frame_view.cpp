@@ -26,6 +26,7 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   f.viewRot = glm::mat3(view);
   f.eyeToWorld = glm::mat4(glm::inverse(view));
   f.clipToEye = glm::mat4(glm::inverse(shrink * proj));
+  f.eyeDepth = glm::vec4(proj[2][2], proj[3][2], proj[2][3], proj[3][3]);
   f.orthographic = camera.orthographic;
   double dist = glm::length(camera.target - camera.eye);
   double halfH = camera.orthographic ? camera.orthoHalfHeight

@@ -21,6 +21,7 @@ struct FrameView {
   glm::mat3 viewRot{1.0f};  // world -> eye rotation
   glm::mat4 eyeToWorld{1.0f}; // inverse of view
   glm::mat4 clipToEye{1.0f};  // inverse projection of the guarded target
+  glm::vec4 eyeDepth{0.0f, 0.0f, 0.0f, 1.0f}; // clip z = x ze + y, clip w = z ze + w for eye z ze
   bool orthographic = true;
   float pixelMm = 1.0f;     // size of one pixel at the target distance, mm
   float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth

@@ -6,7 +6,8 @@
 // light(L) adds the same amount to all channels, which changes brightness, not hue. Medical mode:
 // the primary fabric as luminance of the DEC colour of the 3D principal eigenvector (x red, y green,
 // z blue) modulated by FA; where a secondary in-plane direction exists, it is drawn in grey beneath the
-// primary threads. Writes gl_FragDepth from the projection depth so other geometry occludes correctly.
+// primary threads. Writes gl_FragDepth, the window depth of the surface computed from its linear depth, so
+// other geometry occludes correctly.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
 layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
@@ -15,7 +16,6 @@ layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, co
 layout(binding = 2) uniform sampler2D u_silhouette; // e
 layout(binding = 4) uniform sampler2D u_eigen;      // |e1| (world), FA
 layout(binding = 5) uniform sampler2D u_lambda;     // lambda2'/lambda1', |e1.n|, background grey, data
-layout(binding = 6) uniform sampler2D u_depth;      // window depth of the projection pass
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
 uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
@@ -26,6 +26,7 @@ uniform float u_lightMix = 0.8;    // medical: intensity factor mix(1, L, lightM
 uniform bool u_lighting = true;
 uniform float u_depthColour = 0.5; // DEPTH_COLOUR: 0..1 blend of far surfaces towards a cool grey
 uniform vec2 u_depthRange;         // linear depth of the nearest and farthest scene points (mm)
+uniform vec4 u_eyeDepth;           // projection terms of eye z: clip z = x z + y, clip w = z z + w
 uniform float u_sharpen = 0.5;     // SHARPEN: unsharp mask weight on the composed colour
 uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
@@ -111,5 +112,6 @@ void main() {
   }
 #endif
   o_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
-  gl_FragDepth = texelFetch(u_depth, t, 0).r;
+  float z = -s.b; // eye z of the surface
+  gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
 }

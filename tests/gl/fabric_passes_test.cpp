@@ -571,7 +571,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   view.viewport = {kW, kH};
   view.internal = {kW, kH};
   view.target = {kW, kH};
-  pass.run({&ta, &tb, &ts, &te, &tz, &tz, &td}, view, cs);
+  pass.run({&ta, &tb, &ts, &te, &tz, &tz}, view, cs);
   auto c = readTexture(out, 4);
   for (std::size_t i = 0; i < beta.size(); ++i) {
     double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);
@@ -618,7 +618,7 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   cs.silhouettes = false;
   FrameView view;
   view.viewport = view.internal = view.target = {n, 1};
-  pass.run({&ta, &tb, &ts, &te, &tg, &tl, &td}, view, cs);
+  pass.run({&ta, &tb, &ts, &te, &tg, &tl}, view, cs);
   auto c = readTexture(out, 4);
   auto saturation = [&](int i) {
     float mx = std::max({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]}), mn = std::min({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]});

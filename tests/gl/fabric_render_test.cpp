@@ -134,3 +134,46 @@ TEST_F(FabricRender, InteractiveFramesContinueAndRestartOnCameraMotion) {
   r.renderFrame(cam, p);
   EXPECT_TRUE(r.projection().size() == glm::ivec2(96 + 2 * p.guard, 96 + 2 * p.guard));
 }
+
+TEST_F(FabricRender, OutputDepthIsTheRasterisedDepthOfTheSurface) {
+  // The composite computes gl_FragDepth from the linear depth; overlays depth-test against it, so it must
+  // agree with the depth the rasteriser wrote, in both projections.
+  Mesh sphere = reference::uvSphere({0, 0, 0}, 20.0, 24, 32);
+  FabricRenderer r;
+  r.setMesh(sphere);
+  r.setField(reference::constantField(reference::centredGrid(24, 2.0), {1, 0, 0}));
+  const int n = 96;
+  r.resize(n, n);
+  for (bool ortho : {true, false}) {
+    SCOPED_TRACE(ortho ? "orthographic" : "perspective");
+    Camera cam = Camera::standard(StandardView::Anterior, {-20, -20, -20}, {20, 20, 20}, 1.0);
+    cam.orthographic = ortho;
+    cam.fit({-20, -20, -20}, {20, 20, 20}, 1.0);
+    FabricParams p;
+    r.renderFrame(cam, p);
+    GLint id = 0;
+    glGetNamedFramebufferAttachmentParameteriv(r.output().id(), GL_DEPTH_ATTACHMENT,
+                                               GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &id);
+    std::vector<float> out(static_cast<std::size_t>(n) * n);
+    glGetTextureImage(static_cast<GLuint>(id), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(out.size() * 4),
+                      out.data());
+    const Texture& projected = r.projection().depth();
+    const int g = (projected.width() - n) / 2; // guard border
+    std::vector<float> raster(static_cast<std::size_t>(projected.width()) * projected.height());
+    glGetTextureImage(projected.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(raster.size() * 4),
+                      raster.data());
+    int covered = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const float want = raster[static_cast<std::size_t>(y + g) * projected.width() + x + g];
+        const float got = out[static_cast<std::size_t>(y) * n + x];
+        if (want >= 1.0f) {
+          EXPECT_EQ(got, 1.0f) << "background keeps the cleared depth";
+          continue;
+        }
+        ++covered;
+        ASSERT_NEAR(got, want, 2e-6) << x << "," << y;
+      }
+    EXPECT_GT(covered, n * n / 4);
+  }
+}
