@@ -252,8 +252,9 @@ TEST_F(FabricPass, GlslEigenSolverMatchesCpuReference) {
     glm::dvec3 pv(principal[i * 4], principal[i * 4 + 1], principal[i * 4 + 2]);
     EXPECT_NEAR(glm::length(pv), 1.0, 1e-3) << "case " << i;
     EXPECT_LT(glm::length(m * pv - double(vals[i * 4]) * pv), 2e-3 * scale + 1e-9) << "case " << i;
-    if (e.values.x - e.values.y > 1e-2 * scale)
+    if (e.values.x - e.values.y > 1e-2 * scale) {
       EXPECT_GT(std::abs(glm::dot(pv, e.vectors[0])), 0.999) << "case " << i;
+    }
   }
 }
 
