@@ -42,17 +42,6 @@ TractResult failed(std::uint64_t id, const char* what, const std::string& error)
 
 } // namespace
 
-surfaces::TrackingOptions trackingOptions(const ui::TrackRequest& r) {
-  surfaces::TrackingOptions o;
-  o.stepMm = r.stepMm;
-  o.faStop = r.faStop;
-  o.maxAngleDeg = r.angleDeg;
-  o.minLengthMm = r.minLengthMm;
-  o.maxLengthMm = r.maxLengthMm;
-  o.rk4 = r.rk4;
-  return o;
-}
-
 surfaces::SeedSource seedsFor(const ui::TrackRequest& r, const ViewerDataset& data, const Mesh* surface) {
   const TensorField& field = data.loaded.field;
   const auto seed = static_cast<std::uint64_t>(std::max(r.rngSeed, 0));

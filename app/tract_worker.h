@@ -6,6 +6,7 @@
 // one selection per surface the user can see. Results are polled by the GUI thread.
 #pragma once
 
+#include "app/track_request.h"
 #include "app/viewer_worker.h"
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
@@ -124,7 +125,5 @@ private:
 // The seeds of a tracking request (the viewer's SeedKind, as `dtfabric track` builds them). Throws
 // UsageError/InputError for an impossible request (empty mask, slice outside the grid, ...).
 surfaces::SeedSource seedsFor(const ui::TrackRequest& r, const ViewerDataset& data, const Mesh* surface);
-// The tracking options of a request (validated by surfaces::validate when tracking starts).
-surfaces::TrackingOptions trackingOptions(const ui::TrackRequest& r);
 
 } // namespace dtf::app

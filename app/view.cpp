@@ -47,7 +47,7 @@ Options
                    key, rotate, pan, zoom, view, split (on|off|colour|phong|tracts), linked, neurological,
                    set, probe, resize, wait, screenshot (whole window, panels included), screenshot-scene
                    (fabric panes only), camera-save, camera-load, tracts, tracts-visible, tracts-near,
-                   tract-width, track, track-cancel, tracts-save, agreement, quit.
+                   tracts-clip, tract-width, track, track-cancel, tracts-save, agreement, quit.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed (3 when the failure was GL's: context, texture limits, GPU memory).
   --force          let the script's screenshot, camera-save and tracts-save lines replace existing files

@@ -2,7 +2,7 @@
 
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
-#include "app/tract_worker.h"
+#include "app/track_request.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/slices.h"
@@ -329,6 +329,13 @@ ScriptStep parseLine(const std::string& line, int number_) {
     const double mm = number(w[1], "tracts-near");
     if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
     step.command = ui::Action(ui::SetTractsNear{mm});
+  } else if (c == "tracts-clip") {
+    if (w.size() != 2 && w.size() != 3) throw LineError{"usage: tracts-clip MM [DEPTH_MM]"};
+    const double mm = number(w[1], "tracts-clip");
+    if (mm < 0 || mm > 1000) throw LineError{"tracts-clip must lie in [0, 1000] mm, got " + w[1]};
+    const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
+    if (std::abs(offset) > 1000) throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
+    step.command = ui::Action(ui::SetTractsClip{mm, offset});
   } else if (c == "tract-width") {
     expectArgs(w, 1, "tract-width PX");
     const double px = number(w[1], "tract-width");
@@ -359,7 +366,7 @@ ScriptStep parseLine(const std::string& line, int number_) {
         "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
         "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, resize, tracts, "
         "tracts-visible, "
-        "tracts-near, tract-width, track, track-cancel, tracts-save, agreement, quit)"};
+        "tracts-near, tracts-clip, tract-width, track, track-cancel, tracts-save, agreement, quit)"};
   }
   return step;
 }

@@ -29,6 +29,8 @@
 //   tracts-visible on|off     show or hide the tracts
 //   tracts-near MM            only tract segments within MM of the surface (a slab on planar surfaces);
 //                             0 = every tract (default 3)
+//   tracts-clip MM [DEPTH]    draw only tract points within MM of the plane facing the camera through the
+//                             surface's centre, moved DEPTH mm away from the viewer (default 0); 0 = off
 //   tract-width PX            tube width in pixels (default 2)
 //   track [KEY=VALUE ...]     deterministic tracking on the worker (replaces the tracts on screen):
 //                             from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T (default surface),

@@ -308,6 +308,9 @@ void ViewerScene::setMesh(Mesh&& mesh) {
   mesh_ = std::make_shared<const Mesh>(std::move(mesh));
   hasMesh_ = true;
   ++meshSerial_;
+  glm::vec3 lo, hi;
+  mesh_->bounds(lo, hi);
+  meshCentre_ = 0.5f * (lo + hi);
   state_.triangles = mesh_->triangleCount();
   cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
   requestSelection();
@@ -665,6 +668,12 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
   if (tractsSlab_ && state_.tractsNearMm > 0) {
     f.style.plane = tractsPlane_;
     f.style.slabMm = static_cast<float>(state_.tractsNearMm);
+  } else if (state_.tractsClipMm > 0) {
+    // The clip slab faces this pane's camera through the surface's centre, moved along the view.
+    const glm::vec3 fwd(camera(p).forward());
+    const glm::vec3 c = meshCentre_ + static_cast<float>(state_.tractsClipOffsetMm) * fwd;
+    f.style.plane = glm::vec4(fwd, -glm::dot(fwd, c));
+    f.style.slabMm = static_cast<float>(state_.tractsClipMm);
   }
   f.key = tractKeys_[p] = tractKey();
   f.moving = moving;
@@ -866,9 +875,16 @@ void ViewerScene::apply(const ui::Action& action) {
             if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("tract distance must lie in [0, 1000] mm");
             state_.tractsNearMm = a.mm;
             requestSelection();
+          } else if constexpr (std::is_same_v<T, ui::SetTractsClip>) {
+            if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("clip slab half-width must lie in [0, 1000] mm");
+            if (!(std::abs(a.offsetMm) <= 1000)) throw UsageError("clip slab depth must lie in [-1000, 1000] mm");
+            state_.tractsClipMm = a.mm;
+            state_.tractsClipOffsetMm = a.offsetMm;
+            ++tractStyleSerial_;
           } else if constexpr (std::is_same_v<T, ui::SetTractWidth>) {
             if (!(a.px > 0 && a.px <= 32)) throw UsageError("tract width must lie in (0, 32] pixels");
             state_.tractWidthPx = a.px;
+            ++tractStyleSerial_;
           } else if constexpr (std::is_same_v<T, ui::TrackTracts>) {
             startTracking(a.request);
           } else if constexpr (std::is_same_v<T, ui::CancelTracking>) {

@@ -122,8 +122,9 @@ private:
   void startTracking(const ui::TrackRequest& request);
   void startAgreement(const ui::ComputeAgreement& a);
   void saveTracts(const ui::SaveTracts& a);
-  // What the tract layers draw: the selection uploaded and the surface they are depth-tested against.
-  std::uint64_t tractKey() const { return displaySerial_ * 1000003 + meshSerial_; }
+  // What a tract layer draws besides the camera: the selection uploaded, the surface it is depth-tested
+  // against, the width and the clip slab.
+  std::uint64_t tractKey() const { return (displaySerial_ * 1000003 + meshSerial_) * 1009 + tractStyleSerial_; }
 
   ui::ViewerState state_;
   ViewerWorker worker_;
@@ -152,6 +153,8 @@ private:
   render::StandardView homeView_ = render::StandardView::Superior;
   int width_ = 1, height_ = 1;
   std::uint64_t errorSerial_ = 0, meshSerial_ = 0;
+  std::uint64_t tractStyleSerial_ = 0; // counts changes of the tract width and clip slab
+  glm::vec3 meshCentre_{0.0f}; // centre of the surface's bounds: where the tracts' clip slab is anchored
   std::chrono::steady_clock::time_point lastMotion_{}, busySince_{};
 
   TractWorker tractWorker_;

@@ -108,6 +108,9 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, SetTractWidth>) {
           std::snprintf(buf, sizeof buf, "SetTractWidth %g", a.px);
           return buf;
+        } else if constexpr (std::is_same_v<T, SetTractsClip>) {
+          std::snprintf(buf, sizeof buf, "SetTractsClip %g %g", a.mm, a.offsetMm);
+          return buf;
         } else if constexpr (std::is_same_v<T, TrackTracts>) {
           static const char* const seeds[] = {"surface", "slice", "sphere", "fa-mask"};
           static const char* const counts[] = {"select", "seeds", "per-voxel"};

@@ -110,6 +110,13 @@ struct SetTractsNear {
 struct SetTractWidth {
   double px;
 };
+// A clip slab for large tractograms: only tract points within `mm` of the plane facing the camera through
+// the surface's centre, moved `offsetMm` along the view direction (away from the viewer), are drawn. It
+// follows the camera; 0 turns it off. On a planar surface with a near-surface distance, that slab applies.
+struct SetTractsClip {
+  double mm;
+  double offsetMm = 0;
+};
 // Deterministic tensor tractography from the viewer (the options of `dtfabric track`).
 enum class SeedKind { Surface, Slice, Sphere, FaMask };
 enum class SeedCount { Select, Seeds, PerVoxel };
@@ -155,7 +162,7 @@ using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
-                 SetTractWidth, TrackTracts, CancelTracking, SaveTracts, ComputeAgreement, DismissError,
+                 SetTractWidth, SetTractsClip, TrackTracts, CancelTracking, SaveTracts, ComputeAgreement, DismissError,
                  ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.

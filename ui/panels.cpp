@@ -238,6 +238,16 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
       ImGui::TextDisabled("every tract is shown");
     else if (s.tractsSlab)
       ImGui::TextDisabled("planar surface: slab of +-%.1f mm", s.tractsNearMm);
+    // The camera-facing clip slab, for tractograms too dense to see into (the planar slab replaces it).
+    double clip = s.tractsClipMm, clipOffset = s.tractsClipOffsetMm;
+    bool clipChanged = sliderDouble("clip slab (mm)", clip, 0.0f, 50.0f, "%.1f");
+    probe(b, "clip slab (mm)");
+    if (clip > 0) {
+      clipChanged |= sliderDouble("clip depth (mm)", clipOffset, -100.0f, 100.0f, "%.1f");
+      probe(b, "clip depth (mm)");
+      if (s.tractsSlab && s.tractsNearMm > 0) ImGui::TextDisabled("the planar slab applies on this surface");
+    }
+    if (clipChanged) out.push_back(SetTractsClip{clip, clipOffset});
     ImGui::Text("shown: %zu pieces, %zu points%s", s.tractsShownLines, s.tractsShownPoints,
                 s.tractsSelecting ? " (selecting...)" : "");
     if (s.tractsLevel > 0 || s.tractsLevelFraction < 1)

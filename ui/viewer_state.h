@@ -78,6 +78,8 @@ struct ViewerState {
   bool tractsVisible = true;
   double tractsNearMm = 3.0; // 0: every tract
   double tractWidthPx = 2.0;
+  double tractsClipMm = 0;       // camera-facing clip slab half-width (0: off), see ui::SetTractsClip
+  double tractsClipOffsetMm = 0; // its centre's distance beyond the surface centre along the view
   bool tractsSelecting = false; // the selection for the current surface is being computed
   bool tractsSlab = false;      // planar surface: a slab of half-width tractsNearMm, no selection
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation

@@ -189,6 +189,49 @@ TEST(ViewTracts, SelectionFollowsTheSurfaceAndEqualsTheLibrarySelection) {
   EXPECT_EQ(s.state().tractsShownPoints, all.points.size()) << "0 mm: every tract";
 }
 
+// The clip slab for dense tractograms around a curved surface: it faces the camera, sits at the surface's
+// centre, moves with its depth, and lets nothing through once it lies beyond the data.
+TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
+  BRAIN_FILES();
+  Scene s("fa=0.25");
+  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image plain = s.image();
+  s.apply(ui::LoadTracts{tck.string()});
+  s.apply(ui::SetTractsNear{0}); // every tract: the case the clip is for
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_FALSE(s.state().tractsSlab);
+  const Image all = s.image();
+  const std::size_t allDrawn = tractLike(all, plain);
+  ASSERT_GT(allDrawn, 3000u);
+
+  s.apply(ui::SetTractsClip{4.0, 0.0});
+  s.converge();
+  const Image centre = s.image();
+  io::writePng((test::scratchDir() / "clip_centre.png").string(), centre);
+  const std::size_t centreDrawn = tractLike(centre, plain);
+  EXPECT_LT(centreDrawn, allDrawn * 2 / 3) << "an 8 mm slab keeps a part of a whole-brain tractogram";
+  EXPECT_GT(centreDrawn, allDrawn / 50) << "the slab through the centre of the brain cuts tracts";
+
+  s.apply(ui::SetTractsClip{4.0, 25.0});
+  s.converge();
+  const Image deeper = s.image();
+  EXPECT_GT(tractLike(deeper, plain), allDrawn / 100);
+  EXPECT_GT(differing(deeper, centre), centreDrawn / 4) << "another depth shows other tracts";
+
+  s.apply(ui::SetTractsClip{4.0, 200.0}); // beyond the brain along the view
+  s.converge();
+  EXPECT_LT(tractLike(s.image(), plain), allDrawn / 200) << "a slab outside the data shows no tract";
+
+  s.apply(ui::SetTractsClip{0.0, 200.0});
+  s.converge();
+  EXPECT_LT(differing(s.image(), all), all.rgba.size() / 4 / 100) << "0 mm turns the clip off";
+  EXPECT_EQ(s.state().tractsShownPoints, app::readTracts(tck.string()).points.size())
+      << "the clip is for display: the selection keeps every point";
+}
+
 TEST(ViewTracts, AgreementMatchesTheCompareCommand) {
   BRAIN_FILES();
   Scene s("fa=0.25");

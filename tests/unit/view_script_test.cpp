@@ -227,6 +227,22 @@ TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
   EXPECT_EQ(actionAt<ui::TrackTracts>(s, 4).request.sliceIndex, -1) << "no index: the viewer's current slice";
 }
 
+TEST(ViewScript, TractClipLinesParse) {
+  const ViewScript s = parseViewScript("tracts-clip 4 -12.5\ntracts-clip 2\ntracts-clip 0\n", "t.txt");
+  ASSERT_EQ(s.steps.size(), 3u);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 0).mm, 4.0);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 0).offsetMm, -12.5);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 1).mm, 2.0);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 1).offsetMm, 0.0) << "no depth: through the surface's centre";
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 2).mm, 0.0);
+  EXPECT_NE(parseError("tracts-clip -1").find("demo.txt:1: tracts-clip must lie in [0, 1000]"),
+            std::string::npos);
+  EXPECT_NE(parseError("tracts-clip 3 2000").find("tracts-clip depth must lie in [-1000, 1000]"),
+            std::string::npos);
+  EXPECT_NE(parseError("tracts-clip").find("usage: tracts-clip MM [DEPTH_MM]"), std::string::npos);
+  EXPECT_NE(parseError("tracts-clip 1 2 3").find("usage: tracts-clip MM [DEPTH_MM]"), std::string::npos);
+}
+
 TEST(ViewScript, BadTractLinesNameTheProblem) {
   EXPECT_NE(parseError("tracts-near -1").find("demo.txt:1: tracts-near must lie in [0, 1000]"),
             std::string::npos);

@@ -268,6 +268,22 @@ TEST_F(ViewTractsPanel, ShowCheckboxAndDistanceSliderSendTheirActions) {
   EXPECT_NEAR(w->px, 4.25, 0.4); // the middle of 0.5..8 px
 }
 
+TEST_F(ViewTractsPanel, ClipSlabSliderSendsHalfWidthThenDepth) {
+  open();
+  EXPECT_FALSE(centres.count("clip depth (mm)")) << "no depth slider while the clip is off";
+  const auto c = find<SetTractsClip>(click("clip slab (mm)"));
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(c->mm, 25.0, 2.5); // the middle of 0..50 mm
+  EXPECT_DOUBLE_EQ(c->offsetMm, 0.0);
+  state.tractsClipMm = 5;
+  state.tractsClipOffsetMm = 30;
+  frame(-1, -1, false);
+  const auto d = find<SetTractsClip>(click("clip depth (mm)"));
+  ASSERT_TRUE(d);
+  EXPECT_DOUBLE_EQ(d->mm, 5.0) << "the depth slider keeps the half-width";
+  EXPECT_NEAR(d->offsetMm, 0.0, 10.0); // the middle of -100..100 mm
+}
+
 TEST_F(ViewTractsPanel, TrackSendsTheEditedRequestAndCancelStopsIt) {
   state.hasData = true;
   buffers.track.number = 123;
