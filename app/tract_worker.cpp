@@ -15,18 +15,6 @@ namespace dtf::app {
 
 namespace {
 
-std::string currentError() {
-  try {
-    throw;
-  } catch (const std::bad_alloc&) {
-    return "out of memory";
-  } catch (const std::exception& e) {
-    return e.what();
-  } catch (...) {
-    return "unknown error";
-  }
-}
-
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -229,7 +217,7 @@ void TractWorker::runAnalysis() {
       try {
         r = select(*selection);
       } catch (...) {
-        r = failed(selection->id, "selecting the tracts near the surface", currentError());
+        r = failed(selection->id, "selecting the tracts near the surface", currentExceptionMessage());
       }
     } else if (save) {
       try {
@@ -240,7 +228,7 @@ void TractWorker::runAnalysis() {
         r.id = save->id;
         r.path = save->path;
       } catch (...) {
-        r = failed(save->id, "saving the tracts", currentError());
+        r = failed(save->id, "saving the tracts", currentExceptionMessage());
       }
     } else {
       try {
@@ -249,7 +237,7 @@ void TractWorker::runAnalysis() {
         r.agreement = surfaces::tractSurfaceAgreement(*agreement->tracts, *agreement->mesh,
                                                       agreement->data->loaded.field, agreement->options);
       } catch (...) {
-        r = failed(agreement->id, "computing the agreement with the fabric", currentError());
+        r = failed(agreement->id, "computing the agreement with the fabric", currentExceptionMessage());
       }
     }
     r.ms = msSince(t0);
@@ -325,7 +313,7 @@ void TractWorker::runTracking() {
     try {
       r = track(*job);
     } catch (...) {
-      r = failed(job->id, "tracking", currentError());
+      r = failed(job->id, "tracking", currentExceptionMessage());
     }
     r.ms = msSince(t0);
     std::lock_guard lock(mutex_);

@@ -29,18 +29,6 @@ constexpr double kTargetFrameMs = 66;   // interactive frame time the resolution
 constexpr std::size_t kMaxRecent = 8;
 const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
 
-std::string currentError() {
-  try {
-    throw;
-  } catch (const std::bad_alloc&) {
-    return "out of memory";
-  } catch (const std::exception& e) {
-    return e.what();
-  } catch (...) {
-    return "unknown error";
-  }
-}
-
 ui::SurfaceKind sliceKind(int axis) {
   return axis == 0   ? ui::SurfaceKind::Axial
          : axis == 1 ? ui::SurfaceKind::Coronal
@@ -88,7 +76,7 @@ ViewerScene::ViewerScene(const std::string& surface) : initialSurface_(surface) 
     try {
       applySpec(parseSurfaceSpec(surface));
     } catch (...) {
-      setError(currentError());
+      setError(currentExceptionMessage());
     }
   }
 }
@@ -116,7 +104,7 @@ bool ViewerScene::mayWrite(const std::string& path, bool force, const ui::Action
     pendingOverwrite_ = action;
     state_.overwritePath = path;
   } catch (...) {
-    setError(currentError());
+    setError(currentExceptionMessage());
   }
   return false;
 }
@@ -383,7 +371,7 @@ void ViewerScene::update() {
     try {
       onResult(r);
     } catch (...) {
-      setError(currentError());
+      setError(currentExceptionMessage());
     }
   }
   if (state_.tractsLoading && tractsLoading_.valid() &&
@@ -394,7 +382,7 @@ void ViewerScene::update() {
       logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
               std::to_string(state_.tractPoints) + " points");
     } catch (...) {
-      setError(currentError());
+      setError(currentExceptionMessage());
     }
   }
   TractResult tr;
@@ -402,7 +390,7 @@ void ViewerScene::update() {
     try {
       onTractResult(tr);
     } catch (...) {
-      setError(currentError());
+      setError(currentExceptionMessage());
     }
   }
   if (state_.tracking) tractWorker_.tracking(&state_.trackSeedsDone, &state_.trackProgress);
@@ -412,7 +400,7 @@ void ViewerScene::update() {
     try {
       startAgreement(a);
     } catch (...) {
-      setError(currentError());
+      setError(currentExceptionMessage());
     }
   }
   state_.agreementRunning = pendingAgreement_.has_value() || tractWorker_.agreementRunning();
@@ -509,7 +497,7 @@ void ViewerScene::render(int width, int height) {
       outputFbo_.fill(0);
     } catch (...) {
     }
-    setError("while rendering: " + currentError());
+    setError("while rendering: " + currentExceptionMessage());
   }
   state_.converged = converged();
 }
@@ -900,7 +888,7 @@ void ViewerScene::apply(const ui::Action& action) {
         },
         action);
   } catch (...) {
-    setError(currentError());
+    setError(currentExceptionMessage());
   }
 }
 

@@ -13,17 +13,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string currentError() {
-  try {
-    throw;
-  } catch (const std::bad_alloc&) {
-    return "out of memory";
-  } catch (const std::exception& e) {
-    return e.what();
-  } catch (...) {
-    return "unknown error";
-  }
-}
 } // namespace
 
 Mesh extractViewerSurface(const ViewerDataset& data, const SurfaceSpec& spec) {
@@ -144,12 +133,12 @@ void ViewerWorker::run() {
         try {
           r.mesh = extractViewerSurface(*data, load->first);
         } catch (...) {
-          r.error = "while building the " + describeSurface(load->first) + ": " + currentError();
+          r.error = "while building the " + describeSurface(load->first) + ": " + currentExceptionMessage();
         }
         r.data = std::move(data);
       } catch (...) {
         r.kind = WorkerResult::Kind::Failed;
-        r.error = currentError();
+        r.error = currentExceptionMessage();
       }
     } else {
       r.id = surface->id;
@@ -163,7 +152,7 @@ void ViewerWorker::run() {
         r.kind = WorkerResult::Kind::Surface;
       } catch (...) {
         r.kind = WorkerResult::Kind::Failed;
-        r.error = currentError();
+        r.error = currentExceptionMessage();
       }
     }
     r.ms = msSince(t0);

@@ -1,6 +1,7 @@
 #include "io/model/error.h"
 
 #include <exception>
+#include <new>
 
 namespace dtf {
 
@@ -19,6 +20,18 @@ void rethrowWithContext(const std::string& context) {
     throw InputError(context + ": out of memory");
   } catch (const std::exception& e) {
     throw Error(context + ": " + e.what());
+  }
+}
+
+std::string currentExceptionMessage() {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown error";
   }
 }
 

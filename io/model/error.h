@@ -35,4 +35,8 @@ public:
 // Rethrows the active exception with `context` prepended, keeping its type. Call inside a catch block.
 [[noreturn]] void rethrowWithContext(const std::string& context);
 
+// The message of the exception being handled ("out of memory" for std::bad_alloc, "unknown error" for what
+// is not a std::exception). Call inside a catch block.
+std::string currentExceptionMessage();
+
 } // namespace dtf

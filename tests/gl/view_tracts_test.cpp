@@ -12,6 +12,7 @@
 #include "io/tracts.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
+#include "support/window.h"
 
 #include <chrono>
 #include <cmath>
@@ -85,18 +86,6 @@ std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {
   return n;
 }
 
-// Changed pixels that look like a tract: one saturated DEC channel clearly above the others.
-std::size_t tractLike(const Image& with, const Image& without) {
-  std::size_t n = 0;
-  for (int y = 0; y < with.height; ++y)
-    for (int x = 0; x < with.width; ++x) {
-      const auto *p = with.pixel(x, y), *q = without.pixel(x, y);
-      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 60) continue;
-      const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
-      n += hi > 120 && hi - lo > 80;
-    }
-  return n;
-}
 
 #define BRAIN_FILES()                                                                                        \
   DTF_GL_TEST_SETUP();                                                                                       \
@@ -118,17 +107,17 @@ TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
   EXPECT_EQ(s.state().tractCount, 2000u);
   EXPECT_TRUE(s.state().tractsSlab) << "a slice: every tract, clipped to a slab around it";
   const Image tracts = s.image();
-  const std::size_t drawn = tractLike(tracts, plain);
+  const std::size_t drawn = dtf::test::tractPixels(tracts, plain);
   EXPECT_GT(drawn, 2000u) << "DEC-coloured tract pixels over the fabric";
   // A thin slab keeps fewer of them.
   s.apply(ui::SetTractsNear{0.5});
   s.converge();
-  EXPECT_LT(tractLike(s.image(), plain), drawn * 3 / 4);
+  EXPECT_LT(dtf::test::tractPixels(s.image(), plain), drawn * 3 / 4);
   s.apply(ui::SetTractsNear{3.0});
   s.apply(ui::SetTractsVisible{false});
   s.converge();
   const Image hidden = s.image();
-  EXPECT_LT(tractLike(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
+  EXPECT_LT(dtf::test::tractPixels(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
   s.apply(ui::SetTractsVisible{true});
   s.converge();
   EXPECT_LT(differing(s.image(), tracts), tracts.rgba.size() / 4 / 100)
@@ -136,15 +125,7 @@ TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
 
   // Split "fabric | fabric + tracts": one camera, the same fabric in the same colour mode, so the panes
   // differ by the tracts alone, and not at all once they are hidden.
-  auto paneDifference = [](const Image& split) {
-    std::size_t n = 0;
-    for (int y = 0; y < split.height; ++y)
-      for (int x = 0; x < split.width / 2; ++x) {
-        const auto *l = split.pixel(x, y), *r = split.pixel(x + split.width / 2, y);
-        n += std::abs(l[0] - r[0]) + std::abs(l[1] - r[1]) + std::abs(l[2] - r[2]) > 60;
-      }
-    return n;
-  };
+  using dtf::test::paneDifference;
   s.apply(ui::SetSplit{true, ui::SecondPane::Tracts});
   s.converge();
   const Image split = s.image();
@@ -204,26 +185,26 @@ TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
   ASSERT_EQ(s.lastError(), "");
   EXPECT_FALSE(s.state().tractsSlab);
   const Image all = s.image();
-  const std::size_t allDrawn = tractLike(all, plain);
+  const std::size_t allDrawn = dtf::test::tractPixels(all, plain);
   ASSERT_GT(allDrawn, 3000u);
 
   s.apply(ui::SetTractsClip{4.0, 0.0});
   s.converge();
   const Image centre = s.image();
   io::writePng((test::scratchDir() / "clip_centre.png").string(), centre);
-  const std::size_t centreDrawn = tractLike(centre, plain);
+  const std::size_t centreDrawn = dtf::test::tractPixels(centre, plain);
   EXPECT_LT(centreDrawn, allDrawn * 2 / 3) << "an 8 mm slab keeps a part of a whole-brain tractogram";
   EXPECT_GT(centreDrawn, allDrawn / 50) << "the slab through the centre of the brain cuts tracts";
 
   s.apply(ui::SetTractsClip{4.0, 25.0});
   s.converge();
   const Image deeper = s.image();
-  EXPECT_GT(tractLike(deeper, plain), allDrawn / 100);
+  EXPECT_GT(dtf::test::tractPixels(deeper, plain), allDrawn / 100);
   EXPECT_GT(differing(deeper, centre), centreDrawn / 4) << "another depth shows other tracts";
 
   s.apply(ui::SetTractsClip{4.0, 200.0}); // beyond the brain along the view
   s.converge();
-  EXPECT_LT(tractLike(s.image(), plain), allDrawn / 200) << "a slab outside the data shows no tract";
+  EXPECT_LT(dtf::test::tractPixels(s.image(), plain), allDrawn / 200) << "a slab outside the data shows no tract";
 
   s.apply(ui::SetTractsClip{0.0, 200.0});
   s.converge();

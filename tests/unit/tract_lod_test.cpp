@@ -2,6 +2,7 @@
 // render/tract_layer.h): CPU side, no GL.
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
+#include "support/polylines.h"
 
 #include <cmath>
 #include <gtest/gtest.h>
@@ -9,19 +10,9 @@
 #include <set>
 
 using namespace dtf;
+using dtf::test::gridLines;
 
 namespace {
-
-Polylines gridLines(std::size_t lines, std::size_t points) {
-  Polylines l;
-  l.offsets = {0};
-  for (std::size_t i = 0; i < lines; ++i) {
-    for (std::size_t k = 0; k < points; ++k)
-      l.points.emplace_back(float(k), float(i), 0.0f);
-    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
-  }
-  return l;
-}
 
 // The lines (y of their points) that segments [a, b) of `level` belong to.
 std::vector<int> linesOf(const render::DisplayTracts& d, int level, std::size_t a, std::size_t b) {

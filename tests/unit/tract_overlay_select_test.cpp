@@ -7,24 +7,15 @@
 #include "render/reference/scenes.h"
 #include "render/tract_renderer.h"
 #include "support/test_env.h"
+#include "support/polylines.h"
 
 #include <cmath>
 #include <gtest/gtest.h>
 
 using namespace dtf;
+using dtf::test::gridLines;
 
 namespace {
-
-Polylines gridLines(std::size_t lines, std::size_t points) {
-  Polylines l;
-  l.offsets = {0};
-  for (std::size_t i = 0; i < lines; ++i) {
-    for (std::size_t k = 0; k < points; ++k)
-      l.points.emplace_back(float(k), float(i), 0.0f);
-    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
-  }
-  return l;
-}
 
 void expectEndpointsKept(const Polylines& in, const Polylines& out) {
   ASSERT_EQ(out.lineCount(), in.lineCount());

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <new>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -55,24 +56,9 @@ void operator delete[](void* p, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 
-TEST(ViewScene, FramesDoNotAllocate) {
-  DTF_GL_TEST_SETUP();
-  dtf::app::ViewerScene scene("slice=axial");
-  scene.apply(
-      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
-  for (int i = 0; i < 3000 && !scene.settled(); ++i) {
-    scene.update();
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  scene.update();
-  ASSERT_TRUE(scene.state().errorChain.empty()) << scene.state().errorChain.back();
-  ASSERT_TRUE(scene.state().hasData);
-  for (int i = 0; i < 400 && !scene.converged(); ++i) {
-    scene.update();
-    scene.render(160, 120);
-  }
-  ASSERT_TRUE(scene.converged());
-  // Warm-up of the interactive path (its renderer's targets are created on first use).
+// Allocations during 5 still frames and during 5 frames of a turning camera, after a warm-up of the
+// interactive path (its renderer's targets are created on first use). Leaves the counter off.
+std::pair<long, long> countStillAndMoving(dtf::app::ViewerScene& scene) {
   for (int i = 0; i < 3; ++i) {
     scene.apply(dtf::ui::Rotate{4, 0});
     scene.update();
@@ -91,7 +77,27 @@ TEST(ViewScene, FramesDoNotAllocate) {
     scene.render(160, 120);
   }
   counting = false;
-  const long moving = allocations.load();
+  return {still, allocations.load()};
+}
+
+TEST(ViewScene, FramesDoNotAllocate) {
+  DTF_GL_TEST_SETUP();
+  dtf::app::ViewerScene scene("slice=axial");
+  scene.apply(
+      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  for (int i = 0; i < 3000 && !scene.settled(); ++i) {
+    scene.update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  scene.update();
+  ASSERT_TRUE(scene.state().errorChain.empty()) << scene.state().errorChain.back();
+  ASSERT_TRUE(scene.state().hasData);
+  for (int i = 0; i < 400 && !scene.converged(); ++i) {
+    scene.update();
+    scene.render(160, 120);
+  }
+  ASSERT_TRUE(scene.converged());
+  const auto [still, moving] = countStillAndMoving(scene);
   // The counter sees allocations at all (the replaced operator new is the one in use).
   counting = true;
   auto probe = std::make_unique<std::vector<int>>(100);
@@ -129,25 +135,8 @@ TEST(ViewScene, FramesWithTractsDoNotAllocate) {
   ASSERT_TRUE(scene.converged());
   ASSERT_TRUE(scene.paneShowsTracts(0));
   ASSERT_GT(scene.state().tractsShownPoints, 0u);
-  for (int i = 0; i < 3; ++i) { // warm-up of the interactive path
-    scene.apply(dtf::ui::Rotate{4, 0});
-    scene.update();
-    scene.render(160, 120);
-  }
+  const auto [still, moving] = countStillAndMoving(scene);
   allocations = 0;
-  counting = true;
-  for (int i = 0; i < 5; ++i) {
-    scene.update();
-    scene.render(160, 120);
-  }
-  const long still = allocations.exchange(0);
-  for (int i = 0; i < 5; ++i) {
-    scene.apply(dtf::ui::Rotate{4, 0});
-    scene.update();
-    scene.render(160, 120);
-  }
-  counting = false;
-  const long moving = allocations.exchange(0);
   // The camera stops: still refinement of the fabric and the full tract set, until converged.
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   counting = true;

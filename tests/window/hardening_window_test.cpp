@@ -6,6 +6,7 @@
 #include "io/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
+#include "support/window.h"
 
 #include <cstdlib>
 #include <fstream>
@@ -16,43 +17,11 @@ using dtf::Image;
 
 namespace {
 
-bool haveXvfb() {
-  return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
-}
-
-#define DTF_XVFB_SETUP()                                                                                     \
-  do {                                                                                                       \
-    if (!haveXvfb()) {                                                                                       \
-      if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "xvfb-run is missing";                             \
-      GTEST_SKIP() << "xvfb-run is missing";                                                                 \
-    }                                                                                                        \
-  } while (0)
-
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
-// Runs `dtfabric view ARGS --size 640x480 --script scratch/script.txt` under Xvfb. The exit code is
-// dtfabric's, written by a wrapper: xvfb-run's own can be 5 when removing its temporary folder fails
-// beside parallel runs, after dtfabric exited normally.
 dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script,
                                const std::string& args = "") {
-  const fs::path scriptFile = scratch / "script.txt", runner = scratch / "run.sh",
-                 rcFile = scratch / "rc.txt";
-  std::ofstream(scriptFile) << script;
-  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt",
-             xvfbErr = scratch / "xvfb.txt";
-  std::ofstream(runner) << "'" << DTF_EXE << "' view " << args << " --size 640x480 --script '"
-                        << scriptFile.string() << "' >'" << outFile.string() << "' 2>'" << errFile.string()
-                        << "'\necho $? >'" << rcFile.string() << "'\n";
-  const std::string cmd = "timeout 180 xvfb-run -a -s '-screen 0 1280x1024x24' sh '" + runner.string() +
-                          "' >/dev/null 2>'" + xvfbErr.string() + "'";
-  const int status = std::system(cmd.c_str());
-  dtf::test::CliResult r;
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-  const std::string rc = dtf::test::readText(rcFile);
-  if (!rc.empty()) r.exitCode = std::atoi(rc.c_str());
-  r.out = dtf::test::readText(outFile);
-  r.err = dtf::test::readText(errFile) + dtf::test::readText(xvfbErr);
-  return r;
+  return dtf::test::runViewerScript(scratch, script, args);
 }
 
 // Pixels of the rectangle [x0, x1) x [y0, y1) within `tol` of an RGB colour.
@@ -76,18 +45,6 @@ double litFraction(const Image& img) {
   return double(n) / (double(img.width) * img.height);
 }
 
-// Fraction of pixels in which some channel differs by more than 40.
-double differingFraction(const Image& a, const Image& b) {
-  if (a.width != b.width || a.height != b.height) return 1;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])) > 40) {
-        ++n;
-        break;
-      }
-  return double(n) / (a.rgba.size() / 4);
-}
 
 // The error modal's title bar: Dear ImGui's dark style TitleBgActive (0.16, 0.29, 0.48), in the middle of
 // the window, where nothing else has that colour (the panels' headers are lighter blue, the scene is dark
@@ -95,13 +52,6 @@ double differingFraction(const Image& a, const Image& b) {
 std::size_t modalTitlePixels(const Image& win) {
   return countColour(win, 170, 140, 470, 340, 41, 74, 122, 6);
 }
-
-#define DTF_SKIP_WITHOUT_WINDOW_GL(result)                                                                   \
-  do {                                                                                                       \
-    if ((result).exitCode == 3 && (result).err.find("GLFW") != std::string::npos &&                          \
-        !dtf::test::envFlag("DTF_REQUIRE_GL"))                                                               \
-      GTEST_SKIP() << "no GL window: " << (result).err;                                                      \
-  } while (0)
 
 } // namespace
 
@@ -166,7 +116,7 @@ TEST(ViewHardening, ScriptOutputsDoNotReplaceFilesWithoutForce) {
   EXPECT_NE(r.err.find("script.txt:6: error: " + shot + " exists (use --force"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("script.txt:7: error: " + cam + " exists (use --force"), std::string::npos) << r.err;
   // shot.png is still the first view, not the rotated one.
-  EXPECT_LT(differingFraction(dtf::io::readPng(shot), dtf::io::readPng(first)), 0.001);
+  EXPECT_LT(dtf::test::differingFraction(dtf::io::readPng(shot), dtf::io::readPng(first)), 0.001);
   const std::string camBefore = dtf::test::readText(cam);
 
   // --force on the lines replaces them (`view --force`, the same for every line, is checked in
@@ -179,7 +129,7 @@ TEST(ViewHardening, ScriptOutputsDoNotReplaceFilesWithoutForce) {
   forced.replace(forced.rfind("screenshot-scene "), 17, "screenshot-scene --force ");
   const auto f = runViewer(dir, forced, "'" + kSample.string() + "'");
   EXPECT_EQ(f.exitCode, 0) << f.err;
-  EXPECT_GT(differingFraction(dtf::io::readPng(shot), dtf::io::readPng(first)), 0.02)
+  EXPECT_GT(dtf::test::differingFraction(dtf::io::readPng(shot), dtf::io::readPng(first)), 0.02)
       << "the rotated view did not replace the first screenshot";
   EXPECT_NE(dtf::test::readText(cam), camBefore) << "the rotated camera did not replace the first";
 }

@@ -5,6 +5,7 @@
 #include "io/tracts.h"
 #include "support/cli.h"
 #include "support/test_env.h"
+#include "support/window.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,62 +18,16 @@ using dtf::Image;
 
 namespace {
 
-bool haveXvfb() {
-  return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
-}
-
-#define DTF_WINDOW_TEST_SETUP()                                                                              \
-  do {                                                                                                       \
-    if (!haveXvfb()) {                                                                                       \
-      if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "xvfb-run is missing";                             \
-      GTEST_SKIP() << "xvfb-run is missing";                                                                 \
-    }                                                                                                        \
-  } while (0)
-
-// Exit code 3: no GL 4.5 context in the Xvfb display (e.g. no GLX); skipped unless DTF_REQUIRE_GL=1.
-#define DTF_SKIP_WITHOUT_WINDOW_GL(result)                                                                   \
-  do {                                                                                                       \
-    if ((result).exitCode == 3 && !dtf::test::envFlag("DTF_REQUIRE_GL"))                                     \
-      GTEST_SKIP() << "no GL window: " << (result).err;                                                      \
-  } while (0)
-
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
-// Runs the viewer on the phantom with `script` (written to the scratch folder) under Xvfb.
+// Runs the viewer on `input` (the phantom by default) with `script` under Xvfb.
 dtf::test::CliResult runViewer(const fs::path& scratch, const std::string& script,
                                const std::string& extra = "", const fs::path& input = kSample) {
-  const fs::path scriptFile = scratch / "script.txt";
-  std::ofstream(scriptFile) << script;
-  const std::string args =
-      "view '" + input.string() + "' --size 640x480 --script '" + scriptFile.string() + "' " + extra;
-  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt";
-  const std::string cmd = "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' '" + std::string(DTF_EXE) +
-                          "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
-  const int status = std::system(cmd.c_str());
-  dtf::test::CliResult r;
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-  r.out = dtf::test::readText(outFile);
-  r.err = dtf::test::readText(errFile);
-  return r;
+  return dtf::test::runViewerScript(scratch, script, "'" + input.string() + "' " + extra);
 }
 
 std::string shot(const fs::path& scratch, const char* name) {
   return (scratch / name).string();
-}
-
-// Fraction of pixels in which some channel differs by more than 40.
-double differingFraction(const Image& a, const Image& b) {
-  EXPECT_EQ(a.width, b.width);
-  EXPECT_EQ(a.height, b.height);
-  if (a.rgba.size() != b.rgba.size() || a.rgba.empty()) return 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.rgba.size(); i += 4)
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])) > 40) {
-        ++n;
-        break;
-      }
-  return double(n) / (a.rgba.size() / 4);
 }
 
 // Fraction of pixels of the rectangle [x0, x1) x [y0, y1) that pass `test`.
@@ -93,7 +48,7 @@ bool lit(int r, int g, int b) {
 } // namespace
 
 TEST(ViewWindow, PanelsAndScreenshotsAreWritten) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r = runViewer(dir, "fa 0.25\nscreenshot " + shot(dir, "window.png") + "\nscreenshot-scene " +
                                     shot(dir, "scene.png") + "\nquit\n");
@@ -127,7 +82,7 @@ TEST(ViewWindow, PanelsAndScreenshotsAreWritten) {
 }
 
 TEST(ViewWindow, FaSliderSweepChangesTheSurface) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r = runViewer(dir, "fa 0.2\nscreenshot-scene " + shot(dir, "fa02.png") +
                                     "\nfa 0.4\nscreenshot-scene " + shot(dir, "fa04.png") +
@@ -136,15 +91,15 @@ TEST(ViewWindow, FaSliderSweepChangesTheSurface) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image a = dtf::io::readPng(shot(dir, "fa02.png")), b = dtf::io::readPng(shot(dir, "fa04.png"));
   const Image c = dtf::io::readPng(shot(dir, "fa02b.png"));
-  const double changed = differingFraction(a, b);
+  const double changed = dtf::test::differingFraction(a, b);
   EXPECT_GT(changed, 0.01) << "FA 0.2 and 0.4 look the same";
   // Sweeping back restores the first surface (same mesh, same camera: the fabric converges to the same
   // image).
-  EXPECT_LT(differingFraction(a, c), 0.5 * changed);
+  EXPECT_LT(dtf::test::differingFraction(a, c), 0.5 * changed);
 }
 
 TEST(ViewWindow, SliceKeysMoveTheSlice) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
       runViewer(dir, "key A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
@@ -155,12 +110,12 @@ TEST(ViewWindow, SliceKeysMoveTheSlice) {
   const Image s0 = dtf::io::readPng(shot(dir, "s0.png")), s1 = dtf::io::readPng(shot(dir, "s1.png"));
   const Image s2 = dtf::io::readPng(shot(dir, "s2.png"));
   EXPECT_GT(fraction(s0, 0, 0, s0.width, s0.height, lit), 0.1) << "the axial slice fills much of the view";
-  EXPECT_GT(differingFraction(s0, s1), 0.05) << "PgUp did not move the slice";
-  EXPECT_GT(differingFraction(s1, s2), 0.01) << "Down did not move the slice";
+  EXPECT_GT(dtf::test::differingFraction(s0, s1), 0.05) << "PgUp did not move the slice";
+  EXPECT_GT(dtf::test::differingFraction(s1, s2), 0.01) << "Down did not move the slice";
 }
 
 TEST(ViewWindow, SplitViewShowsTwoPanes) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
       runViewer(dir, "key C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
@@ -185,11 +140,11 @@ TEST(ViewWindow, SplitViewShowsTwoPanes) {
     }
   EXPECT_GT(coveredBoth, 1000u);
   EXPECT_LT(sameColour, 0.7 * coveredBoth) << "the second pane should use the other colour mode";
-  EXPECT_GT(differingFraction(one, two), 0.05) << "split did not change the scene";
+  EXPECT_GT(dtf::test::differingFraction(one, two), 0.05) << "split did not change the scene";
 }
 
 TEST(ViewWindow, RuntimeErrorShowsModalAndExitCode2) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
       runViewer(dir, "load /nonexistent/brain.nii.gz\nscreenshot " + shot(dir, "error.png") + "\nquit\n");
@@ -203,7 +158,7 @@ TEST(ViewWindow, RuntimeErrorShowsModalAndExitCode2) {
 }
 
 TEST(ViewWindow, TractsAreLoadedAndCounted) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
   const auto dir = dtf::test::scratchDir();
   const auto r = runViewer(dir, "tracts " + tck.string() + "\nwait 2\nquit\n");
@@ -216,7 +171,7 @@ TEST(ViewWindow, TractsAreLoadedAndCounted) {
 }
 
 TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   // The phantom: 48^3 voxels of 3.5 mm, RAS, voxel 0 at -82.25 mm. Axial view, scene 340x454: its centre
   // lies on the middle axial slice (k = 24, z = 1.75 mm), then on slice 30 (z = 22.75 mm).
@@ -250,7 +205,7 @@ TEST(ViewWindow, ProbeReportsTheVoxelUnderThePixel) {
 }
 
 TEST(ViewWindow, ResizeKeepsTheFabricCoherent) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
       runViewer(dir, "fa 0.25\nscreenshot-scene " + shot(dir, "small.png") +
@@ -271,7 +226,7 @@ TEST(ViewWindow, ResizeKeepsTheFabricCoherent) {
 }
 
 TEST(ViewWindow, SavedCameraRestoresTheSameImage) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const std::string cam = (dir / "view.camera").string();
   const auto r =
@@ -282,41 +237,13 @@ TEST(ViewWindow, SavedCameraRestoresTheSameImage) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image a = dtf::io::readPng(shot(dir, "a.png")), b = dtf::io::readPng(shot(dir, "b.png"));
   const Image c = dtf::io::readPng(shot(dir, "c.png"));
-  EXPECT_GT(differingFraction(a, b), 0.02) << "rotating did not change the view";
+  EXPECT_GT(dtf::test::differingFraction(a, b), 0.02) << "rotating did not change the view";
   // Same camera, same mesh: the still fabric starts from the same noise and converges to the same image.
-  EXPECT_LT(differingFraction(a, c), 0.005);
+  EXPECT_LT(dtf::test::differingFraction(a, c), 0.005);
 }
-
-namespace {
-
-// Changed pixels of `with` against `without` that look like a tract: a saturated DEC colour.
-std::size_t tractPixels(const Image& with, const Image& without) {
-  std::size_t n = 0;
-  for (int y = 0; y < with.height; ++y)
-    for (int x = 0; x < with.width; ++x) {
-      const auto *p = with.pixel(x, y), *q = without.pixel(x, y);
-      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) < 60) continue;
-      const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
-      n += hi > 120 && hi - lo > 80;
-    }
-  return n;
-}
-
-// Pixels where the left and right halves of a split scene differ.
-std::size_t paneDifference(const Image& split) {
-  std::size_t n = 0;
-  for (int y = 0; y < split.height; ++y)
-    for (int x = 0; x < split.width / 2; ++x) {
-      const auto *l = split.pixel(x, y), *r = split.pixel(x + split.width / 2, y);
-      n += std::abs(l[0] - r[0]) + std::abs(l[1] - r[1]) + std::abs(l[2] - r[2]) > 60;
-    }
-  return n;
-}
-
-} // namespace
 
 TEST(ViewWindow, TractsOverTheRealBrainShowHideAndSplit) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
   const auto dir = dtf::test::scratchDir();
@@ -336,18 +263,18 @@ TEST(ViewWindow, TractsOverTheRealBrainShowHideAndSplit) {
   const Image plain = dtf::io::readPng(shot(dir, "plain.png")),
               tracts = dtf::io::readPng(shot(dir, "tracts.png"));
   const Image hidden = dtf::io::readPng(shot(dir, "hidden.png"));
-  const std::size_t drawn = tractPixels(tracts, plain);
+  const std::size_t drawn = dtf::test::tractPixels(tracts, plain);
   EXPECT_GT(drawn, 3000u) << "DEC-coloured tracts over the fabric";
-  EXPECT_LT(tractPixels(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
+  EXPECT_LT(dtf::test::tractPixels(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
   const Image split = dtf::io::readPng(shot(dir, "split.png"));
   const Image splitHidden = dtf::io::readPng(shot(dir, "split_hidden.png"));
-  const std::size_t panes = paneDifference(split);
+  const std::size_t panes = dtf::test::paneDifference(split);
   EXPECT_GT(panes, 1500u) << "fabric | fabric + tracts: the right pane carries the tracts";
-  EXPECT_LT(paneDifference(splitHidden), panes / 20) << "without tracts both panes show the same fabric";
+  EXPECT_LT(dtf::test::paneDifference(splitHidden), panes / 20) << "without tracts both panes show the same fabric";
 }
 
 TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
   const auto dir = dtf::test::scratchDir();
@@ -386,12 +313,12 @@ TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
                 below);
   EXPECT_NE(r.err.find(expected, at), std::string::npos) << r.err << "\nexpected " << expected;
   // The tracked streamlines are drawn over the slice.
-  EXPECT_GT(tractPixels(dtf::io::readPng(shot(dir, "tracked.png")), dtf::io::readPng(shot(dir, "plain.png"))),
+  EXPECT_GT(dtf::test::tractPixels(dtf::io::readPng(shot(dir, "tracked.png")), dtf::io::readPng(shot(dir, "plain.png"))),
             1000u);
 }
 
 TEST(ViewWindow, TrackCancelStopsALongRun) {
-  DTF_WINDOW_TEST_SETUP();
+  DTF_XVFB_SETUP();
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   const auto dir = dtf::test::scratchDir();
   const auto t0 = std::chrono::steady_clock::now();

@@ -1,0 +1,23 @@
+// Synthetic streamlines for tract tests.
+#pragma once
+
+#include "io/model/geometry.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace dtf::test {
+
+// `lines` straight lines of `points` points each: line i holds (k, i, 0) for k = 0 .. points - 1.
+inline Polylines gridLines(std::size_t lines, std::size_t points) {
+  Polylines l;
+  l.offsets = {0};
+  for (std::size_t i = 0; i < lines; ++i) {
+    for (std::size_t k = 0; k < points; ++k)
+      l.points.emplace_back(float(k), float(i), 0.0f);
+    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
+  }
+  return l;
+}
+
+} // namespace dtf::test
