@@ -78,7 +78,8 @@ Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent:
   --tracts-near MM    show only tract segments within MM of the surface (default 3; 0 = all). On a planar
                       surface (slice, plane) this is a slab of half-width MM around the plane.
   --tracts-slab MM    also clip to a slab of half-width MM around the surface's plane (curved surfaces:
-                      the plane through the centre of the surface facing the camera)
+                      the plane through the centre of the surface facing the camera, as the viewer's clip)
+  --tracts-slab-depth MM  curved surfaces: move that plane MM away from the viewer (default 0)
   --tract-width PX    tube width in pixels (default 2)
   --split MODE        two linked panes (same camera) side by side in one 2W x H image:
                         tracts          fabric alone | fabric with the tracts (needs --tracts)
@@ -211,6 +212,8 @@ int cmdRender(const CommandArgs& argv) {
   if (!(tractsNear >= 0 && tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
   const double tractsSlab = args.getDouble("tracts-slab", 0.0);
   if (!(tractsSlab >= 0 && tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
+  const double tractsSlabDepth = args.getDouble("tracts-slab-depth", 0.0);
+  if (!(std::abs(tractsSlabDepth) <= 1000)) throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
   const std::string backgroundArg = args.getOr("background", "");
   const std::string backgroundWindow = args.getOr("background-window", "");
   p.faFloor = static_cast<float>(args.getDouble("fa-floor", 0.0));
@@ -290,7 +293,8 @@ int cmdRender(const CommandArgs& argv) {
       style.slabMm = static_cast<float>(tractsSlab > 0 ? tractsSlab : tractsNear);
       tractRenderer->setTracts(tracts);
     } else {
-      const glm::vec3 f(camera.forward()), c = 0.5f * (lo + hi);
+      const glm::vec3 f(camera.forward());
+      const glm::vec3 c = 0.5f * (lo + hi) + static_cast<float>(tractsSlabDepth) * f;
       style.plane = glm::vec4(f, -glm::dot(f, c));
       style.slabMm = static_cast<float>(tractsSlab);
       if (tractsNear > 0) tractRenderer->setTracts(selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear));

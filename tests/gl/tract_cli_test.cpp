@@ -1,6 +1,7 @@
 // `dtfabric render --tracts/--split` end to end: the PNG has the right size (2W x H for a split), the same
 // arguments give the same bytes, and a bad tract file is exit 2 naming the file.
 #include "support/gl_test.h"
+#include "support/window.h"
 
 #include "io/png_io.h"
 #include "io/tracts.h"
@@ -98,4 +99,33 @@ TEST(TractRenderCli, BadTractFileIsExit2NamingIt) {
   EXPECT_FALSE(fs::exists(dir / "out.png"));
   CliRun u = dtfabric("render " + kPhantom.string() + " --split tracts -o " + (dir / "u.png").string(), dir);
   EXPECT_EQ(u.code, 1) << u.output;
+}
+
+// The camera-facing clip slab on a curved surface (the viewer's clip): a slab through the brain's centre
+// keeps a part of the tracts, one moved beyond the brain along the view keeps none.
+TEST(TractRenderCli, ClipSlabOnACurvedSurfaceFollowsItsDepth) {
+  DTF_GL_TEST_SETUP();
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(tck, "iu_prisma_dwi/derived/tracks_det.tck");
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string common = "render " + tensor.string() + " --surface fa=0.25 --size 256x256 --force";
+  auto render = [&](const std::string& name, const std::string& extra) {
+    const fs::path out = dir / (name + ".png");
+    const CliRun r = dtfabric(common + extra + " -o " + out.string(), dir);
+    EXPECT_EQ(r.code, 0) << r.output;
+    return dtf::io::readPng(out.string());
+  };
+  const dtf::Image none = render("none", "");
+  const std::string tracts = " --tracts " + tck.string() + " --tracts-near 0";
+  const std::size_t all = dtf::test::tractPixels(render("all", tracts), none);
+  const std::size_t centre = dtf::test::tractPixels(render("centre", tracts + " --tracts-slab 4"), none);
+  const std::size_t beyond =
+      dtf::test::tractPixels(render("beyond", tracts + " --tracts-slab 4 --tracts-slab-depth 200"), none);
+  EXPECT_GT(all, 2000u);
+  EXPECT_LT(centre, all * 2 / 3);
+  EXPECT_GT(centre, all / 50);
+  EXPECT_LT(beyond, all / 200) << "a slab outside the brain shows no tract";
+  const CliRun bad = dtfabric(common + tracts + " --tracts-slab-depth 5000 -o " + (dir / "x.png").string(), dir);
+  EXPECT_EQ(bad.code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("--tracts-slab-depth must be in [-1000, 1000] mm"), std::string::npos) << bad.output;
 }
