@@ -5,7 +5,6 @@
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
 #include "app/tract_files.h"
-
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -129,7 +128,8 @@ Background loadBackground(const std::string& what, const std::string& window, co
   if (!window.empty()) {
     const auto comma = window.find(',');
     char* end = nullptr;
-    const std::string a = window.substr(0, comma), c = comma == std::string::npos ? "" : window.substr(comma + 1);
+    const std::string a = window.substr(0, comma),
+                      c = comma == std::string::npos ? "" : window.substr(comma + 1);
     b.lo = std::strtof(a.c_str(), &end);
     const bool okA = !a.empty() && *end == '\0';
     b.hi = std::strtof(c.c_str(), &end);
@@ -179,11 +179,15 @@ int cmdRender(const CommandArgs& argv) {
 
   render::FabricParams p;
   const std::string colour = args.getOr("color", "medical");
-  if (colour == "medical") p.colour = render::ColourMode::Medical;
-  else if (colour == "engineering") p.colour = render::ColourMode::Engineering;
-  else throw UsageError("--color must be medical or engineering, not '" + colour + "'");
+  if (colour == "medical")
+    p.colour = render::ColourMode::Medical;
+  else if (colour == "engineering")
+    p.colour = render::ColourMode::Engineering;
+  else
+    throw UsageError("--color must be medical or engineering, not '" + colour + "'");
   p.stillMaxIterations = args.getInt("iterations", p.stillMaxIterations);
-  if (p.stillMaxIterations < 0 || p.stillMaxIterations > 10000) throw UsageError("--iterations must be in [0, 10000]");
+  if (p.stillMaxIterations < 0 || p.stillMaxIterations > 10000)
+    throw UsageError("--iterations must be in [0, 10000]");
   p.lod = args.getDouble("lod", 0.0);
   if (p.lod < 0) throw UsageError("--lod must be positive (mm)");
   p.k = args.getDouble("blend-k", p.k);
@@ -213,7 +217,8 @@ int cmdRender(const CommandArgs& argv) {
   const double tractsSlab = args.getDouble("tracts-slab", 0.0);
   if (!(tractsSlab >= 0 && tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
   const double tractsSlabDepth = args.getDouble("tracts-slab-depth", 0.0);
-  if (!(std::abs(tractsSlabDepth) <= 1000)) throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
+  if (!(std::abs(tractsSlabDepth) <= 1000))
+    throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
   const std::string backgroundArg = args.getOr("background", "");
   const std::string backgroundWindow = args.getOr("background-window", "");
   p.faFloor = static_cast<float>(args.getDouble("fa-floor", 0.0));
@@ -229,7 +234,8 @@ int cmdRender(const CommandArgs& argv) {
   std::error_code ec;
   if (fs::exists(output) && fs::equivalent(output, input, ec))
     throw UsageError("output " + output + " is the input: refusing to overwrite it");
-  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg});
+  io::refuseOverwritingInput(output,
+                             {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg});
   if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -275,12 +281,13 @@ int cmdRender(const CommandArgs& argv) {
   render::GlContext::headless();
   render::FabricRenderer renderer;
   renderer.resize(width, height);
-  if (!background.volume.data.empty()) renderer.setBackground(&background.volume, background.lo, background.hi);
+  if (!background.volume.data.empty())
+    renderer.setBackground(&background.volume, background.lo, background.hi);
   glm::vec3 lo, hi;
   mesh.bounds(lo, hi);
   // Both panes share this camera (linked views).
-  render::Camera camera = render::Camera::standard(view, glm::dvec3(lo), glm::dvec3(hi), double(width) / height,
-                                                   neurological, !perspective);
+  render::Camera camera = render::Camera::standard(view, glm::dvec3(lo), glm::dvec3(hi),
+                                                   double(width) / height, neurological, !perspective);
   std::optional<render::TractRenderer> tractRenderer;
   if (!tractsPath.empty()) tractRenderer.emplace();
   // The tracts shown on `m`: a slab around a planar surface, else the segments within --tracts-near of it.
@@ -297,8 +304,10 @@ int cmdRender(const CommandArgs& argv) {
       const glm::vec3 c = 0.5f * (lo + hi) + static_cast<float>(tractsSlabDepth) * f;
       style.plane = glm::vec4(f, -glm::dot(f, c));
       style.slabMm = static_cast<float>(tractsSlab);
-      if (tractsNear > 0) tractRenderer->setTracts(selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear));
-      else tractRenderer->setTracts(tracts);
+      if (tractsNear > 0)
+        tractRenderer->setTracts(selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear));
+      else
+        tractRenderer->setTracts(tracts);
     }
     if (tractRenderer->lineCount() == 0) {
       logWarning("no tract of " + tractsPath + " lies near the surface");
@@ -334,10 +343,11 @@ int cmdRender(const CommandArgs& argv) {
   render::checkGl("rendering " + output);
   io::writePng(output, image);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  logInfo("rendered " + describeSurface(spec) + " (" + std::to_string(mesh.triangleCount()) + " triangles), view " +
-          render::viewName(view) + (neurological ? " (neurological)" : "") + ", " +
-          std::to_string(renderer.lastIterations()) + " advection iterations, " + std::to_string(width) + "x" +
-          std::to_string(height) + " -> " + output + " in " + std::to_string(seconds).substr(0, 5) + " s");
+  logInfo("rendered " + describeSurface(spec) + " (" + std::to_string(mesh.triangleCount()) +
+          " triangles), view " + render::viewName(view) + (neurological ? " (neurological)" : "") + ", " +
+          std::to_string(renderer.lastIterations()) + " advection iterations, " + std::to_string(width) +
+          "x" + std::to_string(height) + " -> " + output + " in " + std::to_string(seconds).substr(0, 5) +
+          " s");
   return 0;
 }
 

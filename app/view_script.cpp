@@ -334,7 +334,8 @@ ScriptStep parseLine(const std::string& line, int number_) {
     const double mm = number(w[1], "tracts-clip");
     if (mm < 0 || mm > 1000) throw LineError{"tracts-clip must lie in [0, 1000] mm, got " + w[1]};
     const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
-    if (std::abs(offset) > 1000) throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
+    if (std::abs(offset) > 1000)
+      throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
     step.command = ui::Action(ui::SetTractsClip{mm, offset});
   } else if (c == "tract-width") {
     expectArgs(w, 1, "tract-width PX");

@@ -864,8 +864,10 @@ void ViewerScene::apply(const ui::Action& action) {
             state_.tractsNearMm = a.mm;
             requestSelection();
           } else if constexpr (std::is_same_v<T, ui::SetTractsClip>) {
-            if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("clip slab half-width must lie in [0, 1000] mm");
-            if (!(std::abs(a.offsetMm) <= 1000)) throw UsageError("clip slab depth must lie in [-1000, 1000] mm");
+            if (!(a.mm >= 0 && a.mm <= 1000))
+              throw UsageError("clip slab half-width must lie in [0, 1000] mm");
+            if (!(std::abs(a.offsetMm) <= 1000))
+              throw UsageError("clip slab depth must lie in [-1000, 1000] mm");
             state_.tractsClipMm = a.mm;
             state_.tractsClipOffsetMm = a.offsetMm;
             ++tractStyleSerial_;

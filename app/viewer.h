@@ -124,7 +124,9 @@ private:
   void saveTracts(const ui::SaveTracts& a);
   // What a tract layer draws besides the camera: the selection uploaded, the surface it is depth-tested
   // against, the width and the clip slab.
-  std::uint64_t tractKey() const { return (displaySerial_ * 1000003 + meshSerial_) * 1009 + tractStyleSerial_; }
+  std::uint64_t tractKey() const {
+    return (displaySerial_ * 1000003 + meshSerial_) * 1009 + tractStyleSerial_;
+  }
 
   ui::ViewerState state_;
   ViewerWorker worker_;
@@ -173,8 +175,8 @@ private:
   std::array<bool, 2> tractsShown_{false, false};
   render::TractBudget tractBudget_;
   std::optional<ui::ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
-  std::vector<std::string> inputs_;            // files read so far: never written (mayWrite)
-  std::optional<ui::Action> pendingOverwrite_; // waits for the overwrite prompt
+  std::vector<std::string> inputs_;                      // files read so far: never written (mayWrite)
+  std::optional<ui::Action> pendingOverwrite_;           // waits for the overwrite prompt
   bool askBeforeOverwrite_ = true, glFailed_ = false;
 };
 

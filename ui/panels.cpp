@@ -330,8 +330,8 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     }
     if (s.hasAgreement) {
       ImGui::PlotHistogram("##angles", s.agreementHistogram.data(),
-                           static_cast<int>(s.agreementHistogram.size()), 0,
-                           "tract-fabric angle, 0-90 deg", 0.0f, FLT_MAX,
+                           static_cast<int>(s.agreementHistogram.size()), 0, "tract-fabric angle, 0-90 deg",
+                           0.0f, FLT_MAX,
                            ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
       probe(b, "agreement histogram");
       ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "

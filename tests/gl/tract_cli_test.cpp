@@ -1,10 +1,9 @@
 // `dtfabric render --tracts/--split` end to end: the PNG has the right size (2W x H for a split), the same
 // arguments give the same bytes, and a bad tract file is exit 2 naming the file.
-#include "support/gl_test.h"
-#include "support/window.h"
-
 #include "io/png_io.h"
 #include "io/tracts.h"
+#include "support/gl_test.h"
+#include "support/window.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -46,7 +45,8 @@ dtf::Polylines fan() {
   for (int i = 0; i < 12; ++i) {
     const float a = 0.26f * float(i);
     const glm::vec3 d(std::cos(a), std::sin(a), 0.3f * std::sin(2.0f * a));
-    for (int k = -30; k <= 30; ++k) l.points.push_back(d * float(k));
+    for (int k = -30; k <= 30; ++k)
+      l.points.push_back(d * float(k));
     l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
   }
   return l;
@@ -125,7 +125,9 @@ TEST(TractRenderCli, ClipSlabOnACurvedSurfaceFollowsItsDepth) {
   EXPECT_LT(centre, all * 2 / 3);
   EXPECT_GT(centre, all / 50);
   EXPECT_LT(beyond, all / 200) << "a slab outside the brain shows no tract";
-  const CliRun bad = dtfabric(common + tracts + " --tracts-slab-depth 5000 -o " + (dir / "x.png").string(), dir);
+  const CliRun bad =
+      dtfabric(common + tracts + " --tracts-slab-depth 5000 -o " + (dir / "x.png").string(), dir);
   EXPECT_EQ(bad.code, 1) << bad.output;
-  EXPECT_NE(bad.output.find("--tracts-slab-depth must be in [-1000, 1000] mm"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("--tracts-slab-depth must be in [-1000, 1000] mm"), std::string::npos)
+      << bad.output;
 }

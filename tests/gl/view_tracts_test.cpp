@@ -86,7 +86,6 @@ std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {
   return n;
 }
 
-
 #define BRAIN_FILES()                                                                                        \
   DTF_GL_TEST_SETUP();                                                                                       \
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");                                        \
@@ -204,7 +203,8 @@ TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
 
   s.apply(ui::SetTractsClip{4.0, 200.0}); // beyond the brain along the view
   s.converge();
-  EXPECT_LT(dtf::test::tractPixels(s.image(), plain), allDrawn / 200) << "a slab outside the data shows no tract";
+  EXPECT_LT(dtf::test::tractPixels(s.image(), plain), allDrawn / 200)
+      << "a slab outside the data shows no tract";
 
   s.apply(ui::SetTractsClip{0.0, 200.0});
   s.converge();

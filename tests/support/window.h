@@ -9,13 +9,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <string>
-
 #include <gtest/gtest.h>
+#include <string>
 
 namespace dtf::test {
 
-inline bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+inline bool haveXvfb() {
+  return std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
+}
 
 // Runs `dtfabric view ARGS --size 640x480 --script scratch/script.txt` under Xvfb. The exit code is
 // dtfabric's, written by a wrapper: xvfb-run's own can be 5 when removing its temporary folder fails
@@ -25,7 +26,8 @@ inline CliResult runViewerScript(const std::filesystem::path& scratch, const std
   const std::filesystem::path scriptFile = scratch / "script.txt", runner = scratch / "run.sh",
                               rcFile = scratch / "rc.txt";
   std::ofstream(scriptFile) << script;
-  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt", xvfbErr = scratch / "xvfb.txt";
+  const auto outFile = scratch / "stdout.txt", errFile = scratch / "stderr.txt",
+             xvfbErr = scratch / "xvfb.txt";
   std::filesystem::remove(rcFile);
   std::ofstream(runner) << "'" << DTF_EXE << "' view " << args << " --size 640x480 --script '"
                         << scriptFile.string() << "' >'" << outFile.string() << "' 2>'" << errFile.string()
@@ -45,7 +47,8 @@ inline CliResult runViewerScript(const std::filesystem::path& scratch, const std
 // Fraction of pixels in which some channel differs by more than 40 (a failure when the sizes differ).
 inline double differingFraction(const Image& a, const Image& b) {
   if (a.width != b.width || a.height != b.height || a.rgba.empty()) {
-    ADD_FAILURE() << "compared images of " << a.width << "x" << a.height << " and " << b.width << "x" << b.height;
+    ADD_FAILURE() << "compared images of " << a.width << "x" << a.height << " and " << b.width << "x"
+                  << b.height;
     return 1;
   }
   std::size_t n = 0;

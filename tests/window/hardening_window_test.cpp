@@ -45,7 +45,6 @@ double litFraction(const Image& img) {
   return double(n) / (double(img.width) * img.height);
 }
 
-
 // The error modal's title bar: Dear ImGui's dark style TitleBgActive (0.16, 0.29, 0.48), in the middle of
 // the window, where nothing else has that colour (the panels' headers are lighter blue, the scene is dark
 // without data).

@@ -270,7 +270,8 @@ TEST(ViewWindow, TractsOverTheRealBrainShowHideAndSplit) {
   const Image splitHidden = dtf::io::readPng(shot(dir, "split_hidden.png"));
   const std::size_t panes = dtf::test::paneDifference(split);
   EXPECT_GT(panes, 1500u) << "fabric | fabric + tracts: the right pane carries the tracts";
-  EXPECT_LT(dtf::test::paneDifference(splitHidden), panes / 20) << "without tracts both panes show the same fabric";
+  EXPECT_LT(dtf::test::paneDifference(splitHidden), panes / 20)
+      << "without tracts both panes show the same fabric";
 }
 
 TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
@@ -313,7 +314,8 @@ TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
                 below);
   EXPECT_NE(r.err.find(expected, at), std::string::npos) << r.err << "\nexpected " << expected;
   // The tracked streamlines are drawn over the slice.
-  EXPECT_GT(dtf::test::tractPixels(dtf::io::readPng(shot(dir, "tracked.png")), dtf::io::readPng(shot(dir, "plain.png"))),
+  EXPECT_GT(dtf::test::tractPixels(dtf::io::readPng(shot(dir, "tracked.png")),
+                                   dtf::io::readPng(shot(dir, "plain.png"))),
             1000u);
 }
 
