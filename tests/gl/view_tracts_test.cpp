@@ -227,27 +227,19 @@ TEST(ViewTracts, AgreementMatchesTheCompareCommand) {
     s.converge();
     ASSERT_EQ(s.lastError(), "");
     ASSERT_TRUE(s.state().hasAgreement);
-    const auto r = test::runDtfabric("compare '" + tensor.string() + "' --tracts '" + tck.string() +
-                                         "' --surface " + surface + " --json",
-                                     dir);
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    std::size_t points = 0;
-    double mean = 0, median = 0, below = 0;
-    ASSERT_EQ(std::sscanf(r.out.c_str(),
-                          "{\"points\": %zu, \"mean_deg\": %lf, \"median_deg\": %lf, \"frac_below_15\": %lf",
-                          &points, &mean, &median, &below),
-              4)
-        << r.out;
+    const test::CompareRun c = test::runCompare(tensor, tck, surface, dir);
+    ASSERT_EQ(c.cli.exitCode, 0) << c.cli.err;
+    ASSERT_TRUE(c.complete) << c.cli.out;
     const ui::ViewerState& v = s.state();
-    EXPECT_EQ(v.agreementPoints, points);
-    EXPECT_NEAR(v.agreementMeanDeg, mean, 1e-4);
-    EXPECT_NEAR(v.agreementMedianDeg, median, 1e-4);
-    EXPECT_NEAR(v.agreementFracBelow15, below, 1e-6);
+    EXPECT_EQ(v.agreementPoints, c.points);
+    EXPECT_NEAR(v.agreementMeanDeg, c.mean, 1e-4);
+    EXPECT_NEAR(v.agreementMedianDeg, c.median, 1e-4);
+    EXPECT_NEAR(v.agreementFracBelow15, c.below, 1e-6);
     std::string histogram;
     for (float h : v.agreementHistogram)
       histogram += (histogram.empty() ? "" : ", ") + std::to_string(int(h));
-    EXPECT_NE(r.out.find("\"histogram\": [" + histogram + "]"), std::string::npos) << histogram << "\n"
-                                                                                   << r.out;
+    EXPECT_NE(c.cli.out.find("\"histogram\": [" + histogram + "]"), std::string::npos) << histogram << "\n"
+                                                                                       << c.cli.out;
   }
 }
 

@@ -27,7 +27,8 @@ inline std::string readText(const std::filesystem::path& p) {
 // `args` is appended to the executable path as shell words (quote paths that may hold spaces).
 inline CliResult runDtfabric(const std::string& args, const std::filesystem::path& scratch) {
   const auto outFile = scratch / "cli_stdout.txt", errFile = scratch / "cli_stderr.txt";
-  std::string cmd = std::string("'") + DTF_EXE + "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
+  std::string cmd =
+      std::string("'") + DTF_EXE + "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
   int status = std::system(cmd.c_str());
   CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
@@ -41,6 +42,28 @@ inline double jsonNumber(const std::string& json, const std::string& key) {
   std::smatch m;
   if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
   return std::stod(m[1]);
+}
+
+// `dtfabric compare TENSOR --tracts TRACTS --surface SURFACE --json` and the summary it prints.
+struct CompareRun {
+  CliResult cli;
+  bool complete = false; // every summary field below was printed
+  std::size_t points = 0;
+  double mean = 0, median = 0, below = 0; // degrees, degrees, fraction below 15 degrees
+};
+inline CompareRun runCompare(const std::filesystem::path& tensor, const std::filesystem::path& tracts,
+                             const std::string& surface, const std::filesystem::path& scratch) {
+  CompareRun r;
+  r.cli = runDtfabric("compare '" + tensor.string() + "' --tracts '" + tracts.string() + "' --surface " +
+                          surface + " --json",
+                      scratch);
+  const double points = jsonNumber(r.cli.out, "points");
+  r.mean = jsonNumber(r.cli.out, "mean_deg");
+  r.median = jsonNumber(r.cli.out, "median_deg");
+  r.below = jsonNumber(r.cli.out, "frac_below_15");
+  r.complete = points >= 0 && r.mean >= 0 && r.median >= 0 && r.below >= 0;
+  r.points = points >= 0 ? static_cast<std::size_t>(points) : 0;
+  return r;
 }
 
 } // namespace dtf::test

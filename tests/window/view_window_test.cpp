@@ -296,22 +296,15 @@ TEST(ViewWindow, ScriptTracksComparesAndRefusesToOverwrite) {
   EXPECT_NE(r.err.find("wrote " + out), std::string::npos) << r.err;
   EXPECT_EQ(dtf::io::readTck(out).lineCount(), 100u);
   // The agreement printed for the slice is `dtfabric compare`'s.
-  const auto c = dtf::test::runDtfabric("compare '" + tensor.string() + "' --tracts '" + tck.string() +
-                                            "' --surface slice=axial:22 --json",
-                                        dir);
-  ASSERT_EQ(c.exitCode, 0) << c.err;
-  std::size_t points = 0;
-  double mean = 0, median = 0, below = 0;
-  ASSERT_EQ(std::sscanf(c.out.c_str(),
-                        "{\"points\": %zu, \"mean_deg\": %lf, \"median_deg\": %lf, \"frac_below_15\": %lf",
-                        &points, &mean, &median, &below),
-            4);
+  const dtf::test::CompareRun c = dtf::test::runCompare(tensor, tck, "slice=axial:22", dir);
+  ASSERT_EQ(c.cli.exitCode, 0) << c.cli.err;
+  ASSERT_TRUE(c.complete) << c.cli.out;
   char expected[200];
-  std::snprintf(expected, sizeof expected, "agreement: %zu points compared, ", points);
+  std::snprintf(expected, sizeof expected, "agreement: %zu points compared, ", c.points);
   const auto at = r.err.find(expected);
   ASSERT_NE(at, std::string::npos) << r.err << "\nexpected " << expected;
-  std::snprintf(expected, sizeof expected, "mean %.4f deg, median %.4f deg, below 15 deg %.6f", mean, median,
-                below);
+  std::snprintf(expected, sizeof expected, "mean %.4f deg, median %.4f deg, below 15 deg %.6f", c.mean,
+                c.median, c.below);
   EXPECT_NE(r.err.find(expected, at), std::string::npos) << r.err << "\nexpected " << expected;
   // The tracked streamlines are drawn over the slice.
   EXPECT_GT(dtf::test::tractPixels(dtf::io::readPng(shot(dir, "tracked.png")),
