@@ -54,6 +54,9 @@ render "$tensor" --surface slice=coronal:34 --tracts "$work/cst.tck" -o "$out/tr
 dtf phantom brain -o "$work/phantom.nii.gz" --size 48 --spacing 3.5 --force >/dev/null
 render "$work/phantom.nii.gz" -o "$out/phantom_brain.png"
 
+# Troubleshooting: the sample's FSL-layout tensors read as if they were in MRtrix's layout.
+render "$tensor" --layout mrtrix --surface slice=axial:22 -o "$out/troubleshoot_wrong_layout.png"
+
 # Troubleshooting: the same DWI fitted with the x row of the gradient table negated (a common
 # conversion error), beside the right fit, on the axial slice through the genu and the splenium.
 awk 'NR == 1 { for (i = 1; i <= NF; ++i) $i = ($i == 0 ? 0 : -$i) } { print }' sample_data/dwi.bvec >"$work/flipped.bvec"
@@ -63,12 +66,13 @@ render "$tensor" --surface slice=axial:20 --split "input=$work/flipped.nii.gz" -
 
 # The viewer in a real window under Xvfb: the window as `.ci/demo` opens it (the cursor's readout
 # probed at the centre of the scene), then tracking from the slice and the split "fabric | + tracts".
+# The same script as the guide shows, with these paths and this window's centre.
 cat >"$work/viewer.txt" <<END
-probe $(((win_w - 300) / 2)) $(((win_h - 26) / 2))
-screenshot --force $out/viewer_window.png
-track from=slice:axial:22 select=1000
-split tracts
-screenshot-scene --force $out/viewer_tracts.png
+probe $(((win_w - 300) / 2)) $(((win_h - 26) / 2))   # read the voxel at this point of the picture (the status bar)
+screenshot --force $out/viewer_window.png         # the whole window; --force replaces an older file
+track from=slice:axial:22 select=1000        # 1000 streamlines seeded in slice 22, as \`dtfabric track\`
+split tracts                                 # two panes: fabric alone | fabric + tracts
+screenshot-scene --force $out/viewer_tracts.png   # the picture only, without the panels
 quit
 END
 cat >"$work/viewer.sh" <<END
