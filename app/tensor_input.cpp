@@ -50,7 +50,12 @@ io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOpti
   if (!o.quiet) logInfo("fitting tensors to " + path + " (WLS" + (o.mask.empty() ? ", automatic mask)" : ")"));
   io::LoadedTensors out;
   io::FitOptions fo;
-  out.field = io::fitTensors(d, o.mask.empty() ? nullptr : &mask, fo);
+  io::ProgressFn progress;
+  if (o.onStage)
+    progress = [&](double f) {
+      o.onStage("fitting tensors to " + path + ": " + std::to_string(static_cast<int>(100 * f)) + "%");
+    };
+  out.field = io::fitTensors(d, o.mask.empty() ? nullptr : &mask, fo, progress);
   out.layout = io::TensorLayout::Auto;
   out.layoutReason = "fitted from the DWI " + path + " with " + bval + " and " + bvec;
   out.header = io::readHeader(path);

@@ -4,6 +4,7 @@
 
 #include "io/tensor_io.h"
 
+#include <functional>
 #include <string>
 
 namespace dtf::app {
@@ -13,6 +14,8 @@ struct TensorInputOptions {
   std::string bval, bvec; // DWI gradient files; when empty, INPUT's sibling .bval/.bvec are used if present
   std::string mask;       // DWI fit mask (NIfTI); empty = automatic
   bool quiet = false;     // no progress/notes on stderr
+  // Called from the loading thread with what it is doing, e.g. "fitting tensors to dwi.nii.gz: 40%".
+  std::function<void(const std::string&)> onStage;
 };
 
 // INPUT's sibling gradient file: dwi.nii.gz -> dwi.bval for ext ".bval".

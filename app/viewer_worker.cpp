@@ -109,6 +109,7 @@ void ViewerWorker::run() {
         TensorInputOptions in;
         in.layout = load->layout;
         in.quiet = true;
+        in.onStage = [this](const std::string& stage) { setStage(stage.c_str()); };
         try {
           data->loaded = loadTensorInput(load->path, in);
         } catch (...) {
