@@ -1,0 +1,2 @@
+# Tests of the orientation check (dtf_test(...) lines).
+dtf_test(test_orientation_check LABEL unit SOURCES unit/orientation_check_test.cpp LIBS dtf_surfaces dtf_io dtf_model)
