@@ -47,7 +47,7 @@ The thresholds are printed with every result.
                       for the given table and the two best others, labelled with transform and score
   --fix-bvec OUT      write the corrected FSL table (DWI only; refused when inconclusive unless --force)
   --force             replace existing outputs (never an input); --fix-bvec even when inconclusive
-  --min-margin F      margin below which the verdict is inconclusive (default 0.05 = 5%)
+  --min-margin F      margin below which the verdict is inconclusive (default 0.07 = 7%)
   --min-white-matter N  white-matter voxels below which it is inconclusive (default 3000)
 
 Exit codes: 0 the check ran (whatever the verdict), 1 usage, 2 bad input, 3 GL failure (--sheet).

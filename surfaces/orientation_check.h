@@ -58,7 +58,7 @@ struct CheckOptions {
   double faThreshold = 0.3;      // white matter: valid, inside the mask, FA >= this
   double cosThreshold = 0.866;   // |cos| between e1 and the step for both voxels (30 degrees)
   std::size_t minWhiteMatter = 3000; // fewer white-matter voxels: inconclusive
-  double minMargin = 0.05;       // best over the runner-up below 1 + this: inconclusive
+  double minMargin = 0.07;       // best over the runner-up below 1 + this: inconclusive
 };
 
 struct CandidateScore {
