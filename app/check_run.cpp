@@ -170,6 +170,15 @@ std::vector<std::size_t> sheetRows(const surfaces::OrientationReport& report, st
   return rows;
 }
 
+SheetLayout sheetLayout(int panelPx) {
+  SheetLayout l;
+  l.panel = panelPx;
+  l.fontScale = panelPx >= 180 ? 2 : 1;
+  l.header = render::textHeight(l.fontScale) * 2 + 6 * l.fontScale;
+  l.label = render::textHeight(l.fontScale) + 6 * l.fontScale;
+  return l;
+}
+
 Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& rows, int panelPx) {
   using surfaces::SliceAxis;
   const surfaces::OrientationReport& rep = run.report;
@@ -194,9 +203,8 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
     meshes[c] = buildSurface(spec, run.field, fa);
   }
 
-  const int scale = panelPx >= 200 ? 2 : 1;
-  const int header = render::textHeight(scale) * 2 + 6 * scale;
-  const int label = render::textHeight(scale) + 6 * scale;
+  const SheetLayout layout = sheetLayout(panelPx);
+  const int scale = layout.fontScale, header = layout.header, label = layout.label;
   Image sheet(panelPx * 3, header + static_cast<int>(rows.size()) * (label + panelPx));
   render::fillRect(sheet, 0, 0, sheet.width, sheet.height, 0, 0, 0);
   char text[160];

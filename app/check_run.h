@@ -50,6 +50,14 @@ void writeCorrectedBvec(const std::string& path, const std::vector<glm::dvec3>& 
 // rows in all).
 std::vector<std::size_t> sheetRows(const surfaces::OrientationReport& report, std::size_t count = 3);
 
+// Where the contact sheet puts things: a header of `header` pixels, then per row a label strip of `label`
+// pixels above three panels of `panel` pixels.
+struct SheetLayout {
+  int panel = 0, header = 0, label = 0, fontScale = 1;
+  int panelTop(int row) const { return header + row * (label + panel) + label; }
+};
+SheetLayout sheetLayout(int panelPx);
+
 // The contact sheet: one row per entry of `rows` (candidate indices), each the fabric on the axial slice
 // through the callosal body, the coronal slice through the corticospinal tracts and the midline sagittal
 // slice (chosen from the best candidate), panelPx square each, under a label with the transform and its

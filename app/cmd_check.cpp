@@ -45,6 +45,7 @@ The thresholds are printed with every result.
   --sheet OUT.png     contact sheet: the fabric on the axial slice through the callosal body, the coronal
                       slice through the corticospinal tracts and the midline sagittal slice (radiological),
                       for the given table and the two best others, labelled with transform and score
+  --sheet-size PX     edge of each contact-sheet panel in pixels (default 320)
   --fix-bvec OUT      write the corrected FSL table (DWI only; refused when inconclusive unless --force)
   --force             replace existing outputs (never an input); --fix-bvec even when inconclusive
   --min-margin F      margin below which the verdict is inconclusive (default 0.07 = 7%)
@@ -151,6 +152,8 @@ int cmdCheck(const CommandArgs& argv) {
   const bool force = args.flag("force");
   const std::string sheet = args.getOr("sheet", "");
   const std::string fix = args.getOr("fix-bvec", "");
+  const int panelPx = args.getInt("sheet-size", 320);
+  if (panelPx < 64 || panelPx > 2048) throw UsageError("--sheet-size must be in [64, 2048] pixels");
   args.finish();
 
   namespace fs = std::filesystem;
@@ -186,7 +189,7 @@ int cmdCheck(const CommandArgs& argv) {
     std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(), run.bvecPath.c_str());
   }
   if (!sheet.empty()) {
-    const Image img = renderContactSheet(run, sheetRows(run.report));
+    const Image img = renderContactSheet(run, sheetRows(run.report), panelPx);
     io::writePng(sheet, img);
     std::fprintf(stderr, "wrote %s (%dx%d)\n", sheet.c_str(), img.width, img.height);
   }

@@ -283,9 +283,25 @@ EvidenceSlices chooseEvidenceSlices(const TensorField& field, const MaskVolume* 
         const glm::ivec3 v(i, j, k);
         const glm::dvec3 w = grid.toWorld(glm::dvec3(v));
         if (std::abs(e1.x) > 0.8 && std::abs(w.x - midX) < nearMidline) axialCount[static_cast<std::size_t>(v[ax])] += 1;
-        if (std::abs(e1.z) > 0.8) coronalCount[static_cast<std::size_t>(v[co])] += 1;
       }
   s.axial = static_cast<int>(std::max_element(axialCount.begin(), axialCount.end()) - axialCount.begin());
+  // Coronal: superior-inferior white matter below the callosal body and within 35 mm of the midline (the
+  // internal capsules and cerebral peduncles, where the corticospinal tracts run compact and vertical).
+  glm::dvec3 axialCentre(grid.dims.x / 2, grid.dims.y / 2, grid.dims.z / 2);
+  axialCentre[ax] = s.axial;
+  const double callosumZ = grid.toWorld(axialCentre).z;
+  for (int k = 0; k < grid.dims.z; ++k)
+    for (int j = 0; j < grid.dims.y; ++j)
+      for (int i = 0; i < grid.dims.x; ++i) {
+        const std::size_t idx = grid.index(i, j, k);
+        if (!inside(field, mask, idx)) continue;
+        const glm::ivec3 v(i, j, k);
+        const glm::dvec3 w = grid.toWorld(glm::dvec3(v));
+        if (w.z >= callosumZ || std::abs(w.x - midX) > 35.0) continue;
+        const SymTensor& t = field.tensors[idx];
+        if (!(fractionalAnisotropy(t) >= faThreshold)) continue;
+        if (std::abs(eigenDecompose(t).vectors[0].z) > 0.8) coronalCount[static_cast<std::size_t>(v[co])] += 1;
+      }
   s.coronal = static_cast<int>(std::max_element(coronalCount.begin(), coronalCount.end()) - coronalCount.begin());
   // Sagittal: the slice whose centre lies nearest the midline.
   double bestDist = 1e300;

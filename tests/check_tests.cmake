@@ -1,2 +1,3 @@
 # Tests of the orientation check (dtf_test(...) lines).
 dtf_test(test_orientation_check LABEL unit SOURCES unit/orientation_check_test.cpp LIBS dtf_surfaces dtf_io dtf_model)
+dtf_test(test_check_sheet LABEL baseline SOURCES gl/check_sheet_test.cpp LIBS dtf_app)
