@@ -46,11 +46,13 @@ MaskVolume readMaskOn(const std::string& path, const Grid& grid, const std::stri
     for (int r = 0; r < 4; ++r)
       affineDiff = std::max(affineDiff, std::abs(m.grid.voxelToWorld[c][r] - grid.voxelToWorld[c][r]));
   if (m.grid.dims != grid.dims || affineDiff > 1e-3)
-    throw InputError(path + ": the mask is on another grid (" + gridText(m.grid) +
-                     (m.grid.dims == grid.dims ? ", affine differs by " + std::to_string(affineDiff) + " mm" : "") +
-                     ") than " + dataPath + " (" + gridText(grid) + ")");
+    throw InputError(
+        path + ": the mask is on another grid (" + gridText(m.grid) +
+        (m.grid.dims == grid.dims ? ", affine differs by " + std::to_string(affineDiff) + " mm" : "") +
+        ") than " + dataPath + " (" + gridText(grid) + ")");
   MaskVolume mask(m.grid, 1, 0);
-  for (std::size_t i = 0; i < m.data.size(); ++i) mask.data[i] = m.data[i] != 0 && std::isfinite(m.data[i]) ? 1 : 0;
+  for (std::size_t i = 0; i < m.data.size(); ++i)
+    mask.data[i] = m.data[i] != 0 && std::isfinite(m.data[i]) ? 1 : 0;
   return mask;
 }
 
@@ -66,7 +68,8 @@ CheckRun runCheck(const CheckRequest& r) {
     const io::VolumeHeader h = io::readHeader(r.input);
     dwi = h.dims.size() == 4 && h.dims[3] > 1 && h.dims[3] != 6 && h.intentCode != 1005;
   }
-  if (dwi && r.layout != io::TensorLayout::Auto) throw UsageError("--layout applies to tensor files, not to a DWI");
+  if (dwi && r.layout != io::TensorLayout::Auto)
+    throw UsageError("--layout applies to tensor files, not to a DWI");
   if (!dwi) {
     io::LoadedTensors t = io::readTensorVolume(r.input, r.layout);
     run.layoutNote = std::string(io::layoutName(t.layout)) + " layout: " + t.layoutReason;
@@ -77,8 +80,10 @@ CheckRun runCheck(const CheckRequest& r) {
   } else {
     if (bval.empty()) bval = gradientSibling(r.input, ".bval");
     if (bvec.empty()) bvec = gradientSibling(r.input, ".bvec");
-    if (!fs::exists(bval)) throw InputError(r.input + ": no b-value file (looked for " + bval + "; give --bval)");
-    if (!fs::exists(bvec)) throw InputError(r.input + ": no gradient file (looked for " + bvec + "; give --bvec)");
+    if (!fs::exists(bval))
+      throw InputError(r.input + ": no b-value file (looked for " + bval + "; give --bval)");
+    if (!fs::exists(bvec))
+      throw InputError(r.input + ": no gradient file (looked for " + bvec + "; give --bvec)");
     run.dwi = true;
     run.bvalPath = bval;
     run.bvecPath = bvec;
@@ -86,11 +91,11 @@ CheckRun runCheck(const CheckRequest& r) {
     run.bvals = io::readBvals(bval);
     run.bvecs = io::readBvecs(bvec);
     if (run.bvals.size() != run.bvecs.size())
-      throw InputError(bval + " holds " + std::to_string(run.bvals.size()) + " b-values but " + bvec + " holds " +
-                       std::to_string(run.bvecs.size()) + " directions");
+      throw InputError(bval + " holds " + std::to_string(run.bvals.size()) + " b-values but " + bvec +
+                       " holds " + std::to_string(run.bvecs.size()) + " directions");
     if (static_cast<std::size_t>(signal.components) != run.bvals.size())
-      throw InputError(r.input + " has " + std::to_string(signal.components) + " volumes but " + bval + " holds " +
-                       std::to_string(run.bvals.size()) + " b-values");
+      throw InputError(r.input + " has " + std::to_string(signal.components) + " volumes but " + bval +
+                       " holds " + std::to_string(run.bvals.size()) + " b-values");
     std::size_t weighted = 0;
     for (std::size_t n = 0; n < run.bvals.size(); ++n) {
       if (!(run.bvals[n] > kB0Threshold)) continue;
@@ -101,12 +106,14 @@ CheckRun runCheck(const CheckRequest& r) {
         char buf[160];
         std::snprintf(buf, sizeof buf, ": direction %zu (b = %g s/mm^2) has length %g, not a unit vector", n,
                       run.bvals[n], norm);
-        throw InputError(bvec + buf + " (the check needs unit directions; multi-shell tables encoded in the "
-                                      "vector length are not supported)");
+        throw InputError(bvec + buf +
+                         " (the check needs unit directions; multi-shell tables encoded in the "
+                         "vector length are not supported)");
       }
     }
     if (weighted == 0)
-      throw InputError(bval + ": every volume is b=0 (b <= " + std::to_string(static_cast<int>(kB0Threshold)) +
+      throw InputError(bval +
+                       ": every volume is b=0 (b <= " + std::to_string(static_cast<int>(kB0Threshold)) +
                        " s/mm^2): there is no gradient direction to check");
     io::Dwi d = io::makeDwi(std::move(signal), run.bvals, run.bvecs, kB0Threshold, r.input, bval, bvec);
     if (!r.mask.empty()) run.mask = readMaskOn(r.mask, d.signal.grid, r.input);
@@ -123,8 +130,8 @@ CheckRun runCheck(const CheckRequest& r) {
     run.fitSeconds = secondsSince(t1);
   }
   const auto t2 = std::chrono::steady_clock::now();
-  run.report = surfaces::checkOrientation(run.field, run.tableToWorld, run.mask.data.empty() ? nullptr : &run.mask,
-                                          r.options);
+  run.report = surfaces::checkOrientation(run.field, run.tableToWorld,
+                                          run.mask.data.empty() ? nullptr : &run.mask, r.options);
   run.checkSeconds = secondsSince(t2);
   return run;
 }
@@ -160,7 +167,8 @@ void writeCorrectedBvec(const std::string& path, const std::vector<glm::dvec3>& 
 
 std::vector<std::size_t> sheetRows(const surfaces::OrientationReport& report, std::size_t count) {
   std::vector<std::size_t> order(report.candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return report.candidates[a].score > report.candidates[b].score;
   });
@@ -185,15 +193,16 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
   const TensorField bestField =
       surfaces::transformedField(run.field, run.tableToWorld, rep.candidates[rep.best].transform);
   const MaskVolume* mask = run.mask.data.empty() ? nullptr : &run.mask;
-  const surfaces::EvidenceSlices slices = surfaces::chooseEvidenceSlices(bestField, mask, rep.options.faThreshold);
+  const surfaces::EvidenceSlices slices =
+      surfaces::chooseEvidenceSlices(bestField, mask, rep.options.faThreshold);
   const ScalarVolume fa = computeFaMap(run.field); // the same for every candidate (FA is rotation invariant)
 
   struct Column {
     const char* axis;
     int index;
   };
-  const std::array<Column, 3> columns{{{"axial", slices.axial}, {"coronal", slices.coronal},
-                                       {"sagittal", slices.sagittal}}};
+  const std::array<Column, 3> columns{
+      {{"axial", slices.axial}, {"coronal", slices.coronal}, {"sagittal", slices.sagittal}}};
   std::array<Mesh, 3> meshes;
   for (std::size_t c = 0; c < columns.size(); ++c) {
     SurfaceSpec spec;
@@ -208,13 +217,13 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
   Image sheet(panelPx * 3, header + static_cast<int>(rows.size()) * (label + panelPx));
   render::fillRect(sheet, 0, 0, sheet.width, sheet.height, 0, 0, 0);
   char text[160];
-  std::snprintf(text, sizeof text, "VERDICT %s  MARGIN %.1f%%  WM %zu VOX", surfaces::verdictName(rep.verdict),
-                100 * rep.margin, rep.whiteMatterVoxels);
+  std::snprintf(text, sizeof text, "VERDICT %s  MARGIN %.1f%%  WM %zu VOX",
+                surfaces::verdictName(rep.verdict), 100 * rep.margin, rep.whiteMatterVoxels);
   render::drawText(sheet, 4 * scale, 2 * scale, text, scale, 255, 255, 255);
   for (std::size_t c = 0; c < columns.size(); ++c) {
     std::snprintf(text, sizeof text, "%s %d", columns[c].axis, columns[c].index);
-    render::drawText(sheet, static_cast<int>(c) * panelPx + 4 * scale, 4 * scale + render::textHeight(scale), text, scale,
-                     200, 200, 200);
+    render::drawText(sheet, static_cast<int>(c) * panelPx + 4 * scale, 4 * scale + render::textHeight(scale),
+                     text, scale, 200, 200, 200);
   }
 
   render::GlContext::headless();
@@ -236,8 +245,8 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
       renderer.setMesh(meshes[c]);
       glm::vec3 lo, hi;
       meshes[c].bounds(lo, hi);
-      const render::Camera camera = render::Camera::standard(render::parseView(columns[c].axis), glm::dvec3(lo),
-                                                             glm::dvec3(hi), 1.0, false, true);
+      const render::Camera camera = render::Camera::standard(
+          render::parseView(columns[c].axis), glm::dvec3(lo), glm::dvec3(hi), 1.0, false, true);
       const Image panel = renderer.renderStill(camera, params);
       for (int y = 0; y < panelPx; ++y)
         for (int x = 0; x < panelPx; ++x) {

@@ -27,11 +27,11 @@ struct CheckRun {
   bool dwi = false;               // a DWI fitted here (the candidates act on its bvec table)
   std::string bvalPath, bvecPath; // DWI only
   std::vector<double> bvals;
-  std::vector<glm::dvec3> bvecs;  // as written (bvec frame)
-  std::string layoutNote;         // tensor files: the layout used and why
-  TensorField field;              // fitted with the given table / as stored, world RAS
-  glm::dmat3 tableToWorld{1.0};   // io::bvecFrameToWorld for a DWI, identity for a tensor file (world frame)
-  MaskVolume mask;                // the given mask; empty when none
+  std::vector<glm::dvec3> bvecs; // as written (bvec frame)
+  std::string layoutNote;        // tensor files: the layout used and why
+  TensorField field;             // fitted with the given table / as stored, world RAS
+  glm::dmat3 tableToWorld{1.0};  // io::bvecFrameToWorld for a DWI, identity for a tensor file (world frame)
+  MaskVolume mask;               // the given mask; empty when none
   surfaces::OrientationReport report;
   double loadSeconds = 0, fitSeconds = 0, checkSeconds = 0;
 };

@@ -82,15 +82,17 @@ void printJson(const CheckRun& run, const std::string& input) {
               surfaces::verdictName(r.verdict), jsonString(r.reason).c_str());
   std::printf(" \"correction\": %s, \"correction_name\": \"%s\",\n", matrixJson(r.correction).c_str(),
               r.correction.name().c_str());
-  std::printf(" \"score_given\": %.6f, \"score_best\": %.6f, \"margin\": %.6f, \"best\": \"%s\", \"runner_up\": "
-              "\"%s\",\n",
-              r.scoreGiven, r.scoreBest, r.margin, r.candidates[r.best].transform.name().c_str(),
-              r.candidates[r.runnerUp].transform.name().c_str());
+  std::printf(
+      " \"score_given\": %.6f, \"score_best\": %.6f, \"margin\": %.6f, \"best\": \"%s\", \"runner_up\": "
+      "\"%s\",\n",
+      r.scoreGiven, r.scoreBest, r.margin, r.candidates[r.best].transform.name().c_str(),
+      r.candidates[r.runnerUp].transform.name().c_str());
   std::printf(" \"mask_voxels\": %zu, \"white_matter_voxels\": %zu,\n", r.maskVoxels, r.whiteMatterVoxels);
-  std::printf(" \"thresholds\": {\"fa\": %.3f, \"cos\": %.3f, \"min_white_matter\": %zu, \"min_margin\": %.4f},\n",
-              r.options.faThreshold, r.options.cosThreshold, r.options.minWhiteMatter, r.options.minMargin);
-  std::printf(" \"seconds\": {\"load\": %.4f, \"fit\": %.4f, \"check\": %.4f},\n", run.loadSeconds, run.fitSeconds,
-              run.checkSeconds);
+  std::printf(
+      " \"thresholds\": {\"fa\": %.3f, \"cos\": %.3f, \"min_white_matter\": %zu, \"min_margin\": %.4f},\n",
+      r.options.faThreshold, r.options.cosThreshold, r.options.minWhiteMatter, r.options.minMargin);
+  std::printf(" \"seconds\": {\"load\": %.4f, \"fit\": %.4f, \"check\": %.4f},\n", run.loadSeconds,
+              run.fitSeconds, run.checkSeconds);
   std::printf(" \"candidates\": [");
   for (std::size_t i = 0; i < r.candidates.size(); ++i) {
     const auto& c = r.candidates[i];
@@ -104,21 +106,24 @@ void printText(const CheckRun& run, const std::string& input) {
   const surfaces::OrientationReport& r = run.report;
   const Grid& g = run.field.grid;
   if (run.dwi)
-    std::printf("%s: DWI %dx%dx%d (%s), table %s, WLS fit %.3f s\n", input.c_str(), g.dims.x, g.dims.y, g.dims.z,
-                g.orientationCode().c_str(), run.bvecPath.c_str(), run.fitSeconds);
+    std::printf("%s: DWI %dx%dx%d (%s), table %s, WLS fit %.3f s\n", input.c_str(), g.dims.x, g.dims.y,
+                g.dims.z, g.orientationCode().c_str(), run.bvecPath.c_str(), run.fitSeconds);
   else
-    std::printf("%s: tensors %dx%dx%d (%s), %s; candidates act on world RAS\n", input.c_str(), g.dims.x, g.dims.y,
-                g.dims.z, g.orientationCode().c_str(), run.layoutNote.c_str());
+    std::printf("%s: tensors %dx%dx%d (%s), %s; candidates act on world RAS\n", input.c_str(), g.dims.x,
+                g.dims.y, g.dims.z, g.orientationCode().c_str(), run.layoutNote.c_str());
   std::printf("voxels: %zu in the mask, %zu white matter (FA >= %.2f)\n", r.maskVoxels, r.whiteMatterVoxels,
               r.options.faThreshold);
   std::printf("thresholds: inconclusive below %zu white-matter voxels or a margin below %.1f%% "
               "(|cos| > %.3f)\n",
               r.options.minWhiteMatter, 100 * r.options.minMargin, r.options.cosThreshold);
-  std::printf("score = coherent neighbour pairs per white-matter voxel (check %.1f ms):\n", 1e3 * run.checkSeconds);
+  std::printf("score = coherent neighbour pairs per white-matter voxel (check %.1f ms):\n",
+              1e3 * run.checkSeconds);
   std::vector<std::size_t> order(r.candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return r.candidates[a].score > r.candidates[b].score; });
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return r.candidates[a].score > r.candidates[b].score;
+  });
   for (std::size_t i : order)
     std::printf("  %-10s %.4f%s\n", r.candidates[i].transform.name().c_str(), r.candidates[i].score,
                 i == 0 ? "  (given)" : "");
@@ -170,7 +175,8 @@ int cmdCheck(const CommandArgs& argv) {
   if (!fix.empty()) {
     // Checked again now that the sibling tables are known.
     io::refuseOverwritingInput(fix, {req.input, run.bvalPath, run.bvecPath, req.mask});
-    if (!run.dwi) throw UsageError("--fix-bvec needs a DWI with its table; " + req.input + " is a tensor file");
+    if (!run.dwi)
+      throw UsageError("--fix-bvec needs a DWI with its table; " + req.input + " is a tensor file");
   }
   if (json)
     printJson(run, req.input);
@@ -186,7 +192,8 @@ int cmdCheck(const CommandArgs& argv) {
                                           ? run.report.candidates[run.report.best].transform
                                           : run.report.correction;
     writeCorrectedBvec(fix, run.bvecs, m);
-    std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(), run.bvecPath.c_str());
+    std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(),
+                 run.bvecPath.c_str());
   }
   if (!sheet.empty()) {
     const Image img = renderContactSheet(run, sheetRows(run.report), panelPx);

@@ -12,7 +12,9 @@ namespace dtf::render {
 // Width and height in pixels of `text` drawn at `scale` (each font pixel a scale x scale block; a glyph cell
 // is 6x8 font pixels including the gap).
 int textWidth(const std::string& text, int scale);
-inline int textHeight(int scale) { return 8 * scale; }
+inline int textHeight(int scale) {
+  return 8 * scale;
+}
 
 // Draws `text` with its top-left corner at (x, y), opaque, clipped to the image.
 void drawText(Image& image, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,

@@ -10,16 +10,21 @@
 
 namespace dtf::surfaces {
 
-bool AxisTransform::isIdentity() const { return *this == AxisTransform{}; }
+bool AxisTransform::isIdentity() const {
+  return *this == AxisTransform{};
+}
 
 glm::dmat3 AxisTransform::matrix() const {
   glm::dmat3 r(0.0);
   for (int row = 0; row < 3; ++row)
-    for (int col = 0; col < 3; ++col) r[col][row] = m[static_cast<std::size_t>(row * 3 + col)];
+    for (int col = 0; col < 3; ++col)
+      r[col][row] = m[static_cast<std::size_t>(row * 3 + col)];
   return r;
 }
 
-glm::dvec3 AxisTransform::apply(const glm::dvec3& v) const { return matrix() * v; }
+glm::dvec3 AxisTransform::apply(const glm::dvec3& v) const {
+  return matrix() * v;
+}
 
 AxisTransform AxisTransform::inverse() const {
   AxisTransform t;
@@ -57,7 +62,8 @@ AxisTransform compose(const AxisTransform& a, const AxisTransform& b) {
 
 bool sameUpToSign(const AxisTransform& a, const AxisTransform& b) {
   AxisTransform neg = b;
-  for (int& v : neg.m) v = -v;
+  for (int& v : neg.m)
+    v = -v;
   return a == b || a == neg;
 }
 
@@ -82,7 +88,8 @@ std::vector<AxisTransform> orientationCandidates() {
   return out;
 }
 
-TensorField transformedField(const TensorField& field, const glm::dmat3& tableToWorld, const AxisTransform& m) {
+TensorField transformedField(const TensorField& field, const glm::dmat3& tableToWorld,
+                             const AxisTransform& m) {
   const glm::dmat3 g = tableToWorld * m.matrix() * glm::transpose(tableToWorld);
   TensorField out = field;
   for (std::size_t i = 0; i < out.tensors.size(); ++i)
@@ -92,9 +99,12 @@ TensorField transformedField(const TensorField& field, const glm::dmat3& tableTo
 
 const char* verdictName(Verdict v) {
   switch (v) {
-  case Verdict::Ok: return "ok";
-  case Verdict::Corrected: return "corrected";
-  case Verdict::Inconclusive: return "inconclusive";
+  case Verdict::Ok:
+    return "ok";
+  case Verdict::Corrected:
+    return "corrected";
+  case Verdict::Inconclusive:
+    return "inconclusive";
   }
   return "inconclusive";
 }
@@ -103,18 +113,18 @@ namespace {
 
 // The 13 neighbour offsets of a 26-neighbourhood, one of each +-pair.
 constexpr std::array<std::array<int, 3>, 13> kSteps{{{1, 0, 0},
-                                                      {0, 1, 0},
-                                                      {0, 0, 1},
-                                                      {1, 1, 0},
-                                                      {1, -1, 0},
-                                                      {1, 0, 1},
-                                                      {1, 0, -1},
-                                                      {0, 1, 1},
-                                                      {0, 1, -1},
-                                                      {1, 1, 1},
-                                                      {1, 1, -1},
-                                                      {1, -1, 1},
-                                                      {1, -1, -1}}};
+                                                     {0, 1, 0},
+                                                     {0, 0, 1},
+                                                     {1, 1, 0},
+                                                     {1, -1, 0},
+                                                     {1, 0, 1},
+                                                     {1, 0, -1},
+                                                     {0, 1, 1},
+                                                     {0, 1, -1},
+                                                     {1, 1, 1},
+                                                     {1, 1, -1},
+                                                     {1, -1, 1},
+                                                     {1, -1, -1}}};
 
 void checkMaskGrid(const TensorField& field, const MaskVolume* mask) {
   if (!mask) return;
@@ -170,8 +180,10 @@ OrientationReport checkOrientation(const TensorField& field, const glm::dmat3& t
   for (std::size_t w = 0; w < u.size(); ++w) {
     const std::size_t i = voxel[w];
     const int x = static_cast<int>(i % static_cast<std::size_t>(grid.dims.x));
-    const int y = static_cast<int>((i / static_cast<std::size_t>(grid.dims.x)) % static_cast<std::size_t>(grid.dims.y));
-    const int z = static_cast<int>(i / (static_cast<std::size_t>(grid.dims.x) * static_cast<std::size_t>(grid.dims.y)));
+    const int y =
+        static_cast<int>((i / static_cast<std::size_t>(grid.dims.x)) % static_cast<std::size_t>(grid.dims.y));
+    const int z =
+        static_cast<int>(i / (static_cast<std::size_t>(grid.dims.x) * static_cast<std::size_t>(grid.dims.y)));
     for (std::size_t d = 0; d < kSteps.size(); ++d) {
       const int a = x + kSteps[d][0], b = y + kSteps[d][1], c = z + kSteps[d][2];
       neighbour[w][d] = grid.contains(a, b, c) ? wmIndex[grid.index(a, b, c)] : -1;
@@ -186,7 +198,8 @@ OrientationReport checkOrientation(const TensorField& field, const glm::dmat3& t
       const glm::dvec3 v = mm * u[w];
       std::uint16_t bits = 0;
       for (std::size_t d = 0; d < step.size(); ++d)
-        if (std::abs(glm::dot(v, step[d])) > options.cosThreshold) bits |= static_cast<std::uint16_t>(1u << d);
+        if (std::abs(glm::dot(v, step[d])) > options.cosThreshold)
+          bits |= static_cast<std::uint16_t>(1u << d);
       aligned[w] = bits;
     }
     std::size_t pairs = 0;
@@ -206,7 +219,8 @@ OrientationReport checkOrientation(const TensorField& field, const glm::dmat3& t
 
   // Best and runner-up (ties keep the earlier candidate, so the given table wins a tie).
   std::vector<std::size_t> order(report.candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return report.candidates[a].score > report.candidates[b].score;
   });
@@ -229,12 +243,13 @@ OrientationReport checkOrientation(const TensorField& field, const glm::dmat3& t
                   100 * options.minMargin);
     report.verdict = Verdict::Inconclusive;
   } else if (report.best == 0) {
-    std::snprintf(buf, sizeof buf, "the given table scores best, %.1f%% above the next (%s)", 100 * report.margin,
-                  report.candidates[report.runnerUp].transform.name().c_str());
+    std::snprintf(buf, sizeof buf, "the given table scores best, %.1f%% above the next (%s)",
+                  100 * report.margin, report.candidates[report.runnerUp].transform.name().c_str());
     report.verdict = Verdict::Ok;
   } else {
     report.correction = report.candidates[report.best].transform;
-    std::snprintf(buf, sizeof buf, "the table %s scores %.1f%% above the next (%s); the given one %.1f%% below it",
+    std::snprintf(buf, sizeof buf,
+                  "the table %s scores %.1f%% above the next (%s); the given one %.1f%% below it",
                   report.correction.name().c_str(), 100 * report.margin,
                   report.candidates[report.runnerUp].transform.name().c_str(),
                   100 * (1.0 - report.scoreGiven / report.scoreBest));
@@ -282,7 +297,8 @@ EvidenceSlices chooseEvidenceSlices(const TensorField& field, const MaskVolume* 
         const glm::dvec3 e1 = eigenDecompose(t).vectors[0];
         const glm::ivec3 v(i, j, k);
         const glm::dvec3 w = grid.toWorld(glm::dvec3(v));
-        if (std::abs(e1.x) > 0.8 && std::abs(w.x - midX) < nearMidline) axialCount[static_cast<std::size_t>(v[ax])] += 1;
+        if (std::abs(e1.x) > 0.8 && std::abs(w.x - midX) < nearMidline)
+          axialCount[static_cast<std::size_t>(v[ax])] += 1;
       }
   s.axial = static_cast<int>(std::max_element(axialCount.begin(), axialCount.end()) - axialCount.begin());
   // Coronal: superior-inferior white matter below the callosal body and within 35 mm of the midline (the
@@ -300,9 +316,11 @@ EvidenceSlices chooseEvidenceSlices(const TensorField& field, const MaskVolume* 
         if (w.z >= callosumZ || std::abs(w.x - midX) > 35.0) continue;
         const SymTensor& t = field.tensors[idx];
         if (!(fractionalAnisotropy(t) >= faThreshold)) continue;
-        if (std::abs(eigenDecompose(t).vectors[0].z) > 0.8) coronalCount[static_cast<std::size_t>(v[co])] += 1;
+        if (std::abs(eigenDecompose(t).vectors[0].z) > 0.8)
+          coronalCount[static_cast<std::size_t>(v[co])] += 1;
       }
-  s.coronal = static_cast<int>(std::max_element(coronalCount.begin(), coronalCount.end()) - coronalCount.begin());
+  s.coronal =
+      static_cast<int>(std::max_element(coronalCount.begin(), coronalCount.end()) - coronalCount.begin());
   // Sagittal: the slice whose centre lies nearest the midline.
   double bestDist = 1e300;
   for (int idx = 0; idx < grid.dims[sa]; ++idx) {

@@ -52,19 +52,20 @@ std::vector<AxisTransform> orientationCandidates();
 // the turned table is X' = X T^-1 over the same signals: the least-squares solution is T beta, the
 // predicted signals and residuals are unchanged, hence so are WLS weights taken from the OLS prediction.
 // Invalid voxels stay invalid.
-TensorField transformedField(const TensorField& field, const glm::dmat3& tableToWorld, const AxisTransform& m);
+TensorField transformedField(const TensorField& field, const glm::dmat3& tableToWorld,
+                             const AxisTransform& m);
 
 struct CheckOptions {
-  double faThreshold = 0.3;      // white matter: valid, inside the mask, FA >= this
-  double cosThreshold = 0.866;   // |cos| between e1 and the step for both voxels (30 degrees)
+  double faThreshold = 0.3;          // white matter: valid, inside the mask, FA >= this
+  double cosThreshold = 0.866;       // |cos| between e1 and the step for both voxels (30 degrees)
   std::size_t minWhiteMatter = 3000; // fewer white-matter voxels: inconclusive
-  double minMargin = 0.07;       // best over the runner-up below 1 + this: inconclusive
+  double minMargin = 0.07;           // best over the runner-up below 1 + this: inconclusive
 };
 
 struct CandidateScore {
   AxisTransform transform;
-  double score = 0;        // coherent neighbour pairs per white-matter voxel
-  std::size_t pairs = 0;   // coherent neighbour pairs (each unordered pair once)
+  double score = 0;      // coherent neighbour pairs per white-matter voxel
+  std::size_t pairs = 0; // coherent neighbour pairs (each unordered pair once)
 };
 
 enum class Verdict { Ok, Corrected, Inconclusive };
@@ -72,16 +73,16 @@ const char* verdictName(Verdict v); // "ok", "corrected", "inconclusive"
 
 struct OrientationReport {
   Verdict verdict = Verdict::Inconclusive;
-  AxisTransform correction;             // corrected table = correction * given; identity unless corrected
+  AxisTransform correction;               // corrected table = correction * given; identity unless corrected
   std::vector<CandidateScore> candidates; // orientationCandidates() order (identity = the given table first)
-  std::size_t best = 0;                 // index of the highest score
-  std::size_t runnerUp = 0;             // index of the second highest
+  std::size_t best = 0;                   // index of the highest score
+  std::size_t runnerUp = 0;               // index of the second highest
   double scoreGiven = 0, scoreBest = 0;
-  double margin = 0;                    // scoreBest / score(runnerUp) - 1
-  std::size_t maskVoxels = 0;           // voxels considered (valid and inside the mask)
+  double margin = 0;          // scoreBest / score(runnerUp) - 1
+  std::size_t maskVoxels = 0; // voxels considered (valid and inside the mask)
   std::size_t whiteMatterVoxels = 0;
-  std::string reason;                   // one line: why this verdict
-  CheckOptions options;                 // the thresholds used
+  std::string reason;   // one line: why this verdict
+  CheckOptions options; // the thresholds used
 };
 
 // Scores every candidate on `field` (world RAS, fitted with the given table) and decides. `mask` (same

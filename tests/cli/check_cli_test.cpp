@@ -1,14 +1,12 @@
 // `dtfabric check` end to end on the real data: the JSON keys, corrupted tables corrected back through
 // --fix-bvec, tensor files in the wrong layout, the DIPY crops, and bad input (exit 2 naming the file).
+#include "io/dwi.h"
+#include "io/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include "io/dwi.h"
-#include "io/tensor_io.h"
-
-#include <gtest/gtest.h>
-
 #include <fstream>
+#include <gtest/gtest.h>
 #include <regex>
 
 namespace {
@@ -16,13 +14,16 @@ namespace {
 namespace fs = std::filesystem;
 using dtf::test::runDtfabric;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // Writes an FSL 3-row table, row r of column n = f(r, n).
 template <typename F> void writeTable(const fs::path& path, std::size_t n, F f) {
   std::ofstream os(path);
   for (int r = 0; r < 3; ++r) {
-    for (std::size_t i = 0; i < n; ++i) os << (i ? " " : "") << f(r, i);
+    for (std::size_t i = 0; i < n; ++i)
+      os << (i ? " " : "") << f(r, i);
     os << "\n";
   }
 }
@@ -73,7 +74,8 @@ TEST_F(CheckCli, TrueTableIsOkWithEveryJsonKey) {
   EXPECT_GT(dtf::test::jsonNumber(r.out, "margin"), 0.1);
   // 24 candidates, each with a matrix and a score.
   std::regex cand("\\{\"name\": \"[^\"]+\", \"matrix\": \\[\\[[-0-9, \\[\\]]+\\]\\], \"score\": [0-9.]+");
-  EXPECT_EQ(std::distance(std::sregex_iterator(r.out.begin(), r.out.end(), cand), std::sregex_iterator()), 24);
+  EXPECT_EQ(std::distance(std::sregex_iterator(r.out.begin(), r.out.end(), cand), std::sregex_iterator()),
+            24);
   // The text form prints the thresholds.
   const auto t = runDtfabric("check " + dwiArgs(dir_ / "dwi.bvec"), scratch_);
   EXPECT_NE(t.out.find("thresholds: inconclusive below 3000 white-matter voxels or a margin below 7.0%"),
@@ -174,7 +176,8 @@ TEST_F(CheckCli, BadInputExitsTwoNamingTheFileAndTheReason) {
   // bvec with one direction fewer than the bval.
   const fs::path shortVec = scratch_ / "short.bvec";
   writeTable(shortVec, bvecs_.size() - 1, [&](int r, std::size_t n) { return bvecs_[n][r]; });
-  auto r = runDtfabric("check " + dwi + " --bval " + q(dir_ / "dwi.bval") + " --bvec " + q(shortVec), scratch_);
+  auto r =
+      runDtfabric("check " + dwi + " --bval " + q(dir_ / "dwi.bval") + " --bvec " + q(shortVec), scratch_);
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("short.bvec"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("directions"), std::string::npos) << r.err;
@@ -189,7 +192,8 @@ TEST_F(CheckCli, BadInputExitsTwoNamingTheFileAndTheReason) {
   const fs::path zeros = scratch_ / "zeros.bval";
   {
     std::ofstream os(zeros);
-    for (std::size_t n = 0; n < bvecs_.size(); ++n) os << (n ? " " : "") << 0;
+    for (std::size_t n = 0; n < bvecs_.size(); ++n)
+      os << (n ? " " : "") << 0;
     os << "\n";
   }
   r = runDtfabric("check " + dwi + " --bval " + q(zeros) + " --bvec " + q(dir_ / "dwi.bvec"), scratch_);

@@ -1,12 +1,12 @@
-// The orientation check's contact sheet (192-pixel panels, two rows) on the real DWI with its x axis negated in the table: the given row
-// (threads cutting across the callosum and the corticospinal tracts) above the corrected one (threads
-// running with them). The corrected row must reproduce the true table's row pixel for pixel (the same
-// tensors up to float rounding), and the sheet is compared with its baseline (looked at when made).
-#include "support/baseline.h"
-#include "support/gl_test.h"
-
+// The orientation check's contact sheet (192-pixel panels, two rows) on the real DWI with its x axis negated
+// in the table: the given row (threads cutting across the callosum and the corticospinal tracts) above the
+// corrected one (threads running with them). The corrected row must reproduce the true table's row pixel for
+// pixel (the same tensors up to float rounding), and the sheet is compared with its baseline (looked at when
+// made).
 #include "app/check_run.h"
 #include "io/dwi.h"
+#include "support/baseline.h"
+#include "support/gl_test.h"
 
 #include <cstdio>
 #include <fstream>
@@ -28,7 +28,8 @@ double rowDifference(const Image& a, int ra, const Image& b, int rb) {
     for (int x = 0; x < a.width; ++x) {
       const std::uint8_t* p = a.pixel(x, l.panelTop(ra) + y);
       const std::uint8_t* q = b.pixel(x, l.panelTop(rb) + y);
-      for (int c = 0; c < 3; ++c) sum += std::abs(int(p[c]) - int(q[c]));
+      for (int c = 0; c < 3; ++c)
+        sum += std::abs(int(p[c]) - int(q[c]));
       n += 3;
     }
   return sum / double(n);
@@ -43,7 +44,8 @@ TEST_F(CheckSheet, FlippedTableAgainstItsCorrection) {
   {
     std::ofstream os(scratch / "flipx.bvec");
     for (int row = 0; row < 3; ++row) {
-      for (std::size_t n = 0; n < bvecs.size(); ++n) os << (n ? " " : "") << (row == 0 ? -bvecs[n][row] : bvecs[n][row]);
+      for (std::size_t n = 0; n < bvecs.size(); ++n)
+        os << (n ? " " : "") << (row == 0 ? -bvecs[n][row] : bvecs[n][row]);
       os << "\n";
     }
   }
@@ -69,8 +71,8 @@ TEST_F(CheckSheet, FlippedTableAgainstItsCorrection) {
   ASSERT_EQ(sheet.height, app::sheetLayout(kPanel).panelTop(2) - app::sheetLayout(kPanel).label);
   const double corrected = rowDifference(sheet, 1, trueSheet, 0);
   const double given = rowDifference(sheet, 0, trueSheet, 0);
-  std::printf("mean |RGB| difference from the true table's panels: corrected row %.3f, given row %.3f\n", corrected,
-              given);
+  std::printf("mean |RGB| difference from the true table's panels: corrected row %.3f, given row %.3f\n",
+              corrected, given);
   EXPECT_LT(corrected, 0.5);
   EXPECT_GT(given, 10 * corrected + 2.0);
   test::compareToBaseline("check_sheet_flipx", sheet);

@@ -4,15 +4,14 @@
 #include "io/dwi.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
-#include "surfaces/orientation_check.h"
 #include "support/test_env.h"
+#include "surfaces/orientation_check.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
-
-#include <cmath>
-#include <algorithm>
-#include <cstdio>
 #include <set>
 
 namespace {
@@ -36,7 +35,8 @@ const AxisTransform kCycle = fromRows({0, 1, 0, 0, 0, 1, 1, 0, 0}); // (x, y, z)
 
 std::vector<glm::dvec3> applyToTable(const std::vector<glm::dvec3>& bvecs, const AxisTransform& m) {
   std::vector<glm::dvec3> out;
-  for (const auto& g : bvecs) out.push_back(m.apply(g));
+  for (const auto& g : bvecs)
+    out.push_back(m.apply(g));
   return out;
 }
 
@@ -54,12 +54,14 @@ RealDwi loadReal(const std::filesystem::path& dir) {
   d.bvecs = io::readBvecs((dir / "dwi.bvec").string());
   ScalarVolume m = io::readScalarVolume((dir / "derived" / "mask.nii.gz").string());
   d.mask = MaskVolume(m.grid, 1, 0);
-  for (std::size_t i = 0; i < m.data.size(); ++i) d.mask.data[i] = m.data[i] != 0;
+  for (std::size_t i = 0; i < m.data.size(); ++i)
+    d.mask.data[i] = m.data[i] != 0;
   return d;
 }
 
-TensorField fit(const ScalarVolume& signal, const std::vector<double>& bvals, const std::vector<glm::dvec3>& bvecs,
-                const MaskVolume* mask, io::FitMethod method = io::FitMethod::Wls) {
+TensorField fit(const ScalarVolume& signal, const std::vector<double>& bvals,
+                const std::vector<glm::dvec3>& bvecs, const MaskVolume* mask,
+                io::FitMethod method = io::FitMethod::Wls) {
   io::Dwi dwi = io::makeDwi(signal, bvals, bvecs);
   io::FitOptions o;
   o.method = method;
@@ -74,8 +76,8 @@ surfaces::OrientationReport check(const TensorField& field, const MaskVolume* ma
 void printReport(const char* what, const surfaces::OrientationReport& r) {
   std::printf("%-22s %-12s given %.4f best %.4f (%s) runner-up %s margin %.1f%% wm %zu\n", what,
               surfaces::verdictName(r.verdict), r.scoreGiven, r.scoreBest,
-              r.candidates[r.best].transform.name().c_str(), r.candidates[r.runnerUp].transform.name().c_str(),
-              100 * r.margin, r.whiteMatterVoxels);
+              r.candidates[r.best].transform.name().c_str(),
+              r.candidates[r.runnerUp].transform.name().c_str(), 100 * r.margin, r.whiteMatterVoxels);
 }
 
 // The re-strided copy: voxel axis i reversed (LAS -> RAS), the affine adjusted so every voxel keeps its
@@ -90,16 +92,19 @@ ScalarVolume flipI(const ScalarVolume& v) {
   for (int k = 0; k < g.dims.z; ++k)
     for (int j = 0; j < g.dims.y; ++j)
       for (int i = 0; i < g.dims.x; ++i)
-        for (int c = 0; c < v.components; ++c) out.at(g.dims.x - 1 - i, j, k, c) = v.at(i, j, k, c);
+        for (int c = 0; c < v.components; ++c)
+          out.at(g.dims.x - 1 - i, j, k, c) = v.at(i, j, k, c);
   return out;
 }
 
 MaskVolume flipI(const MaskVolume& v) {
   ScalarVolume s(v.grid, 1);
-  for (std::size_t i = 0; i < v.data.size(); ++i) s.data[i] = v.data[i];
+  for (std::size_t i = 0; i < v.data.size(); ++i)
+    s.data[i] = v.data[i];
   ScalarVolume f = flipI(s);
   MaskVolume out(f.grid, 1, 0);
-  for (std::size_t i = 0; i < f.data.size(); ++i) out.data[i] = f.data[i] != 0;
+  for (std::size_t i = 0; i < f.data.size(); ++i)
+    out.data[i] = f.data[i] != 0;
   return out;
 }
 
@@ -108,7 +113,9 @@ glm::dvec3 fslFromVoxel(const Grid& grid, glm::dvec3 g) {
   if (glm::determinant(glm::dmat3(grid.voxelToWorld)) > 0) g.x = -g.x;
   return g;
 }
-glm::dvec3 voxelFromFsl(const Grid& grid, const glm::dvec3& g) { return fslFromVoxel(grid, g); }
+glm::dvec3 voxelFromFsl(const Grid& grid, const glm::dvec3& g) {
+  return fslFromVoxel(grid, g);
+}
 
 TEST(OrientationCandidates, AreTheTwentyFourSignedPermutationsUpToSign) {
   const auto c = surfaces::orientationCandidates();
@@ -121,9 +128,11 @@ TEST(OrientationCandidates, AreTheTwentyFourSignedPermutationsUpToSign) {
     for (int s = 0; s < 8; ++s) {
       AxisTransform t;
       t.m.fill(0);
-      for (int r = 0; r < 3; ++r) t.m[static_cast<std::size_t>(r * 3 + perm[r])] = (s >> r) & 1 ? -1 : 1;
+      for (int r = 0; r < 3; ++r)
+        t.m[static_cast<std::size_t>(r * 3 + perm[r])] = (s >> r) & 1 ? -1 : 1;
       int matches = 0;
-      for (const auto& k : c) matches += surfaces::sameUpToSign(t, k) ? 1 : 0;
+      for (const auto& k : c)
+        matches += surfaces::sameUpToSign(t, k) ? 1 : 0;
       EXPECT_EQ(matches, 1) << t.name();
       ++all;
     }
@@ -271,7 +280,8 @@ TEST_F(RealDwiCheck, SmallCropsAreNeverCorrected) {
   const Grid& g = data_.signal.grid;
   int inconclusive = 0;
   for (const glm::ivec3 corner : {glm::ivec3(28, 37, 17), glm::ivec3(25, 29, 10), glm::ivec3(40, 40, 20)}) {
-    Grid cg = Grid::fromAffine(glm::ivec3(10), g.voxelToWorld * glm::translate(glm::dmat4(1.0), glm::dvec3(corner)));
+    Grid cg = Grid::fromAffine(glm::ivec3(10),
+                               g.voxelToWorld * glm::translate(glm::dmat4(1.0), glm::dvec3(corner)));
     ScalarVolume crop(cg, data_.signal.components);
     for (int k = 0; k < 10; ++k)
       for (int j = 0; j < 10; ++j)
@@ -320,8 +330,8 @@ TEST(OrientationCheckDipyCrops, AreOkOrInconclusiveNeverCorrected) {
   DTF_SHARED_FILE(dir, "dipy_small/small_64D.nii");
   for (const char* name : {"small_64D", "small_101D"}) {
     const auto base = dir.parent_path() / name;
-    const std::string nii = std::filesystem::exists(base.string() + ".nii") ? base.string() + ".nii"
-                                                                            : base.string() + ".nii.gz";
+    const std::string nii =
+        std::filesystem::exists(base.string() + ".nii") ? base.string() + ".nii" : base.string() + ".nii.gz";
     const io::Dwi dwi = io::readDwi(nii, base.string() + ".bval", base.string() + ".bvec");
     io::FitOptions o;
     const TensorField field = io::fitTensors(dwi, nullptr, o);
@@ -357,7 +367,8 @@ TEST_F(RealDwiCheck, ThresholdsHoldOnSubBlocksOfTheRealBrain) {
       for (int j0 = 0; j0 + size <= g.dims.y; j0 += size / 2)
         for (int i0 = 0; i0 + size <= g.dims.x; i0 += size / 2) {
           const glm::ivec3 dims(size, size, std::min(size, g.dims.z));
-          Grid cg = Grid::fromAffine(dims, g.voxelToWorld * glm::translate(glm::dmat4(1.0), glm::dvec3(i0, j0, k0)));
+          Grid cg = Grid::fromAffine(dims, g.voxelToWorld *
+                                               glm::translate(glm::dmat4(1.0), glm::dvec3(i0, j0, k0)));
           TensorField crop = makeTensorField(cg);
           for (int k = 0; k < dims.z; ++k)
             for (int j = 0; j < dims.y; ++j)
@@ -373,13 +384,16 @@ TEST_F(RealDwiCheck, ThresholdsHoldOnSubBlocksOfTheRealBrain) {
           if (r.whiteMatterVoxels < 50) continue;
           ++blocks;
           const bool wrong = r.best != 0;
-          const bool passes = r.whiteMatterVoxels >= defaults.minWhiteMatter && r.margin >= defaults.minMargin;
+          const bool passes =
+              r.whiteMatterVoxels >= defaults.minWhiteMatter && r.margin >= defaults.minMargin;
           if (wrong) {
             largestWrongMargin = std::max(largestWrongMargin, r.margin);
             largestWrongWm = std::max(largestWrongWm, r.whiteMatterVoxels);
             if (r.whiteMatterVoxels >= 1000) largeWrongMargin = std::max(largeWrongMargin, r.margin);
-            if (r.whiteMatterVoxels < defaults.minWhiteMatter) ++wrongBelowCount;
-            else if (r.margin < defaults.minMargin) ++wrongBelowMargin;
+            if (r.whiteMatterVoxels < defaults.minWhiteMatter)
+              ++wrongBelowCount;
+            else if (r.margin < defaults.minMargin)
+              ++wrongBelowMargin;
           }
           if (passes) {
             ++decided;
@@ -389,13 +403,14 @@ TEST_F(RealDwiCheck, ThresholdsHoldOnSubBlocksOfTheRealBrain) {
           }
         }
   }
-  std::printf("sub-blocks: %zu with >= 50 white-matter voxels; wrong best table in %zu below %zu voxels and %zu "
-              "above it below a %.0f%% margin (largest wrong: margin %.1f%%, %zu voxels); %zu pass both thresholds "
-              "(smallest %zu voxels, smallest margin %.1f%%), %zu of them wrong; largest margin of a wrong block "
-              "with >= 1000 voxels %.1f%%\n",
-              blocks, wrongBelowCount, defaults.minWhiteMatter, wrongBelowMargin, 100 * defaults.minMargin,
-              100 * largestWrongMargin, largestWrongWm, decided, smallestDecided, 100 * smallestDecidedMargin,
-              wrongDecided, 100 * largeWrongMargin);
+  std::printf(
+      "sub-blocks: %zu with >= 50 white-matter voxels; wrong best table in %zu below %zu voxels and %zu "
+      "above it below a %.0f%% margin (largest wrong: margin %.1f%%, %zu voxels); %zu pass both thresholds "
+      "(smallest %zu voxels, smallest margin %.1f%%), %zu of them wrong; largest margin of a wrong block "
+      "with >= 1000 voxels %.1f%%\n",
+      blocks, wrongBelowCount, defaults.minWhiteMatter, wrongBelowMargin, 100 * defaults.minMargin,
+      100 * largestWrongMargin, largestWrongWm, decided, smallestDecided, 100 * smallestDecidedMargin,
+      wrongDecided, 100 * largeWrongMargin);
   EXPECT_GT(decided, 20u);
   EXPECT_EQ(wrongDecided, 0u);
   // Each threshold alone excludes every wrong block of 1000 or more white-matter voxels: the count (no wrong
