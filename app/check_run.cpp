@@ -187,7 +187,8 @@ SheetLayout sheetLayout(int panelPx) {
   return l;
 }
 
-Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& rows, int panelPx) {
+Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& rows, int panelPx,
+                         bool headlessContext) {
   using surfaces::SliceAxis;
   const surfaces::OrientationReport& rep = run.report;
   const TensorField bestField =
@@ -226,7 +227,7 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
                      text, scale, 200, 200, 200);
   }
 
-  render::GlContext::headless();
+  if (headlessContext) render::GlContext::headless();
   render::FabricRenderer renderer;
   renderer.resize(panelPx, panelPx);
   render::FabricParams params;

@@ -61,7 +61,9 @@ SheetLayout sheetLayout(int panelPx);
 // The contact sheet: one row per entry of `rows` (candidate indices), each the fabric on the axial slice
 // through the callosal body, the coronal slice through the corticospinal tracts and the midline sagittal
 // slice (chosen from the best candidate), panelPx square each, under a label with the transform and its
-// score. Needs a current GL context (creates the headless one when none). Throws GlError.
-Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& rows, int panelPx = 256);
+// score. Renders with the headless context (`headlessContext`) or the one current on the calling thread (the
+// viewer's). Throws GlError.
+Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& rows, int panelPx = 256,
+                         bool headlessContext = true);
 
 } // namespace dtf::app
