@@ -28,46 +28,42 @@ bool button(const char* label, std::map<std::string, std::array<float, 2>>* cent
 
 OrientationAction orientationBanner(const OrientationBannerState& s, const float rect[4],
                                     std::map<std::string, std::array<float, 2>>* centres) {
-  if (!s.visible) return OrientationAction::None;
+  // Nothing while the check runs or when the table checks out: the banner is a warning.
+  if (!s.visible || s.running || s.verdict == "ok") return OrientationAction::None;
   OrientationAction action = OrientationAction::None;
   float rgb[3];
-  orientationBannerColour(s.running ? "inconclusive" : s.verdict, rgb);
+  orientationBannerColour(s.verdict, rgb);
   ImGui::SetNextWindowPos(ImVec2(rect[0], rect[1]), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(rect[2], 0), ImGuiCond_Always);
   ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(rgb[0], rgb[1], rgb[2], 0.92f));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(6, 3));
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
                                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing;
   if (ImGui::Begin("##orientation", nullptr, flags)) {
-    if (s.running) {
-      ImGui::TextUnformatted("Orientation check: running...");
-    } else {
-      if (s.verdict == "corrected" && !s.applied)
-        ImGui::Text("Orientation check: the gradient table looks wrong; [%s] fits the anatomy better.",
-                    s.correction.c_str());
-      else if (s.verdict == "corrected")
-        ImGui::Text("Orientation check: correction [%s] applied in memory (save it with dtfabric check "
-                    "--fix-bvec).",
-                    s.correction.c_str());
-      else if (s.verdict == "ok")
-        ImGui::TextUnformatted("Orientation check: ok.");
-      else
-        ImGui::TextUnformatted("Orientation check: inconclusive.");
-      ImGui::TextWrapped("%s", s.reason.c_str());
-      if (button(s.sheetShown ? "Hide evidence" : "Show evidence", centres))
-        action = s.sheetShown ? OrientationAction::HideSheet : OrientationAction::ShowSheet;
-      if (s.verdict == "corrected" && !s.applied) {
-        ImGui::SameLine();
-        if (button("Apply correction", centres)) action = OrientationAction::ApplyCorrection;
-      }
+    if (s.verdict == "corrected" && !s.applied)
+      ImGui::Text("Orientation check: the gradient table looks wrong; [%s] fits the anatomy better.",
+                  s.correction.c_str());
+    else if (s.verdict == "corrected")
+      ImGui::Text("Orientation check: [%s] applied in memory (save it: dtfabric check --fix-bvec).",
+                  s.correction.c_str());
+    else
+      ImGui::Text("Orientation check: %s.", s.verdict.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", s.reason.c_str());
+    if (button(s.sheetShown ? "Hide evidence" : "Show evidence", centres))
+      action = s.sheetShown ? OrientationAction::HideSheet : OrientationAction::ShowSheet;
+    if (s.verdict == "corrected" && !s.applied) {
       ImGui::SameLine();
-      if (button("Dismiss", centres)) action = OrientationAction::Dismiss;
+      if (button("Apply correction", centres)) action = OrientationAction::ApplyCorrection;
     }
+    ImGui::SameLine();
+    if (button("Dismiss", centres)) action = OrientationAction::Dismiss;
   }
   ImGui::End();
+  ImGui::PopStyleVar();
   ImGui::PopStyleColor();
 
-  if (s.sheetShown && !s.running) {
+  if (s.sheetShown) {
     ImGui::SetNextWindowPos(ImVec2(rect[0] + 20, rect[1] + 80), ImGuiCond_Appearing);
     bool open = true;
     if (ImGui::Begin("Orientation evidence", &open, ImGuiWindowFlags_AlwaysAutoResize)) {

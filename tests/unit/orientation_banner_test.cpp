@@ -72,15 +72,21 @@ TEST_F(OrientationBannerUi, CorrectedOffersTheCorrectionAndTheEvidence) {
   EXPECT_EQ(click("Hide evidence"), OrientationAction::HideSheet);
 }
 
-TEST_F(OrientationBannerUi, OkAndInconclusiveOfferNoCorrection) {
+TEST_F(OrientationBannerUi, OkShowsNothingAndInconclusiveOffersNoCorrection) {
   state.visible = true;
-  for (const char* v : {"ok", "inconclusive"}) {
-    state.verdict = v;
-    centres.clear();
-    frame(-1, -1, false);
-    EXPECT_FALSE(centres.count("Apply correction")) << v;
-    EXPECT_TRUE(centres.count("Show evidence")) << v;
-  }
+  state.verdict = "ok";
+  frame(-1, -1, false);
+  EXPECT_TRUE(centres.empty());
+  state.running = true;
+  state.verdict = "";
+  frame(-1, -1, false);
+  EXPECT_TRUE(centres.empty());
+  state.running = false;
+  state.verdict = "inconclusive";
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("Apply correction"));
+  EXPECT_TRUE(centres.count("Show evidence"));
+  EXPECT_TRUE(centres.count("Dismiss"));
   float ok[3], bad[3];
   orientationBannerColour("ok", ok);
   orientationBannerColour("corrected", bad);
