@@ -19,6 +19,7 @@ int benchSurfaces(const CommandArgs& args);
 int benchView(const CommandArgs& args);
 int benchTracts(const CommandArgs& args);
 int benchOverlay(const CommandArgs& args);
+int benchCheck(const CommandArgs& args);
 
 // The shared real-data folder: `given`, else $DTF_SHARED_DATA, else a shared/data folder beside an ancestor
 // of the executable (the checkout's ../shared/data). nullopt when none exists.

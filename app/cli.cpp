@@ -18,6 +18,7 @@ const std::vector<Command>& commands() {
       {"render", "render the fabric on a surface to PNG, headless", cmdRender},
       {"track", "deterministic tensor tractography to .tck/.trk/.vtk", cmdTrack},
       {"compare", "angle between tracts and the fabric direction on a surface", cmdCompare},
+      {"check", "orientation check: a flipped or permuted gradient table or tensor frame, and its fix", cmdCheck},
       {"view", "open the viewer (GLFW window with ImGui panels)", cmdView},
       {"bench", "benchmarks: io, render", cmdBench},
   };

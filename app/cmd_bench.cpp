@@ -33,7 +33,8 @@ int cmdBench(const CommandArgs& args) {
                 "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
                 "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
                 "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n"
-                "  overlay   the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection\n");
+                "  overlay   the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection\n"
+                "  check     the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
@@ -43,6 +44,7 @@ int cmdBench(const CommandArgs& args) {
   if (args[0] == "view") return benchView(rest);
   if (args[0] == "tracts") return benchTracts(rest);
   if (args[0] == "overlay") return benchOverlay(rest);
+  if (args[0] == "check") return benchCheck(rest);
   throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces, view)");
 }
 

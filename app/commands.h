@@ -25,6 +25,7 @@ int cmdBench(const CommandArgs& args);
 int cmdView(const CommandArgs& args);
 int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
+int cmdCheck(const CommandArgs& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();

@@ -6,6 +6,7 @@
 #include "app/surface_spec.h"
 #include "app/view_script.h"
 #include "app/viewer.h"
+#include "app/viewer_orientation.h"
 #include "io/model/error.h"
 #include "io/png_io.h"
 #include "render/gl_context.h"
@@ -173,6 +174,7 @@ public:
   }
 
   ~ViewerWindow() {
+    orientationCheck_.release();
     scene_.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
@@ -228,6 +230,7 @@ private:
     ImGui::NewFrame();
     actions_.clear();
     ui::drawPanels(scene_->state(), buffers_, layout_, actions_);
+    orientationCheck_.frame(*scene_, rect);
     drawOrientationLabels();
     ImGui::Render();
     for (const auto& a : actions_)
@@ -447,6 +450,7 @@ private:
   GLFWwindow* window_ = nullptr;
   InputQueue input_;
   std::unique_ptr<ViewerScene> scene_;
+  ViewerOrientation orientationCheck_; // the check's banner over the scene
   ui::PanelBuffers buffers_;
   ui::PanelLayout layout_;
   ui::ActionList actions_;

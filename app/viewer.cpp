@@ -244,6 +244,23 @@ void ViewerScene::applySpec(const SurfaceSpec& spec) {
   }
 }
 
+void ViewerScene::replaceField(TensorField field) {
+  if (!data_ || field.grid.dims != data_->loaded.field.grid.dims) return;
+  auto d = std::make_shared<ViewerDataset>();
+  d->path = data_->path;
+  d->loaded = data_->loaded;
+  d->loaded.field = std::move(field);
+  d->fa = data_->fa;
+  d->sweeper = data_->sweeper;
+  d->buildOptions = data_->buildOptions;
+  d->lo = data_->lo;
+  d->hi = data_->hi;
+  data_ = std::move(d);
+  ++fieldSerial_;
+  dataChanged();
+  requestSurface();
+}
+
 void ViewerScene::requestSurface() {
   if (!data_) return;
   if ((state_.surface == ui::SurfaceKind::Fibre && otherSpec_.kind != SurfaceSpec::Kind::Fibre) ||

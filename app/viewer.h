@@ -98,6 +98,11 @@ public:
   void addInput(const std::string& path);
   // A GL failure (GlError: context, shaders, GPU memory, texture limits) was reported since construction.
   bool glFailed() const { return glFailed_; }
+  // The data on screen (null before the first load).
+  std::shared_ptr<const ViewerDataset> dataset() const { return data_; }
+  // Replaces the tensors on screen by `field` (same grid; the orientation check's correction, in memory):
+  // FA and its isosurface sweeper are kept, the fabric restarts and the surface is extracted again.
+  void replaceField(TensorField field);
 
 private:
   void loadFile(const ui::LoadFile& a);

@@ -27,7 +27,8 @@ struct ViewerDataset {
   std::string path;
   io::LoadedTensors loaded;
   ScalarVolume fa;
-  std::unique_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options
+  std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared by
+                                                        // a copy whose tensors were turned: the same FA)
   SurfaceBuildOptions buildOptions;
   glm::dvec3 lo{0.0}, hi{0.0}; // world bounds of the grid (voxel corners), mm
 };
