@@ -96,4 +96,26 @@ bool Mesh::isClosedOutward() const {
   return volume > 0;
 }
 
+std::string Polylines::inconsistency() const {
+  if (offsets.empty()) {
+    if (!points.empty()) return "points without offsets";
+  } else {
+    if (offsets.front() != 0) return "the first offset is not 0";
+    if (offsets.back() != points.size()) return "the last offset is not the point count";
+    for (std::size_t i = 1; i < offsets.size(); ++i)
+      if (offsets[i] < offsets[i - 1]) return "offsets decrease at line " + std::to_string(i - 1);
+  }
+  for (const auto& d : perLine)
+    if (d.components < 1 || d.values.size() != lineCount() * static_cast<std::size_t>(d.components))
+      return "per-streamline data '" + d.name + "' does not hold one entry per streamline";
+  for (const auto& d : perPoint)
+    if (d.components < 1 || d.values.size() != points.size() * static_cast<std::size_t>(d.components))
+      return "per-point data '" + d.name + "' does not hold one entry per point";
+  for (const auto& g : groups)
+    for (std::uint32_t l : g.lines)
+      if (l >= lineCount()) return "group '" + g.name + "' names streamline " + std::to_string(l) + " of " +
+                                   std::to_string(lineCount());
+  return {};
+}
+
 } // namespace dtf
