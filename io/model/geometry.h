@@ -50,6 +50,12 @@ struct Polylines {
   std::size_t lineCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   // Empty when the data, groups and offsets agree with the points; otherwise what is wrong.
   std::string inconsistency() const;
+  // The streamlines listed in `lines` (in that order) with their per-streamline and per-point data; groups
+  // are not carried (their indices refer to the full set).
+  Polylines subset(const std::vector<std::uint32_t>& lines) const;
+  // One value per point of the data named `name` (per-point, or per-streamline repeated along each line;
+  // several components give their Euclidean norm). Empty when there is no such data.
+  std::vector<float> valuesPerPoint(const std::string& name) const;
 };
 
 } // namespace dtf
