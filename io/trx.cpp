@@ -28,11 +28,11 @@ struct JsonValue {
   enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
   double number = 0;
   std::string text;
-  std::vector<JsonValue> items;
-  std::vector<std::pair<std::string, JsonValue>> members;
+  std::vector<JsonValue> items;   // array elements, or object member values
+  std::vector<std::string> keys;  // object member names, beside their values in `items`
   const JsonValue* find(const std::string& k) const {
-    for (const auto& [key, v] : members)
-      if (key == k) return &v;
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (keys[i] == k) return &items[i];
     return nullptr;
   }
 };
@@ -95,7 +95,8 @@ private:
       do {
         std::string k = str();
         if (!eat(':')) fail("expected ':'");
-        v.members.emplace_back(std::move(k), parse(depth + 1));
+        v.keys.push_back(std::move(k));
+        v.items.push_back(parse(depth + 1));
       } while (eat(','));
       if (!eat('}')) fail("expected '}'");
     } else if (c == '[') {
