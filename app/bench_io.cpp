@@ -159,9 +159,9 @@ int benchIo(const CommandArgs& argv) {
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
                 "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
-                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy; tractogram\n"
-                "  loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when python3-nibabel is\n"
-                "  present) and a TRX of 1 M streamlines made here.\n"
+                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
+                "  tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
+                "  python3-nibabel is present) and a TRX of 1 M streamlines made here.\n"
                 "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
                 "  executable; the fit figures are skipped when it is not found. Medians of a few runs.\n");
     return 0;

@@ -37,7 +37,9 @@ std::pair<double, double> timeRuns(int runs, const std::function<void()>& f) {
 std::pair<double, double> nibabelLoadSeconds(const fs::path& file, int runs) {
   const std::string script = "import sys, time, statistics, nibabel\n"
                              "t, c = [], []\n"
-                             "for _ in range(" + std::to_string(runs) + "):\n"
+                             "for _ in range(" +
+                             std::to_string(runs) +
+                             "):\n"
                              "    t0, c0 = time.perf_counter(), time.process_time()\n"
                              "    s = nibabel.streamlines.load(sys.argv[1]).streamlines\n"
                              "    t.append(time.perf_counter() - t0)\n"
@@ -61,22 +63,26 @@ std::pair<double, double> nibabelLoadSeconds(const fs::path& file, int runs) {
 }
 } // namespace
 
-std::vector<TractLoadFigure> benchTractLoads(const std::optional<fs::path>& dataDir, std::vector<std::string>& notes) {
+std::vector<TractLoadFigure> benchTractLoads(const std::optional<fs::path>& dataDir,
+                                             std::vector<std::string>& notes) {
   std::vector<TractLoadFigure> out;
   const fs::path stroke = dataDir ? *dataDir / "niivue_tracts" / "stroke.trk.gz" : fs::path();
-  TractLoadFigure trk{"trk_gz_load_s", "load stroke.trk.gz (36,763 lines)", "faster than nibabel", -1, -1, -1};
+  TractLoadFigure trk{
+      "trk_gz_load_s", "load stroke.trk.gz (36,763 lines)", "faster than nibabel", -1, -1, -1};
   TractLoadFigure nib{"trk_gz_load_nibabel_s", "  nibabel 5 load, same file", "(reference)", -1, -1, -1};
   if (dataDir && fs::exists(stroke)) {
     std::size_t lines = 0;
     readTracts(stroke.string()); // warm the page cache
     std::tie(trk.wall, trk.cpu) = timeRuns(5, [&] { lines = readTracts(stroke.string()).lineCount(); });
-    if (lines != 36763) notes.push_back("stroke.trk.gz held " + std::to_string(lines) + " streamlines, not 36763");
+    if (lines != 36763)
+      notes.push_back("stroke.trk.gz held " + std::to_string(lines) + " streamlines, not 36763");
     std::tie(nib.wall, nib.cpu) = nibabelLoadSeconds(stroke, 5);
     nib.goal = nib.wall; // a reference row, not a goal of its own
     if (nib.wall > 0) {
       trk.goal = nib.wall;
       char ratio[96];
-      std::snprintf(ratio, sizeof ratio, "stroke.trk.gz: dtfabric %.1fx faster than nibabel", nib.wall / trk.wall);
+      std::snprintf(ratio, sizeof ratio, "stroke.trk.gz: dtfabric %.1fx faster than nibabel",
+                    nib.wall / trk.wall);
       notes.push_back(ratio);
     } else {
       notes.push_back("nibabel comparison skipped: no python3 with nibabel");
@@ -101,7 +107,8 @@ std::vector<TractLoadFigure> benchTractLoads(const std::optional<fs::path>& data
     for (std::size_t l = 0; l < n; ++l) {
       const float a = static_cast<float>(l) * 0.001f;
       for (std::size_t i = 0; i < per; ++i) {
-        big.points.emplace_back(60.0f * std::cos(a) + static_cast<float>(i), 60.0f * std::sin(a), 0.5f * static_cast<float>(i));
+        big.points.emplace_back(60.0f * std::cos(a) + static_cast<float>(i), 60.0f * std::sin(a),
+                                0.5f * static_cast<float>(i));
         t.values[l * per + i] = static_cast<float>(i) / per;
       }
       big.offsets.push_back(static_cast<std::uint32_t>(big.points.size()));

@@ -33,7 +33,8 @@ Grid referenceGridOf(const std::string& path) {
   if (isTractFileName(path)) {
     TractFileFacts facts;
     readTracts(path, &facts);
-    if (!facts.grid) throw InputError(path + ": this tract file records no reference space (use a NIfTI image)");
+    if (!facts.grid)
+      throw InputError(path + ": this tract file records no reference space (use a NIfTI image)");
     return *facts.grid;
   }
   return io::readHeader(path).grid;
@@ -55,15 +56,17 @@ int cmdConvert(const CommandArgs& argv) {
     throw UsageError("OUT '" + out + "' has no tract file extension (.tck, .trk, .trk.gz, .trx, .vtk, .vtp)");
   io::refuseOverwritingInput(out, {in, reference.value_or("")});
   std::error_code ec;
-  if (!force && std::filesystem::exists(out, ec)) throw InputError(out + " exists (use --force to overwrite)");
+  if (!force && std::filesystem::exists(out, ec))
+    throw InputError(out + " exists (use --force to overwrite)");
 
   TractFileFacts facts;
   const Polylines lines = readTracts(in, &facts);
   std::optional<Grid> grid = reference ? std::optional<Grid>(referenceGridOf(*reference)) : facts.grid;
   writeTracts(out, lines, grid ? &*grid : nullptr);
-  std::printf("%s: %zu streamlines, %zu points, %zu per-streamline and %zu per-point arrays, %zu groups -> %s\n",
-              in.c_str(), lines.lineCount(), lines.points.size(), lines.perLine.size(), lines.perPoint.size(),
-              lines.groups.size(), out.c_str());
+  std::printf(
+      "%s: %zu streamlines, %zu points, %zu per-streamline and %zu per-point arrays, %zu groups -> %s\n",
+      in.c_str(), lines.lineCount(), lines.points.size(), lines.perLine.size(), lines.perPoint.size(),
+      lines.groups.size(), out.c_str());
   return 0;
 }
 

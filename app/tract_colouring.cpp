@@ -17,10 +17,13 @@ std::string namesOf(const Polylines& l, bool groups) {
   std::string s;
   auto add = [&](const std::string& n) { s += (s.empty() ? "'" : ", '") + n + "'"; };
   if (groups)
-    for (const auto& g : l.groups) add(g.name);
+    for (const auto& g : l.groups)
+      add(g.name);
   else {
-    for (const auto& d : l.perPoint) add(d.name);
-    for (const auto& d : l.perLine) add(d.name);
+    for (const auto& d : l.perPoint)
+      add(d.name);
+    for (const auto& d : l.perLine)
+      add(d.name);
   }
   return s.empty() ? "none" : s;
 }
@@ -36,12 +39,14 @@ std::pair<double, double> parseTractRange(const std::string& text) {
   return {lo, hi};
 }
 
-TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring& c, const std::string& path) {
+TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring& c,
+                                          const std::string& path) {
   TractColouringApplied out;
   if (!c.groups.empty()) {
     std::vector<char> keep(lines.lineCount(), 0);
     for (const auto& name : c.groups) {
-      auto g = std::find_if(lines.groups.begin(), lines.groups.end(), [&](const TractGroup& x) { return x.name == name; });
+      auto g = std::find_if(lines.groups.begin(), lines.groups.end(),
+                            [&](const TractGroup& x) { return x.name == name; });
       if (g == lines.groups.end())
         throw InputError(path + ": no group '" + name + "' (groups: " + namesOf(lines, true) + ")");
       for (std::uint32_t l : g->lines)
@@ -55,7 +60,8 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
   if (c.value.empty()) return out;
   const std::vector<float> v = lines.valuesPerPoint(c.value);
   if (v.empty() && !lines.points.empty())
-    throw InputError(path + ": no per-point or per-streamline data '" + c.value + "' (data: " + namesOf(lines, false) + ")");
+    throw InputError(path + ": no per-point or per-streamline data '" + c.value +
+                     "' (data: " + namesOf(lines, false) + ")");
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (float x : v)
     if (std::isfinite(x)) lo = std::min(lo, double(x)), hi = std::max(hi, double(x));
@@ -74,7 +80,8 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
   out.lo = lo;
   out.hi = hi;
   char buf[160];
-  std::snprintf(buf, sizeof buf, "tracts coloured by '%s' from %g (bottom of the bar) to %g (top), viridis", c.value.c_str(), lo, hi);
+  std::snprintf(buf, sizeof buf, "tracts coloured by '%s' from %g (bottom of the bar) to %g (top), viridis",
+                c.value.c_str(), lo, hi);
   out.summary = buf;
   return out;
 }

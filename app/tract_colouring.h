@@ -12,8 +12,8 @@
 namespace dtf::app {
 
 struct TractColouring {
-  std::vector<std::string> groups;               // empty: all streamlines
-  std::string value;                             // data name; empty: DEC colours
+  std::vector<std::string> groups;                // empty: all streamlines
+  std::string value;                              // data name; empty: DEC colours
   std::optional<std::pair<double, double>> range; // colour map range; default: the value's min..max
 };
 

@@ -18,7 +18,8 @@ namespace {
 enum class Format { Tck, Trk, Trx, Vtk, Unknown };
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -29,13 +30,15 @@ bool endsWith(const std::string& s, const char* suffix) {
 
 Format formatOf(const std::string& path) {
   std::string p = lower(path);
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  while (p.size() > 1 && p.back() == '/')
+    p.pop_back();
   if (endsWith(p, ".tck")) return Format::Tck;
   if (endsWith(p, ".trk") || endsWith(p, ".trk.gz")) return Format::Trk;
   if (endsWith(p, ".trx")) return Format::Trx;
   if (endsWith(p, ".vtk") || endsWith(p, ".vtp")) return Format::Vtk;
   std::error_code ec;
-  if (fs::is_directory(path, ec) && fs::is_regular_file(fs::path(path) / "header.json", ec)) return Format::Trx;
+  if (fs::is_directory(path, ec) && fs::is_regular_file(fs::path(path) / "header.json", ec))
+    return Format::Trx;
   return Format::Unknown;
 }
 
@@ -51,7 +54,9 @@ std::string affineText(const glm::dmat4& m) {
 }
 } // namespace
 
-bool isTractFileName(const std::string& path) { return formatOf(path) != Format::Unknown; }
+bool isTractFileName(const std::string& path) {
+  return formatOf(path) != Format::Unknown;
+}
 
 Polylines readTracts(const std::string& path, TractFileFacts* facts) {
   TractFileFacts f;
@@ -80,7 +85,8 @@ Polylines readTracts(const std::string& path, TractFileFacts* facts) {
     f.fields.emplace_back("voxel_order", info.voxelOrder);
     f.fields.emplace_back("affine_order", info.affineOrder);
     f.fields.emplace_back("voxel_size", vs);
-    f.fields.emplace_back("vox_to_ras", info.voxToRasRecorded ? affineText(info.voxToRas) : "not recorded (identity used)");
+    f.fields.emplace_back("vox_to_ras",
+                          info.voxToRasRecorded ? affineText(info.voxToRas) : "not recorded (identity used)");
     f.fields.emplace_back("voxmm_to_world", affineText(io::trkVoxmmToWorldOf(info)));
     break;
   }
@@ -92,10 +98,12 @@ Polylines readTracts(const std::string& path, TractFileFacts* facts) {
     f.grid = Grid::fromAffine(info.dims, info.voxToRas);
     f.fields.emplace_back("space", "world RAS mm (positions as stored)");
     f.fields.emplace_back("positions", info.positionsDtype);
-    f.fields.emplace_back("offsets", info.offsetsDtype + (info.offsetsHaveEnd ? " (with end entry)" : " (no end entry)"));
+    f.fields.emplace_back("offsets", info.offsetsDtype +
+                                         (info.offsetsHaveEnd ? " (with end entry)" : " (no end entry)"));
     f.fields.emplace_back("voxel_to_rasmm", affineText(info.voxToRas));
     if (!info.folder) f.fields.emplace_back("deflated_entries", std::to_string(info.deflatedEntries));
-    for (const auto& s : info.skipped) f.fields.emplace_back("skipped", s);
+    for (const auto& s : info.skipped)
+      f.fields.emplace_back("skipped", s);
     break;
   }
   case Format::Vtk: {
@@ -120,17 +128,20 @@ void writeTracts(const std::string& path, const Polylines& lines, const Grid* re
   case Format::Tck:
     return io::writeTck(path, lines);
   case Format::Trk:
-    if (!reference) throw UsageError("writing " + path + ": a .trk file needs a reference grid (--reference IMAGE)");
+    if (!reference)
+      throw UsageError("writing " + path + ": a .trk file needs a reference grid (--reference IMAGE)");
     return io::writeTrk(path, lines, *reference);
   case Format::Trx:
-    if (!reference) throw UsageError("writing " + path + ": a .trx file needs a reference grid (--reference IMAGE)");
+    if (!reference)
+      throw UsageError("writing " + path + ": a .trx file needs a reference grid (--reference IMAGE)");
     return io::writeTrx(path, lines, *reference);
   case Format::Vtk:
     return surfaces::writeVtkPolylines(path, lines);
   case Format::Unknown:
     break;
   }
-  throw InputError("cannot write " + path + ": unknown tract file extension (use .tck, .trk, .trk.gz, .trx, .vtk or .vtp)");
+  throw InputError("cannot write " + path +
+                   ": unknown tract file extension (use .tck, .trk, .trk.gz, .trx, .vtk or .vtp)");
 }
 
 } // namespace dtf::app

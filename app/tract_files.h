@@ -16,8 +16,8 @@ namespace dtf::app {
 
 // What a tract file's header says besides the streamlines.
 struct TractFileFacts {
-  std::string format;       // e.g. "TrackVis v2 (gzip)", "TRX zip", "MRtrix tck", "legacy VTK 5.1"
-  std::optional<Grid> grid; // the reference space recorded in the file (.trk, .trx): dims and affine
+  std::string format;           // e.g. "TrackVis v2 (gzip)", "TRX zip", "MRtrix tck", "legacy VTK 5.1"
+  std::optional<Grid> grid;     // the reference space recorded in the file (.trk, .trx): dims and affine
   long long declaredCount = -1; // the header's streamline count, -1 when it has none
   std::vector<std::pair<std::string, std::string>> fields; // further facts, in a stable order
 };

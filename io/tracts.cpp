@@ -86,7 +86,8 @@ void checkFinite(const Polylines& lines, const std::string& path) {
 
 std::string names(const std::vector<TractValues>& v) {
   std::string s;
-  for (const auto& d : v) s += (s.empty() ? "'" : ", '") + d.name + "'";
+  for (const auto& d : v)
+    s += (s.empty() ? "'" : ", '") + d.name + "'";
   return s;
 }
 
@@ -98,7 +99,8 @@ void warnDropped(const std::string& path, const char* target, const std::vector<
     logWarning(path + ": " + target + " holds no per-point data; dropped " + names(perPoint));
   if (!groups.empty()) {
     std::string g;
-    for (const auto& x : groups) g += (g.empty() ? "'" : ", '") + x.name + "'";
+    for (const auto& x : groups)
+      g += (g.empty() ? "'" : ", '") + x.name + "'";
     logWarning(path + ": " + target + " holds no groups; dropped " + g);
   }
 }
@@ -234,8 +236,9 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
       throw InputError(path + ": truncated .tck data (ends inside a triplet after " +
                        std::to_string(out.offsets.size() - 1) + " streamlines)");
     if (out.offsets.back() != out.points.size())
-      throw InputError(path + ": truncated .tck data (no end-of-file marker and the last streamline has no "
-                              "NaN separator, after " +
+      throw InputError(path +
+                       ": truncated .tck data (no end-of-file marker and the last streamline has no "
+                       "NaN separator, after " +
                        std::to_string(out.offsets.size() - 1) + " streamlines)");
     logWarning(path + ": .tck data has no Inf end marker; read to the end of the file");
   }
@@ -341,7 +344,8 @@ std::vector<TrkSlice> trkSlices(const char* fields, int total, const char* rest)
 }
 
 bool isGzip(const std::string& d) {
-  return d.size() >= 2 && static_cast<unsigned char>(d[0]) == 0x1f && static_cast<unsigned char>(d[1]) == 0x8b;
+  return d.size() >= 2 && static_cast<unsigned char>(d[0]) == 0x1f &&
+         static_cast<unsigned char>(d[1]) == 0x8b;
 }
 
 std::string gunzipBytes(const std::string& path, const std::string& in) {
@@ -357,7 +361,8 @@ std::string gunzipBytes(const std::string& path, const std::string& in) {
     if (zs.total_out == out.size()) out.resize(out.size() * 2);
     const std::size_t have = static_cast<std::size_t>(zs.total_out);
     zs.next_out = reinterpret_cast<Bytef*>(out.data() + have);
-    zs.avail_out = static_cast<uInt>(std::min<std::size_t>(out.size() - have, std::numeric_limits<uInt>::max()));
+    zs.avail_out =
+        static_cast<uInt>(std::min<std::size_t>(out.size() - have, std::numeric_limits<uInt>::max()));
     if (zs.avail_in == 0 && inLeft > 0) {
       const std::size_t take = std::min<std::size_t>(inLeft, std::numeric_limits<uInt>::max());
       zs.avail_in = static_cast<uInt>(take);
@@ -410,7 +415,8 @@ glm::dmat4 trkVoxmmToWorld(const TrkInfo& info) {
   reorder[3][3] = 1;
   for (int a = 0; a < 3; ++a) {
     int b = 0;
-    while (b < 2 && aAxis[b] != hAxis[a]) ++b;
+    while (b < 2 && aAxis[b] != hAxis[a])
+      ++b;
     const double flip = hSign[a] == aSign[b] ? 1.0 : -1.0;
     reorder[b][a] = flip;
     if (flip < 0) reorder[3][a] = info.dims[a] - 1;
@@ -420,7 +426,9 @@ glm::dmat4 trkVoxmmToWorld(const TrkInfo& info) {
 
 } // namespace
 
-glm::dmat4 trkVoxmmToWorldOf(const TrkInfo& info) { return trkVoxmmToWorld(info); }
+glm::dmat4 trkVoxmmToWorldOf(const TrkInfo& info) {
+  return trkVoxmmToWorld(info);
+}
 
 Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   std::string data = readAll(path, "tract file");
@@ -489,11 +497,14 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   info.affineOrder = axisCodesOf(info.voxToRasUsed);
   const glm::dmat4 toWorld = trkVoxmmToWorld(info);
   info.indexToWorld = toWorld;
-  for (int a = 0; a < 3; ++a) info.indexToWorld[3] += toWorld[a] * (0.5 * info.voxelSize[a]);
-  for (int a = 0; a < 3; ++a) info.indexToWorld[a] *= info.voxelSize[a];
+  for (int a = 0; a < 3; ++a)
+    info.indexToWorld[3] += toWorld[a] * (0.5 * info.voxelSize[a]);
+  for (int a = 0; a < 3; ++a)
+    info.indexToWorld[a] *= info.voxelSize[a];
 
   // Point record: xyz + scalars; track record: count + points + properties.
-  const std::size_t nS = static_cast<std::size_t>(info.nScalars), nP = static_cast<std::size_t>(info.nProperties);
+  const std::size_t nS = static_cast<std::size_t>(info.nScalars),
+                    nP = static_cast<std::size_t>(info.nProperties);
   const std::size_t perPoint = 4u * (3u + nS);
   const std::size_t perTrackExtra = 4u * nP;
   const std::size_t body = data.size() - kTrkHeaderSize;
@@ -533,10 +544,12 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
       out.points.emplace_back(static_cast<float>(m[0] * x + m[1] * y + m[2] * z + m[3]),
                               static_cast<float>(m[4] * x + m[5] * y + m[6] * z + m[7]),
                               static_cast<float>(m[8] * x + m[9] * y + m[10] * z + m[11]));
-      for (std::size_t k = 0; k < nS; ++k) scalars.push_back(loadScalar<float>(p + 12 + 4 * k, swap));
+      for (std::size_t k = 0; k < nS; ++k)
+        scalars.push_back(loadScalar<float>(p + 12 + 4 * k, swap));
     }
     pos += static_cast<std::size_t>(n) * perPoint;
-    for (std::size_t k = 0; k < nP; ++k) props.push_back(loadScalar<float>(data.data() + pos + 4 * k, swap));
+    for (std::size_t k = 0; k < nP; ++k)
+      props.push_back(loadScalar<float>(data.data() + pos + 4 * k, swap));
     pos += perTrackExtra;
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
   }
@@ -578,7 +591,8 @@ void writeTrk(const std::string& path, const Polylines& lines, const Grid& refer
   }
   // Per-point data become scalars and per-streamline data properties, at most 10 names of at most 19
   // characters each; a count above 1 is encoded after the name's NUL (as nibabel does).
-  auto encode = [&](const std::vector<TractValues>& data, int at, const char* what, std::vector<const TractValues*>& kept) {
+  auto encode = [&](const std::vector<TractValues>& data, int at, const char* what,
+                    std::vector<const TractValues*>& kept) {
     int total = 0;
     std::string dropped;
     for (const auto& d : data) {
@@ -630,12 +644,14 @@ void writeTrk(const std::string& path, const Polylines& lines, const Grid& refer
         storeLe<float>(bytes, static_cast<float>((idx[a] + 0.5) * static_cast<float>(reference.spacing[a])));
       for (const TractValues* d : sc)
         for (int c = 0; c < d->components; ++c)
-          storeLe<float>(bytes, d->values[static_cast<std::size_t>(i) * static_cast<std::size_t>(d->components) +
-                                          static_cast<std::size_t>(c)]);
+          storeLe<float>(bytes,
+                         d->values[static_cast<std::size_t>(i) * static_cast<std::size_t>(d->components) +
+                                   static_cast<std::size_t>(c)]);
     }
     for (const TractValues* d : pr)
       for (int c = 0; c < d->components; ++c)
-        storeLe<float>(bytes, d->values[l * static_cast<std::size_t>(d->components) + static_cast<std::size_t>(c)]);
+        storeLe<float>(bytes,
+                       d->values[l * static_cast<std::size_t>(d->components) + static_cast<std::size_t>(c)]);
   }
   std::string lower = path;
   std::transform(lower.begin(), lower.end(), lower.begin(),

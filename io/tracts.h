@@ -47,12 +47,12 @@ struct TrkInfo {
   glm::ivec3 dims{0};
   glm::dvec3 voxelSize{0.0};
   glm::dvec3 origin{0.0};
-  std::string voxelOrder;         // as stored, or "LPS" when the header has none
-  glm::dmat4 voxToRas{0.0};       // as stored (all zero when not recorded)
-  glm::dmat4 voxToRasUsed{1.0};   // the stored one, or the identity when not recorded
+  std::string voxelOrder;       // as stored, or "LPS" when the header has none
+  glm::dmat4 voxToRas{0.0};     // as stored (all zero when not recorded)
+  glm::dmat4 voxToRasUsed{1.0}; // the stored one, or the identity when not recorded
   bool voxToRasRecorded = true;
-  std::string affineOrder;        // axis codes of voxToRasUsed
-  glm::dmat4 indexToWorld{1.0};   // stored-order voxel index -> world RAS mm, all rules applied
+  std::string affineOrder;      // axis codes of voxToRasUsed
+  glm::dmat4 indexToWorld{1.0}; // stored-order voxel index -> world RAS mm, all rules applied
   int nScalars = 0, nProperties = 0;
   long long declaredCount = 0; // n_count (0 = unknown)
 };

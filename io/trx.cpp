@@ -28,8 +28,8 @@ struct JsonValue {
   enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
   double number = 0;
   std::string text;
-  std::vector<JsonValue> items;   // array elements, or object member values
-  std::vector<std::string> keys;  // object member names, beside their values in `items`
+  std::vector<JsonValue> items;  // array elements, or object member values
+  std::vector<std::string> keys; // object member names, beside their values in `items`
   const JsonValue* find(const std::string& k) const {
     for (std::size_t i = 0; i < keys.size(); ++i)
       if (keys[i] == k) return &items[i];
@@ -52,7 +52,8 @@ private:
     throw InputError(path_ + ": bad TRX header.json (" + why + " at byte " + std::to_string(p_) + ")");
   }
   void skip() {
-    while (p_ < s_.size() && std::strchr(" \t\r\n", s_[p_]) && s_[p_]) ++p_;
+    while (p_ < s_.size() && std::strchr(" \t\r\n", s_[p_]) && s_[p_])
+      ++p_;
   }
   bool eat(char c) {
     skip();
@@ -118,7 +119,8 @@ private:
       p_ += 4;
     } else {
       std::size_t e = p_;
-      while (e < s_.size() && std::strchr("+-0123456789.eE", s_[e]) && s_[e]) ++e;
+      while (e < s_.size() && std::strchr("+-0123456789.eE", s_[e]) && s_[e])
+        ++e;
       if (e == p_) fail("unexpected character");
       const std::string num(s_.substr(p_, e - p_));
       char* end = nullptr;
@@ -160,7 +162,8 @@ float halfToFloat(std::uint16_t h) {
     const float v = std::ldexp(static_cast<float>(mant), -24);
     return sign ? -v : v;
   }
-  const std::uint32_t bits = exp == 31 ? (sign | 0x7f800000u | (mant << 13)) : (sign | ((exp + 112) << 23) | (mant << 13));
+  const std::uint32_t bits =
+      exp == 31 ? (sign | 0x7f800000u | (mant << 13)) : (sign | ((exp + 112) << 23) | (mant << 13));
   return std::bit_cast<float>(bits);
 }
 
@@ -180,9 +183,15 @@ double element(const char* p, const Dtype& d, std::size_t i) {
     }
     return d.width == 4 ? get(float{}) : get(double{});
   case Kind::Signed:
-    return d.width == 1 ? get(std::int8_t{}) : d.width == 2 ? get(std::int16_t{}) : d.width == 4 ? get(std::int32_t{}) : get(std::int64_t{});
+    return d.width == 1   ? get(std::int8_t{})
+           : d.width == 2 ? get(std::int16_t{})
+           : d.width == 4 ? get(std::int32_t{})
+                          : get(std::int64_t{});
   case Kind::Unsigned:
-    return d.width == 1 ? get(std::uint8_t{}) : d.width == 2 ? get(std::uint16_t{}) : d.width == 4 ? get(std::uint32_t{}) : get(std::uint64_t{});
+    return d.width == 1   ? get(std::uint8_t{})
+           : d.width == 2 ? get(std::uint16_t{})
+           : d.width == 4 ? get(std::uint32_t{})
+                          : get(std::uint64_t{});
   }
   return 0;
 }
@@ -196,7 +205,8 @@ bool splitArrayName(const std::string& file, std::string& name, int& components,
   components = 1;
   const auto dot2 = name.rfind('.');
   if (dot2 != std::string::npos && dot2 + 1 < name.size() &&
-      std::all_of(name.begin() + static_cast<long>(dot2) + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      std::all_of(name.begin() + static_cast<long>(dot2) + 1, name.end(),
+                  [](char c) { return c >= '0' && c <= '9'; })) {
     if (name.size() - dot2 - 1 > 4) return false;
     components = std::stoi(name.substr(dot2 + 1));
     name = name.substr(0, dot2);
@@ -236,11 +246,12 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
   if (fs::is_directory(path, ec)) {
     info.folder = true;
     const fs::path root(path);
-    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator();
-         it.increment(ec)) {
+    for (auto it = fs::recursive_directory_iterator(root, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
       const std::string rel = fs::relative(it->path(), root, ec).generic_string();
       if (it->is_symlink(ec))
-        throw InputError(path + ": TRX entry '" + rel + "' is a symbolic link (it could point outside the folder)");
+        throw InputError(path + ": TRX entry '" + rel +
+                         "' is a symbolic link (it could point outside the folder)");
       if (it->is_directory(ec)) continue;
       if (!safeEntryName(rel)) throw InputError(path + ": TRX entry '" + rel + "' escapes the folder");
       box.files.push_back(std::make_unique<MappedFile>(it->path().string()));
@@ -266,7 +277,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
   const JsonValue header = JsonParser(hj->second, path).parseDocument();
   auto count = [&](const char* key) {
     const JsonValue* v = header.find(key);
-    if (!v || v->kind != JsonValue::Number || v->number < 0 || v->number > 4e9 || v->number != std::floor(v->number))
+    if (!v || v->kind != JsonValue::Number || v->number < 0 || v->number > 4e9 ||
+        v->number != std::floor(v->number))
       throw InputError(path + ": TRX header.json has no valid " + key);
     return static_cast<long long>(v->number);
   };
@@ -297,7 +309,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     if (!ok) throw InputError(path + ": TRX DIMENSIONS is not three non-negative integers");
   }
 
-  const std::size_t nSHeader = static_cast<std::size_t>(info.nbStreamlines), nV = static_cast<std::size_t>(info.nbVertices);
+  const std::size_t nSHeader = static_cast<std::size_t>(info.nbStreamlines),
+                    nV = static_cast<std::size_t>(info.nbVertices);
   Polylines out;
   std::string_view positions, offsets;
   Dtype posType{}, offType{};
@@ -305,7 +318,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     if (name.rfind("positions.", 0) == 0) {
       std::string base, dt;
       int comps = 0;
-      if (!splitArrayName(name, base, comps, dt) || comps != 3 || !parseDtype(dt, posType) || posType.kind != Kind::Float)
+      if (!splitArrayName(name, base, comps, dt) || comps != 3 || !parseDtype(dt, posType) ||
+          posType.kind != Kind::Float)
         throw InputError(path + ": TRX positions '" + name + "' must be positions.3.float16|float32|float64");
       if (!positions.empty()) throw InputError(path + ": TRX holds two positions arrays");
       positions = bytes;
@@ -313,7 +327,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     } else if (name.rfind("offsets.", 0) == 0) {
       const std::string dt = name.substr(8);
       if ((dt != "uint32" && dt != "uint64") || !parseDtype(dt, offType))
-        throw InputError(path + ": TRX offsets '" + name + "' has an unknown dtype (uint32 or uint64 expected)");
+        throw InputError(path + ": TRX offsets '" + name +
+                         "' has an unknown dtype (uint32 or uint64 expected)");
       if (!offsets.empty()) throw InputError(path + ": TRX holds two offsets arrays");
       offsets = bytes;
       info.offsetsDtype = dt;
@@ -322,12 +337,15 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
   if (positions.data() == nullptr && nV > 0) throw InputError(path + ": TRX has no positions array");
   if (offsets.data() == nullptr && nSHeader > 0) throw InputError(path + ": TRX has no offsets array");
   if (positions.size() != nV * 3 * static_cast<std::size_t>(posType.width))
-    throw InputError(path + ": TRX positions hold " + std::to_string(positions.size()) + " bytes, but NB_VERTICES " +
-                     std::to_string(nV) + " needs " + std::to_string(nV * 3 * static_cast<std::size_t>(posType.width)));
+    throw InputError(path + ": TRX positions hold " + std::to_string(positions.size()) +
+                     " bytes, but NB_VERTICES " + std::to_string(nV) + " needs " +
+                     std::to_string(nV * 3 * static_cast<std::size_t>(posType.width)));
   const std::size_t nOff = offType.width ? offsets.size() / static_cast<std::size_t>(offType.width) : 0;
-  if (offType.width && (offsets.size() % static_cast<std::size_t>(offType.width) != 0 || (nOff != nSHeader && nOff != nSHeader + 1)))
-    throw InputError(path + ": TRX offsets hold " + std::to_string(offsets.size()) + " bytes, but NB_STREAMLINES " +
-                     std::to_string(nSHeader) + " needs " + std::to_string(nSHeader) + " or " + std::to_string(nSHeader + 1) + " entries");
+  if (offType.width && (offsets.size() % static_cast<std::size_t>(offType.width) != 0 ||
+                        (nOff != nSHeader && nOff != nSHeader + 1)))
+    throw InputError(path + ": TRX offsets hold " + std::to_string(offsets.size()) +
+                     " bytes, but NB_STREAMLINES " + std::to_string(nSHeader) + " needs " +
+                     std::to_string(nSHeader) + " or " + std::to_string(nSHeader + 1) + " entries");
   std::size_t nS = nSHeader;
   if (nS > 0 && nOff == nS + 1 && element(offsets.data(), offType, nOff - 1) != static_cast<double>(nV)) {
     // NB_STREAMLINES + 1 entries whose last is not NB_VERTICES: one start per streamline and a header count
@@ -346,11 +364,13 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     const double o = element(offsets.data(), offType, i);
     if (o > static_cast<double>(nV) || (i > 0 && o < out.offsets[i - 1]) || (i == 0 && o != 0))
       throw InputError(path + ": TRX offsets are inconsistent at entry " + std::to_string(i) + " (" +
-                       std::to_string(static_cast<unsigned long long>(o)) + ", NB_VERTICES " + std::to_string(nV) + ")");
+                       std::to_string(static_cast<unsigned long long>(o)) + ", NB_VERTICES " +
+                       std::to_string(nV) + ")");
     out.offsets[i] = static_cast<std::uint32_t>(o);
   }
   if (info.offsetsHaveEnd && out.offsets[nS] != nV)
-    throw InputError(path + ": TRX offsets end at " + std::to_string(out.offsets[nS]) + ", not NB_VERTICES " + std::to_string(nV));
+    throw InputError(path + ": TRX offsets end at " + std::to_string(out.offsets[nS]) + ", not NB_VERTICES " +
+                     std::to_string(nV));
   out.offsets[nS] = static_cast<std::uint32_t>(nV);
   if (nS == 0 && nV > 0) throw InputError(path + ": TRX holds vertices but no streamlines");
 
@@ -361,7 +381,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
   } else {
     for (std::size_t i = 0; i < nV; ++i)
       for (int c = 0; c < 3; ++c)
-        out.points[i][c] = static_cast<float>(element(positions.data(), posType, 3 * i + static_cast<std::size_t>(c)));
+        out.points[i][c] =
+            static_cast<float>(element(positions.data(), posType, 3 * i + static_cast<std::size_t>(c)));
   }
   for (std::size_t i = 0; i < nV; ++i) {
     const glm::vec3& p = out.points[i];
@@ -371,7 +392,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
 
   // dps/, dpv/, groups/
   for (const auto& [name, bytes] : box.arrays) {
-    const bool dps = name.rfind("dps/", 0) == 0, dpv = name.rfind("dpv/", 0) == 0, grp = name.rfind("groups/", 0) == 0;
+    const bool dps = name.rfind("dps/", 0) == 0, dpv = name.rfind("dpv/", 0) == 0,
+               grp = name.rfind("groups/", 0) == 0;
     if (!dps && !dpv && !grp) {
       if (name != "header.json" && name.rfind("positions.", 0) != 0 && name.rfind("offsets.", 0) != 0)
         info.skipped.push_back(name);
@@ -383,12 +405,19 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     Dtype d{};
     if (file.find('/') != std::string::npos || !splitArrayName(file, base, comps, dt))
       throw InputError(path + ": TRX entry '" + name + "' is not named <name>[.<n>].<dtype>");
-    if (!parseDtype(dt, d)) throw InputError(path + ": TRX entry '" + name + "' has an unknown dtype '" + dt + "'");
-    const std::size_t items = dps || grp ? (grp ? bytes.size() / static_cast<std::size_t>(d.width) / static_cast<std::size_t>(comps) : nS) : nV;
+    if (!parseDtype(dt, d))
+      throw InputError(path + ": TRX entry '" + name + "' has an unknown dtype '" + dt + "'");
+    const std::size_t items =
+        dps || grp
+            ? (grp ? bytes.size() / static_cast<std::size_t>(d.width) / static_cast<std::size_t>(comps) : nS)
+            : nV;
     const std::size_t want = items * static_cast<std::size_t>(comps) * static_cast<std::size_t>(d.width);
     if (bytes.size() != want)
-      throw InputError(path + ": TRX entry '" + name + "' holds " + std::to_string(bytes.size()) + " bytes, expected " +
-                       std::to_string(want) + (grp ? "" : dps ? " (NB_STREAMLINES x components x dtype)" : " (NB_VERTICES x components x dtype)"));
+      throw InputError(path + ": TRX entry '" + name + "' holds " + std::to_string(bytes.size()) +
+                       " bytes, expected " + std::to_string(want) +
+                       (grp   ? ""
+                        : dps ? " (NB_STREAMLINES x components x dtype)"
+                              : " (NB_VERTICES x components x dtype)"));
     if (grp) {
       if (d.kind == Kind::Float || comps != 1)
         throw InputError(path + ": TRX group '" + name + "' must be one integer index per streamline");
@@ -397,8 +426,8 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
       for (std::size_t i = 0; i < items; ++i) {
         const double v = element(bytes.data(), d, i);
         if (v < 0 || v >= static_cast<double>(nS))
-          throw InputError(path + ": TRX group '" + base + "' names streamline " + std::to_string(static_cast<long long>(v)) +
-                           " of " + std::to_string(nS));
+          throw InputError(path + ": TRX group '" + base + "' names streamline " +
+                           std::to_string(static_cast<long long>(v)) + " of " + std::to_string(nS));
         g.lines[i] = static_cast<std::uint32_t>(v);
       }
       out.groups.push_back(std::move(g));
@@ -410,13 +439,15 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     if (d.kind == Kind::Float && d.width == 4) {
       if (n) std::memcpy(v.values.data(), bytes.data(), n * 4);
     } else {
-      for (std::size_t i = 0; i < n; ++i) v.values[i] = static_cast<float>(element(bytes.data(), d, i));
+      for (std::size_t i = 0; i < n; ++i)
+        v.values[i] = static_cast<float>(element(bytes.data(), d, i));
     }
     (dps ? out.perLine : out.perPoint).push_back(std::move(v));
   }
   if (!info.skipped.empty()) {
     std::string s;
-    for (const auto& n : info.skipped) s += (s.empty() ? "'" : ", '") + n + "'";
+    for (const auto& n : info.skipped)
+      s += (s.empty() ? "'" : ", '") + n + "'";
     logWarning(path + ": TRX entries not read (data per group and unknown names): " + s);
   }
   if (infoOut) *infoOut = std::move(info);
@@ -436,7 +467,8 @@ void writeTrx(const std::string& path, const Polylines& lines, const Grid& refer
   h << "{\"VOXEL_TO_RASMM\": [";
   for (int r = 0; r < 4; ++r) {
     h << (r ? ", [" : "[");
-    for (int c = 0; c < 4; ++c) h << (c ? ", " : "") << reference.voxelToWorld[c][r];
+    for (int c = 0; c < 4; ++c)
+      h << (c ? ", " : "") << reference.voxelToWorld[c][r];
     h << "]";
   }
   h << "], \"DIMENSIONS\": [" << reference.dims.x << ", " << reference.dims.y << ", " << reference.dims.z
@@ -450,7 +482,8 @@ void writeTrx(const std::string& path, const Polylines& lines, const Grid& refer
     ZipWriter zip(f, path);
     zip.add("header.json", header.data(), header.size());
     zip.add("positions.3.float32", lines.points.data(), lines.points.size() * sizeof(glm::vec3));
-    const std::vector<std::uint32_t> offsets = lines.offsets.empty() ? std::vector<std::uint32_t>{0} : lines.offsets;
+    const std::vector<std::uint32_t> offsets =
+        lines.offsets.empty() ? std::vector<std::uint32_t>{0} : lines.offsets;
     zip.add("offsets.uint32", offsets.data(), offsets.size() * 4);
     auto arrays = [&](const std::vector<TractValues>& data, const char* folder) {
       for (const auto& d : data) {

@@ -19,13 +19,13 @@
 namespace dtf::io {
 
 struct TrxInfo {
-  bool folder = false;            // an unzipped folder rather than a zip archive
-  glm::dmat4 voxToRas{1.0};       // VOXEL_TO_RASMM
-  glm::ivec3 dims{0};             // DIMENSIONS
+  bool folder = false;      // an unzipped folder rather than a zip archive
+  glm::dmat4 voxToRas{1.0}; // VOXEL_TO_RASMM
+  glm::ivec3 dims{0};       // DIMENSIONS
   long long nbStreamlines = 0, nbVertices = 0;
   std::string positionsDtype, offsetsDtype;
-  bool offsetsHaveEnd = false;    // the offsets array holds NB_STREAMLINES + 1 entries
-  int deflatedEntries = 0;        // zip entries that had to be inflated (the rest were mapped in place)
+  bool offsetsHaveEnd = false;      // the offsets array holds NB_STREAMLINES + 1 entries
+  int deflatedEntries = 0;          // zip entries that had to be inflated (the rest were mapped in place)
   std::vector<std::string> skipped; // entries not read (dpg/, unknown names)
 };
 

@@ -176,8 +176,8 @@ std::string_view ZipReader::read(const Entry& e, std::string& storage) const {
     storage.resize(static_cast<std::size_t>(e.size));
     out = storage;
   } else {
-    throw InputError(path_ + ": zip entry '" + e.name + "' uses compression method " + std::to_string(e.method) +
-                     " (only stored and deflated are supported)");
+    throw InputError(path_ + ": zip entry '" + e.name + "' uses compression method " +
+                     std::to_string(e.method) + " (only stored and deflated are supported)");
   }
   if (crcOf(out.data(), out.size()) != e.crc)
     throw InputError(path_ + ": zip entry '" + e.name + "' fails its CRC-32 check (corrupt archive)");

@@ -54,10 +54,14 @@ void drawTractColourBar(std::uint8_t* rgba, int width, int height) {
   for (int y = y0 - 1; y <= y0 + barH; ++y)
     for (int x = x0 - 1; x <= x0 + barW; ++x) {
       if (x < 0 || y < 0 || x >= width || y >= height) continue;
-      std::uint8_t* p = rgba + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
+      std::uint8_t* p =
+          rgba +
+          (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
       const bool frame = x == x0 - 1 || x == x0 + barW || y == y0 - 1 || y == y0 + barH;
-      const glm::vec3 c = frame ? glm::vec3(1.0f) : tractValueColour(1.0f - float(y - y0) / float(std::max(barH - 1, 1)));
-      for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(c[k] * 255.0f));
+      const glm::vec3 c =
+          frame ? glm::vec3(1.0f) : tractValueColour(1.0f - float(y - y0) / float(std::max(barH - 1, 1)));
+      for (int k = 0; k < 3; ++k)
+        p[k] = static_cast<std::uint8_t>(std::lround(c[k] * 255.0f));
       p[3] = 255;
     }
 }
@@ -96,12 +100,14 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   }
   const std::size_t step = lo;
   out.points.reserve(total(step));
-  for (const auto& d : lines.perPoint) out.perPoint.push_back({d.name, d.components, {}});
+  for (const auto& d : lines.perPoint)
+    out.perPoint.push_back({d.name, d.components, {}});
   auto keep = [&](std::size_t i) {
     out.points.push_back(lines.points[i]);
     for (std::size_t k = 0; k < lines.perPoint.size(); ++k) {
       const std::size_t c = static_cast<std::size_t>(lines.perPoint[k].components);
-      out.perPoint[k].values.insert(out.perPoint[k].values.end(), lines.perPoint[k].values.begin() + static_cast<long>(i * c),
+      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
+                                    lines.perPoint[k].values.begin() + static_cast<long>(i * c),
                                     lines.perPoint[k].values.begin() + static_cast<long>((i + 1) * c));
     }
   };
@@ -128,7 +134,8 @@ DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints
       d.colours.resize(d.points.size());
       for (std::size_t i = 0; i < d.points.size(); ++i)
         for (int c = 0; c < 4; ++c)
-          d.colours[i][c] = static_cast<std::uint8_t>(std::lround(std::clamp(a.values[4 * i + static_cast<std::size_t>(c)], 0.0f, 1.0f) * 255.0f));
+          d.colours[i][c] = static_cast<std::uint8_t>(
+              std::lround(std::clamp(a.values[4 * i + static_cast<std::size_t>(c)], 0.0f, 1.0f) * 255.0f));
     }
   if (d.lines == 0) return d;
   const std::vector<std::uint32_t> order = stratifiedOrder(d.lines);
@@ -224,7 +231,8 @@ void TractRenderer::upload(const DisplayTracts& t) {
   colours_ = Buffer();
   if (t.colours.size() == t.points.size()) {
     colours_ = createBuffer();
-    glNamedBufferStorage(colours_.id(), static_cast<GLsizeiptr>(t.colours.size() * sizeof(glm::u8vec4)), t.colours.data(), 0);
+    glNamedBufferStorage(colours_.id(), static_cast<GLsizeiptr>(t.colours.size() * sizeof(glm::u8vec4)),
+                         t.colours.data(), 0);
     glVertexArrayVertexBuffer(vao_.id(), 1, colours_.id(), 0, sizeof(glm::u8vec4));
     glEnableVertexArrayAttrib(vao_.id(), 1);
     glVertexArrayAttribFormat(vao_.id(), 1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);

@@ -34,7 +34,8 @@ namespace {
 
 bool isVtp(const std::string& path) {
   std::string e = fs::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(e.begin(), e.end(), e.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return e == ".vtp";
 }
 
@@ -75,7 +76,8 @@ Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
     reader->SetFileName(path.c_str());
     if (!reader->CanReadFile(path.c_str())) throw InputError(path + ": not a VTK XML PolyData (.vtp) file");
     reader->Update();
-    if (reader->GetErrorCode() != 0) throw InputError(path + ": VTK could not read the file (corrupt or truncated)");
+    if (reader->GetErrorCode() != 0)
+      throw InputError(path + ": VTK could not read the file (corrupt or truncated)");
     poly = reader->GetOutput();
     info.format = "VTK XML PolyData";
   } else {
@@ -119,7 +121,8 @@ Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
     for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i) {
       const vtkIdType id = ids->GetId(i);
       if (id < 0 || id >= nPoints)
-        throw InputError(path + ": VTK line refers to point " + std::to_string(id) + " of " + std::to_string(nPoints));
+        throw InputError(path + ": VTK line refers to point " + std::to_string(id) + " of " +
+                         std::to_string(nPoints));
       double p[3];
       pts->GetPoint(id, p);
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
@@ -164,7 +167,8 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   for (std::size_t i = 0; i < lines.points.size(); ++i)
     pts->SetPoint(static_cast<vtkIdType>(i), lines.points[i].x, lines.points[i].y, lines.points[i].z);
   vtkNew<vtkCellArray> cells;
-  cells->AllocateExact(static_cast<vtkIdType>(lines.lineCount()), static_cast<vtkIdType>(lines.points.size()));
+  cells->AllocateExact(static_cast<vtkIdType>(lines.lineCount()),
+                       static_cast<vtkIdType>(lines.points.size()));
   for (std::size_t l = 0; l < lines.lineCount(); ++l) {
     cells->InsertNextCell(static_cast<vtkIdType>(lines.offsets[l + 1] - lines.offsets[l]));
     for (std::uint32_t i = lines.offsets[l]; i < lines.offsets[l + 1]; ++i)
@@ -178,7 +182,8 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
       vtkNew<vtkFloatArray> arr;
       arr->SetName(d.name.c_str());
       arr->SetNumberOfComponents(d.components);
-      arr->SetNumberOfTuples(static_cast<vtkIdType>(d.values.size() / static_cast<std::size_t>(d.components)));
+      arr->SetNumberOfTuples(
+          static_cast<vtkIdType>(d.values.size() / static_cast<std::size_t>(d.components)));
       std::copy(d.values.begin(), d.values.end(), arr->GetPointer(0));
       to->AddArray(arr);
     }
@@ -187,12 +192,14 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   attach(lines.perLine, poly->GetCellData());
   if (!lines.groups.empty()) {
     std::string g;
-    for (const auto& x : lines.groups) g += (g.empty() ? "'" : ", '") + x.name + "'";
+    for (const auto& x : lines.groups)
+      g += (g.empty() ? "'" : ", '") + x.name + "'";
     logWarning(path + ": a VTK file holds no groups; dropped " + g);
   }
 
   const std::string ext = isVtp(path) ? ".vtp" : ".vtk";
-  const std::string temp = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
+  const std::string temp =
+      (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
   int ok = 0;
   if (isVtp(path)) {
     vtkNew<vtkXMLPolyDataWriter> w;

@@ -11,7 +11,7 @@
 namespace dtf::surfaces {
 
 struct VtkTractInfo {
-  std::string format;  // "legacy VTK 4.2" (version as in the file) or "VTK XML PolyData"
+  std::string format; // "legacy VTK 4.2" (version as in the file) or "VTK XML PolyData"
   long long vertices = 0, polygons = 0, strips = 0; // other cells, not read as tracts
 };
 

@@ -113,8 +113,9 @@ std::string Polylines::inconsistency() const {
       return "per-point data '" + d.name + "' does not hold one entry per point";
   for (const auto& g : groups)
     for (std::uint32_t l : g.lines)
-      if (l >= lineCount()) return "group '" + g.name + "' names streamline " + std::to_string(l) + " of " +
-                                   std::to_string(lineCount());
+      if (l >= lineCount())
+        return "group '" + g.name + "' names streamline " + std::to_string(l) + " of " +
+               std::to_string(lineCount());
   return {};
 }
 
@@ -122,8 +123,10 @@ Polylines Polylines::subset(const std::vector<std::uint32_t>& lines) const {
   Polylines out;
   out.offsets.reserve(lines.size() + 1);
   out.offsets.push_back(0);
-  for (const auto& d : perLine) out.perLine.push_back({d.name, d.components, {}});
-  for (const auto& d : perPoint) out.perPoint.push_back({d.name, d.components, {}});
+  for (const auto& d : perLine)
+    out.perLine.push_back({d.name, d.components, {}});
+  for (const auto& d : perPoint)
+    out.perPoint.push_back({d.name, d.components, {}});
   for (std::uint32_t l : lines) {
     if (l >= lineCount()) continue;
     const std::uint32_t b = offsets[l], e = offsets[l + 1];
@@ -131,12 +134,14 @@ Polylines Polylines::subset(const std::vector<std::uint32_t>& lines) const {
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
     for (std::size_t k = 0; k < perLine.size(); ++k) {
       const std::size_t c = static_cast<std::size_t>(perLine[k].components);
-      out.perLine[k].values.insert(out.perLine[k].values.end(), perLine[k].values.begin() + static_cast<long>(l * c),
+      out.perLine[k].values.insert(out.perLine[k].values.end(),
+                                   perLine[k].values.begin() + static_cast<long>(l * c),
                                    perLine[k].values.begin() + static_cast<long>((l + 1) * c));
     }
     for (std::size_t k = 0; k < perPoint.size(); ++k) {
       const std::size_t c = static_cast<std::size_t>(perPoint[k].components);
-      out.perPoint[k].values.insert(out.perPoint[k].values.end(), perPoint[k].values.begin() + static_cast<long>(b * c),
+      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
+                                    perPoint[k].values.begin() + static_cast<long>(b * c),
                                     perPoint[k].values.begin() + static_cast<long>(e * c));
     }
   }
@@ -148,14 +153,16 @@ std::vector<float> Polylines::valuesPerPoint(const std::string& name) const {
     const std::size_t c = static_cast<std::size_t>(d.components);
     if (c == 1) return d.values[item];
     double s = 0;
-    for (std::size_t k = 0; k < c; ++k) s += double(d.values[item * c + k]) * d.values[item * c + k];
+    for (std::size_t k = 0; k < c; ++k)
+      s += double(d.values[item * c + k]) * d.values[item * c + k];
     return static_cast<float>(std::sqrt(s));
   };
   std::vector<float> out;
   for (const auto& d : perPoint)
     if (d.name == name) {
       out.resize(points.size());
-      for (std::size_t i = 0; i < points.size(); ++i) out[i] = norm(d, i);
+      for (std::size_t i = 0; i < points.size(); ++i)
+        out[i] = norm(d, i);
       return out;
     }
   for (const auto& d : perLine)

@@ -1,9 +1,8 @@
 // Geometry passed between surfaces, tracts and render: triangle meshes and polylines in world RAS mm.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 

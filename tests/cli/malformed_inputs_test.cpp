@@ -218,7 +218,8 @@ std::string trk(const std::function<void(std::string&)>& edit = {}, std::optiona
 
 // A valid TRX zip: 2 streamlines of 2 points (float32 positions, uint32 offsets with the end entry);
 // `edit` may change the entries (header.json, positions, offsets) before they are zipped.
-std::string trxZip(const std::function<void(std::vector<dtf::test::ZipEntry>&)>& edit = {}, bool deflate = false) {
+std::string trxZip(const std::function<void(std::vector<dtf::test::ZipEntry>&)>& edit = {},
+                   bool deflate = false) {
   std::vector<dtf::test::ZipEntry> e = {
       {"header.json",
        R"({"VOXEL_TO_RASMM": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "DIMENSIONS": [8,8,8], )"
@@ -660,7 +661,9 @@ std::vector<Case> catalogue() {
   // Data ending after a NaN separator without the Inf marker is read (MATLAB writers); a streamline with no
   // separator at all is truncated.
   c.push_back(tractCase("TckNoEndMarker", "noinf.tck",
-                        [] { return tck("datatype: Float32LE\n", {0, 0, 0, 1, 1, 1}); },
+                        [] {
+                          return tck("datatype: Float32LE\n", {0, 0, 0, 1, 1, 1});
+                        },
                         {"no end-of-file marker", "no NaN separator"}));
   c.push_back(tractCase("TckCountNotANumber", "countnan.tck",
                         [] { return tck("datatype: Float32LE\ncount: many\n", kTckPoints); },
@@ -800,11 +803,16 @@ std::vector<Case> catalogue() {
                         [] { return trxZip([](auto& e) { e[1].name = "positions.3.int32"; }); },
                         {"positions.3.float16|float32|float64"}));
   c.push_back(tractCase("TrxUnknownDataDtype", "dpvdtype.trx",
-                        [] { return trxZip([](auto& e) { e.push_back({"dpv/x.float8", "abcd", false}); }); },
+                        [] { return trxZip([](auto& e) {
+                               e.push_back({"dpv/x.float8", "abcd", false});
+                             }); },
                         {"unknown dtype 'float8'"}));
-  c.push_back(tractCase("TrxEntryEscapes", "escape.trx",
-                        [] { return trxZip([](auto& e) { e.push_back({"dps/../../x.float32", "abcdefgh", false}); }); },
-                        {"escapes the archive"}));
+  c.push_back(
+      tractCase("TrxEntryEscapes", "escape.trx",
+                [] {
+                  return trxZip([](auto& e) { e.push_back({"dps/../../x.float32", "abcdefgh", false}); });
+                },
+                {"escapes the archive"}));
   // ---- viewer scripts (parsed completely before a window opens)
   // Fuzz finding: a line of only \v or \f was not blank to the parser but had no words (out-of-bounds read).
   c.push_back(scriptCase("ScriptVerticalTabLine", "\v\f \nfrobnicate\n", {"2:", "frobnicate"}));

@@ -12,8 +12,12 @@ using dtf::test::jsonNumber;
 using dtf::test::runDtfabric;
 
 namespace {
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
-bool has(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+std::string q(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+bool has(const std::string& s, const std::string& what) {
+  return s.find(what) != std::string::npos;
+}
 } // namespace
 
 TEST(TractInfoCli, JsonKeysForEveryRealFile) {
@@ -24,18 +28,20 @@ TEST(TractInfoCli, JsonKeysForEveryRealFile) {
     double streamlines, points;
     const char* format;
   };
-  for (const Expect& e : {Expect{"colby.trk", 2, 32, "TrackVis v2"}, Expect{"colby.trx", 2, 32, "TRX zip"},
-                          Expect{"dpsv.trx", 460, 95865, "TRX zip"}, Expect{"afq_tractography.trx", 508, 141447, "TRX zip"},
-                          Expect{"stroke.trk.gz", 36763, 237468, "TrackVis v2 (gzip)"},
-                          Expect{"tract.IFOF_R.trk", 14, 168, "TrackVis"}, Expect{"tract.SLF1_R.tck", 13, 156, "MRtrix tck"},
-                          Expect{"tract.FAT_R.vtk", 5, 60, "legacy VTK"}}) {
+  for (const Expect& e :
+       {Expect{"colby.trk", 2, 32, "TrackVis v2"}, Expect{"colby.trx", 2, 32, "TRX zip"},
+        Expect{"dpsv.trx", 460, 95865, "TRX zip"}, Expect{"afq_tractography.trx", 508, 141447, "TRX zip"},
+        Expect{"stroke.trk.gz", 36763, 237468, "TrackVis v2 (gzip)"},
+        Expect{"tract.IFOF_R.trk", 14, 168, "TrackVis"}, Expect{"tract.SLF1_R.tck", 13, 156, "MRtrix tck"},
+        Expect{"tract.FAT_R.vtk", 5, 60, "legacy VTK"}}) {
     SCOPED_TRACE(e.file);
     auto r = runDtfabric("info " + q(dir / e.file) + " --json", scratch);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(jsonNumber(r.out, "streamlines"), e.streamlines) << r.out;
     EXPECT_EQ(jsonNumber(r.out, "points"), e.points);
     EXPECT_TRUE(has(r.out, std::string("\"format\": \"") + e.format)) << r.out;
-    for (const char* key : {"\"dps\": [", "\"dpv\": [", "\"groups\": [", "\"length_mm\": "}) EXPECT_TRUE(has(r.out, key)) << key;
+    for (const char* key : {"\"dps\": [", "\"dpv\": [", "\"groups\": [", "\"length_mm\": "})
+      EXPECT_TRUE(has(r.out, key)) << key;
   }
   auto colby = runDtfabric("info " + q(dir / "colby.trk") + " --json", scratch);
   EXPECT_TRUE(has(colby.out, "\"voxel_order\": \"LPS\"")) << colby.out;
@@ -65,7 +71,8 @@ TEST(TractInfoCli, LengthStatistics) {
   std::snprintf(off, sizeof off, "%010zu", head.size());
   head.replace(head.find("0000000000"), 10, off);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  std::vector<float> pts = {0, 0, 0, 3, 0, 0, nan, nan, nan, 0, 0, 0, 0, 3, 0, 0, 3, 4, nan, nan, nan, inf, inf, inf};
+  std::vector<float> pts = {0, 0, 0, 3, 0, 0, nan, nan, nan, 0,   0,   0,
+                            0, 3, 0, 0, 3, 4, nan, nan, nan, inf, inf, inf};
   std::ofstream(dir / "l.tck", std::ios::binary)
       .write((head + std::string(reinterpret_cast<const char*>(pts.data()), pts.size() * 4)).data(),
              static_cast<std::streamsize>(head.size() + pts.size() * 4));
@@ -80,15 +87,18 @@ TEST(TractConvertCli, EveryRealFileToEveryFormat) {
   DTF_SHARED_FILE(ref, "iu_prisma_dwi/derived/mask.nii.gz");
   auto scratch = dtf::test::scratchDir();
   int n = 0;
-  for (const char* in : {"colby.trk", "dpsv.trx", "afq_tractography.trx", "tract.SLF1_R.tck", "tract.FAT_R.vtk"}) {
+  for (const char* in :
+       {"colby.trk", "dpsv.trx", "afq_tractography.trx", "tract.SLF1_R.tck", "tract.FAT_R.vtk"}) {
     auto info = runDtfabric("info " + q(dir / in) + " --json", scratch);
     for (const char* ext : {".tck", ".trk", ".trk.gz", ".trx", ".vtk", ".vtp"}) {
       SCOPED_TRACE(std::string(in) + " -> " + ext);
       const auto out = scratch / (std::string("c_") + in + ext);
       // .tck and .vtk sources record no space: .trk/.trx outputs need --reference.
-      const bool needsRef = (std::string(in).find(".tck") != std::string::npos || std::string(in).find(".vtk") != std::string::npos) &&
+      const bool needsRef = (std::string(in).find(".tck") != std::string::npos ||
+                             std::string(in).find(".vtk") != std::string::npos) &&
                             (std::string(ext).find(".tr") != std::string::npos);
-      auto r = runDtfabric("convert " + q(dir / in) + " " + q(out) + (needsRef ? " --reference " + q(ref) : ""), scratch);
+      auto r = runDtfabric(
+          "convert " + q(dir / in) + " " + q(out) + (needsRef ? " --reference " + q(ref) : ""), scratch);
       ASSERT_EQ(r.exitCode, 0) << r.err;
       auto back = runDtfabric("info " + q(out) + " --json", scratch);
       ASSERT_EQ(back.exitCode, 0) << back.err;
@@ -104,7 +114,8 @@ TEST(TractConvertCli, EveryRealFileToEveryFormat) {
   EXPECT_TRUE(has(noRef.err, "--reference")) << noRef.err;
   EXPECT_FALSE(std::filesystem::exists(scratch / "x.trk"));
   // Data a target cannot hold is named in a warning.
-  auto drop = runDtfabric("convert " + q(dir / "afq_tractography.trx") + " " + q(scratch / "afq.tck"), scratch);
+  auto drop =
+      runDtfabric("convert " + q(dir / "afq_tractography.trx") + " " + q(scratch / "afq.tck"), scratch);
   EXPECT_TRUE(has(drop.err, "groups; dropped 'ARC_L', 'ARC_R'")) << drop.err;
 }
 

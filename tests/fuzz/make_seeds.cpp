@@ -1,6 +1,7 @@
 // Writes the fuzzers' seed corpora with dtfabric's own writers: small phantoms in every tensor layout
 // (.nii and .nii.gz, NIfTI-1 and -2), a DWI-shaped 4D volume, gradient tables, .tck/.trk tracts and viewer
-// scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx, DIR/view_script).
+// scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx,
+// DIR/view_script).
 #include "io/dwi.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"

@@ -23,7 +23,8 @@ struct CliRun {
 
 CliRun dtfabric(const std::string& args, const fs::path& dir) {
   const fs::path log = dir / "cli.log";
-  const int status = std::system((std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1").c_str());
+  const int status =
+      std::system((std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1").c_str());
   CliRun r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::ifstream in(log);
@@ -40,7 +41,8 @@ dtf::Polylines fan() {
   for (int i = 0; i < 12; ++i) {
     const float a = 0.26f * float(i);
     const glm::vec3 d(std::cos(a), std::sin(a), 0.3f * std::sin(2.0f * a));
-    for (int k = -30; k <= 30; ++k) l.points.push_back(d * float(k));
+    for (int k = -30; k <= 30; ++k)
+      l.points.push_back(d * float(k));
     l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
   }
   l.perPoint = {{"v", 1, std::vector<float>(l.points.size(), 5.0f)}};
@@ -88,7 +90,8 @@ TEST(TractColourCli, ValueColoursBarAndGroups) {
   // Value 5 mapped with range 0..1 -> the top of the map (yellow); with 10..11 -> the bottom (purple).
   const auto [high, highLog] = render("high", tracts + " --tracts-color v --tracts-range 0,1");
   const auto [low, lowLog] = render("low", tracts + " --tracts-color v --tracts-range 10,11");
-  EXPECT_NE(highLog.find("coloured by 'v' from 0 (bottom of the bar) to 1 (top)"), std::string::npos) << highLog;
+  EXPECT_NE(highLog.find("coloured by 'v' from 0 (bottom of the bar) to 1 (top)"), std::string::npos)
+      << highLog;
   const Diff h = diff(high, none), l = diff(low, none);
   ASSERT_GT(h.n, 100u);
   ASSERT_GT(l.n, 100u);
@@ -118,7 +121,8 @@ TEST(TractColourCli, ValueColoursBarAndGroups) {
   const CliRun bad = dtfabric(common + tracts + " --tracts-group ARC_X -o " + (dir / "x.png").string(), dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("no group 'ARC_X' (groups: 'all', 'one')"), std::string::npos) << bad.output;
-  const CliRun badValue = dtfabric(common + tracts + " --tracts-color fa -o " + (dir / "x.png").string(), dir);
+  const CliRun badValue =
+      dtfabric(common + tracts + " --tracts-color fa -o " + (dir / "x.png").string(), dir);
   EXPECT_EQ(badValue.code, 2);
   EXPECT_NE(badValue.output.find("'v'"), std::string::npos) << badValue.output;
   const CliRun usage = dtfabric(common + " --tracts-color v -o " + (dir / "x.png").string(), dir);

@@ -16,7 +16,8 @@ struct ZipEntry {
 };
 
 inline void zipPut(std::string& s, std::uint64_t v, int bytes) {
-  for (int i = 0; i < bytes; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  for (int i = 0; i < bytes; ++i)
+    s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
 }
 
 inline std::string rawDeflate(const std::string& in) {

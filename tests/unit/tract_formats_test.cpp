@@ -38,7 +38,9 @@ template <typename T> void put(std::string& s, T v) {
   std::memcpy(b, &v, sizeof(T));
   s.append(b, sizeof(T));
 }
-template <typename T> void poke(std::string& s, std::size_t at, T v) { std::memcpy(s.data() + at, &v, sizeof(T)); }
+template <typename T> void poke(std::string& s, std::size_t at, T v) {
+  std::memcpy(s.data() + at, &v, sizeof(T));
+}
 template <typename T> std::string arrayBytes(const std::vector<T>& v) {
   return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
@@ -57,13 +59,15 @@ template <typename Fn> void expectInputError(Fn fn, const std::string& file, con
 // DTF_REQUIRE_SHARED_DATA, where .ci/setup installs python3-nibabel, and skip elsewhere).
 std::string referencePython() {
   for (const char* py : {"/usr/bin/python3", "python3"})
-    if (std::system((std::string(py) + " -c 'import nibabel, numpy' >/dev/null 2>&1").c_str()) == 0) return py;
+    if (std::system((std::string(py) + " -c 'import nibabel, numpy' >/dev/null 2>&1").c_str()) == 0)
+      return py;
   return "";
 }
 #define DTF_REFERENCE_PYTHON(var)                                                                            \
   const std::string var = referencePython();                                                                 \
   if (var.empty()) {                                                                                         \
-    if (dtf::test::envFlag("DTF_REQUIRE_SHARED_DATA")) FAIL() << "python3 with nibabel and numpy is missing"; \
+    if (dtf::test::envFlag("DTF_REQUIRE_SHARED_DATA"))                                                       \
+      FAIL() << "python3 with nibabel and numpy is missing";                                                 \
     GTEST_SKIP() << "python3 with nibabel and numpy is missing";                                             \
   }
 
@@ -74,8 +78,9 @@ struct Reference {
 // Runs tests/support/reference_tracts.py on `file`.
 Reference independentRead(const std::string& python, const fs::path& file, const fs::path& scratch) {
   const fs::path out = scratch / ("ref_" + file.filename().string());
-  const std::string cmd = python + " '" + (dtf::test::sourceDir() / "tests/support/reference_tracts.py").string() +
-                          "' '" + file.string() + "' '" + out.string() + "' 2>/dev/null";
+  const std::string cmd = python + " '" +
+                          (dtf::test::sourceDir() / "tests/support/reference_tracts.py").string() + "' '" +
+                          file.string() + "' '" + out.string() + "' 2>/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   Reference r;
   const std::string pts = readBytes(out.string() + ".points"), off = readBytes(out.string() + ".offsets");
@@ -102,7 +107,8 @@ Reference independentRead(const std::string& python, const fs::path& file, const
 }
 
 // Same offsets; every coordinate within `tol` mm (plus `rel` of its magnitude).
-void expectSameLines(const Polylines& got, const Polylines& want, double tol, double rel, const std::string& what) {
+void expectSameLines(const Polylines& got, const Polylines& want, double tol, double rel,
+                     const std::string& what) {
   ASSERT_EQ(got.offsets, want.offsets) << what;
   ASSERT_EQ(got.points.size(), want.points.size()) << what;
   double worst = 0;
@@ -113,12 +119,13 @@ void expectSameLines(const Polylines& got, const Polylines& want, double tol, do
                        rel * std::abs(double(want.points[i][c]));
       if (d > worst) worst = d, at = i;
     }
-  EXPECT_LE(worst, tol) << what << ": point " << at << " got (" << got.points[at].x << ", " << got.points[at].y << ", "
-                        << got.points[at].z << "), want (" << want.points[at].x << ", " << want.points[at].y << ", "
-                        << want.points[at].z << ")";
+  EXPECT_LE(worst, tol) << what << ": point " << at << " got (" << got.points[at].x << ", "
+                        << got.points[at].y << ", " << got.points[at].z << "), want (" << want.points[at].x
+                        << ", " << want.points[at].y << ", " << want.points[at].z << ")";
 }
 
-void expectSameData(const std::vector<TractValues>& got, const std::vector<TractValues>& want, const std::string& what) {
+void expectSameData(const std::vector<TractValues>& got, const std::vector<TractValues>& want,
+                    const std::string& what) {
   ASSERT_EQ(got.size(), want.size()) << what;
   for (const auto& w : want) {
     const TractValues* g = nullptr;
@@ -128,7 +135,8 @@ void expectSameData(const std::vector<TractValues>& got, const std::vector<Tract
     EXPECT_EQ(g->components, w.components) << what << " " << w.name;
     ASSERT_EQ(g->values.size(), w.values.size()) << what << " " << w.name;
     for (std::size_t i = 0; i < w.values.size(); ++i)
-      ASSERT_NEAR(g->values[i], w.values[i], 1e-6 * (1 + std::abs(w.values[i]))) << what << " " << w.name << " [" << i << "]";
+      ASSERT_NEAR(g->values[i], w.values[i], 1e-6 * (1 + std::abs(w.values[i])))
+          << what << " " << w.name << " [" << i << "]";
   }
 }
 
@@ -149,7 +157,8 @@ struct WarningLog {
 };
 
 // A TrackVis v2 header (little-endian): dims, voxel size, voxel_order, vox_to_ras (nullptr: all zero).
-std::string trkHeader(glm::ivec3 dims, glm::vec3 vs, const char* order, const float* voxToRasRowMajor, int count) {
+std::string trkHeader(glm::ivec3 dims, glm::vec3 vs, const char* order, const float* voxToRasRowMajor,
+                      int count) {
   std::string h(1000, '\0');
   std::memcpy(h.data(), "TRACK", 5);
   for (int a = 0; a < 3; ++a) {
@@ -157,7 +166,8 @@ std::string trkHeader(glm::ivec3 dims, glm::vec3 vs, const char* order, const fl
     poke<float>(h, 12 + 4 * a, vs[a]);
   }
   if (voxToRasRowMajor)
-    for (int k = 0; k < 16; ++k) poke<float>(h, 440 + 4 * k, voxToRasRowMajor[k]);
+    for (int k = 0; k < 16; ++k)
+      poke<float>(h, 440 + 4 * k, voxToRasRowMajor[k]);
   std::memcpy(h.data() + 948, order, std::strlen(order));
   poke<std::int32_t>(h, 988, count);
   poke<std::int32_t>(h, 992, 2);
@@ -178,9 +188,11 @@ Polylines richLines() {
   TractValues w{"weight", 1, {}}, c{"colour", 3, {}}, fa{"fa", 1, {}};
   for (int line = 0; line < 5; ++line) {
     w.values.push_back(0.5f * float(line) + 0.25f);
-    for (int k = 0; k < 3; ++k) c.values.push_back(float(line * 3 + k) / 16.0f);
+    for (int k = 0; k < 3; ++k)
+      c.values.push_back(float(line * 3 + k) / 16.0f);
   }
-  for (std::size_t i = 0; i < l.points.size(); ++i) fa.values.push_back(float(i % 17) / 17.0f);
+  for (std::size_t i = 0; i < l.points.size(); ++i)
+    fa.values.push_back(float(i % 17) / 17.0f);
   l.perLine = {w, c};
   l.perPoint = {fa};
   l.groups = {{"left", {0, 2}}, {"right", {1, 3, 4}}};
@@ -241,7 +253,8 @@ TEST(TractFormatsRealData, HeaderFactsCountsAndGroups) {
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(colbyTrx.points[i][c], colby.points[i][c], std::abs(colby.points[i][c]) / 1024 + 1e-3) << i;
   ASSERT_EQ(colbyTrx.perPoint.size(), 3u);
-  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(colbyTrx.perPoint[k].name, colby.perPoint[k].name);
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_EQ(colbyTrx.perPoint[k].name, colby.perPoint[k].name);
 
   const Polylines stroke = dtf::app::readTracts((dir / "stroke.trk.gz").string(), &f);
   EXPECT_EQ(stroke.lineCount(), 36763u);
@@ -308,7 +321,8 @@ TEST(TractFormatsTrk, LpsAndNoAffineRulesAsNibabel) {
   const fs::path dir = dtf::test::scratchDir();
   std::string body;
   put<std::int32_t>(body, 2);
-  for (float v : {0.0f, 0.0f, 0.0f, 5.0f, 7.0f, 9.0f}) put<float>(body, v);
+  for (float v : {0.0f, 0.0f, 0.0f, 5.0f, 7.0f, 9.0f})
+    put<float>(body, v);
   const float rasAffine[16] = {2, 0, 0, -10, 0, 2, 0, -20, 0, 0, 3, -30, 0, 0, 0, 1};
   const float lasAffine[16] = {-2, 0, 0, 10, 0, 2, 0, -20, 0, 0, 3, -30, 0, 0, 0, 1};
   struct Case {
@@ -321,14 +335,26 @@ TEST(TractFormatsTrk, LpsAndNoAffineRulesAsNibabel) {
   const glm::vec3 vs(2, 2, 3);
   // voxmm (0,0,0) -> index (-0.5,-0.5,-0.5); (5,7,9) -> (2,3,2.5). LPS->RAS flips x, y: i' = dims - 1 - i.
   std::vector<Case> cases = {
-      {"lps_noaffine.trk", trkHeader(dims, vs, "LPS", nullptr, 1) + body, {9.5f, 19.5f, -0.5f}, {7, 16, 2.5f},
+      {"lps_noaffine.trk",
+       trkHeader(dims, vs, "LPS", nullptr, 1) + body,
+       {9.5f, 19.5f, -0.5f},
+       {7, 16, 2.5f},
        "no vox_to_ras"},
-      {"lps_ras.trk", trkHeader(dims, vs, "LPS", rasAffine, 1) + body, {2 * 9.5f - 10, 2 * 19.5f - 20, 3 * -0.5f - 30},
-       {2 * 7 - 10, 2 * 16 - 20, 3 * 2.5f - 30}, nullptr},
-      {"noorder_noaffine.trk", trkHeader(dims, vs, "", nullptr, 1) + body, {9.5f, 19.5f, -0.5f}, {7, 16, 2.5f},
+      {"lps_ras.trk",
+       trkHeader(dims, vs, "LPS", rasAffine, 1) + body,
+       {2 * 9.5f - 10, 2 * 19.5f - 20, 3 * -0.5f - 30},
+       {2 * 7 - 10, 2 * 16 - 20, 3 * 2.5f - 30},
+       nullptr},
+      {"noorder_noaffine.trk",
+       trkHeader(dims, vs, "", nullptr, 1) + body,
+       {9.5f, 19.5f, -0.5f},
+       {7, 16, 2.5f},
        "no voxel_order"},
-      {"las_las.trk", trkHeader(dims, vs, "LAS", lasAffine, 1) + body, {-2 * -0.5f + 10, 2 * -0.5f - 20, 3 * -0.5f - 30},
-       {-2 * 2 + 10, 2 * 3 - 20, 3 * 2.5f - 30}, nullptr},
+      {"las_las.trk",
+       trkHeader(dims, vs, "LAS", lasAffine, 1) + body,
+       {-2 * -0.5f + 10, 2 * -0.5f - 20, 3 * -0.5f - 30},
+       {-2 * 2 + 10, 2 * 3 - 20, 3 * 2.5f - 30},
+       nullptr},
       {"ras_noaffine.trk.gz", "", {-0.5f, -0.5f, -0.5f}, {2, 3, 2.5f}, "no vox_to_ras"},
   };
   {
@@ -365,7 +391,8 @@ TEST(TractFormatsTrk, LpsAndNoAffineRulesAsNibabel) {
       expectSameLines(l, ref.lines, 1e-5, 0, c.file);
     }
   }
-  if (python.empty() && dtf::test::envFlag("DTF_REQUIRE_SHARED_DATA")) FAIL() << "python3 with nibabel is missing";
+  if (python.empty() && dtf::test::envFlag("DTF_REQUIRE_SHARED_DATA"))
+    FAIL() << "python3 with nibabel is missing";
 }
 
 // Scalars and properties become per-point and per-streamline data named from the header; a name with a
@@ -380,7 +407,8 @@ TEST(TractFormatsTrk, ScalarsAndPropertiesBecomeData) {
   std::memcpy(h.data() + 240, "len", 3);
   std::string body;
   put<std::int32_t>(body, 2);
-  for (float v : {1.f, 2.f, 3.f, 0.1f, 0.2f, 0.3f, 9.f, 4.f, 5.f, 6.f, 0.4f, 0.5f, 0.6f, 8.f, 42.f}) put<float>(body, v);
+  for (float v : {1.f, 2.f, 3.f, 0.1f, 0.2f, 0.3f, 9.f, 4.f, 5.f, 6.f, 0.4f, 0.5f, 0.6f, 8.f, 42.f})
+    put<float>(body, v);
   writeBytes(dir / "s.trk", h + body);
   const Polylines l = dtf::io::readTrk((dir / "s.trk").string());
   ASSERT_EQ(l.perPoint.size(), 2u);
@@ -398,7 +426,8 @@ TEST(TractFormatsTrk, ScalarsAndPropertiesBecomeData) {
 // ---------------------------------------------------------------------------------------- .tck
 
 // A MATLAB-style file: count 5 for 2 streamlines, the data ending with a NaN triplet and no Inf. Read to
-// the end with warnings (as nibabel reads it); a partial triplet or an unterminated streamline stays an error.
+// the end with warnings (as nibabel reads it); a partial triplet or an unterminated streamline stays an
+// error.
 TEST(TractFormatsTck, StaleCountAndNaNEndedData) {
   const fs::path dir = dtf::test::scratchDir();
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -408,12 +437,14 @@ TEST(TractFormatsTck, StaleCountAndNaNEndedData) {
     std::snprintf(off, sizeof off, "%010zu", head.size());
     head.replace(head.find("0000000000"), 10, off);
     std::string b = head;
-    for (float v : pts) put<float>(b, v);
+    for (float v : pts)
+      put<float>(b, v);
     return b;
   };
   const float inf = std::numeric_limits<float>::infinity();
   // Stale count, data ended by Inf: nibabel 5.0 reads it (ignoring the count).
-  writeBytes(dir / "stale.tck", tck("5", {1, 2, 3, 4, 5, 6, nan, nan, nan, 7, 8, 9, nan, nan, nan, inf, inf, inf}));
+  writeBytes(dir / "stale.tck",
+             tck("5", {1, 2, 3, 4, 5, 6, nan, nan, nan, 7, 8, 9, nan, nan, nan, inf, inf, inf}));
   {
     WarningLog log;
     const Polylines l = dtf::app::readTracts((dir / "stale.tck").string());
@@ -434,10 +465,12 @@ TEST(TractFormatsTck, StaleCountAndNaNEndedData) {
   EXPECT_TRUE(log.has("header count 5 but 2 streamlines"));
   EXPECT_TRUE(log.has("no Inf end marker"));
   writeBytes(dir / "open.tck", tck("1", {1, 2, 3, 4, 5, 6}));
-  expectInputError([&] { dtf::app::readTracts((dir / "open.tck").string()); }, "open.tck", "no NaN separator");
+  expectInputError([&] { dtf::app::readTracts((dir / "open.tck").string()); }, "open.tck",
+                   "no NaN separator");
   std::string cut = tck("1", {1, 2, 3, nan, nan, nan});
   writeBytes(dir / "cut.tck", cut.substr(0, cut.size() - 2));
-  expectInputError([&] { dtf::app::readTracts((dir / "cut.tck").string()); }, "cut.tck", "ends inside a triplet");
+  expectInputError([&] { dtf::app::readTracts((dir / "cut.tck").string()); }, "cut.tck",
+                   "ends inside a triplet");
 }
 
 // ---------------------------------------------------------------------------------------- TRX
@@ -457,8 +490,8 @@ struct TrxParts {
 };
 
 // Three streamlines (2, 3, 1 points) at small exact coordinates, with the chosen dtypes.
-std::vector<dtf::test::ZipEntry> trxEntries(const std::string& posType, const std::string& offType, bool withEnd,
-                                            bool deflate) {
+std::vector<dtf::test::ZipEntry> trxEntries(const std::string& posType, const std::string& offType,
+                                            bool withEnd, bool deflate) {
   const std::vector<float> p = {0, 1, 2, 3, 4, 5, -1.5f, 2.5f, 8, 10, 11, 12, 13, 14, 15, 100, -50, 25.5f};
   std::string pos;
   for (float v : p) {
@@ -469,19 +502,21 @@ std::vector<dtf::test::ZipEntry> trxEntries(const std::string& posType, const st
   std::vector<std::uint64_t> off = {0, 2, 5};
   if (withEnd) off.push_back(6);
   std::string offs;
-  for (auto o : off) offType == "uint32" ? put<std::uint32_t>(offs, std::uint32_t(o)) : put<std::uint64_t>(offs, o);
-  const std::string header = R"({"VOXEL_TO_RASMM": [[2, 0, 0, -10], [0, 2, 0, -20], [0, 0, 2, -30], [0, 0, 0, 1]],
+  for (auto o : off)
+    offType == "uint32" ? put<std::uint32_t>(offs, std::uint32_t(o)) : put<std::uint64_t>(offs, o);
+  const std::string header =
+      R"({"VOXEL_TO_RASMM": [[2, 0, 0, -10], [0, 2, 0, -20], [0, 0, 2, -30], [0, 0, 0, 1]],
     "DIMENSIONS": [10, 20, 30], "NB_STREAMLINES": 3, "NB_VERTICES": 6})";
   std::string dps, dpv, grp;
-  for (float v : {1.f, 2.f, 3.f}) put<float>(dps, v);
-  for (int i = 0; i < 6; ++i) put<std::int16_t>(dpv, static_cast<std::int16_t>(i * 10));
-  for (std::uint32_t g : {2u, 0u}) put<std::uint32_t>(grp, g);
-  return {{"header.json", header, deflate},
-          {"positions.3." + posType, pos, deflate},
-          {"offsets." + offType, offs, deflate},
-          {"dps/", "", false},
-          {"dps/score.float32", dps, deflate},
-          {"dpv/depth.int16", dpv, deflate},
+  for (float v : {1.f, 2.f, 3.f})
+    put<float>(dps, v);
+  for (int i = 0; i < 6; ++i)
+    put<std::int16_t>(dpv, static_cast<std::int16_t>(i * 10));
+  for (std::uint32_t g : {2u, 0u})
+    put<std::uint32_t>(grp, g);
+  return {{"header.json", header, deflate},      {"positions.3." + posType, pos, deflate},
+          {"offsets." + offType, offs, deflate}, {"dps/", "", false},
+          {"dps/score.float32", dps, deflate},   {"dpv/depth.int16", dpv, deflate},
           {"groups/pair.uint32", grp, deflate}};
 }
 } // namespace
@@ -495,7 +530,8 @@ TEST(TractFormatsTrx, DtypeAndOffsetVariantsReadAlike) {
     for (const char* off : {"uint32", "uint64"})
       for (bool end : {false, true})
         for (int form = 0; form < 3; ++form) {
-          const std::string name = std::string("v_") + pos + "_" + off + (end ? "_end" : "") + "_" + std::to_string(form) + ".trx";
+          const std::string name =
+              std::string("v_") + pos + "_" + off + (end ? "_end" : "") + "_" + std::to_string(form) + ".trx";
           SCOPED_TRACE(name);
           const auto entries = trxEntries(pos, off, end, form == 1);
           if (form == 2) {
@@ -553,24 +589,40 @@ TEST(TractFormatsTrx, BadFilesAreRefused) {
   std::string badCrc = zip;
   badCrc[45] ^= 0x55; // inside header.json's stored bytes (30-byte local header + 11-byte name)
   const std::vector<Bad> cases = {
-      {"notzip.trx", "this is not a zip archive at all, not even close", "no end-of-central-directory record"},
+      {"notzip.trx", "this is not a zip archive at all, not even close",
+       "no end-of-central-directory record"},
       {"truncated.trx", zip.substr(0, zip.size() / 2), "no end-of-central-directory record"},
       {"crc.trx", badCrc, "CRC-32"},
       {"noheader.trx", with([](auto& e) { e.erase(e.begin()); }), "no header.json"},
-      {"badjson.trx", with([&](auto& e) { find(e, "header.json").data = "{\"NB_STREAMLINES\": 3,"; }), "bad TRX header.json"},
-      {"offsets.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 4, 7); }), "offsets are inconsistent"},
-      {"offsetend.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 12, 7); }), "offsets are inconsistent at entry 3"},
-      {"stalecount.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 12, 5); }), "'dps/score.float32' holds 12 bytes, expected 16"},
-      {"possize.trx", with([&](auto& e) { find(e, "positions.").data.resize(60); }), "NB_VERTICES 6 needs 72"},
+      {"badjson.trx", with([&](auto& e) { find(e, "header.json").data = "{\"NB_STREAMLINES\": 3,"; }),
+       "bad TRX header.json"},
+      {"offsets.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 4, 7); }),
+       "offsets are inconsistent"},
+      {"offsetend.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 12, 7); }),
+       "offsets are inconsistent at entry 3"},
+      {"stalecount.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "offsets.").data, 12, 5); }),
+       "'dps/score.float32' holds 12 bytes, expected 16"},
+      {"possize.trx", with([&](auto& e) { find(e, "positions.").data.resize(60); }),
+       "NB_VERTICES 6 needs 72"},
       {"offsize.trx", with([&](auto& e) { find(e, "offsets.").data.resize(8); }), "NB_STREAMLINES 3 needs"},
-      {"dtype.trx", with([&](auto& e) { find(e, "positions.").name = "positions.3.float128"; }), "positions.3.float16|float32|float64"},
+      {"dtype.trx", with([&](auto& e) { find(e, "positions.").name = "positions.3.float128"; }),
+       "positions.3.float16|float32|float64"},
       {"offdtype.trx", with([&](auto& e) { find(e, "offsets.").name = "offsets.int32"; }), "unknown dtype"},
-      {"dpsdtype.trx", with([&](auto& e) { find(e, "dps/score").name = "dps/score.complex64"; }), "unknown dtype 'complex64'"},
+      {"dpsdtype.trx", with([&](auto& e) { find(e, "dps/score").name = "dps/score.complex64"; }),
+       "unknown dtype 'complex64'"},
       {"dpssize.trx", with([&](auto& e) { find(e, "dps/score").data.resize(8); }), "expected 12"},
-      {"group.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "groups/").data, 0, 3); }), "names streamline 3 of 3"},
-      {"escape.trx", with([](auto& e) { e.push_back({"../../evil.float32", "abcd", false}); }), "escapes the archive"},
-      {"absolute.trx", with([](auto& e) { e.push_back({"/etc/evil", "abcd", false}); }), "escapes the archive"},
-      {"nan.trx", with([&](auto& e) { poke<float>(find(e, "positions.").data, 4, std::nanf("")); }), "position 0 is not finite"},
+      {"group.trx", with([&](auto& e) { poke<std::uint32_t>(find(e, "groups/").data, 0, 3); }),
+       "names streamline 3 of 3"},
+      {"escape.trx", with([](auto& e) {
+         e.push_back({"../../evil.float32", "abcd", false});
+       }),
+       "escapes the archive"},
+      {"absolute.trx", with([](auto& e) {
+         e.push_back({"/etc/evil", "abcd", false});
+       }),
+       "escapes the archive"},
+      {"nan.trx", with([&](auto& e) { poke<float>(find(e, "positions.").data, 4, std::nanf("")); }),
+       "position 0 is not finite"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
@@ -585,7 +637,8 @@ TEST(TractFormatsTrx, BadFilesAreRefused) {
       writeBytes(dir / "linked.trx" / e.name, e.data);
     }
   fs::create_symlink("/etc/hostname", dir / "linked.trx" / "dpv" / "x.float32");
-  expectInputError([&] { dtf::app::readTracts((dir / "linked.trx").string()); }, "linked.trx", "symbolic link");
+  expectInputError([&] { dtf::app::readTracts((dir / "linked.trx").string()); }, "linked.trx",
+                   "symbolic link");
 }
 
 // ---------------------------------------------------------------------------------------- round trips
