@@ -220,7 +220,8 @@ int benchIo(const CommandArgs& argv) {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const double load1 = loadAverage();
   std::vector<const Figure*> figures = {&load, &fa, &fitReal, &fitUp};
-  for (const auto& f : tractFigures) figures.push_back(&f);
+  for (const auto& f : tractFigures)
+    figures.push_back(&f);
   if (json) {
     std::printf("{\"threads\": %d, \"cores\": %u, \"load_average\": %.2f", threads, cores, load1);
     for (const Figure* f : figures) {
