@@ -87,7 +87,7 @@ ZipReader::ZipReader(const std::string& path) : path_(path), file_(path) {
   if (count == 0xffff || cdSize == 0xffffffffu || cdOffset == 0xffffffffu) {
     if (end < 20 || le(f.data() + end - 20, 4) != kLocator64Sig) throw bad("ZIP64 locator missing");
     const std::uint64_t at = le(f.data() + end - 20 + 8, 8);
-    if (at > n - 56 || le(f.data() + at, 4) != kEnd64Sig) throw bad("bad ZIP64 end record");
+    if (n < 56 || at > n - 56 || le(f.data() + at, 4) != kEnd64Sig) throw bad("bad ZIP64 end record");
     count = le(f.data() + at + 32, 8);
     cdSize = le(f.data() + at + 40, 8);
     cdOffset = le(f.data() + at + 48, 8);
@@ -149,8 +149,10 @@ std::string_view ZipReader::read(const Entry& e, std::string& storage) const {
   if (e.method == 0) {
     out = std::string_view(src, static_cast<std::size_t>(e.size));
   } else if (e.method == 8) {
-    if (e.size > (std::uint64_t{1} << 40))
-      throw InputError(path_ + ": zip entry '" + e.name + "' claims an absurd size");
+    // Deflate expands at most about 1032:1; a larger claim is corrupt (and must not be allocated).
+    if (e.size > e.compressedSize * 1032 + 1024)
+      throw InputError(path_ + ": zip entry '" + e.name + "' claims " + std::to_string(e.size) + " bytes from " +
+                       std::to_string(e.compressedSize) + " compressed (corrupt archive)");
     storage.resize(static_cast<std::size_t>(e.size) + 1); // one spare byte detects streams that run long
     z_stream zs{};
     if (inflateInit2(&zs, -15) != Z_OK) throw InputError(path_ + ": cannot start inflating '" + e.name + "'");
