@@ -25,6 +25,16 @@ int benchCheck(const CommandArgs& args);
 // of the executable (the checkout's ../shared/data). nullopt when none exists.
 std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given);
 
+// Tractogram load times for `bench io` (app/bench_io_tracts.cpp): stroke.trk.gz from the shared data beside
+// nibabel's load of the same file in the same run (when python3 with nibabel is present), and a TRX of 1 M
+// streamlines made here. Seconds; < 0 when not measured (a note says why).
+struct TractLoadFigure {
+  std::string key, label, goalText;
+  double wall = -1, cpu = -1, goal = -1;
+};
+std::vector<TractLoadFigure> benchTractLoads(const std::optional<std::filesystem::path>& dataDir,
+                                             std::vector<std::string>& notes);
+
 // Median of a non-empty sample (the vector is reordered).
 double median(std::vector<double> v);
 

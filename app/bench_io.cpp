@@ -159,7 +159,9 @@ int benchIo(const CommandArgs& argv) {
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
                 "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
-                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy.\n"
+                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
+                "  tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
+                "  python3-nibabel is present) and a TRX of 1 M streamlines made here.\n"
                 "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
                 "  executable; the fit figures are skipped when it is not found. Medians of a few runs.\n");
     return 0;
@@ -210,9 +212,16 @@ int benchIo(const CommandArgs& argv) {
     fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
   }
 
+  const std::vector<TractLoadFigure> tractLoads = benchTractLoads(dataDir, notes);
+  std::vector<Figure> tractFigures;
+  for (const auto& t : tractLoads)
+    tractFigures.push_back({t.key.c_str(), t.label.c_str(), {t.wall, t.cpu}, t.goal, t.goalText.c_str()});
+
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const double load1 = loadAverage();
-  const Figure* figures[] = {&load, &fa, &fitReal, &fitUp};
+  std::vector<const Figure*> figures = {&load, &fa, &fitReal, &fitUp};
+  for (const auto& f : tractFigures)
+    figures.push_back(&f);
   if (json) {
     std::printf("{\"threads\": %d, \"cores\": %u, \"load_average\": %.2f", threads, cores, load1);
     for (const Figure* f : figures) {

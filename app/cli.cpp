@@ -11,12 +11,13 @@ namespace dtf::app {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
-      {"info", "describe a tensor, scalar or DWI volume (layout, orientation, ranges, one voxel)", cmdInfo},
+      {"info", "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)", cmdInfo},
       {"fit", "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)", cmdFit},
       {"phantom", "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)", cmdPhantom},
       {"surface", "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality", cmdSurface},
       {"render", "render the fabric on a surface to PNG, headless", cmdRender},
       {"track", "deterministic tensor tractography to .tck/.trk/.vtk", cmdTrack},
+      {"convert", "convert tractograms between .tck, .trk, .trk.gz, .trx, .vtk and .vtp", cmdConvert},
       {"compare", "angle between tracts and the fabric direction on a surface", cmdCompare},
       {"check", "orientation check: a flipped or permuted gradient table or tensor frame, and its fix", cmdCheck},
       {"view", "open the viewer (GLFW window with ImGui panels)", cmdView},

@@ -3,6 +3,7 @@
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
 #include "app/args.h"
 #include "app/commands.h"
+#include "app/tract_files.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/tensor_io.h"
@@ -27,6 +28,8 @@ const char* kHelp =
     "5D SYMMATRIX) it shows the detected layout and the reason, the voxel-to-world affine and where it\n"
     "came from, per-component ranges of the world RAS tensors (mm^2/s), NaN and non-positive-definite\n"
     "voxel counts and FA statistics. Other volumes get header facts and value ranges.\n"
+    "A tractogram (.tck, .trk, .trk.gz, .trx, .vtk, .vtp) gets its format, header facts, streamline and\n"
+    "point counts, length statistics, data arrays and groups (`dtfabric info TRACTS --help`).\n"
     "\n"
     "options:\n"
     "  --layout L      tensor layout: auto (default), fsl, mrtrix, symmatrix, dtitk; anything but auto\n"
@@ -423,6 +426,8 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
 } // namespace
 
 int cmdInfo(const CommandArgs& argv) {
+  for (const auto& a : argv)
+    if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
   Args args(argv, {"help", "json"});
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);

@@ -4,6 +4,7 @@
 #include "app/render_split.h"
 #include "app/surface_spec.h"
 #include "app/tensor_input.h"
+#include "app/tract_colouring.h"
 #include "app/tract_files.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
@@ -73,7 +74,11 @@ Background (grey where the fabric is absent; slices and planes then cover the wh
   --fa-floor F        the fabric only where FA >= F (default 0)
 
 Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y green, z blue)
-  --tracts FILE       .tck, .trk or .vtk tracts (world RAS mm)
+  --tracts FILE       .tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)
+  --tracts-color NAME colour by this per-point or per-streamline value (viridis; a bar at the right edge,
+                      its range printed) instead of DEC
+  --tracts-range LO,HI  the value range of the colour map (default: the value's minimum..maximum)
+  --tracts-group G[,G]  show only the streamlines of these groups (TRX groups/)
   --tracts-near MM    show only tract segments within MM of the surface (default 3; 0 = all). On a planar
                       surface (slice, plane) this is a slab of half-width MM around the plane.
   --tracts-slab MM    also clip to a slab of half-width MM around the surface's plane (curved surfaces:
@@ -212,6 +217,16 @@ int cmdRender(const CommandArgs& argv) {
   in.mask = args.getOr("mask", "");
   const bool force = args.flag("force");
   const std::string tractsPath = args.getOr("tracts", "");
+  TractColouring colouring;
+  colouring.value = args.getOr("tracts-color", "");
+  if (auto r = args.get("tracts-range")) colouring.range = parseTractRange(*r);
+  if (auto g = args.get("tracts-group")) {
+    std::stringstream ss(*g);
+    for (std::string name; std::getline(ss, name, ',');)
+      if (!name.empty()) colouring.groups.push_back(name);
+  }
+  if ((!colouring.value.empty() || colouring.range || !colouring.groups.empty()) && tractsPath.empty())
+    throw UsageError("--tracts-color, --tracts-range and --tracts-group need --tracts FILE");
   const double tractsNear = args.getDouble("tracts-near", 3.0);
   if (!(tractsNear >= 0 && tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
   const double tractsSlab = args.getDouble("tracts-slab", 0.0);
@@ -252,7 +267,9 @@ int cmdRender(const CommandArgs& argv) {
     rethrowWithContext("while building the surface " + describeSurface(spec));
   }
   if (mesh.empty()) throw InputError("the surface " + describeSurface(spec) + " is empty");
-  const Polylines tracts = tractsPath.empty() ? Polylines{} : readTracts(tractsPath);
+  Polylines tracts = tractsPath.empty() ? Polylines{} : readTracts(tractsPath);
+  const TractColouringApplied coloured = applyTractColouring(tracts, colouring, tractsPath);
+  if (coloured.coloured) logInfo(coloured.summary);
 
   // The second pane's data: another surface of the same field, or the same surface of another input.
   io::LoadedTensors loaded2;
@@ -315,7 +332,9 @@ int cmdRender(const CommandArgs& argv) {
     }
     glBindFramebuffer(GL_FRAMEBUFFER, renderer.output().id());
     tractRenderer->draw(renderer.frameView(), style);
-    return renderer.readback();
+    Image out = renderer.readback();
+    if (coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
+    return out;
   };
   auto pane = [&](const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
     renderer.setMesh(m);

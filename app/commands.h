@@ -26,6 +26,9 @@ int cmdView(const CommandArgs& args);
 int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
 int cmdCheck(const CommandArgs& args);
+int cmdConvert(const CommandArgs& args);
+// `info` for tract files (cmdInfo hands over when FILE is a tractogram).
+int cmdTractInfo(const CommandArgs& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();

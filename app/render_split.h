@@ -28,7 +28,7 @@ struct NearSurfaceOptions {
 // bounding box misses the surface's box grown by maxMm is skipped whole, as is each point outside that box;
 // the rest ask DistanceQuery::within (a traversal that stops at the first triangle within maxMm, 3-5x faster
 // than a closest-point query per point). Lines are split over threads; the output is in input order
-// whatever the thread count.
+// whatever the thread count. Per-point data follow the kept points (per-streamline data and groups do not).
 Polylines selectNearSurface(const Polylines& lines, const surfaces::DistanceQuery& surface, double maxMm,
                             const NearSurfaceOptions& options = {});
 

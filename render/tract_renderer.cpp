@@ -4,6 +4,7 @@
 #include "render/shader_program.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <glm/gtc/type_ptr.hpp>
 #include <string>
@@ -34,6 +35,36 @@ std::vector<std::uint32_t> stratifiedOrder(std::size_t n) {
 }
 
 } // namespace
+
+glm::vec3 tractValueColour(float t) {
+  static const glm::vec3 anchors[5] = {{0x44 / 255.0f, 0x01 / 255.0f, 0x54 / 255.0f},
+                                       {0x3b / 255.0f, 0x52 / 255.0f, 0x8b / 255.0f},
+                                       {0x21 / 255.0f, 0x91 / 255.0f, 0x8c / 255.0f},
+                                       {0x5e / 255.0f, 0xc9 / 255.0f, 0x62 / 255.0f},
+                                       {0xfd / 255.0f, 0xe7 / 255.0f, 0x25 / 255.0f}};
+  if (!(t >= 0)) t = 0; // NaN too
+  t = std::min(t, 1.0f) * 4.0f;
+  const int i = std::min(static_cast<int>(t), 3);
+  return glm::mix(anchors[i], anchors[i + 1], t - static_cast<float>(i));
+}
+
+void drawTractColourBar(std::uint8_t* rgba, int width, int height) {
+  const int barW = std::max(8, width / 64), barH = std::max(16, height * 2 / 5);
+  const int x0 = width - barW - std::max(4, width / 64), y0 = (height - barH) / 2;
+  for (int y = y0 - 1; y <= y0 + barH; ++y)
+    for (int x = x0 - 1; x <= x0 + barW; ++x) {
+      if (x < 0 || y < 0 || x >= width || y >= height) continue;
+      std::uint8_t* p =
+          rgba +
+          (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
+      const bool frame = x == x0 - 1 || x == x0 + barW || y == y0 - 1 || y == y0 + barH;
+      const glm::vec3 c =
+          frame ? glm::vec3(1.0f) : tractValueColour(1.0f - float(y - y0) / float(std::max(barH - 1, 1)));
+      for (int k = 0; k < 3; ++k)
+        p[k] = static_cast<std::uint8_t>(std::lround(c[k] * 255.0f));
+      p[3] = 255;
+    }
+}
 
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   Polylines out;
@@ -69,14 +100,25 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   }
   const std::size_t step = lo;
   out.points.reserve(total(step));
+  for (const auto& d : lines.perPoint)
+    out.perPoint.push_back({d.name, d.components, {}});
+  auto keep = [&](std::size_t i) {
+    out.points.push_back(lines.points[i]);
+    for (std::size_t k = 0; k < lines.perPoint.size(); ++k) {
+      const std::size_t c = static_cast<std::size_t>(lines.perPoint[k].components);
+      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
+                                    lines.perPoint[k].values.begin() + static_cast<long>(i * c),
+                                    lines.perPoint[k].values.begin() + static_cast<long>((i + 1) * c));
+    }
+  };
   out.offsets.reserve(drawable / lineStep + 2);
   std::size_t k = 0;
   for (std::size_t l = 0; l < count; ++l) {
     const std::size_t b = lines.offsets[l], n = lines.offsets[l + 1] - b;
     if (n < 2 || k++ % lineStep != 0) continue;
     for (std::size_t i = 0; i < n - 1; i += step)
-      out.points.push_back(lines.points[b + i]);
-    out.points.push_back(lines.points[b + n - 1]);
+      keep(b + i);
+    keep(b + n - 1);
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
   }
   return out;
@@ -87,6 +129,14 @@ DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints
   DisplayTracts d;
   d.points = std::move(shown.points);
   d.lines = shown.lineCount();
+  for (const auto& a : shown.perPoint)
+    if (a.name == kTractDisplayColours && a.components == 4 && a.values.size() == 4 * d.points.size()) {
+      d.colours.resize(d.points.size());
+      for (std::size_t i = 0; i < d.points.size(); ++i)
+        for (int c = 0; c < 4; ++c)
+          d.colours[i][c] = static_cast<std::uint8_t>(
+              std::lround(std::clamp(a.values[4 * i + static_cast<std::size_t>(c)], 0.0f, 1.0f) * 255.0f));
+    }
   if (d.lines == 0) return d;
   const std::vector<std::uint32_t> order = stratifiedOrder(d.lines);
   std::size_t previous = 0;
@@ -178,6 +228,18 @@ void TractRenderer::upload(const DisplayTracts& t) {
   glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
   glVertexArrayElementBuffer(vao_.id(), segments_.id());
+  colours_ = Buffer();
+  if (t.colours.size() == t.points.size()) {
+    colours_ = createBuffer();
+    glNamedBufferStorage(colours_.id(), static_cast<GLsizeiptr>(t.colours.size() * sizeof(glm::u8vec4)),
+                         t.colours.data(), 0);
+    glVertexArrayVertexBuffer(vao_.id(), 1, colours_.id(), 0, sizeof(glm::u8vec4));
+    glEnableVertexArrayAttrib(vao_.id(), 1);
+    glVertexArrayAttribFormat(vao_.id(), 1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
+    glVertexArrayAttribBinding(vao_.id(), 1, 1);
+  } else {
+    glDisableVertexArrayAttrib(vao_.id(), 1);
+  }
   levelOffsets_ = t.levelOffsets;
   pointCount_ = t.points.size();
   lineCount_ = t.lines;
@@ -214,6 +276,7 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style, int lev
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
+  glVertexAttrib4f(1, 0, 0, 0, 0); // DEC where no colour array is bound
   // GL_LINES over the element buffer of point index pairs; the geometry shader widens each segment.
   const std::size_t start = levelOffsets_[static_cast<std::size_t>(level)] + first;
   glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
 #include <utility>
 #include <vector>
 
@@ -42,12 +43,14 @@ struct TractStyle {
 
 // For display only: keeps every n-th point of each line (n the smallest step that fits the cap) and always
 // its first and last point, so at most maxPoints points remain; when even two points per line exceed the
-// cap, every m-th line is kept. Lines with fewer than two points are dropped. Deterministic.
+// cap, every m-th line is kept. Lines with fewer than two points are dropped. Per-point data follow the
+// kept points (per-streamline data and groups are not carried). Deterministic.
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
 
 // What TractRenderer uploads, prepared on any thread: the display points and the segments of each level.
 struct DisplayTracts {
   std::vector<glm::vec3> points;            // decimateForDisplay(lines, maxPoints).points
+  std::vector<glm::u8vec4> colours;         // per point, from kTractDisplayColours; empty: DEC
   std::size_t lines = 0;                    // lines drawn (>= 2 points each)
   std::vector<std::uint32_t> segments;      // point index pairs, level after level
   std::vector<std::size_t> levelOffsets{0}; // level k's segments: [levelOffsets[k], levelOffsets[k + 1])
@@ -57,6 +60,16 @@ struct DisplayTracts {
     return levelOffsets[static_cast<std::size_t>(level) + 1] - levelOffsets[static_cast<std::size_t>(level)];
   }
 };
+
+// A per-point array with this name (4 components, RGBA in 0..1) gives the tracts their colours: alpha 1
+// uses the RGB (lit like DEC), alpha 0 keeps the DEC colour of the tangent.
+inline constexpr const char* kTractDisplayColours = "display colour";
+// The colour map for tract values: viridis, linear between matplotlib's colours at 0, 1/4, 1/2, 3/4 and 1
+// (#440154, #3b528b, #21918c, #5ec962, #fde725); t is clamped to [0, 1].
+glm::vec3 tractValueColour(float t);
+// Draws a vertical colour bar of tractValueColour (low at the bottom) into `rgba` (width x height, 4 bytes
+// per pixel, row 0 at the top) at the right edge, framed in white: the legend of a coloured tract image.
+void drawTractColourBar(std::uint8_t* rgba, int width, int height);
 
 // Display decimation to maxPoints, then up to maxLevels levels of detail (a level is added only while it
 // has at most 3/4 of the previous level's segments).
@@ -87,7 +100,7 @@ public:
 private:
   ProgramHandle program_;
   VertexArray vao_;
-  Buffer points_, segments_;
+  Buffer points_, segments_, colours_;
   std::vector<std::size_t> levelOffsets_{0};
   std::size_t pointCount_ = 0, lineCount_ = 0;
   GLint uView_ = -1, uProj_ = -1, uViewRot_ = -1, uViewport_ = -1, uWidth_ = -1, uBias_ = -1, uPlane_ = -1,

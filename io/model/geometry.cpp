@@ -96,4 +96,83 @@ bool Mesh::isClosedOutward() const {
   return volume > 0;
 }
 
+std::string Polylines::inconsistency() const {
+  if (offsets.empty()) {
+    if (!points.empty()) return "points without offsets";
+  } else {
+    if (offsets.front() != 0) return "the first offset is not 0";
+    if (offsets.back() != points.size()) return "the last offset is not the point count";
+    for (std::size_t i = 1; i < offsets.size(); ++i)
+      if (offsets[i] < offsets[i - 1]) return "offsets decrease at line " + std::to_string(i - 1);
+  }
+  for (const auto& d : perLine)
+    if (d.components < 1 || d.values.size() != lineCount() * static_cast<std::size_t>(d.components))
+      return "per-streamline data '" + d.name + "' does not hold one entry per streamline";
+  for (const auto& d : perPoint)
+    if (d.components < 1 || d.values.size() != points.size() * static_cast<std::size_t>(d.components))
+      return "per-point data '" + d.name + "' does not hold one entry per point";
+  for (const auto& g : groups)
+    for (std::uint32_t l : g.lines)
+      if (l >= lineCount())
+        return "group '" + g.name + "' names streamline " + std::to_string(l) + " of " +
+               std::to_string(lineCount());
+  return {};
+}
+
+Polylines Polylines::subset(const std::vector<std::uint32_t>& lines) const {
+  Polylines out;
+  out.offsets.reserve(lines.size() + 1);
+  out.offsets.push_back(0);
+  for (const auto& d : perLine)
+    out.perLine.push_back({d.name, d.components, {}});
+  for (const auto& d : perPoint)
+    out.perPoint.push_back({d.name, d.components, {}});
+  for (std::uint32_t l : lines) {
+    if (l >= lineCount()) continue;
+    const std::uint32_t b = offsets[l], e = offsets[l + 1];
+    out.points.insert(out.points.end(), points.begin() + b, points.begin() + e);
+    out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
+    for (std::size_t k = 0; k < perLine.size(); ++k) {
+      const std::size_t c = static_cast<std::size_t>(perLine[k].components);
+      out.perLine[k].values.insert(out.perLine[k].values.end(),
+                                   perLine[k].values.begin() + static_cast<long>(l * c),
+                                   perLine[k].values.begin() + static_cast<long>((l + 1) * c));
+    }
+    for (std::size_t k = 0; k < perPoint.size(); ++k) {
+      const std::size_t c = static_cast<std::size_t>(perPoint[k].components);
+      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
+                                    perPoint[k].values.begin() + static_cast<long>(b * c),
+                                    perPoint[k].values.begin() + static_cast<long>(e * c));
+    }
+  }
+  return out;
+}
+
+std::vector<float> Polylines::valuesPerPoint(const std::string& name) const {
+  auto norm = [](const TractValues& d, std::size_t item) {
+    const std::size_t c = static_cast<std::size_t>(d.components);
+    if (c == 1) return d.values[item];
+    double s = 0;
+    for (std::size_t k = 0; k < c; ++k)
+      s += double(d.values[item * c + k]) * d.values[item * c + k];
+    return static_cast<float>(std::sqrt(s));
+  };
+  std::vector<float> out;
+  for (const auto& d : perPoint)
+    if (d.name == name) {
+      out.resize(points.size());
+      for (std::size_t i = 0; i < points.size(); ++i)
+        out[i] = norm(d, i);
+      return out;
+    }
+  for (const auto& d : perLine)
+    if (d.name == name) {
+      out.resize(points.size());
+      for (std::size_t l = 0; l < lineCount(); ++l)
+        std::fill(out.begin() + offsets[l], out.begin() + offsets[l + 1], norm(d, l));
+      return out;
+    }
+  return out;
+}
+
 } // namespace dtf

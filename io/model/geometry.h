@@ -1,9 +1,9 @@
 // Geometry passed between surfaces, tracts and render: triangle meshes and polylines in world RAS mm.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
 #include <vector>
 
 namespace dtf {
@@ -25,11 +25,36 @@ struct Mesh {
   bool isClosedOutward() const;
 };
 
+// Named values attached to tracts: `components` floats per streamline (per-line data) or per point
+// (per-point data), item-major: values[item * components + c].
+struct TractValues {
+  std::string name;
+  int components = 1;
+  std::vector<float> values;
+};
+
+// A named subset of streamlines (a bundle), as indices into the lines.
+struct TractGroup {
+  std::string name;
+  std::vector<std::uint32_t> lines;
+};
+
 struct Polylines {
   std::vector<glm::vec3> points;       // world RAS mm, all lines concatenated
   std::vector<std::uint32_t> offsets;  // start of each line in `points`, plus a final entry = points.size()
+  std::vector<TractValues> perLine;    // each with lineCount() * components values
+  std::vector<TractValues> perPoint;   // each with points.size() * components values
+  std::vector<TractGroup> groups;
 
   std::size_t lineCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  // Empty when the data, groups and offsets agree with the points; otherwise what is wrong.
+  std::string inconsistency() const;
+  // The streamlines listed in `lines` (in that order) with their per-streamline and per-point data; groups
+  // are not carried (their indices refer to the full set).
+  Polylines subset(const std::vector<std::uint32_t>& lines) const;
+  // One value per point of the data named `name` (per-point, or per-streamline repeated along each line;
+  // several components give their Euclidean norm). Empty when there is no such data.
+  std::vector<float> valuesPerPoint(const std::string& name) const;
 };
 
 } // namespace dtf

@@ -7,6 +7,7 @@
 in vec3 g_tangent;
 in float g_across;
 in float g_planeDist;
+in vec4 g_colour; // alpha 1: a value colour replaces DEC
 uniform mat3 u_viewRot;
 uniform float u_slabMm;
 uniform float u_ambient = 0.35;
@@ -26,5 +27,6 @@ void main() {
   spec *= spec;
   float tube = sqrt(max(1.0 - g_across * g_across, 0.0));
   float light = (u_ambient + u_diffuse * sinLt) * (0.55 + 0.45 * tube) + u_specular * spec * tube;
-  o_colour = vec4(clamp(abs(t) * light, 0.0, 1.0), 1.0);
+  vec3 base = g_colour.a > 0.5 ? g_colour.rgb : abs(t);
+  o_colour = vec4(clamp(base * light, 0.0, 1.0), 1.0);
 }

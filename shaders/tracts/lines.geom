@@ -6,6 +6,7 @@ layout(lines) in;
 layout(triangle_strip, max_vertices = 4) out;
 in vec3 v_world[];
 in float v_planeDist[];
+in vec4 v_colour[];
 uniform mat4 u_view;
 uniform mat4 u_proj;
 uniform vec2 u_viewport;      // pixels
@@ -14,6 +15,7 @@ uniform float u_depthBiasMm;  // moves the line towards the viewer (lines lying 
 out vec3 g_tangent;           // world, unit
 out float g_across;           // -1 .. 1 across the tube
 out float g_planeDist;
+out vec4 g_colour;
 
 void main() {
   vec3 d = v_world[1] - v_world[0];
@@ -41,6 +43,7 @@ void main() {
     g_tangent = t;
     g_across = across[i];
     g_planeDist = v_planeDist[i < 2 ? 0 : 1];
+    g_colour = v_colour[i < 2 ? 0 : 1];
     EmitVertex();
   }
   EndPrimitive();

@@ -6,6 +6,7 @@
 // commands with -o, that no output file (not even a temporary one) is left behind.
 #include "support/cli.h"
 #include "support/test_env.h"
+#include "support/zip_builder.h"
 
 #include <cmath>
 #include <cstdint>
@@ -213,6 +214,21 @@ std::string trk(const std::function<void(std::string&)>& edit = {}, std::optiona
   put<std::int32_t>(b, 2);
   b += floats({1, 1, 1, 3, 3, 3});
   return h + b;
+}
+
+// A valid TRX zip: 2 streamlines of 2 points (float32 positions, uint32 offsets with the end entry);
+// `edit` may change the entries (header.json, positions, offsets) before they are zipped.
+std::string trxZip(const std::function<void(std::vector<dtf::test::ZipEntry>&)>& edit = {},
+                   bool deflate = false) {
+  std::vector<dtf::test::ZipEntry> e = {
+      {"header.json",
+       R"({"VOXEL_TO_RASMM": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "DIMENSIONS": [8,8,8], )"
+       R"("NB_STREAMLINES": 2, "NB_VERTICES": 4})",
+       deflate},
+      {"positions.3.float32", floats({0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3}), deflate},
+      {"offsets.uint32", std::string("\0\0\0\0\2\0\0\0\4\0\0\0", 12), deflate}};
+  if (edit) edit(e);
+  return dtf::test::zipArchive(e);
 }
 
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
@@ -642,14 +658,13 @@ std::vector<Case> catalogue() {
                           return s.substr(0, s.size() - 14);
                         },
                         {"truncated .tck data", "ends inside a triplet"}));
+  // Data ending after a NaN separator without the Inf marker is read (MATLAB writers); a streamline with no
+  // separator at all is truncated.
   c.push_back(tractCase("TckNoEndMarker", "noinf.tck",
                         [] {
-                          return tck("datatype: Float32LE\n", {0, 0, 0, 1, 1, 1, kNaN, kNaN, kNaN});
+                          return tck("datatype: Float32LE\n", {0, 0, 0, 1, 1, 1});
                         },
-                        {"no end-of-file marker"}));
-  c.push_back(tractCase("TckCountImpossible", "count.tck",
-                        [] { return tck("datatype: Float32LE\ncount: 1000000\n", kTckPoints); },
-                        {"count 1000000 is impossible"}));
+                        {"no end-of-file marker", "no NaN separator"}));
   c.push_back(tractCase("TckCountNotANumber", "countnan.tck",
                         [] { return tck("datatype: Float32LE\ncount: many\n", kTckPoints); },
                         {"bad .tck count 'many'"}));
@@ -738,6 +753,66 @@ std::vector<Case> catalogue() {
                         },
                         {"non-finite coordinate in track 0"}));
   c.push_back(tractCase("TractUnknownExtension", "tracts.xyz", [] { return std::string("x"); }, {}));
+  // ---- .trk.gz
+  c.push_back(tractCase("TrkGzTruncated", "cut.trk.gz",
+                        [] {
+                          auto z = gzip(trk());
+                          return z.substr(0, z.size() / 2);
+                        },
+                        {"corrupt or truncated gzip data"}));
+  c.push_back(tractCase("TrkGzCorrupt", "crc.trk.gz",
+                        [] {
+                          auto z = gzip(trk());
+                          z[z.size() - 6] ^= 0x5a; // the CRC-32 of the uncompressed data
+                          return z;
+                        },
+                        {"corrupt or truncated gzip data"}));
+  c.push_back(tractCase("TrkGzNotTrackVis", "text.trk.gz", [] { return gzip(std::string(1200, 'x')); },
+                        {"no 'TRACK' magic"}));
+  // ---- .trx (zip archives built here by support/zip_builder.h)
+  c.push_back(tractCase("TrxNotAZip", "text.trx", [] { return std::string(300, 'x'); },
+                        {"not a valid zip archive", "no end-of-central-directory record"}));
+  c.push_back(tractCase("TrxTruncatedZip", "cut.trx", [] { return trxZip().substr(0, 150); },
+                        {"not a valid zip archive"}));
+  c.push_back(tractCase("TrxCentralDirectoryOutside", "cd.trx",
+                        [] {
+                          auto z = trxZip();
+                          poke<std::uint32_t>(z, z.size() - 6, 0x7fffffff); // central directory offset
+                          return z;
+                        },
+                        {"central directory lies outside the file"}));
+  c.push_back(tractCase("TrxCorruptDeflate", "deflate.trx",
+                        [] {
+                          auto z = trxZip({}, true);
+                          z[45] ^= 0x77; // inside the deflated header.json
+                          return z;
+                        },
+                        {"header.json"}));
+  c.push_back(tractCase("TrxNoHeader", "nohdr.trx",
+                        [] { return trxZip([](auto& e) { e.erase(e.begin()); }); }, {"no header.json"}));
+  c.push_back(tractCase("TrxOffsetsInconsistent", "offsets.trx",
+                        [] { return trxZip([](auto& e) { poke<std::uint32_t>(e[2].data, 4, 9); }); },
+                        {"offsets are inconsistent at entry 1"}));
+  c.push_back(tractCase("TrxPositionsSizeMismatch", "possize.trx",
+                        [] { return trxZip([](auto& e) { e[1].data.resize(24); }); },
+                        {"NB_VERTICES 4 needs 48"}));
+  c.push_back(tractCase("TrxOffsetsSizeMismatch", "offsize.trx",
+                        [] { return trxZip([](auto& e) { e[2].data += std::string(8, '\0'); }); },
+                        {"NB_STREAMLINES 2 needs 2 or 3 entries"}));
+  c.push_back(tractCase("TrxUnknownPositionsDtype", "dtype.trx",
+                        [] { return trxZip([](auto& e) { e[1].name = "positions.3.int32"; }); },
+                        {"positions.3.float16|float32|float64"}));
+  c.push_back(tractCase("TrxUnknownDataDtype", "dpvdtype.trx",
+                        [] { return trxZip([](auto& e) {
+                               e.push_back({"dpv/x.float8", "abcd", false});
+                             }); },
+                        {"unknown dtype 'float8'"}));
+  c.push_back(
+      tractCase("TrxEntryEscapes", "escape.trx",
+                [] {
+                  return trxZip([](auto& e) { e.push_back({"dps/../../x.float32", "abcdefgh", false}); });
+                },
+                {"escapes the archive"}));
   // ---- viewer scripts (parsed completely before a window opens)
   // Fuzz finding: a line of only \v or \f was not blank to the parser but had no words (out-of-bounds read).
   c.push_back(scriptCase("ScriptVerticalTabLine", "\v\f \nfrobnicate\n", {"2:", "frobnicate"}));

@@ -1,9 +1,11 @@
-// libFuzzer target: MRtrix .tck or TrackVis .trk reader (io/tracts.h), chosen at build time by
-// DTF_FUZZ_TRACT_EXT (".tck" or ".trk"). Any dtf::Error is an accepted outcome.
+// libFuzzer target: MRtrix .tck, TrackVis .trk / .trk.gz (io/tracts.h) or TRX zip (io/trx.h) reader,
+// chosen at build time by DTF_FUZZ_TRACT_EXT (".tck", ".trk", ".trk.gz" or ".trx"). Any dtf::Error is an
+// accepted outcome.
 #include "fuzz_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/tracts.h"
+#include "io/trx.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool quiet = (dtf::setLogSink([](dtf::LogLevel, const std::string&) {}), true);
@@ -12,12 +14,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const std::string path = dtf::fuzz::scratchPath("tracts", ext);
   dtf::fuzz::writeInput(path, data, size);
   try {
-    const dtf::Polylines lines = ext == ".tck" ? dtf::io::readTck(path) : dtf::io::readTrk(path);
-    // What a reader returns must be a consistent polyline set.
-    if (lines.offsets.empty() || lines.offsets.front() != 0 || lines.offsets.back() != lines.points.size())
-      std::abort();
-    for (std::size_t i = 1; i < lines.offsets.size(); ++i)
-      if (lines.offsets[i] < lines.offsets[i - 1]) std::abort();
+    const dtf::Polylines lines = ext == ".tck"   ? dtf::io::readTck(path)
+                                 : ext == ".trx" ? dtf::io::readTrx(path)
+                                                 : dtf::io::readTrk(path);
+    // What a reader returns must be a consistent polyline set, its data and groups included.
+    if (lines.offsets.empty() || !lines.inconsistency().empty()) std::abort();
   } catch (const dtf::Error&) {
   }
   return 0;

@@ -1,10 +1,12 @@
 // Writes the fuzzers' seed corpora with dtfabric's own writers: small phantoms in every tensor layout
 // (.nii and .nii.gz, NIfTI-1 and -2), a DWI-shaped 4D volume, gradient tables, .tck/.trk tracts and viewer
-// scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/view_script).
+// scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx,
+// DIR/view_script).
 #include "io/dwi.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
 #include "io/tracts.h"
+#include "io/trx.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -25,7 +27,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"nifti", "gradients", "tck", "trk", "view_script"})
+  for (const char* sub : {"nifti", "gradients", "tck", "trk", "trkgz", "trx", "view_script"})
     fs::create_directories(dir / sub);
 
   io::PhantomOptions small;
@@ -69,6 +71,13 @@ int main(int argc, char** argv) {
   const Grid grid = io::makePhantom("constant", small).tensors.grid;
   io::writeTrk((dir / "trk" / "three.trk").string(), lines, grid);
   io::writeTrk((dir / "trk" / "none.trk").string(), Polylines{{}, {0}}, grid);
+  Polylines rich = lines;
+  rich.perLine = {{"w", 1, {1, 2, 3}}};
+  rich.perPoint = {{"v", 1, std::vector<float>(lines.points.size(), 0.5f)}};
+  rich.groups = {{"g", {0, 2}}};
+  io::writeTrk((dir / "trkgz" / "three.trk.gz").string(), rich, grid);
+  io::writeTrx((dir / "trx" / "three.trx").string(), rich, grid);
+  io::writeTrx((dir / "trx" / "none.trx").string(), Polylines{{}, {0}}, grid);
 
   text(dir / "view_script" / "tour.dtfs",
        "# a tour\nload brain.nii.gz\nsurface fa=0.3\nfa 0.25\nslice axial 20\nkey PgUp\nrotate 10 -5\npan 3 "
