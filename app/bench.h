@@ -24,6 +24,15 @@ int benchOverlay(const CommandArgs& args);
 // of the executable (the checkout's ../shared/data). nullopt when none exists.
 std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given);
 
+// Load time of the real tensor through each tensor format (app/bench_io_formats.cpp); empty (with a note)
+// when the shared data are missing.
+struct FormatLoadFigure {
+  std::string key, label;
+  double wall = -1, cpu = -1; // median seconds
+};
+std::vector<FormatLoadFigure> benchFormatLoads(const std::optional<std::filesystem::path>& dataDir,
+                                               std::vector<std::string>& notes);
+
 // Median of a non-empty sample (the vector is reordered).
 double median(std::vector<double> v);
 

@@ -159,7 +159,8 @@ int benchIo(const CommandArgs& argv) {
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
                 "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
-                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy.\n"
+                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy, and\n"
+                "  load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set.\n"
                 "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
                 "  executable; the fit figures are skipped when it is not found. Medians of a few runs.\n");
     return 0;
@@ -210,6 +211,8 @@ int benchIo(const CommandArgs& argv) {
     fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
   }
 
+  const std::vector<FormatLoadFigure> formats = benchFormatLoads(dataDir, notes);
+
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const double load1 = loadAverage();
   const Figure* figures[] = {&load, &fa, &fitReal, &fitUp};
@@ -222,6 +225,8 @@ int benchIo(const CommandArgs& argv) {
         std::printf(", \"%s\": null, \"%s_cpu\": null", f->key, f->key);
       std::printf(", \"%s_goal\": %.3f", f->key, f->goal);
     }
+    for (const FormatLoadFigure& f : formats)
+      std::printf(", \"%s\": %.4f, \"%s_cpu\": %.4f", f.key.c_str(), f.wall, f.key.c_str(), f.cpu);
     std::printf(", \"notes\": [");
     for (std::size_t i = 0; i < notes.size(); ++i) {
       std::string s;
@@ -242,6 +247,8 @@ int benchIo(const CommandArgs& argv) {
       else
         std::printf("  %-32s %12s   goal %s\n", f->label, "skipped", f->goalText);
     }
+    for (const FormatLoadFigure& f : formats)
+      std::printf("  %-32s %8.1f ms wall %8.1f ms cpu\n", f.label.c_str(), f.wall * 1e3, f.cpu * 1e3);
     if (load1 > cores)
       std::printf("  note: the load average exceeds the core count; wall times are inflated by other work\n");
     for (const auto& n : notes)

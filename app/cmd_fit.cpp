@@ -20,7 +20,7 @@ namespace dtf::app {
 namespace {
 
 const char* kFitHelp =
-    "usage: dtfabric fit DWI [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]|OUT.mif[.gz]\n"
+    "usage: dtfabric fit DWI [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]|.mif[.gz]|.nrrd\n"
     "                    [--layout fsl|mrtrix|symmatrix|dtitk] [--method wls|ols] [--b0-threshold B]\n"
     "                    [--threads N] [--force]\n"
     "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).\n"
@@ -29,7 +29,8 @@ const char* kFitHelp =
     "                     dw_scheme or a DSI Studio .src.gz (their own tables are used)\n"
     "  --mask M           fit only where M is non-zero (same grid as the DWI); default: an automatic,\n"
     "                     approximate mask (Otsu on the mean b=0 image)\n"
-    "  -o OUT             output tensor volume, mm^2/s (.mif/.mif.gz: MRtrix image, MRtrix's convention)\n"
+    "  -o OUT             output tensor volume, mm^2/s (.mif/.mif.gz: MRtrix image in MRtrix's convention;\n"
+    "                     .nrrd: teem tensor NRRD in RAS space)\n"
     "  --layout L         on-disk layout of OUT (default fsl: xx xy xz yy yz zz in the bvec frame)\n"
     "  --method M         wls (default) or ols\n"
     "  --b0-threshold B   b-values <= B s/mm^2 count as b=0 (default 50)\n"
@@ -85,8 +86,9 @@ int cmdFit(const CommandArgs& argv) {
   if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   const auto output = args.get("output");
   if (!output) throw UsageError("missing -o OUT.nii.gz");
-  if (!io::isWritableVolumeName(*output))
-    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz or .mih file, got '" + *output + "'");
+  if (!io::isWritableTensorName(*output))
+    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" + *output +
+                     "'");
   auto bval = args.get("bval");
   auto bvec = args.get("bvec");
   const auto maskPath = args.get("mask");

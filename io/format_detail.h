@@ -73,6 +73,9 @@ struct NrrdVolume {
 };
 NrrdVolume readNrrd(const std::string& path, bool withData);
 LoadedTensors nrrdTensors(const std::string& path);
+// Writes world tensors as an attached, gzip-encoded NRRD (RAS space, 3D-masked-symmetric-matrix first,
+// identity measurement frame). Atomic. Throws InputError.
+void writeNrrdTensors(const std::string& path, const TensorField& field);
 
 // --- FSL dtifit eigen-systems (io/dtifit_io.cpp)
 // The basename of a dtifit set from `path` (basename itself or any member file), or "" when none.

@@ -248,6 +248,10 @@ bool isWritableVolumeName(const std::string& path) {
   return false;
 }
 
+bool isWritableTensorName(const std::string& path) {
+  return isWritableVolumeName(path) || (endsWith(path, ".nrrd") && path.size() > 5);
+}
+
 namespace {
 
 bool isMrtrixName(const std::string& path) {
@@ -373,6 +377,10 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
 
 void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
                        int niftiVersion) {
+  if (endsWith(path, ".nrrd")) {
+    writeNrrdTensors(path, field);
+    return;
+  }
   if (!isMrtrixName(path)) {
     writeNiftiTensorVolume(path, field, layout, niftiVersion);
     return;

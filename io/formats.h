@@ -41,5 +41,7 @@ std::string dtifitSetOf(const std::string& path);
 
 // True when a tensor or scalar writer accepts the output name: .nii, .nii.gz, .mif, .mif.gz, .mih.
 bool isWritableVolumeName(const std::string& path);
+// The same for tensor writers, which also write .nrrd.
+bool isWritableTensorName(const std::string& path);
 
 } // namespace dtf::io

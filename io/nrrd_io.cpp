@@ -526,3 +526,55 @@ LoadedTensors nrrdTensors(const std::string& path) {
 }
 
 } // namespace dtf::io::detail
+
+namespace dtf::io::detail {
+
+void writeNrrdTensors(const std::string& path, const TensorField& field) {
+  const std::size_t nv = field.grid.voxelCount();
+  if (field.tensors.size() != nv || field.valid.size() != nv)
+    throw InputError("cannot write " + path + ": tensor field size does not match its grid");
+  const Grid& g = field.grid;
+  auto vec = [](const glm::dvec3& v) {
+    std::ostringstream o;
+    o.precision(17);
+    o << "(" << v.x << "," << v.y << "," << v.z << ")";
+    return o.str();
+  };
+  // Attached header, RAS space, identity measurement frame (the tensors are world tensors), the tensor
+  // axis first with a confidence of 1 where a tensor is valid, 0 elsewhere; gzip-encoded float32.
+  std::string h = "NRRD0005\n# written by dtfabric: world RAS tensors, mm^2/s\ntype: float\ndimension: 4\n";
+  h += "sizes: 7 " + std::to_string(g.dims.x) + " " + std::to_string(g.dims.y) + " " +
+       std::to_string(g.dims.z) + "\n";
+  h += "kinds: 3D-masked-symmetric-matrix space space space\nspace: right-anterior-superior\n";
+  h += "space directions: none " + vec(glm::dvec3(g.voxelToWorld[0])) + " " +
+       vec(glm::dvec3(g.voxelToWorld[1])) + " " + vec(glm::dvec3(g.voxelToWorld[2])) + "\n";
+  h += "space origin: " + vec(glm::dvec3(g.voxelToWorld[3])) + "\n";
+  h += "measurement frame: (1,0,0) (0,1,0) (0,0,1)\nendian: little\nencoding: gzip\n\n";
+  std::vector<float> values(nv * 7, 0.0f);
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (!field.valid[i]) continue;
+    const auto c = field.tensors[i].components(); // xx xy xz yy yz zz, teem's order
+    values[i * 7] = 1.0f;
+    for (int k = 0; k < 6; ++k)
+      values[i * 7 + 1 + static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k)];
+  }
+  // Header as plain text, then one gzip member of the values (teem's attached gzip layout).
+  uLong bound = compressBound(static_cast<uLong>(values.size() * 4)) + 64;
+  std::vector<std::uint8_t> z(bound);
+  z_stream s{};
+  if (deflateInit2(&s, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw InputError("cannot write " + path + ": zlib failed");
+  s.next_in = reinterpret_cast<Bytef*>(values.data());
+  s.avail_in = static_cast<uInt>(values.size() * 4);
+  s.next_out = z.data();
+  s.avail_out = static_cast<uInt>(z.size());
+  const int r = deflate(&s, Z_FINISH);
+  z.resize(s.total_out);
+  deflateEnd(&s);
+  if (r != Z_STREAM_END) throw InputError("cannot write " + path + ": zlib failed");
+  std::vector<std::uint8_t> out(h.begin(), h.end());
+  out.insert(out.end(), z.begin(), z.end());
+  writeFileBytes(path, out, false);
+}
+
+} // namespace dtf::io::detail

@@ -68,7 +68,8 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout = Te
 // Writes `field` in `layout` as float32 (voxel-frame layouts rotate back out of world space; DTI-TK
 // scales to 1e-3 mm^2/s), sform = qform = grid.voxelToWorld (code 1). Atomic: a temporary file renamed
 // into place. `niftiVersion` 1 or 2; the name must end in .nii or .nii.gz, or .mif/.mif.gz/.mih for an
-// MRtrix image (always MRtrix's own convention: xx yy zz xy xz yz in the world frame; `layout` ignored).
+// MRtrix image (always MRtrix's own convention: xx yy zz xy xz yz in the world frame; `layout` ignored),
+// or .nrrd (gzip, RAS space, 3D-masked-symmetric-matrix, world tensors; `layout` ignored).
 // Throws InputError.
 void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
                        int niftiVersion = 1);
