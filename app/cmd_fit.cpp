@@ -87,8 +87,8 @@ int cmdFit(const CommandArgs& argv) {
   const auto output = args.get("output");
   if (!output) throw UsageError("missing -o OUT.nii.gz");
   if (!io::isWritableTensorName(*output))
-    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" + *output +
-                     "'");
+    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" +
+                     *output + "'");
   auto bval = args.get("bval");
   auto bvec = args.get("bvec");
   const auto maskPath = args.get("mask");
@@ -155,7 +155,11 @@ int cmdFit(const CommandArgs& argv) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "fitted %zu voxels (%zu not positive definite, %zu invalid, %zu signals clamped)\n",
                stats.voxelsFitted, stats.nonPositiveTensors, stats.invalidVoxels, stats.clampedSignals);
-  std::printf("wrote %s (%s layout) in %.2f s\n", output->c_str(), io::layoutName(layout), seconds);
+  const std::string written =
+      io::detectFormat(*output).format == io::FileFormat::Nifti
+          ? std::string(io::layoutName(layout)) + " layout"
+          : std::string(io::formatName(io::detectFormat(*output).format)) + ", its own convention";
+  std::printf("wrote %s (%s) in %.2f s\n", output->c_str(), written.c_str(), seconds);
   return 0;
 }
 

@@ -191,6 +191,10 @@ ScalarVolume readDsiSrcSignal(const std::string& path, VolumeHeader* header) {
   if (bt.rows != 4 || bt.cols < 1)
     fail(path, "'b_table' is " + std::to_string(bt.rows) + "x" + std::to_string(bt.cols) + " (4xN expected)");
   const long long n = bt.cols;
+  for (long long k = 0; k < n; ++k)
+    need(path, m, "image" + std::to_string(k)); // every volume is there before anything is allocated
+  if (n > detail::kMaxValues / static_cast<long long>(g.voxelCount()))
+    fail(path, "b_table has " + std::to_string(n) + " columns: absurd for the grid; refusing to allocate");
   ScalarVolume v(g, static_cast<int>(n));
   const std::size_t nv = g.voxelCount();
   for (long long k = 0; k < n; ++k) {
