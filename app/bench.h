@@ -34,6 +34,14 @@ struct TractLoadFigure {
 };
 std::vector<TractLoadFigure> benchTractLoads(const std::optional<std::filesystem::path>& dataDir,
                                              std::vector<std::string>& notes);
+// Load time of the real tensor through each tensor format (app/bench_io_formats.cpp); empty (with a note)
+// when the shared data are missing.
+struct FormatLoadFigure {
+  std::string key, label;
+  double wall = -1, cpu = -1; // median seconds
+};
+std::vector<FormatLoadFigure> benchFormatLoads(const std::optional<std::filesystem::path>& dataDir,
+                                               std::vector<std::string>& notes);
 
 // Median of a non-empty sample (the vector is reordered).
 double median(std::vector<double> v);

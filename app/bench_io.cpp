@@ -160,6 +160,7 @@ int benchIo(const CommandArgs& argv) {
     std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
                 "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
                 "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
+                "  load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
                 "  tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
                 "  python3-nibabel is present) and a TRX of 1 M streamlines made here.\n"
                 "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
@@ -216,6 +217,7 @@ int benchIo(const CommandArgs& argv) {
   std::vector<Figure> tractFigures;
   for (const auto& t : tractLoads)
     tractFigures.push_back({t.key.c_str(), t.label.c_str(), {t.wall, t.cpu}, t.goal, t.goalText.c_str()});
+  const std::vector<FormatLoadFigure> formats = benchFormatLoads(dataDir, notes);
 
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const double load1 = loadAverage();
@@ -231,6 +233,8 @@ int benchIo(const CommandArgs& argv) {
         std::printf(", \"%s\": null, \"%s_cpu\": null", f->key, f->key);
       std::printf(", \"%s_goal\": %.3f", f->key, f->goal);
     }
+    for (const FormatLoadFigure& f : formats)
+      std::printf(", \"%s\": %.4f, \"%s_cpu\": %.4f", f.key.c_str(), f.wall, f.key.c_str(), f.cpu);
     std::printf(", \"notes\": [");
     for (std::size_t i = 0; i < notes.size(); ++i) {
       std::string s;
@@ -251,6 +255,8 @@ int benchIo(const CommandArgs& argv) {
       else
         std::printf("  %-32s %12s   goal %s\n", f->label, "skipped", f->goalText);
     }
+    for (const FormatLoadFigure& f : formats)
+      std::printf("  %-32s %8.1f ms wall %8.1f ms cpu\n", f.label.c_str(), f.wall * 1e3, f.cpu * 1e3);
     if (load1 > cores)
       std::printf("  note: the load average exceeds the core count; wall times are inflated by other work\n");
     for (const auto& n : notes)

@@ -3,6 +3,7 @@
 #include "app/commands.h"
 #include "io/atomic_file.h"
 #include "io/dwi.h"
+#include "io/formats.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 
@@ -19,15 +20,17 @@ namespace dtf::app {
 namespace {
 
 const char* kFitHelp =
-    "usage: dtfabric fit DWI.nii[.gz] [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]\n"
+    "usage: dtfabric fit DWI [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]|.mif[.gz]|.nrrd\n"
     "                    [--layout fsl|mrtrix|symmatrix|dtitk] [--method wls|ols] [--b0-threshold B]\n"
     "                    [--threads N] [--force]\n"
     "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).\n"
     "  --bval, --bvec     gradient table (FSL format; bvec 3xN or Nx3). Default: the DWI path with\n"
-    "                     .nii/.nii.gz replaced by .bval/.bvec\n"
+    "                     .nii/.nii.gz replaced by .bval/.bvec; not needed for an MRtrix DWI with a\n"
+    "                     dw_scheme or a DSI Studio .src.gz (their own tables are used)\n"
     "  --mask M           fit only where M is non-zero (same grid as the DWI); default: an automatic,\n"
     "                     approximate mask (Otsu on the mean b=0 image)\n"
-    "  -o OUT             output tensor volume, mm^2/s\n"
+    "  -o OUT             output tensor volume, mm^2/s (.mif/.mif.gz: MRtrix image in MRtrix's convention;\n"
+    "                     .nrrd: teem tensor NRRD in RAS space)\n"
     "  --layout L         on-disk layout of OUT (default fsl: xx xy xz yy yz zz in the bvec frame)\n"
     "  --method M         wls (default) or ols\n"
     "  --b0-threshold B   b-values <= B s/mm^2 count as b=0 (default 50)\n"
@@ -37,7 +40,7 @@ const char* kFitHelp =
 // DWI path with its NIfTI extension replaced by `ext`, if that file exists.
 std::optional<std::string> sibling(const std::string& dwi, const std::string& ext) {
   std::string base = dwi;
-  for (const char* e : {".nii.gz", ".nii"}) {
+  for (const char* e : {".nii.gz", ".nii", ".mif.gz", ".mif", ".mih"}) {
     const std::string s(e);
     if (base.size() > s.size() && base.compare(base.size() - s.size(), s.size(), s) == 0) {
       base.resize(base.size() - s.size());
@@ -83,12 +86,9 @@ int cmdFit(const CommandArgs& argv) {
   if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   const auto output = args.get("output");
   if (!output) throw UsageError("missing -o OUT.nii.gz");
-  auto endsWith = [&](const char* ext) {
-    const std::string e(ext);
-    return output->size() > e.size() && output->compare(output->size() - e.size(), e.size(), e) == 0;
-  };
-  if (!endsWith(".nii") && !endsWith(".nii.gz"))
-    throw UsageError("the output must be a .nii or .nii.gz file, got '" + *output + "'");
+  if (!io::isWritableTensorName(*output))
+    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" +
+                     *output + "'");
   auto bval = args.get("bval");
   auto bvec = args.get("bvec");
   const auto maskPath = args.get("mask");
@@ -109,12 +109,15 @@ int cmdFit(const CommandArgs& argv) {
   const bool force = args.flag("force");
   args.finish();
 
+  const bool embedded = !bval && !bvec && io::hasEmbeddedGradients(dwiPath);
+  if (embedded) bval = bvec = std::string();
   if (!bval) bval = sibling(dwiPath, ".bval");
   if (!bvec) bvec = sibling(dwiPath, ".bvec");
   if (!bval) throw InputError("no --bval given and no .bval file beside " + dwiPath);
   if (!bvec) throw InputError("no --bvec given and no .bvec file beside " + dwiPath);
 
-  std::vector<std::string> inputs{dwiPath, *bval, *bvec};
+  std::vector<std::string> inputs{dwiPath};
+  if (!embedded) inputs.insert(inputs.end(), {*bval, *bvec});
   if (maskPath) inputs.push_back(*maskPath);
   io::refuseOverwritingInput(*output, inputs);
   if (!force && std::filesystem::exists(*output))
@@ -152,7 +155,11 @@ int cmdFit(const CommandArgs& argv) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "fitted %zu voxels (%zu not positive definite, %zu invalid, %zu signals clamped)\n",
                stats.voxelsFitted, stats.nonPositiveTensors, stats.invalidVoxels, stats.clampedSignals);
-  std::printf("wrote %s (%s layout) in %.2f s\n", output->c_str(), io::layoutName(layout), seconds);
+  const std::string written =
+      io::detectFormat(*output).format == io::FileFormat::Nifti
+          ? std::string(io::layoutName(layout)) + " layout"
+          : std::string(io::formatName(io::detectFormat(*output).format)) + ", its own convention";
+  std::printf("wrote %s (%s) in %.2f s\n", output->c_str(), written.c_str(), seconds);
   return 0;
 }
 

@@ -24,7 +24,9 @@ namespace {
 const char* kHelp =
     "usage: dtfabric info FILE [--layout L] [--json] [--voxel I,J,K]\n"
     "\n"
-    "Describes a NIfTI-1/NIfTI-2 volume (.nii or .nii.gz). For a tensor volume (4D with 6 volumes, or\n"
+    "Describes a volume: NIfTI-1/NIfTI-2 (.nii, .nii.gz), MRtrix (.mif, .mif.gz, .mih), NRRD (.nrrd,\n"
+    ".nhdr), an FSL dtifit set (basename or a member file), a DSI Studio .src.gz; the format and why it was\n"
+    "chosen are shown. For a tensor volume (4D with 6 volumes, or\n"
     "5D SYMMATRIX) it shows the detected layout and the reason, the voxel-to-world affine and where it\n"
     "came from, per-component ranges of the world RAS tensors (mm^2/s), NaN and non-positive-definite\n"
     "voxel counts and FA statistics. Other volumes get header facts and value ranges.\n"
@@ -178,6 +180,8 @@ bool looksLikeTensor(const io::VolumeHeader& h) {
 
 void headerJson(Json& j, const io::VolumeHeader& h) {
   j.key("file").value(h.path);
+  j.key("file_format").value(h.format);
+  j.key("format_reason").value(h.formatReason);
   j.key("nifti_version").value(static_cast<long long>(h.niftiVersion));
   j.key("dims").begin('[');
   for (long long d : h.dims)
@@ -205,13 +209,21 @@ void headerJson(Json& j, const io::VolumeHeader& h) {
 
 void headerText(const io::VolumeHeader& h) {
   std::printf("file:         %s\n", h.path.c_str());
-  std::printf("format:       NIfTI-%d, datatype %s, intent %d%s\n", h.niftiVersion, h.datatypeName.c_str(),
-              h.intentCode, h.intentName.empty() ? "" : (" (" + h.intentName + ")").c_str());
+  if (h.niftiVersion > 0)
+    std::printf("format:       NIfTI-%d, datatype %s, intent %d%s\n", h.niftiVersion, h.datatypeName.c_str(),
+                h.intentCode, h.intentName.empty() ? "" : (" (" + h.intentName + ")").c_str());
+  else
+    std::printf("format:       %s, datatype %s%s\n", h.format.c_str(), h.datatypeName.c_str(),
+                h.intentName.empty() ? "" : (" (" + h.intentName + ")").c_str());
+  if (!h.formatReason.empty()) std::printf("format why:   %s\n", h.formatReason.c_str());
   std::printf("dims:         %s\n", dimsText(h.dims).c_str());
   std::printf("voxel size:   %s x %s x %s mm\n", num(h.grid.spacing.x).c_str(), num(h.grid.spacing.y).c_str(),
               num(h.grid.spacing.z).c_str());
-  std::printf("affine:       %s (qform_code %d, sform_code %d), voxel -> world RAS mm\n",
-              h.affineSource.c_str(), h.qformCode, h.sformCode);
+  if (h.niftiVersion > 0)
+    std::printf("affine:       %s (qform_code %d, sform_code %d), voxel -> world RAS mm\n",
+                h.affineSource.c_str(), h.qformCode, h.sformCode);
+  else
+    std::printf("affine:       %s, voxel -> world RAS mm\n", h.affineSource.c_str());
   for (int r = 0; r < 4; ++r) {
     std::printf("             ");
     for (int c = 0; c < 4; ++c) {

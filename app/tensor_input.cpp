@@ -1,6 +1,7 @@
 #include "app/tensor_input.h"
 
 #include "io/dwi.h"
+#include "io/formats.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 
@@ -12,7 +13,7 @@ namespace dtf::app {
 
 std::string gradientSibling(const std::string& path, const std::string& ext) {
   std::string base = path;
-  for (const char* suffix : {".nii.gz", ".nii"}) {
+  for (const char* suffix : {".nii.gz", ".nii", ".mif.gz", ".mif", ".mih", ".nrrd", ".nhdr"}) {
     std::string s(suffix);
     if (base.size() > s.size() && base.compare(base.size() - s.size(), s.size(), s) == 0) {
       base.resize(base.size() - s.size());
@@ -25,7 +26,10 @@ std::string gradientSibling(const std::string& path, const std::string& ext) {
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& o) {
   std::string bval = o.bval, bvec = o.bvec;
   bool dwi = !bval.empty() || !bvec.empty();
-  if (!dwi) {
+  // A dtifit set (basename or member) is a tensor; a DWI with its own gradient table needs no files.
+  if (!dwi && !io::dtifitSetOf(path).empty()) return io::readTensorVolume(path, o.layout);
+  const bool embedded = !dwi && io::hasEmbeddedGradients(path);
+  if (!dwi && !embedded) {
     io::VolumeHeader h = io::readHeader(path);
     const bool fourD = h.dims.size() == 4 && h.dims[3] > 1;
     if (fourD && h.dims[3] != 6 && h.intentCode != 1005) {
@@ -37,8 +41,8 @@ io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOpti
                          " volumes is not a tensor file; as a DWI it needs --bval and --bvec (no " + bval + ")");
     }
   }
-  if (!dwi) return io::readTensorVolume(path, o.layout);
-  if (bval.empty() || bvec.empty()) throw UsageError("a DWI needs both --bval and --bvec");
+  if (!dwi && !embedded) return io::readTensorVolume(path, o.layout);
+  if (!embedded && (bval.empty() || bvec.empty())) throw UsageError("a DWI needs both --bval and --bvec");
   io::Dwi d = io::readDwi(path, bval, bvec);
   MaskVolume mask;
   if (!o.mask.empty()) {
@@ -57,7 +61,7 @@ io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOpti
     };
   out.field = io::fitTensors(d, o.mask.empty() ? nullptr : &mask, fo, progress);
   out.layout = io::TensorLayout::Auto;
-  out.layoutReason = "fitted from the DWI " + path + " with " + bval + " and " + bvec;
+  out.layoutReason = "fitted from the DWI " + path + (embedded ? " with its own gradient table" : " with " + bval + " and " + bvec);
   out.header = io::readHeader(path);
   return out;
 }

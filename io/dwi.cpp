@@ -1,4 +1,5 @@
 #include "io/dwi.h"
+#include "io/format_detail.h"
 
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -148,6 +149,7 @@ Dwi makeDwi(Volume<float> signal, std::vector<double> bvals, const std::vector<g
 
 Dwi readDwi(const std::string& dwiPath, const std::string& bvalPath, const std::string& bvecPath,
             double b0Threshold) {
+  if (bvalPath.empty() && bvecPath.empty()) return detail::readEmbeddedDwi(dwiPath, b0Threshold);
   try {
     VolumeHeader header;
     ScalarVolume signal = readScalarVolume(dwiPath, &header);

@@ -47,7 +47,9 @@ Dwi makeDwi(Volume<float> signal, std::vector<double> bvals, const std::vector<g
             const std::string& bvalName = "bval", const std::string& bvecName = "bvec");
 
 // Reads a 4D DWI (through readScalarVolume) and its gradient table, then as makeDwi. Throws InputError
-// naming the file at fault, e.g. both files and both counts when bval and DWI disagree.
+// naming the file at fault, e.g. both files and both counts when bval and DWI disagree. With both paths
+// empty the table stored in the file is used: an MRtrix image's dw_scheme (scanner frame) or a DSI Studio
+// SRC's b_table (see io/dsi_studio.h); InputError when the file holds none.
 Dwi readDwi(const std::string& dwiPath, const std::string& bvalPath, const std::string& bvecPath,
             double b0Threshold = 50.0);
 

@@ -1,6 +1,7 @@
 // NIfTI-1/NIfTI-2 reading and writing through nifticlib's nifti2 API (which reads both versions, .nii and
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
 #include "io/atomic_file.h"
+#include "io/format_detail.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 
@@ -568,13 +569,13 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
 
 } // namespace
 
-VolumeHeader readHeader(const std::string& path) {
+VolumeHeader detail::readNiftiHeader(const std::string& path) {
   VolumeHeader h;
   openHeader(path, h);
   return h;
 }
 
-ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
+ScalarVolume detail::readNiftiScalarVolume(const std::string& path, VolumeHeader* header) {
   VolumeHeader h;
   NimPtr nim = openHeader(path, h);
   long long comps = 1;
@@ -586,7 +587,7 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
   return v;
 }
 
-void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
+void detail::writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
   std::size_t nv = v.grid.voxelCount();
   if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
     throw InputError("cannot write " + path + ": volume data size does not match its grid");
@@ -707,7 +708,7 @@ struct Detection {
   std::vector<std::string> warnings;
 };
 
-Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool fiveD) {
+Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool fiveD, TensorLayout preferred) {
   Detection d;
   // Files written by dtfabric name their layout; trust that over heuristics (curvature-tensor phantoms
   // are not diffusion tensors and would fool the scale test).
@@ -736,9 +737,10 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
   std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
+  const std::string assumed = preferred == TensorLayout::Mrtrix ? "MRtrix" : "FSL";
   if (fsl.voxels == 0) {
-    d.layout = TensorLayout::Fsl;
-    d.reason = shape + "; no non-zero voxels to tell layouts apart, assuming FSL";
+    d.layout = preferred;
+    d.reason = shape + "; no non-zero voxels to tell layouts apart, assuming " + assumed;
     d.warnings.emplace_back("layout guessed (all voxels zero or NaN); use --layout to override");
     return d;
   }
@@ -749,9 +751,9 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
                          std::to_string(f.voxels) + " voxels; positive semi-definite as FSL " +
                          percent(fsl.plausible) + ", as MRtrix " + percent(mrtrix.plausible);
   if (std::abs(fsl.plausible - mrtrix.plausible) < 0.05) {
-    d.layout = TensorLayout::Fsl;
-    d.reason = shape + "; ambiguous (" + evidence + "), assuming FSL";
-    d.warnings.emplace_back("tensor layout is ambiguous; assumed FSL, use --layout to override");
+    d.layout = preferred;
+    d.reason = shape + "; ambiguous (" + evidence + "), assuming " + assumed;
+    d.warnings.push_back("tensor layout is ambiguous; assumed " + assumed + ", use --layout to override");
   } else {
     d.layout = fsl.plausible > mrtrix.plausible ? TensorLayout::Fsl : TensorLayout::Mrtrix;
     d.reason = shape + "; " + evidence + " => " + layoutName(d.layout);
@@ -772,7 +774,7 @@ bool positiveDefinite(const glm::dmat3& m) {
 
 } // namespace
 
-LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
+LoadedTensors detail::readNiftiTensorVolume(const std::string& path, TensorLayout layout) {
   LoadedTensors out;
   VolumeHeader& h = out.header;
   NimPtr nim = openHeader(path, h);
@@ -791,9 +793,16 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
   ScalarVolume raw = interleave(h.grid, 6, disk);
   disk = {};
 
+  tensorsFromComponents(out, raw, layout, fiveD, path, TensorLayout::Fsl);
+  return out;
+}
+
+void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, TensorLayout layout, bool fiveD,
+                           const std::string& path, TensorLayout preferred) {
+  const VolumeHeader& h = out.header;
   out.warnings = h.warnings;
   if (layout == TensorLayout::Auto) {
-    Detection d = detectLayout(h, raw, fiveD);
+    Detection d = detectLayout(h, raw, fiveD, preferred);
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());
@@ -839,11 +848,10 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
   if (out.nanVoxels)
     out.warnings.push_back(std::to_string(out.nanVoxels) +
                            " voxel(s) hold NaN/Inf components (marked invalid)");
-  return out;
 }
 
-void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
-                       int niftiVersion) {
+void detail::writeNiftiTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
+                            int niftiVersion) {
   if (layout == TensorLayout::Auto)
     throw InputError("cannot write " + path + ": choose a tensor layout (fsl, mrtrix, symmatrix or dtitk)");
   std::size_t nv = field.grid.voxelCount();

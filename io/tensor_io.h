@@ -1,6 +1,8 @@
-// NIfTI tensor, scalar and DWI volumes in and out: the first stage of the pipeline (DESIGN.md section 2).
+// Tensor, scalar and DWI volumes in and out: the first stage of the pipeline (DESIGN.md section 2).
 // Readers convert into the canonical TensorField form (world RAS, xx xy xz yy yz zz, mm^2/s; see
-// io/model/tensor_field.h); writers convert out of it. NIfTI-1 and NIfTI-2, .nii and .nii.gz are read;
+// io/model/tensor_field.h); writers convert out of it. Every function here dispatches on the file's format
+// (io/formats.h: NIfTI, MRtrix .mif/.mif.gz/.mih, NRRD, FSL dtifit sets, DSI Studio SRC); for NIfTI-1
+// and NIfTI-2, .nii and .nii.gz are read;
 // the affine is the sform when its code is set, else the qform, else pixdim only. scl_slope/scl_inter
 // are applied; integer and float datatypes are converted to float. All functions throw dtf::InputError
 // whose message starts with the file name (UsageError for a bad layout name).
@@ -31,7 +33,9 @@ TensorLayout parseLayout(const std::string& name);
 // Header facts shown by `dtfabric info`.
 struct VolumeHeader {
   std::string path;
-  int niftiVersion = 1;
+  std::string format = "NIfTI"; // "NIfTI", "MRtrix image", "NRRD", "FSL dtifit set", "DSI Studio SRC"
+  std::string formatReason;     // why that format was chosen (content, name), shown by `info`
+  int niftiVersion = 1;         // 0 for other formats
   std::vector<long long> dims; // dim[1..ndim]
   int datatype = 0;
   std::string datatypeName;
@@ -63,14 +67,18 @@ struct LoadedTensors {
 LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout = TensorLayout::Auto);
 // Writes `field` in `layout` as float32 (voxel-frame layouts rotate back out of world space; DTI-TK
 // scales to 1e-3 mm^2/s), sform = qform = grid.voxelToWorld (code 1). Atomic: a temporary file renamed
-// into place. `niftiVersion` 1 or 2; the name must end in .nii or .nii.gz. Throws InputError.
+// into place. `niftiVersion` 1 or 2; the name must end in .nii or .nii.gz, or .mif/.mif.gz/.mih for an
+// MRtrix image (always MRtrix's own convention: xx yy zz xy xz yz in the world frame; `layout` ignored),
+// or .nrrd (gzip, RAS space, 3D-masked-symmetric-matrix, world tensors; `layout` ignored).
+// Throws InputError.
 void writeTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
                        int niftiVersion = 1);
 
 // Any 1D-7D volume as float (scl_slope/inter applied); components = product of dims 4..7, interleaved
 // per voxel. Throws InputError.
 ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header = nullptr);
-// Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld. Atomic. Throws InputError.
+// Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld (NIfTI) or as an MRtrix image
+// (.mif/.mif.gz/.mih). Atomic. Throws InputError.
 void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion = 1);
 // Header only (no voxel data read), with the same checks as the readers. Throws InputError.
 VolumeHeader readHeader(const std::string& path);

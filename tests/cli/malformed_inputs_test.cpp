@@ -813,6 +813,107 @@ std::vector<Case> catalogue() {
                   return trxZip([](auto& e) { e.push_back({"dps/../../x.float32", "abcdefgh", false}); });
                 },
                 {"escapes the archive"}));
+  // ---- MRtrix images, NRRD, DSI Studio, FSL dtifit sets (io/formats.h)
+  const auto mif = [](const std::string& lines, std::size_t dataBytes, std::size_t offset = 256) {
+    std::string h = "mrtrix image\n" + lines + "file: . " + std::to_string(offset) + "\nEND\n";
+    h.resize(std::max(h.size(), offset), '\0');
+    return h + std::string(dataBytes, '\0');
+  };
+  const std::string mifGeom = "dim: 4,4,4\nvox: 2,2,2\nlayout: +0,+1,+2\ntransform: 1,0,0,0\n"
+                              "transform: 0,1,0,0\ntransform: 0,0,1,0\n";
+  c.push_back(infoCase("MrtrixTruncatedData", "short.mif",
+                       [=] { return mif(mifGeom + "datatype: Float32LE\n", 100); }, {"truncated", "256"}));
+  c.push_back(infoCase("MrtrixUnknownDatatype", "complex.mif",
+                       [=] { return mif(mifGeom + "datatype: CFloat32LE\n", 512); },
+                       {"unsupported datatype 'CFloat32LE'"}));
+  c.push_back(infoCase("MrtrixHeaderWithoutEnd", "noend.mif",
+                       [=] { return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: . 256\n"; },
+                       {"no END line"}));
+  c.push_back(infoCase("MrtrixOffsetBeyondFile", "offset.mif",
+                       [=] {
+                         return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: . 99999\nEND\n" +
+                                std::string(256, '\0');
+                       },
+                       {"truncated", "offset 99999"}));
+  c.push_back(infoCase("MrtrixOffsetInsideHeader", "inside.mif",
+                       [=] { return mif(mifGeom + "datatype: Float32LE\n", 256, 8); }, {"lies inside the header"}));
+  c.push_back(infoCase("MrtrixZeroDimension", "zero.mif",
+                       [] {
+                         return "mrtrix image\ndim: 4,0,4\nvox: 1,1,1\nlayout: +0,+1,+2\n"
+                                "datatype: UInt8\nfile: . 128\nEND\n";
+                       },
+                       {"whole number >= 1"}));
+  c.push_back(infoCase("MrtrixAbsurdDims", "huge.mif",
+                       [] {
+                         return "mrtrix image\ndim: 100000,100000,100000\nvox: 1,1,1\nlayout: +0,+1,+2\n"
+                                "datatype: UInt8\nfile: . 128\nEND\n";
+                       },
+                       {"absurd"}));
+  c.push_back(infoCase("MrtrixDuplicateStride", "stride.mif",
+                       [=] { return mif("dim: 4,4,4\nvox: 2,2,2\nlayout: +0,+0,+1\ndatatype: UInt8\n", 64); },
+                       {"same rank"}));
+  c.push_back(infoCase("MrtrixMissingDataFile", "split.mih",
+                       [=] {
+                         return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: gone.dat 0\nEND\n";
+                       },
+                       {"gone.dat", "does not exist"}));
+  c.push_back(infoCase("MrtrixCorruptGzip", "corrupt.mif.gz",
+                       [=] {
+                         const std::string z = gzip(mif(mifGeom + "datatype: Float32LE\n", 4 * 64));
+                         return z.substr(0, z.size() - 12);
+                       },
+                       {"gzip"}));
+  const std::string nrrdHead = "NRRD0004\ntype: float\ndimension: 4\nsizes: 6 4 4 4\n"
+                               "kinds: 3D-symmetric-matrix space space space\nspace: left-posterior-superior\n"
+                               "space directions: none (2,0,0) (0,2,0) (0,0,2)\nendian: little\n";
+  c.push_back(infoCase("NrrdTruncatedData", "short.nrrd",
+                       [=] { return nrrdHead + "encoding: raw\n\n" + std::string(100, '\0'); },
+                       {"truncated", "1536"}));
+  c.push_back(infoCase("NrrdUnknownType", "block.nrrd",
+                       [] { return std::string("NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n"); },
+                       {"unsupported type 'block'"}));
+  c.push_back(infoCase("NrrdBadSizes", "sizes.nrrd",
+                       [] { return std::string("NRRD0004\ntype: float\ndimension: 3\nsizes: 2 x 2\nencoding: raw\n\n"); },
+                       {"sizes entry 'x'"}));
+  c.push_back(infoCase("NrrdUnsupportedEncoding", "bz.nrrd",
+                       [=] { return nrrdHead + "encoding: bzip2\n\n"; }, {"encoding 'bzip2'"}));
+  c.push_back(infoCase("NrrdMissingDataFile", "detached.nhdr",
+                       [=] { return nrrdHead + "encoding: raw\ndata file: gone.raw\n"; },
+                       {"gone.raw", "does not exist"}));
+  c.push_back(infoCase("DsiStudioTruncatedMatrix", "cut.src.gz",
+                       [] {
+                         auto mat = [](const std::string& name, int type, int rows, int cols,
+                                       const std::string& payload) {
+                           std::string m;
+                           put<std::int32_t>(m, type);
+                           put<std::int32_t>(m, rows);
+                           put<std::int32_t>(m, cols);
+                           put<std::int32_t>(m, 0);
+                           put<std::int32_t>(m, static_cast<std::int32_t>(name.size() + 1));
+                           return m + name + '\0' + payload;
+                         };
+                         std::string dims, vox;
+                         for (short d : {4, 4, 4})
+                           put<std::int16_t>(dims, d);
+                         for (float v : {2.f, 2.f, 2.f})
+                           put<float>(vox, v);
+                         const std::string body = mat("dimension", 30, 1, 3, dims) +
+                                                  mat("voxel_size", 10, 1, 3, vox) +
+                                                  mat("b_table", 10, 4, 1, std::string(16, '\0')) +
+                                                  mat("image0", 40, 16, 4, std::string(50, '\0'));
+                         return gzip(body);
+                       },
+                       {"matrix 'image0' is truncated"}));
+  c.push_back({"DtifitSetWithoutEigenvalues",
+               [](const fs::path& dir) {
+                 Nifti v1;
+                 v1.dims = {4, 4, 4, 3};
+                 writeBytes(dir / "dti_V1.nii", v1.bytes());
+                 writeBytes(dir / "dti_FA.nii", Nifti().bytes());
+                 return "info " + q(dir / "dti");
+               },
+               2,
+               {"dti", "found V1, FA", "missing V2, V3, L1, L2, L3", "not available yet"}});
   // ---- viewer scripts (parsed completely before a window opens)
   // Fuzz finding: a line of only \v or \f was not blank to the parser but had no words (out-of-bounds read).
   c.push_back(scriptCase("ScriptVerticalTabLine", "\v\f \nfrobnicate\n", {"2:", "frobnicate"}));

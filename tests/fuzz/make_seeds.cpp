@@ -1,7 +1,7 @@
 // Writes the fuzzers' seed corpora with dtfabric's own writers: small phantoms in every tensor layout
 // (.nii and .nii.gz, NIfTI-1 and -2), a DWI-shaped 4D volume, gradient tables, .tck/.trk tracts and viewer
 // scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx,
-// DIR/view_script).
+// DIR/view_script, DIR/formats).
 #include "io/dwi.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <utility>
 
 namespace fs = std::filesystem;
 using namespace dtf;
@@ -27,7 +29,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"nifti", "gradients", "tck", "trk", "trkgz", "trx", "view_script"})
+  for (const char* sub : {"nifti", "gradients", "tck", "trk", "trkgz", "trx", "view_script", "formats"})
     fs::create_directories(dir / sub);
 
   io::PhantomOptions small;
@@ -46,6 +48,21 @@ int main(int argc, char** argv) {
           io::writeTensorVolume((dir / "nifti" / (stem + ext)).string(), p.tensors, l, version);
         }
     io::writeScalarVolume((dir / "nifti" / (std::string(name) + "_scalar.nii")).string(), p.scalar);
+  }
+  // fuzz_formats: one selector byte (the extension index of fuzz_formats.cpp), then the file.
+  {
+    const io::Phantom p = io::makePhantom("crossing", small);
+    const std::pair<const char*, int> outs[] = {{"t.mif", 0}, {"t.mif.gz", 1}, {"t.nrrd", 3}};
+    for (const auto& [name, selector] : outs) {
+      const fs::path tmp = dir / "formats" / name;
+      io::writeTensorVolume(tmp.string(), p.tensors, io::TensorLayout::Mrtrix);
+      std::ifstream in(tmp, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      in.close();
+      fs::remove(tmp);
+      text(dir / "formats" / (std::string(name) + ".seed"),
+           std::string(1, static_cast<char>(selector)) + bytes);
+    }
   }
   // A DWI-shaped volume: 4x4x4 with 7 components.
   ScalarVolume dwi(io::makePhantom("constant", small).tensors.grid, 7, 100.0f);
