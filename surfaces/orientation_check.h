@@ -46,12 +46,13 @@ bool sameUpToSign(const AxisTransform& a, const AxisTransform& b);
 std::vector<AxisTransform> orientationCandidates();
 
 // The field a fit against the table M*g would give, from the field fitted against g (no refit):
-// D' = G D G^T with G = A M A^T, A = tableToWorld. Exact for linear and weighted least squares: the fit's
-// design row for gradient g is b*(gx^2, 2gxgy, 2gxgz, gy^2, 2gygz, gz^2) = b * q(g) and q(G g) = T q(g)
-// for the invertible 6x6 map T induced by G (D -> G^T D G on symmetric matrices). So the design matrix for
-// the turned table is X' = X T^-1 over the same signals: the least-squares solution is T beta, the
-// predicted signals and residuals are unchanged, hence so are WLS weights taken from the OLS prediction.
-// Invalid voxels stay invalid.
+// D' = G D G^T with G = A M A^T, A = tableToWorld (world gradients A*M*g = G*(A*g)). Exact for linear and
+// weighted least squares: the design row of a volume is (1, -b q(g)) with q(g).d = g^T D g, and
+// q(G g).d = q(g).t(d) for t(D) = G^T D G, an invertible linear map of the six unknowns. So the turned
+// table's design is X' = X T over the same log-signals (T = diag(1, t)); its least-squares solution is
+// T^-1 beta, i.e. D' = G D G^T, with the same predictions and residuals, hence the same WLS weights (taken
+// from the OLS prediction) and the same weighted solution turned alike. Only rounding differs (a refit
+// agrees to float precision; test_orientation_check). Invalid voxels stay invalid.
 TensorField transformedField(const TensorField& field, const glm::dmat3& tableToWorld,
                              const AxisTransform& m);
 

@@ -209,3 +209,23 @@ TEST_F(CheckCli, BadInputExitsTwoNamingTheFileAndTheReason) {
 }
 
 } // namespace
+
+namespace {
+
+// `bench check` without MRtrix on the PATH: it still times the check and says the peer is absent.
+TEST(CheckCliData, BenchReportsAnAbsentPeer) {
+  DTF_SHARED_FILE(dwi, "iu_prisma_dwi/dwi.nii.gz");
+  const auto scratch = dtf::test::scratchDir();
+  // PATH without dwigradcheck: the command runs through a shell with PATH replaced.
+  const std::string cmd = "env PATH=" + scratch.string() + " '" + std::string(DTF_EXE) +
+                          "' bench check --repeat 1 --json --data " + q(dwi.parent_path().parent_path()) +
+                          " >" + q(scratch / "bench.json") + " 2>" + q(scratch / "bench.err");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << dtf::test::readText(scratch / "bench.err");
+  const std::string json = dtf::test::readText(scratch / "bench.json");
+  EXPECT_NE(json.find("\"peer_ran\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("dwigradcheck is not on the PATH"), std::string::npos) << json;
+  EXPECT_EQ(jsonText(json, "verdict"), "ok");
+  EXPECT_GT(dtf::test::jsonNumber(json, "seconds"), 0);
+}
+
+} // namespace
