@@ -1,4 +1,4 @@
-// `dtfabric track`: deterministic tensor tractography (surfaces/tracking.h) to .tck, .trk or .vtk.
+// `dtfabric track`: deterministic tensor tractography (surfaces/tracking.h) to any tract file format.
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/surface_spec.h"
@@ -21,10 +21,10 @@
 namespace dtf::app {
 
 namespace {
-const char* kHelp = R"(usage: dtfabric track INPUT -o OUT.tck|.trk|.vtk [SEEDS] [OPTIONS]
+const char* kHelp = R"(usage: dtfabric track INPUT -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp [SEEDS] [OPTIONS]
 
 Deterministic tensor tractography: streamlines along the principal eigenvector of the trilinearly
-interpolated tensor, in both directions from each seed, written in world RAS mm (.trk on INPUT's grid).
+interpolated tensor, in both directions from each seed, written in world RAS mm (.trk/.trx on INPUT's grid).
 INPUT is a tensor volume or a DWI (with --bval/--bvec or sibling .bval/.bvec files).
 
 Seeds (one of; default: random points in the voxels where INPUT holds a tensor)
@@ -92,8 +92,9 @@ int cmdTrack(const CommandArgs& argv) {
   }
   const std::string input = args.positional(0, "INPUT");
   const std::string output = args.getOr("output", "");
-  if (output.empty()) throw UsageError("missing -o OUT.tck|.trk|.vtk");
-  if (!isTractFileName(output)) throw UsageError("output " + output + " must end in .tck, .trk or .vtk");
+  if (output.empty()) throw UsageError("missing -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp");
+  if (!isTractFileName(output))
+    throw UsageError("output " + output + " must end in .tck, .trk, .trk.gz, .trx, .vtk or .vtp");
   auto seedsMask = args.get("seeds-mask"), seedSphere = args.get("seed-sphere"),
        seedSurface = args.get("seed-surface"), seedSlice = args.get("seed-slice");
   const int seedKinds = !!seedsMask + !!seedSphere + !!seedSurface + !!seedSlice;
