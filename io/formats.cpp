@@ -139,6 +139,8 @@ const char* formatName(FileFormat f) {
     return "DSI Studio SRC";
   case FileFormat::DsiStudioFib:
     return "DSI Studio FIB";
+  case FileFormat::Afni:
+    return "AFNI dataset";
   }
   return "unknown";
 }
@@ -207,7 +209,10 @@ FormatGuess detectFormat(const std::string& path) {
     return g;
   }
   // By name (the file is missing or its content was not recognised; the reader then says what is wrong).
-  if (endsWith(path, ".mif") || endsWith(path, ".mif.gz") || endsWith(path, ".mih")) {
+  if (endsWith(path, ".HEAD")) {
+    g.format = FileFormat::Afni;
+    g.reason = "name ends in .HEAD (AFNI dataset header)";
+  } else if (endsWith(path, ".mif") || endsWith(path, ".mif.gz") || endsWith(path, ".mih")) {
     g.format = FileFormat::Mrtrix;
     g.reason = "name ends in .mif/.mif.gz/.mih";
   } else if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) {
@@ -291,6 +296,9 @@ VolumeHeader readHeader(const std::string& path) {
     break;
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    readAfni(path, &h, false);
+    break;
   }
   noteFormat(h, g);
   return h;
@@ -323,6 +331,9 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
     break;
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    v = readAfni(path, &h, true);
+    break;
   }
   noteFormat(h, g);
   if (header) *header = std::move(h);
@@ -370,6 +381,9 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
                             "render/surface/view, which fit it");
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    throw InputError(path + ": AFNI tensor datasets are not read yet (" + g.reason +
+                     "); an eigenvector dataset such as 3dDWItoDT's V1 gives no tensor");
   }
   noteFormat(t.header, g);
   return t;

@@ -829,6 +829,16 @@ std::vector<Case> catalogue() {
                          return gzip(body);
                        },
                        {"matrix 'image0' is truncated"}));
+  const std::string afniHead = "type = integer-attribute\nname = DATASET_RANK\ncount = 2\n 3 1\n\n"
+                               "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n 4 4 4\n\n"
+                               "type = float-attribute\nname = IJK_TO_DICOM_REAL\ncount = 12\n"
+                               " 2 0 0 0 0 2 0 0 0 0 2 0\n\n";
+  c.push_back(infoCase("AfniComplexBricks", "cx+orig.HEAD",
+                       [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 6\n"; },
+                       {"brick type 6"}));
+  c.push_back(infoCase("AfniMissingBrik", "nobrik+orig.HEAD",
+                       [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 3\n"; },
+                       {"no .BRIK"}));
   c.push_back({"DtifitSetWithoutEigenvalues",
                [](const fs::path& dir) {
                  Nifti v1;

@@ -583,3 +583,29 @@ TEST(Formats, DetectionByContentAndName) {
   EXPECT_EQ(io::detectFormat((dir / "missing.nii.gz").string()).format, io::FileFormat::Nifti);
   EXPECT_THROW(io::readHeader((dir / "missing.mif.gz").string()), InputError);
 }
+
+TEST(Afni, EigenvectorDatasetLoadsWithItsGeometry) {
+  DTF_SHARED_FILE(head, "niivue_other_tools/DT_V1+orig.HEAD");
+  io::VolumeHeader h;
+  const ScalarVolume v = io::readScalarVolume(head.string(), &h);
+  EXPECT_EQ(h.format, "AFNI dataset");
+  EXPECT_EQ(v.grid.dims, glm::ivec3(128, 128, 70));
+  ASSERT_EQ(v.components, 3);
+  // IJK_TO_DICOM_REAL gives LPS (x = 2i - 129.0411, y = -2j + 95.20151, z = 2k - 104.7115); RAS negates x, y.
+  const glm::dvec3 w = v.grid.toWorld(glm::dvec3(10, 20, 30));
+  EXPECT_NEAR(w.x, -(2 * 10 - 129.0411), 1e-4);
+  EXPECT_NEAR(w.y, -(-2 * 20 + 95.20151), 1e-4);
+  EXPECT_NEAR(w.z, 2 * 30 - 104.7115, 1e-4);
+  EXPECT_EQ(v.grid.orientationCode(), "LAS");
+  std::size_t nonzero = 0, unit = 0;
+  for (std::size_t i = 0; i < v.grid.voxelCount(); ++i) {
+    const glm::dvec3 e(v.data[i * 3], v.data[i * 3 + 1], v.data[i * 3 + 2]);
+    if (glm::length(e) == 0) continue;
+    ++nonzero;
+    unit += std::abs(glm::length(e) - 1) < 1e-3;
+  }
+  EXPECT_GT(nonzero, 50000u);
+  // Unit eigenvectors, as 3dDWItoDT writes them (5 of 168,681 voxels in this file are not).
+  EXPECT_GT(double(unit) / double(nonzero), 0.9999);
+  EXPECT_THROW(io::readTensorVolume(head.string()), InputError);
+}
