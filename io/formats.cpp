@@ -413,7 +413,7 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
       v.data[i * 6 + static_cast<std::size_t>(k)] = static_cast<float>(mr[k]);
   }
   writeMrtrix(path, v, {},
-              {"comments: dtfabric tensor, MRtrix order (xx yy zz xy xz yz), world frame, mm^2/s"});
+              {"comments: dtfabric tensor layout=mrtrix units=mm2/s (xx yy zz xy xz yz, world frame)"});
 }
 
 void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
