@@ -358,6 +358,7 @@ struct NrrdSpec {
   std::string name;
   bool lps = false;
   bool masked = false;
+  bool fullMatrix = false; // kind 3D-matrix: 9 values row by row
   bool detached = false;
   bool gzip = false;
   bool bigEndianDouble = false;
@@ -377,14 +378,17 @@ void writeNrrd(const fs::path& dir, const NrrdSpec& s, const TensorField& field)
   const Grid& g = field.grid;
   const glm::dmat3 S =
       s.lps ? glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1)) : glm::dmat3(1.0);
-  const int comps = s.masked ? 7 : 6;
+  const int comps = s.fullMatrix ? 9 : s.masked ? 7 : 6;
   // Axis list in file order: spatial axes 0,1,2 (maybe 1,0,2) with the tensor axis inserted.
   std::vector<int> axes = s.swapIJ ? std::vector<int>{1, 0, 2} : std::vector<int>{0, 1, 2};
   axes.insert(axes.begin() + s.tensorAxis, -1);
   std::string sizes, kinds, dirs;
   for (int a : axes) {
     sizes += " " + std::to_string(a < 0 ? comps : g.dims[a]);
-    kinds += a < 0 ? (s.masked ? " 3D-masked-symmetric-matrix" : " 3D-symmetric-matrix") : " space";
+    kinds += a < 0 ? (s.fullMatrix ? " 3D-matrix"
+                      : s.masked   ? " 3D-masked-symmetric-matrix"
+                                   : " 3D-symmetric-matrix")
+                   : " space";
     dirs += a < 0 ? " none" : " " + vec(S * glm::dvec3(g.voxelToWorld[a]));
   }
   std::string h = "NRRD0005\n# written by the dtfabric test\ntype: " +
@@ -413,7 +417,7 @@ void writeNrrd(const fs::path& dir, const NrrdSpec& s, const TensorField& field)
     if (field.valid[vi]) {
       const glm::dmat3 d = mi * (S * field.tensors[vi].toMat() * S) * glm::transpose(mi);
       const double comp[6] = {d[0][0], d[0][1], d[0][2], d[1][1], d[1][2], d[2][2]};
-      value = s.masked ? (c == 0 ? 1.0 : comp[c - 1]) : comp[c];
+      value = s.fullMatrix ? d[c % 3][c / 3] : s.masked ? (c == 0 ? 1.0 : comp[c - 1]) : comp[c];
     }
     if (s.bigEndianDouble)
       put<double>(data, value, true);
