@@ -129,8 +129,9 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
     if (orient.numbers.size() < 3 || origin.numbers.size() < 3 || delta.numbers.size() < 3)
       fail(path, "ORIENT_SPECIFIC, ORIGIN or DELTA too short");
     for (int d = 0; d < 3; ++d) {
-      const int code = static_cast<int>(orient.numbers[static_cast<std::size_t>(d)]);
-      if (code < 0 || code > 5) fail(path, "ORIENT_SPECIFIC code " + std::to_string(code) + " is not 0..5");
+      const double raw = orient.numbers[static_cast<std::size_t>(d)];
+      if (!(raw >= 0 && raw <= 5)) fail(path, "ORIENT_SPECIFIC code " + std::to_string(raw) + " is not 0..5");
+      const int code = static_cast<int>(raw);
       // 0 R-to-L, 1 L-to-R, 2 P-to-A, 3 A-to-P, 4 I-to-S, 5 S-to-I: the DICOM axis each voxel axis runs
       // along; DELTA already carries the sign of the step in DICOM coordinates.
       lps[d][code / 2] = delta.numbers[static_cast<std::size_t>(d)];
@@ -151,7 +152,8 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   std::vector<int> sizes;
   long long bytes = 0;
   for (int k = 0; k < bricks; ++k) {
-    const int t = static_cast<int>(types.numbers[static_cast<std::size_t>(k)]);
+    const double raw = types.numbers[static_cast<std::size_t>(k)];
+    const int t = raw >= 0 && raw <= 10 ? static_cast<int>(raw) : -1;
     const int s = t == 0 ? 1 : t == 1 ? 2 : t == 3 ? 4 : t == 5 ? 8 : 0;
     if (!s)
       fail(path, "brick type " + std::to_string(t) + " is not read (byte, short, float and double are)");
@@ -165,7 +167,10 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
     header->dims = {gd.x, gd.y, gd.z};
     if (bricks > 1) header->dims.push_back(bricks);
     header->grid = grid;
-    header->datatypeName = "AFNI brick type " + std::to_string(static_cast<int>(types.numbers[0]));
+    header->datatypeName = "AFNI brick type " + std::to_string(sizes[0] == 1   ? 0
+                                                               : sizes[0] == 2 ? 1
+                                                               : sizes[0] == 4 ? 3
+                                                                               : 5);
     header->affineSource = source + " (AFNI DICOM/LPS) -> RAS";
     if (const auto l = a.find("BRICK_LABS"); l != a.end()) header->intentName = l->second.text;
   }
