@@ -34,21 +34,23 @@ std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, 
   gzFile g = gzopen(path.c_str(), "rb");
   if (!g) throw InputError(path + ": cannot open the file");
   std::vector<std::uint8_t> out;
-  constexpr std::size_t kChunk = std::size_t(1) << 22;
+  // Chunks grow from 64 KiB to 16 MiB: small files stay cheap, large ones need few calls.
+  std::size_t chunk = std::size_t(1) << 16;
   for (;;) {
     const std::size_t at = out.size();
     if (at >= limit) {
       gzclose(g);
       throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
     }
-    out.resize(at + kChunk);
-    const int r = gzread(g, out.data() + at, static_cast<unsigned>(kChunk));
+    out.resize(at + chunk);
+    const int r = gzread(g, out.data() + at, static_cast<unsigned>(chunk));
     if (r < 0) {
       gzclose(g);
       throw InputError(path + ": corrupt gzip stream");
     }
     out.resize(at + static_cast<std::size_t>(r));
-    if (static_cast<std::size_t>(r) < kChunk) break;
+    if (static_cast<std::size_t>(r) < chunk) break;
+    chunk = std::min(chunk * 2, std::size_t(1) << 24);
   }
   // A truncated gzip stream reads short without an error from gzread; gzclose_r reports it.
   const int closed = gzclose(g);
