@@ -15,7 +15,8 @@ namespace {
 const char* kHelp =
     "usage: dtfabric phantom NAME -o FILE [options]\n"
     "\n"
-    "Writes an analytic tensor field as NIfTI (.nii or .nii.gz). NAME is one of:\n"
+    "Writes an analytic tensor field as NIfTI (.nii or .nii.gz; --layout applies), an MRtrix image (.mif,\n"
+    ".mif.gz: MRtrix's convention) or NRRD (.nrrd). NAME is one of:\n"
     "  sphere    Hessian of the distance from the grid centre (curvature tensors, 1/mm)\n"
     "  bretzel5  Hessian of the Bretzel5 implicit function (paper Eq. 14; curvature tensors)\n"
     "  constant  one prolate tensor, eigenvalues (1.7, 0.3, 0.3)e-3 mm^2/s, everywhere\n"

@@ -91,6 +91,10 @@ VolumeHeader dsiHeader(const std::string& path);
 // The DWI with the gradient table stored in the file (MRtrix dw_scheme, DSI Studio b_table); io/formats.cpp.
 Dwi readEmbeddedDwi(const std::string& path, double b0Threshold);
 
+// --- AFNI (io/afni_io.cpp): bricks as components; header only when !withData.
+ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withData);
+std::string afniBrikFile(const std::string& head);
+
 // --- shared byte helpers
 // Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
 // InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.

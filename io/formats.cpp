@@ -34,21 +34,23 @@ std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, 
   gzFile g = gzopen(path.c_str(), "rb");
   if (!g) throw InputError(path + ": cannot open the file");
   std::vector<std::uint8_t> out;
-  constexpr std::size_t kChunk = std::size_t(1) << 22;
+  // Chunks grow from 64 KiB to 16 MiB: small files stay cheap, large ones need few calls.
+  std::size_t chunk = std::size_t(1) << 16;
   for (;;) {
     const std::size_t at = out.size();
     if (at >= limit) {
       gzclose(g);
       throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
     }
-    out.resize(at + kChunk);
-    const int r = gzread(g, out.data() + at, static_cast<unsigned>(kChunk));
+    out.resize(at + chunk);
+    const int r = gzread(g, out.data() + at, static_cast<unsigned>(chunk));
     if (r < 0) {
       gzclose(g);
       throw InputError(path + ": corrupt gzip stream");
     }
     out.resize(at + static_cast<std::size_t>(r));
-    if (static_cast<std::size_t>(r) < kChunk) break;
+    if (static_cast<std::size_t>(r) < chunk) break;
+    chunk = std::min(chunk * 2, std::size_t(1) << 24);
   }
   // A truncated gzip stream reads short without an error from gzread; gzclose_r reports it.
   const int closed = gzclose(g);
@@ -139,6 +141,8 @@ const char* formatName(FileFormat f) {
     return "DSI Studio SRC";
   case FileFormat::DsiStudioFib:
     return "DSI Studio FIB";
+  case FileFormat::Afni:
+    return "AFNI dataset";
   }
   return "unknown";
 }
@@ -207,7 +211,10 @@ FormatGuess detectFormat(const std::string& path) {
     return g;
   }
   // By name (the file is missing or its content was not recognised; the reader then says what is wrong).
-  if (endsWith(path, ".mif") || endsWith(path, ".mif.gz") || endsWith(path, ".mih")) {
+  if (endsWith(path, ".HEAD")) {
+    g.format = FileFormat::Afni;
+    g.reason = "name ends in .HEAD (AFNI dataset header)";
+  } else if (endsWith(path, ".mif") || endsWith(path, ".mif.gz") || endsWith(path, ".mih")) {
     g.format = FileFormat::Mrtrix;
     g.reason = "name ends in .mif/.mif.gz/.mih";
   } else if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) {
@@ -291,6 +298,9 @@ VolumeHeader readHeader(const std::string& path) {
     break;
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    readAfni(path, &h, false);
+    break;
   }
   noteFormat(h, g);
   return h;
@@ -323,6 +333,9 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
     break;
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    v = readAfni(path, &h, true);
+    break;
   }
   noteFormat(h, g);
   if (header) *header = std::move(h);
@@ -370,6 +383,9 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
                             "render/surface/view, which fit it");
   case FileFormat::DsiStudioFib:
     notAVolume(path, g);
+  case FileFormat::Afni:
+    throw InputError(path + ": AFNI tensor datasets are not read yet (" + g.reason +
+                     "); an eigenvector dataset such as 3dDWItoDT's V1 gives no tensor");
   }
   noteFormat(t.header, g);
   return t;
@@ -399,7 +415,7 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
       v.data[i * 6 + static_cast<std::size_t>(k)] = static_cast<float>(mr[k]);
   }
   writeMrtrix(path, v, {},
-              {"comments: dtfabric tensor, MRtrix order (xx yy zz xy xz yz), world frame, mm^2/s"});
+              {"comments: dtfabric tensor layout=mrtrix units=mm2/s (xx yy zz xy xz yz, world frame)"});
 }
 
 void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {

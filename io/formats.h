@@ -15,6 +15,7 @@ enum class FileFormat {
   DtifitSet,    // FSL dtifit outputs: basename, or any of its _V1.._V3 / _L1.._L3 / _FA / _MD files
   DsiStudioSrc, // DSI Studio .src.gz (raw DWI and b-table, MATLAB v4)
   DsiStudioFib, // DSI Studio .fib.gz (fibre populations and DTI maps, MATLAB v4)
+  Afni,         // AFNI +orig/+tlrc .HEAD with .BRIK[.gz]: scalar and vector bricks (tensors not yet)
 };
 
 const char* formatName(FileFormat f);

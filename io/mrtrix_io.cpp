@@ -336,8 +336,11 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
     in >> name;
     std::string offText;
     if (in >> offText) {
-      dataOffset = static_cast<long long>(parseNumber(path, "file", offText));
-      if (dataOffset < 0) fail(path, "file offset " + offText + " is negative");
+      // Fuzz finding: "file: . nan" was converted to an integer (undefined behaviour).
+      const double off = parseNumber(path, "file", offText);
+      if (!(off >= 0) || off > 0x1p62 || off != std::floor(off))
+        fail(path, "file offset " + offText + " is not a whole number >= 0");
+      dataOffset = static_cast<long long>(off);
     }
     if (name != ".") {
       if (name.find('/') == 0) fail(path, "data file '" + name + "' is an absolute path (refused)");

@@ -353,7 +353,9 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
     stored += (stored.empty() ? "" : "x") + std::to_string(sz);
   h.intentName = (out.kind.empty() ? "" : "kind " + out.kind + ", ") + "sizes as stored " + stored;
   // Symmetric-matrix kinds are tensors, as NIfTI's SYMMATRIX intent says (what `info` looks for).
-  if (out.kind == "3D-symmetric-matrix" || out.kind == "3D-masked-symmetric-matrix") h.intentCode = 1005;
+  if (out.kind == "3D-symmetric-matrix" || out.kind == "3D-masked-symmetric-matrix" ||
+      out.kind == "3D-matrix" || out.kind == "3D-masked-matrix")
+    h.intentCode = 1005;
   if (const std::string* mf = field("measurement frame")) {
     const std::vector<std::string> e = vectorEntries(*mf);
     if (e.size() != 3)
@@ -479,10 +481,13 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
 LoadedTensors nrrdTensors(const std::string& path) {
   NrrdVolume n = readNrrd(path, true);
   const bool masked = n.kind == "3D-masked-symmetric-matrix";
-  if (n.kind != "3D-symmetric-matrix" && !masked)
-    fail(path, "is not a tensor NRRD: the component axis has kind '" + n.kind +
-                   "' (3D-symmetric-matrix or 3D-masked-symmetric-matrix expected)");
-  const int want = masked ? 7 : 6;
+  const bool full = n.kind == "3D-matrix" || n.kind == "3D-masked-matrix";
+  const bool fullMasked = n.kind == "3D-masked-matrix";
+  if (n.kind != "3D-symmetric-matrix" && !masked && !full)
+    fail(path,
+         "is not a tensor NRRD: the component axis has kind '" + n.kind +
+             "' (3D-symmetric-matrix, 3D-masked-symmetric-matrix, 3D-matrix or 3D-masked-matrix expected)");
+  const int want = full ? (fullMasked ? 10 : 9) : masked ? 7 : 6;
   if (n.volume.components != want)
     fail(path, "kind " + n.kind + " needs " + std::to_string(want) + " components, the axis has " +
                    std::to_string(n.volume.components));
@@ -490,8 +495,8 @@ LoadedTensors nrrdTensors(const std::string& path) {
   out.header = n.header;
   out.warnings = n.header.warnings;
   out.layout = TensorLayout::Fsl; // component order xx xy xz yy yz zz
-  out.layoutReason = "NRRD kind " + n.kind + " (" + (masked ? "confidence, then " : "") +
-                     "xx xy xz yy yz zz); " +
+  out.layoutReason = "NRRD kind " + n.kind + " (" + (masked || fullMasked ? "confidence, then " : "") +
+                     (full ? "row-major 3x3, symmetrised" : "xx xy xz yy yz zz") + "); " +
                      (n.hasMeasurementFrame ? "measurement frame applied (D = M D M^T)"
                                             : "no measurement frame (tensors in the space's axes)") +
                      (n.lps ? ", then LPS -> RAS" : "");
@@ -503,6 +508,20 @@ LoadedTensors nrrdTensors(const std::string& path) {
   std::size_t masked0 = 0;
   for (std::size_t i = 0; i < nv; ++i) {
     const float* c = &n.volume.data[i * static_cast<std::size_t>(want)];
+    if (full) {
+      // Row-major 3x3 (ITK writes diffusion tensors this way too), symmetrised.
+      if (fullMasked && !(c[0] >= 0.5f)) {
+        ++masked0;
+        continue;
+      }
+      const float* f = fullMasked ? c + 1 : c;
+      glm::dmat3 d;
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+          d[col][row] = 0.5 * (double(f[row * 3 + col]) + double(f[col * 3 + row]));
+      storeWorldTensor(out, i, r * d * glm::transpose(r));
+      continue;
+    }
     if (masked) {
       if (!(c[0] >= 0.5f)) {
         ++masked0;
@@ -519,7 +538,8 @@ LoadedTensors nrrdTensors(const std::string& path) {
     d[2][2] = c[5];
     storeWorldTensor(out, i, r * d * glm::transpose(r));
   }
-  if (masked) out.layoutReason += "; " + std::to_string(masked0) + " voxels with confidence < 0.5 masked out";
+  if (masked || fullMasked)
+    out.layoutReason += "; " + std::to_string(masked0) + " voxels with confidence < 0.5 masked out";
   if (out.nanVoxels)
     out.warnings.push_back(std::to_string(out.nanVoxels) + " voxel(s) hold NaN/Inf values (marked invalid)");
   return out;

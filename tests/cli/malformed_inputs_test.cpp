@@ -835,8 +835,13 @@ std::vector<Case> catalogue() {
                                 std::string(256, '\0');
                        },
                        {"truncated", "offset 99999"}));
+  // Fuzz finding: a NaN offset was converted to an integer (undefined behaviour).
+  c.push_back(infoCase("MrtrixNanOffset", "nan.mif",
+                       [=] { return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: . nan\nEND\n"; },
+                       {"file offset nan is not a whole number"}));
   c.push_back(infoCase("MrtrixOffsetInsideHeader", "inside.mif",
-                       [=] { return mif(mifGeom + "datatype: Float32LE\n", 256, 8); }, {"lies inside the header"}));
+                       [=] { return mif(mifGeom + "datatype: Float32LE\n", 256, 8); },
+                       {"lies inside the header"}));
   c.push_back(infoCase("MrtrixZeroDimension", "zero.mif",
                        [] {
                          return "mrtrix image\ndim: 4,0,4\nvox: 1,1,1\nlayout: +0,+1,+2\n"
@@ -852,31 +857,33 @@ std::vector<Case> catalogue() {
   c.push_back(infoCase("MrtrixDuplicateStride", "stride.mif",
                        [=] { return mif("dim: 4,4,4\nvox: 2,2,2\nlayout: +0,+0,+1\ndatatype: UInt8\n", 64); },
                        {"same rank"}));
-  c.push_back(infoCase("MrtrixMissingDataFile", "split.mih",
-                       [=] {
-                         return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: gone.dat 0\nEND\n";
-                       },
-                       {"gone.dat", "does not exist"}));
+  c.push_back(
+      infoCase("MrtrixMissingDataFile", "split.mih",
+               [=] { return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: gone.dat 0\nEND\n"; },
+               {"gone.dat", "does not exist"}));
   c.push_back(infoCase("MrtrixCorruptGzip", "corrupt.mif.gz",
                        [=] {
                          const std::string z = gzip(mif(mifGeom + "datatype: Float32LE\n", 4 * 64));
                          return z.substr(0, z.size() - 12);
                        },
                        {"gzip"}));
-  const std::string nrrdHead = "NRRD0004\ntype: float\ndimension: 4\nsizes: 6 4 4 4\n"
-                               "kinds: 3D-symmetric-matrix space space space\nspace: left-posterior-superior\n"
-                               "space directions: none (2,0,0) (0,2,0) (0,0,2)\nendian: little\n";
+  const std::string nrrdHead =
+      "NRRD0004\ntype: float\ndimension: 4\nsizes: 6 4 4 4\n"
+      "kinds: 3D-symmetric-matrix space space space\nspace: left-posterior-superior\n"
+      "space directions: none (2,0,0) (0,2,0) (0,0,2)\nendian: little\n";
   c.push_back(infoCase("NrrdTruncatedData", "short.nrrd",
                        [=] { return nrrdHead + "encoding: raw\n\n" + std::string(100, '\0'); },
                        {"truncated", "1536"}));
-  c.push_back(infoCase("NrrdUnknownType", "block.nrrd",
-                       [] { return std::string("NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n"); },
-                       {"unsupported type 'block'"}));
-  c.push_back(infoCase("NrrdBadSizes", "sizes.nrrd",
-                       [] { return std::string("NRRD0004\ntype: float\ndimension: 3\nsizes: 2 x 2\nencoding: raw\n\n"); },
-                       {"sizes entry 'x'"}));
-  c.push_back(infoCase("NrrdUnsupportedEncoding", "bz.nrrd",
-                       [=] { return nrrdHead + "encoding: bzip2\n\n"; }, {"encoding 'bzip2'"}));
+  c.push_back(infoCase(
+      "NrrdUnknownType", "block.nrrd",
+      [] { return std::string("NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n"); },
+      {"unsupported type 'block'"}));
+  c.push_back(infoCase(
+      "NrrdBadSizes", "sizes.nrrd",
+      [] { return std::string("NRRD0004\ntype: float\ndimension: 3\nsizes: 2 x 2\nencoding: raw\n\n"); },
+      {"sizes entry 'x'"}));
+  c.push_back(infoCase("NrrdUnsupportedEncoding", "bz.nrrd", [=] { return nrrdHead + "encoding: bzip2\n\n"; },
+                       {"encoding 'bzip2'"}));
   c.push_back(infoCase("NrrdMissingDataFile", "detached.nhdr",
                        [=] { return nrrdHead + "encoding: raw\ndata file: gone.raw\n"; },
                        {"gone.raw", "does not exist"}));
@@ -904,6 +911,18 @@ std::vector<Case> catalogue() {
                          return gzip(body);
                        },
                        {"matrix 'image0' is truncated"}));
+  const std::string afniHead = "type = integer-attribute\nname = DATASET_RANK\ncount = 2\n 3 1\n\n"
+                               "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n 4 4 4\n\n"
+                               "type = float-attribute\nname = IJK_TO_DICOM_REAL\ncount = 12\n"
+                               " 2 0 0 0 0 2 0 0 0 0 2 0\n\n";
+  c.push_back(
+      infoCase("AfniComplexBricks", "cx+orig.HEAD",
+               [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 6\n"; },
+               {"brick type 6"}));
+  c.push_back(
+      infoCase("AfniMissingBrik", "nobrik+orig.HEAD",
+               [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 3\n"; },
+               {"no .BRIK"}));
   c.push_back({"DtifitSetWithoutEigenvalues",
                [](const fs::path& dir) {
                  Nifti v1;

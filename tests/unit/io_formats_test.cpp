@@ -358,6 +358,7 @@ struct NrrdSpec {
   std::string name;
   bool lps = false;
   bool masked = false;
+  bool fullMatrix = false; // kind 3D-matrix: 9 values row by row
   bool detached = false;
   bool gzip = false;
   bool bigEndianDouble = false;
@@ -377,14 +378,17 @@ void writeNrrd(const fs::path& dir, const NrrdSpec& s, const TensorField& field)
   const Grid& g = field.grid;
   const glm::dmat3 S =
       s.lps ? glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1)) : glm::dmat3(1.0);
-  const int comps = s.masked ? 7 : 6;
+  const int comps = s.fullMatrix ? 9 : s.masked ? 7 : 6;
   // Axis list in file order: spatial axes 0,1,2 (maybe 1,0,2) with the tensor axis inserted.
   std::vector<int> axes = s.swapIJ ? std::vector<int>{1, 0, 2} : std::vector<int>{0, 1, 2};
   axes.insert(axes.begin() + s.tensorAxis, -1);
   std::string sizes, kinds, dirs;
   for (int a : axes) {
     sizes += " " + std::to_string(a < 0 ? comps : g.dims[a]);
-    kinds += a < 0 ? (s.masked ? " 3D-masked-symmetric-matrix" : " 3D-symmetric-matrix") : " space";
+    kinds += a < 0 ? (s.fullMatrix ? " 3D-matrix"
+                      : s.masked   ? " 3D-masked-symmetric-matrix"
+                                   : " 3D-symmetric-matrix")
+                   : " space";
     dirs += a < 0 ? " none" : " " + vec(S * glm::dvec3(g.voxelToWorld[a]));
   }
   std::string h = "NRRD0005\n# written by the dtfabric test\ntype: " +
@@ -413,7 +417,7 @@ void writeNrrd(const fs::path& dir, const NrrdSpec& s, const TensorField& field)
     if (field.valid[vi]) {
       const glm::dmat3 d = mi * (S * field.tensors[vi].toMat() * S) * glm::transpose(mi);
       const double comp[6] = {d[0][0], d[0][1], d[0][2], d[1][1], d[1][2], d[2][2]};
-      value = s.masked ? (c == 0 ? 1.0 : comp[c - 1]) : comp[c];
+      value = s.fullMatrix ? d[c % 3][c / 3] : s.masked ? (c == 0 ? 1.0 : comp[c - 1]) : comp[c];
     }
     if (s.bigEndianDouble)
       put<double>(data, value, true);
@@ -582,4 +586,30 @@ TEST(Formats, DetectionByContentAndName) {
   EXPECT_EQ(io::detectFormat((dir / "missing.mif.gz").string()).format, io::FileFormat::Mrtrix);
   EXPECT_EQ(io::detectFormat((dir / "missing.nii.gz").string()).format, io::FileFormat::Nifti);
   EXPECT_THROW(io::readHeader((dir / "missing.mif.gz").string()), InputError);
+}
+
+TEST(Afni, EigenvectorDatasetLoadsWithItsGeometry) {
+  DTF_SHARED_FILE(head, "niivue_other_tools/DT_V1+orig.HEAD");
+  io::VolumeHeader h;
+  const ScalarVolume v = io::readScalarVolume(head.string(), &h);
+  EXPECT_EQ(h.format, "AFNI dataset");
+  EXPECT_EQ(v.grid.dims, glm::ivec3(128, 128, 70));
+  ASSERT_EQ(v.components, 3);
+  // IJK_TO_DICOM_REAL gives LPS (x = 2i - 129.0411, y = -2j + 95.20151, z = 2k - 104.7115); RAS negates x, y.
+  const glm::dvec3 w = v.grid.toWorld(glm::dvec3(10, 20, 30));
+  EXPECT_NEAR(w.x, -(2 * 10 - 129.0411), 1e-4);
+  EXPECT_NEAR(w.y, -(-2 * 20 + 95.20151), 1e-4);
+  EXPECT_NEAR(w.z, 2 * 30 - 104.7115, 1e-4);
+  EXPECT_EQ(v.grid.orientationCode(), "LAS");
+  std::size_t nonzero = 0, unit = 0;
+  for (std::size_t i = 0; i < v.grid.voxelCount(); ++i) {
+    const glm::dvec3 e(v.data[i * 3], v.data[i * 3 + 1], v.data[i * 3 + 2]);
+    if (glm::length(e) == 0) continue;
+    ++nonzero;
+    unit += std::abs(glm::length(e) - 1) < 1e-3;
+  }
+  EXPECT_GT(nonzero, 50000u);
+  // Unit eigenvectors, as 3dDWItoDT writes them (5 of 168,681 voxels in this file are not).
+  EXPECT_GT(double(unit) / double(nonzero), 0.9999);
+  EXPECT_THROW(io::readTensorVolume(head.string()), InputError);
 }
