@@ -2,6 +2,6 @@
 # real executable. dtf_nifti is linked for nifti1.h (the header struct), ZLIB to write gzip streams.
 dtf_test(test_malformed_inputs LABEL cli SOURCES cli/malformed_inputs_test.cpp LIBS dtf_nifti ZLIB::ZLIB)
 # The viewer scene's outputs (overwrite prompt, --force, inputs refused) and its GL texture limit, headless.
-dtf_test(test_viewer_hardening LABEL gl SOURCES gl/viewer_hardening_test.cpp LIBS dtf_app)
+dtf_test(test_viewer_hardening LABEL gl SOURCES gl/viewer_hardening_test.cpp LIBS dtf_viewer)
 # The viewer in a window under Xvfb: error modal for bad input and GL limits, script outputs and --force.
 dtf_test(test_view_hardening_window LABEL window SOURCES window/hardening_window_test.cpp LIBS dtf_io dtf_model)

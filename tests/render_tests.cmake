@@ -4,5 +4,5 @@ dtf_test(test_render_unit LABEL unit SOURCES gl/camera_noise_test.cpp LIBS dtf_r
 dtf_test(test_render_fabric LABEL gl SOURCES gl/fabric_render_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_baseline LABEL baseline SOURCES gl/baseline_test.cpp LIBS dtf_render dtf_surfaces dtf_io dtf_model)
 dtf_test(test_render_cli LABEL cli SOURCES gl/render_cli_test.cpp LIBS dtf_render dtf_io dtf_model)
-dtf_test(test_bench_render_peer LABEL unit SOURCES unit/bench_render_peer_test.cpp LIBS dtf_app)
+dtf_test(test_bench_render_peer LABEL unit SOURCES unit/bench_render_peer_test.cpp LIBS dtf_cli)
 dtf_test(test_bench_render_cli LABEL cli SOURCES gl/bench_render_cli_test.cpp LIBS dtf_render dtf_model)

@@ -36,7 +36,7 @@ struct LoadFile {
 struct SetSurfaceKind {
   SurfaceKind kind;
 };
-// `text` in the syntax of app/surface_spec.h (fa=T, slice=AXIS:I, fibre-voxel=..., mesh=FILE, ...).
+// `text` in the syntax of app/scene/surface_spec.h (fa=T, slice=AXIS:I, fibre-voxel=..., mesh=FILE, ...).
 struct SetSurfaceSpec {
   std::string text;
 };

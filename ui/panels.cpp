@@ -234,18 +234,20 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     double near = s.tractsNearMm;
     if (sliderDouble("near surface (mm)", near, 0.0f, 20.0f, "%.1f")) out.push_back(SetTractsNear{near});
     probe(b, "near surface (mm)");
-    if (s.tractsNearMm <= 0)
+    // Planar surfaces: every tract within a slab around the plane, the clip's half-width when set, else the
+    // near distance; curved surfaces: the tracts near them, clipped by the camera-facing slab.
+    const double planarSlab = s.tractsClipMm > 0 ? s.tractsClipMm : s.tractsNearMm;
+    if (s.tractsSlab && planarSlab > 0)
+      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", planarSlab);
+    else if (s.tractsSlab || s.tractsNearMm <= 0)
       ImGui::TextDisabled("every tract is shown");
-    else if (s.tractsSlab)
-      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", s.tractsNearMm);
-    // The camera-facing clip slab, for tractograms too dense to see into (the planar slab replaces it).
     double clip = s.tractsClipMm, clipOffset = s.tractsClipOffsetMm;
     bool clipChanged = sliderDouble("clip slab (mm)", clip, 0.0f, 50.0f, "%.1f");
     probe(b, "clip slab (mm)");
     if (clip > 0) {
       clipChanged |= sliderDouble("clip depth (mm)", clipOffset, -100.0f, 100.0f, "%.1f");
       probe(b, "clip depth (mm)");
-      if (s.tractsSlab && s.tractsNearMm > 0) ImGui::TextDisabled("the planar slab applies on this surface");
+      if (s.tractsSlab) ImGui::TextDisabled("planar surface: the slab lies around its plane");
     }
     if (clipChanged) out.push_back(SetTractsClip{clip, clipOffset});
     ImGui::Text("shown: %zu pieces, %zu points%s", s.tractsShownLines, s.tractsShownPoints,

@@ -1,7 +1,7 @@
 // The viewer scene's steady state does not allocate: frames of a still, converged scene, and interactive
 // frames while the camera rotates, run without a heap allocation in the viewer's own code. Counts every
 // operator new of this process between frames (headless GL; skips without a context).
-#include "app/viewer.h"
+#include "app/viewer/viewer.h"
 #include "io/tracts.h"
 #include "support/gl_test.h"
 

@@ -1,5 +1,5 @@
 // The viewer script parser (app/view_script.h): every command, comments, and FILE:LINE errors.
-#include "app/view_script.h"
+#include "app/viewer/view_script.h"
 #include "io/model/error.h"
 #include "support/test_env.h"
 
