@@ -1,4 +1,4 @@
-// Analytic tensor fields for tests and demos (paper section 3.1 and DESIGN.md section 4): synthetic input
+// Analytic tensor fields for tests and demos (paper section 3.1): synthetic input
 // for every stage after the readers. Each phantom is a canonical TensorField (world RAS) on an RAS grid
 // centred at the origin, plus a scalar field whose isosurface is the natural surface to render it on.
 //   sphere    Hessian of |x| (curvature tensor (I - n n^T)/r, 1/mm; invalid at the centre); scalar |x| mm,

@@ -1,4 +1,4 @@
-// NIfTI tensor, scalar and DWI volumes in and out: the first stage of the pipeline (DESIGN.md section 2).
+// NIfTI tensor, scalar and DWI volumes in and out: the first stage of the pipeline.
 // Readers convert into the canonical TensorField form (world RAS, xx xy xz yy yz zz, mm^2/s; see
 // io/model/tensor_field.h); writers convert out of it. NIfTI-1 and NIfTI-2, .nii and .nii.gz are read;
 // the affine is the sform when its code is set, else the qform, else pixdim only. scl_slope/scl_inter
@@ -15,7 +15,7 @@
 
 namespace dtf::io {
 
-// On-disk tensor layouts (DESIGN.md section 2).
+// On-disk tensor layouts.
 enum class TensorLayout {
   Auto,      // detect from intent code, then from which volumes hold the positive diagonal, then scale
   Fsl,       // 4D x6: xx xy xz yy yz zz, voxel frame (x flipped when det(affine) > 0)

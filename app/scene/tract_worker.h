@@ -1,4 +1,4 @@
-// The viewer's tract work off the GUI thread (DESIGN.md section 5: long work never blocks the window): the
+// The viewer's tract work off the GUI thread (long work never blocks the window): the
 // selection of what is drawn for the surface on screen (near-surface selection, or every tract with a slab
 // on a planar surface) and its display preparation, the agreement measure, saving, on one thread; tracking,
 // which may run for minutes, on another, with progress and cancel. Selection and agreement requests

@@ -1,5 +1,5 @@
 // The viewer's background thread: loading (and fitting) tensor data and extracting surfaces, so the window
-// never blocks (DESIGN.md section 5). Requests coalesce: a new surface request replaces one that has not
+// never blocks. Requests coalesce: a new surface request replaces one that has not
 // started, so dragging the FA slider costs one extraction per result the user can see. The FA isosurface
 // sweeper is prepared once per loaded field and used only on this thread (it is thread-compatible, not
 // thread-safe). Results are polled by the GUI thread.
