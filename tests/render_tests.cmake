@@ -6,3 +6,4 @@ dtf_test(test_render_baseline LABEL baseline SOURCES gl/baseline_test.cpp LIBS d
 dtf_test(test_render_cli LABEL cli SOURCES gl/render_cli_test.cpp LIBS dtf_render dtf_io dtf_model)
 dtf_test(test_bench_render_peer LABEL unit SOURCES unit/bench_render_peer_test.cpp LIBS dtf_cli)
 dtf_test(test_bench_render_cli LABEL cli SOURCES gl/bench_render_cli_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_gl_state LABEL gl SOURCES gl/gl_state_test.cpp LIBS dtf_render dtf_model)

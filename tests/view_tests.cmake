@@ -6,3 +6,5 @@ dtf_test(test_view_cli LABEL cli SOURCES window/view_cli_test.cpp LIBS dtf_model
 dtf_test(test_view_window LABEL window SOURCES window/view_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_view_scene LABEL gl SOURCES unit/view_scene_alloc_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_tracts LABEL gl SOURCES gl/view_tracts_test.cpp LIBS dtf_viewer)
+dtf_test(test_help_cli LABEL cli SOURCES cli/help_cli_test.cpp LIBS dtf_cli)
+dtf_test(test_view_initial_view LABEL gl SOURCES gl/view_initial_view_test.cpp LIBS dtf_viewer)

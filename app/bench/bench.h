@@ -13,6 +13,16 @@
 
 namespace dtf::app {
 
+// One benchmark of `dtfabric bench NAME`. A new benchmark is one entry in benchmarks() (app/cli/cmd_bench.cpp)
+// and its file app/bench/bench_NAME.cpp; `dtfabric --help`, `bench --help` and the README's table follow.
+struct Benchmark {
+  const char* name;
+  const char* summary; // one line
+  int (*run)(const CommandArgs& args);
+};
+// Every benchmark, in the order help lists them.
+const std::vector<Benchmark>& benchmarks();
+
 int benchIo(const CommandArgs& args);
 int benchRender(const CommandArgs& args);
 int benchSurfaces(const CommandArgs& args);

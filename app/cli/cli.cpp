@@ -1,4 +1,7 @@
 #include "app/cli/commands.h"
+
+#include "app/bench/bench.h"
+#include "app/viewer/view_script.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 
@@ -10,27 +13,106 @@ namespace dtf::app {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
-      {"info", "describe a tensor, scalar or DWI volume (layout, orientation, ranges, one voxel)", cmdInfo},
-      {"fit", "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)", cmdFit},
-      {"phantom", "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)", cmdPhantom},
-      {"surface", "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality", cmdSurface},
-      {"render", "render the fabric on a surface to PNG, headless", cmdRender},
-      {"track", "deterministic tensor tractography to .tck/.trk/.vtk", cmdTrack},
-      {"compare", "angle between tracts and the fabric direction on a surface", cmdCompare},
-      {"view", "open the viewer (GLFW window with ImGui panels)", cmdView},
-      {"bench", "benchmarks: io, render", cmdBench},
+      {"info", "FILE [--layout L] [--json] [--voxel I,J,K]",
+       "describe a tensor, scalar or DWI volume (layout, orientation, ranges, one voxel)",
+       "header, orientation, detected tensor layout and why, value ranges, FA statistics; one voxel's world "
+       "tensor, eigen-system and metrics",
+       cmdInfo},
+      {"fit", "DWI --bval F --bvec F [--mask M] -o OUT [--method wls|ols] [--layout L]",
+       "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",
+       "fit tensors to a DWI (WLS by default; automatic mask when none is given)", cmdFit},
+      {"phantom", "NAME -o FILE [--layout L]",
+       "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)",
+       "analytic fields: `sphere`, `bretzel5` (paper §3.1), `constant`, `crossing`, `brain`", cmdPhantom},
+      {"surface", "INPUT --surface SPEC -o MESH.ply|.vtp|.obj",
+       "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality",
+       "FA isosurface, slice, oblique plane or fibre-following surface as a mesh, with its quality figure "
+       "(FA-weighted mean |e1·n|)",
+       cmdSurface},
+      {"render",
+       "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering] [--tracts F] [--split MODE] "
+       "[--background B]",
+       "render the fabric on a surface to PNG, headless", "the fabric, headless", cmdRender},
+      {"track", "INPUT -o OUT.tck|.trk|.vtk [seeds, limits]", "deterministic tensor tractography to .tck/.trk/.vtk",
+       "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack},
+      {"compare", "INPUT --tracts F --surface SPEC [--near MM] [--json]",
+       "angle between tracts and the fabric direction on a surface",
+       "angle between tracts near a surface and the fabric's principal direction there", cmdCompare},
+      {"view", "[INPUT] [--script FILE] [--force]", "open the viewer (GLFW window with ImGui panels)",
+       "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, View, Tracts), status bar with the "
+       "voxel under the cursor; `--script` replays actions for reproducible figures (see below; `--force`: its "
+       "screenshots, camera and tract files may replace existing files)",
+       cmdView},
+      {"bench", nullptr, nullptr, nullptr, cmdBench}, // synopsis and summaries from app/bench/bench.h
+      {"help", "[--markdown]", "this list; --markdown: the README's command and script tables",
+       "this list; `--markdown`: the README's command and script tables", cmdHelp},
   };
   return list;
 }
 
 namespace {
+
+std::string joinedBenchNames() {
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : ", ") + std::string(b.name);
+  return names;
+}
+std::string summaryOf(const Command& c) {
+  return c.summary ? c.summary : "benchmarks: " + joinedBenchNames();
+}
+std::string synopsisOf(const Command& c) {
+  if (c.synopsis) return c.synopsis;
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : "|") + std::string(b.name);
+  return names + " [--json]";
+}
+std::string descriptionOf(const Command& c) {
+  if (c.description) return c.description;
+  std::string d = "benchmarks:";
+  for (const auto& b : benchmarks())
+    d += std::string(" `") + b.name + "` " + b.summary + ";";
+  d.back() = '.';
+  return d;
+}
+// A markdown table cell: '|' escaped.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    if (ch == '|') out += '\\';
+    out += ch;
+  }
+  return out;
+}
+
 void printUsage() {
   std::printf("usage: dtfabric COMMAND [ARGS]\n\ncommands:\n");
-  for (const auto& c : commands()) std::printf("  %-9s %s\n", c.name, c.summary);
+  for (const auto& c : commands()) std::printf("  %-9s %s\n", c.name, summaryOf(c).c_str());
   std::printf("\n`dtfabric COMMAND --help` describes each command.\n"
               "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.\n");
 }
 } // namespace
+
+std::string markdownTables() {
+  std::string out = "| command | what it does |\n|---|---|\n";
+  for (const auto& c : commands())
+    out += "| `dtfabric " + std::string(c.name) + " " + cell(synopsisOf(c)) + "` | " + cell(descriptionOf(c)) + " |\n";
+  out += "\n| line | does |\n|---|---|\n";
+  for (const auto& c : scriptCommands())
+    out += "| `" + std::string(c.name) + (*c.args ? " " : "") + cell(c.args) + "` | " + cell(c.help) + " |\n";
+  return out;
+}
+
+int cmdHelp(const CommandArgs& args) {
+  if (args.size() == 1 && args[0] == "--markdown") {
+    std::fputs(markdownTables().c_str(), stdout);
+    return 0;
+  }
+  if (!args.empty()) throw UsageError("usage: dtfabric help [--markdown]");
+  printUsage();
+  return 0;
+}
 
 int runCli(int argc, char** argv) {
   setLogSink([](LogLevel level, const std::string& msg) {

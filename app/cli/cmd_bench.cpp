@@ -25,24 +25,33 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+const std::vector<Benchmark>& benchmarks() {
+  static const std::vector<Benchmark> list = {
+      {"io", "load time of an HCP-sized tensor volume, DWI fit times, FA-map time", benchIo},
+      {"render", "per-pass GPU times and ms/frame of the fabric against plain Phong", benchRender},
+      {"surfaces", "FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume", benchSurfaces},
+      {"tracts", "streamlines/s of deterministic tensor tracking on the real brain", benchTracts},
+      {"overlay", "the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection",
+       benchOverlay},
+      {"view", "the viewer's frame times and FA-sweep latency, headless", benchView},
+  };
+  return list;
+}
+
 int cmdBench(const CommandArgs& args) {
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : "|") + std::string(b.name);
   if (args.empty() || args[0] == "--help") {
-    std::printf("usage: dtfabric bench io|render|surfaces|view [OPTIONS] [--json]\n"
-                "  io      load time of an HCP-sized tensor volume, DWI fit times, FA-map time\n"
-                "  render    per-pass GPU times and ms/frame of the fabric against plain Phong\n"
-                "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
-                "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n"
-                "  overlay   the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection\n");
+    std::printf("usage: dtfabric bench %s [OPTIONS] [--json]\n", names.c_str());
+    for (const auto& b : benchmarks())
+      std::printf("  %-9s %s\n", b.name, b.summary);
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
-  if (args[0] == "io") return benchIo(rest);
-  if (args[0] == "render") return benchRender(rest);
-  if (args[0] == "surfaces") return benchSurfaces(rest);
-  if (args[0] == "view") return benchView(rest);
-  if (args[0] == "tracts") return benchTracts(rest);
-  if (args[0] == "overlay") return benchOverlay(rest);
-  throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces, view)");
+  for (const auto& b : benchmarks())
+    if (args[0] == b.name) return b.run(rest);
+  throw UsageError("unknown benchmark '" + args[0] + "' (" + names + ")");
 }
 
 } // namespace dtf::app

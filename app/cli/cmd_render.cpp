@@ -9,6 +9,7 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/png_io.h"
+#include "render/fabric_options.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
@@ -21,6 +22,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <vector>
 
 namespace dtf::app {
@@ -75,20 +77,12 @@ View (world RAS: +x patient's right, +y anterior, +z superior)
   --size WxH          image size in pixels (default 768x768)
 
 Fabric (paper §2)
-  --color MODE        medical (default: DEC colour of the principal direction x red, y green, z blue,
-                      modulated by FA; secondary direction in grey beneath) | engineering (paper Eq. 13)
-  --iterations N      advection iterations at most (default 100; stops earlier once converged)
-  --lod L             noise voxel edge l in mm (paper Eq. 7; default: automatic from the pixel size)
-  --blend-k K         k of Eq. 12, the weight of the input noise per iteration (default 0.1)
-  --blend-r R         r of Eq. 13, blend between the two directions (default 0.5)
-  --seed S            reaction-diffusion noise seed (default 1)
-  --step PX           advection step in pixels (default 2)
-  --no-lighting --no-silhouette --sharpen W --depth-color W --fade-out-of-plane W
+)";
 
+const char* kHelpTail = R"(
 Background (grey where the fabric is absent; slices and planes then cover the whole grid, not only the data)
   --background B      fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)
   --background-window LO,HI   grey ramp (default: fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile)
-  --fa-floor F        the fabric only where FA >= F (default 0)
 
 Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y green, z blue)
   --tracts FILE       .tck, .trk or .vtk tracts (world RAS mm)
@@ -112,6 +106,21 @@ Input
 
 Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.
 )";
+
+// The options of render/fabric_options.h as flags: --NAME VALUE, and --no-NAME for the on/off ones.
+void readFabricOptions(Args& args, render::FabricParams& p) {
+  for (const auto& o : render::fabricOptions()) {
+    if (o.kind == render::FabricOption::Kind::OnOff) {
+      if (args.flag(std::string("no-") + o.name)) o.set(p, 0);
+    } else if (auto v = args.get(o.name)) {
+      try {
+        o.set(p, o.parse(*v));
+      } catch (const UsageError& e) {
+        throw UsageError(std::string("--") + e.what());
+      }
+    }
+  }
+}
 
 struct Background {
   ScalarVolume volume; // empty: none
@@ -177,9 +186,14 @@ render::StandardView defaultView(const SurfaceSpec& spec) {
 } // namespace
 
 int cmdRender(const CommandArgs& argv) {
-  Args args(argv, {"help", "neurological", "perspective", "no-lighting", "no-silhouette", "force"});
+  std::set<std::string> flags = {"help", "neurological", "perspective", "force"};
+  for (const auto& o : render::fabricOptions())
+    if (o.kind == render::FabricOption::Kind::OnOff) flags.insert(std::string("no-") + o.name);
+  Args args(argv, flags);
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);
+    std::fputs(render::fabricOptionsHelp().c_str(), stdout);
+    std::fputs(kHelpTail, stdout);
     return 0;
   }
   const std::string input = args.positional(0, "INPUT");
@@ -196,32 +210,7 @@ int cmdRender(const CommandArgs& argv) {
   const bool perspective = args.flag("perspective");
 
   render::FabricParams p;
-  const std::string colour = args.getOr("color", "medical");
-  if (colour == "medical")
-    p.colour = render::ColourMode::Medical;
-  else if (colour == "engineering")
-    p.colour = render::ColourMode::Engineering;
-  else
-    throw UsageError("--color must be medical or engineering, not '" + colour + "'");
-  p.stillMaxIterations = args.getInt("iterations", p.stillMaxIterations);
-  if (p.stillMaxIterations < 0 || p.stillMaxIterations > 10000)
-    throw UsageError("--iterations must be in [0, 10000]");
-  p.lod = args.getDouble("lod", 0.0);
-  if (p.lod < 0) throw UsageError("--lod must be positive (mm)");
-  p.k = args.getDouble("blend-k", p.k);
-  if (!(p.k > 0 && p.k <= 1)) throw UsageError("--blend-k must be in (0, 1]");
-  p.r = args.getDouble("blend-r", p.r);
-  if (!(p.r >= 0 && p.r <= 1)) throw UsageError("--blend-r must be in [0, 1]");
-  const int seed = args.getInt("seed", 1);
-  if (seed < 0) throw UsageError("--seed must be non-negative");
-  p.seed = static_cast<std::uint32_t>(seed);
-  p.stepPixels = args.getDouble("step", p.stepPixels);
-  if (!(p.stepPixels > 0 && p.stepPixels <= 16)) throw UsageError("--step must be in (0, 16] pixels");
-  p.lighting = !args.flag("no-lighting");
-  p.silhouette = !args.flag("no-silhouette");
-  p.sharpen = args.getDouble("sharpen", 0.0);
-  p.depthColour = args.getDouble("depth-color", 0.0);
-  p.fadeOutOfPlane = static_cast<float>(args.getDouble("fade-out-of-plane", 0.0));
+  readFabricOptions(args, p);
 
   TensorInputOptions in;
   in.layout = io::parseLayout(args.getOr("layout", "auto"));
@@ -239,8 +228,6 @@ int cmdRender(const CommandArgs& argv) {
     throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
   const std::string backgroundArg = args.getOr("background", "");
   const std::string backgroundWindow = args.getOr("background-window", "");
-  p.faFloor = static_cast<float>(args.getDouble("fa-floor", 0.0));
-  if (!(p.faFloor >= 0 && p.faFloor < 1)) throw UsageError("--fa-floor must be in [0, 1)");
   const double tractWidth = args.getDouble("tract-width", 2.0);
   if (!(tractWidth > 0 && tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   const SplitMode split = args.get("split") ? parseSplitMode(*args.get("split")) : SplitMode{};

@@ -31,11 +31,7 @@ Options
   --surface SPEC   first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE
   --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
   --size WxH       window size in pixels (default 1280x800)
-  --script FILE    replay a viewer script (see app/viewer/view_script.h and the README): load, surface, fa, slice,
-                   key, rotate, pan, zoom, view, split (on|off|colour|phong|tracts), linked, neurological,
-                   set, probe, resize, wait, screenshot (whole window, panels included), screenshot-scene
-                   (fabric panes only), camera-save, camera-load, tracts, tracts-visible, tracts-near,
-                   tracts-clip, tract-width, track, track-cancel, tracts-save, agreement, quit.
+  --script FILE    replay a viewer script: one command of the list below per line, `#` comments.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
                    when any step failed (3 when the failure was GL's: context, texture limits, GPU memory).
   --force          let the script's screenshot, camera-save and tracts-save lines replace existing files
@@ -43,6 +39,8 @@ Options
 
 Screenshots, camera and tract files are written atomically. An input file is never replaced; in the window an
 existing file is replaced only after the overwrite prompt says so.
+
+Script commands
 )";
 
 } // namespace
@@ -51,6 +49,7 @@ int cmdView(const CommandArgs& argv) {
   Args args(argv, {"help", "force"});
   if (args.flag("help")) {
     std::fputs(kHelp, stdout);
+    std::fputs(scriptCommandsHelp().c_str(), stdout);
     return 0;
   }
   const std::vector<std::string> inputs = args.positionals();

@@ -5,8 +5,10 @@
 #include "app/scene/track_request.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
+#include "render/fabric_options.h"
 #include "surfaces/slices.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -61,41 +63,24 @@ void expectArgs(const std::vector<std::string>& w, std::size_t n, const char* us
   if (w.size() != n + 1) throw LineError{std::string("usage: ") + usage};
 }
 
+// `set NAME VALUE`: any option of render/fabric_options.h by its name or an older script name.
 ScriptSetParam parseParam(const std::string& name, const std::string& value) {
-  struct Range {
-    const char* name;
-    double lo, hi;
-    bool integral;
-  };
-  static const Range ranges[] = {{"lod", 0, 1000, false},
-                                 {"k", 1e-4, 1, false},
-                                 {"iterations", 1, 1000, true},
-                                 {"epsilon", 1e-5, 1, false},
-                                 {"r", 0, 1, false},
-                                 {"sharpen", 0, 4, false},
-                                 {"depth-colour", 0, 1, false},
-                                 {"contrast", 0.1, 100, false},
-                                 {"step", 0.1, 16, false},
-                                 {"fade", 0, 1, false},
-                                 {"auto-lod-pixels", 8, 4096, false}};
-  if (name == "colour" || name == "color") {
-    if (value == "medical") return {"colour", 0};
-    if (value == "engineering") return {"colour", 1};
-    throw LineError{"colour takes medical or engineering, got '" + value + "'"};
+  const render::FabricOption* o = render::findFabricOption(name);
+  if (!o) {
+    std::string names;
+    for (const auto& f : render::fabricOptions())
+      names += (names.empty() ? "" : ", ") + std::string(f.name);
+    throw LineError{"unknown fabric parameter '" + name + "' (" + names + ")"};
   }
-  if (name == "lighting" || name == "silhouette") return {name, onOff(value, name) ? 1.0 : 0.0};
-  for (const auto& r : ranges) {
-    if (name != r.name) continue;
-    const double v = r.integral ? integer(value, name) : number(value, name);
-    if (v < r.lo || v > r.hi)
-      throw LineError{name + " must lie in [" + std::to_string(r.lo) + ", " + std::to_string(r.hi) +
-                      "], got " + value};
-    return {name, v};
+  const std::string text = o->kind == render::FabricOption::Kind::OnOff ? (onOff(value, name) ? "on" : "off")
+                                                                         : value;
+  try {
+    return {o->name, o->parse(text)};
+  } catch (const UsageError& e) {
+    // The message names the option as the line does (an older name stays an older name).
+    const std::string what = e.what(), canonical = o->name;
+    throw LineError{what.rfind(canonical, 0) == 0 ? name + what.substr(canonical.size()) : what};
   }
-  throw LineError{
-      "unknown fabric parameter '" + name +
-      "' (lod, k, iterations, epsilon, r, colour, lighting, silhouette, sharpen, depth-colour, contrast, "
-      "step, fade, auto-lod-pixels)"};
 }
 
 // `track KEY=VALUE ...`: the options of `dtfabric track` (see view_script.h).
@@ -209,170 +194,305 @@ std::pair<std::string, bool> outputArg(const std::string& arg, const char* usage
   return {p, true};
 }
 
-ScriptStep parseLine(const std::string& line, int number_) {
-  ScriptStep step;
-  step.line = number_;
-  const auto w = words(line);
-  const std::string& c = w[0];
-  auto pathArg = [&](const char* usage) {
-    std::string p = restOf(line, c);
+} // namespace
+
+// A script line split into words; path() is everything after the command word (paths may hold spaces).
+struct ScriptLine {
+  std::vector<std::string> words;
+  std::string text;
+  std::string path(const char* usage) const {
+    std::string p = restOf(text, words[0]);
     if (p.empty()) throw LineError{std::string("usage: ") + usage};
     return p;
-  };
-  if (c == "load") {
-    step.command = ui::Action(ui::LoadFile{pathArg("load PATH"), "auto"});
-  } else if (c == "surface") {
-    expectArgs(w, 1, "surface SPEC");
-    try {
-      parseSurfaceSpec(w[1]);
-    } catch (const UsageError& e) {
-      throw LineError{e.what()};
-    }
-    step.command = ui::Action(ui::SetSurfaceSpec{w[1]});
-  } else if (c == "fa") {
-    expectArgs(w, 1, "fa T");
-    const double t = number(w[1], "fa threshold");
-    if (t <= 0 || t >= 1) throw LineError{"fa threshold must lie in (0, 1), got " + w[1]};
-    step.command = ui::Action(ui::SetFaThreshold{t});
-  } else if (c == "slice") {
-    expectArgs(w, 2, "slice axial|coronal|sagittal INDEX");
-    int axis = 0;
-    try {
-      axis = static_cast<int>(surfaces::parseSliceAxis(w[1]));
-    } catch (const UsageError& e) {
-      throw LineError{e.what()};
-    }
-    const int index = integer(w[2], "slice index");
-    if (index < 0) throw LineError{"slice index must not be negative"};
-    step.command = ui::Action(ui::SetSlice{axis, index});
-  } else if (c == "key") {
-    expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
-    auto key = ui::parseKey(w[1]);
-    if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
-    step.command = *key;
-  } else if (c == "rotate" || c == "pan") {
-    expectArgs(w, 2, c == "rotate" ? "rotate DX DY" : "pan DX DY");
-    const double dx = number(w[1], c + " DX"), dy = number(w[2], c + " DY");
-    if (std::abs(dx) > 1e5 || std::abs(dy) > 1e5) throw LineError{c + ": drag too large"};
-    step.command = c == "rotate" ? ui::Action(ui::Rotate{dx, dy}) : ui::Action(ui::Pan{dx, dy});
-  } else if (c == "zoom") {
-    expectArgs(w, 1, "zoom F");
-    const double f = number(w[1], "zoom factor");
-    if (f <= 0.01 || f > 100) throw LineError{"zoom factor must lie in (0.01, 100], got " + w[1]};
-    step.command = ui::Action(ui::Zoom{f});
-  } else if (c == "view") {
-    expectArgs(w, 1, "view NAME");
-    try {
-      step.command = ui::Action(ui::SetView{render::parseView(w[1])});
-    } catch (const UsageError& e) {
-      throw LineError{e.what()};
-    }
-  } else if (c == "split") {
-    expectArgs(w, 1, "split on|off|colour|phong|tracts");
-    if (w[1] == "colour" || w[1] == "color")
-      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::OtherColourMode});
-    else if (w[1] == "phong")
-      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Phong});
-    else if (w[1] == "tracts")
-      step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Tracts});
-    else if (w[1] == "on" || w[1] == "off" || w[1] == "1" || w[1] == "0" || w[1] == "true" || w[1] == "false")
-      step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
-    else
-      throw LineError{"split takes on or off (or colour, phong, tracts), got '" + w[1] + "'"};
-  } else if (c == "linked") {
-    expectArgs(w, 1, "linked on|off");
-    step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
-  } else if (c == "neurological") {
-    expectArgs(w, 1, "neurological on|off");
-    step.command = ui::Action(ui::SetNeurological{onOff(w[1], "neurological")});
-  } else if (c == "set") {
-    expectArgs(w, 2, "set PARAM VALUE");
-    step.command = parseParam(w[1], w[2]);
-  } else if (c == "wait") {
-    expectArgs(w, 1, "wait FRAMES");
-    const int n = integer(w[1], "wait frames");
-    if (n < 0 || n > 100000) throw LineError{"wait frames must lie in [0, 100000], got " + w[1]};
-    step.command = ScriptWait{n};
-  } else if (c == "screenshot" || c == "screenshot-scene") {
-    const char* usage = c == "screenshot" ? "screenshot [--force] PATH" : "screenshot-scene [--force] PATH";
-    const auto [p, force] = outputArg(pathArg(usage), usage);
-    if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
-      throw LineError{c + ": the path must end in .png"};
-    step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene", force});
-  } else if (c == "camera-save") {
-    const auto [p, force] = outputArg(pathArg("camera-save [--force] PATH"), "camera-save [--force] PATH");
-    step.command = ui::Action(ui::SaveCamera{p, force});
-  } else if (c == "camera-load") {
-    step.command = ui::Action(ui::LoadCamera{pathArg("camera-load PATH")});
-  } else if (c == "probe") {
-    expectArgs(w, 2, "probe X Y");
-    const double x = number(w[1], "probe X"), y = number(w[2], "probe Y");
-    if (x < 0 || y < 0 || x > 1e5 || y > 1e5)
-      throw LineError{"probe: pixel coordinates must be non-negative"};
-    step.command = ScriptProbe{x, y};
-  } else if (c == "resize") {
-    expectArgs(w, 1, "resize WxH");
-    const auto x = w[1].find('x');
-    if (x == std::string::npos) throw LineError{"usage: resize WxH"};
-    const int width = integer(w[1].substr(0, x), "resize width");
-    const int height = integer(w[1].substr(x + 1), "resize height");
-    if (width < 320 || height < 240 || width > 8192 || height > 8192)
-      throw LineError{"resize: the size must lie between 320x240 and 8192x8192"};
-    step.command = ScriptResize{width, height};
-  } else if (c == "tracts") {
-    step.command = ui::Action(ui::LoadTracts{pathArg("tracts PATH")});
-  } else if (c == "tracts-visible") {
-    expectArgs(w, 1, "tracts-visible on|off");
-    step.command = ui::Action(ui::SetTractsVisible{onOff(w[1], "tracts-visible")});
-  } else if (c == "tracts-near") {
-    expectArgs(w, 1, "tracts-near MM");
-    const double mm = number(w[1], "tracts-near");
-    if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
-    step.command = ui::Action(ui::SetTractsNear{mm});
-  } else if (c == "tracts-clip") {
-    if (w.size() != 2 && w.size() != 3) throw LineError{"usage: tracts-clip MM [DEPTH_MM]"};
-    const double mm = number(w[1], "tracts-clip");
-    if (mm < 0 || mm > 1000) throw LineError{"tracts-clip must lie in [0, 1000] mm, got " + w[1]};
-    const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
-    if (std::abs(offset) > 1000)
-      throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
-    step.command = ui::Action(ui::SetTractsClip{mm, offset});
-  } else if (c == "tract-width") {
-    expectArgs(w, 1, "tract-width PX");
-    const double px = number(w[1], "tract-width");
-    if (px <= 0 || px > 32) throw LineError{"tract-width must lie in (0, 32] pixels, got " + w[1]};
-    step.command = ui::Action(ui::SetTractWidth{px});
-  } else if (c == "track") {
-    step.command = ui::Action(ui::TrackTracts{parseTrack(w)});
-  } else if (c == "track-cancel") {
-    expectArgs(w, 0, "track-cancel");
-    step.command = ui::Action(ui::CancelTracking{});
-  } else if (c == "tracts-save") {
-    const auto [p, force] = outputArg(pathArg("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
-    step.command = ui::Action(ui::SaveTracts{p, force});
-  } else if (c == "agreement") {
-    if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
-    ui::ComputeAgreement a;
-    if (w.size() > 1) a.nearMm = number(w[1], "agreement distance");
-    if (w.size() > 2) a.bins = integer(w[2], "agreement bins");
-    if (a.nearMm < 0 || a.nearMm > 1000) throw LineError{"agreement distance must lie in [0, 1000] mm"};
-    if (a.bins < 1 || a.bins > 90) throw LineError{"agreement bins must lie in 1..90"};
-    step.command = ui::Action(a);
-  } else if (c == "quit") {
-    expectArgs(w, 0, "quit");
-    step.command = ui::Action(ui::Quit{});
-  } else {
-    throw LineError{
-        "unknown command '" + c +
-        "' (load, surface, fa, slice, key, rotate, pan, zoom, view, split, linked, neurological, set, "
-        "wait, screenshot, screenshot-scene, camera-save, camera-load, probe, resize, tracts, "
-        "tracts-visible, "
-        "tracts-near, tracts-clip, tract-width, track, track-cancel, tracts-save, agreement, quit)"};
   }
-  return step;
+};
+
+namespace {
+
+void parseLoad(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadFile{line.path("load PATH"), "auto"});
+}
+
+void parseSurface(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "surface SPEC");
+  try {
+    parseSurfaceSpec(w[1]);
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+  step.command = ui::Action(ui::SetSurfaceSpec{w[1]});
+}
+
+void parseFa(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "fa T");
+  const double t = number(w[1], "fa threshold");
+  if (t <= 0 || t >= 1) throw LineError{"fa threshold must lie in (0, 1), got " + w[1]};
+  step.command = ui::Action(ui::SetFaThreshold{t});
+}
+
+void parseSlice(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "slice axial|coronal|sagittal INDEX");
+  int axis = 0;
+  try {
+    axis = static_cast<int>(surfaces::parseSliceAxis(w[1]));
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+  const int index = integer(w[2], "slice index");
+  if (index < 0) throw LineError{"slice index must not be negative"};
+  step.command = ui::Action(ui::SetSlice{axis, index});
+}
+
+void parseKey(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
+  auto key = ui::parseKey(w[1]);
+  if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
+  step.command = *key;
+}
+
+void parseRotate(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const std::string& c = line.words[0];
+  expectArgs(w, 2, c == "rotate" ? "rotate DX DY" : "pan DX DY");
+  const double dx = number(w[1], c + " DX"), dy = number(w[2], c + " DY");
+  if (std::abs(dx) > 1e5 || std::abs(dy) > 1e5) throw LineError{c + ": drag too large"};
+  step.command = c == "rotate" ? ui::Action(ui::Rotate{dx, dy}) : ui::Action(ui::Pan{dx, dy});
+}
+
+void parseZoom(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "zoom F");
+  const double f = number(w[1], "zoom factor");
+  if (f <= 0.01 || f > 100) throw LineError{"zoom factor must lie in (0.01, 100], got " + w[1]};
+  step.command = ui::Action(ui::Zoom{f});
+}
+
+void parseView(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "view NAME");
+  try {
+    step.command = ui::Action(ui::SetView{render::parseView(w[1])});
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+}
+
+void parseSplit(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "split on|off|colour|phong|tracts");
+  if (w[1] == "colour" || w[1] == "color")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::OtherColourMode});
+  else if (w[1] == "phong")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Phong});
+  else if (w[1] == "tracts")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Tracts});
+  else if (w[1] == "on" || w[1] == "off" || w[1] == "1" || w[1] == "0" || w[1] == "true" || w[1] == "false")
+    step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+  else
+    throw LineError{"split takes on or off (or colour, phong, tracts), got '" + w[1] + "'"};
+}
+
+void parseLinked(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "linked on|off");
+  step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
+}
+
+void parseNeurological(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "neurological on|off");
+  step.command = ui::Action(ui::SetNeurological{onOff(w[1], "neurological")});
+}
+
+void parseSet(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "set PARAM VALUE");
+  step.command = parseParam(w[1], w[2]);
+}
+
+void parseWait(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "wait FRAMES");
+  const int n = integer(w[1], "wait frames");
+  if (n < 0 || n > 100000) throw LineError{"wait frames must lie in [0, 100000], got " + w[1]};
+  step.command = ScriptWait{n};
+}
+
+void parseScreenshot(const ScriptLine& line, ScriptStep& step) {
+  const std::string& c = line.words[0];
+  const char* usage = c == "screenshot" ? "screenshot [--force] PATH" : "screenshot-scene [--force] PATH";
+  const auto [p, force] = outputArg(line.path(usage), usage);
+  if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
+    throw LineError{c + ": the path must end in .png"};
+  step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene", force});
+}
+
+void parseCameraSave(const ScriptLine& line, ScriptStep& step) {
+  const auto [p, force] = outputArg(line.path("camera-save [--force] PATH"), "camera-save [--force] PATH");
+  step.command = ui::Action(ui::SaveCamera{p, force});
+}
+
+void parseCameraLoad(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadCamera{line.path("camera-load PATH")});
+}
+
+void parseProbe(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "probe X Y");
+  const double x = number(w[1], "probe X"), y = number(w[2], "probe Y");
+  if (x < 0 || y < 0 || x > 1e5 || y > 1e5)
+    throw LineError{"probe: pixel coordinates must be non-negative"};
+  step.command = ScriptProbe{x, y};
+}
+
+void parseResize(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "resize WxH");
+  const auto x = w[1].find('x');
+  if (x == std::string::npos) throw LineError{"usage: resize WxH"};
+  const int width = integer(w[1].substr(0, x), "resize width");
+  const int height = integer(w[1].substr(x + 1), "resize height");
+  if (width < 320 || height < 240 || width > 8192 || height > 8192)
+    throw LineError{"resize: the size must lie between 320x240 and 8192x8192"};
+  step.command = ScriptResize{width, height};
+}
+
+void parseTracts(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadTracts{line.path("tracts PATH")});
+}
+
+void parseTractsVisible(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tracts-visible on|off");
+  step.command = ui::Action(ui::SetTractsVisible{onOff(w[1], "tracts-visible")});
+}
+
+void parseTractsNear(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tracts-near MM");
+  const double mm = number(w[1], "tracts-near");
+  if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
+  step.command = ui::Action(ui::SetTractsNear{mm});
+}
+
+void parseTractsClip(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() != 2 && w.size() != 3) throw LineError{"usage: tracts-clip MM [DEPTH_MM]"};
+  const double mm = number(w[1], "tracts-clip");
+  if (mm < 0 || mm > 1000) throw LineError{"tracts-clip must lie in [0, 1000] mm, got " + w[1]};
+  const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
+  if (std::abs(offset) > 1000)
+    throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
+  step.command = ui::Action(ui::SetTractsClip{mm, offset});
+}
+
+void parseTractWidth(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tract-width PX");
+  const double px = number(w[1], "tract-width");
+  if (px <= 0 || px > 32) throw LineError{"tract-width must lie in (0, 32] pixels, got " + w[1]};
+  step.command = ui::Action(ui::SetTractWidth{px});
+}
+
+void parseTrackLine(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  step.command = ui::Action(ui::TrackTracts{parseTrack(w)});
+}
+
+void parseTrackCancel(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 0, "track-cancel");
+  step.command = ui::Action(ui::CancelTracking{});
+}
+
+void parseTractsSave(const ScriptLine& line, ScriptStep& step) {
+  const auto [p, force] = outputArg(line.path("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
+  step.command = ui::Action(ui::SaveTracts{p, force});
+}
+
+void parseAgreement(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
+  ui::ComputeAgreement a;
+  if (w.size() > 1) a.nearMm = number(w[1], "agreement distance");
+  if (w.size() > 2) a.bins = integer(w[2], "agreement bins");
+  if (a.nearMm < 0 || a.nearMm > 1000) throw LineError{"agreement distance must lie in [0, 1000] mm"};
+  if (a.bins < 1 || a.bins > 90) throw LineError{"agreement bins must lie in 1..90"};
+  step.command = ui::Action(a);
+}
+
+void parseQuit(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 0, "quit");
+  step.command = ui::Action(ui::Quit{});
+}
+
+// The script's commands, in the order help lists them.
+const std::vector<ScriptCommand> kCommands = {
+    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec)", parseLoad},
+    {"surface", "SPEC", "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
+    {"fa", "T", "FA isosurface at T (0 < T < 1)", parseFa},
+    {"slice", "AXIS INDEX", "axial, coronal or sagittal slice INDEX", parseSlice},
+    {"key", "NAME", "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view)", parseKey},
+    {"rotate", "DX DY", "trackball drag by DX, DY window pixels (y down)", parseRotate},
+    {"pan", "DX DY", "pan by DX, DY window pixels", parseRotate},
+    {"zoom", "F", "magnify by F (2 = twice as large)", parseZoom},
+    {"view", "NAME", "superior, inferior, anterior, posterior, left, right, or the display views axial, coronal, sagittal", parseView},
+    {"neurological", "on|off", "neurological display convention (default off: radiological)", parseNeurological},
+    {"resize", "WxH", "resize the window", parseResize},
+    {"split", "on|off|colour|phong|tracts", "two panes; colour, phong and tracts also pick the right pane (the other colour mode, Phong shading, fabric + tracts beside the fabric alone)", parseSplit},
+    {"linked", "on|off", "one camera for both panes", parseLinked},
+    {"set", "NAME VALUE", "a fabric option, as `dtfabric render --NAME VALUE` (older names: k, r, colour, depth-colour, fade)", parseSet},
+    {"tracts", "PATH", "load .tck/.trk/.vtk streamlines (world RAS mm) and draw them over the fabric", parseTracts},
+    {"tracts-visible", "on|off", "show or hide the tracts", parseTractsVisible},
+    {"tracts-near", "MM", "only tract segments within MM of the surface (0 = every tract; default 3)", parseTractsNear},
+    {"tracts-clip", "MM [DEPTH]", "clip slab for dense tractograms: only points within MM of the plane facing the camera through the surface's centre, moved DEPTH mm away from the viewer (0 = off); on a planar surface, within MM of its plane", parseTractsClip},
+    {"tract-width", "PX", "tube width in pixels (default 2)", parseTractWidth},
+    {"track", "[KEY=VALUE ...]", "tracking on the worker, as `dtfabric track`: from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T, select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler", parseTrackLine},
+    {"track-cancel", "", "cancel a running `track`", parseTrackCancel},
+    {"tracts-save", "[--force] PATH", "write every point of the tracts to .tck/.trk/.vtk", parseTractsSave},
+    {"agreement", "[MM [BINS]]", "tract/fabric angles within MM (default 2) of the surface in BINS bins (default 9); prints `dtfabric compare`'s numbers", parseAgreement},
+    {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
+    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels)", parseScreenshot},
+    {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
+    {"camera-load", "PATH", "read a camera file", parseCameraLoad},
+    {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
+    {"wait", "FRAMES", "render FRAMES more frames", parseWait},
+    {"quit", "", "close the viewer (exit code 2 when a step failed, 3 for a GL failure)", parseQuit},
+};
+
+ScriptStep parseLine(const std::string& text, int number_) {
+  ScriptStep step;
+  step.line = number_;
+  const ScriptLine line{words(text), text};
+  for (const ScriptCommand& command : kCommands)
+    if (line.words[0] == command.name) {
+      command.parse(line, step);
+      return step;
+    }
+  std::string names;
+  for (const ScriptCommand& command : kCommands)
+    names += (names.empty() ? "" : ", ") + std::string(command.name);
+  throw LineError{"unknown command '" + line.words[0] + "' (" + names + ")"};
 }
 
 } // namespace
+
+const std::vector<ScriptCommand>& scriptCommands() { return kCommands; }
+
+std::string scriptCommandsHelp() {
+  std::string out;
+  for (const ScriptCommand& c : kCommands) {
+    std::string head = std::string("  ") + c.name + (*c.args ? " " : "") + c.args;
+    head.resize(std::max<std::size_t>(head.size() + 2, 30), ' ');
+    out += head + c.help + "\n";
+  }
+  return out;
+}
 
 ViewScript parseViewScript(const std::string& text, const std::string& file) {
   ViewScript script;
@@ -446,35 +566,7 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
 }
 
 void applyScriptParam(render::FabricParams& p, const ScriptSetParam& s) {
-  const std::string& n = s.name;
-  if (n == "lod")
-    p.lod = s.value;
-  else if (n == "k")
-    p.k = s.value;
-  else if (n == "iterations")
-    p.iterations = static_cast<int>(s.value);
-  else if (n == "epsilon")
-    p.epsilon = s.value;
-  else if (n == "r")
-    p.r = s.value;
-  else if (n == "colour")
-    p.colour = s.value == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
-  else if (n == "lighting")
-    p.lighting = s.value != 0;
-  else if (n == "silhouette")
-    p.silhouette = s.value != 0;
-  else if (n == "sharpen")
-    p.sharpen = s.value;
-  else if (n == "depth-colour")
-    p.depthColour = s.value;
-  else if (n == "contrast")
-    p.contrast = s.value;
-  else if (n == "step")
-    p.stepPixels = s.value;
-  else if (n == "fade")
-    p.fadeOutOfPlane = static_cast<float>(s.value);
-  else if (n == "auto-lod-pixels")
-    p.autoLodPixels = s.value;
+  if (const render::FabricOption* o = render::findFabricOption(s.name)) o->set(p, s.value);
 }
 
 } // namespace dtf::app

@@ -44,26 +44,9 @@ render::StandardView homeViewFor(ui::SurfaceKind k) {
     return render::StandardView::Coronal;
   case ui::SurfaceKind::Sagittal:
     return render::StandardView::Sagittal;
-  default:
-    return render::StandardView::Superior;
+  default: // curved surfaces: the display convention's axial view, as `dtfabric render --view axial`
+    return render::StandardView::Axial;
   }
-}
-
-// The draw framebuffer the renderer left bound: its output target (FabricRenderer has no accessor for it).
-unsigned boundOutput(int w, int h) {
-  GLint fbo = 0;
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
-  if (fbo <= 0) return 0;
-  GLint type = 0, tex = 0;
-  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
-                                             &type);
-  if (type != GL_TEXTURE) return 0;
-  glGetNamedFramebufferAttachmentParameteriv(fbo, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
-                                             &tex);
-  GLint tw = 0, th = 0;
-  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_WIDTH, &tw);
-  glGetTextureLevelParameteriv(tex, 0, GL_TEXTURE_HEIGHT, &th);
-  return tw == w && th == h ? static_cast<unsigned>(fbo) : 0u;
 }
 
 } // namespace
@@ -453,7 +436,7 @@ void ViewerScene::render(int width, int height) {
       outputSize_[p] = size;
       if (p == 1 && state_.secondPane == ui::SecondPane::Phong) {
         r.renderPhong(cam);
-        outputFbo_[p] = boundOutput(size.x, size.y);
+        outputFbo_[p] = r.output().id();
         dirty_[p] = low;
         continue;
       }
@@ -468,8 +451,7 @@ void ViewerScene::render(int width, int height) {
       }
       if (!moving) params.iterations = std::max(params.iterations, kStillIterations);
       r.renderFrame(cam, params);
-      outputFbo_[p] = boundOutput(size.x, size.y);
-      if (!outputFbo_[p]) throw GlError("the fabric renderer's output framebuffer was not left bound");
+      outputFbo_[p] = r.output().id();
       if (moving) {
         iterationsSinceRestart_[p] = 0;
         covered_[p] = 0;

@@ -4,6 +4,7 @@
 #include "app/viewer/window.h"
 
 #include "app/scene/surface_spec.h"
+#include "app/scene/orientation_labels.h"
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"
 #include "io/png_io.h"
@@ -71,14 +72,6 @@ std::optional<ui::Key> mapKey(int key) {
   default:
     return std::nullopt;
   }
-}
-
-// The anatomical letter of a world direction's dominant axis (RAS: +x right, +y anterior, +z superior).
-const char* anatomicalLabel(const glm::dvec3& d) {
-  const glm::dvec3 a = glm::abs(d);
-  if (a.x >= a.y && a.x >= a.z) return d.x >= 0 ? "R" : "L";
-  if (a.y >= a.z) return d.y >= 0 ? "A" : "P";
-  return d.z >= 0 ? "S" : "I";
 }
 
 Image readFramebuffer(int x, int y, int w, int h) {
