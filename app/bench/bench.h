@@ -34,6 +34,9 @@ int benchOverlay(const CommandArgs& args);
 // of the executable (the checkout's ../shared/data). nullopt when none exists.
 std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given);
 
+// The 1-minute load average, to tell figures taken on a contended machine apart (-1 when unknown).
+double loadAverage();
+
 // Median of a non-empty sample (the vector is reordered).
 double median(std::vector<double> v);
 

@@ -46,16 +46,6 @@ Timing medianTiming(int runs, const std::function<void()>& f) {
   return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
-// The 1-minute load average, to tell contended figures apart (-1 when unknown).
-double loadAverage() {
-  double l = -1;
-  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
-    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
-    std::fclose(f);
-  }
-  return l;
-}
-
 // HCP-sized (145x174x145, 1.25 mm, LAS like the HCP release) synthetic brain: an ellipsoid of tensors whose
 // principal direction circles the z axis, FA about 0.6, MD 0.8e-3 mm^2/s; invalid outside.
 TensorField hcpSizedField() {

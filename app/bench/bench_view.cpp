@@ -38,16 +38,6 @@ Stats stats(std::vector<double> ms) {
   return s;
 }
 
-// The 1-minute load average: on a shared 2-core machine llvmpipe gets a fraction of the CPU.
-double loadAverage() {
-  double l = -1;
-  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
-    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
-    std::fclose(f);
-  }
-  return l;
-}
-
 void waitSettled(ViewerScene& scene, double seconds) {
   const auto t0 = Clock::now();
   while (!scene.settled()) {

@@ -112,4 +112,16 @@ void parseTriple(const std::string& text, int out[3]) {
   if (n != 3 || ss.rdbuf()->in_avail() > 0) throw UsageError("expected three integers I,J,K, got '" + text + "'");
 }
 
+std::optional<std::string> surfaceArgument(Args& args) {
+  std::vector<std::string> specs;
+  if (auto v = args.get("surface")) specs.push_back(*v);
+  if (auto v = args.get("fa")) specs.push_back("fa=" + *v);
+  if (auto v = args.get("slice")) specs.push_back("slice=" + *v);
+  if (auto v = args.get("fibre-surface")) specs.push_back("fibre=" + *v);
+  if (auto v = args.get("fibre-surface-voxel")) specs.push_back("fibre-voxel=" + *v);
+  if (specs.size() > 1) throw UsageError("give one surface (--surface, --fa, --slice or --fibre-surface)");
+  if (specs.empty()) return std::nullopt;
+  return specs[0];
+}
+
 } // namespace dtf::app

@@ -32,6 +32,10 @@ private:
   std::set<std::string> used_;
 };
 
+// --surface SPEC or one of its shorthands (--fa T, --slice AXIS[:I], --fibre-surface, --fibre-surface-voxel)
+// as a surface spec; nullopt when none is given; UsageError for more than one.
+std::optional<std::string> surfaceArgument(Args& args);
+
 // Parses "W x H" such as "1024x768".
 void parseSize(const std::string& text, int& w, int& h);
 // Parses "a,b,c" into three integers.

@@ -20,6 +20,15 @@ std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::
   return std::nullopt;
 }
 
+double loadAverage() {
+  double l = -1;
+  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
+    std::fclose(f);
+  }
+  return l;
+}
+
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];

@@ -166,19 +166,6 @@ Background loadBackground(const std::string& what, const std::string& window, co
   return b;
 }
 
-// --surface SPEC or one of the shorthands `dtfabric surface` takes (--fa, --slice, --fibre-surface,
-// --fibre-surface-voxel); the middle axial slice when none is given.
-std::string surfaceArgument(Args& args) {
-  std::vector<std::string> specs;
-  if (auto v = args.get("surface")) specs.push_back(*v);
-  if (auto v = args.get("fa")) specs.push_back("fa=" + *v);
-  if (auto v = args.get("slice")) specs.push_back("slice=" + *v);
-  if (auto v = args.get("fibre-surface")) specs.push_back("fibre=" + *v);
-  if (auto v = args.get("fibre-surface-voxel")) specs.push_back("fibre-voxel=" + *v);
-  if (specs.size() > 1) throw UsageError("give one surface (--surface, --fa, --slice or --fibre-surface)");
-  return specs.empty() ? "slice=axial" : specs[0];
-}
-
 render::StandardView defaultView(const SurfaceSpec& spec) {
   if (spec.kind == SurfaceSpec::Kind::Slice) return render::parseView(spec.axis);
   return render::StandardView::Superior;
@@ -204,7 +191,7 @@ int cmdRender(const CommandArgs& argv) {
   if (auto s = args.get("size")) parseSize(*s, width, height);
   if (width < 16 || height < 16 || width > 8192 || height > 8192)
     throw UsageError("--size must be between 16x16 and 8192x8192");
-  SurfaceSpec spec = parseSurfaceSpec(surfaceArgument(args));
+  SurfaceSpec spec = parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
   const bool neurological = args.flag("neurological");
   render::StandardView view = args.get("view") ? render::parseView(*args.get("view")) : defaultView(spec);
   const bool perspective = args.flag("perspective");

@@ -64,14 +64,9 @@ int cmdSurface(const CommandArgs& argv) {
   const std::string input = args.positional(0, "INPUT");
   const std::string output = args.getOr("output", "");
   if (output.empty()) throw UsageError("missing -o MESH");
-  std::vector<std::string> specs;
-  if (auto v = args.get("surface")) specs.push_back(*v);
-  if (auto v = args.get("fa")) specs.push_back("fa=" + *v);
-  if (auto v = args.get("slice")) specs.push_back("slice=" + *v);
-  if (auto v = args.get("fibre-surface")) specs.push_back("fibre=" + *v);
-  if (auto v = args.get("fibre-surface-voxel")) specs.push_back("fibre-voxel=" + *v);
-  if (specs.size() != 1) throw UsageError("give exactly one surface (--surface, --fa, --slice or --fibre-surface)");
-  SurfaceSpec spec = parseSurfaceSpec(specs[0]);
+  const std::optional<std::string> given = surfaceArgument(args);
+  if (!given) throw UsageError("give exactly one surface (--surface, --fa, --slice or --fibre-surface)");
+  SurfaceSpec spec = parseSurfaceSpec(*given);
   TensorInputOptions in;
   in.layout = io::parseLayout(args.getOr("layout", "auto"));
   in.bval = args.getOr("bval", "");
