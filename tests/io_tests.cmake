@@ -1,4 +1,4 @@
 # Tests of the io area (dtf_test(...) lines). test_io links nifticlib itself to craft files of other
 # datatypes; malformed files are made by the tests from valid ones, never committed.
-dtf_test(test_io LABEL unit SOURCES unit/io_nifti_test.cpp unit/io_phantom_test.cpp LIBS dtf_io dtf_nifti)
-dtf_test(test_io_cli LABEL cli SOURCES cli/io_cli_test.cpp LIBS dtf_io)
+dtf_test(test_io SOURCES unit/io_nifti_test.cpp unit/io_phantom_test.cpp LIBS dtf_io dtf_nifti)
+dtf_test(test_io_cli SOURCES cli/io_cli_test.cpp LIBS dtf_io)
