@@ -15,11 +15,15 @@ namespace {
 using K = FabricOption::Kind;
 using R = FabricOption::Range;
 
-constexpr R closed(double lo, double hi) { return R{lo, hi, false, false}; }
-constexpr R none() { return R{}; }
+constexpr R closed(double lo, double hi) {
+  return R{lo, hi, false, false};
+}
+constexpr R none() {
+  return R{};
+}
 
-#define DTF_FIELD(field, type)                                                                             \
-  [](const FabricParams& p) { return static_cast<double>(p.field); },                                    \
+#define DTF_FIELD(field, type)                                                                               \
+  [](const FabricParams& p) { return static_cast<double>(p.field); },                                        \
       [](FabricParams& p, double v) { p.field = static_cast<type>(v); }
 
 const std::vector<FabricOption> kOptions = {
@@ -119,7 +123,9 @@ std::string FabricOption::cliSynopsis() const {
   return std::string("--") + name + " " + metavar;
 }
 
-const std::vector<FabricOption>& fabricOptions() { return kOptions; }
+const std::vector<FabricOption>& fabricOptions() {
+  return kOptions;
+}
 
 const FabricOption* findFabricOption(const std::string& key) {
   for (const auto& o : kOptions)

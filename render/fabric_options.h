@@ -29,10 +29,10 @@ struct FabricOption {
   const char* metavar; // the value in help, e.g. "K"
   const char* help;    // one line, no default (it is printed from `get` of a default FabricParams)
   Kind kind;
-  Range range;               // accepted by the CLI and scripts
-  Range slider;              // the panel's slider (lo == hi: none)
-  const char* sliderLabel;   // nullptr: not on the panel
-  const char* sliderFormat;  // printf format of the slider's value
+  Range range;              // accepted by the CLI and scripts
+  Range slider;             // the panel's slider (lo == hi: none)
+  const char* sliderLabel;  // nullptr: not on the panel
+  const char* sliderFormat; // printf format of the slider's value
   bool sliderLogarithmic;
   double (*get)(const FabricParams&);
   void (*set)(FabricParams&, double);

@@ -67,6 +67,8 @@ GlStateGuard::GlStateGuard() : saved_(GlState::capture()) {
   glDepthFunc(GL_LESS);
 }
 
-GlStateGuard::~GlStateGuard() { saved_.restore(); }
+GlStateGuard::~GlStateGuard() {
+  saved_.restore();
+}
 
 } // namespace dtf::render

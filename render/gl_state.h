@@ -5,9 +5,8 @@
 // alignment.
 #pragma once
 
-#include <epoxy/gl.h>
-
 #include <array>
+#include <epoxy/gl.h>
 
 namespace dtf::render {
 

@@ -10,7 +10,6 @@
 #include "io/model/geometry.h"
 
 #include <glm/glm.hpp>
-
 #include <optional>
 
 namespace dtf::app {

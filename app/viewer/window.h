@@ -9,10 +9,10 @@
 namespace dtf::app {
 
 struct ViewerWindowOptions {
-  std::vector<std::string> inputs; // the first is loaded, all are listed under recent files
-  std::string surface;             // first surface (app/scene/surface_spec.h syntax); empty: FA 0.25
-  std::string layout = "auto";     // tensor layout of the first input
-  int width = 1280, height = 800;  // window size, pixels
+  std::vector<std::string> inputs;    // the first is loaded, all are listed under recent files
+  std::string surface;                // first surface (app/scene/surface_spec.h syntax); empty: FA 0.25
+  std::string layout = "auto";        // tensor layout of the first input
+  int width = 1280, height = 800;     // window size, pixels
   const ViewScript* script = nullptr; // replayed when given (outputs already checked)
 };
 

@@ -17,7 +17,9 @@ namespace {
 using dtf::test::runDtfabric;
 using dtf::test::scratchDir;
 
-dtf::test::CliResult run(const std::string& args) { return runDtfabric(args, scratchDir()); }
+dtf::test::CliResult run(const std::string& args) {
+  return runDtfabric(args, scratchDir());
+}
 
 // The option names a command's source reads through Args (get, getOr, getDouble, getInt, flag).
 std::set<std::string> flagsRead(const std::filesystem::path& source) {
@@ -70,7 +72,8 @@ TEST(Help, EveryFlagACommandReadsIsInItsHelp) {
     const auto help = run(std::string(c.name) + " --help");
     for (const auto& f : flagsRead(source)) {
       const std::string written = f == "output" ? "-o " : "--" + f; // Args reads -o as --output
-      EXPECT_NE(help.out.find(written), std::string::npos) << "dtfabric " << c.name << " --help misses " << written;
+      EXPECT_NE(help.out.find(written), std::string::npos)
+          << "dtfabric " << c.name << " --help misses " << written;
       ++checked;
     }
   }
@@ -80,14 +83,16 @@ TEST(Help, EveryFlagACommandReadsIsInItsHelp) {
     const auto help = run("bench " + std::string(b.name) + " --help");
     for (const auto& f : flagsRead(source)) {
       const std::string written = f == "output" ? "-o " : "--" + f;
-      EXPECT_NE(help.out.find(written), std::string::npos) << "dtfabric bench " << b.name << " --help misses " << written;
+      EXPECT_NE(help.out.find(written), std::string::npos)
+          << "dtfabric bench " << b.name << " --help misses " << written;
       ++checked;
     }
   }
   EXPECT_GT(checked, 60) << "the scan found almost no flags: are the sources where expected?";
 }
 
-// README.md holds the tables of `dtfabric help --markdown` verbatim, so the README cannot drift from the code.
+// README.md holds the tables of `dtfabric help --markdown` verbatim, so the README cannot drift from the
+// code.
 TEST(Help, ReadmeTablesAreHelpMarkdown) {
   const auto md = run("help --markdown");
   ASSERT_EQ(md.exitCode, 0) << md.err;
@@ -97,9 +102,11 @@ TEST(Help, ReadmeTablesAreHelpMarkdown) {
   ASSERT_NE(split, std::string::npos);
   const std::string commandsTable = md.out.substr(0, split + 1), scriptTable = md.out.substr(split + 2);
   EXPECT_NE(readme.find(commandsTable), std::string::npos)
-      << "README.md's command table differs from `dtfabric help --markdown`:\n" << commandsTable;
+      << "README.md's command table differs from `dtfabric help --markdown`:\n"
+      << commandsTable;
   EXPECT_NE(readme.find(scriptTable), std::string::npos)
-      << "README.md's script table differs from `dtfabric help --markdown`:\n" << scriptTable;
+      << "README.md's script table differs from `dtfabric help --markdown`:\n"
+      << scriptTable;
   for (const auto& c : dtf::app::commands())
     EXPECT_NE(commandsTable.find("`dtfabric " + std::string(c.name)), std::string::npos) << c.name;
   for (const auto& c : dtf::app::scriptCommands())

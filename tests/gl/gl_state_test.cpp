@@ -17,13 +17,14 @@ namespace {
 class GlStateTest : public GlTest {};
 
 std::string describe(const GlState& s) {
-  std::string t = "draw fbo " + std::to_string(s.drawFramebuffer) + ", read fbo " + std::to_string(s.readFramebuffer) +
-                  ", viewport " + std::to_string(s.viewport[0]) + " " + std::to_string(s.viewport[1]) + " " +
-                  std::to_string(s.viewport[2]) + " " + std::to_string(s.viewport[3]) + ", depth " +
-                  std::to_string(s.depthTest) + ", blend " + std::to_string(s.blend) + ", cull " +
-                  std::to_string(s.cullFace) + ", scissor " + std::to_string(s.scissorTest) + ", depth mask " +
-                  std::to_string(s.depthMask) + ", depth func " + std::to_string(s.depthFunc) + ", program " +
-                  std::to_string(s.program) + ", vao " + std::to_string(s.vertexArray) + ", active texture " +
+  std::string t = "draw fbo " + std::to_string(s.drawFramebuffer) + ", read fbo " +
+                  std::to_string(s.readFramebuffer) + ", viewport " + std::to_string(s.viewport[0]) + " " +
+                  std::to_string(s.viewport[1]) + " " + std::to_string(s.viewport[2]) + " " +
+                  std::to_string(s.viewport[3]) + ", depth " + std::to_string(s.depthTest) + ", blend " +
+                  std::to_string(s.blend) + ", cull " + std::to_string(s.cullFace) + ", scissor " +
+                  std::to_string(s.scissorTest) + ", depth mask " + std::to_string(s.depthMask) +
+                  ", depth func " + std::to_string(s.depthFunc) + ", program " + std::to_string(s.program) +
+                  ", vao " + std::to_string(s.vertexArray) + ", active texture " +
                   std::to_string(s.activeTexture - GL_TEXTURE0) + ", textures";
   for (GLint id : s.textures2d)
     t += " " + std::to_string(id);

@@ -1,8 +1,8 @@
 // The viewer opens in the selected display convention, as `dtfabric render --view axial`: radiological by
 // default (the patient's right on the image's left), neurological when chosen, whatever the first surface;
 // the pane's edge letters name the side the camera puts there.
-#include "app/viewer/viewer.h"
 #include "app/scene/orientation_labels.h"
+#include "app/viewer/viewer.h"
 #include "render/camera.h"
 #include "support/gl_test.h"
 
@@ -51,7 +51,8 @@ TEST(ViewInitialView, RadiologicalByDefaultForEveryFirstSurface) {
     EXPECT_STREQ(dtf::app::anatomicalLabel(c.right()), "L") << "right edge";
     EXPECT_STREQ(dtf::app::anatomicalLabel(c.up), "A") << "top edge";
     // The same orientation as `dtfabric render --view axial`.
-    const Camera batch = Camera::standard(dtf::render::StandardView::Axial, glm::dvec3(-1), glm::dvec3(1), 1.0);
+    const Camera batch =
+        Camera::standard(dtf::render::StandardView::Axial, glm::dvec3(-1), glm::dvec3(1), 1.0);
     EXPECT_GT(glm::dot(c.forward(), batch.forward()), 0.999);
     EXPECT_GT(glm::dot(c.right(), batch.right()), 0.999);
   }
