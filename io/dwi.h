@@ -1,5 +1,5 @@
 // Raw diffusion-weighted images with their b-values and gradient directions, and the tensor fit: the
-// "DWI + bval/bvec -> fit -> TensorField" branch of the data flow (DESIGN.md section 2). The fit's output
+// "DWI + bval/bvec -> fit -> TensorField" branch of the data flow. The fit's output
 // is the canonical TensorField (world RAS, xx xy xz yy yz zz, mm^2/s), like every tensor reader's.
 //
 // Gradient frame. bvec files use FSL's convention: directions are in the image's voxel axes (i, j, k),

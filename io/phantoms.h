@@ -1,4 +1,4 @@
-// Analytic tensor fields for tests and demos (paper section 3.1 and DESIGN.md section 4): synthetic input
+// Analytic tensor fields for tests and demos (paper section 3.1): synthetic input
 // for every stage after the readers. Each phantom is a canonical TensorField (world RAS) on an RAS grid
 // centred at the origin, plus a scalar field whose isosurface is the natural surface to render it on.
 //   sphere    Hessian of |x| (curvature tensor (I - n n^T)/r, 1/mm; invalid at the centre); scalar |x| mm,
@@ -12,6 +12,8 @@
 //             callosum arch, superior-inferior corticospinal columns and anterior-posterior cingula
 //             (prolate tensors along the curves); background invalid; scalar FA.
 #pragma once
+
+#include "io/model/implicit_functions.h"
 
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
@@ -40,13 +42,8 @@ struct Phantom {
 Phantom makePhantom(const std::string& name, const PhantomOptions& options = {});
 std::vector<std::string> phantomNames();
 
-// Bretzel5 function, gradient and Hessian at a point in function units (closed form; used by the phantom
-// and checked against finite differences in the tests).
-struct Bretzel5Value {
-  double f = 0;
-  glm::dvec3 gradient{0.0};
-  glm::dmat3 hessian{0.0};
-};
-Bretzel5Value bretzel5(const glm::dvec3& u);
+// The closed-form Bretzel5 function the phantom samples (io/model/implicit_functions.h).
+using dtf::bretzel5;
+using dtf::Bretzel5Value;
 
 } // namespace dtf::io

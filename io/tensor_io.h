@@ -1,4 +1,5 @@
-// Tensor, scalar and DWI volumes in and out: the first stage of the pipeline (DESIGN.md section 2).
+// Tensor, scalar and DWI volumes in and out (NIfTI and the formats of io/formats.h): the first stage of the
+// pipeline.
 // Readers convert into the canonical TensorField form (world RAS, xx xy xz yy yz zz, mm^2/s; see
 // io/model/tensor_field.h); writers convert out of it. Every function here dispatches on the file's format
 // (io/formats.h: NIfTI, MRtrix .mif/.mif.gz/.mih, NRRD, FSL dtifit sets, DSI Studio SRC); for NIfTI-1
@@ -17,7 +18,7 @@
 
 namespace dtf::io {
 
-// On-disk tensor layouts (DESIGN.md section 2).
+// On-disk tensor layouts.
 enum class TensorLayout {
   Auto,      // detect from intent code, then from which volumes hold the positive diagonal, then scale
   Fsl,       // 4D x6: xx xy xz yy yz zz, voxel frame (x flipped when det(affine) > 0)

@@ -1,4 +1,4 @@
-// Streamline files in and out: MRtrix .tck and TrackVis .trk (DESIGN.md section 5). Tracts enter and leave
+// Streamline files in and out: MRtrix .tck and TrackVis .trk. Tracts enter and leave
 // the pipeline here as dtf::Polylines in world RAS millimetres, the same frame as TensorField and Mesh, so
 // tracking output, comparison and rendering never see a file's own convention. Legacy VTK polylines are
 // read and written in surfaces/polyline_io.h (io does not link VTK).

@@ -1,5 +1,7 @@
 #include "render/fabric_renderer.h"
 
+#include "render/gl_state.h"
+
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -136,6 +138,7 @@ void FabricRenderer::composite(const FabricParams& p) {
 }
 
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
+  const GlStateGuard guard;
   bool restart = false;
   prepare(camera, p, restart);
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
@@ -146,6 +149,7 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
 }
 
 Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
+  const GlStateGuard guard;
   bool restart = false;
   dataChanged_ = true; // a still always starts from beta: same arguments, same image
   still_ = true;
@@ -176,6 +180,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
 }
 
 void FabricRenderer::renderPhong(const Camera& camera, const glm::vec3& colour) {
+  const GlStateGuard guard;
   if (size_.x < 1) throw GlError("FabricRenderer: resize() before rendering");
   timerUsed_.fill(false);
   view_ = FrameView::make(camera, size_, 0, mesh_.boundsLo(), mesh_.boundsHi());
@@ -191,6 +196,7 @@ void FabricRenderer::renderPhong(const Camera& camera, const glm::vec3& colour) 
 }
 
 Image FabricRenderer::readback() const {
+  const GlStateGuard guard;
   Image img(size_.x, size_.y);
   std::vector<std::uint8_t> rows(img.rgba.size());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);

@@ -1,5 +1,7 @@
 #include "render/tract_layer.h"
 
+#include "render/gl_state.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -156,6 +158,7 @@ void TractLayer::composite(const Framebuffer& fabric) {
 }
 
 bool TractLayer::frame(const TractRenderer& tracts, const Frame& f) {
+  const GlStateGuard guard;
   ensureSize(f.view.viewport);
   if (f.fabricChanged || !copyValid_) {
     glBlitNamedFramebuffer(f.fabric->id(), copyFbo_.id(), 0, 0, size_.x, size_.y, 0, 0, size_.x, size_.y,

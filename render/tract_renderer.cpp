@@ -1,5 +1,7 @@
 #include "render/tract_renderer.h"
 
+#include "render/gl_state.h"
+
 #include "io/model/error.h"
 #include "render/shader_program.h"
 
@@ -258,6 +260,7 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style, int lev
                          std::size_t count) const {
   const std::size_t available = segmentCount(level);
   if (first >= available || count == 0) return;
+  const GlStateGuard guard;
   count = std::min(count, available - first);
   // FrameView keeps world -> clip of the viewport and world -> eye; the projection is their quotient.
   const glm::mat4 proj = view.viewProjViewport * glm::inverse(view.view);

@@ -1,6 +1,6 @@
 // Deterministic tensor tractography: streamlines along the principal eigenvector e1 of the trilinearly
 // interpolated tensor (components interpolated, never eigenvectors), the comparison layer beside the
-// fabric (DESIGN.md section 5). Input is a canonical TensorField (world RAS); output Polylines in world
+// fabric. Input is a canonical TensorField (world RAS); output Polylines in world
 // RAS mm, ready for io/tracts.h, surfaces/polyline_io.h and the agreement measure in surfaces/agreement.h.
 //
 // Integration: from each seed, e1 is followed in both directions with RK4 (or Euler) steps of stepMm,

@@ -1,7 +1,7 @@
 // What the viewer's user asked for. Panels (ui/panels.h), the key map (ui/keymap.h), mouse handling and
 // viewer scripts all produce these values; only the app's viewer performs them. Keeping the requests as
 // plain values lets the panels be tested without a window and lets every GUI action be replayed from a
-// script (DESIGN.md section 5).
+// script.
 #pragma once
 
 #include "render/camera.h"
@@ -36,7 +36,7 @@ struct LoadFile {
 struct SetSurfaceKind {
   SurfaceKind kind;
 };
-// `text` in the syntax of app/surface_spec.h (fa=T, slice=AXIS:I, fibre-voxel=..., mesh=FILE, ...).
+// `text` in the syntax of app/scene/surface_spec.h (fa=T, slice=AXIS:I, fibre-voxel=..., mesh=FILE, ...).
 struct SetSurfaceSpec {
   std::string text;
 };

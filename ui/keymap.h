@@ -1,4 +1,4 @@
-// The viewer's keyboard conventions (DESIGN.md section 5) as a pure function from a key and the current
+// The viewer's keyboard conventions as a pure function from a key and the current
 // state to actions: Up/Down and PgUp/PgDn step the slice, A/C/S pick the axial/coronal/sagittal slice and
 // its view, R resets the view. The app maps GLFW keys and script `key NAME` lines onto Key.
 #pragma once

@@ -1,5 +1,7 @@
 #include "ui/panels.h"
 
+#include "render/fabric_options.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -144,25 +146,34 @@ void fabricPanel(const ViewerState& s, ActionList& out) {
   if (!ImGui::CollapsingHeader("Fabric", ImGuiTreeNodeFlags_DefaultOpen)) return;
   render::FabricParams p = s.fabric;
   bool changed = false;
-  changed |= sliderDouble("l (mm, 0 = auto)", p.lod, 0.0f, 40.0f, "%.1f");
-  changed |= sliderDouble("k", p.k, 0.01f, 0.5f, "%.3f", true);
-  changed |= ImGui::SliderInt("iterations/frame", &p.iterations, 1, 20);
-  changed |= sliderDouble("epsilon", p.epsilon, 0.005f, 0.2f, "%.3f", true);
-  changed |= sliderDouble("r", p.r, 0.0f, 1.0f, "%.2f");
-  int colour = p.colour == render::ColourMode::Medical ? 0 : 1;
-  static const char* const colours[] = {"medical", "engineering"};
-  if (ImGui::Combo("colour", &colour, colours, 2)) {
-    p.colour = colour == 0 ? render::ColourMode::Medical : render::ColourMode::Engineering;
-    changed = true;
+  // The options of render/fabric_options.h that have a control on the panel, with the table's slider ranges.
+  using Kind = render::FabricOption::Kind;
+  for (const auto& o : render::fabricOptions()) {
+    if (!o.sliderLabel) continue;
+    double v = o.get(p);
+    bool c = false;
+    if (o.kind == Kind::Colour) {
+      int colour = v == 0 ? 0 : 1;
+      static const char* const colours[] = {"medical", "engineering"};
+      c = ImGui::Combo(o.sliderLabel, &colour, colours, 2);
+      v = colour;
+    } else if (o.kind == Kind::OnOff) {
+      bool on = v != 0;
+      c = ImGui::Checkbox(o.sliderLabel, &on);
+      v = on ? 1 : 0;
+    } else if (o.kind == Kind::Integer) {
+      int i = static_cast<int>(v);
+      c = ImGui::SliderInt(o.sliderLabel, &i, static_cast<int>(o.slider.lo), static_cast<int>(o.slider.hi));
+      v = i;
+    } else {
+      c = sliderDouble(o.sliderLabel, v, static_cast<float>(o.slider.lo), static_cast<float>(o.slider.hi),
+                       o.sliderFormat, o.sliderLogarithmic);
+    }
+    if (c) {
+      o.set(p, v);
+      changed = true;
+    }
   }
-  changed |= ImGui::Checkbox("lighting", &p.lighting);
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("silhouette", &p.silhouette);
-  changed |= sliderDouble("sharpen", p.sharpen, 0.0f, 1.0f, "%.2f");
-  changed |= sliderDouble("depth colour", p.depthColour, 0.0f, 1.0f, "%.2f");
-  changed |= sliderDouble("contrast", p.contrast, 1.0f, 8.0f, "%.1f");
-  changed |= sliderDouble("step (px)", p.stepPixels, 0.5f, 4.0f, "%.2f");
-  changed |= ImGui::SliderFloat("fade out-of-plane", &p.fadeOutOfPlane, 0.0f, 1.0f, "%.2f");
   if (changed) out.push_back(SetFabricParams{p});
 }
 
@@ -234,18 +245,20 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     double near = s.tractsNearMm;
     if (sliderDouble("near surface (mm)", near, 0.0f, 20.0f, "%.1f")) out.push_back(SetTractsNear{near});
     probe(b, "near surface (mm)");
-    if (s.tractsNearMm <= 0)
+    // Planar surfaces: every tract within a slab around the plane, the clip's half-width when set, else the
+    // near distance; curved surfaces: the tracts near them, clipped by the camera-facing slab.
+    const double planarSlab = s.tractsClipMm > 0 ? s.tractsClipMm : s.tractsNearMm;
+    if (s.tractsSlab && planarSlab > 0)
+      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", planarSlab);
+    else if (s.tractsSlab || s.tractsNearMm <= 0)
       ImGui::TextDisabled("every tract is shown");
-    else if (s.tractsSlab)
-      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", s.tractsNearMm);
-    // The camera-facing clip slab, for tractograms too dense to see into (the planar slab replaces it).
     double clip = s.tractsClipMm, clipOffset = s.tractsClipOffsetMm;
     bool clipChanged = sliderDouble("clip slab (mm)", clip, 0.0f, 50.0f, "%.1f");
     probe(b, "clip slab (mm)");
     if (clip > 0) {
       clipChanged |= sliderDouble("clip depth (mm)", clipOffset, -100.0f, 100.0f, "%.1f");
       probe(b, "clip depth (mm)");
-      if (s.tractsSlab && s.tractsNearMm > 0) ImGui::TextDisabled("the planar slab applies on this surface");
+      if (s.tractsSlab) ImGui::TextDisabled("planar surface: the slab lies around its plane");
     }
     if (clipChanged) out.push_back(SetTractsClip{clip, clipOffset});
     ImGui::Text("shown: %zu pieces, %zu points%s", s.tractsShownLines, s.tractsShownPoints,

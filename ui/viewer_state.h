@@ -81,7 +81,7 @@ struct ViewerState {
   double tractsClipMm = 0;       // camera-facing clip slab half-width (0: off), see ui::SetTractsClip
   double tractsClipOffsetMm = 0; // its centre's distance beyond the surface centre along the view
   bool tractsSelecting = false; // the selection for the current surface is being computed
-  bool tractsSlab = false;      // planar surface: a slab of half-width tractsNearMm, no selection
+  bool tractsSlab = false;      // planar surface: every tract, in a slab around its plane (half-width tractsClipMm, else tractsNearMm)
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation
   int tractsLevel = 0;            // level of detail on screen (0 = every display point)
   double tractsLevelFraction = 1; // share of that level's segments drawn

@@ -17,4 +17,8 @@ struct Image {
   const std::uint8_t* pixel(int x, int y) const { return &rgba[(static_cast<std::size_t>(y) * width + x) * 4]; }
 };
 
+// `left` and `right` (same height) side by side: width left.width + right.width (two linked panes in one
+// image). Throws Error for different heights.
+Image sideBySide(const Image& left, const Image& right);
+
 } // namespace dtf

@@ -1,5 +1,7 @@
 #include "render/reference/scenes.h"
 
+#include "io/model/implicit_functions.h"
+
 #include <array>
 #include <cmath>
 #include <map>
@@ -67,11 +69,7 @@ double sphereFunction(const glm::dvec3& p, double radius) {
   return glm::dot(p, p) + 1.5 / radius * p.x * p.y * p.z;
 }
 
-double bretzel5Function(const glm::dvec3& p, double scale) {
-  glm::dvec3 q = p / scale;
-  double a = (q.x * q.x + 0.25 * q.y * q.y - 1.0) * (0.25 * q.x * q.x + q.y * q.y - 1.0);
-  return a * a + q.z * q.z - 0.1;
-}
+double bretzel5Function(const glm::dvec3& p, double scale) { return bretzel5(p / scale).f; }
 
 ScalarVolume sampleFunction(const Grid& grid, const std::function<double(const glm::dvec3&)>& fn) {
   ScalarVolume v(grid, 1);

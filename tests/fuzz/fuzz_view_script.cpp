@@ -1,6 +1,6 @@
-// libFuzzer target: the viewer script parser (app/view_script.h), pure text in, steps or a UsageError out;
+// libFuzzer target: the viewer script parser (app/viewer/view_script.h), pure text in, steps or a UsageError out;
 // then the output check that runs before a window opens (reads the file system only: exists/equivalent).
-#include "app/view_script.h"
+#include "app/viewer/view_script.h"
 #include "io/model/error.h"
 
 #include <cstddef>

@@ -1,6 +1,5 @@
-// Each fabric pass in isolation against a small CPU reference on synthetic input (DESIGN.md §4).
+// Each fabric pass in isolation against a small CPU reference on synthetic input.
 #include "support/gl_test.h"
-#include "gl/gl_helpers.h"
 
 #include "io/model/tensor.h"
 #include "render/fabric/advection_pass.h"

@@ -1,7 +1,6 @@
 // The whole fabric pipeline on synthetic fields: threads follow the data, crossings show both directions,
 // degenerate regions render calmly, same input gives the same image.
 #include "support/gl_test.h"
-#include "gl/gl_helpers.h"
 
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"

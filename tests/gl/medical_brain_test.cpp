@@ -3,7 +3,6 @@
 // texture (the secondary direction). Also texture coherence under an isovalue change (paper section 1):
 // the noise pattern is attached to the surface, so nearby FA isosurfaces show the same pattern.
 #include "support/gl_test.h"
-#include "gl/gl_helpers.h"
 
 #include "io/model/tensor_field.h"
 #include "io/png_io.h"

@@ -1,18 +1,18 @@
-// Tracts in the viewer scene (app/viewer.h), headless: drawn over the fabric and hidden on request, the
+// Tracts in the viewer scene (app/viewer/viewer.h), headless: drawn over the fabric and hidden on request, the
 // selection redone for each surface, the split mode "fabric | fabric + tracts", tracking, saving and the
 // agreement measure on the worker threads, each checked against the command line that does the same
 // (`dtfabric compare`, `dtfabric track`) or against the library call. Real brain: the shared
 // iu_prisma_dwi tensors and their 2000 deterministic streamlines.
-#include "app/render_split.h"
-#include "app/surface_spec.h"
-#include "app/tract_files.h"
-#include "app/viewer.h"
+#include "app/scene/surface_spec.h"
+#include "app/scene/tract_files.h"
+#include "app/viewer/viewer.h"
 #include "io/png_io.h"
 #include "io/tensor_io.h"
 #include "io/tracts.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
 #include "support/window.h"
+#include "surfaces/near_surface.h"
 
 #include <chrono>
 #include <cmath>
@@ -153,7 +153,7 @@ TEST(ViewTracts, SelectionFollowsTheSurfaceAndEqualsTheLibrarySelection) {
   const ScalarVolume fa = computeFaMap(field);
   auto expected = [&](double t, double near) {
     const Mesh m = app::buildSurface(app::parseSurfaceSpec("fa=" + std::to_string(t)), field, fa);
-    return app::selectNearSurface(all, surfaces::DistanceQuery(m), near).points.size();
+    return surfaces::selectNearSurface(all, surfaces::DistanceQuery(m), near).points.size();
   };
   const std::size_t at03 = s.state().tractsShownPoints;
   EXPECT_EQ(at03, expected(0.3, 3.0));

@@ -2,7 +2,7 @@
 // never replace an input, replace an existing file only when forced (the GUI's overwrite prompt, a script's
 // --force), and a tensor field beyond GL_MAX_3D_TEXTURE_SIZE ends in the error modal and a GL failure while
 // the scene goes on to load a good file.
-#include "app/viewer.h"
+#include "app/viewer/viewer.h"
 #include "io/tensor_io.h"
 #include "support/gl_test.h"
 

@@ -2,8 +2,8 @@
 // row negated is loaded, the banner reports the correction, "Apply correction" turns the scene's tensors
 // into those of the true table, and "Show evidence" renders the contact sheet into a texture. ImGui runs
 // headless (font atlas, no backend) with simulated clicks.
-#include "app/viewer.h"
-#include "app/viewer_orientation.h"
+#include "app/viewer/viewer.h"
+#include "app/viewer/viewer_orientation.h"
 #include "io/dwi.h"
 #include "support/gl_test.h"
 

@@ -1,5 +1,5 @@
 // Baseline image comparison shared by the baseline tests: a per-channel tolerance, a bad-pixel fraction
-// and a mean difference (DESIGN.md section 4). On failure the actual, expected and diff images go to
+// and a mean difference. On failure the actual, expected and diff images go to
 // build/baseline_failures/; DTF_UPDATE_BASELINES=1 rewrites the baseline instead (on purpose only, and
 // look at the images before committing them).
 #pragma once

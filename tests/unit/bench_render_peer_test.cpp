@@ -1,7 +1,7 @@
 // The ParaView peer of `bench render` without ParaView: the generated pvbatch script carries the settings
 // (paths quoted for Python), its output is parsed into figures or a failure note, and the vector it is fed
 // is the principal in-surface eigenvector of the tensor.
-#include "app/bench.h"
+#include "app/bench/bench.h"
 
 #include <cmath>
 #include <gtest/gtest.h>

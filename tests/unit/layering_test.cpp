@@ -17,11 +17,18 @@ const std::map<std::string, std::vector<std::string>> kAllowed = {
     {"surfaces", {"io/model"}},
     {"render", {"io/model", "shaders"}},
     {"ui", {"render", "io/model"}},
-    {"app", {"io/model", "io", "shaders", "surfaces", "render", "ui"}},
+    {"app/scene", {"io/model", "io", "shaders", "surfaces", "render", "ui"}},
+    {"app/viewer", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene"}},
+    {"app/cli", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/bench"}},
+    {"app/bench", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/cli"}},
 };
 
 std::string moduleOf(const std::string& rel) {
   if (rel.rfind("io/model/", 0) == 0) return "io/model";
+  if (rel.rfind("app/", 0) == 0) {
+    auto slash = rel.find('/', 4);
+    return slash == std::string::npos ? "app" : rel.substr(0, slash);
+  }
   auto slash = rel.find('/');
   return slash == std::string::npos ? "" : rel.substr(0, slash);
 }
@@ -69,4 +76,46 @@ TEST(Layering, HeavyLibrariesStayOutOfPublicHeaders) {
         EXPECT_FALSE(std::regex_search(line, heavy)) << entry.path() << ": " << line;
     }
   }
+}
+
+// Each source file under app/ belongs to one of its front ends or the scene library.
+TEST(Layering, AppSourcesLiveInTheirFolders) {
+  const fs::path root = dtf::test::sourceDir();
+  int seen = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root / "app")) {
+    auto ext = entry.path().extension().string();
+    if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
+    const std::string rel = fs::relative(entry.path(), root).string();
+    EXPECT_TRUE(kAllowed.count(moduleOf(rel))) << rel << " is not in app/scene, app/cli, app/viewer or app/bench";
+    ++seen;
+  }
+  EXPECT_GT(seen, 20);
+}
+
+// GLFW appears only in the viewer; the scene needs neither a window, ImGui nor a GL loader; ui/ draws through
+// ImGui only (no epoxy).
+TEST(Layering, WindowAndGlLoaderStayInTheirModules) {
+  const fs::path root = dtf::test::sourceDir();
+  const std::regex glfw(R"(#\s*include\s*[<\"]GLFW/)"), imgui(R"(#\s*include\s*[<\"]imgui)"),
+      epoxy(R"(#\s*include\s*[<\"]epoxy/)");
+  int scanned = 0;
+  for (const char* module : {"io", "surfaces", "render", "ui", "shaders", "app"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(root / module)) {
+      auto ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
+      const std::string rel = fs::relative(entry.path(), root).string();
+      const std::string mod = moduleOf(rel);
+      std::ifstream in(entry.path());
+      std::string line;
+      while (std::getline(in, line)) {
+        const bool glfwHere = std::regex_search(line, glfw), imguiHere = std::regex_search(line, imgui),
+                   epoxyHere = std::regex_search(line, epoxy);
+        EXPECT_FALSE(glfwHere && mod != "app/viewer") << rel << ": " << line;
+        EXPECT_FALSE(imguiHere && mod == "app/scene") << rel << ": " << line;
+        EXPECT_FALSE(epoxyHere && (mod == "app/scene" || mod == "ui")) << rel << ": " << line;
+      }
+      ++scanned;
+    }
+  }
+  EXPECT_GT(scanned, 50);
 }

@@ -1,5 +1,5 @@
 // Surface specs as written on the command line: parsing, errors, and joined surfaces.
-#include "app/surface_spec.h"
+#include "app/scene/surface_spec.h"
 #include "io/model/error.h"
 #include "surfaces/slices.h"
 

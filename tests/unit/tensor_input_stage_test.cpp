@@ -1,5 +1,5 @@
 // The stage a DWI load reports while it fits (the viewer's status bar shows it): the file and the share done.
-#include "app/tensor_input.h"
+#include "app/scene/tensor_input.h"
 #include "support/test_env.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // (nibabel for TrackVis/MRtrix, Python's zipfile + numpy for TRX, a direct parse for legacy VTK), facts
 // hard-coded from nibabel 5.0, the TrackVis LPS/no-affine rules, stale .tck counts and TRX offset and dtype
 // variants built here byte by byte, round trips through every pair of formats, and bad TRX files refused.
-#include "app/tract_files.h"
+#include "app/scene/tract_files.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/tracts.h"

@@ -1,7 +1,7 @@
 // Tract files: round trips through .tck, .trk (LAS and RAS reference grids) and .vtk, the TrackVis
 // half-voxel convention in closed form, byte orders and datatypes, the real MRtrix/nibabel files against
 // each other and the brain mask, and bad files refused with InputError naming the file.
-#include "app/tract_files.h"
+#include "app/scene/tract_files.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 #include "io/tracts.h"

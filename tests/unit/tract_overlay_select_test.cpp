@@ -1,13 +1,13 @@
 // CPU side of the tract overlay: display decimation (render/tract_renderer.h) and the near-surface
-// selection (app/render_split.h) on a plane, where the distance to the surface is |z|.
-#include "app/render_split.h"
-#include "app/surface_spec.h"
-#include "app/tract_files.h"
+// selection (surfaces/near_surface.h) on a plane, where the distance to the surface is |z|.
+#include "app/scene/surface_spec.h"
+#include "app/scene/tract_files.h"
 #include "io/tensor_io.h"
 #include "render/reference/scenes.h"
 #include "render/tract_renderer.h"
-#include "support/test_env.h"
 #include "support/polylines.h"
+#include "support/test_env.h"
+#include "surfaces/near_surface.h"
 
 #include <cmath>
 #include <gtest/gtest.h>
@@ -73,25 +73,25 @@ TEST(TractSelection, KeepsExactlyTheSegmentsWithinDOfAPlane) {
   in.offsets.push_back(14);
   for (const bool exhaustive : {false, true}) {
     SCOPED_TRACE(exhaustive);
-    app::NearSurfaceOptions o;
+    surfaces::NearSurfaceOptions o;
     o.exhaustive = exhaustive;
-    const Polylines out = app::selectNearSurface(in, query, 2.5, o);
+    const Polylines out = surfaces::selectNearSurface(in, query, 2.5, o);
     ASSERT_EQ(out.lineCount(), 4u);
     EXPECT_EQ(out.offsets, (std::vector<std::uint32_t>{0, 3, 5, 7, 9}));
     const std::vector<std::size_t> from = {0, 1, 2, 4, 5, 7, 8, 12, 13};
     for (std::size_t i = 0; i < from.size(); ++i)
       EXPECT_EQ(out.points[i], in.points[from[i]]) << i;
   }
-  const Polylines all = app::selectNearSurface(in, query, 0.0);
+  const Polylines all = surfaces::selectNearSurface(in, query, 0.0);
   EXPECT_EQ(all.points, in.points);
 }
 
 TEST(TractSelection, MeshPlaneFindsSlicesAndRejectsCurvedMeshes) {
-  const auto p = app::meshPlane(render::reference::planeMesh({0, 0, 7}, {1, 0, 0}, {0, 1, 0}, 10, 10, 3));
+  const auto p = surfaces::meshPlane(render::reference::planeMesh({0, 0, 7}, {1, 0, 0}, {0, 1, 0}, 10, 10, 3));
   ASSERT_TRUE(p.has_value());
   EXPECT_NEAR(std::abs(p->z), 1.0f, 1e-6f);
   EXPECT_NEAR(p->w / p->z, -7.0f, 1e-5f);
-  EXPECT_FALSE(app::meshPlane(render::reference::uvSphere({0, 0, 0}, 10, 8, 8)).has_value());
+  EXPECT_FALSE(surfaces::meshPlane(render::reference::uvSphere({0, 0, 0}, 10, 8, 8)).has_value());
 }
 
 namespace {
@@ -113,16 +113,16 @@ std::vector<char> keptFlags(const Polylines& lines, const Polylines& sel) {
 // within 1e-4 mm of the limit (float rounding of the bounds).
 void expectSameAsExhaustive(const Polylines& lines, const Mesh& mesh, double maxMm) {
   const surfaces::DistanceQuery query(mesh);
-  app::NearSurfaceOptions exhaustive;
+  surfaces::NearSurfaceOptions exhaustive;
   exhaustive.exhaustive = true;
-  const Polylines ref = app::selectNearSurface(lines, query, maxMm, exhaustive);
+  const Polylines ref = surfaces::selectNearSurface(lines, query, maxMm, exhaustive);
   ASSERT_GT(ref.points.size(), 100u);
   ASSERT_LT(ref.points.size(), lines.points.size());
   for (int threads : {1, 3}) {
     SCOPED_TRACE(threads);
-    app::NearSurfaceOptions fast;
+    surfaces::NearSurfaceOptions fast;
     fast.threads = threads;
-    const Polylines sel = app::selectNearSurface(lines, query, maxMm, fast);
+    const Polylines sel = surfaces::selectNearSurface(lines, query, maxMm, fast);
     if (sel.points == ref.points && sel.offsets == ref.offsets) continue;
     const auto a = keptFlags(lines, ref), b = keptFlags(lines, sel);
     for (std::size_t i = 0; i < a.size(); ++i)
@@ -161,11 +161,11 @@ TEST(TractSelection, CancelledSelectionIsEmpty) {
   const Mesh plane = render::reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 100, 100, 4);
   const surfaces::DistanceQuery query(plane);
   std::atomic<bool> cancel{true};
-  app::NearSurfaceOptions o;
+  surfaces::NearSurfaceOptions o;
   o.cancel = &cancel;
-  const Polylines out = app::selectNearSurface(gridLines(200, 20), query, 1.0, o);
+  const Polylines out = surfaces::selectNearSurface(gridLines(200, 20), query, 1.0, o);
   EXPECT_EQ(out.lineCount(), 0u);
   cancel = false;
-  EXPECT_EQ(app::selectNearSurface(gridLines(200, 20), query, 1.0, o).lineCount(),
+  EXPECT_EQ(surfaces::selectNearSurface(gridLines(200, 20), query, 1.0, o).lineCount(),
             52u); // y = 0 .. 51 (the plane ends at 50)
 }

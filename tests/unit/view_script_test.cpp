@@ -1,5 +1,5 @@
-// The viewer script parser (app/view_script.h): every command, comments, and FILE:LINE errors.
-#include "app/view_script.h"
+// The viewer script parser (app/viewer/view_script.h): every command, comments, and FILE:LINE errors.
+#include "app/viewer/view_script.h"
 #include "io/model/error.h"
 #include "support/test_env.h"
 
@@ -69,7 +69,7 @@ TEST(ViewScript, ParsesEveryCommand) {
   EXPECT_TRUE(actionAt<ui::SetSplit>(s, 9).on);
   EXPECT_FALSE(actionAt<ui::SetLinkedCameras>(s, 10).on);
   EXPECT_TRUE(actionAt<ui::SetNeurological>(s, 11).on);
-  EXPECT_EQ(std::get<ScriptSetParam>(s.steps[12].command).name, "k");
+  EXPECT_EQ(std::get<ScriptSetParam>(s.steps[12].command).name, "blend-k");
   EXPECT_EQ(std::get<ScriptWait>(s.steps[15].command).frames, 5);
   EXPECT_FALSE(actionAt<ui::Screenshot>(s, 16).sceneOnly);
   EXPECT_TRUE(actionAt<ui::Screenshot>(s, 17).sceneOnly);
@@ -82,7 +82,7 @@ TEST(ViewScript, ParsesEveryCommand) {
 TEST(ViewScript, SetParamsApplyToFabricParams) {
   const ViewScript s =
       parseViewScript("set k 0.2\nset colour engineering\nset lighting off\nset iterations 7\n"
-                      "set lod 3.5\nset silhouette on\n",
+                      "set lod 3.5\nset silhouette on\nset frame-iterations 5\nset fa-floor 0.1\n",
                       "p.txt");
   render::FabricParams p;
   p.silhouette = false;
@@ -91,7 +91,9 @@ TEST(ViewScript, SetParamsApplyToFabricParams) {
   EXPECT_DOUBLE_EQ(p.k, 0.2);
   EXPECT_EQ(p.colour, render::ColourMode::Engineering);
   EXPECT_FALSE(p.lighting);
-  EXPECT_EQ(p.iterations, 7);
+  EXPECT_EQ(p.stillMaxIterations, 7) << "iterations is the cap of `render --iterations`";
+  EXPECT_EQ(p.iterations, 5);
+  EXPECT_FLOAT_EQ(p.faFloor, 0.1f);
   EXPECT_DOUBLE_EQ(p.lod, 3.5);
   EXPECT_TRUE(p.silhouette);
 }

@@ -1,0 +1,164 @@
+// `dtfabric bench check`: the orientation check on the real DWI (load, WLS fit, 24 candidate scores) against
+// MRtrix's dwigradcheck (Debian mrtrix3; a peer run in the same invocation when on the PATH, never a
+// dependency) on the same DWI, table and mask. dwigradcheck tracks streamlines for every candidate table;
+// we fit once and turn the tensors. Reports both times, the speed-up and whether both chose the same table.
+#include "app/cli/args.h"
+#include "app/bench/bench.h"
+#include "app/scene/check_run.h"
+#include "io/dwi.h"
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+namespace dtf::app {
+
+namespace {
+
+std::string findOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "");
+  std::string dir;
+  while (std::getline(ss, dir, ':'))
+    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
+  return {};
+}
+
+struct Peer {
+  bool ran = false;
+  double seconds = 0;
+  std::string note;
+  std::string choice; // the table it chose, as a transform of the given one ("x y z" = unchanged)
+};
+
+// The candidate M with exported = +-M * given for every diffusion-weighted direction, or "" when none fits.
+std::string identifyTable(const std::vector<glm::dvec3>& given, const std::vector<glm::dvec3>& exported,
+                          const std::vector<double>& bvals) {
+  if (given.size() != exported.size()) return {};
+  for (const auto& m : surfaces::orientationCandidates()) {
+    bool all = true;
+    for (std::size_t n = 0; n < given.size() && all; ++n) {
+      if (!(bvals[n] > 50)) continue;
+      const glm::dvec3 g = m.apply(glm::normalize(given[n])), e = glm::normalize(exported[n]);
+      all = std::abs(std::abs(glm::dot(g, e)) - 1.0) < 1e-3;
+    }
+    if (all) return m.name();
+  }
+  return {};
+}
+
+} // namespace
+
+int benchCheck(const CommandArgs& argv) {
+  Args args(argv, {"json", "help", "no-peer"});
+  if (args.flag("help")) {
+    std::printf(
+        "usage: dtfabric bench check [--repeat R] [--threads T] [--no-peer] [--json] [--data DIR]\n"
+        "Times `dtfabric check` on the real DWI (iu_prisma_dwi: load, WLS fit in mask.nii.gz, 24 candidate\n"
+        "scores; median of R runs, default 5) and, when MRtrix's dwigradcheck is on the PATH (Debian\n"
+        "mrtrix3), dwigradcheck on the same DWI, table and mask with T threads (default: all cores);\n"
+        "prints both times, the speed-up and whether both chose the same table.\n");
+    return 0;
+  }
+  const bool json = args.flag("json");
+  const bool noPeer = args.flag("no-peer");
+  const int repeat = args.getInt("repeat", 5);
+  if (repeat < 1 || repeat > 100) throw UsageError("--repeat must be in [1, 100]");
+  const int threads =
+      args.getInt("threads", static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (threads < 1) throw UsageError("--threads must be at least 1");
+  const auto data = findSharedDataDir(args.get("data"));
+  args.finish();
+  if (!data || !std::filesystem::exists(*data / "iu_prisma_dwi/dwi.nii.gz"))
+    throw InputError(
+        "the real data (iu_prisma_dwi/dwi.nii.gz) was not found; give --data DIR or set DTF_SHARED_DATA");
+  const auto dir = *data / "iu_prisma_dwi";
+
+  CheckRequest req;
+  req.input = (dir / "dwi.nii.gz").string();
+  req.bval = (dir / "dwi.bval").string();
+  req.bvec = (dir / "dwi.bvec").string();
+  req.mask = (dir / "derived" / "mask.nii.gz").string();
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> total, load, fit, score;
+  CheckRun run;
+  for (int i = 0; i < repeat; ++i) {
+    const auto t0 = Clock::now();
+    run = runCheck(req);
+    total.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    load.push_back(run.loadSeconds);
+    fit.push_back(run.fitSeconds);
+    score.push_back(run.checkSeconds);
+  }
+  const double ours = median(total);
+  const std::string ourChoice = run.report.candidates[run.report.best].transform.name();
+
+  Peer peer;
+  const std::string exe = noPeer ? std::string() : findOnPath("dwigradcheck");
+  if (noPeer) {
+    peer.note = "skipped (--no-peer)";
+  } else if (exe.empty()) {
+    peer.note = "MRtrix dwigradcheck is not on the PATH (Debian package mrtrix3); no comparison";
+  } else {
+    const auto tmp =
+        std::filesystem::temp_directory_path() / ("dtf_bench_gradcheck_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(tmp);
+    std::ostringstream cmd;
+    cmd << "'" << exe << "' '" << req.input << "' -fslgrad '" << req.bvec << "' '" << req.bval << "' -mask '"
+        << req.mask << "' -export_grad_fsl '" << (tmp / "out.bvec").string() << "' '"
+        << (tmp / "out.bval").string() << "' -scratch '" << tmp.string() << "' -nthreads " << threads
+        << " -force -quiet >'" << (tmp / "log.txt").string() << "' 2>&1";
+    const auto t1 = Clock::now();
+    const int rc = std::system(cmd.str().c_str());
+    peer.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    peer.ran = rc == 0 && std::filesystem::exists(tmp / "out.bvec");
+    if (!peer.ran) {
+      peer.note = "dwigradcheck failed (exit status " + std::to_string(rc) + ")";
+    } else {
+      try {
+        peer.choice = identifyTable(run.bvecs, io::readBvecs((tmp / "out.bvec").string()), run.bvals);
+        if (peer.choice.empty()) peer.note = "its exported table is no signed permutation of the given one";
+      } catch (const Error& e) {
+        peer.note = std::string("its exported table could not be read: ") + e.what();
+      }
+    }
+    std::error_code ec;
+    std::filesystem::remove_all(tmp, ec);
+  }
+  const bool same = peer.ran && peer.choice == ourChoice;
+  if (json) {
+    std::printf(
+        "{\"bench\": \"check\", \"data\": \"%s\", \"repeat\": %d, \"seconds\": %.4f, \"load_s\": %.4f, "
+        "\"fit_s\": %.4f, \"score_s\": %.5f, \"verdict\": \"%s\", \"choice\": \"%s\", \"margin\": %.4f, "
+        "\"white_matter_voxels\": %zu, \"peer\": \"MRtrix dwigradcheck\", \"peer_ran\": %s, "
+        "\"peer_seconds\": %.3f, \"peer_threads\": %d, \"peer_choice\": \"%s\", \"speedup\": %.1f, "
+        "\"same_table\": %s, \"peer_note\": \"%s\"}\n",
+        req.input.c_str(), repeat, ours, median(load), median(fit), median(score),
+        surfaces::verdictName(run.report.verdict), ourChoice.c_str(), run.report.margin,
+        run.report.whiteMatterVoxels, peer.ran ? "true" : "false", peer.seconds, threads, peer.choice.c_str(),
+        peer.ran ? peer.seconds / ours : 0.0, same ? "true" : "false", peer.note.c_str());
+    return 0;
+  }
+  std::printf("bench check: %s, mask %s\n", req.input.c_str(), req.mask.c_str());
+  std::printf("  dtfabric check: %.3f s (median of %d: load %.3f s, WLS fit %.3f s, 24 scores %.2f ms)\n",
+              ours, repeat, median(load), median(fit), 1e3 * median(score));
+  std::printf("    verdict %s, chose [%s], margin %.1f%%, %zu white-matter voxels\n",
+              surfaces::verdictName(run.report.verdict), ourChoice.c_str(), 100 * run.report.margin,
+              run.report.whiteMatterVoxels);
+  if (peer.ran)
+    std::printf(
+        "  peer: MRtrix dwigradcheck, %d threads: %.2f s, chose [%s]%s\n  speed-up %.0fx; same table: %s\n",
+        threads, peer.seconds, peer.choice.c_str(), peer.note.empty() ? "" : (" (" + peer.note + ")").c_str(),
+        peer.seconds / ours, same ? "yes" : "no");
+  else
+    std::printf("  peer: %s\n", peer.note.c_str());
+  return 0;
+}
+
+} // namespace dtf::app

@@ -1,0 +1,177 @@
+#include "app/cli/commands.h"
+
+#include "app/bench/bench.h"
+#include "app/viewer/view_script.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+
+namespace dtf::app {
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> list = {
+      {"info", "FILE [--layout L] [--json] [--voxel I,J,K]",
+       "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)",
+       "file format and why, header, orientation, detected tensor layout and why, value ranges, FA statistics; "
+       "one voxel's world tensor, eigen-system and metrics. For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
+       ".vtp): format, header facts (space, voxel order, dimensions, affine), streamline and point counts, "
+       "lengths, per-streamline/per-point data with shapes and ranges, groups",
+       cmdInfo},
+      {"fit", "DWI --bval F --bvec F [--mask M] -o OUT [--method wls|ols] [--layout L]",
+       "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",
+       "fit tensors to a DWI (WLS by default; automatic mask when none is given); an MRtrix DWI with "
+       "`dw_scheme` or a DSI Studio `.src.gz` needs no bval/bvec; OUT `.nii[.gz]`, `.mif[.gz]`/`.mih` or `.nrrd`",
+       cmdFit},
+      {"phantom", "NAME -o FILE [--layout L]",
+       "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)",
+       "analytic fields: `sphere`, `bretzel5` (paper §3.1), `constant`, `crossing`, `brain`", cmdPhantom},
+      {"surface", "INPUT --surface SPEC -o MESH.ply|.vtp|.obj",
+       "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality",
+       "FA isosurface, slice, oblique plane or fibre-following surface as a mesh, with its quality figure "
+       "(FA-weighted mean |e1·n|)",
+       cmdSurface},
+      {"render",
+       "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering] [--tracts F] [--split MODE] "
+       "[--background B] [--tracts-color NAME] [--tracts-range LO,HI] [--tracts-group G[,G]]",
+       "render the fabric on a surface to PNG, headless",
+       "the fabric, headless; tracts over it in DEC colours or coloured by a per-point or per-streamline value "
+       "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups",
+       cmdRender},
+      {"track", "INPUT -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp [seeds, limits]",
+       "deterministic tensor tractography to .tck/.trk/.trx/.vtk",
+       "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack},
+      {"convert", "IN OUT [--reference IMAGE] [--force]",
+       "convert tractograms between .tck, .trk, .trk.gz, .trx, .vtk and .vtp",
+       "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "
+       "name what is dropped); atomic, never over an input",
+       cmdConvert},
+      {"compare", "INPUT --tracts F --surface SPEC [--near MM] [--json]",
+       "angle between tracts and the fabric direction on a surface",
+       "angle between tracts near a surface and the fabric's principal direction there", cmdCompare},
+      {"check",
+       "INPUT [--bval F --bvec F] [--mask M] [--layout L] [--json] [--sheet OUT.png] [--fix-bvec OUT.bvec] "
+       "[--force]",
+       "orientation check: a flipped or permuted gradient table or tensor frame, and its fix",
+       "orientation check: scores the 24 signed axis permutations of a DWI's gradient table (or a tensor file's "
+       "directions) by white-matter fibre coherence; verdict `ok`, `corrected` (with M: corrected bvec = M · "
+       "given bvec) or `inconclusive`; `--sheet` draws the fabric evidence, `--fix-bvec` writes the corrected "
+       "FSL table",
+       cmdCheck},
+      {"view", "[INPUT] [--script FILE] [--force]", "open the viewer (GLFW window with ImGui panels)",
+       "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, View, Tracts), status bar with the "
+       "voxel under the cursor; `--script` replays actions for reproducible figures (see below; `--force`: its "
+       "screenshots, camera and tract files may replace existing files)",
+       cmdView},
+      {"bench", nullptr, nullptr, nullptr, cmdBench}, // synopsis and summaries from app/bench/bench.h
+      {"help", "[--markdown]", "this list; --markdown: the README's command and script tables",
+       "this list; `--markdown`: the README's command and script tables", cmdHelp},
+  };
+  return list;
+}
+
+namespace {
+
+std::string joinedBenchNames() {
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : ", ") + std::string(b.name);
+  return names;
+}
+std::string summaryOf(const Command& c) {
+  return c.summary ? c.summary : "benchmarks: " + joinedBenchNames();
+}
+std::string synopsisOf(const Command& c) {
+  if (c.synopsis) return c.synopsis;
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : "|") + std::string(b.name);
+  return names + " [--json]";
+}
+std::string descriptionOf(const Command& c) {
+  if (c.description) return c.description;
+  std::string d = "benchmarks:";
+  for (const auto& b : benchmarks())
+    d += std::string(" `") + b.name + "` " + b.summary + ";";
+  d.back() = '.';
+  return d;
+}
+// A markdown table cell: '|' escaped.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    if (ch == '|') out += '\\';
+    out += ch;
+  }
+  return out;
+}
+
+void printUsage() {
+  std::printf("usage: dtfabric COMMAND [ARGS]\n\ncommands:\n");
+  for (const auto& c : commands()) std::printf("  %-9s %s\n", c.name, summaryOf(c).c_str());
+  std::printf("\n`dtfabric COMMAND --help` describes each command.\n"
+              "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.\n");
+}
+} // namespace
+
+std::string markdownTables() {
+  std::string out = "| command | what it does |\n|---|---|\n";
+  for (const auto& c : commands())
+    out += "| `dtfabric " + std::string(c.name) + " " + cell(synopsisOf(c)) + "` | " + cell(descriptionOf(c)) + " |\n";
+  out += "\n| line | does |\n|---|---|\n";
+  for (const auto& c : scriptCommands())
+    out += "| `" + std::string(c.name) + (*c.args ? " " : "") + cell(c.args) + "` | " + cell(c.help) + " |\n";
+  return out;
+}
+
+int cmdHelp(const CommandArgs& args) {
+  if (args.size() == 1 && args[0] == "--markdown") {
+    std::fputs(markdownTables().c_str(), stdout);
+    return 0;
+  }
+  if (!args.empty()) throw UsageError("usage: dtfabric help [--markdown]");
+  printUsage();
+  return 0;
+}
+
+int runCli(int argc, char** argv) {
+  setLogSink([](LogLevel level, const std::string& msg) {
+    if (level == LogLevel::Debug) return;
+    const char* tag = level == LogLevel::Warning ? "warning: " : level == LogLevel::Error ? "error: " : "";
+    std::cerr << tag << msg << "\n";
+  });
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    printUsage();
+    return argc < 2 ? 1 : 0;
+  }
+  std::string name = argv[1];
+  CommandArgs rest(argv + 2, argv + argc);
+  for (const auto& c : commands()) {
+    if (name != c.name) continue;
+    try {
+      return c.run(rest);
+    } catch (const UsageError& e) {
+      std::cerr << "dtfabric " << name << ": " << e.what() << "\n(see `dtfabric " << name << " --help`)\n";
+      return 1;
+    } catch (const GlError& e) {
+      std::cerr << "dtfabric " << name << ": GL error: " << e.what() << "\n";
+      return 3;
+    } catch (const Error& e) {
+      std::cerr << "dtfabric " << name << ": " << e.what() << "\n";
+      return 2;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "dtfabric " << name << ": out of memory\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "dtfabric " << name << ": unexpected error: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  std::cerr << "dtfabric: unknown command '" << name << "'\n";
+  printUsage();
+  return 1;
+}
+
+} // namespace dtf::app

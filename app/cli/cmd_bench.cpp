@@ -1,0 +1,70 @@
+#include "app/bench/bench.h"
+#include "app/cli/commands.h"
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+namespace dtf::app {
+
+std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given) {
+  namespace fs = std::filesystem;
+  if (given) return fs::path(*given);
+  if (const char* env = std::getenv("DTF_SHARED_DATA"); env && *env) return fs::path(env);
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return std::nullopt;
+  for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
+    if (fs::exists(p / "shared" / "data" / "iu_prisma_dwi")) return p / "shared" / "data";
+  return std::nullopt;
+}
+
+double loadAverage() {
+  double l = -1;
+  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
+    std::fclose(f);
+  }
+  return l;
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+const std::vector<Benchmark>& benchmarks() {
+  static const std::vector<Benchmark> list = {
+      {"io",
+       "load time of an HCP-sized tensor volume, DWI fit times, FA-map time, the real tensor in each format, "
+       "tractogram loads (stroke.trk.gz beside nibabel, a 1 M-streamline TRX)",
+       benchIo},
+      {"render", "per-pass GPU times and ms/frame of the fabric against plain Phong", benchRender},
+      {"surfaces", "FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume", benchSurfaces},
+      {"tracts", "streamlines/s of deterministic tensor tracking on the real brain", benchTracts},
+      {"overlay", "the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection",
+       benchOverlay},
+      {"view", "the viewer's frame times and FA-sweep latency, headless", benchView},
+      {"check", "the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)", benchCheck},
+  };
+  return list;
+}
+
+int cmdBench(const CommandArgs& args) {
+  std::string names;
+  for (const auto& b : benchmarks())
+    names += (names.empty() ? "" : "|") + std::string(b.name);
+  if (args.empty() || args[0] == "--help") {
+    std::printf("usage: dtfabric bench %s [OPTIONS] [--json]\n", names.c_str());
+    for (const auto& b : benchmarks())
+      std::printf("  %-9s %s\n", b.name, b.summary);
+    return args.empty() ? 1 : 0;
+  }
+  CommandArgs rest(args.begin() + 1, args.end());
+  for (const auto& b : benchmarks())
+    if (args[0] == b.name) return b.run(rest);
+  throw UsageError("unknown benchmark '" + args[0] + "' (" + names + ")");
+}
+
+} // namespace dtf::app

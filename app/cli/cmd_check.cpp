@@ -1,0 +1,206 @@
+// `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
+// surfaces/orientation_check.h and app/check_run.h).
+#include "app/cli/args.h"
+#include "app/scene/check_run.h"
+#include "app/cli/commands.h"
+#include "io/atomic_file.h"
+#include "io/model/error.h"
+#include "io/png_io.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace dtf::app {
+
+namespace {
+
+const char* kHelp = R"(usage: dtfabric check INPUT [--bval F --bvec F] [--mask M] [--layout L] [--json]
+                      [--sheet OUT.png] [--fix-bvec OUT.bvec] [--force]
+
+Checks the orientation of the diffusion directions: a gradient table with an axis negated or swapped, or a
+tensor file read in the wrong layout or frame, leaves DEC colours unchanged but turns every direction.
+Scores each of the 24 signed axis permutations of the table (a table and its negation measure the same)
+by fibre coherence (Schilling et al. 2019): the number of neighbouring white-matter voxel pairs (13
+neighbour directions) whose principal directions both lie within 30 degrees of the step between them, per
+white-matter voxel (FA >= 0.3). A DWI is fitted once (WLS); the other tables' tensors follow exactly as
+D' = G D G^T without refitting.
+
+INPUT is a DWI (4D with a volume count other than 6, or given --bval/--bvec; default tables: INPUT's
+sibling .bval/.bvec) or a tensor file (its stored directions are judged in world RAS).
+
+Verdict
+  ok            the given table scores best, by at least the margin threshold
+  corrected     another table scores best by at least the margin: corrected bvec = M * given bvec
+  inconclusive  too little white matter or too small a margin to say
+The thresholds are printed with every result.
+
+  --bval F --bvec F   the gradient table (FSL; bvec 3xN or Nx3, frame: voxel axes, x negated when
+                      det(affine) > 0). Every diffusion-weighted direction must be a unit vector.
+  --mask M            fit and score only inside M (same grid); default: the fit's automatic mask
+  --layout L          tensor file layout override (fsl, mrtrix, symmatrix, dtitk)
+  --json              one JSON object: verdict, correction (M, 3x3 row-major), score_given, score_best,
+                      margin, candidates (matrix, score), mask and white-matter voxel counts, thresholds
+  --sheet OUT.png     contact sheet: the fabric on the axial slice through the callosal body, the coronal
+                      slice through the corticospinal tracts and the midline sagittal slice (radiological),
+                      for the given table and the two best others, labelled with transform and score
+  --sheet-size PX     edge of each contact-sheet panel in pixels (default 320)
+  --fix-bvec OUT      write the corrected FSL table (DWI only; refused when inconclusive unless --force)
+  --force             replace existing outputs (never an input); --fix-bvec even when inconclusive
+  --min-margin F      margin below which the verdict is inconclusive (default 0.07 = 7%)
+  --min-white-matter N  white-matter voxels below which it is inconclusive (default 3000)
+
+Exit codes: 0 the check ran (whatever the verdict), 1 usage, 2 bad input, 3 GL failure (--sheet).
+)";
+
+std::string matrixJson(const surfaces::AxisTransform& t) {
+  std::string s = "[";
+  for (int row = 0; row < 3; ++row) {
+    s += row ? ", [" : "[";
+    for (int col = 0; col < 3; ++col)
+      s += (col ? ", " : "") + std::to_string(t.m[static_cast<std::size_t>(row * 3 + col)]);
+    s += "]";
+  }
+  return s + "]";
+}
+
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) continue;
+    o += c;
+  }
+  return o + "\"";
+}
+
+void printJson(const CheckRun& run, const std::string& input) {
+  const surfaces::OrientationReport& r = run.report;
+  std::printf("{\"input\": %s, \"kind\": \"%s\", \"frame\": \"%s\", \"verdict\": \"%s\", \"reason\": %s,\n",
+              jsonString(input).c_str(), run.dwi ? "dwi" : "tensor", run.dwi ? "bvec" : "world",
+              surfaces::verdictName(r.verdict), jsonString(r.reason).c_str());
+  std::printf(" \"correction\": %s, \"correction_name\": \"%s\",\n", matrixJson(r.correction).c_str(),
+              r.correction.name().c_str());
+  std::printf(
+      " \"score_given\": %.6f, \"score_best\": %.6f, \"margin\": %.6f, \"best\": \"%s\", \"runner_up\": "
+      "\"%s\",\n",
+      r.scoreGiven, r.scoreBest, r.margin, r.candidates[r.best].transform.name().c_str(),
+      r.candidates[r.runnerUp].transform.name().c_str());
+  std::printf(" \"mask_voxels\": %zu, \"white_matter_voxels\": %zu,\n", r.maskVoxels, r.whiteMatterVoxels);
+  std::printf(
+      " \"thresholds\": {\"fa\": %.3f, \"cos\": %.3f, \"min_white_matter\": %zu, \"min_margin\": %.4f},\n",
+      r.options.faThreshold, r.options.cosThreshold, r.options.minWhiteMatter, r.options.minMargin);
+  std::printf(" \"seconds\": {\"load\": %.4f, \"fit\": %.4f, \"check\": %.4f},\n", run.loadSeconds,
+              run.fitSeconds, run.checkSeconds);
+  std::printf(" \"candidates\": [");
+  for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+    const auto& c = r.candidates[i];
+    std::printf("%s\n  {\"name\": \"%s\", \"matrix\": %s, \"score\": %.6f, \"pairs\": %zu}", i ? "," : "",
+                c.transform.name().c_str(), matrixJson(c.transform).c_str(), c.score, c.pairs);
+  }
+  std::printf("]}\n");
+}
+
+void printText(const CheckRun& run, const std::string& input) {
+  const surfaces::OrientationReport& r = run.report;
+  const Grid& g = run.field.grid;
+  if (run.dwi)
+    std::printf("%s: DWI %dx%dx%d (%s), table %s, WLS fit %.3f s\n", input.c_str(), g.dims.x, g.dims.y,
+                g.dims.z, g.orientationCode().c_str(), run.bvecPath.c_str(), run.fitSeconds);
+  else
+    std::printf("%s: tensors %dx%dx%d (%s), %s; candidates act on world RAS\n", input.c_str(), g.dims.x,
+                g.dims.y, g.dims.z, g.orientationCode().c_str(), run.layoutNote.c_str());
+  std::printf("voxels: %zu in the mask, %zu white matter (FA >= %.2f)\n", r.maskVoxels, r.whiteMatterVoxels,
+              r.options.faThreshold);
+  std::printf("thresholds: inconclusive below %zu white-matter voxels or a margin below %.1f%% "
+              "(|cos| > %.3f)\n",
+              r.options.minWhiteMatter, 100 * r.options.minMargin, r.options.cosThreshold);
+  std::printf("score = coherent neighbour pairs per white-matter voxel (check %.1f ms):\n",
+              1e3 * run.checkSeconds);
+  std::vector<std::size_t> order(r.candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return r.candidates[a].score > r.candidates[b].score;
+  });
+  for (std::size_t i : order)
+    std::printf("  %-10s %.4f%s\n", r.candidates[i].transform.name().c_str(), r.candidates[i].score,
+                i == 0 ? "  (given)" : "");
+  std::printf("verdict: %s: %s\n", surfaces::verdictName(r.verdict), r.reason.c_str());
+  std::printf("correction: %s (%s)%s\n", matrixJson(r.correction).c_str(), r.correction.name().c_str(),
+              run.dwi ? "  corrected bvec = M * given bvec" : "  corrected D = M D M^T (world)");
+}
+
+} // namespace
+
+int cmdCheck(const CommandArgs& argv) {
+  Args args(argv, {"help", "json", "force"});
+  if (args.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  CheckRequest req;
+  req.input = args.positional(0, "INPUT (see --help)");
+  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
+  req.bval = args.getOr("bval", "");
+  req.bvec = args.getOr("bvec", "");
+  req.mask = args.getOr("mask", "");
+  req.layout = io::parseLayout(args.getOr("layout", "auto"));
+  req.options.minMargin = args.getDouble("min-margin", req.options.minMargin);
+  if (!(req.options.minMargin >= 0 && req.options.minMargin <= 10))
+    throw UsageError("--min-margin must be in [0, 10]");
+  const int minWm = args.getInt("min-white-matter", static_cast<int>(req.options.minWhiteMatter));
+  if (minWm < 1) throw UsageError("--min-white-matter must be at least 1");
+  req.options.minWhiteMatter = static_cast<std::size_t>(minWm);
+  const bool json = args.flag("json");
+  const bool force = args.flag("force");
+  const std::string sheet = args.getOr("sheet", "");
+  const std::string fix = args.getOr("fix-bvec", "");
+  const int panelPx = args.getInt("sheet-size", 320);
+  if (panelPx < 64 || panelPx > 2048) throw UsageError("--sheet-size must be in [64, 2048] pixels");
+  args.finish();
+
+  namespace fs = std::filesystem;
+  const std::vector<std::string> inputs{req.input, req.bval, req.bvec, req.mask};
+  for (const std::string& out : {sheet, fix}) {
+    if (out.empty()) continue;
+    io::refuseOverwritingInput(out, inputs);
+    if (!force && fs::exists(out)) throw InputError(out + " exists (use --force to replace it)");
+  }
+  if (!sheet.empty() && !(sheet.size() > 4 && sheet.compare(sheet.size() - 4, 4, ".png") == 0))
+    throw UsageError("--sheet must name a .png file, got '" + sheet + "'");
+
+  CheckRun run = runCheck(req);
+  if (!fix.empty()) {
+    // Checked again now that the sibling tables are known.
+    io::refuseOverwritingInput(fix, {req.input, run.bvalPath, run.bvecPath, req.mask});
+    if (!run.dwi)
+      throw UsageError("--fix-bvec needs a DWI with its table; " + req.input + " is a tensor file");
+  }
+  if (json)
+    printJson(run, req.input);
+  else
+    printText(run, req.input);
+  std::fflush(stdout);
+
+  if (!fix.empty()) {
+    if (run.report.verdict == surfaces::Verdict::Inconclusive && !force)
+      throw InputError("the check is inconclusive (" + run.report.reason + "): not writing " + fix +
+                       " (use --force to write the best-scoring table anyway)");
+    const surfaces::AxisTransform m = run.report.verdict == surfaces::Verdict::Inconclusive
+                                          ? run.report.candidates[run.report.best].transform
+                                          : run.report.correction;
+    writeCorrectedBvec(fix, run.bvecs, m);
+    std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(),
+                 run.bvecPath.c_str());
+  }
+  if (!sheet.empty()) {
+    const Image img = renderContactSheet(run, sheetRows(run.report), panelPx);
+    io::writePng(sheet, img);
+    std::fprintf(stderr, "wrote %s (%dx%d)\n", sheet.c_str(), img.width, img.height);
+  }
+  return 0;
+}
+
+} // namespace dtf::app

@@ -1,0 +1,166 @@
+// `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/dwi.h and io/tensor_io.h.
+#include "app/cli/args.h"
+#include "app/cli/commands.h"
+#include "io/atomic_file.h"
+#include "io/dwi.h"
+#include "io/formats.h"
+#include "io/model/error.h"
+#include "io/tensor_io.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <unistd.h>
+
+namespace dtf::app {
+
+namespace {
+
+const char* kFitHelp =
+    "usage: dtfabric fit DWI [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]|.mif[.gz]|.nrrd\n"
+    "                    [--layout fsl|mrtrix|symmatrix|dtitk] [--method wls|ols] [--b0-threshold B]\n"
+    "                    [--threads N] [--force]\n"
+    "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).\n"
+    "  --bval, --bvec     gradient table (FSL format; bvec 3xN or Nx3). Default: the DWI path with\n"
+    "                     .nii/.nii.gz replaced by .bval/.bvec; not needed for an MRtrix DWI with a\n"
+    "                     dw_scheme or a DSI Studio .src.gz (their own tables are used)\n"
+    "  --mask M           fit only where M is non-zero (same grid as the DWI); default: an automatic,\n"
+    "                     approximate mask (Otsu on the mean b=0 image)\n"
+    "  -o OUT             output tensor volume, mm^2/s (.mif/.mif.gz: MRtrix image in MRtrix's convention;\n"
+    "                     .nrrd: teem tensor NRRD in RAS space)\n"
+    "  --layout L         on-disk layout of OUT (default fsl: xx xy xz yy yz zz in the bvec frame)\n"
+    "  --method M         wls (default) or ols\n"
+    "  --b0-threshold B   b-values <= B s/mm^2 count as b=0 (default 50)\n"
+    "  --threads N        worker threads (default: all cores)\n"
+    "  --force            overwrite an existing OUT (never an input)\n";
+
+// DWI path with its NIfTI extension replaced by `ext`, if that file exists.
+std::optional<std::string> sibling(const std::string& dwi, const std::string& ext) {
+  std::string base = dwi;
+  for (const char* e : {".nii.gz", ".nii", ".mif.gz", ".mif", ".mih"}) {
+    const std::string s(e);
+    if (base.size() > s.size() && base.compare(base.size() - s.size(), s.size(), s) == 0) {
+      base.resize(base.size() - s.size());
+      break;
+    }
+  }
+  std::string candidate = base + ext;
+  if (candidate != dwi && std::filesystem::exists(candidate)) return candidate;
+  return std::nullopt;
+}
+
+// Progress on stderr: one \r-updated percentage on a terminal, otherwise a line every 25%.
+struct ProgressPrinter {
+  bool tty = isatty(STDERR_FILENO) == 1;
+  int lastShown = -1;
+  void operator()(double f) {
+    const int pct = static_cast<int>(std::lround(f * 100));
+    if (tty) {
+      if (pct == lastShown) return;
+      std::fprintf(stderr, "\rfitting: %3d%%", pct);
+      if (pct >= 100) std::fputc('\n', stderr);
+    } else {
+      const int step = pct / 25 * 25;
+      if (step == lastShown || step == 0) return;
+      std::fprintf(stderr, "fitting: %d%%\n", step);
+      lastShown = step;
+      return;
+    }
+    lastShown = pct;
+    std::fflush(stderr);
+  }
+};
+
+} // namespace
+
+int cmdFit(const CommandArgs& argv) {
+  Args args(argv, {"force", "help"});
+  if (args.flag("help")) {
+    std::printf("%s", kFitHelp);
+    return 0;
+  }
+  const std::string dwiPath = args.positional(0, "DWI volume (see --help)");
+  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
+  const auto output = args.get("output");
+  if (!output) throw UsageError("missing -o OUT.nii.gz");
+  if (!io::isWritableTensorName(*output))
+    throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" +
+                     *output + "'");
+  auto bval = args.get("bval");
+  auto bvec = args.get("bvec");
+  const auto maskPath = args.get("mask");
+  const io::TensorLayout layout = io::parseLayout(args.getOr("layout", "fsl"));
+  if (layout == io::TensorLayout::Auto) throw UsageError("--layout must name a layout (fsl, mrtrix, ...)");
+  io::FitOptions options;
+  const std::string method = args.getOr("method", "wls");
+  if (method == "wls")
+    options.method = io::FitMethod::Wls;
+  else if (method == "ols")
+    options.method = io::FitMethod::Ols;
+  else
+    throw UsageError("--method must be wls or ols, got '" + method + "'");
+  options.b0Threshold = args.getDouble("b0-threshold", 50.0);
+  if (!(options.b0Threshold >= 0)) throw UsageError("--b0-threshold must be >= 0");
+  options.threads = args.getInt("threads", 0);
+  if (options.threads < 0) throw UsageError("--threads must be >= 0");
+  const bool force = args.flag("force");
+  args.finish();
+
+  const bool embedded = !bval && !bvec && io::hasEmbeddedGradients(dwiPath);
+  if (embedded) bval = bvec = std::string();
+  if (!bval) bval = sibling(dwiPath, ".bval");
+  if (!bvec) bvec = sibling(dwiPath, ".bvec");
+  if (!bval) throw InputError("no --bval given and no .bval file beside " + dwiPath);
+  if (!bvec) throw InputError("no --bvec given and no .bvec file beside " + dwiPath);
+
+  std::vector<std::string> inputs{dwiPath};
+  if (!embedded) inputs.insert(inputs.end(), {*bval, *bvec});
+  if (maskPath) inputs.push_back(*maskPath);
+  io::refuseOverwritingInput(*output, inputs);
+  if (!force && std::filesystem::exists(*output))
+    throw InputError(*output + " exists (use --force to overwrite it)");
+
+  const auto start = std::chrono::steady_clock::now();
+  io::Dwi dwi = io::readDwi(dwiPath, *bval, *bvec, options.b0Threshold);
+  MaskVolume mask;
+  if (maskPath) {
+    try {
+      ScalarVolume m = io::readScalarVolume(*maskPath);
+      if (m.components != 1)
+        throw InputError("a mask must be 3D; it has " + std::to_string(m.components) + " volumes");
+      mask = MaskVolume(m.grid, 1, 0);
+      for (std::size_t i = 0; i < m.data.size(); ++i)
+        mask.data[i] = m.data[i] != 0 ? 1 : 0;
+    } catch (...) {
+      rethrowWithContext("while reading mask " + *maskPath);
+    }
+  }
+  const auto& d = dwi.signal.grid.dims;
+  std::fprintf(stderr, "%s: %dx%dx%d, %d volumes; %s fit, %s\n", dwiPath.c_str(), d.x, d.y, d.z,
+               dwi.signal.components, method == "wls" ? "WLS" : "OLS",
+               maskPath ? ("mask " + *maskPath).c_str() : "automatic mask");
+  io::FitStats stats;
+  ProgressPrinter printer;
+  TensorField field;
+  try {
+    field = io::fitTensors(dwi, maskPath ? &mask : nullptr, options, std::ref(printer), &stats);
+  } catch (...) {
+    if (printer.tty) std::fputc('\n', stderr);
+    rethrowWithContext("while fitting " + dwiPath + (maskPath ? " with mask " + *maskPath : ""));
+  }
+  io::writeTensorVolume(*output, field, layout);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fprintf(stderr, "fitted %zu voxels (%zu not positive definite, %zu invalid, %zu signals clamped)\n",
+               stats.voxelsFitted, stats.nonPositiveTensors, stats.invalidVoxels, stats.clampedSignals);
+  const std::string written =
+      io::detectFormat(*output).format == io::FileFormat::Nifti
+          ? std::string(io::layoutName(layout)) + " layout"
+          : std::string(io::formatName(io::detectFormat(*output).format)) + ", its own convention";
+  std::printf("wrote %s (%s) in %.2f s\n", output->c_str(), written.c_str(), seconds);
+  return 0;
+}
+
+} // namespace dtf::app

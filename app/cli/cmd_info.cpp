@@ -1,0 +1,469 @@
+// `dtfabric info`: describes a NIfTI volume the way the readers see it (header facts, chosen affine,
+// detected tensor layout and why, value ranges, NaN/non-positive counts, FA statistics) or one voxel's
+// world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
+#include "app/cli/args.h"
+#include "app/cli/commands.h"
+#include "app/scene/tract_files.h"
+#include "io/model/error.h"
+#include "io/model/tensor.h"
+#include "io/tensor_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace dtf::app {
+
+namespace {
+
+const char* kHelp =
+    "usage: dtfabric info FILE [--layout L] [--json] [--voxel I,J,K]\n"
+    "\n"
+    "Describes a volume: NIfTI-1/NIfTI-2 (.nii, .nii.gz), MRtrix (.mif, .mif.gz, .mih), NRRD (.nrrd,\n"
+    ".nhdr), an FSL dtifit set (basename or a member file), a DSI Studio .src.gz; the format and why it was\n"
+    "chosen are shown. For a tensor volume (4D with 6 volumes, or\n"
+    "5D SYMMATRIX) it shows the detected layout and the reason, the voxel-to-world affine and where it\n"
+    "came from, per-component ranges of the world RAS tensors (mm^2/s), NaN and non-positive-definite\n"
+    "voxel counts and FA statistics. Other volumes get header facts and value ranges.\n"
+    "A tractogram (.tck, .trk, .trk.gz, .trx, .vtk, .vtp) gets its format, header facts, streamline and\n"
+    "point counts, length statistics, data arrays and groups (`dtfabric info TRACTS --help`).\n"
+    "\n"
+    "options:\n"
+    "  --layout L      tensor layout: auto (default), fsl, mrtrix, symmatrix, dtitk; anything but auto\n"
+    "                  reads FILE as tensors and fails when it is not a tensor volume\n"
+    "  --voxel I,J,K   one voxel (0-based): world position, world tensor, eigenvalues (descending,\n"
+    "                  mm^2/s), eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD\n"
+    "  --json          print one JSON object instead of text\n";
+
+const char* kComponentNames[6] = {"xx", "xy", "xz", "yy", "yz", "zz"};
+
+// Minimal JSON writer: objects and arrays with automatic commas; doubles in shortest round-trip form,
+// non-finite values as null.
+class Json {
+public:
+  Json& key(const std::string& k) {
+    comma();
+    str(k);
+    out_ << ':';
+    pendingValue_ = true;
+    return *this;
+  }
+  Json& begin(char c) {
+    comma();
+    out_ << c;
+    first_.push_back(true);
+    return *this;
+  }
+  Json& end(char c) {
+    out_ << c;
+    first_.pop_back();
+    return *this;
+  }
+  Json& value(double v) {
+    comma();
+    if (!std::isfinite(v)) {
+      out_ << "null";
+      return *this;
+    }
+    char buf[32];
+    auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    out_ << std::string(buf, r.ptr);
+    return *this;
+  }
+  Json& value(long long v) {
+    comma();
+    out_ << v;
+    return *this;
+  }
+  Json& value(bool v) {
+    comma();
+    out_ << (v ? "true" : "false");
+    return *this;
+  }
+  Json& value(const std::string& s) {
+    comma();
+    str(s);
+    return *this;
+  }
+  Json& vec(const glm::dvec3& v) {
+    begin('[');
+    for (int i = 0; i < 3; ++i)
+      value(v[i]);
+    return end(']');
+  }
+  std::string text() const { return out_.str(); }
+
+private:
+  void comma() {
+    if (pendingValue_) {
+      pendingValue_ = false;
+      return;
+    }
+    if (!first_.empty()) {
+      if (!first_.back()) out_ << ',';
+      first_.back() = false;
+    }
+  }
+  void str(const std::string& s) {
+    out_ << '"';
+    for (unsigned char c : s) {
+      switch (c) {
+      case '"':
+        out_ << "\\\"";
+        break;
+      case '\\':
+        out_ << "\\\\";
+        break;
+      case '\n':
+        out_ << "\\n";
+        break;
+      case '\r':
+        out_ << "\\r";
+        break;
+      case '\t':
+        out_ << "\\t";
+        break;
+      default:
+        if (c < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+          out_ << buf;
+        } else {
+          out_ << c;
+        }
+      }
+    }
+    out_ << '"';
+  }
+  std::ostringstream out_;
+  std::vector<bool> first_;
+  bool pendingValue_ = false;
+};
+
+struct Range {
+  double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+  void add(double v) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  [[nodiscard]] bool empty() const { return lo > hi; }
+};
+
+std::string num(double v, int precision = 6) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*g", precision, v);
+  return buf;
+}
+
+std::string dimsText(const std::vector<long long>& dims) {
+  std::string s;
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    s += (i ? " x " : "") + std::to_string(dims[i]);
+  return s;
+}
+
+// A tensor volume by shape: 4D x 6 or 5D x 1 x 6 (trailing 1s ignored), or SYMMATRIX intent.
+bool looksLikeTensor(const io::VolumeHeader& h) {
+  std::vector<long long> extra(h.dims.begin() + std::min<std::ptrdiff_t>(3, std::ssize(h.dims)),
+                               h.dims.end());
+  while (!extra.empty() && extra.back() == 1)
+    extra.pop_back();
+  return h.intentCode == 1005 || (extra.size() == 1 && extra[0] == 6) ||
+         (extra.size() == 2 && extra[0] == 1 && extra[1] == 6);
+}
+
+void headerJson(Json& j, const io::VolumeHeader& h) {
+  j.key("file").value(h.path);
+  j.key("file_format").value(h.format);
+  j.key("format_reason").value(h.formatReason);
+  j.key("nifti_version").value(static_cast<long long>(h.niftiVersion));
+  j.key("dims").begin('[');
+  for (long long d : h.dims)
+    j.value(d);
+  j.end(']');
+  j.key("voxel_size").vec(h.grid.spacing);
+  j.key("affine").begin('[');
+  for (int r = 0; r < 4; ++r) {
+    j.begin('[');
+    for (int c = 0; c < 4; ++c)
+      j.value(h.grid.voxelToWorld[c][r]);
+    j.end(']');
+  }
+  j.end(']');
+  j.key("affine_source").value(h.affineSource);
+  j.key("qform_code").value(static_cast<long long>(h.qformCode));
+  j.key("sform_code").value(static_cast<long long>(h.sformCode));
+  j.key("orientation").value(h.grid.orientationCode());
+  j.key("datatype").value(h.datatypeName);
+  j.key("intent_code").value(static_cast<long long>(h.intentCode));
+  j.key("intent_name").value(h.intentName);
+  j.key("scl_slope").value(h.sclSlope);
+  j.key("scl_inter").value(h.sclInter);
+}
+
+void headerText(const io::VolumeHeader& h) {
+  std::printf("file:         %s\n", h.path.c_str());
+  if (h.niftiVersion > 0)
+    std::printf("format:       NIfTI-%d, datatype %s, intent %d%s\n", h.niftiVersion, h.datatypeName.c_str(),
+                h.intentCode, h.intentName.empty() ? "" : (" (" + h.intentName + ")").c_str());
+  else
+    std::printf("format:       %s, datatype %s%s\n", h.format.c_str(), h.datatypeName.c_str(),
+                h.intentName.empty() ? "" : (" (" + h.intentName + ")").c_str());
+  if (!h.formatReason.empty()) std::printf("format why:   %s\n", h.formatReason.c_str());
+  std::printf("dims:         %s\n", dimsText(h.dims).c_str());
+  std::printf("voxel size:   %s x %s x %s mm\n", num(h.grid.spacing.x).c_str(), num(h.grid.spacing.y).c_str(),
+              num(h.grid.spacing.z).c_str());
+  if (h.niftiVersion > 0)
+    std::printf("affine:       %s (qform_code %d, sform_code %d), voxel -> world RAS mm\n",
+                h.affineSource.c_str(), h.qformCode, h.sformCode);
+  else
+    std::printf("affine:       %s, voxel -> world RAS mm\n", h.affineSource.c_str());
+  for (int r = 0; r < 4; ++r) {
+    std::printf("             ");
+    for (int c = 0; c < 4; ++c) {
+      double a = h.grid.voxelToWorld[c][r];
+      std::printf(" %11.5f", std::abs(a) < 5e-6 ? 0.0 : a); // no "-0.00000" for tiny rounding residues
+    }
+    std::printf("\n");
+  }
+  std::printf("orientation:  %s\n", h.grid.orientationCode().c_str());
+  if (!(h.sclSlope == 0 || (h.sclSlope == 1 && h.sclInter == 0)))
+    std::printf("scaling:      value * %s + %s\n", num(h.sclSlope).c_str(), num(h.sclInter).c_str());
+}
+
+void warningsOut(Json* j, const std::vector<std::string>& warnings) {
+  if (j) {
+    j->key("warnings").begin('[');
+    for (const auto& w : warnings)
+      j->value(w);
+    j->end(']');
+    return;
+  }
+  for (const auto& w : warnings)
+    std::printf("warning:      %s\n", w.c_str());
+}
+
+int describeTensors(const io::LoadedTensors& t, bool json) {
+  const TensorField& f = t.field;
+  Range ranges[6];
+  std::vector<double> fa;
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < f.tensors.size(); ++i) {
+    if (!f.valid[i]) continue;
+    ++valid;
+    auto c = f.tensors[i].components();
+    for (int k = 0; k < 6; ++k)
+      ranges[k].add(c[k]);
+    fa.push_back(computeMetrics(eigenDecompose(f.tensors[i])).fa);
+  }
+  double faMean = std::numeric_limits<double>::quiet_NaN(), faMedian = faMean, faMax = faMean;
+  if (!fa.empty()) {
+    double sum = 0;
+    for (double v : fa)
+      sum += v;
+    faMean = sum / double(fa.size());
+    faMax = *std::max_element(fa.begin(), fa.end());
+    auto mid = fa.begin() + static_cast<std::ptrdiff_t>(fa.size() / 2);
+    std::nth_element(fa.begin(), mid, fa.end());
+    faMedian = *mid;
+  }
+  if (json) {
+    Json j;
+    j.begin('{');
+    headerJson(j, t.header);
+    j.key("is_tensor").value(true);
+    j.key("layout").value(std::string(io::layoutName(t.layout)));
+    j.key("layout_reason").value(t.layoutReason);
+    j.key("units").value(std::string("mm^2/s"));
+    j.key("frame").value(std::string("world RAS"));
+    j.key("voxels").value(static_cast<long long>(f.tensors.size()));
+    j.key("valid_voxels").value(static_cast<long long>(valid));
+    j.key("nan_voxels").value(static_cast<long long>(t.nanVoxels));
+    j.key("non_positive_voxels").value(static_cast<long long>(t.nonPositiveVoxels));
+    j.key("component_ranges").begin('{');
+    for (int k = 0; k < 6; ++k) {
+      j.key(kComponentNames[k]).begin('[');
+      j.value(ranges[k].empty() ? NAN : ranges[k].lo).value(ranges[k].empty() ? NAN : ranges[k].hi);
+      j.end(']');
+    }
+    j.end('}');
+    j.key("fa").begin('{');
+    j.key("mean").value(faMean).key("median").value(faMedian).key("max").value(faMax);
+    j.end('}');
+    warningsOut(&j, t.warnings);
+    j.end('}');
+    std::printf("%s\n", j.text().c_str());
+    return 0;
+  }
+  headerText(t.header);
+  std::printf("tensor layout: %s (%s)\n", io::layoutName(t.layout), t.layoutReason.c_str());
+  std::printf("units:        mm^2/s, world RAS, components xx xy xz yy yz zz\n");
+  std::printf("voxels:       %zu valid of %zu; %zu NaN/Inf; %zu not positive definite\n", valid,
+              f.tensors.size(), t.nanVoxels, t.nonPositiveVoxels);
+  std::printf("ranges (valid voxels):\n");
+  for (int k = 0; k < 6; ++k)
+    std::printf("  %s  %12s .. %-12s\n", kComponentNames[k], num(ranges[k].lo).c_str(),
+                num(ranges[k].hi).c_str());
+  std::printf("FA:           mean %s, median %s, max %s\n", num(faMean, 4).c_str(), num(faMedian, 4).c_str(),
+              num(faMax, 4).c_str());
+  warningsOut(nullptr, t.warnings);
+  return 0;
+}
+
+int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) {
+  std::vector<Range> ranges(static_cast<std::size_t>(v.components));
+  std::size_t nonFinite = 0;
+  for (std::size_t i = 0; i < v.data.size(); ++i) {
+    float x = v.data[i];
+    if (!std::isfinite(x)) {
+      ++nonFinite;
+      continue;
+    }
+    ranges[i % static_cast<std::size_t>(v.components)].add(x);
+  }
+  Range all;
+  for (const auto& r : ranges)
+    if (!r.empty()) all.add(r.lo), all.add(r.hi);
+  if (json) {
+    Json j;
+    j.begin('{');
+    headerJson(j, h);
+    j.key("is_tensor").value(false);
+    j.key("components").value(static_cast<long long>(v.components));
+    j.key("value_range")
+        .begin('[')
+        .value(all.empty() ? NAN : all.lo)
+        .value(all.empty() ? NAN : all.hi)
+        .end(']');
+    j.key("component_ranges").begin('[');
+    for (const auto& r : ranges)
+      j.begin('[').value(r.empty() ? NAN : r.lo).value(r.empty() ? NAN : r.hi).end(']');
+    j.end(']');
+    j.key("nan_values").value(static_cast<long long>(nonFinite));
+    warningsOut(&j, h.warnings);
+    j.end('}');
+    std::printf("%s\n", j.text().c_str());
+    return 0;
+  }
+  headerText(h);
+  std::printf("not a tensor volume: %d component(s) per voxel (a tensor volume has 6)\n", v.components);
+  std::printf("value range:  %s .. %s%s\n", num(all.lo).c_str(), num(all.hi).c_str(),
+              v.components > 1 ? " (all components)" : "");
+  if (nonFinite) std::printf("NaN/Inf:      %zu values\n", nonFinite);
+  warningsOut(nullptr, h.warnings);
+  return 0;
+}
+
+int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::LoadedTensors* t,
+                  const ScalarVolume* v, const int ijk[3], bool json) {
+  const Grid& g = h.grid;
+  if (!g.contains(ijk[0], ijk[1], ijk[2]))
+    throw UsageError("voxel " + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                     std::to_string(ijk[2]) + " is outside the grid " + std::to_string(g.dims.x) + "x" +
+                     std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z));
+  glm::dvec3 world = g.toWorld(glm::dvec3(ijk[0], ijk[1], ijk[2]));
+  Json j;
+  if (json) {
+    j.begin('{');
+    j.key("file").value(path);
+    j.key("voxel").begin('[').value(static_cast<long long>(ijk[0])).value(static_cast<long long>(ijk[1]));
+    j.value(static_cast<long long>(ijk[2])).end(']');
+    j.key("world").vec(world);
+  } else {
+    std::printf("file:         %s\n", path.c_str());
+    std::printf("voxel:        %d, %d, %d\n", ijk[0], ijk[1], ijk[2]);
+    std::printf("world:        %s, %s, %s mm (RAS)\n", num(world.x).c_str(), num(world.y).c_str(),
+                num(world.z).c_str());
+  }
+  if (!t) {
+    int comps = v->components;
+    if (json) {
+      j.key("is_tensor").value(false);
+      j.key("values").begin('[');
+      for (int c = 0; c < comps; ++c)
+        j.value(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
+      j.end(']').end('}');
+      std::printf("%s\n", j.text().c_str());
+    } else {
+      std::printf("values:      ");
+      for (int c = 0; c < comps; ++c)
+        std::printf(" %s", num(v->at(ijk[0], ijk[1], ijk[2], c)).c_str());
+      std::printf("\n");
+    }
+    return 0;
+  }
+  std::size_t idx = g.index(ijk[0], ijk[1], ijk[2]);
+  bool valid = t->field.valid[idx] != 0;
+  glm::dmat3 m = t->field.tensors[idx].toMat();
+  EigenSystem e = eigenDecompose(m);
+  TensorMetrics mt = computeMetrics(e);
+  if (json) {
+    j.key("is_tensor").value(true);
+    j.key("layout").value(std::string(io::layoutName(t->layout)));
+    j.key("valid").value(valid);
+    j.key("units").value(std::string("mm^2/s"));
+    j.key("tensor_world").begin('[');
+    for (int r = 0; r < 3; ++r)
+      j.vec(glm::dvec3(m[0][r], m[1][r], m[2][r]));
+    j.end(']');
+    j.key("eigenvalues").vec(e.values);
+    j.key("eigenvectors").begin('[');
+    for (int i = 0; i < 3; ++i)
+      j.vec(e.vectors[i]);
+    j.end(']');
+    j.key("fa").value(mt.fa).key("md").value(mt.md).key("ad").value(mt.ad).key("rd").value(mt.rd);
+    j.end('}');
+    std::printf("%s\n", j.text().c_str());
+    return 0;
+  }
+  std::printf("layout:       %s\n", io::layoutName(t->layout));
+  if (!valid) std::printf("note:         this voxel holds no valid tensor (zero, NaN or outside the mask)\n");
+  std::printf("tensor (world RAS, mm^2/s):\n");
+  for (int r = 0; r < 3; ++r)
+    std::printf("  %13.6e %13.6e %13.6e\n", m[0][r], m[1][r], m[2][r]);
+  std::printf("eigenvalues:  %.6e %.6e %.6e mm^2/s\n", e.values.x, e.values.y, e.values.z);
+  for (int i = 0; i < 3; ++i)
+    std::printf("eigenvector %d: %8.5f %8.5f %8.5f (world RAS)\n", i + 1, e.vectors[i].x, e.vectors[i].y,
+                e.vectors[i].z);
+  std::printf("FA %.4f  MD %.4e  AD %.4e  RD %.4e\n", mt.fa, mt.md, mt.ad, mt.rd);
+  return 0;
+}
+
+} // namespace
+
+int cmdInfo(const CommandArgs& argv) {
+  for (const auto& a : argv)
+    if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
+  Args args(argv, {"help", "json"});
+  if (args.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  const std::string path = args.positional(0, "FILE (see --help)");
+  std::string layoutText = args.getOr("layout", "auto");
+  io::TensorLayout layout = io::parseLayout(layoutText);
+  bool json = args.flag("json");
+  auto voxelText = args.get("voxel");
+  int ijk[3] = {0, 0, 0};
+  if (voxelText) parseTriple(*voxelText, ijk);
+  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
+  args.finish();
+
+  io::VolumeHeader h = io::readHeader(path);
+  if (layout != io::TensorLayout::Auto || looksLikeTensor(h)) {
+    io::LoadedTensors t = io::readTensorVolume(path, layout);
+    if (voxelText) return describeVoxel(path, t.header, &t, nullptr, ijk, json);
+    return describeTensors(t, json);
+  }
+  ScalarVolume v = io::readScalarVolume(path, &h);
+  if (voxelText) return describeVoxel(path, h, nullptr, &v, ijk, json);
+  return describeScalar(v, h, json);
+}
+
+} // namespace dtf::app

@@ -1,0 +1,164 @@
+#include "app/cli/args.h"
+#include "app/cli/commands.h"
+#include "app/scene/surface_spec.h"
+#include "app/scene/tensor_input.h"
+#include "io/atomic_file.h"
+#include "io/model/error.h"
+#include "surfaces/fibre_surface.h"
+#include "surfaces/mesh_checks.h"
+#include "surfaces/mesh_io.h"
+#include "surfaces/slices.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace dtf::app {
+
+namespace {
+const char* kHelp = R"(usage: dtfabric surface INPUT SURFACE -o MESH.ply|.vtp|.obj [OPTIONS]
+
+Extracts a surface from a tensor volume (or a DWI with --bval/--bvec), writes it as a mesh in world RAS mm
+and prints its quality figure: the FA- and area-weighted mean of |e1 . n|, how much of the principal
+fibre direction the fabric's projection onto the surface throws away (0 best, 1 worst).
+
+SURFACE is one of
+  --surface SPEC        fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1
+                        | fibre-voxel=I0,J0,K0:I1,J1,K1 | mesh=FILE
+  --fa T                FA isosurface at T (same as --surface fa=T)
+  --slice AXIS[:I]      axial|coronal|sagittal slice I (default the middle), clipped to the data
+  --fibre-surface X0,Y0,Z0:X1,Y1,Z1        stream surface of e1 seeded on a line (world mm)
+  --fibre-surface-voxel I0,J0,K0:I1,J1,K1  the same in voxel indices
+
+Options
+  --layout L            tensor layout override (fsl, mrtrix, symmatrix, dtitk)
+  --bval F --bvec F     treat INPUT as a DWI and fit tensors
+  --smooth SIGMA        FA isosurface pre-smoothing in voxels (default 0.6; 0 = none)
+  --min-component F     drop components smaller than F x the largest (default 0.02)
+  --step MM --length MM --fa-stop F --seed-spacing MM   fibre surface tracing (0.5, 40, 0.15, 0.75)
+  --from AXIS           fibre surfaces: the flat slice to compare with (default: the axis plane that best
+                        contains the seed line)
+  --check               report self-intersections (CGAL); always done for fibre surfaces
+  --repair              remove self-intersecting triangles before writing
+  --remesh EDGE         isotropic remeshing to EDGE mm
+  --force               overwrite an existing output
+  --json                print the report as one JSON object
+)";
+
+double meshArea(const Mesh& m) {
+  double a = 0;
+  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+    a += 0.5 * glm::length(glm::cross(m.positions[m.indices[t + 1]] - m.positions[m.indices[t]],
+                                      m.positions[m.indices[t + 2]] - m.positions[m.indices[t]]));
+  return a;
+}
+} // namespace
+
+int cmdSurface(const CommandArgs& argv) {
+  Args args(argv, {"json", "force", "check", "repair", "help"});
+  if (args.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  const std::string input = args.positional(0, "INPUT");
+  const std::string output = args.getOr("output", "");
+  if (output.empty()) throw UsageError("missing -o MESH");
+  const std::optional<std::string> given = surfaceArgument(args);
+  if (!given) throw UsageError("give exactly one surface (--surface, --fa, --slice or --fibre-surface)");
+  SurfaceSpec spec = parseSurfaceSpec(*given);
+  TensorInputOptions in;
+  in.layout = io::parseLayout(args.getOr("layout", "auto"));
+  in.bval = args.getOr("bval", "");
+  in.bvec = args.getOr("bvec", "");
+  SurfaceBuildOptions bo;
+  bo.smoothSigmaVoxels = args.getDouble("smooth", bo.smoothSigmaVoxels);
+  bo.minComponentFraction = args.getDouble("min-component", bo.minComponentFraction);
+  bo.fibreStepMm = args.getDouble("step", bo.fibreStepMm);
+  bo.fibreLengthMm = args.getDouble("length", bo.fibreLengthMm);
+  bo.fibreFaStop = args.getDouble("fa-stop", bo.fibreFaStop);
+  bo.fibreSeedSpacingMm = args.getDouble("seed-spacing", bo.fibreSeedSpacingMm);
+  const std::string from = args.getOr("from", "");
+  const bool json = args.flag("json"), force = args.flag("force"), repair = args.flag("repair");
+  const bool check = args.flag("check") || repair || spec.kind == SurfaceSpec::Kind::Fibre;
+  const double remesh = args.getDouble("remesh", 0);
+  args.finish();
+
+  io::refuseOverwritingInput(output, {input, spec.file, in.bval, in.bvec});
+  if (!force && std::filesystem::exists(output))
+    throw InputError(output + " exists (use --force to overwrite)");
+
+  in.quiet = json;
+  io::LoadedTensors loaded = loadTensorInput(input, in);
+  const TensorField& field = loaded.field;
+  ScalarVolume fa = computeFaMap(field);
+  auto t0 = std::chrono::steady_clock::now();
+  Mesh mesh;
+  try {
+    mesh = buildSurface(spec, field, fa, bo);
+  } catch (const Error&) {
+    rethrowWithContext("while building the " + describeSurface(spec) + " of " + input);
+  }
+  double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (remesh > 0) mesh = surfaces::remeshIsotropic(mesh, remesh);
+  std::size_t intersections = 0, removed = 0;
+  bool checked = false;
+  if (check) {
+    intersections = surfaces::findSelfIntersections(mesh).intersectingPairs;
+    checked = true;
+    if (repair && intersections > 0) mesh = surfaces::removeSelfIntersections(mesh, &removed);
+  }
+  const double score = surfaces::fibreCrossingScore(mesh, field);
+
+  // Fibre surfaces are compared with the flat slice through their seed line.
+  double flatScore = -1;
+  std::string flatName;
+  if (spec.kind == SurfaceSpec::Kind::Fibre) {
+    glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
+    glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
+    glm::dvec3 dir = glm::normalize(b - a);
+    int axis = 2; // world axis of the plane normal: 0 sagittal, 1 coronal, 2 axial
+    if (!from.empty()) {
+      axis = 2 - static_cast<int>(surfaces::parseSliceAxis(from)); // Axial=0 -> z, Coronal=1 -> y, Sagittal=2 -> x
+    } else {
+      for (int c : {1, 0})
+        if (std::abs(dir[c]) < std::abs(dir[axis]) - 1e-9) axis = c;
+    }
+    glm::dvec3 n(0.0);
+    n[axis] = 1;
+    flatName = axis == 2 ? "axial" : axis == 1 ? "coronal" : "sagittal";
+    ScalarVolume clip(field.grid, 1);
+    for (std::size_t i = 0; i < field.valid.size(); ++i) clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
+    surfaces::SliceOptions so;
+    so.clip = &clip;
+    Mesh flat = surfaces::makePlane(field.grid, 0.5 * (a + b), n, 0.5 * field.grid.spacing.x, so);
+    flatScore = surfaces::fibreCrossingScore(flat, field);
+  }
+
+  surfaces::writeMesh(output, mesh);
+
+  if (json) {
+    std::printf("{\"surface\": \"%s\", \"triangles\": %zu, \"vertices\": %zu, \"area_mm2\": %.3f, "
+                "\"build_ms\": %.2f, \"e1_dot_n\": %.6f",
+                describeSurface(spec).c_str(), mesh.triangleCount(), mesh.positions.size(), meshArea(mesh), buildMs,
+                score);
+    if (flatScore >= 0) std::printf(", \"flat_slice\": \"%s\", \"flat_e1_dot_n\": %.6f", flatName.c_str(), flatScore);
+    if (checked) std::printf(", \"self_intersections\": %zu, \"removed_triangles\": %zu", intersections, removed);
+    std::printf(", \"output\": \"%s\"}\n", output.c_str());
+  } else {
+    std::printf("surface:   %s\n", describeSurface(spec).c_str());
+    std::printf("layout:    %s (%s)\n", io::layoutName(loaded.layout), loaded.layoutReason.c_str());
+    std::printf("mesh:      %zu triangles, %zu vertices, %.1f mm^2, built in %.1f ms\n", mesh.triangleCount(),
+                mesh.positions.size(), meshArea(mesh), buildMs);
+    std::printf("quality:   mean |e1 . n| = %.4f (FA- and area-weighted; 0 = fibres lie in the surface)\n", score);
+    if (flatScore >= 0)
+      std::printf("           the flat %s plane through the seed line: %.4f\n", flatName.c_str(), flatScore);
+    if (checked)
+      std::printf("check:     %zu self-intersecting triangle pairs%s\n", intersections,
+                  removed ? (", " + std::to_string(removed) + " triangles removed").c_str() : "");
+    std::printf("wrote:     %s\n", output.c_str());
+  }
+  return 0;
+}
+
+} // namespace dtf::app

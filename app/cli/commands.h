@@ -1,0 +1,47 @@
+// The dtfabric subcommands. Each takes the arguments after its name and returns the process exit code:
+// 0 ok, 1 usage, 2 bad input, 3 GL/render failure. Errors are thrown as dtf::Error subclasses and mapped
+// to exit codes in cli.cpp.
+//
+// A new command is one entry in commands() (cli.cpp) and its file app/cli/cmd_NAME.cpp with
+// `int cmdName(const CommandArgs&)` declared here; `dtfabric --help`, `dtfabric help --markdown` (the
+// README's command table) and the test that checks them follow from the entry.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dtf::app {
+
+using CommandArgs = std::vector<std::string>;
+
+struct Command {
+  const char* name;
+  const char* synopsis;    // the arguments after the name, as the README's table shows them
+  const char* summary;     // one line for `dtfabric --help`
+  const char* description; // the README's table
+  int (*run)(const CommandArgs& args);
+};
+
+int cmdInfo(const CommandArgs& args);
+int cmdFit(const CommandArgs& args);
+int cmdPhantom(const CommandArgs& args);
+int cmdSurface(const CommandArgs& args);
+int cmdRender(const CommandArgs& args);
+int cmdBench(const CommandArgs& args);
+int cmdView(const CommandArgs& args);
+int cmdTrack(const CommandArgs& args);
+int cmdCompare(const CommandArgs& args);
+int cmdCheck(const CommandArgs& args);
+int cmdConvert(const CommandArgs& args);
+// `info` for tract files (cmdInfo hands over when FILE is a tractogram).
+int cmdTractInfo(const CommandArgs& args);
+int cmdHelp(const CommandArgs& args);
+
+// All commands, in the order `dtfabric --help` lists them.
+const std::vector<Command>& commands();
+// The README's tables: commands, then the viewer's script commands (markdown).
+std::string markdownTables();
+// Entry point shared by main() and the CLI tests.
+int runCli(int argc, char** argv);
+
+} // namespace dtf::app

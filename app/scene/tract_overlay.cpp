@@ -1,0 +1,28 @@
+#include "app/scene/tract_overlay.h"
+
+#include "surfaces/near_surface.h"
+
+namespace dtf::app {
+
+TractPick pickTracts(const Mesh& surface, double nearMm) {
+  TractPick p;
+  p.plane = surfaces::meshPlane(surface);
+  p.nearOnly = !p.plane && nearMm > 0;
+  return p;
+}
+
+TractClip tractClip(const TractPick& pick, const TractOverlayOptions& o, const glm::vec3& forward,
+                    const glm::vec3& centre) {
+  TractClip c;
+  if (pick.plane) {
+    c.plane = *pick.plane;
+    c.slabMm = static_cast<float>(o.clipMm > 0 ? o.clipMm : o.nearMm);
+  } else {
+    const glm::vec3 anchor = centre + static_cast<float>(o.clipDepthMm) * forward;
+    c.plane = glm::vec4(forward, -glm::dot(forward, anchor));
+    c.slabMm = static_cast<float>(o.clipMm);
+  }
+  return c;
+}
+
+} // namespace dtf::app

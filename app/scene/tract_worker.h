@@ -1,0 +1,130 @@
+// The viewer's tract work off the GUI thread (long work never blocks the window): the
+// selection of what is drawn for the surface on screen (near-surface selection, or every tract with a slab
+// on a planar surface) and its display preparation, the agreement measure, saving, on one thread; tracking,
+// which may run for minutes, on another, with progress and cancel. Selection and agreement requests
+// coalesce: a newer request replaces one not started and cancels a running selection, so an FA sweep costs
+// one selection per surface the user can see. Results are polled by the GUI thread.
+#pragma once
+
+#include "app/scene/track_request.h"
+#include "app/scene/viewer_worker.h"
+#include "io/model/geometry.h"
+#include "render/tract_renderer.h"
+#include "surfaces/agreement.h"
+#include "surfaces/tracking.h"
+#include "ui/actions.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+namespace dtf::app {
+
+struct TractResult {
+  enum class Kind { Selection, Tracking, Agreement, Saved, Failed } kind = Kind::Failed;
+  std::uint64_t id = 0;
+  std::string what; // Failed: the job, e.g. "tracking"
+  // Selection: what to draw for the surface (shared while the tracts and the choice stay the same).
+  std::shared_ptr<const render::DisplayTracts> display;
+  bool slab = false;                 // planar surface: every tract, clipped to a slab around `plane`
+                                     // (app/scene/tract_overlay.h)
+  glm::vec4 plane{0, 0, 1, 0};       // unit normal, offset (world mm)
+  std::size_t lines = 0, points = 0; // selected, before display decimation
+  // Tracking: the streamlines and a one-line report; cancelled runs keep nothing.
+  std::shared_ptr<const Polylines> tracts;
+  std::string report;
+  bool cancelled = false;
+  surfaces::AgreementResult agreement;
+  std::string path; // Saved
+  std::string error;
+  double ms = 0;
+};
+
+struct SelectionJob {
+  std::uint64_t id = 0;
+  std::shared_ptr<const Polylines> tracts;
+  std::uint64_t tractsSerial = 0; // tells the worker when its cached display of all tracts is stale
+  std::shared_ptr<const Mesh> mesh;
+  double nearMm = 3.0; // curved surfaces: 0 = every tract
+};
+
+struct TrackingJob {
+  std::uint64_t id = 0;
+  std::shared_ptr<const ViewerDataset> data;
+  std::shared_ptr<const Mesh> mesh; // SeedKind::Surface
+  ui::TrackRequest request;         // sliceIndex already resolved (>= 0)
+};
+
+struct AgreementJob {
+  std::uint64_t id = 0;
+  std::shared_ptr<const Polylines> tracts;
+  std::shared_ptr<const Mesh> mesh;
+  std::shared_ptr<const ViewerDataset> data;
+  surfaces::AgreementOptions options;
+};
+
+struct SaveJob {
+  std::uint64_t id = 0;
+  std::shared_ptr<const Polylines> tracts;
+  std::string path;
+  std::optional<Grid> reference; // .trk
+  bool overwrite = false;
+};
+
+class TractWorker {
+public:
+  TractWorker();
+  // Cancels tracking and a running selection, finishes the running jobs and joins.
+  ~TractWorker();
+  TractWorker(const TractWorker&) = delete;
+  TractWorker& operator=(const TractWorker&) = delete;
+
+  void requestSelection(SelectionJob job);
+  void requestAgreement(AgreementJob job);
+  void requestSave(SaveJob job);
+  // Throws UsageError when tracking is already running.
+  void requestTracking(TrackingJob job);
+  void cancelTracking();
+  // Takes the oldest finished result, if any.
+  bool poll(TractResult& out);
+  // A job is queued or running, or a result waits to be polled.
+  bool busy() const;
+  // Tracking is queued or running: seeds done and the fraction done (0..1).
+  bool tracking(std::size_t* seedsDone = nullptr, double* fraction = nullptr) const;
+  bool agreementRunning() const;
+
+private:
+  void runAnalysis();
+  void runTracking();
+  void push(TractResult&& r);
+  TractResult select(const SelectionJob& job);
+  TractResult track(const TrackingJob& job);
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<SelectionJob> selection_;
+  std::optional<AgreementJob> agreement_;
+  std::deque<SaveJob> saves_;
+  std::optional<TrackingJob> tracking_;
+  std::deque<TractResult> results_;
+  bool analysisRunning_ = false, agreementRunning_ = false, trackingRunning_ = false, stop_ = false;
+  std::atomic<bool> cancelSelection_{false}, cancelTracking_{false};
+  std::atomic<std::size_t> seedsDone_{0}, seedsPlanned_{0};
+  mutable double lastFraction_ = 0; // progress never runs backwards
+  // The display of every tract, kept while the tract set stays the same (planar surfaces, nearMm 0).
+  std::uint64_t allSerial_ = 0;
+  std::shared_ptr<const render::DisplayTracts> all_;
+  std::thread analysis_, tracker_;
+};
+
+// The seeds of a tracking request (the viewer's SeedKind, as `dtfabric track` builds them). Throws
+// UsageError/InputError for an impossible request (empty mask, slice outside the grid, ...).
+surfaces::SeedSource seedsFor(const ui::TrackRequest& r, const ViewerDataset& data, const Mesh* surface);
+
+} // namespace dtf::app

@@ -1,0 +1,572 @@
+#include "app/viewer/view_script.h"
+
+#include "app/scene/surface_spec.h"
+#include "app/scene/tensor_input.h"
+#include "app/scene/track_request.h"
+#include "io/atomic_file.h"
+#include "io/model/error.h"
+#include "render/fabric_options.h"
+#include "surfaces/slices.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace dtf::app {
+
+namespace {
+
+struct LineError {
+  std::string message;
+};
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\v\f"); // all that words() splits on
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\v\f");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> w;
+  std::istringstream in(s);
+  for (std::string t; in >> t;)
+    w.push_back(t);
+  return w;
+}
+
+double number(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw LineError{what + ": '" + text + "' is not a number"};
+  return v;
+}
+
+int integer(const std::string& text, const std::string& what) {
+  const double v = number(text, what);
+  if (v != std::floor(v) || std::abs(v) > 1e9) throw LineError{what + ": '" + text + "' is not an integer"};
+  return static_cast<int>(v);
+}
+
+bool onOff(const std::string& text, const std::string& what) {
+  if (text == "on" || text == "1" || text == "true") return true;
+  if (text == "off" || text == "0" || text == "false") return false;
+  throw LineError{what + " takes on or off, got '" + text + "'"};
+}
+
+void expectArgs(const std::vector<std::string>& w, std::size_t n, const char* usage) {
+  if (w.size() != n + 1) throw LineError{std::string("usage: ") + usage};
+}
+
+// `set NAME VALUE`: any option of render/fabric_options.h by its name or an older script name.
+ScriptSetParam parseParam(const std::string& name, const std::string& value) {
+  const render::FabricOption* o = render::findFabricOption(name);
+  if (!o) {
+    std::string names;
+    for (const auto& f : render::fabricOptions())
+      names += (names.empty() ? "" : ", ") + std::string(f.name);
+    throw LineError{"unknown fabric parameter '" + name + "' (" + names + ")"};
+  }
+  const std::string text = o->kind == render::FabricOption::Kind::OnOff ? (onOff(value, name) ? "on" : "off")
+                                                                         : value;
+  try {
+    return {o->name, o->parse(text)};
+  } catch (const UsageError& e) {
+    // The message names the option as the line does (an older name stays an older name).
+    const std::string what = e.what(), canonical = o->name;
+    throw LineError{what.rfind(canonical, 0) == 0 ? name + what.substr(canonical.size()) : what};
+  }
+}
+
+// `track KEY=VALUE ...`: the options of `dtfabric track` (see view_script.h).
+ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
+  ui::TrackRequest r;
+  bool counted = false;
+  for (std::size_t i = 1; i < w.size(); ++i) {
+    const std::string& a = w[i];
+    if (a == "rk4" || a == "euler") {
+      r.rk4 = a == "rk4";
+      continue;
+    }
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq + 1 == a.size())
+      throw LineError{"track: expected KEY=VALUE, got '" + a + "'"};
+    const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
+    auto setCount = [&](ui::SeedCount kind) {
+      if (counted) throw LineError{"track: give one of select=, seeds=, per-voxel="};
+      counted = true;
+      r.count = kind;
+      r.number = integer(value, "track " + key);
+      if (r.number < 1 || r.number > 10'000'000) throw LineError{"track " + key + " must lie in [1, 10^7]"};
+    };
+    if (key == "from") {
+      const auto colon = value.find(':');
+      const std::string kind = value.substr(0, colon),
+                        rest = colon == std::string::npos ? "" : value.substr(colon + 1);
+      if (kind == "surface" && rest.empty()) {
+        r.seeds = ui::SeedKind::Surface;
+      } else if (kind == "slice" && !rest.empty()) {
+        r.seeds = ui::SeedKind::Slice;
+        const auto c2 = rest.find(':');
+        try {
+          r.sliceAxis = static_cast<int>(surfaces::parseSliceAxis(rest.substr(0, c2)));
+        } catch (const UsageError& e) {
+          throw LineError{e.what()};
+        }
+        r.sliceIndex = c2 == std::string::npos ? -1 : integer(rest.substr(c2 + 1), "track slice index");
+        if (c2 != std::string::npos && (r.sliceIndex < 0 || r.sliceIndex > 1'000'000))
+          throw LineError{"track: slice index must lie in [0, 10^6]"};
+      } else if (kind == "sphere" && !rest.empty()) {
+        r.seeds = ui::SeedKind::Sphere;
+        double v[4];
+        std::size_t at = 0;
+        for (int k = 0; k < 4; ++k) {
+          const auto comma = rest.find(',', at);
+          if ((k < 3) == (comma == std::string::npos)) throw LineError{"track: from=sphere:X,Y,Z,R"};
+          v[k] =
+              number(rest.substr(at, comma == std::string::npos ? std::string::npos : comma - at), "sphere");
+          at = comma + 1;
+        }
+        if (!(v[3] > 0 && v[3] <= 1000)) throw LineError{"track: the sphere radius must lie in (0, 1000] mm"};
+        r.centre = glm::dvec3(v[0], v[1], v[2]);
+        r.radiusMm = v[3];
+      } else if (kind == "fa" && !rest.empty()) {
+        r.seeds = ui::SeedKind::FaMask;
+        r.faMask = number(rest, "track FA mask");
+        if (!(r.faMask > 0 && r.faMask < 1)) throw LineError{"track: from=fa:T needs 0 < T < 1"};
+      } else {
+        throw LineError{"track: from=surface | slice:AXIS[:I] | sphere:X,Y,Z,R | fa:T, got '" + value + "'"};
+      }
+    } else if (key == "select") {
+      setCount(ui::SeedCount::Select);
+    } else if (key == "seeds") {
+      setCount(ui::SeedCount::Seeds);
+    } else if (key == "per-voxel") {
+      setCount(ui::SeedCount::PerVoxel);
+    } else if (key == "fa-stop") {
+      r.faStop = number(value, "track fa-stop");
+    } else if (key == "angle") {
+      r.angleDeg = number(value, "track angle");
+    } else if (key == "step") {
+      r.stepMm = number(value, "track step");
+    } else if (key == "min-length") {
+      r.minLengthMm = number(value, "track min-length");
+    } else if (key == "max-length") {
+      r.maxLengthMm = number(value, "track max-length");
+    } else if (key == "seed") {
+      r.rngSeed = integer(value, "track seed");
+      if (r.rngSeed < 0) throw LineError{"track: seed must not be negative"};
+    } else {
+      throw LineError{
+          "track: unknown option '" + key +
+          "' (from, select, seeds, per-voxel, fa-stop, angle, step, min-length, max-length, seed, "
+          "rk4, euler)"};
+    }
+  }
+  if (r.count == ui::SeedCount::PerVoxel && r.seeds != ui::SeedKind::FaMask)
+    throw LineError{"track: per-voxel needs from=fa:T"};
+  try {
+    surfaces::validate(dtf::app::trackingOptions(r));
+  } catch (const UsageError& e) {
+    throw LineError{std::string("track: ") + e.what()};
+  }
+  return r;
+}
+
+// Everything after the command word, for paths that may hold spaces.
+std::string restOf(const std::string& line, const std::string& command) {
+  return trim(line.substr(line.find(command) + command.size()));
+}
+
+// An output line's argument: "[--force] PATH".
+std::pair<std::string, bool> outputArg(const std::string& arg, const char* usage) {
+  const std::string flag = "--force";
+  if (arg.compare(0, flag.size(), flag) != 0 ||
+      (arg.size() > flag.size() && !std::isspace(static_cast<unsigned char>(arg[flag.size()]))))
+    return {arg, false};
+  std::string p = trim(arg.substr(flag.size()));
+  if (p.empty()) throw LineError{std::string("usage: ") + usage};
+  return {p, true};
+}
+
+} // namespace
+
+// A script line split into words; path() is everything after the command word (paths may hold spaces).
+struct ScriptLine {
+  std::vector<std::string> words;
+  std::string text;
+  std::string path(const char* usage) const {
+    std::string p = restOf(text, words[0]);
+    if (p.empty()) throw LineError{std::string("usage: ") + usage};
+    return p;
+  }
+};
+
+namespace {
+
+void parseLoad(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadFile{line.path("load PATH"), "auto"});
+}
+
+void parseSurface(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "surface SPEC");
+  try {
+    parseSurfaceSpec(w[1]);
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+  step.command = ui::Action(ui::SetSurfaceSpec{w[1]});
+}
+
+void parseFa(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "fa T");
+  const double t = number(w[1], "fa threshold");
+  if (t <= 0 || t >= 1) throw LineError{"fa threshold must lie in (0, 1), got " + w[1]};
+  step.command = ui::Action(ui::SetFaThreshold{t});
+}
+
+void parseSlice(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "slice axial|coronal|sagittal INDEX");
+  int axis = 0;
+  try {
+    axis = static_cast<int>(surfaces::parseSliceAxis(w[1]));
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+  const int index = integer(w[2], "slice index");
+  if (index < 0) throw LineError{"slice index must not be negative"};
+  step.command = ui::Action(ui::SetSlice{axis, index});
+}
+
+void parseKey(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
+  auto key = ui::parseKey(w[1]);
+  if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
+  step.command = *key;
+}
+
+void parseRotate(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const std::string& c = line.words[0];
+  expectArgs(w, 2, c == "rotate" ? "rotate DX DY" : "pan DX DY");
+  const double dx = number(w[1], c + " DX"), dy = number(w[2], c + " DY");
+  if (std::abs(dx) > 1e5 || std::abs(dy) > 1e5) throw LineError{c + ": drag too large"};
+  step.command = c == "rotate" ? ui::Action(ui::Rotate{dx, dy}) : ui::Action(ui::Pan{dx, dy});
+}
+
+void parseZoom(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "zoom F");
+  const double f = number(w[1], "zoom factor");
+  if (f <= 0.01 || f > 100) throw LineError{"zoom factor must lie in (0.01, 100], got " + w[1]};
+  step.command = ui::Action(ui::Zoom{f});
+}
+
+void parseView(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "view NAME");
+  try {
+    step.command = ui::Action(ui::SetView{render::parseView(w[1])});
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+}
+
+void parseSplit(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "split on|off|colour|phong|tracts");
+  if (w[1] == "colour" || w[1] == "color")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::OtherColourMode});
+  else if (w[1] == "phong")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Phong});
+  else if (w[1] == "tracts")
+    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Tracts});
+  else if (w[1] == "on" || w[1] == "off" || w[1] == "1" || w[1] == "0" || w[1] == "true" || w[1] == "false")
+    step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+  else
+    throw LineError{"split takes on or off (or colour, phong, tracts), got '" + w[1] + "'"};
+}
+
+void parseLinked(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "linked on|off");
+  step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
+}
+
+void parseNeurological(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "neurological on|off");
+  step.command = ui::Action(ui::SetNeurological{onOff(w[1], "neurological")});
+}
+
+void parseSet(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "set PARAM VALUE");
+  step.command = parseParam(w[1], w[2]);
+}
+
+void parseWait(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "wait FRAMES");
+  const int n = integer(w[1], "wait frames");
+  if (n < 0 || n > 100000) throw LineError{"wait frames must lie in [0, 100000], got " + w[1]};
+  step.command = ScriptWait{n};
+}
+
+void parseScreenshot(const ScriptLine& line, ScriptStep& step) {
+  const std::string& c = line.words[0];
+  const char* usage = c == "screenshot" ? "screenshot [--force] PATH" : "screenshot-scene [--force] PATH";
+  const auto [p, force] = outputArg(line.path(usage), usage);
+  if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
+    throw LineError{c + ": the path must end in .png"};
+  step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene", force});
+}
+
+void parseCameraSave(const ScriptLine& line, ScriptStep& step) {
+  const auto [p, force] = outputArg(line.path("camera-save [--force] PATH"), "camera-save [--force] PATH");
+  step.command = ui::Action(ui::SaveCamera{p, force});
+}
+
+void parseCameraLoad(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadCamera{line.path("camera-load PATH")});
+}
+
+void parseProbe(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "probe X Y");
+  const double x = number(w[1], "probe X"), y = number(w[2], "probe Y");
+  if (x < 0 || y < 0 || x > 1e5 || y > 1e5)
+    throw LineError{"probe: pixel coordinates must be non-negative"};
+  step.command = ScriptProbe{x, y};
+}
+
+void parseResize(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "resize WxH");
+  const auto x = w[1].find('x');
+  if (x == std::string::npos) throw LineError{"usage: resize WxH"};
+  const int width = integer(w[1].substr(0, x), "resize width");
+  const int height = integer(w[1].substr(x + 1), "resize height");
+  if (width < 320 || height < 240 || width > 8192 || height > 8192)
+    throw LineError{"resize: the size must lie between 320x240 and 8192x8192"};
+  step.command = ScriptResize{width, height};
+}
+
+void parseTracts(const ScriptLine& line, ScriptStep& step) {
+  step.command = ui::Action(ui::LoadTracts{line.path("tracts PATH")});
+}
+
+void parseTractsVisible(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tracts-visible on|off");
+  step.command = ui::Action(ui::SetTractsVisible{onOff(w[1], "tracts-visible")});
+}
+
+void parseTractsNear(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tracts-near MM");
+  const double mm = number(w[1], "tracts-near");
+  if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
+  step.command = ui::Action(ui::SetTractsNear{mm});
+}
+
+void parseTractsClip(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() != 2 && w.size() != 3) throw LineError{"usage: tracts-clip MM [DEPTH_MM]"};
+  const double mm = number(w[1], "tracts-clip");
+  if (mm < 0 || mm > 1000) throw LineError{"tracts-clip must lie in [0, 1000] mm, got " + w[1]};
+  const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
+  if (std::abs(offset) > 1000)
+    throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
+  step.command = ui::Action(ui::SetTractsClip{mm, offset});
+}
+
+void parseTractWidth(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tract-width PX");
+  const double px = number(w[1], "tract-width");
+  if (px <= 0 || px > 32) throw LineError{"tract-width must lie in (0, 32] pixels, got " + w[1]};
+  step.command = ui::Action(ui::SetTractWidth{px});
+}
+
+void parseTrackLine(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  step.command = ui::Action(ui::TrackTracts{parseTrack(w)});
+}
+
+void parseTrackCancel(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 0, "track-cancel");
+  step.command = ui::Action(ui::CancelTracking{});
+}
+
+void parseTractsSave(const ScriptLine& line, ScriptStep& step) {
+  const auto [p, force] = outputArg(line.path("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
+  step.command = ui::Action(ui::SaveTracts{p, force});
+}
+
+void parseAgreement(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
+  ui::ComputeAgreement a;
+  if (w.size() > 1) a.nearMm = number(w[1], "agreement distance");
+  if (w.size() > 2) a.bins = integer(w[2], "agreement bins");
+  if (a.nearMm < 0 || a.nearMm > 1000) throw LineError{"agreement distance must lie in [0, 1000] mm"};
+  if (a.bins < 1 || a.bins > 90) throw LineError{"agreement bins must lie in 1..90"};
+  step.command = ui::Action(a);
+}
+
+void parseQuit(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 0, "quit");
+  step.command = ui::Action(ui::Quit{});
+}
+
+// The script's commands, in the order help lists them.
+const std::vector<ScriptCommand> kCommands = {
+    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec)", parseLoad},
+    {"surface", "SPEC", "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
+    {"fa", "T", "FA isosurface at T (0 < T < 1)", parseFa},
+    {"slice", "AXIS INDEX", "axial, coronal or sagittal slice INDEX", parseSlice},
+    {"key", "NAME", "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view)", parseKey},
+    {"rotate", "DX DY", "trackball drag by DX, DY window pixels (y down)", parseRotate},
+    {"pan", "DX DY", "pan by DX, DY window pixels", parseRotate},
+    {"zoom", "F", "magnify by F (2 = twice as large)", parseZoom},
+    {"view", "NAME", "superior, inferior, anterior, posterior, left, right, or the display views axial, coronal, sagittal", parseView},
+    {"neurological", "on|off", "neurological display convention (default off: radiological)", parseNeurological},
+    {"resize", "WxH", "resize the window", parseResize},
+    {"split", "on|off|colour|phong|tracts", "two panes; colour, phong and tracts also pick the right pane (the other colour mode, Phong shading, fabric + tracts beside the fabric alone)", parseSplit},
+    {"linked", "on|off", "one camera for both panes", parseLinked},
+    {"set", "NAME VALUE", "a fabric option, as `dtfabric render --NAME VALUE` (older names: k, r, colour, depth-colour, fade)", parseSet},
+    {"tracts", "PATH", "load .tck/.trk/.vtk streamlines (world RAS mm) and draw them over the fabric", parseTracts},
+    {"tracts-visible", "on|off", "show or hide the tracts", parseTractsVisible},
+    {"tracts-near", "MM", "only tract segments within MM of the surface (0 = every tract; default 3)", parseTractsNear},
+    {"tracts-clip", "MM [DEPTH]", "clip slab for dense tractograms: only points within MM of the plane facing the camera through the surface's centre, moved DEPTH mm away from the viewer (0 = off); on a planar surface, within MM of its plane", parseTractsClip},
+    {"tract-width", "PX", "tube width in pixels (default 2)", parseTractWidth},
+    {"track", "[KEY=VALUE ...]", "tracking on the worker, as `dtfabric track`: from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T, select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler", parseTrackLine},
+    {"track-cancel", "", "cancel a running `track`", parseTrackCancel},
+    {"tracts-save", "[--force] PATH", "write every point of the tracts to .tck/.trk/.vtk", parseTractsSave},
+    {"agreement", "[MM [BINS]]", "tract/fabric angles within MM (default 2) of the surface in BINS bins (default 9); prints `dtfabric compare`'s numbers", parseAgreement},
+    {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
+    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels)", parseScreenshot},
+    {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
+    {"camera-load", "PATH", "read a camera file", parseCameraLoad},
+    {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
+    {"wait", "FRAMES", "render FRAMES more frames", parseWait},
+    {"quit", "", "close the viewer (exit code 2 when a step failed, 3 for a GL failure)", parseQuit},
+};
+
+ScriptStep parseLine(const std::string& text, int number_) {
+  ScriptStep step;
+  step.line = number_;
+  const ScriptLine line{words(text), text};
+  for (const ScriptCommand& command : kCommands)
+    if (line.words[0] == command.name) {
+      command.parse(line, step);
+      return step;
+    }
+  std::string names;
+  for (const ScriptCommand& command : kCommands)
+    names += (names.empty() ? "" : ", ") + std::string(command.name);
+  throw LineError{"unknown command '" + line.words[0] + "' (" + names + ")"};
+}
+
+} // namespace
+
+const std::vector<ScriptCommand>& scriptCommands() { return kCommands; }
+
+std::string scriptCommandsHelp() {
+  std::string out;
+  for (const ScriptCommand& c : kCommands) {
+    std::string head = std::string("  ") + c.name + (*c.args ? " " : "") + c.args;
+    head.resize(std::max<std::size_t>(head.size() + 2, 30), ' ');
+    out += head + c.help + "\n";
+  }
+  return out;
+}
+
+ViewScript parseViewScript(const std::string& text, const std::string& file) {
+  ViewScript script;
+  script.file = file;
+  std::istringstream in(text);
+  std::string raw;
+  int n = 0;
+  while (std::getline(in, raw)) {
+    ++n;
+    if (raw.find('\0') != std::string::npos)
+      throw UsageError(file + ":" + std::to_string(n) + ": NUL byte in script");
+    const auto hash = raw.find('#');
+    const std::string line = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
+    if (line.empty()) continue;
+    try {
+      script.steps.push_back(parseLine(line, n));
+    } catch (const LineError& e) {
+      throw UsageError(file + ":" + std::to_string(n) + ": " + e.message);
+    }
+  }
+  return script;
+}
+
+ViewScript loadViewScript(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the script");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (ss.str().size() > (16u << 20)) throw InputError(path + ": script larger than 16 MiB");
+  return parseViewScript(ss.str(), path);
+}
+
+void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force) {
+  inputs.push_back(script.file);
+  for (const ScriptStep& step : script.steps) {
+    const auto* a = std::get_if<ui::Action>(&step.command);
+    if (!a) continue;
+    if (const auto* load = std::get_if<ui::LoadFile>(a)) {
+      inputs.push_back(load->path);
+      inputs.push_back(gradientSibling(load->path, ".bval"));
+      inputs.push_back(gradientSibling(load->path, ".bvec"));
+    } else if (const auto* tracts = std::get_if<ui::LoadTracts>(a)) {
+      inputs.push_back(tracts->path);
+    } else if (const auto* surface = std::get_if<ui::SetSurfaceSpec>(a)) {
+      const SurfaceSpec spec = parseSurfaceSpec(surface->text);
+      inputs.push_back(spec.file);
+      for (const auto& part : spec.parts)
+        inputs.push_back(part.file);
+    }
+  }
+  for (const ScriptStep& step : script.steps) {
+    const auto* a = std::get_if<ui::Action>(&step.command);
+    const auto* shot = a ? std::get_if<ui::Screenshot>(a) : nullptr;
+    const auto* camera = a ? std::get_if<ui::SaveCamera>(a) : nullptr;
+    const auto* tracts = a ? std::get_if<ui::SaveTracts>(a) : nullptr;
+    if (!shot && !camera && !tracts) continue;
+    const std::string& path = shot ? shot->path : camera ? camera->path : tracts->path;
+    const bool lineForce = shot ? shot->force : camera ? camera->force : tracts->force;
+    const std::string where = script.file + ":" + std::to_string(step.line) + ": ";
+    try {
+      io::refuseOverwritingInput(path, inputs);
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    }
+    std::error_code ec;
+    if (!force && !lineForce && std::filesystem::exists(path, ec))
+      throw InputError(where + path +
+                       " exists (use --force to overwrite it: `view --force`, or --force before "
+                       "the path on this line)");
+  }
+}
+
+void applyScriptParam(render::FabricParams& p, const ScriptSetParam& s) {
+  if (const render::FabricOption* o = render::findFabricOption(s.name)) o->set(p, s.value);
+}
+
+} // namespace dtf::app

@@ -1,0 +1,452 @@
+// The desktop viewer's window, the only GLFW user: a GL 4.5 core window, Dear ImGui (GLFW + OpenGL3
+// backends), mouse and keys turned into ui actions, script replay, and the scene of app/viewer/viewer.h
+// blitted under the panels each frame.
+#include "app/viewer/window.h"
+
+#include "app/scene/surface_spec.h"
+#include "app/scene/orientation_labels.h"
+#include "app/viewer/viewer.h"
+#include "app/viewer/viewer_orientation.h"
+#include "io/model/error.h"
+#include "io/png_io.h"
+#include "render/gl_context.h"
+#include "ui/panels.h"
+
+#include <GLFW/glfw3.h>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <epoxy/gl.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace dtf::app {
+
+namespace {
+
+
+constexpr std::size_t kMaxKeys = 64;
+
+struct InputQueue {
+  std::array<int, kMaxKeys> keys{};
+  std::array<int, kMaxKeys> mods{};
+  std::size_t keyCount = 0;
+  double scroll = 0;
+};
+
+void onKey(GLFWwindow* w, int key, int, int action, int mods) {
+  auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w));
+  if (!q || (action != GLFW_PRESS && action != GLFW_REPEAT) || q->keyCount >= kMaxKeys) return;
+  q->keys[q->keyCount] = key;
+  q->mods[q->keyCount] = mods;
+  ++q->keyCount;
+}
+
+void onScroll(GLFWwindow* w, double, double dy) {
+  if (auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w))) q->scroll += dy;
+}
+
+std::optional<ui::Key> mapKey(int key) {
+  switch (key) {
+  case GLFW_KEY_UP:
+    return ui::Key::Up;
+  case GLFW_KEY_DOWN:
+    return ui::Key::Down;
+  case GLFW_KEY_PAGE_UP:
+    return ui::Key::PageUp;
+  case GLFW_KEY_PAGE_DOWN:
+    return ui::Key::PageDown;
+  case GLFW_KEY_A:
+    return ui::Key::A;
+  case GLFW_KEY_C:
+    return ui::Key::C;
+  case GLFW_KEY_S:
+    return ui::Key::S;
+  case GLFW_KEY_R:
+    return ui::Key::R;
+  default:
+    return std::nullopt;
+  }
+}
+
+Image readFramebuffer(int x, int y, int w, int h) {
+  Image img(w, h);
+  std::vector<std::uint8_t> rows(img.rgba.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  const std::size_t stride = static_cast<std::size_t>(w) * 4;
+  for (int r = 0; r < h; ++r)
+    std::memcpy(&img.rgba[static_cast<std::size_t>(r) * stride],
+                &rows[static_cast<std::size_t>(h - 1 - r) * stride], stride);
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4)
+    img.rgba[i] = 255;
+  return img;
+}
+
+std::string glfwErrorText;
+void onGlfwError(int code, const char* text) {
+  glfwErrorText = "GLFW error " + std::to_string(code) + ": " + text;
+}
+
+struct GlfwSession {
+  GlfwSession() {
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) throw GlError("cannot initialise GLFW (is a display available?): " + glfwErrorText);
+  }
+  ~GlfwSession() { glfwTerminate(); }
+};
+
+class ViewerWindow {
+public:
+  ViewerWindow(int width, int height, const std::string& surface, const ViewScript* script)
+      : script_(script) {
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
+    window_ = glfwCreateWindow(width, height, "dtfabric", nullptr, nullptr);
+    if (!window_) throw GlError("cannot create a GL 4.5 core window: " + glfwErrorText);
+    glfwMakeContextCurrent(window_);
+    glfwSwapInterval(script ? 0 : 1);
+    glfwSetWindowUserPointer(window_, &input_);
+    // Installed before ImGui's, which chain to them.
+    glfwSetKeyCallback(window_, onKey);
+    glfwSetScrollCallback(window_, onScroll);
+    render::enableDebugOutput();
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // the layout is fixed; no imgui.ini next to the user's files
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window_, true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+    scene_ = std::make_unique<ViewerScene>(surface);
+    // A script cannot answer the overwrite prompt: its outputs fail instead unless they say --force.
+    scene_->setAskBeforeOverwrite(script == nullptr);
+    if (script) scene_->addInput(script->file);
+    std::snprintf(buffers_.screenshotPath.data(), buffers_.screenshotPath.size(), "dtfabric.png");
+    std::snprintf(buffers_.cameraPath.data(), buffers_.cameraPath.size(), "dtfabric.camera");
+    std::snprintf(buffers_.tractSavePath.data(), buffers_.tractSavePath.size(), "tracts.tck");
+    actions_.reserve(32);
+  }
+
+  ~ViewerWindow() {
+    orientationCheck_.release();
+    scene_.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window_);
+  }
+
+  ViewerScene& scene() { return *scene_; }
+  void setOpenPath(const std::string& p) {
+    std::snprintf(buffers_.openPath.data(), buffers_.openPath.size(), "%s", p.c_str());
+  }
+
+  // Runs until the window closes or `quit`; returns the exit code.
+  int run() {
+    while (!glfwWindowShouldClose(window_) && !quit_) {
+      const bool idle = scene_->converged() && scene_->settled() && !dragging_ && !runningScript();
+      if (idle)
+        glfwWaitEventsTimeout(0.25);
+      else
+        glfwPollEvents();
+      // The frame's work, not the idle wait: shown in the status bar and steering the interactive scale.
+      const auto t0 = std::chrono::steady_clock::now();
+      frame();
+      scene_->setFrameMs(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return scriptFailed_ ? (scene_->glFailed() ? 3 : 2) : 0;
+  }
+
+private:
+  bool runningScript() const { return script_ && next_ < script_->steps.size(); }
+
+  void frame() {
+    int fw = 1, fh = 1, ww = 1, wh = 1;
+    glfwGetFramebufferSize(window_, &fw, &fh);
+    glfwGetWindowSize(window_, &ww, &wh);
+    fw = std::max(fw, 1);
+    fh = std::max(fh, 1);
+    scale_ = ww > 0 ? static_cast<double>(fw) / ww : 1.0;
+    float rect[4];
+    ui::sceneRect(layout_, static_cast<float>(ww), static_cast<float>(wh), rect);
+    sceneX_ = static_cast<int>(rect[0] * scale_);
+    sceneW_ = std::max(static_cast<int>(rect[2] * scale_), 1);
+    sceneH_ = std::max(static_cast<int>(rect[3] * scale_), 1);
+    sceneY_ = std::max(fh - sceneH_, 0); // GL y of the scene's bottom edge (the status bar lies below)
+
+    handleInput();
+    scene_->update();
+    stepScript();
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    actions_.clear();
+    ui::drawPanels(scene_->state(), buffers_, layout_, actions_);
+    orientationCheck_.frame(*scene_, rect);
+    drawOrientationLabels();
+    ImGui::Render();
+    for (const auto& a : actions_)
+      perform(a);
+
+    scene_->render(sceneW_, sceneH_);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fw, fh);
+    glDisable(GL_SCISSOR_TEST);
+    glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    scene_->present(0, sceneX_, sceneY_);
+    if (pendingShot_ && pendingShot_->sceneOnly) takeScreenshot(sceneX_, sceneY_, sceneW_, sceneH_);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (pendingShot_) takeScreenshot(0, 0, fw, fh);
+    glfwSwapBuffers(window_);
+    checkDebugOutput();
+    reportNewErrors();
+  }
+
+  void takeScreenshot(int x, int y, int w, int h) {
+    const ui::Screenshot shot = *pendingShot_;
+    pendingShot_.reset();
+    try {
+      if (shot.path.empty()) throw InputError("screenshot: no path given");
+      io::writePng(shot.path, readFramebuffer(x, y, w, h));
+      std::cerr << "wrote " << shot.path << (shot.sceneOnly ? " (scene)" : " (window)") << "\n";
+    } catch (const std::exception& e) {
+      scene_->setError(std::string("while saving a screenshot: ") + e.what());
+    }
+  }
+
+  void perform(const ui::Action& a) {
+    if (const auto* s = std::get_if<ui::Screenshot>(&a)) {
+      if (scene_->mayWrite(s->path, s->force, a)) pendingShot_ = *s;
+    } else if (const auto* c = std::get_if<ui::ConfirmOverwrite>(&a)) {
+      if (auto forced = scene_->answerOverwrite(c->overwrite)) perform(*forced);
+    } else if (std::holds_alternative<ui::Quit>(a))
+      quit_ = true;
+    else
+      scene_->apply(a);
+  }
+
+  bool inScene(double x, double y) const {
+    const double fx = x * scale_, fy = y * scale_;
+    return fx >= sceneX_ && fx < sceneX_ + sceneW_ && fy >= 0 && fy < sceneH_;
+  }
+
+  void handleInput() {
+    const ImGuiIO& io = ImGui::GetIO();
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    const bool middle = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+    const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                       glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    if (!dragging_ && (left || middle) && !io.WantCaptureMouse && inScene(x, y)) {
+      dragging_ = true;
+      panning_ = middle || shift;
+      dragPane_ = scene_->paneAt(x * scale_ - sceneX_);
+      scene_->setActivePane(dragPane_);
+      lastX_ = x;
+      lastY_ = y;
+    } else if (dragging_ && !left && !middle) {
+      dragging_ = false;
+    }
+    scene_->setInteracting(dragging_);
+    if (dragging_ && (x != lastX_ || y != lastY_)) {
+      const double dx = (x - lastX_) * scale_, dy = (y - lastY_) * scale_;
+      if (panning_)
+        scene_->apply(ui::Pan{dx, dy, dragPane_});
+      else
+        scene_->apply(ui::Rotate{dx, dy, dragPane_});
+      lastX_ = x;
+      lastY_ = y;
+    }
+    if (input_.scroll != 0 && !io.WantCaptureMouse && inScene(x, y))
+      scene_->apply(ui::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
+    input_.scroll = 0;
+    for (std::size_t i = 0; i < input_.keyCount; ++i) {
+      if (io.WantCaptureKeyboard) break;
+      if (input_.keys[i] == GLFW_KEY_ESCAPE && !scene_->state().errorChain.empty())
+        scene_->apply(ui::DismissError{});
+      if (auto k = mapKey(input_.keys[i]); k && !(input_.mods[i] & (GLFW_MOD_CONTROL | GLFW_MOD_ALT)))
+        scene_->applyKey(*k);
+    }
+    input_.keyCount = 0;
+    if ((x != probeX_ || y != probeY_) && inScene(x, y)) {
+      scene_->probe(x * scale_ - sceneX_, y * scale_);
+      probeX_ = x;
+      probeY_ = y;
+    }
+  }
+
+  void drawOrientationLabels() {
+    if (!scene_->state().hasData) return;
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    const float inv = static_cast<float>(1.0 / scale_);
+    for (int p = 0; p < scene_->paneCount(); ++p) {
+      const auto r = scene_->paneRect(p);
+      const render::Camera& c = scene_->camera(p);
+      const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+      const float x0 = (sceneX_ + r[0]) * inv, y0 = r[1] * inv, x1 = x0 + r[2] * inv, y1 = y0 + r[3] * inv;
+      const float mx = 0.5f * (x0 + x1), my = 0.5f * (y0 + y1);
+      const struct {
+        const char* text;
+        ImVec2 at;
+      } labels[4] = {{anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
+                     {anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
+                     {anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
+                     {anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
+      for (const auto& l : labels) {
+        dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
+        dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
+      }
+      if (p == 1) dl->AddLine(ImVec2(x0, y0), ImVec2(x0, y1), IM_COL32(90, 90, 90, 255), 2.0f);
+    }
+  }
+
+  void checkDebugOutput() {
+    auto messages = render::takeDebugMessages();
+    if (messages.empty()) return;
+    std::string text = "GL debug output: " + messages.front();
+    if (messages.size() > 1) text += " (and " + std::to_string(messages.size() - 1) + " more)";
+    scene_->setError(text);
+  }
+
+  void reportNewErrors() {
+    if (scene_->errorSerial() == reportedErrors_) return;
+    reportedErrors_ = scene_->errorSerial();
+    std::string text;
+    for (const auto& link : scene_->state().errorChain)
+      text += (text.empty() ? "" : ": ") + link;
+    if (script_) {
+      std::cerr << script_->file << ":" << lastLine_ << ": error: " << text << "\n";
+      scriptFailed_ = true;
+    } else {
+      std::cerr << "error: " << text << "\n";
+    }
+  }
+
+  // Replays script steps: each waits until the worker is idle, a screenshot also until the fabric
+  // converged (so screenshots are deterministic); `wait N` renders N frames.
+  void stepScript() {
+    if (!runningScript()) return;
+    if (waitFrames_ > 0) {
+      --waitFrames_;
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    while (runningScript()) {
+      const ScriptStep& step = script_->steps[next_];
+      const auto* action = std::get_if<ui::Action>(&step.command);
+      const bool shot = action && std::holds_alternative<ui::Screenshot>(*action);
+      const bool probe = std::holds_alternative<ScriptProbe>(step.command);
+      // track-cancel is meant for the running tracking: it does not wait for the worker.
+      const bool cancel = action && std::holds_alternative<ui::CancelTracking>(*action);
+      // Screenshots and probes read the rendered image: they wait for the fabric to converge.
+      const bool ready = cancel || (scene_->settled() && (!(shot || probe) || scene_->converged()));
+      if (!ready) {
+        if (!waitingSince_) waitingSince_ = now;
+        if (std::chrono::duration<double>(now - *waitingSince_).count() < kStepTimeoutSeconds) return;
+        std::cerr << script_->file << ":" << step.line << ": warning: still busy after "
+                  << kStepTimeoutSeconds << " s; going on\n";
+      }
+      waitingSince_.reset();
+      // ImGui lays out a newly opened window (the error modal, say) one frame before drawing it.
+      if (shot && shotDelay_ < 2) {
+        ++shotDelay_;
+        return;
+      }
+      shotDelay_ = 0;
+      lastLine_ = step.line;
+      ++next_;
+      if (action) {
+        const auto errorsBefore = scene_->errorSerial();
+        perform(*action);
+        if (shot || std::holds_alternative<ui::Quit>(*action)) return;
+        if (scene_->errorSerial() != errorsBefore)
+          return;                       // reported at the end of this frame, with this line
+        if (!scene_->settled()) return; // started work on the worker
+        // An error is reported at the end of this frame with lastLine_: this line's, not a later one's.
+        if (scene_->errorSerial() != reportedErrors_) return;
+      } else if (const auto* key = std::get_if<ui::Key>(&step.command)) {
+        scene_->applyKey(*key);
+        if (!scene_->settled()) return;
+      } else if (const auto* wait = std::get_if<ScriptWait>(&step.command)) {
+        waitFrames_ = wait->frames;
+        return;
+      } else if (const auto* size = std::get_if<ScriptResize>(&step.command)) {
+        glfwSetWindowSize(window_, size->width, size->height);
+        waitFrames_ = 2; // the new size arrives with the next events
+        return;
+      } else if (const auto* at = std::get_if<ScriptProbe>(&step.command)) {
+        scene_->probe(at->x, at->y);
+        const ui::ProbeInfo& p = scene_->state().probe;
+        std::fprintf(stderr, "%s:%d: probe %g %g: ", script_->file.c_str(), step.line, at->x, at->y);
+        if (!p.onSurface)
+          std::fprintf(stderr, "background\n");
+        else if (!p.inData)
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, outside the data\n", p.world.x, p.world.y,
+                       p.world.z);
+        else
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, voxel %d %d %d, FA %.4f, e1 %.3f %.3f %.3f\n",
+                       p.world.x, p.world.y, p.world.z, p.voxel.x, p.voxel.y, p.voxel.z, p.fa, p.e1.x, p.e1.y,
+                       p.e1.z);
+      } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
+        render::FabricParams p = scene_->state().fabric;
+        applyScriptParam(p, *param);
+        scene_->apply(ui::SetFabricParams{p});
+      }
+    }
+  }
+
+  static constexpr double kStepTimeoutSeconds = 120;
+
+  GLFWwindow* window_ = nullptr;
+  InputQueue input_;
+  std::unique_ptr<ViewerScene> scene_;
+  ViewerOrientation orientationCheck_; // the check's banner over the scene
+  ui::PanelBuffers buffers_;
+  ui::PanelLayout layout_;
+  ui::ActionList actions_;
+  std::optional<ui::Screenshot> pendingShot_;
+  bool quit_ = false;
+  double scale_ = 1;
+  int sceneX_ = 0, sceneY_ = 0, sceneW_ = 1, sceneH_ = 1;
+  bool dragging_ = false, panning_ = false;
+  int dragPane_ = 0;
+  double lastX_ = 0, lastY_ = 0, probeX_ = -1, probeY_ = -1;
+  const ViewScript* script_ = nullptr;
+  std::size_t next_ = 0;
+  int waitFrames_ = 0, shotDelay_ = 0;
+  int lastLine_ = 0;
+  std::optional<std::chrono::steady_clock::time_point> waitingSince_;
+  std::uint64_t reportedErrors_ = 0;
+  bool scriptFailed_ = false;
+};
+
+} // namespace
+
+int runViewerWindow(const ViewerWindowOptions& o) {
+  GlfwSession glfw;
+  ViewerWindow window(o.width, o.height, o.surface, o.script);
+  for (auto it = o.inputs.rbegin(); it != o.inputs.rend(); ++it)
+    window.scene().addRecent(*it);
+  if (!o.inputs.empty()) {
+    window.setOpenPath(o.inputs.front());
+    window.scene().apply(ui::LoadFile{o.inputs.front(), o.layout});
+  }
+  return window.run();
+}
+
+} // namespace dtf::app

@@ -1,0 +1,23 @@
+// The desktop viewer: a GLFW window with ImGui panels over the scene of app/viewer/viewer.h.
+#pragma once
+
+#include "app/viewer/view_script.h"
+
+#include <string>
+#include <vector>
+
+namespace dtf::app {
+
+struct ViewerWindowOptions {
+  std::vector<std::string> inputs;    // the first is loaded, all are listed under recent files
+  std::string surface;                // first surface (app/scene/surface_spec.h syntax); empty: FA 0.25
+  std::string layout = "auto";        // tensor layout of the first input
+  int width = 1280, height = 800;     // window size, pixels
+  const ViewScript* script = nullptr; // replayed when given (outputs already checked)
+};
+
+// Opens the window and runs until it closes or the script quits; returns the exit code. Throws GlError when
+// no window or GL 4.5 context can be had.
+int runViewerWindow(const ViewerWindowOptions& options);
+
+} // namespace dtf::app

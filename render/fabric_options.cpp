@@ -1,0 +1,176 @@
+#include "render/fabric_options.h"
+
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace dtf::render {
+
+namespace {
+
+using K = FabricOption::Kind;
+using R = FabricOption::Range;
+
+constexpr R closed(double lo, double hi) {
+  return R{lo, hi, false, false};
+}
+constexpr R none() {
+  return R{};
+}
+
+#define DTF_FIELD(field, type)                                                                               \
+  [](const FabricParams& p) { return static_cast<double>(p.field); },                                        \
+      [](FabricParams& p, double v) { p.field = static_cast<type>(v); }
+
+const std::vector<FabricOption> kOptions = {
+    {"lod", "", "L", "noise voxel edge l in mm (paper Eq. 7); 0 = automatic from the pixel size", K::Number,
+     closed(0, 1000), closed(0, 40), "l (mm, 0 = auto)", "%.1f", false, DTF_FIELD(lod, double)},
+    {"blend-k", "k", "K", "k of Eq. 12, the weight of the input noise per iteration", K::Number,
+     R{0, 1, true, false}, closed(0.01, 0.5), "k", "%.3f", true, DTF_FIELD(k, double)},
+    {"frame-iterations", "", "N", "advection iterations per interactive frame (paper: 3)", K::Integer,
+     closed(1, 1000), closed(1, 20), "iterations/frame", "%d", false, DTF_FIELD(iterations, int)},
+    {"epsilon", "", "E", "change below which a pixel counts as converged", K::Number, closed(1e-5, 1),
+     closed(0.005, 0.2), "epsilon", "%.3f", true, DTF_FIELD(epsilon, double)},
+    {"blend-r", "r", "R", "r of Eq. 13, blend between the two directions", K::Number, closed(0, 1),
+     closed(0, 1), "r", "%.2f", false, DTF_FIELD(r, double)},
+    {"color", "colour", "MODE",
+     "medical (DEC colour of the principal direction modulated by FA) | engineering (paper Eq. 13)",
+     K::Colour, closed(0, 1), none(), "colour", nullptr, false,
+     [](const FabricParams& p) { return p.colour == ColourMode::Medical ? 0.0 : 1.0; },
+     [](FabricParams& p, double v) { p.colour = v == 0 ? ColourMode::Medical : ColourMode::Engineering; }},
+    {"lighting", "", "on|off", "Phong lighting of the surface", K::OnOff, closed(0, 1), none(), "lighting",
+     nullptr, false, DTF_FIELD(lighting, bool)},
+    {"silhouette", "", "on|off", "dark silhouette edges", K::OnOff, closed(0, 1), none(), "silhouette",
+     nullptr, false, DTF_FIELD(silhouette, bool)},
+    {"sharpen", "", "W", "unsharp-mask weight of the texture", K::Number, closed(0, 4), closed(0, 1),
+     "sharpen", "%.2f", false, DTF_FIELD(sharpen, double)},
+    {"depth-color", "depth-colour", "W", "weight of depth cueing in the colour", K::Number, closed(0, 1),
+     closed(0, 1), "depth colour", "%.2f", false, DTF_FIELD(depthColour, double)},
+    {"contrast", "", "C", "stretch of the texture before colouring; 1 = raw", K::Number, closed(0.1, 100),
+     closed(1, 8), "contrast", "%.1f", false, DTF_FIELD(contrast, double)},
+    {"step", "", "PX", "advection step in pixels", K::Number, R{0, 16, true, false}, closed(0.5, 4),
+     "step (px)", "%.2f", false, DTF_FIELD(stepPixels, double)},
+    {"fade-out-of-plane", "fade", "W", "fade the texture where the principal direction leaves the surface",
+     K::Number, closed(0, 1), closed(0, 1), "fade out-of-plane", "%.2f", false,
+     DTF_FIELD(fadeOutOfPlane, float)},
+    {"iterations", "", "N", "advection iterations of a still image at most (stops earlier once converged)",
+     K::Integer, closed(0, 10000), none(), nullptr, nullptr, false, DTF_FIELD(stillMaxIterations, int)},
+    {"auto-lod-pixels", "", "PX", "pixels one noise tile spans when l is automatic", K::Number,
+     closed(8, 4096), none(), nullptr, nullptr, false, DTF_FIELD(autoLodPixels, double)},
+    {"seed", "", "S", "reaction-diffusion noise seed", K::Integer, closed(0, 2147483647), none(), nullptr,
+     nullptr, false, DTF_FIELD(seed, std::uint32_t)},
+    {"fa-floor", "", "F", "the fabric only where FA >= F (elsewhere the background or grey)", K::Number,
+     R{0, 1, false, true}, none(), nullptr, nullptr, false, DTF_FIELD(faFloor, float)},
+};
+
+#undef DTF_FIELD
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+} // namespace
+
+bool FabricOption::Range::contains(double v) const {
+  if (!(v >= lo && v <= hi)) return false;
+  return !(loOpen && v == lo) && !(hiOpen && v == hi);
+}
+
+std::string FabricOption::Range::text() const {
+  return std::string(loOpen ? "(" : "[") + number(lo) + ", " + number(hi) + (hiOpen ? ")" : "]");
+}
+
+bool FabricOption::matches(const std::string& key) const {
+  if (key == name) return true;
+  std::istringstream in(aliases);
+  std::string a;
+  while (in >> a)
+    if (a == key) return true;
+  return false;
+}
+
+double FabricOption::parse(const std::string& text) const {
+  const std::string n = name;
+  if (kind == Kind::OnOff) {
+    if (text == "on") return 1;
+    if (text == "off") return 0;
+    throw UsageError(n + " takes on or off, got '" + text + "'");
+  }
+  if (kind == Kind::Colour) {
+    if (text == "medical") return 0;
+    if (text == "engineering") return 1;
+    throw UsageError(n + " takes medical or engineering, got '" + text + "'");
+  }
+  const char* s = text.c_str();
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  if (text.empty() || end == s || *end != '\0' || !std::isfinite(v))
+    throw UsageError(n + " takes a number, got '" + text + "'");
+  if (kind == Kind::Integer && v != std::floor(v))
+    throw UsageError(n + " takes an integer, got '" + text + "'");
+  if (!range.contains(v)) throw UsageError(n + " must lie in " + range.text() + ", got " + text);
+  return v;
+}
+
+std::string FabricOption::cliSynopsis() const {
+  if (kind == Kind::OnOff) return std::string("--no-") + name;
+  return std::string("--") + name + " " + metavar;
+}
+
+const std::vector<FabricOption>& fabricOptions() {
+  return kOptions;
+}
+
+const FabricOption* findFabricOption(const std::string& key) {
+  for (const auto& o : kOptions)
+    if (o.matches(key)) return &o;
+  return nullptr;
+}
+
+std::string formatFabricValue(const FabricOption& o, double v) {
+  if (o.kind == FabricOption::Kind::OnOff) return v != 0 ? "on" : "off";
+  if (o.kind == FabricOption::Kind::Colour) return v == 0 ? "medical" : "engineering";
+  return number(v);
+}
+
+std::string fabricOptionsHelp() {
+  constexpr std::size_t kColumn = 22, kWidth = 110;
+  const FabricParams defaults;
+  std::string out;
+  for (const auto& o : kOptions) {
+    std::string line = "  " + o.cliSynopsis();
+    line.resize(std::max<std::size_t>(line.size() + 1, kColumn), ' ');
+    std::string help = o.help;
+    if (o.kind == FabricOption::Kind::OnOff)
+      help = "no " + help;
+    else if (o.kind == FabricOption::Kind::Colour)
+      help += " (default " + formatFabricValue(o, o.get(defaults)) + ")";
+    else
+      help += " (default " + formatFabricValue(o, o.get(defaults)) + "; " + o.range.text() + ")";
+    // Words wrapped at kWidth, continuation lines indented to kColumn.
+    std::istringstream words(help);
+    std::size_t used = line.size();
+    bool first = true;
+    for (std::string w; words >> w; first = false) {
+      if (!first && used + 1 + w.size() > kWidth) {
+        line += "\n" + std::string(kColumn, ' ');
+        used = kColumn;
+      } else if (!first) {
+        line += ' ';
+        ++used;
+      }
+      line += w;
+      used += w.size();
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+} // namespace dtf::render
