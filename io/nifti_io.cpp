@@ -586,7 +586,8 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
   return v;
 }
 
-void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
+void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion,
+                       const std::string& descrip) {
   std::size_t nv = v.grid.voxelCount();
   if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
     throw InputError("cannot write " + path + ": volume data size does not match its grid");
@@ -596,7 +597,7 @@ void writeScalarVolume(const std::string& path, const ScalarVolume& v, int nifti
       disk[static_cast<std::size_t>(c) * nv + i] = v.data[i * v.components + c];
   std::vector<long long> extra;
   if (v.components > 1) extra.push_back(v.components);
-  writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, "dtfabric", niftiVersion);
+  writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, descrip, niftiVersion);
 }
 
 namespace {
@@ -703,6 +704,7 @@ LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
 
 struct Detection {
   TensorLayout layout = TensorLayout::Fsl;
+  bool notTensor = false; // signed like directions: refused
   std::string reason;
   std::vector<std::string> warnings;
 };
@@ -736,6 +738,19 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
   std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
+  // A tensor in any order has three diagonal volumes that are (almost) never negative. Fewer than three
+  // mostly-positive volumes means signed components: directions (two fibre peaks), not a tensor.
+  int mostlyPositive = 0;
+  for (double f : fsl.positive)
+    mostlyPositive += f >= 0.9;
+  if (fsl.voxels > 0 && mostlyPositive < 3 && fsl.plausible < 0.5 && mrtrix.plausible < 0.5) {
+    d.notTensor = true;
+    d.reason = shape + " whose components are signed like directions (only " + std::to_string(mostlyPositive) +
+               " of 6 volumes positive in >= 90% of " + std::to_string(fsl.voxels) +
+               " voxels; positive semi-definite as FSL " + percent(fsl.plausible) + ", as MRtrix " +
+               percent(mrtrix.plausible) + "): two fibre peaks, not a tensor";
+    return d;
+  }
   if (fsl.voxels == 0) {
     d.layout = TensorLayout::Fsl;
     d.reason = shape + "; no non-zero voxels to tell layouts apart, assuming FSL";
@@ -794,6 +809,9 @@ LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
   out.warnings = h.warnings;
   if (layout == TensorLayout::Auto) {
     Detection d = detectLayout(h, raw, fiveD);
+    if (d.notTensor)
+      fail(path, "is not a tensor volume: " + d.reason +
+                     " (read it as a fibre set: --layout mrtrix-peaks or dipy-peaks)");
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());

@@ -15,7 +15,7 @@ enum Pass { kProjection = 0, kSilhouette, kAdvection, kComposite, kPhong };
 // Parameters whose change invalidates the advection state.
 auto stateKey(const FabricParams& p) {
   return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
-                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor);
+                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold);
 }
 } // namespace
 
@@ -32,6 +32,16 @@ void FabricRenderer::setMesh(const Mesh& mesh) {
 
 void FabricRenderer::setField(const TensorField& field) {
   field_.upload(field);
+  dataChanged_ = true;
+}
+
+void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
+  fibres_.upload(fibres, fa);
+  dataChanged_ = true;
+}
+
+void FabricRenderer::clearFibres() {
+  fibres_.clear();
   dataChanged_ = true;
 }
 
@@ -55,6 +65,10 @@ void FabricRenderer::resize(int width, int height) {
 
 double FabricRenderer::effectiveLod(const FrameView& view, const FabricParams& p) const {
   return p.lod > 0 ? p.lod : p.autoLodPixels * view.pixelMm;
+}
+
+int FabricRenderer::fields(const FabricParams& p) const {
+  return p.colour == ColourMode::Fibres && fibres_.lobes() >= 3 ? 3 : 2;
 }
 
 void FabricRenderer::beginTimer(int pass) {
@@ -95,8 +109,11 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.noiseBlend = static_cast<float>(p.noiseBlend);
   ps.principal = p.colour == ColourMode::Medical;
   ps.faFloor = p.faFloor;
+  ps.fibres = p.colour == ColourMode::Fibres;
+  ps.fibreThreshold = p.fibreThreshold;
+  if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
   beginTimer(kProjection);
-  projection_.run(mesh_, field_, noise_, view_, ps, &background_);
+  projection_.run(mesh_, field_, noise_, view_, ps, &background_, &fibres_);
   endTimer();
 
   beginTimer(kSilhouette);
@@ -106,7 +123,7 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
   endTimer();
 
-  if (restart) advection_.reset(projection_.surface(), silhouette_.edges());
+  if (restart) advection_.reset(projection_.surface(), silhouette_.edges(), fields(p));
   dataChanged_ = false;
   lastViewProj_ = view_.viewProj;
   lastParams_ = p;
@@ -128,8 +145,12 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
-  CompositeInputs in{&advection_.field(0),  &advection_.field(1),   &projection_.surface(), &silhouette_.edges(),
-                     &projection_.eigen(),    &projection_.lambda()};
+  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &silhouette_.edges(),
+                     &projection_.eigen(),   &projection_.lambda()};
+  if (p.colour == ColourMode::Fibres) {
+    in.p3 = &advection_.field(2);
+    in.fibres = &projection_.fibres();
+  }
   beginTimer(kComposite);
   composite_.run(in, view_, cs);
   endTimer();
@@ -140,7 +161,7 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   prepare(camera, p, restart);
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth());
+  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
   endTimer();
   composite(p);
 }
@@ -166,7 +187,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth());
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p));
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

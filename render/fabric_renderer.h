@@ -7,6 +7,7 @@
 
 #include "io/model/geometry.h"
 #include "io/model/image.h"
+#include "io/model/fibre_set.h"
 #include "io/model/tensor_field.h"
 #include "render/camera.h"
 #include "render/fabric/advection_pass.h"
@@ -15,6 +16,7 @@
 #include "render/fabric/phong_pass.h"
 #include "render/fabric/projection_pass.h"
 #include "render/fabric/silhouette_pass.h"
+#include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
 
 #include <array>
@@ -49,6 +51,8 @@ struct FabricParams {
   float fadeOutOfPlane = 0.0f;
   float faFloor = 0.0f;       // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
+  float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
+                                // are dropped (between mrview's usual 0.1 and 0.2)
 };
 
 // GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).
@@ -64,6 +68,10 @@ public:
 
   void setMesh(const Mesh& mesh);
   void setField(const TensorField& field);
+  // The fibre set rendered in ColourMode::Fibres (the first three fibres per voxel), with the FA of a paired
+  // tensor for modulation (nullptr: none). setField still provides nothing else here; a mesh is needed.
+  void setFibres(const FibreSet& fibres, const ScalarVolume* fa = nullptr);
+  void clearFibres();
   // A grey background (FA, MD, a T1 on any grid) shown where the surface has no tensor data, windowed to
   // [lo, hi]; nullptr removes it.
   void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
@@ -105,6 +113,7 @@ public:
 private:
   void prepare(const Camera& camera, const FabricParams& params, bool& restart);
   void composite(const FabricParams& params);
+  int fields(const FabricParams& params) const; // advected fields: 3 for three-population fibre sets
   void beginTimer(int pass);
   void endTimer();
 
@@ -115,6 +124,7 @@ private:
   PhongPass phong_;
   GpuMesh mesh_;
   GpuTensorField field_;
+  GpuFibreSet fibres_;
   GpuScalarVolume background_;
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;

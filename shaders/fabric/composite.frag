@@ -8,14 +8,23 @@
 // z blue) modulated by FA; where a secondary in-plane direction exists, it is drawn in grey beneath the
 // primary threads. Writes gl_FragDepth, the window depth of the surface computed from its linear depth, so
 // other geometry occludes correctly.
+// FIBRES (fibre sets): each population's fabric in its own DEC colour (|d| of its world direction, FA
+// modulated when a tensor is paired), layered: the weakest population present is the base, each stronger
+// one is drawn over it where its threads are bright (strongest on top); a population's weight (amplitude
+// relative to the strongest x its in-surface fraction) dims it and thins its cover, so weak and out-of-plane
+// populations fade.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
-// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
+// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES.
 layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
 layout(binding = 3) uniform sampler2D u_p2;
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
 layout(binding = 4) uniform sampler2D u_eigen;      // |e1| (world), FA
 layout(binding = 5) uniform sampler2D u_lambda;     // lambda2'/lambda1', |e1.n|, background grey, data
+#ifdef FIBRES
+layout(binding = 6) uniform sampler2D u_p3;         // third population's advected field
+layout(binding = 7) uniform usampler2D u_fibres;    // packUnorm4x8(|d_k|, weight_k), k = 1..3
+#endif
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
 uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
@@ -48,7 +57,36 @@ vec3 compose(ivec2 t, vec4 s) {
 #endif
   float L = u_lighting ? s.g : 1.0;
   vec3 c;
-#ifdef MEDICAL
+#ifdef FIBRES
+  vec4 lam = texelFetch(u_lambda, t, 0);
+  float fa = texelFetch(u_eigen, t, 0).w;
+  float p3 = texelFetch(u_p3, t, 0).r;
+  p3 = p3 < 0.0 ? s.r : p3;
+  float f[3] = float[3](stretch(p.r), stretch(p.g), stretch(p3));
+  if (lam.w < 0.5) {
+#ifdef BACKGROUND
+    c = vec3(lam.z);
+#else
+    c = u_noData * (0.6 + 0.4 * f[0]);
+#endif
+  } else {
+    uvec4 q = texelFetch(u_fibres, t, 0);
+    vec4 pop[3] = vec4[3](unpackUnorm4x8(q.x), unpackUnorm4x8(q.y), unpackUnorm4x8(q.z));
+    int last = 0;
+    for (int k = 1; k < 3; ++k)
+      if (pop[k].w > 0.02) last = k;
+    c = vec3(0.1) * (0.5 + f[0]);
+    float sat = smoothstep(0.05, 0.45, fa), bright = 0.55 + 0.45 * smoothstep(0.05, 0.6, fa);
+    for (int k = 2; k >= 0; --k) {
+      if (k > last) continue;
+      vec3 layer = mix(vec3(0.35), pop[k].rgb, sat) * bright * (0.25 + 1.1 * f[k]) * mix(0.35, 1.0, pop[k].w);
+      float cover = k == last ? 1.0 : smoothstep(0.45, 0.6, f[k]) * smoothstep(0.0, 0.3, pop[k].w);
+      c = mix(c, layer, cover);
+    }
+  }
+  c *= mix(1.0, L, u_lightMix);
+  c = mix(c, vec3(0.0), e);
+#elif defined(MEDICAL)
   vec4 eig = texelFetch(u_eigen, t, 0);
   vec4 lam = texelFetch(u_lambda, t, 0);
   float fa = eig.w;

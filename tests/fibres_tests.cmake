@@ -1,0 +1,2 @@
+# Tests of crossing-fibre sets (io/model/fibre_set.h, io/fibre_io.h, the multi-population fabric).
+dtf_test(test_fibres LABEL unit SOURCES unit/fibre_io_test.cpp LIBS dtf_io)
