@@ -123,7 +123,8 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
   endTimer();
 
-  if (restart) advection_.reset(projection_.surface(), silhouette_.edges(), fields(p));
+  if (restart)
+    advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
   dataChanged_ = false;
   lastViewProj_ = view_.viewProj;
   lastParams_ = p;
@@ -159,7 +160,8 @@ void FabricRenderer::composite(const FabricParams& p) {
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   bool restart = false;
   prepare(camera, p, restart);
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
+                       p.colour == ColourMode::Fibres};
   beginTimer(kAdvection);
   advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
   endTimer();
@@ -172,7 +174,8 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   still_ = true;
   prepare(camera, p, restart);
   still_ = false;
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
+                       p.colour == ColourMode::Fibres};
   const unsigned covered = coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
   // then until (almost) no pixel changes by more than epsilon per iteration.

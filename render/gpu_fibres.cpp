@@ -39,11 +39,13 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa) {
   const auto k = static_cast<std::size_t>(set.maxFibres);
   if (set.fibres.size() != n * k) throw GlError("fibre set size does not match its grid");
   clear();
-  lobes_ = std::min(set.maxFibres, kMaxLobes);
+  // Slots that follow bundles from voxel to voxel: one advection field per slot.
+  const FibreSet slotted = continuousSlots(set);
+  lobes_ = slotted.maxFibres;
   std::vector<float> texel(n * 4);
   for (int l = 0; l < lobes_; ++l) {
     for (std::size_t v = 0; v < n; ++v) {
-      const Fibre& f = set.fibres[v * k + static_cast<std::size_t>(l)];
+      const Fibre& f = slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)];
       const bool ok = f.amplitude > 0.0f;
       texel[v * 4 + 0] = ok ? f.direction.x : 0.0f;
       texel[v * 4 + 1] = ok ? f.direction.y : 0.0f;

@@ -1,5 +1,6 @@
 // GPU copy of a FibreSet for the multi-population fabric: up to three RGBA32F 3D textures, one per fibre
-// slot (unit world direction xyz, amplitude; 0 = absent; nearest filtering: the projection pass gathers the
+// slot of continuousSlots(set) (a slot follows one bundle from voxel to voxel; unit world direction xyz,
+// amplitude; 0 = absent; nearest filtering: the projection pass gathers the
 // 8 voxels around a point and matches their lobes itself, see shaders/common/fibre_field.glsl), and an R32F
 // FA texture (linear) from a paired tensor, or 1 everywhere without one. Uploaded once per change of the
 // data, never per frame.

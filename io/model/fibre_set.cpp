@@ -72,7 +72,7 @@ TensorField fibreCarrierField(const FibreSet& set) {
 }
 
 std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk, float relativeThreshold,
-                                     int maxOut, float minMatchCos) {
+                                     int maxOut, float minMatchCos, bool sortByAmplitude) {
   struct Corner {
     double w = 0;
     int n = 0;
@@ -89,10 +89,15 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
     k.w = ((c & 1) ? frac.x : 1 - frac.x) * ((c & 2) ? frac.y : 1 - frac.y) * ((c & 4) ? frac.z : 1 - frac.z);
     if (!set.grid.contains(v.x, v.y, v.z)) continue;
     const Fibre* f = set.at(v.x, v.y, v.z);
-    const float top = f[0].amplitude;
+    float top = 0.0f;
     for (int n = 0; n < kUse; ++n)
-      if (f[n].amplitude > 0.0f && f[n].amplitude >= relativeThreshold * top)
-        k.lobes[static_cast<std::size_t>(k.n++)] = f[n];
+      top = std::max(top, f[n].amplitude);
+    // Slots keep their place (absent ones have amplitude 0), so slot j means the same in every voxel.
+    for (int n = 0; n < kUse; ++n)
+      if (f[n].amplitude > 0.0f && f[n].amplitude >= relativeThreshold * top) {
+        k.lobes[static_cast<std::size_t>(n)] = f[n];
+        k.n = n + 1;
+      }
     if (k.n == 0) continue;
     valid += k.w;
     if (ref < 0 || k.w > corners[static_cast<std::size_t>(ref)].w) ref = c;
@@ -100,7 +105,11 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
   std::vector<Fibre> out;
   if (ref < 0 || valid < 0.5) return out;
   const Corner& r = corners[static_cast<std::size_t>(ref)];
-  for (int j = 0; j < r.n; ++j) {
+  for (int j = 0; j < kUse; ++j) {
+    if (!(r.lobes[static_cast<std::size_t>(j)].amplitude > 0.0f)) {
+      if (!sortByAmplitude) out.push_back(Fibre{});
+      continue;
+    }
     const glm::dvec3 rd(r.lobes[static_cast<std::size_t>(j)].direction);
     glm::dvec3 acc = r.w * r.lobes[static_cast<std::size_t>(j)].amplitude * rd;
     double amp = r.w * r.lobes[static_cast<std::size_t>(j)].amplitude;
@@ -110,6 +119,7 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
       int best = -1;
       double bestCos = 0;
       for (int l = 0; l < k.n; ++l) {
+        if (!(k.lobes[static_cast<std::size_t>(l)].amplitude > 0.0f)) continue;
         const double d = glm::dot(glm::dvec3(k.lobes[static_cast<std::size_t>(l)].direction), rd);
         if (best < 0 || std::abs(d) > std::abs(bestCos)) {
           best = l;
@@ -118,15 +128,71 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
       }
       if (std::abs(bestCos) < minMatchCos) continue;
       const Fibre& m = k.lobes[static_cast<std::size_t>(best)];
+      // Mutual best only: a lobe that lies closer to another reference lobe belongs to that one (where one
+      // bundle ends, its neighbour's single lobe must not bend the crossing bundle towards it).
+      bool mutual = true;
+      for (int j2 = 0; j2 < r.n && mutual; ++j2)
+        mutual = j2 == j || !(r.lobes[static_cast<std::size_t>(j2)].amplitude > 0.0f) || std::abs(glm::dot(glm::dvec3(r.lobes[static_cast<std::size_t>(j2)].direction),
+                                              glm::dvec3(m.direction))) <= std::abs(bestCos);
+      if (!mutual) continue;
       acc += k.w * m.amplitude * (bestCos < 0 ? -1.0 : 1.0) * glm::dvec3(m.direction);
       amp += k.w * m.amplitude;
     }
     const double len = glm::length(acc);
-    if (!(len > 0)) continue;
+    if (!(len > 0)) {
+      if (!sortByAmplitude) out.push_back(Fibre{});
+      continue;
+    }
     out.push_back({glm::vec3(acc / len), static_cast<float>(amp / valid)});
+  }
+  if (!sortByAmplitude) {
+    out.resize(static_cast<std::size_t>(kUse));
+    return out;
   }
   std::stable_sort(out.begin(), out.end(), [](const Fibre& a, const Fibre& b) { return a.amplitude > b.amplitude; });
   if (static_cast<int>(out.size()) > maxOut) out.resize(static_cast<std::size_t>(std::max(maxOut, 0)));
+  return out;
+}
+
+FibreSet continuousSlots(const FibreSet& set) {
+  const int k = std::min(set.maxFibres, 3);
+  FibreSet out = makeFibreSet(set.grid, k);
+  // The assignments of up to 3 fibres (indices 0..n-1) to 3 slots: all permutations of the slots.
+  static const int kPerms[6][3] = {{0, 1, 2}, {1, 0, 2}, {0, 2, 1}, {2, 0, 1}, {1, 2, 0}, {2, 1, 0}};
+  const int perms = k == 1 ? 1 : k == 2 ? 2 : 6;
+  const glm::ivec3 d = set.grid.dims;
+  for (int z = 0; z < d.z; ++z)
+    for (int y = 0; y < d.y; ++y)
+      for (int x = 0; x < d.x; ++x) {
+        const Fibre* f = set.at(x, y, z);
+        int n = 0;
+        while (n < k && f[n].amplitude > 0.0f)
+          ++n;
+        if (n == 0) continue;
+        const Fibre* nb[3] = {x > 0 ? out.at(x - 1, y, z) : nullptr, y > 0 ? out.at(x, y - 1, z) : nullptr,
+                              z > 0 ? out.at(x, y, z - 1) : nullptr};
+        int best = 0;
+        double bestScore = -1;
+        for (int p = 0; p < perms; ++p) {
+          // With k = 2 only the first two entries of the first two permutations are used.
+          double score = 0;
+          for (const Fibre* q : nb) {
+            if (!q) continue;
+            for (int l = 0; l < n; ++l) {
+              const Fibre& s = q[kPerms[p][l]];
+              if (s.amplitude > 0.0f)
+                score += std::abs(glm::dot(s.direction, f[l].direction)) * std::min(s.amplitude, f[l].amplitude);
+            }
+          }
+          if (score > bestScore + 1e-9) {
+            bestScore = score;
+            best = p;
+          }
+        }
+        Fibre* o = out.at(x, y, z);
+        for (int l = 0; l < n; ++l)
+          o[kPerms[best][l]] = f[l];
+      }
   return out;
 }
 

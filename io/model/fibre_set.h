@@ -36,7 +36,7 @@ struct FibreSet {
   const Fibre* at(int i, int j, int k) const {
     return &fibres[grid.index(i, j, k) * static_cast<std::size_t>(maxFibres)];
   }
-  // Number of present fibres of voxel `index` (grid.index order).
+  // Number of present fibres of voxel `index` (grid.index order; normalised sets: absent slots last).
   int count(std::size_t index) const;
   // Voxels holding at least one fibre.
   std::size_t occupiedVoxels() const;
@@ -59,12 +59,23 @@ TensorField fibreCarrierField(const FibreSet& set);
 // The fibres at a fractional voxel index, by the renderer's rule: the 8 surrounding voxels with trilinear
 // weights; in each voxel lobes below relativeThreshold x that voxel's strongest are dropped; the voxel with
 // the largest weight among those with fibres is the reference; each reference lobe takes, from every other
-// voxel, the lobe with the largest |cos| to it (when |cos| >= minMatchCos), sign-aligned to it, weighted by
+// voxel, the lobe with the largest |cos| to it (when |cos| >= minMatchCos and no other reference lobe is
+// closer to that lobe: mutual best), sign-aligned to it, weighted by
 // trilinear weight x amplitude. Directions are the normalised weighted sums, amplitudes the weighted mean
 // amplitude over the voxels with fibres. Returns at most `maxOut` fibres, strongest first; empty when
 // fewer than half the weight lies on voxels with fibres.
+// With sortByAmplitude false the fibres keep the reference voxel's slot order (absent ones left out are
+// then marked by amplitude 0 in their slot: the result has exactly min(maxOut, maxFibres, 3) entries).
 std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk, float relativeThreshold,
-                                     int maxOut = 3, float minMatchCos = 0.5f);
+                                     int maxOut = 3, float minMatchCos = 0.5f, bool sortByAmplitude = true);
+
+// The renderer's slot layout: the first min(K, 3) fibres of each voxel re-slotted so that a slot holds the
+// same bundle from voxel to voxel (each voxel, in scan order, takes the assignment of its fibres to slots
+// that best agrees in |cos| x amplitude with its already-slotted face neighbours; strongest first where no
+// neighbour has fibres). One advection field per slot then follows one bundle, even where the bundles'
+// amplitudes are equal and their strength order flips between voxels. Unlike a normalised set, absent
+// slots may lie between present ones. Seams remain where two propagation fronts disagree.
+FibreSet continuousSlots(const FibreSet& set);
 
 // Fibre coherence of the first fibres: over neighbouring voxel pairs (13 neighbour directions) of
 // single-fibre voxels (no second fibre above half the first), the fraction where both point along the step

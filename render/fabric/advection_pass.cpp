@@ -47,6 +47,7 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
       iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u));
   program.set("u_k", s.k);
   program.set("u_step", s.stepPixels);
+  program.set("u_complementSecond", s.complementSecond ? 1 : 0);
   if (countChanges) {
     program.set("u_epsilon", s.epsilon);
     const GLuint zero = 0;
@@ -62,11 +63,13 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   current_ = next;
 }
 
-void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fields) {
+void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fields, bool complementSecond) {
   resize({surface.width(), surface.height()});
   glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetFbo3_ : resetFbo_).id());
   glViewport(0, 0, size_.x, size_.y);
-  (fields >= 3 ? reset3_ : reset_).use();
+  const ShaderProgram& program = fields >= 3 ? reset3_ : reset_;
+  program.set("u_complementSecond", complementSecond ? 1 : 0);
+  program.use();
   glBindTextureUnit(2, surface.id());
   glBindTextureUnit(3, edges.id());
   glBindVertexArray(vao_.id());

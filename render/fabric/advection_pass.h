@@ -30,6 +30,7 @@ struct AdvectionSettings {
   float k = 0.1f;        // weight of beta in Eq. 12
   float stepPixels = 1.0f; // length of one step in pixels along the max-norm scaled vectors
   float epsilon = 0.05f; // change below which a pixel counts as converged
+  bool complementSecond = false; // p2 advects 1 - beta (fibre sets: interleaved populations)
 };
 
 class AdvectionPass {
@@ -38,7 +39,7 @@ public:
   void resize(glm::ivec2 target);
   // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
   // iterations skip (see iterate) hold the blocked state in either.
-  void reset(const Texture& surface, const Texture& edges, int fields = 2);
+  void reset(const Texture& surface, const Texture& edges, int fields = 2, bool complementSecond = false);
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.

@@ -1,11 +1,12 @@
 // Sampling the fibre set uploaded by GpuFibreSet: up to three RGBA32F 3D textures (unit world direction,
 // amplitude; nearest) and an R32F FA texture. Directions cannot be interpolated per component (no sign,
 // peak order differs between voxels), so the 8 voxels around the point are gathered and matched here, the
-// same rule as interpolateFibres (io/model/fibre_set.h), its CPU reference:
+// same rule as interpolateFibres (io/model/fibre_set.h, without sorting), its CPU reference:
 //   * in each voxel, lobes below u_relThreshold x that voxel's strongest are dropped;
 //   * the voxel with the largest trilinear weight among those with fibres is the reference;
 //   * each reference lobe takes from every other voxel the lobe with the largest |cos| to it (when
-//     |cos| >= u_minMatchCos), sign-aligned, weighted by trilinear weight x amplitude;
+//     |cos| >= u_minMatchCos and no other reference lobe is closer to that lobe), sign-aligned, weighted by
+//     trilinear weight x amplitude;
 //   * direction = normalised weighted sum, amplitude = weighted sum / weight of the voxels with fibres;
 //   * nothing where less than half of the weight lies on voxels with fibres.
 
@@ -24,8 +25,9 @@ vec4 fetchLobe(int l, ivec3 p) {
   return texelFetch(u_lobe2, p, 0);
 }
 
-// Up to three fibres at worldPos, strongest first (amp 0 = none); returns their number. fa: the paired
-// tensor's FA (trilinear) or 1.
+// Up to three fibres at worldPos in the reference voxel's slot order (amp 0 = none; GpuFibreSet uploads
+// slots that hold the same bundle from voxel to voxel, so slot j feeds advection field j); returns their
+// number. fa: the paired tensor's FA (trilinear) or 1.
 int sampleFibres(vec3 worldPos, out vec3 dir[3], out float amp[3], out float fa) {
   vec3 tc = (u_worldToTex * vec4(worldPos, 1.0)).xyz;
   ivec3 dims = textureSize(u_lobe0, 0);
@@ -49,12 +51,14 @@ int sampleFibres(vec3 worldPos, out vec3 dir[3], out float amp[3], out float fa)
     float top = 0.0;
     for (int l = 0; l < 3; ++l) {
       if (l >= u_lobeCount) break;
-      vec4 q = fetchLobe(l, p);
-      if (l == 0) top = q.w;
-      if (q.w > 0.0 && q.w >= u_relThreshold * top) {
-        lobes[c][l] = q;
+      lobes[c][l] = fetchLobe(l, p);
+      top = max(top, lobes[c][l].w);
+    }
+    for (int l = 0; l < 3; ++l) {
+      if (lobes[c][l].w > 0.0 && lobes[c][l].w >= u_relThreshold * top)
         has[c] = true;
-      }
+      else
+        lobes[c][l] = vec4(0.0);
     }
     if (!has[c]) continue;
     valid += w[c];
@@ -88,21 +92,19 @@ int sampleFibres(vec3 worldPos, out vec3 dir[3], out float amp[3], out float fa)
         }
       }
       if (bestAbs < u_minMatchCos) continue;
+      // Mutual best only: a lobe closer to another reference lobe belongs to that one.
+      bool mutual = true;
+      for (int j2 = 0; j2 < 3; ++j2)
+        if (j2 != j && lobes[ref][j2].w > 0.0 && abs(dot(lobes[ref][j2].xyz, best.xyz)) > bestAbs) mutual = false;
+      if (!mutual) continue;
       acc += w[c] * best.w * (bestCos < 0.0 ? -1.0 : 1.0) * best.xyz;
       a += w[c] * best.w;
     }
     float len = length(acc);
     if (len <= 0.0) continue;
-    dir[n] = acc / len;
-    amp[n] = a / valid;
+    dir[j] = acc / len;
+    amp[j] = a / valid;
     ++n;
   }
-  // Strongest first (three elements).
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2 - i; ++j)
-      if (amp[j + 1] > amp[j]) {
-        float ta = amp[j]; amp[j] = amp[j + 1]; amp[j + 1] = ta;
-        vec3 td = dir[j]; dir[j] = dir[j + 1]; dir[j + 1] = td;
-      }
   return n;
 }

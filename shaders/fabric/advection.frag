@@ -20,6 +20,9 @@ layout(binding = 5) uniform sampler2D u_prev3;      // p3
 #endif
 
 const float BLOCKED = -1e20;
+// Fibre sets: the second field advects the complementary noise 1 - beta, so the threads of two crossing
+// populations interleave instead of brightening the same noise spots into crosses.
+uniform bool u_complementSecond = false;
 
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in;
@@ -41,7 +44,8 @@ void main() {
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
   bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
-  o_p1 = o_p2 = o_p1b = o_p2b = blocked ? BLOCKED : s.r;
+  o_p1 = o_p1b = blocked ? BLOCKED : s.r;
+  o_p2 = o_p2b = blocked ? BLOCKED : (u_complementSecond ? 1.0 - s.r : s.r);
 #ifdef THIRD
   o_p3 = o_p3b = blocked ? BLOCKED : s.r;
 #endif
@@ -76,7 +80,7 @@ void main() {
   float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
-  vec2 next = u_k * beta + (1.0 - u_k) * avg;
+  vec2 next = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef THIRD
   float s3 = texelFetch(u_prev3, p, 0).r;

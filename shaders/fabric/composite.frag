@@ -72,15 +72,23 @@ vec3 compose(ivec2 t, vec4 s) {
   } else {
     uvec4 q = texelFetch(u_fibres, t, 0);
     vec4 pop[3] = vec4[3](unpackUnorm4x8(q.x), unpackUnorm4x8(q.y), unpackUnorm4x8(q.z));
-    int last = 0;
-    for (int k = 1; k < 3; ++k)
-      if (pop[k].w > 0.02) last = k;
-    c = vec3(0.1) * (0.5 + f[0]);
+    // Populations by weight, strongest first (the slots follow bundles, not strength).
+    int o[3] = int[3](0, 1, 2);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2 - i; ++j)
+        if (pop[o[j + 1]].w > pop[o[j]].w) {
+          int tmp = o[j]; o[j] = o[j + 1]; o[j + 1] = tmp;
+        }
+    int last = 0; // the weakest population shown: the base layer
+    for (int i = 1; i < 3; ++i)
+      if (pop[o[i]].w > 0.02) last = i;
+    c = vec3(0.1) * (0.5 + f[o[0]]);
     float sat = smoothstep(0.05, 0.45, fa), bright = 0.55 + 0.45 * smoothstep(0.05, 0.6, fa);
-    for (int k = 2; k >= 0; --k) {
-      if (k > last) continue;
+    for (int i = 2; i >= 0; --i) {
+      if (i > last) continue;
+      int k = o[i];
       vec3 layer = mix(vec3(0.35), pop[k].rgb, sat) * bright * (0.25 + 1.1 * f[k]) * mix(0.35, 1.0, pop[k].w);
-      float cover = k == last ? 1.0 : smoothstep(0.45, 0.6, f[k]) * smoothstep(0.0, 0.3, pop[k].w);
+      float cover = i == last ? 1.0 : smoothstep(0.45, 0.6, f[k]) * smoothstep(0.0, 0.3, pop[k].w);
       c = mix(c, layer, cover);
     }
   }

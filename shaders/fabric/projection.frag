@@ -124,6 +124,8 @@ void main() {
   int count = sampleFibres(world, fdir, famp, fa);
   if (count > 0 && fa >= u_faFloor) {
     vec4 c0 = u_viewProj * vec4(world, 1.0);
+    int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
+    float top = famp[strongest];
     vec2 img[3];
     for (int k = 0; k < 3; ++k) {
       img[k] = vec2(0.0);
@@ -131,14 +133,14 @@ void main() {
       vec3 pd = fdir[k] - n * dot(n, fdir[k]); // P d
       float inPlane = length(pd);
       if (inPlane > 0.05) img[k] = imageDirection(c0, pd / inPlane);
-      float weight = clamp(famp[k] / famp[0], 0.0, 1.0) * inPlane;
+      float weight = clamp(famp[k] / top, 0.0, 1.0) * inPlane;
       fibres[k] = packUnorm4x8(vec4(abs(fdir[k]), weight));
     }
     vectors = vec4(img[0], img[1]);
     v3 = img[2];
-    eigen.xyz = abs(fdir[0]);
-    lambda.y = abs(dot(fdir[0], n));
-    lambda.x = famp[1] / famp[0];
+    eigen.xyz = abs(fdir[strongest]);
+    lambda.y = abs(dot(fdir[strongest], n));
+    lambda.x = (famp[0] + famp[1] + famp[2] - top) / (2.0 * top);
     lambda.w = 1.0;
   }
 #else

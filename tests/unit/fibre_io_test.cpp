@@ -77,6 +77,54 @@ TEST(FibreInterpolation, EmptyWhereLessThanHalfTheWeightHasFibres) {
   EXPECT_EQ(interpolateFibres(s, glm::dvec3(0.0), 0.1f).size(), 1u);
 }
 
+TEST(FibreInterpolation, MutualBestKeepsACrossingBundleStraightWhereTheOtherEnds) {
+  // Reference voxel (weight 0.7) holds 0 and 60 degrees; its x neighbour only 0 degrees. The neighbour's
+  // lobe is within 60 degrees of both reference lobes but belongs to the 0-degree one.
+  FibreSet s = twoByTwo();
+  for (int c = 0; c < 8; ++c) {
+    Fibre* f = s.at(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    f[0] = {dir(0), 1.0f};
+    if (!(c & 1)) f[1] = {dir(60), 0.9f};
+  }
+  auto out = interpolateFibres(s, glm::dvec3(0.3, 0.5, 0.5), 0.1f);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_LT(angleDeg(out[1].direction, dir(60)), 1e-3);
+  EXPECT_NEAR(out[1].amplitude, 0.9f * 0.7f, 1e-5); // the 0.3 weight of voxels without it
+}
+
+TEST(FibreSlots, ContinuousSlotsFollowBundlesWhereStrengthOrderFlips) {
+  io::PhantomOptions o;
+  o.size = 20;
+  o.crossingDeg = 80;
+  FibreSet f = io::makeFibrePhantom("crossing", o); // overlap voxels list the bundles in alternating order
+  FibreSet s = continuousSlots(f);
+  ASSERT_EQ(s.maxFibres, 2);
+  const glm::vec3 d1 = dir(-40), d2 = dir(40);
+  // In every voxel with both bundles, the bundle in slot 0 is the same as in its x neighbour's slot 0.
+  std::size_t both = 0, agree = 0;
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 1; i < 20; ++i) {
+        const Fibre* a = s.at(i, j, k);
+        const Fibre* b = s.at(i - 1, j, k);
+        if (!(a[0].amplitude > 0 && a[1].amplitude > 0 && b[0].amplitude > 0 && b[1].amplitude > 0)) continue;
+        ++both;
+        agree += angleDeg(a[0].direction, b[0].direction) < 1.0;
+      }
+  EXPECT_GT(both, 50u);
+  EXPECT_EQ(agree, both);
+  // The raw set flips: slot 0 alternates between the bundles.
+  std::size_t flips = 0;
+  for (int i = 1; i < 20; ++i) {
+    const Fibre* a = f.at(i, 10, 10);
+    const Fibre* b = f.at(i - 1, 10, 10);
+    if (a[1].amplitude > 0 && b[1].amplitude > 0) flips += angleDeg(a[0].direction, b[0].direction) > 10;
+  }
+  EXPECT_GT(flips, 0u);
+  (void)d1;
+  (void)d2;
+}
+
 TEST(FibreIo, PhantomRoundTripsThroughEveryLayoutOnRasAndLas) {
   for (bool las : {false, true})
     for (double crossing : {60.0, 90.0}) {
