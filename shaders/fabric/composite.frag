@@ -46,6 +46,15 @@ out vec4 o_colour;
 
 float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 
+#ifdef FIBRES
+// One population's layer: its DEC colour (FA modulated), brightened by its fabric f, dimmed by its weight.
+vec3 layerColour(vec4 pop, float f, float sat, float bright) {
+  return mix(vec3(0.35), pop.rgb, sat) * bright * (0.25 + 1.1 * f) * mix(0.35, 1.0, pop.w);
+}
+// How much a stronger population covers the ones beneath: where its threads are bright, if it has weight.
+float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.0, 0.3, pop.w); }
+#endif
+
 vec3 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec3(0.0);
   vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
@@ -62,35 +71,35 @@ vec3 compose(ivec2 t, vec4 s) {
   float fa = texelFetch(u_eigen, t, 0).w;
   float p3 = texelFetch(u_p3, t, 0).r;
   p3 = p3 < 0.0 ? s.r : p3;
-  float f[3] = float[3](stretch(p.r), stretch(p.g), stretch(p3));
+  float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
   if (lam.w < 0.5) {
 #ifdef BACKGROUND
     c = vec3(lam.z);
 #else
-    c = u_noData * (0.6 + 0.4 * f[0]);
+    c = u_noData * (0.6 + 0.4 * f0);
 #endif
   } else {
     uvec4 q = texelFetch(u_fibres, t, 0);
-    vec4 pop[3] = vec4[3](unpackUnorm4x8(q.x), unpackUnorm4x8(q.y), unpackUnorm4x8(q.z));
-    // Populations by weight, strongest first (the slots follow bundles, not strength).
-    int o[3] = int[3](0, 1, 2);
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2 - i; ++j)
-        if (pop[o[j + 1]].w > pop[o[j]].w) {
-          int tmp = o[j]; o[j] = o[j + 1]; o[j + 1] = tmp;
-        }
-    int last = 0; // the weakest population shown: the base layer
-    for (int i = 1; i < 3; ++i)
-      if (pop[o[i]].w > 0.02) last = i;
-    c = vec3(0.1) * (0.5 + f[o[0]]);
+    vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
+    // Populations by weight, strongest first (the slots follow bundles, not strength); explicit selects
+    // instead of dynamically indexed local arrays.
+    int o0 = 0, o1 = 1, o2 = 2, tmp;
+    float w0 = pop0.w, w1 = pop1.w, w2 = pop2.w;
+    if (w1 > w0) { tmp = o0; o0 = o1; o1 = tmp; }
+    if (w2 > max(w0, w1)) { tmp = o1; o1 = o0; o0 = 2; o2 = tmp; }
+    else if (w2 > min(w0, w1)) { o2 = o1; o1 = 2; }
+    vec4 a = o0 == 0 ? pop0 : (o0 == 1 ? pop1 : pop2);
+    vec4 b = o1 == 0 ? pop0 : (o1 == 1 ? pop1 : pop2);
+    vec4 d = o2 == 0 ? pop0 : (o2 == 1 ? pop1 : pop2);
+    float fa0 = o0 == 0 ? f0 : (o0 == 1 ? f1 : f2);
+    float fb = o1 == 0 ? f0 : (o1 == 1 ? f1 : f2);
+    float fd = o2 == 0 ? f0 : (o2 == 1 ? f1 : f2);
+    int last = d.w > 0.02 ? 2 : (b.w > 0.02 ? 1 : 0); // the weakest population shown: the base layer
     float sat = smoothstep(0.05, 0.45, fa), bright = 0.55 + 0.45 * smoothstep(0.05, 0.6, fa);
-    for (int i = 2; i >= 0; --i) {
-      if (i > last) continue;
-      int k = o[i];
-      vec3 layer = mix(vec3(0.35), pop[k].rgb, sat) * bright * (0.25 + 1.1 * f[k]) * mix(0.35, 1.0, pop[k].w);
-      float cover = i == last ? 1.0 : smoothstep(0.45, 0.6, f[k]) * smoothstep(0.0, 0.3, pop[k].w);
-      c = mix(c, layer, cover);
-    }
+    c = vec3(0.1) * (0.5 + fa0);
+    if (last >= 2) c = layerColour(d, fd, sat, bright);
+    if (last >= 1) c = mix(c, layerColour(b, fb, sat, bright), last == 1 ? 1.0 : cover(b, fb));
+    c = mix(c, layerColour(a, fa0, sat, bright), last == 0 ? 1.0 : cover(a, fa0));
   }
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
