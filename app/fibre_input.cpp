@@ -75,7 +75,7 @@ std::string num(double v) {
   std::snprintf(b, sizeof b, "%.9g", v);
   return b;
 }
-std::string vec(const glm::dvec3& v) { return "[" + num(v.x) + "," + num(v.y) + "," + num(v.z) + "]"; }
+std::string vec(const glm::dvec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
 } // namespace
 
 int describeFibreInput(const std::string& path, const std::string& layoutText, const std::string& tensorPath,
@@ -115,21 +115,21 @@ int describeFibreInput(const std::string& path, const std::string& layoutText, c
     const std::size_t idx = g.index(ijk[0], ijk[1], ijk[2]);
     const EigenSystem e = eigenDecompose(in.tensor->field.tensors[idx].toMat());
     const double fa = in.tensor->field.valid[idx] ? computeMetrics(e).fa : 0.0;
-    tensorJson = ",\"is_tensor\":true,\"tensor_file\":\"" + tensorPath + "\",\"valid\":" +
-                 (in.tensor->field.valid[idx] ? "true" : "false") + ",\"fa\":" + num(fa) +
-                 ",\"eigenvalues\":" + vec(e.values) + ",\"eigenvectors\":[" + vec(e.vectors[0]) + "," +
-                 vec(e.vectors[1]) + "," + vec(e.vectors[2]) + "]";
+    tensorJson = ", \"is_tensor\": true, \"tensor_file\": \"" + tensorPath + "\", \"valid\": " +
+                 (in.tensor->field.valid[idx] ? "true" : "false") + ", \"fa\": " + num(fa) +
+                 ", \"eigenvalues\": " + vec(e.values) + ", \"eigenvectors\": [" + vec(e.vectors[0]) + ", " +
+                 vec(e.vectors[1]) + ", " + vec(e.vectors[2]) + "]";
     tensorText = "tensor:       " + tensorPath + ": FA " + num(fa) + ", e1 " + vec(e.vectors[0]) + "\n";
   } else {
-    tensorJson = ",\"is_tensor\":false";
+    tensorJson = ", \"is_tensor\": false";
   }
   if (json) {
     std::string fibres;
     for (int k = 0; k < n; ++k)
-      fibres += std::string(k ? "," : "") + "{\"direction\":" + vec(glm::dvec3(f[k].direction)) +
-                ",\"amplitude\":" + num(f[k].amplitude) + "}";
-    std::printf("{\"file\":\"%s\",\"voxel\":[%d,%d,%d],\"world\":%s,\"is_fibres\":true,\"fibre_layout\":\"%s\","
-                "\"fibres\":[%s]%s}\n",
+      fibres += std::string(k ? ", " : "") + "{\"direction\": " + vec(glm::dvec3(f[k].direction)) +
+                ", \"amplitude\": " + num(f[k].amplitude) + "}";
+    std::printf("{\"file\": \"%s\", \"voxel\": [%d, %d, %d], \"world\": %s, \"is_fibres\": true, "
+                "\"fibre_layout\": \"%s\", \"fibres\": [%s]%s}\n",
                 path.c_str(), ijk[0], ijk[1], ijk[2], vec(world).c_str(), layout.c_str(), fibres.c_str(),
                 tensorJson.c_str());
     return 0;
