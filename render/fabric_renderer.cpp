@@ -36,12 +36,16 @@ void FabricRenderer::setField(const TensorField& field) {
 }
 
 void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
-  fibres_.upload(fibres, fa);
+  fibreSet_ = fibres;
+  fibreFa_ = fa ? std::optional<ScalarVolume>(*fa) : std::nullopt;
+  fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
   dataChanged_ = true;
 }
 
 void FabricRenderer::clearFibres() {
   fibres_.clear();
+  fibreSet_ = FibreSet{};
+  fibreFa_.reset();
   dataChanged_ = true;
 }
 
@@ -110,8 +114,11 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.principal = p.colour == ColourMode::Medical;
   ps.faFloor = p.faFloor;
   ps.fibres = p.colour == ColourMode::Fibres;
-  ps.fibreThreshold = p.fibreThreshold;
   if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
+  if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
+    uploadedThreshold_ = p.fibreThreshold;
+    fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+  }
   beginTimer(kProjection);
   projection_.run(mesh_, field_, noise_, view_, ps, &background_, &fibres_);
   endTimer();

@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 namespace dtf::render {
 
@@ -125,6 +126,9 @@ private:
   GpuMesh mesh_;
   GpuTensorField field_;
   GpuFibreSet fibres_;
+  FibreSet fibreSet_;                  // kept to re-upload when FabricParams::fibreThreshold changes
+  std::optional<ScalarVolume> fibreFa_;
+  float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;

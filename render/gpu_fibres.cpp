@@ -27,7 +27,7 @@ void GpuFibreSet::clear() {
   lobes_ = 0;
 }
 
-void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa) {
+void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float relativeThreshold) {
   const glm::ivec3 d = set.grid.dims;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
@@ -40,30 +40,37 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa) {
   if (set.fibres.size() != n * k) throw GlError("fibre set size does not match its grid");
   clear();
   // Slots that follow bundles from voxel to voxel: one advection field per slot.
-  const FibreSet slotted = continuousSlots(set);
+  const FibreSet slotted = continuousSlots(set, relativeThreshold);
   lobes_ = slotted.maxFibres;
   std::vector<float> texel(n * 4);
   for (int l = 0; l < lobes_; ++l) {
     for (std::size_t v = 0; v < n; ++v) {
       const Fibre& f = slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)];
       const bool ok = f.amplitude > 0.0f;
-      texel[v * 4 + 0] = ok ? f.direction.x : 0.0f;
-      texel[v * 4 + 1] = ok ? f.direction.y : 0.0f;
-      texel[v * 4 + 2] = ok ? f.direction.z : 0.0f;
+      texel[v * 4 + 0] = ok ? f.amplitude * f.direction.x : 0.0f;
+      texel[v * 4 + 1] = ok ? f.amplitude * f.direction.y : 0.0f;
+      texel[v * 4 + 2] = ok ? f.amplitude * f.direction.z : 0.0f;
       texel[v * 4 + 3] = ok ? f.amplitude : 0.0f;
     }
     lobe_[l] = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
     glTextureSubImage3D(lobe_[l].id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texel.data());
-    lobe_[l].setFilter(GL_NEAREST, GL_NEAREST);
   }
-  std::vector<float> f(n, 1.0f);
-  if (fa)
-    for (std::size_t v = 0; v < n; ++v) {
-      const float x = fa->data[v * static_cast<std::size_t>(fa->components)];
-      f[v] = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f;
+  // FA (or 1) and occupancy, both zero where the voxel has no fibre: FA / occupancy after interpolation.
+  std::vector<float> f(n * 2, 0.0f);
+  for (std::size_t v = 0; v < n; ++v) {
+    bool any = false;
+    for (int l = 0; l < lobes_; ++l) any = any || slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)].amplitude > 0.0f;
+    if (!any) continue;
+    float x = 1.0f;
+    if (fa) {
+      x = fa->data[v * static_cast<std::size_t>(fa->components)];
+      x = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f;
     }
-  fa_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
-  glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, f.data());
+    f[v * 2] = x;
+    f[v * 2 + 1] = 1.0f;
+  }
+  fa_ = Texture::create3D(GL_RG32F, d.x, d.y, d.z);
+  glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RG, GL_FLOAT, f.data());
   if (glGetError() == GL_OUT_OF_MEMORY) {
     clear();
     throw GlError("out of GPU memory for the fibre set's 3D textures");

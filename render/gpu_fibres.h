@@ -1,9 +1,8 @@
-// GPU copy of a FibreSet for the multi-population fabric: up to three RGBA32F 3D textures, one per fibre
-// slot of continuousSlots(set) (a slot follows one bundle from voxel to voxel; unit world direction xyz,
-// amplitude; 0 = absent; nearest filtering: the projection pass gathers the
-// 8 voxels around a point and matches their lobes itself, see shaders/common/fibre_field.glsl), and an R32F
-// FA texture (linear) from a paired tensor, or 1 everywhere without one. Uploaded once per change of the
-// data, never per frame.
+// GPU copy of a FibreSet for the multi-population fabric: continuousSlots of the set (lobes below the
+// relative threshold dropped, the rest matched between neighbouring voxels and sign-aligned) as up to three
+// RGBA32F 3D textures, one per slot (amplitude x unit world direction, amplitude; trilinear, 0 outside),
+// and an RG32F texture (FA of a paired tensor or 1, 1 where the voxel has fibres). See
+// shaders/common/fibre_field.glsl. Uploaded once per change of the data or threshold, never per frame.
 #pragma once
 
 #include "io/model/fibre_set.h"
@@ -18,10 +17,10 @@ class GpuFibreSet {
 public:
   static constexpr int kMaxLobes = 3;
   GpuFibreSet() = default;
-  // Uploads the first min(K, 3) fibres of every voxel (the strongest; more are not rendered) and `fa` (same
-  // grid, component 0) when given. Throws GlError when the grid exceeds GL_MAX_3D_TEXTURE_SIZE, on GPU
-  // out-of-memory, or when fa is on another grid.
-  void upload(const FibreSet& set, const ScalarVolume* fa = nullptr);
+  // Uploads the first min(K, 3) fibres of every voxel (the strongest; more are not rendered), dropping those
+  // below relativeThreshold x the voxel's strongest, and `fa` (same grid, component 0) when given. Throws
+  // GlError when the grid exceeds GL_MAX_3D_TEXTURE_SIZE, on GPU out-of-memory, or when fa is on another grid.
+  void upload(const FibreSet& set, const ScalarVolume* fa = nullptr, float relativeThreshold = 0.0f);
   void clear();
   // Binds the lobe textures to units 0, 1, 5 and FA to unit 6 (the bindings of fibre_field.glsl).
   void bind() const;

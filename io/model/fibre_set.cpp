@@ -154,7 +154,7 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
   return out;
 }
 
-FibreSet continuousSlots(const FibreSet& set) {
+FibreSet continuousSlots(const FibreSet& set, float relativeThreshold) {
   const int k = std::min(set.maxFibres, 3);
   FibreSet out = makeFibreSet(set.grid, k);
   // The assignments of up to 3 fibres (indices 0..n-1) to 3 slots: all permutations of the slots.
@@ -164,17 +164,20 @@ FibreSet continuousSlots(const FibreSet& set) {
   for (int z = 0; z < d.z; ++z)
     for (int y = 0; y < d.y; ++y)
       for (int x = 0; x < d.x; ++x) {
-        const Fibre* f = set.at(x, y, z);
+        const Fibre* src = set.at(x, y, z);
+        Fibre f[3];
         int n = 0;
-        while (n < k && f[n].amplitude > 0.0f)
-          ++n;
+        float top = 0.0f;
+        for (int l = 0; l < k; ++l)
+          top = std::max(top, src[l].amplitude);
+        for (int l = 0; l < k; ++l)
+          if (src[l].amplitude > 0.0f && src[l].amplitude >= relativeThreshold * top) f[n++] = src[l];
         if (n == 0) continue;
         const Fibre* nb[3] = {x > 0 ? out.at(x - 1, y, z) : nullptr, y > 0 ? out.at(x, y - 1, z) : nullptr,
                               z > 0 ? out.at(x, y, z - 1) : nullptr};
         int best = 0;
         double bestScore = -1;
-        for (int p = 0; p < perms; ++p) {
-          // With k = 2 only the first two entries of the first two permutations are used.
+        for (int p = 0; p < perms; ++p) { // with k = 2 only the first two entries of the first two are used
           double score = 0;
           for (const Fibre* q : nb) {
             if (!q) continue;
@@ -190,9 +193,69 @@ FibreSet continuousSlots(const FibreSet& set) {
           }
         }
         Fibre* o = out.at(x, y, z);
-        for (int l = 0; l < n; ++l)
-          o[kPerms[best][l]] = f[l];
+        for (int l = 0; l < n; ++l) {
+          const int slot = kPerms[best][l];
+          double sign = 0;
+          for (const Fibre* q : nb)
+            if (q && q[slot].amplitude > 0.0f) sign += glm::dot(q[slot].direction, f[l].direction) * q[slot].amplitude;
+          o[slot] = {sign < 0 ? -f[l].direction : f[l].direction, f[l].amplitude};
+        }
       }
+  // The scan fixes each sign from the neighbours seen before it; a voxel that had none (where a bundle
+  // enters a row) keeps its own. Two sweeps over all six face neighbours flip those to their majority.
+  static const int kFaces[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int sweep = 0; sweep < 2; ++sweep)
+    for (int z = 0; z < d.z; ++z)
+      for (int y = 0; y < d.y; ++y)
+        for (int x = 0; x < d.x; ++x) {
+          Fibre* o = out.at(x, y, z);
+          for (int slot = 0; slot < k; ++slot) {
+            if (!(o[slot].amplitude > 0.0f)) continue;
+            double sign = 0;
+            for (const auto& f : kFaces) {
+              const int i = x + f[0], j = y + f[1], l = z + f[2];
+              if (!set.grid.contains(i, j, l)) continue;
+              const Fibre& q = out.at(i, j, l)[slot];
+              if (q.amplitude > 0.0f) sign += glm::dot(q.direction, o[slot].direction) * q.amplitude;
+            }
+            if (sign < 0) o[slot].direction = -o[slot].direction;
+          }
+        }
+  return out;
+}
+
+std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& ijk) {
+  const int k = std::min(slotted.maxFibres, 3);
+  std::vector<Fibre> out(static_cast<std::size_t>(k));
+  const glm::dvec3 base = glm::floor(ijk), frac = ijk - base;
+  double occupied = 0;
+  glm::dvec3 vec[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+  double amp[3] = {0, 0, 0};
+  for (int c = 0; c < 8; ++c) {
+    const glm::ivec3 v = glm::ivec3(base) + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    if (!slotted.grid.contains(v.x, v.y, v.z)) continue;
+    const double w =
+        ((c & 1) ? frac.x : 1 - frac.x) * ((c & 2) ? frac.y : 1 - frac.y) * ((c & 4) ? frac.z : 1 - frac.z);
+    const Fibre* f = slotted.at(v.x, v.y, v.z);
+    bool any = false;
+    for (int j = 0; j < k; ++j) {
+      vec[j] += w * static_cast<double>(f[j].amplitude) * glm::dvec3(f[j].direction);
+      amp[j] += w * static_cast<double>(f[j].amplitude);
+      any = any || f[j].amplitude > 0.0f;
+    }
+    occupied += any ? w : 0.0;
+  }
+  if (occupied < 0.5) return out;
+  const glm::ivec3 near = glm::clamp(glm::ivec3(glm::round(ijk)), glm::ivec3(0), slotted.grid.dims - 1);
+  const Fibre* nearest = slotted.at(near.x, near.y, near.z);
+  for (int j = 0; j < k; ++j) {
+    if (!(amp[j] > 0)) continue;
+    const double len = glm::length(vec[j]);
+    glm::dvec3 d = len > 0 ? vec[j] / len : glm::dvec3(0.0);
+    if (len < 0.9 * amp[j] && nearest[j].amplitude > 0.0f) d = glm::dvec3(nearest[j].direction);
+    if (glm::length(d) == 0.0) continue;
+    out[static_cast<std::size_t>(j)] = {glm::vec3(d), static_cast<float>(amp[j] / occupied)};
+  }
   return out;
 }
 

@@ -69,13 +69,24 @@ TensorField fibreCarrierField(const FibreSet& set);
 std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk, float relativeThreshold,
                                      int maxOut = 3, float minMatchCos = 0.5f, bool sortByAmplitude = true);
 
-// The renderer's slot layout: the first min(K, 3) fibres of each voxel re-slotted so that a slot holds the
-// same bundle from voxel to voxel (each voxel, in scan order, takes the assignment of its fibres to slots
-// that best agrees in |cos| x amplitude with its already-slotted face neighbours; strongest first where no
-// neighbour has fibres). One advection field per slot then follows one bundle, even where the bundles'
-// amplitudes are equal and their strength order flips between voxels. Unlike a normalised set, absent
-// slots may lie between present ones. Seams remain where two propagation fronts disagree.
-FibreSet continuousSlots(const FibreSet& set);
+// The renderer's slot layout: the first min(K, 3) fibres of each voxel, those below relativeThreshold x the
+// voxel's strongest dropped, re-slotted and sign-flipped so that a slot holds the same bundle with the same
+// sign from voxel to voxel. This is the lobe matching by |cos| between neighbours: each voxel, in scan
+// order, takes the assignment of its fibres to slots that best agrees in |cos| x amplitude with its
+// already-slotted face neighbours (strongest first where no neighbour has fibres), and flips each fibre to
+// agree in sign with them. One advection field per slot then follows one bundle, even where the bundles'
+// amplitudes are equal and their strength order flips between voxels, and slots can be interpolated per
+// component (interpolateSlots). Unlike a normalised set, absent slots may lie between present ones. Seams
+// remain where two propagation fronts disagree.
+FibreSet continuousSlots(const FibreSet& set, float relativeThreshold = 0.0f);
+
+// The renderer's interpolation of continuousSlots output at a fractional voxel index (its CPU reference):
+// per slot, the trilinear interpolation of amplitude x direction and of amplitude over the 8 surrounding
+// voxels; amplitude = interpolated amplitude / the weight of voxels with fibres; direction = the normalised
+// interpolated vector, or the nearest voxel's direction where the vector is shorter than 0.9 x the
+// interpolated amplitude (a sign seam or a disagreement between voxels). Exactly min(K, 3) entries in slot
+// order (amplitude 0 = none); all absent where less than half the weight lies on voxels with fibres.
+std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& ijk);
 
 // Fibre coherence of the first fibres: over neighbouring voxel pairs (13 neighbour directions) of
 // single-fibre voxels (no second fibre above half the first), the fraction where both point along the step

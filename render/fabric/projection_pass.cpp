@@ -82,7 +82,6 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   if (useFibres) {
     p.set("u_worldToTex", fibres->worldToTex());
     p.set("u_lobeCount", fibres->lobes());
-    p.set("u_relThreshold", s.fibreThreshold);
   } else {
     p.set("u_worldToTex", field.worldToTex());
   }

@@ -41,7 +41,6 @@ struct ProjectionSettings {
   bool cullHidden = true;        // cull back faces of closed meshes seen from outside (same image)
   float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
   bool fibres = false;           // sample the GpuFibreSet instead of the tensor field
-  float fibreThreshold = 0.15f;  // fibres: lobes below this fraction of their voxel's strongest are dropped
 };
 
 class ProjectionPass {

@@ -1,7 +1,7 @@
 // The multi-population fabric on fibre sets: on crossing phantoms the local orientation histogram of the
 // rendered centre of the crossing has a peak at each bundle and none at the tensor-average direction, where
 // the tensor fabric of the same crossing puts its threads; a single bundle shows one peak. The projection's
-// per-population colours agree with the CPU reference of the lobe matching (interpolateFibres).
+// per-population colours agree with the CPU reference of its interpolation (interpolateSlots).
 #include "support/gl_test.h"
 
 #include "io/model/fibre_set.h"
@@ -163,16 +163,16 @@ TEST_F(FibreRender, SingleBundleShowsOnePeak) {
   }
 }
 
-TEST_F(FibreRender, ProjectionColoursMatchTheCpuLobeMatching) {
-  // Per pixel, the projection stores each population's |d| (DEC colour) from the shader's lobe matching;
-  // the CPU reference must give the same directions at the same world points.
+TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
+  // Per pixel, the projection stores each population's |d| (DEC colour) from the shader's interpolation of
+  // the matched slots; the CPU reference must give the same directions at the same world points.
   Scene s;
   FabricRenderer r;
   io::PhantomOptions o;
   o.crossingDeg = 70;
   o.size = 32;
   FibreSet f = io::makeFibrePhantom("crossing", o);
-  const FibreSet slotted = continuousSlots(f);
+  const FibreSet slotted = continuousSlots(f, FabricParams{}.fibreThreshold);
   r.setMesh(reference::planeMesh({0.3, 0.2, 0.25}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
   r.setFibres(f);
   r.resize(128, 128);
@@ -194,7 +194,7 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuLobeMatching) {
       glm::dvec3 pw = glm::dvec3(wp) / double(wp.w);
       pw.z = 0.25;
       // The GPU gets the bundle-following slots; compare slot by slot.
-      auto cpu = interpolateFibres(slotted, slotted.grid.toVoxel(pw), p.fibreThreshold, 3, 0.5f, false);
+      auto cpu = interpolateSlots(slotted, slotted.grid.toVoxel(pw));
       const GLuint* q = &texels[(static_cast<std::size_t>(y) * 128 + x) * 4];
       int cpuCount = 0, gpuCount = 0;
       for (const Fibre& c : cpu) cpuCount += c.amplitude > 0;
@@ -205,7 +205,8 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuLobeMatching) {
         if (!(cpu[k].amplitude > 0)) continue;
         const glm::vec3 dec(float(q[k] & 0xff) / 255.0f, float((q[k] >> 8) & 0xff) / 255.0f,
                             float((q[k] >> 16) & 0xff) / 255.0f);
-        EXPECT_LT(glm::length(dec - glm::abs(cpu[k].direction)), 0.02f) << "pixel " << x << "," << y << " slot " << k;
+        // 8-bit colour and the hardware's fixed-point trilinear weights: a few hundredths.
+        EXPECT_LT(glm::length(dec - glm::abs(cpu[k].direction)), 0.03f) << "pixel " << x << "," << y << " slot " << k;
       }
       ++compared;
       two += cpuCount == 2;

@@ -125,6 +125,64 @@ TEST(FibreSlots, ContinuousSlotsFollowBundlesWhereStrengthOrderFlips) {
   (void)d2;
 }
 
+TEST(FibreSlots, SlotInterpolationAgreesWithPerPointLobeMatching) {
+  // The renderer matches lobes once per voxel pair (continuousSlots) and interpolates slots per component;
+  // away from seams this must give what matching at every point (interpolateFibres) gives.
+  for (double crossing : {60.0, 90.0}) {
+    io::PhantomOptions o;
+    o.size = 24;
+    o.crossingDeg = crossing;
+    o.las = crossing == 90.0;
+    FibreSet f = io::makeFibrePhantom("crossing", o);
+    FibreSet s = continuousSlots(f, 0.15f);
+    std::size_t points = 0, agree = 0;
+    for (double z = 10.2; z < 14; z += 1.3)
+      for (double y = 1.3; y < 22; y += 0.7)
+        for (double x = 1.1; x < 22; x += 0.7) {
+          auto ref = interpolateFibres(f, {x, y, z}, 0.15f);
+          auto slot = interpolateSlots(s, {x, y, z});
+          std::vector<Fibre> present;
+          for (const Fibre& p : slot)
+            if (p.amplitude > 0) present.push_back(p);
+          if (ref.empty() && present.empty()) continue;
+          ++points;
+          if (ref.size() != present.size()) continue;
+          bool ok = true;
+          for (const Fibre& r : ref) {
+            double best = 180;
+            for (const Fibre& p : present)
+              if (std::abs(p.amplitude - r.amplitude) < 0.02) best = std::min(best, angleDeg(p.direction, r.direction));
+            ok = ok && best < 1.0;
+          }
+          agree += ok;
+        }
+    EXPECT_GT(points, 1000u);
+    // The rest lie along slot seams (where bundles entered the scan separately and meet): there slot
+    // interpolation mixes two bundles and falls back to the nearest voxel's direction.
+    EXPECT_GT(double(agree), 0.9 * double(points)) << crossing;
+  }
+}
+
+TEST(FibreSlots, SignsAreAlignedBetweenNeighbours) {
+  io::PhantomOptions o;
+  o.size = 20;
+  FibreSet s = continuousSlots(io::makeFibrePhantom("crossing", o)); // the phantom flips signs every 3rd voxel
+  std::size_t pairs = 0, aligned = 0;
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 1; i < 20; ++i)
+        for (int n = 0; n < 2; ++n) {
+          const Fibre& a = s.at(i, j, k)[n];
+          const Fibre& b = s.at(i - 1, j, k)[n];
+          // Same bundle in the slot on both sides (slot seams aside): then the same sign.
+          if (!(a.amplitude > 0 && b.amplitude > 0) || std::abs(glm::dot(a.direction, b.direction)) < 0.99f) continue;
+          ++pairs;
+          aligned += glm::dot(a.direction, b.direction) > 0.99f;
+        }
+  EXPECT_GT(pairs, 500u);
+  EXPECT_EQ(aligned, pairs);
+}
+
 TEST(FibreIo, PhantomRoundTripsThroughEveryLayoutOnRasAndLas) {
   for (bool las : {false, true})
     for (double crossing : {60.0, 90.0}) {
