@@ -260,7 +260,7 @@ bool looksLikeFibres(const std::string& path, std::string* reason) {
     return r;
   };
   if (isBedpostxPath(path)) return say(true, "a bedpostx folder or file name");
-  if (fs::is_directory(path)) fail(path, "is a folder without dyads1.nii.gz (not a bedpostx folder)");
+  if (fs::is_directory(path)) return say(false, "a folder without dyads1.nii.gz"); // the readers say why
   VolumeHeader h = readHeader(path);
   if (!markerLayout(h.descrip).empty()) return say(true, "written by dtfabric as a fibre set");
   long long comps = 1;

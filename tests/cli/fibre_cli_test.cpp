@@ -85,3 +85,20 @@ TEST(FibreCli, RenderRefusesFaSurfacesWithoutATensorAndSplitsDtiBesidePeaks) {
   auto med = runDtfabric("render " + q(dir / "p.nii.gz") + " --color medical --size 64x64 -o " + q(dir / "m.png"), dir);
   EXPECT_EQ(med.exitCode, 1) << med.err;
 }
+
+TEST(FibreCli, TensorCommandsRefuseAFibreSetByName) {
+  const fs::path dir = dtf::test::scratchDir();
+  ASSERT_EQ(runDtfabric("phantom crossing --size 16 --layout dipy-peaks -o " + q(dir / "p.nii.gz"), dir).exitCode, 0);
+  // Two peaks in 6 volumes: refused by the tensor reader; 9 volumes: refused as a fibre set before being
+  // taken for a DWI.
+  auto r = runDtfabric("surface " + q(dir / "p.nii.gz") + " --slice axial -o " + q(dir / "s.ply"), dir);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("p.nii.gz"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a tensor"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "s.ply"));
+  DTF_SHARED_FILE(peaks, "iu_prisma_dwi/derived/fibres/peaks_mrtrix.nii.gz"); // 9 volumes
+  auto t = runDtfabric("surface " + q(peaks) + " --slice axial -o " + q(dir / "t.ply"), dir);
+  EXPECT_EQ(t.exitCode, 2) << t.err;
+  EXPECT_NE(t.err.find("a fibre set"), std::string::npos) << t.err;
+  EXPECT_FALSE(fs::exists(dir / "t.ply"));
+}
