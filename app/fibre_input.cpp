@@ -19,12 +19,13 @@ bool isFibreInput(const std::string& path, const std::string& layoutText, bool q
   return yes;
 }
 
-FibreInput loadFibreInput(const std::string& path, const std::string& layoutText, const std::string& tensorPath,
-                          bool quiet) {
+FibreInput loadFibreInput(const std::string& path, const std::string& layoutText,
+                          const std::string& tensorPath, bool quiet) {
   FibreInput in;
   in.fibres = io::readFibres(path, io::parseFibreLayout(layoutText == "auto" ? "auto" : layoutText));
   if (!quiet) {
-    logInfo(path + ": fibre layout " + io::fibreLayoutName(in.fibres.layout) + " (" + in.fibres.layoutReason + ")");
+    logInfo(path + ": fibre layout " + io::fibreLayoutName(in.fibres.layout) + " (" + in.fibres.layoutReason +
+            ")");
     for (const std::string& w : in.fibres.warnings)
       logWarning(path + ": " + w);
   }
@@ -75,7 +76,9 @@ std::string num(double v) {
   std::snprintf(b, sizeof b, "%.9g", v);
   return b;
 }
-std::string vec(const glm::dvec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+std::string vec(const glm::dvec3& v) {
+  return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]";
+}
 } // namespace
 
 int describeFibreInput(const std::string& path, const std::string& layoutText, const std::string& tensorPath,
@@ -90,7 +93,8 @@ int describeFibreInput(const std::string& path, const std::string& layoutText, c
                   "\"layout_reason\":\"%s\",\"dims\":[%d,%d,%d],\"orientation\":\"%s\",\"max_fibres\":%d,"
                   "\"voxels_with_fibres\":%zu,\"max_amplitude\":%s}\n",
                   path.c_str(), layout.c_str(), in.fibres.layoutReason.c_str(), g.dims.x, g.dims.y, g.dims.z,
-                  g.orientationCode().c_str(), s.maxFibres, s.occupiedVoxels(), num(s.maxAmplitude()).c_str());
+                  g.orientationCode().c_str(), s.maxFibres, s.occupiedVoxels(),
+                  num(s.maxAmplitude()).c_str());
       return 0;
     }
     std::printf("file:         %s\n", path.c_str());
@@ -115,10 +119,10 @@ int describeFibreInput(const std::string& path, const std::string& layoutText, c
     const std::size_t idx = g.index(ijk[0], ijk[1], ijk[2]);
     const EigenSystem e = eigenDecompose(in.tensor->field.tensors[idx].toMat());
     const double fa = in.tensor->field.valid[idx] ? computeMetrics(e).fa : 0.0;
-    tensorJson = ", \"is_tensor\": true, \"tensor_file\": \"" + tensorPath + "\", \"valid\": " +
-                 (in.tensor->field.valid[idx] ? "true" : "false") + ", \"fa\": " + num(fa) +
-                 ", \"eigenvalues\": " + vec(e.values) + ", \"eigenvectors\": [" + vec(e.vectors[0]) + ", " +
-                 vec(e.vectors[1]) + ", " + vec(e.vectors[2]) + "]";
+    tensorJson = ", \"is_tensor\": true, \"tensor_file\": \"" + tensorPath +
+                 "\", \"valid\": " + (in.tensor->field.valid[idx] ? "true" : "false") +
+                 ", \"fa\": " + num(fa) + ", \"eigenvalues\": " + vec(e.values) + ", \"eigenvectors\": [" +
+                 vec(e.vectors[0]) + ", " + vec(e.vectors[1]) + ", " + vec(e.vectors[2]) + "]";
     tensorText = "tensor:       " + tensorPath + ": FA " + num(fa) + ", e1 " + vec(e.vectors[0]) + "\n";
   } else {
     tensorJson = ", \"is_tensor\": false";

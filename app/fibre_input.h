@@ -15,8 +15,8 @@ namespace dtf::app {
 struct FibreInput {
   io::LoadedFibres fibres;
   std::optional<io::LoadedTensors> tensor; // --tensor, on the same grid
-  TensorField carrier;                     // the tensor when paired, else fibreCarrierField (surface clipping)
-  ScalarVolume fa;                         // the paired tensor's FA; empty without one
+  TensorField carrier; // the tensor when paired, else fibreCarrierField (surface clipping)
+  ScalarVolume fa;     // the paired tensor's FA; empty without one
 };
 
 // True when `layoutText` names a fibre layout, or is auto and `path` looks like a fibre file (the reason is
@@ -25,8 +25,8 @@ bool isFibreInput(const std::string& path, const std::string& layoutText, bool q
 
 // Loads the fibre set (layout from `layoutText`: auto or a fibre layout) and the optional tensor; logs the
 // layout and its reason unless quiet. Throws InputError (also when the tensor's grid differs).
-FibreInput loadFibreInput(const std::string& path, const std::string& layoutText, const std::string& tensorPath,
-                          bool quiet = false);
+FibreInput loadFibreInput(const std::string& path, const std::string& layoutText,
+                          const std::string& tensorPath, bool quiet = false);
 
 // Refuses (UsageError) surfaces that need FA or tensor directions (fa=, fibre=) when no tensor is paired.
 void checkFibreSurface(const SurfaceSpec& spec, const FibreInput& input);

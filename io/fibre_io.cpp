@@ -42,8 +42,8 @@ std::string voxelText(const Grid& g, std::size_t v) {
   return std::to_string(v % nx) + "," + std::to_string((v / nx) % ny) + "," + std::to_string(v / (nx * ny));
 }
 
-// Peaks as stored (no frame applied): vectors of length = amplitude. NaN triplets and zero vectors are absent;
-// Inf or a partly NaN triplet is an error.
+// Peaks as stored (no frame applied): vectors of length = amplitude. NaN triplets and zero vectors are
+// absent; Inf or a partly NaN triplet is an error.
 FibreSet peaksAsStored(const std::string& path, const ScalarVolume& raw, bool& hasNan) {
   if (raw.components < 3 || raw.components % 3 != 0)
     fail(path, "has " + std::to_string(raw.components) +
@@ -54,13 +54,15 @@ FibreSet peaksAsStored(const std::string& path, const ScalarVolume& raw, bool& h
   const std::size_t nv = raw.grid.voxelCount();
   for (std::size_t v = 0; v < nv; ++v)
     for (int n = 0; n < k; ++n) {
-      const float* c = &raw.data[v * static_cast<std::size_t>(raw.components) + static_cast<std::size_t>(3 * n)];
+      const float* c =
+          &raw.data[v * static_cast<std::size_t>(raw.components) + static_cast<std::size_t>(3 * n)];
       const int nans = std::isnan(c[0]) + std::isnan(c[1]) + std::isnan(c[2]);
       if (nans == 3) {
         hasNan = true;
         continue;
       }
-      if (nans > 0) fail(path, "voxel " + voxelText(raw.grid, v) + " peak " + std::to_string(n + 1) + " is partly NaN");
+      if (nans > 0)
+        fail(path, "voxel " + voxelText(raw.grid, v) + " peak " + std::to_string(n + 1) + " is partly NaN");
       if (std::isinf(c[0]) || std::isinf(c[1]) || std::isinf(c[2]))
         fail(path, "voxel " + voxelText(raw.grid, v) + " peak " + std::to_string(n + 1) + " holds Inf");
       const glm::vec3 d(c[0], c[1], c[2]);
@@ -114,24 +116,26 @@ LoadedFibres readPeaks(const std::string& path, FibreLayout layout) {
       out.layoutReason = "written by dtfabric: descrip names layout " + marked;
     } else if (nearIdentity(r)) {
       layout = hasNan ? FibreLayout::MrtrixPeaks : FibreLayout::DipyPeaks;
-      out.layoutReason = std::to_string(stored.maxFibres) + " peaks (" + std::to_string(3 * stored.maxFibres) +
-                         " volumes); the voxel axes are the world axes on this " + g.orientationCode() +
-                         " grid, so the frame does not matter; " +
-                         (hasNan ? "NaN for absent peaks as MRtrix writes" : "zeros for absent peaks as DIPY writes");
+      out.layoutReason =
+          std::to_string(stored.maxFibres) + " peaks (" + std::to_string(3 * stored.maxFibres) +
+          " volumes); the voxel axes are the world axes on this " + g.orientationCode() +
+          " grid, so the frame does not matter; " +
+          (hasNan ? "NaN for absent peaks as MRtrix writes" : "zeros for absent peaks as DIPY writes");
     } else {
       const Coherence world = fibreCoherence(stored), voxel = fibreCoherence(stored, r);
       const bool isWorld = world.score >= voxel.score;
       layout = isWorld ? FibreLayout::MrtrixPeaks : FibreLayout::DipyPeaks;
-      out.layoutReason = std::to_string(stored.maxFibres) + " peaks (" + std::to_string(3 * stored.maxFibres) +
-                         " volumes), frame not recorded in the file; fibre coherence (neighbouring single-fibre "
-                         "voxels whose peaks both run along the step between them, " +
-                         std::to_string(world.pairs) + " pairs): world frame " + fmt(100 * world.score) +
-                         "%, voxel frame " + fmt(100 * voxel.score) + "% => " + (isWorld ? "world" : "voxel") +
-                         " frame (" + fibreLayoutName(layout) + ")";
+      out.layoutReason =
+          std::to_string(stored.maxFibres) + " peaks (" + std::to_string(3 * stored.maxFibres) +
+          " volumes), frame not recorded in the file; fibre coherence (neighbouring single-fibre "
+          "voxels whose peaks both run along the step between them, " +
+          std::to_string(world.pairs) + " pairs): world frame " + fmt(100 * world.score) + "%, voxel frame " +
+          fmt(100 * voxel.score) + "% => " + (isWorld ? "world" : "voxel") + " frame (" +
+          fibreLayoutName(layout) + ")";
       const double hi = std::max(world.score, voxel.score), lo = std::min(world.score, voxel.score);
       if (world.pairs < 200 || hi < lo * 1.05 + 1e-9)
-        out.warnings.push_back("the peaks' frame is uncertain (coherence " + fmt(100 * world.score) + "% vs " +
-                               fmt(100 * voxel.score) + "%); assumed " + fibreLayoutName(layout) +
+        out.warnings.push_back("the peaks' frame is uncertain (coherence " + fmt(100 * world.score) +
+                               "% vs " + fmt(100 * voxel.score) + "%); assumed " + fibreLayoutName(layout) +
                                ", use --layout mrtrix-peaks or dipy-peaks to override");
     }
   } else {
@@ -189,7 +193,8 @@ LoadedFibres readBedpostx(const std::string& path) {
     out.files.push_back(dyads[n]);
     out.files.push_back(fpath);
     if (d.components != 3)
-      fail(dyads[n], "has " + std::to_string(d.components) + " volumes; a bedpostx dyads file holds 3 (x, y, z)");
+      fail(dyads[n],
+           "has " + std::to_string(d.components) + " volumes; a bedpostx dyads file holds 3 (x, y, z)");
     if (f.components != 1)
       fail(fpath, "has " + std::to_string(f.components) + " volumes; a bedpostx fractions file holds 1");
     if (!sameGrid(d.grid, f.grid)) fail(fpath, "its grid differs from " + dyads[n]);

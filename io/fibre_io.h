@@ -31,9 +31,9 @@ FibreLayout parseFibreLayout(const std::string& name);
 struct LoadedFibres {
   FibreSet set;
   FibreLayout layout = FibreLayout::Auto;
-  std::string layoutReason;          // why this layout/frame was chosen (always shown to the user)
-  VolumeHeader header;               // of the peaks file or dyads1
-  std::vector<std::string> files;    // the files read
+  std::string layoutReason;       // why this layout/frame was chosen (always shown to the user)
+  VolumeHeader header;            // of the peaks file or dyads1
+  std::vector<std::string> files; // the files read
   std::vector<std::string> warnings;
 };
 

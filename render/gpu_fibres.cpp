@@ -22,7 +22,8 @@ glm::mat4 worldToTexture(const Grid& grid) {
 } // namespace
 
 void GpuFibreSet::clear() {
-  for (Texture& t : lobe_) t = Texture();
+  for (Texture& t : lobe_)
+    t = Texture();
   fa_ = Texture();
   lobes_ = 0;
 }
@@ -33,7 +34,8 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
   if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
     throw GlError("the fibre set's grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
-                  std::to_string(d.z) + " exceeds this GL's 3D texture size limit (" + std::to_string(maxSize) + ")");
+                  std::to_string(d.z) + " exceeds this GL's 3D texture size limit (" +
+                  std::to_string(maxSize) + ")");
   if (fa && fa->grid.dims != d) throw GlError("the FA volume paired with the fibre set is on another grid");
   const std::size_t n = set.grid.voxelCount();
   const auto k = static_cast<std::size_t>(set.maxFibres);
@@ -59,7 +61,10 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   std::vector<float> f(n * 2, 0.0f);
   for (std::size_t v = 0; v < n; ++v) {
     bool any = false;
-    for (int l = 0; l < lobes_; ++l) any = any || slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)].amplitude > 0.0f;
+    for (int l = 0; l < lobes_; ++l)
+      any =
+          any ||
+          slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)].amplitude > 0.0f;
     if (!any) continue;
     float x = 1.0f;
     if (fa) {

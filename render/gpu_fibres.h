@@ -19,7 +19,8 @@ public:
   GpuFibreSet() = default;
   // Uploads the first min(K, 3) fibres of every voxel (the strongest; more are not rendered), dropping those
   // below relativeThreshold x the voxel's strongest, and `fa` (same grid, component 0) when given. Throws
-  // GlError when the grid exceeds GL_MAX_3D_TEXTURE_SIZE, on GPU out-of-memory, or when fa is on another grid.
+  // GlError when the grid exceeds GL_MAX_3D_TEXTURE_SIZE, on GPU out-of-memory, or when fa is on another
+  // grid.
   void upload(const FibreSet& set, const ScalarVolume* fa = nullptr, float relativeThreshold = 0.0f);
   void clear();
   // Binds the lobe textures to units 0, 1, 5 and FA to unit 6 (the bindings of fibre_field.glsl).

@@ -31,7 +31,8 @@ float FibreSet::maxAmplitude() const {
 }
 
 FibreSet makeFibreSet(const Grid& grid, int k) {
-  if (k < 1 || k > 16) throw InputError("a fibre set needs 1 to 16 fibres per voxel, not " + std::to_string(k));
+  if (k < 1 || k > 16)
+    throw InputError("a fibre set needs 1 to 16 fibres per voxel, not " + std::to_string(k));
   FibreSet s;
   s.grid = grid;
   s.maxFibres = k;
@@ -45,7 +46,8 @@ void normaliseFibres(FibreSet& set) {
     Fibre* f = &set.fibres[v * k];
     for (std::size_t n = 0; n < k; ++n) {
       const float len = glm::length(f[n].direction);
-      if (!(f[n].amplitude > 0.0f) || !std::isfinite(f[n].amplitude) || !(len > 1e-12f) || !std::isfinite(len))
+      if (!(f[n].amplitude > 0.0f) || !std::isfinite(f[n].amplitude) || !(len > 1e-12f) ||
+          !std::isfinite(len))
         f[n] = Fibre{};
       else
         f[n].direction /= len;
@@ -132,8 +134,9 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
       // bundle ends, its neighbour's single lobe must not bend the crossing bundle towards it).
       bool mutual = true;
       for (int j2 = 0; j2 < r.n && mutual; ++j2)
-        mutual = j2 == j || !(r.lobes[static_cast<std::size_t>(j2)].amplitude > 0.0f) || std::abs(glm::dot(glm::dvec3(r.lobes[static_cast<std::size_t>(j2)].direction),
-                                              glm::dvec3(m.direction))) <= std::abs(bestCos);
+        mutual = j2 == j || !(r.lobes[static_cast<std::size_t>(j2)].amplitude > 0.0f) ||
+                 std::abs(glm::dot(glm::dvec3(r.lobes[static_cast<std::size_t>(j2)].direction),
+                                   glm::dvec3(m.direction))) <= std::abs(bestCos);
       if (!mutual) continue;
       acc += k.w * m.amplitude * (bestCos < 0 ? -1.0 : 1.0) * glm::dvec3(m.direction);
       amp += k.w * m.amplitude;
@@ -149,7 +152,8 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
     out.resize(static_cast<std::size_t>(kUse));
     return out;
   }
-  std::stable_sort(out.begin(), out.end(), [](const Fibre& a, const Fibre& b) { return a.amplitude > b.amplitude; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Fibre& a, const Fibre& b) { return a.amplitude > b.amplitude; });
   if (static_cast<int>(out.size()) > maxOut) out.resize(static_cast<std::size_t>(std::max(maxOut, 0)));
   return out;
 }
@@ -184,7 +188,8 @@ FibreSet continuousSlots(const FibreSet& set, float relativeThreshold) {
             for (int l = 0; l < n; ++l) {
               const Fibre& s = q[kPerms[p][l]];
               if (s.amplitude > 0.0f)
-                score += std::abs(glm::dot(s.direction, f[l].direction)) * std::min(s.amplitude, f[l].amplitude);
+                score +=
+                    std::abs(glm::dot(s.direction, f[l].direction)) * std::min(s.amplitude, f[l].amplitude);
             }
           }
           if (score > bestScore + 1e-9) {
@@ -197,7 +202,8 @@ FibreSet continuousSlots(const FibreSet& set, float relativeThreshold) {
           const int slot = kPerms[best][l];
           double sign = 0;
           for (const Fibre* q : nb)
-            if (q && q[slot].amplitude > 0.0f) sign += glm::dot(q[slot].direction, f[l].direction) * q[slot].amplitude;
+            if (q && q[slot].amplitude > 0.0f)
+              sign += glm::dot(q[slot].direction, f[l].direction) * q[slot].amplitude;
           o[slot] = {sign < 0 ? -f[l].direction : f[l].direction, f[l].amplitude};
         }
       }
@@ -260,8 +266,8 @@ std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& i
 }
 
 Coherence fibreCoherence(const FibreSet& set, const glm::dmat3& frameChange) {
-  static const int kSteps[13][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1},   {1, 1, 0},  {1, -1, 0},
-                                    {1, 0, 1},  {1, 0, -1}, {0, 1, 1},   {0, 1, -1}, {1, 1, 1},
+  static const int kSteps[13][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0},
+                                    {1, 0, 1},  {1, 0, -1}, {0, 1, 1},  {0, 1, -1}, {1, 1, 1},
                                     {1, 1, -1}, {1, -1, 1}, {1, -1, -1}};
   const glm::dmat3 a(set.grid.voxelToWorld);
   glm::dvec3 steps[13];

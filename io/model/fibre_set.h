@@ -17,7 +17,6 @@
 #include "io/model/volume.h"
 
 #include <glm/glm.hpp>
-
 #include <vector>
 
 namespace dtf {
@@ -32,7 +31,9 @@ struct FibreSet {
   int maxFibres = 0;         // slots per voxel (K)
   std::vector<Fibre> fibres; // grid.voxelCount() * maxFibres
 
-  Fibre* at(int i, int j, int k) { return &fibres[grid.index(i, j, k) * static_cast<std::size_t>(maxFibres)]; }
+  Fibre* at(int i, int j, int k) {
+    return &fibres[grid.index(i, j, k) * static_cast<std::size_t>(maxFibres)];
+  }
   const Fibre* at(int i, int j, int k) const {
     return &fibres[grid.index(i, j, k) * static_cast<std::size_t>(maxFibres)];
   }
@@ -94,7 +95,7 @@ std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& i
 // first (the other frame hypothesis of a file that does not say its frame, e.g. the grid rotation). Used to
 // tell voxel-frame from world-frame peak files: fibres continue along themselves only in the right frame.
 struct Coherence {
-  double score = 0;     // fraction of pairs along the step (0..1)
+  double score = 0;      // fraction of pairs along the step (0..1)
   std::size_t pairs = 0; // pairs counted
 };
 Coherence fibreCoherence(const FibreSet& set, const glm::dmat3& frameChange = glm::dmat3(1.0));

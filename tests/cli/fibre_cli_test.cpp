@@ -1,10 +1,9 @@
 // The crossing-fibre commands through the real executable: `phantom crossing` in every fibre layout on RAS
 // and LAS grids read back by `info --voxel --json` as the same world directions; `render` of a fibre set
 // (FA surfaces refused without --tensor) and DTI beside the fibres with --split input=PEAKS.
+#include "io/png_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
-
-#include "io/png_io.h"
 
 #include <cmath>
 #include <regex>
@@ -14,7 +13,9 @@ using dtf::test::runDtfabric;
 
 namespace {
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // The "direction" triples of `info --json` in order.
 std::vector<std::array<double, 3>> directions(const std::string& json) {
@@ -52,7 +53,8 @@ TEST(FibreCli, PhantomLayoutsReadBackAsTheSameWorldDirections) {
       EXPECT_LT(a0, 0.01) << r.out;
       EXPECT_LT(a1, 0.01) << r.out;
       // One fibre per bundle, amplitude 0.4 each where they overlap.
-      EXPECT_LT(std::min(angleTo(d[0], -35) + angleTo(d[1], 35), angleTo(d[0], 35) + angleTo(d[1], -35)), 0.02);
+      EXPECT_LT(std::min(angleTo(d[0], -35) + angleTo(d[1], 35), angleTo(d[0], 35) + angleTo(d[1], -35)),
+                0.02);
       EXPECT_NEAR(dtf::test::jsonNumber(r.out, "amplitude"), 0.4, 1e-6) << r.out;
       // An arm voxel: one fibre (bundle at -35 degrees runs through x > 0, y < 0).
       const int i = grid == "ras" ? 19 : 4; // world x = +7 mm either way
@@ -66,9 +68,12 @@ TEST(FibreCli, PhantomLayoutsReadBackAsTheSameWorldDirections) {
 
 TEST(FibreCli, RenderRefusesFaSurfacesWithoutATensorAndSplitsDtiBesidePeaks) {
   const fs::path dir = dtf::test::scratchDir();
-  ASSERT_EQ(runDtfabric("phantom crossing --size 20 --layout mrtrix-peaks -o " + q(dir / "p.nii.gz"), dir).exitCode, 0);
+  ASSERT_EQ(
+      runDtfabric("phantom crossing --size 20 --layout mrtrix-peaks -o " + q(dir / "p.nii.gz"), dir).exitCode,
+      0);
   ASSERT_EQ(runDtfabric("phantom crossing --size 20 -o " + q(dir / "t.nii.gz"), dir).exitCode, 0);
-  auto fa = runDtfabric("render " + q(dir / "p.nii.gz") + " --fa 0.3 --size 64x64 -o " + q(dir / "fa.png"), dir);
+  auto fa =
+      runDtfabric("render " + q(dir / "p.nii.gz") + " --fa 0.3 --size 64x64 -o " + q(dir / "fa.png"), dir);
   EXPECT_EQ(fa.exitCode, 1) << fa.err;
   EXPECT_NE(fa.err.find("--tensor"), std::string::npos) << fa.err;
   EXPECT_FALSE(fs::exists(dir / "fa.png"));
@@ -82,13 +87,16 @@ TEST(FibreCli, RenderRefusesFaSurfacesWithoutATensorAndSplitsDtiBesidePeaks) {
   ASSERT_EQ(split.exitCode, 0) << split.err;
   const dtf::Image img = dtf::io::readPng((dir / "split.png").string());
   EXPECT_EQ(img.width, 128);
-  auto med = runDtfabric("render " + q(dir / "p.nii.gz") + " --color medical --size 64x64 -o " + q(dir / "m.png"), dir);
+  auto med = runDtfabric(
+      "render " + q(dir / "p.nii.gz") + " --color medical --size 64x64 -o " + q(dir / "m.png"), dir);
   EXPECT_EQ(med.exitCode, 1) << med.err;
 }
 
 TEST(FibreCli, TensorCommandsRefuseAFibreSetByName) {
   const fs::path dir = dtf::test::scratchDir();
-  ASSERT_EQ(runDtfabric("phantom crossing --size 16 --layout dipy-peaks -o " + q(dir / "p.nii.gz"), dir).exitCode, 0);
+  ASSERT_EQ(
+      runDtfabric("phantom crossing --size 16 --layout dipy-peaks -o " + q(dir / "p.nii.gz"), dir).exitCode,
+      0);
   // Two peaks in 6 volumes: refused by the tensor reader; 9 volumes: refused as a fibre set before being
   // taken for a DWI.
   auto r = runDtfabric("surface " + q(dir / "p.nii.gz") + " --slice axial -o " + q(dir / "s.ply"), dir);

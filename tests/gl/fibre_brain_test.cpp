@@ -2,12 +2,11 @@
 // frame) and DIPY (voxel frame) peaks render the same thread orientations, and the DIPY file read in the
 // wrong frame does not; a coronal slice through the corticospinal tracts shows them (blue) woven with the
 // corpus callosum (red), checked at the reference voxels and against a 256x256 baseline.
-#include "support/baseline.h"
-#include "support/gl_test.h"
 #include "gl/gl_helpers.h"
-
 #include "io/fibre_io.h"
 #include "render/fabric_renderer.h"
+#include "support/baseline.h"
+#include "support/gl_test.h"
 #include "surfaces/slices.h"
 
 #include <cmath>
@@ -29,7 +28,8 @@ struct Slice {
 
 Slice coronalSlice(const TensorField& field, int j) {
   ScalarVolume valid(field.grid, 1);
-  for (std::size_t i = 0; i < valid.data.size(); ++i) valid.data[i] = field.valid[i] ? 1.0f : 0.0f;
+  for (std::size_t i = 0; i < valid.data.size(); ++i)
+    valid.data[i] = field.valid[i] ? 1.0f : 0.0f;
   surfaces::SliceOptions so;
   so.clip = &valid;
   Slice s;
@@ -52,7 +52,8 @@ Image renderSlice(FabricRenderer& r, const Slice& s, const FibreSet& f, const Sc
 // Pixel of a world point in the 256x256 image (row 0 at the top).
 glm::ivec2 pixelOf(const Camera& cam, const glm::dvec3& world) {
   glm::dvec4 clip = glm::dmat4(cam.projection(1.0)) * cam.view() * glm::dvec4(world, 1.0);
-  return {static_cast<int>((clip.x / clip.w * 0.5 + 0.5) * kSize), static_cast<int>((0.5 - clip.y / clip.w * 0.5) * kSize)};
+  return {static_cast<int>((clip.x / clip.w * 0.5 + 0.5) * kSize),
+          static_cast<int>((0.5 - clip.y / clip.w * 0.5) * kSize)};
 }
 
 glm::dvec3 meanColour(const Image& img, glm::ivec2 c, int r) {
@@ -79,7 +80,8 @@ double orientationAgreement(const Image& a, const Image& b) {
       bool covered = true;
       for (int yy = y; yy < y + 16 && covered; yy += 5)
         for (int xx = x; xx < x + 16 && covered; xx += 5)
-          covered = a.pixel(xx, yy)[3] > 0 && (a.pixel(xx, yy)[0] | a.pixel(xx, yy)[1] | a.pixel(xx, yy)[2]) &&
+          covered = a.pixel(xx, yy)[3] > 0 &&
+                    (a.pixel(xx, yy)[0] | a.pixel(xx, yy)[1] | a.pixel(xx, yy)[2]) &&
                     (b.pixel(xx, yy)[0] | b.pixel(xx, yy)[1] | b.pixel(xx, yy)[2]);
       if (!covered || ca < 0.3) continue;
       ++blocks;
@@ -101,13 +103,15 @@ TEST_F(FibreBrain, MrtrixAndDipyPeaksRenderTheSameThreads) {
   const io::LoadedFibres wrong = io::readFibres(dipy.string(), io::FibreLayout::MrtrixPeaks);
   const Slice s = coronalSlice(t, 34);
   FabricRenderer r;
-  const Image im = renderSlice(r, s, m.set, &fa), id = renderSlice(r, s, d.set, &fa), iw = renderSlice(r, s, wrong.set, &fa);
+  const Image im = renderSlice(r, s, m.set, &fa), id = renderSlice(r, s, d.set, &fa),
+              iw = renderSlice(r, s, wrong.set, &fa);
   const double same = orientationAgreement(im, id), mirrored = orientationAgreement(im, iw);
   // Two CSD fits (MRtrix lmax 8 vs DIPY sh_order 4, different responses) agree where fibres are coherent;
   // the mirrored frame turns every oblique thread the other way.
   EXPECT_GT(same, 0.6) << "mirrored " << mirrored;
   EXPECT_GT(same, mirrored + 0.2) << "same " << same << " mirrored " << mirrored;
-  std::printf("block orientation agreement MRtrix vs DIPY %.3f, vs DIPY in the wrong frame %.3f\n", same, mirrored);
+  std::printf("block orientation agreement MRtrix vs DIPY %.3f, vs DIPY in the wrong frame %.3f\n", same,
+              mirrored);
 }
 
 TEST_F(FibreBrain, CoronalSliceWeavesCorticospinalTractAndCorpusCallosum) {

@@ -2,13 +2,12 @@
 // rendered centre of the crossing has a peak at each bundle and none at the tensor-average direction, where
 // the tensor fabric of the same crossing puts its threads; a single bundle shows one peak. The projection's
 // per-population colours agree with the CPU reference of its interpolation (interpolateSlots).
-#include "support/gl_test.h"
-
 #include "io/model/fibre_set.h"
 #include "io/phantoms.h"
 #include "io/png_io.h"
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
+#include "support/gl_test.h"
 
 #include <array>
 #include <cmath>
@@ -52,7 +51,8 @@ std::array<double, kBins> orientationHistogram(const Image& img, int x0, int y0,
       smooth[static_cast<std::size_t>(b)] += hist[static_cast<std::size_t>((b + d + kBins) % kBins)];
     top = std::max(top, smooth[static_cast<std::size_t>(b)]);
   }
-  for (double& v : smooth) v /= top;
+  for (double& v : smooth)
+    v /= top;
   return smooth;
 }
 
@@ -65,7 +65,8 @@ std::vector<double> peaks(const std::array<double, kBins>& h, double floor) {
   std::vector<double> out;
   for (int b = 0; b < kBins; ++b) {
     const double v = h[static_cast<std::size_t>(b)];
-    if (v >= floor && v >= h[static_cast<std::size_t>((b + 1) % kBins)] && v > h[static_cast<std::size_t>((b + kBins - 1) % kBins)])
+    if (v >= floor && v >= h[static_cast<std::size_t>((b + 1) % kBins)] &&
+        v > h[static_cast<std::size_t>((b + kBins - 1) % kBins)])
       out.push_back(2.0 * b + 1.0);
   }
   return out;
@@ -78,7 +79,8 @@ double orientationDiff(double a, double b) {
 
 double nearestPeak(const std::vector<double>& p, double deg) {
   double best = 180;
-  for (double x : p) best = std::min(best, orientationDiff(x, deg));
+  for (double x : p)
+    best = std::min(best, orientationDiff(x, deg));
   return best;
 }
 
@@ -110,12 +112,14 @@ TEST_F(FibreRender, CrossingCentreShowsBothBundlesNotTheirTensorAverage) {
     FibreSet f = io::makeFibrePhantom("crossing", o);
     Image img = renderFibres(r, f, s);
     if (test::envFlag("DTF_TEST_SAVE_IMAGES"))
-      io::writePng((test::binaryDir() / ("fibre_crossing" + std::to_string(int(crossing)) + ".png")).string(), img);
+      io::writePng((test::binaryDir() / ("fibre_crossing" + std::to_string(int(crossing)) + ".png")).string(),
+                   img);
     auto h = orientationHistogram(img, 16, 16, 240, 240);
     auto p = peaks(h, 0.3);
     const double a = -0.5 * crossing, b = 0.5 * crossing; // bundle directions (world = image angle)
     std::string list;
-    for (double x : p) list += std::to_string(x) + " ";
+    for (double x : p)
+      list += std::to_string(x) + " ";
     EXPECT_LT(nearestPeak(p, a), 5.0) << "peaks: " << list;
     EXPECT_LT(nearestPeak(p, b), 5.0) << "peaks: " << list;
     EXPECT_GT(binValue(h, a), 0.5);
@@ -184,12 +188,14 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
   r.renderStill(cam, p);
   const Texture& t = r.projection().fibres();
   std::vector<GLuint> texels(static_cast<std::size_t>(t.width()) * t.height() * 4);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(texels.size() * 4), texels.data());
+  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(texels.size() * 4),
+                    texels.data());
   int compared = 0, two = 0;
   for (int y = 4; y < 124; y += 7)
     for (int x = 4; x < 124; x += 7) {
       // Pixel centre -> world through the inverse view-projection (orthographic), on the plane z = 0.25.
-      const glm::vec4 ndc(2.0f * (float(x) + 0.5f) / 128.0f - 1.0f, 2.0f * (float(y) + 0.5f) / 128.0f - 1.0f, 0, 1);
+      const glm::vec4 ndc(2.0f * (float(x) + 0.5f) / 128.0f - 1.0f, 2.0f * (float(y) + 0.5f) / 128.0f - 1.0f,
+                          0, 1);
       glm::vec4 wp = glm::inverse(r.frameView().viewProj) * ndc;
       glm::dvec3 pw = glm::dvec3(wp) / double(wp.w);
       pw.z = 0.25;
@@ -197,8 +203,10 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
       auto cpu = interpolateSlots(slotted, slotted.grid.toVoxel(pw));
       const GLuint* q = &texels[(static_cast<std::size_t>(y) * 128 + x) * 4];
       int cpuCount = 0, gpuCount = 0;
-      for (const Fibre& c : cpu) cpuCount += c.amplitude > 0;
-      for (int k = 0; k < 3; ++k) gpuCount += ((q[k] >> 24) & 0xff) > 0;
+      for (const Fibre& c : cpu)
+        cpuCount += c.amplitude > 0;
+      for (int k = 0; k < 3; ++k)
+        gpuCount += ((q[k] >> 24) & 0xff) > 0;
       if (cpuCount == 0 || gpuCount == 0) continue;
       ASSERT_EQ(cpuCount, gpuCount) << "pixel " << x << "," << y;
       for (std::size_t k = 0; k < cpu.size(); ++k) {
@@ -206,7 +214,8 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
         const glm::vec3 dec(float(q[k] & 0xff) / 255.0f, float((q[k] >> 8) & 0xff) / 255.0f,
                             float((q[k] >> 16) & 0xff) / 255.0f);
         // 8-bit colour and the hardware's fixed-point trilinear weights: a few hundredths.
-        EXPECT_LT(glm::length(dec - glm::abs(cpu[k].direction)), 0.03f) << "pixel " << x << "," << y << " slot " << k;
+        EXPECT_LT(glm::length(dec - glm::abs(cpu[k].direction)), 0.03f)
+            << "pixel " << x << "," << y << " slot " << k;
       }
       ++compared;
       two += cpuCount == 2;

@@ -6,9 +6,8 @@
 #include "io/phantoms.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
+#include <gtest/gtest.h>
 
 using namespace dtf;
 
@@ -16,10 +15,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-glm::vec3 dir(double deg) { return {float(std::cos(deg * kPi / 180)), float(std::sin(deg * kPi / 180)), 0.0f}; }
+glm::vec3 dir(double deg) {
+  return {float(std::cos(deg * kPi / 180)), float(std::sin(deg * kPi / 180)), 0.0f};
+}
 
 double angleDeg(glm::vec3 a, glm::vec3 b) {
-  return std::acos(std::min(1.0, std::abs(double(glm::dot(glm::normalize(a), glm::normalize(b)))))) * 180 / kPi;
+  return std::acos(std::min(1.0, std::abs(double(glm::dot(glm::normalize(a), glm::normalize(b)))))) * 180 /
+         kPi;
 }
 
 FibreSet twoByTwo() {
@@ -151,7 +153,8 @@ TEST(FibreSlots, SlotInterpolationAgreesWithPerPointLobeMatching) {
           for (const Fibre& r : ref) {
             double best = 180;
             for (const Fibre& p : present)
-              if (std::abs(p.amplitude - r.amplitude) < 0.02) best = std::min(best, angleDeg(p.direction, r.direction));
+              if (std::abs(p.amplitude - r.amplitude) < 0.02)
+                best = std::min(best, angleDeg(p.direction, r.direction));
             ok = ok && best < 1.0;
           }
           agree += ok;
@@ -166,7 +169,8 @@ TEST(FibreSlots, SlotInterpolationAgreesWithPerPointLobeMatching) {
 TEST(FibreSlots, SignsAreAlignedBetweenNeighbours) {
   io::PhantomOptions o;
   o.size = 20;
-  FibreSet s = continuousSlots(io::makeFibrePhantom("crossing", o)); // the phantom flips signs every 3rd voxel
+  FibreSet s =
+      continuousSlots(io::makeFibrePhantom("crossing", o)); // the phantom flips signs every 3rd voxel
   std::size_t pairs = 0, aligned = 0;
   for (int k = 0; k < 20; ++k)
     for (int j = 0; j < 20; ++j)
@@ -175,7 +179,8 @@ TEST(FibreSlots, SignsAreAlignedBetweenNeighbours) {
           const Fibre& a = s.at(i, j, k)[n];
           const Fibre& b = s.at(i - 1, j, k)[n];
           // Same bundle in the slot on both sides (slot seams aside): then the same sign.
-          if (!(a.amplitude > 0 && b.amplitude > 0) || std::abs(glm::dot(a.direction, b.direction)) < 0.99f) continue;
+          if (!(a.amplitude > 0 && b.amplitude > 0) || std::abs(glm::dot(a.direction, b.direction)) < 0.99f)
+            continue;
           ++pairs;
           aligned += glm::dot(a.direction, b.direction) > 0.99f;
         }
@@ -192,9 +197,12 @@ TEST(FibreIo, PhantomRoundTripsThroughEveryLayoutOnRasAndLas) {
       o.las = las;
       FibreSet ref = io::makeFibrePhantom("crossing", o);
       EXPECT_EQ(ref.grid.orientationCode(), las ? "LAS" : "RAS");
-      for (io::FibreLayout l : {io::FibreLayout::MrtrixPeaks, io::FibreLayout::DipyPeaks, io::FibreLayout::Bedpostx}) {
-        const auto dirPath = test::scratchDir() / (std::string(io::fibreLayoutName(l)) + (las ? "_las" : "_ras"));
-        const std::string path = l == io::FibreLayout::Bedpostx ? dirPath.string() : dirPath.string() + ".nii.gz";
+      for (io::FibreLayout l :
+           {io::FibreLayout::MrtrixPeaks, io::FibreLayout::DipyPeaks, io::FibreLayout::Bedpostx}) {
+        const auto dirPath =
+            test::scratchDir() / (std::string(io::fibreLayoutName(l)) + (las ? "_las" : "_ras"));
+        const std::string path =
+            l == io::FibreLayout::Bedpostx ? dirPath.string() : dirPath.string() + ".nii.gz";
         io::writeFibres(path, ref, l);
         std::string why;
         EXPECT_TRUE(io::looksLikeFibres(path, &why)) << why;
@@ -210,7 +218,9 @@ TEST(FibreIo, PhantomRoundTripsThroughEveryLayoutOnRasAndLas) {
             double best = 180;
             float amp = 0;
             for (int m = 0; m < back.set.maxFibres; ++m) {
-              const Fibre& b = back.set.fibres[v * static_cast<std::size_t>(back.set.maxFibres) + static_cast<std::size_t>(m)];
+              const Fibre& b =
+                  back.set
+                      .fibres[v * static_cast<std::size_t>(back.set.maxFibres) + static_cast<std::size_t>(m)];
               if (b.amplitude > 0 && angleDeg(a.direction, b.direction) < best) {
                 best = angleDeg(a.direction, b.direction);
                 amp = b.amplitude;
@@ -223,8 +233,9 @@ TEST(FibreIo, PhantomRoundTripsThroughEveryLayoutOnRasAndLas) {
         EXPECT_GT(compared, 100u);
         // Read with the other frame: on LAS every oblique direction comes back mirrored in x.
         if (l != io::FibreLayout::Bedpostx && las) {
-          io::LoadedFibres wrong = io::readFibres(
-              path, l == io::FibreLayout::MrtrixPeaks ? io::FibreLayout::DipyPeaks : io::FibreLayout::MrtrixPeaks);
+          io::LoadedFibres wrong =
+              io::readFibres(path, l == io::FibreLayout::MrtrixPeaks ? io::FibreLayout::DipyPeaks
+                                                                     : io::FibreLayout::MrtrixPeaks);
           const glm::vec3 d = wrong.set.at(12, 12, 12)[0].direction, r = ref.at(12, 12, 12)[0].direction;
           EXPECT_GT(angleDeg(d, r), 30.0);
         }
@@ -261,7 +272,8 @@ TEST(FibreIo, RealBrainLayoutsAgreeAndMatchTheReferenceVoxels) {
   EXPECT_EQ(m.set.maxFibres, 3);
   EXPECT_EQ(b.set.maxFibres, 3);
   // Reference voxels (data README): CC (33,42,22) MRtrix first peak unit (0.957, -0.070, 0.275) world,
-  // length |(1.506, -0.111, 0.433)|; CST (30,34,15) MRtrix (0.378, -0.151, 1.169), DIPY voxel (-0.272, -0.068, 0.960).
+  // length |(1.506, -0.111, 0.433)|; CST (30,34,15) MRtrix (0.378, -0.151, 1.169), DIPY voxel (-0.272,
+  // -0.068, 0.960).
   const Fibre& cc = m.set.at(33, 42, 22)[0];
   EXPECT_LT(angleDeg(cc.direction, {0.957f, -0.070f, 0.275f}), 0.5);
   EXPECT_GT(cc.direction.x, 0.9f); // red: left-right
