@@ -21,7 +21,8 @@ ScalarVolume readNiftiScalarVolume(const std::string& path, VolumeHeader* header
 LoadedTensors readNiftiTensorVolume(const std::string& path, TensorLayout layout);
 void writeNiftiTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
                             int niftiVersion);
-void writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion);
+void writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion,
+                            const std::string& descrip);
 
 // Fills out.field (and layout, reason, counts, warnings) from a 6-component volume whose components are in
 // the on-disk order of `layout` (Auto: detected as for NIfTI, `preferred` when ambiguous). out.header must

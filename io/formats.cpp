@@ -418,11 +418,12 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
               {"comments: dtfabric tensor layout=mrtrix units=mm2/s (xx yy zz xy xz yz, world frame)"});
 }
 
-void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
+void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion,
+                       const std::string& descrip) {
   if (isMrtrixName(path))
     writeMrtrix(path, v);
   else
-    writeNiftiScalarVolume(path, v, niftiVersion);
+    writeNiftiScalarVolume(path, v, niftiVersion, descrip);
 }
 
 } // namespace dtf::io

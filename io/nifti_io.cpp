@@ -587,7 +587,8 @@ ScalarVolume detail::readNiftiScalarVolume(const std::string& path, VolumeHeader
   return v;
 }
 
-void detail::writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion) {
+void detail::writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion,
+                                    const std::string& descrip) {
   std::size_t nv = v.grid.voxelCount();
   if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
     throw InputError("cannot write " + path + ": volume data size does not match its grid");
@@ -597,7 +598,7 @@ void detail::writeNiftiScalarVolume(const std::string& path, const ScalarVolume&
       disk[static_cast<std::size_t>(c) * nv + i] = v.data[i * v.components + c];
   std::vector<long long> extra;
   if (v.components > 1) extra.push_back(v.components);
-  writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, "dtfabric", niftiVersion);
+  writeFloatNifti(path, v.grid, extra, disk, 0, nullptr, descrip, niftiVersion);
 }
 
 namespace {
@@ -704,6 +705,7 @@ LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
 
 struct Detection {
   TensorLayout layout = TensorLayout::Fsl;
+  bool notTensor = false; // signed like directions: refused
   std::string reason;
   std::vector<std::string> warnings;
 };
@@ -737,6 +739,19 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
   std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
+  // A tensor in any order has three diagonal volumes that are (almost) never negative. Fewer than three
+  // mostly-positive volumes means signed components: directions (two fibre peaks), not a tensor.
+  int mostlyPositive = 0;
+  for (double f : fsl.positive)
+    mostlyPositive += f >= 0.9;
+  if (fsl.voxels > 0 && mostlyPositive < 3 && fsl.plausible < 0.5 && mrtrix.plausible < 0.5) {
+    d.notTensor = true;
+    d.reason = shape + " whose components are signed like directions (only " + std::to_string(mostlyPositive) +
+               " of 6 volumes positive in >= 90% of " + std::to_string(fsl.voxels) +
+               " voxels; positive semi-definite as FSL " + percent(fsl.plausible) + ", as MRtrix " +
+               percent(mrtrix.plausible) + "): two fibre peaks, not a tensor";
+    return d;
+  }
   const std::string assumed = preferred == TensorLayout::Mrtrix ? "MRtrix" : "FSL";
   if (fsl.voxels == 0) {
     d.layout = preferred;
@@ -803,6 +818,9 @@ void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, 
   out.warnings = h.warnings;
   if (layout == TensorLayout::Auto) {
     Detection d = detectLayout(h, raw, fiveD, preferred);
+    if (d.notTensor)
+      fail(path, "is not a tensor volume: " + d.reason +
+                     " (read it as a fibre set: --layout mrtrix-peaks or dipy-peaks)");
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());

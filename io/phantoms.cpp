@@ -16,11 +16,16 @@ constexpr double kPi = 3.14159265358979323846;
 // Prolate "fibre" tensor eigenvalues (mm^2/s): FA 0.80, MD 7.7e-4, typical of white matter.
 constexpr double kAxial = 1.7e-3, kRadial = 0.3e-3;
 
-Grid centredGrid(glm::ivec3 dims, double spacing) {
+// RAS, or with las the x index running towards the patient's left (same world positions, mirrored indices).
+Grid centredGrid(glm::ivec3 dims, double spacing, bool las) {
   glm::dmat4 a(1.0);
   for (int c = 0; c < 3; ++c) {
     a[c][c] = spacing;
     a[3][c] = -0.5 * (dims[c] - 1) * spacing;
+  }
+  if (las) {
+    a[0][0] = -spacing;
+    a[3][0] = 0.5 * (dims[0] - 1) * spacing;
   }
   return Grid::fromAffine(dims, a);
 }
@@ -59,7 +64,7 @@ void forEachVoxel(const Grid& g, const std::function<void(std::size_t, const glm
 
 Phantom sphere(const PhantomOptions& o) {
   Phantom p;
-  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
   p.tensors = makeTensorField(g);
   p.scalar = ScalarVolume(g, 1);
   p.isovalue = 0.35 * (o.size - 1) * o.spacing;
@@ -75,7 +80,7 @@ Phantom sphere(const PhantomOptions& o) {
 
 Phantom constant(const PhantomOptions& o) {
   Phantom p;
-  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
   p.tensors = makeTensorField(g);
   glm::dmat3 d = prolate(direction(o.angleDeg, o.elevationDeg));
   for (std::size_t i = 0; i < g.voxelCount(); ++i)
@@ -87,7 +92,7 @@ Phantom constant(const PhantomOptions& o) {
 
 Phantom crossing(const PhantomOptions& o) {
   Phantom p;
-  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
   p.tensors = makeTensorField(g);
   double extent = (o.size - 1) * o.spacing;
   double halfWidth = 0.12 * extent, halfThickness = 0.2 * extent;
@@ -147,7 +152,7 @@ Bundle makeBundle(const std::function<glm::dvec3(double)>& curve, double radius,
 // (green) and the corticospinal columns (blue).
 Phantom brain(const PhantomOptions& o) {
   Phantom p;
-  Grid g = centredGrid(glm::ivec3(o.size), o.spacing);
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
   p.tensors = makeTensorField(g);
   double extent = (o.size - 1) * o.spacing;
   const glm::dvec3 head(0.40, 0.46, 0.40);
@@ -209,7 +214,7 @@ Phantom bretzel5Phantom(const PhantomOptions& o) {
   Phantom p;
   double scale = (o.size - 1) * o.spacing / 4.4;
   int nz = std::max(2, static_cast<int>(std::lround(2.0 * scale / o.spacing)) + 1);
-  Grid g = centredGrid(glm::ivec3(o.size, o.size, nz), o.spacing);
+  Grid g = centredGrid(glm::ivec3(o.size, o.size, nz), o.spacing, o.las);
   p.tensors = makeTensorField(g);
   p.scalar = ScalarVolume(g, 1);
   p.isovalue = 0;
@@ -225,6 +230,46 @@ Phantom bretzel5Phantom(const PhantomOptions& o) {
 
 std::vector<std::string> phantomNames() {
   return {"sphere", "bretzel5", "constant", "crossing", "brain"};
+}
+
+FibreSet makeFibrePhantom(const std::string& name, const PhantomOptions& o) {
+  if (o.size < 4 || o.size > 512 || !(o.spacing > 0) || !std::isfinite(o.spacing))
+    throw UsageError("phantom size must be 4..512 voxels and spacing a positive number of mm");
+  if (name != "crossing" && name != "constant")
+    throw UsageError("phantom '" + name + "' has no fibre set (crossing and constant do)");
+  Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
+  FibreSet f = makeFibreSet(g, name == "crossing" ? 2 : 1);
+  if (name == "constant") {
+    const glm::vec3 d(direction(o.angleDeg, o.elevationDeg));
+    for (std::size_t i = 0; i < g.voxelCount(); ++i)
+      f.fibres[i] = {d, 0.7f};
+    return f;
+  }
+  const double extent = (o.size - 1) * o.spacing;
+  const double halfWidth = 0.12 * extent, halfThickness = 0.2 * extent;
+  const glm::dvec3 d1 = direction(-0.5 * o.crossingDeg, 0), d2 = direction(0.5 * o.crossingDeg, 0);
+  for (int k = 0; k < g.dims.z; ++k)
+    for (int j = 0; j < g.dims.y; ++j)
+      for (int i = 0; i < g.dims.x; ++i) {
+        const glm::dvec3 x = g.toWorld(glm::dvec3(i, j, k));
+        if (std::abs(x.z) > halfThickness) continue;
+        const glm::dvec3 inPlane(x.x, x.y, 0);
+        const bool in1 = glm::length(inPlane - glm::dot(inPlane, d1) * d1) <= halfWidth;
+        const bool in2 = glm::length(inPlane - glm::dot(inPlane, d2) * d2) <= halfWidth;
+        Fibre* v = f.at(i, j, k);
+        // Signs alternate too: directions have none.
+        const float sign = ((i + j + k) % 3 == 0) ? -1.0f : 1.0f;
+        if (in1 && in2) {
+          const bool swap = (i + j + k) % 2 == 1;
+          v[swap ? 1 : 0] = {sign * glm::vec3(d1), 0.4f};
+          v[swap ? 0 : 1] = {glm::vec3(d2), 0.4f};
+        } else if (in1) {
+          v[0] = {sign * glm::vec3(d1), 0.7f};
+        } else if (in2) {
+          v[0] = {glm::vec3(d2), 0.7f};
+        }
+      }
+  return f;
 }
 
 Phantom makePhantom(const std::string& name, const PhantomOptions& options) {

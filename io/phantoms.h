@@ -15,6 +15,8 @@
 
 #include "io/model/implicit_functions.h"
 
+#include "io/model/fibre_set.h"
+
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
 
@@ -29,6 +31,7 @@ struct PhantomOptions {
   double angleDeg = 30.0;  // constant: in-plane angle of the principal direction from +x towards +y
   double elevationDeg = 0; // constant: angle out of the axial plane towards +z
   double crossingDeg = 90; // crossing: angle between the two bundles
+  bool las = false;        // LAS grid (x index runs towards the patient's left, det(affine) < 0) instead of RAS
 };
 
 struct Phantom {
@@ -41,6 +44,12 @@ struct Phantom {
 // 4..512 or a non-positive spacing.
 Phantom makePhantom(const std::string& name, const PhantomOptions& options = {});
 std::vector<std::string> phantomNames();
+
+// The fibre set of a phantom (crossing: one fibre per bundle, amplitude 0.7 where a bundle is alone, 0.4 each
+// where they overlap, the two listed in alternating order from voxel to voxel so readers and the renderer
+// cannot rely on peak order; constant: one fibre along angleDeg/elevationDeg, amplitude 0.7). Same grid as
+// makePhantom. Throws UsageError for other names.
+FibreSet makeFibrePhantom(const std::string& name, const PhantomOptions& options = {});
 
 // The closed-form Bretzel5 function the phantom samples (io/model/implicit_functions.h).
 using dtf::bretzel5;

@@ -78,9 +78,10 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
 // Any 1D-7D volume as float (scl_slope/inter applied); components = product of dims 4..7, interleaved
 // per voxel. Throws InputError.
 ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header = nullptr);
-// Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld (NIfTI) or as an MRtrix image
-// (.mif/.mif.gz/.mih). Atomic. Throws InputError.
-void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion = 1);
+// Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld, `descrip` in the header (at most
+// 79 characters; NIfTI only), or as an MRtrix image (.mif/.mif.gz/.mih). Atomic. Throws InputError.
+void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion = 1,
+                       const std::string& descrip = "dtfabric");
 // Header only (no voxel data read), with the same checks as the readers. Throws InputError.
 VolumeHeader readHeader(const std::string& path);
 

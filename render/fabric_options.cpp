@@ -38,10 +38,19 @@ const std::vector<FabricOption> kOptions = {
     {"blend-r", "r", "R", "r of Eq. 13, blend between the two directions", K::Number, closed(0, 1),
      closed(0, 1), "r", "%.2f", false, DTF_FIELD(r, double)},
     {"color", "colour", "MODE",
-     "medical (DEC colour of the principal direction modulated by FA) | engineering (paper Eq. 13)",
-     K::Colour, closed(0, 1), none(), "colour", nullptr, false,
-     [](const FabricParams& p) { return p.colour == ColourMode::Medical ? 0.0 : 1.0; },
-     [](FabricParams& p, double v) { p.colour = v == 0 ? ColourMode::Medical : ColourMode::Engineering; }},
+     "medical (DEC colour of the principal direction modulated by FA) | engineering (paper Eq. 13) | fibres "
+     "(fibre sets: each population in its own DEC colour, strongest on top; a tensor as its principal "
+     "direction only)",
+     K::Colour, closed(0, 2), none(), "colour", nullptr, false,
+     [](const FabricParams& p) {
+       return p.colour == ColourMode::Medical ? 0.0 : p.colour == ColourMode::Engineering ? 1.0 : 2.0;
+     },
+     [](FabricParams& p, double v) {
+       p.colour = v == 0 ? ColourMode::Medical : v == 1 ? ColourMode::Engineering : ColourMode::Fibres;
+     }},
+    {"fibre-threshold", "fiber-threshold", "T",
+     "fibre sets: drop lobes below T times their voxel's strongest (relative amplitude threshold)", K::Number,
+     R{0, 1, false, true}, none(), nullptr, nullptr, false, DTF_FIELD(fibreThreshold, float)},
     {"lighting", "", "on|off", "Phong lighting of the surface", K::OnOff, closed(0, 1), none(), "lighting",
      nullptr, false, DTF_FIELD(lighting, bool)},
     {"silhouette", "", "on|off", "dark silhouette edges", K::OnOff, closed(0, 1), none(), "silhouette",
@@ -105,7 +114,8 @@ double FabricOption::parse(const std::string& text) const {
   if (kind == Kind::Colour) {
     if (text == "medical") return 0;
     if (text == "engineering") return 1;
-    throw UsageError(n + " takes medical or engineering, got '" + text + "'");
+    if (text == "fibres" || text == "fibers") return 2;
+    throw UsageError(n + " takes medical, engineering or fibres, got '" + text + "'");
   }
   const char* s = text.c_str();
   char* end = nullptr;
@@ -135,7 +145,7 @@ const FabricOption* findFabricOption(const std::string& key) {
 
 std::string formatFabricValue(const FabricOption& o, double v) {
   if (o.kind == FabricOption::Kind::OnOff) return v != 0 ? "on" : "off";
-  if (o.kind == FabricOption::Kind::Colour) return v == 0 ? "medical" : "engineering";
+  if (o.kind == FabricOption::Kind::Colour) return v == 0 ? "medical" : v == 1 ? "engineering" : "fibres";
   return number(v);
 }
 

@@ -17,7 +17,7 @@ enum Pass { kProjection = 0, kSilhouette, kAdvection, kComposite, kPhong };
 // Parameters whose change invalidates the advection state.
 auto stateKey(const FabricParams& p) {
   return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
-                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor);
+                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold);
 }
 } // namespace
 
@@ -34,6 +34,20 @@ void FabricRenderer::setMesh(const Mesh& mesh) {
 
 void FabricRenderer::setField(const TensorField& field) {
   field_.upload(field);
+  dataChanged_ = true;
+}
+
+void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
+  fibreSet_ = fibres;
+  fibreFa_ = fa ? std::optional<ScalarVolume>(*fa) : std::nullopt;
+  fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+  dataChanged_ = true;
+}
+
+void FabricRenderer::clearFibres() {
+  fibres_.clear();
+  fibreSet_ = FibreSet{};
+  fibreFa_.reset();
   dataChanged_ = true;
 }
 
@@ -57,6 +71,10 @@ void FabricRenderer::resize(int width, int height) {
 
 double FabricRenderer::effectiveLod(const FrameView& view, const FabricParams& p) const {
   return p.lod > 0 ? p.lod : p.autoLodPixels * view.pixelMm;
+}
+
+int FabricRenderer::fields(const FabricParams& p) const {
+  return p.colour == ColourMode::Fibres && fibres_.lobes() >= 3 ? 3 : 2;
 }
 
 void FabricRenderer::beginTimer(int pass) {
@@ -97,8 +115,14 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   ps.noiseBlend = static_cast<float>(p.noiseBlend);
   ps.principal = p.colour == ColourMode::Medical;
   ps.faFloor = p.faFloor;
+  ps.fibres = p.colour == ColourMode::Fibres;
+  if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
+  if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
+    uploadedThreshold_ = p.fibreThreshold;
+    fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+  }
   beginTimer(kProjection);
-  projection_.run(mesh_, field_, noise_, view_, ps, &background_);
+  projection_.run(mesh_, field_, noise_, view_, ps, &background_, &fibres_);
   endTimer();
 
   beginTimer(kSilhouette);
@@ -108,7 +132,8 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& 
   silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
   endTimer();
 
-  if (restart) advection_.reset(projection_.surface(), silhouette_.edges());
+  if (restart)
+    advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
   dataChanged_ = false;
   lastViewProj_ = view_.viewProj;
   lastParams_ = p;
@@ -130,8 +155,12 @@ void FabricRenderer::composite(const FabricParams& p) {
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
-  CompositeInputs in{&advection_.field(0),  &advection_.field(1),   &projection_.surface(), &silhouette_.edges(),
-                     &projection_.eigen(),    &projection_.lambda()};
+  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &silhouette_.edges(),
+                     &projection_.eigen(),   &projection_.lambda()};
+  if (p.colour == ColourMode::Fibres) {
+    in.p3 = &advection_.field(2);
+    in.fibres = &projection_.fibres();
+  }
   beginTimer(kComposite);
   composite_.run(in, view_, cs);
   endTimer();
@@ -141,9 +170,10 @@ void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   const GlStateGuard guard;
   bool restart = false;
   prepare(camera, p, restart);
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
+                       p.colour == ColourMode::Fibres};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth());
+  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
   endTimer();
   composite(p);
 }
@@ -155,7 +185,8 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   still_ = true;
   prepare(camera, p, restart);
   still_ = false;
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon)};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
+                       p.colour == ColourMode::Fibres};
   const unsigned covered = coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
   // then until (almost) no pixel changes by more than epsilon per iteration.
@@ -170,7 +201,7 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth());
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p));
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

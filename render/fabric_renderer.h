@@ -7,6 +7,7 @@
 
 #include "io/model/geometry.h"
 #include "io/model/image.h"
+#include "io/model/fibre_set.h"
 #include "io/model/tensor_field.h"
 #include "render/camera.h"
 #include "render/fabric/advection_pass.h"
@@ -15,11 +16,13 @@
 #include "render/fabric/phong_pass.h"
 #include "render/fabric/projection_pass.h"
 #include "render/fabric/silhouette_pass.h"
+#include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 namespace dtf::render {
 
@@ -49,6 +52,8 @@ struct FabricParams {
   float fadeOutOfPlane = 0.0f;
   float faFloor = 0.0f;       // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
+  float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
+                                // are dropped (between mrview's usual 0.1 and 0.2)
 };
 
 // GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).
@@ -64,6 +69,10 @@ public:
 
   void setMesh(const Mesh& mesh);
   void setField(const TensorField& field);
+  // The fibre set rendered in ColourMode::Fibres (the first three fibres per voxel), with the FA of a paired
+  // tensor for modulation (nullptr: none). setField still provides nothing else here; a mesh is needed.
+  void setFibres(const FibreSet& fibres, const ScalarVolume* fa = nullptr);
+  void clearFibres();
   // A grey background (FA, MD, a T1 on any grid) shown where the surface has no tensor data, windowed to
   // [lo, hi]; nullptr removes it.
   void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
@@ -105,6 +114,7 @@ public:
 private:
   void prepare(const Camera& camera, const FabricParams& params, bool& restart);
   void composite(const FabricParams& params);
+  int fields(const FabricParams& params) const; // advected fields: 3 for three-population fibre sets
   void beginTimer(int pass);
   void endTimer();
 
@@ -115,6 +125,10 @@ private:
   PhongPass phong_;
   GpuMesh mesh_;
   GpuTensorField field_;
+  GpuFibreSet fibres_;
+  FibreSet fibreSet_;                  // kept to re-upload when FabricParams::fibreThreshold changes
+  std::optional<ScalarVolume> fibreFa_;
+  float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;

@@ -33,6 +33,7 @@ struct Case {
   std::string name;
   Mesh mesh;
   TensorField field;
+  std::optional<FibreSet> fibres; // set: the multi-population fabric (ColourMode::Fibres) of these fibres
 };
 
 struct Result {
@@ -60,6 +61,24 @@ Case sphereCase(const std::string& name, int rings, int segments) {
   return c;
 }
 
+// The 41k sphere with three fibre populations per voxel: the field's eigenvectors with amplitudes 1, 0.7
+// and 0.5 (two roughly in the surface, one across it), for the three-field fabric against the tensor's two.
+Case fibreSphereCase(const Case& sphere) {
+  Case c;
+  c.name = sphere.name + "_fibres3";
+  c.mesh = sphere.mesh;
+  c.field = sphere.field;
+  FibreSet f = makeFibreSet(sphere.field.grid, 3);
+  const float amplitude[3] = {1.0f, 0.7f, 0.5f};
+  for (std::size_t v = 0; v < sphere.field.tensors.size(); ++v) {
+    if (!sphere.field.valid[v]) continue;
+    const EigenSystem e = eigenDecompose(sphere.field.tensors[v].toMat());
+    for (int k = 0; k < 3; ++k) f.fibres[v * 3 + static_cast<std::size_t>(k)] = {glm::vec3(e.vectors[k]), amplitude[k]};
+  }
+  c.fibres = std::move(f);
+  return c;
+}
+
 std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   auto dir = findSharedDataDir(dataDir);
   if (!dir) return std::nullopt;
@@ -80,13 +99,14 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   res.frames = frames;
   r.setMesh(c.mesh);
   r.setField(c.field);
+  if (c.fibres) r.setFibres(*c.fibres);
   r.resize(width, height);
   glm::vec3 lo, hi;
   c.mesh.bounds(lo, hi);
   render::Camera cam = render::Camera::standard(render::StandardView::Superior, lo, hi, double(width) / height);
   render::FabricParams p;
   p.iterations = 3;
-  p.colour = mode;
+  p.colour = c.fibres ? render::ColourMode::Fibres : mode;
   // Zoom until about 3/4 of the viewport is covered (paper Table 1), measured on the composited image.
   auto coverage = [&] {
     Image img = r.readback();
@@ -159,7 +179,7 @@ int benchRender(const CommandArgs& argv) {
   Args args(argv, {"json", "help", "no-brain", "no-peer"});
   if (args.flag("help")) {
     std::printf("usage: dtfabric bench render [--size 1024x768] [--frames N] [--json] [--no-brain] [--data DIR]\n"
-                "       [--color medical|engineering] [--only sphere_41k|sphere_572k|brain_fa025]\n"
+                "       [--color medical|engineering] [--only CASE[,CASE...]] (sphere_41k, sphere_41k_fibres3, sphere_572k, brain_fa025)\n"
                 "       [--no-peer] [--peer-frames N] [--peer-png FILE]\n"
                 "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
                 "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
@@ -190,12 +210,13 @@ int benchRender(const CommandArgs& argv) {
   render::FabricRenderer renderer;
   std::vector<Case> cases;
   cases.push_back(sphereCase("sphere_41k", 145, 144));   // 2 * 144 * 144 = 41472 triangles (Table 1, Fig. 8)
+  cases.push_back(fibreSphereCase(cases.back()));        // three fibre populations on the same sphere
   cases.push_back(sphereCase("sphere_572k", 534, 536));  // 2 * 536 * 533 = 571376 triangles (Table 1, Fig. 7)
   if (!noBrain)
     if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
   std::vector<Result> results;
   for (const auto& c : cases)
-    if (only.empty() || c.name == only) results.push_back(runCase(renderer, c, width, height, frames, mode));
+    if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode));
   // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench/bench_render_peer.cpp).
   const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
   RenderPeerResult peer;
@@ -248,6 +269,16 @@ int benchRender(const CommandArgs& argv) {
   for (const Result& r : results)
     std::printf("  %-12s %.2f wall, %.2f CPU time\n", r.name.c_str(), r.fabricMs / std::max(r.phongMs, 1e-9),
                 r.fabricCpuMs / std::max(r.phongCpuMs, 1e-9));
+  const Result* two = nullptr;
+  const Result* three = nullptr;
+  for (const Result& r : results) {
+    if (r.name == "sphere_41k") two = &r;
+    if (r.name == "sphere_41k_fibres3") three = &r;
+  }
+  if (two && three)
+    std::printf("\nthree fibre populations vs the two-direction tensor fabric on the 41k sphere (goal <= 1.5): "
+                "%.2f wall, %.2f CPU time\n",
+                three->fabricMs / std::max(two->fabricMs, 1e-9), three->fabricCpuMs / std::max(two->fabricCpuMs, 1e-9));
   std::printf("\nfabric: static camera, advection state carried between frames; moving: a trackball step per frame,\n"
               "the advection restarts from the mapped noise (no smearing); mov 1/2: the same with the fabric computed\n"
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"

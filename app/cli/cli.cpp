@@ -13,31 +13,39 @@ namespace dtf::app {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
-      {"info", "FILE [--layout L] [--json] [--voxel I,J,K]",
+      {"info", "FILE [--layout L] [--tensor F] [--json] [--voxel I,J,K]",
        "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)",
        "file format and why, header, orientation, detected tensor layout and why, value ranges, FA statistics; "
        "one voxel's world tensor, eigen-system and metrics. For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
        ".vtp): format, header facts (space, voxel order, dimensions, affine), streamline and point counts, "
-       "lengths, per-streamline/per-point data with shapes and ranges, groups",
+       "lengths, per-streamline/per-point data with shapes and ranges, groups. For a fibre set (MRtrix or DIPY "
+       "peaks, FSL bedpostx): layout and frame with the reason, populations per voxel; one voxel's fibres "
+       "(`\"fibres\": [{\"direction\": [x, y, z], \"amplitude\": a}, …]`, unit world RAS, strongest first) "
+       "beside a paired tensor's (`--tensor`) FA and eigenvectors",
        cmdInfo},
       {"fit", "DWI --bval F --bvec F [--mask M] -o OUT [--method wls|ols] [--layout L]",
        "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",
        "fit tensors to a DWI (WLS by default; automatic mask when none is given); an MRtrix DWI with "
        "`dw_scheme` or a DSI Studio `.src.gz` needs no bval/bvec; OUT `.nii[.gz]`, `.mif[.gz]`/`.mih` or `.nrrd`",
        cmdFit},
-      {"phantom", "NAME -o FILE [--layout L]",
+      {"phantom", "NAME -o FILE [--layout L] [--grid ras|las] [--crossing DEG]",
        "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)",
-       "analytic fields: `sphere`, `bretzel5` (paper §3.1), `constant`, `crossing`, `brain`", cmdPhantom},
+       "analytic fields: `sphere`, `bretzel5` (paper §3.1), `constant`, `crossing`, `brain`; `crossing` and "
+       "`constant` also as fibre sets (`--layout mrtrix-peaks|dipy-peaks|bedpostx`)",
+       cmdPhantom},
       {"surface", "INPUT --surface SPEC -o MESH.ply|.vtp|.obj",
        "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality",
        "FA isosurface, slice, oblique plane or fibre-following surface as a mesh, with its quality figure "
        "(FA-weighted mean |e1·n|)",
        cmdSurface},
       {"render",
-       "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering] [--tracts F] [--split MODE] "
+       "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering|fibres] [--tensor F] "
+       "[--fibre-threshold T] [--tracts F] [--split MODE] "
        "[--background B] [--tracts-color NAME] [--tracts-range LO,HI] [--tracts-group G[,G]]",
        "render the fabric on a surface to PNG, headless",
-       "the fabric, headless; tracts over it in DEC colours or coloured by a per-point or per-streamline value "
+       "the fabric, headless; for a fibre set (peaks) the multi-population fabric, each population in its own "
+       "DEC colour, strongest on top (`--split input=PEAKS` beside a tensor INPUT: DTI beside the fibres on one "
+       "camera); tracts over it in DEC colours or coloured by a per-point or per-streamline value "
        "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups",
        cmdRender},
       {"track", "INPUT -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp [seeds, limits]",

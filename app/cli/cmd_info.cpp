@@ -4,6 +4,7 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/scene/tract_files.h"
+#include "app/scene/fibre_input.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/tensor_io.h"
@@ -38,7 +39,12 @@ const char* kHelp =
     "                  reads FILE as tensors and fails when it is not a tensor volume\n"
     "  --voxel I,J,K   one voxel (0-based): world position, world tensor, eigenvalues (descending,\n"
     "                  mm^2/s), eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD\n"
-    "  --json          print one JSON object instead of text\n";
+    "  --json          print one JSON object instead of text\n"
+    "\n"
+    "Fibre sets (crossing-fibre peaks: MRtrix sh2peaks, DIPY peaks, an FSL bedpostx folder or dyadsN file) are\n"
+    "detected (or named with --layout mrtrix-peaks|dipy-peaks|bedpostx); --voxel then lists the voxel's fibres\n"
+    "(unit world RAS directions with amplitudes, strongest first; JSON key \"fibres\").\n"
+    "  --tensor FILE   pair a tensor volume with the fibre set (its FA and eigenvectors are shown beside)\n";
 
 const char* kComponentNames[6] = {"xx", "xy", "xz", "yy", "yz", "zz"};
 
@@ -447,13 +453,17 @@ int cmdInfo(const CommandArgs& argv) {
   }
   const std::string path = args.positional(0, "FILE (see --help)");
   std::string layoutText = args.getOr("layout", "auto");
-  io::TensorLayout layout = io::parseLayout(layoutText);
+  const std::string tensorPath = args.getOr("tensor", "");
   bool json = args.flag("json");
   auto voxelText = args.get("voxel");
   int ijk[3] = {0, 0, 0};
   if (voxelText) parseTriple(*voxelText, ijk);
   if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   args.finish();
+  if (isFibreInput(path, layoutText, true))
+    return describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);
+  if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre set; " + path + " is not one");
+  io::TensorLayout layout = io::parseLayout(layoutText);
 
   io::VolumeHeader h = io::readHeader(path);
   if (layout != io::TensorLayout::Auto || looksLikeTensor(h)) {

@@ -3,6 +3,7 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "io/model/error.h"
+#include "io/fibre_io.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
 
@@ -27,7 +28,9 @@ const char* kHelp =
     "\n"
     "options:\n"
     "  -o, --output FILE  tensor volume to write (required)\n"
-    "  --layout L         fsl (default), mrtrix, symmatrix or dtitk\n"
+    "  --layout L         fsl (default), mrtrix, symmatrix or dtitk; or a fibre-set layout (crossing and\n"
+    "                     constant only): mrtrix-peaks, dipy-peaks (FILE) or bedpostx (FILE is a folder)\n"
+    "  --grid G           ras (default) or las (x index towards the patient's left, det(affine) < 0)\n"
     "  --size N           voxels per side (default 64; bretzel5 uses fewer slices in z)\n"
     "  --spacing MM       voxel size in mm (default 1)\n"
     "  --angle DEG        constant: direction from +x towards +y (default 30)\n"
@@ -47,8 +50,11 @@ int cmdPhantom(const CommandArgs& argv) {
   const std::string name = args.positional(0, "phantom NAME (see --help)");
   auto output = args.get("output");
   if (!output) throw UsageError("missing -o FILE");
-  io::TensorLayout layout = io::parseLayout(args.getOr("layout", "fsl"));
-  if (layout == io::TensorLayout::Auto)
+  const std::string layoutName = args.getOr("layout", "fsl");
+  const bool fibres = io::isFibreLayoutName(layoutName);
+  io::TensorLayout layout = fibres ? io::TensorLayout::Fsl : io::parseLayout(layoutName);
+  if (fibres && layoutName == "fibres-auto") throw UsageError("--layout fibres-auto cannot be written");
+  if (!fibres && layout == io::TensorLayout::Auto)
     throw UsageError("--layout auto cannot be written; choose fsl, mrtrix, symmatrix or dtitk");
   io::PhantomOptions o;
   o.size = args.getInt("size", o.size);
@@ -56,6 +62,9 @@ int cmdPhantom(const CommandArgs& argv) {
   o.angleDeg = args.getDouble("angle", o.angleDeg);
   o.elevationDeg = args.getDouble("elevation", o.elevationDeg);
   o.crossingDeg = args.getDouble("crossing", o.crossingDeg);
+  const std::string grid = args.getOr("grid", "ras");
+  if (grid != "ras" && grid != "las") throw UsageError("--grid must be ras or las, not '" + grid + "'");
+  o.las = grid == "las";
   auto scalarPath = args.get("scalar");
   int version = args.flag("nifti2") ? 2 : 1;
   const bool force = args.flag("force");
@@ -66,6 +75,16 @@ int cmdPhantom(const CommandArgs& argv) {
     if (out && !force && std::filesystem::exists(*out))
       throw InputError(*out + " exists (use --force to overwrite it)");
 
+  if (fibres) {
+    if (scalarPath) throw UsageError("--scalar is for tensor phantoms");
+    FibreSet f = io::makeFibrePhantom(name, o);
+    io::writeFibres(*output, f, io::parseFibreLayout(layoutName), version);
+    const glm::ivec3 d = f.grid.dims;
+    std::printf("wrote %s fibre phantom, %dx%dx%d voxels of %g mm (%s), %zu voxels with fibres, layout %s: %s\n",
+                name.c_str(), d.x, d.y, d.z, o.spacing, f.grid.orientationCode().c_str(), f.occupiedVoxels(),
+                layoutName.c_str(), output->c_str());
+    return 0;
+  }
   io::Phantom p = io::makePhantom(name, o);
   io::writeTensorVolume(*output, p.tensors, layout, version);
   std::size_t valid = 0;

@@ -6,6 +6,7 @@
 #include "app/scene/tract_colouring.h"
 #include "app/scene/tract_files.h"
 #include "app/scene/tract_overlay.h"
+#include "app/scene/fibre_input.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -101,10 +102,14 @@ Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent:
                         tracts          fabric alone | fabric with the tracts (needs --tracts)
                         colour          medical | engineering colour
                         surface=SPEC    the --surface | this second surface
-                        input=FILE      INPUT | a second tensor/DWI file, same surface spec
+                        input=FILE      INPUT | a second tensor/DWI file, same surface spec; a fibre set as
+                                        FILE shows a tensor INPUT's principal direction beside its fibres
 
-Input
-  --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk)
+Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder or dyadsN file)
+  --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks,
+                      dipy-peaks, bedpostx)
+  --tensor F          fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation,
+                      --background fa|md); without it those are refused
   --bval F --bvec F   treat INPUT as a DWI and fit tensors (WLS)
   --mask F            DWI fit mask
   --force             overwrite an existing OUT.png (never an input)
@@ -202,10 +207,14 @@ int cmdRender(const CommandArgs& argv) {
   const bool perspective = args.flag("perspective");
 
   render::FabricParams p;
+  // A fibre set's default colour mode is fibres: remember whether --color was given.
+  const std::string colour = args.getOr("color", "");
   readFabricOptions(args, p);
 
   TensorInputOptions in;
-  in.layout = io::parseLayout(args.getOr("layout", "auto"));
+  const std::string layoutText = args.getOr("layout", "auto");
+  const std::string tensorPath = args.getOr("tensor", "");
+  if (!io::isFibreLayoutName(layoutText)) in.layout = io::parseLayout(layoutText);
   in.bval = args.getOr("bval", "");
   in.bvec = args.getOr("bvec", "");
   in.mask = args.getOr("mask", "");
@@ -241,14 +250,28 @@ int cmdRender(const CommandArgs& argv) {
   std::error_code ec;
   if (fs::exists(output) && fs::equivalent(output, input, ec))
     throw UsageError("output " + output + " is the input: refusing to overwrite it");
-  io::refuseOverwritingInput(output,
-                             {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg});
+  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg,
+                                     tensorPath});
   if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
 
   const auto t0 = std::chrono::steady_clock::now();
-  io::LoadedTensors loaded = loadTensorInput(input, in);
-  const TensorField& field = loaded.field;
-  ScalarVolume fa = computeFaMap(field);
+  // A fibre set (the carrier field gives surfaces their grid and data mask), or tensors.
+  std::optional<FibreInput> fibreIn;
+  io::LoadedTensors loaded;
+  if (isFibreInput(input, layoutText)) {
+    fibreIn = loadFibreInput(input, layoutText, tensorPath);
+    checkFibreSurface(spec, *fibreIn);
+    if (colour.empty()) p.colour = render::ColourMode::Fibres;
+    if (p.colour != render::ColourMode::Fibres)
+      throw UsageError("--color " + colour + " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
+    if (!fibreIn->tensor && (backgroundArg == "fa" || backgroundArg == "md"))
+      throw UsageError("--background " + backgroundArg + " needs a tensor: pair one with --tensor FILE");
+  } else {
+    if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
+    loaded = loadTensorInput(input, in);
+  }
+  const TensorField& field = fibreIn ? fibreIn->carrier : loaded.field;
+  ScalarVolume fa = fibreIn && !fibreIn->tensor ? ScalarVolume(field.grid, 1) : computeFaMap(field);
   SurfaceBuildOptions buildOptions;
   buildOptions.clipToData = backgroundArg.empty();
   Background background = loadBackground(backgroundArg, backgroundWindow, field, fa);
@@ -265,13 +288,24 @@ int cmdRender(const CommandArgs& argv) {
 
   // The second pane's data: another surface of the same field, or the same surface of another input.
   io::LoadedTensors loaded2;
+  std::optional<FibreInput> fibreIn2;
   Mesh mesh2;
   if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
     const TensorField* field2 = &field;
     const ScalarVolume* fa2 = &fa;
     ScalarVolume faOther;
     SurfaceSpec spec2 = spec;
-    if (split.kind == SplitMode::Kind::Input) {
+    if (split.kind == SplitMode::Kind::Input && isFibreInput(split.value, "auto")) {
+      // DTI beside a fibre set: both panes in the fibre colours, the tensor as its principal direction.
+      fibreIn2 = loadFibreInput(split.value, "auto", "");
+      if (colour.empty()) p.colour = render::ColourMode::Fibres;
+      if (p.colour != render::ColourMode::Fibres)
+        throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
+      field2 = &fibreIn2->carrier;
+      faOther = ScalarVolume(field2->grid, 1);
+      fa2 = &faOther;
+    } else if (split.kind == SplitMode::Kind::Input) {
+      if (fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
       loaded2 = loadTensorInput(split.value, in);
       faOther = computeFaMap(loaded2.field);
       field2 = &loaded2.field;
@@ -325,9 +359,22 @@ int cmdRender(const CommandArgs& argv) {
     if (coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
     return out;
   };
+  // Fibre colours: the fibre set of the pane (a tensor's principal directions when it has none).
+  std::optional<FibreSet> principal;
+  auto fibresOf = [&](const TensorField& f) -> std::pair<const FibreSet*, const ScalarVolume*> {
+    if (fibreIn && &f == &fibreIn->carrier)
+      return {&fibreIn->fibres.set, fibreIn->tensor ? &fa : nullptr};
+    if (fibreIn2 && &f == &fibreIn2->carrier) return {&fibreIn2->fibres.set, nullptr};
+    principal = principalFibres(f);
+    return {&*principal, &f == &field ? &fa : nullptr};
+  };
   auto pane = [&](const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
     renderer.setMesh(m);
     renderer.setField(f);
+    if (params.colour == render::ColourMode::Fibres) {
+      auto [set, setFa] = fibresOf(f);
+      renderer.setFibres(*set, setFa);
+    }
     Image img = renderer.renderStill(camera, params);
     return withTracts && tractRenderer ? overlay(m, img) : img;
   };
@@ -336,6 +383,7 @@ int cmdRender(const CommandArgs& argv) {
     Image plain = pane(mesh, field, p, false);
     image = sideBySide(plain, overlay(mesh, plain));
   } else if (split.kind == SplitMode::Kind::Colour) {
+    if (fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
     render::FabricParams p2 = p;
     p.colour = render::ColourMode::Medical;
     p2.colour = render::ColourMode::Engineering;
@@ -343,7 +391,9 @@ int cmdRender(const CommandArgs& argv) {
     image = sideBySide(left, pane(mesh, field, p2, true));
   } else if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
     Image left = pane(mesh, field, p, true);
-    const TensorField& field2 = split.kind == SplitMode::Kind::Input ? loaded2.field : field;
+    const TensorField& field2 = split.kind != SplitMode::Kind::Input ? field
+                                : fibreIn2                            ? fibreIn2->carrier
+                                                                      : loaded2.field;
     image = sideBySide(left, pane(mesh2, field2, p, true));
   } else {
     image = pane(mesh, field, p, true);

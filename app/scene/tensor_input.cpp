@@ -2,6 +2,7 @@
 
 #include "io/dwi.h"
 #include "io/formats.h"
+#include "io/fibre_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 
@@ -31,6 +32,12 @@ io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOpti
   const bool embedded = !dwi && io::hasEmbeddedGradients(path);
   if (!dwi && !embedded) {
     io::VolumeHeader h = io::readHeader(path);
+    // 9, 12, ... volumes signed like directions: peaks (6 volumes are refused by the tensor reader itself).
+    std::string why;
+    if (h.dims.size() == 4 && h.dims[3] >= 9 && h.dims[3] % 3 == 0 && h.dims[3] <= 48 &&
+        io::looksLikeFibres(path, &why))
+      throw InputError(path + ": a fibre set (" + why + "), not a tensor or DWI; `dtfabric render` and `info` "
+                              "read fibre sets");
     const bool fourD = h.dims.size() == 4 && h.dims[3] > 1;
     if (fourD && h.dims[3] != 6 && h.intentCode != 1005) {
       dwi = true;

@@ -5,8 +5,9 @@
 namespace dtf::render {
 
 AdvectionPass::AdvectionPass()
-    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT"}),
-      reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}), vao_(createVertexArray()),
+    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"}),
+      reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}),
+      reset3_("common/fullscreen.vert", "fabric/advection.frag", {"RESET", "THIRD"}), vao_(createVertexArray()),
       counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
@@ -17,7 +18,7 @@ void AdvectionPass::resize(glm::ivec2 target) {
   size_ = target;
   const float blocked[4] = {kBlocked, 0, 0, 0};
   for (int i = 0; i < 2; ++i) {
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < 3; ++c) {
       state_[i][c] = Texture::create2D(GL_R32F, target.x, target.y);
       state_[i][c].setFilter(GL_LINEAR, GL_LINEAR);
       // Beyond the edge the blocked outer ring repeats (cheaper than a border colour on llvmpipe).
@@ -25,21 +26,28 @@ void AdvectionPass::resize(glm::ivec2 target) {
     }
     fbo_[i] = createFramebuffer();
     attachTargets(fbo_[i], {&state_[i][0], &state_[i][1]}, nullptr);
-    for (int c = 0; c < 2; ++c) glClearNamedFramebufferfv(fbo_[i].id(), GL_COLOR, c, blocked);
+    fbo3_[i] = createFramebuffer();
+    attachTargets(fbo3_[i], {&state_[i][0], &state_[i][1], &state_[i][2]}, nullptr);
+    for (int c = 0; c < 3; ++c) glClearNamedFramebufferfv(fbo3_[i].id(), GL_COLOR, c, blocked);
   }
   resetFbo_ = createFramebuffer();
   attachTargets(resetFbo_, {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1]}, nullptr);
+  resetFbo3_ = createFramebuffer();
+  attachTargets(resetFbo3_,
+                {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1], &state_[0][2], &state_[1][2]}, nullptr);
   attachedDepth_ = 0;
   current_ = 0;
 }
 
-void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered) {
+void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
   const int next = 1 - current_;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_[next].id());
+  glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  const ShaderProgram& program = iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u));
+  const ShaderProgram& program =
+      iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u));
   program.set("u_k", s.k);
   program.set("u_step", s.stepPixels);
+  program.set("u_complementSecond", s.complementSecond ? 1 : 0);
   if (countChanges) {
     program.set("u_epsilon", s.epsilon);
     const GLuint zero = 0;
@@ -49,16 +57,19 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
   glBindTextureUnit(0, state_[current_][0].id());
   glBindTextureUnit(4, state_[current_][1].id());
+  if (third) glBindTextureUnit(5, state_[current_][2].id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
 }
 
-void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
+void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fields, bool complementSecond) {
   resize({surface.width(), surface.height()});
-  glBindFramebuffer(GL_FRAMEBUFFER, resetFbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetFbo3_ : resetFbo_).id());
   glViewport(0, 0, size_.x, size_.y);
-  reset_.use();
+  const ShaderProgram& program = fields >= 3 ? reset3_ : reset_;
+  program.set("u_complementSecond", complementSecond ? 1 : 0);
+  program.use();
   glBindTextureUnit(2, surface.id());
   glBindTextureUnit(3, edges.id());
   glBindVertexArray(vao_.id());
@@ -67,12 +78,13 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges) {
 }
 
 void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
-                            const Texture* depth) {
+                            const Texture* depth, int fields) {
   if (count <= 0) return;
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   const GLuint depthId = covered ? depth->id() : 0;
   if (depthId != attachedDepth_) {
     for (auto& f : fbo_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
+    for (auto& f : fbo3_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
     attachedDepth_ = depthId;
   }
   if (covered) {
@@ -81,7 +93,7 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthMask(GL_FALSE);
   }
   glBindTextureUnit(1, vectors.id());
-  for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered);
+  for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, fields >= 3);
   if (covered) {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);

@@ -8,6 +8,8 @@
 //   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
 //            (RGBA32UI: directions and beta)
 //   output : field(0), field(1) R32F (p1, p2, or kBlocked), the size of the guarded target
+// With three populations (fibre sets) a third field p3 runs along the vectors' .w direction in the same
+// iteration (the THIRD variant, its own framebuffers: the two-field fabric never pays for it).
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
 #pragma once
@@ -28,6 +30,7 @@ struct AdvectionSettings {
   float k = 0.1f;        // weight of beta in Eq. 12
   float stepPixels = 1.0f; // length of one step in pixels along the max-norm scaled vectors
   float epsilon = 0.05f; // change below which a pixel counts as converged
+  bool complementSecond = false; // p2 advects 1 - beta (fibre sets: interleaved populations)
 };
 
 class AdvectionPass {
@@ -36,13 +39,14 @@ public:
   void resize(glm::ivec2 target);
   // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
   // iterations skip (see iterate) hold the blocked state in either.
-  void reset(const Texture& surface, const Texture& edges);
+  void reset(const Texture& surface, const Texture& edges, int fields = 2, bool complementSecond = false);
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.
+  // `fields` 2 (tensors: v1, v2) or 3 (fibre sets: also p3 along vectors .w).
   void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
-               const Texture* depth = nullptr);
-  // The current p1 (c = 0) or p2 (c = 1).
+               const Texture* depth = nullptr, int fields = 2);
+  // The current p1 (c = 0), p2 (c = 1) or p3 (c = 2; three-field runs only).
   const Texture& field(int c) const { return state_[current_][c]; }
   // Replaces p1, p2 of the current state except at blocked pixels (tests: the "forgets its start"
   // property). Values are (p1, p2) pairs in GL row order.
@@ -53,14 +57,14 @@ public:
   unsigned changedPixels() const;
 
 private:
-  void step(const AdvectionSettings& s, bool countChanges, bool covered);
-  ShaderVariants iteration_; // FAR_PLANE, COUNT
-  ShaderProgram reset_;
+  void step(const AdvectionSettings& s, bool countChanges, bool covered, bool third);
+  ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
+  ShaderProgram reset_, reset3_;
   VertexArray vao_;
   Buffer counter_;
-  Framebuffer fbo_[2], resetFbo_;
+  Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_;
   GLuint attachedDepth_ = 0;
-  Texture state_[2][2]; // [ping-pong][component]
+  Texture state_[2][3]; // [ping-pong][component]
   int current_ = 0;
   glm::ivec2 size_{0};
 };

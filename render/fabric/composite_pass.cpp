@@ -4,14 +4,15 @@ namespace dtf::render {
 
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
-                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN"}),
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES"}),
       vao_(createVertexArray()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
 
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
   const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
-                        (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u);
+                        (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
+                        (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u);
   const ShaderProgram& p = programs_.get(mask);
   glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
   p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
@@ -36,6 +37,10 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glBindTextureUnit(2, in.edges->id());
   glBindTextureUnit(4, in.eigen->id());
   glBindTextureUnit(5, in.lambda->id());
+  if (s.mode == ColourMode::Fibres && in.fibres) {
+    glBindTextureUnit(6, in.p3->id());
+    glBindTextureUnit(7, in.fibres->id());
+  }
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);

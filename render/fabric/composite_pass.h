@@ -11,7 +11,9 @@
 
 namespace dtf::render {
 
-enum class ColourMode { Medical, Engineering };
+// Medical and Engineering colour a tensor's two in-plane eigenvector fields; Fibres colours each fibre
+// population (up to three) in its own DEC colour (a tensor shown this way is its e1 only).
+enum class ColourMode { Medical, Engineering, Fibres };
 
 struct CompositeSettings {
   ColourMode mode = ColourMode::Medical;
@@ -36,6 +38,8 @@ struct CompositeInputs {
   const Texture* edges;
   const Texture* eigen;
   const Texture* lambda;
+  const Texture* p3 = nullptr;     // Fibres: third population's field
+  const Texture* fibres = nullptr; // Fibres: projection's per-population colour and weight
 };
 
 class CompositePass {
@@ -45,7 +49,7 @@ public:
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
 
 private:
-  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN
+  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES
   VertexArray vao_;
 };
 

@@ -4,7 +4,7 @@ namespace dtf::render {
 
 ProjectionPass::ProjectionPass()
     : geometryProgram_("fabric/geometry.vert", "fabric/geometry.frag"),
-      fullscreen_("common/deferred.vert", "fabric/projection.frag", {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND"}),
+      fullscreen_("common/deferred.vert", "fabric/projection.frag", {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
       vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
   fullscreen_.get(1); // the default variant compiles with the pass, so a broken shader fails early
 }
@@ -18,16 +18,22 @@ void ProjectionPass::resize(glm::ivec2 target) {
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   depth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, target.x, target.y);
   geometry_ = Texture::create2D(GL_RG32UI, target.x, target.y);
-  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_, &geometry_})
+  fibres_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
+  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_, &geometry_, &fibres_})
     t->setFilter(GL_NEAREST, GL_NEAREST);
   geometryFbo_ = createFramebuffer();
   attachTargets(geometryFbo_, {&geometry_}, &depth_);
   fbo_ = createFramebuffer();
   attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, &depth_);
+  fibreFbo_ = createFramebuffer();
+  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_}, &depth_);
 }
 
 void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
-                         const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background) {
+                         const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background,
+                         const GpuFibreSet* fibres) {
+  const bool useFibres = s.fibres && fibres && !fibres->empty();
+  const bool haveData = s.fibres ? useFibres : !field.empty();
   resize(view.target);
   const float zero[4] = {0, 0, 0, 0};
   const float one = 1.0f;
@@ -46,18 +52,20 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   geometryProgram_.set("u_viewProj", view.viewProj);
   geometryProgram_.set("u_view", view.view);
   geometryProgram_.use();
-  if (!field.empty()) mesh.drawVisible(s.cullHidden && view.boundsInFront);
+  if (haveData) mesh.drawVisible(s.cullHidden && view.boundsInFront);
 
   // Fullscreen stage at the far plane: GL_GREATER passes exactly where the surface was drawn.
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  const Framebuffer& target = useFibres ? fibreFbo_ : fbo_;
+  glBindFramebuffer(GL_FRAMEBUFFER, target.id());
   // Only the surface target is cleared (its .a is the coverage the later passes test); the others are
   // read where the surface is covered only, and clearing them costs as much as a fullscreen pass.
-  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
+  glClearNamedFramebufferfv(target.id(), GL_COLOR, 1, zero);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
   const bool hasBackground = background && !background->empty();
   const ShaderProgram& p =
-      fullscreen_.get((s.principal ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) | (hasBackground ? 4u : 0u));
+      fullscreen_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
+                      (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u));
   p.set("u_clipToEye", view.clipToEye);
   p.set("u_eyeToWorld", view.eyeToWorld);
   p.set("u_viewProj", view.viewProj);
@@ -71,19 +79,27 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   p.set("u_noiseOrigin", s.noiseOrigin);
   p.set("u_lod", s.lod);
   if (s.noiseBlend > 0.0f) p.set("u_noiseBlend", s.noiseBlend);
-  p.set("u_worldToTex", field.worldToTex());
+  if (useFibres) {
+    p.set("u_worldToTex", fibres->worldToTex());
+    p.set("u_lobeCount", fibres->lobes());
+  } else {
+    p.set("u_worldToTex", field.worldToTex());
+  }
   p.set("u_faFloor", s.faFloor);
   if (hasBackground) {
     p.set("u_backgroundWorldToTex", background->worldToTex());
     background->bind(3);
   }
   p.use();
-  field.bind();
+  if (useFibres)
+    fibres->bind();
+  else
+    field.bind();
   glBindTextureUnit(2, noise.id());
   glBindTextureUnit(4, geometry_.id());
   glBindVertexArray(vao_.id());
   glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
-  if (!field.empty()) glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);
   glEndQuery(GL_SAMPLES_PASSED);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);

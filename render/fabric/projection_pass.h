@@ -17,12 +17,16 @@
 //                    of the later fullscreen passes)
 //            geometry RG32UI (octahedral world normal as snorm16 x2, linear depth mm as float bits;
 //                    0 = no surface)
+//            fibres  RGBA32UI (fibre sets only: per population k = 1..3 packUnorm4x8(|d_k| world DEC colour,
+//                    weight = amplitude / strongest x in-surface fraction); vectors then hold population
+//                    3's image direction in .w)
 // The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where
 // surface.a = 1. A zero vector there means "no direction".
 #pragma once
 
 #include "render/fabric/frame_view.h"
 #include "render/gl_objects.h"
+#include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
 #include "render/shader_program.h"
 
@@ -36,6 +40,7 @@ struct ProjectionSettings {
   bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
   bool cullHidden = true;        // cull back faces of closed meshes seen from outside (same image)
   float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
+  bool fibres = false;           // sample the GpuFibreSet instead of the tensor field
 };
 
 class ProjectionPass {
@@ -44,8 +49,10 @@ public:
   // (Re)creates the targets when the size changes; no-op otherwise.
   void resize(glm::ivec2 target);
   // `background` (optional) is sampled where the surface has no tensor data.
+  // With settings.fibres, `fibres` (required) replaces the tensor field.
   void run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
-           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr);
+           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr,
+           const GpuFibreSet* fibres = nullptr);
 
   const Texture& vectors() const { return vectors_; }
   const Texture& surface() const { return surface_; }
@@ -53,17 +60,18 @@ public:
   const Texture& lambda() const { return lambda_; }
   const Texture& depth() const { return depth_; }
   const Texture& geometry() const { return geometry_; }
+  const Texture& fibres() const { return fibres_; }
   glm::ivec2 size() const { return size_; }
   // Pixels shaded by the last run's fullscreen stage (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const;
 
 private:
   ShaderProgram geometryProgram_;
-  ShaderVariants fullscreen_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND
+  ShaderVariants fullscreen_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES
   VertexArray vao_;
   Query samples_;
-  Framebuffer geometryFbo_, fbo_;
-  Texture vectors_, surface_, eigen_, lambda_, depth_, geometry_;
+  Framebuffer geometryFbo_, fbo_, fibreFbo_;
+  Texture vectors_, surface_, eigen_, lambda_, depth_, geometry_, fibres_;
   glm::ivec2 size_{0};
 };
 

@@ -8,14 +8,21 @@
 // Blocked pixels keep their state. With COUNT, pixels whose value changed by more than u_epsilon are
 // counted in an atomic counter (the stopping criterion of §2.5). With RESET, the pass initialises both
 // ping-pong textures at once: p1 = p2 = beta, or BLOCKED. With FAR_PLANE, only covered pixels are shaded
-// (early depth test against the surface's depth; see common/fullscreen.vert).
+// (early depth test against the surface's depth; see common/fullscreen.vert). With THIRD, a third field p3
+// (fibre sets' third population) advects along the vectors' .w direction; RESET THIRD also writes p3.
 layout(binding = 0) uniform sampler2D u_prev1;      // p1, bilinear, clamp to edge
 layout(binding = 4) uniform sampler2D u_prev2;      // p2
 layout(binding = 1) uniform usampler2D u_vectors;   // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
 layout(binding = 2) uniform sampler2D u_surface;    // RESET: .r beta, .a coverage
 layout(binding = 3) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
+#ifdef THIRD
+layout(binding = 5) uniform sampler2D u_prev3;      // p3
+#endif
 
 const float BLOCKED = -1e20;
+// Fibre sets: the second field advects the complementary noise 1 - beta, so the threads of two crossing
+// populations interleave instead of brightening the same noise spots into crosses.
+uniform bool u_complementSecond = false;
 
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in;
@@ -26,6 +33,10 @@ layout(location = 0) out float o_p1;  // both ping-pong textures
 layout(location = 1) out float o_p2;
 layout(location = 2) out float o_p1b;
 layout(location = 3) out float o_p2b;
+#ifdef THIRD
+layout(location = 4) out float o_p3;
+layout(location = 5) out float o_p3b;
+#endif
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
@@ -33,7 +44,11 @@ void main() {
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
   bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
-  o_p1 = o_p2 = o_p1b = o_p2b = blocked ? BLOCKED : s.r;
+  o_p1 = o_p1b = blocked ? BLOCKED : s.r;
+  o_p2 = o_p2b = blocked ? BLOCKED : (u_complementSecond ? 1.0 - s.r : s.r);
+#ifdef THIRD
+  o_p3 = o_p3b = blocked ? BLOCKED : s.r;
+#endif
 }
 #else
 #ifdef COUNT
@@ -45,6 +60,9 @@ uniform float u_step; // pixels per unit of the max-norm scaled vectors
 
 layout(location = 0) out float o_p1;
 layout(location = 1) out float o_p2;
+#ifdef THIRD
+layout(location = 2) out float o_p3;
+#endif
 
 // The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
 float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
@@ -62,10 +80,20 @@ void main() {
   float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
-  vec2 next = u_k * beta + (1.0 - u_k) * avg;
+  vec2 next = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
   bool blocked = s.r < 0.0;
+#ifdef THIRD
+  float s3 = texelFetch(u_prev3, p, 0).r;
+  float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
+  o_p3 = blocked ? s3 : next3;
+#endif
 #ifdef COUNT
-  if (!blocked && any(greaterThan(abs(next - s), vec2(u_epsilon)))) atomicCounterIncrement(u_changed);
+#ifdef THIRD
+  bool changed3 = abs(next3 - s3) > u_epsilon;
+#else
+  bool changed3 = false;
+#endif
+  if (!blocked && (changed3 || any(greaterThan(abs(next - s), vec2(u_epsilon))))) atomicCounterIncrement(u_changed);
 #endif
   vec2 out2 = blocked ? s : next;
   o_p1 = out2.x;

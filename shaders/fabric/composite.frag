@@ -8,14 +8,23 @@
 // z blue) modulated by FA; where a secondary in-plane direction exists, it is drawn in grey beneath the
 // primary threads. Writes gl_FragDepth, the window depth of the surface computed from its linear depth, so
 // other geometry occludes correctly.
+// FIBRES (fibre sets): each population's fabric in its own DEC colour (|d| of its world direction, FA
+// modulated when a tensor is paired), layered: the weakest population present is the base, each stronger
+// one is drawn over it where its threads are bright (strongest on top); a population's weight (amplitude
+// relative to the strongest x its in-surface fraction) dims it and thins its cover, so weak and out-of-plane
+// populations fade.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
-// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN.
+// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES.
 layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
 layout(binding = 3) uniform sampler2D u_p2;
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
 layout(binding = 2) uniform sampler2D u_silhouette; // e
 layout(binding = 4) uniform sampler2D u_eigen;      // |e1| (world), FA
 layout(binding = 5) uniform sampler2D u_lambda;     // lambda2'/lambda1', |e1.n|, background grey, data
+#ifdef FIBRES
+layout(binding = 6) uniform sampler2D u_p3;         // third population's advected field
+layout(binding = 7) uniform usampler2D u_fibres;    // packUnorm4x8(|d_k|, weight_k), k = 1..3
+#endif
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
 uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
@@ -37,6 +46,15 @@ out vec4 o_colour;
 
 float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 
+#ifdef FIBRES
+// One population's layer: its DEC colour (FA modulated), brightened by its fabric f, dimmed by its weight.
+vec3 layerColour(vec4 pop, float f, float sat, float bright) {
+  return mix(vec3(0.35), pop.rgb, sat) * bright * (0.25 + 1.1 * f) * mix(0.35, 1.0, pop.w);
+}
+// How much a stronger population covers the ones beneath: where its threads are bright, if it has weight.
+float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.0, 0.3, pop.w); }
+#endif
+
 vec3 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec3(0.0);
   vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
@@ -48,7 +66,44 @@ vec3 compose(ivec2 t, vec4 s) {
 #endif
   float L = u_lighting ? s.g : 1.0;
   vec3 c;
-#ifdef MEDICAL
+#ifdef FIBRES
+  vec4 lam = texelFetch(u_lambda, t, 0);
+  float fa = texelFetch(u_eigen, t, 0).w;
+  float p3 = texelFetch(u_p3, t, 0).r;
+  p3 = p3 < 0.0 ? s.r : p3;
+  float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
+  if (lam.w < 0.5) {
+#ifdef BACKGROUND
+    c = vec3(lam.z);
+#else
+    c = u_noData * (0.6 + 0.4 * f0);
+#endif
+  } else {
+    uvec4 q = texelFetch(u_fibres, t, 0);
+    vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
+    // Populations by weight, strongest first (the slots follow bundles, not strength); explicit selects
+    // instead of dynamically indexed local arrays.
+    int o0 = 0, o1 = 1, o2 = 2, tmp;
+    float w0 = pop0.w, w1 = pop1.w, w2 = pop2.w;
+    if (w1 > w0) { tmp = o0; o0 = o1; o1 = tmp; }
+    if (w2 > max(w0, w1)) { tmp = o1; o1 = o0; o0 = 2; o2 = tmp; }
+    else if (w2 > min(w0, w1)) { o2 = o1; o1 = 2; }
+    vec4 a = o0 == 0 ? pop0 : (o0 == 1 ? pop1 : pop2);
+    vec4 b = o1 == 0 ? pop0 : (o1 == 1 ? pop1 : pop2);
+    vec4 d = o2 == 0 ? pop0 : (o2 == 1 ? pop1 : pop2);
+    float fa0 = o0 == 0 ? f0 : (o0 == 1 ? f1 : f2);
+    float fb = o1 == 0 ? f0 : (o1 == 1 ? f1 : f2);
+    float fd = o2 == 0 ? f0 : (o2 == 1 ? f1 : f2);
+    int last = d.w > 0.02 ? 2 : (b.w > 0.02 ? 1 : 0); // the weakest population shown: the base layer
+    float sat = smoothstep(0.05, 0.45, fa), bright = 0.55 + 0.45 * smoothstep(0.05, 0.6, fa);
+    c = vec3(0.1) * (0.5 + fa0);
+    if (last >= 2) c = layerColour(d, fd, sat, bright);
+    if (last >= 1) c = mix(c, layerColour(b, fb, sat, bright), last == 1 ? 1.0 : cover(b, fb));
+    c = mix(c, layerColour(a, fa0, sat, bright), last == 0 ? 1.0 : cover(a, fa0));
+  }
+  c *= mix(1.0, L, u_lightMix);
+  c = mix(c, vec3(0.0), e);
+#elif defined(MEDICAL)
   vec4 eig = texelFetch(u_eigen, t, 0);
   vec4 lam = texelFetch(u_lambda, t, 0);
   float fa = eig.w;

@@ -8,9 +8,16 @@
 // eigenvalues and the 3D principal eigenvector's DEC colour. A zero vector means "no direction here".
 // Variants (compile-time, since a software rasteriser pays for untaken branches): WITH_PRINCIPAL (3D
 // eigenvector for the medical colours), NOISE_BLEND (softened face switch), BACKGROUND (grey volume where
-// there is no tensor data).
+// there is no tensor data), FIBRES (a fibre set instead of the tensor: up to three matched lobes, see
+// common/fibre_field.glsl, each projected onto the surface (P d) and to image space like the eigenvectors;
+// vectors .x, .y, .w hold populations 1-3, and o_fibres per population its DEC colour |d| and weight
+// amplitude / strongest x in-surface fraction |P d|).
 #include "common/eigen.glsl"
+#ifdef FIBRES
+#include "common/fibre_field.glsl"
+#else
 #include "common/tensor_field.glsl"
+#endif
 #include "common/lighting.glsl"
 
 layout(early_fragment_tests) in;
@@ -50,6 +57,9 @@ layout(location = 0) out uvec4 o_vectors;
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, 1 = tensor data
+#ifdef FIBRES
+layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k) for populations k = 1..3
+#endif
 
 // Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
 // and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
@@ -105,8 +115,36 @@ void main() {
   vec4 vectors = vec4(0.0);
   vec4 eigen = vec4(0.0);
   vec4 lambda = vec4(0.0);
-  mat3 t;
   float fa;
+#ifdef FIBRES
+  vec3 fdir[3];
+  float famp[3];
+  vec2 v3 = vec2(0.0);
+  uvec4 fibres = uvec4(0u);
+  int count = sampleFibres(world, fdir, famp, fa);
+  if (count > 0 && fa >= u_faFloor) {
+    vec4 c0 = u_viewProj * vec4(world, 1.0);
+    int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
+    float top = famp[strongest];
+    vec2 img[3];
+    for (int k = 0; k < 3; ++k) {
+      img[k] = vec2(0.0);
+      if (famp[k] <= 0.0) continue;
+      vec3 pd = fdir[k] - n * dot(n, fdir[k]); // P d
+      float inPlane = length(pd);
+      if (inPlane > 0.05) img[k] = imageDirection(c0, pd / inPlane);
+      float weight = clamp(famp[k] / top, 0.0, 1.0) * inPlane;
+      fibres[k] = packUnorm4x8(vec4(abs(fdir[k]), weight));
+    }
+    vectors = vec4(img[0], img[1]);
+    v3 = img[2];
+    eigen.xyz = abs(fdir[strongest]);
+    lambda.y = abs(dot(fdir[strongest], n));
+    lambda.x = (famp[0] + famp[1] + famp[2] - top) / (2.0 * top);
+    lambda.w = 1.0;
+  }
+#else
+  mat3 t;
   if (sampleTensor(world, t, fa) && fa >= u_faFloor) {
     // Eq. 1-2: T' = P T P^T with P = I - n n^T. T' has n as an eigenvector with eigenvalue 0, so the
     // closed-form solver's "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in
@@ -128,12 +166,18 @@ void main() {
     lambda.x = l1 > 0.0 ? clamp(l2 / l1, 0.0, 1.0) : 1.0;
     lambda.w = 1.0;
   }
+#endif
 #ifdef BACKGROUND
   else {
     lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
   }
 #endif
+#ifdef FIBRES
+  o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), packSnorm2x16(v3));
+  o_fibres = fibres;
+#else
   o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), 0u);
+#endif
   o_surface = vec4(beta, light, depth, 1.0);
   eigen.w = fa;
   o_eigen = eigen;

@@ -231,6 +231,20 @@ std::string trxZip(const std::function<void(std::vector<dtf::test::ZipEntry>&)>&
   return dtf::test::zipArchive(e);
 }
 
+// A 2x2x2 peaks volume with `volumes` volumes (disk order: volume-major), direction-like signed values in
+// every volume (sign alternating from voxel to voxel), `set` overriding single values (flat disk index).
+Nifti peaksNifti(int volumes, std::vector<std::pair<int, float>> set, std::optional<float> fill = std::nullopt) {
+  Nifti n;
+  n.dims = {2, 2, 2, volumes};
+  std::vector<float> v(static_cast<std::size_t>(8 * volumes));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = fill ? *fill : ((i % 2) ? -0.5f : 0.7f) * (1.0f + 0.1f * static_cast<float>(i % 5));
+  for (auto [i, x] : set)
+    v[static_cast<std::size_t>(i)] = x;
+  n.data = floats(v);
+  return n;
+}
+
 const fs::path kSample = dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz";
 
 struct Case {
@@ -959,6 +973,49 @@ std::vector<Case> catalogue() {
                [](const fs::path& dir) { return "view --script " + q(dir / "none.dtfs"); },
                2,
                {"none.dtfs"}});
+  // ---- crossing-fibre files (peaks: x y z per peak; bedpostx: dyadsN + mean_fNsamples)
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  c.push_back(infoCase("FibresPartlyNanPeak", "peaks.nii",
+                       [nan] { return peaksNifti(6, {{1, nan}}).bytes(); }, {"peak 1 is partly NaN"},
+                       " --layout mrtrix-peaks"));
+  c.push_back(infoCase("FibresInfPeak", "peaks.nii",
+                       [inf] { return peaksNifti(6, {{3 * 8 + 3, inf}}).bytes(); }, {"peak 2 holds Inf"},
+                       " --layout mrtrix-peaks"));
+  c.push_back(infoCase("FibresAllZeroLength", "peaks.nii",
+                       [] { return peaksNifti(6, {}, 0.0f).bytes(); }, {"no fibre direction", "zero-length"},
+                       " --layout dipy-peaks"));
+  c.push_back(infoCase("FibresWrongVolumeCount", "peaks.nii",
+                       [] { return peaksNifti(7, {}).bytes(); }, {"has 7 volumes", "multiple of 3"},
+                       " --layout mrtrix-peaks"));
+  c.push_back({"BedpostxMismatchedGrids",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "bpx");
+                 writeBytes(dir / "bpx" / "dyads1.nii", peaksNifti(3, {}).bytes());
+                 Nifti f;
+                 f.dims = {3, 2, 2};
+                 f.data = floats(std::vector<float>(12, 0.5f));
+                 writeBytes(dir / "bpx" / "mean_f1samples.nii", f.bytes());
+                 return "info " + q(dir / "bpx");
+               },
+               2,
+               {"mean_f1samples.nii", "its grid differs from", "dyads1.nii"}});
+  c.push_back({"BedpostxMissingFractions",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "bpx");
+                 writeBytes(dir / "bpx" / "dyads1.nii", peaksNifti(3, {}).bytes());
+                 return "info " + q(dir / "bpx" / "dyads1.nii");
+               },
+               2,
+               {"dyads1.nii", "has no fractions file", "mean_f1samples"}});
+  // Two peaks in 6 volumes are signed like directions: never read as an "ambiguous FSL tensor".
+  c.push_back({"TwoPeaksAreNotATensor",
+               [](const fs::path& dir) {
+                 writeBytes(dir / "two_peaks.nii", peaksNifti(6, {}).bytes());
+                 return "surface " + q(dir / "two_peaks.nii") + " --slice axial -o " + q(dir / "s.ply");
+               },
+               2,
+               {"two_peaks.nii", "signed like directions", "not a tensor"},
+               "s.ply"});
   return c;
 }
 

@@ -1,9 +1,10 @@
-// libFuzzer target: NIfTI header, scalar and tensor readers (io/tensor_io.h). Inputs that start with the
+// libFuzzer target: NIfTI header, scalar, tensor (io/tensor_io.h) and fibre-peaks (io/fibre_io.h) readers. Inputs that start with the
 // gzip magic are read as .nii.gz, the others as .nii. Any dtf::Error is an accepted outcome; a crash, a
 // sanitizer report, a leak or an allocation beyond -rss_limit_mb is a finding.
 #include "fuzz_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "io/fibre_io.h"
 #include "io/tensor_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -25,6 +26,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     dtf::io::readTensorVolume(path);
+  } catch (const dtf::Error&) {
+  }
+  try {
+    dtf::io::looksLikeFibres(path);
+    dtf::io::readFibres(path); // auto: marker, or the frame by fibre coherence
+  } catch (const dtf::Error&) {
+  }
+  try {
+    dtf::io::readFibres(path, dtf::io::FibreLayout::DipyPeaks);
   } catch (const dtf::Error&) {
   }
   return 0;

@@ -141,7 +141,7 @@ TEST(ViewScript, BadLinesNameFileAndLine) {
   EXPECT_NE(parseError("split maybe").find("split takes on or off"), std::string::npos);
   EXPECT_NE(parseError("set warp 3").find("unknown fabric parameter 'warp'"), std::string::npos);
   EXPECT_NE(parseError("set k 7").find("k must lie in"), std::string::npos);
-  EXPECT_NE(parseError("set colour purple").find("colour takes medical or engineering"), std::string::npos);
+  EXPECT_NE(parseError("set colour purple").find("colour takes medical, engineering or fibres"), std::string::npos);
   EXPECT_NE(parseError("wait -3").find("wait frames must lie in"), std::string::npos);
   EXPECT_NE(parseError("screenshot out.jpg").find("must end in .png"), std::string::npos);
   EXPECT_NE(parseError("screenshot").find("usage: screenshot [--force] PATH"), std::string::npos);

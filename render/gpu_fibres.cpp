@@ -1,0 +1,93 @@
+#include "render/gpu_fibres.h"
+
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace dtf::render {
+
+namespace {
+// tex = (voxel + 0.5) / dims, voxel = world->voxel affine (as for the tensor textures).
+glm::mat4 worldToTexture(const Grid& grid) {
+  glm::dmat4 worldToVoxel = glm::inverse(grid.voxelToWorld);
+  glm::dmat4 voxelToTex(1.0);
+  for (int c = 0; c < 3; ++c) {
+    voxelToTex[c][c] = 1.0 / grid.dims[c];
+    voxelToTex[3][c] = 0.5 / grid.dims[c];
+  }
+  return glm::mat4(voxelToTex * worldToVoxel);
+}
+} // namespace
+
+void GpuFibreSet::clear() {
+  for (Texture& t : lobe_)
+    t = Texture();
+  fa_ = Texture();
+  lobes_ = 0;
+}
+
+void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float relativeThreshold) {
+  const glm::ivec3 d = set.grid.dims;
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+  if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
+    throw GlError("the fibre set's grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
+                  std::to_string(d.z) + " exceeds this GL's 3D texture size limit (" +
+                  std::to_string(maxSize) + ")");
+  if (fa && fa->grid.dims != d) throw GlError("the FA volume paired with the fibre set is on another grid");
+  const std::size_t n = set.grid.voxelCount();
+  const auto k = static_cast<std::size_t>(set.maxFibres);
+  if (set.fibres.size() != n * k) throw GlError("fibre set size does not match its grid");
+  clear();
+  // Slots that follow bundles from voxel to voxel: one advection field per slot.
+  const FibreSet slotted = continuousSlots(set, relativeThreshold);
+  lobes_ = slotted.maxFibres;
+  std::vector<float> texel(n * 4);
+  for (int l = 0; l < lobes_; ++l) {
+    for (std::size_t v = 0; v < n; ++v) {
+      const Fibre& f = slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)];
+      const bool ok = f.amplitude > 0.0f;
+      texel[v * 4 + 0] = ok ? f.amplitude * f.direction.x : 0.0f;
+      texel[v * 4 + 1] = ok ? f.amplitude * f.direction.y : 0.0f;
+      texel[v * 4 + 2] = ok ? f.amplitude * f.direction.z : 0.0f;
+      texel[v * 4 + 3] = ok ? f.amplitude : 0.0f;
+    }
+    lobe_[l] = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
+    glTextureSubImage3D(lobe_[l].id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texel.data());
+  }
+  // FA (or 1) and occupancy, both zero where the voxel has no fibre: FA / occupancy after interpolation.
+  std::vector<float> f(n * 2, 0.0f);
+  for (std::size_t v = 0; v < n; ++v) {
+    bool any = false;
+    for (int l = 0; l < lobes_; ++l)
+      any =
+          any ||
+          slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)].amplitude > 0.0f;
+    if (!any) continue;
+    float x = 1.0f;
+    if (fa) {
+      x = fa->data[v * static_cast<std::size_t>(fa->components)];
+      x = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f;
+    }
+    f[v * 2] = x;
+    f[v * 2 + 1] = 1.0f;
+  }
+  fa_ = Texture::create3D(GL_RG32F, d.x, d.y, d.z);
+  glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RG, GL_FLOAT, f.data());
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    clear();
+    throw GlError("out of GPU memory for the fibre set's 3D textures");
+  }
+  worldToTex_ = worldToTexture(set.grid);
+}
+
+void GpuFibreSet::bind() const {
+  const GLuint units[kMaxLobes] = {0, 1, 5};
+  for (int l = 0; l < kMaxLobes; ++l)
+    glBindTextureUnit(units[l], l < lobes_ ? lobe_[l].id() : lobe_[0].id());
+  glBindTextureUnit(6, fa_.id());
+}
+
+} // namespace dtf::render

@@ -1,0 +1,61 @@
+// Sampling the fibre set uploaded by GpuFibreSet: up to three RGBA32F 3D textures, one per slot of
+// continuousSlots (io/model/fibre_set.h): amplitude x unit world direction and the amplitude, with the
+// lobes already matched between neighbouring voxels by |cos| and sign-aligned on the CPU, so the hardware
+// interpolates them per component; an RG32F texture holds the paired tensor's FA (or 1) and 1 where a voxel
+// has fibres. The rule, interpolateSlots in io/model/fibre_set.h being its CPU reference:
+//   * nothing where less than half of the trilinear weight lies on voxels with fibres;
+//   * per slot: amplitude = interpolated amplitude / that weight; direction = the normalised interpolated
+//     vector, or the nearest voxel's direction where the vector is shorter than 0.9 x the interpolated
+//     amplitude (a sign seam or a disagreement between voxels).
+
+layout(binding = 0) uniform sampler3D u_lobe0;
+layout(binding = 1) uniform sampler3D u_lobe1;
+layout(binding = 5) uniform sampler3D u_lobe2;
+layout(binding = 6) uniform sampler3D u_fibreFa; // FA (or 1), 1 where the voxel has fibres
+uniform mat4 u_worldToTex;
+uniform int u_lobeCount = 1; // 1..3 slots uploaded
+
+vec4 sampleLobe(int l, vec3 tc) {
+  if (l == 0) return texture(u_lobe0, tc);
+  if (l == 1) return texture(u_lobe1, tc);
+  return texture(u_lobe2, tc);
+}
+
+vec4 fetchLobe(int l, ivec3 p) {
+  if (l == 0) return texelFetch(u_lobe0, p, 0);
+  if (l == 1) return texelFetch(u_lobe1, p, 0);
+  return texelFetch(u_lobe2, p, 0);
+}
+
+// Up to three fibres at worldPos in slot order (amp 0 = none; a slot follows one bundle from voxel to voxel,
+// so slot j feeds advection field j); returns their number. fa: the paired tensor's FA (trilinear) or 1.
+int sampleFibres(vec3 worldPos, out vec3 dir[3], out float amp[3], out float fa) {
+  vec3 tc = (u_worldToTex * vec4(worldPos, 1.0)).xyz;
+  for (int j = 0; j < 3; ++j) {
+    dir[j] = vec3(0.0);
+    amp[j] = 0.0;
+  }
+  vec2 fo = texture(u_fibreFa, tc).rg;
+  fa = 0.0;
+  if (!(fo.g >= 0.5)) return 0;
+  fa = fo.r / fo.g;
+  ivec3 dims = textureSize(u_lobe0, 0);
+  ivec3 nearest = clamp(ivec3(floor(tc * vec3(dims))), ivec3(0), dims - 1);
+  int n = 0;
+  for (int j = 0; j < 3; ++j) {
+    if (j >= u_lobeCount) break;
+    vec4 a = sampleLobe(j, tc);
+    if (a.w <= 0.0) continue;
+    float len = length(a.xyz);
+    vec3 d = len > 0.0 ? a.xyz / len : vec3(0.0);
+    if (len < 0.9 * a.w) {
+      vec4 q = fetchLobe(j, nearest);
+      if (q.w > 0.0) d = q.xyz / q.w;
+    }
+    if (dot(d, d) == 0.0) continue;
+    dir[j] = normalize(d);
+    amp[j] = a.w / fo.g;
+    ++n;
+  }
+  return n;
+}
