@@ -19,6 +19,7 @@ const std::vector<Command>& commands() {
       {"track", "deterministic tensor tractography to .tck/.trk/.vtk", cmdTrack},
       {"compare", "angle between tracts and the fabric direction on a surface", cmdCompare},
       {"check", "orientation check: a flipped or permuted gradient table or tensor frame, and its fix", cmdCheck},
+      {"bids", "BIDS App: per-run fit, orientation check and figures; group table and HTML report", cmdBids},
       {"view", "open the viewer (GLFW window with ImGui panels)", cmdView},
       {"bench", "benchmarks: io, render", cmdBench},
   };

@@ -34,7 +34,8 @@ int cmdBench(const CommandArgs& args) {
                 "  surfaces  FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume\n"
                 "  tracts    streamlines/s of deterministic tensor tracking on the real brain\n"
                 "  overlay   the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection\n"
-                "  check     the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)\n");
+                "  check     the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)\n"
+                "  bids      seconds per participant of `dtfabric bids` on the real DWI; the group report for 300 rows\n");
     return args.empty() ? 1 : 0;
   }
   CommandArgs rest(args.begin() + 1, args.end());
@@ -45,6 +46,7 @@ int cmdBench(const CommandArgs& args) {
   if (args[0] == "tracts") return benchTracts(rest);
   if (args[0] == "overlay") return benchOverlay(rest);
   if (args[0] == "check") return benchCheck(rest);
+  if (args[0] == "bids") return benchBids(rest);
   throw UsageError("unknown benchmark '" + args[0] + "' (io, render, surfaces, view)");
 }
 

@@ -26,6 +26,7 @@ int cmdView(const CommandArgs& args);
 int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
 int cmdCheck(const CommandArgs& args);
+int cmdBids(const CommandArgs& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();
