@@ -155,7 +155,12 @@ int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bid
     }
   } else {
     const std::string exe = fs::read_symlink("/proc/self/exe").string();
-    std::map<pid_t, std::pair<std::size_t, std::chrono::steady_clock::time_point>> running;
+    struct Worker {
+      std::size_t run;
+      std::chrono::steady_clock::time_point start;
+      fs::file_time_type docTime; // the metrics document's time before: unchanged means skipped
+    };
+    std::map<pid_t, Worker> running;
     std::size_t next = 0;
     while (next < runs.size() || !running.empty()) {
       while (next < runs.size() && running.size() < static_cast<std::size_t>(jobs)) {
@@ -182,15 +187,20 @@ int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bid
           ::_exit(127);
         }
         std::fprintf(stderr, "  running %s (worker %d)\n", runLabel(r).c_str(), static_cast<int>(pid));
-        running[pid] = {next++, std::chrono::steady_clock::now()};
+        std::error_code ec;
+        const fs::file_time_type docTime = fs::last_write_time(metricsPath(r, out), ec);
+        running[pid] = {next++, std::chrono::steady_clock::now(), ec ? fs::file_time_type::min() : docTime};
       }
       int status = 0;
       const pid_t pid = ::waitpid(-1, &status, 0);
       if (pid < 0) break;
       auto it = running.find(pid);
       if (it == running.end()) continue;
-      const io::BidsRun& r = runs[it->second.first];
-      RunOutcome o = outcomeFromDocument(r, out, secondsSince(it->second.second));
+      const io::BidsRun& r = runs[it->second.run];
+      RunOutcome o = outcomeFromDocument(r, out, secondsSince(it->second.start));
+      std::error_code ec;
+      o.skipped = o.ok && it->second.docTime != fs::file_time_type::min() &&
+                  fs::last_write_time(metricsPath(r, out), ec) == it->second.docTime;
       if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 2)) {
         o.ok = false;
         o.message = "worker for " + r.dwi + " ended " +

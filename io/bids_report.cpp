@@ -22,6 +22,10 @@ const std::vector<std::string>& outlierMetrics() {
 
 namespace {
 
+// Differences below this fraction of the median are never outliers: in a cohort of near-identical runs the
+// MAD is tiny and would flag differences of no consequence.
+constexpr double kMinRelativeDeviation = 0.05;
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -31,7 +35,8 @@ double median(std::vector<double> v) {
 std::string number(double v, int precision = 5) {
   if (!std::isfinite(v)) return "n/a";
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+  if (std::abs(v) >= 1000 && std::abs(v) < 1e15 && v == std::round(v)) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%.*g", precision, v);
   return buf;
 }
 
@@ -83,7 +88,8 @@ void flagOutliers(std::vector<GroupRow>& rows) {
     if (!(scale > 0)) continue;
     for (auto& r : rows)
       if (r.ok && col < r.metrics.size() && std::isfinite(r.metrics[col]) &&
-          std::abs(r.metrics[col] - m) / scale > 3.5)
+          std::abs(r.metrics[col] - m) / scale > 3.5 &&
+          std::abs(r.metrics[col] - m) > kMinRelativeDeviation * std::abs(m))
         r.outliers.push_back(name);
   }
 }
@@ -243,7 +249,7 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   h += "<p class=\"meta\">Outliers: among the runs that succeeded (at least 5), a metric of " +
        htmlEscape(joined(outlierMetrics(), ", ")) +
        " whose modified z-score 0.6745&middot;(x &minus; median)/MAD exceeds 3.5 in magnitude (1.2533&middot;mean "
-       "absolute deviation replaces MAD/0.6745 when the MAD is 0). White matter: FA &ge; 0.3 inside the fit's "
+       "absolute deviation replaces MAD/0.6745 when the MAD is 0) and that differs from the median by more than 5%. White matter: FA &ge; 0.3 inside the fit's "
        "mask; MD in 10<sup>&minus;3</sup> mm<sup>2</sup>/s. Click a run for its full figures; click a column "
        "header to sort.</p>\n";
 

@@ -35,7 +35,8 @@ struct GroupRow {
 // Marks outlying metrics among the ok rows: robust z = 0.6745 (x - median) / MAD, flagged when |z| > 3.5
 // (Iglewicz and Hoaglin's modified z-score). When the MAD is 0 (more than half the rows equal), the scale
 // is 1.2533 times the mean absolute deviation from the median instead (their fallback); when that is 0 too,
-// nothing is flagged. Needs at least 5 ok rows with a finite value; fewer: nothing is flagged.
+// nothing is flagged. A value within 5% of the median is never flagged (near-identical cohorts have a tiny
+// MAD). Needs at least 5 ok rows with a finite value; fewer: nothing is flagged.
 void flagOutliers(std::vector<GroupRow>& rows);
 
 // group.tsv: participant_id, session_id, run, status (ok|failed), check_verdict, check_correction, the
