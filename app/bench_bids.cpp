@@ -40,14 +40,27 @@ std::string onPath(const std::string& name) {
   return {};
 }
 
-// Wall seconds of `chromium --headless --dump-dom URL`, -1 when it fails.
-double chromiumSeconds(const std::string& chromium, const std::string& url, const fs::path& scratch) {
-  const std::string cmd = "'" + chromium + "' --headless --no-sandbox --disable-gpu --dump-dom '" + url + "' >'" +
-                          (scratch / "dom.html").string() + "' 2>/dev/null";
+// Wall seconds of `chromium --headless --dump-dom URL`, -1 when it fails; the dumped page in `dom`.
+double chromiumSeconds(const std::string& chromium, const std::string& url, const fs::path& scratch,
+                       std::string* dom = nullptr) {
+  const fs::path dumped = scratch / "dom.html";
+  const std::string cmd = "'" + chromium + "' --headless --no-sandbox --disable-gpu --dump-dom '" + url +
+                          "' >'" + dumped.string() + "' 2>/dev/null";
   const auto t0 = std::chrono::steady_clock::now();
   const int rc = std::system(cmd.c_str());
   const double s = secondsSince(t0);
+  if (dom) *dom = io::readTextFile(dumped.string());
   return rc == 0 ? s : -1;
+}
+
+// The number after "key": in the page's timing line; -1 when absent.
+double timing(const std::string& dom, const std::string& key) {
+  const auto p = dom.find("&quot;" + key + "&quot;:");
+  const auto q = dom.find("\"" + key + "\":");
+  const std::size_t at = p != std::string::npos   ? p + key.size() + 13
+                         : q != std::string::npos ? q + key.size() + 3
+                                                  : 0;
+  return at ? std::atof(dom.c_str() + at) : -1;
 }
 
 } // namespace
@@ -55,11 +68,12 @@ double chromiumSeconds(const std::string& chromium, const std::string& url, cons
 int benchBids(const CommandArgs& argv) {
   Args args(argv, {"help", "json", "keep"});
   if (args.flag("help")) {
-    std::printf("usage: dtfabric bench bids [--data DIR] [--runs N] [--rows N] [--figure-size PX] [--json] [--keep]\n"
-                "  --runs N         participants made of the real DWI, processed one after the other (default 3)\n"
-                "  --rows N         rows of the replicated cohort for the report (default 300)\n"
-                "  --figure-size PX figure edge (default 512, as `dtfabric bids`)\n"
-                "  --keep           keep the scratch dataset and outputs (printed)\n");
+    std::printf(
+        "usage: dtfabric bench bids [--data DIR] [--runs N] [--rows N] [--figure-size PX] [--json] [--keep]\n"
+        "  --runs N         participants made of the real DWI, processed one after the other (default 3)\n"
+        "  --rows N         rows of the replicated cohort for the report (default 300)\n"
+        "  --figure-size PX figure edge (default 512, as `dtfabric bids`)\n"
+        "  --keep           keep the scratch dataset and outputs (printed)\n");
     return 0;
   }
   const auto data = findSharedDataDir(args.get("data"));
@@ -135,40 +149,66 @@ int benchBids(const CommandArgs& argv) {
   io::writeTextIfChanged((out / "group_report.html").string(), html);
   const double groupSeconds = secondsSince(tg);
 
-  double chromeEmpty = -1, chromeReport = -1;
+  double chromeEmpty = -1, chromeReport = -1, sortMs = -1, detailMs = -1, scriptMs = -1;
   const std::string chromium = onPath("chromium");
   if (!chromium.empty()) {
     io::writeTextIfChanged((out / "empty.html").string(), "<!DOCTYPE html><html><body>x</body></html>\n");
     chromeEmpty = chromiumSeconds(chromium, "file://" + (out / "empty.html").string(), scratch);
-    chromeReport = chromiumSeconds(chromium, "file://" + (out / "group_report.html").string(), scratch);
+    std::string dom;
+    chromeReport = chromiumSeconds(chromium, "file://" + (out / "group_report.html").string() + "#timing",
+                                   scratch, &dom);
+    sortMs = timing(dom, "sort_ms");
+    detailMs = timing(dom, "detail_ms");
+    scriptMs = timing(dom, "script_ms");
   }
 
-  const double cores = std::thread::hardware_concurrency();
+  // The same runs through the CLI with --jobs (worker processes), all recomputed.
+  const auto tj = std::chrono::steady_clock::now();
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const std::string cmd = "'" + fs::read_symlink("/proc/self/exe").string() + "' bids '" + bids.string() +
+                          "' '" + (scratch / "out_jobs").string() + "' participant --force --jobs " +
+                          std::to_string(cores) + " --figure-size " + std::to_string(figurePx) +
+                          " >/dev/null 2>&1";
+  const int jobsRc = std::system(cmd.c_str());
+  const double jobsPerRun = jobsRc == 0 ? secondsSince(tj) / static_cast<double>(ds.runs.size()) : -1;
+
   if (json) {
-    std::printf("{\"runs\": %zu, \"figure_px\": %d, \"cores\": %.0f, \"seconds_per_run\": %.3f, "
-                "\"seconds_load\": %.3f, \"seconds_fit\": %.3f, \"seconds_check\": %.3f, \"seconds_figures\": %.3f, "
-                "\"first_run_seconds\": %.3f, \"report_rows\": %d, \"report_seconds\": %.4f, \"report_bytes\": %zu, "
-                "\"chromium_empty_seconds\": %.3f, \"chromium_report_seconds\": %.3f}\n",
-                total.size(), figurePx, cores, perRun, median(load), median(fit), median(check), median(figures),
-                total.front(), rowsWanted, groupSeconds, html.size(), chromeEmpty, chromeReport);
+    std::printf(
+        "{\"runs\": %zu, \"figure_px\": %d, \"cores\": %d, \"seconds_per_run\": %.3f, "
+        "\"seconds_load\": %.3f, \"seconds_fit\": %.3f, \"seconds_check\": %.3f, \"seconds_figures\": %.3f, "
+        "\"first_run_seconds\": %.3f, \"report_rows\": %d, \"report_seconds\": %.4f, \"report_bytes\": %zu, "
+        "\"chromium_empty_seconds\": %.3f, \"chromium_report_seconds\": %.3f, \"sort_ms\": %.2f, "
+        "\"detail_ms\": %.2f, \"script_ms\": %.1f, \"jobs\": %d, \"seconds_per_run_jobs\": %.3f}\n",
+        total.size(), figurePx, cores, perRun, median(load), median(fit), median(check), median(figures),
+        total.front(), rowsWanted, groupSeconds, html.size(), chromeEmpty, chromeReport, sortMs, detailMs,
+        scriptMs, cores, jobsPerRun);
   } else {
     std::printf("participant level on the real DWI (72x72x39x21), %zu runs in this process, %.0f cores, "
                 "figures %d px:\n",
-                total.size(), cores, figurePx);
+                total.size(), static_cast<double>(cores), figurePx);
     std::printf("  seconds per run (median)  %.2f   (first run %.2f: GL context and noise tile)\n", perRun,
                 total.front());
     std::printf("    load %.2f  fit %.2f  check %.2f  figures (4%s) %.2f\n", median(load), median(fit),
                 median(check), "", median(figures));
-    std::printf("group level over %d replicated rows: %.3f s (outliers, group.tsv, %zu kB of HTML)\n", rowsWanted,
-                groupSeconds, html.size() / 1024);
+    std::printf("group level over %d replicated rows: %.3f s (outliers, group.tsv, %zu kB of HTML)\n",
+                rowsWanted, groupSeconds, html.size() / 1024);
     if (chromeReport >= 0)
-      std::printf("headless chromium --dump-dom: report %.2f s, an empty page %.2f s (start-up): load %.2f s\n",
-                  chromeReport, chromeEmpty, chromeReport - chromeEmpty);
+      std::printf(
+          "headless chromium --dump-dom: report %.2f s, an empty page %.2f s (start-up): load %.2f s\n",
+          chromeReport, chromeEmpty, chromeReport - chromeEmpty);
     else
       std::printf("chromium: %s\n", chromium.empty() ? "not on the PATH (not measured)" : "failed");
+    if (sortMs >= 0)
+      std::printf("  in the page: script ran %.0f ms after navigation; sort by a metric %.1f ms; open a run "
+                  "%.1f ms\n",
+                  scriptMs, sortMs, detailMs);
+    std::printf("dtfabric bids --jobs %d (worker processes, %zu runs, all recomputed): %.2f s per run\n",
+                cores, ds.runs.size(), jobsPerRun);
   }
-  if (keep) std::fprintf(stderr, "kept %s\n", scratch.string().c_str());
-  else fs::remove_all(scratch);
+  if (keep)
+    std::fprintf(stderr, "kept %s\n", scratch.string().c_str());
+  else
+    fs::remove_all(scratch);
   return 0;
 }
 

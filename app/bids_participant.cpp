@@ -21,7 +21,8 @@ namespace dtf::app {
 namespace {
 
 constexpr double kWhiteMatterFa = 0.3; // as the orientation check's white matter
-constexpr double kIsoFa = 0.4; // the FA isosurface of the 3D views: the white-matter core (0.25 wraps the cortex)
+constexpr double kIsoFa =
+    0.4; // the FA isosurface of the 3D views: the white-matter core (0.25 wraps the cortex)
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -53,7 +54,8 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& stem) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("." + stem + "_", 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove(e.path(), ec);
+    if (name.rfind("." + stem + "_", 0) == 0 && name.find(".tmp") != std::string::npos)
+      fs::remove(e.path(), ec);
   }
 }
 
@@ -83,10 +85,12 @@ const std::vector<FigureKind>& figureKinds() {
 }
 
 std::string metricsPath(const io::BidsRun& run, const std::string& outputRoot) {
-  return (fs::path(outputRoot) / run.relDir / io::derivativeName(run, "fabricMetrics", "dwi", ".json")).string();
+  return (fs::path(outputRoot) / run.relDir / io::derivativeName(run, "fabricMetrics", "dwi", ".json"))
+      .string();
 }
 
-RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, const ParticipantOptions& optIn) {
+RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
+                      const ParticipantOptions& optIn) {
   ParticipantOptions o = optIn;
   if (o.sheetPanelPx <= 0) o.sheetPanelPx = std::max(96, o.figurePx / 2);
   const auto t0 = std::chrono::steady_clock::now();
@@ -177,8 +181,8 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, con
       doc.setNumber("check_margin", rep.margin);
       doc.set("check_reason", rep.reason);
       const Grid& g = check.field.grid;
-      doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
-                          " " + g.orientationCode());
+      doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" +
+                          std::to_string(g.dims.z) + " " + g.orientationCode());
       doc.setNumber("volumes", static_cast<double>(check.bvals.size()), 12);
 
       // Slice positions from this run's data, not fixed indices: surfaces::chooseEvidenceSlices on the field

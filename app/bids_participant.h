@@ -42,7 +42,8 @@ std::string metricsPath(const io::BidsRun& run, const std::string& outputRoot);
 // Processes one run. Never throws for a problem of the run's data (a corrupt file, a missing table, a wrong
 // volume count: recorded as failed in the metrics document, with the file and the reason) nor for a GL
 // failure (recorded likewise); throws InputError only when the output folder cannot be written.
-RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, const ParticipantOptions& options);
+RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
+                      const ParticipantOptions& options);
 
 // The group row of `run` from its metrics document (failed with "not processed" when there is none).
 io::GroupRow readGroupRow(const io::BidsRun& run, const std::string& outputRoot);

@@ -3,8 +3,6 @@
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -13,6 +11,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <zlib.h>
 
 namespace fs = std::filesystem;
 
@@ -20,7 +19,9 @@ namespace dtf::io {
 
 namespace {
 
-bool startsWith(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
+bool startsWith(const std::string& s, const std::string& p) {
+  return s.compare(0, p.size(), p) == 0;
+}
 bool endsWith(const std::string& s, const std::string& p) {
   return s.size() >= p.size() && s.compare(s.size() - p.size(), p.size(), p) == 0;
 }
@@ -56,9 +57,12 @@ void scanDwiFolder(const fs::path& dwiDir, const std::string& subject, const std
   for (const auto& entry : fs::directory_iterator(dwiDir, ec)) {
     const std::string name = entry.path().filename().string();
     std::string stem;
-    if (endsWith(name, "_dwi.nii.gz")) stem = name.substr(0, name.size() - 11);
-    else if (endsWith(name, "_dwi.nii")) stem = name.substr(0, name.size() - 8);
-    else continue;
+    if (endsWith(name, "_dwi.nii.gz"))
+      stem = name.substr(0, name.size() - 11);
+    else if (endsWith(name, "_dwi.nii"))
+      stem = name.substr(0, name.size() - 8);
+    else
+      continue;
     if (startsWith(name, ".")) continue;
     BidsRun r;
     r.subject = subject;
@@ -70,8 +74,10 @@ void scanDwiFolder(const fs::path& dwiDir, const std::string& subject, const std
     r.bvec = (dwiDir / (stem + "_dwi.bvec")).string();
     r.problem = entityProblem(stem, subject, session);
     if (r.problem.empty()) {
-      if (!fs::exists(r.bval, ec)) r.problem = "no b-value file " + r.bval;
-      else if (!fs::exists(r.bvec, ec)) r.problem = "no gradient file " + r.bvec;
+      if (!fs::exists(r.bval, ec))
+        r.problem = "no b-value file " + r.bval;
+      else if (!fs::exists(r.bvec, ec))
+        r.problem = "no gradient file " + r.bvec;
     }
     runs.push_back(std::move(r));
   }
@@ -173,7 +179,8 @@ std::vector<BidsRun> selectRuns(const BidsDataset& ds, const std::vector<std::st
   for (const auto& s : wantSes)
     if (!sessionsSeen.count(s)) unknown += (unknown.empty() ? "" : ", ") + s;
   if (!unknown.empty())
-    throw InputError(ds.root + ": no session " + unknown + " with a dwi folder among the selected participants");
+    throw InputError(ds.root + ": no session " + unknown +
+                     " with a dwi folder among the selected participants");
   return out;
 }
 
@@ -195,11 +202,13 @@ void refuseOutputInsideInput(const std::string& bidsRoot, const std::string& out
 void writeDerivativeDescription(const std::string& outputRoot, const BidsDataset& source,
                                 const std::string& version) {
   std::string text = "{\n";
-  text += "  \"Name\": " + jsonQuote("dtfabric QC" + (source.name.empty() ? "" : " of " + source.name)) + ",\n";
+  text +=
+      "  \"Name\": " + jsonQuote("dtfabric QC" + (source.name.empty() ? "" : " of " + source.name)) + ",\n";
   text += "  \"BIDSVersion\": \"1.8.0\",\n";
   text += "  \"DatasetType\": \"derivative\",\n";
   text += "  \"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": " + jsonQuote(version) +
-          ", \"Description\": \"tensor fit, gradient-orientation check and fabric figures per diffusion run\"}],\n";
+          ", \"Description\": \"tensor fit, gradient-orientation check and fabric figures per diffusion "
+          "run\"}],\n";
   text += "  \"SourceDatasets\": [{\"URL\": " + jsonQuote("file://" + source.root) + "}]\n";
   text += "}\n";
   writeTextIfChanged((fs::path(outputRoot) / "dataset_description.json").string(), text);
@@ -250,8 +259,10 @@ void FlatJson::set(const std::string& key, const std::string& value) {
 void FlatJson::setNumber(const std::string& key, double value, int precision) {
   if (!values_.count(key)) order_.push_back(key);
   char buf[64];
-  if (std::isfinite(value)) std::snprintf(buf, sizeof buf, "%.*g", precision, value);
-  else std::snprintf(buf, sizeof buf, "null");
+  if (std::isfinite(value))
+    std::snprintf(buf, sizeof buf, "%.*g", precision, value);
+  else
+    std::snprintf(buf, sizeof buf, "null");
   values_[key] = {buf, false};
 }
 
@@ -260,7 +271,9 @@ void FlatJson::setBool(const std::string& key, bool value) {
   values_[key] = {value ? "true" : "false", false};
 }
 
-bool FlatJson::has(const std::string& key) const { return values_.count(key) > 0; }
+bool FlatJson::has(const std::string& key) const {
+  return values_.count(key) > 0;
+}
 
 std::string FlatJson::get(const std::string& key) const {
   auto it = values_.find(key);
@@ -279,7 +292,8 @@ std::string FlatJson::text() const {
   std::string o = "{\n";
   for (std::size_t i = 0; i < order_.size(); ++i) {
     const auto& [v, isString] = values_.at(order_[i]);
-    o += "  " + jsonQuote(order_[i]) + ": " + (isString ? jsonQuote(v) : v) + (i + 1 < order_.size() ? ",\n" : "\n");
+    o += "  " + jsonQuote(order_[i]) + ": " + (isString ? jsonQuote(v) : v) +
+         (i + 1 < order_.size() ? ",\n" : "\n");
   }
   return o + "}\n";
 }
@@ -288,7 +302,8 @@ FlatJson FlatJson::parse(const std::string& text, const std::string& origin) {
   FlatJson j;
   std::size_t i = 0;
   auto fail = [&](const std::string& what) -> void {
-    throw InputError(origin + ": " + what + " at byte " + std::to_string(i) + " (expected a flat JSON object)");
+    throw InputError(origin + ": " + what + " at byte " + std::to_string(i) +
+                     " (expected a flat JSON object)");
   };
   auto skip = [&] {
     while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])))
@@ -325,7 +340,8 @@ FlatJson FlatJson::parse(const std::string& text, const std::string& origin) {
       j.set(key, str());
     } else {
       const std::size_t start = i;
-      while (i < text.size() && text[i] != ',' && text[i] != '}' && !std::isspace(static_cast<unsigned char>(text[i])))
+      while (i < text.size() && text[i] != ',' && text[i] != '}' &&
+             !std::isspace(static_cast<unsigned char>(text[i])))
         ++i;
       const std::string v = text.substr(start, i - start);
       if (v.empty() || v[0] == '{' || v[0] == '[') fail("a nested value");

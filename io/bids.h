@@ -14,11 +14,11 @@ namespace dtf::io {
 
 // One diffusion run of a raw BIDS dataset.
 struct BidsRun {
-  std::string subject;  // label without "sub-", e.g. "01"
-  std::string session;  // label without "ses-"; empty when the dataset has no session level
-  std::string relDir;   // folder relative to the dataset root, e.g. "sub-01/ses-A/dwi"
-  std::string stem;     // source name without "_dwi.nii[.gz]", e.g. "sub-01_ses-A_acq-b2500_run-1"
-  std::string dwi;      // absolute paths; bval/bvec name the expected siblings even when they are missing
+  std::string subject; // label without "sub-", e.g. "01"
+  std::string session; // label without "ses-"; empty when the dataset has no session level
+  std::string relDir;  // folder relative to the dataset root, e.g. "sub-01/ses-A/dwi"
+  std::string stem;    // source name without "_dwi.nii[.gz]", e.g. "sub-01_ses-A_acq-b2500_run-1"
+  std::string dwi;     // absolute paths; bval/bvec name the expected siblings even when they are missing
   std::string bval, bvec;
   // Why the run cannot be processed as found (no .bval or .bvec, a name that breaks the entity rules);
   // empty when it can.
@@ -26,9 +26,9 @@ struct BidsRun {
 };
 
 struct BidsDataset {
-  std::string root;           // absolute, normalised
-  std::string name;           // dataset_description.json's "Name" ("" when absent)
-  std::vector<BidsRun> runs;  // sorted by relDir, then stem
+  std::string root;                  // absolute, normalised
+  std::string name;                  // dataset_description.json's "Name" ("" when absent)
+  std::vector<BidsRun> runs;         // sorted by relDir, then stem
   std::vector<std::string> subjects; // every sub-* folder's label, sorted (with or without a dwi run)
 };
 

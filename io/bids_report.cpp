@@ -10,8 +10,8 @@ namespace dtf::io {
 
 const std::vector<std::string>& groupMetricColumns() {
   static const std::vector<std::string> cols = {
-      "fa_wm_mean",  "fa_wm_median",      "md_wm_mean",       "md_wm_median", "wm_voxels",
-      "brain_voxels", "wm_fraction",      "check_score_given", "check_score_best", "check_margin"};
+      "fa_wm_mean",   "fa_wm_median", "md_wm_mean",        "md_wm_median",     "wm_voxels",
+      "brain_voxels", "wm_fraction",  "check_score_given", "check_score_best", "check_margin"};
   return cols;
 }
 
@@ -35,8 +35,10 @@ double median(std::vector<double> v) {
 std::string number(double v, int precision = 5) {
   if (!std::isfinite(v)) return "n/a";
   char buf[64];
-  if (std::abs(v) >= 1000 && std::abs(v) < 1e15 && v == std::round(v)) std::snprintf(buf, sizeof buf, "%.0f", v);
-  else std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+  if (std::abs(v) >= 1000 && std::abs(v) < 1e15 && v == std::round(v))
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
   return buf;
 }
 
@@ -113,12 +115,23 @@ std::string htmlEscape(const std::string& s) {
   std::string o;
   for (char c : s) {
     switch (c) {
-    case '&': o += "&amp;"; break;
-    case '<': o += "&lt;"; break;
-    case '>': o += "&gt;"; break;
-    case '"': o += "&quot;"; break;
-    case '\'': o += "&#39;"; break;
-    default: o += c;
+    case '&':
+      o += "&amp;";
+      break;
+    case '<':
+      o += "&lt;";
+      break;
+    case '>':
+      o += "&gt;";
+      break;
+    case '"':
+      o += "&quot;";
+      break;
+    case '\'':
+      o += "&#39;";
+      break;
+    default:
+      o += c;
     }
   }
   return o;
@@ -194,6 +207,15 @@ function openDetail(i){
 }
 document.querySelectorAll('[data-run]').forEach(function(el){el.addEventListener('click',function(ev){ev.preventDefault();openDetail(+el.getAttribute('data-run'));});});
 document.addEventListener('keydown',function(e){if(e.key==='Escape')detail.classList.remove('open');});
+if(location.hash==='#timing'){
+  const table=document.getElementById('all');const th=table.tHead.rows[0].cells[6];
+  const t0=performance.now();sortTable(table,6,th);sortTable(table,6,th);const t1=performance.now();
+  openDetail(0);const t2=performance.now();
+  const pre=document.createElement('pre');pre.id='dtf-timing';
+  pre.textContent=JSON.stringify({rows:table.tBodies[0].rows.length,sort_ms:(t1-t0)/2,detail_ms:t2-t1,
+    script_ms:t0});
+  document.body.appendChild(pre);
+}
 if(location.hash==='#selfcheck'){
   const imgs=Array.from(document.querySelectorAll('img'));
   const waits=imgs.map(function(img){img.loading='eager';
@@ -215,7 +237,9 @@ if(location.hash==='#selfcheck'){
 })();
 )";
 
-std::string rowId(const GroupRow& r) { return r.run; }
+std::string rowId(const GroupRow& r) {
+  return r.run;
+}
 
 std::string flagBadges(const std::vector<std::string>& flags) {
   std::string h;
@@ -248,8 +272,10 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
        flagBadges({"outlier"}) + std::to_string(nOutlier) + "</span></p>\n";
   h += "<p class=\"meta\">Outliers: among the runs that succeeded (at least 5), a metric of " +
        htmlEscape(joined(outlierMetrics(), ", ")) +
-       " whose modified z-score 0.6745&middot;(x &minus; median)/MAD exceeds 3.5 in magnitude (1.2533&middot;mean "
-       "absolute deviation replaces MAD/0.6745 when the MAD is 0) and that differs from the median by more than 5%. White matter: FA &ge; 0.3 inside the fit's "
+       " whose modified z-score 0.6745&middot;(x &minus; median)/MAD exceeds 3.5 in magnitude "
+       "(1.2533&middot;mean "
+       "absolute deviation replaces MAD/0.6745 when the MAD is 0) and that differs from the median by more "
+       "than 5%. White matter: FA &ge; 0.3 inside the fit's "
        "mask; MD in 10<sup>&minus;3</sup> mm<sup>2</sup>/s. Click a run for its full figures; click a column "
        "header to sort.</p>\n";
 
@@ -290,10 +316,10 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const GroupRow& r = rows[i];
     h += std::string("<tr") + (r.ok ? "" : " class=\"failed\"") + " data-id=\"" + htmlEscape(rowId(r)) +
-         "\"><td><a href=\"#\" data-run=\"" + std::to_string(i) + "\">" + htmlEscape(r.run) + "</a></td><td>" +
-         htmlEscape(r.participant) + "</td><td>" + htmlEscape(r.session.empty() ? "n/a" : r.session) +
-         "</td><td>" + (r.ok ? "ok" : "failed") + "</td><td>" + htmlEscape(r.verdict) + "</td><td>" +
-         htmlEscape(r.correction) + "</td>";
+         "\"><td><a href=\"#\" data-run=\"" + std::to_string(i) + "\">" + htmlEscape(r.run) +
+         "</a></td><td>" + htmlEscape(r.participant) + "</td><td>" +
+         htmlEscape(r.session.empty() ? "n/a" : r.session) + "</td><td>" + (r.ok ? "ok" : "failed") +
+         "</td><td>" + htmlEscape(r.verdict) + "</td><td>" + htmlEscape(r.correction) + "</td>";
     for (std::size_t c = 0; c < cols.size(); ++c) {
       const double v = c < r.metrics.size() ? r.metrics[c] : std::nan("");
       const bool out = std::find(r.outliers.begin(), r.outliers.end(), cols[c]) != r.outliers.end();
@@ -309,10 +335,13 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const GroupRow& r = rows[i];
     std::string cls = "card";
-    if (!r.ok) cls += " failed";
-    else if (r.verdict != "ok") cls += " " + r.verdict;
-    h += "<div class=\"" + cls + "\" data-run=\"" + std::to_string(i) + "\" data-id=\"" + htmlEscape(rowId(r)) +
-         "\"><div class=\"name\">" + htmlEscape(r.run) + " " + flagBadges(flagsOf(r)) + "</div>";
+    if (!r.ok)
+      cls += " failed";
+    else if (r.verdict != "ok")
+      cls += " " + r.verdict;
+    h += "<div class=\"" + cls + "\" data-run=\"" + std::to_string(i) + "\" data-id=\"" +
+         htmlEscape(rowId(r)) + "\"><div class=\"name\">" + htmlEscape(r.run) + " " + flagBadges(flagsOf(r)) +
+         "</div>";
     if (r.figures.empty()) h += "<div class=\"none\">" + htmlEscape(r.message) + "</div>";
     for (const auto& f : r.figures)
       h += "<img loading=\"lazy\" src=\"" + htmlEscape(f.path) + "\" alt=\"" + htmlEscape(f.label) +
@@ -325,8 +354,8 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   std::string data = "[";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const GroupRow& r = rows[i];
-    data += std::string(i ? ",\n" : "\n") + "{\"run\":" + jsonQuote(r.run) + ",\"message\":" + jsonQuote(r.message) +
-            ",\"flags\":[";
+    data += std::string(i ? ",\n" : "\n") + "{\"run\":" + jsonQuote(r.run) +
+            ",\"message\":" + jsonQuote(r.message) + ",\"flags\":[";
     const auto flags = flagsOf(r);
     for (std::size_t f = 0; f < flags.size(); ++f)
       data += (f ? "," : "") + jsonQuote(flags[f]);

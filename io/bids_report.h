@@ -23,8 +23,8 @@ struct GroupRow {
   std::string session;     // "ses-A" or "" (written "n/a")
   std::string run;         // source stem, e.g. "sub-01_ses-A_acq-b2500"
   bool ok = false;
-  std::string verdict;    // ok | corrected | inconclusive; "" when failed
-  std::string correction; // the check's correction, e.g. "-x y z"
+  std::string verdict;         // ok | corrected | inconclusive; "" when failed
+  std::string correction;      // the check's correction, e.g. "-x y z"
   std::vector<double> metrics; // groupMetricColumns() order; NaN when unknown
   double seconds = 0;          // participant-level wall time (report only, not group.tsv)
   std::string message;
@@ -46,7 +46,8 @@ std::string groupTsv(const std::vector<GroupRow>& rows);
 // The report page. `title` heads it; `generated` is a line such as "dtfabric 0.1.0, 2026-11-24 06:30 UTC".
 // The page embeds a self-check that runs when opened with "#selfcheck": it waits for every image, then
 // writes a JSON summary (images, loaded, broken, errors caught, the flagged rows per flag) into
-// <pre id="dtf-selfcheck">, for headless-browser tests.
+// <pre id="dtf-selfcheck">, for headless-browser tests. With "#timing" it sorts the table by a metric twice
+// and opens one run's figures, and writes the milliseconds into <pre id="dtf-timing"> (for `bench bids`).
 std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string& title,
                             const std::string& generated);
 

@@ -1,21 +1,20 @@
 // `dtfabric bids` end to end on a small BIDS dataset made from ../shared/data in the build's scratch folder:
 // sessions and entities, the real DWI as given, re-strided to RAS, with its x gradients negated and with its
-// b-values doubled (diffusivities halve: an MD outlier), three noisy copies, a corrupt file, a missing bvec, a
-// table one direction short and a DIPY crop too small to judge. Both levels, the rerun, a run killed part-way,
-// the Snakemake workflow, the report in headless Chromium, and bad input.
+// b-values doubled (diffusivities halve: an MD outlier), three noisy copies, a corrupt file, a missing bvec,
+// a table one direction short and a DIPY crop too small to judge. Both levels, the rerun, a run killed
+// part-way, the Snakemake workflow, the report in headless Chromium, and bad input.
 #include "io/model/error.h"
 #include "io/png_io.h"
 #include "io/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <map>
 #include <random>
 #include <regex>
@@ -31,13 +30,15 @@ using test::readText;
 using test::runDtfabric;
 
 // Tools the tests run: skipped when absent, failed when DTF_REQUIRE_TOOLS is set (CI installs them).
-#define DTF_REQUIRE_TOOL(name)                                                                              \
+#define DTF_REQUIRE_TOOL(name)                                                                               \
   if (std::system("command -v " name " >/dev/null 2>&1") != 0) {                                             \
     if (test::envFlag("DTF_REQUIRE_TOOLS")) FAIL() << name " is not installed (.ci/setup installs it)";      \
-    GTEST_SKIP() << name " is not installed (Debian package " name "; CI requires it)";                     \
+    GTEST_SKIP() << name " is not installed (Debian package " name "; CI requires it)";                      \
   }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // Voxel axis i reversed (LAS -> RAS), the affine adjusted so every voxel keeps its world position. The FSL
 // table stays the same: its frame is the voxel axes with x negated when det(affine) > 0, and both the data's
@@ -108,7 +109,8 @@ fs::path cohortDataset() {
   const fs::path tmp = root.string() + ".tmp" + std::to_string(::getpid());
   fs::remove_all(tmp);
   fs::create_directories(tmp);
-  std::ofstream(tmp / "dataset_description.json") << "{\"Name\": \"dtfabric test cohort\", \"BIDSVersion\": \"1.8.0\"}\n";
+  std::ofstream(tmp / "dataset_description.json")
+      << "{\"Name\": \"dtfabric test cohort\", \"BIDSVersion\": \"1.8.0\"}\n";
   std::ofstream(tmp / "participants.tsv") << "participant_id\nsub-01\nsub-02\n";
   copyRun(real, "dwi", tmp / "sub-01/ses-1/dwi", "sub-01_ses-1");
   {
@@ -167,9 +169,9 @@ fs::path cohortDataset() {
 
 struct Expected {
   bool ok;
-  std::string verdict;    // "" when failed
-  std::string message;    // a part of the message
-  bool sheet;             // a contact sheet is written
+  std::string verdict; // "" when failed
+  std::string message; // a part of the message
+  bool sheet;          // a contact sheet is written
 };
 
 const std::map<std::string, Expected>& expectedRuns() {
@@ -233,7 +235,8 @@ std::set<std::pair<std::string, std::string>> recomputedOutliers(const Table& t)
     const double mad = med(d);
     const double scale = mad > 0 ? mad / 0.6745 : 1.253314 * meanAd;
     for (auto& p : v)
-      if (scale > 0 && std::abs(p.second - mdn) / scale > 3.5 && std::abs(p.second - mdn) > 0.05 * std::abs(mdn))
+      if (scale > 0 && std::abs(p.second - mdn) / scale > 3.5 &&
+          std::abs(p.second - mdn) > 0.05 * std::abs(mdn))
         out.insert({p.first, m});
   }
   return out;
@@ -277,8 +280,8 @@ Table checkGroupTable(const fs::path& out) {
   EXPECT_NEAR(std::stod(t.at("sub-02_dir-AP_run-2").at("md_wm_mean")), md / 2, 2e-4);
   // Outliers: the halved MD is one; the copies of the true data are not; the column agrees with the rule.
   EXPECT_NE(t.at("sub-02_dir-AP_run-2").at("outliers").find("md_wm_mean"), std::string::npos);
-  for (const char* clean : {"sub-01_ses-1", "sub-01_ses-2_acq-ras", "sub-02_dir-AP_run-1", "sub-07", "sub-08",
-                            "sub-09"})
+  for (const char* clean :
+       {"sub-01_ses-1", "sub-01_ses-2_acq-ras", "sub-02_dir-AP_run-1", "sub-07", "sub-08", "sub-09"})
     EXPECT_EQ(t.at(clean).at("outliers"), "n/a") << clean;
   std::set<std::pair<std::string, std::string>> listed;
   for (const auto& [run, row] : t) {
@@ -398,19 +401,23 @@ std::set<std::string> jsonList(const std::string& json, const std::string& key) 
 TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
   const fs::path out = scratch_ / "out";
   const std::string inputBefore = inputDigest(bids_);
-  auto r = runDtfabric("bids " + q(bids_) + " " + q(out) + " participant --jobs 2 --figure-size 128", scratch_);
+  auto r =
+      runDtfabric("bids " + q(bids_) + " " + q(out) + " participant --jobs 2 --figure-size 128", scratch_);
   EXPECT_EQ(r.exitCode, 2) << r.err; // three runs fail
   EXPECT_NE(r.err.find("[11/11]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("left, elapsed"), std::string::npos);
   EXPECT_NE(r.err.find("ETA"), std::string::npos);
   EXPECT_NE(r.err.find("8 ok (0 unchanged), 3 failed"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("FAILED: " + (bids_ / "sub-04/dwi/sub-04_dwi.nii.gz").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("FAILED: " + (bids_ / "sub-04/dwi/sub-04_dwi.nii.gz").string()), std::string::npos)
+      << r.err;
   checkRunFiles(out, 128);
   EXPECT_TRUE(temporaries(out).empty());
   const std::string desc = readText(out / "dataset_description.json");
   EXPECT_NE(desc.find("\"DatasetType\": \"derivative\""), std::string::npos) << desc;
-  EXPECT_NE(desc.find("\"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": \""), std::string::npos) << desc;
-  EXPECT_NE(desc.find("\"SourceDatasets\": [{\"URL\": \"file://" + bids_.string() + "\"}]"), std::string::npos);
+  EXPECT_NE(desc.find("\"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": \""), std::string::npos)
+      << desc;
+  EXPECT_NE(desc.find("\"SourceDatasets\": [{\"URL\": \"file://" + bids_.string() + "\"}]"),
+            std::string::npos);
   const std::string doc = readText(out / "sub-02/dwi/sub-02_dir-AP_run-1_desc-fabricMetrics_dwi.json");
   for (const char* key : {"\"input_hash_dwi\": \"crc32:", "\"input_hash_bvec\": ", "\"seconds_fit\": ",
                           "\"seconds_figures\": ", "\"check_score_best\": ", "\"slice_axial\": "})
@@ -451,9 +458,10 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
   EXPECT_EQ(jsonList(check, "outlier"), jsonList(check, "list-outlier"));
 
   const fs::path shot = scratch_ / "report.png";
-  const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1400,2200 "
-                          "--virtual-time-budget=10000 --screenshot=" + q(shot) + " 'file://" +
-                          (out / "group_report.html").string() + "' >/dev/null 2>&1";
+  const std::string cmd =
+      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1400,2200 "
+      "--virtual-time-budget=10000 --screenshot=" +
+      q(shot) + " 'file://" + (out / "group_report.html").string() + "' >/dev/null 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
   const Image img = io::readPng(shot.string());
   EXPECT_EQ(img.width, 1400);
@@ -468,8 +476,8 @@ TEST_F(BidsCohort, KilledRunRestartsAndCompletesWithNothingPartial) {
   if (pid == 0) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen((scratch_ / "killed.log").c_str(), "w", stderr);
-    ::execl(DTF_EXE, DTF_EXE, "bids", bids_.c_str(), out.c_str(), "participant", "--jobs", "1", "--figure-size",
-            "128", static_cast<char*>(nullptr));
+    ::execl(DTF_EXE, DTF_EXE, "bids", bids_.c_str(), out.c_str(), "participant", "--jobs", "1",
+            "--figure-size", "128", static_cast<char*>(nullptr));
     ::_exit(127);
   }
   bool appeared = false;
@@ -492,7 +500,8 @@ TEST_F(BidsCohort, KilledRunRestartsAndCompletesWithNothingPartial) {
             e.path().filename().string()[0] != '.';
   EXPECT_LT(docs, expectedRuns().size()) << "the kill came too late to interrupt anything";
 
-  auto r = runDtfabric("bids " + q(bids_) + " " + q(out) + " participant --jobs 1 --figure-size 128", scratch_);
+  auto r =
+      runDtfabric("bids " + q(bids_) + " " + q(out) + " participant --jobs 1 --figure-size 128", scratch_);
   EXPECT_EQ(r.exitCode, 2) << r.err;
   EXPECT_NE(r.err.find("skipped (complete and unchanged)"), std::string::npos) << r.err;
   EXPECT_TRUE(temporaries(out).empty()) << temporaries(out).front();
@@ -506,7 +515,8 @@ TEST_F(BidsCohort, KilledRunRestartsAndCompletesWithNothingPartial) {
 TEST_F(BidsCohort, SnakemakeWorkflowGivesTheSameGroupTable) {
   DTF_REQUIRE_TOOL("snakemake");
   const fs::path direct = scratch_ / "direct", viaSnakemake = scratch_ / "snakemake";
-  auto r = runDtfabric("bids " + q(bids_) + " " + q(direct) + " participant --jobs 2 --figure-size 128", scratch_);
+  auto r =
+      runDtfabric("bids " + q(bids_) + " " + q(direct) + " participant --jobs 2 --figure-size 128", scratch_);
   EXPECT_EQ(r.exitCode, 2) << r.err;
   r = runDtfabric("bids " + q(bids_) + " " + q(direct) + " group", scratch_);
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -547,7 +557,8 @@ TEST(BidsCli, BadInputIsRefusedAndNothingInTheInputIsWritten) {
       {q(dir / "absent") + " " + q(dir / "o1") + " participant", "no such folder"},
       {q(dir / "plain/readme.txt") + " " + q(dir / "o1") + " participant", "not a folder"},
       {q(dir / "nodesc") + " " + q(dir / "o1") + " participant", "dataset_description.json is missing"},
-      {q(dir / "ok") + " " + q(dir / "ok/derivatives/dtfabric") + " participant", "lies inside the BIDS dataset"},
+      {q(dir / "ok") + " " + q(dir / "ok/derivatives/dtfabric") + " participant",
+       "lies inside the BIDS dataset"},
       {q(dir / "ok") + " " + q(dir / "ok") + " group", "lies inside the BIDS dataset"},
       {q(dir / "ok") + " " + q(dir / "o1") + " participant --participant-label 02", "no participant 02"},
       {q(dir / "ok") + " " + q(dir / "o1") + " group --participant-label sub-01 sub-7", "no participant 7"},
@@ -568,8 +579,10 @@ TEST(BidsCli, BadInputIsRefusedAndNothingInTheInputIsWritten) {
   EXPECT_FALSE(fs::exists(dir / "o1"));
   EXPECT_EQ(runDtfabric("bids " + q(dir / "ok") + " " + q(dir / "o1") + " everything", dir).exitCode, 1);
   EXPECT_EQ(runDtfabric("bids " + q(dir / "ok"), dir).exitCode, 1);
-  EXPECT_EQ(runDtfabric("bids " + q(dir / "ok") + " " + q(dir / "o1") + " participant --participant-label", dir).exitCode,
-            1);
+  EXPECT_EQ(
+      runDtfabric("bids " + q(dir / "ok") + " " + q(dir / "o1") + " participant --participant-label", dir)
+          .exitCode,
+      1);
 }
 
 } // namespace

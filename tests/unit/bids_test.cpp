@@ -21,15 +21,15 @@ void touch(const fs::path& p, const std::string& text = "x") {
 
 fs::path smallDataset(const fs::path& root) {
   touch(root / "dataset_description.json", "{\"Name\": \"tiny study\", \"BIDSVersion\": \"1.8.0\"}");
-  for (const std::string stem : {"sub-01/ses-A/dwi/sub-01_ses-A_acq-b2500_run-1", "sub-01/ses-B/dwi/sub-01_ses-B",
-                                 "sub-02/dwi/sub-02_dir-AP"}) {
+  for (const std::string stem : {"sub-01/ses-A/dwi/sub-01_ses-A_acq-b2500_run-1",
+                                 "sub-01/ses-B/dwi/sub-01_ses-B", "sub-02/dwi/sub-02_dir-AP"}) {
     touch(root / (stem + "_dwi.nii.gz"));
     touch(root / (stem + "_dwi.bval"));
     touch(root / (stem + "_dwi.bvec"));
   }
   touch(root / "sub-03/dwi/sub-03_dwi.nii");
-  touch(root / "sub-03/dwi/sub-03_dwi.bval");           // no bvec
-  touch(root / "sub-04/anat/sub-04_T1w.nii.gz");          // a participant without diffusion data
+  touch(root / "sub-03/dwi/sub-03_dwi.bval");              // no bvec
+  touch(root / "sub-04/anat/sub-04_T1w.nii.gz");           // a participant without diffusion data
   touch(root / "sub-02/dwi/sub-02_dir-AP_desc-x_dwi.nii"); // desc- is not a raw entity
   return root;
 }
@@ -89,11 +89,13 @@ TEST(Bids, RefusesWhatIsNotBidsAndOutputsInsideTheInput) {
   EXPECT_THROW(io::scanBidsDataset((dir / "badjson").string()), InputError);
 
   const fs::path root = smallDataset(dir / "ds");
-  EXPECT_THROW(io::refuseOutputInsideInput(root.string(), (root / "derivatives/dtfabric").string()), InputError);
+  EXPECT_THROW(io::refuseOutputInsideInput(root.string(), (root / "derivatives/dtfabric").string()),
+               InputError);
   EXPECT_THROW(io::refuseOutputInsideInput(root.string(), root.string() + "/"), InputError);
   EXPECT_THROW(io::refuseOutputInsideInput(root.string(), dir.string()), InputError);
   EXPECT_NO_THROW(io::refuseOutputInsideInput(root.string(), (dir / "ds-out").string()));
-  EXPECT_NO_THROW(io::refuseOutputInsideInput(root.string(), (dir / "ds2").string())); // a prefix, not a parent
+  EXPECT_NO_THROW(
+      io::refuseOutputInsideInput(root.string(), (dir / "ds2").string())); // a prefix, not a parent
 }
 
 TEST(Bids, FlatJsonRoundTripAndHashes) {
@@ -134,8 +136,8 @@ io::GroupRow row(const std::string& run, double fa, bool ok = true) {
 TEST(BidsReport, ModifiedZScoreFlagsOutliers) {
   // Median 0.45, absolute deviations {0.01, 0, 0.02, 0.01, 0.02, 0.15}: MAD 0.015, so the last row's
   // z = 0.6745 * 0.15 / 0.015 = 6.7 (flagged) and 0.02 gives 0.9 (not).
-  std::vector<io::GroupRow> rows = {row("sub-01", 0.44), row("sub-02", 0.45), row("sub-03", 0.47),
-                                    row("sub-04", 0.46), row("sub-05", 0.43), row("sub-06", 0.60),
+  std::vector<io::GroupRow> rows = {row("sub-01", 0.44),       row("sub-02", 0.45), row("sub-03", 0.47),
+                                    row("sub-04", 0.46),       row("sub-05", 0.43), row("sub-06", 0.60),
                                     row("sub-07", 0.10, false)};
   io::flagOutliers(rows);
   for (std::size_t i = 0; i < rows.size(); ++i)
@@ -143,12 +145,14 @@ TEST(BidsReport, ModifiedZScoreFlagsOutliers) {
   EXPECT_EQ(rows[5].outliers[0], "fa_wm_mean");
 
   // MAD 0 (four equal): the mean absolute deviation (0.2 / 5 = 0.04) scales: z = 0.2 / (1.2533 * 0.04) = 4.
-  std::vector<io::GroupRow> same = {row("a", 0.4), row("b", 0.4), row("c", 0.4), row("d", 0.4), row("e", 0.6)};
+  std::vector<io::GroupRow> same = {row("a", 0.4), row("b", 0.4), row("c", 0.4), row("d", 0.4),
+                                    row("e", 0.6)};
   io::flagOutliers(same);
   EXPECT_EQ(same[4].outliers.size(), 1u);
   EXPECT_TRUE(same[0].outliers.empty());
   // Within 5% of the median: never flagged, however small the MAD.
-  std::vector<io::GroupRow> close = {row("a", 0.4), row("b", 0.4), row("c", 0.4), row("d", 0.4), row("e", 0.41)};
+  std::vector<io::GroupRow> close = {row("a", 0.4), row("b", 0.4), row("c", 0.4), row("d", 0.4),
+                                     row("e", 0.41)};
   io::flagOutliers(close);
   EXPECT_TRUE(close[4].outliers.empty());
   // Fewer than five rows: nothing.
@@ -164,10 +168,11 @@ TEST(BidsReport, TsvAndHtmlCarryEveryRowAndFlag) {
   rows[0].correction = "-x y z";
   rows[0].figures.push_back({"axial", "sub-01/dwi/sub-01_desc-fabricAxial_dwi.png"});
   const std::string tsv = io::groupTsv(rows);
-  EXPECT_EQ(tsv.substr(0, tsv.find('\n')),
-            "participant_id\tsession_id\trun\tstatus\tcheck_verdict\tcheck_correction\tfa_wm_mean\tfa_wm_median\t"
-            "md_wm_mean\tmd_wm_median\twm_voxels\tbrain_voxels\twm_fraction\tcheck_score_given\tcheck_score_best\t"
-            "check_margin\toutliers\tmessage");
+  EXPECT_EQ(
+      tsv.substr(0, tsv.find('\n')),
+      "participant_id\tsession_id\trun\tstatus\tcheck_verdict\tcheck_correction\tfa_wm_mean\tfa_wm_median\t"
+      "md_wm_mean\tmd_wm_median\twm_voxels\tbrain_voxels\twm_fraction\tcheck_score_given\tcheck_score_best\t"
+      "check_margin\toutliers\tmessage");
   EXPECT_NE(tsv.find("sub-01\tn/a\tsub-01_dwi\tok\tcorrected\t-x y z\t0.44\t"), std::string::npos) << tsv;
   EXPECT_NE(tsv.find("\tfailed\tn/a\tn/a\t"), std::string::npos) << tsv;
   const std::string html = io::groupReportHtml(rows, "t<>", "gen");
