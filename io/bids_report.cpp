@@ -231,7 +231,18 @@ if(location.hash==='#selfcheck'){
       broken:imgs.filter(function(im,i){return !ok[i];}).map(function(im){return im.getAttribute('src');}),
       errors:caught,flagged:flagged,lists:lists,rows:document.querySelectorAll('#all tbody tr').length,
       cards:document.querySelectorAll('.card').length};
-    const pre=document.createElement('pre');pre.id='dtf-selfcheck';pre.textContent=JSON.stringify(out);document.body.appendChild(pre);
+    // Click-through: click the card with the most figures, wait for the overlay's full-size images.
+    let most=null;document.querySelectorAll('.card').forEach(function(c){if(!most||c.querySelectorAll('img').length>most.querySelectorAll('img').length)most=c;});
+    if(most)most.click();
+    const big=Array.from(detail.querySelectorAll('img'));
+    return Promise.all(big.map(function(img){if(img.complete&&img.naturalWidth>0)return Promise.resolve(true);
+      return new Promise(function(res){img.addEventListener('load',function(){res(true);});img.addEventListener('error',function(){res(false);});});}))
+    .then(function(bigOk){
+      out.detail={run:most?most.getAttribute('data-id'):'',open:detail.classList.contains('open'),figures:big.length,
+        loaded:bigOk.filter(Boolean).length,links:detail.querySelectorAll('a[href$=".png"]').length};
+      out.errors=caught;
+      const pre=document.createElement('pre');pre.id='dtf-selfcheck';pre.textContent=JSON.stringify(out);document.body.appendChild(pre);
+    });
   });
 }
 })();

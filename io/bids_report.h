@@ -45,9 +45,10 @@ std::string groupTsv(const std::vector<GroupRow>& rows);
 
 // The report page. `title` heads it; `generated` is a line such as "dtfabric 0.1.0, 2026-11-24 06:30 UTC".
 // The page embeds a self-check that runs when opened with "#selfcheck": it waits for every image, then
-// writes a JSON summary (images, loaded, broken, errors caught, the flagged rows per flag) into
-// <pre id="dtf-selfcheck">, for headless-browser tests. With "#timing" it sorts the table by a metric twice
-// and opens one run's figures, and writes the milliseconds into <pre id="dtf-timing"> (for `bench bids`).
+// writes a JSON summary (images, loaded, broken, errors caught, the flagged rows per flag, and the overlay
+// opened by clicking the card with the most figures: its images loaded) into <pre id="dtf-selfcheck">, for
+// headless-browser tests. With "#timing" it sorts the table by a metric twice and opens one run's figures,
+// and writes the milliseconds into <pre id="dtf-timing"> (for `bench bids`).
 std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string& title,
                             const std::string& generated);
 

@@ -456,6 +456,21 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
   EXPECT_EQ(jsonList(check, "inconclusive"), std::set<std::string>{"sub-06_acq-dipy"});
   EXPECT_TRUE(jsonList(check, "outlier").count("sub-02_dir-AP_run-2"));
   EXPECT_EQ(jsonList(check, "outlier"), jsonList(check, "list-outlier"));
+  // Clicking a run's card opens its full figures: the corrected run has five (four and the contact sheet).
+  EXPECT_NE(check.find("\"detail\":{\"run\":\"sub-02_dir-AP_run-1\",\"open\":true,\"figures\":5,\"loaded\":5,"
+                       "\"links\":5}"),
+            std::string::npos)
+      << check;
+
+  // The self-check can fail: with one figure gone, the page reports it broken.
+  const fs::path broken = scratch_ / "broken";
+  fs::copy(out, broken, fs::copy_options::recursive);
+  fs::remove(broken / "sub-07/dwi/sub-07_desc-fabricCoronal_dwi.png");
+  const std::string brokenCheck = chromiumSelfCheck(broken / "group_report.html", scratch_, log);
+  EXPECT_NE(brokenCheck.find("\"images\":34,\"loaded\":33,\"broken\":[\"file://" +
+                             (broken / "sub-07/dwi/sub-07_desc-fabricCoronal_dwi.png").string() + "\"]"),
+            std::string::npos)
+      << brokenCheck;
 
   const fs::path shot = scratch_ / "report.png";
   const std::string cmd =
