@@ -49,13 +49,14 @@ std::string paramsText(const ParticipantOptions& o) {
 }
 
 // Removes the temporary siblings a killed run left beside this run's outputs (io::AtomicOutput names them
-// ".<target>.tmp<pid>_<n>…").
+// ".<target>.tmp<pid>_<n>…"). Only this run's derivative names match: "sub-01_desc-fabric…" is not a prefix of
+// another run's "sub-01_acq-x_desc-fabric…", which a parallel worker may be writing in the same folder.
 void removeStaleTemporaries(const fs::path& dir, const std::string& stem) {
   std::error_code ec;
+  const std::string prefix = "." + stem + "_desc-fabric";
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("." + stem + "_", 0) == 0 && name.find(".tmp") != std::string::npos)
-      fs::remove(e.path(), ec);
+    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove(e.path(), ec);
   }
 }
 

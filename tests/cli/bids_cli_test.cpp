@@ -527,6 +527,50 @@ TEST_F(BidsCohort, KilledRunRestartsAndCompletesWithNothingPartial) {
   checkGroupTable(out);
 }
 
+// A worker process killed while it processes a run: that run is reported failed (the worker's signal), a
+// new worker takes the remaining runs, and a rerun completes the killed run.
+TEST_F(BidsCohort, KilledWorkerFailsItsRunOnly) {
+  const fs::path out = scratch_ / "out", log = scratch_ / "parent.log";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen(log.c_str(), "w", stderr);
+    ::execl(DTF_EXE, DTF_EXE, "bids", bids_.c_str(), out.c_str(), "participant", "--jobs", "2",
+            "--figure-size", "128", "--participant-label", "01", "07", "08", "09",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // The first line naming a worker: "  running sub-01/ses-1/dwi/sub-01_ses-1 (worker PID)".
+  std::smatch m;
+  std::string text;
+  for (int i = 0; i < 1200; ++i) {
+    text = readText(log);
+    if (std::regex_search(text, m, std::regex("running (\\S+) \\(worker ([0-9]+)\\)"))) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_FALSE(m.empty()) << text;
+  const std::string victim = m[1];
+  ::kill(static_cast<pid_t>(std::stoi(m[2])), SIGKILL);
+  int st = 0;
+  ::waitpid(pid, &st, 0);
+  text = readText(log);
+  ASSERT_TRUE(WIFEXITED(st)) << text;
+  EXPECT_EQ(WEXITSTATUS(st), 2) << text;
+  EXPECT_NE(text.find(victim + ": FAILED: the worker processing "), std::string::npos) << text;
+  EXPECT_NE(text.find("ended by signal 9"), std::string::npos) << text;
+  EXPECT_NE(text.find("5 runs in"), std::string::npos) << text; // sub-01 has two sessions
+  EXPECT_NE(text.find("4 ok (0 unchanged), 1 failed"), std::string::npos) << text;
+  checkNothingPartial(out);
+
+  const auto r = runDtfabric("bids " + q(bids_) + " " + q(out) +
+                                 " participant --jobs 2 --figure-size 128 --participant-label 01 07 08 09",
+                             scratch_);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("5 ok (4 unchanged), 0 failed"), std::string::npos) << r.err;
+  EXPECT_TRUE(temporaries(out).empty());
+}
+
 TEST_F(BidsCohort, SnakemakeWorkflowGivesTheSameGroupTable) {
   DTF_REQUIRE_TOOL("snakemake");
   const fs::path direct = scratch_ / "direct", viaSnakemake = scratch_ / "snakemake";
