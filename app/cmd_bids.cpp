@@ -74,7 +74,8 @@ group        OUTPUT_DIR/group.tsv (one row per run) and OUTPUT_DIR/group_report.
   --figure-size PX           edge of each figure (default 512; the contact sheet's panels are half)
   --force                    recompute complete runs too
 
-Exit codes: 0 ok, 1 usage, 2 bad input or any run failed (participant level), 3 GL failure.
+Exit codes: 0 ok, 1 usage, 2 bad input or any run failed (participant level; a GL failure while
+rendering a run is recorded as that run's failure).
 )";
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
