@@ -30,6 +30,7 @@ int benchView(const CommandArgs& args);
 int benchTracts(const CommandArgs& args);
 int benchOverlay(const CommandArgs& args);
 int benchCheck(const CommandArgs& args);
+int benchBids(const CommandArgs& args);
 
 // The shared real-data folder: `given`, else $DTF_SHARED_DATA, else a shared/data folder beside an ancestor
 // of the executable (the checkout's ../shared/data). nullopt when none exists.

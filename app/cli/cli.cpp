@@ -68,6 +68,14 @@ const std::vector<Command>& commands() {
        "given bvec) or `inconclusive`; `--sheet` draws the fabric evidence, `--fix-bvec` writes the corrected "
        "FSL table",
        cmdCheck},
+      {"bids",
+       "BIDS_DIR OUTPUT_DIR participant|group [--participant-label L ...] [--session-label S ...] [--jobs N] "
+       "[--threads N] [--figure-size PX] [--force]",
+       "BIDS App: per-run fit, orientation check and figures; group table and HTML report",
+       "BIDS App: per diffusion run a tensor fit, the orientation check, four fabric figures (+ the check's "
+       "contact sheet when not `ok`) and a metrics JSON under `OUTPUT_DIR/sub-XX/[ses-YY/]dwi/`; the group level "
+       "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
+       cmdBids},
       {"view", "[INPUT] [--script FILE] [--force]", "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, View, Tracts), status bar with the "
        "voxel under the cursor; `--script` replays actions for reproducible figures (see below; `--force`: its "

@@ -47,6 +47,7 @@ const std::vector<Benchmark>& benchmarks() {
        benchOverlay},
       {"view", "the viewer's frame times and FA-sweep latency, headless", benchView},
       {"check", "the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)", benchCheck},
+      {"bids", "seconds per participant of `dtfabric bids` on the real DWI; the group report for 300 rows", benchBids},
   };
   return list;
 }

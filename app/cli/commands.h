@@ -36,6 +36,7 @@ int cmdConvert(const CommandArgs& args);
 // `info` for tract files (cmdInfo hands over when FILE is a tractogram).
 int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
+int cmdBids(const CommandArgs& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();

@@ -122,6 +122,7 @@ CheckRun runCheck(const CheckRequest& r) {
     const auto t1 = std::chrono::steady_clock::now();
     io::FitOptions fo;
     fo.b0Threshold = kB0Threshold;
+    fo.threads = r.fitThreads;
     try {
       run.field = io::fitTensors(d, run.mask.data.empty() ? nullptr : &run.mask, fo);
     } catch (...) {

@@ -21,6 +21,7 @@ struct CheckRequest {
   std::string mask;       // empty: the fit's automatic mask (DWI) or every valid voxel (tensor file)
   io::TensorLayout layout = io::TensorLayout::Auto; // tensor files
   surfaces::CheckOptions options;
+  int fitThreads = 0; // 0 = hardware concurrency
 };
 
 struct CheckRun {

@@ -1,0 +1,388 @@
+// `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids.h, io/bids_report.h and
+// app/bids_participant.h.
+//
+// Parallelism: the headless GL context is one per process (render::GlContext::headless() is a process
+// singleton made current on one thread, and llvmpipe renders with its own thread pool), so runs are not
+// rendered on parallel threads. With --jobs N > 1 the participant level starts a pool of up to N worker
+// processes of this same executable (`--worker`: run labels on stdin, one "done" line per run on stdout),
+// each processing runs one after the other in its own GL context, with max(1, cores / N) threads for the fit
+// and for llvmpipe (LP_NUM_THREADS), so N jobs never ask for more threads than the machine has cores. A
+// worker dies with its parent (PR_SET_PDEATHSIG): a killed run leaves no workers behind.
+#include "app/cli/args.h"
+#include "app/scene/bids_participant.h"
+#include "app/cli/commands.h"
+#include "io/bids.h"
+#include "io/bids_report.h"
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fcntl.h>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <poll.h>
+#include <string>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#ifndef DTF_VERSION
+#define DTF_VERSION "unknown"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace dtf::app {
+
+namespace {
+
+const char* kHelp = R"(usage: dtfabric bids BIDS_DIR OUTPUT_DIR participant|group [--participant-label L ...]
+                     [--session-label S ...] [--jobs N] [--figure-size PX] [--force]
+
+A BIDS App (bids_dir output_dir analysis_level). For every diffusion run sub-*/[ses-*/]dwi/*_dwi.nii[.gz]
+with its .bval/.bvec:
+
+participant  fits tensors (WLS), runs the orientation check (`dtfabric check`) and writes, under
+             OUTPUT_DIR/sub-XX/[ses-YY/]dwi/ with the source name's entities kept:
+               …_desc-fabricAxial_dwi.png      fabric on the axial slice through the corpus callosum
+               …_desc-fabricCoronal_dwi.png    fabric on the coronal slice through the corticospinal tracts
+               …_desc-fabricIsoLeft_dwi.png    fabric on the FA 0.4 isosurface, from the left
+               …_desc-fabricIsoSuperior_dwi.png   the same from above
+               …_desc-fabricCheck_dwi.png      the check's contact sheet (verdict corrected or inconclusive)
+               …_desc-fabricMetrics_dwi.json   FA/MD in the white matter (FA >= 0.3), verdict and scores,
+                                               timings, input hashes; written last
+             and OUTPUT_DIR/dataset_description.json (DatasetType derivative). Slices are chosen from each
+             run's data. A failing run (corrupt file, missing table, wrong volume count) is recorded with the
+             file and the reason and the others go on. Every file is written atomically; a rerun skips runs
+             that are complete and whose inputs and parameters are unchanged (unless --force).
+group        OUTPUT_DIR/group.tsv (one row per run) and OUTPUT_DIR/group_report.html (one static page: a
+             sortable table, a mosaic of every run's figures, flags for failed runs, corrected or
+             inconclusive tables and outlying metrics, click-through to each run's figures).
+
+  --participant-label L ...  only these participants ("01" or "sub-01"); unknown labels are an error
+  --session-label S ...      only these sessions
+  --jobs N                   runs in parallel (child processes; default: the number of cores). Threads per
+                             job: max(1, cores / N) for the fit and the renderer
+  --threads N                threads of each job for the fit and the renderer (LP_NUM_THREADS of workers)
+  --figure-size PX           edge of each figure (default 512; the contact sheet's panels are half)
+  --force                    recompute complete runs too
+  --worker                   internal: a pool worker of --jobs (run labels on stdin, "done" on stdout)
+
+Exit codes: 0 ok, 1 usage, 2 bad input or any run failed (participant level; a GL failure while
+rendering a run is recorded as that run's failure).
+)";
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string runLabel(const io::BidsRun& r) {
+  return r.relDir + "/" + r.stem;
+}
+
+std::string clock(double s) {
+  char buf[32];
+  if (s < 60)
+    std::snprintf(buf, sizeof buf, "%.1f s", s);
+  else
+    std::snprintf(buf, sizeof buf, "%d min %02d s", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+  return buf;
+}
+
+// Splits the multi-valued label options off the argument list ("--participant-label 01 02 --force").
+std::vector<std::string> takeList(std::vector<std::string>& argv, const std::string& name) {
+  std::vector<std::string> values, rest;
+  bool found = false;
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    if (argv[i] == "--" + name) {
+      found = true;
+      for (; i + 1 < argv.size() && argv[i + 1].rfind("--", 0) != 0; ++i)
+        values.push_back(argv[i + 1]);
+      continue;
+    }
+    rest.push_back(argv[i]);
+  }
+  if (found && values.empty()) throw UsageError("--" + name + " needs at least one label");
+  argv = rest;
+  return values;
+}
+
+struct Progress {
+  std::size_t total = 0, done = 0, failed = 0, skipped = 0;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+
+  void report(const io::BidsRun& r, const RunOutcome& o) {
+    ++done;
+    failed += !o.ok;
+    skipped += o.skipped;
+    const double elapsed = secondsSince(t0);
+    const std::size_t left = total - done;
+    std::string status = o.ok ? (o.skipped ? "skipped (complete and unchanged)"
+                                           : "ok, verdict " + o.verdict + ", " + clock(o.seconds))
+                              : "FAILED: " + o.message;
+    std::fprintf(stderr, "[%zu/%zu] %s: %s | %zu left, elapsed %s", done, total, runLabel(r).c_str(),
+                 status.c_str(), left, clock(elapsed).c_str());
+    if (left > 0) std::fprintf(stderr, ", ETA %s", clock(elapsed / static_cast<double>(done) * left).c_str());
+    std::fprintf(stderr, "\n");
+  }
+};
+
+RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::string& out, double seconds) {
+  RunOutcome o;
+  o.seconds = seconds;
+  try {
+    const std::string path = metricsPath(run, out);
+    const io::FlatJson doc = io::FlatJson::parse(io::readTextFile(path), path);
+    o.ok = doc.get("status") == "ok";
+    o.verdict = doc.get("check_verdict");
+    o.message = doc.get("message");
+  } catch (const Error& e) {
+    o.message = e.what();
+  }
+  return o;
+}
+
+int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bids, const std::string& out,
+                    const ParticipantOptions& opts, int jobs) {
+  Progress progress;
+  progress.total = runs.size();
+  std::fprintf(stderr, "dtfabric bids: %zu run%s, %d job%s, %d thread%s each\n", runs.size(),
+               runs.size() == 1 ? "" : "s", jobs, jobs == 1 ? "" : "s", std::max(1, opts.fitThreads),
+               opts.fitThreads == 1 ? "" : "s");
+  if (jobs <= 1 || runs.size() <= 1) {
+    for (const auto& r : runs) {
+      std::fprintf(stderr, "  running %s\n", runLabel(r).c_str());
+      progress.report(r, processRun(r, out, opts));
+    }
+  } else {
+    // A pool of worker processes (this executable with --worker): each reads run labels on its stdin,
+    // processes them one after the other in one GL context, and answers "done" on its stdout.
+    const std::string exe = fs::read_symlink("/proc/self/exe").string();
+    std::signal(SIGPIPE, SIG_IGN); // a worker that died is noticed on its stdout, not by a signal here
+    struct Worker {
+      pid_t pid = -1;
+      int in = -1, out = -1;
+      long run = -1; // index of the run it is processing, -1 when idle
+      std::chrono::steady_clock::time_point start;
+      fs::file_time_type docTime; // the metrics document's time before: unchanged means skipped
+      std::string buffer;
+    };
+    std::vector<Worker> workers;
+    std::size_t next = 0;
+    auto spawn = [&]() {
+      int toChild[2], fromChild[2];
+      if (::pipe2(toChild, O_CLOEXEC) != 0 || ::pipe2(fromChild, O_CLOEXEC) != 0)
+        throw InputError("cannot start a worker process (pipe failed)");
+      std::vector<std::string> args = {exe,
+                                       "bids",
+                                       bids,
+                                       out,
+                                       "participant",
+                                       "--worker",
+                                       "--jobs",
+                                       "1",
+                                       "--threads",
+                                       std::to_string(opts.fitThreads),
+                                       "--figure-size",
+                                       std::to_string(opts.figurePx)};
+      if (opts.force) args.push_back("--force");
+      const std::string lp = std::to_string(opts.fitThreads);
+      const pid_t parent = ::getpid();
+      const pid_t pid = ::fork();
+      if (pid < 0) throw InputError("cannot start a worker process (fork failed)");
+      if (pid == 0) {
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() != parent) ::_exit(2);
+        ::dup2(toChild[0], 0);
+        ::dup2(fromChild[1], 1);
+        if (!std::getenv("LP_NUM_THREADS")) ::setenv("LP_NUM_THREADS", lp.c_str(), 1);
+        std::vector<char*> cargs;
+        for (auto& a : args)
+          cargs.push_back(a.data());
+        cargs.push_back(nullptr);
+        ::execv(exe.c_str(), cargs.data());
+        ::_exit(127);
+      }
+      ::close(toChild[0]);
+      ::close(fromChild[1]);
+      Worker w;
+      w.pid = pid;
+      w.in = toChild[1];
+      w.out = fromChild[0];
+      workers.push_back(w);
+    };
+    auto assign = [&](Worker& w) {
+      w.run = -1;
+      if (next >= runs.size()) {
+        if (w.in >= 0) ::close(w.in);
+        w.in = -1;
+        return;
+      }
+      const io::BidsRun& r = runs[next];
+      const std::string line = runLabel(r) + "\n";
+      if (::write(w.in, line.data(), line.size()) != static_cast<ssize_t>(line.size()))
+        return; // died: seen below
+      w.run = static_cast<long>(next++);
+      w.start = std::chrono::steady_clock::now();
+      std::error_code ec;
+      w.docTime = fs::last_write_time(metricsPath(r, out), ec);
+      if (ec) w.docTime = fs::file_time_type::min();
+      std::fprintf(stderr, "  running %s (worker %d)\n", runLabel(r).c_str(), static_cast<int>(w.pid));
+    };
+    const std::size_t poolSize = std::min(runs.size(), static_cast<std::size_t>(jobs));
+    for (std::size_t i = 0; i < poolSize; ++i)
+      spawn();
+    for (auto& w : workers)
+      assign(w);
+    while (true) {
+      std::vector<pollfd> fds;
+      std::vector<std::size_t> which;
+      for (std::size_t i = 0; i < workers.size(); ++i)
+        if (workers[i].run >= 0) {
+          fds.push_back({workers[i].out, POLLIN, 0});
+          which.push_back(i);
+        }
+      if (fds.empty()) break;
+      if (::poll(fds.data(), fds.size(), -1) < 0) {
+        if (errno == EINTR) continue;
+        throw InputError("waiting for the workers failed");
+      }
+      for (std::size_t f = 0; f < fds.size(); ++f) {
+        if (!fds[f].revents) continue;
+        const std::size_t wi = which[f];
+        char buf[256];
+        const ssize_t n = ::read(workers[wi].out, buf, sizeof buf);
+        if (n > 0) {
+          workers[wi].buffer.append(buf, static_cast<std::size_t>(n));
+          std::size_t eol;
+          while (workers[wi].run >= 0 && (eol = workers[wi].buffer.find('\n')) != std::string::npos) {
+            workers[wi].buffer.erase(0, eol + 1);
+            const io::BidsRun& r = runs[static_cast<std::size_t>(workers[wi].run)];
+            RunOutcome o = outcomeFromDocument(r, out, secondsSince(workers[wi].start));
+            std::error_code ec;
+            o.skipped = o.ok && workers[wi].docTime != fs::file_time_type::min() &&
+                        fs::last_write_time(metricsPath(r, out), ec) == workers[wi].docTime;
+            progress.report(r, o);
+            assign(workers[wi]);
+          }
+          continue;
+        }
+        if (n < 0 && errno == EINTR) continue;
+        // The worker ended while processing a run: that run failed; a new worker takes the rest.
+        int status = 0;
+        ::waitpid(workers[wi].pid, &status, 0);
+        const io::BidsRun& r = runs[static_cast<std::size_t>(workers[wi].run)];
+        RunOutcome o;
+        o.seconds = secondsSince(workers[wi].start);
+        o.message = "the worker processing " + r.dwi + " ended " +
+                    (WIFSIGNALED(status) ? "by signal " + std::to_string(WTERMSIG(status))
+                                         : "with exit code " + std::to_string(WEXITSTATUS(status)));
+        progress.report(r, o);
+        ::close(workers[wi].out);
+        if (workers[wi].in >= 0) ::close(workers[wi].in);
+        workers[wi].run = -1;
+        workers[wi].in = workers[wi].out = -1;
+        workers[wi].pid = -1;
+        if (next < runs.size()) {
+          spawn();
+          assign(workers.back());
+        }
+      }
+    }
+    for (auto& w : workers) {
+      if (w.in >= 0) ::close(w.in);
+      if (w.out >= 0) ::close(w.out);
+      if (w.pid > 0) ::waitpid(w.pid, nullptr, 0);
+    }
+  }
+  std::fprintf(stderr, "dtfabric bids: %zu run%s in %s: %zu ok (%zu unchanged), %zu failed\n", progress.total,
+               progress.total == 1 ? "" : "s", clock(secondsSince(progress.t0)).c_str(),
+               progress.total - progress.failed, progress.skipped, progress.failed);
+  return progress.failed ? 2 : 0;
+}
+
+int runGroup(const io::BidsDataset& ds, const std::vector<io::BidsRun>& runs, const std::string& out) {
+  std::vector<io::GroupRow> rows;
+  for (const auto& r : runs)
+    rows.push_back(readGroupRow(r, out));
+  io::flagOutliers(rows);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  const std::string tsv = (fs::path(out) / "group.tsv").string();
+  const std::string html = (fs::path(out) / "group_report.html").string();
+  io::writeTextIfChanged(tsv, io::groupTsv(rows));
+  const std::string title = "dtfabric quality report" + (ds.name.empty() ? "" : ": " + ds.name);
+  io::writeTextIfChanged(
+      html, io::groupReportHtml(rows, title, "dtfabric " + std::string(DTF_VERSION) + " over " + ds.root));
+  std::size_t failed = 0, flagged = 0;
+  for (const auto& r : rows) {
+    failed += !r.ok;
+    flagged += r.ok && (r.verdict != "ok" || !r.outliers.empty());
+  }
+  std::printf("wrote %s and %s: %zu runs, %zu failed, %zu flagged\n", tsv.c_str(), html.c_str(), rows.size(),
+              failed, flagged);
+  return 0;
+}
+
+} // namespace
+
+int cmdBids(const CommandArgs& argvIn) {
+  CommandArgs argv = argvIn;
+  const auto participants = takeList(argv, "participant-label");
+  const auto sessions = takeList(argv, "session-label");
+  Args args(argv, {"help", "force", "worker"});
+  if (args.flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  const std::string bids = args.positional(0, "BIDS_DIR (see --help)");
+  const std::string out = args.positional(1, "OUTPUT_DIR");
+  const std::string level = args.positional(2, "the analysis level, participant or group");
+  if (args.positionals().size() > 3) throw UsageError("unexpected argument '" + args.positionals()[3] + "'");
+  if (level != "participant" && level != "group")
+    throw UsageError("the analysis level must be participant or group, got '" + level + "'");
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int jobs = args.getInt("jobs", cores);
+  if (jobs < 1 || jobs > 256) throw UsageError("--jobs must be in [1, 256]");
+  ParticipantOptions opts;
+  opts.figurePx = args.getInt("figure-size", 512);
+  if (opts.figurePx < 64 || opts.figurePx > 2048)
+    throw UsageError("--figure-size must be in [64, 2048] pixels");
+  opts.force = args.flag("force");
+  opts.version = DTF_VERSION;
+  const bool worker = args.flag("worker"); // internal: a pool worker (run labels on stdin, "done" on stdout)
+  opts.fitThreads = args.getInt("threads", std::max(1, cores / jobs));
+  if (opts.fitThreads < 1 || opts.fitThreads > 1024) throw UsageError("--threads must be in [1, 1024]");
+  args.finish();
+
+  const io::BidsDataset ds = io::scanBidsDataset(bids);
+  io::refuseOutputInsideInput(bids, out);
+  std::vector<io::BidsRun> runs = io::selectRuns(ds, participants, sessions);
+  if (runs.empty())
+    throw InputError(bids +
+                     ": no diffusion run (sub-*/[ses-*/]dwi/*_dwi.nii[.gz]) among the selected participants");
+  if (level == "group") return runGroup(ds, runs, out);
+
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw InputError("cannot create " + out + ": " + ec.message());
+  io::writeDerivativeDescription(out, ds, DTF_VERSION);
+  if (worker) {
+    for (std::string label; std::getline(std::cin, label);) {
+      for (const auto& r : runs)
+        if (runLabel(r) == label) processRun(r, out, opts);
+      std::cout << "done" << std::endl;
+    }
+    return 0;
+  }
+  return runParticipants(runs, bids, out, opts, jobs);
+}
+
+} // namespace dtf::app
