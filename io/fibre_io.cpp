@@ -236,6 +236,10 @@ bool isBedpostxPath(const std::string& path) {
 
 } // namespace
 
+glm::dmat3 fibreFrameToWorld(const Grid& g, FibreLayout l) {
+  return frameToWorld(g, l);
+}
+
 const char* fibreLayoutName(FibreLayout l) {
   switch (l) {
   case FibreLayout::MrtrixPeaks:

@@ -28,6 +28,10 @@ bool isFibreLayoutName(const std::string& name);
 // Parses mrtrix-peaks|dipy-peaks|bedpostx|auto; throws UsageError otherwise.
 FibreLayout parseFibreLayout(const std::string& name);
 
+// The rotation from a layout's stored frame to world RAS on grid g: identity for mrtrix-peaks, the grid's
+// rotation for dipy-peaks, the FSL frame (the rotation with x negated when det(affine) > 0) for bedpostx.
+glm::dmat3 fibreFrameToWorld(const Grid& g, FibreLayout l);
+
 struct LoadedFibres {
   FibreSet set;
   FibreLayout layout = FibreLayout::Auto;

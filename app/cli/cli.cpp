@@ -60,11 +60,11 @@ const std::vector<Command>& commands() {
        "angle between tracts and the fabric direction on a surface",
        "angle between tracts near a surface and the fabric's principal direction there", cmdCompare},
       {"check",
-       "INPUT [--bval F --bvec F] [--mask M] [--layout L] [--json] [--sheet OUT.png] [--fix-bvec OUT.bvec] "
-       "[--force]",
-       "orientation check: a flipped or permuted gradient table or tensor frame, and its fix",
+       "INPUT [--bval F --bvec F] [--mask M] [--layout L] [--tensor F] [--json] [--sheet OUT.png] "
+       "[--fix-bvec OUT.bvec] [--force]",
+       "orientation check: a flipped or permuted gradient table, tensor frame or fibre-set frame, and its fix",
        "orientation check: scores the 24 signed axis permutations of a DWI's gradient table (or a tensor file's "
-       "directions) by white-matter fibre coherence; verdict `ok`, `corrected` (with M: corrected bvec = M · "
+       "directions, or a fibre set's first fibres in its stored frame) by white-matter fibre coherence; verdict `ok`, `corrected` (with M: corrected bvec = M · "
        "given bvec) or `inconclusive`; `--sheet` draws the fabric evidence, `--fix-bvec` writes the corrected "
        "FSL table",
        cmdCheck},

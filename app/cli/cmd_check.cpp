@@ -1,8 +1,9 @@
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
 // surfaces/orientation_check.h and app/check_run.h).
 #include "app/cli/args.h"
-#include "app/scene/check_run.h"
 #include "app/cli/commands.h"
+#include "app/scene/check_run.h"
+#include "app/scene/fibre_input.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/png_io.h"
@@ -16,7 +17,8 @@ namespace dtf::app {
 
 namespace {
 
-const char* kHelp = R"(usage: dtfabric check INPUT [--bval F --bvec F] [--mask M] [--layout L] [--json]
+const char* kHelp =
+    R"(usage: dtfabric check INPUT [--bval F --bvec F] [--mask M] [--layout L] [--tensor F] [--json]
                       [--sheet OUT.png] [--fix-bvec OUT.bvec] [--force]
 
 Checks the orientation of the diffusion directions: a gradient table with an axis negated or swapped, or a
@@ -28,7 +30,12 @@ white-matter voxel (FA >= 0.3). A DWI is fitted once (WLS); the other tables' te
 D' = G D G^T without refitting.
 
 INPUT is a DWI (4D with a volume count other than 6, or given --bval/--bvec; default tables: INPUT's
-sibling .bval/.bvec) or a tensor file (its stored directions are judged in world RAS).
+sibling .bval/.bvec), a tensor file (its stored directions are judged in world RAS) or a fibre set
+(mrtrix-peaks, dipy-peaks, a bedpostx folder): its first (strongest) fibre per voxel is scored with the
+candidates acting on the file's stored frame (world for mrtrix-peaks, voxel for dipy-peaks, FSL for
+bedpostx), so a file read in the wrong layout or frame is flagged with the turn between the two frames.
+White matter of a fibre set: FA >= 0.3 of the paired --tensor, else voxels with a single dominant fibre (no
+second above half the first) whose first amplitude is at least the median over all voxels with fibres.
 
 Verdict
   ok            the given table scores best, by at least the margin threshold
@@ -39,12 +46,16 @@ The thresholds are printed with every result.
   --bval F --bvec F   the gradient table (FSL; bvec 3xN or Nx3, frame: voxel axes, x negated when
                       det(affine) > 0). Every diffusion-weighted direction must be a unit vector.
   --mask M            fit and score only inside M (same grid); default: the fit's automatic mask
-  --layout L          tensor file layout override (fsl, mrtrix, symmatrix, dtitk)
+  --layout L          layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets
+                      (mrtrix-peaks, dipy-peaks, bedpostx)
+  --tensor F          fibre sets: a tensor on the same grid whose FA selects the white matter
   --json              one JSON object: verdict, correction (M, 3x3 row-major), score_given, score_best,
-                      margin, candidates (matrix, score), mask and white-matter voxel counts, thresholds
+                      margin, candidates (matrix, score), mask and white-matter voxel counts, the
+                      white-matter rule, thresholds; tensor files and fibre sets: the layout and why
   --sheet OUT.png     contact sheet: the fabric on the axial slice through the callosal body, the coronal
                       slice through the corticospinal tracts and the midline sagittal slice (radiological),
                       for the given table and the two best others, labelled with transform and score
+                      (DWIs and tensor files; not drawn for fibre sets)
   --sheet-size PX     edge of each contact-sheet panel in pixels (default 320)
   --fix-bvec OUT      write the corrected FSL table (DWI only; refused when inconclusive unless --force)
   --force             replace existing outputs (never an input); --fix-bvec even when inconclusive
@@ -78,8 +89,12 @@ std::string jsonString(const std::string& s) {
 void printJson(const CheckRun& run, const std::string& input) {
   const surfaces::OrientationReport& r = run.report;
   std::printf("{\"input\": %s, \"kind\": \"%s\", \"frame\": \"%s\", \"verdict\": \"%s\", \"reason\": %s,\n",
-              jsonString(input).c_str(), run.dwi ? "dwi" : "tensor", run.dwi ? "bvec" : "world",
-              surfaces::verdictName(r.verdict), jsonString(r.reason).c_str());
+              jsonString(input).c_str(),
+              run.dwi      ? "dwi"
+              : run.fibres ? "fibres"
+                           : "tensor",
+              run.frameName.c_str(), surfaces::verdictName(r.verdict), jsonString(r.reason).c_str());
+  if (!run.dwi) std::printf(" \"layout\": %s,\n", jsonString(run.layoutNote).c_str());
   std::printf(" \"correction\": %s, \"correction_name\": \"%s\",\n", matrixJson(r.correction).c_str(),
               r.correction.name().c_str());
   std::printf(
@@ -87,7 +102,8 @@ void printJson(const CheckRun& run, const std::string& input) {
       "\"%s\",\n",
       r.scoreGiven, r.scoreBest, r.margin, r.candidates[r.best].transform.name().c_str(),
       r.candidates[r.runnerUp].transform.name().c_str());
-  std::printf(" \"mask_voxels\": %zu, \"white_matter_voxels\": %zu,\n", r.maskVoxels, r.whiteMatterVoxels);
+  std::printf(" \"mask_voxels\": %zu, \"white_matter_voxels\": %zu, \"white_matter_rule\": %s,\n",
+              r.maskVoxels, r.whiteMatterVoxels, jsonString(r.whiteMatterRule).c_str());
   std::printf(
       " \"thresholds\": {\"fa\": %.3f, \"cos\": %.3f, \"min_white_matter\": %zu, \"min_margin\": %.4f},\n",
       r.options.faThreshold, r.options.cosThreshold, r.options.minWhiteMatter, r.options.minMargin);
@@ -108,11 +124,16 @@ void printText(const CheckRun& run, const std::string& input) {
   if (run.dwi)
     std::printf("%s: DWI %dx%dx%d (%s), table %s, WLS fit %.3f s\n", input.c_str(), g.dims.x, g.dims.y,
                 g.dims.z, g.orientationCode().c_str(), run.bvecPath.c_str(), run.fitSeconds);
+  else if (run.fibres)
+    std::printf("%s: fibre set %dx%dx%d (%s), %s; candidates act on the %s frame\n", input.c_str(), g.dims.x,
+                g.dims.y, g.dims.z, g.orientationCode().c_str(), run.layoutNote.c_str(),
+                run.frameName.c_str());
   else
     std::printf("%s: tensors %dx%dx%d (%s), %s; candidates act on world RAS\n", input.c_str(), g.dims.x,
                 g.dims.y, g.dims.z, g.orientationCode().c_str(), run.layoutNote.c_str());
-  std::printf("voxels: %zu in the mask, %zu white matter (FA >= %.2f)\n", r.maskVoxels, r.whiteMatterVoxels,
-              r.options.faThreshold);
+  std::printf("voxels: %zu %s, %zu white matter (%s)\n", r.maskVoxels,
+              run.fibres ? "with fibres in the mask" : "in the mask", r.whiteMatterVoxels,
+              r.whiteMatterRule.c_str());
   std::printf("thresholds: inconclusive below %zu white-matter voxels or a margin below %.1f%% "
               "(|cos| > %.3f)\n",
               r.options.minWhiteMatter, 100 * r.options.minMargin, r.options.cosThreshold);
@@ -129,7 +150,9 @@ void printText(const CheckRun& run, const std::string& input) {
                 i == 0 ? "  (given)" : "");
   std::printf("verdict: %s: %s\n", surfaces::verdictName(r.verdict), r.reason.c_str());
   std::printf("correction: %s (%s)%s\n", matrixJson(r.correction).c_str(), r.correction.name().c_str(),
-              run.dwi ? "  corrected bvec = M * given bvec" : "  corrected D = M D M^T (world)");
+              run.dwi      ? "  corrected bvec = M * given bvec"
+              : run.fibres ? "  true stored direction = M * direction as read (stored frame)"
+                           : "  corrected D = M D M^T (world)");
 }
 
 } // namespace
@@ -146,7 +169,13 @@ int cmdCheck(const CommandArgs& argv) {
   req.bval = args.getOr("bval", "");
   req.bvec = args.getOr("bvec", "");
   req.mask = args.getOr("mask", "");
-  req.layout = io::parseLayout(args.getOr("layout", "auto"));
+  const std::string layoutText = args.getOr("layout", "auto");
+  req.tensor = args.getOr("tensor", "");
+  req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layoutText, true);
+  if (req.fibres)
+    req.fibreLayout = layoutText;
+  else
+    req.layout = io::parseLayout(layoutText);
   req.options.minMargin = args.getDouble("min-margin", req.options.minMargin);
   if (!(req.options.minMargin >= 0 && req.options.minMargin <= 10))
     throw UsageError("--min-margin must be in [0, 10]");
@@ -162,7 +191,7 @@ int cmdCheck(const CommandArgs& argv) {
   args.finish();
 
   namespace fs = std::filesystem;
-  const std::vector<std::string> inputs{req.input, req.bval, req.bvec, req.mask};
+  const std::vector<std::string> inputs{req.input, req.bval, req.bvec, req.mask, req.tensor};
   for (const std::string& out : {sheet, fix}) {
     if (out.empty()) continue;
     io::refuseOverwritingInput(out, inputs);
@@ -171,12 +200,16 @@ int cmdCheck(const CommandArgs& argv) {
   if (!sheet.empty() && !(sheet.size() > 4 && sheet.compare(sheet.size() - 4, 4, ".png") == 0))
     throw UsageError("--sheet must name a .png file, got '" + sheet + "'");
 
+  if (req.fibres && !sheet.empty())
+    throw UsageError("--sheet is drawn for DWIs and tensor files only; " + req.input +
+                     " is a fibre set (use `dtfabric render` with it to look at the fibres)");
   CheckRun run = runCheck(req);
   if (!fix.empty()) {
     // Checked again now that the sibling tables are known.
     io::refuseOverwritingInput(fix, {req.input, run.bvalPath, run.bvecPath, req.mask});
     if (!run.dwi)
-      throw UsageError("--fix-bvec needs a DWI with its table; " + req.input + " is a tensor file");
+      throw UsageError("--fix-bvec needs a DWI with its table; " + req.input + " is " +
+                       (run.fibres ? "a fibre set" : "a tensor file"));
   }
   if (json)
     printJson(run, req.input);

@@ -1,5 +1,6 @@
 #include "app/scene/check_run.h"
 
+#include "app/scene/fibre_input.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "io/atomic_file.h"
@@ -62,6 +63,28 @@ CheckRun runCheck(const CheckRequest& r) {
   namespace fs = std::filesystem;
   CheckRun run;
   const auto t0 = std::chrono::steady_clock::now();
+  if (r.fibres) {
+    if (!r.bval.empty() || !r.bvec.empty())
+      throw UsageError("--bval/--bvec apply to a DWI, not to a fibre set");
+    FibreInput in = loadFibreInput(r.input, r.fibreLayout.empty() ? "auto" : r.fibreLayout, r.tensor, true);
+    run.fibres = true;
+    const io::FibreLayout layout = in.fibres.layout;
+    run.layoutNote = std::string(io::fibreLayoutName(layout)) + " layout: " + in.fibres.layoutReason;
+    run.frameName = layout == io::FibreLayout::MrtrixPeaks ? "world"
+                    : layout == io::FibreLayout::Bedpostx  ? "fsl"
+                                                           : "voxel";
+    run.tableToWorld = io::fibreFrameToWorld(in.fibres.set.grid, layout);
+    if (!r.mask.empty()) run.mask = readMaskOn(r.mask, in.fibres.set.grid, r.input);
+    run.loadSeconds = secondsSince(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    run.report = surfaces::checkFibreOrientation(in.fibres.set, run.tableToWorld,
+                                                 run.mask.data.empty() ? nullptr : &run.mask,
+                                                 in.tensor ? &in.fa : nullptr, r.options);
+    run.checkSeconds = secondsSince(t1);
+    run.field = std::move(in.carrier);
+    return run;
+  }
+  if (!r.tensor.empty()) throw UsageError("--tensor applies to a fibre set INPUT");
   std::string bval = r.bval, bvec = r.bvec;
   bool dwi = !bval.empty() || !bvec.empty();
   if (!dwi) {
@@ -75,6 +98,7 @@ CheckRun runCheck(const CheckRequest& r) {
     run.layoutNote = std::string(io::layoutName(t.layout)) + " layout: " + t.layoutReason;
     run.field = std::move(t.field);
     run.tableToWorld = glm::dmat3(1.0);
+    run.frameName = "world";
     if (!r.mask.empty()) run.mask = readMaskOn(r.mask, run.field.grid, r.input);
     run.loadSeconds = secondsSince(t0);
   } else {
@@ -87,6 +111,7 @@ CheckRun runCheck(const CheckRequest& r) {
     run.dwi = true;
     run.bvalPath = bval;
     run.bvecPath = bvec;
+    run.frameName = "bvec";
     ScalarVolume signal = io::readScalarVolume(r.input);
     run.bvals = io::readBvals(bval);
     run.bvecs = io::readBvecs(bvec);

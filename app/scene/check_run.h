@@ -20,6 +20,9 @@ struct CheckRequest {
   std::string bval, bvec; // empty: INPUT's sibling files when INPUT is a DWI
   std::string mask;       // empty: the fit's automatic mask (DWI) or every valid voxel (tensor file)
   io::TensorLayout layout = io::TensorLayout::Auto; // tensor files
+  bool fibres = false;     // INPUT is a fibre set (app/scene/fibre_input.h: isFibreInput)
+  std::string fibreLayout; // fibre sets: auto or a fibre layout name
+  std::string tensor;      // fibre sets: a paired tensor whose FA selects the white matter
   surfaces::CheckOptions options;
   int fitThreads = 0; // 0 = hardware concurrency
 };
@@ -29,17 +32,22 @@ struct CheckRun {
   std::string bvalPath, bvecPath; // DWI only
   std::vector<double> bvals;
   std::vector<glm::dvec3> bvecs; // as written (bvec frame)
-  std::string layoutNote;        // tensor files: the layout used and why
-  TensorField field;             // fitted with the given table / as stored, world RAS
-  glm::dmat3 tableToWorld{1.0};  // io::bvecFrameToWorld for a DWI, identity for a tensor file (world frame)
+  std::string layoutNote;        // tensor files and fibre sets: the layout used and why
+  bool fibres = false;           // a fibre set: the first fibres are scored in the file's stored frame
+  std::string frameName;         // "bvec" (DWI), "world" (tensor file, world-frame peaks), "voxel", "fsl"
+  TensorField field;             // fitted with the given table / as stored, world RAS; fibre sets: the paired
+                                 // tensor, else io fibreCarrierField (grid only)
+  glm::dmat3 tableToWorld{1.0};  // io::bvecFrameToWorld for a DWI, identity for a tensor file (world frame),
+                                 // io::fibreFrameToWorld for a fibre set
   MaskVolume mask;               // the given mask; empty when none
   surfaces::OrientationReport report;
   double loadSeconds = 0, fitSeconds = 0, checkSeconds = 0;
 };
 
-// Loads, validates, fits and scores. Throws InputError naming the file and the problem: bval/bvec/DWI count
-// mismatch, a diffusion-weighted direction whose norm is off 1 by more than 10%, no diffusion-weighted
-// volume, a mask on another grid; UsageError for a bad combination of arguments.
+// Loads, validates, fits and scores. A fibre set is scored by surfaces::checkFibreOrientation (its first
+// fibres; white matter from the paired tensor's FA when given). Throws InputError naming the file and the
+// problem: bval/bvec/DWI count mismatch, a diffusion-weighted direction whose norm is off 1 by more than 10%,
+// no diffusion-weighted volume, a mask on another grid; UsageError for a bad combination of arguments.
 CheckRun runCheck(const CheckRequest& request);
 
 // Writes `bvecs` turned by `m` (column n = m * bvecs[n]) as an FSL 3-row table, atomically; directions that
