@@ -276,7 +276,6 @@ void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
 }
 
 void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
-  if (!s.tractPath.empty()) ImGui::SetNextItemOpen(true, ImGuiCond_Once); // opens with the first tracts
   const bool open = ImGui::CollapsingHeader("Tracts");
   probe(b, "Tracts");
   if (!open) return;
