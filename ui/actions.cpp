@@ -111,6 +111,17 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, SetTractsClip>) {
           std::snprintf(buf, sizeof buf, "SetTractsClip %g %g", a.mm, a.offsetMm);
           return buf;
+        } else if constexpr (std::is_same_v<T, SetTractColour>) {
+          if (a.value.empty()) return "SetTractColour dec";
+          if (!a.range) return "SetTractColour " + a.value;
+          std::snprintf(buf, sizeof buf, " %g %g", a.range->first, a.range->second);
+          return "SetTractColour " + a.value + buf;
+        } else if constexpr (std::is_same_v<T, SetTractGroups>) {
+          if (a.all) return "SetTractGroups all";
+          std::string s = "SetTractGroups";
+          for (const auto& g : a.shown)
+            s += " " + g;
+          return a.shown.empty() ? s + " none" : s;
         } else if constexpr (std::is_same_v<T, TrackTracts>) {
           static const char* const seeds[] = {"surface", "slice", "sphere", "fa-mask"};
           static const char* const counts[] = {"select", "seeds", "per-voxel"};

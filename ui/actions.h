@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -117,6 +118,18 @@ struct SetTractsClip {
   double mm;
   double offsetMm = 0;
 };
+// Colours the tracts by a per-point or per-streamline data value through the tract colour map
+// (render/tract_renderer.h) over `range` (default: the value's min..max); an empty `value` restores DEC.
+struct SetTractColour {
+  std::string value;
+  std::optional<std::pair<double, double>> range;
+};
+// Shows only the streamlines of the named groups (e.g. a bundle of an AFQ .trx); `all` shows every
+// streamline, grouped or not. No group and not `all` hides every streamline.
+struct SetTractGroups {
+  std::vector<std::string> shown;
+  bool all = true;
+};
 // Deterministic tensor tractography from the viewer (the options of `dtfabric track`).
 enum class SeedKind { Surface, Slice, Sphere, FaMask };
 enum class SeedCount { Select, Seeds, PerVoxel };
@@ -162,8 +175,8 @@ using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
-                 SetTractWidth, SetTractsClip, TrackTracts, CancelTracking, SaveTracts, ComputeAgreement, DismissError,
-                 ConfirmOverwrite, Quit>;
+                 SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
+                 SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -1,6 +1,7 @@
 #include "ui/panels.h"
 
 #include "render/fabric_options.h"
+#include "render/tract_renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,6 +39,61 @@ void copyPath(std::array<char, 1024>& dst, const std::string& src) {
 
 constexpr ImGuiWindowFlags kFixed =
     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+
+// Colour by (DEC or a data value) with its range and colour bar, and a checkbox per group.
+void tractColouringWidgets(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  const char* current = s.tractColourBy.empty() ? "DEC (direction)" : s.tractColourBy.c_str();
+  if (ImGui::BeginCombo("colour by", current)) {
+    if (ImGui::Selectable("DEC (direction)", s.tractColourBy.empty())) out.push_back(SetTractColour{});
+    for (const std::string& name : s.tractDataNames)
+      if (ImGui::Selectable(name.c_str(), name == s.tractColourBy)) out.push_back(SetTractColour{name, {}});
+    ImGui::EndCombo();
+  }
+  probe(b, "colour by");
+  if (!s.tractColourBy.empty()) {
+    double lo = s.tractColourLo, hi = s.tractColourHi;
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.35f);
+    const bool loEntered = ImGui::InputDouble("min", &lo, 0, 0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue);
+    probe(b, "colour min");
+    ImGui::SameLine();
+    const bool hiEntered = ImGui::InputDouble("max", &hi, 0, 0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue);
+    probe(b, "colour max");
+    ImGui::PopItemWidth();
+    if ((loEntered || hiEntered) && std::isfinite(lo) && std::isfinite(hi) && lo < hi)
+      out.push_back(SetTractColour{s.tractColourBy, std::make_pair(lo, hi)});
+    // The colour map, low on the left, as a strip of flat cells.
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = ImGui::GetContentRegionAvail().x, h = ImGui::GetFrameHeight() * 0.6f;
+    constexpr int kCells = 32;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int i = 0; i < kCells; ++i) {
+      const glm::vec3 c = render::tractValueColour((static_cast<float>(i) + 0.5f) / kCells);
+      draw->AddRectFilled(ImVec2(p.x + w * static_cast<float>(i) / kCells, p.y),
+                          ImVec2(p.x + w * static_cast<float>(i + 1) / kCells, p.y + h),
+                          ImGui::ColorConvertFloat4ToU32(ImVec4(c.x, c.y, c.z, 1.0f)));
+    }
+    ImGui::Dummy(ImVec2(w, h));
+    ImGui::TextDisabled("%.4g .. %.4g (viridis)", s.tractColourLo, s.tractColourHi);
+  }
+  if (s.tractGroupNames.empty()) return;
+  ImGui::TextUnformatted("groups");
+  for (std::size_t g = 0; g < s.tractGroupNames.size(); ++g) {
+    bool on = g < s.tractGroupShown.size() && s.tractGroupShown[g];
+    ImGui::PushID(static_cast<int>(g));
+    if (ImGui::Checkbox(s.tractGroupNames[g].c_str(), &on)) {
+      SetTractGroups groups;
+      groups.all = false;
+      for (std::size_t k = 0; k < s.tractGroupNames.size(); ++k)
+        if (k == g ? on : (k < s.tractGroupShown.size() && s.tractGroupShown[k]))
+          groups.shown.push_back(s.tractGroupNames[k]);
+      groups.all = groups.shown.size() == s.tractGroupNames.size();
+      if (groups.all) groups.shown.clear();
+      out.push_back(std::move(groups));
+    }
+    probe(b, s.tractGroupNames[g].c_str());
+    ImGui::PopID();
+  }
+}
 
 } // namespace
 
@@ -266,6 +322,7 @@ void tractsPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     if (s.tractsLevel > 0 || s.tractsLevelFraction < 1)
       ImGui::TextDisabled("drawing level %d (every %d-th point), %.0f%% of the lines", s.tractsLevel,
                           1 << s.tractsLevel, 100.0 * s.tractsLevelFraction);
+    tractColouringWidgets(s, b, out);
     ImGui::InputText("##savetracts", b.tractSavePath.data(), b.tractSavePath.size());
     ImGui::SameLine();
     if (ImGui::Button("Save") && b.tractSavePath[0] != '\0')

@@ -80,6 +80,12 @@ struct ViewerState {
   double tractWidthPx = 2.0;
   double tractsClipMm = 0;       // camera-facing clip slab half-width (0: off), see ui::SetTractsClip
   double tractsClipOffsetMm = 0; // its centre's distance beyond the surface centre along the view
+  // Colouring and groups of the tracts on screen (ui::SetTractColour, ui::SetTractGroups).
+  std::vector<std::string> tractDataNames;     // per-point, then per-streamline data of the loaded tracts
+  std::vector<std::string> tractGroupNames;    // groups of the loaded tracts (.trx)
+  std::vector<char> tractGroupShown;           // per tractGroupNames
+  std::string tractColourBy;                   // data name; empty: DEC
+  double tractColourLo = 0, tractColourHi = 1; // the range mapped to the colour map's ends
   bool tractsSelecting = false; // the selection for the current surface is being computed
   bool tractsSlab = false;      // planar surface: every tract, in a slab around its plane (half-width tractsClipMm, else tractsNearMm)
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation

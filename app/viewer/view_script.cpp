@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace dtf::app {
 
@@ -390,6 +391,37 @@ void parseTractsClip(const ScriptLine& line, ScriptStep& step) {
   step.command = ui::Action(ui::SetTractsClip{mm, offset});
 }
 
+void parseTractsColour(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() != 2 && w.size() != 4) throw LineError{"usage: tracts-color NAME|dec [LO HI]"};
+  ui::SetTractColour c;
+  if (w[1] != "dec") c.value = w[1];
+  if (w.size() == 4) {
+    if (c.value.empty()) throw LineError{"tracts-color dec takes no range"};
+    const double lo = number(w[2], "tracts-color LO"), hi = number(w[3], "tracts-color HI");
+    if (!(lo < hi)) throw LineError{"tracts-color needs LO < HI, got " + w[2] + " " + w[3]};
+    c.range = std::make_pair(lo, hi);
+  }
+  step.command = ui::Action(std::move(c));
+}
+
+void parseTractsGroups(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "tracts-groups G[,G...]|all|none");
+  ui::SetTractGroups g;
+  g.all = w[1] == "all";
+  if (!g.all && w[1] != "none") {
+    std::size_t start = 0;
+    while (start <= w[1].size()) {
+      const std::size_t comma = std::min(w[1].find(',', start), w[1].size());
+      if (comma == start) throw LineError{"tracts-groups: empty group name in '" + w[1] + "'"};
+      g.shown.push_back(w[1].substr(start, comma - start));
+      start = comma + 1;
+    }
+  }
+  step.command = ui::Action(std::move(g));
+}
+
 void parseTractWidth(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "tract-width PX");
@@ -451,6 +483,8 @@ const std::vector<ScriptCommand> kCommands = {
     {"tracts-visible", "on|off", "show or hide the tracts", parseTractsVisible},
     {"tracts-near", "MM", "only tract segments within MM of the surface (0 = every tract; default 3)", parseTractsNear},
     {"tracts-clip", "MM [DEPTH]", "clip slab for dense tractograms: only points within MM of the plane facing the camera through the surface's centre, moved DEPTH mm away from the viewer (0 = off); on a planar surface, within MM of its plane", parseTractsClip},
+    {"tracts-color", "NAME|dec [LO HI]", "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over LO..HI (default: the value's min..max); dec: direction colours", parseTractsColour},
+    {"tracts-groups", "G[,G...]|all|none", "show only the streamlines of the named groups (e.g. an AFQ .trx's bundles); all: every streamline", parseTractsGroups},
     {"tract-width", "PX", "tube width in pixels (default 2)", parseTractWidth},
     {"track", "[KEY=VALUE ...]", "tracking on the worker, as `dtfabric track`: from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T, select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler", parseTrackLine},
     {"track-cancel", "", "cancel a running `track`", parseTrackCancel},

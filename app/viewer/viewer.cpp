@@ -1,6 +1,7 @@
 #include "app/viewer/viewer.h"
 
 #include "app/scene/tensor_input.h"
+#include "app/scene/tract_colouring.h"
 #include "app/scene/tract_files.h"
 #include "app/scene/tract_overlay.h"
 #include "io/atomic_file.h"
@@ -564,14 +565,60 @@ void ViewerScene::setTracts(std::shared_ptr<const Polylines> lines, const std::s
       total += glm::length(l.points[k] - l.points[k - 1]);
   state_.tractMeanLengthMm = l.lineCount() ? total / static_cast<double>(l.lineCount()) : 0;
   state_.hasAgreement = false; // computed for other tracts
+  state_.tractDataNames.clear();
+  for (const auto& d : l.perPoint)
+    if (d.name != render::kTractDisplayColours) state_.tractDataNames.push_back(d.name);
+  for (const auto& d : l.perLine)
+    state_.tractDataNames.push_back(d.name);
+  state_.tractGroupNames.clear();
+  for (const auto& g : l.groups)
+    state_.tractGroupNames.push_back(g.name);
+  applyTractChoice({}, {}); // names belong to a file: new tracts start in DEC with every streamline
   requestSelection();
+}
+
+void ViewerScene::applyTractChoice(const ui::SetTractColour& colour, const ui::SetTractGroups& groups) {
+  if (!tracts_) {
+    if (!colour.value.empty() || !groups.all) throw UsageError("load or track tracts before colouring them");
+    return;
+  }
+  std::shared_ptr<const Polylines> shown = tracts_;
+  TractColouringApplied applied;
+  if (!colour.value.empty() || !groups.all) {
+    // A copy once per choice (not per frame); the near-surface selection carries the display colours
+    // of the kept points.
+    Polylines lines = *tracts_;
+    TractColouring c;
+    c.value = colour.value;
+    c.range = colour.range;
+    if (!groups.all) {
+      if (groups.shown.empty())
+        lines = lines.subset(std::vector<std::uint32_t>{});
+      else
+        c.groups = groups.shown;
+    }
+    applied = applyTractColouring(lines, c, state_.tractPath);
+    shown = std::make_shared<const Polylines>(std::move(lines));
+  }
+  shownTracts_ = std::move(shown);
+  tractColour_ = colour;
+  tractGroups_ = groups;
+  ++tractsSerial_; // the worker's cached display of every tract is stale
+  state_.tractColourBy = colour.value;
+  if (applied.coloured) state_.tractColourLo = applied.lo, state_.tractColourHi = applied.hi;
+  state_.tractGroupShown.assign(state_.tractGroupNames.size(), groups.all ? 1 : 0);
+  if (!groups.all)
+    for (std::size_t g = 0; g < state_.tractGroupNames.size(); ++g)
+      for (const auto& name : groups.shown)
+        if (name == state_.tractGroupNames[g]) state_.tractGroupShown[g] = 1;
+  if (applied.coloured) logInfo(applied.summary);
 }
 
 void ViewerScene::requestSelection() {
   if (!tracts_) return;
   SelectionJob job;
   job.id = latestSelection_ = nextId_++;
-  job.tracts = tracts_;
+  job.tracts = shownTracts_ ? shownTracts_ : tracts_;
   job.tractsSerial = tractsSerial_;
   if (hasMesh_) job.mesh = mesh_;
   job.nearMm = state_.tractsNearMm;
@@ -870,6 +917,12 @@ void ViewerScene::apply(const ui::Action& action) {
             state_.tractsClipMm = a.mm;
             state_.tractsClipOffsetMm = a.offsetMm;
             ++tractStyleSerial_;
+          } else if constexpr (std::is_same_v<T, ui::SetTractColour>) {
+            applyTractChoice(a, tractGroups_);
+            requestSelection();
+          } else if constexpr (std::is_same_v<T, ui::SetTractGroups>) {
+            applyTractChoice(tractColour_, a);
+            requestSelection();
           } else if constexpr (std::is_same_v<T, ui::SetTractWidth>) {
             if (!(a.px > 0 && a.px <= 32)) throw UsageError("tract width must lie in (0, 32] pixels");
             state_.tractWidthPx = a.px;

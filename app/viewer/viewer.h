@@ -71,6 +71,9 @@ public:
   bool paneShowsTracts(int p) const;
   // The tract renderer (nullptr before the first tracts are shown) and the frame budget (benchmarks).
   const render::TractRenderer* tractRenderer() const { return tractRenderer_.get(); }
+  // The tracts the selection draws from (grouped and coloured as chosen) and the display uploaded last.
+  const Polylines* shownTracts() const { return shownTracts_ ? shownTracts_.get() : tracts_.get(); }
+  const render::DisplayTracts* displayedTracts() const { return uploaded_.get(); }
   const render::TractBudget& tractBudget() const { return tractBudget_; }
   int paneCount() const { return state_.split ? 2 : 1; }
   // Pane p's rectangle in scene pixels (x, y down, w, h) and its camera.
@@ -122,6 +125,10 @@ private:
   // worker results, one frame of pane p's tract layer, and the panel's long actions.
   void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label);
   void requestSelection();
+  // Applies the chosen groups and colouring to tracts_ into shownTracts_ (what the selection draws) and
+  // the Tracts panel's state; throws (leaving the previous choice on screen) for a missing name or
+  // without tracts.
+  void applyTractChoice(const ui::SetTractColour& colour, const ui::SetTractGroups& groups);
   void onTractResult(TractResult& r);
   void tractFrame(int p, bool fabricChanged, bool moving);
   void startTracking(const ui::TrackRequest& request);
@@ -166,6 +173,9 @@ private:
 
   TractWorker tractWorker_;
   std::shared_ptr<const Polylines> tracts_; // every point: analysis and saving use these
+  std::shared_ptr<const Polylines> shownTracts_; // tracts_ filtered by group and coloured: what is drawn
+  ui::SetTractColour tractColour_;               // the choice in effect
+  ui::SetTractGroups tractGroups_;
   std::uint64_t tractsSerial_ = 0, latestSelection_ = 0, latestTracking_ = 0, latestAgreement_ = 0;
   std::unique_ptr<render::TractRenderer> tractRenderer_;  // created with the first selection result
   std::shared_ptr<const render::DisplayTracts> uploaded_; // what tractRenderer_ holds

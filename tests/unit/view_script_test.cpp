@@ -339,3 +339,35 @@ TEST(ViewScript, ExistingOutputsNeedForceAndInputsAreNeverOutputs) {
     EXPECT_EQ(e.rfind(script + ":", 0), 0u) << e;
   }
 }
+
+TEST(ViewScript, TractColourAndGroupLinesParse) {
+  const ViewScript s =
+      parseViewScript("tracts-color z\ntracts-color fa 0.2 0.8\ntracts-color dec\ntracts-groups ARC_L\n"
+                      "tracts-groups ARC_L,ARC_R\ntracts-groups all\ntracts-groups none\n",
+                      "t.txt");
+  ASSERT_EQ(s.steps.size(), 7u);
+  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 0).value, "z");
+  EXPECT_FALSE(actionAt<ui::SetTractColour>(s, 0).range) << "no range: the value's min..max";
+  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 1).value, "fa");
+  ASSERT_TRUE(actionAt<ui::SetTractColour>(s, 1).range);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractColour>(s, 1).range->first, 0.2);
+  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractColour>(s, 1).range->second, 0.8);
+  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 2).value, "") << "dec: direction colours";
+  EXPECT_FALSE(actionAt<ui::SetTractGroups>(s, 3).all);
+  EXPECT_EQ(actionAt<ui::SetTractGroups>(s, 3).shown, std::vector<std::string>{"ARC_L"});
+  EXPECT_EQ(actionAt<ui::SetTractGroups>(s, 4).shown, (std::vector<std::string>{"ARC_L", "ARC_R"}));
+  EXPECT_TRUE(actionAt<ui::SetTractGroups>(s, 5).all);
+  EXPECT_FALSE(actionAt<ui::SetTractGroups>(s, 6).all);
+  EXPECT_TRUE(actionAt<ui::SetTractGroups>(s, 6).shown.empty()) << "none hides every streamline";
+  EXPECT_EQ(ui::describe(std::get<ui::Action>(s.steps[1].command)), "SetTractColour fa 0.2 0.8");
+  EXPECT_EQ(ui::describe(std::get<ui::Action>(s.steps[4].command)), "SetTractGroups ARC_L ARC_R");
+
+  EXPECT_NE(parseError("tracts-color").find("demo.txt:1: usage: tracts-color NAME|dec [LO HI]"),
+            std::string::npos);
+  EXPECT_NE(parseError("tracts-color z 1").find("usage: tracts-color"), std::string::npos);
+  EXPECT_NE(parseError("tracts-color z 2 1").find("tracts-color needs LO < HI"), std::string::npos);
+  EXPECT_NE(parseError("tracts-color dec 0 1").find("tracts-color dec takes no range"), std::string::npos);
+  EXPECT_NE(parseError("tracts-groups").find("usage: tracts-groups"), std::string::npos);
+  EXPECT_NE(parseError("tracts-groups A,,B").find("empty group name"), std::string::npos);
+  EXPECT_NE(parseError("tracts-groups A,").find("empty group name"), std::string::npos);
+}
