@@ -176,10 +176,14 @@ bool sameGrid(const Grid& a, const Grid& b) {
   return true;
 }
 
-// The basename of the FSL dtifit set `path` names when it has V1 but none of L1-L3, else "".
+// The basename of the FSL dtifit set that `path` names, by its basename or its V1 file, when the set has V1
+// but none of L1-L3, else "". Its other members (FA, MD, ...) stay scalar volumes.
 std::string dtifitV1Base(const std::string& path) {
   const std::string base = dtifitSetOf(path);
-  if (base.empty() || detail::dtifitMemberFile(base, "V1").empty()) return "";
+  if (base.empty()) return "";
+  const std::string v1 = detail::dtifitMemberFile(base, "V1");
+  std::error_code ec;
+  if (v1.empty() || (fs::is_regular_file(path, ec) && !fs::equivalent(path, v1, ec))) return "";
   for (const char* l : {"L1", "L2", "L3"})
     if (!detail::dtifitMemberFile(base, l).empty()) return "";
   return base;

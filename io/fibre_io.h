@@ -44,7 +44,7 @@ struct LoadedFibres {
 };
 
 // Whether `path` is a fibre file rather than a tensor or DWI: a DSI Studio FIB file, an FSL dtifit set
-// (basename or member) with V1 but no L1-L3, a folder or a dyadsN/mean_fN name (bedpostx), a descrip written
+// (its basename or V1 file) with V1 but no L1-L3, a folder or a dyadsN/mean_fN name (bedpostx), a descrip written
 // by writeFibres, or a 4D file with 3K volumes (K >= 2, no sibling .bval) whose every volumes hold negative
 // values in >= 5% of their non-zero voxels in at least two thirds of its volumes (signed like directions; a
 // tensor has 3 signed volumes of 6, a DWI none). A single-peak file (3 volumes, e.g. a V1 map) is never
