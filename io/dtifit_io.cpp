@@ -22,6 +22,19 @@ std::string memberName(const std::string& base, const std::string& member) {
 }
 
 std::string memberFile(const std::string& base, const std::string& member) {
+  return dtifitMemberFile(base, member);
+}
+
+// Any of V1-V3, L1-L3 (the reader then names what is missing).
+bool hasEigenFiles(const std::string& base) {
+  for (std::size_t m = 0; m < 6; ++m)
+    if (!memberFile(base, kMembers[m]).empty()) return true;
+  return false;
+}
+
+} // namespace
+
+std::string dtifitMemberFile(const std::string& base, const std::string& member) {
   std::error_code ec;
   for (const char* ext : {".nii.gz", ".nii"}) {
     const std::string p = memberName(base, member) + ext;
@@ -29,12 +42,6 @@ std::string memberFile(const std::string& base, const std::string& member) {
   }
   return {};
 }
-
-bool hasEigenFiles(const std::string& base) {
-  return !memberFile(base, "V1").empty() || !memberFile(base, "L1").empty();
-}
-
-} // namespace
 
 std::string dtifitBasename(const std::string& path) {
   std::string stem = path;
@@ -63,9 +70,10 @@ std::string dtifitBasename(const std::string& path) {
 
 VolumeHeader dtifitHeader(const std::string& path) {
   const std::string base = dtifitBasename(path);
-  if (base.empty()) throw InputError(path + ": not an FSL dtifit set (no _V1 or _L1 file beside it)");
-  std::string first = memberFile(base, "L1");
-  if (first.empty()) first = memberFile(base, "V1");
+  if (base.empty()) throw InputError(path + ": not an FSL dtifit set (no _V1-_V3 or _L1-_L3 file beside it)");
+  std::string first;
+  for (const char* m : {"L1", "V1", "L2", "L3", "V2", "V3"})
+    if (first.empty()) first = memberFile(base, m);
   VolumeHeader h = readNiftiHeader(first);
   // Described as what it reads as: six tensor components per voxel.
   h.dims.resize(3, 1);
@@ -77,7 +85,7 @@ VolumeHeader dtifitHeader(const std::string& path) {
 
 LoadedTensors readDtifit(const std::string& path) {
   const std::string base = dtifitBasename(path);
-  if (base.empty()) throw InputError(path + ": not an FSL dtifit set (no _V1 or _L1 file beside it)");
+  if (base.empty()) throw InputError(path + ": not an FSL dtifit set (no _V1-_V3 or _L1-_L3 file beside it)");
   std::string found, missing;
   std::vector<std::string> files(6);
   for (int m = 0; m < 6; ++m) {
@@ -94,9 +102,8 @@ LoadedTensors readDtifit(const std::string& path) {
                       (extras.empty() ? "" : ", " + extras) + "; missing " + missing +
                       ": a tensor needs V1-V3 and L1-L3 (no " + memberName(base, missing.substr(0, 2)) +
                       ".nii[.gz])";
-    if (!files[0].empty())
-      msg +=
-          "; showing the principal direction alone (V1 as a one-population fibre set) is not available yet";
+    if (!files[0].empty() && files[3].empty() && files[4].empty() && files[5].empty())
+      msg += "; with V1 alone it is a one-population fibre set, which `dtfabric render` and `info` read";
     else if (found.empty())
       msg = path + ": FSL dtifit set " + base + ": no V1-V3 or L1-L3 files";
     throw InputError(msg);

@@ -1,8 +1,9 @@
 // Fibre-set readers and writers (see fibre_io.h).
 #include "io/fibre_io.h"
 
+#include "io/dsi_studio.h"
+#include "io/format_detail.h"
 #include "io/formats.h"
-
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -35,7 +36,9 @@ std::string fmt(double v, int precision = 3) {
 glm::dmat3 frameToWorld(const Grid& g, FibreLayout l) {
   if (l == FibreLayout::MrtrixPeaks) return glm::dmat3(1.0);
   glm::dmat3 r = g.rotation();
-  if (l == FibreLayout::Bedpostx && glm::determinant(glm::dmat3(g.voxelToWorld)) > 0) r[0] = -r[0];
+  if ((l == FibreLayout::Bedpostx || l == FibreLayout::DtifitV1) &&
+      glm::determinant(glm::dmat3(g.voxelToWorld)) > 0)
+    r[0] = -r[0];
   return r;
 }
 
@@ -173,6 +176,89 @@ bool sameGrid(const Grid& a, const Grid& b) {
   return true;
 }
 
+// The basename of the FSL dtifit set that `path` names, by its basename or its V1 file, when the set has V1
+// but none of L1-L3, else "". Its other members (FA, MD, ...) stay scalar volumes.
+std::string dtifitV1Base(const std::string& path) {
+  const std::string base = dtifitSetOf(path);
+  if (base.empty()) return "";
+  const std::string v1 = detail::dtifitMemberFile(base, "V1");
+  std::error_code ec;
+  if (v1.empty() || (fs::is_regular_file(path, ec) && !fs::equivalent(path, v1, ec))) return "";
+  for (const char* l : {"L1", "L2", "L3"})
+    if (!detail::dtifitMemberFile(base, l).empty()) return "";
+  return base;
+}
+
+LoadedFibres readDtifitV1(const std::string& base) {
+  LoadedFibres out;
+  out.layout = FibreLayout::DtifitV1;
+  const std::string v1 = detail::dtifitMemberFile(base, "V1");
+  ScalarVolume v = readScalarVolume(v1, &out.header);
+  out.files.push_back(v1);
+  out.warnings = out.header.warnings;
+  if (v.components != 3)
+    fail(v1, "has " + std::to_string(v.components) + " volumes; a dtifit V1 file holds 3 (x, y, z)");
+  std::string found = "V1";
+  for (const char* m : {"V2", "V3", "FA", "MD", "MO", "S0"})
+    if (!detail::dtifitMemberFile(base, m).empty()) found += std::string(", ") + m;
+  if (const std::string faPath = detail::dtifitMemberFile(base, "FA"); !faPath.empty()) {
+    ScalarVolume fa = readScalarVolume(faPath);
+    if (fa.components != 1)
+      fail(faPath, "has " + std::to_string(fa.components) + " volumes; a dtifit FA file holds 1");
+    if (!sameGrid(fa.grid, v.grid)) fail(faPath, "its grid differs from " + v1);
+    out.files.push_back(faPath);
+    out.fa = std::move(fa);
+  }
+  bool hasNan = false;
+  FibreSet s = peaksAsStored(v1, v, hasNan);
+  v = {};
+  for (Fibre& f : s.fibres)
+    if (f.amplitude > 0.0f) f.amplitude = 1.0f; // V1 is unit; its length carries no amplitude
+  const bool negateX = glm::determinant(glm::dmat3(s.grid.voxelToWorld)) > 0;
+  rotate(s, frameToWorld(s.grid, FibreLayout::DtifitV1));
+  normaliseFibres(s);
+  out.set = std::move(s);
+  out.layoutReason =
+      "FSL dtifit set " + base + ": found " + found + "; no L1-L3, so V1 is one population of amplitude 1" +
+      (out.fa.data.empty() ? " (no FA file to pair)" : ", FA paired") + "; FSL frame: voxel axes" +
+      (negateX ? ", x negated (det(affine) > 0)" : " (det(affine) < 0: x not negated)");
+  return out;
+}
+
+LoadedFibres readDsiStudioFibres(const std::string& path) {
+  LoadedFibres out;
+  out.layout = FibreLayout::DsiStudio;
+  DsiStudioFib fib = readDsiStudioFib(path);
+  const std::size_t k = std::min<std::size_t>(3, fib.fraction.size());
+  out.header.path = path;
+  out.header.niftiVersion = 0;
+  out.header.grid = fib.grid;
+  out.header.dims = {fib.grid.dims.x, fib.grid.dims.y, fib.grid.dims.z, static_cast<int>(3 * k)};
+  out.header.datatypeName = "MATLAB v4";
+  out.header.affineSource = "none in the file: DSI Studio's LPS voxel axes, centred";
+  out.files.push_back(path);
+  out.warnings.emplace_back(
+      "DSI Studio files carry no scanner position: LPS voxel axes assumed, centred on 0");
+  FibreSet s = makeFibreSet(fib.grid, static_cast<int>(k));
+  const std::size_t nv = fib.grid.voxelCount();
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::size_t n = 0; n < k; ++n) {
+      const float a = fib.fraction[n].data[v];
+      const float* d = &fib.directions[n].data[v * 3];
+      if (!(a > 0.0f) || !std::isfinite(a)) continue;
+      s.fibres[v * k + n] = {glm::vec3(d[0], d[1], d[2]), a};
+    }
+  normaliseFibres(s);
+  if (s.occupiedVoxels() == 0) fail(path, "holds no fibre (every fa0 is zero)");
+  out.set = std::move(s);
+  out.fa = std::move(fib.dtiFa);
+  out.layoutReason = "DSI Studio FIB: " + std::to_string(k) + " of " + std::to_string(fib.fraction.size()) +
+                     " populations (fa0.." + "fa" + std::to_string(k - 1) +
+                     " as amplitudes, index0.. into odf_vertices as directions), LPS voxel axes, centred; " +
+                     (out.fa.data.empty() ? "no dti_fa to pair" : "dti_fa paired as FA");
+  return out;
+}
+
 LoadedFibres readBedpostx(const std::string& path) {
   LoadedFibres out;
   fs::path folder = fs::is_directory(path) ? fs::path(path) : fs::path(path).parent_path();
@@ -248,6 +334,10 @@ const char* fibreLayoutName(FibreLayout l) {
     return "dipy-peaks";
   case FibreLayout::Bedpostx:
     return "bedpostx";
+  case FibreLayout::DsiStudio:
+    return "dsi-studio";
+  case FibreLayout::DtifitV1:
+    return "dtifit-v1";
   default:
     return "auto";
   }
@@ -272,7 +362,11 @@ bool looksLikeFibres(const std::string& path, std::string* reason) {
   };
   if (isBedpostxPath(path)) return say(true, "a bedpostx folder or file name");
   if (fs::is_directory(path)) return say(false, "a folder without dyads1.nii.gz"); // the readers say why
-  if (const FormatGuess g = detectFormat(path); g.format != FileFormat::Nifti)
+  if (const std::string base = dtifitV1Base(path); !base.empty())
+    return say(true, "an FSL dtifit set " + base + " with V1 but no L1-L3");
+  const FormatGuess g = detectFormat(path);
+  if (g.format == FileFormat::DsiStudioFib) return say(true, "a DSI Studio FIB file (" + g.reason + ")");
+  if (g.format != FileFormat::Nifti)
     return say(false, std::string(formatName(g.format)) + ", not a NIfTI peaks file"); // its reader says more
   VolumeHeader h = readHeader(path);
   if (!markerLayout(h.descrip).empty()) return say(true, "written by dtfabric as a fibre set");
@@ -322,12 +416,20 @@ LoadedFibres readFibres(const std::string& path, FibreLayout layout) {
       return out;
     }
     if (fs::is_directory(path)) fail(path, "is a folder without dyads1.nii.gz (not a bedpostx folder)");
+    if (layout == FibreLayout::DsiStudio ||
+        (layout == FibreLayout::Auto && detectFormat(path).format == FileFormat::DsiStudioFib))
+      return readDsiStudioFibres(path);
+    if (layout == FibreLayout::DtifitV1 || layout == FibreLayout::Auto)
+      if (const std::string base = dtifitV1Base(path); !base.empty()) return readDtifitV1(base);
+    if (layout == FibreLayout::DtifitV1) fail(path, "is not an FSL dtifit set with V1 and no L1-L3");
     return readPeaks(path, layout);
   }
 }
 
 void writeFibres(const std::string& path, const FibreSet& set, FibreLayout layout, int niftiVersion) {
   if (layout == FibreLayout::Auto) throw UsageError("a fibre layout to write must be named (not auto)");
+  if (layout == FibreLayout::DsiStudio || layout == FibreLayout::DtifitV1)
+    throw UsageError(std::string("fibre layout ") + fibreLayoutName(layout) + " is read only");
   const auto k = static_cast<std::size_t>(set.maxFibres);
   const std::size_t nv = set.grid.voxelCount();
   const glm::dmat3 toDisk = glm::transpose(frameToWorld(set.grid, layout)); // orthonormal: inverse

@@ -81,6 +81,8 @@ void writeNrrdTensors(const std::string& path, const TensorField& field);
 // --- FSL dtifit eigen-systems (io/dtifit_io.cpp)
 // The basename of a dtifit set from `path` (basename itself or any member file), or "" when none.
 std::string dtifitBasename(const std::string& path);
+// The file of `member` ("V1", "L1", "FA", ...) of the set `base` (.nii.gz or .nii), or "" when absent.
+std::string dtifitMemberFile(const std::string& base, const std::string& member);
 LoadedTensors readDtifit(const std::string& path);
 VolumeHeader dtifitHeader(const std::string& path);
 

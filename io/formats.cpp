@@ -272,7 +272,8 @@ void noteFormat(VolumeHeader& h, const FormatGuess& g) {
 
 [[noreturn]] void notAVolume(const std::string& path, const FormatGuess& g) {
   throw InputError(path + ": a " + formatName(g.format) +
-                   " file holds fibre populations, not a volume dtfabric reads yet (" + g.reason + ")");
+                   " file holds fibre populations, not one volume: `dtfabric render` and `info` read it as a fibre set (" +
+                       g.reason + ")");
 }
 
 } // namespace

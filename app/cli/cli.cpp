@@ -19,9 +19,10 @@ const std::vector<Command>& commands() {
        "one voxel's world tensor, eigen-system and metrics. For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
        ".vtp): format, header facts (space, voxel order, dimensions, affine), streamline and point counts, "
        "lengths, per-streamline/per-point data with shapes and ranges, groups. For a fibre set (MRtrix or DIPY "
-       "peaks, FSL bedpostx): layout and frame with the reason, populations per voxel; one voxel's fibres "
+       "peaks, FSL bedpostx, DSI Studio `.fib.gz`, FSL dtifit V1 without L1–L3): layout and frame with the reason, "
+       "populations per voxel; one voxel's fibres "
        "(`\"fibres\": [{\"direction\": [x, y, z], \"amplitude\": a}, …]`, unit world RAS, strongest first) "
-       "beside a paired tensor's (`--tensor`) FA and eigenvectors",
+       "beside the file's own FA (`dti_fa`, dtifit `FA`) or a paired tensor's (`--tensor`) FA and eigenvectors",
        cmdInfo},
       {"fit", "DWI --bval F --bvec F [--mask M] -o OUT [--method wls|ols] [--layout L]",
        "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",

@@ -41,7 +41,8 @@ const char* kHelp =
     "                  mm^2/s), eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD\n"
     "  --json          print one JSON object instead of text\n"
     "\n"
-    "Fibre sets (crossing-fibre peaks: MRtrix sh2peaks, DIPY peaks, an FSL bedpostx folder or dyadsN file) are\n"
+    "Fibre sets (crossing-fibre peaks: MRtrix sh2peaks, DIPY peaks, an FSL bedpostx folder or dyadsN file; a\n"
+    "DSI Studio .fib.gz; an FSL dtifit set with V1 but no L1-L3, the last two with their own FA) are\n"
     "detected (or named with --layout mrtrix-peaks|dipy-peaks|bedpostx); --voxel then lists the voxel's fibres\n"
     "(unit world RAS directions with amplitudes, strongest first; JSON key \"fibres\").\n"
     "  --tensor FILE   pair a tensor volume with the fibre set (its FA and eigenvectors are shown beside)\n";

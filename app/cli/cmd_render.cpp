@@ -105,11 +105,12 @@ Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent:
                         input=FILE      INPUT | a second tensor/DWI file, same surface spec; a fibre set as
                                         FILE shows a tensor INPUT's principal direction beside its fibres
 
-Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder or dyadsN file)
+Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder or dyadsN file,
+DSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring their own FA)
   --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks,
                       dipy-peaks, bedpostx)
   --tensor F          fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation,
-                      --background fa|md); without it those are refused
+                      --background fa|md); without it (or the file's own FA) those are refused
   --bval F --bvec F   treat INPUT as a DWI and fit tensors (WLS)
   --mask F            DWI fit mask
   --force             overwrite an existing OUT.png (never an input)
@@ -264,14 +265,16 @@ int cmdRender(const CommandArgs& argv) {
     if (colour.empty()) p.colour = render::ColourMode::Fibres;
     if (p.colour != render::ColourMode::Fibres)
       throw UsageError("--color " + colour + " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
-    if (!fibreIn->tensor && (backgroundArg == "fa" || backgroundArg == "md"))
+    if ((!fibreIn->tensor && backgroundArg == "md") || (fibreIn->fa.data.empty() && backgroundArg == "fa"))
       throw UsageError("--background " + backgroundArg + " needs a tensor: pair one with --tensor FILE");
   } else {
     if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
     loaded = loadTensorInput(input, in);
   }
   const TensorField& field = fibreIn ? fibreIn->carrier : loaded.field;
-  ScalarVolume fa = fibreIn && !fibreIn->tensor ? ScalarVolume(field.grid, 1) : computeFaMap(field);
+  ScalarVolume fa = !fibreIn                  ? computeFaMap(field)
+                    : fibreIn->fa.data.empty() ? ScalarVolume(field.grid, 1)
+                                               : fibreIn->fa;
   SurfaceBuildOptions buildOptions;
   buildOptions.clipToData = backgroundArg.empty();
   Background background = loadBackground(backgroundArg, backgroundWindow, field, fa);
@@ -363,7 +366,7 @@ int cmdRender(const CommandArgs& argv) {
   std::optional<FibreSet> principal;
   auto fibresOf = [&](const TensorField& f) -> std::pair<const FibreSet*, const ScalarVolume*> {
     if (fibreIn && &f == &fibreIn->carrier)
-      return {&fibreIn->fibres.set, fibreIn->tensor ? &fa : nullptr};
+      return {&fibreIn->fibres.set, fibreIn->fa.data.empty() ? nullptr : &fa};
     if (fibreIn2 && &f == &fibreIn2->carrier) return {&fibreIn2->fibres.set, nullptr};
     principal = principalFibres(f);
     return {&*principal, &f == &field ? &fa : nullptr};

@@ -35,23 +35,30 @@ FibreInput loadFibreInput(const std::string& path, const std::string& layoutText
       throw InputError(tensorPath + ": its grid differs from the fibre set " + path);
     in.carrier = in.tensor->field;
     in.fa = computeFaMap(in.carrier);
+    in.faSource = tensorPath;
   } else {
     in.carrier = fibreCarrierField(in.fibres.set);
+    if (!in.fibres.fa.data.empty()) {
+      in.fa = in.fibres.fa;
+      in.faSource = in.fibres.files.back();
+      if (!quiet) logInfo(path + ": FA from " + in.faSource + " (the fibre file's own)");
+    }
   }
   return in;
 }
 
 namespace {
-bool needsTensor(const SurfaceSpec& s) {
-  if (s.kind == SurfaceSpec::Kind::Fa || s.kind == SurfaceSpec::Kind::Fibre) return true;
+bool needsKind(const SurfaceSpec& s, SurfaceSpec::Kind kind) {
+  if (s.kind == kind) return true;
   for (const SurfaceSpec& p : s.parts)
-    if (needsTensor(p)) return true;
+    if (needsKind(p, kind)) return true;
   return false;
 }
 } // namespace
 
 void checkFibreSurface(const SurfaceSpec& spec, const FibreInput& input) {
-  if (!input.tensor && needsTensor(spec))
+  if ((!input.tensor && needsKind(spec, SurfaceSpec::Kind::Fibre)) ||
+      (input.fa.data.empty() && needsKind(spec, SurfaceSpec::Kind::Fa)))
     throw UsageError("the surface " + describeSurface(spec) +
                      " needs FA or tensor directions, which a fibre set does not have: pair a tensor with "
                      "--tensor FILE, or use a slice, plane, iso=FILE:V or mesh surface");
@@ -126,6 +133,11 @@ int describeFibreInput(const std::string& path, const std::string& layoutText, c
     tensorText = "tensor:       " + tensorPath + ": FA " + num(fa) + ", e1 " + vec(e.vectors[0]) + "\n";
   } else {
     tensorJson = ", \"is_tensor\": false";
+    if (!in.fa.data.empty()) {
+      const double fa = in.fa.data[g.index(ijk[0], ijk[1], ijk[2])];
+      tensorJson += ", \"fa\": " + num(fa) + ", \"fa_file\": \"" + in.faSource + "\"";
+      tensorText = "FA:           " + num(fa) + " (" + in.faSource + ")\n";
+    }
   }
   if (json) {
     std::string fibres;

@@ -16,7 +16,8 @@ struct FibreInput {
   io::LoadedFibres fibres;
   std::optional<io::LoadedTensors> tensor; // --tensor, on the same grid
   TensorField carrier; // the tensor when paired, else fibreCarrierField (surface clipping)
-  ScalarVolume fa;     // the paired tensor's FA; empty without one
+  ScalarVolume fa;     // the paired tensor's FA, else the fibre file's own FA (DSI Studio dti_fa, dtifit FA)
+  std::string faSource; // where fa comes from ("" when empty)
 };
 
 // True when `layoutText` names a fibre layout, or is auto and `path` looks like a fibre file (the reason is
@@ -28,7 +29,8 @@ bool isFibreInput(const std::string& path, const std::string& layoutText, bool q
 FibreInput loadFibreInput(const std::string& path, const std::string& layoutText,
                           const std::string& tensorPath, bool quiet = false);
 
-// Refuses (UsageError) surfaces that need FA or tensor directions (fa=, fibre=) when no tensor is paired.
+// Refuses (UsageError) surfaces that need FA (fa=) when there is no FA, or tensor directions (fibre=) when no
+// tensor is paired.
 void checkFibreSurface(const SurfaceSpec& spec, const FibreInput& input);
 
 // The principal eigenvector of every valid tensor as a one-fibre set, amplitude = FA: a tensor shown the

@@ -237,9 +237,11 @@ TEST(IoCli, InfoScalarAndVectorVolumes) {
   JValue j = parseJson(run("info --json " + q(fa)).out);
   EXPECT_FALSE(std::get<bool>(j["is_tensor"].v));
   EXPECT_NEAR(j["value_range"][1].num(), 1.2247, 1e-3);
+  // V1 beside FA without L1-L3 is an FSL dtifit set's principal direction: a one-population fibre set.
   JValue v = parseJson(run("info --json " + q(v1)).out);
-  EXPECT_EQ(v["components"].num(), 3);
-  EXPECT_EQ(v["intent_code"].num(), 2003);
+  EXPECT_TRUE(std::get<bool>(v["is_fibres"].v));
+  EXPECT_EQ(v["fibre_layout"].str(), "dtifit-v1");
+  EXPECT_EQ(v["max_fibres"].num(), 1);
   // Asked as tensors, a 3-volume file is bad input.
   expectBadInput("info --layout fsl " + q(v1), v1, "not a tensor volume");
 }

@@ -937,7 +937,18 @@ std::vector<Case> catalogue() {
       infoCase("AfniMissingBrik", "nobrik+orig.HEAD",
                [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 3\n"; },
                {"no .BRIK"}));
-  c.push_back({"DtifitSetWithoutEigenvalues",
+  c.push_back({"DtifitSetWithoutV1OrEigenvalues",
+               [](const fs::path& dir) {
+                 Nifti v2;
+                 v2.dims = {4, 4, 4, 3};
+                 writeBytes(dir / "dti_V2.nii", v2.bytes());
+                 writeBytes(dir / "dti_FA.nii", Nifti().bytes());
+                 return "info " + q(dir / "dti");
+               },
+               2,
+               {"dti", "found V2, FA", "missing V1, V3, L1, L2, L3"}});
+  // V1 without eigenvalues is a one-population fibre set; all-zero vectors hold no fibre.
+  c.push_back({"DtifitV1SetWithoutDirections",
                [](const fs::path& dir) {
                  Nifti v1;
                  v1.dims = {4, 4, 4, 3};
@@ -946,7 +957,7 @@ std::vector<Case> catalogue() {
                  return "info " + q(dir / "dti");
                },
                2,
-               {"dti", "found V1, FA", "missing V2, V3, L1, L2, L3", "not available yet"}});
+               {"dti_V1.nii", "no fibre direction"}});
   // ---- viewer scripts (parsed completely before a window opens)
   // Fuzz finding: a line of only \v or \f was not blank to the parser but had no words (out-of-bounds read).
   c.push_back(scriptCase("ScriptVerticalTabLine", "\v\f \nfrobnicate\n", {"2:", "frobnicate"}));

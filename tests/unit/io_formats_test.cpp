@@ -4,6 +4,7 @@
 // orders, DSI Studio SRC/FIB. The reference everywhere is the same world tensor at the same world position.
 #include "io/dsi_studio.h"
 #include "io/dwi.h"
+#include "io/fibre_io.h"
 #include "io/format_detail.h"
 #include "io/formats.h"
 #include "io/model/error.h"
@@ -337,15 +338,81 @@ TEST(DtifitSet, EigenSystemsGiveBackTheWorldTensor) {
   EXPECT_EQ(io::readScalarVolume((scratch / "las" / "dti_FA.nii.gz").string()).components, 1);
 }
 
-TEST(DtifitSet, V1OnlySetIsRefusedNamingTheMissingFiles) {
-  DTF_SHARED_FILE(v1, "niivue_fsl_dtifit/V1.nii.gz");
-  EXPECT_FALSE(io::dtifitSetOf(v1.string()).empty());
+// V1 without L1-L3 is a one-population fibre set (amplitude 1, FA paired) in FSL's frame; the tensor reader
+// still refuses it, pointing at the fibre-set readers.
+TEST(DtifitSet, V1OnlySetReadsAsOneFibrePopulationInTheFslFrame) {
+  io::LoadedTensors ref = realFslTensor();
+  TensorField ras = ref.field;
+  ras.grid.voxelToWorld[0] = -ras.grid.voxelToWorld[0];
+  const fs::path scratch = test::scratchDir();
+  for (const TensorField* field : {&ref.field, &ras}) {
+    SCOPED_TRACE(field == &ras ? "RAS grid (det > 0)" : "LAS grid (det < 0)");
+    const fs::path dir = scratch / (field == &ras ? "ras" : "las");
+    fs::create_directories(dir);
+    writeDtifitSet(dir, *field);
+    for (const char* m : {"V2", "V3", "L1", "L2", "L3"})
+      fs::remove(dir / ("dti_" + std::string(m) + ".nii.gz"));
+    const std::string p = (dir / "dti_V1.nii.gz").string();
+    std::string why;
+    ASSERT_TRUE(io::looksLikeFibres(p, &why)) << why;
+    ASSERT_TRUE(io::looksLikeFibres((dir / "dti").string(), &why)) << why;
+    const io::LoadedFibres f = io::readFibres(p);
+    EXPECT_EQ(f.layout, io::FibreLayout::DtifitV1);
+    ASSERT_EQ(f.set.maxFibres, 1);
+    ASSERT_EQ(f.files.size(), 2u);
+    EXPECT_NE(f.layoutReason.find("found V1, FA; no L1-L3"), std::string::npos) << f.layoutReason;
+    ASSERT_EQ(f.fa.grid.dims, field->grid.dims);
+    std::size_t compared = 0;
+    double worst = 1;
+    for (std::size_t i = 0; i < field->tensors.size(); ++i) {
+      if (!field->valid[i]) continue;
+      const EigenSystem e = eigenDecompose(field->tensors[i]);
+      const Fibre& fb = f.set.fibres[i];
+      if (!(fb.amplitude > 0)) continue;
+      EXPECT_EQ(fb.amplitude, 1.0f);
+      EXPECT_NEAR(f.fa.data[i], computeMetrics(e).fa, 1e-5);
+      worst = std::min(worst, std::abs(glm::dot(glm::dvec3(fb.direction), e.vectors[0])));
+      ++compared;
+    }
+    EXPECT_GT(compared, 1000u);
+    EXPECT_GT(worst, 0.9999) << "V1 not mapped to the world e1";
+  }
   try {
-    io::readTensorVolume(v1.string());
+    io::readTensorVolume((scratch / "las" / "dti_V1.nii.gz").string());
     FAIL() << "a V1-only set was read as tensors";
   } catch (const InputError& e) {
     const std::string m = e.what();
-    for (const char* s : {"V2", "V3", "L1", "L2", "L3", "found V1, FA", "not available yet"})
+    for (const char* s : {"found V1, FA", "missing V2, V3, L1, L2, L3", "one-population fibre set"})
+      EXPECT_NE(m.find(s), std::string::npos) << s << " missing from: " << m;
+  }
+}
+
+TEST(DtifitSet, RealV1AndFaSetIsAFibreSetWithItsFa) {
+  DTF_SHARED_FILE(v1, "niivue_fsl_dtifit/V1.nii.gz");
+  DTF_SHARED_FILE(faFile, "niivue_fsl_dtifit/FA.nii.gz");
+  EXPECT_FALSE(io::dtifitSetOf(v1.string()).empty());
+  const io::LoadedFibres f = io::readFibres(v1.string());
+  EXPECT_EQ(f.layout, io::FibreLayout::DtifitV1);
+  const ScalarVolume fa = io::readScalarVolume(faFile.string());
+  ASSERT_EQ(f.fa.data.size(), fa.data.size());
+  EXPECT_EQ(f.fa.data, fa.data);
+  EXPECT_GT(f.set.occupiedVoxels(), 10000u);
+  EXPECT_FLOAT_EQ(f.set.maxAmplitude(), 1.0f);
+}
+
+TEST(DtifitSet, SetWithNeitherV1NorEigenvaluesIsRefusedNamingTheMissingFiles) {
+  const fs::path dir = test::scratchDir();
+  writeDtifitSet(dir, realFslTensor().field);
+  for (const char* m : {"V1", "V3", "L1", "L2", "L3"})
+    fs::remove(dir / ("dti_" + std::string(m) + ".nii.gz"));
+  const std::string p = (dir / "dti").string();
+  EXPECT_FALSE(io::looksLikeFibres(p));
+  try {
+    io::readTensorVolume(p);
+    FAIL() << "a V2-only set was read";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    for (const char* s : {"found V2, FA", "missing V1, V3, L1, L2, L3", "a tensor needs V1-V3 and L1-L3"})
       EXPECT_NE(m.find(s), std::string::npos) << s << " missing from: " << m;
   }
 }
