@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,43 @@ inline void storeWorldTensor(LoadedTensors& out, std::size_t i, const glm::dmat3
   out.field.valid[i] = 1;
   const double m2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
   if (!(m[0][0] > 0 && m2 > 0 && glm::determinant(m) > 0)) ++out.nonPositiveVoxels;
+}
+
+// One stored number of `bytes` (1, 2, 4 or 8) at p, in either byte order, as double. Used per voxel by the
+// MRtrix and NRRD readers.
+inline double fetchNumber(const std::uint8_t* p, int bytes, bool isFloat, bool isSigned, bool bigEndian) {
+  std::uint8_t b[8];
+  for (int k = 0; k < bytes; ++k)
+    b[k] = bigEndian ? p[bytes - 1 - k] : p[k];
+  switch (bytes) {
+  case 1:
+    return isSigned ? static_cast<double>(static_cast<std::int8_t>(b[0])) : b[0];
+  case 2: {
+    std::uint16_t v;
+    std::memcpy(&v, b, 2);
+    return isSigned ? static_cast<double>(static_cast<std::int16_t>(v)) : v;
+  }
+  case 4: {
+    std::uint32_t v;
+    std::memcpy(&v, b, 4);
+    if (isFloat) {
+      float f;
+      std::memcpy(&f, &v, 4);
+      return f;
+    }
+    return isSigned ? static_cast<double>(static_cast<std::int32_t>(v)) : v;
+  }
+  default: {
+    std::uint64_t v;
+    std::memcpy(&v, b, 8);
+    if (isFloat) {
+      double f;
+      std::memcpy(&f, &v, 8);
+      return f;
+    }
+    return isSigned ? static_cast<double>(static_cast<std::int64_t>(v)) : static_cast<double>(v);
+  }
+  }
 }
 
 // --- MRtrix images (io/mrtrix_io.cpp)

@@ -105,38 +105,7 @@ DataType parseDatatype(const std::string& path, const std::string& text) {
 
 // One value of `d` at byte position p, as double.
 double fetch(const std::uint8_t* p, const DataType& d) {
-  std::uint8_t b[8];
-  for (int k = 0; k < d.bytes; ++k)
-    b[k] = d.bigEndian ? p[d.bytes - 1 - k] : p[k];
-  switch (d.bytes) {
-  case 1:
-    return d.isSigned ? static_cast<double>(static_cast<std::int8_t>(b[0])) : b[0];
-  case 2: {
-    std::uint16_t v;
-    std::memcpy(&v, b, 2);
-    return d.isSigned ? static_cast<double>(static_cast<std::int16_t>(v)) : v;
-  }
-  case 4: {
-    std::uint32_t v;
-    std::memcpy(&v, b, 4);
-    if (d.isFloat) {
-      float f;
-      std::memcpy(&f, &v, 4);
-      return f;
-    }
-    return d.isSigned ? static_cast<double>(static_cast<std::int32_t>(v)) : v;
-  }
-  default: {
-    std::uint64_t v;
-    std::memcpy(&v, b, 8);
-    if (d.isFloat) {
-      double f;
-      std::memcpy(&f, &v, 8);
-      return f;
-    }
-    return d.isSigned ? static_cast<double>(static_cast<std::int64_t>(v)) : static_cast<double>(v);
-  }
-  }
+  return fetchNumber(p, d.bytes, d.isFloat, d.isSigned, d.bigEndian);
 }
 
 // Parses "+0,-1,+2" into signed 1-based ranks (+1, -2, +3).
