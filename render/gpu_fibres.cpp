@@ -1,5 +1,7 @@
 #include "render/gpu_fibres.h"
 
+#include "render/detail/volume_upload.h"
+
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -8,18 +10,9 @@
 
 namespace dtf::render {
 
-namespace {
-// tex = (voxel + 0.5) / dims, voxel = world->voxel affine (as for the tensor textures).
-glm::mat4 worldToTexture(const Grid& grid) {
-  glm::dmat4 worldToVoxel = glm::inverse(grid.voxelToWorld);
-  glm::dmat4 voxelToTex(1.0);
-  for (int c = 0; c < 3; ++c) {
-    voxelToTex[c][c] = 1.0 / grid.dims[c];
-    voxelToTex[3][c] = 0.5 / grid.dims[c];
-  }
-  return glm::mat4(voxelToTex * worldToVoxel);
-}
-} // namespace
+using detail::checkFits3D;
+using detail::checkUploaded;
+using detail::worldToTexture;
 
 void GpuFibreSet::clear() {
   for (Texture& t : lobe_)
@@ -30,12 +23,7 @@ void GpuFibreSet::clear() {
 
 void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float relativeThreshold) {
   const glm::ivec3 d = set.grid.dims;
-  GLint maxSize = 0;
-  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
-  if (d.x <= 0 || d.y <= 0 || d.z <= 0 || d.x > maxSize || d.y > maxSize || d.z > maxSize)
-    throw GlError("the fibre set's grid " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
-                  std::to_string(d.z) + " exceeds this GL's 3D texture size limit (" +
-                  std::to_string(maxSize) + ")");
+  checkFits3D(d, "the fibre set's");
   if (fa && fa->grid.dims != d) throw GlError("the FA volume paired with the fibre set is on another grid");
   const std::size_t n = set.grid.voxelCount();
   const auto k = static_cast<std::size_t>(set.maxFibres);
@@ -76,9 +64,11 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   }
   fa_ = Texture::create3D(GL_RG32F, d.x, d.y, d.z);
   glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RG, GL_FLOAT, f.data());
-  if (glGetError() == GL_OUT_OF_MEMORY) {
+  try {
+    checkUploaded(d, n * (static_cast<std::size_t>(lobes_) * 4 + 2) * sizeof(float), "fibre set's");
+  } catch (const GlError&) {
     clear();
-    throw GlError("out of GPU memory for the fibre set's 3D textures");
+    throw;
   }
   worldToTex_ = worldToTexture(set.grid);
 }

@@ -1,5 +1,7 @@
 #include "render/gpu_scene.h"
 
+#include "render/detail/volume_upload.h"
+
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -66,7 +68,7 @@ void GpuMesh::drawVisible(bool viewOutside) const {
   if (cull) glDisable(GL_CULL_FACE);
 }
 
-namespace {
+namespace detail {
 void checkFits3D(const glm::ivec3& d, const char* what) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
@@ -76,8 +78,6 @@ void checkFits3D(const glm::ivec3& d, const char* what) {
                   std::to_string(maxSize) + " voxels per axis); crop or resample the volume");
 }
 
-// After the 3D textures of `what` were allocated and filled: GL_OUT_OF_MEMORY becomes a GlError that says
-// which data did not fit, instead of a later failure with textures that hold nothing.
 void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what) {
   const GLenum e = glGetError();
   if (e == GL_NO_ERROR) return;
@@ -91,7 +91,6 @@ void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what) {
                 " voxels) failed: GL error " + code);
 }
 
-// tex = (voxel + 0.5) / dims, voxel = world->voxel affine.
 glm::mat4 worldToTexture(const Grid& grid) {
   glm::dmat4 worldToVoxel = glm::inverse(grid.voxelToWorld);
   glm::dmat4 voxelToTex(1.0);
@@ -101,7 +100,11 @@ glm::mat4 worldToTexture(const Grid& grid) {
   }
   return glm::mat4(voxelToTex * worldToVoxel);
 }
-} // namespace
+} // namespace detail
+
+using detail::checkFits3D;
+using detail::checkUploaded;
+using detail::worldToTexture;
 
 void GpuTensorField::upload(const TensorField& field) {
   const glm::ivec3 d = field.grid.dims;

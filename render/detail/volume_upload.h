@@ -1,0 +1,20 @@
+// Internal to dtf_render: the checks and the texture-coordinate map shared by the 3D-texture uploads of
+// tensor fields, scalar volumes and fibre sets (render/gpu_scene.cpp, render/gpu_fibres.cpp).
+#pragma once
+
+#include "io/model/grid.h"
+
+#include <cstddef>
+#include <glm/glm.hpp>
+
+namespace dtf::render::detail {
+
+// Throws GlError naming `what` when a grid of dims d does not fit GL_MAX_3D_TEXTURE_SIZE.
+void checkFits3D(const glm::ivec3& d, const char* what);
+// After the 3D textures of `what` were allocated and filled: GL_OUT_OF_MEMORY (or another GL error) becomes
+// a GlError that says which data did not fit, instead of a later failure with textures that hold nothing.
+void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what);
+// World RAS mm -> 3D texture coordinates of the grid: tex = (voxel + 0.5) / dims.
+glm::mat4 worldToTexture(const Grid& grid);
+
+} // namespace dtf::render::detail
