@@ -8,6 +8,7 @@
 #include "io/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
+#include "support/volumes.h"
 
 #include <algorithm>
 #include <chrono>
@@ -43,20 +44,7 @@ std::string q(const fs::path& p) {
 // Voxel axis i reversed (LAS -> RAS), the affine adjusted so every voxel keeps its world position. The FSL
 // table stays the same: its frame is the voxel axes with x negated when det(affine) > 0, and both the data's
 // x axis and that rule flip.
-ScalarVolume flipI(const ScalarVolume& v) {
-  ScalarVolume out = v;
-  const Grid& g = v.grid;
-  glm::dmat4 flip(1.0);
-  flip[0][0] = -1.0;
-  flip[3][0] = g.dims.x - 1;
-  out.grid = Grid::fromAffine(g.dims, g.voxelToWorld * flip);
-  for (int k = 0; k < g.dims.z; ++k)
-    for (int j = 0; j < g.dims.y; ++j)
-      for (int i = 0; i < g.dims.x; ++i)
-        for (int c = 0; c < v.components; ++c)
-          out.at(g.dims.x - 1 - i, j, k, c) = v.at(i, j, k, c);
-  return out;
-}
+using test::flipI;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;

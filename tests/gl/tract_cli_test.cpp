@@ -2,6 +2,7 @@
 // arguments give the same bytes, and a bad tract file is exit 2 naming the file.
 #include "io/png_io.h"
 #include "io/tracts.h"
+#include "support/polylines.h"
 #include "support/gl_test.h"
 #include "support/window.h"
 
@@ -40,15 +41,7 @@ const fs::path kPhantom = dtf::test::sourceDir() / "sample_data" / "brain_phanto
 
 // A fan of straight tracts through the phantom's centre region (world mm).
 dtf::Polylines fan() {
-  dtf::Polylines l;
-  l.offsets = {0};
-  for (int i = 0; i < 12; ++i) {
-    const float a = 0.26f * float(i);
-    const glm::vec3 d(std::cos(a), std::sin(a), 0.3f * std::sin(2.0f * a));
-    for (int k = -30; k <= 30; ++k)
-      l.points.push_back(d * float(k));
-    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
-  }
+  dtf::Polylines l = dtf::test::fanLines();
   return l;
 }
 

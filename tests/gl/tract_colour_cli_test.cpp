@@ -3,6 +3,7 @@
 // colour bar at the right edge holds the map's end colours, and a group shows only its streamlines.
 #include "io/png_io.h"
 #include "io/trx.h"
+#include "support/polylines.h"
 #include "support/gl_test.h"
 #include "support/window.h"
 
@@ -36,15 +37,7 @@ const fs::path kPhantom = dtf::test::sourceDir() / "sample_data" / "brain_phanto
 
 // Twelve straight lines through the centre (a fan), value 5 on every point; group "one" holds line 0.
 dtf::Polylines fan() {
-  dtf::Polylines l;
-  l.offsets = {0};
-  for (int i = 0; i < 12; ++i) {
-    const float a = 0.26f * float(i);
-    const glm::vec3 d(std::cos(a), std::sin(a), 0.3f * std::sin(2.0f * a));
-    for (int k = -30; k <= 30; ++k)
-      l.points.push_back(d * float(k));
-    l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
-  }
+  dtf::Polylines l = dtf::test::fanLines();
   l.perPoint = {{"v", 1, std::vector<float>(l.points.size(), 5.0f)}};
   l.perLine = {{"id", 1, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}}};
   l.groups = {{"one", {0}}, {"all", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}}};
