@@ -18,10 +18,6 @@ namespace dtf::io::detail {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw InputError(path + ": " + problem);
-}
-
 struct Attr {
   std::vector<double> numbers;
   std::string text;

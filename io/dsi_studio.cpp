@@ -14,9 +14,7 @@ namespace dtf::io {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw InputError(path + ": " + problem);
-}
+using detail::fail;
 
 struct Matrix {
   long long rows = 0, cols = 0;

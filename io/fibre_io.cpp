@@ -22,9 +22,7 @@ namespace {
 
 constexpr const char* kMarker = "dtfabric fibres layout=";
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw InputError(path + ": " + problem);
-}
+using detail::fail;
 
 std::string fmt(double v, int precision = 3) {
   char b[64];

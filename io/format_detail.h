@@ -5,6 +5,7 @@
 
 #include "io/dwi.h"
 #include "io/formats.h"
+#include "io/model/error.h"
 #include "io/tensor_io.h"
 
 #include <cmath>
@@ -48,6 +49,19 @@ inline void storeWorldTensor(LoadedTensors& out, std::size_t i, const glm::dmat3
   out.field.valid[i] = 1;
   const double m2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
   if (!(m[0][0] > 0 && m2 > 0 && glm::determinant(m) > 0)) ++out.nonPositiveVoxels;
+}
+
+// Throws InputError "PATH: PROBLEM": every reader's message starts with the file name.
+[[noreturn]] inline void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path + ": " + problem);
+}
+
+// `s` without leading and trailing blanks, tabs and carriage returns.
+inline std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
 }
 
 // One stored number of `bytes` (1, 2, 4 or 8) at p, in either byte order, as double. Used per voxel by the

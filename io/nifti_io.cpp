@@ -58,9 +58,7 @@ struct NimDeleter {
 };
 using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw InputError(path + ": " + problem);
-}
+using detail::fail;
 
 void quietNifti() {
   // nifticlib reports problems on stderr at debug level >= 1; our exceptions carry the message instead.
