@@ -102,17 +102,7 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   }
   const std::size_t step = lo;
   out.points.reserve(total(step));
-  for (const auto& d : lines.perPoint)
-    out.perPoint.push_back({d.name, d.components, {}});
-  auto keep = [&](std::size_t i) {
-    out.points.push_back(lines.points[i]);
-    for (std::size_t k = 0; k < lines.perPoint.size(); ++k) {
-      const std::size_t c = static_cast<std::size_t>(lines.perPoint[k].components);
-      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
-                                    lines.perPoint[k].values.begin() + static_cast<long>(i * c),
-                                    lines.perPoint[k].values.begin() + static_cast<long>((i + 1) * c));
-    }
-  };
+  auto keep = [&](std::size_t i) { out.appendPoints(lines, i, i + 1); };
   out.offsets.reserve(drawable / lineStep + 2);
   std::size_t k = 0;
   for (std::size_t l = 0; l < count; ++l) {

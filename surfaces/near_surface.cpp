@@ -47,17 +47,7 @@ void appendRuns(const Polylines& lines, std::size_t b, std::size_t e, const std:
     while (j < e && near[j - b])
       ++j;
     if (j - i >= 2) {
-      out.points.insert(out.points.end(), lines.points.begin() + static_cast<std::ptrdiff_t>(i),
-                        lines.points.begin() + static_cast<std::ptrdiff_t>(j));
-      if (out.perPoint.size() != lines.perPoint.size())
-        for (const auto& d : lines.perPoint)
-          out.perPoint.push_back({d.name, d.components, {}});
-      for (std::size_t k = 0; k < lines.perPoint.size(); ++k) {
-        const auto c = static_cast<std::ptrdiff_t>(lines.perPoint[k].components);
-        out.perPoint[k].values.insert(out.perPoint[k].values.end(),
-                                      lines.perPoint[k].values.begin() + static_cast<std::ptrdiff_t>(i) * c,
-                                      lines.perPoint[k].values.begin() + static_cast<std::ptrdiff_t>(j) * c);
-      }
+      out.appendPoints(lines, i, j);
       out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
     }
     i = j;
@@ -112,10 +102,7 @@ Polylines selectNearSurface(const Polylines& lines, const DistanceQuery& surface
     out.perPoint.push_back({d.name, d.components, {}});
   for (const auto& p : parts) {
     const auto base = static_cast<std::uint32_t>(out.points.size());
-    out.points.insert(out.points.end(), p.points.begin(), p.points.end());
-    for (std::size_t k = 0; k < p.perPoint.size() && k < out.perPoint.size(); ++k)
-      out.perPoint[k].values.insert(out.perPoint[k].values.end(), p.perPoint[k].values.begin(),
-                                    p.perPoint[k].values.end());
+    out.appendPoints(p, 0, p.points.size());
     for (std::size_t k = 1; k < p.offsets.size(); ++k)
       out.offsets.push_back(base + p.offsets[k]);
   }

@@ -129,8 +129,7 @@ Polylines Polylines::subset(const std::vector<std::uint32_t>& lines) const {
     out.perPoint.push_back({d.name, d.components, {}});
   for (std::uint32_t l : lines) {
     if (l >= lineCount()) continue;
-    const std::uint32_t b = offsets[l], e = offsets[l + 1];
-    out.points.insert(out.points.end(), points.begin() + b, points.begin() + e);
+    out.appendPoints(*this, offsets[l], offsets[l + 1]);
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
     for (std::size_t k = 0; k < perLine.size(); ++k) {
       const std::size_t c = static_cast<std::size_t>(perLine[k].components);
@@ -138,14 +137,22 @@ Polylines Polylines::subset(const std::vector<std::uint32_t>& lines) const {
                                    perLine[k].values.begin() + static_cast<long>(l * c),
                                    perLine[k].values.begin() + static_cast<long>((l + 1) * c));
     }
-    for (std::size_t k = 0; k < perPoint.size(); ++k) {
-      const std::size_t c = static_cast<std::size_t>(perPoint[k].components);
-      out.perPoint[k].values.insert(out.perPoint[k].values.end(),
-                                    perPoint[k].values.begin() + static_cast<long>(b * c),
-                                    perPoint[k].values.begin() + static_cast<long>(e * c));
-    }
   }
   return out;
+}
+
+void Polylines::appendPoints(const Polylines& src, std::size_t begin, std::size_t end) {
+  points.insert(points.end(), src.points.begin() + static_cast<std::ptrdiff_t>(begin),
+                src.points.begin() + static_cast<std::ptrdiff_t>(end));
+  if (perPoint.empty())
+    for (const auto& d : src.perPoint)
+      perPoint.push_back({d.name, d.components, {}});
+  for (std::size_t k = 0; k < src.perPoint.size() && k < perPoint.size(); ++k) {
+    const auto c = static_cast<std::ptrdiff_t>(src.perPoint[k].components);
+    const auto first = src.perPoint[k].values.begin();
+    perPoint[k].values.insert(perPoint[k].values.end(), first + static_cast<std::ptrdiff_t>(begin) * c,
+                              first + static_cast<std::ptrdiff_t>(end) * c);
+  }
 }
 
 std::vector<float> Polylines::valuesPerPoint(const std::string& name) const {

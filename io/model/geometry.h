@@ -52,6 +52,9 @@ struct Polylines {
   // The streamlines listed in `lines` (in that order) with their per-streamline and per-point data; groups
   // are not carried (their indices refer to the full set).
   Polylines subset(const std::vector<std::uint32_t>& lines) const;
+  // Appends the points [begin, end) of `src` with their per-point data (the arrays of `src` are created here
+  // when this set has none yet); does not close a line (push the offset after the last point).
+  void appendPoints(const Polylines& src, std::size_t begin, std::size_t end);
   // One value per point of the data named `name` (per-point, or per-streamline repeated along each line;
   // several components give their Euclidean norm). Empty when there is no such data.
   std::vector<float> valuesPerPoint(const std::string& name) const;
