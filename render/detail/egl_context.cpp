@@ -25,6 +25,11 @@ void APIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severi
                             const GLchar* message, const void*) {
   (void)source;
   if (severity != GL_DEBUG_SEVERITY_HIGH && severity != GL_DEBUG_SEVERITY_MEDIUM) return;
+  // Only misuse counts: drivers also report performance hints at medium severity (NVIDIA: "shader
+  // recompiled based on GL state" on a cold shader cache), which are not errors.
+  if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR &&
+      type != GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR)
+    return;
   std::ostringstream s;
   s << (severity == GL_DEBUG_SEVERITY_HIGH ? "[high] " : "[medium] ") << "type 0x" << std::hex << type
     << " id " << std::dec << id << ": " << std::string(message, length > 0 ? length : 0);
