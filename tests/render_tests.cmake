@@ -7,3 +7,4 @@ dtf_test(test_render_cli SOURCES gl/render_cli_test.cpp LIBS dtf_render dtf_io d
 dtf_test(test_bench_render_peer SOURCES unit/bench_render_peer_test.cpp LIBS dtf_cli)
 dtf_test(test_bench_render_cli SOURCES gl/bench_render_cli_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_gl_state SOURCES gl/gl_state_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_gl_debug_messages SOURCES gl/debug_messages_test.cpp LIBS dtf_render dtf_model)

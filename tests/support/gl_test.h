@@ -1,7 +1,7 @@
 // GL test support: one headless EGL context per test process. DTF_GL_TEST_SETUP() at the start of a test
 // makes the context current, or skips the test when none can be made (fails instead when
-// DTF_REQUIRE_GL=1, as CI sets). GlTest fixtures check the GL debug output after each test: a high or
-// medium severity message fails the test.
+// DTF_REQUIRE_GL=1, as CI sets). GlTest fixtures check the GL debug output after each test: misuse
+// reported at high or medium severity fails the test (driver performance hints do not).
 #pragma once
 
 #include "support/test_env.h"
