@@ -83,6 +83,17 @@ render::StandardView defaultView(const SurfaceSpec& spec) {
 }
 
 RenderResult runRender(const RenderRequest& r) {
+  // The command checks these as it parses its flags; other callers get the same limits here.
+  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
+    throw UsageError("the size must be between 16x16 and 8192x8192");
+  if ((!r.colouring.value.empty() || r.colouring.range || !r.colouring.groups.empty()) && r.tracts.empty())
+    throw UsageError("--tracts-color, --tracts-range and --tracts-group need --tracts FILE");
+  if (!(r.tractsNear >= 0 && r.tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
+  if (!(r.tractsSlab >= 0 && r.tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
+  if (!(std::abs(r.tractsSlabDepth) <= 1000)) throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
+  if (!(r.tractWidth > 0 && r.tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
+  if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
+    throw UsageError("--split tracts needs --tracts FILE");
   // The request under the names the command used for its flags.
   const std::string& input = r.input;
   const std::string& layoutText = r.layout;
