@@ -73,7 +73,8 @@ py::object readOnly(py::array a) {
 
 PyTensorField wrapTensors(io::LoadedTensors&& t, const std::string& source, const std::string& layout) {
   PyTensorField f;
-  f.layout = layout.empty() ? io::layoutName(t.layout) : layout;
+  // Readers always name a layout; a DWI fitted here has none ("fitted", its reason says from what).
+  f.layout = !layout.empty() ? layout : t.layout == io::TensorLayout::Auto ? "fitted" : io::layoutName(t.layout);
   f.data = std::make_shared<const io::LoadedTensors>(std::move(t));
   f.source = source;
   return f;

@@ -83,6 +83,7 @@ def test_anatomy_in_world_frame(derived, name, layout):
 
 def test_load_dwi_fits(shared):
     field = dtfabric.load(shared("iu_prisma_dwi/dwi.nii.gz"))  # sibling .bval/.bvec
+    assert field.layout == "fitted" and "dwi.bvec" in field.layout_reason
     assert abs(principal(field.tensor[CC])[0]) > 0.9
     assert abs(principal(field.tensor[CST])[2]) > 0.9
     ref = dtfabric.load(shared("iu_prisma_dwi/derived/dti_tensor.nii.gz"))
