@@ -250,7 +250,6 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   RenderRequest r;
   std::shared_ptr<const io::LoadedTensors> held;
   r.layout = layout;
-  r.tensorOptions = tensorOptions(layout, bval, bvec, mask);
   r.tensor = optionalPath(tensor);
   if (py::isinstance<PyFibreSet>(input)) {
     const auto& f = input.cast<const PyFibreSet&>();
@@ -259,6 +258,7 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
     if (r.tensor.empty()) r.tensor = f.tensorPath;
   } else if (isPathLike(input)) {
     r.input = pathText(input);
+    r.tensorOptions = tensorOptions(layout, bval, bvec, mask);
   } else {
     held = tensorsOf(input, layout, bval, bvec, mask, r.input);
     r.field = &held->field;

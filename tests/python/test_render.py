@@ -57,6 +57,8 @@ def test_dipy_array_equals_cli(derived, cli, tmp_path):
     ours = render_or_skip(field, surface="slice=sagittal:36", size=(256, 256))
     theirs = cli_png(cli, tmp_path, path, "--surface", "slice=sagittal:36", "--size", "256x256")
     np.testing.assert_array_equal(ours, theirs)
+    # The nibabel image itself as render's input.
+    np.testing.assert_array_equal(render_or_skip(img, surface="slice=sagittal:36", size=(256, 256)), theirs)
 
 
 def test_threads_render_the_same(derived):
