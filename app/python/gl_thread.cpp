@@ -1,10 +1,13 @@
 #include "app/python/gl_thread.h"
 
+#include "io/model/error.h"
+
 #include <condition_variable>
 #include <deque>
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <unistd.h>
 
 namespace dtf::python {
 
@@ -20,6 +23,7 @@ struct GlThread {
   std::mutex mutex;
   std::condition_variable wake, finished;
   std::deque<Job*> queue;
+  const pid_t pid = ::getpid(); // the process whose thread holds the context
 
   GlThread() {
     // Detached and never joined: the context lives for the process, as in the command-line tool; at exit
@@ -59,6 +63,10 @@ GlThread& glThread() {
 
 void runOnGlThread(const std::function<void()>& work) {
   GlThread& t = glThread();
+  // A child forked after the first render has neither the thread nor a usable context.
+  if (::getpid() != t.pid)
+    throw GlError("dtfabric cannot render in a process forked after it rendered (the GL context belongs to the "
+                  "parent): use multiprocessing's 'spawn' or 'forkserver' start method");
   Job job;
   job.work = &work;
   {

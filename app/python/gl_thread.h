@@ -9,7 +9,8 @@
 namespace dtf::python {
 
 // Runs `job` on the GL thread (started on first use, with the headless context made current there) and
-// waits for it; rethrows its exception on the calling thread.
+// waits for it; rethrows its exception on the calling thread. Throws GlError in a child process forked after
+// the thread started.
 void runOnGlThread(const std::function<void()>& job);
 
 } // namespace dtf::python

@@ -96,3 +96,27 @@ def test_bad_options(derived):
         dtfabric.render(field, surface="slice=diagonal")
     with pytest.raises(dtfabric.FormatError, match="FA"):
         dtfabric.render(field, surface="fa=0.999")
+
+
+def test_forked_child_refuses_to_render(derived):
+    """After a render, a forked child gets a clear GlError instead of hanging on the parent's context."""
+    import multiprocessing
+
+    field = dtfabric.load(derived("dti_tensor.nii.gz"))
+    render_or_skip(field, size=(32, 32))
+    ctx = multiprocessing.get_context("fork")
+    queue = ctx.Queue()
+
+    def child():
+        try:
+            dtfabric.render(field, size=(32, 32))
+            queue.put("rendered")
+        except dtfabric.GlError as e:
+            queue.put("GlError: " + str(e))
+
+    p = ctx.Process(target=child)
+    p.start()
+    p.join(60)
+    assert p.exitcode == 0
+    message = queue.get(timeout=5)
+    assert message.startswith("GlError") and "spawn" in message
