@@ -120,3 +120,25 @@ def test_forked_child_refuses_to_render(derived):
     assert p.exitcode == 0
     message = queue.get(timeout=5)
     assert message.startswith("GlError") and "spawn" in message
+
+
+def test_tracts_split_equals_cli(derived, cli, tmp_path):
+    path, tracts = derived("dti_tensor.nii.gz"), derived("tracks_det.tck")
+    ours = render_or_skip(dtfabric.load(path), surface="slice=axial:22", size=(128, 128), tracts=tracts,
+                          split="tracts", tract_width=3)
+    theirs = cli_png(cli, tmp_path, path, "--surface", "slice=axial:22", "--size", "128x128", "--tracts", tracts,
+                     "--split", "tracts", "--tract-width", "3")
+    assert ours.shape == (128, 256, 4)
+    np.testing.assert_array_equal(ours, theirs)
+    assert not np.array_equal(ours[:, :128], ours[:, 128:])  # the right pane has the tracts
+
+
+def test_fibres_with_paired_tensor_equal_cli(derived, cli, tmp_path):
+    peaks, tensor = derived("fibres/peaks_dipy.nii.gz"), derived("dti_tensor.nii.gz")
+    fibres = dtfabric.load(peaks, tensor=tensor)
+    assert isinstance(fibres.tensor, dtfabric.TensorField) and fibres.fa is not None
+    np.testing.assert_allclose(fibres.fa, dtfabric.load(tensor).fa())
+    ours = render_or_skip(fibres, surface="slice=coronal:40", size=(128, 128), background="fa")
+    theirs = cli_png(cli, tmp_path, peaks, "--tensor", tensor, "--surface", "slice=coronal:40", "--size", "128x128",
+                     "--background", "fa")
+    np.testing.assert_array_equal(ours, theirs)
