@@ -22,6 +22,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
@@ -229,13 +230,21 @@ void setFabricOption(render::FabricParams& p, const std::string& key, const py::
   o->set(p, o->parse(optionText(value)));
 }
 
+// A Python value as T, or UsageError "what" when it is not one.
+template <typename T> T castOr(const py::handle& v, const char* what) {
+  try {
+    return v.cast<T>();
+  } catch (const py::cast_error&) {
+    throw UsageError(std::string(what) + ", got " + std::string(py::str(py::repr(v))));
+  }
+}
+
 std::pair<int, int> sizeOf(const py::object& size) {
   if (py::isinstance<py::int_>(size)) {
     const int s = size.cast<int>();
     return {s, s};
   }
-  auto t = size.cast<std::pair<int, int>>();
-  return t;
+  return castOr<std::pair<int, int>>(size, "size must be (width, height) in pixels");
 }
 
 py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string& surface, const py::object& view,
@@ -283,13 +292,14 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   }
   r.background = background.is_none() ? "" : optionText(background);
   if (!backgroundWindow.is_none()) {
-    auto w = backgroundWindow.cast<std::pair<double, double>>();
+    auto w = castOr<std::pair<double, double>>(backgroundWindow, "background_window must be (lo, hi)");
     r.backgroundWindow = py::str(py::repr(py::float_(w.first))).cast<std::string>() + "," +
                          py::str(py::repr(py::float_(w.second))).cast<std::string>();
   }
   r.tracts = optionalPath(tracts);
   if (!tractsColor.is_none()) r.colouring.value = tractsColor.cast<std::string>();
-  if (!tractsRange.is_none()) r.colouring.range = tractsRange.cast<std::pair<double, double>>();
+  if (!tractsRange.is_none())
+    r.colouring.range = castOr<std::pair<double, double>>(tractsRange, "tracts_range must be (lo, hi)");
   if (!tractsGroup.is_none()) {
     if (py::isinstance<py::str>(tractsGroup)) r.colouring.groups = {tractsGroup.cast<std::string>()};
     else r.colouring.groups = tractsGroup.cast<std::vector<std::string>>();
@@ -361,7 +371,7 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
   r.field = &tensors->field;
   r.seedsMask = optionalPath(seedsMask);
   if (!seedSphere.is_none()) {
-    auto v = seedSphere.cast<std::vector<double>>();
+    auto v = castOr<std::vector<double>>(seedSphere, "seed_sphere must be (x, y, z, radius) in world mm");
     if (v.size() != 4) throw UsageError("seed_sphere must be (x, y, z, radius) in world mm");
     r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
   }
@@ -380,7 +390,7 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
         throw UsageError("seed_slice index '" + t.substr(colon + 1) + "' is not an integer");
       }
     } else {
-      s = seedSlice.cast<std::pair<std::string, int>>();
+      s = castOr<std::pair<std::string, int>>(seedSlice, "seed_slice must be 'AXIS:INDEX' or (AXIS, INDEX)");
     }
     r.seedSliceAxis = s.first;
     r.seedSliceIndex = s.second;

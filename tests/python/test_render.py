@@ -92,6 +92,8 @@ def test_bad_options(derived):
         dtfabric.render(field, no_such_option=1)
     with pytest.raises(dtfabric.UsageError, match="size"):
         dtfabric.render(field, size=(8, 8))
+    with pytest.raises(dtfabric.UsageError, match="size must be"):
+        dtfabric.render(field, size="large")
     with pytest.raises(dtfabric.UsageError):
         dtfabric.render(field, surface="slice=diagonal")
     with pytest.raises(dtfabric.FormatError, match="FA"):
