@@ -22,7 +22,8 @@ std::vector<py::ssize_t> shape3(const Grid& g) {
 } // namespace
 
 const std::vector<std::string>& arrayLayoutNames() {
-  static const std::vector<std::string> names = {"auto", "fsl", "mrtrix", "symmatrix", "dtitk", "dipy", "world"};
+  static const std::vector<std::string> names = {"auto",  "fsl",  "mrtrix", "symmatrix",
+                                                 "dtitk", "dipy", "world"};
   return names;
 }
 
@@ -33,7 +34,8 @@ io::LoadedTensors tensorsFromArray(const float* values, const glm::ivec3& dims, 
   for (const std::string& n : arrayLayoutNames())
     known = known || n == layout;
   if (!known)
-    throw UsageError("layout must be auto, fsl, mrtrix, symmatrix, dtitk, dipy or world, not '" + layout + "'");
+    throw UsageError("layout must be auto, fsl, mrtrix, symmatrix, dtitk, dipy or world, not '" + layout +
+                     "'");
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (!std::isfinite(voxelToWorld[c][r]))
@@ -58,9 +60,12 @@ io::LoadedTensors tensorsFromArray(const float* values, const glm::ivec3& dims, 
   // Components in the on-disk order of the layout the readers know; "world" is MRtrix's frame in the
   // canonical order, "dipy" is symmatrix.
   io::TensorLayout l = io::TensorLayout::Auto;
-  if (layout == "world" || layout == "mrtrix") l = io::TensorLayout::Mrtrix;
-  else if (layout == "dipy" || layout == "symmatrix") l = io::TensorLayout::Symmatrix;
-  else if (layout != "auto") l = io::parseLayout(layout);
+  if (layout == "world" || layout == "mrtrix")
+    l = io::TensorLayout::Mrtrix;
+  else if (layout == "dipy" || layout == "symmatrix")
+    l = io::TensorLayout::Symmatrix;
+  else if (layout != "auto")
+    l = io::parseLayout(layout);
   static constexpr int kWorldToMrtrix[6] = {0, 3, 5, 1, 2, 4}; // mrtrix slot n holds canonical component
   ScalarVolume raw(h.grid, 6);
   for (int k = 0; k < dims.z; ++k)
@@ -74,8 +79,9 @@ io::LoadedTensors tensorsFromArray(const float* values, const glm::ivec3& dims, 
   io::detail::tensorsFromComponents(out, raw, l, fiveD, name, io::TensorLayout::Fsl);
   if (layout == "world") out.layoutReason = "given explicitly (world: xx xy xz yy yz zz in world RAS)";
   if (layout == "dipy")
-    out.layoutReason = "given explicitly (dipy: lower triangle xx xy yy xz yz zz in the gradient table's frame, "
-                       "as symmatrix)";
+    out.layoutReason =
+        "given explicitly (dipy: lower triangle xx xy yy xz yz zz in the gradient table's frame, "
+        "as symmatrix)";
   return out;
 }
 

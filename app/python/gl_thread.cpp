@@ -65,8 +65,9 @@ void runOnGlThread(const std::function<void()>& work) {
   GlThread& t = glThread();
   // A child forked after the first render has neither the thread nor a usable context.
   if (::getpid() != t.pid)
-    throw GlError("dtfabric cannot render in a process forked after it rendered (the GL context belongs to the "
-                  "parent): use multiprocessing's 'spawn' or 'forkserver' start method");
+    throw GlError(
+        "dtfabric cannot render in a process forked after it rendered (the GL context belongs to the "
+        "parent): use multiprocessing's 'spawn' or 'forkserver' start method");
   Job job;
   job.work = &work;
   {

@@ -17,14 +17,13 @@
 #include "io/png_io.h"
 #include "render/fabric_options.h"
 
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
-#include <pybind11/stl.h>
-
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <string>
 
 namespace py = pybind11;
@@ -75,18 +74,22 @@ py::object readOnly(py::array a) {
 PyTensorField wrapTensors(io::LoadedTensors&& t, const std::string& source, const std::string& layout) {
   PyTensorField f;
   // Readers always name a layout; a DWI fitted here has none ("fitted", its reason says from what).
-  f.layout = !layout.empty() ? layout : t.layout == io::TensorLayout::Auto ? "fitted" : io::layoutName(t.layout);
+  f.layout = !layout.empty()                      ? layout
+             : t.layout == io::TensorLayout::Auto ? "fitted"
+                                                  : io::layoutName(t.layout);
   f.data = std::make_shared<const io::LoadedTensors>(std::move(t));
   f.source = source;
   return f;
 }
 
 // A field from an array-like or a nibabel image (duck-typed: .dataobj or .get_fdata(), and .affine).
-PyTensorField fieldFromPython(const py::object& array, const py::object& affineArg, const std::string& layout) {
+PyTensorField fieldFromPython(const py::object& array, const py::object& affineArg,
+                              const std::string& layout) {
   py::module_ np = py::module_::import("numpy");
   py::object values = array, affine = affineArg;
   std::string name = "numpy array";
-  const bool image = py::hasattr(array, "affine") && (py::hasattr(array, "dataobj") || py::hasattr(array, "get_fdata"));
+  const bool image =
+      py::hasattr(array, "affine") && (py::hasattr(array, "dataobj") || py::hasattr(array, "get_fdata"));
   if (image) {
     if (affine.is_none()) affine = array.attr("affine");
     values = py::hasattr(array, "dataobj") ? np.attr("asanyarray")(array.attr("dataobj"))
@@ -119,7 +122,8 @@ PyTensorField fieldFromPython(const py::object& array, const py::object& affineA
   if (affine.is_none())
     throw InputError(name + ": an affine (4x4 voxel -> world RAS mm) is needed with a plain array");
   const glm::dmat4 m = affineFromPython(affine, name);
-  const glm::ivec3 dims(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), static_cast<int>(a.shape(2)));
+  const glm::ivec3 dims(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)),
+                        static_cast<int>(a.shape(2)));
   io::LoadedTensors t;
   {
     py::gil_scoped_release release;
@@ -139,8 +143,8 @@ TensorInputOptions tensorOptions(const std::string& layout, const py::object& bv
   return in;
 }
 
-py::object load(const py::object& path, const std::string& layout, const py::object& bval, const py::object& bvec,
-                const py::object& mask, const py::object& tensor) {
+py::object load(const py::object& path, const std::string& layout, const py::object& bval,
+                const py::object& bvec, const py::object& mask, const py::object& tensor) {
   const std::string p = pathText(path);
   const std::string tensorPath = optionalPath(tensor);
   const TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
@@ -151,7 +155,8 @@ py::object load(const py::object& path, const std::string& layout, const py::obj
     if (in.bval.empty() && in.bvec.empty() && isFibreInput(p, layout, true)) {
       fibres = loadFibreInput(p, layout, tensorPath, true);
     } else {
-      if (!tensorPath.empty()) throw UsageError("tensor= pairs a tensor with a fibre set; " + p + " is not one");
+      if (!tensorPath.empty())
+        throw UsageError("tensor= pairs a tensor with a fibre set; " + p + " is not one");
       tensors = loadTensorInput(p, in);
     }
   }
@@ -178,8 +183,9 @@ std::shared_ptr<const io::LoadedTensors> tensorsOf(const py::object& input, cons
   if (py::isinstance<PyFibreSet>(input)) {
     const auto& f = input.cast<const PyFibreSet&>();
     if (!f.data->tensor)
-      throw UsageError(f.source + " is a fibre set without a paired tensor: load it with tensor=FILE, or pass "
-                                  "a tensor field");
+      throw UsageError(f.source +
+                       " is a fibre set without a paired tensor: load it with tensor=FILE, or pass "
+                       "a tensor field");
     source = f.data->tensor->header.path;
     return std::make_shared<const io::LoadedTensors>(*f.data->tensor);
   }
@@ -224,8 +230,8 @@ void setFabricOption(render::FabricParams& p, const std::string& key, const py::
         if (c == '-') c = '_';
       names += (names.empty() ? "" : ", ") + n;
     }
-    throw py::type_error("render() got an unexpected keyword argument '" + key + "' (fabric options: " + names +
-                         ")");
+    throw py::type_error("render() got an unexpected keyword argument '" + key +
+                         "' (fabric options: " + names + ")");
   }
   o->set(p, o->parse(optionText(value)));
 }
@@ -247,15 +253,16 @@ std::pair<int, int> sizeOf(const py::object& size) {
   return castOr<std::pair<int, int>>(size, "size must be (width, height) in pixels");
 }
 
-py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string& surface, const py::object& view,
-                                      const py::object& size, const py::object& colour, bool neurological,
-                                      bool perspective, const py::object& background,
-                                      const py::object& backgroundWindow, const py::object& tracts,
-                                      const py::object& tractsColor, const py::object& tractsRange,
-                                      const py::object& tractsGroup, double tractsNear, double tractsSlab,
-                                      double tractsSlabDepth, double tractWidth, const py::object& split,
-                                      const std::string& layout, const py::object& bval, const py::object& bvec,
-                                      const py::object& mask, const py::object& tensor, const py::kwargs& params) {
+py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string& surface,
+                                      const py::object& view, const py::object& size,
+                                      const py::object& colour, bool neurological, bool perspective,
+                                      const py::object& background, const py::object& backgroundWindow,
+                                      const py::object& tracts, const py::object& tractsColor,
+                                      const py::object& tractsRange, const py::object& tractsGroup,
+                                      double tractsNear, double tractsSlab, double tractsSlabDepth,
+                                      double tractWidth, const py::object& split, const std::string& layout,
+                                      const py::object& bval, const py::object& bvec, const py::object& mask,
+                                      const py::object& tensor, const py::kwargs& params) {
   RenderRequest r;
   std::shared_ptr<const io::LoadedTensors> held;
   r.layout = layout;
@@ -301,8 +308,10 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   if (!tractsRange.is_none())
     r.colouring.range = castOr<std::pair<double, double>>(tractsRange, "tracts_range must be (lo, hi)");
   if (!tractsGroup.is_none()) {
-    if (py::isinstance<py::str>(tractsGroup)) r.colouring.groups = {tractsGroup.cast<std::string>()};
-    else r.colouring.groups = tractsGroup.cast<std::vector<std::string>>();
+    if (py::isinstance<py::str>(tractsGroup))
+      r.colouring.groups = {tractsGroup.cast<std::string>()};
+    else
+      r.colouring.groups = tractsGroup.cast<std::vector<std::string>>();
   }
   r.tractsNear = tractsNear;
   r.tractsSlab = tractsSlab;
@@ -362,8 +371,8 @@ PySurface makeSurface(const py::object& input, const std::string& spec, double s
 py::list track(const py::object& input, const py::object& seedsMask, const py::object& seedSphere,
                const py::object& seedSurface, const py::object& seedSlice, const py::object& select,
                const py::object& seeds, int seedsPerVoxel, double step, double faStop, double angle,
-               double minLength, double maxLength, bool rk4, const py::object& mask, long long seed, int threads,
-               const std::string& layout, const py::object& bval, const py::object& bvec) {
+               double minLength, double maxLength, bool rk4, const py::object& mask, long long seed,
+               int threads, const std::string& layout, const py::object& bval, const py::object& bvec) {
   TrackRequest r;
   std::string source;
   auto tensors = tensorsOf(input, layout, bval, bvec, py::none(), source);
@@ -442,8 +451,9 @@ py::list matrixList(const surfaces::AxisTransform& t) {
   return rows;
 }
 
-py::dict check(const py::object& input, const py::object& bval, const py::object& bvec, const py::object& mask,
-               const std::string& layout, const py::object& tensor, double minMargin, int minWhiteMatter) {
+py::dict check(const py::object& input, const py::object& bval, const py::object& bvec,
+               const py::object& mask, const std::string& layout, const py::object& tensor, double minMargin,
+               int minWhiteMatter) {
   CheckRequest req;
   req.input = pathText(input);
   req.bval = optionalPath(bval);
@@ -509,8 +519,8 @@ py::dict check(const py::object& input, const py::object& bval, const py::object
 // --- exceptions
 
 bool isFileProblem(const std::string& m) {
-  for (const char* p : {": file does not exist", ": is a directory", "cannot open", "cannot write", "No such file",
-                        "Permission denied"})
+  for (const char* p : {": file does not exist", ": is a directory", "cannot open", "cannot write",
+                        "No such file", "Permission denied"})
     if (m.find(p) != std::string::npos) return true;
   return false;
 }
@@ -586,8 +596,9 @@ TensorField(array, affine=None, layout="auto")
             return f.validCache;
           },
           "(X, Y, Z) bool: where the field holds a finite, non-zero tensor")
-      .def_property_readonly("affine", [](const PyTensorField& f) { return affineArray(f.data->field.grid); },
-                             "4x4 float64, voxel (i, j, k) -> world RAS mm")
+      .def_property_readonly(
+          "affine", [](const PyTensorField& f) { return affineArray(f.data->field.grid); },
+          "4x4 float64, voxel (i, j, k) -> world RAS mm")
       .def_property_readonly("shape",
                              [](const PyTensorField& f) {
                                const auto& d = f.data->field.grid.dims;
@@ -615,7 +626,8 @@ TensorField(array, affine=None, layout="auto")
                std::to_string(d.z) + " layout=" + f.layout + " from " + f.source + ">";
       });
 
-  py::class_<PyFibreSet>(m, "FibreSet", "Crossing fibres per voxel (unit world-RAS directions, strongest first).")
+  py::class_<PyFibreSet>(m, "FibreSet",
+                         "Crossing fibres per voxel (unit world-RAS directions, strongest first).")
       .def_property_readonly(
           "directions",
           [](PyFibreSet& f) {
@@ -630,14 +642,16 @@ TensorField(array, affine=None, layout="auto")
             return f.amplitudesCache;
           },
           "(X, Y, Z, K) float32 amplitudes or fractions, 0 where absent")
-      .def_property_readonly("affine", [](const PyFibreSet& f) { return affineArray(f.data->fibres.set.grid); })
+      .def_property_readonly("affine",
+                             [](const PyFibreSet& f) { return affineArray(f.data->fibres.set.grid); })
       .def_property_readonly("shape",
                              [](const PyFibreSet& f) {
                                const auto& d = f.data->fibres.set.grid.dims;
                                return py::make_tuple(d.x, d.y, d.z);
                              })
-      .def_property_readonly("layout",
-                             [](const PyFibreSet& f) { return std::string(io::fibreLayoutName(f.data->fibres.layout)); })
+      .def_property_readonly(
+          "layout",
+          [](const PyFibreSet& f) { return std::string(io::fibreLayoutName(f.data->fibres.layout)); })
       .def_property_readonly("layout_reason", [](const PyFibreSet& f) { return f.data->fibres.layoutReason; })
       .def_property_readonly("warnings", [](const PyFibreSet& f) { return f.data->fibres.warnings; })
       .def_property_readonly("files", [](const PyFibreSet& f) { return f.data->fibres.files; })
@@ -658,8 +672,8 @@ TensorField(array, affine=None, layout="auto")
           "the paired TensorField (load(..., tensor=FILE)), or None")
       .def("__repr__", [](const PyFibreSet& f) {
         const auto& s = f.data->fibres.set;
-        return "<dtfabric.FibreSet " + std::to_string(s.grid.dims.x) + "x" + std::to_string(s.grid.dims.y) + "x" +
-               std::to_string(s.grid.dims.z) + " K=" + std::to_string(s.maxFibres) +
+        return "<dtfabric.FibreSet " + std::to_string(s.grid.dims.x) + "x" + std::to_string(s.grid.dims.y) +
+               "x" + std::to_string(s.grid.dims.z) + " K=" + std::to_string(s.maxFibres) +
                " layout=" + io::fibreLayoutName(f.data->fibres.layout) + " from " + f.source + ">";
       });
 
@@ -669,8 +683,8 @@ TensorField(array, affine=None, layout="auto")
       .def_readonly("normals", &PySurface::normals, "(N, 3) float32 unit vertex normals")
       .def_readonly("description", &PySurface::description)
       .def("__repr__", [](const PySurface& s) {
-        return "<dtfabric.Surface " + s.description + ", " + std::to_string(py::len(s.vertices)) + " vertices, " +
-               std::to_string(py::len(s.faces)) + " triangles>";
+        return "<dtfabric.Surface " + s.description + ", " + std::to_string(py::len(s.vertices)) +
+               " vertices, " + std::to_string(py::len(s.faces)) + " triangles>";
       });
 
   m.def("load", &load, py::arg("path"), py::arg("layout") = "auto", py::arg("bval") = py::none(),
@@ -681,15 +695,16 @@ layout: auto, a tensor layout (fsl, mrtrix, symmatrix, dtitk) or a fibre layout 
 bedpostx). bval/bvec: treat path as a DWI. mask: the DWI fit mask. tensor: a tensor file paired with a fibre
 set. Returns a TensorField or a FibreSet.)");
 
-  m.def("render", &renderImage, py::arg("input"), py::arg("surface") = "slice=axial", py::arg("view") = py::none(),
-        py::arg("size") = std::make_pair(768, 768), py::arg("colour") = py::none(), py::arg("neurological") = false,
-        py::arg("perspective") = false, py::arg("background") = py::none(),
-        py::arg("background_window") = py::none(), py::arg("tracts") = py::none(),
-        py::arg("tracts_color") = py::none(), py::arg("tracts_range") = py::none(),
-        py::arg("tracts_group") = py::none(), py::arg("tracts_near") = 3.0, py::arg("tracts_slab") = 0.0,
-        py::arg("tracts_slab_depth") = 0.0, py::arg("tract_width") = 2.0, py::arg("split") = py::none(),
-        py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
-        py::arg("mask") = py::none(), py::arg("tensor") = py::none(),
+  m.def("render", &renderImage, py::arg("input"), py::arg("surface") = "slice=axial",
+        py::arg("view") = py::none(), py::arg("size") = std::make_pair(768, 768),
+        py::arg("colour") = py::none(), py::arg("neurological") = false, py::arg("perspective") = false,
+        py::arg("background") = py::none(), py::arg("background_window") = py::none(),
+        py::arg("tracts") = py::none(), py::arg("tracts_color") = py::none(),
+        py::arg("tracts_range") = py::none(), py::arg("tracts_group") = py::none(),
+        py::arg("tracts_near") = 3.0, py::arg("tracts_slab") = 0.0, py::arg("tracts_slab_depth") = 0.0,
+        py::arg("tract_width") = 2.0, py::arg("split") = py::none(), py::arg("layout") = "auto",
+        py::arg("bval") = py::none(), py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
+        py::arg("tensor") = py::none(),
         R"(Renders the fabric headless: the pixels `dtfabric render` writes for the same arguments.
 
 input: a TensorField, a FibreSet from load(), a path, or an array/nibabel image (layout= names its layout).
@@ -705,14 +720,15 @@ with '-' written '_' (blend_k=0.1, lighting=False, ...). Returns (H, W, 4) uint8
         py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
         "Builds a surface of a tensor field (a TensorField, path or array) as `dtfabric surface` does.");
 
-  m.def("track", &track, py::arg("field"), py::arg("seeds_mask") = py::none(), py::arg("seed_sphere") = py::none(),
-        py::arg("seed_surface") = py::none(), py::arg("seed_slice") = py::none(), py::arg("select") = py::none(),
-        py::arg("seeds") = py::none(), py::arg("seeds_per_voxel") = 0, py::arg("step") = 1.0,
-        py::arg("fa_stop") = 0.15, py::arg("angle") = 60.0, py::arg("min_length") = 30.0,
-        py::arg("max_length") = 250.0, py::arg("rk4") = true, py::arg("mask") = py::none(), py::arg("seed") = 1,
-        py::arg("threads") = 0, py::arg("layout") = "auto", py::arg("bval") = py::none(),
-        py::arg("bvec") = py::none(),
-        R"(Deterministic tensor tractography as `dtfabric track`: a list of (N, 3) float32 streamlines, world RAS mm.
+  m.def(
+      "track", &track, py::arg("field"), py::arg("seeds_mask") = py::none(),
+      py::arg("seed_sphere") = py::none(), py::arg("seed_surface") = py::none(),
+      py::arg("seed_slice") = py::none(), py::arg("select") = py::none(), py::arg("seeds") = py::none(),
+      py::arg("seeds_per_voxel") = 0, py::arg("step") = 1.0, py::arg("fa_stop") = 0.15,
+      py::arg("angle") = 60.0, py::arg("min_length") = 30.0, py::arg("max_length") = 250.0,
+      py::arg("rk4") = true, py::arg("mask") = py::none(), py::arg("seed") = 1, py::arg("threads") = 0,
+      py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+      R"(Deterministic tensor tractography as `dtfabric track`: a list of (N, 3) float32 streamlines, world RAS mm.
 Default: select=1000 streamlines seeded where the field holds a tensor.)");
 
   m.def("check", &check, py::arg("input"), py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
@@ -734,14 +750,17 @@ Default: select=1000 streamlines seeded where the field holds a tensor.)");
       },
       py::arg("path"), "Reads a PNG as (H, W, 4) uint8 RGBA.");
 
-  m.def("fabric_options", [] {
-    py::dict d;
-    for (const auto& o : render::fabricOptions()) {
-      std::string n = o.name;
-      for (char& c : n)
-        if (c == '-') c = '_';
-      d[py::str(n)] = o.help;
-    }
-    return d;
-  }, "The fabric options render() takes as keyword arguments, with their help.");
+  m.def(
+      "fabric_options",
+      [] {
+        py::dict d;
+        for (const auto& o : render::fabricOptions()) {
+          std::string n = o.name;
+          for (char& c : n)
+            if (c == '-') c = '_';
+          d[py::str(n)] = o.help;
+        }
+        return d;
+      },
+      "The fabric options render() takes as keyword arguments, with their help.");
 }

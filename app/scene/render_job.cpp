@@ -69,11 +69,16 @@ Background loadBackground(const std::string& what, const std::string& window, co
 
 SplitMode parseSplitMode(const std::string& text) {
   SplitMode m;
-  if (text == "tracts") m.kind = SplitMode::Kind::Tracts;
-  else if (text == "colour" || text == "color") m.kind = SplitMode::Kind::Colour;
-  else if (text.rfind("surface=", 0) == 0 && text.size() > 8) m = {SplitMode::Kind::Surface, text.substr(8)};
-  else if (text.rfind("input=", 0) == 0 && text.size() > 6) m = {SplitMode::Kind::Input, text.substr(6)};
-  else throw UsageError("--split must be tracts, colour, surface=SPEC or input=FILE, not '" + text + "'");
+  if (text == "tracts")
+    m.kind = SplitMode::Kind::Tracts;
+  else if (text == "colour" || text == "color")
+    m.kind = SplitMode::Kind::Colour;
+  else if (text.rfind("surface=", 0) == 0 && text.size() > 8)
+    m = {SplitMode::Kind::Surface, text.substr(8)};
+  else if (text.rfind("input=", 0) == 0 && text.size() > 6)
+    m = {SplitMode::Kind::Input, text.substr(6)};
+  else
+    throw UsageError("--split must be tracts, colour, surface=SPEC or input=FILE, not '" + text + "'");
   return m;
 }
 
@@ -90,7 +95,8 @@ RenderResult runRender(const RenderRequest& r) {
     throw UsageError("--tracts-color, --tracts-range and --tracts-group need --tracts FILE");
   if (!(r.tractsNear >= 0 && r.tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
   if (!(r.tractsSlab >= 0 && r.tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
-  if (!(std::abs(r.tractsSlabDepth) <= 1000)) throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
+  if (!(std::abs(r.tractsSlabDepth) <= 1000))
+    throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
   if (!(r.tractWidth > 0 && r.tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
     throw UsageError("--split tracts needs --tracts FILE");
@@ -120,15 +126,17 @@ RenderResult runRender(const RenderRequest& r) {
     checkFibreSurface(spec, *fibreIn);
     if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
     if (p.colour != render::ColourMode::Fibres)
-      throw UsageError("--color " + r.colourName + " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
+      throw UsageError("--color " + r.colourName +
+                       " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
     if ((!fibreIn->tensor && backgroundArg == "md") || (fibreIn->fa.data.empty() && backgroundArg == "fa"))
       throw UsageError("--background " + backgroundArg + " needs a tensor: pair one with --tensor FILE");
   } else {
-    if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
+    if (!tensorPath.empty())
+      throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
     if (!r.field) loaded = loadTensorInput(input, in);
   }
   const TensorField& field = fibreIn ? fibreIn->carrier : r.field ? *r.field : loaded.field;
-  ScalarVolume fa = !fibreIn                  ? computeFaMap(field)
+  ScalarVolume fa = !fibreIn                   ? computeFaMap(field)
                     : fibreIn->fa.data.empty() ? ScalarVolume(field.grid, 1)
                                                : fibreIn->fa;
   SurfaceBuildOptions buildOptions;
@@ -251,8 +259,8 @@ RenderResult runRender(const RenderRequest& r) {
   } else if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
     Image left = pane(mesh, field, p, true);
     const TensorField& field2 = split.kind != SplitMode::Kind::Input ? field
-                                : fibreIn2                            ? fibreIn2->carrier
-                                                                      : loaded2.field;
+                                : fibreIn2                           ? fibreIn2->carrier
+                                                                     : loaded2.field;
     image = sideBySide(left, pane(mesh2, field2, p, true));
   } else {
     image = pane(mesh, field, p, true);

@@ -29,34 +29,34 @@ struct SplitMode {
 SplitMode parseSplitMode(const std::string& text);
 
 struct RenderRequest {
-  std::string input;                   // INPUT: a tensor file, a DWI or a fibre set
-  const TensorField* field = nullptr;  // when set: these tensors instead of loading `input` (which then only
-                                       // names them in messages)
-  TensorInputOptions tensorOptions;    // tensor layout, bval/bvec, DWI fit mask
-  std::string layout = "auto";         // the layout as given: a tensor or a fibre layout name, or auto
-  std::string tensor;                  // fibre sets: a paired tensor file (FA)
+  std::string input;                  // INPUT: a tensor file, a DWI or a fibre set
+  const TensorField* field = nullptr; // when set: these tensors instead of loading `input` (which then only
+                                      // names them in messages)
+  TensorInputOptions tensorOptions;   // tensor layout, bval/bvec, DWI fit mask
+  std::string layout = "auto";        // the layout as given: a tensor or a fibre layout name, or auto
+  std::string tensor;                 // fibre sets: a paired tensor file (FA)
   SurfaceSpec surface;
   std::optional<render::StandardView> view; // default: the slice's own view, else superior
   bool neurological = false, perspective = false;
   int width = 768, height = 768;
   render::FabricParams params;
-  bool colourGiven = false;            // params.colour was chosen (a fibre set defaults to fibres)
-  std::string colourName;              // as given, for messages
-  std::string background;              // fa | md | FILE, or empty
-  std::string backgroundWindow;        // LO,HI or empty
-  std::string tracts;                  // tract file or empty
+  bool colourGiven = false;     // params.colour was chosen (a fibre set defaults to fibres)
+  std::string colourName;       // as given, for messages
+  std::string background;       // fa | md | FILE, or empty
+  std::string backgroundWindow; // LO,HI or empty
+  std::string tracts;           // tract file or empty
   TractColouring colouring;
   double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;
   SplitMode split;
-  std::string output = "the image";    // what GL errors name
+  std::string output = "the image"; // what GL errors name
 };
 
 struct RenderResult {
   Image image;
-  std::string surface;        // describeSurface of the request's surface
-  std::size_t triangles = 0;  // of the (first pane's) surface
+  std::string surface;       // describeSurface of the request's surface
+  std::size_t triangles = 0; // of the (first pane's) surface
   render::StandardView view = render::StandardView::Superior;
-  int iterations = 0;         // advection iterations of the last pane
+  int iterations = 0; // advection iterations of the last pane
 };
 
 // The view a surface is shown from by default: a slice's own view, else superior.

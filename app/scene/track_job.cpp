@@ -24,7 +24,8 @@ TrackRun runTrack(const TrackRequest& r) {
   if (r.seedsPerVoxel < 0 || (r.seedsPerVoxel > 0 && r.seedsMask.empty()))
     throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
   if (r.seedCount < 0) throw UsageError("--seeds must be positive");
-  if (r.seedCount == 0 && r.seedsPerVoxel == 0 && r.select <= 0) throw UsageError("--select must be positive");
+  if (r.seedCount == 0 && r.seedsPerVoxel == 0 && r.select <= 0)
+    throw UsageError("--select must be positive");
   surfaces::TrackingOptions to = r.options;
   surfaces::validate(to);
 
@@ -54,8 +55,8 @@ TrackRun runTrack(const TrackRequest& r) {
     source = surfaces::seedsOnSurface(mesh, seed);
   } else if (r.seedSliceAxis) {
     const surfaces::SliceAxis axis = surfaces::parseSliceAxis(*r.seedSliceAxis);
-    source = surfaces::seedsOnSlice(field, surfaces::voxelAxisFor(field.grid, axis), r.seedSliceIndex, to.mask,
-                                    seed);
+    source = surfaces::seedsOnSlice(field, surfaces::voxelAxisFor(field.grid, axis), r.seedSliceIndex,
+                                    to.mask, seed);
   } else {
     MaskVolume valid(field.grid, 1);
     valid.data = field.valid;

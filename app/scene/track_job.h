@@ -19,8 +19,8 @@ struct TrackRequest {
   const TensorField* field = nullptr; // when set: these tensors instead of loading `input`
   TensorInputOptions tensorOptions;
   // Seeds: at most one of these; none = random points in the voxels where the input holds a tensor.
-  std::string seedsMask;                 // random points in the non-zero voxels of this NIfTI mask
-  std::optional<glm::dvec4> seedSphere;  // centre x, y, z and radius (world mm)
+  std::string seedsMask;                // random points in the non-zero voxels of this NIfTI mask
+  std::optional<glm::dvec4> seedSphere; // centre x, y, z and radius (world mm)
   std::optional<SurfaceSpec> seedSurface;
   std::optional<std::string> seedSliceAxis; // axial | coronal | sagittal, with seedSliceIndex
   int seedSliceIndex = 0;
@@ -29,7 +29,7 @@ struct TrackRequest {
   int seedCount = 0;
   int seedsPerVoxel = 0;
   std::uint64_t rngSeed = 1;
-  std::string stopMask; // stop where this NIfTI mask is zero
+  std::string stopMask;              // stop where this NIfTI mask is zero
   surfaces::TrackingOptions options; // mask is set from stopMask by the job
 };
 
