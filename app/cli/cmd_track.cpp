@@ -3,6 +3,7 @@
 #include "app/cli/commands.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
+#include "app/scene/track_job.h"
 #include "app/scene/tract_files.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
@@ -52,14 +53,6 @@ Other
   --force               overwrite an existing output
   --json                print the report as one JSON object
 )";
-
-MaskVolume loadMask(const std::string& path) {
-  ScalarVolume m = io::readScalarVolume(path);
-  MaskVolume out(m.grid, 1);
-  for (std::size_t i = 0; i < m.grid.voxelCount(); ++i)
-    out.data[i] = m.data[i * m.components] > 0 ? 1 : 0;
-  return out;
-}
 
 std::vector<double> parseList(const std::string& text, std::size_t n, const std::string& what) {
   std::vector<double> v;
@@ -141,34 +134,19 @@ int cmdTrack(const CommandArgs& argv) {
   if (!force && std::filesystem::exists(output))
     throw InputError(output + " exists (use --force to overwrite)");
 
-  in.quiet = json;
-  io::LoadedTensors loaded = loadTensorInput(input, in);
-  const TensorField& field = loaded.field;
-
-  MaskVolume stop;
-  if (!stopMask.empty()) {
-    stop = loadMask(stopMask);
-    to.mask = &stop;
-  }
-  const std::uint64_t seed = static_cast<std::uint64_t>(rngSeed);
-  surfaces::SeedSource source;
-  if (seedsMask) {
-    source = surfaces::seedsFromMask(loadMask(*seedsMask), perVoxel, seed);
-  } else if (seedSphere) {
+  TrackRequest request;
+  request.input = input;
+  request.tensorOptions = in;
+  request.tensorOptions.quiet = json;
+  request.seedsMask = seedsMask.value_or("");
+  if (seedSphere) {
     auto v = parseList(*seedSphere, 4, "--seed-sphere");
-    source = surfaces::seedsInSphere(glm::dvec3(v[0], v[1], v[2]), v[3], seed);
-  } else if (seedSurface) {
-    Mesh mesh;
-    try {
-      mesh = buildSurface(surfaceSpec, field, computeFaMap(field));
-    } catch (const Error&) {
-      rethrowWithContext("while building the seed surface " + describeSurface(surfaceSpec));
-    }
-    source = surfaces::seedsOnSurface(mesh, seed);
-  } else if (seedSlice) {
+    request.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
+  }
+  if (seedSurface) request.seedSurface = surfaceSpec;
+  if (seedSlice) {
     auto colon = seedSlice->find(':');
     if (colon == std::string::npos) throw UsageError("--seed-slice expects AXIS:INDEX, e.g. axial:20");
-    surfaces::SliceAxis axis = surfaces::parseSliceAxis(seedSlice->substr(0, colon));
     int index = 0;
     try {
       std::size_t used = 0;
@@ -177,34 +155,25 @@ int cmdTrack(const CommandArgs& argv) {
     } catch (const std::exception&) {
       throw UsageError("--seed-slice index '" + seedSlice->substr(colon + 1) + "' is not an integer");
     }
-    source = surfaces::seedsOnSlice(field, surfaces::voxelAxisFor(field.grid, axis), index, to.mask, seed);
-  } else {
-    MaskVolume valid(field.grid, 1);
-    valid.data = field.valid;
-    source = surfaces::seedsFromMask(valid, 0, seed);
-    source.description += " (where INPUT holds a tensor)";
+    request.seedSliceAxis = seedSlice->substr(0, colon);
+    request.seedSliceIndex = index;
   }
-
+  request.select = selectN;
+  request.seedCount = seedsN ? seedCount : 0;
+  request.seedsPerVoxel = perVoxel;
+  request.rngSeed = static_cast<std::uint64_t>(rngSeed);
+  request.stopMask = stopMask;
   const bool interactive = !json && ::isatty(2);
   if (interactive)
     to.progress = [](std::size_t done, std::size_t planned) {
       std::fprintf(stderr, "\rtracking: %zu / %zu seeds", done, planned);
       std::fflush(stderr);
     };
-  auto t0 = std::chrono::steady_clock::now();
-  surfaces::TrackingResult r;
-  std::string mode;
-  if (perVoxel > 0) {
-    r = surfaces::trackSeeds(field, source, source.count, to);
-    mode = std::to_string(source.count) + " seeds";
-  } else if (seedsN) {
-    r = surfaces::trackSeeds(field, source, static_cast<std::uint64_t>(seedCount), to);
-    mode = std::to_string(seedCount) + " seeds";
-  } else {
-    r = surfaces::trackSelect(field, source, static_cast<std::size_t>(selectN), to);
-    mode = "select " + std::to_string(selectN);
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  request.options = to;
+  TrackRun run = runTrack(request);
+  const surfaces::TrackingResult& r = run.result;
+  const std::string& mode = run.mode;
+  const double seconds = run.seconds;
   if (interactive) std::fputs("\n", stderr);
   if (r.lines.lineCount() == 0) {
     std::ostringstream msg;
@@ -216,7 +185,7 @@ int cmdTrack(const CommandArgs& argv) {
   if (!seedsN && perVoxel == 0 && r.lines.lineCount() < static_cast<std::size_t>(selectN))
     logWarning("only " + std::to_string(r.lines.lineCount()) + " of " + std::to_string(selectN) +
                " streamlines after " + std::to_string(r.seedsTried) + " seeds");
-  writeTracts(output, r.lines, &field.grid);
+  writeTracts(output, r.lines, &run.grid);
 
   std::vector<double> lengths(r.lines.lineCount());
   for (std::size_t i = 0; i < lengths.size(); ++i)
@@ -233,7 +202,7 @@ int cmdTrack(const CommandArgs& argv) {
         lengths.front(), medLen, lengths.back(), seconds, r.threads, to.rk4 ? "rk4" : "euler", to.stepMm,
         to.faStop, to.maxAngleDeg, rngSeed, r.cancelled ? "true" : "false");
   } else {
-    std::printf("seeds: %s (%s)\n", source.description.c_str(), mode.c_str());
+    std::printf("seeds: %s (%s)\n", run.seedDescription.c_str(), mode.c_str());
     std::printf("tracking: %s, step %g mm, FA stop %g, angle %g deg/step, length %g..%g mm%s\n",
                 to.rk4 ? "RK4" : "Euler", to.stepMm, to.faStop, to.maxAngleDeg, to.minLengthMm,
                 to.maxLengthMm, stopMask.empty() ? "" : (", stop mask " + stopMask).c_str());

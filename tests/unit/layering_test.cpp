@@ -21,6 +21,7 @@ const std::map<std::string, std::vector<std::string>> kAllowed = {
     {"app/viewer", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene"}},
     {"app/cli", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/bench"}},
     {"app/bench", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/cli"}},
+    {"app/python", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene"}},
 };
 
 std::string moduleOf(const std::string& rel) {

@@ -1,0 +1,766 @@
+// dtfabric._core: the Python bindings over the session library (app/scene). Loading, surfaces, tracking,
+// the orientation check and the render job are the ones the command-line tool runs; this file only turns
+// Python arguments into their requests and results into numpy arrays. Long work runs without the GIL; GL
+// work runs on the module's GL thread (app/python/gl_thread.h). dtf::Error types become the exception
+// classes of dtfabric/_errors.py.
+#include "app/python/arrays.h"
+#include "app/python/gl_thread.h"
+#include "app/scene/check_run.h"
+#include "app/scene/fibre_input.h"
+#include "app/scene/render_job.h"
+#include "app/scene/surface_spec.h"
+#include "app/scene/tensor_input.h"
+#include "app/scene/track_job.h"
+#include "io/fibre_io.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/png_io.h"
+#include "render/fabric_options.h"
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <string>
+
+namespace py = pybind11;
+
+namespace dtf::python {
+
+using namespace dtf::app;
+
+namespace {
+
+std::string pathText(const py::handle& p) {
+  return py::str(py::module_::import("os").attr("fspath")(p));
+}
+
+std::string optionalPath(const py::object& p) {
+  return p.is_none() ? std::string() : pathText(p);
+}
+
+bool isPathLike(const py::handle& o) {
+  return py::isinstance<py::str>(o) || py::hasattr(o, "__fspath__");
+}
+
+// --- fields
+
+struct PyTensorField {
+  std::shared_ptr<const io::LoadedTensors> data;
+  std::string source; // the file, or a description of the array
+  std::string layout; // the layout name as the user knows it (dipy, world included)
+  py::object tensorCache, validCache;
+};
+
+struct PyFibreSet {
+  std::shared_ptr<const FibreInput> data;
+  std::string source, layoutGiven, tensorPath;
+  py::object directionsCache, amplitudesCache;
+};
+
+struct PySurface {
+  py::object vertices, faces, normals;
+  std::string description;
+};
+
+py::object readOnly(py::array a) {
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+PyTensorField wrapTensors(io::LoadedTensors&& t, const std::string& source, const std::string& layout) {
+  PyTensorField f;
+  // Readers always name a layout; a DWI fitted here has none ("fitted", its reason says from what).
+  f.layout = !layout.empty()                      ? layout
+             : t.layout == io::TensorLayout::Auto ? "fitted"
+                                                  : io::layoutName(t.layout);
+  f.data = std::make_shared<const io::LoadedTensors>(std::move(t));
+  f.source = source;
+  return f;
+}
+
+// A field from an array-like or a nibabel image (duck-typed: .dataobj or .get_fdata(), and .affine).
+PyTensorField fieldFromPython(const py::object& array, const py::object& affineArg,
+                              const std::string& layout) {
+  py::module_ np = py::module_::import("numpy");
+  py::object values = array, affine = affineArg;
+  std::string name = "numpy array";
+  const bool image =
+      py::hasattr(array, "affine") && (py::hasattr(array, "dataobj") || py::hasattr(array, "get_fdata"));
+  if (image) {
+    if (affine.is_none()) affine = array.attr("affine");
+    values = py::hasattr(array, "dataobj") ? np.attr("asanyarray")(array.attr("dataobj"))
+                                           : array.attr("get_fdata")();
+    name = "image";
+    if (py::hasattr(array, "get_filename")) {
+      py::object file = array.attr("get_filename")();
+      if (!file.is_none()) name = py::str(file);
+    }
+  }
+  py::array_t<float, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(values);
+  } catch (const py::error_already_set&) {
+    a = {};
+  }
+  if (!a) throw InputError(name + ": not an array of numbers");
+  std::string shape = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d)
+    shape += (d ? ", " : "") + std::to_string(a.shape(d));
+  shape += a.ndim() == 1 ? ",)" : ")";
+  if (!image) name += " " + shape;
+  const bool fourD = a.ndim() == 4 && a.shape(3) == 6;
+  const bool fiveD = a.ndim() == 5 && a.shape(3) == 1 && a.shape(4) == 6;
+  if (!fourD && !fiveD)
+    throw InputError(name + ": is not a tensor array: shape " + shape +
+                     " (expected (X, Y, Z, 6), or (X, Y, Z, 1, 6) for symmatrix/dtitk/dipy)");
+  for (int d = 0; d < 3; ++d)
+    if (a.shape(d) > 100000 || a.shape(d) < 1) throw InputError(name + ": absurd shape " + shape);
+  if (affine.is_none())
+    throw InputError(name + ": an affine (4x4 voxel -> world RAS mm) is needed with a plain array");
+  const glm::dmat4 m = affineFromPython(affine, name);
+  const glm::ivec3 dims(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)),
+                        static_cast<int>(a.shape(2)));
+  io::LoadedTensors t;
+  {
+    py::gil_scoped_release release;
+    t = tensorsFromArray(a.data(), dims, fiveD, m, layout, name);
+  }
+  return wrapTensors(std::move(t), name, layout == "auto" ? "" : layout);
+}
+
+TensorInputOptions tensorOptions(const std::string& layout, const py::object& bval, const py::object& bvec,
+                                 const py::object& mask) {
+  TensorInputOptions in;
+  if (!io::isFibreLayoutName(layout)) in.layout = io::parseLayout(layout);
+  in.bval = optionalPath(bval);
+  in.bvec = optionalPath(bvec);
+  in.mask = optionalPath(mask);
+  in.quiet = true;
+  return in;
+}
+
+py::object load(const py::object& path, const std::string& layout, const py::object& bval,
+                const py::object& bvec, const py::object& mask, const py::object& tensor) {
+  const std::string p = pathText(path);
+  const std::string tensorPath = optionalPath(tensor);
+  const TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
+  std::optional<FibreInput> fibres;
+  io::LoadedTensors tensors;
+  {
+    py::gil_scoped_release release;
+    if (in.bval.empty() && in.bvec.empty() && isFibreInput(p, layout, true)) {
+      fibres = loadFibreInput(p, layout, tensorPath, true);
+    } else {
+      if (!tensorPath.empty())
+        throw UsageError("tensor= pairs a tensor with a fibre set; " + p + " is not one");
+      tensors = loadTensorInput(p, in);
+    }
+  }
+  if (fibres) {
+    PyFibreSet f;
+    f.data = std::make_shared<const FibreInput>(std::move(*fibres));
+    f.source = p;
+    f.layoutGiven = layout;
+    f.tensorPath = tensorPath;
+    return py::cast(std::move(f));
+  }
+  return py::cast(wrapTensors(std::move(tensors), p, ""));
+}
+
+// The tensors of a field argument: a TensorField, a path (loaded), or an array/image (converted).
+std::shared_ptr<const io::LoadedTensors> tensorsOf(const py::object& input, const std::string& layout,
+                                                   const py::object& bval, const py::object& bvec,
+                                                   const py::object& mask, std::string& source) {
+  if (py::isinstance<PyTensorField>(input)) {
+    const auto& f = input.cast<const PyTensorField&>();
+    source = f.source;
+    return f.data;
+  }
+  if (py::isinstance<PyFibreSet>(input)) {
+    const auto& f = input.cast<const PyFibreSet&>();
+    if (!f.data->tensor)
+      throw UsageError(f.source +
+                       " is a fibre set without a paired tensor: load it with tensor=FILE, or pass "
+                       "a tensor field");
+    source = f.data->tensor->header.path;
+    return std::make_shared<const io::LoadedTensors>(*f.data->tensor);
+  }
+  if (isPathLike(input)) {
+    source = pathText(input);
+    const TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
+    io::LoadedTensors t;
+    {
+      py::gil_scoped_release release;
+      t = loadTensorInput(source, in);
+    }
+    return std::make_shared<const io::LoadedTensors>(std::move(t));
+  }
+  PyTensorField f = fieldFromPython(input, py::none(), layout);
+  source = f.source;
+  return f.data;
+}
+
+// --- render
+
+// A Python value as the text the option table parses: True/False -> on/off, numbers as Python prints them.
+std::string optionText(const py::handle& v) {
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "on" : "off";
+  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) return py::str(py::repr(v));
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  py::object np = py::module_::import("numpy");
+  if (py::isinstance(v, np.attr("number"))) return py::str(py::repr(np.attr("float64")(v)));
+  throw py::type_error("fabric options take numbers, booleans or strings, not " +
+                       std::string(py::str(py::type::of(v).attr("__name__"))));
+}
+
+void setFabricOption(render::FabricParams& p, const std::string& key, const py::handle& value) {
+  std::string name = key;
+  for (char& c : name)
+    if (c == '_') c = '-';
+  const render::FabricOption* o = render::findFabricOption(name);
+  if (!o) {
+    std::string names;
+    for (const auto& opt : render::fabricOptions()) {
+      std::string n = opt.name;
+      for (char& c : n)
+        if (c == '-') c = '_';
+      names += (names.empty() ? "" : ", ") + n;
+    }
+    throw py::type_error("render() got an unexpected keyword argument '" + key +
+                         "' (fabric options: " + names + ")");
+  }
+  o->set(p, o->parse(optionText(value)));
+}
+
+// A Python value as T, or UsageError "what" when it is not one.
+template <typename T> T castOr(const py::handle& v, const char* what) {
+  try {
+    return v.cast<T>();
+  } catch (const py::cast_error&) {
+    throw UsageError(std::string(what) + ", got " + std::string(py::str(py::repr(v))));
+  }
+}
+
+std::pair<int, int> sizeOf(const py::object& size) {
+  if (py::isinstance<py::int_>(size)) {
+    const int s = size.cast<int>();
+    return {s, s};
+  }
+  return castOr<std::pair<int, int>>(size, "size must be (width, height) in pixels");
+}
+
+py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string& surface,
+                                      const py::object& view, const py::object& size,
+                                      const py::object& colour, bool neurological, bool perspective,
+                                      const py::object& background, const py::object& backgroundWindow,
+                                      const py::object& tracts, const py::object& tractsColor,
+                                      const py::object& tractsRange, const py::object& tractsGroup,
+                                      double tractsNear, double tractsSlab, double tractsSlabDepth,
+                                      double tractWidth, const py::object& split, const std::string& layout,
+                                      const py::object& bval, const py::object& bvec, const py::object& mask,
+                                      const py::object& tensor, const py::kwargs& params) {
+  RenderRequest r;
+  std::shared_ptr<const io::LoadedTensors> held;
+  r.layout = layout;
+  r.tensor = optionalPath(tensor);
+  if (py::isinstance<PyFibreSet>(input)) {
+    const auto& f = input.cast<const PyFibreSet&>();
+    r.input = f.source;
+    r.layout = f.layoutGiven;
+    if (r.tensor.empty()) r.tensor = f.tensorPath;
+  } else if (isPathLike(input)) {
+    r.input = pathText(input);
+    r.tensorOptions = tensorOptions(layout, bval, bvec, mask);
+  } else {
+    held = tensorsOf(input, layout, bval, bvec, mask, r.input);
+    r.field = &held->field;
+  }
+  r.surface = parseSurfaceSpec(surface);
+  if (!view.is_none()) r.view = render::parseView(view.cast<std::string>());
+  std::tie(r.width, r.height) = sizeOf(size);
+  r.neurological = neurological;
+  r.perspective = perspective;
+  if (!colour.is_none()) {
+    r.colourName = optionText(colour);
+    setFabricOption(r.params, "color", colour);
+    r.colourGiven = true;
+  }
+  for (const auto& [key, value] : params) {
+    const std::string k = py::str(key);
+    if (k == "color") {
+      r.colourName = optionText(value);
+      r.colourGiven = true;
+    }
+    setFabricOption(r.params, k, value);
+  }
+  r.background = background.is_none() ? "" : optionText(background);
+  if (!backgroundWindow.is_none()) {
+    auto w = castOr<std::pair<double, double>>(backgroundWindow, "background_window must be (lo, hi)");
+    r.backgroundWindow = py::str(py::repr(py::float_(w.first))).cast<std::string>() + "," +
+                         py::str(py::repr(py::float_(w.second))).cast<std::string>();
+  }
+  r.tracts = optionalPath(tracts);
+  if (!tractsColor.is_none()) r.colouring.value = tractsColor.cast<std::string>();
+  if (!tractsRange.is_none())
+    r.colouring.range = castOr<std::pair<double, double>>(tractsRange, "tracts_range must be (lo, hi)");
+  if (!tractsGroup.is_none()) {
+    if (py::isinstance<py::str>(tractsGroup))
+      r.colouring.groups = {tractsGroup.cast<std::string>()};
+    else
+      r.colouring.groups = tractsGroup.cast<std::vector<std::string>>();
+  }
+  r.tractsNear = tractsNear;
+  r.tractsSlab = tractsSlab;
+  r.tractsSlabDepth = tractsSlabDepth;
+  r.tractWidth = tractWidth;
+  if (!split.is_none()) r.split = parseSplitMode(split.cast<std::string>());
+  r.output = "the image of " + r.input;
+
+  RenderResult result;
+  {
+    py::gil_scoped_release release;
+    runOnGlThread([&] { result = runRender(r); });
+  }
+  return imageArray(result.image);
+}
+
+// --- surface, track
+
+PySurface makeSurface(const py::object& input, const std::string& spec, double smooth, double minComponent,
+                      double step, double length, double faStop, double seedSpacing, bool clipToData,
+                      const std::string& layout, const py::object& bval, const py::object& bvec) {
+  std::string source;
+  auto tensors = tensorsOf(input, layout, bval, bvec, py::none(), source);
+  const SurfaceSpec s = parseSurfaceSpec(spec);
+  SurfaceBuildOptions bo;
+  bo.smoothSigmaVoxels = smooth;
+  bo.minComponentFraction = minComponent;
+  bo.fibreStepMm = step;
+  bo.fibreLengthMm = length;
+  bo.fibreFaStop = faStop;
+  bo.fibreSeedSpacingMm = seedSpacing;
+  bo.clipToData = clipToData;
+  Mesh mesh;
+  {
+    py::gil_scoped_release release;
+    try {
+      mesh = buildSurface(s, tensors->field, computeFaMap(tensors->field), bo);
+    } catch (const Error&) {
+      rethrowWithContext("while building the " + describeSurface(s) + " of " + source);
+    }
+    if (mesh.normals.size() != mesh.positions.size()) mesh.computeNormals();
+  }
+  PySurface out;
+  out.description = describeSurface(s);
+  const auto n = static_cast<py::ssize_t>(mesh.positions.size());
+  py::array_t<float> v({n, py::ssize_t(3)}), nr({n, py::ssize_t(3)});
+  std::memcpy(v.mutable_data(), mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
+  std::memcpy(nr.mutable_data(), mesh.normals.data(), mesh.normals.size() * sizeof(glm::vec3));
+  py::array_t<std::int64_t> f({static_cast<py::ssize_t>(mesh.triangleCount()), py::ssize_t(3)});
+  std::copy(mesh.indices.begin(), mesh.indices.end(), f.mutable_data());
+  out.vertices = readOnly(v);
+  out.normals = readOnly(nr);
+  out.faces = readOnly(f);
+  return out;
+}
+
+py::list track(const py::object& input, const py::object& seedsMask, const py::object& seedSphere,
+               const py::object& seedSurface, const py::object& seedSlice, const py::object& select,
+               const py::object& seeds, int seedsPerVoxel, double step, double faStop, double angle,
+               double minLength, double maxLength, bool rk4, const py::object& mask, long long seed,
+               int threads, const std::string& layout, const py::object& bval, const py::object& bvec) {
+  TrackRequest r;
+  std::string source;
+  auto tensors = tensorsOf(input, layout, bval, bvec, py::none(), source);
+  r.input = source;
+  r.field = &tensors->field;
+  r.seedsMask = optionalPath(seedsMask);
+  if (!seedSphere.is_none()) {
+    auto v = castOr<std::vector<double>>(seedSphere, "seed_sphere must be (x, y, z, radius) in world mm");
+    if (v.size() != 4) throw UsageError("seed_sphere must be (x, y, z, radius) in world mm");
+    r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
+  }
+  if (!seedSurface.is_none()) r.seedSurface = parseSurfaceSpec(seedSurface.cast<std::string>());
+  if (!seedSlice.is_none()) {
+    std::pair<std::string, int> s;
+    if (py::isinstance<py::str>(seedSlice)) {
+      const std::string t = seedSlice.cast<std::string>();
+      const auto colon = t.find(':');
+      if (colon == std::string::npos) throw UsageError("seed_slice must be 'AXIS:INDEX', e.g. 'axial:20'");
+      try {
+        std::size_t used = 0;
+        s = {t.substr(0, colon), std::stoi(t.substr(colon + 1), &used)};
+        if (used != t.size() - colon - 1) throw std::invalid_argument("");
+      } catch (const std::exception&) {
+        throw UsageError("seed_slice index '" + t.substr(colon + 1) + "' is not an integer");
+      }
+    } else {
+      s = castOr<std::pair<std::string, int>>(seedSlice, "seed_slice must be 'AXIS:INDEX' or (AXIS, INDEX)");
+    }
+    r.seedSliceAxis = s.first;
+    r.seedSliceIndex = s.second;
+  }
+  if (!select.is_none() && !seeds.is_none()) throw UsageError("give either select or seeds, not both");
+  if (!select.is_none()) r.select = select.cast<int>();
+  if (!seeds.is_none()) {
+    r.seedCount = seeds.cast<int>();
+    if (r.seedCount <= 0) throw UsageError("seeds must be positive");
+  }
+  r.seedsPerVoxel = seedsPerVoxel;
+  if (seed < 0) throw UsageError("seed must be >= 0");
+  r.rngSeed = static_cast<std::uint64_t>(seed);
+  r.stopMask = optionalPath(mask);
+  r.options.stepMm = step;
+  r.options.faStop = faStop;
+  r.options.maxAngleDeg = angle;
+  r.options.minLengthMm = minLength;
+  r.options.maxLengthMm = maxLength;
+  r.options.rk4 = rk4;
+  if (threads < 0) throw UsageError("threads must be >= 0");
+  r.options.threads = threads;
+  TrackRun run;
+  {
+    py::gil_scoped_release release;
+    run = runTrack(r);
+  }
+  const Polylines& l = run.result.lines;
+  py::list out;
+  for (std::size_t i = 0; i < l.lineCount(); ++i) {
+    const auto n = static_cast<py::ssize_t>(l.offsets[i + 1] - l.offsets[i]);
+    py::array_t<float> a({n, py::ssize_t(3)});
+    std::memcpy(a.mutable_data(), &l.points[l.offsets[i]], static_cast<std::size_t>(n) * sizeof(glm::vec3));
+    out.append(std::move(a));
+  }
+  return out;
+}
+
+// --- check: the keys of `dtfabric check --json`
+
+py::list matrixList(const surfaces::AxisTransform& t) {
+  py::list rows;
+  for (int row = 0; row < 3; ++row) {
+    py::list r;
+    for (int col = 0; col < 3; ++col)
+      r.append(t.m[static_cast<std::size_t>(row * 3 + col)]);
+    rows.append(r);
+  }
+  return rows;
+}
+
+py::dict check(const py::object& input, const py::object& bval, const py::object& bvec,
+               const py::object& mask, const std::string& layout, const py::object& tensor, double minMargin,
+               int minWhiteMatter) {
+  CheckRequest req;
+  req.input = pathText(input);
+  req.bval = optionalPath(bval);
+  req.bvec = optionalPath(bvec);
+  req.mask = optionalPath(mask);
+  req.tensor = optionalPath(tensor);
+  if (!(minMargin >= 0 && minMargin <= 10)) throw UsageError("min_margin must be in [0, 10]");
+  if (minWhiteMatter < 1) throw UsageError("min_white_matter must be at least 1");
+  req.options.minMargin = minMargin;
+  req.options.minWhiteMatter = static_cast<std::size_t>(minWhiteMatter);
+  CheckRun run;
+  {
+    py::gil_scoped_release release;
+    req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layout, true);
+    if (req.fibres)
+      req.fibreLayout = layout;
+    else
+      req.layout = io::parseLayout(layout);
+    run = runCheck(req);
+  }
+  const surfaces::OrientationReport& r = run.report;
+  py::dict d;
+  d["input"] = req.input;
+  d["kind"] = run.dwi ? "dwi" : run.fibres ? "fibres" : "tensor";
+  d["frame"] = run.frameName;
+  d["verdict"] = surfaces::verdictName(r.verdict);
+  d["reason"] = r.reason;
+  if (!run.dwi) d["layout"] = run.layoutNote;
+  d["correction"] = matrixList(r.correction);
+  d["correction_name"] = r.correction.name();
+  d["score_given"] = r.scoreGiven;
+  d["score_best"] = r.scoreBest;
+  d["margin"] = r.margin;
+  d["best"] = r.candidates[r.best].transform.name();
+  d["runner_up"] = r.candidates[r.runnerUp].transform.name();
+  d["mask_voxels"] = r.maskVoxels;
+  d["white_matter_voxels"] = r.whiteMatterVoxels;
+  d["white_matter_rule"] = r.whiteMatterRule;
+  py::dict thresholds;
+  thresholds["fa"] = r.options.faThreshold;
+  thresholds["cos"] = r.options.cosThreshold;
+  thresholds["min_white_matter"] = r.options.minWhiteMatter;
+  thresholds["min_margin"] = r.options.minMargin;
+  d["thresholds"] = thresholds;
+  py::dict seconds;
+  seconds["load"] = run.loadSeconds;
+  seconds["fit"] = run.fitSeconds;
+  seconds["check"] = run.checkSeconds;
+  d["seconds"] = seconds;
+  py::list candidates;
+  for (const auto& c : r.candidates) {
+    py::dict e;
+    e["name"] = c.transform.name();
+    e["matrix"] = matrixList(c.transform);
+    e["score"] = c.score;
+    e["pairs"] = c.pairs;
+    candidates.append(e);
+  }
+  d["candidates"] = candidates;
+  return d;
+}
+
+// --- exceptions
+
+bool isFileProblem(const std::string& m) {
+  for (const char* p : {": file does not exist", ": is a directory", "cannot open", "cannot write",
+                        "No such file", "Permission denied"})
+    if (m.find(p) != std::string::npos) return true;
+  return false;
+}
+
+void raise(const char* cls, const std::string& message) {
+  py::object type = py::module_::import("dtfabric._errors").attr(cls);
+  PyErr_SetObject(type.ptr(), py::str(message).ptr());
+}
+
+} // namespace
+
+} // namespace dtf::python
+
+using namespace dtf;
+using namespace dtf::python;
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "dtfabric's C++ core (use the package dtfabric)";
+  // Warnings and errors of the libraries go to stderr, as the command-line tool prints them; notes are
+  // dropped (the fields carry their layout reasons and warnings).
+  setLogSink([](LogLevel level, const std::string& message) {
+    if (level == LogLevel::Warning || level == LogLevel::Error)
+      std::fprintf(stderr, "dtfabric: %s: %s\n", level == LogLevel::Warning ? "warning" : "error",
+                   message.c_str());
+  });
+
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const UsageError& e) {
+      raise("UsageError", e.what());
+    } catch (const InputError& e) {
+      raise(isFileProblem(e.what()) ? "FileError" : "FormatError", e.what());
+    } catch (const GlError& e) {
+      raise("GlError", e.what());
+    } catch (const Error& e) {
+      raise("Error", e.what());
+    }
+  });
+
+  py::class_<PyTensorField>(m, "TensorField", R"(A tensor volume in dtfabric's canonical form.
+
+TensorField(array, affine=None, layout="auto")
+  array   (X, Y, Z, 6) or (X, Y, Z, 1, 6) numbers in `layout`, or a nibabel image (its data and affine)
+  affine  4x4 voxel -> world RAS mm (required with a plain array)
+  layout  auto | fsl | mrtrix | symmatrix | dtitk | dipy | world
+          dipy: TensorFit.lower_triangular() (xx xy yy xz yz zz in the gradient table's frame: voxel axes,
+          x negated when det(affine) > 0, as FSL); world: the order and frame of .tensor)")
+      .def(py::init([](const py::object& array, const py::object& affine, const std::string& layout) {
+             return fieldFromPython(array, affine, layout);
+           }),
+           py::arg("array"), py::arg("affine") = py::none(), py::arg("layout") = "auto")
+      .def_property_readonly(
+          "tensor",
+          [](PyTensorField& f) {
+            if (!f.tensorCache) f.tensorCache = readOnly(tensorArray(f.data->field));
+            return f.tensorCache;
+          },
+          "(X, Y, Z, 6) float32, world RAS, xx xy xz yy yz zz, mm^2/s, NaN where invalid (read-only)")
+      .def_property_readonly(
+          "valid",
+          [](PyTensorField& f) {
+            if (!f.validCache) {
+              const Grid& g = f.data->field.grid;
+              py::array_t<bool> a({g.dims.x, g.dims.y, g.dims.z});
+              bool* out = a.mutable_data();
+              for (int i = 0; i < g.dims.x; ++i)
+                for (int j = 0; j < g.dims.y; ++j)
+                  for (int k = 0; k < g.dims.z; ++k)
+                    *out++ = f.data->field.valid[g.index(i, j, k)] != 0;
+              f.validCache = readOnly(a);
+            }
+            return f.validCache;
+          },
+          "(X, Y, Z) bool: where the field holds a finite, non-zero tensor")
+      .def_property_readonly(
+          "affine", [](const PyTensorField& f) { return affineArray(f.data->field.grid); },
+          "4x4 float64, voxel (i, j, k) -> world RAS mm")
+      .def_property_readonly("shape",
+                             [](const PyTensorField& f) {
+                               const auto& d = f.data->field.grid.dims;
+                               return py::make_tuple(d.x, d.y, d.z);
+                             })
+      .def_property_readonly("layout", [](const PyTensorField& f) { return f.layout; })
+      .def_property_readonly("layout_reason", [](const PyTensorField& f) { return f.data->layoutReason; })
+      .def_property_readonly("warnings", [](const PyTensorField& f) { return f.data->warnings; })
+      .def_property_readonly("source", [](const PyTensorField& f) { return f.source; })
+      .def_property_readonly("nan_voxels", [](const PyTensorField& f) { return f.data->nanVoxels; })
+      .def(
+          "fa",
+          [](const PyTensorField& f) {
+            ScalarVolume fa;
+            {
+              py::gil_scoped_release release;
+              fa = computeFaMap(f.data->field);
+            }
+            return scalarArray(fa);
+          },
+          "(X, Y, Z) float32 fractional anisotropy (0 where invalid)")
+      .def("__repr__", [](const PyTensorField& f) {
+        const auto& d = f.data->field.grid.dims;
+        return "<dtfabric.TensorField " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
+               std::to_string(d.z) + " layout=" + f.layout + " from " + f.source + ">";
+      });
+
+  py::class_<PyFibreSet>(m, "FibreSet",
+                         "Crossing fibres per voxel (unit world-RAS directions, strongest first).")
+      .def_property_readonly(
+          "directions",
+          [](PyFibreSet& f) {
+            if (!f.directionsCache) f.directionsCache = readOnly(fibreDirections(f.data->fibres.set));
+            return f.directionsCache;
+          },
+          "(X, Y, Z, K, 3) float32 unit directions, world RAS, strongest first, NaN where absent")
+      .def_property_readonly(
+          "amplitudes",
+          [](PyFibreSet& f) {
+            if (!f.amplitudesCache) f.amplitudesCache = readOnly(fibreAmplitudes(f.data->fibres.set));
+            return f.amplitudesCache;
+          },
+          "(X, Y, Z, K) float32 amplitudes or fractions, 0 where absent")
+      .def_property_readonly("affine",
+                             [](const PyFibreSet& f) { return affineArray(f.data->fibres.set.grid); })
+      .def_property_readonly("shape",
+                             [](const PyFibreSet& f) {
+                               const auto& d = f.data->fibres.set.grid.dims;
+                               return py::make_tuple(d.x, d.y, d.z);
+                             })
+      .def_property_readonly(
+          "layout",
+          [](const PyFibreSet& f) { return std::string(io::fibreLayoutName(f.data->fibres.layout)); })
+      .def_property_readonly("layout_reason", [](const PyFibreSet& f) { return f.data->fibres.layoutReason; })
+      .def_property_readonly("warnings", [](const PyFibreSet& f) { return f.data->fibres.warnings; })
+      .def_property_readonly("files", [](const PyFibreSet& f) { return f.data->fibres.files; })
+      .def_property_readonly("source", [](const PyFibreSet& f) { return f.source; })
+      .def_property_readonly(
+          "fa",
+          [](const PyFibreSet& f) -> py::object {
+            if (f.data->fa.data.empty()) return py::none();
+            return scalarArray(f.data->fa);
+          },
+          "(X, Y, Z) FA of the paired tensor or the file's own, or None")
+      .def_property_readonly(
+          "tensor",
+          [](const PyFibreSet& f) -> py::object {
+            if (!f.data->tensor) return py::none();
+            return py::cast(wrapTensors(io::LoadedTensors(*f.data->tensor), f.tensorPath, ""));
+          },
+          "the paired TensorField (load(..., tensor=FILE)), or None")
+      .def("__repr__", [](const PyFibreSet& f) {
+        const auto& s = f.data->fibres.set;
+        return "<dtfabric.FibreSet " + std::to_string(s.grid.dims.x) + "x" + std::to_string(s.grid.dims.y) +
+               "x" + std::to_string(s.grid.dims.z) + " K=" + std::to_string(s.maxFibres) +
+               " layout=" + io::fibreLayoutName(f.data->fibres.layout) + " from " + f.source + ">";
+      });
+
+  py::class_<PySurface>(m, "Surface", "A triangle mesh in world RAS mm.")
+      .def_readonly("vertices", &PySurface::vertices, "(N, 3) float32 positions, world RAS mm")
+      .def_readonly("faces", &PySurface::faces, "(M, 3) int64 vertex indices, counter-clockwise from outside")
+      .def_readonly("normals", &PySurface::normals, "(N, 3) float32 unit vertex normals")
+      .def_readonly("description", &PySurface::description)
+      .def("__repr__", [](const PySurface& s) {
+        return "<dtfabric.Surface " + s.description + ", " + std::to_string(py::len(s.vertices)) +
+               " vertices, " + std::to_string(py::len(s.faces)) + " triangles>";
+      });
+
+  m.def("load", &load, py::arg("path"), py::arg("layout") = "auto", py::arg("bval") = py::none(),
+        py::arg("bvec") = py::none(), py::arg("mask") = py::none(), py::arg("tensor") = py::none(),
+        R"(Loads a tensor volume, a DWI (fitted: WLS) or a fibre set, as `dtfabric render` reads INPUT.
+
+layout: auto, a tensor layout (fsl, mrtrix, symmatrix, dtitk) or a fibre layout (mrtrix-peaks, dipy-peaks,
+bedpostx). bval/bvec: treat path as a DWI. mask: the DWI fit mask. tensor: a tensor file paired with a fibre
+set. Returns a TensorField or a FibreSet.)");
+
+  m.def("render", &renderImage, py::arg("input"), py::arg("surface") = "slice=axial",
+        py::arg("view") = py::none(), py::arg("size") = std::make_pair(768, 768),
+        py::arg("colour") = py::none(), py::arg("neurological") = false, py::arg("perspective") = false,
+        py::arg("background") = py::none(), py::arg("background_window") = py::none(),
+        py::arg("tracts") = py::none(), py::arg("tracts_color") = py::none(),
+        py::arg("tracts_range") = py::none(), py::arg("tracts_group") = py::none(),
+        py::arg("tracts_near") = 3.0, py::arg("tracts_slab") = 0.0, py::arg("tracts_slab_depth") = 0.0,
+        py::arg("tract_width") = 2.0, py::arg("split") = py::none(), py::arg("layout") = "auto",
+        py::arg("bval") = py::none(), py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
+        py::arg("tensor") = py::none(),
+        R"(Renders the fabric headless: the pixels `dtfabric render` writes for the same arguments.
+
+input: a TensorField, a FibreSet from load(), a path, or an array/nibabel image (layout= names its layout).
+surface: a surface spec (fa=T, slice=AXIS[:I], plane=..., fibre=..., mesh=FILE; '+' joins).
+view, size=(W, H), colour, neurological, perspective, background, background_window=(lo, hi), tracts,
+tracts_color, tracts_range=(lo, hi), tracts_group, tracts_near, tracts_slab, tracts_slab_depth, tract_width,
+split: as the command's flags. Further keyword arguments are the fabric options of `dtfabric render --help`
+with '-' written '_' (blend_k=0.1, lighting=False, ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
+
+  m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
+        py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,
+        py::arg("fa_stop") = 0.15, py::arg("seed_spacing") = 0.75, py::arg("clip_to_data") = true,
+        py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+        "Builds a surface of a tensor field (a TensorField, path or array) as `dtfabric surface` does.");
+
+  m.def(
+      "track", &track, py::arg("field"), py::arg("seeds_mask") = py::none(),
+      py::arg("seed_sphere") = py::none(), py::arg("seed_surface") = py::none(),
+      py::arg("seed_slice") = py::none(), py::arg("select") = py::none(), py::arg("seeds") = py::none(),
+      py::arg("seeds_per_voxel") = 0, py::arg("step") = 1.0, py::arg("fa_stop") = 0.15,
+      py::arg("angle") = 60.0, py::arg("min_length") = 30.0, py::arg("max_length") = 250.0,
+      py::arg("rk4") = true, py::arg("mask") = py::none(), py::arg("seed") = 1, py::arg("threads") = 0,
+      py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+      R"(Deterministic tensor tractography as `dtfabric track`: a list of (N, 3) float32 streamlines, world RAS mm.
+Default: select=1000 streamlines seeded where the field holds a tensor.)");
+
+  m.def("check", &check, py::arg("input"), py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+        py::arg("mask") = py::none(), py::arg("layout") = "auto", py::arg("tensor") = py::none(),
+        py::arg("min_margin") = 0.07, py::arg("min_white_matter") = 3000,
+        "The orientation check of a DWI with its table, a tensor file or a fibre set: the dict of "
+        "`dtfabric check --json`.");
+
+  m.def(
+      "read_png",
+      [](const py::object& path) {
+        const std::string p = pathText(path);
+        Image img;
+        {
+          py::gil_scoped_release release;
+          img = io::readPng(p);
+        }
+        return imageArray(img);
+      },
+      py::arg("path"), "Reads a PNG as (H, W, 4) uint8 RGBA.");
+
+  m.def(
+      "fabric_options",
+      [] {
+        py::dict d;
+        for (const auto& o : render::fabricOptions()) {
+          std::string n = o.name;
+          for (char& c : n)
+            if (c == '-') c = '_';
+          d[py::str(n)] = o.help;
+        }
+        return d;
+      },
+      "The fabric options render() takes as keyword arguments, with their help.");
+}
