@@ -7,7 +7,7 @@ if(NOT DTF_SANITIZE AND NOT DTF_SANITIZE_THREAD)
     COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${PROJECT_BINARY_DIR} -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
             -DWORK_DIR=${PROJECT_BINARY_DIR}/test_scratch/package_consumer -DCXX_COMPILER=${CMAKE_CXX_COMPILER}
             -DLAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER} -P ${PROJECT_SOURCE_DIR}/tests/consumer/run_consumer.cmake)
-  set_tests_properties(package_consumer PROPERTIES LABELS "package;gl;baseline" TIMEOUT 900
+  set_tests_properties(package_consumer PROPERTIES LABELS "package;gl;baseline" TIMEOUT 900 PROCESSORS 2
     SKIP_REGULAR_EXPRESSION "dtfabric_consumer: SKIPPED")
 endif()
 

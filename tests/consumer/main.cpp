@@ -227,7 +227,10 @@ bool compareBaseline(const dtf::Image& actual, const std::filesystem::path& base
     return false;
   }
   const dtf::Image expected = dtf::io::readPng(baseline.string());
-  if (expected.width != actual.width || expected.height != actual.height) return false;
+  if (expected.width != actual.width || expected.height != actual.height) {
+    std::printf("baseline is %dx%d, the image %dx%d\n", expected.width, expected.height, actual.width, actual.height);
+    return false;
+  }
   dtf::Image diff(actual.width, actual.height);
   std::size_t bad = 0;
   double sum = 0;
