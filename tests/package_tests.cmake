@@ -13,7 +13,7 @@ endif()
 
 # Configure only (building would compile the library a second time with the host's flags).
 add_test(NAME package_subdirectory
-  COMMAND ${CMAKE_COMMAND} -S ${PROJECT_SOURCE_DIR}/tests/consumer/subdirectory
+  COMMAND ${CMAKE_COMMAND} --fresh -S ${PROJECT_SOURCE_DIR}/tests/consumer/subdirectory
           -B ${PROJECT_BINARY_DIR}/test_scratch/package_subdirectory -DCMAKE_BUILD_TYPE=RelWithDebInfo
           -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER} -DCMAKE_C_COMPILER=${CMAKE_C_COMPILER}
           -DDTF_SOURCE=${PROJECT_SOURCE_DIR} -DDTF_WERROR=ON)
