@@ -1,5 +1,5 @@
 # Finds every third-party dependency from Debian 12 packages and defines imported targets for the ones
-# whose packaging is incomplete (nifticlib, imgui backends, epoxy/egl).
+# whose packaging is incomplete (nifticlib, imgui backends, epoxy/egl). GLFW and ImGui only for the apps.
 find_package(PkgConfig REQUIRED)
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)
@@ -25,13 +25,16 @@ find_package(CGAL REQUIRED)
 
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
-find_package(glfw3 REQUIRED)
 
-# Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
-pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
-set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")
-if(NOT EXISTS ${DTF_IMGUI_BACKENDS_DIR}/imgui_impl_glfw.cpp)
-  message(FATAL_ERROR "imgui backend sources not found in ${DTF_IMGUI_BACKENDS_DIR} (package libimgui-dev)")
+# The window, the panels and the executable only (DTF_BUILD_APPS).
+if(DTF_BUILD_APPS)
+  find_package(glfw3 REQUIRED)
+  # Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
+  pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+  set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")
+  if(NOT EXISTS ${DTF_IMGUI_BACKENDS_DIR}/imgui_impl_glfw.cpp)
+    message(FATAL_ERROR "imgui backend sources not found in ${DTF_IMGUI_BACKENDS_DIR} (package libimgui-dev)")
+  endif()
 endif()
 
 if(DTF_BUILD_TESTS)
