@@ -4,6 +4,7 @@
 // on the PATH (a peer measurement, never a dependency).
 #include "app/cli/args.h"
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/scene/bids_participant.h"
 #include "io/bids.h"
 #include "io/bids_report.h"
@@ -65,25 +66,39 @@ double timing(const std::string& dom, const std::string& key) {
 
 } // namespace
 
+const OptionTable& benchBidsOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench bids";
+    t.intro =
+        "Seconds per participant of `dtfabric bids` on participants made of the real DWI, and the time to\n"
+        "write the group report of a replicated cohort.";
+    t.options = {
+        sharedDataOption(),
+        O::integer("runs", "N", 3, closedRange(1, 50), "participants made of the real DWI, processed one after the other"),
+        O::integer("rows", "N", 300, closedRange(1, 100000), "rows of the replicated cohort for the report"),
+        O::integer("figure-size", "PX", ParticipantOptions{}.figurePx, closedRange(64, 2048), "figure edge (as `dtfabric bids`)"),
+        O::flag("json", "one JSON object"),
+        O::flag("keep", "keep the scratch dataset and outputs (printed)"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchBids(const CommandArgs& argv) {
-  Args args(argv, {"help", "json", "keep"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench bids [--data DIR] [--runs N] [--rows N] [--figure-size PX] [--json] [--keep]\n"
-        "  --runs N         participants made of the real DWI, processed one after the other (default 3)\n"
-        "  --rows N         rows of the replicated cohort for the report (default 300)\n"
-        "  --figure-size PX figure edge (default 512, as `dtfabric bids`)\n"
-        "  --keep           keep the scratch dataset and outputs (printed)\n");
+  ParsedOptions args(benchBidsOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(benchBidsOptions().help().c_str(), stdout);
     return 0;
   }
   const auto data = findSharedDataDir(args.get("data"));
-  const int runsWanted = args.getInt("runs", 3);
-  const int rowsWanted = args.getInt("rows", 300);
-  const int figurePx = args.getInt("figure-size", 512);
+  const int runsWanted = args.integer("runs");
+  const int rowsWanted = args.integer("rows");
+  const int figurePx = args.integer("figure-size");
   const bool json = args.flag("json"), keep = args.flag("keep");
   args.finish();
-  if (runsWanted < 1 || runsWanted > 50) throw UsageError("--runs must be in [1, 50]");
-  if (rowsWanted < 1 || rowsWanted > 100000) throw UsageError("--rows must be in [1, 100000]");
   if (!data || !fs::exists(*data / "iu_prisma_dwi" / "dwi.nii.gz"))
     throw InputError("bench bids needs the real DWI (../shared/data/iu_prisma_dwi; give --data DIR)");
   const fs::path src = *data / "iu_prisma_dwi";

@@ -1,6 +1,7 @@
 // `dtfabric bench io`: load time of an HCP-sized tensor volume, FA-map time, and tensor-fit times of the
 // real DWI and of a 1.5 mm upsampled copy, each the median of a few runs, beside their goals.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "io/dwi.h"
 #include "io/model/error.h"
@@ -144,22 +145,37 @@ struct Figure {
 
 } // namespace
 
+const OptionTable& benchIoOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench io";
+    t.intro =
+        "Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
+        "of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
+        "load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
+        "tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
+        "python3-nibabel is present) and a TRX of 1 M streamlines made here. The fit figures are\n"
+        "skipped when the shared data are not found. Medians of a few runs.";
+    t.options = {
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+        O::integer("threads", "N", 0, atLeast(0), "fit threads, 0 = all cores"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchIo(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
-  if (args.flag("help")) {
-    std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
-                "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
-                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
-                "  load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
-                "  tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
-                "  python3-nibabel is present) and a TRX of 1 M streamlines made here.\n"
-                "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
-                "  executable; the fit figures are skipped when it is not found. Medians of a few runs.\n");
+  ParsedOptions args(benchIoOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(benchIoOptions().help().c_str(), stdout);
     return 0;
   }
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
-  const int threads = args.getInt("threads", 0);
+  const int threads = args.integer("threads");
   args.finish();
 
   std::vector<std::string> notes;

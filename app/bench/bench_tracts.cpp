@@ -4,6 +4,7 @@
 // it runs in the same invocation with the same settings and threads on the raw DWI, as the peer. tckgen
 // interpolates the DWI and fits a tensor at every step; we interpolate the fitted tensors, as the fabric does.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
@@ -45,22 +46,38 @@ double childCpuSeconds() {
 
 namespace dtf::app {
 
-int benchTracts(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "euler"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench tracts [--count N] [--threads T] [--euler] [--repeat R] [--json] [--data "
-        "DIR]\n"
-        "Times selecting N (default 100000) deterministic tensor streamlines on the real brain\n"
-        "(iu_prisma_dwi/derived/dti_tensor.nii.gz, seeds and stop mask from mask.nii.gz, step 1 mm, FA "
-        "0.15,\n"
+const OptionTable& benchTractsOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench tracts";
+    t.intro =
+        "Times selecting N deterministic tensor streamlines on the real brain\n"
+        "(iu_prisma_dwi/derived/dti_tensor.nii.gz, seeds and stop mask from mask.nii.gz, step 1 mm, FA 0.15,\n"
         "60 deg, length 30..250 mm, RK4 unless --euler) on all cores. Peer, when on the PATH: MRtrix\n"
-        "tckgen -algorithm Tensor_Det with the same settings (Debian package mrtrix3).\n");
+        "tckgen -algorithm Tensor_Det with the same settings (Debian package mrtrix3).";
+    t.options = {
+        O::integer("count", "N", 100000, closedRange(1, 100000000), "streamlines to select"),
+        O::integer("threads", "T", 0, atLeast(0), "tracking threads, 0 = all cores"),
+        O::flag("euler", "Euler steps instead of RK4"),
+        O::integer("repeat", "R", 1, closedRange(1, 1000), "runs, the median is reported"),
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+    };
+    return t;
+  }();
+  return table;
+}
+
+int benchTracts(const CommandArgs& argv) {
+  ParsedOptions args(benchTractsOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(benchTractsOptions().help().c_str(), stdout);
     return 0;
   }
-  const int count = args.getInt("count", 100000);
-  const int threads = args.getInt("threads", 0);
-  const int repeat = std::max(1, args.getInt("repeat", 1));
+  const int count = args.integer("count");
+  const int threads = args.integer("threads");
+  const int repeat = args.integer("repeat");
   const bool json = args.flag("json"), euler = args.flag("euler");
   auto dataArg = args.get("data");
   args.finish();

@@ -2,6 +2,7 @@
 // the FA threshold is swept and while the camera rotates, on the real brain's FA isosurface. Runs in the
 // headless context: the window adds only ImGui and a blit.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"
@@ -52,24 +53,42 @@ void waitSettled(ViewerScene& scene, double seconds) {
 
 } // namespace
 
-int benchView(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "no-tracts"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench view [--data DIR] [--input TENSOR] [--tracts FILE | --no-tracts] [--size WxH]\n"
-        "                           [--frames N] [--json]\n"
+const OptionTable& benchViewOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench view";
+    t.intro =
         "Frame times of the viewer scene (headless) while sweeping the FA threshold and while rotating\n"
         "the FA isosurface of the shared brain (iu_prisma_dwi/derived/dti_tensor.nii.gz), then while\n"
-        "rotating it with tracts within 3 mm drawn over it (default: the shared tracks_det.tck).\n");
+        "rotating it with tracts within 3 mm drawn over it.";
+    t.options = {
+        sharedDataOption(),
+        O::text("input", "TENSOR", "the tensor volume (default the shared brain)"),
+        O::text("tracts", "FILE", "tracts drawn over the surface (default the shared tracks_det.tck)"),
+        O::flag("no-tracts", "no tract overlay case"),
+        O::text("size", "WxH", "image size", "1024x768").checkedBy(checkSize),
+        O::integer("frames", "N", 240, closedRange(10, 100000), "frames per case"),
+        O::flag("json", "one JSON object"),
+    };
+    return t;
+  }();
+  return table;
+}
+
+int benchView(const CommandArgs& argv) {
+  ParsedOptions args(benchViewOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(benchViewOptions().help().c_str(), stdout);
     return 0;
   }
   const bool json = args.flag("json"), tractsOn = !args.flag("no-tracts");
   const auto dataDir = args.get("data");
-  std::string input = args.getOr("input", "");
-  std::string tractsPath = args.getOr("tracts", "");
+  std::string input = args.text("input");
+  std::string tractsPath = args.text("tracts");
   int width = 1024, height = 768;
-  parseSize(args.getOr("size", "1024x768"), width, height);
-  const int frames = std::clamp(args.getInt("frames", 240), 10, 100000);
+  parseSize(args.text("size"), width, height);
+  const int frames = args.integer("frames");
   args.finish();
   if (input.empty()) {
     auto dir = findSharedDataDir(dataDir);

@@ -8,9 +8,9 @@
 // each processing runs one after the other in its own GL context, with max(1, cores / N) threads for the fit
 // and for llvmpipe (LP_NUM_THREADS), so N jobs never ask for more threads than the machine has cores. A
 // worker dies with its parent (PR_SET_PDEATHSIG): a killed run leaves no workers behind.
-#include "app/cli/args.h"
-#include "app/scene/bids_participant.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
+#include "app/scene/bids_participant.h"
 #include "io/bids.h"
 #include "io/bids_report.h"
 #include "io/model/error.h"
@@ -43,42 +43,6 @@ namespace dtf::app {
 
 namespace {
 
-const char* kHelp = R"(usage: dtfabric bids BIDS_DIR OUTPUT_DIR participant|group [--participant-label L ...]
-                     [--session-label S ...] [--jobs N] [--figure-size PX] [--force]
-
-A BIDS App (bids_dir output_dir analysis_level). For every diffusion run sub-*/[ses-*/]dwi/*_dwi.nii[.gz]
-with its .bval/.bvec:
-
-participant  fits tensors (WLS), runs the orientation check (`dtfabric check`) and writes, under
-             OUTPUT_DIR/sub-XX/[ses-YY/]dwi/ with the source name's entities kept:
-               …_desc-fabricAxial_dwi.png      fabric on the axial slice through the corpus callosum
-               …_desc-fabricCoronal_dwi.png    fabric on the coronal slice through the corticospinal tracts
-               …_desc-fabricIsoLeft_dwi.png    fabric on the FA 0.4 isosurface, from the left
-               …_desc-fabricIsoSuperior_dwi.png   the same from above
-               …_desc-fabricCheck_dwi.png      the check's contact sheet (verdict corrected or inconclusive)
-               …_desc-fabricMetrics_dwi.json   FA/MD in the white matter (FA >= 0.3), verdict and scores,
-                                               timings, input hashes; written last
-             and OUTPUT_DIR/dataset_description.json (DatasetType derivative). Slices are chosen from each
-             run's data. A failing run (corrupt file, missing table, wrong volume count) is recorded with the
-             file and the reason and the others go on. Every file is written atomically; a rerun skips runs
-             that are complete and whose inputs and parameters are unchanged (unless --force).
-group        OUTPUT_DIR/group.tsv (one row per run) and OUTPUT_DIR/group_report.html (one static page: a
-             sortable table, a mosaic of every run's figures, flags for failed runs, corrected or
-             inconclusive tables and outlying metrics, click-through to each run's figures).
-
-  --participant-label L ...  only these participants ("01" or "sub-01"); unknown labels are an error
-  --session-label S ...      only these sessions
-  --jobs N                   runs in parallel (child processes; default: the number of cores). Threads per
-                             job: max(1, cores / N) for the fit and the renderer
-  --threads N                threads of each job for the fit and the renderer (LP_NUM_THREADS of workers)
-  --figure-size PX           edge of each figure (default 512; the contact sheet's panels are half)
-  --force                    recompute complete runs too
-  --worker                   internal: a pool worker of --jobs (run labels on stdin, "done" on stdout)
-
-Exit codes: 0 ok, 1 usage, 2 bad input or any run failed (participant level; a GL failure while
-rendering a run is recorded as that run's failure).
-)";
-
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -96,23 +60,6 @@ std::string clock(double s) {
   return buf;
 }
 
-// Splits the multi-valued label options off the argument list ("--participant-label 01 02 --force").
-std::vector<std::string> takeList(std::vector<std::string>& argv, const std::string& name) {
-  std::vector<std::string> values, rest;
-  bool found = false;
-  for (std::size_t i = 0; i < argv.size(); ++i) {
-    if (argv[i] == "--" + name) {
-      found = true;
-      for (; i + 1 < argv.size() && argv[i + 1].rfind("--", 0) != 0; ++i)
-        values.push_back(argv[i + 1]);
-      continue;
-    }
-    rest.push_back(argv[i]);
-  }
-  if (found && values.empty()) throw UsageError("--" + name + " needs at least one label");
-  argv = rest;
-  return values;
-}
 
 struct Progress {
   std::size_t total = 0, done = 0, failed = 0, skipped = 0;
@@ -333,33 +280,77 @@ int runGroup(const io::BidsDataset& ds, const std::vector<io::BidsRun>& runs, co
 
 } // namespace
 
-int cmdBids(const CommandArgs& argvIn) {
-  CommandArgs argv = argvIn;
-  const auto participants = takeList(argv, "participant-label");
-  const auto sessions = takeList(argv, "session-label");
-  Args args(argv, {"help", "force", "worker"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
+const OptionTable& bidsOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bids";
+    t.positionals = "BIDS_DIR OUTPUT_DIR participant|group";
+    t.maxPositionals = 3;
+    t.intro =
+        "A BIDS App (bids_dir output_dir analysis_level). For every diffusion run sub-*/[ses-*/]dwi/*_dwi.nii[.gz]\n"
+        "with its .bval/.bvec:\n"
+        "\n"
+        "participant  fits tensors (WLS), runs the orientation check (`dtfabric check`) and writes, under\n"
+        "             OUTPUT_DIR/sub-XX/[ses-YY/]dwi/ with the source name's entities kept:\n"
+        "               …_desc-fabricAxial_dwi.png      fabric on the axial slice through the corpus callosum\n"
+        "               …_desc-fabricCoronal_dwi.png    fabric on the coronal slice through the corticospinal tracts\n"
+        "               …_desc-fabricIsoLeft_dwi.png    fabric on the FA 0.4 isosurface, from the left\n"
+        "               …_desc-fabricIsoSuperior_dwi.png   the same from above\n"
+        "               …_desc-fabricCheck_dwi.png      the check's contact sheet (verdict corrected or inconclusive)\n"
+        "               …_desc-fabricMetrics_dwi.json   FA/MD in the white matter (FA >= 0.3), verdict and scores,\n"
+        "                                               timings, input hashes; written last\n"
+        "             and OUTPUT_DIR/dataset_description.json (DatasetType derivative). Slices are chosen from each\n"
+        "             run's data. A failing run (corrupt file, missing table, wrong volume count) is recorded with the\n"
+        "             file and the reason and the others go on. Every file is written atomically; a rerun skips runs\n"
+        "             that are complete and whose inputs and parameters are unchanged (unless --force).\n"
+        "group        OUTPUT_DIR/group.tsv (one row per run) and OUTPUT_DIR/group_report.html (one static page: a\n"
+        "             sortable table, a mosaic of every run's figures, flags for failed runs, corrected or\n"
+        "             inconclusive tables and outlying metrics, click-through to each run's figures).";
+    t.options = {
+        O::list("participant-label", "L", "only these participants (\"01\" or \"sub-01\"); unknown labels are an error"),
+        O::list("session-label", "S", "only these sessions"),
+        O::integer("jobs", "N", 1, closedRange(1, 256),
+                   "runs in parallel (child processes). Threads per job: max(1, cores / N) for the fit and the "
+                   "renderer")
+            .defaultSays("the number of cores"),
+        O::integer("threads", "N", 1, closedRange(1, 1024),
+                   "threads of each job for the fit and the renderer (LP_NUM_THREADS of workers)")
+            .defaultSays("max(1, cores / N of --jobs)"),
+        O::integer("figure-size", "PX", ParticipantOptions{}.figurePx, closedRange(64, 2048),
+                   "edge of each figure (the contact sheet's panels are half)"),
+        O::flag("force", "recompute complete runs too"),
+        O::flag("worker", "a pool worker of --jobs (run labels on stdin, \"done\" on stdout)").internalOnly(),
+    };
+    t.epilogue =
+        "Exit codes: 0 ok, 1 usage, 2 bad input or any run failed (participant level; a GL failure while\n"
+        "rendering a run is recorded as that run's failure).";
+    return t;
+  }();
+  return table;
+}
+
+int cmdBids(const CommandArgs& argv) {
+  ParsedOptions args(bidsOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(bidsOptions().help().c_str(), stdout);
     return 0;
   }
+  const auto participants = args.list("participant-label");
+  const auto sessions = args.list("session-label");
   const std::string bids = args.positional(0, "BIDS_DIR (see --help)");
   const std::string out = args.positional(1, "OUTPUT_DIR");
   const std::string level = args.positional(2, "the analysis level, participant or group");
-  if (args.positionals().size() > 3) throw UsageError("unexpected argument '" + args.positionals()[3] + "'");
   if (level != "participant" && level != "group")
     throw UsageError("the analysis level must be participant or group, got '" + level + "'");
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const int jobs = args.getInt("jobs", cores);
-  if (jobs < 1 || jobs > 256) throw UsageError("--jobs must be in [1, 256]");
+  const int jobs = args.given("jobs") ? args.integer("jobs") : cores;
   ParticipantOptions opts;
-  opts.figurePx = args.getInt("figure-size", 512);
-  if (opts.figurePx < 64 || opts.figurePx > 2048)
-    throw UsageError("--figure-size must be in [64, 2048] pixels");
+  opts.figurePx = args.integer("figure-size");
   opts.force = args.flag("force");
   opts.version = DTF_VERSION;
-  const bool worker = args.flag("worker"); // internal: a pool worker (run labels on stdin, "done" on stdout)
-  opts.fitThreads = args.getInt("threads", std::max(1, cores / jobs));
-  if (opts.fitThreads < 1 || opts.fitThreads > 1024) throw UsageError("--threads must be in [1, 1024]");
+  const bool worker = args.flag("worker"); // a pool worker (run labels on stdin, "done" on stdout)
+  opts.fitThreads = args.given("threads") ? args.integer("threads") : std::max(1, cores / jobs);
   args.finish();
 
   const io::BidsDataset ds = io::scanBidsDataset(bids);

@@ -1,6 +1,6 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/agreement.h)
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/tract_files.h"
@@ -13,46 +13,56 @@
 
 namespace dtf::app {
 
-namespace {
-const char* kHelp = R"(usage: dtfabric compare INPUT --tracts FILE --surface SPEC [OPTIONS]
-
-Compares the fabric's direction on a surface with tractography. For each tract point within --near mm of
-the surface: the angle (0-90 deg) between the tract tangent projected onto the surface (at the closest
-point, triangle normal n) and the fabric's principal direction there, the principal eigenvector of the
-projected tensor T' = P T P^T, P = I - n n^T (tensor interpolated at the closest point). Points where the
-tract crosses the surface steeply (projected tangent < 0.25 of its length) or T' has no preferred
-direction (in-plane eigenvalues within 2% of each other, or no data) are skipped and counted.
-
-  --tracts FILE         .tck, .trk or .vtk tracts (world RAS mm)
-  --surface SPEC        fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=... | mesh=FILE
-  --near MM             distance from the surface (default 2)
-  --bins N              histogram bins over 0..90 deg (default 9)
-  --layout L            tensor layout override (fsl, mrtrix, symmatrix, dtitk)
-  --bval F --bvec F     treat INPUT as a DWI and fit tensors
-  --json                {points, mean_deg, median_deg, frac_below_15, histogram: [...], bin_deg, ...}
-)";
-} // namespace
+const OptionTable& compareOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const surfaces::AgreementOptions ao;
+    OptionTable t;
+    t.command = "compare";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.intro =
+        "Compares the fabric's direction on a surface with tractography. For each tract point within --near mm of\n"
+        "the surface: the angle (0-90 deg) between the tract tangent projected onto the surface (at the closest\n"
+        "point, triangle normal n) and the fabric's principal direction there, the principal eigenvector of the\n"
+        "projected tensor T' = P T P^T, P = I - n n^T (tensor interpolated at the closest point). Points where the\n"
+        "tract crosses the surface steeply (projected tangent < 0.25 of its length) or T' has no preferred\n"
+        "direction (in-plane eigenvalues within 2% of each other, or no data) are skipped and counted.";
+    t.options = {
+        O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)").required(),
+        O::text("surface", "SPEC",
+                "fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=... | mesh=FILE")
+            .required(),
+        O::number("near", "MM", ao.nearMm, atLeast(0), "distance from the surface"),
+        O::integer("bins", "N", ao.bins, closedRange(1, 90), "histogram bins over 0..90 deg"),
+        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
+            .checkedBy(checkTensorLayout)
+            .hidden(),
+        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
+        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        O::flag("json", "{points, mean_deg, median_deg, frac_below_15, histogram: [...], bin_deg, ...}"),
+    };
+    return t;
+  }();
+  return table;
+}
 
 int cmdCompare(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
+  ParsedOptions args(compareOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(compareOptions().help().c_str(), stdout);
     return 0;
   }
   const std::string input = args.positional(0, "INPUT");
-  const std::string tractsPath = args.getOr("tracts", "");
-  const std::string surfaceText = args.getOr("surface", "");
-  if (tractsPath.empty()) throw UsageError("missing --tracts FILE");
-  if (surfaceText.empty()) throw UsageError("missing --surface SPEC");
+  const std::string tractsPath = args.required("tracts");
+  const std::string surfaceText = args.required("surface");
   surfaces::AgreementOptions ao;
-  ao.nearMm = args.getDouble("near", ao.nearMm);
-  ao.bins = args.getInt("bins", ao.bins);
-  if (!(ao.nearMm >= 0)) throw UsageError("--near must be >= 0");
-  if (ao.bins < 1 || ao.bins > 90) throw UsageError("--bins must be 1..90");
+  ao.nearMm = args.number("near");
+  ao.bins = args.integer("bins");
   TensorInputOptions in;
-  in.layout = io::parseLayout(args.getOr("layout", "auto"));
-  in.bval = args.getOr("bval", "");
-  in.bvec = args.getOr("bvec", "");
+  in.layout = io::parseLayout(args.text("layout"));
+  in.bval = args.text("bval");
+  in.bvec = args.text("bvec");
   const bool json = args.flag("json");
   args.finish();
   const SurfaceSpec spec = parseSurfaceSpec(surfaceText);

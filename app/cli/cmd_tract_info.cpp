@@ -1,8 +1,8 @@
 // `dtfabric info TRACTS`: a tractogram's format, header facts (space, voxel order, dimensions, affine),
 // streamline and point counts, length statistics, per-streamline/per-point data with their shapes and
 // ranges, and groups. Text for people, --json for scripts.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
 
@@ -18,17 +18,6 @@
 namespace dtf::app {
 
 namespace {
-
-const char* kHelp =
-    "usage: dtfabric info TRACTS [--json]\n"
-    "\n"
-    "Describes a tractogram (.tck, .trk, .trk.gz, .trx zip or folder, .vtk, .vtp) as dtfabric reads\n"
-    "it into world RAS mm: format, header facts (space, voxel order, dimensions, affine), streamline\n"
-    "and point counts, streamline lengths in mm, per-streamline (dps) and per-point (dpv) data with\n"
-    "shapes and ranges, and groups with their sizes.\n"
-    "\n"
-    "options:\n"
-    "  --json   one JSON object; keys include streamlines, points, dps, dpv and groups (names)\n";
 
 std::string num(double v) {
   if (!std::isfinite(v)) return "null";
@@ -80,15 +69,31 @@ std::string statsJson(const Stats& s) {
 
 } // namespace
 
+const OptionTable& tractInfoOptions() {
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "info";
+    t.positionals = "TRACTS";
+    t.maxPositionals = 1;
+    t.intro =
+        "Describes a tractogram (.tck, .trk, .trk.gz, .trx zip or folder, .vtk, .vtp) as dtfabric reads\n"
+        "it into world RAS mm: format, header facts (space, voxel order, dimensions, affine), streamline\n"
+        "and point counts, streamline lengths in mm, per-streamline (dps) and per-point (dpv) data with\n"
+        "shapes and ranges, and groups with their sizes.";
+    t.options = {CliOption::flag("json", "one JSON object; keys include streamlines, points, dps, dpv and groups (names)")};
+    return t;
+  }();
+  return table;
+}
+
 int cmdTractInfo(const CommandArgs& argv) {
-  Args args(argv, {"help", "json"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
+  ParsedOptions args(tractInfoOptions(), argv);
+  if (args.helpRequested()) {
+    std::fputs(tractInfoOptions().help().c_str(), stdout);
     return 0;
   }
   const std::string path = args.positional(0, "TRACTS (see --help)");
   const bool json = args.flag("json");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   args.finish();
 
   TractFileFacts facts;
