@@ -22,15 +22,6 @@ namespace dtf::app {
 
 namespace {
 
-std::string findOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  std::string dir;
-  while (std::getline(ss, dir, ':'))
-    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  return {};
-}
-
 struct Peer {
   bool ran = false;
   double seconds = 0;
@@ -80,10 +71,7 @@ const OptionTable& benchCheckOptions() {
 
 int benchCheck(const CommandArgs& argv) {
   ParsedOptions args(benchCheckOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(benchCheckOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   const bool noPeer = args.flag("no-peer");
   const int repeat = args.integer("repeat");

@@ -143,6 +143,45 @@ struct Figure {
   const char* goalText;
 };
 
+// Tensor load and FA map on the HCP-sized field.
+void timeHcpSized(Figure& load, Figure& fa, std::vector<std::string>& notes) {
+  TensorField field = hcpSizedField();
+  fs::path dir = fs::temp_directory_path() / ("dtfabric-bench-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string file = (dir / "hcp_sized_tensor.nii.gz").string();
+  try {
+    io::writeTensorVolume(file, field, io::TensorLayout::Fsl);
+    load.t = medianTiming(3, [&] { io::readTensorVolume(file, io::TensorLayout::Auto); });
+  } catch (const Error& e) {
+    notes.push_back(std::string("tensor load skipped: ") + e.what());
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  computeFaMap(field); // warm-up
+  fa.t = medianTiming(5, [&] { computeFaMap(field); });
+}
+
+// WLS fits of the real DWI in its mask and of a 2x upsampled copy.
+void timeFits(const std::optional<fs::path>& dataDir, int threads, Figure& fitReal, Figure& fitUp,
+              std::vector<std::string>& notes) {
+  const fs::path dwiDir = dataDir ? *dataDir / "iu_prisma_dwi" : fs::path();
+  if (!dataDir || !fs::exists(dwiDir / "dwi.nii.gz") || !fs::exists(dwiDir / "derived" / "mask.nii.gz")) {
+    notes.push_back("fit skipped: no iu_prisma_dwi data found (use --data DIR or DTF_SHARED_DATA)");
+    return;
+  }
+  io::Dwi dwi = io::readDwi((dwiDir / "dwi.nii.gz").string(), (dwiDir / "dwi.bval").string(),
+                            (dwiDir / "dwi.bvec").string());
+  MaskVolume mask = toMask(io::readScalarVolume((dwiDir / "derived" / "mask.nii.gz").string()));
+  io::FitOptions o;
+  o.threads = threads;
+  io::fitTensors(dwi, &mask, o); // warm-up
+  fitReal.t = medianTiming(7, [&] { io::fitTensors(dwi, &mask, o); });
+  io::Dwi up;
+  MaskVolume upMask;
+  upsample2(dwi, mask, up, upMask);
+  fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
+}
+
 } // namespace
 
 const OptionTable& benchIoOptions() {
@@ -169,10 +208,7 @@ const OptionTable& benchIoOptions() {
 
 int benchIo(const CommandArgs& argv) {
   ParsedOptions args(benchIoOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(benchIoOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
   const int threads = args.integer("threads");
@@ -184,40 +220,9 @@ int benchIo(const CommandArgs& argv) {
   Figure fitReal{"fit_real_s", "fit 72x72x39x21 (mask)", {}, 0.13, "<= 0.13 s (MRtrix dwi2tensor)"};
   Figure fitUp{"fit_upsampled_s", "fit 144x144x78x21 (mask)", {}, 1.2, "<= 1.2 s (MRtrix dwi2tensor)"};
 
-  { // Tensor load and FA map on the HCP-sized field.
-    TensorField field = hcpSizedField();
-    fs::path dir = fs::temp_directory_path() / ("dtfabric-bench-" + std::to_string(getpid()));
-    fs::create_directories(dir);
-    const std::string file = (dir / "hcp_sized_tensor.nii.gz").string();
-    try {
-      io::writeTensorVolume(file, field, io::TensorLayout::Fsl);
-      load.t = medianTiming(3, [&] { io::readTensorVolume(file, io::TensorLayout::Auto); });
-    } catch (const Error& e) {
-      notes.push_back(std::string("tensor load skipped: ") + e.what());
-    }
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-    computeFaMap(field); // warm-up
-    fa.t = medianTiming(5, [&] { computeFaMap(field); });
-  }
-
+  timeHcpSized(load, fa, notes);
   const auto dataDir = findSharedDataDir(dataArg);
-  const fs::path dwiDir = dataDir ? *dataDir / "iu_prisma_dwi" : fs::path();
-  if (!dataDir || !fs::exists(dwiDir / "dwi.nii.gz") || !fs::exists(dwiDir / "derived" / "mask.nii.gz")) {
-    notes.push_back("fit skipped: no iu_prisma_dwi data found (use --data DIR or DTF_SHARED_DATA)");
-  } else {
-    io::Dwi dwi = io::readDwi((dwiDir / "dwi.nii.gz").string(), (dwiDir / "dwi.bval").string(),
-                              (dwiDir / "dwi.bvec").string());
-    MaskVolume mask = toMask(io::readScalarVolume((dwiDir / "derived" / "mask.nii.gz").string()));
-    io::FitOptions o;
-    o.threads = threads;
-    io::fitTensors(dwi, &mask, o); // warm-up
-    fitReal.t = medianTiming(7, [&] { io::fitTensors(dwi, &mask, o); });
-    io::Dwi up;
-    MaskVolume upMask;
-    upsample2(dwi, mask, up, upMask);
-    fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
-  }
+  timeFits(dataDir, threads, fitReal, fitUp, notes);
 
   const std::vector<TractLoadFigure> tractLoads = benchTractLoads(dataDir, notes);
   std::vector<Figure> tractFigures;

@@ -232,10 +232,7 @@ const OptionTable& benchOverlayOptions() {
 
 int benchOverlay(const CommandArgs& argv) {
   ParsedOptions args(benchOverlayOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(benchOverlayOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   int width = 1024, height = 768;
   parseSize(args.text("size"), width, height);
   const int frames = args.integer("frames");

@@ -54,10 +54,7 @@ const OptionTable& benchSurfacesOptions() {
 
 int benchSurfaces(const CommandArgs& argv) {
   ParsedOptions args(benchSurfacesOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(benchSurfacesOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   auto dataArg = args.get("data");
   const int repeat = args.integer("repeat");

@@ -154,10 +154,7 @@ const OptionTable& helpOptions() {
 
 int cmdHelp(const CommandArgs& argv) {
   ParsedOptions args(helpOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(helpOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const bool markdown = args.flag("markdown");
   args.finish();
   if (markdown)

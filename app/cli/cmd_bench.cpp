@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
+#include <unistd.h>
 
 namespace dtf::app {
 
@@ -18,6 +20,14 @@ std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::
   for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
     if (fs::exists(p / "shared" / "data" / "iu_prisma_dwi")) return p / "shared" / "data";
   return std::nullopt;
+}
+
+std::string findOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "");
+  for (std::string dir; std::getline(ss, dir, ':');)
+    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
+  return {};
 }
 
 double loadAverage() {

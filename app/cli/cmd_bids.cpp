@@ -60,7 +60,6 @@ std::string clock(double s) {
   return buf;
 }
 
-
 struct Progress {
   std::size_t total = 0, done = 0, failed = 0, skipped = 0;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
@@ -96,6 +95,170 @@ RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::string& out, d
   return o;
 }
 
+// A pool of worker processes (this executable with --worker): each reads run labels on its stdin, processes
+// them one after the other in one GL context, and answers "done" on its stdout. A worker that dies fails
+// only the run it was processing; a new worker takes the rest.
+class WorkerPool {
+public:
+  WorkerPool(const std::vector<io::BidsRun>& runs, const std::string& bids, const std::string& out,
+             const ParticipantOptions& opts, Progress& progress)
+      : runs_(runs), bids_(bids), out_(out), opts_(opts), progress_(progress),
+        exe_(fs::read_symlink("/proc/self/exe").string()) {}
+  ~WorkerPool() {
+    for (auto& w : workers_) {
+      if (w.in >= 0) ::close(w.in);
+      if (w.out >= 0) ::close(w.out);
+      if (w.pid > 0) ::waitpid(w.pid, nullptr, 0);
+    }
+  }
+
+  void run(std::size_t poolSize) {
+    std::signal(SIGPIPE, SIG_IGN); // a worker that died is noticed on its stdout, not by a signal here
+    for (std::size_t i = 0; i < poolSize; ++i)
+      spawn();
+    for (auto& w : workers_)
+      assign(w);
+    while (true) {
+      std::vector<pollfd> fds;
+      std::vector<std::size_t> which;
+      for (std::size_t i = 0; i < workers_.size(); ++i)
+        if (workers_[i].run >= 0) {
+          fds.push_back({workers_[i].out, POLLIN, 0});
+          which.push_back(i);
+        }
+      if (fds.empty()) break;
+      if (::poll(fds.data(), fds.size(), -1) < 0) {
+        if (errno == EINTR) continue;
+        throw InputError("waiting for the workers failed");
+      }
+      for (std::size_t f = 0; f < fds.size(); ++f)
+        if (fds[f].revents) readFrom(which[f]);
+    }
+  }
+
+private:
+  struct Worker {
+    pid_t pid = -1;
+    int in = -1, out = -1;
+    long run = -1; // index of the run it is processing, -1 when idle
+    std::chrono::steady_clock::time_point start;
+    fs::file_time_type docTime; // the metrics document's time before: unchanged means skipped
+    std::string buffer;
+  };
+
+  void spawn() {
+    int toChild[2], fromChild[2];
+    if (::pipe2(toChild, O_CLOEXEC) != 0 || ::pipe2(fromChild, O_CLOEXEC) != 0)
+      throw InputError("cannot start a worker process (pipe failed)");
+    std::vector<std::string> args = {exe_,          "bids",     bids_, out_, "participant", "--worker", "--jobs", "1",
+                                     "--threads",   std::to_string(opts_.fitThreads),
+                                     "--figure-size", std::to_string(opts_.figurePx)};
+    if (opts_.force) args.push_back("--force");
+    const std::string lp = std::to_string(opts_.fitThreads);
+    const pid_t parent = ::getpid();
+    const pid_t pid = ::fork();
+    if (pid < 0) throw InputError("cannot start a worker process (fork failed)");
+    if (pid == 0) {
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (::getppid() != parent) ::_exit(2);
+      ::dup2(toChild[0], 0);
+      ::dup2(fromChild[1], 1);
+      if (!std::getenv("LP_NUM_THREADS")) ::setenv("LP_NUM_THREADS", lp.c_str(), 1);
+      std::vector<char*> cargs;
+      for (auto& a : args)
+        cargs.push_back(a.data());
+      cargs.push_back(nullptr);
+      ::execv(exe_.c_str(), cargs.data());
+      ::_exit(127);
+    }
+    ::close(toChild[0]);
+    ::close(fromChild[1]);
+    Worker w;
+    w.pid = pid;
+    w.in = toChild[1];
+    w.out = fromChild[0];
+    workers_.push_back(w);
+  }
+
+  // The next run to `w`, or its stdin closed when none is left.
+  void assign(Worker& w) {
+    w.run = -1;
+    if (next_ >= runs_.size()) {
+      if (w.in >= 0) ::close(w.in);
+      w.in = -1;
+      return;
+    }
+    const io::BidsRun& r = runs_[next_];
+    const std::string line = runLabel(r) + "\n";
+    if (::write(w.in, line.data(), line.size()) != static_cast<ssize_t>(line.size()))
+      return; // died: seen when its stdout ends
+    w.run = static_cast<long>(next_++);
+    w.start = std::chrono::steady_clock::now();
+    std::error_code ec;
+    w.docTime = fs::last_write_time(metricsPath(r, out_), ec);
+    if (ec) w.docTime = fs::file_time_type::min();
+    std::fprintf(stderr, "  running %s (worker %d)\n", runLabel(r).c_str(), static_cast<int>(w.pid));
+  }
+
+  void readFrom(std::size_t wi) {
+    char buf[256];
+    const ssize_t n = ::read(workers_[wi].out, buf, sizeof buf);
+    if (n > 0) {
+      workers_[wi].buffer.append(buf, static_cast<std::size_t>(n));
+      std::size_t eol;
+      while (workers_[wi].run >= 0 && (eol = workers_[wi].buffer.find('\n')) != std::string::npos) {
+        workers_[wi].buffer.erase(0, eol + 1);
+        runDone(workers_[wi]);
+        assign(workers_[wi]);
+      }
+      return;
+    }
+    if (n < 0 && errno == EINTR) return;
+    workerEnded(wi);
+  }
+
+  void runDone(const Worker& w) {
+    const io::BidsRun& r = runs_[static_cast<std::size_t>(w.run)];
+    RunOutcome o = outcomeFromDocument(r, out_, secondsSince(w.start));
+    std::error_code ec;
+    o.skipped = o.ok && w.docTime != fs::file_time_type::min() &&
+                fs::last_write_time(metricsPath(r, out_), ec) == w.docTime;
+    progress_.report(r, o);
+  }
+
+  // The worker ended while processing a run: that run failed; a new worker takes the rest.
+  void workerEnded(std::size_t wi) {
+    Worker& w = workers_[wi];
+    int status = 0;
+    ::waitpid(w.pid, &status, 0);
+    const io::BidsRun& r = runs_[static_cast<std::size_t>(w.run)];
+    RunOutcome o;
+    o.seconds = secondsSince(w.start);
+    o.message = "the worker processing " + r.dwi + " ended " +
+                (WIFSIGNALED(status) ? "by signal " + std::to_string(WTERMSIG(status))
+                                     : "with exit code " + std::to_string(WEXITSTATUS(status)));
+    progress_.report(r, o);
+    ::close(w.out);
+    if (w.in >= 0) ::close(w.in);
+    w.run = -1;
+    w.in = w.out = -1;
+    w.pid = -1;
+    if (next_ < runs_.size()) {
+      spawn(); // invalidates `w`
+      assign(workers_.back());
+    }
+  }
+
+  const std::vector<io::BidsRun>& runs_;
+  const std::string& bids_;
+  const std::string& out_;
+  const ParticipantOptions& opts_;
+  Progress& progress_;
+  const std::string exe_;
+  std::vector<Worker> workers_;
+  std::size_t next_ = 0;
+};
+
 int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bids, const std::string& out,
                     const ParticipantOptions& opts, int jobs) {
   Progress progress;
@@ -109,145 +272,7 @@ int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bid
       progress.report(r, processRun(r, out, opts));
     }
   } else {
-    // A pool of worker processes (this executable with --worker): each reads run labels on its stdin,
-    // processes them one after the other in one GL context, and answers "done" on its stdout.
-    const std::string exe = fs::read_symlink("/proc/self/exe").string();
-    std::signal(SIGPIPE, SIG_IGN); // a worker that died is noticed on its stdout, not by a signal here
-    struct Worker {
-      pid_t pid = -1;
-      int in = -1, out = -1;
-      long run = -1; // index of the run it is processing, -1 when idle
-      std::chrono::steady_clock::time_point start;
-      fs::file_time_type docTime; // the metrics document's time before: unchanged means skipped
-      std::string buffer;
-    };
-    std::vector<Worker> workers;
-    std::size_t next = 0;
-    auto spawn = [&]() {
-      int toChild[2], fromChild[2];
-      if (::pipe2(toChild, O_CLOEXEC) != 0 || ::pipe2(fromChild, O_CLOEXEC) != 0)
-        throw InputError("cannot start a worker process (pipe failed)");
-      std::vector<std::string> args = {exe,
-                                       "bids",
-                                       bids,
-                                       out,
-                                       "participant",
-                                       "--worker",
-                                       "--jobs",
-                                       "1",
-                                       "--threads",
-                                       std::to_string(opts.fitThreads),
-                                       "--figure-size",
-                                       std::to_string(opts.figurePx)};
-      if (opts.force) args.push_back("--force");
-      const std::string lp = std::to_string(opts.fitThreads);
-      const pid_t parent = ::getpid();
-      const pid_t pid = ::fork();
-      if (pid < 0) throw InputError("cannot start a worker process (fork failed)");
-      if (pid == 0) {
-        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-        if (::getppid() != parent) ::_exit(2);
-        ::dup2(toChild[0], 0);
-        ::dup2(fromChild[1], 1);
-        if (!std::getenv("LP_NUM_THREADS")) ::setenv("LP_NUM_THREADS", lp.c_str(), 1);
-        std::vector<char*> cargs;
-        for (auto& a : args)
-          cargs.push_back(a.data());
-        cargs.push_back(nullptr);
-        ::execv(exe.c_str(), cargs.data());
-        ::_exit(127);
-      }
-      ::close(toChild[0]);
-      ::close(fromChild[1]);
-      Worker w;
-      w.pid = pid;
-      w.in = toChild[1];
-      w.out = fromChild[0];
-      workers.push_back(w);
-    };
-    auto assign = [&](Worker& w) {
-      w.run = -1;
-      if (next >= runs.size()) {
-        if (w.in >= 0) ::close(w.in);
-        w.in = -1;
-        return;
-      }
-      const io::BidsRun& r = runs[next];
-      const std::string line = runLabel(r) + "\n";
-      if (::write(w.in, line.data(), line.size()) != static_cast<ssize_t>(line.size()))
-        return; // died: seen below
-      w.run = static_cast<long>(next++);
-      w.start = std::chrono::steady_clock::now();
-      std::error_code ec;
-      w.docTime = fs::last_write_time(metricsPath(r, out), ec);
-      if (ec) w.docTime = fs::file_time_type::min();
-      std::fprintf(stderr, "  running %s (worker %d)\n", runLabel(r).c_str(), static_cast<int>(w.pid));
-    };
-    const std::size_t poolSize = std::min(runs.size(), static_cast<std::size_t>(jobs));
-    for (std::size_t i = 0; i < poolSize; ++i)
-      spawn();
-    for (auto& w : workers)
-      assign(w);
-    while (true) {
-      std::vector<pollfd> fds;
-      std::vector<std::size_t> which;
-      for (std::size_t i = 0; i < workers.size(); ++i)
-        if (workers[i].run >= 0) {
-          fds.push_back({workers[i].out, POLLIN, 0});
-          which.push_back(i);
-        }
-      if (fds.empty()) break;
-      if (::poll(fds.data(), fds.size(), -1) < 0) {
-        if (errno == EINTR) continue;
-        throw InputError("waiting for the workers failed");
-      }
-      for (std::size_t f = 0; f < fds.size(); ++f) {
-        if (!fds[f].revents) continue;
-        const std::size_t wi = which[f];
-        char buf[256];
-        const ssize_t n = ::read(workers[wi].out, buf, sizeof buf);
-        if (n > 0) {
-          workers[wi].buffer.append(buf, static_cast<std::size_t>(n));
-          std::size_t eol;
-          while (workers[wi].run >= 0 && (eol = workers[wi].buffer.find('\n')) != std::string::npos) {
-            workers[wi].buffer.erase(0, eol + 1);
-            const io::BidsRun& r = runs[static_cast<std::size_t>(workers[wi].run)];
-            RunOutcome o = outcomeFromDocument(r, out, secondsSince(workers[wi].start));
-            std::error_code ec;
-            o.skipped = o.ok && workers[wi].docTime != fs::file_time_type::min() &&
-                        fs::last_write_time(metricsPath(r, out), ec) == workers[wi].docTime;
-            progress.report(r, o);
-            assign(workers[wi]);
-          }
-          continue;
-        }
-        if (n < 0 && errno == EINTR) continue;
-        // The worker ended while processing a run: that run failed; a new worker takes the rest.
-        int status = 0;
-        ::waitpid(workers[wi].pid, &status, 0);
-        const io::BidsRun& r = runs[static_cast<std::size_t>(workers[wi].run)];
-        RunOutcome o;
-        o.seconds = secondsSince(workers[wi].start);
-        o.message = "the worker processing " + r.dwi + " ended " +
-                    (WIFSIGNALED(status) ? "by signal " + std::to_string(WTERMSIG(status))
-                                         : "with exit code " + std::to_string(WEXITSTATUS(status)));
-        progress.report(r, o);
-        ::close(workers[wi].out);
-        if (workers[wi].in >= 0) ::close(workers[wi].in);
-        workers[wi].run = -1;
-        workers[wi].in = workers[wi].out = -1;
-        workers[wi].pid = -1;
-        if (next < runs.size()) {
-          spawn();
-          assign(workers.back());
-        }
-      }
-    }
-    for (auto& w : workers) {
-      if (w.in >= 0) ::close(w.in);
-      if (w.out >= 0) ::close(w.out);
-      if (w.pid > 0) ::waitpid(w.pid, nullptr, 0);
-    }
+    WorkerPool(runs, bids, out, opts, progress).run(std::min(runs.size(), static_cast<std::size_t>(jobs)));
   }
   std::fprintf(stderr, "dtfabric bids: %zu run%s in %s: %zu ok (%zu unchanged), %zu failed\n", progress.total,
                progress.total == 1 ? "" : "s", clock(secondsSince(progress.t0)).c_str(),
@@ -332,10 +357,7 @@ const OptionTable& bidsOptions() {
 
 int cmdBids(const CommandArgs& argv) {
   ParsedOptions args(bidsOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(bidsOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const auto participants = args.list("participant-label");
   const auto sessions = args.list("session-label");
   const std::string bids = args.positional(0, "BIDS_DIR (see --help)");

@@ -179,10 +179,7 @@ const OptionTable& checkOptions() {
 
 int cmdCheck(const CommandArgs& argv) {
   ParsedOptions args(checkOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(checkOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   CheckRequest req;
   req.input = args.positional(0, "INPUT (see --help)");
   req.bval = args.text("bval");

@@ -49,10 +49,7 @@ const OptionTable& compareOptions() {
 
 int cmdCompare(const CommandArgs& argv) {
   ParsedOptions args(compareOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(compareOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string input = args.positional(0, "INPUT");
   const std::string tractsPath = args.required("tracts");
   const std::string surfaceText = args.required("surface");

@@ -50,10 +50,7 @@ Grid referenceGridOf(const std::string& path) {
 
 int cmdConvert(const CommandArgs& argv) {
   ParsedOptions args(convertOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(convertOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string in = args.positional(0, "IN (see --help)");
   const std::string out = args.positional(1, "OUT (see --help)");
   const auto reference = args.get("reference");

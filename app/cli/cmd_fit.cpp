@@ -94,10 +94,7 @@ const OptionTable& fitOptions() {
 
 int cmdFit(const CommandArgs& argv) {
   ParsedOptions args(fitOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(fitOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string dwiPath = args.positional(0, "DWI volume (see --help)");
   const auto output = std::optional<std::string>(args.required("output"));
   if (!io::isWritableTensorName(*output))

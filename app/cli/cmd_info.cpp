@@ -462,10 +462,7 @@ int cmdInfo(const CommandArgs& argv) {
   for (const auto& a : argv)
     if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
   ParsedOptions args(infoOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(infoOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string path = args.positional(0, "FILE (see --help)");
   std::string layoutText = args.text("layout");
   const std::string tensorPath = args.text("tensor");

@@ -58,10 +58,7 @@ const OptionTable& phantomOptions() {
 
 int cmdPhantom(const CommandArgs& argv) {
   ParsedOptions args(phantomOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(phantomOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string name = args.positional(0, "phantom NAME (see --help)");
   auto output = std::optional<std::string>(args.required("output"));
   const std::string layoutName = args.text("layout");

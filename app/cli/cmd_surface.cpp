@@ -17,6 +17,31 @@
 namespace dtf::app {
 
 namespace {
+// The quality figure of the axis-aligned plane through a fibre surface's seed line (`from` names its axis;
+// empty: the axis plane that best contains the line), and the plane's name.
+double flatSliceScore(const SurfaceSpec& spec, const TensorField& field, const std::string& from, std::string& name) {
+  const glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
+  const glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
+  const glm::dvec3 dir = glm::normalize(b - a);
+  int axis = 2; // world axis of the plane normal: 0 sagittal, 1 coronal, 2 axial
+  if (!from.empty()) {
+    axis = 2 - static_cast<int>(surfaces::parseSliceAxis(from)); // Axial=0 -> z, Coronal=1 -> y, Sagittal=2 -> x
+  } else {
+    for (int c : {1, 0})
+      if (std::abs(dir[c]) < std::abs(dir[axis]) - 1e-9) axis = c;
+  }
+  glm::dvec3 n(0.0);
+  n[axis] = 1;
+  name = axis == 2 ? "axial" : axis == 1 ? "coronal" : "sagittal";
+  ScalarVolume clip(field.grid, 1);
+  for (std::size_t i = 0; i < field.valid.size(); ++i)
+    clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
+  surfaces::SliceOptions so;
+  so.clip = &clip;
+  const Mesh flat = surfaces::makePlane(field.grid, 0.5 * (a + b), n, 0.5 * field.grid.spacing.x, so);
+  return surfaces::fibreCrossingScore(flat, field);
+}
+
 double meshArea(const Mesh& m) {
   double a = 0;
   for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
@@ -84,10 +109,7 @@ const OptionTable& surfaceOptions() {
 
 int cmdSurface(const CommandArgs& argv) {
   ParsedOptions args(surfaceOptions(), argv);
-  if (args.helpRequested()) {
-    std::fputs(surfaceOptions().help().c_str(), stdout);
-    return 0;
-  }
+  if (args.printHelpIfAsked()) return 0;
   const std::string input = args.positional(0, "INPUT");
   const std::string output = args.required("output");
   const std::optional<std::string> given = surfaceArgument(args);
@@ -137,29 +159,8 @@ int cmdSurface(const CommandArgs& argv) {
   const double score = surfaces::fibreCrossingScore(mesh, field);
 
   // Fibre surfaces are compared with the flat slice through their seed line.
-  double flatScore = -1;
   std::string flatName;
-  if (spec.kind == SurfaceSpec::Kind::Fibre) {
-    glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
-    glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
-    glm::dvec3 dir = glm::normalize(b - a);
-    int axis = 2; // world axis of the plane normal: 0 sagittal, 1 coronal, 2 axial
-    if (!from.empty()) {
-      axis = 2 - static_cast<int>(surfaces::parseSliceAxis(from)); // Axial=0 -> z, Coronal=1 -> y, Sagittal=2 -> x
-    } else {
-      for (int c : {1, 0})
-        if (std::abs(dir[c]) < std::abs(dir[axis]) - 1e-9) axis = c;
-    }
-    glm::dvec3 n(0.0);
-    n[axis] = 1;
-    flatName = axis == 2 ? "axial" : axis == 1 ? "coronal" : "sagittal";
-    ScalarVolume clip(field.grid, 1);
-    for (std::size_t i = 0; i < field.valid.size(); ++i) clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
-    surfaces::SliceOptions so;
-    so.clip = &clip;
-    Mesh flat = surfaces::makePlane(field.grid, 0.5 * (a + b), n, 0.5 * field.grid.spacing.x, so);
-    flatScore = surfaces::fibreCrossingScore(flat, field);
-  }
+  const double flatScore = spec.kind == SurfaceSpec::Kind::Fibre ? flatSliceScore(spec, field, from, flatName) : -1;
 
   surfaces::writeMesh(output, mesh);
 

@@ -339,6 +339,11 @@ ParsedOptions::ParsedOptions(const OptionTable& table, const CommandArgs& argv) 
     throw UsageError("unexpected argument '" + positionals_[table.maxPositionals] + "'");
 }
 
+bool ParsedOptions::printHelpIfAsked() const {
+  if (help_) std::fputs(table_->help().c_str(), stdout);
+  return help_;
+}
+
 const std::string& ParsedOptions::positional(std::size_t n, const std::string& what) const {
   if (n >= positionals_.size()) throw UsageError("missing " + what);
   return positionals_[n];

@@ -102,6 +102,8 @@ public:
   ParsedOptions(const OptionTable& table, const CommandArgs& argv);
 
   bool helpRequested() const { return help_; }
+  // With --help: prints the table's help on stdout and returns true.
+  bool printHelpIfAsked() const;
   const std::vector<std::string>& positionals() const { return positionals_; }
   const std::string& positional(std::size_t n, const std::string& what) const;
 
