@@ -59,8 +59,10 @@ const std::vector<Command>& commands() {
        "name what is dropped); atomic, never over an input",
        cmdConvert, convertOptions},
       {"compare", nullptr,
-       "angle between tracts and the fabric direction on a surface",
-       "angle between tracts near a surface and the fabric's principal direction there", cmdCompare, compareOptions},
+       "angle between tracts and the fabric direction (or nearest fibre population) on a surface",
+       "angle between tracts near a surface and the fabric's principal direction there; for a fibre set (peaks), "
+       "the nearest fibre population in the surface",
+       cmdCompare, compareOptions},
       {"check", nullptr,
        "orientation check: a flipped or permuted gradient table, tensor frame or fibre-set frame, and its fix",
        "orientation check: scores the 24 signed axis permutations of a DWI's gradient table (or a tensor file's "

@@ -16,9 +16,16 @@ namespace dtf::app {
 
 namespace {
 
+// The shortest text that reads back as `v`; a value that is exactly a float (a float field's default) as
+// the shortest text that reads back as that float ("0.15", not "0.150000006").
 std::string formatNumber(double v) {
+  const bool isFloat = static_cast<double>(static_cast<float>(v)) == v;
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    const double back = std::strtod(buf, nullptr);
+    if (back == v || (isFloat && static_cast<float>(back) == static_cast<float>(v))) break;
+  }
   return buf;
 }
 
