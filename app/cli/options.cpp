@@ -3,12 +3,13 @@
 #include "app/cli/args.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
+#include "render/fabric_options.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -206,12 +207,13 @@ void CliOption::validate(const std::string& value) const {
     break;
   }
   case Kind::Integer: {
-    long long v = 0;
-    auto [p, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
-    if (value.empty() || ec != std::errc() || p != value.data() + value.size())
+    // As the fabric table reads integers: any number text with an integral value ("3", "3.0", "3e2").
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !std::isfinite(v) || v != std::floor(v) ||
+        std::abs(v) > std::numeric_limits<int>::max())
       throw UsageError("option " + sw + " expects an integer, got '" + value + "'");
-    if (!range.contains(static_cast<double>(v)))
-      throw UsageError(sw + " must be " + range.text() + ", got " + value);
+    if (!range.contains(v)) throw UsageError(sw + " must be " + range.text() + ", got " + value);
     break;
   }
   }
@@ -439,6 +441,37 @@ std::optional<std::string> surfaceArgument(ParsedOptions& options) {
   if (specs.size() > 1) throw UsageError("give one surface (--surface, --fa, --slice or --fibre-surface)");
   if (specs.empty()) return std::nullopt;
   return specs[0];
+}
+
+std::vector<CliOption> fabricCliOptions() {
+  using K = render::FabricOption::Kind;
+  const render::FabricParams defaults;
+  std::vector<CliOption> rows;
+  for (const auto& f : render::fabricOptions()) {
+    const double def = f.get(defaults);
+    CliOption o;
+    switch (f.kind) {
+    case K::OnOff:
+      o = CliOption::flag(std::string("no-") + f.name, std::string("no ") + f.help);
+      break;
+    case K::Colour:
+      o = CliOption::text(f.name, f.metavar, f.help, render::formatFabricValue(f, def));
+      break;
+    case K::Number:
+    case K::Integer: {
+      CliOption::Range r;
+      r.lo = f.range.lo;
+      r.hi = f.range.hi;
+      r.loOpen = f.range.loOpen;
+      r.hiOpen = f.range.hiOpen;
+      o = f.kind == K::Number ? CliOption::number(f.name, f.metavar, def, r, f.help)
+                              : CliOption::integer(f.name, f.metavar, static_cast<int>(def), r, f.help);
+      break;
+    }
+    }
+    rows.push_back(std::move(o).hidden());
+  }
+  return rows;
 }
 
 void checkTensorLayout(const std::string& value) {

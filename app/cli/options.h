@@ -133,6 +133,11 @@ private:
 // as a surface spec, for the rows the table has; nullopt when none is given; UsageError for more than one.
 std::optional<std::string> surfaceArgument(ParsedOptions& options);
 
+// The fabric options (render/fabric_options.h, one declaration each) as rows of a command's table: --NAME V
+// with the fabric table's kind, range and default (colour: text, validated by FabricOption::parse when read),
+// and --no-NAME for the on/off ones. For `render` and anything else that takes fabric options.
+std::vector<CliOption> fabricCliOptions();
+
 // Validators for `checkedBy`.
 void checkTensorLayout(const std::string& value); // io::parseLayout's names
 void checkSize(const std::string& value);         // "1024x768"

@@ -94,6 +94,42 @@ TEST(Help, RenderHelpListsEveryFabricOption) {
     EXPECT_NE(render.out.find(o.cliSynopsis()), std::string::npos) << o.name;
 }
 
+// The fabric options as table rows (for render, when it adopts a table) accept exactly what the fabric
+// table's own parser accepts: the ranges come from the one declaration.
+TEST(Help, FabricOptionRowsAcceptWhatTheFabricTableAccepts) {
+  const auto rows = dtf::app::fabricCliOptions();
+  ASSERT_EQ(rows.size(), dtf::render::fabricOptions().size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& f = dtf::render::fabricOptions()[i];
+    const auto& o = rows[i];
+    if (f.kind == dtf::render::FabricOption::Kind::OnOff) {
+      EXPECT_EQ(o.kind, CliOption::Kind::Flag) << f.name;
+      EXPECT_EQ(o.name, "no-" + std::string(f.name));
+      continue;
+    }
+    EXPECT_EQ(o.name, f.name);
+    if (f.kind == dtf::render::FabricOption::Kind::Colour) continue; // validated by FabricOption::parse
+    std::vector<std::string> samples = {"x", "0", "1", "0.5", "-1", "2"};
+    for (double v : {f.range.lo, f.range.hi})
+      for (double d : {-1.0, -1e-3, 0.0, 1e-3, 1.0})
+        samples.push_back(std::to_string(v + d));
+    for (const auto& text : samples) {
+      bool fabricAccepts = true, rowAccepts = true;
+      try {
+        f.parse(text);
+      } catch (const dtf::UsageError&) {
+        fabricAccepts = false;
+      }
+      try {
+        o.validate(text);
+      } catch (const dtf::UsageError&) {
+        rowAccepts = false;
+      }
+      EXPECT_EQ(rowAccepts, fabricAccepts) << f.name << " " << text;
+    }
+  }
+}
+
 // The parser accepts every row of a table (with a value of its kind) and nothing else; a row's value is
 // checked against its kind, range and choices.
 TEST(Help, ParserAcceptsExactlyTheTable) {
