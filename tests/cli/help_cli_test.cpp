@@ -214,6 +214,10 @@ TEST(Help, EveryCommandReadsExactlyItsTable) {
       "bench check --data " + (dir / "no_such_data").string(),
       "bench tracts --data " + (dir / "no_such_data").string(),
       "bench view --data " + (dir / "no_such_data").string(),
+      // These two run to the end on small stand-ins (a phantom, synthetic tracts): a few seconds. `bench io`
+      // (an HCP-sized volume and a 1 M-streamline TRX) is too slow for a test.
+      "bench surfaces --repeat 1 --data " + (dir / "no_such_data").string(),
+      "bench overlay --frames 1 --size 64x48 --no-reference --data " + (dir / "no_such_data").string(),
   };
   for (const auto& l : lines) {
     const auto r = run(l);
