@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -24,6 +25,7 @@ std::string formatNumber(double v) {
   char buf[32];
   for (int precision = 1; precision <= 17; ++precision) {
     std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    if (std::strchr(buf, 'e') && std::abs(v) >= 1e-4 && std::abs(v) < 1e15) continue; // "90", not "9e+01"
     const double back = std::strtod(buf, nullptr);
     if (back == v || (isFloat && static_cast<float>(back) == static_cast<float>(v))) break;
   }

@@ -282,3 +282,63 @@ TEST(Help, ReadmeTablesAreHelpMarkdown) {
   for (const auto& b : dtf::app::benchmarks())
     EXPECT_NE(commandsTable.find("`" + std::string(b.name) + "`"), std::string::npos) << b.name;
 }
+
+// The parser's rules, on a small table.
+TEST(Options, ParserRules) {
+  using dtf::app::ParsedOptions;
+  OptionTable t;
+  t.command = "demo";
+  t.positionals = "IN";
+  t.maxPositionals = 1;
+  t.options = {CliOption::text("output", "OUT", "where").required(),
+               CliOption::number("near", "MM", 2, dtf::app::atLeast(0), "distance"),
+               CliOption::integer("bins", "N", 9, dtf::app::closedRange(1, 90), "bins"),
+               CliOption::number("threshold", "T", static_cast<float>(0.15), dtf::app::closedRange(0, 1), "t"),
+               CliOption::choice("grid", "G", {"ras", "las"}, "ras", "grid"),
+               CliOption::list("label", "L", "labels"), CliOption::flag("json", "json")};
+  {
+    ParsedOptions p(t, {"in", "--near=3", "--near", "4", "-o", "x.png", "--label", "01", "02", "--json"});
+    EXPECT_EQ(p.positional(0, "IN"), "in");
+    EXPECT_EQ(p.number("near"), 4) << "the last occurrence wins";
+    EXPECT_EQ(p.required("output"), "x.png");
+    EXPECT_EQ(p.list("label"), (std::vector<std::string>{"01", "02"}));
+    EXPECT_TRUE(p.flag("json"));
+    EXPECT_EQ(p.integer("bins"), 9) << "the table's default";
+    EXPECT_EQ(p.text("grid"), "ras");
+    EXPECT_THROW(p.finish(), std::logic_error) << "--threshold was never read";
+    p.number("threshold");
+    EXPECT_NO_THROW(p.finish());
+    EXPECT_THROW(p.flag("frobnicate"), std::logic_error) << "a name the table lacks";
+  }
+  EXPECT_EQ(ParsedOptions(t, {"--label=03"}).list("label"), (std::vector<std::string>{"03"}));
+  EXPECT_EQ(ParsedOptions(t, {"--bins", "3.0"}).integer("bins"), 3);
+  EXPECT_TRUE(ParsedOptions(t, {"--frobnicate", "--bins", "x", "--help"}).helpRequested()) << "help wins";
+  for (const std::vector<std::string>& bad :
+       std::vector<std::vector<std::string>>{{"--json=1"},
+                                             {"--near"},
+                                             {"--near", "-1"},
+                                             {"--bins", "91"},
+                                             {"--bins", "2.5"},
+                                             {"--bins", "1e12"},
+                                             {"--grid", "lps"},
+                                             {"--label"},
+                                             {"--label", "--json"},
+                                             {"a", "b"},
+                                             {"--frobnicate"}})
+    EXPECT_THROW(ParsedOptions(t, bad), dtf::UsageError) << bad.front();
+  try {
+    ParsedOptions p(t, {"in"});
+    p.required("output");
+    ADD_FAILURE() << "a missing required option";
+  } catch (const dtf::UsageError& e) {
+    EXPECT_STREQ(e.what(), "missing -o OUT");
+  }
+  const std::string help = t.help();
+  EXPECT_NE(help.find("usage: dtfabric demo IN -o OUT [--near MM] [--bins N] [--threshold T] [--grid G]"),
+            std::string::npos)
+      << help;
+  EXPECT_NE(help.find("(default 2; >= 0)"), std::string::npos) << help;
+  EXPECT_NE(help.find("(default 9; [1, 90])"), std::string::npos) << help;
+  EXPECT_NE(help.find("(default 0.15; [0, 1])"), std::string::npos) << "a float default as written" << help;
+  EXPECT_NE(help.find("(ras or las; default ras)"), std::string::npos) << help;
+}
