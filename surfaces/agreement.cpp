@@ -46,13 +46,35 @@ void summarizeAngles(AgreementResult& r, int bins) {
   r.medianDeg = m % 2 ? sorted[m / 2] : 0.5 * (sorted[m / 2 - 1] + sorted[m / 2]);
 }
 
-AgreementResult tractSurfaceAgreement(const Polylines& tracts, const Mesh& surface, const TensorField& field,
-                                      const AgreementOptions& o) {
+bool nearestPopulationAngle(const std::vector<Fibre>& fibres, const glm::dvec3& n, const glm::dvec3& tangent,
+                            double minInSurfaceFraction, double& angleDeg) {
+  double bestCos = -1;
+  for (const Fibre& f : fibres) {
+    if (!(f.amplitude > 0)) continue;
+    const glm::dvec3 d(f.direction);
+    const double dl = glm::length(d);
+    if (!(dl > 0)) continue;
+    const glm::dvec3 dp = d - glm::dot(d, n) * n;
+    const double dpl = glm::length(dp);
+    if (dpl < minInSurfaceFraction * dl) continue;
+    bestCos = std::max(bestCos, std::abs(glm::dot(tangent, dp / dpl)));
+  }
+  if (bestCos < 0) return false;
+  angleDeg = std::acos(std::min(1.0, bestCos)) * 180.0 / M_PI;
+  return true;
+}
+
+namespace {
+
+// Every tract point within nearMm of the surface with its in-surface tangent; `angleAt(closest, n, tangent,
+// angleDeg)` gives the angle to the fabric's direction there (false: none).
+template <class AngleAt>
+AgreementResult measureAgreement(const Polylines& tracts, const Mesh& surface, const AgreementOptions& o,
+                                 AngleAt angleAt) {
   if (!(o.nearMm >= 0)) throw UsageError("--near must be >= 0 mm");
   if (o.bins < 1 || o.bins > 90) throw UsageError("histogram bins must be 1..90");
   if (surface.empty()) throw InputError("the comparison surface has no triangles");
   DistanceQuery query(surface);
-  const glm::dmat4 worldToVoxel = glm::inverse(field.grid.voxelToWorld);
   AgreementResult r;
   for (std::size_t l = 0; l < tracts.lineCount(); ++l) {
     const std::uint32_t b = tracts.offsets[l], e = tracts.offsets[l + 1];
@@ -80,19 +102,48 @@ AgreementResult tractSurfaceAgreement(const Polylines& tracts, const Mesh& surfa
         ++r.skippedTangent;
         continue;
       }
-      glm::dvec3 fabric;
-      const SymTensor t = field.sample(glm::dvec3(worldToVoxel * glm::dvec4(glm::dvec3(closest), 1.0)));
-      if (!projectedPrincipalDirection(t, n, fabric, o.minPlanarAnisotropy)) {
+      double angle = 0;
+      if (!angleAt(glm::dvec3(closest), n, tp / tpl, angle)) {
         ++r.skippedDegenerate;
         continue;
       }
-      const double cosA = std::min(1.0, std::abs(glm::dot(tp / tpl, fabric)));
-      r.anglesDeg.push_back(std::acos(cosA) * 180.0 / M_PI);
+      r.anglesDeg.push_back(angle);
       r.lineOf.push_back(static_cast<std::uint32_t>(l));
     }
   }
   summarizeAngles(r, o.bins);
   return r;
+}
+
+} // namespace
+
+AgreementResult tractSurfaceAgreement(const Polylines& tracts, const Mesh& surface, const TensorField& field,
+                                      const AgreementOptions& o) {
+  const glm::dmat4 worldToVoxel = glm::inverse(field.grid.voxelToWorld);
+  return measureAgreement(
+      tracts, surface, o,
+      [&](const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& tangent, double& angle) {
+        glm::dvec3 fabric;
+        const SymTensor t = field.sample(glm::dvec3(worldToVoxel * glm::dvec4(p, 1.0)));
+        if (!projectedPrincipalDirection(t, n, fabric, o.minPlanarAnisotropy)) return false;
+        const double cosA = std::min(1.0, std::abs(glm::dot(tangent, fabric)));
+        angle = std::acos(cosA) * 180.0 / M_PI;
+        return true;
+      });
+}
+
+AgreementResult tractSurfaceAgreement(const Polylines& tracts, const Mesh& surface, const FibreSet& fibres,
+                                      const AgreementOptions& o) {
+  if (!(o.fibreThreshold >= 0 && o.fibreThreshold < 1))
+    throw UsageError("the fibre threshold must be in [0, 1)");
+  const glm::dmat4 worldToVoxel = glm::inverse(fibres.grid.voxelToWorld);
+  return measureAgreement(
+      tracts, surface, o,
+      [&](const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& tangent, double& angle) {
+        const glm::dvec3 ijk(worldToVoxel * glm::dvec4(p, 1.0));
+        const std::vector<Fibre> here = interpolateFibres(fibres, ijk, o.fibreThreshold, fibres.maxFibres);
+        return nearestPopulationAngle(here, n, tangent, o.minInSurfaceFraction, angle);
+      });
 }
 
 } // namespace dtf::surfaces

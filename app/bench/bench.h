@@ -3,6 +3,7 @@
 #pragma once
 
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "io/model/geometry.h"
 #include "io/model/tensor_field.h"
 
@@ -19,6 +20,7 @@ struct Benchmark {
   const char* name;
   const char* summary; // one line
   int (*run)(const CommandArgs& args);
+  const OptionTable& (*options)() = nullptr; // its flags and --help (app/cli/options.h; nullptr: not yet)
 };
 // Every benchmark, in the order help lists them.
 const std::vector<Benchmark>& benchmarks();
@@ -31,6 +33,17 @@ int benchTracts(const CommandArgs& args);
 int benchOverlay(const CommandArgs& args);
 int benchCheck(const CommandArgs& args);
 int benchBids(const CommandArgs& args);
+// Their option tables, each in its benchmark's file.
+const OptionTable& benchIoOptions();
+const OptionTable& benchSurfacesOptions();
+const OptionTable& benchTractsOptions();
+const OptionTable& benchOverlayOptions();
+const OptionTable& benchViewOptions();
+const OptionTable& benchCheckOptions();
+const OptionTable& benchBidsOptions();
+
+// The `--data DIR` row every benchmark that reads the shared data has.
+CliOption sharedDataOption();
 
 // The shared real-data folder: `given`, else $DTF_SHARED_DATA, else a shared/data folder beside an ancestor
 // of the executable (the checkout's ../shared/data). nullopt when none exists.
@@ -53,6 +66,8 @@ struct FormatLoadFigure {
 };
 std::vector<FormatLoadFigure> benchFormatLoads(const std::optional<std::filesystem::path>& dataDir,
                                                std::vector<std::string>& notes);
+// The executable `name` on the PATH, or empty.
+std::string findOnPath(const std::string& name);
 // The 1-minute load average, to tell figures taken on a contended machine apart (-1 when unknown).
 double loadAverage();
 

@@ -4,6 +4,7 @@
 // on the PATH (a peer measurement, never a dependency).
 #include "app/cli/args.h"
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/scene/bids_participant.h"
 #include "io/bids.h"
 #include "io/bids_report.h"
@@ -32,14 +33,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string onPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  return {};
-}
-
 // Wall seconds of `chromium --headless --dump-dom URL`, -1 when it fails; the dumped page in `dom`.
 double chromiumSeconds(const std::string& chromium, const std::string& url, const fs::path& scratch,
                        std::string* dom = nullptr) {
@@ -65,36 +58,46 @@ double timing(const std::string& dom, const std::string& key) {
 
 } // namespace
 
-int benchBids(const CommandArgs& argv) {
-  Args args(argv, {"help", "json", "keep"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench bids [--data DIR] [--runs N] [--rows N] [--figure-size PX] [--json] [--keep]\n"
-        "  --runs N         participants made of the real DWI, processed one after the other (default 3)\n"
-        "  --rows N         rows of the replicated cohort for the report (default 300)\n"
-        "  --figure-size PX figure edge (default 512, as `dtfabric bids`)\n"
-        "  --keep           keep the scratch dataset and outputs (printed)\n");
-    return 0;
-  }
-  const auto data = findSharedDataDir(args.get("data"));
-  const int runsWanted = args.getInt("runs", 3);
-  const int rowsWanted = args.getInt("rows", 300);
-  const int figurePx = args.getInt("figure-size", 512);
-  const bool json = args.flag("json"), keep = args.flag("keep");
-  args.finish();
-  if (runsWanted < 1 || runsWanted > 50) throw UsageError("--runs must be in [1, 50]");
-  if (rowsWanted < 1 || rowsWanted > 100000) throw UsageError("--rows must be in [1, 100000]");
-  if (!data || !fs::exists(*data / "iu_prisma_dwi" / "dwi.nii.gz"))
-    throw InputError("bench bids needs the real DWI (../shared/data/iu_prisma_dwi; give --data DIR)");
-  const fs::path src = *data / "iu_prisma_dwi";
+const OptionTable& benchBidsOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench bids";
+    t.intro =
+        "Seconds per participant of `dtfabric bids` on participants made of the real DWI, and the time to\n"
+        "write the group report of a replicated cohort.";
+    t.options = {
+        sharedDataOption(),
+        O::integer("runs", "N", 3, closedRange(1, 50), "participants made of the real DWI, processed one after the other"),
+        O::integer("rows", "N", 300, closedRange(1, 100000), "rows of the replicated cohort for the report"),
+        O::integer("figure-size", "PX", ParticipantOptions{}.figurePx, closedRange(64, 2048), "figure edge (as `dtfabric bids`)"),
+        O::flag("json", "one JSON object"),
+        O::flag("keep", "keep the scratch dataset and outputs (printed)"),
+    };
+    return t;
+  }();
+  return table;
+}
 
-  char tmpl[] = "/tmp/dtfabric_bench_bids_XXXXXX";
-  if (!::mkdtemp(tmpl)) throw InputError("cannot make a scratch folder in /tmp");
-  const fs::path scratch = tmpl, bids = scratch / "bids", out = scratch / "out";
+namespace {
+
+// What `bench bids` measures.
+struct BidsFigures {
+  int figurePx = 0, cores = 1, rows = 0;
+  std::vector<double> total, fit, check, figures, load; // seconds per run
+  double groupSeconds = 0;
+  std::size_t htmlBytes = 0;
+  std::string chromium; // empty: not on the PATH
+  double chromeEmpty = -1, chromeReport = -1, sortMs = -1, detailMs = -1, scriptMs = -1;
+  double jobsPerRun = -1;
+};
+
+// A BIDS dataset of `runs` participants, each a copy of the real DWI.
+void makeCohort(const fs::path& src, const fs::path& bids, int runs) {
   fs::create_directories(bids);
   io::writeTextIfChanged((bids / "dataset_description.json").string(),
                          "{\"Name\": \"bench\", \"BIDSVersion\": \"1.8.0\"}\n");
-  for (int n = 1; n <= runsWanted; ++n) {
+  for (int n = 1; n <= runs; ++n) {
     char sub[16];
     std::snprintf(sub, sizeof sub, "%02d", n);
     const fs::path dir = bids / ("sub-" + std::string(sub)) / "dwi";
@@ -104,34 +107,34 @@ int benchBids(const CommandArgs& argv) {
     fs::copy_file(src / "dwi.bval", dir / (stem + ".bval"));
     fs::copy_file(src / "dwi.bvec", dir / (stem + ".bvec"));
   }
-  const io::BidsDataset ds = io::scanBidsDataset(bids.string());
-  fs::create_directories(out);
+}
 
+// Each run processed in this process, one after the other; the stage times from its metrics document.
+void timeParticipants(const io::BidsDataset& ds, const fs::path& out, BidsFigures& f) {
   ParticipantOptions opts;
-  opts.figurePx = figurePx;
+  opts.figurePx = f.figurePx;
   opts.version = DTF_VERSION;
-  opts.fitThreads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  std::vector<double> total, fit, check, figures, load;
+  opts.fitThreads = f.cores;
   for (const auto& r : ds.runs) {
     const RunOutcome o = processRun(r, out.string(), opts);
     if (!o.ok) throw InputError("bench bids: " + r.dwi + " failed: " + o.message);
     const std::string doc = metricsPath(r, out.string());
     const io::FlatJson j = io::FlatJson::parse(io::readTextFile(doc), doc);
-    total.push_back(o.seconds);
-    load.push_back(j.number("seconds_load"));
-    fit.push_back(j.number("seconds_fit"));
-    check.push_back(j.number("seconds_check"));
-    figures.push_back(j.number("seconds_figures"));
+    f.total.push_back(o.seconds);
+    f.load.push_back(j.number("seconds_load"));
+    f.fit.push_back(j.number("seconds_fit"));
+    f.check.push_back(j.number("seconds_check"));
+    f.figures.push_back(j.number("seconds_figures"));
   }
-  // The first run also pays for the GL context and the noise tile; the median is the steady state.
-  const double perRun = median(total);
+}
 
-  // The cohort: the measured rows replicated with distinct names and slightly spread metrics.
+// The group level over the measured rows replicated with distinct names and slightly spread metrics.
+void timeGroupReport(const io::BidsDataset& ds, const fs::path& out, BidsFigures& f) {
   std::vector<io::GroupRow> base;
   for (const auto& r : ds.runs)
     base.push_back(readGroupRow(r, out.string()));
   std::vector<io::GroupRow> rows;
-  for (int n = 0; n < rowsWanted; ++n) {
+  for (int n = 0; n < f.rows; ++n) {
     io::GroupRow row = base[static_cast<std::size_t>(n) % base.size()];
     char name[32];
     std::snprintf(name, sizeof name, "sub-%04d_dwi", n + 1);
@@ -141,70 +144,106 @@ int benchBids(const CommandArgs& argv) {
       m *= 1.0 + 0.01 * std::sin(0.7 * n);
     rows.push_back(std::move(row));
   }
-  const auto tg = std::chrono::steady_clock::now();
+  const auto t0 = std::chrono::steady_clock::now();
   io::flagOutliers(rows);
   const std::string tsv = io::groupTsv(rows);
   const std::string html = io::groupReportHtml(rows, "bench cohort", "dtfabric " + std::string(DTF_VERSION));
   io::writeTextIfChanged((out / "group.tsv").string(), tsv);
   io::writeTextIfChanged((out / "group_report.html").string(), html);
-  const double groupSeconds = secondsSince(tg);
+  f.groupSeconds = secondsSince(t0);
+  f.htmlBytes = html.size();
+}
 
-  double chromeEmpty = -1, chromeReport = -1, sortMs = -1, detailMs = -1, scriptMs = -1;
-  const std::string chromium = onPath("chromium");
-  if (!chromium.empty()) {
-    io::writeTextIfChanged((out / "empty.html").string(), "<!DOCTYPE html><html><body>x</body></html>\n");
-    chromeEmpty = chromiumSeconds(chromium, "file://" + (out / "empty.html").string(), scratch);
-    std::string dom;
-    chromeReport = chromiumSeconds(chromium, "file://" + (out / "group_report.html").string() + "#timing",
-                                   scratch, &dom);
-    sortMs = timing(dom, "sort_ms");
-    detailMs = timing(dom, "detail_ms");
-    scriptMs = timing(dom, "script_ms");
-  }
+// Headless Chromium loading the report (beside an empty page for its start-up) and the page's own timings.
+void timeReportInChromium(const fs::path& out, const fs::path& scratch, BidsFigures& f) {
+  f.chromium = findOnPath("chromium");
+  if (f.chromium.empty()) return;
+  io::writeTextIfChanged((out / "empty.html").string(), "<!DOCTYPE html><html><body>x</body></html>\n");
+  f.chromeEmpty = chromiumSeconds(f.chromium, "file://" + (out / "empty.html").string(), scratch);
+  std::string dom;
+  f.chromeReport =
+      chromiumSeconds(f.chromium, "file://" + (out / "group_report.html").string() + "#timing", scratch, &dom);
+  f.sortMs = timing(dom, "sort_ms");
+  f.detailMs = timing(dom, "detail_ms");
+  f.scriptMs = timing(dom, "script_ms");
+}
 
-  // The same runs through the CLI with --jobs (worker processes), all recomputed.
-  const auto tj = std::chrono::steady_clock::now();
-  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const std::string cmd = "'" + fs::read_symlink("/proc/self/exe").string() + "' bids '" + bids.string() +
-                          "' '" + (scratch / "out_jobs").string() + "' participant --force --jobs " +
-                          std::to_string(cores) + " --figure-size " + std::to_string(figurePx) +
-                          " >/dev/null 2>&1";
-  const int jobsRc = std::system(cmd.c_str());
-  const double jobsPerRun = jobsRc == 0 ? secondsSince(tj) / static_cast<double>(ds.runs.size()) : -1;
+// The same runs through the CLI with --jobs (worker processes), all recomputed.
+void timeJobs(const fs::path& bids, const fs::path& out, std::size_t runs, BidsFigures& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string cmd = "'" + fs::read_symlink("/proc/self/exe").string() + "' bids '" + bids.string() + "' '" +
+                          out.string() + "' participant --force --jobs " + std::to_string(f.cores) +
+                          " --figure-size " + std::to_string(f.figurePx) + " >/dev/null 2>&1";
+  const int rc = std::system(cmd.c_str());
+  f.jobsPerRun = rc == 0 ? secondsSince(t0) / static_cast<double>(runs) : -1;
+}
 
-  if (json) {
-    std::printf(
-        "{\"runs\": %zu, \"figure_px\": %d, \"cores\": %d, \"seconds_per_run\": %.3f, "
-        "\"seconds_load\": %.3f, \"seconds_fit\": %.3f, \"seconds_check\": %.3f, \"seconds_figures\": %.3f, "
-        "\"first_run_seconds\": %.3f, \"report_rows\": %d, \"report_seconds\": %.4f, \"report_bytes\": %zu, "
-        "\"chromium_empty_seconds\": %.3f, \"chromium_report_seconds\": %.3f, \"sort_ms\": %.2f, "
-        "\"detail_ms\": %.2f, \"script_ms\": %.1f, \"jobs\": %d, \"seconds_per_run_jobs\": %.3f}\n",
-        total.size(), figurePx, cores, perRun, median(load), median(fit), median(check), median(figures),
-        total.front(), rowsWanted, groupSeconds, html.size(), chromeEmpty, chromeReport, sortMs, detailMs,
-        scriptMs, cores, jobsPerRun);
-  } else {
-    std::printf("participant level on the real DWI (72x72x39x21), %zu runs in this process, %.0f cores, "
-                "figures %d px:\n",
-                total.size(), static_cast<double>(cores), figurePx);
-    std::printf("  seconds per run (median)  %.2f   (first run %.2f: GL context and noise tile)\n", perRun,
-                total.front());
-    std::printf("    load %.2f  fit %.2f  check %.2f  figures (4%s) %.2f\n", median(load), median(fit),
-                median(check), "", median(figures));
-    std::printf("group level over %d replicated rows: %.3f s (outliers, group.tsv, %zu kB of HTML)\n",
-                rowsWanted, groupSeconds, html.size() / 1024);
-    if (chromeReport >= 0)
-      std::printf(
-          "headless chromium --dump-dom: report %.2f s, an empty page %.2f s (start-up): load %.2f s\n",
-          chromeReport, chromeEmpty, chromeReport - chromeEmpty);
-    else
-      std::printf("chromium: %s\n", chromium.empty() ? "not on the PATH (not measured)" : "failed");
-    if (sortMs >= 0)
-      std::printf("  in the page: script ran %.0f ms after navigation; sort by a metric %.1f ms; open a run "
-                  "%.1f ms\n",
-                  scriptMs, sortMs, detailMs);
-    std::printf("dtfabric bids --jobs %d (worker processes, %zu runs, all recomputed): %.2f s per run\n",
-                cores, ds.runs.size(), jobsPerRun);
-  }
+void printBidsJson(const BidsFigures& f) {
+  std::printf("{\"runs\": %zu, \"figure_px\": %d, \"cores\": %d, \"seconds_per_run\": %.3f, "
+              "\"seconds_load\": %.3f, \"seconds_fit\": %.3f, \"seconds_check\": %.3f, \"seconds_figures\": %.3f, "
+              "\"first_run_seconds\": %.3f, \"report_rows\": %d, \"report_seconds\": %.4f, \"report_bytes\": %zu, "
+              "\"chromium_empty_seconds\": %.3f, \"chromium_report_seconds\": %.3f, \"sort_ms\": %.2f, "
+              "\"detail_ms\": %.2f, \"script_ms\": %.1f, \"jobs\": %d, \"seconds_per_run_jobs\": %.3f}\n",
+              f.total.size(), f.figurePx, f.cores, median(f.total), median(f.load), median(f.fit), median(f.check),
+              median(f.figures), f.total.front(), f.rows, f.groupSeconds, f.htmlBytes, f.chromeEmpty,
+              f.chromeReport, f.sortMs, f.detailMs, f.scriptMs, f.cores, f.jobsPerRun);
+}
+
+void printBidsTable(const BidsFigures& f) {
+  std::printf("participant level on the real DWI (72x72x39x21), %zu runs in this process, %.0f cores, "
+              "figures %d px:\n",
+              f.total.size(), static_cast<double>(f.cores), f.figurePx);
+  // The first run also pays for the GL context and the noise tile; the median is the steady state.
+  std::printf("  seconds per run (median)  %.2f   (first run %.2f: GL context and noise tile)\n", median(f.total),
+              f.total.front());
+  std::printf("    load %.2f  fit %.2f  check %.2f  figures (4%s) %.2f\n", median(f.load), median(f.fit),
+              median(f.check), "", median(f.figures));
+  std::printf("group level over %d replicated rows: %.3f s (outliers, group.tsv, %zu kB of HTML)\n", f.rows,
+              f.groupSeconds, f.htmlBytes / 1024);
+  if (f.chromeReport >= 0)
+    std::printf("headless chromium --dump-dom: report %.2f s, an empty page %.2f s (start-up): load %.2f s\n",
+                f.chromeReport, f.chromeEmpty, f.chromeReport - f.chromeEmpty);
+  else
+    std::printf("chromium: %s\n", f.chromium.empty() ? "not on the PATH (not measured)" : "failed");
+  if (f.sortMs >= 0)
+    std::printf("  in the page: script ran %.0f ms after navigation; sort by a metric %.1f ms; open a run "
+                "%.1f ms\n",
+                f.scriptMs, f.sortMs, f.detailMs);
+  std::printf("dtfabric bids --jobs %d (worker processes, %zu runs, all recomputed): %.2f s per run\n", f.cores,
+              f.total.size(), f.jobsPerRun);
+}
+
+} // namespace
+
+int benchBids(const CommandArgs& argv) {
+  ParsedOptions args(benchBidsOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  BidsFigures f;
+  const auto data = findSharedDataDir(args.get("data"));
+  const int runsWanted = args.integer("runs");
+  f.rows = args.integer("rows");
+  f.figurePx = args.integer("figure-size");
+  const bool json = args.flag("json"), keep = args.flag("keep");
+  args.finish();
+  if (!data || !fs::exists(*data / "iu_prisma_dwi" / "dwi.nii.gz"))
+    throw InputError("bench bids needs the real DWI (../shared/data/iu_prisma_dwi; give --data DIR)");
+  f.cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+
+  char tmpl[] = "/tmp/dtfabric_bench_bids_XXXXXX";
+  if (!::mkdtemp(tmpl)) throw InputError("cannot make a scratch folder in /tmp");
+  const fs::path scratch = tmpl, bids = scratch / "bids", out = scratch / "out";
+  makeCohort(*data / "iu_prisma_dwi", bids, runsWanted);
+  const io::BidsDataset ds = io::scanBidsDataset(bids.string());
+  fs::create_directories(out);
+  timeParticipants(ds, out, f);
+  timeGroupReport(ds, out, f);
+  timeReportInChromium(out, scratch, f);
+  timeJobs(bids, scratch / "out_jobs", ds.runs.size(), f);
+
+  if (json)
+    printBidsJson(f);
+  else
+    printBidsTable(f);
   if (keep)
     std::fprintf(stderr, "kept %s\n", scratch.string().c_str());
   else

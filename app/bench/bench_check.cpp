@@ -4,6 +4,7 @@
 // we fit once and turn the tensors. Reports both times, the speed-up and whether both chose the same table.
 #include "app/cli/args.h"
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/scene/check_run.h"
 #include "io/dwi.h"
 #include "io/model/error.h"
@@ -20,15 +21,6 @@
 namespace dtf::app {
 
 namespace {
-
-std::string findOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  std::string dir;
-  while (std::getline(ss, dir, ':'))
-    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  return {};
-}
 
 struct Peer {
   bool ran = false;
@@ -55,24 +47,36 @@ std::string identifyTable(const std::vector<glm::dvec3>& given, const std::vecto
 
 } // namespace
 
-int benchCheck(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "no-peer"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench check [--repeat R] [--threads T] [--no-peer] [--json] [--data DIR]\n"
+const OptionTable& benchCheckOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench check";
+    t.intro =
         "Times `dtfabric check` on the real DWI (iu_prisma_dwi: load, WLS fit in mask.nii.gz, 24 candidate\n"
-        "scores; median of R runs, default 5) and, when MRtrix's dwigradcheck is on the PATH (Debian\n"
-        "mrtrix3), dwigradcheck on the same DWI, table and mask with T threads (default: all cores);\n"
-        "prints both times, the speed-up and whether both chose the same table.\n");
-    return 0;
-  }
+        "scores; median of R runs) and, when MRtrix's dwigradcheck is on the PATH (Debian mrtrix3),\n"
+        "dwigradcheck on the same DWI, table and mask with T threads; prints both times, the speed-up and\n"
+        "whether both chose the same table.";
+    t.options = {
+        O::integer("repeat", "R", 5, closedRange(1, 100), "runs of our check"),
+        O::integer("threads", "T", 1, atLeast(1), "dwigradcheck's threads").defaultSays("all cores"),
+        O::flag("no-peer", "skip dwigradcheck"),
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+    };
+    return t;
+  }();
+  return table;
+}
+
+int benchCheck(const CommandArgs& argv) {
+  ParsedOptions args(benchCheckOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   const bool noPeer = args.flag("no-peer");
-  const int repeat = args.getInt("repeat", 5);
-  if (repeat < 1 || repeat > 100) throw UsageError("--repeat must be in [1, 100]");
-  const int threads =
-      args.getInt("threads", static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  if (threads < 1) throw UsageError("--threads must be at least 1");
+  const int repeat = args.integer("repeat");
+  const int threads = args.given("threads") ? args.integer("threads")
+                                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto data = findSharedDataDir(args.get("data"));
   args.finish();
   if (!data || !std::filesystem::exists(*data / "iu_prisma_dwi/dwi.nii.gz"))

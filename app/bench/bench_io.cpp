@@ -1,6 +1,7 @@
 // `dtfabric bench io`: load time of an HCP-sized tensor volume, FA-map time, and tensor-fit times of the
 // real DWI and of a 1.5 mm upsampled copy, each the median of a few runs, beside their goals.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "io/dwi.h"
 #include "io/model/error.h"
@@ -142,24 +143,75 @@ struct Figure {
   const char* goalText;
 };
 
+// Tensor load and FA map on the HCP-sized field.
+void timeHcpSized(Figure& load, Figure& fa, std::vector<std::string>& notes) {
+  TensorField field = hcpSizedField();
+  fs::path dir = fs::temp_directory_path() / ("dtfabric-bench-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string file = (dir / "hcp_sized_tensor.nii.gz").string();
+  try {
+    io::writeTensorVolume(file, field, io::TensorLayout::Fsl);
+    load.t = medianTiming(3, [&] { io::readTensorVolume(file, io::TensorLayout::Auto); });
+  } catch (const Error& e) {
+    notes.push_back(std::string("tensor load skipped: ") + e.what());
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  computeFaMap(field); // warm-up
+  fa.t = medianTiming(5, [&] { computeFaMap(field); });
+}
+
+// WLS fits of the real DWI in its mask and of a 2x upsampled copy.
+void timeFits(const std::optional<fs::path>& dataDir, int threads, Figure& fitReal, Figure& fitUp,
+              std::vector<std::string>& notes) {
+  const fs::path dwiDir = dataDir ? *dataDir / "iu_prisma_dwi" : fs::path();
+  if (!dataDir || !fs::exists(dwiDir / "dwi.nii.gz") || !fs::exists(dwiDir / "derived" / "mask.nii.gz")) {
+    notes.push_back("fit skipped: no iu_prisma_dwi data found (use --data DIR or DTF_SHARED_DATA)");
+    return;
+  }
+  io::Dwi dwi = io::readDwi((dwiDir / "dwi.nii.gz").string(), (dwiDir / "dwi.bval").string(),
+                            (dwiDir / "dwi.bvec").string());
+  MaskVolume mask = toMask(io::readScalarVolume((dwiDir / "derived" / "mask.nii.gz").string()));
+  io::FitOptions o;
+  o.threads = threads;
+  io::fitTensors(dwi, &mask, o); // warm-up
+  fitReal.t = medianTiming(7, [&] { io::fitTensors(dwi, &mask, o); });
+  io::Dwi up;
+  MaskVolume upMask;
+  upsample2(dwi, mask, up, upMask);
+  fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
+}
+
 } // namespace
 
+const OptionTable& benchIoOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench io";
+    t.intro =
+        "Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
+        "of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
+        "load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
+        "tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
+        "python3-nibabel is present) and a TRX of 1 M streamlines made here. The fit figures are\n"
+        "skipped when the shared data are not found. Medians of a few runs.";
+    t.options = {
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+        O::integer("threads", "N", 0, atLeast(0), "fit threads, 0 = all cores"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchIo(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
-  if (args.flag("help")) {
-    std::printf("usage: dtfabric bench io [--json] [--data DIR] [--threads N]\n"
-                "  Times loading an HCP-sized (145x174x145) tensor .nii.gz, its FA map, and WLS tensor fits\n"
-                "  of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
-                "  load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
-                "  tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
-                "  python3-nibabel is present) and a TRX of 1 M streamlines made here.\n"
-                "  DIR: --data, else $DTF_SHARED_DATA, else shared/data beside an ancestor of the\n"
-                "  executable; the fit figures are skipped when it is not found. Medians of a few runs.\n");
-    return 0;
-  }
+  ParsedOptions args(benchIoOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
-  const int threads = args.getInt("threads", 0);
+  const int threads = args.integer("threads");
   args.finish();
 
   std::vector<std::string> notes;
@@ -168,40 +220,9 @@ int benchIo(const CommandArgs& argv) {
   Figure fitReal{"fit_real_s", "fit 72x72x39x21 (mask)", {}, 0.13, "<= 0.13 s (MRtrix dwi2tensor)"};
   Figure fitUp{"fit_upsampled_s", "fit 144x144x78x21 (mask)", {}, 1.2, "<= 1.2 s (MRtrix dwi2tensor)"};
 
-  { // Tensor load and FA map on the HCP-sized field.
-    TensorField field = hcpSizedField();
-    fs::path dir = fs::temp_directory_path() / ("dtfabric-bench-" + std::to_string(getpid()));
-    fs::create_directories(dir);
-    const std::string file = (dir / "hcp_sized_tensor.nii.gz").string();
-    try {
-      io::writeTensorVolume(file, field, io::TensorLayout::Fsl);
-      load.t = medianTiming(3, [&] { io::readTensorVolume(file, io::TensorLayout::Auto); });
-    } catch (const Error& e) {
-      notes.push_back(std::string("tensor load skipped: ") + e.what());
-    }
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-    computeFaMap(field); // warm-up
-    fa.t = medianTiming(5, [&] { computeFaMap(field); });
-  }
-
+  timeHcpSized(load, fa, notes);
   const auto dataDir = findSharedDataDir(dataArg);
-  const fs::path dwiDir = dataDir ? *dataDir / "iu_prisma_dwi" : fs::path();
-  if (!dataDir || !fs::exists(dwiDir / "dwi.nii.gz") || !fs::exists(dwiDir / "derived" / "mask.nii.gz")) {
-    notes.push_back("fit skipped: no iu_prisma_dwi data found (use --data DIR or DTF_SHARED_DATA)");
-  } else {
-    io::Dwi dwi = io::readDwi((dwiDir / "dwi.nii.gz").string(), (dwiDir / "dwi.bval").string(),
-                              (dwiDir / "dwi.bvec").string());
-    MaskVolume mask = toMask(io::readScalarVolume((dwiDir / "derived" / "mask.nii.gz").string()));
-    io::FitOptions o;
-    o.threads = threads;
-    io::fitTensors(dwi, &mask, o); // warm-up
-    fitReal.t = medianTiming(7, [&] { io::fitTensors(dwi, &mask, o); });
-    io::Dwi up;
-    MaskVolume upMask;
-    upsample2(dwi, mask, up, upMask);
-    fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
-  }
+  timeFits(dataDir, threads, fitReal, fitUp, notes);
 
   const std::vector<TractLoadFigure> tractLoads = benchTractLoads(dataDir, notes);
   std::vector<Figure> tractFigures;

@@ -10,6 +10,7 @@
 //              1M-point tractogram against a sphere of 36k triangles: one exact query per point on one thread
 //              (the former method) against the bounded, prefiltered, threaded selection.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tract_files.h"
@@ -208,23 +209,33 @@ Polylines syntheticTracts(std::size_t nLines, std::size_t nPoints) {
 
 } // namespace
 
+const OptionTable& benchOverlayOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench overlay";
+    t.intro =
+        "The tract overlay over a finished fabric: one full draw (brain slice 22 + 2000 tracts, a synthetic\n"
+        "1M-point tractogram), the viewer's budgeted layer while moving and until the still image is\n"
+        "complete, and the 3 mm near-surface selection (brain tracts vs FA 0.25, 1M points vs a 36k-triangle\n"
+        "sphere).";
+    t.options = {
+        O::text("size", "WxH", "image size", "1024x768").checkedBy(checkSize),
+        O::integer("frames", "N", 10, closedRange(1, 1000), "timed frames per case"),
+        sharedDataOption(),
+        O::flag("no-reference", "skip the slow exhaustive selection the near-surface selection is compared with"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchOverlay(const CommandArgs& argv) {
-  Args args(argv, {"help", "no-reference"});
-  if (args.flag("help")) {
-    std::printf(
-        "usage: dtfabric bench overlay [--size 1024x768] [--frames N] [--data DIR] [--no-reference]\n"
-        "  the tract overlay over a finished fabric: one full draw (brain slice 22 + 2000 tracts, a "
-        "synthetic\n"
-        "  1M-point tractogram), the viewer's budgeted layer while moving and until the still image is\n"
-        "  complete, and the 3 mm near-surface selection (brain tracts vs FA 0.25, 1M points vs a "
-        "36k-triangle\n"
-        "  sphere); --no-reference skips the slow exhaustive selection it is compared with\n");
-    return 0;
-  }
+  ParsedOptions args(benchOverlayOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   int width = 1024, height = 768;
-  if (auto s = args.get("size")) parseSize(*s, width, height);
-  const int frames = args.getInt("frames", 10);
-  if (frames < 1 || frames > 1000) throw UsageError("--frames must be in [1, 1000]");
+  parseSize(args.text("size"), width, height);
+  const int frames = args.integer("frames");
   const auto dataDir = args.get("data");
   const bool reference = !args.flag("no-reference");
   args.finish();

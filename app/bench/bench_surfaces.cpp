@@ -2,6 +2,7 @@
 // volume (145 x 174 x 145). The FA map is the real brain's resampled onto that grid when the shared data
 // is there (realistic surface complexity), else the brain phantom's.
 #include "app/bench/bench.h"
+#include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "io/model/error.h"
 #include "io/phantoms.h"
@@ -32,18 +33,31 @@ ScalarVolume resample(const ScalarVolume& src, const glm::ivec3& dims) {
 }
 } // namespace
 
+const OptionTable& benchSurfacesOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench surfaces";
+    t.intro =
+        "Times FA isosurface re-extraction per threshold (0.20 .. 0.50) on a 145x174x145 FA volume,\n"
+        "with the sweeper's one-off preparation (masking, 0.6-voxel smoothing, padding) reported apart.\n"
+        "Goal: <= 50 ms per new threshold on 2 cores.";
+    t.options = {
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+        O::integer("repeat", "N", 3, closedRange(1, 1000), "sweeps, the median is reported"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchSurfaces(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
-  if (args.flag("help")) {
-    std::printf("usage: dtfabric bench surfaces [--json] [--data DIR] [--repeat N]\n"
-                "Times FA isosurface re-extraction per threshold (0.20 .. 0.50) on a 145x174x145 FA volume,\n"
-                "with the sweeper's one-off preparation (masking, 0.6-voxel smoothing, padding) reported apart.\n"
-                "Goal: <= 50 ms per new threshold on 2 cores.\n");
-    return 0;
-  }
+  ParsedOptions args(benchSurfacesOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
   auto dataArg = args.get("data");
-  const int repeat = std::max(1, args.getInt("repeat", 3));
+  const int repeat = args.integer("repeat");
   args.finish();
 
   const glm::ivec3 hcp(145, 174, 145);

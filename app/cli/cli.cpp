@@ -1,4 +1,5 @@
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 
 #include "app/bench/bench.h"
 #include "app/viewer/view_script.h"
@@ -13,7 +14,7 @@ namespace dtf::app {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
-      {"info", "FILE [--layout L] [--tensor F] [--json] [--voxel I,J,K]",
+      {"info", nullptr,
        "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)",
        "file format and why, header, orientation, detected tensor layout and why, value ranges, FA statistics; "
        "one voxel's world tensor, eigen-system and metrics. For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
@@ -23,22 +24,22 @@ const std::vector<Command>& commands() {
        "populations per voxel; one voxel's fibres "
        "(`\"fibres\": [{\"direction\": [x, y, z], \"amplitude\": a}, …]`, unit world RAS, strongest first) "
        "beside the file's own FA (`dti_fa`, dtifit `FA`) or a paired tensor's (`--tensor`) FA and eigenvectors",
-       cmdInfo},
-      {"fit", "DWI --bval F --bvec F [--mask M] -o OUT [--method wls|ols] [--layout L]",
+       cmdInfo, infoOptions},
+      {"fit", nullptr,
        "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",
        "fit tensors to a DWI (WLS by default; automatic mask when none is given); an MRtrix DWI with "
        "`dw_scheme` or a DSI Studio `.src.gz` needs no bval/bvec; OUT `.nii[.gz]`, `.mif[.gz]`/`.mih` or `.nrrd`",
-       cmdFit},
-      {"phantom", "NAME -o FILE [--layout L] [--grid ras|las] [--crossing DEG]",
+       cmdFit, fitOptions},
+      {"phantom", nullptr,
        "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)",
        "analytic fields: `sphere`, `bretzel5` (paper §3.1), `constant`, `crossing`, `brain`; `crossing` and "
        "`constant` also as fibre sets (`--layout mrtrix-peaks|dipy-peaks|bedpostx`)",
-       cmdPhantom},
-      {"surface", "INPUT --surface SPEC -o MESH.ply|.vtp|.obj",
+       cmdPhantom, phantomOptions},
+      {"surface", nullptr,
        "extract an FA isosurface, slice or fibre-following surface to a mesh, with its quality",
        "FA isosurface, slice, oblique plane or fibre-following surface as a mesh, with its quality figure "
        "(FA-weighted mean |e1·n|)",
-       cmdSurface},
+       cmdSurface, surfaceOptions},
       {"render",
        "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering|fibres] [--tensor F] "
        "[--fibre-threshold T] [--tracts F] [--split MODE] "
@@ -52,39 +53,37 @@ const std::vector<Command>& commands() {
       {"track", "INPUT -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp [seeds, limits]",
        "deterministic tensor tractography to .tck/.trk/.trx/.vtk",
        "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack},
-      {"convert", "IN OUT [--reference IMAGE] [--force]",
+      {"convert", nullptr,
        "convert tractograms between .tck, .trk, .trk.gz, .trx, .vtk and .vtp",
        "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "
        "name what is dropped); atomic, never over an input",
-       cmdConvert},
-      {"compare", "INPUT --tracts F --surface SPEC [--near MM] [--json]",
-       "angle between tracts and the fabric direction on a surface",
-       "angle between tracts near a surface and the fabric's principal direction there", cmdCompare},
-      {"check",
-       "INPUT [--bval F --bvec F] [--mask M] [--layout L] [--tensor F] [--json] [--sheet OUT.png] "
-       "[--fix-bvec OUT.bvec] [--force]",
+       cmdConvert, convertOptions},
+      {"compare", nullptr,
+       "angle between tracts and the fabric direction (or nearest fibre population) on a surface",
+       "angle between tracts near a surface and the fabric's principal direction there; for a fibre set (peaks), "
+       "the nearest fibre population in the surface",
+       cmdCompare, compareOptions},
+      {"check", nullptr,
        "orientation check: a flipped or permuted gradient table, tensor frame or fibre-set frame, and its fix",
        "orientation check: scores the 24 signed axis permutations of a DWI's gradient table (or a tensor file's "
        "directions, or a fibre set's first fibres in its stored frame) by white-matter fibre coherence; verdict `ok`, `corrected` (with M: corrected bvec = M · "
        "given bvec) or `inconclusive`; `--sheet` draws the fabric evidence, `--fix-bvec` writes the corrected "
        "FSL table",
-       cmdCheck},
-      {"bids",
-       "BIDS_DIR OUTPUT_DIR participant|group [--participant-label L ...] [--session-label S ...] [--jobs N] "
-       "[--threads N] [--figure-size PX] [--force]",
+       cmdCheck, checkOptions},
+      {"bids", nullptr,
        "BIDS App: per-run fit, orientation check and figures; group table and HTML report",
        "BIDS App: per diffusion run a tensor fit, the orientation check, four fabric figures (+ the check's "
        "contact sheet when not `ok`) and a metrics JSON under `OUTPUT_DIR/sub-XX/[ses-YY/]dwi/`; the group level "
        "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
-       cmdBids},
+       cmdBids, bidsOptions},
       {"view", "[INPUT] [--script FILE] [--force]", "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, View, Tracts), status bar with the "
        "voxel under the cursor; `--script` replays actions for reproducible figures (see below; `--force`: its "
        "screenshots, camera and tract files may replace existing files)",
        cmdView},
       {"bench", nullptr, nullptr, nullptr, cmdBench}, // synopsis and summaries from app/bench/bench.h
-      {"help", "[--markdown]", "this list; --markdown: the README's command and script tables",
-       "this list; `--markdown`: the README's command and script tables", cmdHelp},
+      {"help", nullptr, "this list; --markdown: the README's command and script tables",
+       "this list; `--markdown`: the README's command and script tables", cmdHelp, helpOptions},
   };
   return list;
 }
@@ -101,6 +100,7 @@ std::string summaryOf(const Command& c) {
   return c.summary ? c.summary : "benchmarks: " + joinedBenchNames();
 }
 std::string synopsisOf(const Command& c) {
+  if (c.options) return c.options().synopsis();
   if (c.synopsis) return c.synopsis;
   std::string names;
   for (const auto& b : benchmarks())
@@ -143,13 +143,26 @@ std::string markdownTables() {
   return out;
 }
 
-int cmdHelp(const CommandArgs& args) {
-  if (args.size() == 1 && args[0] == "--markdown") {
+const OptionTable& helpOptions() {
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "help";
+    t.intro = "Lists the commands; `dtfabric COMMAND --help` describes each.";
+    t.options = {CliOption::flag("markdown", "the README's command and script tables (markdown)")};
+    return t;
+  }();
+  return table;
+}
+
+int cmdHelp(const CommandArgs& argv) {
+  ParsedOptions args(helpOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  const bool markdown = args.flag("markdown");
+  args.finish();
+  if (markdown)
     std::fputs(markdownTables().c_str(), stdout);
-    return 0;
-  }
-  if (!args.empty()) throw UsageError("usage: dtfabric help [--markdown]");
-  printUsage();
+  else
+    printUsage();
   return 0;
 }
 

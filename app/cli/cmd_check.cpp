@@ -1,7 +1,7 @@
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
 // surfaces/orientation_check.h and app/check_run.h).
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/check_run.h"
 #include "app/scene/fibre_input.h"
 #include "io/atomic_file.h"
@@ -16,54 +16,6 @@
 namespace dtf::app {
 
 namespace {
-
-const char* kHelp =
-    R"(usage: dtfabric check INPUT [--bval F --bvec F] [--mask M] [--layout L] [--tensor F] [--json]
-                      [--sheet OUT.png] [--fix-bvec OUT.bvec] [--force]
-
-Checks the orientation of the diffusion directions: a gradient table with an axis negated or swapped, or a
-tensor file read in the wrong layout or frame, leaves DEC colours unchanged but turns every direction.
-Scores each of the 24 signed axis permutations of the table (a table and its negation measure the same)
-by fibre coherence (Schilling et al. 2019): the number of neighbouring white-matter voxel pairs (13
-neighbour directions) whose principal directions both lie within 30 degrees of the step between them, per
-white-matter voxel (FA >= 0.3). A DWI is fitted once (WLS); the other tables' tensors follow exactly as
-D' = G D G^T without refitting.
-
-INPUT is a DWI (4D with a volume count other than 6, or given --bval/--bvec; default tables: INPUT's
-sibling .bval/.bvec), a tensor file (its stored directions are judged in world RAS) or a fibre set
-(mrtrix-peaks, dipy-peaks, a bedpostx folder): its first (strongest) fibre per voxel is scored with the
-candidates acting on the file's stored frame (world for mrtrix-peaks, voxel for dipy-peaks, FSL for
-bedpostx), so a file read in the wrong layout or frame is flagged with the turn between the two frames.
-White matter of a fibre set: FA >= 0.3 of the paired --tensor, else voxels with a single dominant fibre (no
-second above half the first) whose first amplitude is at least the median over all voxels with fibres.
-
-Verdict
-  ok            the given table scores best, by at least the margin threshold
-  corrected     another table scores best by at least the margin: corrected bvec = M * given bvec
-  inconclusive  too little white matter or too small a margin to say
-The thresholds are printed with every result.
-
-  --bval F --bvec F   the gradient table (FSL; bvec 3xN or Nx3, frame: voxel axes, x negated when
-                      det(affine) > 0). Every diffusion-weighted direction must be a unit vector.
-  --mask M            fit and score only inside M (same grid); default: the fit's automatic mask
-  --layout L          layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets
-                      (mrtrix-peaks, dipy-peaks, bedpostx)
-  --tensor F          fibre sets: a tensor on the same grid whose FA selects the white matter
-  --json              one JSON object: verdict, correction (M, 3x3 row-major), score_given, score_best,
-                      margin, candidates (matrix, score), mask and white-matter voxel counts, the
-                      white-matter rule, thresholds; tensor files and fibre sets: the layout and why
-  --sheet OUT.png     contact sheet: the fabric on the axial slice through the callosal body, the coronal
-                      slice through the corticospinal tracts and the midline sagittal slice (radiological),
-                      for the given table and the two best others, labelled with transform and score
-                      (DWIs and tensor files; not drawn for fibre sets)
-  --sheet-size PX     edge of each contact-sheet panel in pixels (default 320)
-  --fix-bvec OUT      write the corrected FSL table (DWI only; refused when inconclusive unless --force)
-  --force             replace existing outputs (never an input); --fix-bvec even when inconclusive
-  --min-margin F      margin below which the verdict is inconclusive (default 0.07 = 7%)
-  --min-white-matter N  white-matter voxels below which it is inconclusive (default 3000)
-
-Exit codes: 0 the check ran (whatever the verdict), 1 usage, 2 bad input, 3 GL failure (--sheet).
-)";
 
 std::string matrixJson(const surfaces::AxisTransform& t) {
   std::string s = "[";
@@ -157,37 +109,96 @@ void printText(const CheckRun& run, const std::string& input) {
 
 } // namespace
 
+const OptionTable& checkOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const surfaces::CheckOptions co;
+    OptionTable t;
+    t.command = "check";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.intro =
+        "Checks the orientation of the diffusion directions: a gradient table with an axis negated or swapped, or a\n"
+        "tensor file read in the wrong layout or frame, leaves DEC colours unchanged but turns every direction.\n"
+        "Scores each of the 24 signed axis permutations of the table (a table and its negation measure the same)\n"
+        "by fibre coherence (Schilling et al. 2019): the number of neighbouring white-matter voxel pairs (13\n"
+        "neighbour directions) whose principal directions both lie within 30 degrees of the step between them, per\n"
+        "white-matter voxel (FA >= 0.3). A DWI is fitted once (WLS); the other tables' tensors follow exactly as\n"
+        "D' = G D G^T without refitting.\n"
+        "\n"
+        "INPUT is a DWI (4D with a volume count other than 6, or given --bval/--bvec; default tables: INPUT's\n"
+        "sibling .bval/.bvec), a tensor file (its stored directions are judged in world RAS) or a fibre set\n"
+        "(mrtrix-peaks, dipy-peaks, a bedpostx folder): its first (strongest) fibre per voxel is scored with the\n"
+        "candidates acting on the file's stored frame (world for mrtrix-peaks, voxel for dipy-peaks, FSL for\n"
+        "bedpostx), so a file read in the wrong layout or frame is flagged with the turn between the two frames.\n"
+        "White matter of a fibre set: FA >= 0.3 of the paired --tensor, else voxels with a single dominant fibre (no\n"
+        "second above half the first) whose first amplitude is at least the median over all voxels with fibres.\n"
+        "\n"
+        "Verdict\n"
+        "  ok            the given table scores best, by at least the margin threshold\n"
+        "  corrected     another table scores best by at least the margin: corrected bvec = M * given bvec\n"
+        "  inconclusive  too little white matter or too small a margin to say\n"
+        "The thresholds are printed with every result.";
+    t.options = {
+        O::text("bval", "F",
+                "the gradient table (FSL, with --bvec; bvec 3xN or Nx3, frame: voxel axes, x negated when "
+                "det(affine) > 0). Every diffusion-weighted direction must be a unit vector"),
+        O::text("bvec", "F", "the gradient directions beside --bval"),
+        O::text("mask", "M", "fit and score only inside M (same grid); default: the fit's automatic mask"),
+        O::text("layout", "L",
+                "layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets (mrtrix-peaks, "
+                "dipy-peaks, bedpostx)",
+                "auto"),
+        O::text("tensor", "F", "fibre sets: a tensor on the same grid whose FA selects the white matter"),
+        O::flag("json",
+                "one JSON object: verdict, correction (M, 3x3 row-major), score_given, score_best, margin, "
+                "candidates (matrix, score), mask and white-matter voxel counts, the white-matter rule, "
+                "thresholds; tensor files and fibre sets: the layout and why"),
+        O::text("sheet", "OUT.png",
+                "contact sheet: the fabric on the axial slice through the callosal body, the coronal slice "
+                "through the corticospinal tracts and the midline sagittal slice (radiological), for the given "
+                "table and the two best others, labelled with transform and score (DWIs and tensor files; not "
+                "drawn for fibre sets)"),
+        O::integer("sheet-size", "PX", 320, closedRange(64, 2048), "edge of each contact-sheet panel in pixels")
+            .hidden(),
+        O::text("fix-bvec", "OUT.bvec",
+                "write the corrected FSL table (DWI only; refused when inconclusive unless --force)"),
+        O::flag("force", "replace existing outputs (never an input); --fix-bvec even when inconclusive"),
+        O::number("min-margin", "F", co.minMargin, closedRange(0, 10),
+                  "margin below which the verdict is inconclusive (0.07 = 7%)")
+            .hidden(),
+        O::integer("min-white-matter", "N", static_cast<int>(co.minWhiteMatter), closedRange(1, 2147483647),
+                   "white-matter voxels below which it is inconclusive")
+            .hidden(),
+    };
+    t.epilogue = "Exit codes: 0 the check ran (whatever the verdict), 1 usage, 2 bad input, 3 GL failure (--sheet).";
+    return t;
+  }();
+  return table;
+}
+
 int cmdCheck(const CommandArgs& argv) {
-  Args args(argv, {"help", "json", "force"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  ParsedOptions args(checkOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   CheckRequest req;
   req.input = args.positional(0, "INPUT (see --help)");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
-  req.bval = args.getOr("bval", "");
-  req.bvec = args.getOr("bvec", "");
-  req.mask = args.getOr("mask", "");
-  const std::string layoutText = args.getOr("layout", "auto");
-  req.tensor = args.getOr("tensor", "");
+  req.bval = args.text("bval");
+  req.bvec = args.text("bvec");
+  req.mask = args.text("mask");
+  const std::string layoutText = args.text("layout");
+  req.tensor = args.text("tensor");
   req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layoutText, true);
   if (req.fibres)
     req.fibreLayout = layoutText;
   else
     req.layout = io::parseLayout(layoutText);
-  req.options.minMargin = args.getDouble("min-margin", req.options.minMargin);
-  if (!(req.options.minMargin >= 0 && req.options.minMargin <= 10))
-    throw UsageError("--min-margin must be in [0, 10]");
-  const int minWm = args.getInt("min-white-matter", static_cast<int>(req.options.minWhiteMatter));
-  if (minWm < 1) throw UsageError("--min-white-matter must be at least 1");
-  req.options.minWhiteMatter = static_cast<std::size_t>(minWm);
+  req.options.minMargin = args.number("min-margin");
+  req.options.minWhiteMatter = static_cast<std::size_t>(args.integer("min-white-matter"));
   const bool json = args.flag("json");
   const bool force = args.flag("force");
-  const std::string sheet = args.getOr("sheet", "");
-  const std::string fix = args.getOr("fix-bvec", "");
-  const int panelPx = args.getInt("sheet-size", 320);
-  if (panelPx < 64 || panelPx > 2048) throw UsageError("--sheet-size must be in [64, 2048] pixels");
+  const std::string sheet = args.text("sheet");
+  const std::string fix = args.text("fix-bvec");
+  const int panelPx = args.integer("sheet-size");
   args.finish();
 
   namespace fs = std::filesystem;

@@ -1,6 +1,7 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/agreement.h)
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
+#include "app/scene/fibre_input.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/tract_files.h"
@@ -14,60 +15,126 @@
 namespace dtf::app {
 
 namespace {
-const char* kHelp = R"(usage: dtfabric compare INPUT --tracts FILE --surface SPEC [OPTIONS]
 
-Compares the fabric's direction on a surface with tractography. For each tract point within --near mm of
-the surface: the angle (0-90 deg) between the tract tangent projected onto the surface (at the closest
-point, triangle normal n) and the fabric's principal direction there, the principal eigenvector of the
-projected tensor T' = P T P^T, P = I - n n^T (tensor interpolated at the closest point). Points where the
-tract crosses the surface steeply (projected tangent < 0.25 of its length) or T' has no preferred
-direction (in-plane eigenvalues within 2% of each other, or no data) are skipped and counted.
-
-  --tracts FILE         .tck, .trk or .vtk tracts (world RAS mm)
-  --surface SPEC        fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=... | mesh=FILE
-  --near MM             distance from the surface (default 2)
-  --bins N              histogram bins over 0..90 deg (default 9)
-  --layout L            tensor layout override (fsl, mrtrix, symmatrix, dtitk)
-  --bval F --bvec F     treat INPUT as a DWI and fit tensors
-  --json                {points, mean_deg, median_deg, frac_below_15, histogram: [...], bin_deg, ...}
-)";
-} // namespace
-
-int cmdCompare(const CommandArgs& argv) {
-  Args args(argv, {"json", "help"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
-  const std::string input = args.positional(0, "INPUT");
-  const std::string tractsPath = args.getOr("tracts", "");
-  const std::string surfaceText = args.getOr("surface", "");
-  if (tractsPath.empty()) throw UsageError("missing --tracts FILE");
-  if (surfaceText.empty()) throw UsageError("missing --surface SPEC");
-  surfaces::AgreementOptions ao;
-  ao.nearMm = args.getDouble("near", ao.nearMm);
-  ao.bins = args.getInt("bins", ao.bins);
-  if (!(ao.nearMm >= 0)) throw UsageError("--near must be >= 0");
-  if (ao.bins < 1 || ao.bins > 90) throw UsageError("--bins must be 1..90");
-  TensorInputOptions in;
-  in.layout = io::parseLayout(args.getOr("layout", "auto"));
-  in.bval = args.getOr("bval", "");
-  in.bvec = args.getOr("bvec", "");
-  const bool json = args.flag("json");
-  args.finish();
-  const SurfaceSpec spec = parseSurfaceSpec(surfaceText);
-
-  const Polylines tracts = readTracts(tractsPath);
-  in.quiet = json;
-  io::LoadedTensors loaded = loadTensorInput(input, in);
-  const TensorField& field = loaded.field;
+struct Measured {
   Mesh mesh;
+  surfaces::AgreementResult result;
+  bool fibres = false; // against a fibre set's nearest population
+};
+
+Mesh surfaceOf(const SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa, const std::string& input) {
   try {
-    mesh = buildSurface(spec, field, computeFaMap(field));
+    return buildSurface(spec, field, fa);
   } catch (const Error&) {
     rethrowWithContext("while building the " + describeSurface(spec) + " of " + input);
   }
-  const surfaces::AgreementResult r = surfaces::tractSurfaceAgreement(tracts, mesh, field, ao);
+  return {};
+}
+
+Measured measureAgainstTensors(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
+                               TensorInputOptions in, const SurfaceSpec& spec, const Polylines& tracts,
+                               const surfaces::AgreementOptions& ao) {
+  if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
+  in.layout = io::parseLayout(layoutText);
+  const io::LoadedTensors loaded = loadTensorInput(input, in);
+  Measured m;
+  m.mesh = surfaceOf(spec, loaded.field, computeFaMap(loaded.field), input);
+  m.result = surfaces::tractSurfaceAgreement(tracts, m.mesh, loaded.field, ao);
+  return m;
+}
+
+// The surface from the paired tensor (or the fibre set's carrier and own FA), the angles against the fibres.
+Measured measureAgainstFibres(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
+                              const SurfaceSpec& spec, const Polylines& tracts, const surfaces::AgreementOptions& ao,
+                              bool quiet) {
+  const FibreInput fi = loadFibreInput(input, layoutText, tensorPath, quiet);
+  checkFibreSurface(spec, fi);
+  const ScalarVolume fa = fi.fa.data.empty() ? ScalarVolume(fi.carrier.grid, 1) : fi.fa;
+  Measured m;
+  m.fibres = true;
+  m.mesh = surfaceOf(spec, fi.carrier, fa, input);
+  m.result = surfaces::tractSurfaceAgreement(tracts, m.mesh, fi.fibres.set, ao);
+  return m;
+}
+
+} // namespace
+
+const OptionTable& compareOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const surfaces::AgreementOptions ao;
+    OptionTable t;
+    t.command = "compare";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.intro =
+        "Compares the fabric's direction on a surface with tractography. For each tract point within --near mm of\n"
+        "the surface: the angle (0-90 deg) between the tract tangent projected onto the surface (at the closest\n"
+        "point, triangle normal n) and the fabric's principal direction there, the principal eigenvector of the\n"
+        "projected tensor T' = P T P^T, P = I - n n^T (tensor interpolated at the closest point). Points where the\n"
+        "tract crosses the surface steeply (projected tangent < 0.25 of its length) or T' has no preferred\n"
+        "direction (in-plane eigenvalues within 2% of each other, or no data) are skipped and counted.\n"
+        "\n"
+        "INPUT may be a fibre set (MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder or dyadsN file, DSI\n"
+        "Studio .fib.gz: as for `dtfabric render`). Each tract point is then measured against the NEAREST fibre\n"
+        "population at the closest point (fibres interpolated as the renderer does, populations below\n"
+        "--fibre-threshold x their voxel's strongest dropped, each projected onto the surface; those leaving the\n"
+        "surface within ~14.5 deg of its normal skipped): a tract along either bundle of a crossing agrees with\n"
+        "the fibre set, where the tensor's principal direction is the average of the bundles.";
+    t.options = {
+        O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)").required(),
+        O::text("surface", "SPEC",
+                "fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=... | mesh=FILE")
+            .required(),
+        O::number("near", "MM", ao.nearMm, atLeast(0), "distance from the surface"),
+        O::integer("bins", "N", ao.bins, closedRange(1, 90), "histogram bins over 0..90 deg"),
+        O::text("layout", "L",
+                "layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets (mrtrix-peaks, "
+                "dipy-peaks, bedpostx)",
+                "auto")
+            .hidden(),
+        O::text("tensor", "F",
+                "fibre sets: a tensor volume on the same grid for the surface's FA (fa= surfaces) and fibre= "
+                "surfaces")
+            .hidden(),
+        O::number("fibre-threshold", "T", ao.fibreThreshold, closedRange(0, 0.999),
+                  "fibre sets: drop populations below T x their voxel's strongest (as `render --fibre-threshold`)")
+            .hidden(),
+        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
+        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        O::flag("json", "{points, mean_deg, median_deg, frac_below_15, histogram: [...], bin_deg, ...}"),
+    };
+    return t;
+  }();
+  return table;
+}
+
+int cmdCompare(const CommandArgs& argv) {
+  ParsedOptions args(compareOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  const std::string input = args.positional(0, "INPUT");
+  const std::string tractsPath = args.required("tracts");
+  const std::string surfaceText = args.required("surface");
+  surfaces::AgreementOptions ao;
+  ao.nearMm = args.number("near");
+  ao.bins = args.integer("bins");
+  ao.fibreThreshold = static_cast<float>(args.number("fibre-threshold"));
+  const std::string layoutText = args.text("layout");
+  const std::string tensorPath = args.text("tensor");
+  TensorInputOptions in;
+  in.bval = args.text("bval");
+  in.bvec = args.text("bvec");
+  const bool json = args.flag("json");
+  args.finish();
+  const SurfaceSpec spec = parseSurfaceSpec(surfaceText);
+  in.quiet = json;
+
+  const Polylines tracts = readTracts(tractsPath);
+  const Measured m = in.bval.empty() && in.bvec.empty() && isFibreInput(input, layoutText, json)
+                         ? measureAgainstFibres(input, layoutText, tensorPath, spec, tracts, ao, json)
+                         : measureAgainstTensors(input, layoutText, tensorPath, in, spec, tracts, ao);
+  const surfaces::AgreementResult& r = m.result;
+  const Mesh& mesh = m.mesh;
 
   if (json) {
     std::printf("{\"points\": %zu, \"mean_deg\": %.4f, \"median_deg\": %.4f, \"frac_below_15\": %.6f, "
@@ -77,9 +144,9 @@ int cmdCompare(const CommandArgs& argv) {
       std::printf("%s%zu", b ? ", " : "", r.histogram[b]);
     std::printf(
         "], \"bin_deg\": %g, \"near_points\": %zu, \"skipped_tangent\": %zu, \"skipped_degenerate\": %zu, "
-        "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\"}\n",
+        "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\", \"against\": \"%s\"}\n",
         r.binDeg, r.nearPoints, r.skippedTangent, r.skippedDegenerate, tracts.lineCount(), ao.nearMm,
-        describeSurface(spec).c_str());
+        describeSurface(spec).c_str(), m.fibres ? "nearest fibre population" : "tensor principal direction");
     return 0;
   }
   std::printf("tracts: %s (%zu streamlines, %zu points)\n", tractsPath.c_str(), tracts.lineCount(),
@@ -93,6 +160,7 @@ int cmdCompare(const CommandArgs& argv) {
     std::printf("no tract point could be compared\n");
     return 0;
   }
+  std::printf("against: %s\n", m.fibres ? "the nearest fibre population" : "the tensor's principal direction");
   std::printf("angle between tract and fabric: mean %.1f deg, median %.1f deg, %.1f%% below 15 deg\n",
               r.meanDeg, r.medianDeg, 100.0 * r.fracBelow15);
   const std::size_t peak = *std::max_element(r.histogram.begin(), r.histogram.end());

@@ -2,8 +2,8 @@
 // keeping per-streamline/per-point data and groups where the target can hold them (warnings say what is
 // dropped). .trk and .trx need a reference space: the source's own header when it has one, else
 // --reference (a NIfTI image, or a .trk/.trx whose header is used).
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/tract_files.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
@@ -14,20 +14,28 @@
 
 namespace dtf::app {
 
-namespace {
-const char* kHelp =
-    "usage: dtfabric convert IN OUT [--reference IMAGE] [--force]\n"
-    "\n"
-    "Converts a tractogram between .tck, .trk, .trk.gz, .trx (zip or folder in, zip out), .vtk (legacy)\n"
-    "and .vtp (XML). Coordinates stay in world RAS mm; per-streamline and per-point data and groups are\n"
-    "kept where the target format holds them, and a warning names what is dropped. The output is written\n"
-    "atomically and never over an input.\n"
-    "\n"
-    "options:\n"
-    "  --reference IMAGE  the space (dims, affine) a .trk/.trx output is written on: a NIfTI image, or a\n"
-    "                     .trk/.trx file whose header is used; default: IN's header when it has one\n"
-    "  --force            overwrite an existing OUT\n";
-} // namespace
+const OptionTable& convertOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "convert";
+    t.positionals = "IN OUT";
+    t.maxPositionals = 2;
+    t.intro =
+        "Converts a tractogram between .tck, .trk, .trk.gz, .trx (zip or folder in, zip out), .vtk (legacy)\n"
+        "and .vtp (XML). Coordinates stay in world RAS mm; per-streamline and per-point data and groups are\n"
+        "kept where the target format holds them, and a warning names what is dropped. The output is written\n"
+        "atomically and never over an input.";
+    t.options = {
+        O::text("reference", "IMAGE",
+                "the space (dims, affine) a .trk/.trx output is written on: a NIfTI image, or a .trk/.trx file "
+                "whose header is used; default: IN's header when it has one"),
+        O::flag("force", "overwrite an existing OUT"),
+    };
+    return t;
+  }();
+  return table;
+}
 
 Grid referenceGridOf(const std::string& path) {
   if (isTractFileName(path)) {
@@ -41,16 +49,12 @@ Grid referenceGridOf(const std::string& path) {
 }
 
 int cmdConvert(const CommandArgs& argv) {
-  Args args(argv, {"help", "force"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  ParsedOptions args(convertOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::string in = args.positional(0, "IN (see --help)");
   const std::string out = args.positional(1, "OUT (see --help)");
   const auto reference = args.get("reference");
   const bool force = args.flag("force");
-  if (args.positionals().size() > 2) throw UsageError("unexpected argument '" + args.positionals()[2] + "'");
   args.finish();
   if (!isTractFileName(out))
     throw UsageError("OUT '" + out + "' has no tract file extension (.tck, .trk, .trk.gz, .trx, .vtk, .vtp)");

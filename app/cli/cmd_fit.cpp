@@ -1,6 +1,6 @@
 // `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/dwi.h and io/tensor_io.h.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "io/atomic_file.h"
 #include "io/dwi.h"
 #include "io/formats.h"
@@ -18,24 +18,6 @@
 namespace dtf::app {
 
 namespace {
-
-const char* kFitHelp =
-    "usage: dtfabric fit DWI [--bval F] [--bvec F] [--mask M] -o OUT.nii[.gz]|.mif[.gz]|.nrrd\n"
-    "                    [--layout fsl|mrtrix|symmatrix|dtitk] [--method wls|ols] [--b0-threshold B]\n"
-    "                    [--threads N] [--force]\n"
-    "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).\n"
-    "  --bval, --bvec     gradient table (FSL format; bvec 3xN or Nx3). Default: the DWI path with\n"
-    "                     .nii/.nii.gz replaced by .bval/.bvec; not needed for an MRtrix DWI with a\n"
-    "                     dw_scheme or a DSI Studio .src.gz (their own tables are used)\n"
-    "  --mask M           fit only where M is non-zero (same grid as the DWI); default: an automatic,\n"
-    "                     approximate mask (Otsu on the mean b=0 image)\n"
-    "  -o OUT             output tensor volume, mm^2/s (.mif/.mif.gz: MRtrix image in MRtrix's convention;\n"
-    "                     .nrrd: teem tensor NRRD in RAS space)\n"
-    "  --layout L         on-disk layout of OUT (default fsl: xx xy xz yy yz zz in the bvec frame)\n"
-    "  --method M         wls (default) or ols\n"
-    "  --b0-threshold B   b-values <= B s/mm^2 count as b=0 (default 50)\n"
-    "  --threads N        worker threads (default: all cores)\n"
-    "  --force            overwrite an existing OUT (never an input)\n";
 
 // DWI path with its NIfTI extension replaced by `ext`, if that file exists.
 std::optional<std::string> sibling(const std::string& dwi, const std::string& ext) {
@@ -76,36 +58,56 @@ struct ProgressPrinter {
 
 } // namespace
 
+const OptionTable& fitOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const io::FitOptions defaults;
+    OptionTable t;
+    t.command = "fit";
+    t.positionals = "DWI";
+    t.maxPositionals = 1;
+    t.intro = "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).";
+    t.options = {
+        O::text("bval", "F",
+                "gradient table (FSL format; with --bvec, 3xN or Nx3). Default: the DWI path with .nii/.nii.gz "
+                "replaced by .bval/.bvec; not needed for an MRtrix DWI with a dw_scheme or a DSI Studio .src.gz "
+                "(their own tables are used)"),
+        O::text("bvec", "F", "the gradient directions beside --bval"),
+        O::text("mask", "M",
+                "fit only where M is non-zero (same grid as the DWI); default: an automatic, approximate mask "
+                "(Otsu on the mean b=0 image)"),
+        O::text("output", "OUT",
+                "output tensor volume, mm^2/s: .nii[.gz], .mif/.mif.gz (MRtrix image in MRtrix's convention), "
+                ".mih or .nrrd (teem tensor NRRD in RAS space)")
+            .required(),
+        O::choice("layout", "L", {"fsl", "mrtrix", "symmatrix", "dtitk"}, "fsl",
+                  "on-disk layout of OUT (fsl: xx xy xz yy yz zz in the bvec frame)"),
+        O::choice("method", "M", {"wls", "ols"}, "wls", "the fit"),
+        O::number("b0-threshold", "B", defaults.b0Threshold, atLeast(0), "b-values <= B s/mm^2 count as b=0"),
+        O::integer("threads", "N", defaults.threads, atLeast(0), "worker threads, 0 = all cores"),
+        O::flag("force", "overwrite an existing OUT (never an input)"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int cmdFit(const CommandArgs& argv) {
-  Args args(argv, {"force", "help"});
-  if (args.flag("help")) {
-    std::printf("%s", kFitHelp);
-    return 0;
-  }
+  ParsedOptions args(fitOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::string dwiPath = args.positional(0, "DWI volume (see --help)");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
-  const auto output = args.get("output");
-  if (!output) throw UsageError("missing -o OUT.nii.gz");
+  const auto output = std::optional<std::string>(args.required("output"));
   if (!io::isWritableTensorName(*output))
     throw UsageError("the output must be a .nii, .nii.gz, .mif, .mif.gz, .mih or .nrrd file, got '" +
                      *output + "'");
   auto bval = args.get("bval");
   auto bvec = args.get("bvec");
   const auto maskPath = args.get("mask");
-  const io::TensorLayout layout = io::parseLayout(args.getOr("layout", "fsl"));
-  if (layout == io::TensorLayout::Auto) throw UsageError("--layout must name a layout (fsl, mrtrix, ...)");
+  const io::TensorLayout layout = io::parseLayout(args.text("layout"));
   io::FitOptions options;
-  const std::string method = args.getOr("method", "wls");
-  if (method == "wls")
-    options.method = io::FitMethod::Wls;
-  else if (method == "ols")
-    options.method = io::FitMethod::Ols;
-  else
-    throw UsageError("--method must be wls or ols, got '" + method + "'");
-  options.b0Threshold = args.getDouble("b0-threshold", 50.0);
-  if (!(options.b0Threshold >= 0)) throw UsageError("--b0-threshold must be >= 0");
-  options.threads = args.getInt("threads", 0);
-  if (options.threads < 0) throw UsageError("--threads must be >= 0");
+  options.method = args.text("method") == "ols" ? io::FitMethod::Ols : io::FitMethod::Wls;
+  options.b0Threshold = args.number("b0-threshold");
+  options.threads = args.integer("threads");
   const bool force = args.flag("force");
   args.finish();
 
@@ -140,7 +142,7 @@ int cmdFit(const CommandArgs& argv) {
   }
   const auto& d = dwi.signal.grid.dims;
   std::fprintf(stderr, "%s: %dx%dx%d, %d volumes; %s fit, %s\n", dwiPath.c_str(), d.x, d.y, d.z,
-               dwi.signal.components, method == "wls" ? "WLS" : "OLS",
+               dwi.signal.components, options.method == io::FitMethod::Wls ? "WLS" : "OLS",
                maskPath ? ("mask " + *maskPath).c_str() : "automatic mask");
   io::FitStats stats;
   ProgressPrinter printer;

@@ -3,6 +3,7 @@
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/tract_files.h"
 #include "app/scene/fibre_input.h"
 #include "io/model/error.h"
@@ -21,31 +22,6 @@
 namespace dtf::app {
 
 namespace {
-
-const char* kHelp =
-    "usage: dtfabric info FILE [--layout L] [--json] [--voxel I,J,K]\n"
-    "\n"
-    "Describes a volume: NIfTI-1/NIfTI-2 (.nii, .nii.gz), MRtrix (.mif, .mif.gz, .mih), NRRD (.nrrd,\n"
-    ".nhdr), an FSL dtifit set (basename or a member file), a DSI Studio .src.gz; the format and why it was\n"
-    "chosen are shown. For a tensor volume (4D with 6 volumes, or\n"
-    "5D SYMMATRIX) it shows the detected layout and the reason, the voxel-to-world affine and where it\n"
-    "came from, per-component ranges of the world RAS tensors (mm^2/s), NaN and non-positive-definite\n"
-    "voxel counts and FA statistics. Other volumes get header facts and value ranges.\n"
-    "A tractogram (.tck, .trk, .trk.gz, .trx, .vtk, .vtp) gets its format, header facts, streamline and\n"
-    "point counts, length statistics, data arrays and groups (`dtfabric info TRACTS --help`).\n"
-    "\n"
-    "options:\n"
-    "  --layout L      tensor layout: auto (default), fsl, mrtrix, symmatrix, dtitk; anything but auto\n"
-    "                  reads FILE as tensors and fails when it is not a tensor volume\n"
-    "  --voxel I,J,K   one voxel (0-based): world position, world tensor, eigenvalues (descending,\n"
-    "                  mm^2/s), eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD\n"
-    "  --json          print one JSON object instead of text\n"
-    "\n"
-    "Fibre sets (crossing-fibre peaks: MRtrix sh2peaks, DIPY peaks, an FSL bedpostx folder or dyadsN file; a\n"
-    "DSI Studio .fib.gz; an FSL dtifit set with V1 but no L1-L3, the last two with their own FA) are\n"
-    "detected (or named with --layout mrtrix-peaks|dipy-peaks|bedpostx); --voxel then lists the voxel's fibres\n"
-    "(unit world RAS directions with amplitudes, strongest first; JSON key \"fibres\").\n"
-    "  --tensor FILE   pair a tensor volume with the fibre set (its FA and eigenvectors are shown beside)\n";
 
 const char* kComponentNames[6] = {"xx", "xy", "xz", "yy", "yz", "zz"};
 
@@ -444,22 +420,56 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
 
 } // namespace
 
+const OptionTable& infoOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "info";
+    t.positionals = "FILE";
+    t.maxPositionals = 1;
+    t.intro =
+        "Describes a volume: NIfTI-1/NIfTI-2 (.nii, .nii.gz), MRtrix (.mif, .mif.gz, .mih), NRRD (.nrrd,\n"
+        ".nhdr), an FSL dtifit set (basename or a member file), a DSI Studio .src.gz; the format and why it was\n"
+        "chosen are shown. For a tensor volume (4D with 6 volumes, or\n"
+        "5D SYMMATRIX) it shows the detected layout and the reason, the voxel-to-world affine and where it\n"
+        "came from, per-component ranges of the world RAS tensors (mm^2/s), NaN and non-positive-definite\n"
+        "voxel counts and FA statistics. Other volumes get header facts and value ranges.\n"
+        "A tractogram (.tck, .trk, .trk.gz, .trx, .vtk, .vtp) gets its format, header facts, streamline and\n"
+        "point counts, length statistics, data arrays and groups (`dtfabric info TRACTS --help`).\n"
+        "\n"
+        "Fibre sets (crossing-fibre peaks: MRtrix sh2peaks, DIPY peaks, an FSL bedpostx folder or dyadsN file; a\n"
+        "DSI Studio .fib.gz; an FSL dtifit set with V1 but no L1-L3, the last two with their own FA) are\n"
+        "detected (or named with --layout mrtrix-peaks|dipy-peaks|bedpostx); --voxel then lists the voxel's fibres\n"
+        "(unit world RAS directions with amplitudes, strongest first; JSON key \"fibres\").";
+    t.options = {
+        O::text("layout", "L",
+                "tensor layout: auto, fsl, mrtrix, symmatrix, dtitk (anything but auto reads FILE as tensors and "
+                "fails when it is not a tensor volume), or a fibre-set layout: mrtrix-peaks, dipy-peaks, bedpostx",
+                "auto"),
+        O::text("tensor", "F", "pair a tensor volume with a fibre set (its FA and eigenvectors are shown beside)"),
+        O::flag("json", "print one JSON object instead of text"),
+        O::text("voxel", "I,J,K",
+                "one voxel (0-based): world position, world tensor, eigenvalues (descending, mm^2/s), "
+                "eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD; a fibre set's fibres")
+            .checkedBy(checkTriple),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int cmdInfo(const CommandArgs& argv) {
   for (const auto& a : argv)
     if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
-  Args args(argv, {"help", "json"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  ParsedOptions args(infoOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::string path = args.positional(0, "FILE (see --help)");
-  std::string layoutText = args.getOr("layout", "auto");
-  const std::string tensorPath = args.getOr("tensor", "");
+  std::string layoutText = args.text("layout");
+  const std::string tensorPath = args.text("tensor");
   bool json = args.flag("json");
   auto voxelText = args.get("voxel");
   int ijk[3] = {0, 0, 0};
   if (voxelText) parseTriple(*voxelText, ijk);
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   args.finish();
   if (isFibreInput(path, layoutText, true))
     return describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);

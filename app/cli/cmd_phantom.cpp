@@ -1,7 +1,7 @@
 // `dtfabric phantom`: writes an analytic tensor field (io/phantoms.h) in a chosen on-disk layout, and
 // optionally its scalar field, so every later stage can be run on input with a known answer.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "io/model/error.h"
 #include "io/fibre_io.h"
 #include "io/phantoms.h"
@@ -12,63 +12,71 @@
 
 namespace dtf::app {
 
-namespace {
-const char* kHelp =
-    "usage: dtfabric phantom NAME -o FILE [options]\n"
-    "\n"
-    "Writes an analytic tensor field as NIfTI (.nii or .nii.gz; --layout applies), an MRtrix image (.mif,\n"
-    ".mif.gz: MRtrix's convention) or NRRD (.nrrd). NAME is one of:\n"
-    "  sphere    Hessian of the distance from the grid centre (curvature tensors, 1/mm)\n"
-    "  bretzel5  Hessian of the Bretzel5 implicit function (paper Eq. 14; curvature tensors)\n"
-    "  constant  one prolate tensor, eigenvalues (1.7, 0.3, 0.3)e-3 mm^2/s, everywhere\n"
-    "  crossing  two prolate bundles crossing in the axial plane\n"
-    "  brain     a small brain-like phantom: corpus callosum (left-right), corticospinal tracts\n"
-    "            (superior-inferior) and cingula (anterior-posterior) in isotropic tissue and CSF\n"
-    "The grid is RAS, centred at the world origin.\n"
-    "\n"
-    "options:\n"
-    "  -o, --output FILE  tensor volume to write (required)\n"
-    "  --layout L         fsl (default), mrtrix, symmatrix or dtitk; or a fibre-set layout (crossing and\n"
-    "                     constant only): mrtrix-peaks, dipy-peaks (FILE) or bedpostx (FILE is a folder)\n"
-    "  --grid G           ras (default) or las (x index towards the patient's left, det(affine) < 0)\n"
-    "  --size N           voxels per side (default 64; bretzel5 uses fewer slices in z)\n"
-    "  --spacing MM       voxel size in mm (default 1)\n"
-    "  --angle DEG        constant: direction from +x towards +y (default 30)\n"
-    "  --elevation DEG    constant: direction out of the axial plane towards +z (default 0)\n"
-    "  --crossing DEG     crossing: angle between the bundles (default 90)\n"
-    "  --scalar FILE      also write the scalar field (sphere: distance, bretzel5: f, others: FA)\n"
-    "  --nifti2           write NIfTI-2 instead of NIfTI-1\n"
-    "  --force            overwrite existing output files\n";
-} // namespace
+const OptionTable& phantomOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const io::PhantomOptions d;
+    OptionTable t;
+    t.command = "phantom";
+    t.positionals = "NAME";
+    t.maxPositionals = 1;
+    t.intro =
+        "Writes an analytic tensor field as NIfTI (.nii or .nii.gz; --layout applies), an MRtrix image (.mif,\n"
+        ".mif.gz: MRtrix's convention) or NRRD (.nrrd). NAME is one of:\n"
+        "  sphere    Hessian of the distance from the grid centre (curvature tensors, 1/mm)\n"
+        "  bretzel5  Hessian of the Bretzel5 implicit function (paper Eq. 14; curvature tensors)\n"
+        "  constant  one prolate tensor, eigenvalues (1.7, 0.3, 0.3)e-3 mm^2/s, everywhere\n"
+        "  crossing  two prolate bundles crossing in the axial plane\n"
+        "  brain     a small brain-like phantom: corpus callosum (left-right), corticospinal tracts\n"
+        "            (superior-inferior) and cingula (anterior-posterior) in isotropic tissue and CSF\n"
+        "The grid is RAS, centred at the world origin.";
+    t.options = {
+        O::text("output", "FILE", "tensor volume to write (a folder for --layout bedpostx)").required(),
+        O::text("layout", "L",
+                "fsl, mrtrix, symmatrix or dtitk; or a fibre-set layout (crossing and constant only): "
+                "mrtrix-peaks, dipy-peaks (FILE) or bedpostx (FILE is a folder)",
+                "fsl"),
+        O::choice("grid", "G", {"ras", "las"}, "ras",
+                  "ras, or las (x index towards the patient's left, det(affine) < 0)"),
+        O::integer("size", "N", d.size, closedRange(4, 512), "voxels per side (bretzel5 uses fewer slices in z)")
+            .hidden(),
+        O::number("spacing", "MM", d.spacing, above(0), "voxel size in mm").hidden(),
+        O::number("angle", "DEG", d.angleDeg, anyNumber(), "constant: direction from +x towards +y").hidden(),
+        O::number("elevation", "DEG", d.elevationDeg, anyNumber(),
+                  "constant: direction out of the axial plane towards +z")
+            .hidden(),
+        O::number("crossing", "DEG", d.crossingDeg, anyNumber(), "crossing: angle between the bundles"),
+        O::text("scalar", "FILE", "also write the scalar field (sphere: distance, bretzel5: f, others: FA)")
+            .hidden(),
+        O::flag("nifti2", "write NIfTI-2 instead of NIfTI-1").hidden(),
+        O::flag("force", "overwrite existing output files").hidden(),
+    };
+    return t;
+  }();
+  return table;
+}
 
 int cmdPhantom(const CommandArgs& argv) {
-  Args args(argv, {"help", "nifti2", "force"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  ParsedOptions args(phantomOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::string name = args.positional(0, "phantom NAME (see --help)");
-  auto output = args.get("output");
-  if (!output) throw UsageError("missing -o FILE");
-  const std::string layoutName = args.getOr("layout", "fsl");
+  auto output = std::optional<std::string>(args.required("output"));
+  const std::string layoutName = args.text("layout");
   const bool fibres = io::isFibreLayoutName(layoutName);
   io::TensorLayout layout = fibres ? io::TensorLayout::Fsl : io::parseLayout(layoutName);
   if (fibres && layoutName == "fibres-auto") throw UsageError("--layout fibres-auto cannot be written");
   if (!fibres && layout == io::TensorLayout::Auto)
     throw UsageError("--layout auto cannot be written; choose fsl, mrtrix, symmatrix or dtitk");
   io::PhantomOptions o;
-  o.size = args.getInt("size", o.size);
-  o.spacing = args.getDouble("spacing", o.spacing);
-  o.angleDeg = args.getDouble("angle", o.angleDeg);
-  o.elevationDeg = args.getDouble("elevation", o.elevationDeg);
-  o.crossingDeg = args.getDouble("crossing", o.crossingDeg);
-  const std::string grid = args.getOr("grid", "ras");
-  if (grid != "ras" && grid != "las") throw UsageError("--grid must be ras or las, not '" + grid + "'");
-  o.las = grid == "las";
+  o.size = args.integer("size");
+  o.spacing = args.number("spacing");
+  o.angleDeg = args.number("angle");
+  o.elevationDeg = args.number("elevation");
+  o.crossingDeg = args.number("crossing");
+  o.las = args.text("grid") == "las";
   auto scalarPath = args.get("scalar");
   int version = args.flag("nifti2") ? 2 : 1;
   const bool force = args.flag("force");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
   args.finish();
   if (scalarPath && *scalarPath == *output) throw UsageError("--scalar must name a different file than -o");
   for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr})

@@ -1,5 +1,5 @@
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "io/atomic_file.h"
@@ -17,34 +17,30 @@
 namespace dtf::app {
 
 namespace {
-const char* kHelp = R"(usage: dtfabric surface INPUT SURFACE -o MESH.ply|.vtp|.obj [OPTIONS]
-
-Extracts a surface from a tensor volume (or a DWI with --bval/--bvec), writes it as a mesh in world RAS mm
-and prints its quality figure: the FA- and area-weighted mean of |e1 . n|, how much of the principal
-fibre direction the fabric's projection onto the surface throws away (0 best, 1 worst).
-
-SURFACE is one of
-  --surface SPEC        fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1
-                        | fibre-voxel=I0,J0,K0:I1,J1,K1 | mesh=FILE
-  --fa T                FA isosurface at T (same as --surface fa=T)
-  --slice AXIS[:I]      axial|coronal|sagittal slice I (default the middle), clipped to the data
-  --fibre-surface X0,Y0,Z0:X1,Y1,Z1        stream surface of e1 seeded on a line (world mm)
-  --fibre-surface-voxel I0,J0,K0:I1,J1,K1  the same in voxel indices
-
-Options
-  --layout L            tensor layout override (fsl, mrtrix, symmatrix, dtitk)
-  --bval F --bvec F     treat INPUT as a DWI and fit tensors
-  --smooth SIGMA        FA isosurface pre-smoothing in voxels (default 0.6; 0 = none)
-  --min-component F     drop components smaller than F x the largest (default 0.02)
-  --step MM --length MM --fa-stop F --seed-spacing MM   fibre surface tracing (0.5, 40, 0.15, 0.75)
-  --from AXIS           fibre surfaces: the flat slice to compare with (default: the axis plane that best
-                        contains the seed line)
-  --check               report self-intersections (CGAL); always done for fibre surfaces
-  --repair              remove self-intersecting triangles before writing
-  --remesh EDGE         isotropic remeshing to EDGE mm
-  --force               overwrite an existing output
-  --json                print the report as one JSON object
-)";
+// The quality figure of the axis-aligned plane through a fibre surface's seed line (`from` names its axis;
+// empty: the axis plane that best contains the line), and the plane's name.
+double flatSliceScore(const SurfaceSpec& spec, const TensorField& field, const std::string& from, std::string& name) {
+  const glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
+  const glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
+  const glm::dvec3 dir = glm::normalize(b - a);
+  int axis = 2; // world axis of the plane normal: 0 sagittal, 1 coronal, 2 axial
+  if (!from.empty()) {
+    axis = 2 - static_cast<int>(surfaces::parseSliceAxis(from)); // Axial=0 -> z, Coronal=1 -> y, Sagittal=2 -> x
+  } else {
+    for (int c : {1, 0})
+      if (std::abs(dir[c]) < std::abs(dir[axis]) - 1e-9) axis = c;
+  }
+  glm::dvec3 n(0.0);
+  n[axis] = 1;
+  name = axis == 2 ? "axial" : axis == 1 ? "coronal" : "sagittal";
+  ScalarVolume clip(field.grid, 1);
+  for (std::size_t i = 0; i < field.valid.size(); ++i)
+    clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
+  surfaces::SliceOptions so;
+  so.clip = &clip;
+  const Mesh flat = surfaces::makePlane(field.grid, 0.5 * (a + b), n, 0.5 * field.grid.spacing.x, so);
+  return surfaces::fibreCrossingScore(flat, field);
+}
 
 double meshArea(const Mesh& m) {
   double a = 0;
@@ -55,33 +51,85 @@ double meshArea(const Mesh& m) {
 }
 } // namespace
 
+const OptionTable& surfaceOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const SurfaceBuildOptions bo;
+    OptionTable t;
+    t.command = "surface";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.synopsisTail = "SURFACE -o MESH.ply|.vtp|.obj [OPTIONS]";
+    t.intro =
+        "Extracts a surface from a tensor volume (or a DWI with --bval/--bvec), writes it as a mesh in world RAS mm\n"
+        "and prints its quality figure: the FA- and area-weighted mean of |e1 . n|, how much of the principal\n"
+        "fibre direction the fabric's projection onto the surface throws away (0 best, 1 worst).";
+    t.options = {
+        O::text("surface", "SPEC",
+                "fa=T | iso=FILE:V | slice=AXIS[:I] | plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | "
+                "fibre-voxel=I0,J0,K0:I1,J1,K1 | mesh=FILE")
+            .hidden()
+            .under("SURFACE is one of"),
+        O::text("fa", "T", "FA isosurface at T (same as --surface fa=T)").hidden(),
+        O::text("slice", "AXIS[:I]", "axial|coronal|sagittal slice I (default the middle), clipped to the data")
+            .hidden(),
+        O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)").hidden(),
+        O::text("fibre-surface-voxel", "I0,J0,K0:I1,J1,K1", "the same in voxel indices").hidden(),
+        O::text("output", "MESH", "the mesh to write: .ply, .vtp or .obj").hidden().under("Options"),
+        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
+            .checkedBy(checkTensorLayout)
+            .hidden(),
+        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
+        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        O::number("smooth", "SIGMA", bo.smoothSigmaVoxels, atLeast(0),
+                  "FA isosurface pre-smoothing in voxels (0 = none)")
+            .hidden(),
+        O::number("min-component", "F", bo.minComponentFraction, closedRange(0, 1),
+                  "drop components smaller than F x the largest")
+            .hidden(),
+        O::number("step", "MM", bo.fibreStepMm, above(0), "fibre surfaces: tracing step").hidden(),
+        O::number("length", "MM", bo.fibreLengthMm, above(0), "fibre surfaces: length of each traced line").hidden(),
+        O::number("fa-stop", "F", bo.fibreFaStop, closedRange(0, 1), "fibre surfaces: stop below this FA").hidden(),
+        O::number("seed-spacing", "MM", bo.fibreSeedSpacingMm, above(0), "fibre surfaces: seed spacing on the line")
+            .hidden(),
+        O::text("from", "AXIS",
+                "fibre surfaces: the flat slice to compare with (default: the axis plane that best contains the "
+                "seed line)")
+            .hidden(),
+        O::flag("check", "report self-intersections (CGAL); always done for fibre surfaces").hidden(),
+        O::flag("repair", "remove self-intersecting triangles before writing").hidden(),
+        O::number("remesh", "EDGE", 0, atLeast(0), "isotropic remeshing to EDGE mm (0 = none)").hidden(),
+        O::flag("force", "overwrite an existing output").hidden(),
+        O::flag("json", "print the report as one JSON object").hidden(),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int cmdSurface(const CommandArgs& argv) {
-  Args args(argv, {"json", "force", "check", "repair", "help"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
+  ParsedOptions args(surfaceOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::string input = args.positional(0, "INPUT");
-  const std::string output = args.getOr("output", "");
-  if (output.empty()) throw UsageError("missing -o MESH");
+  const std::string output = args.required("output");
   const std::optional<std::string> given = surfaceArgument(args);
   if (!given) throw UsageError("give exactly one surface (--surface, --fa, --slice or --fibre-surface)");
   SurfaceSpec spec = parseSurfaceSpec(*given);
   TensorInputOptions in;
-  in.layout = io::parseLayout(args.getOr("layout", "auto"));
-  in.bval = args.getOr("bval", "");
-  in.bvec = args.getOr("bvec", "");
+  in.layout = io::parseLayout(args.text("layout"));
+  in.bval = args.text("bval");
+  in.bvec = args.text("bvec");
   SurfaceBuildOptions bo;
-  bo.smoothSigmaVoxels = args.getDouble("smooth", bo.smoothSigmaVoxels);
-  bo.minComponentFraction = args.getDouble("min-component", bo.minComponentFraction);
-  bo.fibreStepMm = args.getDouble("step", bo.fibreStepMm);
-  bo.fibreLengthMm = args.getDouble("length", bo.fibreLengthMm);
-  bo.fibreFaStop = args.getDouble("fa-stop", bo.fibreFaStop);
-  bo.fibreSeedSpacingMm = args.getDouble("seed-spacing", bo.fibreSeedSpacingMm);
-  const std::string from = args.getOr("from", "");
+  bo.smoothSigmaVoxels = args.number("smooth");
+  bo.minComponentFraction = args.number("min-component");
+  bo.fibreStepMm = args.number("step");
+  bo.fibreLengthMm = args.number("length");
+  bo.fibreFaStop = args.number("fa-stop");
+  bo.fibreSeedSpacingMm = args.number("seed-spacing");
+  const std::string from = args.text("from");
   const bool json = args.flag("json"), force = args.flag("force"), repair = args.flag("repair");
   const bool check = args.flag("check") || repair || spec.kind == SurfaceSpec::Kind::Fibre;
-  const double remesh = args.getDouble("remesh", 0);
+  const double remesh = args.number("remesh");
   args.finish();
 
   io::refuseOverwritingInput(output, {input, spec.file, in.bval, in.bvec});
@@ -111,29 +159,8 @@ int cmdSurface(const CommandArgs& argv) {
   const double score = surfaces::fibreCrossingScore(mesh, field);
 
   // Fibre surfaces are compared with the flat slice through their seed line.
-  double flatScore = -1;
   std::string flatName;
-  if (spec.kind == SurfaceSpec::Kind::Fibre) {
-    glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
-    glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
-    glm::dvec3 dir = glm::normalize(b - a);
-    int axis = 2; // world axis of the plane normal: 0 sagittal, 1 coronal, 2 axial
-    if (!from.empty()) {
-      axis = 2 - static_cast<int>(surfaces::parseSliceAxis(from)); // Axial=0 -> z, Coronal=1 -> y, Sagittal=2 -> x
-    } else {
-      for (int c : {1, 0})
-        if (std::abs(dir[c]) < std::abs(dir[axis]) - 1e-9) axis = c;
-    }
-    glm::dvec3 n(0.0);
-    n[axis] = 1;
-    flatName = axis == 2 ? "axial" : axis == 1 ? "coronal" : "sagittal";
-    ScalarVolume clip(field.grid, 1);
-    for (std::size_t i = 0; i < field.valid.size(); ++i) clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
-    surfaces::SliceOptions so;
-    so.clip = &clip;
-    Mesh flat = surfaces::makePlane(field.grid, 0.5 * (a + b), n, 0.5 * field.grid.spacing.x, so);
-    flatScore = surfaces::fibreCrossingScore(flat, field);
-  }
+  const double flatScore = spec.kind == SurfaceSpec::Kind::Fibre ? flatSliceScore(spec, field, from, flatName) : -1;
 
   surfaces::writeMesh(output, mesh);
 

@@ -1,8 +1,8 @@
 // `dtfabric info TRACTS`: a tractogram's format, header facts (space, voxel order, dimensions, affine),
 // streamline and point counts, length statistics, per-streamline/per-point data with their shapes and
 // ranges, and groups. Text for people, --json for scripts.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
 
@@ -18,17 +18,6 @@
 namespace dtf::app {
 
 namespace {
-
-const char* kHelp =
-    "usage: dtfabric info TRACTS [--json]\n"
-    "\n"
-    "Describes a tractogram (.tck, .trk, .trk.gz, .trx zip or folder, .vtk, .vtp) as dtfabric reads\n"
-    "it into world RAS mm: format, header facts (space, voxel order, dimensions, affine), streamline\n"
-    "and point counts, streamline lengths in mm, per-streamline (dps) and per-point (dpv) data with\n"
-    "shapes and ranges, and groups with their sizes.\n"
-    "\n"
-    "options:\n"
-    "  --json   one JSON object; keys include streamlines, points, dps, dpv and groups (names)\n";
 
 std::string num(double v) {
   if (!std::isfinite(v)) return "null";
@@ -80,19 +69,32 @@ std::string statsJson(const Stats& s) {
 
 } // namespace
 
-int cmdTractInfo(const CommandArgs& argv) {
-  Args args(argv, {"help", "json"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    return 0;
-  }
-  const std::string path = args.positional(0, "TRACTS (see --help)");
-  const bool json = args.flag("json");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
-  args.finish();
+const OptionTable& tractInfoOptions() {
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "info";
+    t.positionals = "TRACTS";
+    t.maxPositionals = 1;
+    t.intro =
+        "Describes a tractogram (.tck, .trk, .trk.gz, .trx zip or folder, .vtk, .vtp) as dtfabric reads\n"
+        "it into world RAS mm: format, header facts (space, voxel order, dimensions, affine), streamline\n"
+        "and point counts, streamline lengths in mm, per-streamline (dps) and per-point (dpv) data with\n"
+        "shapes and ranges, and groups with their sizes.";
+    t.options = {CliOption::flag("json", "one JSON object; keys include streamlines, points, dps, dpv and groups (names)")};
+    return t;
+  }();
+  return table;
+}
 
-  TractFileFacts facts;
-  const Polylines lines = readTracts(path, &facts);
+namespace {
+
+// What `info TRACTS` reports besides the file's own facts.
+struct TractSummary {
+  Stats length, pointsPerLine;
+  glm::vec3 lo{std::numeric_limits<float>::max()}, hi{std::numeric_limits<float>::lowest()}; // bounds, mm
+};
+
+TractSummary summarise(const Polylines& lines) {
   std::vector<double> lengths, counts;
   lengths.reserve(lines.lineCount());
   counts.reserve(lines.lineCount());
@@ -103,118 +105,148 @@ int cmdTractInfo(const CommandArgs& argv) {
     lengths.push_back(len);
     counts.push_back(lines.offsets[l + 1] - lines.offsets[l]);
   }
-  const Stats len = statsOf(lengths), cnt = statsOf(counts);
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  TractSummary s;
+  s.length = statsOf(lengths);
+  s.pointsPerLine = statsOf(counts);
   for (const auto& p : lines.points)
-    lo = glm::min(lo, p), hi = glm::max(hi, p);
-  auto range = [](const TractValues& d) {
-    float a = std::numeric_limits<float>::infinity(), b = -a;
-    for (float v : d.values)
-      if (std::isfinite(v)) a = std::min(a, v), b = std::max(b, v);
-    return std::pair<double, double>(a, b);
-  };
+    s.lo = glm::min(s.lo, p), s.hi = glm::max(s.hi, p);
+  return s;
+}
 
-  std::ostringstream o;
-  if (json) {
-    o << "{\"file\": " << quote(path) << ",\"format\": " << quote(facts.format)
-      << ",\"streamlines\": " << lines.lineCount() << ",\"points\": " << lines.points.size()
-      << ",\"declared_count\": " << facts.declaredCount;
-    o << ",\"header\": {";
-    for (std::size_t i = 0; i < facts.fields.size(); ++i)
-      o << (i ? "," : "") << quote(facts.fields[i].first) << ": " << quote(facts.fields[i].second);
-    o << "}";
-    if (facts.grid) {
-      const Grid& g = *facts.grid;
-      o << ",\"dimensions\": [" << g.dims.x << "," << g.dims.y << "," << g.dims.z << "],\"voxel_size\": ["
-        << num(g.spacing.x) << "," << num(g.spacing.y) << "," << num(g.spacing.z)
-        << "],\"orientation\": " << quote(g.orientationCode()) << ",\"affine\": [";
-      for (int r = 0; r < 4; ++r) {
-        o << (r ? ",[" : "[");
-        for (int c = 0; c < 4; ++c)
-          o << (c ? "," : "") << num(g.voxelToWorld[c][r]);
-        o << "]";
-      }
-      o << "]";
-    }
-    o << ",\"length_mm\": " << statsJson(len) << ",\"points_per_streamline\": " << statsJson(cnt);
-    if (!lines.points.empty())
-      o << ",\"bounds_mm\": [[" << num(lo.x) << "," << num(lo.y) << "," << num(lo.z) << "],[" << num(hi.x)
-        << "," << num(hi.y) << "," << num(hi.z) << "]]";
-    auto names = [&](const char* key, const std::vector<TractValues>& data) {
-      o << ",\"" << key << "\": [";
-      for (std::size_t i = 0; i < data.size(); ++i)
-        o << (i ? "," : "") << quote(data[i].name);
-      o << "]";
-    };
-    names("dps", lines.perLine);
-    names("dpv", lines.perPoint);
-    o << ",\"groups\": [";
-    for (std::size_t i = 0; i < lines.groups.size(); ++i)
-      o << (i ? "," : "") << quote(lines.groups[i].name);
-    o << "],\"data\": [";
-    bool first = true;
-    for (int per = 0; per < 2; ++per)
-      for (const auto& d : per ? lines.perPoint : lines.perLine) {
-        const auto [a, b] = range(d);
-        const std::size_t items = d.values.size() / static_cast<std::size_t>(d.components);
-        o << (first ? "" : ",") << "{\"name\": " << quote(d.name) << ",\"per\": \""
-          << (per ? "point" : "streamline") << "\",\"shape\": [" << items << "," << d.components
-          << "],\"min\": " << num(a) << ",\"max\": " << num(b) << "}";
-        first = false;
-      }
-    o << "],\"group_sizes\": {";
-    for (std::size_t i = 0; i < lines.groups.size(); ++i)
-      o << (i ? "," : "") << quote(lines.groups[i].name) << ": " << lines.groups[i].lines.size();
-    o << "}}\n";
-  } else {
-    char buf[256];
-    o << path << "\n  format:        " << facts.format << "\n";
-    for (const auto& [k, v] : facts.fields) {
-      std::snprintf(buf, sizeof buf, "  %-14s %s\n", (k + ":").c_str(), v.c_str());
-      o << buf;
-    }
-    if (facts.grid) {
-      const Grid& g = *facts.grid;
-      std::snprintf(buf, sizeof buf, "  dimensions:    %d x %d x %d, voxel %g x %g x %g mm, orientation %s\n",
-                    g.dims.x, g.dims.y, g.dims.z, g.spacing.x, g.spacing.y, g.spacing.z,
-                    g.orientationCode().c_str());
-      o << buf << "  affine:\n";
-      for (int r = 0; r < 4; ++r) {
-        std::snprintf(buf, sizeof buf, "    %10.4f %10.4f %10.4f %10.4f\n", g.voxelToWorld[0][r],
-                      g.voxelToWorld[1][r], g.voxelToWorld[2][r], g.voxelToWorld[3][r]);
-        o << buf;
-      }
-    }
-    std::snprintf(buf, sizeof buf, "  streamlines:   %zu%s\n  points:        %zu\n", lines.lineCount(),
-                  facts.declaredCount >= 0 &&
-                          static_cast<std::size_t>(facts.declaredCount) != lines.lineCount()
-                      ? (" (header says " + std::to_string(facts.declaredCount) + ")").c_str()
-                      : "",
-                  lines.points.size());
-    o << buf;
-    std::snprintf(buf, sizeof buf, "  length (mm):   min %.2f  mean %.2f  median %.2f  max %.2f\n", len.min,
-                  len.mean, len.median, len.max);
-    o << buf;
-    std::snprintf(buf, sizeof buf, "  points/line:   min %.0f  mean %.1f  max %.0f\n", cnt.min, cnt.mean,
-                  cnt.max);
-    o << buf;
-    if (!lines.points.empty()) {
-      std::snprintf(buf, sizeof buf, "  bounds (mm):   [%.2f %.2f %.2f] .. [%.2f %.2f %.2f]\n", lo.x, lo.y,
-                    lo.z, hi.x, hi.y, hi.z);
-      o << buf;
-    }
-    for (int per = 0; per < 2; ++per)
-      for (const auto& d : per ? lines.perPoint : lines.perLine) {
-        const auto [a, b] = range(d);
-        std::snprintf(buf, sizeof buf, "  %s '%s': %zu x %d, range %g .. %g\n", per ? "dpv" : "dps",
-                      d.name.c_str(), d.values.size() / static_cast<std::size_t>(d.components), d.components,
-                      a, b);
-        o << buf;
-      }
-    for (const auto& g : lines.groups)
-      o << "  group '" << g.name << "': " << g.lines.size() << " streamlines\n";
+// The finite range of a data array.
+std::pair<double, double> valueRange(const TractValues& d) {
+  float a = std::numeric_limits<float>::infinity(), b = -a;
+  for (float v : d.values)
+    if (std::isfinite(v)) a = std::min(a, v), b = std::max(b, v);
+  return {a, b};
+}
+
+void gridJson(std::ostringstream& o, const Grid& g) {
+  o << ",\"dimensions\": [" << g.dims.x << "," << g.dims.y << "," << g.dims.z << "],\"voxel_size\": ["
+    << num(g.spacing.x) << "," << num(g.spacing.y) << "," << num(g.spacing.z)
+    << "],\"orientation\": " << quote(g.orientationCode()) << ",\"affine\": [";
+  for (int r = 0; r < 4; ++r) {
+    o << (r ? ",[" : "[");
+    for (int c = 0; c < 4; ++c)
+      o << (c ? "," : "") << num(g.voxelToWorld[c][r]);
+    o << "]";
   }
-  std::fputs(o.str().c_str(), stdout);
+  o << "]";
+}
+
+void dataJson(std::ostringstream& o, const Polylines& lines) {
+  auto names = [&](const char* key, const std::vector<TractValues>& data) {
+    o << ",\"" << key << "\": [";
+    for (std::size_t i = 0; i < data.size(); ++i)
+      o << (i ? "," : "") << quote(data[i].name);
+    o << "]";
+  };
+  names("dps", lines.perLine);
+  names("dpv", lines.perPoint);
+  o << ",\"groups\": [";
+  for (std::size_t i = 0; i < lines.groups.size(); ++i)
+    o << (i ? "," : "") << quote(lines.groups[i].name);
+  o << "],\"data\": [";
+  bool first = true;
+  for (int per = 0; per < 2; ++per)
+    for (const auto& d : per ? lines.perPoint : lines.perLine) {
+      const auto [a, b] = valueRange(d);
+      const std::size_t items = d.values.size() / static_cast<std::size_t>(d.components);
+      o << (first ? "" : ",") << "{\"name\": " << quote(d.name) << ",\"per\": \""
+        << (per ? "point" : "streamline") << "\",\"shape\": [" << items << "," << d.components
+        << "],\"min\": " << num(a) << ",\"max\": " << num(b) << "}";
+      first = false;
+    }
+  o << "],\"group_sizes\": {";
+  for (std::size_t i = 0; i < lines.groups.size(); ++i)
+    o << (i ? "," : "") << quote(lines.groups[i].name) << ": " << lines.groups[i].lines.size();
+  o << "}";
+}
+
+std::string tractsJson(const std::string& path, const TractFileFacts& facts, const Polylines& lines,
+                       const TractSummary& s) {
+  std::ostringstream o;
+  o << "{\"file\": " << quote(path) << ",\"format\": " << quote(facts.format)
+    << ",\"streamlines\": " << lines.lineCount() << ",\"points\": " << lines.points.size()
+    << ",\"declared_count\": " << facts.declaredCount;
+  o << ",\"header\": {";
+  for (std::size_t i = 0; i < facts.fields.size(); ++i)
+    o << (i ? "," : "") << quote(facts.fields[i].first) << ": " << quote(facts.fields[i].second);
+  o << "}";
+  if (facts.grid) gridJson(o, *facts.grid);
+  o << ",\"length_mm\": " << statsJson(s.length) << ",\"points_per_streamline\": " << statsJson(s.pointsPerLine);
+  if (!lines.points.empty())
+    o << ",\"bounds_mm\": [[" << num(s.lo.x) << "," << num(s.lo.y) << "," << num(s.lo.z) << "],[" << num(s.hi.x)
+      << "," << num(s.hi.y) << "," << num(s.hi.z) << "]]";
+  dataJson(o, lines);
+  o << "}\n";
+  return o.str();
+}
+
+std::string tractsText(const std::string& path, const TractFileFacts& facts, const Polylines& lines,
+                       const TractSummary& s) {
+  std::ostringstream o;
+  char buf[256];
+  o << path << "\n  format:        " << facts.format << "\n";
+  for (const auto& [k, v] : facts.fields) {
+    std::snprintf(buf, sizeof buf, "  %-14s %s\n", (k + ":").c_str(), v.c_str());
+    o << buf;
+  }
+  if (facts.grid) {
+    const Grid& g = *facts.grid;
+    std::snprintf(buf, sizeof buf, "  dimensions:    %d x %d x %d, voxel %g x %g x %g mm, orientation %s\n",
+                  g.dims.x, g.dims.y, g.dims.z, g.spacing.x, g.spacing.y, g.spacing.z, g.orientationCode().c_str());
+    o << buf << "  affine:\n";
+    for (int r = 0; r < 4; ++r) {
+      std::snprintf(buf, sizeof buf, "    %10.4f %10.4f %10.4f %10.4f\n", g.voxelToWorld[0][r],
+                    g.voxelToWorld[1][r], g.voxelToWorld[2][r], g.voxelToWorld[3][r]);
+      o << buf;
+    }
+  }
+  std::snprintf(buf, sizeof buf, "  streamlines:   %zu%s\n  points:        %zu\n", lines.lineCount(),
+                facts.declaredCount >= 0 && static_cast<std::size_t>(facts.declaredCount) != lines.lineCount()
+                    ? (" (header says " + std::to_string(facts.declaredCount) + ")").c_str()
+                    : "",
+                lines.points.size());
+  o << buf;
+  const Stats& len = s.length;
+  std::snprintf(buf, sizeof buf, "  length (mm):   min %.2f  mean %.2f  median %.2f  max %.2f\n", len.min, len.mean,
+                len.median, len.max);
+  o << buf;
+  std::snprintf(buf, sizeof buf, "  points/line:   min %.0f  mean %.1f  max %.0f\n", s.pointsPerLine.min,
+                s.pointsPerLine.mean, s.pointsPerLine.max);
+  o << buf;
+  if (!lines.points.empty()) {
+    std::snprintf(buf, sizeof buf, "  bounds (mm):   [%.2f %.2f %.2f] .. [%.2f %.2f %.2f]\n", s.lo.x, s.lo.y, s.lo.z,
+                  s.hi.x, s.hi.y, s.hi.z);
+    o << buf;
+  }
+  for (int per = 0; per < 2; ++per)
+    for (const auto& d : per ? lines.perPoint : lines.perLine) {
+      const auto [a, b] = valueRange(d);
+      std::snprintf(buf, sizeof buf, "  %s '%s': %zu x %d, range %g .. %g\n", per ? "dpv" : "dps", d.name.c_str(),
+                    d.values.size() / static_cast<std::size_t>(d.components), d.components, a, b);
+      o << buf;
+    }
+  for (const auto& g : lines.groups)
+    o << "  group '" << g.name << "': " << g.lines.size() << " streamlines\n";
+  return o.str();
+}
+
+} // namespace
+
+int cmdTractInfo(const CommandArgs& argv) {
+  ParsedOptions args(tractInfoOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  const std::string path = args.positional(0, "TRACTS (see --help)");
+  const bool json = args.flag("json");
+  args.finish();
+
+  TractFileFacts facts;
+  const Polylines lines = readTracts(path, &facts);
+  const TractSummary summary = summarise(lines);
+  std::fputs((json ? tractsJson(path, facts, lines, summary) : tractsText(path, facts, lines, summary)).c_str(),
+             stdout);
   return 0;
 }
 

@@ -13,13 +13,16 @@
 namespace dtf::app {
 
 using CommandArgs = std::vector<std::string>;
+struct OptionTable; // app/cli/options.h
 
 struct Command {
   const char* name;
-  const char* synopsis;    // the arguments after the name, as the README's table shows them
+  const char* synopsis;    // the arguments after the name, as the README's table shows them (nullptr: from
+                           // the option table)
   const char* summary;     // one line for `dtfabric --help`
   const char* description; // the README's table
   int (*run)(const CommandArgs& args);
+  const OptionTable& (*options)() = nullptr; // its flags, defaults, ranges and --help (nullptr: not yet)
 };
 
 int cmdInfo(const CommandArgs& args);
@@ -37,6 +40,18 @@ int cmdConvert(const CommandArgs& args);
 int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
 int cmdBids(const CommandArgs& args);
+
+// The option tables of the commands (app/cli/options.h), each in its command's file.
+const OptionTable& infoOptions();
+const OptionTable& tractInfoOptions();
+const OptionTable& fitOptions();
+const OptionTable& phantomOptions();
+const OptionTable& surfaceOptions();
+const OptionTable& convertOptions();
+const OptionTable& compareOptions();
+const OptionTable& checkOptions();
+const OptionTable& bidsOptions();
+const OptionTable& helpOptions();
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();
