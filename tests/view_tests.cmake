@@ -10,3 +10,8 @@ dtf_test(test_help_cli SOURCES cli/help_cli_test.cpp LIBS dtf_cli)
 dtf_test(test_view_initial_view SOURCES gl/view_initial_view_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_tract_colouring SOURCES gl/view_tract_colouring_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_tract_colouring_window SOURCES window/view_tract_colouring_window_test.cpp LIBS dtf_io dtf_model)
+# The session library without a window or GL context: the generic worker, the session, its layering.
+dtf_test(test_coalescing_worker SOURCES unit/coalescing_worker_test.cpp LIBS dtf_model)
+dtf_test(test_viewer_session SOURCES unit/viewer_session_test.cpp LIBS dtf_scene)
+dtf_test(test_scene_layering SOURCES unit/scene_layering_test.cpp LIBS dtf_model)
+dtf_test(test_view_fibres_window SOURCES window/view_fibres_window_test.cpp LIBS dtf_io dtf_model)
