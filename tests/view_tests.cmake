@@ -15,3 +15,4 @@ dtf_test(test_coalescing_worker SOURCES unit/coalescing_worker_test.cpp LIBS dtf
 dtf_test(test_viewer_session SOURCES unit/viewer_session_test.cpp LIBS dtf_scene)
 dtf_test(test_scene_layering SOURCES unit/scene_layering_test.cpp LIBS dtf_model)
 dtf_test(test_view_fibres_window SOURCES window/view_fibres_window_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_tract_overlay_rule SOURCES unit/tract_overlay_rule_test.cpp LIBS dtf_scene)
