@@ -255,6 +255,7 @@ void ViewerSession::onResult(WorkerResult& r) {
     info.validVoxels = static_cast<std::size_t>(std::count(f.valid.begin(), f.valid.end(), 1));
     info.warnings = d.loaded.warnings;
     ui::FibreInfo& fibres = state_.fibres;
+    const bool hadFibres = fibres.present;
     fibres = {};
     if (d.fibres) {
       fibres.present = true;
@@ -266,8 +267,8 @@ void ViewerSession::onResult(WorkerResult& r) {
       fibres.voxels = d.fibres->set.occupiedVoxels();
       // A fibre set is woven one population per field (the way `dtfabric render` shows it).
       state_.fabric.colour = render::ColourMode::Fibres;
-    } else if (state_.fabric.colour == render::ColourMode::Fibres) {
-      state_.fabric.colour = render::ColourMode::Medical;
+    } else if (hadFibres && state_.fabric.colour == render::ColourMode::Fibres) {
+      state_.fabric.colour = render::ColourMode::Medical; // tensors after a fibre set: the default mode again
     }
     countFibres();
     for (int a = 0; a < 3; ++a) {

@@ -307,3 +307,25 @@ TEST(ViewerSession, AFibreSetWithAPairedTensorHasFaAndTheTensorInTheProbe) {
   EXPECT_TRUE(st.errorChain.empty()) << st.errorChain.front();
   EXPECT_EQ(st.surface, ui::SurfaceKind::FaIsosurface);
 }
+
+TEST(ViewerSession, TheFibresColourModeFollowsTheDataButKeepsAChoiceMadeForTensors) {
+  const auto dir = test::scratchDir();
+  const std::string peaks = crossingPeaks(dir), tensors = constantTensors(dir);
+  ViewerSession s("slice=axial");
+  s.apply(ui::LoadFile{peaks});
+  settle(s);
+  EXPECT_EQ(s.state().fabric.colour, render::ColourMode::Fibres);
+  s.apply(ui::LoadFile{tensors});
+  settle(s);
+  EXPECT_FALSE(s.state().fibres.present);
+  EXPECT_EQ(s.state().fabric.colour, render::ColourMode::Medical); // back to the tensors' default
+  // A tensor shown the fibre way (its principal direction) stays so for the next tensor file.
+  render::FabricParams p = s.state().fabric;
+  p.colour = render::ColourMode::Fibres;
+  s.apply(ui::SetFabricParams{p});
+  EXPECT_TRUE(s.state().errorChain.empty());
+  s.apply(ui::LoadFile{tensors});
+  settle(s);
+  EXPECT_EQ(s.state().fabric.colour, render::ColourMode::Fibres);
+  EXPECT_EQ(s.loadSerial(), 3u);
+}
