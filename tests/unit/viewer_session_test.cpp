@@ -4,6 +4,7 @@
 // probe's text for a known voxel of the crossing phantom.
 #include "app/scene/viewer_session.h"
 
+#include "app/scene/tract_files.h"
 #include "io/fibre_io.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
@@ -328,4 +329,53 @@ TEST(ViewerSession, TheFibresColourModeFollowsTheDataButKeepsAChoiceMadeForTenso
   settle(s);
   EXPECT_EQ(s.state().fabric.colour, render::ColourMode::Fibres);
   EXPECT_EQ(s.loadSerial(), 3u);
+}
+
+TEST(ViewerSession, TractsAreLoadedSelectedForTheSurfaceAndSavedWithoutGl) {
+  const auto dir = test::scratchDir();
+  const std::string tensors = constantTensors(dir); // 16 voxels of 2 mm: world -15..15 mm
+  // Lines along x through the volume at several heights z; the axial slice through z = 1 mm selects a slab.
+  Polylines lines;
+  lines.offsets = {0};
+  for (int i = 0; i < 8; ++i) {
+    for (int k = -12; k <= 12; ++k)
+      lines.points.emplace_back(float(k), 0.0f, float(4 * i - 14));
+    lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  }
+  const std::string tck = (dir / "lines.tck").string();
+  app::writeTracts(tck, lines, nullptr);
+  ViewerSession s("slice=axial");
+  s.apply(ui::LoadFile{tensors});
+  settle(s);
+  s.apply(ui::LoadTracts{tck});
+  settle(s);
+  const ui::ViewerState& st = s.state();
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  EXPECT_EQ(st.tractCount, 8u);
+  EXPECT_EQ(st.tractPoints, 8u * 25u);
+  EXPECT_NEAR(st.tractMeanLengthMm, 24.0, 1e-3);
+  ASSERT_TRUE(s.tractDisplay());
+  EXPECT_GT(s.displaySerial(), 0u);
+  // A planar surface shows every tract, clipped to a slab around its plane (drawn by the front end).
+  EXPECT_TRUE(s.tractsSlab());
+  EXPECT_TRUE(st.tractsSlab);
+  EXPECT_EQ(st.tractsShownLines, 8u);
+  EXPECT_NEAR(std::abs(s.tractsPlane().z), 1.0f, 1e-5f);
+  // The tract file is an input: saving over it is refused even with force; a new file is written.
+  s.apply(ui::SaveTracts{tck, true});
+  EXPECT_TRUE(mentions(st.errorChain, tck));
+  s.apply(ui::DismissError{});
+  const std::string out = (dir / "saved.tck").string();
+  s.apply(ui::SaveTracts{out});
+  settle(s);
+  EXPECT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  EXPECT_EQ(st.saveStatus, "wrote " + out);
+  EXPECT_EQ(app::readTracts(out).lineCount(), 8u);
+  // Width and clip-slab changes count for the front end's drawing.
+  const std::uint64_t style = s.tractStyleSerial();
+  s.apply(ui::SetTractWidth{3.0});
+  s.apply(ui::SetTractsClip{2.0, 1.0});
+  EXPECT_EQ(s.tractStyleSerial(), style + 2);
+  s.apply(ui::SetTractWidth{0.0});
+  EXPECT_TRUE(mentions(st.errorChain, "tract width"));
 }
