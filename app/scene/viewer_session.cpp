@@ -207,7 +207,10 @@ void ViewerSession::loadFile(const ui::LoadFile& a) {
   state_.busy = true;
   state_.busyStage = "reading " + a.path;
   busySince_ = std::chrono::steady_clock::now();
-  worker_.requestLoad(latestLoad_, a.path, layout, a.tensor, first);
+  // A surface the user named for the first load (`view --surface fa=...`) is refused, as `render` refuses it,
+  // when a fibre set has no FA; the default one gives way to a slice.
+  const bool named = !data_ && !initialSurface_.empty();
+  worker_.requestLoad(latestLoad_, a.path, layout, a.tensor, first, !named);
 }
 
 void ViewerSession::setMesh(Mesh&& mesh) {

@@ -49,8 +49,8 @@ ViewerWorker::ViewerWorker()
 ViewerWorker::~ViewerWorker() = default;
 
 void ViewerWorker::requestLoad(std::uint64_t id, const std::string& path, const std::string& layout,
-                               const std::string& tensorPath, const SurfaceSpec& first) {
-  worker_.request(LoadJob{id, path, layout, tensorPath, first}, kLoad, {kSurface}); // waiting surfaces belong to old data
+                               const std::string& tensorPath, const SurfaceSpec& first, bool sliceWithoutFa) {
+  worker_.request(LoadJob{id, path, layout, tensorPath, first, sliceWithoutFa}, kLoad, {kSurface}); // waiting surfaces belong to old data
 }
 
 void ViewerWorker::requestSurface(std::uint64_t id, std::shared_ptr<const ViewerDataset> data,
@@ -91,7 +91,8 @@ WorkerResult ViewerWorker::load(const LoadJob& job, WorkContext& context) {
         data->fa = std::move(in.fa);
         data->faSource = in.faSource;
         data->fibres = std::make_shared<const io::LoadedFibres>(std::move(in.fibres));
-        if (data->fa.data.empty() && first.kind == SurfaceSpec::Kind::Fa) first = parseSurfaceSpec("slice=axial");
+        if (job.sliceWithoutFa && data->fa.data.empty() && first.kind == SurfaceSpec::Kind::Fa)
+          first = parseSurfaceSpec("slice=axial");
       } else {
         if (!job.tensorPath.empty())
           throw UsageError("a paired tensor (" + job.tensorPath + ") goes with a fibre set; " + job.path +

@@ -55,10 +55,11 @@ public:
   ViewerWorker& operator=(const ViewerWorker&) = delete;
 
   // Loads `path` (tensor volume, DWI, or fibre set with the optional tensor `tensorPath`, as `dtfabric
-  // render` reads them; `layout`: auto, a tensor or a fibre layout) and extracts `first` from it (a fibre set
-  // without FA starts on the middle axial slice instead of an FA isosurface).
+  // render` reads them; `layout`: auto, a tensor or a fibre layout) and extracts `first` from it. With
+  // `sliceWithoutFa`, a fibre set without FA starts on the middle axial slice instead of an FA isosurface
+  // (else that surface is refused as it is by `render`).
   void requestLoad(std::uint64_t id, const std::string& path, const std::string& layout,
-                   const std::string& tensorPath, const SurfaceSpec& first);
+                   const std::string& tensorPath, const SurfaceSpec& first, bool sliceWithoutFa = true);
   // Extracts `spec` from `data`; replaces a surface request that has not started yet.
   void requestSurface(std::uint64_t id, std::shared_ptr<const ViewerDataset> data, const SurfaceSpec& spec);
   // Takes the oldest finished result, if any.
@@ -73,6 +74,7 @@ private:
     std::uint64_t id;
     std::string path, layout, tensorPath;
     SurfaceSpec first;
+    bool sliceWithoutFa = true;
   };
   struct SurfaceJob {
     std::uint64_t id;

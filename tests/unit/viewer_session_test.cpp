@@ -379,3 +379,13 @@ TEST(ViewerSession, TractsAreLoadedSelectedForTheSurfaceAndSavedWithoutGl) {
   s.apply(ui::SetTractWidth{0.0});
   EXPECT_TRUE(mentions(st.errorChain, "tract width"));
 }
+
+TEST(ViewerSession, AnFaSurfaceNamedForAFibreSetWithoutFaIsRefusedWithTheReason) {
+  const auto dir = test::scratchDir();
+  ViewerSession s("fa=0.3");
+  s.apply(ui::LoadFile{crossingPeaks(dir)});
+  settle(s);
+  EXPECT_TRUE(s.state().hasData);
+  EXPECT_FALSE(s.mesh());
+  EXPECT_TRUE(mentions(s.state().errorChain, "needs FA")) << (s.state().errorChain.empty() ? "" : s.state().errorChain.back());
+}
