@@ -11,8 +11,8 @@
 
 namespace dtf::ui {
 
-const std::array<const char*, 8> kLayoutNames = {"auto",      "fsl",          "mrtrix",     "symmatrix",
-                                                  "dtitk",     "mrtrix-peaks", "dipy-peaks", "bedpostx"};
+const std::array<const char*, 8> kLayoutNames = {"auto",  "fsl",          "mrtrix",     "symmatrix",
+                                                 "dtitk", "mrtrix-peaks", "dipy-peaks", "bedpostx"};
 
 namespace {
 
@@ -122,7 +122,8 @@ void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
     out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout], b.tensorPath.data()});
   if (s.hasData) {
     ImGui::SameLine();
-    if (ImGui::Button("Reload")) out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout], b.tensorPath.data()});
+    if (ImGui::Button("Reload"))
+      out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout], b.tensorPath.data()});
     probe(b, "Reload");
   }
   if (!s.recent.empty() && ImGui::TreeNodeEx("Recent files", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -244,7 +245,8 @@ void fibresPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   ImGui::Text("layout %s, up to %d fibres per voxel", f.layout.c_str(), f.slots);
   if (!f.layoutReason.empty()) ImGui::TextWrapped("(%s)", f.layoutReason.c_str());
   if (f.faSource.empty())
-    ImGui::TextWrapped("no FA: pair a tensor (the Data panel's tensor field, `view --tensor`) for FA surfaces");
+    ImGui::TextWrapped(
+        "no FA: pair a tensor (the Data panel's tensor field, `view --tensor`) for FA surfaces");
   else
     ImGui::TextWrapped("FA from %s", f.faSource.c_str());
   // The threshold is the option table's fibre-threshold, over the range the CLI accepts.
@@ -475,7 +477,8 @@ void statusBar(const ViewerState& s, const PanelLayout& layout) {
       ImGui::SameLine();
       // Tensor and fibres of the voxel (app/scene/viewer_session.h), clipped before the frame time.
       const ImVec2 at = ImGui::GetCursorScreenPos();
-      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - 210.0f), at.y + layout.statusHeight), true);
+      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - 210.0f), at.y + layout.statusHeight),
+                          true);
       ImGui::TextUnformatted(p.text.c_str());
       ImGui::PopClipRect();
     }

@@ -1,8 +1,9 @@
-// The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar, a status bar with the
-// voxel under the cursor, a progress line for work on the worker thread, the error modal and the overwrite
-// prompt. Each panel reads the ViewerState by const reference and appends what the user asked for to an
-// ActionList; nothing is changed here (the app's viewer performs the actions). Needs a current ImGui context
-// inside NewFrame()/Render(); no renderer backend is needed, so the panels also run headless in tests.
+// The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar,
+// a status bar with the voxel under the cursor, a progress line for work on the worker thread, the error
+// modal and the overwrite prompt. Each panel reads the ViewerState by const reference and appends what the
+// user asked for to an ActionList; nothing is changed here (the app's viewer performs the actions). Needs a
+// current ImGui context inside NewFrame()/Render(); no renderer backend is needed, so the panels also run
+// headless in tests.
 #pragma once
 
 #include "app/scene/actions.h"
@@ -18,7 +19,7 @@ namespace dtf::ui {
 // Widget state that ImGui needs to own between frames (text fields), owned by the caller.
 struct PanelBuffers {
   std::array<char, 1024> openPath{};
-  int layout = 0; // index into kLayoutNames
+  int layout = 0;                      // index into kLayoutNames
   std::array<char, 1024> tensorPath{}; // fibre sets: the paired tensor of the next load
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};

@@ -54,7 +54,8 @@ std::string describe(const Action& action) {
       [&](const auto& a) -> std::string {
         using T = std::decay_t<decltype(a)>;
         if constexpr (std::is_same_v<T, LoadFile>)
-          return "LoadFile " + a.path + " layout=" + a.layout + (a.tensor.empty() ? "" : " tensor=" + a.tensor);
+          return "LoadFile " + a.path + " layout=" + a.layout +
+                 (a.tensor.empty() ? "" : " tensor=" + a.tensor);
         else if constexpr (std::is_same_v<T, SetSurfaceKind>)
           return std::string("SetSurfaceKind ") + surfaceKindName(a.kind);
         else if constexpr (std::is_same_v<T, SetSurfaceSpec>)

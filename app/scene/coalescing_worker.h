@@ -5,7 +5,8 @@
 // new load makes waiting surface requests of the old data pointless). Waiting jobs run lowest lane first.
 // The job reports progress (a stage text, a count done of a count planned) and sees its cancel flag through
 // WorkContext; results are polled by the UI thread. The destructor cancels the running job, drops the waiting
-// ones and joins. Every shared member is guarded by one mutex (the cancel flag is atomic for the job's loops).
+// ones and joins. Every shared member is guarded by one mutex (the cancel flag is atomic for the job's
+// loops).
 #pragma once
 
 #include <atomic>
@@ -41,8 +42,7 @@ public:
   }
 
 private:
-  template <class, class>
-  friend class CoalescingWorker;
+  template <class, class> friend class CoalescingWorker;
   explicit WorkContext(std::mutex* mutex) : mutex_(mutex) {}
   std::mutex* mutex_;
   std::atomic<bool> cancel_{false};
@@ -51,20 +51,19 @@ private:
 };
 
 struct WorkLane {
-  bool coalesce = true;       // a request replaces the job waiting in the lane; false: every request queues
+  bool coalesce = true;        // a request replaces the job waiting in the lane; false: every request queues
   bool cancelsRunning = false; // a request cancels the running job of this lane
 };
 
-template <class Job, class Result>
-class CoalescingWorker {
+template <class Job, class Result> class CoalescingWorker {
 public:
   // Performs a job on the worker thread; nullopt reports nothing (e.g. a job cancelled as out of date).
   // Exceptions escaping it are the caller's to catch inside `run` (the thread would terminate).
   using Run = std::function<std::optional<Result>(Job&, WorkContext&)>;
 
   explicit CoalescingWorker(Run run, std::vector<WorkLane> lanes = {WorkLane{}})
-      : run_(std::move(run)), rules_(std::move(lanes)), waiting_(rules_.size()), cancelWaiting_(rules_.size()),
-        thread_([this] { loop(); }) {}
+      : run_(std::move(run)), rules_(std::move(lanes)), waiting_(rules_.size()),
+        cancelWaiting_(rules_.size()), thread_([this] { loop(); }) {}
 
   ~CoalescingWorker() {
     {

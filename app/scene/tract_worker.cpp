@@ -67,18 +67,17 @@ surfaces::SeedSource seedsFor(const ui::TrackRequest& r, const ViewerDataset& da
 TractWorker::TractWorker()
     : analysis_([this](AnalysisJob& job, WorkContext& context) { return analyse(job, context); },
                 {WorkLane{true, true}, WorkLane{false, false}, WorkLane{true, false}}),
-      tracker_(
-          [](TrackingJob& job, WorkContext& context) -> std::optional<TractResult> {
-            const auto t0 = std::chrono::steady_clock::now();
-            TractResult r;
-            try {
-              r = track(job, context);
-            } catch (...) {
-              r = failed(job.id, "tracking", currentExceptionMessage());
-            }
-            r.ms = msSince(t0);
-            return r;
-          }) {}
+      tracker_([](TrackingJob& job, WorkContext& context) -> std::optional<TractResult> {
+        const auto t0 = std::chrono::steady_clock::now();
+        TractResult r;
+        try {
+          r = track(job, context);
+        } catch (...) {
+          r = failed(job.id, "tracking", currentExceptionMessage());
+        }
+        r.ms = msSince(t0);
+        return r;
+      }) {}
 
 TractWorker::~TractWorker() = default;
 
@@ -134,8 +133,8 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
   r.kind = TractResult::Kind::Selection;
   r.id = job.id;
   const Polylines& all = *job.tracts;
-  TractSelection s = job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag())
-                              : TractSelection{};
+  TractSelection s =
+      job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag()) : TractSelection{};
   if (context.cancelled()) return failed(job.id, "selection", "cancelled");
   if (s.all) {
     if (!all_ || allSerial_ != job.tractsSerial) {

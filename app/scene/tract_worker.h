@@ -7,13 +7,13 @@
 // polled by the GUI thread.
 #pragma once
 
+#include "app/scene/actions.h"
 #include "app/scene/track_request.h"
 #include "app/scene/viewer_worker.h"
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
 #include "surfaces/agreement.h"
 #include "surfaces/tracking.h"
-#include "app/scene/actions.h"
 
 #include <cstdint>
 #include <memory>

@@ -406,8 +406,8 @@ std::string describeProbe(const ui::ProbeInfo& p) {
   std::snprintf(buf, sizeof buf, "voxel %d %d %d", p.voxel.x, p.voxel.y, p.voxel.z);
   std::string text = buf;
   if (p.hasTensor) {
-    std::snprintf(buf, sizeof buf, ", FA %.4f, e1 %.3f %.3f %.3f, lambda %.2e %.2e %.2e", p.fa, p.e1.x, p.e1.y,
-                  p.e1.z, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z);
+    std::snprintf(buf, sizeof buf, ", FA %.4f, e1 %.3f %.3f %.3f, lambda %.2e %.2e %.2e", p.fa, p.e1.x,
+                  p.e1.y, p.e1.z, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z);
     text += buf;
   }
   if (!p.fibres.empty()) {
@@ -652,8 +652,9 @@ void ViewerSession::apply(const ui::Action& action) {
           } else if constexpr (std::is_same_v<T, ui::SetFabricParams>) {
             render::FabricParams p = a.params;
             if (state_.fibres.present && p.colour != render::ColourMode::Fibres)
-              throw UsageError("a fibre set is shown in the fibres colour mode (medical and engineering colour "
-                               "a tensor's eigenvectors)");
+              throw UsageError(
+                  "a fibre set is shown in the fibres colour mode (medical and engineering colour "
+                  "a tensor's eigenvectors)");
             const bool recount = p.fibreThreshold != state_.fabric.fibreThreshold;
             state_.fabric = p;
             if (recount) countFibres();

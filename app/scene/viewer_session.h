@@ -77,7 +77,9 @@ public:
   std::uint64_t fieldSerial() const { return fieldSerial_; }
   std::uint64_t meshSerial() const { return meshSerial_; }
   const std::shared_ptr<const Mesh>& mesh() const { return mesh_; }
-  glm::vec3 meshCentre() const { return meshCentre_; } // centre of the surface's bounds (the clip slab's anchor)
+  glm::vec3 meshCentre() const {
+    return meshCentre_;
+  } // centre of the surface's bounds (the clip slab's anchor)
 
   // The tracts: all points (analysis and saving), those the selection draws from (grouped and coloured as
   // chosen), and the selection's display for the surface on screen (display decimation and levels of

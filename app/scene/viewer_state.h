@@ -1,12 +1,12 @@
 // The viewer's state as the panels see it: a plain snapshot the session (app/scene/viewer_session.h) and the
-// viewer keep up to date and hand to ui/panels.h by const reference each frame. Strings here change only when the data or the surface
-// change, so drawing the panels from it does not allocate.
+// viewer keep up to date and hand to ui/panels.h by const reference each frame. Strings here change only when
+// the data or the surface change, so drawing the panels from it does not allocate.
 #pragma once
 
+#include "app/scene/actions.h"
 #include "io/model/fibre_set.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
-#include "app/scene/actions.h"
 
 #include <array>
 #include <glm/glm.hpp>
@@ -113,8 +113,9 @@ struct ViewerState {
   std::vector<char> tractGroupShown;           // per tractGroupNames
   std::string tractColourBy;                   // data name; empty: DEC
   double tractColourLo = 0, tractColourHi = 1; // the range mapped to the colour map's ends
-  bool tractsSelecting = false; // the selection for the current surface is being computed
-  bool tractsSlab = false;      // planar surface: every tract, in a slab around its plane (half-width tractsClipMm, else tractsNearMm)
+  bool tractsSelecting = false;                // the selection for the current surface is being computed
+  bool tractsSlab = false; // planar surface: every tract, in a slab around its plane (half-width
+                           // tractsClipMm, else tractsNearMm)
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation
   int tractsLevel = 0;            // level of detail on screen (0 = every display point)
   double tractsLevelFraction = 1; // share of that level's segments drawn

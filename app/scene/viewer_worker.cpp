@@ -50,7 +50,8 @@ ViewerWorker::~ViewerWorker() = default;
 
 void ViewerWorker::requestLoad(std::uint64_t id, const std::string& path, const std::string& layout,
                                const std::string& tensorPath, const SurfaceSpec& first, bool sliceWithoutFa) {
-  worker_.request(LoadJob{id, path, layout, tensorPath, first, sliceWithoutFa}, kLoad, {kSurface}); // waiting surfaces belong to old data
+  worker_.request(LoadJob{id, path, layout, tensorPath, first, sliceWithoutFa}, kLoad,
+                  {kSurface}); // waiting surfaces belong to old data
 }
 
 void ViewerWorker::requestSurface(std::uint64_t id, std::shared_ptr<const ViewerDataset> data,

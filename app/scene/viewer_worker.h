@@ -8,8 +8,8 @@
 
 #include "app/scene/coalescing_worker.h"
 #include "app/scene/surface_spec.h"
-#include "io/model/geometry.h"
 #include "io/fibre_io.h"
+#include "io/model/geometry.h"
 #include "io/model/volume.h"
 #include "io/tensor_io.h"
 #include "surfaces/isosurface.h"
@@ -24,13 +24,15 @@ namespace dtf::app {
 // A loaded tensor volume or fibre set with what the viewer derives from it once.
 struct ViewerDataset {
   std::string path;
-  io::LoadedTensors loaded; // fibre sets: the paired tensor, else the fibres' carrier field (surface clipping)
-  ScalarVolume fa;          // empty for a fibre set without FA (no paired tensor, none in the file)
-  std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared by
-                                                        // a copy whose tensors were turned: the same FA)
+  io::LoadedTensors
+      loaded;      // fibre sets: the paired tensor, else the fibres' carrier field (surface clipping)
+  ScalarVolume fa; // empty for a fibre set without FA (no paired tensor, none in the file)
+  std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared
+                                                        // by a copy whose tensors were turned: the same FA)
   SurfaceBuildOptions buildOptions;
   glm::dvec3 lo{0.0}, hi{0.0}; // world bounds of the grid (voxel corners), mm
-  // Fibre sets (app/scene/fibre_input.h): the fibres as read, whether a tensor is paired, where FA comes from.
+  // Fibre sets (app/scene/fibre_input.h): the fibres as read, whether a tensor is paired, where FA comes
+  // from.
   std::shared_ptr<const io::LoadedFibres> fibres;
   bool pairedTensor = false;
   std::string faSource;

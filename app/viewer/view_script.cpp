@@ -229,8 +229,8 @@ void parseFibres(const ScriptLine& line, ScriptStep& step) {
     if (option.starts_with("layout=")) {
       load.layout = option.substr(7);
       if (load.layout != "auto" && !io::isFibreLayoutName(load.layout))
-        throw LineError{"fibres: layout must be auto, mrtrix-peaks, dipy-peaks or bedpostx, got '" + load.layout +
-                        "'"};
+        throw LineError{"fibres: layout must be auto, mrtrix-peaks, dipy-peaks or bedpostx, got '" +
+                        load.layout + "'"};
       if (load.layout == "auto") load.layout = "fibres-auto";
     } else {
       load.tensor = option.substr(7);

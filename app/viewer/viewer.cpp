@@ -209,7 +209,8 @@ void ViewerScene::render(int width, int height) {
         continue;
       }
       render::FabricParams params = state.fabric;
-      if (p == 1 && state.secondPane == ui::SecondPane::OtherColourMode) params.colour = otherColour(params.colour);
+      if (p == 1 && state.secondPane == ui::SecondPane::OtherColourMode)
+        params.colour = otherColour(params.colour);
       if (low) {
         params.autoLodPixels *= scale;
         params.stepPixels *= scale;

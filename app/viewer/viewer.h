@@ -131,7 +131,7 @@ private:
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;
   std::uint64_t seenLoad_ = 0, seenField_ = 0, seenMesh_ = 0, seenDisplay_ = 0; // the session's serials taken
-  std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr}; // what outputFbo_ belongs to
+  std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr};     // what outputFbo_ belongs to
   std::array<glm::ivec2, 2> outputSize_{};
   double interactiveScale_ = 0.5, scale_ = 0.5;
   std::array<render::Camera, 2> cameras_;

@@ -5,11 +5,10 @@
 // deterministic and ThreadSanitizer sees every hand-over through the worker's mutex or a future.
 #include "app/scene/coalescing_worker.h"
 
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <chrono>
 #include <future>
+#include <gtest/gtest.h>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -47,8 +46,7 @@ std::optional<Result> perform(Job& job, WorkContext& context) {
 }
 
 // Waits until the worker is idle and returns every result's value in order.
-template <class W>
-std::vector<Result> results(W& w) {
+template <class W> std::vector<Result> results(W& w) {
   std::vector<Result> out;
   while (true) {
     Result r;

@@ -38,7 +38,8 @@ std::map<std::string, std::set<std::string>> linkGraph() {
   return links;
 }
 
-std::set<std::string> closure(const std::map<std::string, std::set<std::string>>& links, const std::string& from) {
+std::set<std::string> closure(const std::map<std::string, std::set<std::string>>& links,
+                              const std::string& from) {
   std::set<std::string> seen;
   std::vector<std::string> todo{from};
   while (!todo.empty()) {

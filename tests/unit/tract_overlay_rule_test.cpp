@@ -1,14 +1,12 @@
-// The one tract-overlay rule of app/scene/tract_overlay.h that the viewer's worker uses (and `render --tracts`
-// applies through the same pickTracts/tractClip): which tracts a surface shows, and what is uploaded of them
-// (the display decimation to render::kTractDisplayPointCap with its levels of detail).
+// The one tract-overlay rule of app/scene/tract_overlay.h that the viewer's worker uses (and `render
+// --tracts` applies through the same pickTracts/tractClip): which tracts a surface shows, and what is
+// uploaded of them (the display decimation to render::kTractDisplayPointCap with its levels of detail).
 #include "app/scene/tract_overlay.h"
-
 #include "render/reference/scenes.h"
 #include "support/polylines.h"
 
-#include <gtest/gtest.h>
-
 #include <atomic>
+#include <gtest/gtest.h>
 
 using namespace dtf;
 using namespace dtf::app;

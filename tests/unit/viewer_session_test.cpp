@@ -2,19 +2,17 @@
 // no GLFW): loading with the layout diagnosis, surface specs and their extraction on the worker, the
 // write/overwrite policy, errors into the modal's chain, fibre sets with their Fibres panel state and the
 // probe's text for a known voxel of the crossing phantom.
-#include "app/scene/viewer_session.h"
-
 #include "app/scene/tract_files.h"
+#include "app/scene/viewer_session.h"
 #include "io/fibre_io.h"
 #include "io/phantoms.h"
 #include "io/tensor_io.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <thread>
 
 using namespace dtf;
@@ -244,7 +242,8 @@ TEST(ViewerSession, LoadsAFibreSetWithItsLayoutAndProbesBothPopulationsOfTheCros
   ASSERT_EQ(p.fibres.size(), 2u);
   const double c = std::cos(M_PI / 6), sn = std::sin(M_PI / 6);
   const glm::vec3 a(c, sn, 0), b(c, -sn, 0);
-  const bool aFirst = std::abs(glm::dot(p.fibres[0].direction, a)) > std::abs(glm::dot(p.fibres[0].direction, b));
+  const bool aFirst =
+      std::abs(glm::dot(p.fibres[0].direction, a)) > std::abs(glm::dot(p.fibres[0].direction, b));
   EXPECT_GT(std::abs(glm::dot(p.fibres[aFirst ? 0 : 1].direction, a)), 0.999f);
   EXPECT_GT(std::abs(glm::dot(p.fibres[aFirst ? 1 : 0].direction, b)), 0.999f);
   for (const auto& f : p.fibres) {
@@ -387,5 +386,6 @@ TEST(ViewerSession, AnFaSurfaceNamedForAFibreSetWithoutFaIsRefusedWithTheReason)
   settle(s);
   EXPECT_TRUE(s.state().hasData);
   EXPECT_FALSE(s.mesh());
-  EXPECT_TRUE(mentions(s.state().errorChain, "needs FA")) << (s.state().errorChain.empty() ? "" : s.state().errorChain.back());
+  EXPECT_TRUE(mentions(s.state().errorChain, "needs FA"))
+      << (s.state().errorChain.empty() ? "" : s.state().errorChain.back());
 }

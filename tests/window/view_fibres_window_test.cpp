@@ -1,5 +1,5 @@
-// Crossing fibres in the viewer under Xvfb: a fibre set written by `dtfabric phantom crossing` (MRtrix peaks on
-// an LAS grid, so the frame handling is part of it) opens from a script line or as the view's INPUT with a
+// Crossing fibres in the viewer under Xvfb: a fibre set written by `dtfabric phantom crossing` (MRtrix peaks
+// on an LAS grid, so the frame handling is part of it) opens from a script line or as the view's INPUT with a
 // paired tensor; the probe at the centre of the crossing lists both populations with their world directions,
 // and the rendered centre of the crossing shows threads along both bundles (the orientation-histogram check
 // of the fibre render tests), not along their tensor average. The whole window is kept for a look (Fibres
@@ -44,7 +44,8 @@ std::vector<Listed> listedFibres(const std::string& line) {
   at += 8;
   while (true) {
     Listed f{};
-    if (std::sscanf(line.c_str() + at, " (%lf %lf %lf) amplitude %lf", &f.x, &f.y, &f.z, &f.amplitude) != 4) break;
+    if (std::sscanf(line.c_str() + at, " (%lf %lf %lf) amplitude %lf", &f.x, &f.y, &f.z, &f.amplitude) != 4)
+      break;
     out.push_back(f);
     const auto next = line.find(", (", at);
     if (next == std::string::npos) break;
@@ -70,9 +71,8 @@ void expectBothBundles(const std::vector<Listed>& fibres, const std::string& lin
 
 fs::path crossingPeaks(const fs::path& dir) {
   const fs::path peaks = dir / "crossing60_peaks.nii.gz";
-  const auto r = dtf::test::runDtfabric("phantom crossing --crossing 60 --grid las --layout mrtrix-peaks -o '" +
-                                            peaks.string() + "'",
-                                        dir);
+  const auto r = dtf::test::runDtfabric(
+      "phantom crossing --crossing 60 --grid las --layout mrtrix-peaks -o '" + peaks.string() + "'", dir);
   EXPECT_EQ(r.exitCode, 0) << r.err;
   return peaks;
 }
@@ -85,11 +85,10 @@ TEST(ViewFibresWindow, ScriptLoadsAFibreSetProbesBothPopulationsAndWeavesBothBun
   const fs::path peaks = crossingPeaks(dir);
   // Without FA the viewer opens the middle axial slice; zoom 5 frames the centre of the crossing (about
   // 13 mm of the 64 mm phantom), where the two bundles overlap.
-  const auto r = dtf::test::runViewerScript(dir, "fibres layout=mrtrix-peaks " + peaks.string() +
-                                                     "\nzoom 5\nprobe 170 227\nscreenshot-scene " +
-                                                     shot(dir, "fibres_scene.png") +
-                                                     "\nresize 640x1000\nscreenshot " +
-                                                     shot(dir, "fibres_window.png") + "\nquit\n");
+  const auto r = dtf::test::runViewerScript(
+      dir, "fibres layout=mrtrix-peaks " + peaks.string() + "\nzoom 5\nprobe 170 227\nscreenshot-scene " +
+               shot(dir, "fibres_scene.png") + "\nresize 640x1000\nscreenshot " +
+               shot(dir, "fibres_window.png") + "\nquit\n");
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const std::string line = probeLine(r.err, 3);
@@ -120,13 +119,14 @@ TEST(ViewFibresWindow, InputWithAPairedTensorProbesTheTensorAndTheFibresAndSplit
   DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const fs::path peaks = crossingPeaks(dir), tensor = dir / "crossing60_tensor.nii.gz";
-  const auto t = dtf::test::runDtfabric("phantom crossing --crossing 60 --grid las -o '" + tensor.string() + "'",
-                                        dir);
+  const auto t =
+      dtf::test::runDtfabric("phantom crossing --crossing 60 --grid las -o '" + tensor.string() + "'", dir);
   ASSERT_EQ(t.exitCode, 0) << t.err;
   const auto r = dtf::test::runViewerScript(
       dir,
-      "slice axial 32\nprobe 170 227\nsplit colour\nzoom 5\nscreenshot-scene " + shot(dir, "fibres_split.png") +
-          "\nscreenshot " + shot(dir, "fibres_split_window.png") + "\nset fibre-threshold 0.5\nwait 2\nquit\n",
+      "slice axial 32\nprobe 170 227\nsplit colour\nzoom 5\nscreenshot-scene " +
+          shot(dir, "fibres_split.png") + "\nscreenshot " + shot(dir, "fibres_split_window.png") +
+          "\nset fibre-threshold 0.5\nwait 2\nquit\n",
       "'" + peaks.string() + "' --tensor '" + tensor.string() + "' --surface slice=axial");
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
   ASSERT_EQ(r.exitCode, 0) << r.err;
