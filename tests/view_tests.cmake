@@ -16,3 +16,4 @@ dtf_test(test_viewer_session SOURCES unit/viewer_session_test.cpp LIBS dtf_scene
 dtf_test(test_scene_layering SOURCES unit/scene_layering_test.cpp LIBS dtf_model)
 dtf_test(test_view_fibres_window SOURCES window/view_fibres_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_tract_overlay_rule SOURCES unit/tract_overlay_rule_test.cpp LIBS dtf_scene)
+dtf_test(test_view_fibres_scene SOURCES gl/view_fibres_scene_test.cpp LIBS dtf_viewer)
