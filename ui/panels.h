@@ -1,9 +1,9 @@
 // The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar,
 // a status bar with the voxel under the cursor, a progress line for work on the worker thread, the error
 // modal and the overwrite prompt. Each panel reads the ViewerState by const reference and appends what the
-// user asked for to an ActionList; nothing is changed here (the app's viewer performs the actions). Needs a
-// current ImGui context inside NewFrame()/Render(); no renderer backend is needed, so the panels also run
-// headless in tests.
+// user asked for to an ActionList; nothing is changed here (the session and the viewer perform the actions).
+// Needs a current ImGui context inside NewFrame()/Render(); no renderer backend is needed, so the panels also
+// run headless in tests.
 #pragma once
 
 #include "app/scene/actions.h"
