@@ -11,7 +11,8 @@
 
 namespace dtf::ui {
 
-const std::array<const char*, 5> kLayoutNames = {"auto", "fsl", "mrtrix", "symmatrix", "dtitk"};
+const std::array<const char*, 8> kLayoutNames = {"auto",  "fsl",          "mrtrix",     "symmatrix",
+                                                 "dtitk", "mrtrix-peaks", "dipy-peaks", "bedpostx"};
 
 namespace {
 
@@ -114,11 +115,15 @@ void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
   probe(b, "Open");
   ImGui::Combo("layout", &b.layout, kLayoutNames.data(), static_cast<int>(kLayoutNames.size()));
   probe(b, "layout");
+  ImGui::InputText("tensor", b.tensorPath.data(), b.tensorPath.size());
+  probe(b, "tensor");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("fibre sets: a tensor volume on the same grid (FA)");
   if ((enter || open) && b.openPath[0] != '\0')
-    out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout]});
+    out.push_back(LoadFile{b.openPath.data(), kLayoutNames[b.layout], b.tensorPath.data()});
   if (s.hasData) {
     ImGui::SameLine();
-    if (ImGui::Button("Reload")) out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout]});
+    if (ImGui::Button("Reload"))
+      out.push_back(LoadFile{s.data.path, kLayoutNames[b.layout], b.tensorPath.data()});
     probe(b, "Reload");
   }
   if (!s.recent.empty() && ImGui::TreeNodeEx("Recent files", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -126,7 +131,7 @@ void dataPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
       ImGui::PushID(static_cast<int>(i));
       if (ImGui::Selectable(s.recent[i].c_str(), s.hasData && s.recent[i] == s.data.path)) {
         copyPath(b.openPath, s.recent[i]);
-        out.push_back(LoadFile{s.recent[i], kLayoutNames[b.layout]});
+        out.push_back(LoadFile{s.recent[i], kLayoutNames[b.layout], b.tensorPath.data()});
       }
       ImGui::PopID();
     }
@@ -209,9 +214,9 @@ void fabricPanel(const ViewerState& s, ActionList& out) {
     double v = o.get(p);
     bool c = false;
     if (o.kind == Kind::Colour) {
-      int colour = v == 0 ? 0 : 1;
-      static const char* const colours[] = {"medical", "engineering"};
-      c = ImGui::Combo(o.sliderLabel, &colour, colours, 2);
+      int colour = static_cast<int>(v);
+      static const char* const colours[] = {"medical", "engineering", "fibres"};
+      c = ImGui::Combo(o.sliderLabel, &colour, colours, 3);
       v = colour;
     } else if (o.kind == Kind::OnOff) {
       bool on = v != 0;
@@ -231,6 +236,34 @@ void fabricPanel(const ViewerState& s, ActionList& out) {
     }
   }
   if (changed) out.push_back(SetFabricParams{p});
+}
+
+void fibresPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
+  const FibreInfo& f = s.fibres;
+  if (!f.present || !ImGui::CollapsingHeader("Fibres", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextWrapped("%s", f.path.c_str());
+  ImGui::Text("layout %s, up to %d fibres per voxel", f.layout.c_str(), f.slots);
+  if (!f.layoutReason.empty()) ImGui::TextWrapped("(%s)", f.layoutReason.c_str());
+  if (f.faSource.empty())
+    ImGui::TextWrapped(
+        "no FA: pair a tensor (the Data panel's tensor field, `view --tensor`) for FA surfaces");
+  else
+    ImGui::TextWrapped("FA from %s", f.faSource.c_str());
+  // The threshold is the option table's fibre-threshold, over the range the CLI accepts.
+  if (const render::FabricOption* o = render::findFabricOption("fibre-threshold")) {
+    double v = o->get(s.fabric);
+    if (sliderDouble("fibre threshold", v, static_cast<float>(o->range.lo), static_cast<float>(o->range.hi),
+                     "%.2f", false)) {
+      render::FabricParams p = s.fabric;
+      o->set(p, v);
+      out.push_back(SetFabricParams{p});
+    }
+    probe(b, "fibre threshold");
+  }
+  ImGui::Text("voxels with fibres: %zu", f.voxels);
+  ImGui::Text("populations drawn (threshold %.2f):", static_cast<double>(f.threshold));
+  for (std::size_t n = 0; n < f.populations.size(); ++n)
+    ImGui::BulletText("%zu %s: %zu voxels", n + 1, n ? "populations" : "population", f.populations[n]);
 }
 
 void viewPanel(const ViewerState& s, PanelBuffers& b, ActionList& out) {
@@ -442,9 +475,12 @@ void statusBar(const ViewerState& s, const PanelLayout& layout) {
     ImGui::Text("(%.1f, %.1f, %.1f) mm", p.world.x, p.world.y, p.world.z);
     if (p.inData) {
       ImGui::SameLine();
-      ImGui::Text("voxel %d,%d,%d  FA %.3f  lambda %.2e %.2e %.2e  e1 (%.2f, %.2f, %.2f)", p.voxel.x,
-                  p.voxel.y, p.voxel.z, p.fa, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z, p.e1.x,
-                  p.e1.y, p.e1.z);
+      // Tensor and fibres of the voxel (app/scene/viewer_session.h), clipped before the frame time.
+      const ImVec2 at = ImGui::GetCursorScreenPos();
+      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - 210.0f), at.y + layout.statusHeight),
+                          true);
+      ImGui::TextUnformatted(p.text.c_str());
+      ImGui::PopClipRect();
     }
   } else {
     ImGui::TextDisabled("cursor not on the surface");
@@ -510,6 +546,7 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   dataPanel(s, b, out);
   surfacePanel(s, b, out);
   fabricPanel(s, out);
+  fibresPanel(s, b, out);
   viewPanel(s, b, out);
   tractsPanel(s, b, out);
   ImGui::PopItemWidth();
@@ -517,20 +554,6 @@ void drawPanels(const ViewerState& s, PanelBuffers& b, const PanelLayout& layout
   statusBar(s, layout);
   errorModal(s, b, out);
   overwriteModal(s, b, out);
-}
-
-std::vector<std::string> splitErrorChain(const std::string& message) {
-  // Contexts are added as "while ...: " prefixes (dtf::rethrowWithContext); the rest is the cause.
-  std::vector<std::string> links;
-  std::size_t start = 0;
-  while (message.compare(start, 6, "while ") == 0) {
-    const std::size_t colon = message.find(": ", start);
-    if (colon == std::string::npos) break;
-    links.push_back(message.substr(start, colon - start));
-    start = colon + 2;
-  }
-  if (start < message.size() || links.empty()) links.push_back(message.substr(start));
-  return links;
 }
 
 } // namespace dtf::ui

@@ -1,12 +1,13 @@
-// The viewer's Dear ImGui panels: Data, Surface, Fabric, View and Tracts in a side bar, a status bar with the
-// voxel under the cursor, a progress line for work on the worker thread, the error modal and the overwrite
-// prompt. Each panel reads the ViewerState by const reference and appends what the user asked for to an
-// ActionList; nothing is changed here (the app's viewer performs the actions). Needs a current ImGui context
-// inside NewFrame()/Render(); no renderer backend is needed, so the panels also run headless in tests.
+// The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar,
+// a status bar with the voxel under the cursor, a progress line for work on the worker thread, the error
+// modal and the overwrite prompt. Each panel reads the ViewerState by const reference and appends what the
+// user asked for to an ActionList; nothing is changed here (the session and the viewer perform the actions).
+// Needs a current ImGui context inside NewFrame()/Render(); no renderer backend is needed, so the panels also
+// run headless in tests.
 #pragma once
 
-#include "ui/actions.h"
-#include "ui/viewer_state.h"
+#include "app/scene/actions.h"
+#include "app/scene/viewer_state.h"
 
 #include <array>
 #include <map>
@@ -18,7 +19,8 @@ namespace dtf::ui {
 // Widget state that ImGui needs to own between frames (text fields), owned by the caller.
 struct PanelBuffers {
   std::array<char, 1024> openPath{};
-  int layout = 0; // index into the layout names: auto, fsl, mrtrix, symmatrix, dtitk
+  int layout = 0;                      // index into kLayoutNames
+  std::array<char, 1024> tensorPath{}; // fibre sets: the paired tensor of the next load
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};
   std::array<char, 1024> tractPath{};
@@ -44,6 +46,8 @@ void sceneRect(const PanelLayout& layout, float width, float height, float rect[
 void dataPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void surfacePanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void fabricPanel(const ViewerState& state, ActionList& out);
+// Shown for a fibre set: its file, layout and FA source, the fibre threshold, the populations drawn.
+void fibresPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void viewPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void tractsPanel(const ViewerState& state, PanelBuffers& buffers, ActionList& out);
 void statusBar(const ViewerState& state, const PanelLayout& layout);
@@ -55,10 +59,7 @@ void overwriteModal(const ViewerState& state, PanelBuffers& buffers, ActionList&
 // All of the above for one frame.
 void drawPanels(const ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout, ActionList& out);
 
-// Splits an error message chain "while A: while B: cause" into its links, outermost first.
-std::vector<std::string> splitErrorChain(const std::string& message);
-
 // Layout names in the order of PanelBuffers::layout.
-extern const std::array<const char*, 5> kLayoutNames;
+extern const std::array<const char*, 8> kLayoutNames;
 
 } // namespace dtf::ui

@@ -4,6 +4,7 @@
 #include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
+#include "io/fibre_io.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 
@@ -19,8 +20,9 @@ namespace {
 
 const char* kHelp = R"(usage: dtfabric view [INPUT ...] [OPTIONS]
 
-Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, or a DWI with sibling
-.bval/.bvec), with Data, Surface, Fabric, View and Tracts panels (load or track streamlines, draw them over
+Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, a DWI with sibling
+.bval/.bvec, or a fibre set as `dtfabric render` reads it: MRtrix or DIPY peaks, FSL bedpostx, ...), with
+Data, Surface, Fabric, Fibres (fibre sets: threshold, populations drawn), View and Tracts panels (load or track streamlines, draw them over
 the fabric near the surface, save them, and measure their agreement with the fabric). Further INPUTs are
 listed under recent files.
 
@@ -29,7 +31,10 @@ Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, 
 
 Options
   --surface SPEC   first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE
-  --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk)
+  --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks,
+                   dipy-peaks, bedpostx)
+  --tensor F       fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor
+                   colours beside the fibres)
   --size WxH       window size in pixels (default 1280x800)
   --script FILE    replay a viewer script: one command of the list below per line, `#` comments.
                    A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
@@ -60,10 +65,12 @@ int cmdView(const CommandArgs& argv) {
     throw UsageError("--size must lie between 320x240 and 8192x8192");
   const std::string surface = args.getOr("surface", "");
   const std::string layout = args.getOr("layout", "auto");
+  const std::string tensor = args.getOr("tensor", "");
   const bool force = args.flag("force");
   args.finish();
   if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
-  io::parseLayout(layout);
+  if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
+  if (!tensor.empty() && inputs.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT");
 
   std::optional<ViewScript> script;
   if (scriptPath) {
@@ -85,6 +92,7 @@ int cmdView(const CommandArgs& argv) {
   o.inputs = inputs;
   o.surface = surface;
   o.layout = layout;
+  o.tensor = tensor;
   o.width = width;
   o.height = height;
   o.script = script ? &*script : nullptr;

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "surfaces/tracking.h"
-#include "ui/actions.h"
+#include "app/scene/actions.h"
 
 namespace dtf::app {
 

@@ -11,6 +11,22 @@ TractPick pickTracts(const Mesh& surface, double nearMm) {
   return p;
 }
 
+TractSelection selectTracts(const Polylines& tracts, const Mesh& surface, double nearMm,
+                            const std::atomic<bool>* cancel) {
+  TractSelection s;
+  s.pick = pickTracts(surface, nearMm);
+  s.all = !s.pick.nearOnly;
+  if (s.all) return s;
+  surfaces::NearSurfaceOptions o;
+  o.cancel = cancel;
+  s.near = surfaces::selectNearSurface(tracts, surfaces::DistanceQuery(surface), nearMm, o);
+  return s;
+}
+
+render::DisplayTracts tractOverlayDisplay(const Polylines& shown) {
+  return render::prepareDisplayTracts(shown, render::kTractDisplayPointCap);
+}
+
 TractClip tractClip(const TractPick& pick, const TractOverlayOptions& o, const glm::vec3& forward,
                     const glm::vec3& centre) {
   TractClip c;

@@ -5,10 +5,14 @@
 //   curved surface: the segments within nearMm of it (0: every tract), clipped to a slab of half-width
 //     clipMm (0: none) around the plane that faces the camera through the surface's centre, moved clipDepthMm
 //     away from the viewer.
+// What is drawn of the selection is its display decimation (render::prepareDisplayTracts: at most
+// render::kTractDisplayPointCap points, every n-th point of each line) with its levels of detail.
 #pragma once
 
 #include "io/model/geometry.h"
+#include "render/tract_renderer.h"
 
+#include <atomic>
 #include <glm/glm.hpp>
 #include <optional>
 
@@ -27,6 +31,19 @@ struct TractPick {
   bool nearOnly = false;
 };
 TractPick pickTracts(const Mesh& surface, double nearMm);
+
+// The tracts `surface` shows: `all` (every tract: a planar surface, or nearMm 0) or the pieces within nearMm
+// of it in `near` (surfaces/near_surface.h). A set `cancel` stops early with an empty `near`.
+struct TractSelection {
+  TractPick pick;
+  bool all = true;
+  Polylines near;
+};
+TractSelection selectTracts(const Polylines& tracts, const Mesh& surface, double nearMm,
+                            const std::atomic<bool>* cancel = nullptr);
+
+// What the overlay uploads for `shown` (the selection): its display decimation and levels of detail.
+render::DisplayTracts tractOverlayDisplay(const Polylines& shown);
 
 // The clip slab for one camera: plane (unit normal, offset) and half-width in mm (0: no clip).
 struct TractClip {

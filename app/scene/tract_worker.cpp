@@ -64,201 +64,139 @@ surfaces::SeedSource seedsFor(const ui::TrackRequest& r, const ViewerDataset& da
   throw UsageError("unknown seed kind");
 }
 
-TractWorker::TractWorker() : analysis_([this] { runAnalysis(); }), tracker_([this] { runTracking(); }) {}
+TractWorker::TractWorker()
+    : analysis_([this](AnalysisJob& job, WorkContext& context) { return analyse(job, context); },
+                {WorkLane{true, true}, WorkLane{false, false}, WorkLane{true, false}}),
+      tracker_([](TrackingJob& job, WorkContext& context) -> std::optional<TractResult> {
+        const auto t0 = std::chrono::steady_clock::now();
+        TractResult r;
+        try {
+          r = track(job, context);
+        } catch (...) {
+          r = failed(job.id, "tracking", currentExceptionMessage());
+        }
+        r.ms = msSince(t0);
+        return r;
+      }) {}
 
-TractWorker::~TractWorker() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  cancelSelection_ = true;
-  cancelTracking_ = true;
-  wake_.notify_all();
-  analysis_.join();
-  tracker_.join();
-}
+TractWorker::~TractWorker() = default;
 
 void TractWorker::requestSelection(SelectionJob job) {
-  {
-    std::lock_guard lock(mutex_);
-    selection_ = std::move(job);
-    if (analysisRunning_) cancelSelection_ = true; // the running one (if a selection) is out of date
-  }
-  wake_.notify_all();
+  analysis_.request(std::move(job), kSelection); // cancels a running selection: it is out of date
 }
 
 void TractWorker::requestAgreement(AgreementJob job) {
-  {
-    std::lock_guard lock(mutex_);
-    agreement_ = std::move(job);
-  }
-  wake_.notify_all();
+  analysis_.request(std::move(job), kAgreement);
 }
 
 void TractWorker::requestSave(SaveJob job) {
-  {
-    std::lock_guard lock(mutex_);
-    saves_.push_back(std::move(job));
-  }
-  wake_.notify_all();
+  analysis_.request(std::move(job), kSave);
 }
 
 void TractWorker::requestTracking(TrackingJob job) {
-  {
-    std::lock_guard lock(mutex_);
-    if (tracking_ || trackingRunning_) throw UsageError("tracking is already running");
-    tracking_ = std::move(job);
-    cancelTracking_ = false;
-    seedsDone_ = 0;
-    seedsPlanned_ = 0;
-    lastFraction_ = 0;
-  }
-  wake_.notify_all();
+  if (tracker_.pending(0)) throw UsageError("tracking is already running");
+  lastFraction_ = 0;
+  tracker_.request(std::move(job));
 }
 
 void TractWorker::cancelTracking() {
-  cancelTracking_ = true;
+  tracker_.cancel(0);
 }
 
 bool TractWorker::poll(TractResult& out) {
-  std::lock_guard lock(mutex_);
-  if (results_.empty()) return false;
-  out = std::move(results_.front());
-  results_.pop_front();
-  return true;
+  return analysis_.poll(out) || tracker_.poll(out);
 }
 
 bool TractWorker::busy() const {
-  std::lock_guard lock(mutex_);
-  return analysisRunning_ || trackingRunning_ || selection_ || agreement_ || tracking_ || !saves_.empty() ||
-         !results_.empty();
+  return analysis_.busy() || tracker_.busy();
 }
 
 bool TractWorker::tracking(std::size_t* seedsDone, double* fraction) const {
-  std::lock_guard lock(mutex_);
-  if (seedsDone) *seedsDone = seedsDone_;
+  std::size_t done = 0, planned = 0;
+  tracker_.progress(0, nullptr, &done, &planned);
+  if (seedsDone) *seedsDone = done;
   if (fraction) {
-    const std::size_t planned = seedsPlanned_;
-    const double f = planned ? static_cast<double>(seedsDone_) / static_cast<double>(planned) : 0.0;
+    const double f = planned ? static_cast<double>(done) / static_cast<double>(planned) : 0.0;
     // trackSelect plans batch by batch: keep the bar from running backwards.
     lastFraction_ = std::max(lastFraction_, std::min(f, 1.0));
     *fraction = lastFraction_;
   }
-  return trackingRunning_ || tracking_;
+  return tracker_.pending(0);
 }
 
 bool TractWorker::agreementRunning() const {
-  std::lock_guard lock(mutex_);
-  return agreementRunning_ || agreement_;
+  return analysis_.pending(kAgreement);
 }
 
-void TractWorker::push(TractResult&& r) {
-  std::lock_guard lock(mutex_);
-  results_.push_back(std::move(r));
-}
-
-TractResult TractWorker::select(const SelectionJob& job) {
+TractResult TractWorker::select(const SelectionJob& job, const WorkContext& context) {
   TractResult r;
   r.kind = TractResult::Kind::Selection;
   r.id = job.id;
   const Polylines& all = *job.tracts;
-  auto everything = [&] {
+  TractSelection s =
+      job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag()) : TractSelection{};
+  if (context.cancelled()) return failed(job.id, "selection", "cancelled");
+  if (s.all) {
     if (!all_ || allSerial_ != job.tractsSerial) {
-      all_ = std::make_shared<const render::DisplayTracts>(render::prepareDisplayTracts(all));
+      all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));
       allSerial_ = job.tractsSerial;
     }
     r.display = all_;
     r.lines = all.lineCount();
     r.points = all.points.size();
-  };
-  const TractPick pick = job.mesh ? pickTracts(*job.mesh, job.nearMm) : TractPick{};
-  if (!pick.nearOnly) {
-    everything();
-    r.slab = pick.plane.has_value();
-    if (pick.plane) r.plane = *pick.plane;
+    r.slab = s.pick.plane.has_value();
+    if (s.pick.plane) r.plane = *s.pick.plane;
   } else {
-    surfaces::NearSurfaceOptions o;
-    o.cancel = &cancelSelection_;
-    const surfaces::DistanceQuery query(*job.mesh);
-    const Polylines near = surfaces::selectNearSurface(all, query, job.nearMm, o);
-    if (cancelSelection_) return failed(job.id, "selection", "cancelled");
-    r.display = std::make_shared<const render::DisplayTracts>(render::prepareDisplayTracts(near));
-    r.lines = near.lineCount();
-    r.points = near.points.size();
+    r.display = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(s.near));
+    r.lines = s.near.lineCount();
+    r.points = s.near.points.size();
   }
   return r;
 }
 
-void TractWorker::runAnalysis() {
-  while (true) {
-    std::optional<SelectionJob> selection;
-    std::optional<AgreementJob> agreement;
-    std::optional<SaveJob> save;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || selection_ || agreement_ || !saves_.empty(); });
-      if (stop_) return;
-      if (selection_) {
-        selection.swap(selection_);
-        cancelSelection_ = false;
-      } else if (!saves_.empty()) {
-        save = std::move(saves_.front());
-        saves_.pop_front();
-      } else {
-        agreement.swap(agreement_);
-        agreementRunning_ = true;
-      }
-      analysisRunning_ = true;
+std::optional<TractResult> TractWorker::analyse(AnalysisJob& job, WorkContext& context) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TractResult r;
+  if (auto* selection = std::get_if<SelectionJob>(&job)) {
+    try {
+      r = select(*selection, context);
+    } catch (...) {
+      r = failed(selection->id, "selecting the tracts near the surface", currentExceptionMessage());
     }
-    const auto t0 = std::chrono::steady_clock::now();
-    TractResult r;
-    if (selection) {
-      try {
-        r = select(*selection);
-      } catch (...) {
-        r = failed(selection->id, "selecting the tracts near the surface", currentExceptionMessage());
-      }
-    } else if (save) {
-      try {
-        if (!save->overwrite && std::filesystem::exists(save->path))
-          throw InputError(save->path + " exists: refusing to overwrite it");
-        writeTracts(save->path, *save->tracts, save->reference ? &*save->reference : nullptr);
-        r.kind = TractResult::Kind::Saved;
-        r.id = save->id;
-        r.path = save->path;
-      } catch (...) {
-        r = failed(save->id, "saving the tracts", currentExceptionMessage());
-      }
-    } else {
-      try {
-        r.kind = TractResult::Kind::Agreement;
-        r.id = agreement->id;
-        r.agreement = surfaces::tractSurfaceAgreement(*agreement->tracts, *agreement->mesh,
-                                                      agreement->data->loaded.field, agreement->options);
-      } catch (...) {
-        r = failed(agreement->id, "computing the agreement with the fabric", currentExceptionMessage());
-      }
-    }
-    r.ms = msSince(t0);
-    std::lock_guard lock(mutex_);
     // A cancelled selection was replaced by a newer request: nothing to report.
-    if (!(r.kind == TractResult::Kind::Failed && r.error == "cancelled" && selection))
-      results_.push_back(std::move(r));
-    analysisRunning_ = false;
-    agreementRunning_ = false;
+    if (context.cancelled()) return std::nullopt;
+  } else if (auto* save = std::get_if<SaveJob>(&job)) {
+    try {
+      if (!save->overwrite && std::filesystem::exists(save->path))
+        throw InputError(save->path + " exists: refusing to overwrite it");
+      writeTracts(save->path, *save->tracts, save->reference ? &*save->reference : nullptr);
+      r.kind = TractResult::Kind::Saved;
+      r.id = save->id;
+      r.path = save->path;
+    } catch (...) {
+      r = failed(save->id, "saving the tracts", currentExceptionMessage());
+    }
+  } else {
+    auto& agreement = std::get<AgreementJob>(job);
+    try {
+      r.kind = TractResult::Kind::Agreement;
+      r.id = agreement.id;
+      r.agreement = surfaces::tractSurfaceAgreement(*agreement.tracts, *agreement.mesh,
+                                                    agreement.data->loaded.field, agreement.options);
+    } catch (...) {
+      r = failed(agreement.id, "computing the agreement with the fabric", currentExceptionMessage());
+    }
   }
+  r.ms = msSince(t0);
+  return r;
 }
 
-TractResult TractWorker::track(const TrackingJob& job) {
+TractResult TractWorker::track(const TrackingJob& job, WorkContext& context) {
   const ViewerDataset& data = *job.data;
   const surfaces::SeedSource source = seedsFor(job.request, data, job.mesh.get());
   surfaces::TrackingOptions o = trackingOptions(job.request);
-  o.cancel = &cancelTracking_;
-  o.progress = [this](std::size_t done, std::size_t planned) {
-    std::lock_guard lock(mutex_);
-    seedsDone_ = done;
-    seedsPlanned_ = planned;
-  };
+  o.cancel = &context.cancelFlag();
+  o.progress = [&context](std::size_t done, std::size_t planned) { context.setCount(done, planned); };
   const ui::TrackRequest& q = job.request;
   surfaces::TrackingResult t;
   if (q.count == ui::SeedCount::Select) {
@@ -295,30 +233,6 @@ TractResult TractWorker::track(const TrackingJob& job) {
   r.report = std::string(text) + "; seeds: " + source.description;
   r.tracts = std::make_shared<const Polylines>(std::move(t.lines));
   return r;
-}
-
-void TractWorker::runTracking() {
-  while (true) {
-    std::optional<TrackingJob> job;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || tracking_; });
-      if (stop_) return;
-      job.swap(tracking_);
-      trackingRunning_ = true;
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    TractResult r;
-    try {
-      r = track(*job);
-    } catch (...) {
-      r = failed(job->id, "tracking", currentExceptionMessage());
-    }
-    r.ms = msSince(t0);
-    std::lock_guard lock(mutex_);
-    results_.push_back(std::move(r));
-    trackingRunning_ = false;
-  }
 }
 
 } // namespace dtf::app

@@ -1,28 +1,25 @@
-// The viewer's tract work off the GUI thread (long work never blocks the window): the
-// selection of what is drawn for the surface on screen (near-surface selection, or every tract with a slab
-// on a planar surface) and its display preparation, the agreement measure, saving, on one thread; tracking,
-// which may run for minutes, on another, with progress and cancel. Selection and agreement requests
-// coalesce: a newer request replaces one not started and cancels a running selection, so an FA sweep costs
-// one selection per surface the user can see. Results are polled by the GUI thread.
+// The session's tract work off the GUI thread (long work never blocks the window), on two CoalescingWorkers
+// (app/scene/coalescing_worker.h): the selection of what is drawn for the surface on screen (the
+// tract-overlay rule of app/scene/tract_overlay.h) and its display preparation, the agreement measure and
+// saving on one; tracking, which may run for minutes, on the other, with progress and cancel. Selection and
+// agreement requests coalesce: a newer request replaces one not started and a newer selection cancels a
+// running one, so an FA sweep costs one selection per surface the user can see; saves queue. Results are
+// polled by the GUI thread.
 #pragma once
 
+#include "app/scene/actions.h"
 #include "app/scene/track_request.h"
 #include "app/scene/viewer_worker.h"
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
 #include "surfaces/agreement.h"
 #include "surfaces/tracking.h"
-#include "ui/actions.h"
 
-#include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
+#include <variant>
 
 namespace dtf::app {
 
@@ -100,27 +97,20 @@ public:
   bool agreementRunning() const;
 
 private:
-  void runAnalysis();
-  void runTracking();
-  void push(TractResult&& r);
-  TractResult select(const SelectionJob& job);
-  TractResult track(const TrackingJob& job);
+  using AnalysisJob = std::variant<SelectionJob, SaveJob, AgreementJob>;
+  enum Lane : std::size_t { kSelection = 0, kSave = 1, kAgreement = 2 };
+  std::optional<TractResult> analyse(AnalysisJob& job, WorkContext& context);
+  TractResult select(const SelectionJob& job, const WorkContext& context);
+  static TractResult track(const TrackingJob& job, WorkContext& context);
 
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  std::optional<SelectionJob> selection_;
-  std::optional<AgreementJob> agreement_;
-  std::deque<SaveJob> saves_;
-  std::optional<TrackingJob> tracking_;
-  std::deque<TractResult> results_;
-  bool analysisRunning_ = false, agreementRunning_ = false, trackingRunning_ = false, stop_ = false;
-  std::atomic<bool> cancelSelection_{false}, cancelTracking_{false};
-  std::atomic<std::size_t> seedsDone_{0}, seedsPlanned_{0};
-  mutable double lastFraction_ = 0; // progress never runs backwards
-  // The display of every tract, kept while the tract set stays the same (planar surfaces, nearMm 0).
+  mutable double lastFraction_ = 0; // progress never runs backwards (GUI thread only)
+  // The display of every tract, kept while the tract set stays the same (planar surfaces, nearMm 0); used on
+  // the analysis thread only.
   std::uint64_t allSerial_ = 0;
   std::shared_ptr<const render::DisplayTracts> all_;
-  std::thread analysis_, tracker_;
+  // Last: joined before the members their jobs use go.
+  CoalescingWorker<AnalysisJob, TractResult> analysis_;
+  CoalescingWorker<TrackingJob, TractResult> tracker_;
 };
 
 // The seeds of a tracking request (the viewer's SeedKind, as `dtfabric track` builds them). Throws

@@ -1,36 +1,41 @@
-// The viewer's background thread: loading (and fitting) tensor data and extracting surfaces, so the window
-// never blocks. Requests coalesce: a new surface request replaces one that has not
-// started, so dragging the FA slider costs one extraction per result the user can see. The FA isosurface
-// sweeper is prepared once per loaded field and used only on this thread (it is thread-compatible, not
+// The session's surface work on a CoalescingWorker (app/scene/coalescing_worker.h): loading (and fitting)
+// tensor data and extracting surfaces, so the window never blocks. A new surface request replaces one that
+// has not started, so dragging the FA slider costs one extraction per result the user can see; a load drops
+// the surface requests waiting for the data it replaces and runs first. The FA isosurface sweeper is
+// prepared once per loaded field and used only on the worker's thread (it is thread-compatible, not
 // thread-safe). Results are polled by the GUI thread.
 #pragma once
 
+#include "app/scene/coalescing_worker.h"
 #include "app/scene/surface_spec.h"
+#include "io/fibre_io.h"
 #include "io/model/geometry.h"
 #include "io/model/volume.h"
 #include "io/tensor_io.h"
 #include "surfaces/isosurface.h"
 
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <string>
-#include <thread>
+#include <variant>
 
 namespace dtf::app {
 
-// A loaded tensor volume with what the viewer derives from it once.
+// A loaded tensor volume or fibre set with what the viewer derives from it once.
 struct ViewerDataset {
   std::string path;
-  io::LoadedTensors loaded;
-  ScalarVolume fa;
-  std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared by
-                                                        // a copy whose tensors were turned: the same FA)
+  io::LoadedTensors
+      loaded;      // fibre sets: the paired tensor, else the fibres' carrier field (surface clipping)
+  ScalarVolume fa; // empty for a fibre set without FA (no paired tensor, none in the file)
+  std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared
+                                                        // by a copy whose tensors were turned: the same FA)
   SurfaceBuildOptions buildOptions;
   glm::dvec3 lo{0.0}, hi{0.0}; // world bounds of the grid (voxel corners), mm
+  // Fibre sets (app/scene/fibre_input.h): the fibres as read, whether a tensor is paired, where FA comes
+  // from.
+  std::shared_ptr<const io::LoadedFibres> fibres;
+  bool pairedTensor = false;
+  std::string faSource;
 };
 
 struct WorkerResult {
@@ -46,14 +51,17 @@ struct WorkerResult {
 class ViewerWorker {
 public:
   ViewerWorker();
-  // Finishes the running job (extractions are not interruptible) and joins.
+  // Finishes the running job (loads and extractions are not interruptible) and joins.
   ~ViewerWorker();
   ViewerWorker(const ViewerWorker&) = delete;
   ViewerWorker& operator=(const ViewerWorker&) = delete;
 
-  // Loads `path` (tensor volume or DWI) and extracts `first` from it.
-  void requestLoad(std::uint64_t id, const std::string& path, io::TensorLayout layout,
-                   const SurfaceSpec& first);
+  // Loads `path` (tensor volume, DWI, or fibre set with the optional tensor `tensorPath`, as `dtfabric
+  // render` reads them; `layout`: auto, a tensor or a fibre layout) and extracts `first` from it. With
+  // `sliceWithoutFa`, a fibre set without FA starts on the middle axial slice instead of an FA isosurface
+  // (else that surface is refused as it is by `render`).
+  void requestLoad(std::uint64_t id, const std::string& path, const std::string& layout,
+                   const std::string& tensorPath, const SurfaceSpec& first, bool sliceWithoutFa = true);
   // Extracts `spec` from `data`; replaces a surface request that has not started yet.
   void requestSurface(std::uint64_t id, std::shared_ptr<const ViewerDataset> data, const SurfaceSpec& spec);
   // Takes the oldest finished result, if any.
@@ -66,30 +74,25 @@ public:
 private:
   struct LoadJob {
     std::uint64_t id;
-    std::string path;
-    io::TensorLayout layout;
+    std::string path, layout, tensorPath;
     SurfaceSpec first;
+    bool sliceWithoutFa = true;
   };
   struct SurfaceJob {
     std::uint64_t id;
     std::shared_ptr<const ViewerDataset> data;
     SurfaceSpec spec;
   };
-  void run();
-  void setStage(const char* stage);
+  using Job = std::variant<LoadJob, SurfaceJob>;
+  enum Lane : std::size_t { kLoad = 0, kSurface = 1 };
+  static WorkerResult load(const LoadJob& job, WorkContext& context);
+  static WorkerResult surface(const SurfaceJob& job);
 
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  std::optional<LoadJob> load_;
-  std::optional<SurfaceJob> surface_;
-  std::deque<WorkerResult> results_;
-  bool running_ = false, loadRunning_ = false, stop_ = false;
-  std::string stage_;
-  std::thread thread_;
+  CoalescingWorker<Job, WorkerResult> worker_;
 };
 
 // Extracts `spec` from a loaded dataset (FA isosurfaces through its sweeper). Throws InputError when the
-// surface is empty or cannot be built.
+// surface is empty or cannot be built, UsageError when it needs FA or tensor directions a fibre set lacks.
 Mesh extractViewerSurface(const ViewerDataset& data, const SurfaceSpec& spec);
 
 } // namespace dtf::app

@@ -4,6 +4,7 @@
 #include "app/scene/tensor_input.h"
 #include "app/scene/track_request.h"
 #include "io/atomic_file.h"
+#include "io/fibre_io.h"
 #include "io/model/error.h"
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
@@ -212,6 +213,33 @@ namespace {
 
 void parseLoad(const ScriptLine& line, ScriptStep& step) {
   step.command = ui::Action(ui::LoadFile{line.path("load PATH"), "auto"});
+}
+
+// fibres [layout=L] [tensor=FILE] PATH: the options come first, the path is the rest of the line.
+void parseFibres(const ScriptLine& line, ScriptStep& step) {
+  static const char* const kUsage = "fibres [layout=L] [tensor=FILE] PATH";
+  ui::LoadFile load;
+  load.layout = "fibres-auto";
+  std::string rest = restOf(line.text, line.words[0]);
+  while (rest.starts_with("layout=") || rest.starts_with("tensor=")) {
+    const std::size_t end = rest.find_first_of(" \t");
+    if (end == std::string::npos) throw LineError{std::string("usage: ") + kUsage};
+    const std::string option = rest.substr(0, end);
+    rest = restOf(rest, option);
+    if (option.starts_with("layout=")) {
+      load.layout = option.substr(7);
+      if (load.layout != "auto" && !io::isFibreLayoutName(load.layout))
+        throw LineError{"fibres: layout must be auto, mrtrix-peaks, dipy-peaks or bedpostx, got '" +
+                        load.layout + "'"};
+      if (load.layout == "auto") load.layout = "fibres-auto";
+    } else {
+      load.tensor = option.substr(7);
+      if (load.tensor.empty()) throw LineError{std::string("usage: ") + kUsage};
+    }
+  }
+  if (rest.empty()) throw LineError{std::string("usage: ") + kUsage};
+  load.path = rest;
+  step.command = ui::Action(load);
 }
 
 void parseSurface(const ScriptLine& line, ScriptStep& step) {
@@ -465,7 +493,8 @@ void parseQuit(const ScriptLine& line, ScriptStep& step) {
 
 // The script's commands, in the order help lists them.
 const std::vector<ScriptCommand> kCommands = {
-    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec)", parseLoad},
+    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec, or a fibre set it detects)", parseLoad},
+    {"fibres", "[layout=L] [tensor=FILE] PATH", "open a fibre set (peaks, bedpostx, ...) as `dtfabric render` does: L mrtrix-peaks|dipy-peaks|bedpostx (default: detected); tensor= pairs a tensor volume on the same grid (FA); the fibre threshold is `set fibre-threshold T`", parseFibres},
     {"surface", "SPEC", "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
     {"fa", "T", "FA isosurface at T (0 < T < 1)", parseFa},
     {"slice", "AXIS INDEX", "axial, coronal or sagittal slice INDEX", parseSlice},

@@ -9,8 +9,8 @@
 #pragma once
 
 #include "render/fabric_renderer.h"
-#include "ui/actions.h"
-#include "ui/keymap.h"
+#include "app/scene/actions.h"
+#include "app/scene/keymap.h"
 
 #include <string>
 #include <variant>

@@ -31,7 +31,12 @@ void ViewerOrientation::release() {
 void ViewerOrientation::frame(ViewerScene& scene, const float rect[4],
                               std::map<std::string, std::array<float, 2>>* centres) {
   const std::shared_ptr<const ViewerDataset> data = scene.dataset();
-  if (data && data != seen_ && !running_.valid()) {
+  if (data && data->fibres && data != seen_ && !running_.valid()) {
+    // A fibre set is checked by `dtfabric check PEAKS`; its carrier field here is no diffusion tensor.
+    seen_ = data;
+    banner_ = {};
+    result_.reset();
+  } else if (data && data != seen_ && !running_.valid()) {
     seen_ = data;
     if (texture_) glDeleteTextures(1, &texture_);
     texture_ = 0;

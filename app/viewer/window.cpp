@@ -151,6 +151,9 @@ public:
   void setOpenPath(const std::string& p) {
     std::snprintf(buffers_.openPath.data(), buffers_.openPath.size(), "%s", p.c_str());
   }
+  void setTensorPath(const std::string& p) {
+    std::snprintf(buffers_.tensorPath.data(), buffers_.tensorPath.size(), "%s", p.c_str());
+  }
 
   // Runs until the window closes or `quit`; returns the exit code.
   int run() {
@@ -399,9 +402,8 @@ private:
           std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, outside the data\n", p.world.x, p.world.y,
                        p.world.z);
         else
-          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, voxel %d %d %d, FA %.4f, e1 %.3f %.3f %.3f\n",
-                       p.world.x, p.world.y, p.world.z, p.voxel.x, p.voxel.y, p.voxel.z, p.fa, p.e1.x, p.e1.y,
-                       p.e1.z);
+          std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, %s\n", p.world.x, p.world.y, p.world.z,
+                       p.text.c_str());
       } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
         render::FabricParams p = scene_->state().fabric;
         applyScriptParam(p, *param);
@@ -444,7 +446,8 @@ int runViewerWindow(const ViewerWindowOptions& o) {
     window.scene().addRecent(*it);
   if (!o.inputs.empty()) {
     window.setOpenPath(o.inputs.front());
-    window.scene().apply(ui::LoadFile{o.inputs.front(), o.layout});
+    window.setTensorPath(o.tensor);
+    window.scene().apply(ui::LoadFile{o.inputs.front(), o.layout, o.tensor});
   }
   return window.run();
 }

@@ -11,6 +11,7 @@
 #include "io/tracts.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
+#include "support/view_scene.h"
 #include "support/window.h"
 #include "surfaces/near_surface.h"
 
@@ -31,48 +32,7 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The viewer scene with the frame loop of the window, minus ImGui.
-struct Scene {
-  app::ViewerScene scene;
-  explicit Scene(const std::string& surface) : scene(surface) {}
-
-  void frame(int w = kW, int h = kH) {
-    scene.update();
-    scene.render(w, h);
-  }
-  // Frames until the workers are idle and every pane (tracts included) is still.
-  void converge(double timeout = 180) {
-    const auto t0 = Clock::now();
-    do {
-      frame();
-      if (!scene.settled()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      ASSERT_LT(secondsSince(t0), timeout) << "the scene did not settle";
-    } while (!scene.settled() || !scene.converged());
-    frame();
-    ASSERT_TRUE(scene.converged());
-  }
-  void apply(const ui::Action& a) { scene.apply(a); }
-  const ui::ViewerState& state() const { return scene.state(); }
-  std::string lastError() const { return state().errorChain.empty() ? "" : state().errorChain.back(); }
-  // What the window would show: the panes blitted into a w x h target, row 0 at the top.
-  Image image(int w = kW, int h = kH) {
-    render::Texture colour = render::Texture::create2D(GL_RGBA8, w, h);
-    render::Framebuffer fbo = render::createFramebuffer();
-    render::attachTargets(fbo, {&colour}, nullptr);
-    const float black[4] = {0, 0, 0, 1};
-    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, black);
-    scene.present(fbo.id(), 0, 0);
-    Image img(w, h);
-    std::vector<std::uint8_t> rows(img.rgba.size());
-    glGetTextureImage(colour.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()),
-                      rows.data());
-    const std::size_t stride = static_cast<std::size_t>(w) * 4;
-    for (int y = 0; y < h; ++y)
-      std::memcpy(&img.rgba[static_cast<std::size_t>(y) * stride],
-                  &rows[static_cast<std::size_t>(h - 1 - y) * stride], stride);
-    return img;
-  }
-};
+using Scene = test::ViewScene;
 
 // Pixels of the rectangle [x0, x1) x [0, h) whose colour differs by more than 40 in some channel.
 std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {

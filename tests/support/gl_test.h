@@ -4,6 +4,7 @@
 // reported at high or medium severity fails the test (driver performance hints do not).
 #pragma once
 
+#include "support/orientation_histogram.h"
 #include "support/test_env.h"
 
 #include "io/model/error.h"
@@ -99,10 +100,5 @@ inline double dominantOrientation(const Image& img, int x0, int y0, int x1, int 
   return deg;
 }
 
-// Smallest difference of two orientations (mod 180), degrees.
-inline double orientationDiff(double a, double b) {
-  double d = std::fmod(std::abs(a - b), 180.0);
-  return std::min(d, 180.0 - d);
-}
 
 } // namespace dtf::test

@@ -371,3 +371,23 @@ TEST(ViewScript, TractColourAndGroupLinesParse) {
   EXPECT_NE(parseError("tracts-groups A,,B").find("empty group name"), std::string::npos);
   EXPECT_NE(parseError("tracts-groups A,").find("empty group name"), std::string::npos);
 }
+
+TEST(ViewScript, FibresLinesOpenAFibreSetWithItsLayoutAndPairedTensor) {
+  const ViewScript s = parseViewScript("fibres /data/my peaks.nii.gz\n"
+                                       "fibres layout=dipy-peaks tensor=/data/dti.nii.gz /data/peaks.nii.gz\n"
+                                       "fibres layout=auto /data/bedpostx\n",
+                                       "f.txt");
+  const auto& a = actionAt<ui::LoadFile>(s, 0);
+  EXPECT_EQ(a.path, "/data/my peaks.nii.gz"); // the path keeps its spaces
+  EXPECT_EQ(a.layout, "fibres-auto");         // detected among the fibre layouts, never read as a tensor
+  EXPECT_TRUE(a.tensor.empty());
+  const auto& b = actionAt<ui::LoadFile>(s, 1);
+  EXPECT_EQ(b.path, "/data/peaks.nii.gz");
+  EXPECT_EQ(b.layout, "dipy-peaks");
+  EXPECT_EQ(b.tensor, "/data/dti.nii.gz");
+  EXPECT_EQ(actionAt<ui::LoadFile>(s, 2).layout, "fibres-auto");
+  EXPECT_NE(parseError("fibres").find("usage: fibres"), std::string::npos);
+  EXPECT_NE(parseError("fibres layout=dipy-peaks").find("usage: fibres"), std::string::npos);
+  EXPECT_NE(parseError("fibres layout=fsl /p.nii").find("layout must be"), std::string::npos);
+  EXPECT_NE(parseError("fibres tensor= /p.nii").find("usage: fibres"), std::string::npos);
+}

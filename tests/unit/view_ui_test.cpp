@@ -1,6 +1,6 @@
 // The ui panels and key map without a window: pure state -> action functions, and the ImGui panels run
 // headless (a context, a font atlas, no renderer backend) with simulated mouse clicks.
-#include "ui/keymap.h"
+#include "app/scene/keymap.h"
 #include "ui/panels.h"
 
 #include <gtest/gtest.h>
@@ -332,4 +332,36 @@ TEST_F(ViewTractsPanel, AgreementComputesWithCompareDefaultsAndShowsTheHistogram
   EXPECT_GT(centres["agreement histogram"][0], 70.0f) << "the histogram has the panel's width";
   state.agreementRunning = true;
   EXPECT_FALSE(find<ComputeAgreement>(click("Compute"))) << "disabled while computing";
+}
+
+TEST_F(ViewHeadlessUi, FibresSectionAppearsForAFibreSetAndItsSliderSetsTheFibreThreshold) {
+  ImGui::GetIO().DisplaySize = ImVec2(1280, 3000); // every section fits
+  frame(-1, -1, false);
+  EXPECT_FALSE(centres.count("fibre threshold")) << "tensors: no Fibres section";
+  state.fibres.present = true;
+  state.fibres.path = "/data/peaks.nii.gz";
+  state.fibres.layout = "mrtrix-peaks";
+  state.fibres.slots = 3;
+  state.fibres.voxels = 1000;
+  state.fibres.populations = {600, 300, 100};
+  state.fabric.colour = render::ColourMode::Fibres;
+  const auto p = find<SetFabricParams>(click("fibre threshold"));
+  ASSERT_TRUE(p);
+  // The option table's range for fibre-threshold is [0, 1]: a click at the slider's centre sets about 0.5;
+  // nothing else changes.
+  EXPECT_NEAR(p->params.fibreThreshold, 0.5, 0.06);
+  EXPECT_EQ(p->params.k, state.fabric.k);
+  EXPECT_EQ(p->params.colour, render::ColourMode::Fibres);
+  EXPECT_EQ(p->params.iterations, state.fabric.iterations);
+}
+
+TEST_F(ViewHeadlessUi, OpenSendsThePairedTensorAndAFibreLayout) {
+  std::snprintf(buffers.openPath.data(), buffers.openPath.size(), "/data/peaks.nii.gz");
+  std::snprintf(buffers.tensorPath.data(), buffers.tensorPath.size(), "/data/dti.nii.gz");
+  buffers.layout = 5;
+  const auto l = find<LoadFile>(click("Open"));
+  ASSERT_TRUE(l);
+  EXPECT_EQ(l->path, "/data/peaks.nii.gz");
+  EXPECT_EQ(l->layout, "mrtrix-peaks");
+  EXPECT_EQ(l->tensor, "/data/dti.nii.gz");
 }

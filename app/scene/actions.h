@@ -1,7 +1,7 @@
 // What the viewer's user asked for. Panels (ui/panels.h), the key map (ui/keymap.h), mouse handling and
-// viewer scripts all produce these values; only the app's viewer performs them. Keeping the requests as
-// plain values lets the panels be tested without a window and lets every GUI action be replayed from a
-// script.
+// viewer scripts all produce these values; the session (app/scene/viewer_session.h) and the viewer's panes
+// perform them. Plain values, below ui/ (namespace ui: the vocabulary of the panels), so the panels can be
+// tested without a window, every GUI action can be replayed from a script, and the session needs no ImGui.
 #pragma once
 
 #include "render/camera.h"
@@ -30,9 +30,11 @@ enum class SecondPane { OtherColourMode, Phong, Tracts };
 // "colour", "phong", "tracts" (the script's names).
 const char* secondPaneName(SecondPane mode);
 
+// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/fibre_io.h) as `dtfabric render` reads it.
 struct LoadFile {
   std::string path;
-  std::string layout = "auto"; // tensor layout override: auto|fsl|mrtrix|symmatrix|dtitk
+  std::string layout = "auto"; // auto, a tensor layout (fsl|mrtrix|symmatrix|dtitk) or a fibre layout
+  std::string tensor;          // fibre sets: a tensor volume on the same grid (FA); empty: none
 };
 struct SetSurfaceKind {
   SurfaceKind kind;
@@ -180,6 +182,9 @@ using Action =
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;
+
+// Splits an error message chain "while A: while B: cause" into its links, outermost first (the error modal).
+std::vector<std::string> splitErrorChain(const std::string& message);
 
 // A one-line description for logs and tests, e.g. "SetFaThreshold 0.3".
 std::string describe(const Action& action);

@@ -1,4 +1,4 @@
-#include "ui/keymap.h"
+#include "app/scene/keymap.h"
 
 #include <algorithm>
 #include <cctype>

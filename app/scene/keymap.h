@@ -3,8 +3,8 @@
 // its view, R resets the view. The app maps GLFW keys and script `key NAME` lines onto Key.
 #pragma once
 
-#include "ui/actions.h"
-#include "ui/viewer_state.h"
+#include "app/scene/actions.h"
+#include "app/scene/viewer_state.h"
 
 #include <optional>
 #include <string>

@@ -1,11 +1,12 @@
-// The viewer's state as the panels see it: a plain snapshot the app's viewer keeps up to date and hands to
-// ui/panels.h by const reference each frame. Strings here change only when the data or the surface
-// change, so drawing the panels from it does not allocate.
+// The viewer's state as the panels see it: a plain snapshot the session (app/scene/viewer_session.h) and the
+// viewer keep up to date and hand to ui/panels.h by const reference each frame. Strings here change only when
+// the data or the surface change, so drawing the panels from it does not allocate.
 #pragma once
 
+#include "app/scene/actions.h"
+#include "io/model/fibre_set.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
-#include "ui/actions.h"
 
 #include <array>
 #include <glm/glm.hpp>
@@ -26,6 +27,27 @@ struct DataInfo {
   std::vector<std::string> warnings;
 };
 
+// The fibre set on screen (Fibres panel); `present` false: the data are tensors.
+struct FibreInfo {
+  bool present = false;
+  std::string path, layout, layoutReason; // the file, its fibre layout and why it was chosen
+  std::string faSource;                   // where FA comes from (a paired tensor, the file); empty: no FA
+  int slots = 0;                          // fibres per voxel the file holds
+  std::size_t voxels = 0;                 // voxels with at least one fibre
+  // Voxels whose populations drawn at the current threshold number 1, 2, 3 (the fabric weaves at most the
+  // first three of each voxel), counted at `threshold`.
+  std::array<std::size_t, 3> populations{0, 0, 0};
+  float threshold = 0;
+};
+
+// One fibre of the voxel under the cursor.
+struct ProbeFibre {
+  glm::vec3 direction{0.0f}; // unit, world RAS
+  float amplitude = 0;       // as the file holds it (peak amplitude, volume fraction)
+  float relative = 0;        // amplitude / the voxel's strongest
+  bool drawn = false;        // at or above the fibre threshold, among the first three
+};
+
 // The voxel under the mouse cursor (status bar).
 struct ProbeInfo {
   bool onSurface = false; // the cursor is over the rendered surface
@@ -35,11 +57,16 @@ struct ProbeInfo {
   double fa = 0;
   glm::dvec3 eigenvalues{0.0}; // mm^2/s, descending
   glm::dvec3 e1{0.0};          // principal direction, world RAS
+  bool hasTensor = false;      // fa, eigenvalues and e1 hold the voxel's tensor (a fibre set without a paired
+                               // tensor has none)
+  std::vector<ProbeFibre> fibres; // fibre sets: the voxel's fibres, strongest first
+  std::string text;               // the status bar's line for all of the above
 };
 
 struct ViewerState {
   bool hasData = false;
   DataInfo data;
+  FibreInfo fibres;
   std::vector<std::string> recent; // most recent first
 
   SurfaceKind surface = SurfaceKind::FaIsosurface;
@@ -86,8 +113,9 @@ struct ViewerState {
   std::vector<char> tractGroupShown;           // per tractGroupNames
   std::string tractColourBy;                   // data name; empty: DEC
   double tractColourLo = 0, tractColourHi = 1; // the range mapped to the colour map's ends
-  bool tractsSelecting = false; // the selection for the current surface is being computed
-  bool tractsSlab = false;      // planar surface: every tract, in a slab around its plane (half-width tractsClipMm, else tractsNearMm)
+  bool tractsSelecting = false;                // the selection for the current surface is being computed
+  bool tractsSlab = false; // planar surface: every tract, in a slab around its plane (half-width
+                           // tractsClipMm, else tractsNearMm)
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation
   int tractsLevel = 0;            // level of detail on screen (0 = every display point)
   double tractsLevelFraction = 1; // share of that level's segments drawn

@@ -1,4 +1,4 @@
-#include "ui/actions.h"
+#include "app/scene/actions.h"
 
 #include <cstdio>
 #include <type_traits>
@@ -54,7 +54,8 @@ std::string describe(const Action& action) {
       [&](const auto& a) -> std::string {
         using T = std::decay_t<decltype(a)>;
         if constexpr (std::is_same_v<T, LoadFile>)
-          return "LoadFile " + a.path + " layout=" + a.layout;
+          return "LoadFile " + a.path + " layout=" + a.layout +
+                 (a.tensor.empty() ? "" : " tensor=" + a.tensor);
         else if constexpr (std::is_same_v<T, SetSurfaceKind>)
           return std::string("SetSurfaceKind ") + surfaceKindName(a.kind);
         else if constexpr (std::is_same_v<T, SetSurfaceSpec>)
@@ -146,6 +147,20 @@ std::string describe(const Action& action) {
           return "Quit";
       },
       action);
+}
+
+std::vector<std::string> splitErrorChain(const std::string& message) {
+  // Contexts are added as "while ...: " prefixes (dtf::rethrowWithContext); the rest is the cause.
+  std::vector<std::string> links;
+  std::size_t start = 0;
+  while (message.compare(start, 6, "while ") == 0) {
+    const std::size_t colon = message.find(": ", start);
+    if (colon == std::string::npos) break;
+    links.push_back(message.substr(start, colon - start));
+    start = colon + 2;
+  }
+  if (start < message.size() || links.empty()) links.push_back(message.substr(start));
+  return links;
 }
 
 } // namespace dtf::ui
