@@ -13,15 +13,18 @@ namespace {
 
 // Checks that `id` names a 2D texture that covers `extent`; throws GlError naming `what` otherwise.
 void checkTexture(unsigned id, const char* what, glm::ivec2 extent) {
-  if (id == 0 || !glIsTexture(id)) throw GlError(std::string("EmbeddedFabric: ") + what + " is not a texture");
+  if (id == 0 || !glIsTexture(id))
+    throw GlError(std::string("EmbeddedFabric: ") + what + " is not a texture");
   GLint target = 0, w = 0, h = 0;
   glGetTextureParameteriv(id, GL_TEXTURE_TARGET, &target);
-  if (target != GL_TEXTURE_2D) throw GlError(std::string("EmbeddedFabric: ") + what + " is not a GL_TEXTURE_2D");
+  if (target != GL_TEXTURE_2D)
+    throw GlError(std::string("EmbeddedFabric: ") + what + " is not a GL_TEXTURE_2D");
   glGetTextureLevelParameteriv(id, 0, GL_TEXTURE_WIDTH, &w);
   glGetTextureLevelParameteriv(id, 0, GL_TEXTURE_HEIGHT, &h);
   if (w < extent.x || h < extent.y)
-    throw GlError(std::string("EmbeddedFabric: ") + what + " is " + std::to_string(w) + "x" + std::to_string(h) +
-                  ", the viewport needs " + std::to_string(extent.x) + "x" + std::to_string(extent.y));
+    throw GlError(std::string("EmbeddedFabric: ") + what + " is " + std::to_string(w) + "x" +
+                  std::to_string(h) + ", the viewport needs " + std::to_string(extent.x) + "x" +
+                  std::to_string(extent.y));
 }
 
 } // namespace
@@ -42,8 +45,9 @@ struct EmbeddedFabric::Impl {
 bool EmbeddedFabric::Impl::prepare(const HostView& v, const FabricParams& p, bool still) {
   const glm::ivec2 size(v.viewport.z, v.viewport.w);
   if (size.x < 1 || size.y < 1 || size.x > 16384 || size.y > 16384 || v.viewport.x < 0 || v.viewport.y < 0)
-    throw GlError("EmbeddedFabric: viewport " + std::to_string(v.viewport.x) + " " + std::to_string(v.viewport.y) +
-                  " " + std::to_string(size.x) + "x" + std::to_string(size.y) + " out of range");
+    throw GlError("EmbeddedFabric: viewport " + std::to_string(v.viewport.x) + " " +
+                  std::to_string(v.viewport.y) + " " + std::to_string(size.x) + "x" + std::to_string(size.y) +
+                  " out of range");
   const glm::ivec2 extent(v.viewport.x + size.x, v.viewport.y + size.y);
   checkTexture(v.depthTexture, "the depth texture", extent);
   checkTexture(v.normalTexture, "the normal texture", extent);
@@ -55,8 +59,8 @@ bool EmbeddedFabric::Impl::prepare(const HostView& v, const FabricParams& p, boo
   if (p.colour == ColourMode::Fibres && pipeline.fibresEmpty())
     throw GlError("the fibre colour mode needs a fibre set (setFibres)");
   view = FrameView::fromHost(v.view, v.projection, size, std::max(p.guard, 0), lo, hi, 0.5f * (lo + hi));
-  const bool changed = still || v.depthTexture != depthTexture || v.normalTexture != normalTexture ||
-                       v.viewport != viewport;
+  const bool changed =
+      still || v.depthTexture != depthTexture || v.normalTexture != normalTexture || v.viewport != viewport;
   depthTexture = v.depthTexture;
   normalTexture = v.normalTexture;
   viewport = v.viewport;
@@ -122,15 +126,21 @@ void EmbeddedFabric::drawStill(const HostView& v, const FabricParams& p) {
   impl_->pipeline.composite(impl_->view, p, {v.viewport.x, v.viewport.y}, true);
 }
 
-void EmbeddedFabric::restart() { impl_->pipeline.invalidate(); }
+void EmbeddedFabric::restart() {
+  impl_->pipeline.invalidate();
+}
 
-void EmbeddedFabric::setTiming(bool on) { impl_->pipeline.setTiming(on); }
+void EmbeddedFabric::setTiming(bool on) {
+  impl_->pipeline.setTiming(on);
+}
 
 PassTimes EmbeddedFabric::lastTimes() const {
   const GlStateGuard guard;
   return impl_->pipeline.lastTimes();
 }
 
-int EmbeddedFabric::lastIterations() const { return impl_->lastIterations; }
+int EmbeddedFabric::lastIterations() const {
+  return impl_->lastIterations;
+}
 
 } // namespace dtf::render

@@ -22,7 +22,6 @@
 #include "render/fabric_params.h"
 
 #include <glm/glm.hpp>
-
 #include <memory>
 
 namespace dtf::render {

@@ -1,8 +1,7 @@
 #include "render/fabric_renderer.h"
 
-#include "render/gl_state.h"
-
 #include "io/model/error.h"
+#include "render/gl_state.h"
 
 #include <algorithm>
 #include <cstring>
@@ -18,11 +17,17 @@ void FabricRenderer::setMesh(const Mesh& mesh) {
   pipeline_.invalidate();
 }
 
-void FabricRenderer::setField(const TensorField& field) { pipeline_.setField(field); }
+void FabricRenderer::setField(const TensorField& field) {
+  pipeline_.setField(field);
+}
 
-void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) { pipeline_.setFibres(fibres, fa); }
+void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
+  pipeline_.setFibres(fibres, fa);
+}
 
-void FabricRenderer::clearFibres() { pipeline_.clearFibres(); }
+void FabricRenderer::clearFibres() {
+  pipeline_.clearFibres();
+}
 
 void FabricRenderer::setBackground(const ScalarVolume* volume, float lo, float hi) {
   pipeline_.setBackground(volume, lo, hi);
@@ -117,7 +122,8 @@ Image FabricRenderer::readback() const {
   Image img(size_.x, size_.y);
   std::vector<std::uint8_t> rows(img.rgba.size());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(outColour_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()), rows.data());
+  glGetTextureImage(outColour_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()),
+                    rows.data());
   const std::size_t stride = static_cast<std::size_t>(size_.x) * 4;
   for (int y = 0; y < size_.y; ++y)
     std::memcpy(&img.rgba[static_cast<std::size_t>(y) * stride],
@@ -125,8 +131,12 @@ Image FabricRenderer::readback() const {
   return img;
 }
 
-PassTimes FabricRenderer::lastTimes() const { return pipeline_.lastTimes(); }
+PassTimes FabricRenderer::lastTimes() const {
+  return pipeline_.lastTimes();
+}
 
-unsigned FabricRenderer::coveredPixels() const { return pipeline_.projection().coveredPixels(); }
+unsigned FabricRenderer::coveredPixels() const {
+  return pipeline_.projection().coveredPixels();
+}
 
 } // namespace dtf::render

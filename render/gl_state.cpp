@@ -7,10 +7,10 @@ namespace dtf::render {
 namespace {
 
 constexpr GLenum kPixelStoreNames[GlState::kPixelStore] = {
-    GL_PACK_SWAP_BYTES,     GL_PACK_LSB_FIRST,     GL_PACK_ROW_LENGTH,  GL_PACK_IMAGE_HEIGHT,
-    GL_PACK_SKIP_ROWS,      GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_IMAGES, GL_PACK_ALIGNMENT,
-    GL_UNPACK_SWAP_BYTES,   GL_UNPACK_LSB_FIRST,   GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT,
-    GL_UNPACK_SKIP_ROWS,    GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT};
+    GL_PACK_SWAP_BYTES,   GL_PACK_LSB_FIRST,     GL_PACK_ROW_LENGTH,    GL_PACK_IMAGE_HEIGHT,
+    GL_PACK_SKIP_ROWS,    GL_PACK_SKIP_PIXELS,   GL_PACK_SKIP_IMAGES,   GL_PACK_ALIGNMENT,
+    GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST,   GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT,
+    GL_UNPACK_SKIP_ROWS,  GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES, GL_UNPACK_ALIGNMENT};
 
 // The switches captured one by one (the per-buffer blend and the clip distances are separate).
 struct Switch {
@@ -42,7 +42,8 @@ template <class T> std::string text(const T& v) {
     return std::to_string(v);
   } else {
     std::string t;
-    for (const auto& x : v) t += (t.empty() ? "" : " ") + text(x);
+    for (const auto& x : v)
+      t += (t.empty() ? "" : " ") + text(x);
     return "(" + t + ")";
   }
 }
@@ -59,17 +60,22 @@ GlState GlState::capture() {
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s.drawFramebuffer);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s.readFramebuffer);
   glGetIntegerv(GL_VIEWPORT, s.viewport.data());
-  for (int i = 0; i < kViewports; ++i) glGetFloati_v(GL_VIEWPORT, static_cast<GLuint>(i), s.viewports[i].data());
+  for (int i = 0; i < kViewports; ++i)
+    glGetFloati_v(GL_VIEWPORT, static_cast<GLuint>(i), s.viewports[i].data());
   glGetDoublev(GL_DEPTH_RANGE, s.depthRange.data());
   glGetIntegerv(GL_CLIP_ORIGIN, &s.clipOrigin);
   glGetIntegerv(GL_CLIP_DEPTH_MODE, &s.clipDepthMode);
-  for (const Switch& w : kSwitches) s.*w.field = glIsEnabled(w.cap);
+  for (const Switch& w : kSwitches)
+    s.*w.field = glIsEnabled(w.cap);
   s.blend = glIsEnabled(GL_BLEND);
-  for (int i = 0; i < kDrawBuffers; ++i) s.blendi[i] = glIsEnabledi(GL_BLEND, static_cast<GLuint>(i));
-  for (int i = 0; i < kClipDistances; ++i) s.clipDistance[i] = glIsEnabled(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+  for (int i = 0; i < kDrawBuffers; ++i)
+    s.blendi[i] = glIsEnabledi(GL_BLEND, static_cast<GLuint>(i));
+  for (int i = 0; i < kClipDistances; ++i)
+    s.clipDistance[i] = glIsEnabled(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
   glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depthMask);
   glGetIntegerv(GL_DEPTH_FUNC, &s.depthFunc);
-  for (int i = 0; i < kDrawBuffers; ++i) glGetBooleani_v(GL_COLOR_WRITEMASK, static_cast<GLuint>(i), s.colourMask[i].data());
+  for (int i = 0; i < kDrawBuffers; ++i)
+    glGetBooleani_v(GL_COLOR_WRITEMASK, static_cast<GLuint>(i), s.colourMask[i].data());
   glGetIntegerv(GL_CULL_FACE_MODE, &s.cullFaceMode);
   glGetIntegerv(GL_FRONT_FACE, &s.frontFace);
   glGetIntegerv(GL_POLYGON_MODE, s.polygonMode.data());
@@ -81,7 +87,8 @@ GlState GlState::capture() {
   glGetInteger64i_v(GL_ATOMIC_COUNTER_BUFFER_SIZE, 0, &s.atomicCounterSize0);
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &s.pixelPackBuffer);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &s.pixelUnpackBuffer);
-  for (int i = 0; i < kPixelStore; ++i) glGetIntegerv(kPixelStoreNames[i], &s.pixelStore[i]);
+  for (int i = 0; i < kPixelStore; ++i)
+    glGetIntegerv(kPixelStoreNames[i], &s.pixelStore[i]);
   glGetIntegerv(GL_ACTIVE_TEXTURE, &s.activeTexture);
   for (int u = 0; u < kTextureUnits; ++u) {
     glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + u));
@@ -99,18 +106,21 @@ void GlState::restore() const {
   glViewportArrayv(0, kViewports, viewports[0].data());
   glDepthRange(depthRange[0], depthRange[1]);
   glClipControl(static_cast<GLenum>(clipOrigin), static_cast<GLenum>(clipDepthMode));
-  for (const Switch& w : kSwitches) setSwitch(w.cap, this->*w.field);
+  for (const Switch& w : kSwitches)
+    setSwitch(w.cap, this->*w.field);
   for (int i = 0; i < kDrawBuffers; ++i) {
     if (blendi[i])
       glEnablei(GL_BLEND, static_cast<GLuint>(i));
     else
       glDisablei(GL_BLEND, static_cast<GLuint>(i));
   }
-  for (int i = 0; i < kClipDistances; ++i) setSwitch(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i), clipDistance[i]);
+  for (int i = 0; i < kClipDistances; ++i)
+    setSwitch(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i), clipDistance[i]);
   glDepthMask(depthMask);
   glDepthFunc(static_cast<GLenum>(depthFunc));
   for (int i = 0; i < kDrawBuffers; ++i)
-    glColorMaski(static_cast<GLuint>(i), colourMask[i][0], colourMask[i][1], colourMask[i][2], colourMask[i][3]);
+    glColorMaski(static_cast<GLuint>(i), colourMask[i][0], colourMask[i][1], colourMask[i][2],
+                 colourMask[i][3]);
   glCullFace(static_cast<GLenum>(cullFaceMode));
   glFrontFace(static_cast<GLenum>(frontFace));
   glPolygonMode(GL_FRONT_AND_BACK, static_cast<GLenum>(polygonMode[0]));
@@ -118,13 +128,15 @@ void GlState::restore() const {
   glBindVertexArray(static_cast<GLuint>(vertexArray));
   if (atomicCounterSize0 > 0)
     glBindBufferRange(GL_ATOMIC_COUNTER_BUFFER, 0, static_cast<GLuint>(atomicCounterBuffer0),
-                      static_cast<GLintptr>(atomicCounterStart0), static_cast<GLsizeiptr>(atomicCounterSize0));
+                      static_cast<GLintptr>(atomicCounterStart0),
+                      static_cast<GLsizeiptr>(atomicCounterSize0));
   else
     glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, static_cast<GLuint>(atomicCounterBuffer0));
   glBindBuffer(GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(atomicCounterBuffer));
   glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pixelPackBuffer));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(pixelUnpackBuffer));
-  for (int i = 0; i < kPixelStore; ++i) glPixelStorei(kPixelStoreNames[i], pixelStore[i]);
+  for (int i = 0; i < kPixelStore; ++i)
+    glPixelStorei(kPixelStoreNames[i], pixelStore[i]);
   for (int u = 0; u < kTextureUnits; ++u) {
     glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + u));
     glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures2d[u]));
@@ -180,9 +192,11 @@ std::string GlState::differences(const GlState& o) const {
 }
 
 GlStateGuard::GlStateGuard() : saved_(GlState::capture()) {
-  for (const Switch& w : kSwitches) setSwitch(w.cap, w.passValue);
+  for (const Switch& w : kSwitches)
+    setSwitch(w.cap, w.passValue);
   glDisable(GL_BLEND);
-  for (int i = 0; i < GlState::kClipDistances; ++i) glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+  for (int i = 0; i < GlState::kClipDistances; ++i)
+    glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -194,7 +208,8 @@ GlStateGuard::GlStateGuard() : saved_(GlState::capture()) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
   const GlState defaults;
-  for (int i = 0; i < GlState::kPixelStore; ++i) glPixelStorei(kPixelStoreNames[i], defaults.pixelStore[i]);
+  for (int i = 0; i < GlState::kPixelStore; ++i)
+    glPixelStorei(kPixelStoreNames[i], defaults.pixelStore[i]);
   for (int u = 0; u < GlState::kTextureUnits; ++u)
     if (saved_.samplers[u]) glBindSampler(static_cast<GLuint>(u), 0);
 }

@@ -17,22 +17,22 @@ namespace dtf::render {
 
 struct GlState {
   static constexpr int kTextureUnits = 16;
-  static constexpr int kViewports = 16;   // GL 4.5 guarantees at least 16 viewports
-  static constexpr int kDrawBuffers = 8;  // and at least 8 draw buffers
+  static constexpr int kViewports = 16;  // GL 4.5 guarantees at least 16 viewports
+  static constexpr int kDrawBuffers = 8; // and at least 8 draw buffers
   static constexpr int kClipDistances = 8;
   // The pixel store parameters, pack then unpack: swap bytes, LSB first, row length, image height, skip
   // rows, skip pixels, skip images, alignment.
   static constexpr int kPixelStore = 16;
 
   GLint drawFramebuffer = 0, readFramebuffer = 0;
-  std::array<GLint, 4> viewport{};                       // viewport 0
+  std::array<GLint, 4> viewport{};                            // viewport 0
   std::array<std::array<GLfloat, 4>, kViewports> viewports{}; // all viewports (glViewport sets every one)
   std::array<GLdouble, 2> depthRange{0.0, 1.0};
   GLint clipOrigin = GL_LOWER_LEFT, clipDepthMode = GL_NEGATIVE_ONE_TO_ONE;
   GLboolean depthTest = GL_FALSE, blend = GL_FALSE, cullFace = GL_FALSE, scissorTest = GL_FALSE;
   GLboolean stencilTest = GL_FALSE, polygonOffsetFill = GL_FALSE, depthClamp = GL_FALSE;
   GLboolean rasterizerDiscard = GL_FALSE, colourLogicOp = GL_FALSE, framebufferSrgb = GL_FALSE;
-  std::array<GLboolean, kDrawBuffers> blendi{};          // per draw buffer (glEnablei)
+  std::array<GLboolean, kDrawBuffers> blendi{}; // per draw buffer (glEnablei)
   std::array<GLboolean, kClipDistances> clipDistance{};
   GLboolean depthMask = GL_TRUE;
   GLint depthFunc = GL_LESS;
@@ -40,7 +40,7 @@ struct GlState {
   GLint cullFaceMode = GL_BACK, frontFace = GL_CCW;
   std::array<GLint, 2> polygonMode{GL_FILL, GL_FILL};
   GLint program = 0, vertexArray = 0, activeTexture = GL_TEXTURE0, atomicCounterBuffer = 0;
-  GLint atomicCounterBuffer0 = 0;                         // indexed binding 0 with its range
+  GLint atomicCounterBuffer0 = 0; // indexed binding 0 with its range
   GLint64 atomicCounterStart0 = 0, atomicCounterSize0 = 0;
   GLint pixelPackBuffer = 0, pixelUnpackBuffer = 0;
   std::array<GLint, kPixelStore> pixelStore{0, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0, 0, 0, 4};

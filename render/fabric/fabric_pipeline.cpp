@@ -24,7 +24,8 @@ void boundsOf(const Grid& g, glm::vec3& lo, glm::vec3& hi) {
 } // namespace
 
 FabricPipeline::FabricPipeline() {
-  for (auto& q : timers_) q = createQuery(GL_TIME_ELAPSED);
+  for (auto& q : timers_)
+    q = createQuery(GL_TIME_ELAPSED);
 }
 
 void FabricPipeline::setField(const TensorField& field) {
@@ -142,16 +143,16 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
 }
 
 void FabricPipeline::advect(const FabricParams& p) {
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
-                       p.colour == ColourMode::Fibres};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
+                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
   beginTimer(kAdvection);
   advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
   endTimer();
 }
 
 int FabricPipeline::converge(const FabricParams& p) {
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
-                       p.colour == ColourMode::Fibres};
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
+                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
   const unsigned covered = projection_.coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
   // then until (almost) no pixel changes by more than epsilon per iteration.
@@ -173,7 +174,8 @@ int FabricPipeline::converge(const FabricParams& p) {
   return done;
 }
 
-void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin, bool windowDepth) {
+void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
+                               bool windowDepth) {
   CompositeSettings cs;
   cs.mode = p.colour;
   cs.r = static_cast<float>(p.r);
@@ -186,8 +188,8 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.background = !background_.empty();
   cs.origin = origin;
   cs.windowDepth = windowDepth;
-  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &silhouette_.edges(),
-                     &projection_.eigen(),   &projection_.lambda()};
+  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(),
+                     &silhouette_.edges(), &projection_.eigen(), &projection_.lambda()};
   if (p.colour == ColourMode::Fibres) {
     in.p3 = &advection_.field(2);
     in.fibres = &projection_.fibres();

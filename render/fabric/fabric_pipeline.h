@@ -47,7 +47,8 @@ public:
 
   // Tensor stage on the geometry stage's buffers, then silhouettes; restarts the advection from beta when
   // the data, the view's matrices or the parameters changed since the last call, or `forceRestart`.
-  // The geometry stage must have run for `view`. Returns whether the advection restarted.
+  // The geometry stage must have run for `view`; the caller starts the kProjection timer before it (the
+  // projection's time covers both stages) and this call ends it. Returns whether the advection restarted.
   bool project(const FrameView& view, const FabricParams& params, const glm::vec3& noiseFallback,
                bool forceRestart = false);
   // params.iterations Eq. 12 iterations, continuing the state.
@@ -80,7 +81,7 @@ private:
   CompositePass composite_;
   GpuTensorField field_;
   GpuFibreSet fibres_;
-  FibreSet fibreSet_;                  // kept to re-upload when FabricParams::fibreThreshold changes
+  FibreSet fibreSet_; // kept to re-upload when FabricParams::fibreThreshold changes
   std::optional<ScalarVolume> fibreFa_;
   float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;

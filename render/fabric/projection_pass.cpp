@@ -3,7 +3,8 @@
 namespace dtf::render {
 
 TensorStage::TensorStage()
-    : program_("common/deferred.vert", "fabric/projection.frag", {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
+    : program_("common/deferred.vert", "fabric/projection.frag",
+               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
       vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
   program_.get(1); // the default variant compiles with the pass, so a broken shader fails early
 }
@@ -27,7 +28,8 @@ void TensorStage::resize(glm::ivec2 target) {
 
 void TensorStage::attachDepth(const Texture& depth) {
   if (depth.id() == attachedDepth_) return;
-  for (const Framebuffer* f : {&fbo_, &fibreFbo_}) glNamedFramebufferTexture(f->id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  for (const Framebuffer* f : {&fbo_, &fibreFbo_})
+    glNamedFramebufferTexture(f->id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
   attachedDepth_ = depth.id();
 }
 
@@ -107,8 +109,9 @@ void ProjectionPass::resize(glm::ivec2 target) {
   tensor_.resize(target);
 }
 
-void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
-                         const ProjectionSettings& s, const GpuScalarVolume* background, const GpuFibreSet* fibres) {
+void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
+                         const FrameView& view, const ProjectionSettings& s,
+                         const GpuScalarVolume* background, const GpuFibreSet* fibres) {
   const bool haveData = s.fibres ? fibres && !fibres->empty() : !field.empty();
   geometry_.run(mesh, view, s.cullHidden && view.boundsInFront, haveData);
   tensor_.run(geometry_, field, noise, view, s, background, fibres);

@@ -13,7 +13,8 @@
 //            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
 //                    FA)
 //            lambda  RGBA8 (lambda2'/lambda1' of the in-plane eigenvalues (1 without a positive lambda1'),
-//                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor data)
+//                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor
+//                    data)
 //            depth   DEPTH32F (the geometry stage's window depth, for gl_FragDepth in the composite and the
 //                    early depth test of the later fullscreen passes)
 //            geometry RG32UI (the geometry stage's buffer)
@@ -34,15 +35,15 @@
 namespace dtf::render {
 
 struct ProjectionSettings {
-  float lod = 10.0f;             // l of Eq. 7, mm
-  glm::vec3 noiseOrigin{0.0f};   // b_min of Eq. 7, mm: a point fixed to the data, so every surface cut
-                                 // from the same data carries the same noise at the same world point
-  float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
-  float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
-  bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
-  bool cullHidden = true;        // cull back faces of closed meshes seen from outside (same image)
-  float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
-  bool fibres = false;           // sample the GpuFibreSet instead of the tensor field
+  float lod = 10.0f;           // l of Eq. 7, mm
+  glm::vec3 noiseOrigin{0.0f}; // b_min of Eq. 7, mm: a point fixed to the data, so every surface cut
+                               // from the same data carries the same noise at the same world point
+  float noiseBlend = 0.0f;     // 0 = Eq. 9 exactly
+  float degenerateTol = 0.02f; // relative in-plane eigenvalue gap treated as degenerate
+  bool principal = true;       // also decompose T for the 3D principal eigenvector (medical mode)
+  bool cullHidden = true;      // cull back faces of closed meshes seen from outside (same image)
+  float faFloor = 0.0f;        // the fabric only where FA >= faFloor; elsewhere "no tensor data"
+  bool fibres = false;         // sample the GpuFibreSet instead of the tensor field
 };
 
 // The tensor stage: geometry buffers -> directions, beta, light, eigen, lambda (fibres).
@@ -53,9 +54,9 @@ public:
   void resize(glm::ivec2 target);
   // Runs on `geometry`'s buffers (their size is the view's target). `background` (optional) is sampled where
   // the surface has no tensor data. With settings.fibres, `fibres` (required) replaces the tensor field.
-  void run(const GeometryStage& geometry, const GpuTensorField& field, const Texture& noise, const FrameView& view,
-           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr,
-           const GpuFibreSet* fibres = nullptr);
+  void run(const GeometryStage& geometry, const GpuTensorField& field, const Texture& noise,
+           const FrameView& view, const ProjectionSettings& settings,
+           const GpuScalarVolume* background = nullptr, const GpuFibreSet* fibres = nullptr);
 
   const Texture& vectors() const { return vectors_; }
   const Texture& surface() const { return surface_; }

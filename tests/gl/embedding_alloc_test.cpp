@@ -5,11 +5,10 @@
 #include "render/reference/scenes.h"
 #include "support/gl_test.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
 #include <memory>
 #include <new>
 #include <vector>
@@ -77,7 +76,8 @@ TEST(EmbeddingAlloc, HostFramesDoNotAllocate) {
   glNamedFramebufferTexture(targetFbo, GL_COLOR_ATTACHMENT0, target[0], 0);
   {
     dtf::render::EmbeddedFabric fabric;
-    fabric.setField(dtf::render::reference::constantField(dtf::render::reference::centredGrid(24, 4.0), {1, 1, 0}));
+    fabric.setField(
+        dtf::render::reference::constantField(dtf::render::reference::centredGrid(24, 4.0), {1, 1, 0}));
     dtf::render::HostView v;
     v.depthTexture = tex[0];
     v.normalTexture = tex[1];
@@ -95,7 +95,8 @@ TEST(EmbeddingAlloc, HostFramesDoNotAllocate) {
     }
     allocations = 0;
     counting = true;
-    for (int i = 0; i < 5; ++i) fabric.draw(v, p); // fixed camera
+    for (int i = 0; i < 5; ++i)
+      fabric.draw(v, p); // fixed camera
     const long still = allocations.exchange(0);
     for (int i = 0; i < 5; ++i) { // turning camera
       v.view = viewAt(0.05f + 0.01f * float(i));

@@ -5,21 +5,19 @@
 // state (queried here with raw GL, independently of render/gl_state.h) is unchanged after every call and
 // does not change the image, and the noise is anchored to the data (two meshes cut from the same field carry
 // the same noise at the same world point).
-#include "support/gl_test.h"
-
 #include "io/png_io.h"
 #include "render/embedding.h"
 #include "render/fabric/projection_pass.h"
-#include "render/gpu_scene.h"
 #include "render/fabric_renderer.h"
+#include "render/gpu_scene.h"
 #include "render/reference/scenes.h"
-
-#include <glm/gtc/type_ptr.hpp>
+#include "support/gl_test.h"
 
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <functional>
+#include <glm/gtc/type_ptr.hpp>
 #include <string>
 #include <vector>
 
@@ -30,7 +28,7 @@ namespace {
 
 class Embedding : public GlTest {};
 
-constexpr int kSize = 256;           // the viewport, as FabricRenderer's output
+constexpr int kSize = 256;                // the viewport, as FabricRenderer's output
 constexpr int kHostW = 340, kHostH = 300; // the host's framebuffer around it
 const glm::ivec4 kViewport{52, 28, kSize, kSize};
 constexpr float kHostClear[4] = {51 / 255.0f, 77 / 255.0f, 102 / 255.0f, 1.0f}; // exact in 8 bits
@@ -53,7 +51,8 @@ struct Host {
   GLsizei indexCount = 0;
   bool biased = false;
 
-  Host(const Mesh& mesh, GLenum depthFormat, GLenum normalFormat, bool biasedNormals) : biased(biasedNormals) {
+  Host(const Mesh& mesh, GLenum depthFormat, GLenum normalFormat, bool biasedNormals)
+      : biased(biasedNormals) {
     const char* vs = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -87,8 +86,9 @@ void main() { vec3 n = normalize(v_normal); o_normal = vec4(u_biased ? 0.5 * n +
     glEnableVertexAttribArray(1);
     glGenBuffers(1, &ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
-                 mesh.indices.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)), mesh.indices.data(),
+                 GL_STATIC_DRAW);
     indexCount = static_cast<GLsizei>(mesh.indices.size());
     glBindVertexArray(0);
     auto texture = [](GLenum format) {
@@ -103,9 +103,9 @@ void main() { vec3 n = normalize(v_normal); o_normal = vec4(u_biased ? 0.5 * n +
     depth = texture(depthFormat);
     normal = texture(normalFormat);
     colour = texture(GL_RGBA8);
-    const GLenum depthAttachment =
-        depthFormat == GL_DEPTH24_STENCIL8 || depthFormat == GL_DEPTH32F_STENCIL8 ? GL_DEPTH_STENCIL_ATTACHMENT
-                                                                                  : GL_DEPTH_ATTACHMENT;
+    const GLenum depthAttachment = depthFormat == GL_DEPTH24_STENCIL8 || depthFormat == GL_DEPTH32F_STENCIL8
+                                       ? GL_DEPTH_STENCIL_ATTACHMENT
+                                       : GL_DEPTH_ATTACHMENT;
     glGenFramebuffers(1, &gbuffer);
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, normal, 0);
@@ -143,7 +143,8 @@ void main() { vec3 n = normalize(v_normal); o_normal = vec4(u_biased ? 0.5 * n +
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glUseProgram(program);
-    glUniformMatrix4fv(glGetUniformLocation(program, "u_viewProj"), 1, GL_FALSE, glm::value_ptr(projection * view));
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_viewProj"), 1, GL_FALSE,
+                       glm::value_ptr(projection * view));
     glUniform1i(glGetUniformLocation(program, "u_biased"), biased ? 1 : 0);
     glBindVertexArray(vao);
     glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
@@ -198,7 +199,8 @@ Image viewportPart(const Image& host) {
   const int top = kHostH - (kViewport.y + kViewport.w);
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x)
-      std::copy_n(host.pixel(kViewport.x + x, top + y), 4, &out.rgba[(static_cast<std::size_t>(y) * kSize + x) * 4]);
+      std::copy_n(host.pixel(kViewport.x + x, top + y), 4,
+                  &out.rgba[(static_cast<std::size_t>(y) * kSize + x) * 4]);
   return out;
 }
 
@@ -213,8 +215,9 @@ Sphere sphere() {
   const double r = 40.0;
   s.mesh = reference::uvSphere({0, 0, 0}, r, 96, 96);
   s.mesh.computeNormals();
-  s.field = reference::hessianField(reference::centredGrid(40, 2.0 * r * 1.1 / 39.0),
-                                    [r](const glm::dvec3& p) { return reference::sphereFunction(p, r); }, 0.5);
+  s.field = reference::hessianField(
+      reference::centredGrid(40, 2.0 * r * 1.1 / 39.0),
+      [r](const glm::dvec3& p) { return reference::sphereFunction(p, r); }, 0.5);
   return s;
 }
 
@@ -222,7 +225,8 @@ Sphere sphere() {
 struct Diff {
   double badFraction = 0, mean = 0;
 };
-Diff compare(const Image& a, const Image& b, int tolerance, int x0 = 0, int y0 = 0, int x1 = kSize, int y1 = kSize) {
+Diff compare(const Image& a, const Image& b, int tolerance, int x0 = 0, int y0 = 0, int x1 = kSize,
+             int y1 = kSize) {
   Diff d;
   std::size_t bad = 0, n = 0;
   double sum = 0;
@@ -252,9 +256,11 @@ struct Snapshot {
     for (std::size_t i = 0; i < values.size() && i < o.values.size(); ++i)
       if (values[i].second != o.values[i].second) {
         out += values[i].first + ":";
-        for (double v : values[i].second) out += " " + std::to_string(v);
+        for (double v : values[i].second)
+          out += " " + std::to_string(v);
         out += " ->";
-        for (double v : o.values[i].second) out += " " + std::to_string(v);
+        for (double v : o.values[i].second)
+          out += " " + std::to_string(v);
         out += "; ";
       }
     return out;
@@ -273,7 +279,9 @@ Snapshot snapshot() {
     glGetFloatv(e, v.data());
     s.values.push_back({name, std::vector<double>(v.begin(), v.begin() + n)});
   };
-  auto enabled = [&](const std::string& name, GLenum e) { s.values.push_back({name, {double(glIsEnabled(e))}}); };
+  auto enabled = [&](const std::string& name, GLenum e) {
+    s.values.push_back({name, {double(glIsEnabled(e))}});
+  };
   ints("program", GL_CURRENT_PROGRAM);
   ints("vertex array", GL_VERTEX_ARRAY_BINDING);
   ints("array buffer", GL_ARRAY_BUFFER_BINDING);
@@ -288,7 +296,8 @@ Snapshot snapshot() {
   ints("scissor box", GL_SCISSOR_BOX, 4);
   enabled("scissor test", GL_SCISSOR_TEST);
   enabled("blend", GL_BLEND);
-  for (GLuint i = 0; i < 4; ++i) s.values.push_back({"blend " + std::to_string(i), {double(glIsEnabledi(GL_BLEND, i))}});
+  for (GLuint i = 0; i < 4; ++i)
+    s.values.push_back({"blend " + std::to_string(i), {double(glIsEnabledi(GL_BLEND, i))}});
   ints("blend src rgb", GL_BLEND_SRC_RGB);
   ints("blend dst alpha", GL_BLEND_DST_ALPHA);
   ints("blend equation", GL_BLEND_EQUATION_RGB);
@@ -312,7 +321,8 @@ Snapshot snapshot() {
   for (GLuint i = 1; i < 3; ++i) {
     GLboolean m[4];
     glGetBooleani_v(GL_COLOR_WRITEMASK, i, m);
-    s.values.push_back({"colour mask " + std::to_string(i), {double(m[0]), double(m[1]), double(m[2]), double(m[3])}});
+    s.values.push_back(
+        {"colour mask " + std::to_string(i), {double(m[0]), double(m[1]), double(m[2]), double(m[3])}});
   }
   floats("clear colour", GL_COLOR_CLEAR_VALUE, 4);
   floats("clear depth", GL_DEPTH_CLEAR_VALUE, 1);
@@ -348,7 +358,8 @@ Snapshot snapshot() {
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &t2);
     glGetIntegerv(GL_TEXTURE_BINDING_3D, &t3);
     glGetIntegerv(GL_SAMPLER_BINDING, &smp);
-    s.values.push_back({"unit " + std::to_string(u) + " 2D, 3D, sampler", {double(t2), double(t3), double(smp)}});
+    s.values.push_back(
+        {"unit " + std::to_string(u) + " 2D, 3D, sampler", {double(t2), double(t3), double(smp)}});
   }
   glActiveTexture(static_cast<GLenum>(active));
   return s;
@@ -491,7 +502,8 @@ struct HostState {
 };
 
 Camera sphereCamera(bool orthographic) {
-  Camera cam = Camera::standard(StandardView::Anterior, {-40, -40, -40}, {40, 40, 40}, 1.0, false, orthographic);
+  Camera cam =
+      Camera::standard(StandardView::Anterior, {-40, -40, -40}, {40, 40, 40}, 1.0, false, orthographic);
   cam.trackball({0, 0}, {0.25, 0.3});
   return cam;
 }
@@ -538,7 +550,8 @@ TEST_F(Embedding, HostDrawAgreesWithTheRendererAndKeepsTheHostsPixels) {
           if (x >= kViewport.x && x < kViewport.x + kSize && y >= top && y < top + kSize) continue;
           ++outside;
           const auto* px = all.pixel(x, y);
-          for (int c = 0; c < 4; ++c) changed += px[c] != static_cast<std::uint8_t>(std::lround(kHostClear[c] * 255));
+          for (int c = 0; c < 4; ++c)
+            changed += px[c] != static_cast<std::uint8_t>(std::lround(kHostClear[c] * 255));
         }
       EXPECT_GT(outside, 0u);
       EXPECT_EQ(changed, 0u) << "host pixels outside the viewport changed";
@@ -555,7 +568,8 @@ TEST_F(Embedding, HostDrawAgreesWithTheRendererAndKeepsTheHostsPixels) {
       for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x) {
           const std::size_t hostRow = static_cast<std::size_t>(kViewport.y + kSize - 1 - y);
-          if (normals[(hostRow * kHostW + static_cast<std::size_t>(kViewport.x + x)) * 4 + 3] != 0.0f) continue;
+          if (normals[(hostRow * kHostW + static_cast<std::size_t>(kViewport.x + x)) * 4 + 3] != 0.0f)
+            continue;
           ++background;
           const auto* a = actual.pixel(x, y);
           hostBackground += a[0] == 51 && a[1] == 77 && a[2] == 102;
@@ -726,7 +740,8 @@ TEST_F(Embedding, NoiseIsAnchoredToTheDataNotToTheMesh) {
       const std::size_t i = (static_cast<std::size_t>(y) * target + x) * 4;
       if (onSphere[i + 3] < 0.5f || onPlane[i + 3] < 0.5f) continue;
       // The pixel's world x, y (orthographic from above).
-      const glm::vec2 ndc((x - p.guard + 0.5f) / kSize * 2.0f - 1.0f, (y - p.guard + 0.5f) / kSize * 2.0f - 1.0f);
+      const glm::vec2 ndc((x - p.guard + 0.5f) / kSize * 2.0f - 1.0f,
+                          (y - p.guard + 0.5f) / kSize * 2.0f - 1.0f);
       const glm::vec4 w = glm::inverse(viewProj) * glm::vec4(ndc, 0.0f, 1.0f);
       if (glm::length(glm::vec2(w.x, w.y)) > 0.55 * r) continue;
       ++shared;
@@ -753,8 +768,8 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
       const glm::mat4 view(cam.view()), projection(cam.projection(1.0));
       glm::dvec3 l, h;
       s.field.grid.worldBounds(l, h);
-      const FrameView fv = FrameView::fromHost(view, projection, {kSize, kSize}, 16, glm::vec3(l), glm::vec3(h),
-                                               glm::vec3(0.5 * (l + h)));
+      const FrameView fv = FrameView::fromHost(view, projection, {kSize, kSize}, 16, glm::vec3(l),
+                                               glm::vec3(h), glm::vec3(0.5 * (l + h)));
       const FrameView mv = FrameView::make(cam, {kSize, kSize}, 16, glm::vec3(-40), glm::vec3(40));
       GpuMesh gm;
       gm.upload(s.mesh);
@@ -772,7 +787,8 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
       auto read = [](const Texture& t) {
         std::vector<std::uint32_t> v(static_cast<std::size_t>(t.width()) * t.height() * 2);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        glGetTextureImage(t.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(v.size() * 4), v.data());
+        glGetTextureImage(t.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(v.size() * 4),
+                          v.data());
         return v;
       };
       const auto a = read(meshStage.geometry()), b = read(importStage.geometry());
@@ -791,7 +807,9 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
           std::memcpy(&db, &b[i + 1], 4);
           worstDepth = std::max(worstDepth, double(std::abs(da - db) / da));
           if (a[i] != b[i]) {
-            auto un = [](std::uint32_t v) { return glm::vec2(float(std::int16_t(v & 0xffff)), float(std::int16_t(v >> 16))) / 32767.0f; };
+            auto un = [](std::uint32_t v) {
+              return glm::vec2(float(std::int16_t(v & 0xffff)), float(std::int16_t(v >> 16))) / 32767.0f;
+            };
             glm::vec2 na = un(a[i]), nb = un(b[i]);
             worstNormal = std::max(worstNormal, double(glm::length(na - nb)));
           }
@@ -822,8 +840,10 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
         }
         {
           std::vector<std::uint32_t> va(sa.size()), vb(sa.size());
-          glGetTextureImage(t1.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(va.size() * 4), va.data());
-          glGetTextureImage(t2.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(vb.size() * 4), vb.data());
+          glGetTextureImage(t1.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                            static_cast<GLsizei>(va.size() * 4), va.data());
+          glGetTextureImage(t2.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                            static_cast<GLsizei>(vb.size() * 4), vb.data());
           double wv = 0;
           std::size_t nz = 0;
           for (std::size_t i = 0; i < va.size(); i += 4) {
@@ -831,7 +851,9 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
             if (px < 16 || py < 16 || px >= 16 + kSize || py >= 16 + kSize) continue;
             if (sa[i + 3] < 0.5f || sb[i + 3] < 0.5f) continue;
             for (int c = 0; c < 2; ++c) {
-              auto un = [](std::uint32_t v) { return glm::vec2(float(std::int16_t(v & 0xffff)), float(std::int16_t(v >> 16))) / 32767.0f; };
+              auto un = [](std::uint32_t v) {
+                return glm::vec2(float(std::int16_t(v & 0xffff)), float(std::int16_t(v >> 16))) / 32767.0f;
+              };
               double d = glm::length(un(va[i + c]) - un(vb[i + c]));
               wv = std::max(wv, d);
               nz += d > 0.05;
