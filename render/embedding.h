@@ -49,7 +49,9 @@ struct HostView {
   glm::mat4 projection{1.0f}; // eye -> clip (GL conventions; perspective or orthographic)
   glm::ivec4 viewport{0};     // x, y, width, height in pixels, lower-left origin: where the surfaces are in
                               // the textures and where the fabric goes in the framebuffer
-  unsigned framebuffer = 0;   // the framebuffer drawn into (0: the default framebuffer)
+  // The framebuffer drawn into (0: the default framebuffer). The fabric writes fragment output 0 only: set
+  // the framebuffer's other draw buffers to GL_NONE (GL leaves outputs a shader does not write undefined).
+  unsigned framebuffer = 0;
 };
 
 class EmbeddedFabric {
@@ -76,10 +78,13 @@ public:
   // continue the previous frame's state; the state restarts from the noise when the matrices, viewport,
   // textures, data or parameters change (or after restart()). Fabric pixels replace the host's colour where
   // the depth texture has a surface and the framebuffer's depth (if it has one) passes GL_LEQUAL against
-  // that surface's depth, and write that depth; other pixels keep the host's colour and depth. Draws
-  // nothing without data. No allocation per frame; the internal targets are re-created only when the
-  // viewport's size changes. FabricParams::movingScale does not apply (the host decides its resolution).
-  // Throws dtf::GlError for an unusable view (no texture, too small, not 2D, viewport out of range).
+  // that surface's depth, and write that depth (less two units of a 24-bit buffer, so that round-off in the
+  // conversion never fails the test on the host's own surface); other pixels keep the host's colour and
+  // depth. In the guard border around the viewport (FabricParams::guard), where the host has no data, the
+  // surface is continued along the tangent plane of the viewport's edge pixels. Draws nothing without data.
+  // No allocation per frame; the internal targets are re-created only when the viewport's size changes.
+  // FabricParams::movingScale does not apply (the host decides its resolution). Throws dtf::GlError for an
+  // unusable view (no texture, too small, not 2D, viewport out of range).
   void draw(const HostView& view, const FabricParams& params);
   // A converged still of the same (see FabricRenderer::renderStill): deterministic.
   void drawStill(const HostView& view, const FabricParams& params);

@@ -869,3 +869,41 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
       EXPECT_EQ(depthDiff, 0u) << "worst relative depth difference " << worstDepth;
     }
 }
+
+// An unusable view is refused with an error that names the problem, and the host's state survives it.
+TEST_F(Embedding, BadViewsThrowAndLeaveTheStateAlone) {
+  const Sphere s = sphere();
+  Host host(s.mesh, GL_DEPTH_COMPONENT32F, GL_RGBA32F, false);
+  const Camera cam = sphereCamera(false);
+  EmbeddedFabric fabric;
+  fabric.setField(s.field);
+  HostState state;
+  state.apply(host.gbuffer, host.display, host.program);
+  const Snapshot before = snapshot();
+  auto expectError = [&](HostView v, const std::string& words) {
+    try {
+      fabric.draw(v, FabricParams{});
+      ADD_FAILURE() << "no error for " << words;
+    } catch (const GlError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(snapshot(), before) << words << ": " << before.differences(snapshot());
+  };
+  const HostView good = host.hostView(glm::mat4(cam.view()), glm::mat4(cam.projection(1.0)));
+  HostView v = good;
+  v.depthTexture = 0;
+  expectError(v, "the depth texture is not a texture");
+  v = good;
+  v.normalTexture = host.gbuffer + 1000;
+  expectError(v, "the normal texture is not a texture");
+  v = good;
+  v.viewport.z = kHostW; // beyond the textures
+  expectError(v, "the viewport needs");
+  v = good;
+  v.viewport.w = 0;
+  expectError(v, "out of range");
+  v = good;
+  v.framebuffer = host.display + 1000; // no such framebuffer
+  expectError(v, "is not a framebuffer");
+  HostState::reset();
+}
