@@ -36,9 +36,10 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy) - u_guard; // pixel in the viewport
   ivec2 q = clamp(p, ivec2(0), u_extent - 1) + u_origin;
   float d = texelFetch(u_hostDepth, q, 0).r;
+  if (d >= 1.0) discard; // the background costs one fetch
   vec3 n = texelFetch(u_hostNormal, q, 0).xyz;
   if (u_biasedNormals) n = n * 2.0 - 1.0;
-  if (d >= 1.0 || dot(n, n) < 1e-12) discard;
+  if (dot(n, n) < 1e-12) discard;
   n = normalize(n);
   vec3 eye = eyeAt(q, d);
   float depth = -eye.z;
