@@ -1,60 +1,36 @@
 #include "render/fabric_renderer.h"
 
+#include "io/model/error.h"
 #include "render/gl_state.h"
 
-#include "io/model/error.h"
-
 #include <algorithm>
-#include <cmath>
 #include <cstring>
-#include <tuple>
 
 namespace dtf::render {
 
-namespace {
-enum Pass { kProjection = 0, kSilhouette, kAdvection, kComposite, kPhong };
-
-// Parameters whose change invalidates the advection state.
-auto stateKey(const FabricParams& p) {
-  return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
-                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold);
-}
-} // namespace
-
-FabricRenderer::FabricRenderer() {
-  for (auto& q : timers_) q = createQuery(GL_TIME_ELAPSED);
-}
+FabricRenderer::FabricRenderer() = default;
 
 FabricRenderer::~FabricRenderer() = default;
 
 void FabricRenderer::setMesh(const Mesh& mesh) {
   mesh_.upload(mesh);
-  dataChanged_ = true;
+  pipeline_.invalidate();
 }
 
 void FabricRenderer::setField(const TensorField& field) {
-  field_.upload(field);
-  dataChanged_ = true;
+  pipeline_.setField(field);
 }
 
 void FabricRenderer::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
-  fibreSet_ = fibres;
-  fibreFa_ = fa ? std::optional<ScalarVolume>(*fa) : std::nullopt;
-  fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
-  dataChanged_ = true;
+  pipeline_.setFibres(fibres, fa);
 }
 
 void FabricRenderer::clearFibres() {
-  fibres_.clear();
-  fibreSet_ = FibreSet{};
-  fibreFa_.reset();
-  dataChanged_ = true;
+  pipeline_.clearFibres();
 }
 
 void FabricRenderer::setBackground(const ScalarVolume* volume, float lo, float hi) {
-  if (volume) background_.upload(*volume, lo, hi);
-  else background_.clear();
-  dataChanged_ = true;
+  pipeline_.setBackground(volume, lo, hi);
 }
 
 void FabricRenderer::resize(int width, int height) {
@@ -66,77 +42,31 @@ void FabricRenderer::resize(int width, int height) {
   outDepth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, width, height);
   output_ = createFramebuffer();
   attachTargets(output_, {&outColour_}, &outDepth_);
-  dataChanged_ = true;
+  pipeline_.invalidate();
 }
 
 double FabricRenderer::effectiveLod(const FrameView& view, const FabricParams& p) const {
-  return p.lod > 0 ? p.lod : p.autoLodPixels * view.pixelMm;
+  return pipeline_.effectiveLod(view, p);
 }
 
-int FabricRenderer::fields(const FabricParams& p) const {
-  return p.colour == ColourMode::Fibres && fibres_.lobes() >= 3 ? 3 : 2;
-}
-
-void FabricRenderer::beginTimer(int pass) {
-  if (!timing_) return;
-  glBeginQuery(GL_TIME_ELAPSED, timers_[pass].id());
-  timerUsed_[pass] = true;
-}
-
-void FabricRenderer::endTimer() {
-  if (timing_) glEndQuery(GL_TIME_ELAPSED);
-}
-
-void FabricRenderer::prepare(const Camera& camera, const FabricParams& p, bool& restart) {
+void FabricRenderer::prepare(const Camera& camera, const FabricParams& p) {
   if (size_.x < 1) throw GlError("FabricRenderer: resize() before rendering");
-  timerUsed_.fill(false);
-  NoiseOptions no;
-  no.size = p.noiseSize;
-  no.spotScale = p.spotScale;
-  no.seed = p.seed;
-  if (!noiseTile_ || noiseTile_->size != no.size || stateKey(p) != stateKey(lastParams_)) {
-    auto tile = cachedReactionDiffusion(no);
-    if (tile != noiseTile_) {
-      noiseTile_ = tile;
-      noise_ = uploadNoise(*tile);
-    }
-  }
+  pipeline_.clearTimers();
   view_ = FrameView::make(camera, size_, std::max(p.guard, 0), mesh_.boundsLo(), mesh_.boundsHi());
   const bool moving = view_.viewProjViewport != lastCameraViewProj_;
   lastCameraViewProj_ = view_.viewProjViewport;
   if (moving && !still_ && p.movingScale < 1.0)
     view_ = FrameView::make(camera, size_, std::max(p.guard, 0), mesh_.boundsLo(), mesh_.boundsHi(),
                             static_cast<float>(p.movingScale));
-  restart = dataChanged_ || view_.viewProj != lastViewProj_ || stateKey(p) != stateKey(lastParams_);
-
+  if (p.colour == ColourMode::Fibres && pipeline_.fibresEmpty())
+    throw GlError("the fibre colour mode needs a fibre set (setFibres)");
+  glm::vec3 lo, hi;
+  const bool haveData = pipeline_.dataBounds(lo, hi);
+  pipeline_.beginTimer(FabricPipeline::kProjection);
   ProjectionSettings ps;
-  ps.lod = static_cast<float>(effectiveLod(view_, p));
-  ps.noiseOrigin = mesh_.boundsLo();
-  ps.noiseBlend = static_cast<float>(p.noiseBlend);
-  ps.principal = p.colour == ColourMode::Medical;
-  ps.faFloor = p.faFloor;
-  ps.fibres = p.colour == ColourMode::Fibres;
-  if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
-  if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
-    uploadedThreshold_ = p.fibreThreshold;
-    fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
-  }
-  beginTimer(kProjection);
-  projection_.run(mesh_, field_, noise_, view_, ps, &background_, &fibres_);
-  endTimer();
-
-  beginTimer(kSilhouette);
-  const float background = view_.depthRange.y + (view_.depthRange.y - view_.depthRange.x) + 1.0f;
-  // Without silhouettes the pass still marks the background, which the advection must not sample.
-  const float threshold = p.silhouette ? static_cast<float>(p.silhouettePixels) * view_.pixelMm : 3.0e38f;
-  silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
-  endTimer();
-
-  if (restart)
-    advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
-  dataChanged_ = false;
-  lastViewProj_ = view_.viewProj;
-  lastParams_ = p;
+  pipeline_.projection().geometryStage().run(mesh_, view_, ps.cullHidden && view_.boundsInFront, haveData);
+  // The noise origin falls back to the mesh's corner only when there is no data (nothing is textured then).
+  pipeline_.project(view_, p, mesh_.boundsLo());
 }
 
 void FabricRenderer::composite(const FabricParams& p) {
@@ -145,67 +75,28 @@ void FabricRenderer::composite(const FabricParams& p) {
   glClearNamedFramebufferfv(output_.id(), GL_COLOR, 0, bg);
   const float one = 1.0f;
   glClearNamedFramebufferfv(output_.id(), GL_DEPTH, 0, &one);
-  CompositeSettings cs;
-  cs.mode = p.colour;
-  cs.r = static_cast<float>(p.r);
-  cs.contrast = static_cast<float>(p.contrast);
-  cs.lighting = p.lighting;
-  cs.silhouettes = p.silhouette;
-  cs.depthColour = static_cast<float>(p.depthColour);
-  cs.sharpen = static_cast<float>(p.sharpen);
-  cs.fadeOutOfPlane = p.fadeOutOfPlane;
-  cs.background = !background_.empty();
-  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &silhouette_.edges(),
-                     &projection_.eigen(),   &projection_.lambda()};
-  if (p.colour == ColourMode::Fibres) {
-    in.p3 = &advection_.field(2);
-    in.fibres = &projection_.fibres();
-  }
-  beginTimer(kComposite);
-  composite_.run(in, view_, cs);
-  endTimer();
+  pipeline_.composite(view_, p);
 }
 
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   const GlStateGuard guard;
-  bool restart = false;
-  prepare(camera, p, restart);
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
-                       p.colour == ColourMode::Fibres};
-  beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
-  endTimer();
+  prepare(camera, p);
+  pipeline_.advect(p);
   composite(p);
 }
 
 Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   const GlStateGuard guard;
-  bool restart = false;
-  dataChanged_ = true; // a still always starts from beta: same arguments, same image
+  pipeline_.invalidate(); // a still always starts from beta: same arguments, same image
   still_ = true;
-  prepare(camera, p, restart);
-  still_ = false;
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
-                       p.colour == ColourMode::Fibres};
-  const unsigned covered = coveredPixels();
-  // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
-  // then until (almost) no pixel changes by more than epsilon per iteration.
-  int minIterations = p.stillMaxIterations;
-  if (p.k > 0 && p.k < 1 && p.epsilon > 0 && p.epsilon < 1)
-    minIterations = static_cast<int>(std::ceil(std::log(p.epsilon) / std::log(1.0 - p.k)));
-  else if (p.k >= 1)
-    minIterations = 1;
-  minIterations = std::clamp(minIterations, 1, std::max(p.stillMaxIterations, 1));
-  const int chunk = std::max(p.iterations, 1);
-  int done = 0;
-  while (done < p.stillMaxIterations) {
-    int n = std::min(chunk, p.stillMaxIterations - done);
-    bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p));
-    done += n;
-    if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
+  try {
+    prepare(camera, p);
+  } catch (...) {
+    still_ = false;
+    throw;
   }
-  lastIterations_ = done;
+  still_ = false;
+  lastIterations_ = pipeline_.converge(p);
   composite(p);
   return readback();
 }
@@ -213,17 +104,17 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
 void FabricRenderer::renderPhong(const Camera& camera, const glm::vec3& colour) {
   const GlStateGuard guard;
   if (size_.x < 1) throw GlError("FabricRenderer: resize() before rendering");
-  timerUsed_.fill(false);
+  pipeline_.clearTimers();
   view_ = FrameView::make(camera, size_, 0, mesh_.boundsLo(), mesh_.boundsHi());
   glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
   const float bg[4] = {0, 0, 0, 1};
   glClearNamedFramebufferfv(output_.id(), GL_COLOR, 0, bg);
   const float one = 1.0f;
   glClearNamedFramebufferfv(output_.id(), GL_DEPTH, 0, &one);
-  beginTimer(kPhong);
+  pipeline_.beginTimer(FabricPipeline::kPhong);
   phong_.run(mesh_, view_, colour);
-  endTimer();
-  dataChanged_ = true; // the fabric targets were not updated for this camera
+  pipeline_.endTimer();
+  pipeline_.invalidate(); // the fabric targets were not updated for this camera
 }
 
 Image FabricRenderer::readback() const {
@@ -231,7 +122,8 @@ Image FabricRenderer::readback() const {
   Image img(size_.x, size_.y);
   std::vector<std::uint8_t> rows(img.rgba.size());
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(outColour_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()), rows.data());
+  glGetTextureImage(outColour_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rows.size()),
+                    rows.data());
   const std::size_t stride = static_cast<std::size_t>(size_.x) * 4;
   for (int y = 0; y < size_.y; ++y)
     std::memcpy(&img.rgba[static_cast<std::size_t>(y) * stride],
@@ -240,17 +132,11 @@ Image FabricRenderer::readback() const {
 }
 
 PassTimes FabricRenderer::lastTimes() const {
-  PassTimes t;
-  double* out[5] = {&t.projection, &t.silhouette, &t.advection, &t.composite, &t.phong};
-  for (int i = 0; i < 5; ++i) {
-    if (!timerUsed_[i]) continue;
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(timers_[i].id(), GL_QUERY_RESULT, &ns);
-    *out[i] = static_cast<double>(ns) * 1e-6;
-  }
-  return t;
+  return pipeline_.lastTimes();
 }
 
-unsigned FabricRenderer::coveredPixels() const { return projection_.coveredPixels(); }
+unsigned FabricRenderer::coveredPixels() const {
+  return pipeline_.projection().coveredPixels();
+}
 
 } // namespace dtf::render

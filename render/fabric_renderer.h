@@ -1,6 +1,7 @@
-// The fabric renderer: owns the passes of paper §2 (projection, silhouette, advection, composite), the
-// GPU copies of the mesh, tensor field and noise, and the offscreen output framebuffer every frame ends
-// in (the GUI blits it, batch mode reads it back). A frame runs fully on the GPU; textures are created
+// The fabric renderer of dtfabric's own front ends: a mesh's geometry stage, then the passes of paper §2
+// shared with the embedding route (render/fabric/fabric_pipeline.h: tensor stage, silhouette, advection,
+// composite), and the offscreen output framebuffer every frame ends in (the GUI blits it, batch mode reads
+// it back). A frame runs fully on the GPU; textures are created
 // only when the viewport size changes and uploads happen only when the data change.
 // Needs a current GL 4.5 context (GlContext::headless() or the GUI's).
 #pragma once
@@ -10,56 +11,13 @@
 #include "io/model/fibre_set.h"
 #include "io/model/tensor_field.h"
 #include "render/camera.h"
-#include "render/fabric/advection_pass.h"
-#include "render/fabric/composite_pass.h"
+#include "render/fabric_params.h"
+#include "render/fabric/fabric_pipeline.h"
 #include "render/fabric/frame_view.h"
 #include "render/fabric/phong_pass.h"
-#include "render/fabric/projection_pass.h"
-#include "render/fabric/silhouette_pass.h"
-#include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
 
-#include <array>
-#include <cstdint>
-#include <memory>
-#include <optional>
-
 namespace dtf::render {
-
-struct FabricParams {
-  double lod = 0;             // l of Eq. 7 in mm; 0 = auto: one noise tile spans autoLodPixels pixels
-  double autoLodPixels = 256;
-  double k = 0.1;             // Eq. 12 weight of beta
-  int iterations = 3;         // advection iterations per frame (paper: 3)
-  double epsilon = 0.05;      // change below which a pixel is converged (paper §2.5)
-  double r = 0.5;             // Eq. 13 blend
-  ColourMode colour = ColourMode::Medical;
-  double spotScale = 0.025;   // s of Eq. 6
-  std::uint32_t seed = 1;     // noise seed
-  int noiseSize = 256;        // noise tile edge, texels
-  bool lighting = true;
-  bool silhouette = true;
-  double silhouettePixels = 1.5; // Laplacian threshold in pixel sizes (mm per pixel)
-  double sharpen = 0.0;
-  double depthColour = 0.0;
-  double stepPixels = 2.0;    // advection step length in pixels (thread length ~ step / sqrt(k))
-  double contrast = 4.0;      // f(p) stretch before Eq. 13 / medical luminance; 1 = raw
-  double noiseBlend = 0.0;    // 0 = Eq. 9 exactly
-  int guard = 16;             // guard border in pixels
-  glm::vec3 background{0.0f};
-  int stillMaxIterations = 100;       // renderStill: iteration cap
-  double stillChangedFraction = 0.002; // renderStill: stop when fewer covered pixels than this changed
-  float fadeOutOfPlane = 0.0f;
-  float faFloor = 0.0f;       // fabric only where FA >= faFloor (the rest shows the background or grey)
-  double movingScale = 1.0;   // renderFrame: internal resolution while the camera moves (e.g. 0.5)
-  float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
-                                // are dropped (between mrview's usual 0.1 and 0.2)
-};
-
-// GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).
-struct PassTimes {
-  double projection = 0, silhouette = 0, advection = 0, composite = 0, phong = 0;
-};
 
 class FabricRenderer {
 public:
@@ -93,11 +51,11 @@ public:
   Image readback() const;
 
   // GL_TIME_ELAPSED queries around each pass; results of the last frame in lastTimes() (waits).
-  void setTiming(bool on) { timing_ = on; }
+  void setTiming(bool on) { pipeline_.setTiming(on); }
   PassTimes lastTimes() const;
   // Advection iterations of the last renderStill / changed pixels after the last counted iteration.
   int lastIterations() const { return lastIterations_; }
-  unsigned changedPixels() const { return advection_.changedPixels(); }
+  unsigned changedPixels() const { return pipeline_.advection().changedPixels(); }
   // Covered pixels of the last projection, guard border included (occlusion query; waits).
   unsigned coveredPixels() const;
   double effectiveLod(const FrameView& view, const FabricParams& params) const;
@@ -107,42 +65,22 @@ public:
   // TractRenderer bind it after renderFrame/renderStill and draw with depth test without clearing it;
   // readback() then returns the overlaid image.
   const Framebuffer& output() const { return output_; }
-  const ProjectionPass& projection() const { return projection_; }
-  const SilhouettePass& silhouette() const { return silhouette_; }
-  const AdvectionPass& advection() const { return advection_; }
+  const ProjectionPass& projection() const { return pipeline_.projection(); }
+  const SilhouettePass& silhouette() const { return pipeline_.silhouette(); }
+  const AdvectionPass& advection() const { return pipeline_.advection(); }
 
 private:
-  void prepare(const Camera& camera, const FabricParams& params, bool& restart);
+  void prepare(const Camera& camera, const FabricParams& params);
   void composite(const FabricParams& params);
-  int fields(const FabricParams& params) const; // advected fields: 3 for three-population fibre sets
-  void beginTimer(int pass);
-  void endTimer();
 
-  ProjectionPass projection_;
-  SilhouettePass silhouette_;
-  AdvectionPass advection_;
-  CompositePass composite_;
+  FabricPipeline pipeline_;
   PhongPass phong_;
   GpuMesh mesh_;
-  GpuTensorField field_;
-  GpuFibreSet fibres_;
-  FibreSet fibreSet_;                  // kept to re-upload when FabricParams::fibreThreshold changes
-  std::optional<ScalarVolume> fibreFa_;
-  float uploadedThreshold_ = FabricParams{}.fibreThreshold;
-  GpuScalarVolume background_;
-  Texture noise_;
-  std::shared_ptr<const NoiseTile> noiseTile_;
   Framebuffer output_;
   Texture outColour_, outDepth_;
   glm::ivec2 size_{0};
   FrameView view_;
-  std::array<Query, 5> timers_;
-  std::array<bool, 5> timerUsed_{};
-  bool timing_ = false;
-  bool dataChanged_ = true;
-  glm::mat4 lastViewProj_{0.0f};
   glm::mat4 lastCameraViewProj_{0.0f}; // viewport matrix of the last frame: tells a moving camera
-  FabricParams lastParams_;
   int lastIterations_ = 0;
   bool still_ = false;
 };

@@ -62,7 +62,7 @@ private:
 // after the first use of a setting.
 class ShaderVariants {
 public:
-  static constexpr int kMaxDefines = 6;
+  static constexpr int kMaxDefines = 7;
   ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
                  std::vector<std::string> always = {});
   // The program with the defines of `mask` (bit i = defines[i]). Throws GlError on a compile failure.

@@ -2,12 +2,15 @@
 // same mesh and camera, in the paper's Table 1 setting (1024x768, about 3/4 of the pixels covered, one
 // frame = projection + silhouette + 3 advection iterations + composite), on UV spheres of about 41k and
 // 572k triangles with an anisotropic Hessian field, and on the real brain's FA 0.25 isosurface when the
-// shared data is there.
+// shared data is there. The "embedded" case draws the 41k sphere the way a host application would: its own
+// raw GL pass of the sphere's depth and world normals, then EmbeddedFabric::draw into its framebuffer, next
+// to the own front end on the same camera.
 #include "app/bench/bench.h"
 #include "app/cli/args.h"
 #include "app/scene/surface_spec.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
+#include "render/embedding.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
@@ -44,6 +47,16 @@ struct Result {
   double fabricCpuMs = 0, phongCpuMs = 0; // process CPU time (all llvmpipe threads) per frame
   render::PassTimes passes;
   int frames = 0;
+  render::Camera camera; // the camera of the static frames
+};
+
+// The host route on the same sphere and camera: the host's geometry pass plus EmbeddedFabric::draw.
+struct EmbeddedResult {
+  bool ran = false;
+  double ms = 0, movingMs = 0, cpuMs = 0; // per frame, host pass included
+  double hostPassMs = 0;                  // GPU: the host's depth + normal pass
+  double hostOnlyMs = 0, hostOnlyCpuMs = 0; // the host's pass alone per frame (wall, CPU time)
+  render::PassTimes passes;               // GPU: EmbeddedFabric's passes (projection = import + tensor stage)
 };
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -120,6 +133,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
     if (std::abs(res.coverage - 0.75) < 0.03 || res.coverage <= 0) break;
     cam.zoom(std::clamp(std::sqrt(res.coverage / 0.75), 0.5, 2.0));
   }
+  res.camera = cam;
   // Static camera: the paper's frame (projection, silhouette, 3 advections, composite), state carried on.
   r.setTiming(true);
   render::PassTimes sum;
@@ -173,6 +187,169 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   return res;
 }
 
+
+// A host application's own scene, in raw GL as such a program would write it: the mesh in its own buffers
+// and program, a G-buffer (world normals RGBA16F + depth) and a display framebuffer (colour + the same depth).
+class HostScene {
+public:
+  HostScene(const Mesh& mesh, int width, int height) : width_(width), height_(height) {
+    const char* vs = "#version 450 core\n"
+                     "layout(location = 0) in vec3 a_position;\n"
+                     "layout(location = 1) in vec3 a_normal;\n"
+                     "uniform mat4 u_viewProj;\n"
+                     "out vec3 v_normal;\n"
+                     "void main() { v_normal = a_normal; gl_Position = u_viewProj * vec4(a_position, 1.0); }\n";
+    const char* fs = "#version 450 core\n"
+                     "in vec3 v_normal;\n"
+                     "layout(location = 0) out vec4 o_normal;\n"
+                     "void main() { o_normal = vec4(normalize(v_normal), 1.0); }\n";
+    program_ = glCreateProgram();
+    for (auto [stage, src] : {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
+      GLuint sh = glCreateShader(stage);
+      glShaderSource(sh, 1, &src, nullptr);
+      glCompileShader(sh);
+      glAttachShader(program_, sh);
+      glDeleteShader(sh);
+    }
+    glLinkProgram(program_);
+    GLint linked = 0;
+    glGetProgramiv(program_, GL_LINK_STATUS, &linked);
+    if (!linked) throw GlError("bench render: the host's program does not link");
+    Mesh m = mesh;
+    if (m.normals.size() != m.positions.size()) m.computeNormals();
+    glCreateBuffers(3, buffers_);
+    glNamedBufferStorage(buffers_[0], static_cast<GLsizeiptr>(m.positions.size() * sizeof(glm::vec3)),
+                         m.positions.data(), 0);
+    glNamedBufferStorage(buffers_[1], static_cast<GLsizeiptr>(m.normals.size() * sizeof(glm::vec3)), m.normals.data(), 0);
+    glNamedBufferStorage(buffers_[2], static_cast<GLsizeiptr>(m.indices.size() * sizeof(std::uint32_t)),
+                         m.indices.data(), 0);
+    indexCount_ = static_cast<GLsizei>(m.indices.size());
+    glCreateVertexArrays(1, &vao_);
+    for (GLuint a = 0; a < 2; ++a) {
+      glVertexArrayVertexBuffer(vao_, a, buffers_[a], 0, sizeof(glm::vec3));
+      glVertexArrayAttribFormat(vao_, a, 3, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(vao_, a, a);
+      glEnableVertexArrayAttrib(vao_, a);
+    }
+    glVertexArrayElementBuffer(vao_, buffers_[2]);
+    glCreateTextures(GL_TEXTURE_2D, 3, textures_);
+    glTextureStorage2D(textures_[0], 1, GL_DEPTH_COMPONENT32F, width, height);
+    glTextureStorage2D(textures_[1], 1, GL_RGBA16F, width, height);
+    glTextureStorage2D(textures_[2], 1, GL_RGBA8, width, height);
+    glCreateFramebuffers(2, fbos_);
+    glNamedFramebufferTexture(fbos_[0], GL_COLOR_ATTACHMENT0, textures_[1], 0);
+    glNamedFramebufferTexture(fbos_[0], GL_DEPTH_ATTACHMENT, textures_[0], 0);
+    glNamedFramebufferTexture(fbos_[1], GL_COLOR_ATTACHMENT0, textures_[2], 0);
+    glNamedFramebufferTexture(fbos_[1], GL_DEPTH_ATTACHMENT, textures_[0], 0);
+    glCreateQueries(GL_TIME_ELAPSED, 1, &timer_);
+  }
+  ~HostScene() {
+    glDeleteQueries(1, &timer_);
+    glDeleteFramebuffers(2, fbos_);
+    glDeleteTextures(3, textures_);
+    glDeleteVertexArrays(1, &vao_);
+    glDeleteBuffers(3, buffers_);
+    glDeleteProgram(program_);
+  }
+  HostScene(const HostScene&) = delete;
+  HostScene& operator=(const HostScene&) = delete;
+
+  // The host's geometry pass of one frame (timed with a GL_TIME_ELAPSED query), then its display
+  // framebuffer cleared to black; returns the view EmbeddedFabric::draw takes.
+  render::HostView frame(const glm::mat4& view, const glm::mat4& projection) {
+    glBeginQuery(GL_TIME_ELAPSED, timer_);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbos_[0]);
+    glViewport(0, 0, width_, height_);
+    const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
+    glClearNamedFramebufferfv(fbos_[0], GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(fbos_[0], GL_DEPTH, 0, &one);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE); // a closed sphere seen from outside, as any host would draw it
+    glUseProgram(program_);
+    glProgramUniformMatrix4fv(program_, glGetUniformLocation(program_, "u_viewProj"), 1, GL_FALSE,
+                              &(projection * view)[0][0]);
+    glBindVertexArray(vao_);
+    glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_CULL_FACE);
+    glEndQuery(GL_TIME_ELAPSED);
+    glClearNamedFramebufferfv(fbos_[1], GL_COLOR, 0, zero);
+    render::HostView v;
+    v.depthTexture = textures_[0];
+    v.normalTexture = textures_[1];
+    v.view = view;
+    v.projection = projection;
+    v.viewport = {0, 0, width_, height_};
+    v.framebuffer = fbos_[1];
+    return v;
+  }
+  double lastPassMs() const {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timer_, GL_QUERY_RESULT, &ns);
+    return static_cast<double>(ns) * 1e-6;
+  }
+
+private:
+  int width_, height_;
+  GLuint program_ = 0, vao_ = 0, buffers_[3] = {0, 0, 0}, textures_[3] = {0, 0, 0}, fbos_[2] = {0, 0}, timer_ = 0;
+  GLsizei indexCount_ = 0;
+};
+
+EmbeddedResult runEmbedded(const Case& c, const render::Camera& camera, int width, int height, int frames,
+                           render::ColourMode mode) {
+  EmbeddedResult res;
+  res.ran = true;
+  HostScene host(c.mesh, width, height);
+  render::EmbeddedFabric fabric;
+  fabric.setField(c.field);
+  render::FabricParams p;
+  p.iterations = 3;
+  p.colour = mode;
+  const double aspect = double(width) / height;
+  const glm::mat4 view(camera.view()), projection(camera.projection(aspect));
+  fabric.draw(host.frame(view, projection), p); // warm-up: programs, noise, targets
+  glFinish();
+  fabric.setTiming(true);
+  render::PassTimes sum;
+  double hostSum = 0;
+  std::clock_t c0 = std::clock();
+  auto t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    fabric.draw(host.frame(view, projection), p);
+    render::PassTimes t = fabric.lastTimes(); // waits for the frame
+    hostSum += host.lastPassMs();
+    sum.projection += t.projection;
+    sum.silhouette += t.silhouette;
+    sum.advection += t.advection;
+    sum.composite += t.composite;
+  }
+  glFinish();
+  res.ms = msSince(t0) / frames;
+  res.cpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
+  res.hostPassMs = hostSum / frames;
+  res.passes = {sum.projection / frames, sum.silhouette / frames, sum.advection / frames, sum.composite / frames, 0};
+  fabric.setTiming(false);
+  // Moving camera: the same trackball steps as the own front end's moving figure.
+  render::Camera moving = camera;
+  t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    moving.trackball({0.0, 0.0}, {0.01, 0.0});
+    fabric.draw(host.frame(glm::mat4(moving.view()), projection), p);
+    glFinish();
+  }
+  res.movingMs = msSince(t0) / frames;
+  // The host's pass alone: what the host pays without the fabric.
+  c0 = std::clock();
+  t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    host.frame(view, projection);
+    glFinish();
+  }
+  res.hostOnlyMs = msSince(t0) / frames;
+  res.hostOnlyCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
+  render::checkGl("bench render embedded " + c.name);
+  return res;
+}
+
 } // namespace
 
 int benchRender(const CommandArgs& argv) {
@@ -184,6 +361,8 @@ int benchRender(const CommandArgs& argv) {
                 "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
                 "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
                 "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n"
+                "  With sphere_41k also the embedded case: a host's raw GL depth + normal pass of the same sphere\n"
+                "  and camera, then EmbeddedFabric::draw into the host's framebuffer (render/embedding.h).\n"
                 "  Peer on sphere_41k when pvbatch is on the PATH (Debian package paraview): ParaView's\n"
                 "  Surface LIC with its defaults and with 1 step, and its plain surface (--peer-frames,\n"
                 "  default min(N, 10); --peer-png saves one of its LIC frames).\n");
@@ -217,6 +396,10 @@ int benchRender(const CommandArgs& argv) {
   std::vector<Result> results;
   for (const auto& c : cases)
     if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode));
+  // The host route on the same sphere and camera as the own front end's sphere_41k.
+  EmbeddedResult embedded;
+  if (!results.empty() && results[0].name == "sphere_41k")
+    embedded = runEmbedded(cases[0], results[0].camera, width, height, frames, mode);
   // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench/bench_render_peer.cpp).
   const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
   RenderPeerResult peer;
@@ -240,6 +423,16 @@ int benchRender(const CommandArgs& argv) {
                   r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
     }
     std::printf("]");
+    if (embedded.ran)
+      std::printf(", \"embedded\": {\"name\": \"sphere_41k\", \"embedded_ms\": %.2f, \"embedded_moving_ms\": %.2f, "
+                  "\"embedded_cpu_ms\": %.2f, \"host_pass_ms\": %.2f, \"host_pass_cpu_ms\": %.2f, \"own_ms\": %.2f, \"own_cpu_ms\": %.2f, \"own_moving_ms\": %.2f, \"passes_ms\": {\"host_geometry\": %.2f, "
+                  "\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f}}",
+                  embedded.ms, embedded.movingMs, embedded.cpuMs, embedded.hostOnlyMs, embedded.hostOnlyCpuMs,
+                  results[0].fabricMs, results[0].fabricCpuMs, results[0].movingMs,
+                  embedded.hostPassMs, embedded.passes.projection, embedded.passes.silhouette, embedded.passes.advection,
+                  embedded.passes.composite);
+    else
+      std::printf(", \"embedded\": null");
     printRenderPeerJson(peer, mine);
     std::printf("}\n");
     return 0;
@@ -279,6 +472,27 @@ int benchRender(const CommandArgs& argv) {
     std::printf("\nthree fibre populations vs the two-direction tensor fabric on the 41k sphere (goal <= 1.5): "
                 "%.2f wall, %.2f CPU time\n",
                 three->fabricMs / std::max(two->fabricMs, 1e-9), three->fabricCpuMs / std::max(two->fabricCpuMs, 1e-9));
+  if (embedded.ran) {
+    const Result& own = results[0];
+    std::printf("\nembedded on sphere_41k (a host's raw GL depth + normal pass, then EmbeddedFabric::draw into its\n"
+                "framebuffer; same camera) against the own front end (FabricRenderer::renderFrame):\n");
+    std::printf("  %-9s %8s %8s %8s | GPU ms: %8s %8s %8s %8s %8s\n", "route", "static", "moving", "CPU", "geometry",
+                "project", "silhou", "advect3", "compos");
+    std::printf("  %-9s %5.1f ms %5.1f ms %5.1f ms | %16s %8.2f %8.2f %8.2f %8.2f\n", "own", own.fabricMs, own.movingMs,
+                own.fabricCpuMs, "(in project)", own.passes.projection, own.passes.silhouette, own.passes.advection,
+                own.passes.composite);
+    std::printf("  %-9s %5.1f ms %5.1f ms %5.1f ms | %16.2f %8.2f %8.2f %8.2f %8.2f\n", "embedded", embedded.ms,
+                embedded.movingMs, embedded.cpuMs, embedded.hostPassMs, embedded.passes.projection,
+                embedded.passes.silhouette, embedded.passes.advection, embedded.passes.composite);
+    std::printf("  %-9s %5.1f ms %8s %5.1f ms   (the host's depth + normal pass alone)\n", "host pass",
+                embedded.hostOnlyMs, "", embedded.hostOnlyCpuMs);
+    std::printf("  embedded / own: %.2f wall, %.2f CPU time, the host's pass included; without it (EmbeddedFabric::draw\n"
+                "  alone) %.2f wall, %.2f CPU time (goal <= 1). The embedded project = import of the host's textures +\n"
+                "  tensor stage, the own one = the mesh's geometry stage + tensor stage.\n",
+                embedded.ms / std::max(own.fabricMs, 1e-9), embedded.cpuMs / std::max(own.fabricCpuMs, 1e-9),
+                (embedded.ms - embedded.hostOnlyMs) / std::max(own.fabricMs, 1e-9),
+                (embedded.cpuMs - embedded.hostOnlyCpuMs) / std::max(own.fabricCpuMs, 1e-9));
+  }
   std::printf("\nfabric: static camera, advection state carried between frames; moving: a trackball step per frame,\n"
               "the advection restarts from the mapped noise (no smearing); mov 1/2: the same with the fabric computed\n"
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"

@@ -4,7 +4,7 @@ namespace dtf::render {
 
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
-                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES"}),
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"}),
       vao_(createVertexArray()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
@@ -12,9 +12,11 @@ CompositePass::CompositePass()
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
   const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
                         (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
-                        (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u);
+                        (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
+                        (s.windowDepth && in.depth ? 64u : 0u);
   const ShaderProgram& p = programs_.get(mask);
   glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
+  glProgramUniform2i(p.id(), p.location("u_origin"), s.origin.x, s.origin.y);
   p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
   p.set("u_eyeDepth", view.eyeDepth);
   p.set("u_r", s.r);
@@ -41,9 +43,10 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
     glBindTextureUnit(6, in.p3->id());
     glBindTextureUnit(7, in.fibres->id());
   }
-  glViewport(0, 0, view.viewport.x, view.viewport.y);
+  if (s.windowDepth && in.depth) glBindTextureUnit(8, in.depth->id());
+  glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_ALWAYS);
+  glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

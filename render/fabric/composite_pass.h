@@ -6,14 +6,11 @@
 #pragma once
 
 #include "render/fabric/frame_view.h"
+#include "render/fabric_params.h"
 #include "render/gl_objects.h"
 #include "render/shader_program.h"
 
 namespace dtf::render {
-
-// Medical and Engineering colour a tensor's two in-plane eigenvector fields; Fibres colours each fibre
-// population (up to three) in its own DEC colour (a tensor shown this way is its e1 only).
-enum class ColourMode { Medical, Engineering, Fibres };
 
 struct CompositeSettings {
   ColourMode mode = ColourMode::Medical;
@@ -29,6 +26,11 @@ struct CompositeSettings {
   float secondaryFa = 0.2f;    // medical: FA below which the secondary direction shows
   float fadeOutOfPlane = 0.0f; // medical: 0..1 fading of structures along the normal
   bool background = false;     // grey background values where there is no tensor data
+  glm::ivec2 origin{0};        // the viewport's lower-left pixel in the framebuffer drawn into
+  // The depth written is the projection's window depth (CompositeInputs::depth) as it is, depth-tested with
+  // GL_LEQUAL against the framebuffer's depth (a host's framebuffer holding the same surface passes); else
+  // it is computed from the linear depth and written without a test (the renderer's cleared output).
+  bool windowDepth = false;
 };
 
 struct CompositeInputs {
@@ -40,16 +42,17 @@ struct CompositeInputs {
   const Texture* lambda;
   const Texture* p3 = nullptr;     // Fibres: third population's field
   const Texture* fibres = nullptr; // Fibres: projection's per-population colour and weight
+  const Texture* depth = nullptr;  // CompositeSettings::windowDepth: the projection's depth
 };
 
 class CompositePass {
 public:
   CompositePass();
-  // Draws the viewport (guard offset applied) into the bound framebuffer.
+  // Draws the viewport (guard offset applied) into the bound framebuffer at settings.origin.
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
 
 private:
-  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES
+  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH
   VertexArray vao_;
 };
 

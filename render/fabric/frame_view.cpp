@@ -46,4 +46,42 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   return f;
 }
 
+FrameView FrameView::fromHost(const glm::mat4& view, const glm::mat4& projection, glm::ivec2 viewport, int guard,
+                              const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& reference) {
+  FrameView f;
+  f.viewport = glm::max(viewport, glm::ivec2(1));
+  f.scale = 1.0f;
+  f.internal = f.viewport;
+  f.guard = guard;
+  f.target = f.internal + 2 * guard;
+  const glm::dmat4 v(view), proj(projection);
+  glm::dmat4 shrink(1.0);
+  shrink[0][0] = double(f.internal.x) / f.target.x;
+  shrink[1][1] = double(f.internal.y) / f.target.y;
+  f.view = view;
+  f.viewProj = glm::mat4(shrink * proj * v);
+  f.viewProjViewport = glm::mat4(proj * v);
+  f.viewRot = glm::mat3(view);
+  f.eyeToWorld = glm::mat4(glm::inverse(v));
+  f.clipToEye = glm::mat4(glm::inverse(shrink * proj));
+  f.eyeDepth = glm::vec4(proj[2][2], proj[3][2], proj[2][3], proj[3][3]);
+  // Clip w does not depend on eye z for an orthographic projection.
+  f.orthographic = proj[2][3] == 0.0;
+  // One pixel spans 2 / (P[1][1] h) in eye units, times the depth for a perspective projection.
+  const double perPixel = 2.0 / (std::abs(proj[1][1]) * std::max(f.internal.y, 1));
+  const double refDepth = std::max(-(v * glm::dvec4(glm::dvec3(reference), 1.0)).z, 1e-6);
+  f.pixelMm = static_cast<float>(f.orthographic ? perPixel : perPixel * refDepth);
+  f.pixelMmPerDepth = f.orthographic ? 0.0f : static_cast<float>(perPixel);
+  float dmin = 1e30f, dmax = -1e30f;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    float d = -(f.view * glm::vec4(p, 1.0f)).z;
+    dmin = std::min(dmin, d);
+    dmax = std::max(dmax, d);
+  }
+  f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  f.boundsInFront = false; // no mesh to cull on this route
+  return f;
+}
+
 } // namespace dtf::render

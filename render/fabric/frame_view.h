@@ -32,6 +32,12 @@ struct FrameView {
   // the fabric targets are computed at `scale` times the viewport resolution.
   static FrameView make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
                         const glm::vec3& hi, float scale = 1.0f);
+  // The view of a host's matrices: `view` world -> eye (rotation and translation), `projection` eye -> clip
+  // (GL conventions, perspective or orthographic) for a viewport of `viewport` pixels, full resolution. The
+  // scene bounds [lo, hi] give the depth range; a perspective view's pixelMm is taken at the eye depth of
+  // `reference` (world mm; the renderer's camera target plays this part in make()).
+  static FrameView fromHost(const glm::mat4& view, const glm::mat4& projection, glm::ivec2 viewport, int guard,
+                            const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& reference);
 };
 
 } // namespace dtf::render

@@ -2,70 +2,62 @@
 
 namespace dtf::render {
 
-ProjectionPass::ProjectionPass()
-    : geometryProgram_("fabric/geometry.vert", "fabric/geometry.frag"),
-      fullscreen_("common/deferred.vert", "fabric/projection.frag", {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
+TensorStage::TensorStage()
+    : program_("common/deferred.vert", "fabric/projection.frag",
+               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
       vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
-  fullscreen_.get(1); // the default variant compiles with the pass, so a broken shader fails early
+  program_.get(1); // the default variant compiles with the pass, so a broken shader fails early
 }
 
-void ProjectionPass::resize(glm::ivec2 target) {
+void TensorStage::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
   vectors_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
-  depth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, target.x, target.y);
-  geometry_ = Texture::create2D(GL_RG32UI, target.x, target.y);
   fibres_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
-  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &depth_, &geometry_, &fibres_})
+  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &fibres_})
     t->setFilter(GL_NEAREST, GL_NEAREST);
-  geometryFbo_ = createFramebuffer();
-  attachTargets(geometryFbo_, {&geometry_}, &depth_);
   fbo_ = createFramebuffer();
-  attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, &depth_);
+  attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, nullptr);
   fibreFbo_ = createFramebuffer();
-  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_}, &depth_);
+  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_}, nullptr);
+  attachedDepth_ = 0;
 }
 
-void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
-                         const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background,
-                         const GpuFibreSet* fibres) {
+void TensorStage::attachDepth(const Texture& depth) {
+  if (depth.id() == attachedDepth_) return;
+  for (const Framebuffer* f : {&fbo_, &fibreFbo_})
+    glNamedFramebufferTexture(f->id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  attachedDepth_ = depth.id();
+}
+
+void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field, const Texture& noise,
+                      const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background,
+                      const GpuFibreSet* fibres) {
   const bool useFibres = s.fibres && fibres && !fibres->empty();
   const bool haveData = s.fibres ? useFibres : !field.empty();
-  resize(view.target);
+  resize(geometry.size());
+  attachDepth(geometry.depth());
   const float zero[4] = {0, 0, 0, 0};
-  const float one = 1.0f;
   glViewport(0, 0, size_.x, size_.y);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
 
-  // Geometry stage: normal and linear depth of the nearest surface.
-  glBindFramebuffer(GL_FRAMEBUFFER, geometryFbo_.id());
-  const GLuint none[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferuiv(geometryFbo_.id(), GL_COLOR, 0, none);
-  glClearNamedFramebufferfv(geometryFbo_.id(), GL_DEPTH, 0, &one);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  geometryProgram_.set("u_viewProj", view.viewProj);
-  geometryProgram_.set("u_view", view.view);
-  geometryProgram_.use();
-  if (haveData) mesh.drawVisible(s.cullHidden && view.boundsInFront);
-
-  // Fullscreen stage at the far plane: GL_GREATER passes exactly where the surface was drawn.
+  // At the far plane: GL_GREATER passes exactly where the geometry stage found a surface.
   const Framebuffer& target = useFibres ? fibreFbo_ : fbo_;
   glBindFramebuffer(GL_FRAMEBUFFER, target.id());
   // Only the surface target is cleared (its .a is the coverage the later passes test); the others are
   // read where the surface is covered only, and clearing them costs as much as a fullscreen pass.
   glClearNamedFramebufferfv(target.id(), GL_COLOR, 1, zero);
+  glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
   const bool hasBackground = background && !background->empty();
   const ShaderProgram& p =
-      fullscreen_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
-                      (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u));
+      program_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
+                   (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u));
   p.set("u_clipToEye", view.clipToEye);
   p.set("u_eyeToWorld", view.eyeToWorld);
   p.set("u_viewProj", view.viewProj);
@@ -96,7 +88,7 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   else
     field.bind();
   glBindTextureUnit(2, noise.id());
-  glBindTextureUnit(4, geometry_.id());
+  glBindTextureUnit(4, geometry.geometry().id());
   glBindVertexArray(vao_.id());
   glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -106,10 +98,29 @@ void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const
   glDisable(GL_DEPTH_TEST);
 }
 
-unsigned ProjectionPass::coveredPixels() const {
+unsigned TensorStage::coveredPixels() const {
   GLuint n = 0;
   glGetQueryObjectuiv(samples_.id(), GL_QUERY_RESULT, &n);
   return n;
+}
+
+void ProjectionPass::resize(glm::ivec2 target) {
+  geometry_.resize(target);
+  tensor_.resize(target);
+}
+
+void ProjectionPass::run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise,
+                         const FrameView& view, const ProjectionSettings& s,
+                         const GpuScalarVolume* background, const GpuFibreSet* fibres) {
+  const bool haveData = s.fibres ? fibres && !fibres->empty() : !field.empty();
+  geometry_.run(mesh, view, s.cullHidden && view.boundsInFront, haveData);
+  tensor_.run(geometry_, field, noise, view, s, background, fibres);
+}
+
+void ProjectionPass::runTensor(const GpuTensorField& field, const Texture& noise, const FrameView& view,
+                               const ProjectionSettings& s, const GpuScalarVolume* background,
+                               const GpuFibreSet* fibres) {
+  tensor_.run(geometry_, field, noise, view, s, background, fibres);
 }
 
 } // namespace dtf::render

@@ -1,22 +1,23 @@
-// Pass 1 of the fabric (paper §2.1, §2.3): renders the surface into the guarded target and writes, per
-// pixel, the image-space in-plane eigenvector directions and everything the later passes need. Deferred in
-// two draws: the geometry stage rasterises the mesh with a trivial shader into `geometry` (normal, linear
-// depth, 8 bytes) and the depth buffer; the fullscreen stage then does the tensor work once per covered pixel
-// (the early depth test skips the background). On a software rasteriser this is what makes the pass
-// cheap: shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3
-// depth pre-pass, without drawing the mesh twice).
-//   inputs : GpuMesh (world RAS mm), GpuTensorField, noise texture, FrameView
+// Pass 1 of the fabric (paper §2.1, §2.3), in two stages that run one after the other on the guarded target:
+// the geometry stage (render/fabric/geometry_stage.h) writes the geometry buffers, world normal and linear
+// depth per pixel plus the window depth, from a mesh (dtfabric's own front ends) or from a host's depth and
+// normal textures (the embedding route); the tensor stage then does the tensor work once per covered pixel
+// (the early depth test skips the background) and writes the image-space in-plane eigenvector directions
+// and everything the later passes need. On a software rasteriser the split is what makes the pass cheap:
+// shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3 depth
+// pre-pass, without drawing the mesh twice).
+//   inputs : geometry buffers, GpuTensorField (or GpuFibreSet), noise texture, FrameView
 //   outputs: vectors RGBA32UI (packSnorm2x16(v1.xy), packSnorm2x16(v2.xy): image-space directions,
 //                    max-norm 1, 0 = no direction; floatBitsToUint(beta); 0)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
 //            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
 //                    FA)
 //            lambda  RGBA8 (lambda2'/lambda1' of the in-plane eigenvalues (1 without a positive lambda1'),
-//                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor data)
-//            depth   DEPTH32F (window depth, for gl_FragDepth in the composite and the early depth test
-//                    of the later fullscreen passes)
-//            geometry RG32UI (octahedral world normal as snorm16 x2, linear depth mm as float bits;
-//                    0 = no surface)
+//                    |e1 . n|, the background volume's grey value where there is no tensor data, 1 = tensor
+//                    data)
+//            depth   DEPTH32F (the geometry stage's window depth, for gl_FragDepth in the composite and the
+//                    early depth test of the later fullscreen passes)
+//            geometry RG32UI (the geometry stage's buffer)
 //            fibres  RGBA32UI (fibre sets only: per population k = 1..3 packUnorm4x8(|d_k| world DEC colour,
 //                    weight = amplitude / strongest x in-surface fraction); vectors then hold population
 //                    3's image direction in .w)
@@ -25,6 +26,7 @@
 #pragma once
 
 #include "render/fabric/frame_view.h"
+#include "render/fabric/geometry_stage.h"
 #include "render/gl_objects.h"
 #include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
@@ -33,46 +35,81 @@
 namespace dtf::render {
 
 struct ProjectionSettings {
-  float lod = 10.0f;             // l of Eq. 7, mm
-  glm::vec3 noiseOrigin{0.0f};   // b_min of Eq. 7, mm
-  float noiseBlend = 0.0f;       // 0 = Eq. 9 exactly
-  float degenerateTol = 0.02f;   // relative in-plane eigenvalue gap treated as degenerate
-  bool principal = true;         // also decompose T for the 3D principal eigenvector (medical mode)
-  bool cullHidden = true;        // cull back faces of closed meshes seen from outside (same image)
-  float faFloor = 0.0f;          // the fabric only where FA >= faFloor; elsewhere "no tensor data"
-  bool fibres = false;           // sample the GpuFibreSet instead of the tensor field
+  float lod = 10.0f;           // l of Eq. 7, mm
+  glm::vec3 noiseOrigin{0.0f}; // b_min of Eq. 7, mm: a point fixed to the data, so every surface cut
+                               // from the same data carries the same noise at the same world point
+  float noiseBlend = 0.0f;     // 0 = Eq. 9 exactly
+  float degenerateTol = 0.02f; // relative in-plane eigenvalue gap treated as degenerate
+  bool principal = true;       // also decompose T for the 3D principal eigenvector (medical mode)
+  bool cullHidden = true;      // cull back faces of closed meshes seen from outside (same image)
+  float faFloor = 0.0f;        // the fabric only where FA >= faFloor; elsewhere "no tensor data"
+  bool fibres = false;         // sample the GpuFibreSet instead of the tensor field
 };
 
-class ProjectionPass {
+// The tensor stage: geometry buffers -> directions, beta, light, eigen, lambda (fibres).
+class TensorStage {
 public:
-  ProjectionPass();
+  TensorStage();
   // (Re)creates the targets when the size changes; no-op otherwise.
   void resize(glm::ivec2 target);
-  // `background` (optional) is sampled where the surface has no tensor data.
-  // With settings.fibres, `fibres` (required) replaces the tensor field.
-  void run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
-           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr,
-           const GpuFibreSet* fibres = nullptr);
+  // Runs on `geometry`'s buffers (their size is the view's target). `background` (optional) is sampled where
+  // the surface has no tensor data. With settings.fibres, `fibres` (required) replaces the tensor field.
+  void run(const GeometryStage& geometry, const GpuTensorField& field, const Texture& noise,
+           const FrameView& view, const ProjectionSettings& settings,
+           const GpuScalarVolume* background = nullptr, const GpuFibreSet* fibres = nullptr);
 
   const Texture& vectors() const { return vectors_; }
   const Texture& surface() const { return surface_; }
   const Texture& eigen() const { return eigen_; }
   const Texture& lambda() const { return lambda_; }
-  const Texture& depth() const { return depth_; }
-  const Texture& geometry() const { return geometry_; }
   const Texture& fibres() const { return fibres_; }
   glm::ivec2 size() const { return size_; }
-  // Pixels shaded by the last run's fullscreen stage (= covered pixels). Waits for the GPU.
+  // Pixels shaded by the last run (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const;
 
 private:
-  ShaderProgram geometryProgram_;
-  ShaderVariants fullscreen_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES
+  void attachDepth(const Texture& depth);
+  ShaderVariants program_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES
   VertexArray vao_;
   Query samples_;
-  Framebuffer geometryFbo_, fbo_, fibreFbo_;
-  Texture vectors_, surface_, eigen_, lambda_, depth_, geometry_, fibres_;
+  Framebuffer fbo_, fibreFbo_;
+  GLuint attachedDepth_ = 0;
+  Texture vectors_, surface_, eigen_, lambda_, fibres_;
   glm::ivec2 size_{0};
+};
+
+// Both stages together, the projection pass as the renderers run it.
+class ProjectionPass {
+public:
+  // Sizes follow the view's target.
+  void resize(glm::ivec2 target);
+  // Geometry stage from `mesh`, then the tensor stage (see TensorStage::run).
+  void run(const GpuMesh& mesh, const GpuTensorField& field, const Texture& noise, const FrameView& view,
+           const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr,
+           const GpuFibreSet* fibres = nullptr);
+  // The tensor stage alone, on whatever the geometry stage last wrote (a mesh or a host's textures).
+  void runTensor(const GpuTensorField& field, const Texture& noise, const FrameView& view,
+                 const ProjectionSettings& settings, const GpuScalarVolume* background = nullptr,
+                 const GpuFibreSet* fibres = nullptr);
+
+  GeometryStage& geometryStage() { return geometry_; }
+  const GeometryStage& geometryStage() const { return geometry_; }
+  const TensorStage& tensorStage() const { return tensor_; }
+
+  const Texture& vectors() const { return tensor_.vectors(); }
+  const Texture& surface() const { return tensor_.surface(); }
+  const Texture& eigen() const { return tensor_.eigen(); }
+  const Texture& lambda() const { return tensor_.lambda(); }
+  const Texture& depth() const { return geometry_.depth(); }
+  const Texture& geometry() const { return geometry_.geometry(); }
+  const Texture& fibres() const { return tensor_.fibres(); }
+  glm::ivec2 size() const { return tensor_.size(); }
+  // Pixels shaded by the last run's tensor stage (= covered pixels). Waits for the GPU.
+  unsigned coveredPixels() const { return tensor_.coveredPixels(); }
+
+private:
+  GeometryStage geometry_;
+  TensorStage tensor_;
 };
 
 } // namespace dtf::render

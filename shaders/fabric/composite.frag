@@ -14,7 +14,8 @@
 // relative to the strongest x its in-surface fraction) dims it and thins its cover, so weak and out-of-plane
 // populations fade.
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
-// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES.
+// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
+// depth written is the projection's window depth texel, a host's surface depth, not recomputed).
 layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
 layout(binding = 3) uniform sampler2D u_p2;
 layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
@@ -26,7 +27,12 @@ layout(binding = 6) uniform sampler2D u_p3;         // third population's advect
 layout(binding = 7) uniform usampler2D u_fibres;    // packUnorm4x8(|d_k|, weight_k), k = 1..3
 #endif
 
+#ifdef WINDOW_DEPTH
+layout(binding = 8) uniform sampler2D u_depth;      // window depth of the surface
+#endif
+
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
+uniform ivec2 u_origin = ivec2(0); // the viewport's lower-left pixel in the framebuffer drawn into
 uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
 uniform float u_r = 0.5;      // blend between the two directions (Eq. 13)
 uniform float u_contrast = 1.0; // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = Eq. 13 on the raw fields
@@ -148,7 +154,7 @@ vec3 compose(ivec2 t, vec4 s) {
 }
 
 void main() {
-  ivec2 t = ivec2(gl_FragCoord.xy * u_scale) + u_guard;
+  ivec2 t = ivec2((gl_FragCoord.xy - vec2(u_origin)) * u_scale) + u_guard;
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) discard;
   vec3 c = compose(t, s);
@@ -167,6 +173,12 @@ void main() {
   }
 #endif
   o_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
+#ifdef WINDOW_DEPTH
+  // Two units of a 24-bit depth buffer nearer (1.2e-7): the conversion of the written float back to the
+  // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.
+  gl_FragDepth = max(texelFetch(u_depth, t, 0).r - 2.0 / 16777215.0, 0.0);
+#else
   float z = -s.b; // eye z of the surface
   gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
+#endif
 }

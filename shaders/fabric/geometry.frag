@@ -1,21 +1,14 @@
 #version 450 core
-// Projection pass, geometry stage: one RG32UI texel per covered pixel: the interpolated world normal,
-// octahedral-encoded as two snorm16 (about 1e-4 rad), and the linear eye depth in mm as float bits. The
-// target is cleared to 0, so depth 0 means "no surface here". The shader
-// is trivial on purpose: on a software rasteriser each small triangle costs a full block of fragment
+// Geometry stage of the projection, from a mesh: one RG32UI texel per covered pixel: the interpolated world
+// normal, octahedral-encoded as two snorm16 (about 1e-4 rad), and the linear eye depth in mm as float bits.
+// The target is cleared to 0, so depth 0 means "no surface here". The shader is trivial on purpose: on a software rasteriser each small triangle costs a full block of fragment
 // invocations, so the expensive per-pixel work runs once per pixel in the fullscreen stage instead.
+#include "common/octahedral.glsl"
+
 in vec3 v_normal;
 in float v_depth;
 
 layout(location = 0) out uvec2 o_geometry;
-
-// Octahedral encoding of a unit vector into [-1, 1]^2.
-vec2 octahedral(vec3 n) {
-  n /= abs(n.x) + abs(n.y) + abs(n.z);
-  vec2 e = n.xy;
-  if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-  return e;
-}
 
 void main() {
   vec3 n = dot(v_normal, v_normal) > 0.0 ? v_normal : vec3(0.0, 0.0, 1.0);

@@ -1,6 +1,8 @@
 #version 450 core
-// Projection pass (paper §2.1 and §2.3, Eq. 1-5 and 7-9), fullscreen stage: once per covered pixel of
-// the geometry stage's target (early depth test against the surface's depth, see common/deferred.vert).
+// Tensor stage of the projection (paper §2.1 and §2.3, Eq. 1-5 and 7-9): once per covered pixel of the
+// geometry buffers, written from a mesh (fabric/geometry.*) or imported from a host's depth and normal
+// textures (fabric/host_import.frag); the early depth test against their depth skips the rest (see
+// common/deferred.vert).
 // Per pixel: rebuild the world position from the linear depth, interpolate the tensor, project it onto the
 // tangent plane (T' = P T P^T, P = I - n n^T), decompose T', take its two in-plane eigenvectors, project
 // each to image space as the pixel difference of p + eps v and p (perspective-correct), and scale by the
@@ -19,6 +21,7 @@
 #include "common/tensor_field.glsl"
 #endif
 #include "common/lighting.glsl"
+#include "common/octahedral.glsl"
 
 layout(early_fragment_tests) in;
 
@@ -27,11 +30,6 @@ noperspective in vec3 v_farEye;
 
 layout(binding = 4) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
 
-vec3 fromOctahedral(vec2 e) {
-  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-  return normalize(n);
-}
 uniform mat4 u_eyeToWorld;
 uniform mat4 u_viewProj;
 uniform mat3 u_viewRot;      // world -> eye rotation (normals)

@@ -1,0 +1,215 @@
+#include "render/fabric/fabric_pipeline.h"
+
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace dtf::render {
+
+namespace {
+// Parameters whose change invalidates the advection state.
+auto stateKey(const FabricParams& p) {
+  return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
+                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold);
+}
+
+void boundsOf(const Grid& g, glm::vec3& lo, glm::vec3& hi) {
+  glm::dvec3 l, h;
+  g.worldBounds(l, h);
+  lo = glm::vec3(l);
+  hi = glm::vec3(h);
+}
+} // namespace
+
+FabricPipeline::FabricPipeline() {
+  for (auto& q : timers_)
+    q = createQuery(GL_TIME_ELAPSED);
+}
+
+void FabricPipeline::setField(const TensorField& field) {
+  field_.upload(field);
+  haveField_ = field.grid.voxelCount() > 0;
+  if (haveField_) boundsOf(field.grid, fieldLo_, fieldHi_);
+  dataChanged_ = true;
+}
+
+void FabricPipeline::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
+  fibreSet_ = fibres;
+  fibreFa_ = fa ? std::optional<ScalarVolume>(*fa) : std::nullopt;
+  fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+  haveFibres_ = fibres.grid.voxelCount() > 0;
+  if (haveFibres_) boundsOf(fibres.grid, fibreLo_, fibreHi_);
+  dataChanged_ = true;
+}
+
+void FabricPipeline::clearFibres() {
+  fibres_.clear();
+  fibreSet_ = FibreSet{};
+  fibreFa_.reset();
+  haveFibres_ = false;
+  dataChanged_ = true;
+}
+
+void FabricPipeline::setBackground(const ScalarVolume* volume, float lo, float hi) {
+  if (volume)
+    background_.upload(*volume, lo, hi);
+  else
+    background_.clear();
+  dataChanged_ = true;
+}
+
+bool FabricPipeline::dataBounds(glm::vec3& lo, glm::vec3& hi) const {
+  if (haveField_) {
+    lo = fieldLo_;
+    hi = fieldHi_;
+  } else if (haveFibres_) {
+    lo = fibreLo_;
+    hi = fibreHi_;
+  }
+  return haveField_ || haveFibres_;
+}
+
+glm::vec3 FabricPipeline::noiseOrigin(const FabricParams& p, const glm::vec3& fallback) const {
+  if (p.colour == ColourMode::Fibres && haveFibres_) return fibreLo_;
+  if (haveField_) return fieldLo_;
+  if (haveFibres_) return fibreLo_;
+  return fallback;
+}
+
+double FabricPipeline::effectiveLod(const FrameView& view, const FabricParams& p) const {
+  return p.lod > 0 ? p.lod : p.autoLodPixels * view.pixelMm;
+}
+
+int FabricPipeline::fields(const FabricParams& p) const {
+  return p.colour == ColourMode::Fibres && fibres_.lobes() >= 3 ? 3 : 2;
+}
+
+void FabricPipeline::beginTimer(Pass pass) {
+  if (!timing_) return;
+  glBeginQuery(GL_TIME_ELAPSED, timers_[pass].id());
+  timerUsed_[pass] = true;
+}
+
+void FabricPipeline::endTimer() {
+  if (timing_) glEndQuery(GL_TIME_ELAPSED);
+}
+
+bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const glm::vec3& noiseFallback,
+                             bool forceRestart) {
+  NoiseOptions no;
+  no.size = p.noiseSize;
+  no.spotScale = p.spotScale;
+  no.seed = p.seed;
+  if (!noiseTile_ || noiseTile_->size != no.size || stateKey(p) != stateKey(lastParams_)) {
+    auto tile = cachedReactionDiffusion(no);
+    if (tile != noiseTile_) {
+      noiseTile_ = tile;
+      noise_ = uploadNoise(*tile);
+    }
+  }
+  const bool restart =
+      forceRestart || dataChanged_ || view.viewProj != lastViewProj_ || stateKey(p) != stateKey(lastParams_);
+
+  ProjectionSettings ps;
+  ps.lod = static_cast<float>(effectiveLod(view, p));
+  ps.noiseOrigin = noiseOrigin(p, noiseFallback);
+  ps.noiseBlend = static_cast<float>(p.noiseBlend);
+  ps.principal = p.colour == ColourMode::Medical;
+  ps.faFloor = p.faFloor;
+  ps.fibres = p.colour == ColourMode::Fibres;
+  if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
+  if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
+    uploadedThreshold_ = p.fibreThreshold;
+    fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+  }
+  projection_.runTensor(field_, noise_, view, ps, &background_, &fibres_);
+  endTimer(); // the projection's timer runs from the caller's geometry stage to here
+
+  beginTimer(kSilhouette);
+  const float background = view.depthRange.y + (view.depthRange.y - view.depthRange.x) + 1.0f;
+  // Without silhouettes the pass still marks the background, which the advection must not sample.
+  const float threshold = p.silhouette ? static_cast<float>(p.silhouettePixels) * view.pixelMm : 3.0e38f;
+  silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
+  endTimer();
+
+  if (restart)
+    advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
+  dataChanged_ = false;
+  lastViewProj_ = view.viewProj;
+  lastParams_ = p;
+  return restart;
+}
+
+void FabricPipeline::advect(const FabricParams& p) {
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
+                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
+  beginTimer(kAdvection);
+  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
+  endTimer();
+}
+
+int FabricPipeline::converge(const FabricParams& p) {
+  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
+                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
+  const unsigned covered = projection_.coveredPixels();
+  // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
+  // then until (almost) no pixel changes by more than epsilon per iteration.
+  int minIterations = p.stillMaxIterations;
+  if (p.k > 0 && p.k < 1 && p.epsilon > 0 && p.epsilon < 1)
+    minIterations = static_cast<int>(std::ceil(std::log(p.epsilon) / std::log(1.0 - p.k)));
+  else if (p.k >= 1)
+    minIterations = 1;
+  minIterations = std::clamp(minIterations, 1, std::max(p.stillMaxIterations, 1));
+  const int chunk = std::max(p.iterations, 1);
+  int done = 0;
+  while (done < p.stillMaxIterations) {
+    int n = std::min(chunk, p.stillMaxIterations - done);
+    bool check = done + n >= minIterations;
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p));
+    done += n;
+    if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
+  }
+  return done;
+}
+
+void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
+                               bool windowDepth) {
+  CompositeSettings cs;
+  cs.mode = p.colour;
+  cs.r = static_cast<float>(p.r);
+  cs.contrast = static_cast<float>(p.contrast);
+  cs.lighting = p.lighting;
+  cs.silhouettes = p.silhouette;
+  cs.depthColour = static_cast<float>(p.depthColour);
+  cs.sharpen = static_cast<float>(p.sharpen);
+  cs.fadeOutOfPlane = p.fadeOutOfPlane;
+  cs.background = !background_.empty();
+  cs.origin = origin;
+  cs.windowDepth = windowDepth;
+  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(),
+                     &silhouette_.edges(), &projection_.eigen(), &projection_.lambda()};
+  if (p.colour == ColourMode::Fibres) {
+    in.p3 = &advection_.field(2);
+    in.fibres = &projection_.fibres();
+  }
+  in.depth = &projection_.depth();
+  beginTimer(kComposite);
+  composite_.run(in, view, cs);
+  endTimer();
+}
+
+PassTimes FabricPipeline::lastTimes() const {
+  PassTimes t;
+  double* out[kPasses] = {&t.projection, &t.silhouette, &t.advection, &t.composite, &t.phong};
+  for (int i = 0; i < kPasses; ++i) {
+    if (!timerUsed_[i]) continue;
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timers_[i].id(), GL_QUERY_RESULT, &ns);
+    *out[i] = static_cast<double>(ns) * 1e-6;
+  }
+  return t;
+}
+
+} // namespace dtf::render

@@ -1,0 +1,100 @@
+// The fabric after the geometry stage, shared by both routes: dtfabric's own front ends (FabricRenderer
+// fills the geometry buffers from a mesh) and a host application (EmbeddedFabric imports them from the
+// host's depth and normal textures). Owns the data on the GPU (tensor field, fibre set, background volume),
+// the noise tile, the tensor stage, silhouettes, advection with its state across frames, the composite and
+// the pass timers. A frame: project() (tensor stage, silhouettes, advection restart when the view, data or
+// parameters changed), advect() or converge(), composite() into the bound framebuffer.
+// The noise is anchored to the data: b_min of Eq. 7 is the lower corner of the world bounds of the tensor
+// field's (or fibre set's) voxel centres, so every surface cut from the same data, in any front end or
+// host, carries the same noise at the same world point (given the same l).
+#pragma once
+
+#include "io/model/fibre_set.h"
+#include "io/model/tensor_field.h"
+#include "render/fabric/advection_pass.h"
+#include "render/fabric/composite_pass.h"
+#include "render/fabric/frame_view.h"
+#include "render/fabric/projection_pass.h"
+#include "render/fabric/silhouette_pass.h"
+#include "render/fabric_params.h"
+#include "render/gpu_fibres.h"
+#include "render/gpu_scene.h"
+
+#include <array>
+#include <memory>
+#include <optional>
+
+namespace dtf::render {
+
+class FabricPipeline {
+public:
+  enum Pass { kProjection = 0, kSilhouette, kAdvection, kComposite, kPhong, kPasses };
+
+  FabricPipeline();
+
+  void setField(const TensorField& field);
+  void setFibres(const FibreSet& fibres, const ScalarVolume* fa = nullptr);
+  void clearFibres();
+  void setBackground(const ScalarVolume* volume, float lo, float hi);
+  // World bounds of the data's voxel centres (tensor field, else fibre set); false when there is none.
+  bool dataBounds(glm::vec3& lo, glm::vec3& hi) const;
+  // b_min of Eq. 7 for the given parameters: the lower corner of the data bounds (the fibre set's in the
+  // fibre colour mode), or `fallback` without data.
+  glm::vec3 noiseOrigin(const FabricParams& params, const glm::vec3& fallback) const;
+  double effectiveLod(const FrameView& view, const FabricParams& params) const;
+  // The advection state restarts on the next project() (the geometry buffers changed for another reason).
+  void invalidate() { dataChanged_ = true; }
+
+  // Tensor stage on the geometry stage's buffers, then silhouettes; restarts the advection from beta when
+  // the data, the view's matrices or the parameters changed since the last call, or `forceRestart`.
+  // The geometry stage must have run for `view`; the caller starts the kProjection timer before it (the
+  // projection's time covers both stages) and this call ends it. Returns whether the advection restarted.
+  bool project(const FrameView& view, const FabricParams& params, const glm::vec3& noiseFallback,
+               bool forceRestart = false);
+  // params.iterations Eq. 12 iterations, continuing the state.
+  void advect(const FabricParams& params);
+  // Iterates to convergence (see FabricRenderer::renderStill); returns the iterations run.
+  int converge(const FabricParams& params);
+  // Composites the viewport into the bound framebuffer at `origin`; with `windowDepth` the depth written is
+  // the geometry stage's window depth, tested with GL_LEQUAL (a host's framebuffer).
+  void composite(const FrameView& view, const FabricParams& params, glm::ivec2 origin = glm::ivec2(0),
+                 bool windowDepth = false);
+
+  void beginTimer(Pass pass);
+  void endTimer();
+  void setTiming(bool on) { timing_ = on; }
+  bool timing() const { return timing_; }
+  void clearTimers() { timerUsed_.fill(false); }
+  PassTimes lastTimes() const;
+
+  ProjectionPass& projection() { return projection_; }
+  const ProjectionPass& projection() const { return projection_; }
+  const SilhouettePass& silhouette() const { return silhouette_; }
+  const AdvectionPass& advection() const { return advection_; }
+  bool fibresEmpty() const { return fibres_.empty(); }
+
+private:
+  int fields(const FabricParams& params) const; // advected fields: 3 for three-population fibre sets
+  ProjectionPass projection_;
+  SilhouettePass silhouette_;
+  AdvectionPass advection_;
+  CompositePass composite_;
+  GpuTensorField field_;
+  GpuFibreSet fibres_;
+  FibreSet fibreSet_; // kept to re-upload when FabricParams::fibreThreshold changes
+  std::optional<ScalarVolume> fibreFa_;
+  float uploadedThreshold_ = FabricParams{}.fibreThreshold;
+  GpuScalarVolume background_;
+  Texture noise_;
+  std::shared_ptr<const NoiseTile> noiseTile_;
+  bool haveField_ = false, haveFibres_ = false;
+  glm::vec3 fieldLo_{0.0f}, fieldHi_{0.0f}, fibreLo_{0.0f}, fibreHi_{0.0f};
+  std::array<Query, kPasses> timers_;
+  std::array<bool, kPasses> timerUsed_{};
+  bool timing_ = false;
+  bool dataChanged_ = true;
+  glm::mat4 lastViewProj_{0.0f};
+  FabricParams lastParams_;
+};
+
+} // namespace dtf::render

@@ -1,0 +1,50 @@
+// The fabric's parameters and the GPU pass times of a frame: plain values shared by the renderers
+// (FabricRenderer, EmbeddedFabric) and the option table; no GL types, so a host's code can include it.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+// Medical and Engineering colour a tensor's two in-plane eigenvector fields; Fibres colours each fibre
+// population (up to three) in its own DEC colour (a tensor shown this way is its e1 only).
+enum class ColourMode { Medical, Engineering, Fibres };
+
+struct FabricParams {
+  double lod = 0; // l of Eq. 7 in mm; 0 = auto: one noise tile spans autoLodPixels pixels (follows
+                  // the zoom; set a fixed l for the same texture across views, meshes and hosts)
+  double autoLodPixels = 256;
+  double k = 0.1;        // Eq. 12 weight of beta
+  int iterations = 3;    // advection iterations per frame (paper: 3)
+  double epsilon = 0.05; // change below which a pixel is converged (paper §2.5)
+  double r = 0.5;        // Eq. 13 blend
+  ColourMode colour = ColourMode::Medical;
+  double spotScale = 0.025; // s of Eq. 6
+  std::uint32_t seed = 1;   // noise seed
+  int noiseSize = 256;      // noise tile edge, texels
+  bool lighting = true;
+  bool silhouette = true;
+  double silhouettePixels = 1.5; // Laplacian threshold in pixel sizes (mm per pixel)
+  double sharpen = 0.0;
+  double depthColour = 0.0;
+  double stepPixels = 2.0; // advection step length in pixels (thread length ~ step / sqrt(k))
+  double contrast = 4.0;   // f(p) stretch before Eq. 13 / medical luminance; 1 = raw
+  double noiseBlend = 0.0; // 0 = Eq. 9 exactly
+  int guard = 16;          // guard border in pixels
+  glm::vec3 background{0.0f};
+  int stillMaxIterations = 100;        // renderStill: iteration cap
+  double stillChangedFraction = 0.002; // renderStill: stop when fewer covered pixels than this changed
+  float fadeOutOfPlane = 0.0f;
+  float faFloor = 0.0f;         // fabric only where FA >= faFloor (the rest shows the background or grey)
+  double movingScale = 1.0;     // renderFrame: internal resolution while the camera moves (e.g. 0.5)
+  float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
+                                // are dropped (between mrview's usual 0.1 and 0.2)
+};
+
+// GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).
+struct PassTimes {
+  double projection = 0, silhouette = 0, advection = 0, composite = 0, phong = 0;
+};
+
+} // namespace dtf::render
