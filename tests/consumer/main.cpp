@@ -4,9 +4,10 @@
 //   2. loads the real tensor volume with dtf::io::readTensorVolume and checks it against known values,
 //   3. builds a sphere with the public API and draws its depth and world normals with raw GL into its own
 //      framebuffer, with its own view and projection matrices,
-//   4. sets GL state of its own, renders the fabric on the same sphere through the public API, and checks
-//      that its state is untouched afterwards,
-//   5. compares the fabric image with a baseline and the fabric's depth with its own.
+//   4. sets GL state of its own, hands its depth and normal textures with its matrices to the embedding API
+//      (dtf::render::EmbeddedFabric), which draws the fabric into the host's own colour + depth framebuffer,
+//      and checks that its state is untouched afterwards,
+//   5. compares the fabric image with a baseline and the depth the fabric wrote with its own.
 // Usage: dtfabric_consumer SHARED_DATA_DIR BASELINE_PNG OUTPUT_DIR. Exit code 0 when every check passed.
 // Prints "dtfabric_consumer: SKIPPED" and exits 0 when GL or the data is missing, unless DTF_REQUIRE_GL=1
 // or DTF_REQUIRE_SHARED_DATA=1 (then it fails). DTF_UPDATE_BASELINES=1 rewrites the baseline.
@@ -371,9 +372,8 @@ int main(int argc, char** argv) {
   glPixelStorei(GL_PACK_ALIGNMENT, 2);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glClearColor(0.1f, 0.2f, 0.3f, 0.4f);
-  const HostState before = HostState::capture();
 
-  // dtfabric's part: its own route for a Mesh with its camera. The same matrices as the host's.
+  // The camera type of dtfabric's own front ends gives the same matrices as the host's glm calls.
   dtf::render::Camera camera;
   camera.lookAt(eye, centre, up);
   camera.orthographic = false;
@@ -386,40 +386,85 @@ int main(int argc, char** argv) {
       sameMatrices = sameMatrices && near(camera.view()[c][r], view[c][r], 1e-4) &&
                      near(camera.projection(1.0)[c][r], proj[c][r], 1e-6);
   check(sameMatrices, "dtf::render::Camera gives the host's glm::lookAt/perspective matrices");
-  t0 = std::chrono::steady_clock::now();
-  dtf::Image image;
+
+  // The host's output framebuffer: its own colour texture and depth buffer, cleared by the host. The
+  // geometry pass's depth texture is input only (sampling an attached depth texture would be a feedback loop).
+  GLuint outColour = 0, outDepth = 0, outFbo = 0;
+  glGenTextures(1, &outColour);
+  glActiveTexture(GL_TEXTURE5);
+  glBindTexture(GL_TEXTURE_2D, outColour);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kSize, kSize, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glActiveTexture(GL_TEXTURE3);
+  glGenRenderbuffers(1, &outDepth);
+  glBindRenderbuffer(GL_RENDERBUFFER, outDepth);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, kSize, kSize);
+  glGenFramebuffers(1, &outFbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, outFbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, outColour, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, outDepth);
+  check(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE, "host output framebuffer complete");
   {
-    dtf::render::FabricRenderer renderer;
-    renderer.setMesh(sphere);
-    renderer.setField(field);
-    renderer.resize(kSize, kSize);
+    // The host clears with its own state switched off for the clear, then puts it back.
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glClearColor(0, 0, 0, 0);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_SCISSOR_TEST);
+    glDepthMask(GL_FALSE);
+    glClearColor(0.1f, 0.2f, 0.3f, 0.4f);
+  }
+  const HostState before = HostState::capture();
+
+  t0 = std::chrono::steady_clock::now();
+  dtf::Image image(kSize, kSize);
+  {
+    dtf::render::EmbeddedFabric fabric;
+    fabric.setField(field);
+    checkStateKept(before, HostState::capture());
+    dtf::render::HostView hv;
+    hv.depthTexture = targets.depth;
+    hv.normalTexture = targets.normal;
+    hv.normalEncoding = dtf::render::NormalEncoding::Signed;
+    hv.view = view;
+    hv.projection = proj;
+    hv.viewport = {0, 0, kSize, kSize};
+    hv.framebuffer = outFbo;
     dtf::render::FabricParams params;
     params.background = glm::vec3(0.0f);
-    image = renderer.renderStill(camera, params);
-    std::printf("fabric rendered in %.3f s (%d advection iterations)\n", seconds(t0), renderer.lastIterations());
+    fabric.drawStill(hv, params);
+    std::printf("fabric drawn into the host's framebuffer in %.3f s (%d advection iterations)\n", seconds(t0),
+                fabric.lastIterations());
     checkStateKept(before, HostState::capture());
-
-    // The fabric's depth (the composite writes the surface depth) against the host's: same geometry, same
-    // matrices. Reading it binds dtfabric's output framebuffer: the host's own choice, after the check.
-    std::vector<float> fabricDepth(kSize * kSize);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, renderer.output().id());
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, kSize, kSize, GL_DEPTH_COMPONENT, GL_FLOAT, fabricDepth.data());
-    std::size_t agree = 0, both = 0;
-    double worst = 0;
-    for (int i = 0; i < kSize * kSize; ++i) {
-      const bool h = hostDepth[i] < 1.0f, f = fabricDepth[i] < 1.0f;
-      agree += h == f;
-      if (h && f) {
-        ++both;
-        worst = std::max(worst, double(std::abs(hostDepth[i] - fabricDepth[i])));
-      }
-    }
-    std::printf("coverage agreement %.4f, largest depth difference %.2e over %zu pixels\n",
-                double(agree) / (kSize * kSize), worst, both);
-    check(agree >= 0.995 * kSize * kSize, "the fabric covers the pixels the host's sphere covers");
-    check(worst < 1e-3, "the fabric's depth equals the host's");
+    fabric.draw(hv, params); // an interactive frame after the still: the state is kept there too
+    checkStateKept(before, HostState::capture());
   }
+  checkStateKept(before, HostState::capture()); // and after the destructor
+
+  // Read the host's framebuffer back: colour (rows bottom-up) and the depth the fabric wrote.
+  std::vector<std::uint8_t> rgba(std::size_t(kSize) * kSize * 4);
+  std::vector<float> fabricDepth(std::size_t(kSize) * kSize);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, outFbo);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  glReadPixels(0, 0, kSize, kSize, GL_DEPTH_COMPONENT, GL_FLOAT, fabricDepth.data());
+  for (int y = 0; y < kSize; ++y)
+    std::copy_n(&rgba[std::size_t(kSize - 1 - y) * kSize * 4], kSize * 4, image.pixel(0, y));
+  std::size_t agree = 0, both = 0;
+  double worst = 0;
+  for (int i = 0; i < kSize * kSize; ++i) {
+    const bool h = hostDepth[i] < 1.0f, f = fabricDepth[i] < 1.0f;
+    agree += h == f;
+    if (h && f) {
+      ++both;
+      worst = std::max(worst, double(std::abs(hostDepth[i] - fabricDepth[i])));
+    }
+  }
+  std::printf("coverage agreement %.4f, largest depth difference %.2e over %zu pixels\n",
+              double(agree) / (kSize * kSize), worst, both);
+  check(agree >= 0.995 * kSize * kSize, "the fabric covers the pixels the host's sphere covers");
+  check(worst < 1e-3, "the depth the fabric wrote equals the host's");
   check(glGetError() == GL_NO_ERROR, "no GL errors");
 
   // 5. The image: the corpus callosum red at the top of the sphere (the image centre), the background
