@@ -9,7 +9,6 @@
 #include "io/model/log.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
-#include "surfaces/near_surface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -208,14 +207,12 @@ RenderResult runRender(const RenderRequest& r) {
   auto overlay = [&](const Mesh& m, const Image& fabric) {
     render::TractStyle style;
     style.widthPx = static_cast<float>(tractWidth);
-    const TractPick pick = pickTracts(m, tractsNear);
-    const TractClip clip = tractClip(pick, overlayOptions, glm::vec3(camera.forward()), 0.5f * (lo + hi));
+    const TractSelection selection = selectTracts(tracts, m, tractsNear);
+    const TractClip clip =
+        tractClip(selection.pick, overlayOptions, glm::vec3(camera.forward()), 0.5f * (lo + hi));
     style.plane = clip.plane;
     style.slabMm = clip.slabMm;
-    if (pick.nearOnly)
-      tractRenderer->setTracts(surfaces::selectNearSurface(tracts, surfaces::DistanceQuery(m), tractsNear));
-    else
-      tractRenderer->setTracts(tracts);
+    tractRenderer->upload(tractOverlayDisplay(selection.all ? tracts : selection.near));
     if (tractRenderer->lineCount() == 0) {
       logWarning("no tract of " + tractsPath + " lies near the surface");
       return fabric;
