@@ -3,6 +3,7 @@
 // operator new of this process between frames (headless GL; skips without a context).
 #include "app/viewer/viewer.h"
 #include "io/tracts.h"
+#include "support/counting_allocator.h"
 #include "support/gl_test.h"
 
 #include <atomic>
@@ -14,47 +15,8 @@
 #include <utility>
 #include <vector>
 
-namespace {
-std::atomic<long> allocations{0};
-std::atomic<bool> counting{false};
-} // namespace
-
-// Every replaceable form that allocates with malloc is replaced, so that each pointer is freed by the
-// allocator that made it: with only the plain forms replaced, a nothrow new (std::stable_sort's temporary
-// buffer) came from ASan's operator new and was released by the free() below (alloc-dealloc-mismatch).
-// Aligned forms are left to the library: they pair among themselves.
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new(std::size_t n) {
-  if (void* p = operator new(n, std::nothrow)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  return operator new(n);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  return operator new(n, std::nothrow);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
+using dtf::test::allocations;
+using dtf::test::counting;
 
 // Allocations during 5 still frames and during 5 frames of a turning camera, after a warm-up of the
 // interactive path (its renderer's targets are created on first use). Leaves the counter off.
