@@ -5,6 +5,24 @@
 
 namespace dtf::render {
 
+namespace {
+
+// Sets f.depthRange to the eye depths the bounds box [lo, hi] spans (clamped to the front of the eye) and
+// returns the nearest (unclamped).
+float boundsDepthRange(FrameView& f, const glm::vec3& lo, const glm::vec3& hi) {
+  float dmin = 1e30f, dmax = -1e30f;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    float d = -(f.view * glm::vec4(p, 1.0f)).z;
+    dmin = std::min(dmin, d);
+    dmax = std::max(dmax, d);
+  }
+  f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  return dmin;
+}
+
+} // namespace
+
 FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, const glm::vec3& lo,
                           const glm::vec3& hi, float scale) {
   FrameView f;
@@ -34,14 +52,7 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   // Sizes of one internal pixel.
   f.pixelMm = static_cast<float>(2.0 * halfH / std::max(f.internal.y, 1));
   f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(f.internal.y, 1));
-  float dmin = 1e30f, dmax = -1e30f;
-  for (int i = 0; i < 8; ++i) {
-    glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-    float d = -(f.view * glm::vec4(p, 1.0f)).z;
-    dmin = std::min(dmin, d);
-    dmax = std::max(dmax, d);
-  }
-  f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  const float dmin = boundsDepthRange(f, lo, hi);
   f.boundsInFront = dmin > camera.nearPlane;
   return f;
 }
@@ -72,14 +83,7 @@ FrameView FrameView::fromHost(const glm::mat4& view, const glm::mat4& projection
   const double refDepth = std::max(-(v * glm::dvec4(glm::dvec3(reference), 1.0)).z, 1e-6);
   f.pixelMm = static_cast<float>(f.orthographic ? perPixel : perPixel * refDepth);
   f.pixelMmPerDepth = f.orthographic ? 0.0f : static_cast<float>(perPixel);
-  float dmin = 1e30f, dmax = -1e30f;
-  for (int i = 0; i < 8; ++i) {
-    glm::vec3 p((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-    float d = -(f.view * glm::vec4(p, 1.0f)).z;
-    dmin = std::min(dmin, d);
-    dmax = std::max(dmax, d);
-  }
-  f.depthRange = {std::max(dmin, 0.0f), std::max(dmax, dmin + 1e-3f)};
+  boundsDepthRange(f, lo, hi);
   f.boundsInFront = false; // no mesh to cull on this route
   return f;
 }
