@@ -64,6 +64,18 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Anisotropic sphere field (Hessian of |x|^2 + c xyz) on a grid just enclosing a sphere of radius r.
+void accumulate(render::PassTimes& sum, const render::PassTimes& t) {
+  sum.projection += t.projection;
+  sum.silhouette += t.silhouette;
+  sum.advection += t.advection;
+  sum.composite += t.composite;
+}
+
+// The fabric passes' mean per frame (phong 0: timed separately).
+render::PassTimes averaged(const render::PassTimes& sum, int frames) {
+  return {sum.projection / frames, sum.silhouette / frames, sum.advection / frames, sum.composite / frames, 0};
+}
+
 Case sphereCase(const std::string& name, int rings, int segments) {
   const double r = 50.0;
   Case c;
@@ -142,15 +154,12 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   for (int f = 0; f < frames; ++f) {
     r.renderFrame(cam, p);
     render::PassTimes t = r.lastTimes(); // waits for the frame
-    sum.projection += t.projection;
-    sum.silhouette += t.silhouette;
-    sum.advection += t.advection;
-    sum.composite += t.composite;
+    accumulate(sum, t);
   }
   glFinish();
   res.fabricMs = msSince(t0) / frames;
   res.fabricCpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
-  res.passes = {sum.projection / frames, sum.silhouette / frames, sum.advection / frames, sum.composite / frames, 0};
+  res.passes = averaged(sum, frames);
   // Moving camera: a small trackball step every frame; the advection restarts from beta each frame.
   t0 = std::chrono::steady_clock::now();
   render::Camera moving = cam;
@@ -317,16 +326,13 @@ EmbeddedResult runEmbedded(const Case& c, const render::Camera& camera, int widt
     fabric.draw(host.frame(view, projection), p);
     render::PassTimes t = fabric.lastTimes(); // waits for the frame
     hostSum += host.lastPassMs();
-    sum.projection += t.projection;
-    sum.silhouette += t.silhouette;
-    sum.advection += t.advection;
-    sum.composite += t.composite;
+    accumulate(sum, t);
   }
   glFinish();
   res.ms = msSince(t0) / frames;
   res.cpuMs = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames;
   res.hostPassMs = hostSum / frames;
-  res.passes = {sum.projection / frames, sum.silhouette / frames, sum.advection / frames, sum.composite / frames, 0};
+  res.passes = averaged(sum, frames);
   fabric.setTiming(false);
   // Moving camera: the same trackball steps as the own front end's moving figure.
   render::Camera moving = camera;
