@@ -1,7 +1,7 @@
 // Baseline images of the tract overlay, rendered by the real `dtfabric render`: the real brain's axial
 // slice 22 with its deterministic tractogram overlaid (tracts within 3 mm of the slice), and the
 // `--split tracts` view of the same (two 256x256 panes: 512x256). Compared exactly like
-// tests/gl/baseline_test.cpp (same tolerances); regenerate on purpose only (DTF_UPDATE_BASELINES=1) and
+// tests/render/baseline_test.cpp (same tolerances); regenerate on purpose only (DTF_UPDATE_BASELINES=1) and
 // look at the images before committing them.
 #include "support/baseline.h"
 #include "support/gl_test.h"

@@ -1,0 +1,11 @@
+# Tests of app/scene/ (dtf_test(...) lines; the label follows from each file's suffix).
+dtf_test(test_scene_layering SOURCES app/scene/scene_layering_test.cpp LIBS dtf_model)
+dtf_test(test_check_sheet SOURCES app/scene/check_sheet_baseline_test.cpp LIBS dtf_scene)
+dtf_test(test_tensor_input_stage SOURCES app/scene/tensor_input_stage_test.cpp LIBS dtf_scene)
+dtf_test(test_tract_overlay_select SOURCES app/scene/tract_overlay_select_test.cpp LIBS dtf_scene)
+dtf_test(test_surface_spec SOURCES app/scene/surface_spec_test.cpp LIBS dtf_scene)
+dtf_test(test_tract_formats SOURCES app/scene/tract_formats_test.cpp LIBS dtf_scene dtf_surfaces dtf_io dtf_model ZLIB::ZLIB)
+dtf_test(test_tract_io SOURCES app/scene/tract_io_test.cpp LIBS dtf_scene dtf_surfaces dtf_io dtf_model)
+dtf_test(test_coalescing_worker SOURCES app/scene/coalescing_worker_test.cpp LIBS dtf_model)
+dtf_test(test_tract_overlay_rule SOURCES app/scene/tract_overlay_rule_test.cpp LIBS dtf_scene)
+dtf_test(test_viewer_session SOURCES app/scene/viewer_session_test.cpp LIBS dtf_scene)
