@@ -27,18 +27,17 @@ const char* kIntro =
     "DTI-TK layouts), or a DWI (4D with a volume count other than 6, or with --bval/--bvec) fitted first.\n"
     "The same arguments always give the same PNG.";
 
-const char* kViews =
-    "Views (world RAS: +x patient's right, +y anterior, +z superior)\n"
-    "  superior  from above, anterior up, patient's right on the image RIGHT\n"
-    "  inferior  from below, anterior up, patient's right on the image LEFT\n"
-    "  anterior  from the front, superior up, patient's right on the image LEFT\n"
-    "  posterior from behind, superior up, patient's right on the image RIGHT\n"
-    "  left      from the patient's left, superior up, anterior on the image LEFT\n"
-    "  right     from the patient's right, superior up, anterior on the image RIGHT\n"
-    "Display views are RADIOLOGICAL by default (patient's right on the image left):\n"
-    "  axial = inferior, coronal = anterior, sagittal = left (anterior on the left).\n"
-    "\n"
-    "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.";
+const char* kViews = "Views (world RAS: +x patient's right, +y anterior, +z superior)\n"
+                     "  superior  from above, anterior up, patient's right on the image RIGHT\n"
+                     "  inferior  from below, anterior up, patient's right on the image LEFT\n"
+                     "  anterior  from the front, superior up, patient's right on the image LEFT\n"
+                     "  posterior from behind, superior up, patient's right on the image RIGHT\n"
+                     "  left      from the patient's left, superior up, anterior on the image LEFT\n"
+                     "  right     from the patient's right, superior up, anterior on the image RIGHT\n"
+                     "Display views are RADIOLOGICAL by default (patient's right on the image left):\n"
+                     "  axial = inferior, coronal = anterior, sagittal = left (anterior on the left).\n"
+                     "\n"
+                     "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.";
 
 // The fabric rows (render/fabric_options.h), --color and --fibre-threshold shown in the usage line.
 std::vector<CliOption> fabricRows() {
@@ -56,102 +55,121 @@ CliOption::Range aboveUpTo(double lo, double hi) {
   return r;
 }
 
+std::vector<CliOption> outputSurfaceAndViewRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
+      O::flag("force", "overwrite an existing OUT.png (never an input)").hidden(),
+      O::text("surface", "SPEC",
+              "fa=T: FA isosurface at T\n"
+              "iso=FILE:VALUE: isosurface of a scalar NIfTI volume\n"
+              "slice=AXIS[:I]: axial|coronal|sagittal slice I (default the middle)\n"
+              "plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)")
+          .under("Surface (default: the middle axial slice, clipped to the data)"),
+      O::text("fa", "T", "shorthand for --surface fa=T, as in `dtfabric surface`").hidden(),
+      O::text("slice", "AXIS[:I]", "shorthand for --surface slice=AXIS[:I]").hidden(),
+      O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)")
+          .hidden(),
+      O::text("fibre-surface-voxel", "I0,J0,K0:I1,J1,K1", "the same in voxel indices").hidden(),
+      O::text("view", "V",
+              "axial|coronal|sagittal (display views) or superior|inferior|anterior|posterior|left|right "
+              "(camera positions; see Views below)")
+          .defaultSays("the slice's own view, else superior")
+          .under("View (world RAS: +x patient's right, +y anterior, +z superior)"),
+      O::flag("neurological",
+              "neurological display convention: axial = superior, coronal = posterior, sagittal = right. Has "
+              "no effect on the plain camera positions")
+          .hidden(),
+      O::flag("perspective", "perspective instead of orthographic projection").hidden(),
+      O::text("size", "WxH", "image size in pixels, 16x16 to 8192x8192",
+              std::to_string(d.width) + "x" + std::to_string(d.height))
+          .checkedBy(checkSize)
+          .hidden(),
+  };
+}
+
+std::vector<CliOption> backgroundAndTractRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("background", "B", "fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)")
+          .under(
+              "Background (grey where the fabric is absent; slices and planes then cover the whole grid, not "
+              "only the data)"),
+      O::text("background-window", "LO,HI", "grey ramp")
+          .defaultSays("fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile")
+          .hidden(),
+      O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)")
+          .under("Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y "
+                 "green, z blue)"),
+      O::text("tracts-color", "NAME",
+              "colour by this per-point or per-streamline value (viridis; a bar at the right edge, its range "
+              "printed) instead of DEC"),
+      O::text("tracts-range", "LO,HI", "the value range of the colour map")
+          .defaultSays("the value's minimum..maximum"),
+      O::text("tracts-group", "G[,G]", "show only the streamlines of these groups (TRX groups/)"),
+      O::number("tracts-near", "MM", d.tractsNear, closedRange(0, 1000),
+                "show only tract segments within MM of the surface (0 = all). On a planar surface (slice, "
+                "plane) this is a slab of half-width MM around the plane")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tracts-slab", "MM", d.tractsSlab, closedRange(0, 1000),
+                "also clip to a slab of half-width MM around the surface's plane (curved surfaces: the plane "
+                "through the centre of the surface facing the camera, as the viewer's clip; 0 = none)")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tracts-slab-depth", "MM", d.tractsSlabDepth, closedRange(-1000, 1000),
+                "curved surfaces: move that plane MM away from the viewer")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tract-width", "PX", d.tractWidth, aboveUpTo(0, 32), "tube width")
+          .measuredIn("pixels")
+          .hidden(),
+      O::text("split", "MODE",
+              "two linked panes (same camera) side by side in one 2W x H image:\n"
+              "tracts: fabric alone | fabric with the tracts (needs --tracts)\n"
+              "colour: medical | engineering colour\n"
+              "surface=SPEC: the --surface | this second surface\n"
+              "input=FILE: INPUT | a second tensor/DWI file, same surface spec; a fibre set as FILE shows a "
+              "tensor INPUT's principal direction beside its fibres"),
+  };
+}
+
+std::vector<CliOption> inputRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("layout", "L",
+              "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
+              "dipy-peaks, bedpostx)",
+              d.layout)
+          .hidden()
+          .under(
+              "Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder "
+              "or dyadsN file,\nDSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring "
+              "their own FA)"),
+      O::text(
+          "tensor", "F",
+          "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation, --background "
+          "fa|md); without it (or the file's own FA) those are refused"),
+      O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
+      O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+      O::text("mask", "F", "DWI fit mask").hidden(),
+  };
+}
+
 } // namespace
 
 const OptionTable& renderOptions() {
-  using O = CliOption;
   static const OptionTable table = [] {
-    const RenderRequest d;
+    const RenderRequest d; // the defaults
     OptionTable t;
     t.command = "render";
     t.positionals = "INPUT";
     t.maxPositionals = 1;
     t.intro = kIntro;
     t.epilogue = kViews;
-    std::vector<CliOption> rows = {
-        O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
-        O::flag("force", "overwrite an existing OUT.png (never an input)").hidden(),
-        O::text("surface", "SPEC",
-                "fa=T: FA isosurface at T\n"
-                "iso=FILE:VALUE: isosurface of a scalar NIfTI volume\n"
-                "slice=AXIS[:I]: axial|coronal|sagittal slice I (default the middle)\n"
-                "plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)")
-            .under("Surface (default: the middle axial slice, clipped to the data)"),
-        O::text("fa", "T", "shorthand for --surface fa=T, as in `dtfabric surface`").hidden(),
-        O::text("slice", "AXIS[:I]", "shorthand for --surface slice=AXIS[:I]").hidden(),
-        O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)").hidden(),
-        O::text("fibre-surface-voxel", "I0,J0,K0:I1,J1,K1", "the same in voxel indices").hidden(),
-        O::text("view", "V",
-                "axial|coronal|sagittal (display views) or superior|inferior|anterior|posterior|left|right "
-                "(camera positions; see Views below)")
-            .defaultSays("the slice's own view, else superior")
-            .under("View (world RAS: +x patient's right, +y anterior, +z superior)"),
-        O::flag("neurological",
-                "neurological display convention: axial = superior, coronal = posterior, sagittal = right. Has "
-                "no effect on the plain camera positions")
-            .hidden(),
-        O::flag("perspective", "perspective instead of orthographic projection").hidden(),
-        O::text("size", "WxH", "image size in pixels, 16x16 to 8192x8192",
-                std::to_string(d.width) + "x" + std::to_string(d.height))
-            .checkedBy(checkSize)
-            .hidden(),
-    };
-    for (auto& o : fabricRows()) rows.push_back(std::move(o));
-    const std::vector<CliOption> rest = {
-        O::text("background", "B", "fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)")
-            .under("Background (grey where the fabric is absent; slices and planes then cover the whole grid, not "
-                   "only the data)"),
-        O::text("background-window", "LO,HI", "grey ramp")
-            .defaultSays("fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile")
-            .hidden(),
-        O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)")
-            .under("Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y "
-                   "green, z blue)"),
-        O::text("tracts-color", "NAME",
-                "colour by this per-point or per-streamline value (viridis; a bar at the right edge, its range "
-                "printed) instead of DEC"),
-        O::text("tracts-range", "LO,HI", "the value range of the colour map")
-            .defaultSays("the value's minimum..maximum"),
-        O::text("tracts-group", "G[,G]", "show only the streamlines of these groups (TRX groups/)"),
-        O::number("tracts-near", "MM", d.tractsNear, closedRange(0, 1000),
-                  "show only tract segments within MM of the surface (0 = all). On a planar surface (slice, "
-                  "plane) this is a slab of half-width MM around the plane")
-            .measuredIn("mm")
-            .hidden(),
-        O::number("tracts-slab", "MM", d.tractsSlab, closedRange(0, 1000),
-                  "also clip to a slab of half-width MM around the surface's plane (curved surfaces: the plane "
-                  "through the centre of the surface facing the camera, as the viewer's clip; 0 = none)")
-            .measuredIn("mm")
-            .hidden(),
-        O::number("tracts-slab-depth", "MM", d.tractsSlabDepth, closedRange(-1000, 1000),
-                  "curved surfaces: move that plane MM away from the viewer")
-            .measuredIn("mm")
-            .hidden(),
-        O::number("tract-width", "PX", d.tractWidth, aboveUpTo(0, 32), "tube width").measuredIn("pixels").hidden(),
-        O::text("split", "MODE",
-                "two linked panes (same camera) side by side in one 2W x H image:\n"
-                "tracts: fabric alone | fabric with the tracts (needs --tracts)\n"
-                "colour: medical | engineering colour\n"
-                "surface=SPEC: the --surface | this second surface\n"
-                "input=FILE: INPUT | a second tensor/DWI file, same surface spec; a fibre set as FILE shows a "
-                "tensor INPUT's principal direction beside its fibres"),
-        O::text("layout", "L",
-                "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
-                "dipy-peaks, bedpostx)",
-                d.layout)
-            .hidden()
-            .under("Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder "
-                   "or dyadsN file,\nDSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring "
-                   "their own FA)"),
-        O::text("tensor", "F",
-                "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation, --background "
-                "fa|md); without it (or the file's own FA) those are refused"),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
-        O::text("mask", "F", "DWI fit mask").hidden(),
-    };
-    for (const auto& o : rest) rows.push_back(o);
-    t.options = std::move(rows);
+    for (const auto& part :
+         {outputSurfaceAndViewRows(d), fabricRows(), backgroundAndTractRows(d), inputRows(d)})
+      t.options.insert(t.options.end(), part.begin(), part.end());
     return t;
   }();
   return table;
@@ -232,8 +250,8 @@ void checkOutput(const RenderRequest& r, bool force) {
   if (fs::exists(r.output) && fs::equivalent(r.output, r.input, ec))
     throw UsageError("output " + r.output + " is the input: refusing to overwrite it");
   const TensorInputOptions& in = r.tensorOptions;
-  io::refuseOverwritingInput(r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value,
-                                        r.background, r.tensor});
+  io::refuseOverwritingInput(
+      r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor});
   if (!force && fs::exists(r.output)) throw InputError(r.output + " exists (use --force to overwrite it)");
 }
 
@@ -241,7 +259,8 @@ void logRendered(const RenderRequest& r, const RenderResult& result, double seco
   logInfo("rendered " + result.surface + " (" + std::to_string(result.triangles) + " triangles), view " +
           render::viewName(*r.view) + (r.neurological ? " (neurological)" : "") + ", " +
           std::to_string(result.iterations) + " advection iterations, " + std::to_string(r.width) + "x" +
-          std::to_string(r.height) + " -> " + r.output + " in " + std::to_string(seconds).substr(0, 5) + " s");
+          std::to_string(r.height) + " -> " + r.output + " in " + std::to_string(seconds).substr(0, 5) +
+          " s");
 }
 
 } // namespace

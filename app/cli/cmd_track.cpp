@@ -20,11 +20,71 @@
 
 namespace dtf::app {
 
-const OptionTable& trackOptions() {
+namespace {
+
+std::vector<CliOption> seedingRows(const TrackRequest& d) {
   using O = CliOption;
+  return {
+      O::text("output", "OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp", "the tract file to write")
+          .required()
+          .under("Output"),
+      O::text("seeds-mask", "M", "random points in the non-zero voxels of the NIfTI mask M")
+          .hidden()
+          .under("Seeds (one of; default: random points in the voxels where INPUT holds a tensor)"),
+      O::text("seed-sphere", "X,Y,Z,R", "random points in a ball (world mm)").hidden(),
+      O::text("seed-surface", "SPEC",
+              "random points on a surface: fa=T | slice=AXIS[:I] | plane=... | mesh=FILE | ...")
+          .hidden(),
+      O::text("seed-slice", "AXIS:I", "random points in the valid voxels of axial|coronal|sagittal slice I")
+          .hidden(),
+      O::integer("select", "N", d.select, above(0),
+                 "keep seeding until N streamlines are accepted (at most 1000 x N seeds)")
+          .hidden()
+          .under("How many (one of; default --select " + std::to_string(d.select) + ")"),
+      O::integer("seeds", "N", 0, above(0), "track exactly N seeds and keep the streamlines that pass")
+          .noDefault()
+          .hidden(),
+      O::integer("seeds-per-voxel", "K", d.seedsPerVoxel, atLeast(0),
+                 "with --seeds-mask: K seeds in every mask voxel")
+          .hidden(),
+  };
+}
+
+std::vector<CliOption> trackingRows(const TrackRequest& d) {
+  using O = CliOption;
+  const surfaces::TrackingOptions& to = d.options;
+  return {
+      O::number("step", "MM", to.stepMm, anyNumber(), "step length").hidden().under("Tracking"),
+      O::number("fa-stop", "F", to.faStop, anyNumber(), "stop where FA < F; seeds below F are rejected")
+          .hidden(),
+      O::number("angle", "DEG", to.maxAngleDeg, anyNumber(),
+                "largest turn between successive steps (per step, as in MRtrix)")
+          .hidden(),
+      O::number("min-length", "MM", to.minLengthMm, anyNumber(), "discard shorter streamlines").hidden(),
+      O::number("max-length", "MM", to.maxLengthMm, anyNumber(), "stop at this length").hidden(),
+      O::flag("rk4", "fourth-order Runge-Kutta integrator (the default)").hidden(),
+      O::flag("euler", "Euler integrator (as MRtrix Tensor_Det)").hidden(),
+      O::text("mask", "M", "stop where the NIfTI mask M is zero").hidden(),
+      O::integer("seed", "S", static_cast<int>(d.rngSeed), anyNumber(),
+                 "random seed; the output depends only on it, not on --threads")
+          .hidden(),
+      O::integer("threads", "T", to.threads, atLeast(0), "worker threads").defaultSays("all cores").hidden(),
+      O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
+          .checkedBy(checkTensorLayout)
+          .hidden()
+          .under("Other"),
+      O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
+      O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+      O::flag("force", "overwrite an existing output").hidden(),
+      O::flag("json", "print the report as one JSON object").hidden(),
+  };
+}
+
+} // namespace
+
+const OptionTable& trackOptions() {
   static const OptionTable table = [] {
-    const TrackRequest d;
-    const surfaces::TrackingOptions& to = d.options;
+    const TrackRequest d; // the defaults
     OptionTable t;
     t.command = "track";
     t.positionals = "INPUT";
@@ -32,50 +92,12 @@ const OptionTable& trackOptions() {
     t.synopsisTail = "[SEEDS] [OPTIONS]";
     t.intro =
         "Deterministic tensor tractography: streamlines along the principal eigenvector of the trilinearly\n"
-        "interpolated tensor, in both directions from each seed, written in world RAS mm (.trk/.trx on INPUT's "
-        "grid).\n"
+        "interpolated tensor, in both directions from each seed, written in world RAS mm (.trk/.trx on "
+        "INPUT's grid).\n"
         "INPUT is a tensor volume or a DWI (with --bval/--bvec or sibling .bval/.bvec files).";
-    t.options = {
-        O::text("output", "OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp", "the tract file to write").required().under("Output"),
-        O::text("seeds-mask", "M", "random points in the non-zero voxels of the NIfTI mask M")
-            .hidden()
-            .under("Seeds (one of; default: random points in the voxels where INPUT holds a tensor)"),
-        O::text("seed-sphere", "X,Y,Z,R", "random points in a ball (world mm)").hidden(),
-        O::text("seed-surface", "SPEC", "random points on a surface: fa=T | slice=AXIS[:I] | plane=... | mesh=FILE | ...")
-            .hidden(),
-        O::text("seed-slice", "AXIS:I", "random points in the valid voxels of axial|coronal|sagittal slice I").hidden(),
-        O::integer("select", "N", d.select, above(0),
-                   "keep seeding until N streamlines are accepted (at most 1000 x N seeds)")
-            .hidden()
-            .under("How many (one of; default --select " + std::to_string(d.select) + ")"),
-        O::integer("seeds", "N", 0, above(0), "track exactly N seeds and keep the streamlines that pass")
-            .noDefault()
-            .hidden(),
-        O::integer("seeds-per-voxel", "K", d.seedsPerVoxel, atLeast(0), "with --seeds-mask: K seeds in every mask voxel")
-            .hidden(),
-        O::number("step", "MM", to.stepMm, anyNumber(), "step length").hidden().under("Tracking"),
-        O::number("fa-stop", "F", to.faStop, anyNumber(), "stop where FA < F; seeds below F are rejected").hidden(),
-        O::number("angle", "DEG", to.maxAngleDeg, anyNumber(),
-                  "largest turn between successive steps (per step, as in MRtrix)")
-            .hidden(),
-        O::number("min-length", "MM", to.minLengthMm, anyNumber(), "discard shorter streamlines").hidden(),
-        O::number("max-length", "MM", to.maxLengthMm, anyNumber(), "stop at this length").hidden(),
-        O::flag("rk4", "fourth-order Runge-Kutta integrator (the default)").hidden(),
-        O::flag("euler", "Euler integrator (as MRtrix Tensor_Det)").hidden(),
-        O::text("mask", "M", "stop where the NIfTI mask M is zero").hidden(),
-        O::integer("seed", "S", static_cast<int>(d.rngSeed), anyNumber(),
-                   "random seed; the output depends only on it, not on --threads")
-            .hidden(),
-        O::integer("threads", "T", to.threads, atLeast(0), "worker threads").defaultSays("all cores").hidden(),
-        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
-            .checkedBy(checkTensorLayout)
-            .hidden()
-            .under("Other"),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
-        O::flag("force", "overwrite an existing output").hidden(),
-        O::flag("json", "print the report as one JSON object").hidden(),
-    };
+    t.options = seedingRows(d);
+    const std::vector<CliOption> tracking = trackingRows(d);
+    t.options.insert(t.options.end(), tracking.begin(), tracking.end());
     return t;
   }();
   return table;
@@ -129,7 +151,8 @@ void readSeeding(ParsedOptions& args, TrackCli& cli) {
   r.select = args.integer("select");
   r.seedCount = cli.seedsGiven ? args.integer("seeds") : 0;
   r.seedsPerVoxel = args.integer("seeds-per-voxel");
-  if (r.seedsPerVoxel > 0 && !seedsMask) throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
+  if (r.seedsPerVoxel > 0 && !seedsMask)
+    throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
 }
 
 void readTracking(ParsedOptions& args, TrackCli& cli) {
@@ -191,8 +214,8 @@ void checkResult(const TrackCli& cli, const surfaces::TrackingResult& r) {
   if (r.lines.lineCount() == 0) {
     std::ostringstream msg;
     msg << "no streamline passed from " << r.seedsTried << " seeds (" << r.seedsBelowFa << " below FA "
-        << q.options.faStop << " or outside the data, " << r.tooShort << " shorter than " << q.options.minLengthMm
-        << " mm)";
+        << q.options.faStop << " or outside the data, " << r.tooShort << " shorter than "
+        << q.options.minLengthMm << " mm)";
     throw InputError(msg.str());
   }
   if (!cli.seedsGiven && q.seedsPerVoxel == 0 && r.lines.lineCount() < static_cast<std::size_t>(q.select))
@@ -250,8 +273,8 @@ int cmdTrack(const CommandArgs& argv) {
   surfaces::validate(request.options);
 
   if (cli.seedSurface) request.seedSurface = parseSurfaceSpec(*cli.seedSurface);
-  io::refuseOverwritingInput(cli.output, {request.input, request.tensorOptions.bval, request.tensorOptions.bvec,
-                                          request.stopMask, request.seedsMask,
+  io::refuseOverwritingInput(cli.output, {request.input, request.tensorOptions.bval,
+                                          request.tensorOptions.bvec, request.stopMask, request.seedsMask,
                                           request.seedSurface ? request.seedSurface->file : ""});
   if (!cli.force && std::filesystem::exists(cli.output))
     throw InputError(cli.output + " exists (use --force to overwrite)");
