@@ -343,4 +343,17 @@ TEST(Options, ParserRules) {
   EXPECT_NE(help.find("(default 9; [1, 90])"), std::string::npos) << help;
   EXPECT_NE(help.find("(default 0.15; [0, 1])"), std::string::npos) << "a float default as written" << help;
   EXPECT_NE(help.find("(ras or las; default ras)"), std::string::npos) << help;
+
+  // A range's unit is said in the help's facts and in the range error.
+  const CliOption mm =
+      CliOption::number("depth", "MM", 0, dtf::app::closedRange(-1000, 1000), "depth").measuredIn("mm");
+  EXPECT_EQ(mm.rangeText(), "[-1000, 1000] mm");
+  EXPECT_EQ(CliOption::number("width", "PX", 2, dtf::app::above(0), "w").measuredIn("pixels").rangeText(true),
+            "> 0 pixels");
+  try {
+    mm.validate("5000");
+    ADD_FAILURE() << "5000 is outside [-1000, 1000]";
+  } catch (const dtf::UsageError& e) {
+    EXPECT_STREQ(e.what(), "--depth must be in [-1000, 1000] mm, got 5000");
+  }
 }
