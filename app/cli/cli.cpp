@@ -40,19 +40,17 @@ const std::vector<Command>& commands() {
        "FA isosurface, slice, oblique plane or fibre-following surface as a mesh, with its quality figure "
        "(FA-weighted mean |e1·n|)",
        cmdSurface, surfaceOptions},
-      {"render",
-       "INPUT -o OUT.png [--surface SPEC] [--view V] [--color medical|engineering|fibres] [--tensor F] "
-       "[--fibre-threshold T] [--tracts F] [--split MODE] "
-       "[--background B] [--tracts-color NAME] [--tracts-range LO,HI] [--tracts-group G[,G]]",
+      {"render", nullptr,
        "render the fabric on a surface to PNG, headless",
        "the fabric, headless; for a fibre set (peaks) the multi-population fabric, each population in its own "
        "DEC colour, strongest on top (`--split input=PEAKS` beside a tensor INPUT: DTI beside the fibres on one "
        "camera); tracts over it in DEC colours or coloured by a per-point or per-streamline value "
        "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups",
-       cmdRender},
-      {"track", "INPUT -o OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp [seeds, limits]",
+       cmdRender, renderOptions},
+      {"track", nullptr,
        "deterministic tensor tractography to .tck/.trk/.trx/.vtk",
-       "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack},
+       "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack,
+       trackOptions},
       {"convert", nullptr,
        "convert tractograms between .tck, .trk, .trk.gz, .trx, .vtk and .vtp",
        "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "

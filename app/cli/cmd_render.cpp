@@ -1,6 +1,7 @@
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/render_job.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
@@ -13,210 +14,275 @@
 #include "render/fabric_options.h"
 
 #include <chrono>
-#include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <set>
 #include <sstream>
 
 namespace dtf::app {
 
 namespace {
 
-const char* kHelp = R"(usage: dtfabric render INPUT -o OUT.png [OPTIONS]
+const char* kIntro =
+    "Renders the fabric-like tensor texture (Eichelbaum et al.) on a surface of INPUT, headless (EGL, no\n"
+    "display needed), to an RGBA PNG. INPUT is any tensor volume dtfabric reads (FSL, MRtrix, SYMMATRIX,\n"
+    "DTI-TK layouts), or a DWI (4D with a volume count other than 6, or with --bval/--bvec) fitted first.\n"
+    "The same arguments always give the same PNG.";
 
-Renders the fabric-like tensor texture (Eichelbaum et al.) on a surface of INPUT, headless (EGL, no
-display needed), to an RGBA PNG. INPUT is any tensor volume dtfabric reads (FSL, MRtrix, SYMMATRIX,
-DTI-TK layouts), or a DWI (4D with a volume count other than 6, or with --bval/--bvec) fitted first.
-The same arguments always give the same PNG.
+const char* kViews = "Views (world RAS: +x patient's right, +y anterior, +z superior)\n"
+                     "  superior  from above, anterior up, patient's right on the image RIGHT\n"
+                     "  inferior  from below, anterior up, patient's right on the image LEFT\n"
+                     "  anterior  from the front, superior up, patient's right on the image LEFT\n"
+                     "  posterior from behind, superior up, patient's right on the image RIGHT\n"
+                     "  left      from the patient's left, superior up, anterior on the image LEFT\n"
+                     "  right     from the patient's right, superior up, anterior on the image RIGHT\n"
+                     "Display views are RADIOLOGICAL by default (patient's right on the image left):\n"
+                     "  axial = inferior, coronal = anterior, sagittal = left (anterior on the left).\n"
+                     "\n"
+                     "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.";
 
-Surface (default: the middle axial slice, clipped to the data)
-  --surface SPEC      fa=T            FA isosurface at T
-                      iso=FILE:VALUE  isosurface of a scalar NIfTI volume
-                      slice=AXIS[:I]  axial|coronal|sagittal slice I (default the middle)
-                      plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)
-  --fa T | --slice AXIS[:I] | --fibre-surface X0,Y0,Z0:X1,Y1,Z1 | --fibre-surface-voxel I0,J0,K0:I1,J1,K1
-                      shorthands, as in `dtfabric surface`
+// The fabric rows (render/fabric_options.h), --color and --fibre-threshold shown in the usage line.
+std::vector<CliOption> fabricRows() {
+  std::vector<CliOption> rows = fabricCliOptions();
+  for (auto& o : rows)
+    if (o.name == "color" || o.name == "fibre-threshold") o.synopsis = CliOption::Synopsis::Optional;
+  rows.front().group = "Fabric (paper §2)";
+  return rows;
+}
 
-View (world RAS: +x patient's right, +y anterior, +z superior)
-  --view V            axial|coronal|sagittal (display views) or superior|inferior|anterior|posterior|left|right
-                      (camera positions). Default: the slice's own view, else superior.
-                        superior  from above, anterior up, patient's right on the image RIGHT
-                        inferior  from below, anterior up, patient's right on the image LEFT
-                        anterior  from the front, superior up, patient's right on the image LEFT
-                        posterior from behind, superior up, patient's right on the image RIGHT
-                        left      from the patient's left, superior up, anterior on the image LEFT
-                        right     from the patient's right, superior up, anterior on the image RIGHT
-                      Display views are RADIOLOGICAL by default (patient's right on the image left):
-                        axial = inferior, coronal = anterior, sagittal = left (anterior on the left).
-  --neurological      neurological display convention: axial = superior, coronal = posterior,
-                      sagittal = right. Has no effect on the plain camera positions.
-  --perspective       perspective instead of orthographic projection
-  --size WxH          image size in pixels (default 768x768)
+// (lo, hi]
+CliOption::Range aboveUpTo(double lo, double hi) {
+  CliOption::Range r = closedRange(lo, hi);
+  r.loOpen = true;
+  return r;
+}
 
-Fabric (paper §2)
-)";
+std::vector<CliOption> outputSurfaceAndViewRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
+      O::flag("force", "overwrite an existing OUT.png (never an input)").hidden(),
+      O::text("surface", "SPEC",
+              "fa=T: FA isosurface at T\n"
+              "iso=FILE:VALUE: isosurface of a scalar NIfTI volume\n"
+              "slice=AXIS[:I]: axial|coronal|sagittal slice I (default the middle)\n"
+              "plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)")
+          .under("Surface (default: the middle axial slice, clipped to the data)"),
+      O::text("fa", "T", "shorthand for --surface fa=T, as in `dtfabric surface`").hidden(),
+      O::text("slice", "AXIS[:I]", "shorthand for --surface slice=AXIS[:I]").hidden(),
+      O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)")
+          .hidden(),
+      O::text("fibre-surface-voxel", "I0,J0,K0:I1,J1,K1", "the same in voxel indices").hidden(),
+      O::text("view", "V",
+              "axial|coronal|sagittal (display views) or superior|inferior|anterior|posterior|left|right "
+              "(camera positions; see Views below)")
+          .defaultSays("the slice's own view, else superior")
+          .under("View (world RAS: +x patient's right, +y anterior, +z superior)"),
+      O::flag("neurological",
+              "neurological display convention: axial = superior, coronal = posterior, sagittal = right. Has "
+              "no effect on the plain camera positions")
+          .hidden(),
+      O::flag("perspective", "perspective instead of orthographic projection").hidden(),
+      O::text("size", "WxH", "image size in pixels, 16x16 to 8192x8192",
+              std::to_string(d.width) + "x" + std::to_string(d.height))
+          .checkedBy(checkSize)
+          .hidden(),
+  };
+}
 
-const char* kHelpTail = R"(
-Background (grey where the fabric is absent; slices and planes then cover the whole grid, not only the data)
-  --background B      fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)
-  --background-window LO,HI   grey ramp (default: fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile)
+std::vector<CliOption> backgroundAndTractRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("background", "B", "fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)")
+          .under(
+              "Background (grey where the fabric is absent; slices and planes then cover the whole grid, not "
+              "only the data)"),
+      O::text("background-window", "LO,HI", "grey ramp")
+          .defaultSays("fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile")
+          .hidden(),
+      O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)")
+          .under("Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y "
+                 "green, z blue)"),
+      O::text("tracts-color", "NAME",
+              "colour by this per-point or per-streamline value (viridis; a bar at the right edge, its range "
+              "printed) instead of DEC"),
+      O::text("tracts-range", "LO,HI", "the value range of the colour map")
+          .defaultSays("the value's minimum..maximum"),
+      O::text("tracts-group", "G[,G]", "show only the streamlines of these groups (TRX groups/)"),
+      O::number("tracts-near", "MM", d.tractsNear, closedRange(0, 1000),
+                "show only tract segments within MM of the surface (0 = all). On a planar surface (slice, "
+                "plane) this is a slab of half-width MM around the plane")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tracts-slab", "MM", d.tractsSlab, closedRange(0, 1000),
+                "also clip to a slab of half-width MM around the surface's plane (curved surfaces: the plane "
+                "through the centre of the surface facing the camera, as the viewer's clip; 0 = none)")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tracts-slab-depth", "MM", d.tractsSlabDepth, closedRange(-1000, 1000),
+                "curved surfaces: move that plane MM away from the viewer")
+          .measuredIn("mm")
+          .hidden(),
+      O::number("tract-width", "PX", d.tractWidth, aboveUpTo(0, 32), "tube width")
+          .measuredIn("pixels")
+          .hidden(),
+      O::text("split", "MODE",
+              "two linked panes (same camera) side by side in one 2W x H image:\n"
+              "tracts: fabric alone | fabric with the tracts (needs --tracts)\n"
+              "colour: medical | engineering colour\n"
+              "surface=SPEC: the --surface | this second surface\n"
+              "input=FILE: INPUT | a second tensor/DWI file, same surface spec; a fibre set as FILE shows a "
+              "tensor INPUT's principal direction beside its fibres"),
+  };
+}
 
-Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y green, z blue)
-  --tracts FILE       .tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)
-  --tracts-color NAME colour by this per-point or per-streamline value (viridis; a bar at the right edge,
-                      its range printed) instead of DEC
-  --tracts-range LO,HI  the value range of the colour map (default: the value's minimum..maximum)
-  --tracts-group G[,G]  show only the streamlines of these groups (TRX groups/)
-  --tracts-near MM    show only tract segments within MM of the surface (default 3; 0 = all). On a planar
-                      surface (slice, plane) this is a slab of half-width MM around the plane.
-  --tracts-slab MM    also clip to a slab of half-width MM around the surface's plane (curved surfaces:
-                      the plane through the centre of the surface facing the camera, as the viewer's clip)
-  --tracts-slab-depth MM  curved surfaces: move that plane MM away from the viewer (default 0)
-  --tract-width PX    tube width in pixels (default 2)
-  --split MODE        two linked panes (same camera) side by side in one 2W x H image:
-                        tracts          fabric alone | fabric with the tracts (needs --tracts)
-                        colour          medical | engineering colour
-                        surface=SPEC    the --surface | this second surface
-                        input=FILE      INPUT | a second tensor/DWI file, same surface spec; a fibre set as
-                                        FILE shows a tensor INPUT's principal direction beside its fibres
-
-Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder or dyadsN file,
-DSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring their own FA)
-  --layout L          tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks,
-                      dipy-peaks, bedpostx)
-  --tensor F          fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation,
-                      --background fa|md); without it (or the file's own FA) those are refused
-  --bval F --bvec F   treat INPUT as a DWI and fit tensors (WLS)
-  --mask F            DWI fit mask
-  --force             overwrite an existing OUT.png (never an input)
-
-Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.
-)";
-
-// The options of render/fabric_options.h as flags: --NAME VALUE, and --no-NAME for the on/off ones.
-void readFabricOptions(Args& args, render::FabricParams& p) {
-  for (const auto& o : render::fabricOptions()) {
-    if (o.kind == render::FabricOption::Kind::OnOff) {
-      if (args.flag(std::string("no-") + o.name)) o.set(p, 0);
-    } else if (auto v = args.get(o.name)) {
-      try {
-        o.set(p, o.parse(*v));
-      } catch (const UsageError& e) {
-        throw UsageError(std::string("--") + e.what());
-      }
-    }
-  }
+std::vector<CliOption> inputRows(const RenderRequest& d) {
+  using O = CliOption;
+  return {
+      O::text("layout", "L",
+              "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
+              "dipy-peaks, bedpostx)",
+              d.layout)
+          .hidden()
+          .under(
+              "Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder "
+              "or dyadsN file,\nDSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring "
+              "their own FA)"),
+      O::text(
+          "tensor", "F",
+          "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation, --background "
+          "fa|md); without it (or the file's own FA) those are refused"),
+      O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
+      O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+      O::text("mask", "F", "DWI fit mask").hidden(),
+  };
 }
 
 } // namespace
 
-int cmdRender(const CommandArgs& argv) {
-  std::set<std::string> flags = {"help", "neurological", "perspective", "force"};
-  for (const auto& o : render::fabricOptions())
-    if (o.kind == render::FabricOption::Kind::OnOff) flags.insert(std::string("no-") + o.name);
-  Args args(argv, flags);
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    std::fputs(render::fabricOptionsHelp().c_str(), stdout);
-    std::fputs(kHelpTail, stdout);
-    return 0;
-  }
-  const std::string input = args.positional(0, "INPUT");
-  if (args.positionals().size() > 1) throw UsageError("unexpected argument '" + args.positionals()[1] + "'");
-  const std::string output = args.getOr("output", "");
-  if (output.empty()) throw UsageError("missing -o OUT.png");
-  int width = 768, height = 768;
-  if (auto s = args.get("size")) parseSize(*s, width, height);
-  if (width < 16 || height < 16 || width > 8192 || height > 8192)
+const OptionTable& renderOptions() {
+  static const OptionTable table = [] {
+    const RenderRequest d; // the defaults
+    OptionTable t;
+    t.command = "render";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.intro = kIntro;
+    t.epilogue = kViews;
+    for (const auto& part :
+         {outputSurfaceAndViewRows(d), fabricRows(), backgroundAndTractRows(d), inputRows(d)})
+      t.options.insert(t.options.end(), part.begin(), part.end());
+    return t;
+  }();
+  return table;
+}
+
+namespace {
+
+void readSurfaceAndView(ParsedOptions& args, RenderRequest& r) {
+  parseSize(args.text("size"), r.width, r.height);
+  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
     throw UsageError("--size must be between 16x16 and 8192x8192");
-  SurfaceSpec spec = parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
-  const bool neurological = args.flag("neurological");
-  render::StandardView view = args.get("view") ? render::parseView(*args.get("view")) : defaultView(spec);
-  const bool perspective = args.flag("perspective");
+  r.surface = parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
+  r.neurological = args.flag("neurological");
+  const auto view = args.get("view");
+  r.view = view ? render::parseView(*view) : defaultView(r.surface);
+  r.perspective = args.flag("perspective");
+}
 
-  render::FabricParams p;
-  // A fibre set's default colour mode is fibres: remember whether --color was given.
-  const std::string colour = args.getOr("color", "");
-  readFabricOptions(args, p);
+// The fabric options: --NAME VALUE, and --no-NAME for the on/off ones. A fibre set's default colour mode is
+// fibres, so whether --color was given is kept.
+void readFabricOptions(ParsedOptions& args, RenderRequest& r) {
+  for (const auto& o : render::fabricOptions()) {
+    if (o.kind == render::FabricOption::Kind::OnOff) {
+      if (args.flag(std::string("no-") + o.name)) o.set(r.params, 0);
+    } else if (o.kind == render::FabricOption::Kind::Colour) {
+      const auto v = args.get(o.name);
+      if (!v) continue;
+      try {
+        o.set(r.params, o.parse(*v));
+      } catch (const UsageError& e) {
+        throw UsageError(std::string("--") + e.what());
+      }
+      r.colourGiven = true;
+      r.colourName = *v;
+    } else if (args.given(o.name)) {
+      o.set(r.params, args.number(o.name));
+    }
+  }
+}
 
-  TensorInputOptions in;
-  const std::string layoutText = args.getOr("layout", "auto");
-  const std::string tensorPath = args.getOr("tensor", "");
-  if (!io::isFibreLayoutName(layoutText)) in.layout = io::parseLayout(layoutText);
-  in.bval = args.getOr("bval", "");
-  in.bvec = args.getOr("bvec", "");
-  in.mask = args.getOr("mask", "");
-  const bool force = args.flag("force");
-  const std::string tractsPath = args.getOr("tracts", "");
-  TractColouring colouring;
-  colouring.value = args.getOr("tracts-color", "");
-  if (auto r = args.get("tracts-range")) colouring.range = parseTractRange(*r);
+void readInputOptions(ParsedOptions& args, RenderRequest& r) {
+  r.layout = args.text("layout");
+  r.tensor = args.text("tensor");
+  if (!io::isFibreLayoutName(r.layout)) r.tensorOptions.layout = io::parseLayout(r.layout);
+  r.tensorOptions.bval = args.text("bval");
+  r.tensorOptions.bvec = args.text("bvec");
+  r.tensorOptions.mask = args.text("mask");
+}
+
+void readTractOptions(ParsedOptions& args, RenderRequest& r) {
+  r.tracts = args.text("tracts");
+  TractColouring& colouring = r.colouring;
+  colouring.value = args.text("tracts-color");
+  if (auto range = args.get("tracts-range")) colouring.range = parseTractRange(*range);
   if (auto g = args.get("tracts-group")) {
     std::stringstream ss(*g);
     for (std::string name; std::getline(ss, name, ',');)
       if (!name.empty()) colouring.groups.push_back(name);
   }
-  if ((!colouring.value.empty() || colouring.range || !colouring.groups.empty()) && tractsPath.empty())
+  if ((!colouring.value.empty() || colouring.range || !colouring.groups.empty()) && r.tracts.empty())
     throw UsageError("--tracts-color, --tracts-range and --tracts-group need --tracts FILE");
-  const double tractsNear = args.getDouble("tracts-near", 3.0);
-  if (!(tractsNear >= 0 && tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
-  const double tractsSlab = args.getDouble("tracts-slab", 0.0);
-  if (!(tractsSlab >= 0 && tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
-  const double tractsSlabDepth = args.getDouble("tracts-slab-depth", 0.0);
-  if (!(std::abs(tractsSlabDepth) <= 1000))
-    throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
-  const std::string backgroundArg = args.getOr("background", "");
-  const std::string backgroundWindow = args.getOr("background-window", "");
-  const double tractWidth = args.getDouble("tract-width", 2.0);
-  if (!(tractWidth > 0 && tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
-  const SplitMode split = args.get("split") ? parseSplitMode(*args.get("split")) : SplitMode{};
-  if (split.kind == SplitMode::Kind::Tracts && tractsPath.empty())
+  r.tractsNear = args.number("tracts-near");
+  r.tractsSlab = args.number("tracts-slab");
+  r.tractsSlabDepth = args.number("tracts-slab-depth");
+  r.background = args.text("background");
+  r.backgroundWindow = args.text("background-window");
+  r.tractWidth = args.number("tract-width");
+  const auto split = args.get("split");
+  r.split = split ? parseSplitMode(*split) : SplitMode{};
+  if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
     throw UsageError("--split tracts needs --tracts FILE");
-  args.finish();
+}
 
+// Refuses to write over an input, or over an existing file without --force.
+void checkOutput(const RenderRequest& r, bool force) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::exists(output) && fs::equivalent(output, input, ec))
-    throw UsageError("output " + output + " is the input: refusing to overwrite it");
-  io::refuseOverwritingInput(output, {in.bval, in.bvec, in.mask, spec.file, tractsPath, split.value, backgroundArg,
-                                     tensorPath});
-  if (!force && fs::exists(output)) throw InputError(output + " exists (use --force to overwrite it)");
+  if (fs::exists(r.output) && fs::equivalent(r.output, r.input, ec))
+    throw UsageError("output " + r.output + " is the input: refusing to overwrite it");
+  const TensorInputOptions& in = r.tensorOptions;
+  io::refuseOverwritingInput(
+      r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor});
+  if (!force && fs::exists(r.output)) throw InputError(r.output + " exists (use --force to overwrite it)");
+}
+
+void logRendered(const RenderRequest& r, const RenderResult& result, double seconds) {
+  logInfo("rendered " + result.surface + " (" + std::to_string(result.triangles) + " triangles), view " +
+          render::viewName(*r.view) + (r.neurological ? " (neurological)" : "") + ", " +
+          std::to_string(result.iterations) + " advection iterations, " + std::to_string(r.width) + "x" +
+          std::to_string(r.height) + " -> " + r.output + " in " + std::to_string(seconds).substr(0, 5) +
+          " s");
+}
+
+} // namespace
+
+int cmdRender(const CommandArgs& argv) {
+  ParsedOptions args(renderOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  RenderRequest request;
+  request.input = args.positional(0, "INPUT");
+  request.output = args.required("output");
+  readSurfaceAndView(args, request);
+  readFabricOptions(args, request);
+  readInputOptions(args, request);
+  const bool force = args.flag("force");
+  readTractOptions(args, request);
+  args.finish();
+  checkOutput(request, force);
 
   const auto t0 = std::chrono::steady_clock::now();
-  RenderRequest request;
-  request.input = input;
-  request.tensorOptions = in;
-  request.layout = layoutText;
-  request.tensor = tensorPath;
-  request.surface = spec;
-  request.view = view;
-  request.neurological = neurological;
-  request.perspective = perspective;
-  request.width = width;
-  request.height = height;
-  request.params = p;
-  request.colourGiven = !colour.empty();
-  request.colourName = colour;
-  request.background = backgroundArg;
-  request.backgroundWindow = backgroundWindow;
-  request.tracts = tractsPath;
-  request.colouring = colouring;
-  request.tractsNear = tractsNear;
-  request.tractsSlab = tractsSlab;
-  request.tractsSlabDepth = tractsSlabDepth;
-  request.tractWidth = tractWidth;
-  request.split = split;
-  request.output = output;
   const RenderResult result = runRender(request);
-  const Image& image = result.image;
-  io::writePng(output, image);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  logInfo("rendered " + result.surface + " (" + std::to_string(result.triangles) +
-          " triangles), view " + render::viewName(view) + (neurological ? " (neurological)" : "") + ", " +
-          std::to_string(result.iterations) + " advection iterations, " + std::to_string(width) +
-          "x" + std::to_string(height) + " -> " + output + " in " + std::to_string(seconds).substr(0, 5) +
-          " s");
+  io::writePng(request.output, result.image);
+  logRendered(request, result, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
 }
 

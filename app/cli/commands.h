@@ -47,6 +47,8 @@ const OptionTable& tractInfoOptions();
 const OptionTable& fitOptions();
 const OptionTable& phantomOptions();
 const OptionTable& surfaceOptions();
+const OptionTable& renderOptions();
+const OptionTable& trackOptions();
 const OptionTable& convertOptions();
 const OptionTable& compareOptions();
 const OptionTable& checkOptions();

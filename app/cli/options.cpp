@@ -179,6 +179,17 @@ CliOption CliOption::noDefault() && {
   defaultValue.clear();
   return std::move(*this);
 }
+CliOption CliOption::measuredIn(std::string u) && {
+  unit = std::move(u);
+  return std::move(*this);
+}
+
+std::string CliOption::rangeText(bool inRange) const {
+  const std::string r = range.text();
+  if (unit.empty() || r.empty()) return r;
+  const bool bounded = std::isfinite(range.lo) && std::isfinite(range.hi);
+  return (inRange && bounded ? "in " : "") + r + " " + unit;
+}
 
 std::string CliOption::switchName() const {
   return name == "output" ? "-o" : "--" + name;
@@ -205,7 +216,7 @@ void CliOption::validate(const std::string& value) const {
     const double v = std::strtod(value.c_str(), &end);
     if (value.empty() || *end != '\0' || !std::isfinite(v))
       throw UsageError("option " + sw + " expects a number, got '" + value + "'");
-    if (!range.contains(v)) throw UsageError(sw + " must be " + range.text() + ", got " + value);
+    if (!range.contains(v)) throw UsageError(sw + " must be " + rangeText(true) + ", got " + value);
     break;
   }
   case Kind::Integer: {
@@ -215,7 +226,7 @@ void CliOption::validate(const std::string& value) const {
     if (value.empty() || *end != '\0' || !std::isfinite(v) || v != std::floor(v) ||
         std::abs(v) > std::numeric_limits<int>::max())
       throw UsageError("option " + sw + " expects an integer, got '" + value + "'");
-    if (!range.contains(v)) throw UsageError(sw + " must be " + range.text() + ", got " + value);
+    if (!range.contains(v)) throw UsageError(sw + " must be " + rangeText(true) + ", got " + value);
     break;
   }
   }
@@ -288,7 +299,7 @@ std::string OptionTable::help() const {
     else if (!o.defaultValue.empty())
       facts = "default " + o.defaultValue;
     if ((o.kind == CliOption::Kind::Number || o.kind == CliOption::Kind::Integer) && !o.range.text().empty())
-      facts += (facts.empty() ? "" : "; ") + o.range.text();
+      facts += (facts.empty() ? "" : "; ") + o.rangeText();
     if (o.kind == CliOption::Kind::Choice && help.find(o.choices.front()) == std::string::npos)
       facts = joined(o.choices, ", ", " or ") + (facts.empty() ? "" : "; " + facts);
     if (!facts.empty()) help += " (" + facts + ")";

@@ -43,6 +43,7 @@ struct CliOption {
   std::string defaultValue;         // the value when not given, as text ("" none)
   std::string defaultNote;          // said instead of defaultValue when the default is computed ("all cores")
   Range range;                      // Number, Integer
+  std::string unit;                 // of the range ("mm", "pixels"), said in --help and range errors
   std::vector<std::string> choices; // Choice
   Synopsis synopsis = Synopsis::Optional;
   std::string group;     // a heading printed before this option in --help (empty: none)
@@ -65,11 +66,14 @@ struct CliOption {
   CliOption checkedBy(void (*fn)(const std::string&)) &&;
   CliOption internalOnly() &&;
   CliOption noDefault() &&;
+  CliOption measuredIn(std::string unit) &&;
 
   std::string written() const;    // "--near MM", "-o FILE", "--json"
   std::string switchName() const; // "--near", "-o"
   // The value checked against kind, range, choices and `check`; throws UsageError.
   void validate(const std::string& value) const;
+  // "[0, 1000] mm", "in [0, 1000] mm" (inRange: as the range error says it), ">= 0".
+  std::string rangeText(bool inRange = false) const;
 };
 
 // Ranges for the builders.
