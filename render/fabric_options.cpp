@@ -149,38 +149,4 @@ std::string formatFabricValue(const FabricOption& o, double v) {
   return number(v);
 }
 
-std::string fabricOptionsHelp() {
-  constexpr std::size_t kColumn = 22, kWidth = 110;
-  const FabricParams defaults;
-  std::string out;
-  for (const auto& o : kOptions) {
-    std::string line = "  " + o.cliSynopsis();
-    line.resize(std::max<std::size_t>(line.size() + 1, kColumn), ' ');
-    std::string help = o.help;
-    if (o.kind == FabricOption::Kind::OnOff)
-      help = "no " + help;
-    else if (o.kind == FabricOption::Kind::Colour)
-      help += " (default " + formatFabricValue(o, o.get(defaults)) + ")";
-    else
-      help += " (default " + formatFabricValue(o, o.get(defaults)) + "; " + o.range.text() + ")";
-    // Words wrapped at kWidth, continuation lines indented to kColumn.
-    std::istringstream words(help);
-    std::size_t used = line.size();
-    bool first = true;
-    for (std::string w; words >> w; first = false) {
-      if (!first && used + 1 + w.size() > kWidth) {
-        line += "\n" + std::string(kColumn, ' ');
-        used = kColumn;
-      } else if (!first) {
-        line += ' ';
-        ++used;
-      }
-      line += w;
-      used += w.size();
-    }
-    out += line + "\n";
-  }
-  return out;
-}
-
 } // namespace dtf::render

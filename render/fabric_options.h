@@ -48,8 +48,6 @@ struct FabricOption {
 const std::vector<FabricOption>& fabricOptions();
 // The option named `key` (name or alias), nullptr when none.
 const FabricOption* findFabricOption(const std::string& key);
-// The CLI's help lines for the options (two-space indent, help text from column 22, default appended).
-std::string fabricOptionsHelp();
 // The value's text as the CLI and scripts write it: "0.1", "on", "medical".
 std::string formatFabricValue(const FabricOption& o, double v);
 
