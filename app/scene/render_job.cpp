@@ -86,8 +86,10 @@ render::StandardView defaultView(const SurfaceSpec& spec) {
   return render::StandardView::Superior;
 }
 
-RenderResult runRender(const RenderRequest& r) {
-  // The command checks these as it parses its flags; other callers get the same limits here.
+namespace {
+
+// The command checks these as it parses its flags; other callers get the same limits here.
+void validate(const RenderRequest& r) {
   if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
     throw UsageError("the size must be between 16x16 and 8192x8192");
   if ((!r.colouring.value.empty() || r.colouring.range || !r.colouring.groups.empty()) && r.tracts.empty())
@@ -99,176 +101,221 @@ RenderResult runRender(const RenderRequest& r) {
   if (!(r.tractWidth > 0 && r.tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
     throw UsageError("--split tracts needs --tracts FILE");
-  // The request under the names the command used for its flags.
-  const std::string& input = r.input;
-  const std::string& layoutText = r.layout;
-  const std::string& tensorPath = r.tensor;
-  const SurfaceSpec& spec = r.surface;
-  const TensorInputOptions& in = r.tensorOptions;
-  const std::string& backgroundArg = r.background;
-  const std::string& backgroundWindow = r.backgroundWindow;
-  const std::string& tractsPath = r.tracts;
-  const TractColouring& colouring = r.colouring;
-  const SplitMode& split = r.split;
-  const int width = r.width, height = r.height;
-  const render::StandardView view = r.view ? *r.view : defaultView(spec);
-  const bool neurological = r.neurological, perspective = r.perspective;
-  const double tractsNear = r.tractsNear, tractsSlab = r.tractsSlab, tractsSlabDepth = r.tractsSlabDepth;
-  const double tractWidth = r.tractWidth;
-  render::FabricParams p = r.params;
+}
 
-  // A fibre set (the carrier field gives surfaces their grid and data mask), or tensors.
+Mesh buildNamedSurface(const SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa,
+                       const SurfaceBuildOptions& options, const std::string& what) {
+  Mesh mesh;
+  try {
+    mesh = buildSurface(spec, field, fa, options);
+  } catch (...) {
+    rethrowWithContext("while building " + what + " " + describeSurface(spec));
+  }
+  if (mesh.empty()) throw InputError(what + " " + describeSurface(spec) + " is empty");
+  return mesh;
+}
+
+// The first pane's data: a fibre set (its carrier field gives surfaces their grid and data mask) or tensors,
+// FA, the background, the surface and the tracts. Built in place: `field` points into it.
+struct Scene {
   std::optional<FibreInput> fibreIn;
   io::LoadedTensors loaded;
-  if (!r.field && isFibreInput(input, layoutText)) {
-    fibreIn = loadFibreInput(input, layoutText, tensorPath);
-    checkFibreSurface(spec, *fibreIn);
+  const TensorField* field = nullptr;
+  ScalarVolume fa;
+  Background background;
+  SurfaceBuildOptions buildOptions;
+  Mesh mesh;
+  Polylines tracts;
+  TractColouringApplied coloured;
+};
+
+// Loads the first pane's data; a fibre set switches `p` to the fibre colours unless a colour was chosen.
+void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
+  if (!r.field && isFibreInput(r.input, r.layout)) {
+    s.fibreIn = loadFibreInput(r.input, r.layout, r.tensor);
+    checkFibreSurface(r.surface, *s.fibreIn);
     if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
     if (p.colour != render::ColourMode::Fibres)
       throw UsageError("--color " + r.colourName +
                        " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
-    if ((!fibreIn->tensor && backgroundArg == "md") || (fibreIn->fa.data.empty() && backgroundArg == "fa"))
-      throw UsageError("--background " + backgroundArg + " needs a tensor: pair one with --tensor FILE");
+    if ((!s.fibreIn->tensor && r.background == "md") || (s.fibreIn->fa.data.empty() && r.background == "fa"))
+      throw UsageError("--background " + r.background + " needs a tensor: pair one with --tensor FILE");
   } else {
-    if (!tensorPath.empty())
-      throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
-    if (!r.field) loaded = loadTensorInput(input, in);
+    if (!r.tensor.empty())
+      throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + r.input + " is not one");
+    if (!r.field) s.loaded = loadTensorInput(r.input, r.tensorOptions);
   }
-  const TensorField& field = fibreIn ? fibreIn->carrier : r.field ? *r.field : loaded.field;
-  ScalarVolume fa = !fibreIn                   ? computeFaMap(field)
-                    : fibreIn->fa.data.empty() ? ScalarVolume(field.grid, 1)
-                                               : fibreIn->fa;
-  SurfaceBuildOptions buildOptions;
-  buildOptions.clipToData = backgroundArg.empty();
-  Background background = loadBackground(backgroundArg, backgroundWindow, field, fa);
+  s.field = s.fibreIn ? &s.fibreIn->carrier : r.field ? r.field : &s.loaded.field;
+  s.fa = !s.fibreIn                   ? computeFaMap(*s.field)
+         : s.fibreIn->fa.data.empty() ? ScalarVolume(s.field->grid, 1)
+                                      : s.fibreIn->fa;
+  s.buildOptions.clipToData = r.background.empty();
+  s.background = loadBackground(r.background, r.backgroundWindow, *s.field, s.fa);
+  s.mesh = buildNamedSurface(r.surface, *s.field, s.fa, s.buildOptions, "the surface");
+  if (!r.tracts.empty()) s.tracts = readTracts(r.tracts);
+  s.coloured = applyTractColouring(s.tracts, r.colouring, r.tracts);
+  if (s.coloured.coloured) logInfo(s.coloured.summary);
+}
+
+// The second pane's data (split surface= or input=): another surface of the same field, or the same surface
+// of another input. Built in place: `field` points into it or into the scene.
+struct SecondPane {
+  io::LoadedTensors loaded;
+  std::optional<FibreInput> fibreIn;
+  const TensorField* field = nullptr;
   Mesh mesh;
-  try {
-    mesh = buildSurface(spec, field, fa, buildOptions);
-  } catch (...) {
-    rethrowWithContext("while building the surface " + describeSurface(spec));
-  }
-  if (mesh.empty()) throw InputError("the surface " + describeSurface(spec) + " is empty");
-  Polylines tracts = tractsPath.empty() ? Polylines{} : readTracts(tractsPath);
-  const TractColouringApplied coloured = applyTractColouring(tracts, colouring, tractsPath);
-  if (coloured.coloured) logInfo(coloured.summary);
+};
 
-  // The second pane's data: another surface of the same field, or the same surface of another input.
-  io::LoadedTensors loaded2;
-  std::optional<FibreInput> fibreIn2;
-  Mesh mesh2;
-  if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
-    const TensorField* field2 = &field;
-    const ScalarVolume* fa2 = &fa;
-    ScalarVolume faOther;
-    SurfaceSpec spec2 = spec;
-    if (split.kind == SplitMode::Kind::Input && isFibreInput(split.value, "auto")) {
-      // DTI beside a fibre set: both panes in the fibre colours, the tensor as its principal direction.
-      fibreIn2 = loadFibreInput(split.value, "auto", "");
-      if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
-      if (p.colour != render::ColourMode::Fibres)
-        throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
-      field2 = &fibreIn2->carrier;
-      faOther = ScalarVolume(field2->grid, 1);
-      fa2 = &faOther;
-    } else if (split.kind == SplitMode::Kind::Input) {
-      if (fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
-      loaded2 = loadTensorInput(split.value, in);
-      faOther = computeFaMap(loaded2.field);
-      field2 = &loaded2.field;
-      fa2 = &faOther;
-    } else {
-      spec2 = parseSurfaceSpec(split.value);
-    }
-    try {
-      mesh2 = buildSurface(spec2, *field2, *fa2, buildOptions);
-    } catch (...) {
-      rethrowWithContext("while building the second pane's surface " + describeSurface(spec2));
-    }
-    if (mesh2.empty()) throw InputError("the second pane's surface " + describeSurface(spec2) + " is empty");
+void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams& p, SecondPane& out) {
+  const SplitMode& split = r.split;
+  if (split.kind != SplitMode::Kind::Surface && split.kind != SplitMode::Kind::Input) return;
+  out.field = s.field;
+  const ScalarVolume* fa2 = &s.fa;
+  ScalarVolume faOther;
+  SurfaceSpec spec2 = r.surface;
+  if (split.kind == SplitMode::Kind::Input && isFibreInput(split.value, "auto")) {
+    // DTI beside a fibre set: both panes in the fibre colours, the tensor as its principal direction.
+    out.fibreIn = loadFibreInput(split.value, "auto", "");
+    if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
+    if (p.colour != render::ColourMode::Fibres)
+      throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
+    out.field = &out.fibreIn->carrier;
+    faOther = ScalarVolume(out.field->grid, 1);
+    fa2 = &faOther;
+  } else if (split.kind == SplitMode::Kind::Input) {
+    if (s.fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
+    out.loaded = loadTensorInput(split.value, r.tensorOptions);
+    faOther = computeFaMap(out.loaded.field);
+    out.field = &out.loaded.field;
+    fa2 = &faOther;
+  } else {
+    spec2 = parseSurfaceSpec(split.value);
+  }
+  out.mesh = buildNamedSurface(spec2, *out.field, *fa2, s.buildOptions, "the second pane's surface");
+}
+
+// The GL part: one renderer and camera for every pane (linked views), the tract overlay.
+class PaneRenderer {
+public:
+  PaneRenderer(const RenderRequest& r, const Scene& s, const SecondPane& second, render::StandardView view)
+      : r_(r), s_(s), second_(second) {
+    renderer_.resize(r.width, r.height);
+    if (!s.background.volume.data.empty())
+      renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
+    s.mesh.bounds(lo_, hi_);
+    camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
+                                       r.neurological, !r.perspective);
+    if (!r.tracts.empty()) tracts_.emplace();
   }
 
-  render::GlContext::headless();
-  render::FabricRenderer renderer;
-  renderer.resize(width, height);
-  if (!background.volume.data.empty())
-    renderer.setBackground(&background.volume, background.lo, background.hi);
-  glm::vec3 lo, hi;
-  mesh.bounds(lo, hi);
-  // Both panes share this camera (linked views).
-  render::Camera camera = render::Camera::standard(view, glm::dvec3(lo), glm::dvec3(hi),
-                                                   double(width) / height, neurological, !perspective);
-  std::optional<render::TractRenderer> tractRenderer;
-  if (!tractsPath.empty()) tractRenderer.emplace();
-  // The tracts shown on `m` and their clip slab (app/scene/tract_overlay.h).
-  TractOverlayOptions overlayOptions;
-  overlayOptions.nearMm = tractsNear;
-  overlayOptions.clipMm = tractsSlab;
-  overlayOptions.clipDepthMm = tractsSlabDepth;
-  auto overlay = [&](const Mesh& m, const Image& fabric) {
-    render::TractStyle style;
-    style.widthPx = static_cast<float>(tractWidth);
-    const TractSelection selection = selectTracts(tracts, m, tractsNear);
-    const TractClip clip =
-        tractClip(selection.pick, overlayOptions, glm::vec3(camera.forward()), 0.5f * (lo + hi));
-    style.plane = clip.plane;
-    style.slabMm = clip.slabMm;
-    tractRenderer->upload(tractOverlayDisplay(selection.all ? tracts : selection.near));
-    if (tractRenderer->lineCount() == 0) {
-      logWarning("no tract of " + tractsPath + " lies near the surface");
-      return fabric;
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, renderer.output().id());
-    tractRenderer->draw(renderer.frameView(), style);
-    Image out = renderer.readback();
-    if (coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
-    return out;
-  };
-  // Fibre colours: the fibre set of the pane (a tensor's principal directions when it has none).
-  std::optional<FibreSet> principal;
-  auto fibresOf = [&](const TensorField& f) -> std::pair<const FibreSet*, const ScalarVolume*> {
-    if (fibreIn && &f == &fibreIn->carrier)
-      return {&fibreIn->fibres.set, fibreIn->fa.data.empty() ? nullptr : &fa};
-    if (fibreIn2 && &f == &fibreIn2->carrier) return {&fibreIn2->fibres.set, nullptr};
-    principal = principalFibres(f);
-    return {&*principal, &f == &field ? &fa : nullptr};
-  };
-  auto pane = [&](const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
-    renderer.setMesh(m);
-    renderer.setField(f);
+  // One pane: `m` woven from `f`, with the tracts over it when asked and given.
+  Image pane(const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
+    renderer_.setMesh(m);
+    renderer_.setField(f);
     if (params.colour == render::ColourMode::Fibres) {
       auto [set, setFa] = fibresOf(f);
-      renderer.setFibres(*set, setFa);
+      renderer_.setFibres(*set, setFa);
     }
-    Image img = renderer.renderStill(camera, params);
-    return withTracts && tractRenderer ? overlay(m, img) : img;
-  };
-  Image image;
-  if (split.kind == SplitMode::Kind::Tracts) {
-    Image plain = pane(mesh, field, p, false);
-    image = sideBySide(plain, overlay(mesh, plain));
-  } else if (split.kind == SplitMode::Kind::Colour) {
-    if (fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
+    Image img = renderer_.renderStill(camera_, params);
+    return withTracts && tracts_ ? overlay(m, img) : img;
+  }
+
+  // The tracts shown on `m` (the one overlay rule, app/scene/tract_overlay.h) drawn over `fabric`.
+  Image overlay(const Mesh& m, const Image& fabric) {
+    TractOverlayOptions options;
+    options.nearMm = r_.tractsNear;
+    options.clipMm = r_.tractsSlab;
+    options.clipDepthMm = r_.tractsSlabDepth;
+    const TractSelection selection = selectTracts(s_.tracts, m, r_.tractsNear);
+    const TractClip clip = tractClip(selection.pick, options, glm::vec3(camera_.forward()), 0.5f * (lo_ + hi_));
+    render::TractStyle style;
+    style.widthPx = static_cast<float>(r_.tractWidth);
+    style.plane = clip.plane;
+    style.slabMm = clip.slabMm;
+    tracts_->upload(tractOverlayDisplay(selection.all ? s_.tracts : selection.near));
+    if (tracts_->lineCount() == 0) {
+      logWarning("no tract of " + r_.tracts + " lies near the surface");
+      return fabric;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
+    tracts_->draw(renderer_.frameView(), style);
+    Image out = renderer_.readback();
+    if (s_.coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
+    return out;
+  }
+
+  int lastIterations() const { return renderer_.lastIterations(); }
+
+private:
+  // Fibre colours: the fibre set of the pane (a tensor's principal directions when it has none).
+  std::pair<const FibreSet*, const ScalarVolume*> fibresOf(const TensorField& f) {
+    if (s_.fibreIn && &f == &s_.fibreIn->carrier)
+      return {&s_.fibreIn->fibres.set, s_.fibreIn->fa.data.empty() ? nullptr : &s_.fa};
+    if (second_.fibreIn && &f == &second_.fibreIn->carrier) return {&second_.fibreIn->fibres.set, nullptr};
+    principal_ = principalFibres(f);
+    return {&*principal_, &f == s_.field ? &s_.fa : nullptr};
+  }
+
+  const RenderRequest& r_;
+  const Scene& s_;
+  const SecondPane& second_;
+  // Makes the process's headless context current before the renderer compiles its programs.
+  struct CurrentContext {
+    CurrentContext() { render::GlContext::headless(); }
+  } context_;
+  render::FabricRenderer renderer_;
+  render::Camera camera_;
+  glm::vec3 lo_{0.0f}, hi_{0.0f};
+  std::optional<render::TractRenderer> tracts_;
+  std::optional<FibreSet> principal_;
+};
+
+// The image: one pane, or two side by side as the split asks.
+Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& second, PaneRenderer& panes,
+                  render::FabricParams p) {
+  switch (r.split.kind) {
+  case SplitMode::Kind::Tracts: {
+    Image plain = panes.pane(s.mesh, *s.field, p, false);
+    return sideBySide(plain, panes.overlay(s.mesh, plain));
+  }
+  case SplitMode::Kind::Colour: {
+    if (s.fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
     render::FabricParams p2 = p;
     p.colour = render::ColourMode::Medical;
     p2.colour = render::ColourMode::Engineering;
-    Image left = pane(mesh, field, p, true);
-    image = sideBySide(left, pane(mesh, field, p2, true));
-  } else if (split.kind == SplitMode::Kind::Surface || split.kind == SplitMode::Kind::Input) {
-    Image left = pane(mesh, field, p, true);
-    const TensorField& field2 = split.kind != SplitMode::Kind::Input ? field
-                                : fibreIn2                           ? fibreIn2->carrier
-                                                                     : loaded2.field;
-    image = sideBySide(left, pane(mesh2, field2, p, true));
-  } else {
-    image = pane(mesh, field, p, true);
+    Image left = panes.pane(s.mesh, *s.field, p, true);
+    return sideBySide(left, panes.pane(s.mesh, *s.field, p2, true));
   }
+  case SplitMode::Kind::Surface:
+  case SplitMode::Kind::Input: {
+    Image left = panes.pane(s.mesh, *s.field, p, true);
+    return sideBySide(left, panes.pane(second.mesh, *second.field, p, true));
+  }
+  case SplitMode::Kind::None:
+    break;
+  }
+  return panes.pane(s.mesh, *s.field, p, true);
+}
+
+} // namespace
+
+RenderResult runRender(const RenderRequest& r) {
+  validate(r);
+  render::FabricParams p = r.params;
+  Scene scene;
+  loadScene(r, p, scene);
+  SecondPane second;
+  loadSecondPane(r, scene, p, second);
+  const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
+  PaneRenderer panes(r, scene, second, view);
+  Image image = renderPanes(r, scene, second, panes, p);
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);
-  result.surface = describeSurface(spec);
-  result.triangles = mesh.triangleCount();
+  result.surface = describeSurface(r.surface);
+  result.triangles = scene.mesh.triangleCount();
   result.view = view;
-  result.iterations = renderer.lastIterations();
+  result.iterations = panes.lastIterations();
   return result;
 }
 
