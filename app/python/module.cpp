@@ -537,16 +537,10 @@ void raise(const char* cls, const std::string& message) {
 using namespace dtf;
 using namespace dtf::python;
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "dtfabric's C++ core (use the package dtfabric)";
-  // Warnings and errors of the libraries go to stderr, as the command-line tool prints them; notes are
-  // dropped (the fields carry their layout reasons and warnings).
-  setLogSink([](LogLevel level, const std::string& message) {
-    if (level == LogLevel::Warning || level == LogLevel::Error)
-      std::fprintf(stderr, "dtfabric: %s: %s\n", level == LogLevel::Warning ? "warning" : "error",
-                   message.c_str());
-  });
+namespace {
 
+// The library's errors as the package's exception classes (dtfabric/_errors.py defines them).
+void registerErrors() {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -560,7 +554,10 @@ PYBIND11_MODULE(_core, m) {
       raise("Error", e.what());
     }
   });
+}
 
+// dtfabric.TensorField: tensors from files or arrays.
+void bindTensorField(py::module_& m) {
   py::class_<PyTensorField>(m, "TensorField", R"(A tensor volume in dtfabric's canonical form.
 
 TensorField(array, affine=None, layout="auto")
@@ -625,7 +622,10 @@ TensorField(array, affine=None, layout="auto")
         return "<dtfabric.TensorField " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" +
                std::to_string(d.z) + " layout=" + f.layout + " from " + f.source + ">";
       });
+}
 
+// dtfabric.FibreSet: fibre populations from files.
+void bindFibreSet(py::module_& m) {
   py::class_<PyFibreSet>(m, "FibreSet",
                          "Crossing fibres per voxel (unit world-RAS directions, strongest first).")
       .def_property_readonly(
@@ -676,7 +676,10 @@ TensorField(array, affine=None, layout="auto")
                "x" + std::to_string(s.grid.dims.z) + " K=" + std::to_string(s.maxFibres) +
                " layout=" + io::fibreLayoutName(f.data->fibres.layout) + " from " + f.source + ">";
       });
+}
 
+// load, render, surface, track, check and the helpers.
+void bindSessions(py::module_& m) {
   py::class_<PySurface>(m, "Surface", "A triangle mesh in world RAS mm.")
       .def_readonly("vertices", &PySurface::vertices, "(N, 3) float32 positions, world RAS mm")
       .def_readonly("faces", &PySurface::faces, "(M, 3) int64 vertex indices, counter-clockwise from outside")
@@ -763,4 +766,21 @@ Default: select=1000 streamlines seeded where the field holds a tensor.)");
         return d;
       },
       "The fabric options render() takes as keyword arguments, with their help.");
+}
+} // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "dtfabric's C++ core (use the package dtfabric)";
+  // Warnings and errors of the libraries go to stderr, as the command-line tool prints them; notes are
+  // dropped (the fields carry their layout reasons and warnings).
+  setLogSink([](LogLevel level, const std::string& message) {
+    if (level == LogLevel::Warning || level == LogLevel::Error)
+      std::fprintf(stderr, "dtfabric: %s: %s\n", level == LogLevel::Warning ? "warning" : "error",
+                   message.c_str());
+  });
+
+  registerErrors();
+  bindTensorField(m);
+  bindFibreSet(m);
+  bindSessions(m);
 }
