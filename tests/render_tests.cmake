@@ -8,3 +8,4 @@ dtf_test(test_bench_render_peer SOURCES unit/bench_render_peer_test.cpp LIBS dtf
 dtf_test(test_bench_render_cli SOURCES gl/bench_render_cli_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_gl_state SOURCES gl/gl_state_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_gl_debug_messages SOURCES gl/debug_messages_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_program_bindings SOURCES gl/program_bindings_test.cpp LIBS dtf_render dtf_model)
