@@ -73,11 +73,10 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   worldToTex_ = worldToTexture(set.grid);
 }
 
-void GpuFibreSet::bind() const {
-  const GLuint units[kMaxLobes] = {0, 1, 5};
+void GpuFibreSet::bind(const std::array<GLuint, kMaxLobes>& lobeUnits, GLuint faUnit) const {
   for (int l = 0; l < kMaxLobes; ++l)
-    glBindTextureUnit(units[l], l < lobes_ ? lobe_[l].id() : lobe_[0].id());
-  glBindTextureUnit(6, fa_.id());
+    glBindTextureUnit(lobeUnits[static_cast<std::size_t>(l)], l < lobes_ ? lobe_[l].id() : lobe_[0].id());
+  glBindTextureUnit(faUnit, fa_.id());
 }
 
 } // namespace dtf::render

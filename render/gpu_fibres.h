@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
+
 namespace dtf::render {
 
 class GpuFibreSet {
@@ -23,8 +25,9 @@ public:
   // grid.
   void upload(const FibreSet& set, const ScalarVolume* fa = nullptr, float relativeThreshold = 0.0f);
   void clear();
-  // Binds the lobe textures to units 0, 1, 5 and FA to unit 6 (the bindings of fibre_field.glsl).
-  void bind() const;
+  // Binds the lobe textures to `lobeUnits` and FA to `faUnit` (a program's UNIT_LOBE0..2 and UNIT_FIBRE_FA);
+  // unused slots get lobe 0.
+  void bind(const std::array<GLuint, kMaxLobes>& lobeUnits, GLuint faUnit) const;
   const glm::mat4& worldToTex() const { return worldToTex_; }
   int lobes() const { return lobes_; }
   bool empty() const { return lobes_ == 0; }

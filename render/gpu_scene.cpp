@@ -156,11 +156,11 @@ void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
   worldToTex_ = worldToTexture(volume.grid);
 }
 
-void GpuScalarVolume::bind(int unit) const { glBindTextureUnit(static_cast<GLuint>(unit), texture_.id()); }
+void GpuScalarVolume::bind(GLuint unit) const { glBindTextureUnit(unit, texture_.id()); }
 
-void GpuTensorField::bind() const {
-  glBindTextureUnit(0, a_.id());
-  glBindTextureUnit(1, b_.id());
+void GpuTensorField::bind(GLuint unitA, GLuint unitB) const {
+  glBindTextureUnit(unitA, a_.id());
+  glBindTextureUnit(unitB, b_.id());
 }
 
 Texture uploadNoise(const NoiseTile& tile) {

@@ -44,8 +44,8 @@ public:
   // Texture A: xx xy xz yy; texture B: yz zz FA valid (world RAS, mm^2/s). Throws GlError when the grid
   // exceeds GL_MAX_3D_TEXTURE_SIZE or the GPU runs out of memory for the textures (GL_OUT_OF_MEMORY).
   void upload(const TensorField& field);
-  // Binds the textures to units 0 and 1 (the bindings of shaders/common/tensor_field.glsl).
-  void bind() const;
+  // Binds texture A to `unitA`, B to `unitB` (a program's UNIT_TENSOR_A and UNIT_TENSOR_B).
+  void bind(GLuint unitA, GLuint unitB) const;
   // World RAS mm -> 3D texture coordinates (voxel centres at (i + 0.5) / dims).
   const glm::mat4& worldToTex() const { return worldToTex_; }
   bool empty() const { return !a_; }
@@ -64,7 +64,7 @@ public:
   void upload(const ScalarVolume& volume, float lo, float hi);
   void clear() { texture_ = Texture(); }
   // Binds the texture to `unit`.
-  void bind(int unit) const;
+  void bind(GLuint unit) const;
   const glm::mat4& worldToTex() const { return worldToTex_; }
   bool empty() const { return !texture_; }
 

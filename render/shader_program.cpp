@@ -96,8 +96,15 @@ ShaderSource preprocessShader(const std::string& file, const std::vector<std::st
   return std::move(e.out);
 }
 
+std::vector<std::string> bindingDefines(std::initializer_list<std::span<const BindingName>> tables) {
+  std::vector<std::string> defines;
+  for (const auto& table : tables)
+    for (const BindingName& b : table) defines.push_back(std::string(b.define) + " " + std::to_string(b.value));
+  return defines;
+}
+
 ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
-                             const std::vector<std::string>& defines) {
+                             const std::vector<std::string>& defines, const std::vector<const char*>& uniforms) {
   GLuint vs = compileShaderStage(GL_VERTEX_SHADER, vertexFile, defines);
   GLuint fs = 0;
   try {
@@ -122,6 +129,8 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
     log.resize(std::strlen(log.c_str()));
     throw GlError("linking " + vertexFile + " + " + fragmentFile + " failed:\n" + log);
   }
+  locations_.reserve(uniforms.size());
+  for (const char* name : uniforms) locations_.push_back(glGetUniformLocation(program_.id(), name));
 }
 
 void ShaderProgram::set(const char* name, const glm::mat4& m) const {
@@ -129,6 +138,12 @@ void ShaderProgram::set(const char* name, const glm::mat4& m) const {
 }
 void ShaderProgram::set(const char* name, const glm::mat3& m) const {
   glProgramUniformMatrix3fv(id(), location(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+void ShaderProgram::setAt(GLint loc, const glm::mat4& m) const {
+  glProgramUniformMatrix4fv(id(), loc, 1, GL_FALSE, glm::value_ptr(m));
+}
+void ShaderProgram::setAt(GLint loc, const glm::mat3& m) const {
+  glProgramUniformMatrix3fv(id(), loc, 1, GL_FALSE, glm::value_ptr(m));
 }
 
 GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vector<std::string>& defines) {
@@ -152,9 +167,9 @@ GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vect
 }
 
 ShaderVariants::ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
-                               std::vector<std::string> always)
+                               std::vector<std::string> always, std::vector<const char*> uniforms)
     : vertex_(std::move(vertexFile)), fragment_(std::move(fragmentFile)), defines_(std::move(defines)),
-      always_(std::move(always)) {
+      always_(std::move(always)), uniforms_(std::move(uniforms)) {
   if (defines_.size() > kMaxDefines) throw GlError("ShaderVariants: too many defines for " + fragment_);
 }
 
@@ -165,7 +180,7 @@ const ShaderProgram& ShaderVariants::get(unsigned mask) {
     std::vector<std::string> defines = always_;
     for (std::size_t i = 0; i < defines_.size(); ++i)
       if (mask & (1u << i)) defines.push_back(defines_[i]);
-    slot = std::make_unique<ShaderProgram>(vertex_, fragment_, defines);
+    slot = std::make_unique<ShaderProgram>(vertex_, fragment_, defines, uniforms_);
   }
   return *slot;
 }

@@ -9,8 +9,12 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstddef>
+#include <initializer_list>
 #include <memory>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace dtf::render {
@@ -27,12 +31,47 @@ ShaderSource preprocessShader(const std::string& file, const std::vector<std::st
 // Throws GlError with the file/line-mapped log.
 GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vector<std::string>& defines = {});
 
+// A texture unit, image unit or atomic-counter binding of a program, named once in C++: its value, the
+// GLSL define the shader declares it with (`layout(binding = UNIT_X) uniform sampler2D u_x;`) and the
+// uniform it binds (so a check can compare the binding the GL reports with the value).
+struct BindingName {
+  GLuint value;
+  const char* define;
+  const char* uniform;
+};
+// "DEFINE VALUE" for every binding of the tables: injected into a program's GLSL, which does not compile
+// without them (an undeclared name in a layout qualifier is an error).
+std::vector<std::string> bindingDefines(std::initializer_list<std::span<const BindingName>> tables);
+template <class E>
+  requires std::is_enum_v<E>
+constexpr GLuint unit(E e) {
+  return static_cast<GLuint>(e);
+}
+// Binds `texture` to the texture unit of a program's unit enum.
+template <class E>
+  requires std::is_enum_v<E>
+void bindTexture(E u, GLuint texture) {
+  glBindTextureUnit(unit(u), texture);
+}
+
+// The uniform names of an enum E with enumerators 0 .. E::Count - 1, in order, from uniformName(E) (found
+// by argument-dependent lookup; a switch over E, so a missing name is a -Wswitch error).
+template <class E>
+  requires std::is_enum_v<E>
+std::vector<const char*> uniformNames() {
+  std::vector<const char*> names;
+  for (int i = 0; i < static_cast<int>(E::Count); ++i) names.push_back(uniformName(static_cast<E>(i)));
+  return names;
+}
+
 class ShaderProgram {
 public:
   ShaderProgram() = default;
-  // Compiles and links a vertex + fragment program. Throws GlError with the file/line-mapped log.
+  // Compiles and links a vertex + fragment program. Throws GlError with the file/line-mapped log. The
+  // locations of `uniforms` are looked up once, after linking: set(E, v) with an enum whose values index
+  // that list uses them (-1 where the uniform is unused in this program, which the GL ignores).
   ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
-                const std::vector<std::string>& defines = {});
+                const std::vector<std::string>& defines = {}, const std::vector<const char*>& uniforms = {});
 
   GLuint id() const { return program_.id(); }
   explicit operator bool() const { return bool(program_); }
@@ -52,8 +91,31 @@ public:
   void set(const char* name, const glm::mat4& m) const;
   void set(const char* name, const glm::mat3& m) const;
 
+  // The cached location of uniform `u` (its index in the constructor's `uniforms`).
+  template <class E>
+    requires std::is_enum_v<E>
+  GLint location(E u) const {
+    return locations_.at(static_cast<std::size_t>(u));
+  }
+  template <class E, class T>
+    requires std::is_enum_v<E>
+  void set(E u, const T& v) const {
+    setAt(location(u), v);
+  }
+
 private:
+  void setAt(GLint loc, float v) const { glProgramUniform1f(id(), loc, v); }
+  void setAt(GLint loc, int v) const { glProgramUniform1i(id(), loc, v); }
+  void setAt(GLint loc, bool v) const { glProgramUniform1i(id(), loc, v ? 1 : 0); }
+  void setAt(GLint loc, const glm::ivec2& v) const { glProgramUniform2i(id(), loc, v.x, v.y); }
+  void setAt(GLint loc, const glm::vec2& v) const { glProgramUniform2f(id(), loc, v.x, v.y); }
+  void setAt(GLint loc, const glm::vec3& v) const { glProgramUniform3f(id(), loc, v.x, v.y, v.z); }
+  void setAt(GLint loc, const glm::vec4& v) const { glProgramUniform4f(id(), loc, v.x, v.y, v.z, v.w); }
+  void setAt(GLint loc, const glm::mat4& m) const;
+  void setAt(GLint loc, const glm::mat3& m) const;
+
   ProgramHandle program_;
+  std::vector<GLint> locations_;
 };
 
 // Compile-time variants of one vertex + fragment program: bit i of a variant mask defines the i-th name.
@@ -63,14 +125,16 @@ private:
 class ShaderVariants {
 public:
   static constexpr int kMaxDefines = 7;
+  // `always`: defines of every variant (the program's bindings); `uniforms` as for ShaderProgram.
   ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
-                 std::vector<std::string> always = {});
+                 std::vector<std::string> always = {}, std::vector<const char*> uniforms = {});
   // The program with the defines of `mask` (bit i = defines[i]). Throws GlError on a compile failure.
   const ShaderProgram& get(unsigned mask);
 
 private:
   std::string vertex_, fragment_;
   std::vector<std::string> defines_, always_;
+  std::vector<const char*> uniforms_;
   std::array<std::unique_ptr<ShaderProgram>, 1u << kMaxDefines> programs_;
 };
 

@@ -1,6 +1,7 @@
 #include "render/tract_layer.h"
 
 #include "render/gl_state.h"
+#include "render/program_bindings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,7 +62,8 @@ std::size_t TractBudget::chunk() const {
 }
 
 TractLayer::TractLayer()
-    : program_("common/fullscreen.vert", "tracts/layer.frag"), vao_(createVertexArray()) {
+    : program_("common/fullscreen.vert", "tracts/layer.frag", programDefines<TractLayerProgram>()),
+      vao_(createVertexArray()) {
   for (auto& q : queries_)
     q = createQuery(GL_TIME_ELAPSED);
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -148,8 +150,8 @@ void TractLayer::composite(const Framebuffer& fabric) {
   glViewport(0, 0, size_.x, size_.y);
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
-  glBindTextureUnit(0, fabricCopy_.id());
-  glBindTextureUnit(1, targets_[front_].colour.id());
+  bindTexture(TractLayerProgram::Unit::Fabric, fabricCopy_.id());
+  bindTexture(TractLayerProgram::Unit::Layer, targets_[front_].colour.id());
   program_.use();
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -4,11 +4,24 @@
 
 namespace dtf::render {
 
+namespace {
+using Unit = AdvectionProgram::Unit;
+using U = AdvectionProgram::Uniform;
+
+std::vector<std::string> resetDefines(bool third) {
+  std::vector<std::string> d = programDefines<AdvectionProgram>();
+  d.push_back("RESET");
+  if (third) d.push_back("THIRD");
+  return d;
+}
+} // namespace
+
 AdvectionPass::AdvectionPass()
-    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"}),
-      reset_("common/fullscreen.vert", "fabric/advection.frag", {"RESET"}),
-      reset3_("common/fullscreen.vert", "fabric/advection.frag", {"RESET", "THIRD"}), vao_(createVertexArray()),
-      counter_(createBuffer()) {
+    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"},
+                 programDefines<AdvectionProgram>(), uniformNames<U>()),
+      reset_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false), uniformNames<U>()),
+      reset3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
+      vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
 }
@@ -45,19 +58,19 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   glViewport(0, 0, size_.x, size_.y);
   const ShaderProgram& program =
       iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u));
-  program.set("u_k", s.k);
-  program.set("u_step", s.stepPixels);
-  program.set("u_complementSecond", s.complementSecond ? 1 : 0);
+  program.set(U::K, s.k);
+  program.set(U::Step, s.stepPixels);
+  program.set(U::ComplementSecond, s.complementSecond ? 1 : 0);
   if (countChanges) {
-    program.set("u_epsilon", s.epsilon);
+    program.set(U::Epsilon, s.epsilon);
     const GLuint zero = 0;
     glClearNamedBufferSubData(counter_.id(), GL_R32UI, 0, sizeof(GLuint), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
   program.use();
-  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter_.id());
-  glBindTextureUnit(0, state_[current_][0].id());
-  glBindTextureUnit(4, state_[current_][1].id());
-  if (third) glBindTextureUnit(5, state_[current_][2].id());
+  glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, unit(AdvectionProgram::Counter::Changed), counter_.id());
+  bindTexture(Unit::Prev1, state_[current_][0].id());
+  bindTexture(Unit::Prev2, state_[current_][1].id());
+  if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
@@ -68,10 +81,10 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fiel
   glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetFbo3_ : resetFbo_).id());
   glViewport(0, 0, size_.x, size_.y);
   const ShaderProgram& program = fields >= 3 ? reset3_ : reset_;
-  program.set("u_complementSecond", complementSecond ? 1 : 0);
+  program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
-  glBindTextureUnit(2, surface.id());
-  glBindTextureUnit(3, edges.id());
+  bindTexture(Unit::Surface, surface.id());
+  bindTexture(Unit::Silhouette, edges.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = 0;
@@ -92,7 +105,7 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_FALSE);
   }
-  glBindTextureUnit(1, vectors.id());
+  bindTexture(Unit::Vectors, vectors.id());
   for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, fields >= 3);
   if (covered) {
     glDepthFunc(GL_LESS);

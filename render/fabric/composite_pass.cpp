@@ -2,9 +2,15 @@
 
 namespace dtf::render {
 
+namespace {
+using Unit = CompositeProgram::Unit;
+using U = CompositeProgram::Uniform;
+} // namespace
+
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
-                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"}),
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"},
+                programDefines<CompositeProgram>(), uniformNames<U>()),
       vao_(createVertexArray()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
@@ -15,35 +21,35 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
                         (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
                         (s.windowDepth && in.depth ? 64u : 0u);
   const ShaderProgram& p = programs_.get(mask);
-  glProgramUniform2i(p.id(), p.location("u_guard"), view.guard, view.guard);
-  glProgramUniform2i(p.id(), p.location("u_origin"), s.origin.x, s.origin.y);
-  p.set("u_scale", glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
-  p.set("u_eyeDepth", view.eyeDepth);
-  p.set("u_r", s.r);
-  p.set("u_contrast", s.contrast);
-  p.set("u_lightWeight", s.lightWeight);
-  p.set("u_lightMix", s.lightMix);
-  p.set("u_lighting", s.lighting ? 1 : 0);
+  p.set(U::Guard, glm::ivec2(view.guard));
+  p.set(U::Origin, s.origin);
+  p.set(U::Scale, glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
+  p.set(U::EyeDepth, view.eyeDepth);
+  p.set(U::R, s.r);
+  p.set(U::Contrast, s.contrast);
+  p.set(U::LightWeight, s.lightWeight);
+  p.set(U::LightMix, s.lightMix);
+  p.set(U::Lighting, s.lighting ? 1 : 0);
   if (s.depthColour > 0.0f) {
-    p.set("u_depthColour", s.depthColour);
-    p.set("u_depthRange", view.depthRange);
+    p.set(U::DepthColour, s.depthColour);
+    p.set(U::DepthRange, view.depthRange);
   }
-  if (s.sharpen > 0.0f) p.set("u_sharpen", s.sharpen);
-  p.set("u_secondaryRatio", s.secondaryRatio);
-  p.set("u_secondaryFa", s.secondaryFa);
-  p.set("u_fadeOutOfPlane", s.fadeOutOfPlane);
+  if (s.sharpen > 0.0f) p.set(U::Sharpen, s.sharpen);
+  p.set(U::SecondaryRatio, s.secondaryRatio);
+  p.set(U::SecondaryFa, s.secondaryFa);
+  p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   p.use();
-  glBindTextureUnit(0, in.p1->id());
-  glBindTextureUnit(3, in.p2->id());
-  glBindTextureUnit(1, in.surface->id());
-  glBindTextureUnit(2, in.edges->id());
-  glBindTextureUnit(4, in.eigen->id());
-  glBindTextureUnit(5, in.lambda->id());
+  bindTexture(Unit::P1, in.p1->id());
+  bindTexture(Unit::P2, in.p2->id());
+  bindTexture(Unit::Surface, in.surface->id());
+  bindTexture(Unit::Silhouette, in.edges->id());
+  bindTexture(Unit::Eigen, in.eigen->id());
+  bindTexture(Unit::Lambda, in.lambda->id());
   if (s.mode == ColourMode::Fibres && in.fibres) {
-    glBindTextureUnit(6, in.p3->id());
-    glBindTextureUnit(7, in.fibres->id());
+    bindTexture(Unit::P3, in.p3->id());
+    bindTexture(Unit::Fibres, in.fibres->id());
   }
-  if (s.windowDepth && in.depth) glBindTextureUnit(8, in.depth->id());
+  if (s.windowDepth && in.depth) bindTexture(Unit::Depth, in.depth->id());
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);

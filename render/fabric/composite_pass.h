@@ -8,6 +8,7 @@
 #include "render/fabric/frame_view.h"
 #include "render/fabric_params.h"
 #include "render/gl_objects.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 namespace dtf::render {

@@ -3,8 +3,11 @@
 namespace dtf::render {
 
 GeometryStage::GeometryStage()
-    : meshProgram_("fabric/geometry.vert", "fabric/geometry.frag"),
-      importProgram_("common/deferred.vert", "fabric/host_import.frag"), vao_(createVertexArray()) {
+    : meshProgram_("fabric/geometry.vert", "fabric/geometry.frag", programDefines<GeometryProgram>(),
+                   uniformNames<GeometryProgram::Uniform>()),
+      importProgram_("common/deferred.vert", "fabric/host_import.frag", programDefines<HostImportProgram>(),
+                     uniformNames<HostImportProgram::Uniform>()),
+      vao_(createVertexArray()) {
   glCreateSamplers(1, &sampler_);
   glSamplerParameteri(sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glSamplerParameteri(sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -45,8 +48,8 @@ void GeometryStage::run(const GpuMesh& mesh, const FrameView& view, bool cullHid
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
-  meshProgram_.set("u_viewProj", view.viewProj);
-  meshProgram_.set("u_view", view.view);
+  meshProgram_.set(GeometryProgram::Uniform::ViewProj, view.viewProj);
+  meshProgram_.set(GeometryProgram::Uniform::View, view.view);
   meshProgram_.use();
   if (draw) mesh.drawVisible(cullHidden);
   glDisable(GL_DEPTH_TEST);
@@ -62,24 +65,26 @@ void GeometryStage::import(const HostSurface& host, const FrameView& view) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);
   glDepthMask(GL_TRUE);
+  using U = HostImportProgram::Uniform;
+  using Unit = HostImportProgram::Unit;
   const ShaderProgram& p = importProgram_;
-  p.set("u_clipToEye", view.clipToEye);
-  p.set("u_hostClipToEye", glm::inverse(host.projection));
-  p.set("u_projection", host.projection);
-  p.set("u_viewRot", view.viewRot);
-  p.set("u_biasedNormals", host.biasedNormals ? 1 : 0);
-  glProgramUniform2i(p.id(), p.location("u_origin"), host.origin.x, host.origin.y);
-  glProgramUniform2i(p.id(), p.location("u_extent"), view.viewport.x, view.viewport.y);
-  p.set("u_guard", view.guard);
+  p.set(U::ClipToEye, view.clipToEye);
+  p.set(U::HostClipToEye, glm::inverse(host.projection));
+  p.set(U::Projection, host.projection);
+  p.set(U::ViewRot, view.viewRot);
+  p.set(U::BiasedNormals, host.biasedNormals ? 1 : 0);
+  p.set(U::Origin, glm::ivec2(host.origin.x, host.origin.y));
+  p.set(U::Extent, glm::ivec2(view.viewport.x, view.viewport.y));
+  p.set(U::Guard, view.guard);
   p.use();
-  glBindTextureUnit(0, host.depth);
-  glBindTextureUnit(1, host.normal);
-  glBindSampler(0, sampler_);
-  glBindSampler(1, sampler_);
+  bindTexture(Unit::HostDepth, host.depth);
+  bindTexture(Unit::HostNormal, host.normal);
+  glBindSampler(unit(Unit::HostDepth), sampler_);
+  glBindSampler(unit(Unit::HostNormal), sampler_);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindSampler(0, 0);
-  glBindSampler(1, 0);
+  glBindSampler(unit(Unit::HostDepth), 0);
+  glBindSampler(unit(Unit::HostNormal), 0);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);
 }

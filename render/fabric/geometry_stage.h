@@ -12,6 +12,7 @@
 #include "render/fabric/frame_view.h"
 #include "render/gl_objects.h"
 #include "render/gpu_scene.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 namespace dtf::render {

@@ -4,6 +4,7 @@
 
 #include "render/fabric/frame_view.h"
 #include "render/gpu_scene.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 namespace dtf::render {

@@ -2,9 +2,15 @@
 
 namespace dtf::render {
 
+namespace {
+using Unit = ProjectionProgram::Unit;
+using U = ProjectionProgram::Uniform;
+} // namespace
+
 TensorStage::TensorStage()
     : program_("common/deferred.vert", "fabric/projection.frag",
-               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}),
+               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}, programDefines<ProjectionProgram>(),
+               uniformNames<U>()),
       vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
   program_.get(1); // the default variant compiles with the pass, so a broken shader fails early
 }
@@ -58,37 +64,37 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   const ShaderProgram& p =
       program_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
                    (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u));
-  p.set("u_clipToEye", view.clipToEye);
-  p.set("u_eyeToWorld", view.eyeToWorld);
-  p.set("u_viewProj", view.viewProj);
-  p.set("u_viewRot", view.viewRot);
-  p.set("u_targetSize", glm::vec2(size_));
-  p.set("u_eps", 0.5f * view.pixelMm);
-  p.set("u_degenerateTol", s.degenerateTol);
-  p.set("u_orthographic", view.orthographic ? 1 : 0);
-  p.set("u_pixelMm", view.pixelMm);
-  p.set("u_pixelMmPerDepth", view.pixelMmPerDepth);
-  p.set("u_noiseOrigin", s.noiseOrigin);
-  p.set("u_lod", s.lod);
-  if (s.noiseBlend > 0.0f) p.set("u_noiseBlend", s.noiseBlend);
+  p.set(U::ClipToEye, view.clipToEye);
+  p.set(U::EyeToWorld, view.eyeToWorld);
+  p.set(U::ViewProj, view.viewProj);
+  p.set(U::ViewRot, view.viewRot);
+  p.set(U::TargetSize, glm::vec2(size_));
+  p.set(U::Eps, 0.5f * view.pixelMm);
+  p.set(U::DegenerateTol, s.degenerateTol);
+  p.set(U::Orthographic, view.orthographic ? 1 : 0);
+  p.set(U::PixelMm, view.pixelMm);
+  p.set(U::PixelMmPerDepth, view.pixelMmPerDepth);
+  p.set(U::NoiseOrigin, s.noiseOrigin);
+  p.set(U::Lod, s.lod);
+  if (s.noiseBlend > 0.0f) p.set(U::NoiseBlend, s.noiseBlend);
   if (useFibres) {
-    p.set("u_worldToTex", fibres->worldToTex());
-    p.set("u_lobeCount", fibres->lobes());
+    p.set(U::WorldToTex, fibres->worldToTex());
+    p.set(U::LobeCount, fibres->lobes());
   } else {
-    p.set("u_worldToTex", field.worldToTex());
+    p.set(U::WorldToTex, field.worldToTex());
   }
-  p.set("u_faFloor", s.faFloor);
+  p.set(U::FaFloor, s.faFloor);
   if (hasBackground) {
-    p.set("u_backgroundWorldToTex", background->worldToTex());
-    background->bind(3);
+    p.set(U::BackgroundWorldToTex, background->worldToTex());
+    background->bind(unit(Unit::Background));
   }
   p.use();
   if (useFibres)
-    fibres->bind();
+    fibres->bind({unit(Unit::Lobe0), unit(Unit::Lobe1), unit(Unit::Lobe2)}, unit(Unit::FibreFa));
   else
-    field.bind();
-  glBindTextureUnit(2, noise.id());
-  glBindTextureUnit(4, geometry.geometry().id());
+    field.bind(unit(Unit::TensorA), unit(Unit::TensorB));
+  bindTexture(Unit::Noise, noise.id());
+  bindTexture(Unit::Geometry, geometry.geometry().id());
   glBindVertexArray(vao_.id());
   glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -30,6 +30,7 @@
 #include "render/gl_objects.h"
 #include "render/gpu_fibres.h"
 #include "render/gpu_scene.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 namespace dtf::render {

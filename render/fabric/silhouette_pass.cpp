@@ -2,9 +2,20 @@
 
 namespace dtf::render {
 
+namespace {
+using U = SilhouetteProgram::Uniform;
+
+std::vector<std::string> silhouetteDefines(bool farPlane) {
+  std::vector<std::string> d = programDefines<SilhouetteProgram>();
+  if (farPlane) d.push_back("FAR_PLANE");
+  return d;
+}
+} // namespace
+
 SilhouettePass::SilhouettePass()
-    : program_("common/fullscreen.vert", "fabric/silhouette.frag"),
-      covered_("common/fullscreen.vert", "fabric/silhouette.frag", {"FAR_PLANE"}), vao_(createVertexArray()) {}
+    : program_("common/fullscreen.vert", "fabric/silhouette.frag", silhouetteDefines(false), uniformNames<U>()),
+      covered_("common/fullscreen.vert", "fabric/silhouette.frag", silhouetteDefines(true), uniformNames<U>()),
+      vao_(createVertexArray()) {}
 
 void SilhouettePass::resize(glm::ivec2 target) {
   if (target == size_) return;
@@ -29,10 +40,10 @@ void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgr
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, size_.x, size_.y);
   const ShaderProgram& p = depth ? covered_ : program_;
-  p.set("u_threshold", thresholdMm);
-  p.set("u_background", backgroundMm);
+  p.set(U::Threshold, thresholdMm);
+  p.set(U::Background, backgroundMm);
   p.use();
-  glBindTextureUnit(0, surface.id());
+  bindTexture(SilhouetteProgram::Unit::Surface, surface.id());
   glBindVertexArray(vao_.id());
   if (depth) {
     const float one[4] = {1, 1, 1, 1};

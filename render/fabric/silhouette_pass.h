@@ -4,6 +4,7 @@
 #pragma once
 
 #include "render/gl_objects.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 #include <glm/glm.hpp>

@@ -8,10 +8,10 @@
 //     vector, or the nearest voxel's direction where the vector is shorter than 0.9 x the interpolated
 //     amplitude (a sign seam or a disagreement between voxels).
 
-layout(binding = 0) uniform sampler3D u_lobe0;
-layout(binding = 1) uniform sampler3D u_lobe1;
-layout(binding = 5) uniform sampler3D u_lobe2;
-layout(binding = 6) uniform sampler3D u_fibreFa; // FA (or 1), 1 where the voxel has fibres
+layout(binding = UNIT_LOBE0) uniform sampler3D u_lobe0;
+layout(binding = UNIT_LOBE1) uniform sampler3D u_lobe1;
+layout(binding = UNIT_LOBE2) uniform sampler3D u_lobe2;
+layout(binding = UNIT_FIBRE_FA) uniform sampler3D u_fibreFa; // FA (or 1), 1 where the voxel has fibres
 uniform mat4 u_worldToTex;
 uniform int u_lobeCount = 1; // 1..3 slots uploaded
 

@@ -3,8 +3,8 @@
 // u_worldToTex. The tensor is interpolated component-wise by the hardware (never its eigenvectors), and
 // renormalised by the interpolated validity so invalid (zero) voxels do not shrink their neighbours.
 
-layout(binding = 0) uniform sampler3D u_tensorA;
-layout(binding = 1) uniform sampler3D u_tensorB;
+layout(binding = UNIT_TENSOR_A) uniform sampler3D u_tensorA;
+layout(binding = UNIT_TENSOR_B) uniform sampler3D u_tensorB;
 uniform mat4 u_worldToTex;
 
 // False outside the data or where fewer than half the interpolation weights are valid voxels.

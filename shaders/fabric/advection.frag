@@ -10,13 +10,13 @@
 // ping-pong textures at once: p1 = p2 = beta, or BLOCKED. With FAR_PLANE, only covered pixels are shaded
 // (early depth test against the surface's depth; see common/fullscreen.vert). With THIRD, a third field p3
 // (fibre sets' third population) advects along the vectors' .w direction; RESET THIRD also writes p3.
-layout(binding = 0) uniform sampler2D u_prev1;      // p1, bilinear, clamp to edge
-layout(binding = 4) uniform sampler2D u_prev2;      // p2
-layout(binding = 1) uniform usampler2D u_vectors;   // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
-layout(binding = 2) uniform sampler2D u_surface;    // RESET: .r beta, .a coverage
-layout(binding = 3) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
+layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
+layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
+layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r beta, .a coverage
+layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
 #ifdef THIRD
-layout(binding = 5) uniform sampler2D u_prev3;      // p3
+layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
 #endif
 
 const float BLOCKED = -1e20;
@@ -52,7 +52,7 @@ void main() {
 }
 #else
 #ifdef COUNT
-layout(binding = 0, offset = 0) uniform atomic_uint u_changed;
+layout(binding = COUNTER_CHANGED, offset = 0) uniform atomic_uint u_changed;
 uniform float u_epsilon;
 #endif
 uniform float u_k;

@@ -16,19 +16,19 @@
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed).
-layout(binding = 0) uniform sampler2D u_p1;         // advected fields (negative where blocked)
-layout(binding = 3) uniform sampler2D u_p2;
-layout(binding = 1) uniform sampler2D u_surface;    // beta, L, linear depth, coverage
-layout(binding = 2) uniform sampler2D u_silhouette; // e
-layout(binding = 4) uniform sampler2D u_eigen;      // |e1| (world), FA
-layout(binding = 5) uniform sampler2D u_lambda;     // lambda2'/lambda1', |e1.n|, background grey, data
+layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
+layout(binding = UNIT_P2) uniform sampler2D u_p2;
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;       // beta, L, linear depth, coverage
+layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // e
+layout(binding = UNIT_EIGEN) uniform sampler2D u_eigen;           // |e1| (world), FA
+layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;         // lambda2'/lambda1', |e1.n|, background grey, data
 #ifdef FIBRES
-layout(binding = 6) uniform sampler2D u_p3;         // third population's advected field
-layout(binding = 7) uniform usampler2D u_fibres;    // packUnorm4x8(|d_k|, weight_k), k = 1..3
+layout(binding = UNIT_P3) uniform sampler2D u_p3;                 // third population's advected field
+layout(binding = UNIT_FIBRES) uniform usampler2D u_fibres;        // packUnorm4x8(|d_k|, weight_k), k = 1..3
 #endif
 
 #ifdef WINDOW_DEPTH
-layout(binding = 8) uniform sampler2D u_depth;      // window depth of the surface
+layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;           // window depth of the surface
 #endif
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets

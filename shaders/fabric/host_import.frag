@@ -13,8 +13,8 @@
 noperspective in vec3 v_nearEye; // the pixel's ray in eye space (common/deferred.vert)
 noperspective in vec3 v_farEye;
 
-layout(binding = 0) uniform sampler2D u_hostDepth;  // window depth in [0, 1]
-layout(binding = 1) uniform sampler2D u_hostNormal; // world normal (any length), see u_biasedNormals
+layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_hostDepth; // window depth in [0, 1]
+layout(binding = UNIT_HOST_NORMAL) uniform sampler2D u_hostNormal; // world normal (any length), see u_biasedNormals
 uniform bool u_biasedNormals;  // the texture holds 0.5 n + 0.5 (unsigned normalised formats)
 uniform ivec2 u_origin;        // the viewport's lower-left pixel in the host textures
 uniform ivec2 u_extent;        // the viewport's size in pixels

@@ -28,7 +28,7 @@ layout(early_fragment_tests) in;
 noperspective in vec3 v_nearEye;
 noperspective in vec3 v_farEye;
 
-layout(binding = 4) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
+layout(binding = UNIT_GEOMETRY) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
 
 uniform mat4 u_eyeToWorld;
 uniform mat4 u_viewProj;
@@ -42,9 +42,9 @@ uniform float u_pixelMmPerDepth; // perspective: pixel size in mm per mm of dept
 uniform vec3 u_noiseOrigin;  // b_min of Eq. 7 (world mm)
 uniform float u_lod;         // l of Eq. 7: implicit voxel edge in mm
 uniform float u_noiseBlend = 0.5; // NOISE_BLEND: > 0 softens the switch between voxel faces
-layout(binding = 2) uniform sampler2D u_noise;
+layout(binding = UNIT_NOISE) uniform sampler2D u_noise;
 #ifdef BACKGROUND
-layout(binding = 3) uniform sampler3D u_background; // grey shown where there is no tensor data
+layout(binding = UNIT_BACKGROUND) uniform sampler3D u_background; // grey shown where there is no tensor data
 uniform mat4 u_backgroundWorldToTex;
 #endif
 uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor

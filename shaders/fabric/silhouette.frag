@@ -6,7 +6,7 @@
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in; // only covered pixels are shaded
 #endif
-layout(binding = 0) uniform sampler2D u_surface; // .b linear depth (0 = no surface)
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (0 = no surface)
 
 uniform float u_threshold;   // mm of |Laplacian| above which a pixel is a silhouette
 uniform float u_background;  // linear depth assigned to empty pixels (beyond the far side of the scene)

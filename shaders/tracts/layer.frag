@@ -1,8 +1,8 @@
 #version 450 core
 // The tract layer over the fabric (render/tract_layer.h): the layer's colour where a tract was drawn (alpha
 // 1), else the fabric's. Same size as the output; depth is left as the fabric wrote it.
-layout(binding = 0) uniform sampler2D u_fabric;
-layout(binding = 1) uniform sampler2D u_layer;
+layout(binding = UNIT_FABRIC) uniform sampler2D u_fabric;
+layout(binding = UNIT_LAYER) uniform sampler2D u_layer;
 out vec4 o_colour;
 
 void main() {

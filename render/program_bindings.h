@@ -1,0 +1,227 @@
+// The texture units, atomic-counter bindings and uniforms of every pass program, named once here. The
+// bindings reach the GLSL as defines (bindingDefines(Program::kBindings), injected when the program is
+// compiled): `layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;`, and a shader naming a binding that
+// is not injected does not compile. The C++ binds with the enums (bindTexture(Unit::Prev2, ...)) and sets
+// uniforms by the Uniform enums, whose locations each program looks up once when it is linked.
+#pragma once
+
+#include "render/shader_program.h"
+
+namespace dtf::render {
+
+// fabric/advection.frag (AdvectionPass), every variant.
+struct AdvectionProgram {
+  enum class Unit : GLuint { Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5 };
+  enum class Counter : GLuint { Changed = 0 };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
+      {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
+      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
+      {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
+      {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
+      {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
+  };
+  enum class Uniform { K, Step, ComplementSecond, Epsilon, Count };
+};
+
+// fabric/composite.frag (CompositePass).
+struct CompositeProgram {
+  enum class Unit : GLuint {
+    P1 = 0, Surface = 1, Silhouette = 2, P2 = 3, Eigen = 4, Lambda = 5, P3 = 6, Fibres = 7, Depth = 8
+  };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::P1), "UNIT_P1", "u_p1"},
+      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
+      {unit(Unit::P2), "UNIT_P2", "u_p2"},
+      {unit(Unit::Eigen), "UNIT_EIGEN", "u_eigen"},
+      {unit(Unit::Lambda), "UNIT_LAMBDA", "u_lambda"},
+      {unit(Unit::P3), "UNIT_P3", "u_p3"},
+      {unit(Unit::Fibres), "UNIT_FIBRES", "u_fibres"},
+      {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
+  };
+  enum class Uniform {
+    Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Count
+  };
+};
+
+// fabric/silhouette.frag (SilhouettePass).
+struct SilhouetteProgram {
+  enum class Unit : GLuint { Surface = 0 };
+  static constexpr BindingName kBindings[] = {{unit(Unit::Surface), "UNIT_SURFACE", "u_surface"}};
+  enum class Uniform { Threshold, Background, Count };
+};
+
+// fabric/projection.frag (TensorStage) with common/tensor_field.glsl or common/fibre_field.glsl (FIBRES):
+// the two includes are exclusive, so the tensor and lobe textures share units 0 and 1.
+struct ProjectionProgram {
+  enum class Unit : GLuint {
+    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Geometry = 4, Lobe2 = 5,
+    FibreFa = 6
+  };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::TensorA), "UNIT_TENSOR_A", "u_tensorA"},
+      {unit(Unit::TensorB), "UNIT_TENSOR_B", "u_tensorB"},
+      {unit(Unit::Lobe0), "UNIT_LOBE0", "u_lobe0"},
+      {unit(Unit::Lobe1), "UNIT_LOBE1", "u_lobe1"},
+      {unit(Unit::Lobe2), "UNIT_LOBE2", "u_lobe2"},
+      {unit(Unit::FibreFa), "UNIT_FIBRE_FA", "u_fibreFa"},
+      {unit(Unit::Noise), "UNIT_NOISE", "u_noise"},
+      {unit(Unit::Background), "UNIT_BACKGROUND", "u_background"},
+      {unit(Unit::Geometry), "UNIT_GEOMETRY", "u_geometry"},
+  };
+  enum class Uniform {
+    ClipToEye, EyeToWorld, ViewProj, ViewRot, TargetSize, Eps, DegenerateTol, Orthographic, PixelMm,
+    PixelMmPerDepth, NoiseOrigin, Lod, NoiseBlend, WorldToTex, LobeCount, FaFloor, BackgroundWorldToTex, Count
+  };
+};
+
+// fabric/geometry.vert + geometry.frag (GeometryStage, own meshes).
+struct GeometryProgram {
+  static constexpr std::span<const BindingName> kBindings{};
+  enum class Uniform { ViewProj, View, Count };
+};
+
+// common/deferred.vert + fabric/host_import.frag (GeometryStage, a host's depth and normals).
+struct HostImportProgram {
+  enum class Unit : GLuint { HostDepth = 0, HostNormal = 1 };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::HostDepth), "UNIT_HOST_DEPTH", "u_hostDepth"},
+      {unit(Unit::HostNormal), "UNIT_HOST_NORMAL", "u_hostNormal"},
+  };
+  enum class Uniform { ClipToEye, HostClipToEye, Projection, ViewRot, BiasedNormals, Origin, Extent, Guard, Count };
+};
+
+// fabric/phong.vert + phong.frag (PhongPass).
+struct PhongProgram {
+  static constexpr std::span<const BindingName> kBindings{};
+  enum class Uniform { ViewProj, View, ViewRot, Orthographic, Colour, Count };
+};
+
+// common/fullscreen.vert + tracts/layer.frag (TractLayer).
+struct TractLayerProgram {
+  enum class Unit : GLuint { Fabric = 0, Layer = 1 };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::Fabric), "UNIT_FABRIC", "u_fabric"},
+      {unit(Unit::Layer), "UNIT_LAYER", "u_layer"},
+  };
+};
+
+// The programs' bindings as defines.
+template <class Program>
+std::vector<std::string> programDefines() {
+  return bindingDefines({std::span<const BindingName>(Program::kBindings)});
+}
+
+constexpr const char* uniformName(AdvectionProgram::Uniform u) {
+  using U = AdvectionProgram::Uniform;
+  switch (u) {
+  case U::K: return "u_k";
+  case U::Step: return "u_step";
+  case U::ComplementSecond: return "u_complementSecond";
+  case U::Epsilon: return "u_epsilon";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(CompositeProgram::Uniform u) {
+  using U = CompositeProgram::Uniform;
+  switch (u) {
+  case U::Guard: return "u_guard";
+  case U::Origin: return "u_origin";
+  case U::Scale: return "u_scale";
+  case U::EyeDepth: return "u_eyeDepth";
+  case U::R: return "u_r";
+  case U::Contrast: return "u_contrast";
+  case U::LightWeight: return "u_lightWeight";
+  case U::LightMix: return "u_lightMix";
+  case U::Lighting: return "u_lighting";
+  case U::DepthColour: return "u_depthColour";
+  case U::DepthRange: return "u_depthRange";
+  case U::Sharpen: return "u_sharpen";
+  case U::SecondaryRatio: return "u_secondaryRatio";
+  case U::SecondaryFa: return "u_secondaryFa";
+  case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(SilhouetteProgram::Uniform u) {
+  using U = SilhouetteProgram::Uniform;
+  switch (u) {
+  case U::Threshold: return "u_threshold";
+  case U::Background: return "u_background";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(ProjectionProgram::Uniform u) {
+  using U = ProjectionProgram::Uniform;
+  switch (u) {
+  case U::ClipToEye: return "u_clipToEye";
+  case U::EyeToWorld: return "u_eyeToWorld";
+  case U::ViewProj: return "u_viewProj";
+  case U::ViewRot: return "u_viewRot";
+  case U::TargetSize: return "u_targetSize";
+  case U::Eps: return "u_eps";
+  case U::DegenerateTol: return "u_degenerateTol";
+  case U::Orthographic: return "u_orthographic";
+  case U::PixelMm: return "u_pixelMm";
+  case U::PixelMmPerDepth: return "u_pixelMmPerDepth";
+  case U::NoiseOrigin: return "u_noiseOrigin";
+  case U::Lod: return "u_lod";
+  case U::NoiseBlend: return "u_noiseBlend";
+  case U::WorldToTex: return "u_worldToTex";
+  case U::LobeCount: return "u_lobeCount";
+  case U::FaFloor: return "u_faFloor";
+  case U::BackgroundWorldToTex: return "u_backgroundWorldToTex";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(GeometryProgram::Uniform u) {
+  using U = GeometryProgram::Uniform;
+  switch (u) {
+  case U::ViewProj: return "u_viewProj";
+  case U::View: return "u_view";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(HostImportProgram::Uniform u) {
+  using U = HostImportProgram::Uniform;
+  switch (u) {
+  case U::ClipToEye: return "u_clipToEye";
+  case U::HostClipToEye: return "u_hostClipToEye";
+  case U::Projection: return "u_projection";
+  case U::ViewRot: return "u_viewRot";
+  case U::BiasedNormals: return "u_biasedNormals";
+  case U::Origin: return "u_origin";
+  case U::Extent: return "u_extent";
+  case U::Guard: return "u_guard";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(PhongProgram::Uniform u) {
+  using U = PhongProgram::Uniform;
+  switch (u) {
+  case U::ViewProj: return "u_viewProj";
+  case U::View: return "u_view";
+  case U::ViewRot: return "u_viewRot";
+  case U::Orthographic: return "u_orthographic";
+  case U::Colour: return "u_colour";
+  case U::Count: break;
+  }
+  return "";
+}
+
+} // namespace dtf::render

@@ -1,0 +1,132 @@
+// The texture units, atomic-counter bindings and uniforms of the pass programs are named once in C++
+// (render/program_bindings.h) and injected into the GLSL as defines. These tests compile every program in
+// variants that together use all of its bindings and uniforms, and check that the binding the GL reports for
+// each sampler / atomic counter equals the C++ value, that every named uniform exists, and that a program
+// compiled without its injected bindings fails with an error naming a missing define.
+#include "render/program_bindings.h"
+#include "render/shader_program.h"
+#include "support/gl_test.h"
+
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace dtf;
+using namespace dtf::render;
+
+namespace {
+
+class ProgramBindings : public GlTest {};
+
+struct ProgramCase {
+  std::string name, vertex, fragment;
+  std::span<const BindingName> bindings;
+  std::vector<const char*> uniforms;
+  std::vector<std::vector<std::string>> variants; // each compiled with the bindings' defines added
+};
+
+template <class Program>
+ProgramCase makeCase(std::string name, std::string vertex, std::string fragment,
+                     std::vector<std::vector<std::string>> variants, std::vector<const char*> uniforms = {}) {
+  return {std::move(name), std::move(vertex), std::move(fragment), std::span<const BindingName>(Program::kBindings),
+          std::move(uniforms), std::move(variants)};
+}
+
+std::vector<ProgramCase> allPrograms() {
+  return {
+      makeCase<AdvectionProgram>("advection", "common/fullscreen.vert", "fabric/advection.frag",
+                                 {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"}},
+                                 uniformNames<AdvectionProgram::Uniform>()),
+      makeCase<CompositeProgram>(
+          "composite", "common/fullscreen.vert", "fabric/composite.frag",
+          {{},
+           {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "WINDOW_DEPTH"},
+           {"SILHOUETTES", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"}},
+          uniformNames<CompositeProgram::Uniform>()),
+      makeCase<SilhouetteProgram>("silhouette", "common/fullscreen.vert", "fabric/silhouette.frag",
+                                  {{}, {"FAR_PLANE"}}, uniformNames<SilhouetteProgram::Uniform>()),
+      makeCase<ProjectionProgram>("projection", "common/deferred.vert", "fabric/projection.frag",
+                                  {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND"}, {"NOISE_BLEND", "BACKGROUND", "FIBRES"}},
+                                  uniformNames<ProjectionProgram::Uniform>()),
+      makeCase<GeometryProgram>("geometry", "fabric/geometry.vert", "fabric/geometry.frag", {{}},
+                                uniformNames<GeometryProgram::Uniform>()),
+      makeCase<HostImportProgram>("host import", "common/deferred.vert", "fabric/host_import.frag", {{}},
+                                  uniformNames<HostImportProgram::Uniform>()),
+      makeCase<PhongProgram>("phong", "fabric/phong.vert", "fabric/phong.frag", {{}},
+                             uniformNames<PhongProgram::Uniform>()),
+      makeCase<TractLayerProgram>("tract layer", "common/fullscreen.vert", "tracts/layer.frag", {{}}),
+  };
+}
+
+// The binding the GL reports for an active sampler or atomic-counter uniform, or -1 when it is not active.
+GLint reportedBinding(GLuint program, const char* uniform) {
+  const GLuint index = glGetProgramResourceIndex(program, GL_UNIFORM, uniform);
+  if (index == GL_INVALID_INDEX) return -1;
+  const GLenum typeProp = GL_TYPE;
+  GLint type = 0;
+  glGetProgramResourceiv(program, GL_UNIFORM, index, 1, &typeProp, 1, nullptr, &type);
+  if (type == GL_UNSIGNED_INT_ATOMIC_COUNTER) {
+    const GLenum bufferProp = GL_ATOMIC_COUNTER_BUFFER_INDEX;
+    GLint buffer = -1;
+    glGetProgramResourceiv(program, GL_UNIFORM, index, 1, &bufferProp, 1, nullptr, &buffer);
+    const GLenum bindingProp = GL_BUFFER_BINDING;
+    GLint binding = -1;
+    glGetProgramResourceiv(program, GL_ATOMIC_COUNTER_BUFFER, static_cast<GLuint>(buffer), 1, &bindingProp, 1,
+                           nullptr, &binding);
+    return binding;
+  }
+  GLint unit = -1;
+  glGetUniformiv(program, glGetUniformLocation(program, uniform), &unit);
+  return unit;
+}
+
+} // namespace
+
+TEST_F(ProgramBindings, TheGlReportsTheNamedBindingsAndEveryNamedUniformExists) {
+  for (const ProgramCase& c : allPrograms()) {
+    std::set<std::string> boundSeen, uniformSeen;
+    for (const auto& variant : c.variants) {
+      std::vector<std::string> defines = bindingDefines({c.bindings});
+      defines.insert(defines.end(), variant.begin(), variant.end());
+      ShaderProgram p(c.vertex, c.fragment, defines, c.uniforms);
+      for (const BindingName& b : c.bindings) {
+        const GLint reported = reportedBinding(p.id(), b.uniform);
+        if (reported < 0) continue; // not used by this variant
+        boundSeen.insert(b.define);
+        EXPECT_EQ(reported, static_cast<GLint>(b.value)) << c.name << ": " << b.uniform << " (" << b.define << ")";
+      }
+      for (const char* u : c.uniforms)
+        if (glGetUniformLocation(p.id(), u) >= 0) uniformSeen.insert(u);
+    }
+    for (const BindingName& b : c.bindings)
+      EXPECT_TRUE(boundSeen.count(b.define)) << c.name << ": " << b.uniform << " is used by none of the variants";
+    for (const char* u : c.uniforms)
+      EXPECT_TRUE(uniformSeen.count(u)) << c.name << ": uniform " << u << " is active in none of the variants";
+  }
+}
+
+TEST_F(ProgramBindings, DefineNamesAreUniqueWithinAProgram) {
+  for (const ProgramCase& c : allPrograms()) {
+    std::set<std::string> names;
+    for (const BindingName& b : c.bindings) EXPECT_TRUE(names.insert(b.define).second) << c.name << ": " << b.define;
+  }
+}
+
+TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
+  int checked = 0;
+  for (const ProgramCase& c : allPrograms()) {
+    if (c.bindings.empty()) continue;
+    try {
+      ShaderProgram p(c.vertex, c.fragment, c.variants.front());
+      ADD_FAILURE() << c.name << " compiled without its binding defines";
+    } catch (const GlError& e) {
+      const std::string msg = e.what();
+      bool named = false;
+      for (const BindingName& b : c.bindings) named = named || msg.find(b.define) != std::string::npos;
+      EXPECT_TRUE(named) << c.name << ": the error names none of the binding defines:\n" << msg;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 6); // advection, composite, silhouette, projection, host import, tract layer
+  takeDebugMessages(); // the compiler's own debug messages about the failures are expected here
+}
