@@ -21,17 +21,17 @@ namespace {
 
 const char* kIntro =
     "Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, a DWI with sibling\n"
-    ".bval/.bvec, or a fibre set as `dtfabric render` reads it: MRtrix or DIPY peaks, FSL bedpostx, ...), with\n"
-    "Data, Surface, Fabric, Fibres (fibre sets: threshold, populations drawn), View and Tracts panels (load or\n"
-    "track streamlines, draw them over the fabric near the surface, save them, and measure their agreement\n"
-    "with the fabric). Further INPUTs are listed under recent files.\n"
+    ".bval/.bvec, or a fibre set as `dtfabric render` reads it: MRtrix or DIPY peaks, FSL bedpostx, ...),\n"
+    "with Data, Surface, Fabric, Fibres (fibre sets: threshold, populations drawn), View and Tracts\n"
+    "panels (load or track streamlines, draw them over the fabric near the surface, save them, and\n"
+    "measure their agreement with the fabric). Further INPUTs are listed under recent files.\n"
     "\n"
     "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.\n"
     "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.";
 
 const char* kOutputs =
-    "Screenshots, camera and tract files are written atomically. An input file is never replaced; in the window an\n"
-    "existing file is replaced only after the overwrite prompt says so.\n"
+    "Screenshots, camera and tract files are written atomically. An input file is never replaced; in the\n"
+    "window an existing file is replaced only after the overwrite prompt says so.\n"
     "\n"
     "Script commands\n";
 
@@ -56,20 +56,22 @@ const OptionTable& viewOptions() {
                 "dipy-peaks, bedpostx)",
                 d.layout)
             .hidden(),
-        O::text("tensor", "F",
-                "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor colours "
-                "beside the fibres)"),
+        O::text(
+            "tensor", "F",
+            "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor colours "
+            "beside the fibres)"),
         O::text("size", "WxH", "window size in pixels, 320x240 to 8192x8192",
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)
             .hidden(),
         O::text("script", "FILE",
                 "replay a viewer script: one command of the list below per line, `#` comments.\n"
-                "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 when any "
-                "step failed (3 when the failure was GL's: context, texture limits, GPU memory)."),
-        O::flag("force",
-                "let the script's screenshot, camera-save and tracts-save lines replace existing files (never an "
-                "input); without it such a line fails, unless it says `screenshot --force PATH`"),
+                "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 "
+                "when any step failed (3 when the failure was GL's: context, texture limits, GPU memory)."),
+        O::flag(
+            "force",
+            "let the script's screenshot, camera-save and tracts-save lines replace existing files (never an "
+            "input); without it such a line fails, unless it says `screenshot --force PATH`"),
     };
     t.epilogue = kOutputs + scriptCommandsHelp();
     return t;

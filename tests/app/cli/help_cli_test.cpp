@@ -127,7 +127,8 @@ TEST(Help, EveryCommandAndBenchmarkHasATable) {
   for (const auto& b : dtf::app::benchmarks())
     EXPECT_TRUE(b.options != nullptr) << "bench " << b.name << " has no option table";
   std::set<const OptionTable*> tables;
-  for (const auto& [line, table] : allTables()) tables.insert(table);
+  for (const auto& [line, table] : allTables())
+    tables.insert(table);
   EXPECT_EQ(allTables().size(), tables.size()) << "two entries share a table";
 }
 
@@ -166,7 +167,8 @@ TEST(Help, ParserAcceptsExactlyTheTable) {
     if (anyNumber) {
       EXPECT_EQ(dtf::app::ParsedOptions(*table, extra).positionals().size(), extra.size()) << line;
     } else {
-      EXPECT_THROW(dtf::app::ParsedOptions(*table, extra), dtf::UsageError) << line << ": too many positionals";
+      EXPECT_THROW(dtf::app::ParsedOptions(*table, extra), dtf::UsageError)
+          << line << ": too many positionals";
     }
   }
   EXPECT_GT(rows, 80) << "the tables are almost empty";
