@@ -35,6 +35,7 @@ int benchCheck(const CommandArgs& args);
 int benchBids(const CommandArgs& args);
 // Their option tables, each in its benchmark's file.
 const OptionTable& benchIoOptions();
+const OptionTable& benchRenderOptions();
 const OptionTable& benchSurfacesOptions();
 const OptionTable& benchTractsOptions();
 const OptionTable& benchOverlayOptions();

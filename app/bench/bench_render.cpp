@@ -7,6 +7,7 @@
 // to the own front end on the same camera.
 #include "app/bench/bench.h"
 #include "app/cli/args.h"
+#include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
@@ -358,37 +359,57 @@ EmbeddedResult runEmbedded(const Case& c, const render::Camera& camera, int widt
 
 } // namespace
 
+const OptionTable& benchRenderOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const RenderPeerOptions d; // the peer's defaults: the same size and frames
+    OptionTable t;
+    t.command = "bench render";
+    t.intro =
+        "Fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1) against\n"
+        "plain Phong of the same mesh and camera, about 3/4 of the pixels covered; GPU times per pass from\n"
+        "GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n"
+        "With sphere_41k also the embedded case: a host's raw GL depth + normal pass of the same sphere and\n"
+        "camera, then EmbeddedFabric::draw into the host's framebuffer (render/embedding.h).\n"
+        "Peer on sphere_41k when pvbatch is on the PATH (Debian package paraview): ParaView's Surface LIC with\n"
+        "its defaults and with 1 step, and its plain surface.";
+    t.options = {
+        O::text("size", "WxH", "image size", std::to_string(d.width) + "x" + std::to_string(d.height))
+            .checkedBy(checkSize),
+        O::integer("frames", "N", d.frames, closedRange(1, 1000), "timed frames per figure"),
+        O::flag("json", "one JSON object"),
+        O::flag("no-brain", "skip the real brain's FA 0.25 isosurface"),
+        sharedDataOption(),
+        O::choice("color", "C", {"medical", "engineering"}, "medical", "colour mode of the fabric"),
+        O::text("only", "CASE[,CASE...]",
+                "run only these cases: sphere_41k, sphere_41k_fibres3, sphere_572k, brain_fa025")
+            .defaultSays("all"),
+        O::flag("no-peer", "skip ParaView's Surface LIC"),
+        O::integer("peer-frames", "N", d.frames, closedRange(1, 1000), "timed frames per peer mode")
+            .defaultSays("min(--frames, " + std::to_string(d.frames) + ")"),
+        O::text("peer-png", "FILE", "save one of the peer's default LIC frames as PNG"),
+    };
+    return t;
+  }();
+  return table;
+}
+
 int benchRender(const CommandArgs& argv) {
-  Args args(argv, {"json", "help", "no-brain", "no-peer"});
-  if (args.flag("help")) {
-    std::printf("usage: dtfabric bench render [--size 1024x768] [--frames N] [--json] [--no-brain] [--data DIR]\n"
-                "       [--color medical|engineering] [--only CASE[,CASE...]] (sphere_41k, sphere_41k_fibres3, sphere_572k, brain_fa025)\n"
-                "       [--no-peer] [--peer-frames N] [--peer-png FILE]\n"
-                "  fabric frames (projection + silhouette + 3 advection iterations + composite, paper Table 1)\n"
-                "  against plain Phong of the same mesh and camera, about 3/4 of the pixels covered;\n"
-                "  GPU times per pass from GL_TIME_ELAPSED queries, ms/frame from the wall clock.\n"
-                "  With sphere_41k also the embedded case: a host's raw GL depth + normal pass of the same sphere\n"
-                "  and camera, then EmbeddedFabric::draw into the host's framebuffer (render/embedding.h).\n"
-                "  Peer on sphere_41k when pvbatch is on the PATH (Debian package paraview): ParaView's\n"
-                "  Surface LIC with its defaults and with 1 step, and its plain surface (--peer-frames,\n"
-                "  default min(N, 10); --peer-png saves one of its LIC frames).\n");
-    return 0;
-  }
+  ParsedOptions args(benchRenderOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const bool json = args.flag("json");
-  int width = 1024, height = 768;
-  if (auto s = args.get("size")) parseSize(*s, width, height);
-  const int frames = args.getInt("frames", 10);
-  if (frames < 1 || frames > 1000) throw UsageError("--frames must be in [1, 1000]");
+  int width = 0, height = 0;
+  parseSize(args.text("size"), width, height);
+  const int frames = args.integer("frames");
   const bool noBrain = args.flag("no-brain");
-  const std::string colour = args.getOr("color", "medical");
-  if (colour != "medical" && colour != "engineering") throw UsageError("--color must be medical or engineering");
-  const auto mode = colour == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
-  const std::string only = args.getOr("only", "");
+  const auto mode =
+      args.text("color") == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
+  const std::string only = args.text("only");
   const auto dataDir = args.get("data");
   const bool noPeer = args.flag("no-peer");
-  const int peerFrames = args.getInt("peer-frames", std::min(frames, 10));
-  if (peerFrames < 1 || peerFrames > 1000) throw UsageError("--peer-frames must be in [1, 1000]");
-  const std::string peerPng = args.getOr("peer-png", "");
+  const int peerFrames =
+      args.given("peer-frames") ? args.integer("peer-frames") : std::min(frames, RenderPeerOptions{}.frames);
+  const std::string peerPng = args.text("peer-png");
   args.finish();
 
   auto& ctx = render::GlContext::headless();

@@ -74,11 +74,11 @@ const std::vector<Command>& commands() {
        "contact sheet when not `ok`) and a metrics JSON under `OUTPUT_DIR/sub-XX/[ses-YY/]dwi/`; the group level "
        "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
        cmdBids, bidsOptions},
-      {"view", "[INPUT] [--tensor F] [--script FILE] [--force]", "open the viewer (GLFW window with ImGui panels)",
+      {"view", nullptr, "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, Fibres for fibre sets, View, Tracts), "
        "status bar with the voxel under the cursor (its tensor and fibres); `--script` replays actions for reproducible figures (see below; `--force`: its "
        "screenshots, camera and tract files may replace existing files)",
-       cmdView},
+       cmdView, viewOptions},
       {"bench", nullptr, nullptr, nullptr, cmdBench}, // synopsis and summaries from app/bench/bench.h
       {"help", nullptr, "this list; --markdown: the README's command and script tables",
        "this list; `--markdown`: the README's command and script tables", cmdHelp, helpOptions},

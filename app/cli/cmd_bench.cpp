@@ -56,7 +56,8 @@ const std::vector<Benchmark>& benchmarks() {
        "load time of an HCP-sized tensor volume, DWI fit times, FA-map time, the real tensor in each format, "
        "tractogram loads (stroke.trk.gz beside nibabel, a 1 M-streamline TRX)",
        benchIo, benchIoOptions},
-      {"render", "per-pass GPU times and ms/frame of the fabric against plain Phong", benchRender},
+      {"render", "per-pass GPU times and ms/frame of the fabric against plain Phong", benchRender,
+       benchRenderOptions},
       {"surfaces", "FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume", benchSurfaces, benchSurfacesOptions},
       {"tracts", "streamlines/s of deterministic tensor tracking on the real brain", benchTracts, benchTractsOptions},
       {"overlay", "the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection",

@@ -1,6 +1,7 @@
 // `dtfabric view`: checks the arguments and the script before a window opens, then runs the viewer.
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
+#include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
@@ -18,54 +19,78 @@ namespace dtf::app {
 
 namespace {
 
-const char* kHelp = R"(usage: dtfabric view [INPUT ...] [OPTIONS]
+const char* kIntro =
+    "Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, a DWI with sibling\n"
+    ".bval/.bvec, or a fibre set as `dtfabric render` reads it: MRtrix or DIPY peaks, FSL bedpostx, ...),\n"
+    "with Data, Surface, Fabric, Fibres (fibre sets: threshold, populations drawn), View and Tracts\n"
+    "panels (load or track streamlines, draw them over the fabric near the surface, save them, and\n"
+    "measure their agreement with the fabric). Further INPUTs are listed under recent files.\n"
+    "\n"
+    "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.\n"
+    "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.";
 
-Opens the viewer: the fabric on a surface of the first INPUT (tensor volume, a DWI with sibling
-.bval/.bvec, or a fibre set as `dtfabric render` reads it: MRtrix or DIPY peaks, FSL bedpostx, ...), with
-Data, Surface, Fabric, Fibres (fibre sets: threshold, populations drawn), View and Tracts panels (load or track streamlines, draw them over
-the fabric near the surface, save them, and measure their agreement with the fabric). Further INPUTs are
-listed under recent files.
-
-Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.
-Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.
-
-Options
-  --surface SPEC   first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE
-  --layout L       tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks,
-                   dipy-peaks, bedpostx)
-  --tensor F       fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor
-                   colours beside the fibres)
-  --size WxH       window size in pixels (default 1280x800)
-  --script FILE    replay a viewer script: one command of the list below per line, `#` comments.
-                   A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2
-                   when any step failed (3 when the failure was GL's: context, texture limits, GPU memory).
-  --force          let the script's screenshot, camera-save and tracts-save lines replace existing files
-                   (never an input); without it such a line fails, unless it says `screenshot --force PATH`
-
-Screenshots, camera and tract files are written atomically. An input file is never replaced; in the window an
-existing file is replaced only after the overwrite prompt says so.
-
-Script commands
-)";
+const char* kOutputs =
+    "Screenshots, camera and tract files are written atomically. An input file is never replaced; in the\n"
+    "window an existing file is replaced only after the overwrite prompt says so.\n"
+    "\n"
+    "Script commands\n";
 
 } // namespace
 
+const OptionTable& viewOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const ViewerWindowOptions d; // the defaults
+    OptionTable t;
+    t.command = "view";
+    t.positionals = "[INPUT ...]";
+    t.maxPositionals = OptionTable::kAnyNumber;
+    t.intro = kIntro;
+    t.options = {
+        O::text("surface", "SPEC",
+                "first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE")
+            .defaultSays("the FA 0.25 isosurface")
+            .hidden(),
+        O::text("layout", "L",
+                "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
+                "dipy-peaks, bedpostx)",
+                d.layout)
+            .hidden(),
+        O::text(
+            "tensor", "F",
+            "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor colours "
+            "beside the fibres)"),
+        O::text("size", "WxH", "window size in pixels, 320x240 to 8192x8192",
+                std::to_string(d.width) + "x" + std::to_string(d.height))
+            .checkedBy(checkSize)
+            .hidden(),
+        O::text("script", "FILE",
+                "replay a viewer script: one command of the list below per line, `#` comments.\n"
+                "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 "
+                "when any step failed (3 when the failure was GL's: context, texture limits, GPU memory)."),
+        O::flag(
+            "force",
+            "let the script's screenshot, camera-save and tracts-save lines replace existing files (never an "
+            "input); without it such a line fails, unless it says `screenshot --force PATH`"),
+    };
+    t.epilogue = kOutputs + scriptCommandsHelp();
+    return t;
+  }();
+  return table;
+}
+
 int cmdView(const CommandArgs& argv) {
-  Args args(argv, {"help", "force"});
-  if (args.flag("help")) {
-    std::fputs(kHelp, stdout);
-    std::fputs(scriptCommandsHelp().c_str(), stdout);
-    return 0;
-  }
+  ParsedOptions args(viewOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
   const std::vector<std::string> inputs = args.positionals();
   const auto scriptPath = args.get("script");
-  int width = 1280, height = 800;
-  parseSize(args.getOr("size", "1280x800"), width, height);
-  if (width < 320 || height < 240 || width > 8192 || height > 8192)
+  ViewerWindowOptions o;
+  parseSize(args.text("size"), o.width, o.height);
+  if (o.width < 320 || o.height < 240 || o.width > 8192 || o.height > 8192)
     throw UsageError("--size must lie between 320x240 and 8192x8192");
-  const std::string surface = args.getOr("surface", "");
-  const std::string layout = args.getOr("layout", "auto");
-  const std::string tensor = args.getOr("tensor", "");
+  const std::string surface = args.text("surface");
+  const std::string layout = args.text("layout");
+  const std::string tensor = args.text("tensor");
   const bool force = args.flag("force");
   args.finish();
   if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
@@ -88,13 +113,10 @@ int cmdView(const CommandArgs& argv) {
         }
   }
 
-  ViewerWindowOptions o;
   o.inputs = inputs;
   o.surface = surface;
   o.layout = layout;
   o.tensor = tensor;
-  o.width = width;
-  o.height = height;
   o.script = script ? &*script : nullptr;
   return runViewerWindow(o);
 }

@@ -53,6 +53,7 @@ const OptionTable& convertOptions();
 const OptionTable& compareOptions();
 const OptionTable& checkOptions();
 const OptionTable& bidsOptions();
+const OptionTable& viewOptions();
 const OptionTable& helpOptions();
 
 // All commands, in the order `dtfabric --help` lists them.
