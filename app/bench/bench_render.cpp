@@ -394,83 +394,65 @@ const OptionTable& benchRenderOptions() {
   return table;
 }
 
-int benchRender(const CommandArgs& argv) {
-  ParsedOptions args(benchRenderOptions(), argv);
-  if (args.printHelpIfAsked()) return 0;
-  const bool json = args.flag("json");
-  int width = 0, height = 0;
-  parseSize(args.text("size"), width, height);
-  const int frames = args.integer("frames");
-  const bool noBrain = args.flag("no-brain");
-  const auto mode =
-      args.text("color") == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
-  const std::string only = args.text("only");
-  const auto dataDir = args.get("data");
-  const bool noPeer = args.flag("no-peer");
-  const int peerFrames =
-      args.given("peer-frames") ? args.integer("peer-frames") : std::min(frames, RenderPeerOptions{}.frames);
-  const std::string peerPng = args.text("peer-png");
-  args.finish();
+namespace {
 
-  auto& ctx = render::GlContext::headless();
-  render::FabricRenderer renderer;
-  std::vector<Case> cases;
-  cases.push_back(sphereCase("sphere_41k", 145, 144));   // 2 * 144 * 144 = 41472 triangles (Table 1, Fig. 8)
-  cases.push_back(fibreSphereCase(cases.back()));        // three fibre populations on the same sphere
-  cases.push_back(sphereCase("sphere_572k", 534, 536));  // 2 * 536 * 533 = 571376 triangles (Table 1, Fig. 7)
-  if (!noBrain)
-    if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
+// What one run measured, for the report.
+struct Report {
+  std::string renderer;
+  int width = 0, height = 0, frames = 0;
   std::vector<Result> results;
-  for (const auto& c : cases)
-    if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode));
-  // The host route on the same sphere and camera as the own front end's sphere_41k.
   EmbeddedResult embedded;
-  if (!results.empty() && results[0].name == "sphere_41k")
-    embedded = runEmbedded(cases[0], results[0].camera, width, height, frames, mode);
-  // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench/bench_render_peer.cpp).
-  const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
   RenderPeerResult peer;
-  peer.note = noPeer ? "skipped (--no-peer)" : "ParaView Surface LIC runs on sphere_41k only";
-  if (!noPeer && ours)
-    peer = runRenderPeer(cases[0].mesh, cases[0].field, {width, height, peerFrames, peerPng});
-  const RenderPeerOurs mine = ours ? RenderPeerOurs{ours->fabricMs, ours->movingMs, ours->phongMs,
-                                                    ours->fabricCpuMs, ours->phongCpuMs}
-                                   : RenderPeerOurs{};
+  RenderPeerOurs mine;
+};
 
-  if (json) {
-    std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", ctx.description().c_str(),
-                width, height, frames);
-    for (std::size_t i = 0; i < results.size(); ++i) {
-      const Result& r = results[i];
-      std::printf("%s{\"name\": \"%s\", \"triangles\": %zu, \"fabric_ms\": %.2f, \"phong_ms\": %.2f, "
-                  "\"moving_ms\": %.2f, \"moving_half_res_ms\": %.2f, \"fabric_cpu_ms\": %.2f, \"phong_cpu_ms\": %.2f, \"ratio\": %.2f, \"coverage\": %.3f, \"passes_ms\": {\"projection\": %.2f, "
-                  "\"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f, \"phong\": %.2f}}",
-                  i ? ", " : "", r.name.c_str(), r.triangles, r.fabricMs, r.phongMs, r.movingMs, r.movingHalfMs,
-                  r.fabricCpuMs, r.phongCpuMs, r.fabricMs / std::max(r.phongMs, 1e-9), r.coverage,
-                  r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
-    }
-    std::printf("]");
-    if (embedded.ran)
-      std::printf(", \"embedded\": {\"name\": \"sphere_41k\", \"embedded_ms\": %.2f, \"embedded_moving_ms\": %.2f, "
-                  "\"embedded_cpu_ms\": %.2f, \"host_pass_ms\": %.2f, \"host_pass_cpu_ms\": %.2f, \"own_ms\": %.2f, \"own_cpu_ms\": %.2f, \"own_moving_ms\": %.2f, \"passes_ms\": {\"host_geometry\": %.2f, "
-                  "\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f}}",
-                  embedded.ms, embedded.movingMs, embedded.cpuMs, embedded.hostOnlyMs, embedded.hostOnlyCpuMs,
-                  results[0].fabricMs, results[0].fabricCpuMs, results[0].movingMs,
-                  embedded.hostPassMs, embedded.passes.projection, embedded.passes.silhouette, embedded.passes.advection,
-                  embedded.passes.composite);
-    else
-      std::printf(", \"embedded\": null");
-    printRenderPeerJson(peer, mine);
-    std::printf("}\n");
-    return 0;
+void printJson(const Report& rep) {
+  const std::string& renderer = rep.renderer;
+  const int width = rep.width, height = rep.height, frames = rep.frames;
+  const auto& results = rep.results;
+  const auto& embedded = rep.embedded;
+  const auto& peer = rep.peer;
+  const auto& mine = rep.mine;
+  std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", renderer.c_str(),
+              width, height, frames);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const Result& r = results[i];
+    std::printf("%s{\"name\": \"%s\", \"triangles\": %zu, \"fabric_ms\": %.2f, \"phong_ms\": %.2f, "
+                "\"moving_ms\": %.2f, \"moving_half_res_ms\": %.2f, \"fabric_cpu_ms\": %.2f, \"phong_cpu_ms\": %.2f, \"ratio\": %.2f, \"coverage\": %.3f, \"passes_ms\": {\"projection\": %.2f, "
+                "\"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f, \"phong\": %.2f}}",
+                i ? ", " : "", r.name.c_str(), r.triangles, r.fabricMs, r.phongMs, r.movingMs, r.movingHalfMs,
+                r.fabricCpuMs, r.phongCpuMs, r.fabricMs / std::max(r.phongMs, 1e-9), r.coverage,
+                r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
   }
+  std::printf("]");
+  if (embedded.ran)
+    std::printf(", \"embedded\": {\"name\": \"sphere_41k\", \"embedded_ms\": %.2f, \"embedded_moving_ms\": %.2f, "
+                "\"embedded_cpu_ms\": %.2f, \"host_pass_ms\": %.2f, \"host_pass_cpu_ms\": %.2f, \"own_ms\": %.2f, \"own_cpu_ms\": %.2f, \"own_moving_ms\": %.2f, \"passes_ms\": {\"host_geometry\": %.2f, "
+                "\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f}}",
+                embedded.ms, embedded.movingMs, embedded.cpuMs, embedded.hostOnlyMs, embedded.hostOnlyCpuMs,
+                results[0].fabricMs, results[0].fabricCpuMs, results[0].movingMs,
+                embedded.hostPassMs, embedded.passes.projection, embedded.passes.silhouette, embedded.passes.advection,
+                embedded.passes.composite);
+  else
+    std::printf(", \"embedded\": null");
+  printRenderPeerJson(peer, mine);
+  std::printf("}\n");
+}
+
+void printTable(const Report& rep) {
+  const std::string& renderer = rep.renderer;
+  const int width = rep.width, height = rep.height, frames = rep.frames;
+  const auto& results = rep.results;
+  const auto& embedded = rep.embedded;
+  const auto& peer = rep.peer;
+  const auto& mine = rep.mine;
   double load = -1;
   if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
     if (std::fscanf(f, "%lf", &load) != 1) load = -1;
     std::fclose(f);
   }
   std::printf("dtfabric bench render: %dx%d, %d frames per figure, %s, load average %.1f on %u cores\n", width, height,
-              frames, ctx.description().c_str(), load, std::thread::hardware_concurrency());
+              frames, renderer.c_str(), load, std::thread::hardware_concurrency());
   std::printf("frame = projection + silhouette + 3 advection iterations + composite (paper Table 1); goal fabric <= 95 ms\n\n");
   std::printf("%-12s %9s %6s | %9s %9s %9s %9s %6s | GPU ms: %8s %8s %8s %8s %8s\n", "case", "triangles", "cover",
               "fabric", "moving", "mov 1/2", "phong", "ratio", "project", "silhou", "advect3", "compos", "phong");
@@ -481,7 +463,7 @@ int benchRender(const CommandArgs& argv) {
                 r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
   // On a software rasteriser the process CPU time is the robust second figure (other processes' load inflates
   // wall times); on a GPU the CPU only submits, and the summed GPU pass times are.
-  const std::string rendererName = ctx.description();
+  const std::string& rendererName = renderer;
   const bool software = rendererName.find("llvmpipe") != std::string::npos ||
                         rendererName.find("softpipe") != std::string::npos;
   const char* second = software ? "CPU time" : "GPU time";
@@ -542,6 +524,57 @@ int benchRender(const CommandArgs& argv) {
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"
               "them (the load average is printed above).\n");
   printRenderPeerTable(peer, mine);
+}
+} // namespace
+
+int benchRender(const CommandArgs& argv) {
+  ParsedOptions args(benchRenderOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  const bool json = args.flag("json");
+  int width = 0, height = 0;
+  parseSize(args.text("size"), width, height);
+  const int frames = args.integer("frames");
+  const bool noBrain = args.flag("no-brain");
+  const auto mode =
+      args.text("color") == "medical" ? render::ColourMode::Medical : render::ColourMode::Engineering;
+  const std::string only = args.text("only");
+  const auto dataDir = args.get("data");
+  const bool noPeer = args.flag("no-peer");
+  const int peerFrames =
+      args.given("peer-frames") ? args.integer("peer-frames") : std::min(frames, RenderPeerOptions{}.frames);
+  const std::string peerPng = args.text("peer-png");
+  args.finish();
+
+  auto& ctx = render::GlContext::headless();
+  render::FabricRenderer renderer;
+  std::vector<Case> cases;
+  cases.push_back(sphereCase("sphere_41k", 145, 144));   // 2 * 144 * 144 = 41472 triangles (Table 1, Fig. 8)
+  cases.push_back(fibreSphereCase(cases.back()));        // three fibre populations on the same sphere
+  cases.push_back(sphereCase("sphere_572k", 534, 536));  // 2 * 536 * 533 = 571376 triangles (Table 1, Fig. 7)
+  if (!noBrain)
+    if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
+  std::vector<Result> results;
+  for (const auto& c : cases)
+    if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode));
+  // The host route on the same sphere and camera as the own front end's sphere_41k.
+  EmbeddedResult embedded;
+  if (!results.empty() && results[0].name == "sphere_41k")
+    embedded = runEmbedded(cases[0], results[0].camera, width, height, frames, mode);
+  // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench/bench_render_peer.cpp).
+  const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
+  RenderPeerResult peer;
+  peer.note = noPeer ? "skipped (--no-peer)" : "ParaView Surface LIC runs on sphere_41k only";
+  if (!noPeer && ours)
+    peer = runRenderPeer(cases[0].mesh, cases[0].field, {width, height, peerFrames, peerPng});
+  const RenderPeerOurs mine = ours ? RenderPeerOurs{ours->fabricMs, ours->movingMs, ours->phongMs,
+                                                    ours->fabricCpuMs, ours->phongCpuMs}
+                                   : RenderPeerOurs{};
+
+  const Report report{ctx.description(), width, height, frames, std::move(results), embedded, peer, mine};
+  if (json)
+    printJson(report);
+  else
+    printTable(report);
   return 0;
 }
 
