@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -22,6 +23,23 @@ inline std::string readText(const std::filesystem::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// Exit code and stdout + stderr interleaved as a user sees them, written through `log`.
+struct CliRun {
+  int code = -1;
+  std::string output;
+};
+
+inline CliRun runDtfabricCombined(const std::string& args, const std::filesystem::path& log) {
+  std::filesystem::create_directories(log.parent_path());
+  const std::string cmd = std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  CliRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log, std::ios::binary);
+  r.output.assign(std::istreambuf_iterator<char>(in), {});
+  return r;
 }
 
 // `args` is appended to the executable path as shell words (quote paths that may hold spaces).

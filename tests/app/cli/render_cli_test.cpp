@@ -1,5 +1,6 @@
 // `dtfabric render` end to end: writes a PNG, the same arguments give the same bytes, bad input and
 // usage give the documented exit codes (1 usage, 2 bad input).
+#include "support/cli.h"
 #include "support/gl_test.h"
 
 #include "io/png_io.h"
@@ -13,23 +14,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string output; // stdout and stderr
-};
+using dtf::test::CliRun;
 
 CliRun dtfabric(const std::string& args) {
   // Not scratchDir(): that empties the test's directory on every call.
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path log = dtf::test::binaryDir() / "test_scratch" / (std::string("render_cli_") + info->name() + ".log");
-  fs::create_directories(log.parent_path());
-  std::string cmd = std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1";
-  int status = std::system(cmd.c_str());
-  CliRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
-  r.output.assign(std::istreambuf_iterator<char>(in), {});
-  return r;
+  return dtf::test::runDtfabricCombined(
+      args, dtf::test::binaryDir() / "test_scratch" / (std::string("render_cli_") + info->name() + ".log"));
 }
 
 std::string bytes(const fs::path& p) {

@@ -3,6 +3,7 @@
 #include "io/png_io.h"
 #include "io/tracts.h"
 #include "support/polylines.h"
+#include "support/cli.h"
 #include "support/gl_test.h"
 #include "support/window.h"
 
@@ -16,20 +17,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string output; // stdout and stderr
-};
+using dtf::test::CliRun;
 
 CliRun dtfabric(const std::string& args, const fs::path& dir) {
-  const fs::path log = dir / "cli.log";
-  std::string cmd = std::string(DTF_EXE) + " " + args + " > " + log.string() + " 2>&1";
-  int status = std::system(cmd.c_str());
-  CliRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
-  r.output.assign(std::istreambuf_iterator<char>(in), {});
-  return r;
+  return dtf::test::runDtfabricCombined(args, dir / "cli.log");
 }
 
 std::string bytes(const fs::path& p) {
