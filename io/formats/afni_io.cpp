@@ -88,30 +88,41 @@ std::string afniBrikFile(const std::string& head) {
   return {};
 }
 
-ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withData) {
-  if (!endsWith(path, ".HEAD")) fail(path, "an AFNI dataset is opened by its .HEAD file");
-  const auto a = readHead(path);
-  const Attr& dims = need(path, a, "DATASET_DIMENSIONS");
-  const Attr& rank = need(path, a, "DATASET_RANK");
-  if (dims.numbers.size() < 3 || rank.numbers.size() < 2)
-    fail(path, "DATASET_DIMENSIONS or DATASET_RANK too short");
-  glm::ivec3 gd;
-  long long nv = 1;
-  for (int d = 0; d < 3; ++d) {
-    const double n = dims.numbers[static_cast<std::size_t>(d)];
-    if (!(n >= 1) || n > 1e6) fail(path, "dimension " + std::to_string(n) + " is not a whole number >= 1");
-    gd[d] = static_cast<int>(n);
-    nv *= gd[d];
+namespace {
+
+// The bricks as components (BRICK_FLOAT_FACS applied, 0 meaning 1), in the stored byte order.
+ScalarVolume afniBricks(const std::map<std::string, Attr>& a, const Grid& grid,
+                        const std::vector<SampleType>& types, const std::vector<std::uint8_t>& data) {
+  const int bricks = static_cast<int>(types.size());
+  const auto nv = static_cast<long long>(grid.voxelCount());
+  bool big = false;
+  if (const auto o = a.find("BYTEORDER_STRING"); o != a.end())
+    big = o->second.text.rfind("MSB_FIRST", 0) == 0;
+  std::vector<double> facs(static_cast<std::size_t>(bricks), 0.0);
+  if (const auto f = a.find("BRICK_FLOAT_FACS"); f != a.end())
+    for (std::size_t k = 0; k < facs.size() && k < f->second.numbers.size(); ++k)
+      facs[k] = f->second.numbers[k];
+  ScalarVolume v(grid, bricks);
+  std::size_t at = 0;
+  for (int k = 0; k < bricks; ++k) {
+    const SampleTypeInfo& type = sampleTypeInfo(types[static_cast<std::size_t>(k)]);
+    const auto s = static_cast<std::size_t>(type.bytes);
+    const double fac = facs[static_cast<std::size_t>(k)] != 0 ? facs[static_cast<std::size_t>(k)] : 1.0;
+    for (long long i = 0; i < nv; ++i, at += s) {
+      const double x = type.fetch(data.data() + at, big);
+      v.data[static_cast<std::size_t>(i) * static_cast<std::size_t>(bricks) + static_cast<std::size_t>(k)] =
+          static_cast<float>(x * fac);
+    }
   }
-  const double bricksD = rank.numbers[1];
-  if (!(bricksD >= 1) || bricksD > 1e5)
-    fail(path, "DATASET_RANK gives " + std::to_string(bricksD) + " bricks");
-  const int bricks = static_cast<int>(bricksD);
-  if (nv > kMaxValues / bricks)
-    fail(path, "dimensions are absurd (more than 2^31 values); refusing to allocate");
+  return v;
+}
+
+// The grid: IJK_TO_DICOM[_REAL] when present, else ORIENT_SPECIFIC, ORIGIN and DELTA, from AFNI's DICOM
+// (LPS) to RAS. `source` names the attributes used.
+Grid afniGrid(const std::string& path, const std::map<std::string, Attr>& a, const glm::ivec3& gd,
+              std::string& source) {
   // Geometry (AFNI DICOM = LPS).
   glm::dmat4 lps(1.0);
-  std::string source;
   const auto m = a.count("IJK_TO_DICOM_REAL") ? a.find("IJK_TO_DICOM_REAL") : a.find("IJK_TO_DICOM");
   if (m != a.end() && m->second.numbers.size() == 12) {
     for (int r = 0; r < 3; ++r)
@@ -141,20 +152,50 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   const glm::dmat4 affine = toRas * lps;
   if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12)
     fail(path, "the voxel-to-world mapping is singular");
-  const Grid grid = Grid::fromAffine(gd, affine);
-  const Attr& types = need(path, a, "BRICK_TYPES");
-  if (static_cast<int>(types.numbers.size()) < bricks)
+  return Grid::fromAffine(gd, affine);
+}
+
+} // namespace
+
+ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withData) {
+  if (!endsWith(path, ".HEAD")) fail(path, "an AFNI dataset is opened by its .HEAD file");
+  const auto a = readHead(path);
+  const Attr& dims = need(path, a, "DATASET_DIMENSIONS");
+  const Attr& rank = need(path, a, "DATASET_RANK");
+  if (dims.numbers.size() < 3 || rank.numbers.size() < 2)
+    fail(path, "DATASET_DIMENSIONS or DATASET_RANK too short");
+  glm::ivec3 gd;
+  long long nv = 1;
+  for (int d = 0; d < 3; ++d) {
+    const double n = dims.numbers[static_cast<std::size_t>(d)];
+    if (!(n >= 1) || n > 1e6) fail(path, "dimension " + std::to_string(n) + " is not a whole number >= 1");
+    gd[d] = static_cast<int>(n);
+    nv *= gd[d];
+  }
+  const double bricksD = rank.numbers[1];
+  if (!(bricksD >= 1) || bricksD > 1e5)
+    fail(path, "DATASET_RANK gives " + std::to_string(bricksD) + " bricks");
+  const int bricks = static_cast<int>(bricksD);
+  if (nv > kMaxValues / bricks)
+    fail(path, "dimensions are absurd (more than 2^31 values); refusing to allocate");
+  std::string source;
+  const Grid grid = afniGrid(path, a, gd, source);
+  const Attr& typeCodes = need(path, a, "BRICK_TYPES");
+  if (static_cast<int>(typeCodes.numbers.size()) < bricks)
     fail(path, "BRICK_TYPES lists fewer types than bricks");
-  std::vector<int> sizes;
+  std::vector<SampleType> types;
   long long bytes = 0;
   for (int k = 0; k < bricks; ++k) {
-    const double raw = types.numbers[static_cast<std::size_t>(k)];
+    const double raw = typeCodes.numbers[static_cast<std::size_t>(k)];
     const int t = raw >= 0 && raw <= 10 ? static_cast<int>(raw) : -1;
-    const int s = t == 0 ? 1 : t == 1 ? 2 : t == 3 ? 4 : t == 5 ? 8 : 0;
-    if (!s)
+    // AFNI brick types 0 byte, 1 short, 3 float, 5 double onto the sample table.
+    if (t != 0 && t != 1 && t != 3 && t != 5)
       fail(path, "brick type " + std::to_string(t) + " is not read (byte, short, float and double are)");
-    sizes.push_back(s);
-    bytes += nv * s;
+    types.push_back(t == 0   ? SampleType::UInt8
+                    : t == 1 ? SampleType::Int16
+                    : t == 3 ? SampleType::Float32
+                             : SampleType::Float64);
+    bytes += nv * sampleTypeInfo(types.back()).bytes;
   }
   if (header) {
     *header = VolumeHeader{};
@@ -163,10 +204,7 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
     header->dims = {gd.x, gd.y, gd.z};
     if (bricks > 1) header->dims.push_back(bricks);
     header->grid = grid;
-    header->datatypeName = "AFNI brick type " + std::to_string(sizes[0] == 1   ? 0
-                                                               : sizes[0] == 2 ? 1
-                                                               : sizes[0] == 4 ? 3
-                                                                               : 5);
+    header->datatypeName = "AFNI brick type " + std::to_string(static_cast<int>(typeCodes.numbers[0]));
     header->affineSource = source + " (AFNI DICOM/LPS) -> RAS";
     if (const auto l = a.find("BRICK_LABS"); l != a.end()) header->intentName = l->second.text;
   }
@@ -177,41 +215,7 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   if (static_cast<long long>(data.size()) < bytes)
     fail(path, "data file " + brik + " is truncated: " + std::to_string(data.size()) +
                    " bytes, the header needs " + std::to_string(bytes));
-  bool big = false;
-  if (const auto o = a.find("BYTEORDER_STRING"); o != a.end())
-    big = o->second.text.rfind("MSB_FIRST", 0) == 0;
-  std::vector<double> facs(static_cast<std::size_t>(bricks), 0.0);
-  if (const auto f = a.find("BRICK_FLOAT_FACS"); f != a.end())
-    for (std::size_t k = 0; k < facs.size() && k < f->second.numbers.size(); ++k)
-      facs[k] = f->second.numbers[k];
-  ScalarVolume v(grid, bricks);
-  std::size_t at = 0;
-  for (int k = 0; k < bricks; ++k) {
-    const int s = sizes[static_cast<std::size_t>(k)];
-    const double fac = facs[static_cast<std::size_t>(k)] != 0 ? facs[static_cast<std::size_t>(k)] : 1.0;
-    for (long long i = 0; i < nv; ++i, at += static_cast<std::size_t>(s)) {
-      std::uint8_t e[8];
-      for (int q = 0; q < s; ++q)
-        e[q] = big ? data[at + static_cast<std::size_t>(s - 1 - q)] : data[at + static_cast<std::size_t>(q)];
-      double x = 0;
-      if (s == 1) {
-        x = e[0];
-      } else if (s == 2) {
-        std::int16_t t;
-        std::memcpy(&t, e, 2);
-        x = t;
-      } else if (s == 4) {
-        float t;
-        std::memcpy(&t, e, 4);
-        x = t;
-      } else {
-        std::memcpy(&x, e, 8);
-      }
-      v.data[static_cast<std::size_t>(i) * static_cast<std::size_t>(bricks) + static_cast<std::size_t>(k)] =
-          static_cast<float>(x * fac);
-    }
-  }
-  return v;
+  return afniBricks(a, grid, types, data);
 }
 
 } // namespace dtf::io::detail

@@ -15,6 +15,9 @@ namespace dtf::io {
 namespace {
 
 using detail::fail;
+using detail::SampleType;
+using detail::SampleTypeInfo;
+using detail::sampleTypeInfo;
 
 struct Matrix {
   long long rows = 0, cols = 0;
@@ -42,9 +45,11 @@ std::map<std::string, Matrix> readMatlab4(const std::string& path, bool (*want)(
     const long long rows = h[1], cols = h[2];
     if (rows && cols > detail::kMaxValues / rows)
       fail(path, "absurd matrix size " + std::to_string(rows) + "x" + std::to_string(cols));
-    static const int kSize[6] = {8, 4, 4, 2, 2, 1};
+    // MATLAB v4 precisions 0 double, 1 float, 2 int32, 3 int16, 4 uint16, 5 uint8 onto the sample table.
+    static constexpr SampleType kPrecision[6] = {SampleType::Float64, SampleType::Float32, SampleType::Int32,
+                                                 SampleType::Int16,   SampleType::UInt16,  SampleType::UInt8};
     const std::size_t count = static_cast<std::size_t>(rows * cols) * (h[3] ? 2 : 1);
-    const std::size_t bytes = count * static_cast<std::size_t>(kSize[prec]);
+    const std::size_t bytes = count * static_cast<std::size_t>(sampleTypeInfo(kPrecision[prec]).bytes);
     p += 20;
     if (b.size() - p < static_cast<std::size_t>(h[4])) fail(path, "truncated matrix name");
     std::string name(reinterpret_cast<const char*>(b.data() + p), static_cast<std::size_t>(h[4]));
@@ -59,43 +64,10 @@ std::map<std::string, Matrix> readMatlab4(const std::string& path, bool (*want)(
       mat.cols = cols;
       mat.values.resize(static_cast<std::size_t>(rows * cols));
       const std::uint8_t* src = b.data() + p;
-      for (std::size_t i = 0; i < mat.values.size(); ++i) {
-        const std::uint8_t* e = src + i * static_cast<std::size_t>(kSize[prec]);
-        double v = 0;
-        switch (prec) {
-        case 0:
-          std::memcpy(&v, e, 8);
-          break;
-        case 1: {
-          float f;
-          std::memcpy(&f, e, 4);
-          v = f;
-          break;
-        }
-        case 2: {
-          std::int32_t x;
-          std::memcpy(&x, e, 4);
-          v = x;
-          break;
-        }
-        case 3: {
-          std::int16_t x;
-          std::memcpy(&x, e, 2);
-          v = x;
-          break;
-        }
-        case 4: {
-          std::uint16_t x;
-          std::memcpy(&x, e, 2);
-          v = x;
-          break;
-        }
-        default:
-          v = *e;
-          break;
-        }
-        mat.values[i] = static_cast<float>(v);
-      }
+      const SampleTypeInfo& sample = sampleTypeInfo(kPrecision[prec]);
+      for (std::size_t i = 0; i < mat.values.size(); ++i)
+        mat.values[i] =
+            static_cast<float>(sample.fetch(src + i * static_cast<std::size_t>(sample.bytes), false));
       out[name] = std::move(mat);
     }
     p += bytes;
@@ -109,7 +81,8 @@ const Matrix& need(const std::string& path, const std::map<std::string, Matrix>&
   return it->second;
 }
 
-// Grid from `dimension` and `voxel_size`: LPS voxel axes, centred on the origin (see io/formats/dsi_studio.h).
+// Grid from `dimension` and `voxel_size`: LPS voxel axes, centred on the origin (see
+// io/formats/dsi_studio.h).
 Grid dsiGrid(const std::string& path, const std::map<std::string, Matrix>& m) {
   const Matrix& d = need(path, m, "dimension");
   const Matrix& v = need(path, m, "voxel_size");

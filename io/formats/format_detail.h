@@ -1,9 +1,10 @@
-// Internal to dtf_io: the per-format readers and writers behind the dispatch in io/formats/formats.cpp, and the
-// pieces they share. Other modules use io/formats/tensor_io.h and io/formats/formats.h. Every reader throws InputError
-// whose message starts with the file name.
+// Internal to dtf_io: the per-format readers and writers behind the dispatch in io/formats/formats.cpp, and
+// the pieces they share. Other modules use io/formats/tensor_io.h and io/formats/formats.h. Every reader
+// throws InputError whose message starts with the file name.
 #pragma once
 
 #include "io/formats/formats.h"
+#include "io/formats/sample_types.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 
@@ -61,43 +62,6 @@ inline std::string trim(const std::string& s) {
   if (b == std::string::npos) return {};
   const auto e = s.find_last_not_of(" \t\r");
   return s.substr(b, e - b + 1);
-}
-
-// One stored number of `bytes` (1, 2, 4 or 8) at p, in either byte order, as double. Used per voxel by the
-// MRtrix and NRRD readers.
-inline double fetchNumber(const std::uint8_t* p, int bytes, bool isFloat, bool isSigned, bool bigEndian) {
-  std::uint8_t b[8];
-  for (int k = 0; k < bytes; ++k)
-    b[k] = bigEndian ? p[bytes - 1 - k] : p[k];
-  switch (bytes) {
-  case 1:
-    return isSigned ? static_cast<double>(static_cast<std::int8_t>(b[0])) : b[0];
-  case 2: {
-    std::uint16_t v;
-    std::memcpy(&v, b, 2);
-    return isSigned ? static_cast<double>(static_cast<std::int16_t>(v)) : v;
-  }
-  case 4: {
-    std::uint32_t v;
-    std::memcpy(&v, b, 4);
-    if (isFloat) {
-      float f;
-      std::memcpy(&f, &v, 4);
-      return f;
-    }
-    return isSigned ? static_cast<double>(static_cast<std::int32_t>(v)) : v;
-  }
-  default: {
-    std::uint64_t v;
-    std::memcpy(&v, b, 8);
-    if (isFloat) {
-      double f;
-      std::memcpy(&f, &v, 8);
-      return f;
-    }
-    return isSigned ? static_cast<double>(static_cast<std::int64_t>(v)) : static_cast<double>(v);
-  }
-  }
 }
 
 // --- MRtrix images (io/formats/mrtrix_io.cpp)

@@ -27,7 +27,6 @@ namespace dtf::io::detail {
 
 namespace {
 
-
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> out;
   std::string item;
@@ -56,8 +55,7 @@ std::vector<double> parseNumbers(const std::string& path, const std::string& key
 struct DataType {
   std::string name;
   int bytes = 4; // 0 for Bit
-  bool isFloat = false;
-  bool isSigned = true;
+  SampleType type = SampleType::Float32;
   bool bigEndian = false;
 };
 
@@ -67,35 +65,21 @@ DataType parseDatatype(const std::string& path, const std::string& text) {
   std::string t = text;
   if (t == "Bit") {
     d.bytes = 0;
-    d.isSigned = false;
     return d;
   }
   if (endsWith(t, "LE") || endsWith(t, "BE")) {
     d.bigEndian = endsWith(t, "BE");
     t.resize(t.size() - 2);
   }
-  static const struct {
-    const char* n;
-    int bytes;
-    bool f, s;
-  } kTypes[] = {{"Int8", 1, false, true},    {"UInt8", 1, false, false},  {"Int16", 2, false, true},
-                {"UInt16", 2, false, false}, {"Int32", 4, false, true},   {"UInt32", 4, false, false},
-                {"Int64", 8, false, true},   {"UInt64", 8, false, false}, {"Float32", 4, true, true},
-                {"Float64", 8, true, true}};
-  for (const auto& k : kTypes)
-    if (t == k.n) {
-      d.bytes = k.bytes;
-      d.isFloat = k.f;
-      d.isSigned = k.s;
+  // MRtrix's names are those of the sample table.
+  for (int k = 0; k <= static_cast<int>(SampleType::Float64); ++k)
+    if (t == sampleTypeInfo(static_cast<SampleType>(k)).name) {
+      d.type = static_cast<SampleType>(k);
+      d.bytes = sampleTypeInfo(d.type).bytes;
       return d;
     }
   fail(path, "unsupported datatype '" + text +
                  "' (supported: Bit, Int8/16/32/64, UInt8/16/32/64, Float32/64 with LE/BE; complex is not)");
-}
-
-// One value of `d` at byte position p, as double.
-double fetch(const std::uint8_t* p, const DataType& d) {
-  return fetchNumber(p, d.bytes, d.isFloat, d.isSigned, d.bigEndian);
 }
 
 // Parses "+0,-1,+2" into signed 1-based ranks (+1, -2, +3).
@@ -137,19 +121,37 @@ void computeStrides(const std::vector<long long>& dims, const std::vector<int>& 
   }
 }
 
-} // namespace
+// The next logical index (axis 0 fastest) and the disk position that goes with it.
+void step(std::vector<long long>& idx, const std::vector<long long>& dims,
+          const std::vector<long long>& strides, long long& diskPos) {
+  for (std::size_t a = 0; a < dims.size(); ++a) {
+    if (++idx[a] < dims[a]) {
+      diskPos += strides[a];
+      return;
+    }
+    diskPos -= strides[a] * (dims[a] - 1);
+    idx[a] = 0;
+  }
+}
 
-MrtrixImage readMrtrix(const std::string& path, bool withData) {
-  MrtrixImage img;
-  VolumeHeader& h = img.header;
-  h.path = path;
-  h.niftiVersion = 0;
-  bool gz = false;
+// The header of an MRtrix image as written, before any geometry is derived from it.
+struct MrtrixDescription {
+  std::vector<long long> dims;
+  std::vector<double> vox;
+  std::string datatypeText, layoutText;
+  std::vector<std::vector<double>> transform;
+  std::vector<std::string> files;
+  double offset = 0, scale = 1;
+  std::size_t headerEnd = 0; // byte after the END line
+};
+
+// The header's bytes: the whole (inflated) file when the data are wanted, else its first MiB. Sets `gz`.
+std::vector<std::uint8_t> mrtrixBytes(const std::string& path, bool withData, bool& gz) {
   // .mif.gz files hold header and data in one gzip stream: the whole file is inflated for the data, its
   // first MiB for the header alone.
   std::error_code ec;
   if (!withData && !fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
-  const std::vector<std::uint8_t> bytes = withData ? readFileBytes(path, &gz) : peekFileBytes(path, 1 << 20);
+  std::vector<std::uint8_t> bytes = withData ? readFileBytes(path, &gz) : peekFileBytes(path, 1 << 20);
   if (!withData) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     unsigned char m[2] = {0, 0};
@@ -158,20 +160,51 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
       std::fclose(f);
     }
   }
+  return bytes;
+}
+
+// One "key: value" header line into `d` (and the dw_scheme and comments into `img`).
+void mrtrixHeaderEntry(const std::string& path, const std::string& key, const std::string& value,
+                       MrtrixDescription& d, MrtrixImage& img) {
+  if (key == "dim") {
+    for (double n : parseNumbers(path, key, value)) {
+      if (!(n >= 1) || n != std::floor(n) || n > double(kMaxValues))
+        fail(path, "dim '" + value + "': every dimension must be a whole number >= 1");
+      d.dims.push_back(static_cast<long long>(n));
+    }
+  } else if (key == "vox") {
+    d.vox = parseNumbers(path, key, value);
+  } else if (key == "layout") {
+    d.layoutText = value;
+  } else if (key == "datatype") {
+    d.datatypeText = value;
+  } else if (key == "transform") {
+    d.transform.push_back(parseNumbers(path, key, value));
+  } else if (key == "scaling") {
+    const std::vector<double> sc = parseNumbers(path, key, value);
+    if (sc.size() != 2 || !std::isfinite(sc[0]) || !std::isfinite(sc[1]))
+      fail(path, "scaling '" + value + "' is not two finite numbers (offset,scale)");
+    d.offset = sc[0];
+    d.scale = sc[1];
+  } else if (key == "file") {
+    d.files.push_back(value);
+  } else if (key == "dw_scheme") {
+    img.dwScheme.push_back(parseNumbers(path, key, value));
+  } else if (key == "comments" && img.header.descrip.empty()) {
+    img.header.descrip = value;
+  }
+}
+
+// The header lines up to END (at most 1 MiB of header).
+MrtrixDescription parseMrtrixHeader(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                                    MrtrixImage& img) {
   const std::string kMagic = "mrtrix image";
   if (bytes.size() < kMagic.size() || std::memcmp(bytes.data(), kMagic.data(), kMagic.size()) != 0)
     fail(path, "not an MRtrix image (no 'mrtrix image' line at the start)");
-  // Header lines up to END (at most 1 MiB of header).
   const std::size_t headerLimit = std::min<std::size_t>(bytes.size(), std::size_t(1) << 20);
+  MrtrixDescription d;
   std::size_t pos = 0;
   bool ended = false;
-  std::vector<long long> dims;
-  std::vector<double> vox;
-  std::vector<int> ranks;
-  std::string datatypeText, layoutText;
-  std::vector<std::vector<double>> transform;
-  std::vector<std::string> files;
-  double offset = 0, scale = 1;
   int lineNo = 0;
   while (pos < headerLimit) {
     std::size_t eol = pos;
@@ -193,121 +226,102 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
     const auto colon = line.find(':');
     if (colon == std::string::npos)
       fail(path, "header line " + std::to_string(lineNo) + " has no 'key: value'");
-    const std::string key = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
-    if (key == "dim") {
-      for (double d : parseNumbers(path, key, value)) {
-        if (!(d >= 1) || d != std::floor(d) || d > double(kMaxValues))
-          fail(path, "dim '" + value + "': every dimension must be a whole number >= 1");
-        dims.push_back(static_cast<long long>(d));
-      }
-    } else if (key == "vox") {
-      vox = parseNumbers(path, key, value);
-    } else if (key == "layout") {
-      layoutText = value;
-    } else if (key == "datatype") {
-      datatypeText = value;
-    } else if (key == "transform") {
-      transform.push_back(parseNumbers(path, key, value));
-    } else if (key == "scaling") {
-      const std::vector<double> s = parseNumbers(path, key, value);
-      if (s.size() != 2 || !std::isfinite(s[0]) || !std::isfinite(s[1]))
-        fail(path, "scaling '" + value + "' is not two finite numbers (offset,scale)");
-      offset = s[0];
-      scale = s[1];
-    } else if (key == "file") {
-      files.push_back(value);
-    } else if (key == "dw_scheme") {
-      img.dwScheme.push_back(parseNumbers(path, key, value));
-    } else if (key == "comments" && h.descrip.empty()) {
-      h.descrip = value;
-    }
+    mrtrixHeaderEntry(path, trim(line.substr(0, colon)), trim(line.substr(colon + 1)), d, img);
   }
   if (!ended) fail(path, "the header has no END line (truncated file?)");
-  if (dims.empty()) fail(path, "the header has no 'dim'");
-  if (dims.size() > 16) fail(path, std::to_string(dims.size()) + " dimensions (at most 16 are read)");
-  long long total = 1;
-  for (long long d : dims) {
-    if (total > kMaxValues / d)
-      fail(path, "dimensions are absurd (more than 2^31 values); refusing to allocate");
-    total *= d;
-  }
-  if (vox.size() < std::min<std::size_t>(3, dims.size()))
-    fail(path,
-         "'vox' has " + std::to_string(vox.size()) + " entries for " + std::to_string(dims.size()) + " axes");
-  if (datatypeText.empty()) fail(path, "the header has no 'datatype'");
-  const DataType dt = parseDatatype(path, datatypeText);
-  if (layoutText.empty()) fail(path, "the header has no 'layout'");
-  ranks = parseLayout(path, layoutText, dims.size());
-  if (files.empty()) fail(path, "the header has no 'file' entry");
-  if (files.size() > 1)
-    fail(path, "the data are split over " + std::to_string(files.size()) + " files (not supported)");
+  d.headerEnd = pos;
+  return d;
+}
 
-  // Geometry: spatial axes 0..2 (missing ones are 1), transform [R | t] with R scaled by vox.
+// The voxel -> world affine: spatial axes 0..2 (missing ones are 1), transform [R | t] with R scaled by vox.
+// Sets the grid and the affine source of `h`.
+void mrtrixGeometry(const std::string& path, const MrtrixDescription& d, VolumeHeader& h) {
   glm::ivec3 gdims(1);
   glm::dvec3 spacing(1.0);
-  for (std::size_t d = 0; d < 3 && d < dims.size(); ++d) {
-    if (dims[d] > std::numeric_limits<int>::max())
-      fail(path, "dimension " + std::to_string(d) + " is absurd");
-    gdims[static_cast<int>(d)] = static_cast<int>(dims[d]);
-    if (!(vox[d] > 0) || !std::isfinite(vox[d]))
-      fail(path,
-           "voxel size " + std::to_string(vox[d]) + " along axis " + std::to_string(d) + " is not positive");
-    spacing[static_cast<int>(d)] = vox[d];
+  for (std::size_t a = 0; a < 3 && a < d.dims.size(); ++a) {
+    if (d.dims[a] > std::numeric_limits<int>::max())
+      fail(path, "dimension " + std::to_string(a) + " is absurd");
+    gdims[static_cast<int>(a)] = static_cast<int>(d.dims[a]);
+    if (!(d.vox[a] > 0) || !std::isfinite(d.vox[a]))
+      fail(path, "voxel size " + std::to_string(d.vox[a]) + " along axis " + std::to_string(a) +
+                     " is not positive");
+    spacing[static_cast<int>(a)] = d.vox[a];
   }
   glm::dmat4 affine(1.0);
-  if (transform.empty()) {
-    for (int d = 0; d < 3; ++d) {
-      affine[d][d] = spacing[d];
-      affine[3][d] = -0.5 * (gdims[d] - 1) * spacing[d];
+  const auto& t = d.transform;
+  if (t.empty()) {
+    for (int a = 0; a < 3; ++a) {
+      affine[a][a] = spacing[a];
+      affine[3][a] = -0.5 * (gdims[a] - 1) * spacing[a];
     }
     h.affineSource = "none (MRtrix default: identity rotation, image centred)";
     h.warnings.emplace_back("no transform in the header: orientation unknown, assuming RAS voxel axes");
   } else {
-    if (transform.size() != 3 && !(transform.size() == 4 && transform[3].size() == 4))
-      fail(path, "'transform' has " + std::to_string(transform.size()) + " rows (expected 3)");
-    for (int r = 0; r < 3; ++r) {
-      if (transform[static_cast<std::size_t>(r)].size() != 4)
-        fail(path, "'transform' row " + std::to_string(r + 1) + " has " +
-                       std::to_string(transform[static_cast<std::size_t>(r)].size()) +
+    if (t.size() != 3 && !(t.size() == 4 && t[3].size() == 4))
+      fail(path, "'transform' has " + std::to_string(t.size()) + " rows (expected 3)");
+    for (std::size_t r = 0; r < 3; ++r) {
+      if (t[r].size() != 4)
+        fail(path, "'transform' row " + std::to_string(r + 1) + " has " + std::to_string(t[r].size()) +
                        " numbers (expected 4)");
       for (int c = 0; c < 4; ++c) {
-        const double v = transform[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)];
+        const double v = t[r][static_cast<std::size_t>(c)];
         if (!std::isfinite(v)) fail(path, "'transform' is not finite");
-        affine[c][r] = c < 3 ? v * spacing[c] : v;
+        affine[c][static_cast<int>(r)] = c < 3 ? v * spacing[c] : v;
       }
     }
     h.affineSource = "MRtrix transform (scanner frame) x vox";
     if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the transform is singular");
   }
   h.grid = Grid::fromAffine(gdims, affine);
-  h.dims = dims;
-  h.datatypeName = dt.name;
-  h.sclInter = offset;
-  h.sclSlope = scale;
-  h.intentName = "layout " + layoutText;
+}
 
-  // Data location.
-  std::string dataPath = path;
-  long long dataOffset = 0;
-  {
-    std::istringstream in(files[0]);
-    std::string name;
-    in >> name;
-    std::string offText;
-    if (in >> offText) {
-      // Fuzz finding: "file: . nan" was converted to an integer (undefined behaviour).
-      const double off = parseNumber(path, "file", offText);
-      if (!(off >= 0) || off > 0x1p62 || off != std::floor(off))
-        fail(path, "file offset " + offText + " is not a whole number >= 0");
-      dataOffset = static_cast<long long>(off);
-    }
-    if (name != ".") {
-      if (name.find('/') == 0) fail(path, "data file '" + name + "' is an absolute path (refused)");
-      dataPath = (fs::path(path).parent_path() / name).string();
-    }
+// Checks the dimensions and voxel sizes; returns the number of values.
+long long mrtrixValueCount(const std::string& path, const MrtrixDescription& d) {
+  if (d.dims.empty()) fail(path, "the header has no 'dim'");
+  if (d.dims.size() > 16) fail(path, std::to_string(d.dims.size()) + " dimensions (at most 16 are read)");
+  long long total = 1;
+  for (long long n : d.dims) {
+    if (total > kMaxValues / n)
+      fail(path, "dimensions are absurd (more than 2^31 values); refusing to allocate");
+    total *= n;
   }
-  const long long need = dt.bytes == 0 ? (total + 7) / 8 : total * dt.bytes;
-  std::vector<std::uint8_t> dataBytes;
+  if (d.vox.size() < std::min<std::size_t>(3, d.dims.size()))
+    fail(path, "'vox' has " + std::to_string(d.vox.size()) + " entries for " + std::to_string(d.dims.size()) +
+                   " axes");
+  return total;
+}
+
+// Where the data lie: the file itself ("file: . OFFSET") or a file beside the header.
+void mrtrixDataLocation(const std::string& path, const std::string& entry, std::string& dataPath,
+                        long long& dataOffset) {
+  dataPath = path;
+  dataOffset = 0;
+  std::istringstream in(entry);
+  std::string name;
+  in >> name;
+  std::string offText;
+  if (in >> offText) {
+    // Fuzz finding: "file: . nan" was converted to an integer (undefined behaviour).
+    const double off = parseNumber(path, "file", offText);
+    if (!(off >= 0) || off > 0x1p62 || off != std::floor(off))
+      fail(path, "file offset " + offText + " is not a whole number >= 0");
+    dataOffset = static_cast<long long>(off);
+  }
+  if (name != ".") {
+    if (name.find('/') == 0) fail(path, "data file '" + name + "' is an absolute path (refused)");
+    dataPath = (fs::path(path).parent_path() / name).string();
+  }
+}
+
+// The data's bytes (`bytes` itself for data in the same file; else read into `dataBytes` when withData),
+// after checking that the data are all there. Null when !withData.
+const std::vector<std::uint8_t>* mrtrixData(const std::string& path, const MrtrixDescription& d,
+                                            const std::vector<std::uint8_t>& bytes, bool gz, bool withData,
+                                            long long need, std::vector<std::uint8_t>& dataBytes,
+                                            long long& dataOffset) {
+  std::string dataPath;
+  mrtrixDataLocation(path, d.files[0], dataPath, dataOffset);
+  std::error_code ec;
   const std::vector<std::uint8_t>* data = &bytes;
   if (dataPath != path) {
     if (!fs::exists(dataPath)) fail(path, "data file " + dataPath + " does not exist");
@@ -320,9 +334,9 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
         fail(path, "data file " + dataPath + " is truncated: " + std::to_string(size) +
                        " bytes, the header needs " + std::to_string(dataOffset + need));
     }
-  } else if (dataOffset < static_cast<long long>(pos)) {
+  } else if (dataOffset < static_cast<long long>(d.headerEnd)) {
     fail(path, "file offset " + std::to_string(dataOffset) + " lies inside the header (which ends at byte " +
-                   std::to_string(pos) + ")");
+                   std::to_string(d.headerEnd) + ")");
   }
   long long have = static_cast<long long>(data->size());
   if (!withData && dataPath == path) {
@@ -333,61 +347,89 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
     fail(path, std::string(dataPath == path ? "" : "data file " + dataPath + " ") + "is truncated: " +
                    std::to_string(have) + (gz ? " bytes inflated" : " bytes") + ", the header needs " +
                    std::to_string(dataOffset + need) + " (offset " + std::to_string(dataOffset) + ")");
-  if (!img.dwScheme.empty()) {
-    const long long vols =
-        dims.size() > 3 ? total / (static_cast<long long>(gdims.x) * gdims.y * gdims.z) : 1;
-    for (const auto& row : img.dwScheme)
-      if (row.size() != 4)
-        fail(path, "a dw_scheme row has " + std::to_string(row.size()) + " numbers (expected 4)");
-    if (static_cast<long long>(img.dwScheme.size()) != vols)
-      fail(path, "dw_scheme has " + std::to_string(img.dwScheme.size()) + " rows for " +
-                     std::to_string(vols) + " volumes");
-  }
-  if (!withData) return img;
+  return withData ? data : nullptr;
+}
 
+void checkDwScheme(const std::string& path, const MrtrixImage& img, long long total) {
+  if (img.dwScheme.empty()) return;
+  const Grid& g = img.header.grid;
+  const long long vols =
+      img.header.dims.size() > 3 ? total / (static_cast<long long>(g.dims.x) * g.dims.y * g.dims.z) : 1;
+  for (const auto& row : img.dwScheme)
+    if (row.size() != 4)
+      fail(path, "a dw_scheme row has " + std::to_string(row.size()) + " numbers (expected 4)");
+  if (static_cast<long long>(img.dwScheme.size()) != vols)
+    fail(path, "dw_scheme has " + std::to_string(img.dwScheme.size()) + " rows for " + std::to_string(vols) +
+                   " volumes");
+}
+
+// The voxels into img.volume: logical indices walked with axis 0 fastest, the disk position tracked
+// incrementally through the layout's strides; axes 3.. become components.
+void readMrtrixVoxels(const MrtrixDescription& d, const DataType& dt, const std::vector<int>& ranks,
+                      const std::uint8_t* base, long long total, MrtrixImage& img) {
+  const std::vector<long long>& dims = d.dims;
   std::vector<long long> strides;
   long long start = 0;
   computeStrides(dims, ranks, strides, start);
-  const long long nv = static_cast<long long>(gdims.x) * gdims.y * gdims.z;
+  const long long nv = static_cast<long long>(img.header.grid.voxelCount());
   const int comps = static_cast<int>(total / nv);
-  img.volume = ScalarVolume(h.grid, comps);
-  const std::uint8_t* base = data->data() + dataOffset;
-  const bool scaled = !(offset == 0 && scale == 1);
+  img.volume = ScalarVolume(img.header.grid, comps);
+  const bool scaled = !(d.offset == 0 && d.scale == 1);
   std::vector<long long> idx(dims.size(), 0);
   long long diskPos = start;
-  // Walk logical indices (axis 0 fastest), tracking the disk position incrementally.
   for (long long n = 0; n < total; ++n) {
     double v;
     if (dt.bytes == 0)
       v = (base[diskPos >> 3] >> (7 - (diskPos & 7))) & 1;
     else
-      v = fetch(base + diskPos * dt.bytes, dt);
-    if (scaled) v = offset + scale * v;
+      v = fetchSample(base + diskPos * dt.bytes, dt.type, dt.bigEndian);
+    if (scaled) v = d.offset + d.scale * v;
     const long long voxel = n % nv, comp = n / nv;
     img.volume.data[static_cast<std::size_t>(voxel * comps + comp)] = static_cast<float>(v);
-    for (std::size_t a = 0; a < dims.size(); ++a) {
-      if (++idx[a] < dims[a]) {
-        diskPos += strides[a];
-        break;
-      }
-      diskPos -= strides[a] * (dims[a] - 1);
-      idx[a] = 0;
-    }
+    step(idx, dims, strides, diskPos);
   }
+}
+
+} // namespace
+
+MrtrixImage readMrtrix(const std::string& path, bool withData) {
+  MrtrixImage img;
+  VolumeHeader& h = img.header;
+  h.path = path;
+  h.niftiVersion = 0;
+  bool gz = false;
+  const std::vector<std::uint8_t> bytes = mrtrixBytes(path, withData, gz);
+  const MrtrixDescription d = parseMrtrixHeader(path, bytes, img);
+  const long long total = mrtrixValueCount(path, d);
+  if (d.datatypeText.empty()) fail(path, "the header has no 'datatype'");
+  const DataType dt = parseDatatype(path, d.datatypeText);
+  if (d.layoutText.empty()) fail(path, "the header has no 'layout'");
+  const std::vector<int> ranks = parseLayout(path, d.layoutText, d.dims.size());
+  if (d.files.empty()) fail(path, "the header has no 'file' entry");
+  if (d.files.size() > 1)
+    fail(path, "the data are split over " + std::to_string(d.files.size()) + " files (not supported)");
+  mrtrixGeometry(path, d, h);
+  h.dims = d.dims;
+  h.datatypeName = dt.name;
+  h.sclInter = d.offset;
+  h.sclSlope = d.scale;
+  h.intentName = "layout " + d.layoutText;
+  const long long need = dt.bytes == 0 ? (total + 7) / 8 : total * dt.bytes;
+  std::vector<std::uint8_t> dataBytes;
+  long long dataOffset = 0;
+  const std::vector<std::uint8_t>* data =
+      mrtrixData(path, d, bytes, gz, withData, need, dataBytes, dataOffset);
+  checkDwScheme(path, img, total);
+  if (withData) readMrtrixVoxels(d, dt, ranks, data->data() + dataOffset, total, img);
   return img;
 }
 
-void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vector<int>& stridesIn,
-                 const std::vector<std::string>& extraHeader) {
-  const std::size_t nv = v.grid.voxelCount();
-  if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
-    throw InputError("cannot write " + path + ": volume data size does not match its grid");
-  const bool mih = endsWith(path, ".mih");
-  const bool gz = endsWith(path, ".mif.gz");
-  if (!mih && !gz && !endsWith(path, ".mif"))
-    throw InputError("cannot write " + path + ": an MRtrix image name ends in .mif, .mif.gz or .mih");
-  std::vector<long long> dims{v.grid.dims.x, v.grid.dims.y, v.grid.dims.z};
-  if (v.components > 1) dims.push_back(v.components);
+namespace {
+
+// The stride ranks to write: `stridesIn` (empty: 1, 2, 3, ...) cut to the axes, checked distinct and
+// non-zero.
+std::vector<int> writeRanks(const std::string& path, const std::vector<long long>& dims,
+                            const std::vector<int>& stridesIn) {
   std::vector<int> ranks = stridesIn;
   if (ranks.empty())
     for (std::size_t a = 0; a < dims.size(); ++a)
@@ -404,6 +446,12 @@ void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vect
     if (r.front() == 0 || std::adjacent_find(r.begin(), r.end()) != r.end())
       throw InputError("cannot write " + path + ": strides must be distinct non-zero ranks");
   }
+  return ranks;
+}
+
+// The header lines of a Float32LE image up to (not including) "file:".
+std::string mrtrixHeaderText(const ScalarVolume& v, const std::vector<long long>& dims,
+                             const std::vector<int>& ranks, const std::vector<std::string>& extraHeader) {
   std::ostringstream hd;
   hd.precision(17);
   hd << "mrtrix image\ndim: ";
@@ -431,7 +479,24 @@ void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vect
   }
   for (const std::string& line : extraHeader)
     hd << line << "\n";
-  std::string head = hd.str();
+  return hd.str();
+}
+
+} // namespace
+
+void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vector<int>& stridesIn,
+                 const std::vector<std::string>& extraHeader) {
+  const std::size_t nv = v.grid.voxelCount();
+  if (v.components < 1 || v.data.size() != nv * static_cast<std::size_t>(v.components))
+    throw InputError("cannot write " + path + ": volume data size does not match its grid");
+  const bool mih = endsWith(path, ".mih");
+  const bool gz = endsWith(path, ".mif.gz");
+  if (!mih && !gz && !endsWith(path, ".mif"))
+    throw InputError("cannot write " + path + ": an MRtrix image name ends in .mif, .mif.gz or .mih");
+  std::vector<long long> dims{v.grid.dims.x, v.grid.dims.y, v.grid.dims.z};
+  if (v.components > 1) dims.push_back(v.components);
+  const std::vector<int> ranks = writeRanks(path, dims, stridesIn);
+  std::string head = mrtrixHeaderText(v, dims, ranks, extraHeader);
 
   std::vector<long long> strides;
   long long start = 0;
@@ -444,14 +509,7 @@ void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vect
     for (long long n = 0; n < total; ++n) {
       const long long voxel = n % static_cast<long long>(nv), comp = n / static_cast<long long>(nv);
       disk[static_cast<std::size_t>(diskPos)] = v.data[static_cast<std::size_t>(voxel * v.components + comp)];
-      for (std::size_t a = 0; a < dims.size(); ++a) {
-        if (++idx[a] < dims[a]) {
-          diskPos += strides[a];
-          break;
-        }
-        diskPos -= strides[a] * (dims[a] - 1);
-        idx[a] = 0;
-      }
+      step(idx, dims, strides, diskPos);
     }
   }
   static_assert(sizeof(float) == 4);

@@ -2,8 +2,8 @@
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
 #include "io/formats/atomic_file.h"
 #include "io/formats/format_detail.h"
-#include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +17,7 @@
 #include <mutex>
 #include <nifti2_io.h>
 #include <sstream>
+#include <type_traits>
 
 namespace fs = std::filesystem;
 
@@ -47,6 +48,10 @@ TensorLayout parseLayout(const std::string& name) {
 
 namespace {
 
+using detail::SampleType;
+using detail::SampleTypeInfo;
+using detail::sampleTypeInfo;
+
 // More voxels than this (all dimensions multiplied) is refused before anything is allocated.
 constexpr long long kMaxElements = 1LL << 31;
 // sform/qform disagreement thresholds: translation/scale in mm, rotation as matrix entries.
@@ -66,22 +71,23 @@ void quietNifti() {
   std::call_once(once, [] { nifti_set_debug_level(0); });
 }
 
+// NIfTI datatypes onto the sample table; the others (complex, RGB, float128) are refused.
+const SampleTypeInfo* sampleTypeOf(int dt) {
+  static const struct {
+    int code;
+    SampleType type;
+  } kTypes[] = {{DT_UINT8, SampleType::UInt8},     {DT_INT8, SampleType::Int8},
+                {DT_INT16, SampleType::Int16},     {DT_UINT16, SampleType::UInt16},
+                {DT_INT32, SampleType::Int32},     {DT_UINT32, SampleType::UInt32},
+                {DT_INT64, SampleType::Int64},     {DT_UINT64, SampleType::UInt64},
+                {DT_FLOAT32, SampleType::Float32}, {DT_FLOAT64, SampleType::Float64}};
+  for (const auto& k : kTypes)
+    if (k.code == dt) return &sampleTypeInfo(k.type);
+  return nullptr;
+}
+
 bool isSupportedDatatype(int dt) {
-  switch (dt) {
-  case DT_UINT8:
-  case DT_INT8:
-  case DT_INT16:
-  case DT_UINT16:
-  case DT_INT32:
-  case DT_UINT32:
-  case DT_INT64:
-  case DT_UINT64:
-  case DT_FLOAT32:
-  case DT_FLOAT64:
-    return true;
-  default:
-    return false;
-  }
+  return sampleTypeOf(dt) != nullptr;
 }
 
 std::string intentText(int code) {
@@ -144,6 +150,21 @@ std::string dimsText(const std::vector<long long>& dims) {
   return s;
 }
 
+// Checks dims[1..ndim] (each >= 1, all together at most 2^31 values) and appends them to `out`.
+void checkedDims(const std::string& path, const long long* dims, long long ndim,
+                 std::vector<long long>& out) {
+  long long total = 1;
+  for (long long d = 1; d <= ndim; ++d) {
+    const long long n = dims[d];
+    out.push_back(n);
+    if (n <= 0) fail(path, "dimension " + std::to_string(d) + " is " + std::to_string(n) + " (must be >= 1)");
+    if (n > kMaxElements || total > kMaxElements / n)
+      fail(path, "dimensions " + dimsText(out) + (d < ndim ? "..." : "") +
+                     " are absurd (more than 2^31 values); refusing to allocate");
+    total *= n;
+  }
+}
+
 // The file holding the voxel data: the file named for single-file .nii/.nii.gz (data offset >= 352),
 // nifticlib's image name for a .hdr/.img pair.
 std::string dataFile(const nifti_image* nim, const std::string& path) {
@@ -178,142 +199,104 @@ void checkHeaderLength(const std::string& path) {
                    std::to_string(got) + " of " + std::to_string(need) + " bytes)");
 }
 
-// Reads and checks the header only: dimensions sane and not absurd, datatype convertible, file long
-// enough (uncompressed files). Fills `h`. Throws InputError naming the file.
-NimPtr openHeader(const std::string& path, VolumeHeader& h) {
-  quietNifti();
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "file does not exist");
-  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a NIfTI file");
-  // The raw header is checked before nifti_image_read converts it: nifticlib reads ANALYZE 7.5 (no magic),
-  // turns dimensions <= 0 into 1, and can crash converting absurd NIfTI-2 dimensions.
-  // nifti_type reads back as NIfTI-1 for NIfTI-2 files; the header reader gives the version.
-  checkHeaderLength(path);
+// The fields of the raw header that nifticlib would convert silently, in the host's byte order.
+struct RawNiftiHeader {
   int version = 1;
-  long long rawDims[8] = {};
-  int rawDatatype = 0;
-  double rawVoxOffset = 0;
-  void* raw = nifti_read_header(path.c_str(), &version, 0);
+  long long dims[8] = {};
+  int datatype = 0;
+  double voxOffset = 0;
+  int sizeofHdr = 0;
+  bool sizeOk = false, isNifti = false, singleFile = false;
+};
+
+template <typename H, typename DimInt> void rawFields(const H* h, bool swap, RawNiftiHeader& r) {
+  for (int d = 0; d < 8; ++d) {
+    auto v = static_cast<std::make_unsigned_t<DimInt>>(h->dim[d]);
+    if (swap)
+      v = sizeof(DimInt) == 8 ? static_cast<decltype(v)>(__builtin_bswap64(v))
+                              : static_cast<decltype(v)>(__builtin_bswap16(static_cast<std::uint16_t>(v)));
+    r.dims[d] = static_cast<DimInt>(v);
+  }
+  const auto dt = static_cast<std::uint16_t>(h->datatype);
+  r.datatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+}
+
+// Reads the raw header before nifticlib converts it: nifticlib reads ANALYZE 7.5 (no magic), turns
+// dimensions <= 0 into 1, and can crash converting absurd NIfTI-2 dimensions. nifti_type reads back as
+// NIfTI-1 for NIfTI-2 files; the header reader gives the version.
+RawNiftiHeader readRawHeader(const std::string& path) {
+  RawNiftiHeader r;
+  void* raw = nifti_read_header(path.c_str(), &r.version, 0);
   if (!raw)
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
-  const char* magic = version == 2 ? static_cast<const nifti_2_header*>(raw)->magic
-                                   : static_cast<const nifti_1_header*>(raw)->magic;
-  const bool isNifti = version == 2 ? !std::memcmp(magic, "n+2", 4) || !std::memcmp(magic, "ni2", 4)
-                                    : !std::memcmp(magic, "n+1", 4) || !std::memcmp(magic, "ni1", 4);
+  const bool v2 = r.version == 2;
+  const auto* h1 = static_cast<const nifti_1_header*>(raw);
+  const auto* h2 = static_cast<const nifti_2_header*>(raw);
+  const char* magic = v2 ? h2->magic : h1->magic;
+  r.isNifti = v2 ? !std::memcmp(magic, "n+2", 4) || !std::memcmp(magic, "ni2", 4)
+                 : !std::memcmp(magic, "n+1", 4) || !std::memcmp(magic, "ni1", 4);
+  r.singleFile = !std::memcmp(magic, "n+", 2);
   // A header that still reads in the other byte order (sizeof_hdr not 348/540) is swapped here.
-  const int sizeofHdr = version == 2 ? static_cast<const nifti_2_header*>(raw)->sizeof_hdr
-                                     : static_cast<const nifti_1_header*>(raw)->sizeof_hdr;
-  const int expectHdr = version == 2 ? 540 : 348;
-  const auto swappedHdr = static_cast<int>(__builtin_bswap32(static_cast<std::uint32_t>(sizeofHdr)));
-  const bool sizeOk = sizeofHdr == expectHdr || swappedHdr == expectHdr;
-  if (version == 2) {
-    const auto* h2 = static_cast<const nifti_2_header*>(raw);
-    const bool swap = h2->sizeof_hdr != 540;
-    for (int d = 0; d < 8; ++d) {
-      const auto v = static_cast<std::uint64_t>(h2->dim[d]);
-      rawDims[d] = static_cast<long long>(swap ? __builtin_bswap64(v) : v);
-    }
-    const auto dt = static_cast<std::uint16_t>(h2->datatype);
-    rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+  r.sizeofHdr = v2 ? h2->sizeof_hdr : h1->sizeof_hdr;
+  const int expectHdr = v2 ? 540 : 348;
+  const auto swappedHdr = static_cast<int>(__builtin_bswap32(static_cast<std::uint32_t>(r.sizeofHdr)));
+  r.sizeOk = r.sizeofHdr == expectHdr || swappedHdr == expectHdr;
+  const bool swap = r.sizeofHdr != expectHdr;
+  if (v2) {
+    rawFields<nifti_2_header, std::int64_t>(h2, swap, r);
     const auto off = static_cast<std::uint64_t>(h2->vox_offset);
-    rawVoxOffset = static_cast<double>(static_cast<std::int64_t>(swap ? __builtin_bswap64(off) : off));
+    r.voxOffset = static_cast<double>(static_cast<std::int64_t>(swap ? __builtin_bswap64(off) : off));
   } else {
-    const auto* h1 = static_cast<const nifti_1_header*>(raw);
-    const bool swap = h1->sizeof_hdr != 348;
-    for (int d = 0; d < 8; ++d) {
-      const auto v = static_cast<std::uint16_t>(h1->dim[d]);
-      rawDims[d] = static_cast<std::int16_t>(swap ? __builtin_bswap16(v) : v);
-    }
-    const auto dt = static_cast<std::uint16_t>(h1->datatype);
-    rawDatatype = static_cast<std::int16_t>(swap ? __builtin_bswap16(dt) : dt);
+    rawFields<nifti_1_header, std::int16_t>(h1, swap, r);
     std::uint32_t off;
     std::memcpy(&off, &h1->vox_offset, sizeof off);
     if (swap) off = __builtin_bswap32(off);
     float voxOffset;
     std::memcpy(&voxOffset, &off, sizeof voxOffset);
-    rawVoxOffset = voxOffset;
+    r.voxOffset = voxOffset;
   }
-  // nifticlib replaces a vox_offset it cannot use (negative, inside the header, beyond int) with the header
-  // size and reads the data from there: the wrong bytes, silently. Refuse such headers instead.
-  const bool singleFile = !std::memcmp(magic, "n+", 2);
-  const double minOffset = singleFile ? expectHdr + 4 : 0;
   std::free(raw);
-  if (!sizeOk) fail(path, "bad sizeof_hdr " + std::to_string(sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
-  if (!isNifti)
+  return r;
+}
+
+std::string datatypeText(int code) {
+  const char* name = nifti_datatype_to_string(code);
+  std::string text = name && std::strcmp(name, "DT_UNKNOWN") ? name : "code " + std::to_string(code);
+  if (text.rfind("NIFTI_TYPE_", 0) == 0) text.erase(0, 11); // "FLOAT32", "INT16", ...
+  return text;
+}
+
+// Refuses what nifticlib would read wrongly or not at all: no magic, a vox_offset it cannot use (it would
+// replace it with the header size and read the wrong bytes silently), odd dimension counts, datatypes
+// the converter table lacks, dimensions <= 0 or absurd. Returns the number of dimensions.
+long long checkRawHeader(const std::string& path, const RawNiftiHeader& r) {
+  if (!r.sizeOk)
+    fail(path, "bad sizeof_hdr " + std::to_string(r.sizeofHdr) + " (NIfTI-1 has 348, NIfTI-2 540)");
+  if (!r.isNifti)
     fail(path, "not a NIfTI file: no 'n+1', 'ni1', 'n+2' or 'ni2' magic (ANALYZE 7.5 is not supported)");
-  {
-    std::ostringstream m;
-    m << "vox_offset " << rawVoxOffset;
-    if (!std::isfinite(rawVoxOffset) || rawVoxOffset > (version == 2 ? 0x1p62 : 0x1p31 - 1))
-      fail(path, m.str() + " is absurd");
-    if (rawVoxOffset < 0) fail(path, m.str() + " is negative");
-    if (rawVoxOffset < minOffset)
-      fail(path, m.str() + " lies inside the header (a single-file NIfTI-" + std::to_string(version) +
-                     "'s data start at byte " + std::to_string(static_cast<int>(minOffset)) + " or later)");
-  }
-  const long long ndim = rawDims[0];
+  const double minOffset = r.singleFile ? (r.version == 2 ? 540 : 348) + 4 : 0;
+  std::ostringstream m;
+  m << "vox_offset " << r.voxOffset;
+  if (!std::isfinite(r.voxOffset) || r.voxOffset > (r.version == 2 ? 0x1p62 : 0x1p31 - 1))
+    fail(path, m.str() + " is absurd");
+  if (r.voxOffset < 0) fail(path, m.str() + " is negative");
+  if (r.voxOffset < minOffset)
+    fail(path, m.str() + " lies inside the header (a single-file NIfTI-" + std::to_string(r.version) +
+                   "'s data start at byte " + std::to_string(static_cast<int>(minOffset)) + " or later)");
+  const long long ndim = r.dims[0];
   if (ndim < 1 || ndim > 7)
     fail(path, "header has " + std::to_string(ndim) + " dimensions (NIfTI allows 1 to 7)");
-  if (!isSupportedDatatype(rawDatatype)) {
-    const char* name = nifti_datatype_to_string(rawDatatype);
-    std::string text = name && std::strcmp(name, "DT_UNKNOWN") ? name : "code " + std::to_string(rawDatatype);
-    if (text.rfind("NIFTI_TYPE_", 0) == 0) text.erase(0, 11);
-    fail(path, "unsupported datatype " + text +
+  if (!isSupportedDatatype(r.datatype))
+    fail(path, "unsupported datatype " + datatypeText(r.datatype) +
                    " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
-  }
-  {
-    std::vector<long long> dims;
-    long long total = 1;
-    for (long long d = 1; d <= ndim; ++d) {
-      const long long n = rawDims[d];
-      dims.push_back(n);
-      if (n <= 0)
-        fail(path, "dimension " + std::to_string(d) + " is " + std::to_string(n) + " (must be >= 1)");
-      if (n > kMaxElements || total > kMaxElements / n)
-        fail(path, "dimensions " + dimsText(dims) + (d < ndim ? "..." : "") +
-                       " are absurd (more than 2^31 values); refusing to allocate");
-      total *= n;
-    }
-  }
-  NimPtr nim(nifti_image_read(path.c_str(), 0));
-  if (!nim)
-    fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
+  std::vector<long long> dims;
+  checkedDims(path, r.dims, ndim, dims);
+  return ndim;
+}
 
-  h = VolumeHeader{};
-  h.path = path;
-  h.niftiVersion = version == 2 ? 2 : 1;
-  if (nim->dim[0] != ndim)
-    fail(path, "inconsistent header: nifticlib reads " + std::to_string(nim->dim[0]) + " dimensions");
-  if (nim->iname_offset != static_cast<long long>(rawVoxOffset))
-    fail(path, "inconsistent header: vox_offset " + std::to_string(static_cast<long long>(rawVoxOffset)) +
-                   " but nifticlib would read the data at byte " + std::to_string(nim->iname_offset));
-  long long total = 1;
-  for (long long d = 1; d <= ndim; ++d) {
-    long long n = nim->dim[d];
-    h.dims.push_back(n);
-    if (n <= 0) fail(path, "dimension " + std::to_string(d) + " is " + std::to_string(n) + " (must be >= 1)");
-    if (n > kMaxElements || total > kMaxElements / n)
-      fail(path, "dimensions " + dimsText(h.dims) + (d < ndim ? "..." : "") +
-                     " are absurd (more than 2^31 values); refusing to allocate");
-    total *= n;
-  }
-  h.datatype = nim->datatype;
-  const char* dtName = nifti_datatype_to_string(nim->datatype);
-  h.datatypeName = dtName ? dtName : ("code " + std::to_string(nim->datatype));
-  if (h.datatypeName.rfind("NIFTI_TYPE_", 0) == 0) h.datatypeName.erase(0, 11); // "FLOAT32", "INT16", ...
-  if (!isSupportedDatatype(nim->datatype))
-    fail(path, "unsupported datatype " + h.datatypeName +
-                   " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
-  h.intentCode = nim->intent_code;
-  h.intentName = nim->intent_name;
-  if (h.intentName.empty() && nim->intent_code != 0) h.intentName = intentText(nim->intent_code);
-  h.descrip = std::string(nim->descrip, strnlen(nim->descrip, sizeof(nim->descrip)));
-  h.sclSlope = nim->scl_slope;
-  h.sclInter = nim->scl_inter;
-  h.qformCode = nim->qform_code;
-  h.sformCode = nim->sform_code;
-
-  // Spatial grid: dims 1..3 (missing ones are 1).
+// The voxel -> world affine: the sform when its code is set, else the qform, else pixdim only; warnings
+// for sform/qform disagreement and pixdim fallbacks. Sets grid and affineSource.
+void niftiGrid(const std::string& path, const nifti_image* nim, long long ndim, VolumeHeader& h) {
   glm::ivec3 gdims(1);
   for (int d = 0; d < 3 && d < ndim; ++d)
     gdims[d] = static_cast<int>(h.dims[static_cast<std::size_t>(d)]);
@@ -355,8 +338,59 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
       h.warnings.push_back(w.str());
     }
   h.grid = Grid::fromAffine(gdims, affine);
+}
 
+// The header facts of nifticlib's reading (checked against the raw header) into `h`.
+void niftiHeaderFacts(const std::string& path, const nifti_image* nim, const RawNiftiHeader& r,
+                      long long ndim, VolumeHeader& h) {
+  h = VolumeHeader{};
+  h.path = path;
+  h.niftiVersion = r.version == 2 ? 2 : 1;
+  if (nim->dim[0] != ndim)
+    fail(path, "inconsistent header: nifticlib reads " + std::to_string(nim->dim[0]) + " dimensions");
+  if (nim->iname_offset != static_cast<long long>(r.voxOffset))
+    fail(path, "inconsistent header: vox_offset " + std::to_string(static_cast<long long>(r.voxOffset)) +
+                   " but nifticlib would read the data at byte " + std::to_string(nim->iname_offset));
+  long long nimDims[8] = {};
+  for (long long d = 0; d <= ndim; ++d)
+    nimDims[d] = nim->dim[d];
+  checkedDims(path, nimDims, ndim, h.dims);
+  h.datatype = nim->datatype;
+  const char* dtName = nifti_datatype_to_string(nim->datatype);
+  h.datatypeName = dtName ? dtName : ("code " + std::to_string(nim->datatype));
+  if (h.datatypeName.rfind("NIFTI_TYPE_", 0) == 0) h.datatypeName.erase(0, 11); // "FLOAT32", "INT16", ...
+  if (!isSupportedDatatype(nim->datatype))
+    fail(path, "unsupported datatype " + h.datatypeName +
+                   " (supported: integer types, FLOAT32 and FLOAT64; complex and RGB are not)");
+  h.intentCode = nim->intent_code;
+  h.intentName = nim->intent_name;
+  if (h.intentName.empty() && nim->intent_code != 0) h.intentName = intentText(nim->intent_code);
+  h.descrip = std::string(nim->descrip, strnlen(nim->descrip, sizeof(nim->descrip)));
+  h.sclSlope = nim->scl_slope;
+  h.sclInter = nim->scl_inter;
+  h.qformCode = nim->qform_code;
+  h.sformCode = nim->sform_code;
+}
+
+// Reads and checks the header only: dimensions sane and not absurd, datatype convertible, file long
+// enough (uncompressed files). Fills `h`. Throws InputError naming the file.
+NimPtr openHeader(const std::string& path, VolumeHeader& h) {
+  quietNifti();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "file does not exist");
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a NIfTI file");
+  checkHeaderLength(path);
+  const RawNiftiHeader raw = readRawHeader(path);
+  const long long ndim = checkRawHeader(path, raw);
+  NimPtr nim(nifti_image_read(path.c_str(), 0));
+  if (!nim)
+    fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
+  niftiHeaderFacts(path, nim.get(), raw, ndim, h);
+  niftiGrid(path, nim.get(), ndim, h);
   if (const std::string file = dataFile(nim.get(), path); !nifti_is_gzfile(file.c_str())) {
+    long long total = 1;
+    for (long long n : h.dims)
+      total *= n;
     long long need = static_cast<long long>(nim->iname_offset) + total * nim->nbyper;
     long long have = nifti_get_filesize(file.c_str());
     if (have < need)
@@ -364,12 +398,6 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
            "file is truncated: " + std::to_string(have) + " bytes, header declares " + std::to_string(need));
   }
   return nim;
-}
-
-template <typename T> void convert(const void* src, std::size_t n, float* dst) {
-  const T* s = static_cast<const T*>(src);
-  for (std::size_t i = 0; i < n; ++i)
-    dst[i] = static_cast<float>(s[i]);
 }
 
 // Loads the voxel data as float in disk order (i fastest, then j, k, dim4, ...), scaling applied.
@@ -426,40 +454,9 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   if (nim->byteorder != nifti_short_order() && nim->swapsize > 1)
     nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw.data());
   std::vector<float> out(n);
-  switch (nim->datatype) {
-  case DT_UINT8:
-    convert<std::uint8_t>(raw.data(), n, out.data());
-    break;
-  case DT_INT8:
-    convert<std::int8_t>(raw.data(), n, out.data());
-    break;
-  case DT_INT16:
-    convert<std::int16_t>(raw.data(), n, out.data());
-    break;
-  case DT_UINT16:
-    convert<std::uint16_t>(raw.data(), n, out.data());
-    break;
-  case DT_INT32:
-    convert<std::int32_t>(raw.data(), n, out.data());
-    break;
-  case DT_UINT32:
-    convert<std::uint32_t>(raw.data(), n, out.data());
-    break;
-  case DT_INT64:
-    convert<std::int64_t>(raw.data(), n, out.data());
-    break;
-  case DT_UINT64:
-    convert<std::uint64_t>(raw.data(), n, out.data());
-    break;
-  case DT_FLOAT32:
-    convert<float>(raw.data(), n, out.data());
-    break;
-  case DT_FLOAT64:
-    convert<double>(raw.data(), n, out.data());
-    break;
-  default:
-    fail(path, "unsupported datatype"); // openHeader already refused these
-  }
+  const SampleTypeInfo* type = sampleTypeOf(nim->datatype);
+  if (!type) fail(path, "unsupported datatype"); // openHeader already refused these
+  type->toFloat(raw.data(), n, out.data());
   // NIfTI: slope 0 means "no scaling"; a non-finite slope is treated the same way.
   double slope = nim->scl_slope, inter = nim->scl_inter;
   if (slope != 0 && std::isfinite(slope) && std::isfinite(inter) && !(slope == 1 && inter == 0))
@@ -481,6 +478,19 @@ ScalarVolume interleave(const Grid& grid, int comps, const std::vector<float>& d
 }
 
 // Writes float32 data (disk order) with sform and qform (code 1, scanner) from grid.voxelToWorld.
+// dim[0..7] of a float volume on `grid` with up to four extra dimensions.
+void writeDims(const Grid& grid, const std::vector<long long>& extraDims, int64_t* dims) {
+  const int64_t base[8] = {3, grid.dims.x, grid.dims.y, grid.dims.z, 1, 1, 1, 1};
+  std::copy(base, base + 8, dims);
+  for (std::size_t e = 0; e < extraDims.size() && e < 4; ++e)
+    dims[4 + e] = extraDims[e];
+  for (int d = 7; d > 3; --d)
+    if (dims[d] > 1) {
+      dims[0] = d;
+      break;
+    }
+}
+
 void writeFloatNifti(const std::string& path, const Grid& grid, const std::vector<long long>& extraDims,
                      const std::vector<float>& disk, int intentCode, const char* intentName,
                      const std::string& descrip, int niftiVersion) {
@@ -490,14 +500,8 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
   if (!gz && !nii) throw InputError("cannot write " + path + ": the name must end in .nii or .nii.gz");
   if (niftiVersion != 1 && niftiVersion != 2)
     throw InputError("cannot write " + path + ": NIfTI version must be 1 or 2");
-  int64_t dims[8] = {3, grid.dims.x, grid.dims.y, grid.dims.z, 1, 1, 1, 1};
-  for (std::size_t e = 0; e < extraDims.size() && e < 4; ++e)
-    dims[4 + e] = extraDims[e];
-  for (int d = 7; d > 3; --d)
-    if (dims[d] > 1) {
-      dims[0] = d;
-      break;
-    }
+  int64_t dims[8];
+  writeDims(grid, extraDims, dims);
   for (int d = 1; d <= 7; ++d)
     if (dims[d] > 32767) niftiVersion = 2; // NIfTI-1 stores dims as int16
   NimPtr nim(nifti_make_new_nim(dims, DT_FLOAT32, 0));
@@ -744,10 +748,11 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
     mostlyPositive += f >= 0.9;
   if (fsl.voxels > 0 && mostlyPositive < 3 && fsl.plausible < 0.5 && mrtrix.plausible < 0.5) {
     d.notTensor = true;
-    d.reason = shape + " whose components are signed like directions (only " + std::to_string(mostlyPositive) +
-               " of 6 volumes positive in >= 90% of " + std::to_string(fsl.voxels) +
-               " voxels; positive semi-definite as FSL " + percent(fsl.plausible) + ", as MRtrix " +
-               percent(mrtrix.plausible) + "): two fibre peaks, not a tensor";
+    d.reason = shape + " whose components are signed like directions (only " +
+               std::to_string(mostlyPositive) + " of 6 volumes positive in >= 90% of " +
+               std::to_string(fsl.voxels) + " voxels; positive semi-definite as FSL " +
+               percent(fsl.plausible) + ", as MRtrix " + percent(mrtrix.plausible) +
+               "): two fibre peaks, not a tensor";
     return d;
   }
   const std::string assumed = preferred == TensorLayout::Mrtrix ? "MRtrix" : "FSL";
@@ -810,8 +815,8 @@ LoadedTensors detail::readNiftiTensorVolume(const std::string& path, TensorLayou
   return out;
 }
 
-void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, TensorLayout layout, bool fiveD,
-                           const std::string& path, TensorLayout preferred) {
+void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, TensorLayout layout,
+                                   bool fiveD, const std::string& path, TensorLayout preferred) {
   const VolumeHeader& h = out.header;
   out.warnings = h.warnings;
   if (layout == TensorLayout::Auto) {
@@ -867,7 +872,7 @@ void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, 
 }
 
 void detail::writeNiftiTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
-                            int niftiVersion) {
+                                    int niftiVersion) {
   if (layout == TensorLayout::Auto)
     throw InputError("cannot write " + path + ": choose a tensor layout (fsl, mrtrix, symmatrix or dtitk)");
   std::size_t nv = field.grid.voxelCount();

@@ -24,7 +24,6 @@ namespace dtf::io::detail {
 
 namespace {
 
-
 std::vector<std::string> words(const std::string& s) {
   std::istringstream in(s);
   std::vector<std::string> out;
@@ -34,60 +33,52 @@ std::vector<std::string> words(const std::string& s) {
   return out;
 }
 
-struct NrrdType {
-  int bytes = 0;
-  bool isFloat = false, isSigned = true;
-};
-
-NrrdType parseType(const std::string& path, const std::string& t) {
-  static const std::map<std::string, NrrdType> kTypes = {{"signed char", {1, false, true}},
-                                                         {"int8", {1, false, true}},
-                                                         {"int8_t", {1, false, true}},
-                                                         {"uchar", {1, false, false}},
-                                                         {"unsigned char", {1, false, false}},
-                                                         {"uint8", {1, false, false}},
-                                                         {"uint8_t", {1, false, false}},
-                                                         {"short", {2, false, true}},
-                                                         {"short int", {2, false, true}},
-                                                         {"signed short", {2, false, true}},
-                                                         {"signed short int", {2, false, true}},
-                                                         {"int16", {2, false, true}},
-                                                         {"int16_t", {2, false, true}},
-                                                         {"ushort", {2, false, false}},
-                                                         {"unsigned short", {2, false, false}},
-                                                         {"unsigned short int", {2, false, false}},
-                                                         {"uint16", {2, false, false}},
-                                                         {"uint16_t", {2, false, false}},
-                                                         {"int", {4, false, true}},
-                                                         {"signed int", {4, false, true}},
-                                                         {"int32", {4, false, true}},
-                                                         {"int32_t", {4, false, true}},
-                                                         {"uint", {4, false, false}},
-                                                         {"unsigned int", {4, false, false}},
-                                                         {"uint32", {4, false, false}},
-                                                         {"uint32_t", {4, false, false}},
-                                                         {"longlong", {8, false, true}},
-                                                         {"long long", {8, false, true}},
-                                                         {"long long int", {8, false, true}},
-                                                         {"signed long long", {8, false, true}},
-                                                         {"signed long long int", {8, false, true}},
-                                                         {"int64", {8, false, true}},
-                                                         {"int64_t", {8, false, true}},
-                                                         {"ulonglong", {8, false, false}},
-                                                         {"unsigned long long", {8, false, false}},
-                                                         {"unsigned long long int", {8, false, false}},
-                                                         {"uint64", {8, false, false}},
-                                                         {"uint64_t", {8, false, false}},
-                                                         {"float", {4, true, true}},
-                                                         {"double", {8, true, true}}};
+// NRRD's type names onto the sample table.
+SampleType parseType(const std::string& path, const std::string& t) {
+  static const std::map<std::string, SampleType> kTypes = {{"signed char", SampleType::Int8},
+                                                           {"int8", SampleType::Int8},
+                                                           {"int8_t", SampleType::Int8},
+                                                           {"uchar", SampleType::UInt8},
+                                                           {"unsigned char", SampleType::UInt8},
+                                                           {"uint8", SampleType::UInt8},
+                                                           {"uint8_t", SampleType::UInt8},
+                                                           {"short", SampleType::Int16},
+                                                           {"short int", SampleType::Int16},
+                                                           {"signed short", SampleType::Int16},
+                                                           {"signed short int", SampleType::Int16},
+                                                           {"int16", SampleType::Int16},
+                                                           {"int16_t", SampleType::Int16},
+                                                           {"ushort", SampleType::UInt16},
+                                                           {"unsigned short", SampleType::UInt16},
+                                                           {"unsigned short int", SampleType::UInt16},
+                                                           {"uint16", SampleType::UInt16},
+                                                           {"uint16_t", SampleType::UInt16},
+                                                           {"int", SampleType::Int32},
+                                                           {"signed int", SampleType::Int32},
+                                                           {"int32", SampleType::Int32},
+                                                           {"int32_t", SampleType::Int32},
+                                                           {"uint", SampleType::UInt32},
+                                                           {"unsigned int", SampleType::UInt32},
+                                                           {"uint32", SampleType::UInt32},
+                                                           {"uint32_t", SampleType::UInt32},
+                                                           {"longlong", SampleType::Int64},
+                                                           {"long long", SampleType::Int64},
+                                                           {"long long int", SampleType::Int64},
+                                                           {"signed long long", SampleType::Int64},
+                                                           {"signed long long int", SampleType::Int64},
+                                                           {"int64", SampleType::Int64},
+                                                           {"int64_t", SampleType::Int64},
+                                                           {"ulonglong", SampleType::UInt64},
+                                                           {"unsigned long long", SampleType::UInt64},
+                                                           {"unsigned long long int", SampleType::UInt64},
+                                                           {"uint64", SampleType::UInt64},
+                                                           {"uint64_t", SampleType::UInt64},
+                                                           {"float", SampleType::Float32},
+                                                           {"double", SampleType::Float64}};
   const auto it = kTypes.find(t);
   if (it == kTypes.end())
     fail(path, "unsupported type '" + t + "' (integer types, float and double are read)");
   return it->second;
-}
-
-double fetch(const std::uint8_t* p, const NrrdType& d, bool big) {
-  return fetchNumber(p, d.bytes, d.isFloat, d.isSigned, big);
 }
 
 // "(1,0,0)" -> vector; "none" -> nullopt-like flag.
@@ -152,19 +143,33 @@ std::vector<std::uint8_t> inflateAll(const std::string& path, const std::uint8_t
   return out;
 }
 
-} // namespace
+// The header of a NRRD file as written ("field: value" lines), with its axes sorted out.
+struct NrrdDescription {
+  std::map<std::string, std::string> fields;
+  std::size_t headerEnd = 0; // byte after the header (the blank line) in the file
+  bool blank = false;        // the header ended with a blank line (attached data follow)
+  const SampleTypeInfo* type = nullptr;
+  int ndim = 0;
+  std::vector<long long> sizes; // as stored
+  long long total = 1;
+  std::vector<std::string> kinds;
+  std::vector<glm::dvec3> dirs; // per axis, in the header's space
+  std::vector<int> spatialAxes;
+  int compAxis = -1;
+  bool spaceDirs = false; // directions from 'space directions' (else from spacings)
 
-NrrdVolume readNrrd(const std::string& path, bool withData) {
-  NrrdVolume out;
-  VolumeHeader& h = out.header;
-  h.path = path;
-  h.niftiVersion = 0;
-  const std::vector<std::uint8_t> bytes = readFileBytes(path, nullptr, std::size_t(1) << 33);
+  // The value of field `a` (or its alternative spelling `b`), or null.
+  const std::string* field(const std::string& a, const std::string& b = "") const {
+    auto it = fields.find(a);
+    if (it == fields.end() && !b.empty()) it = fields.find(b);
+    return it == fields.end() ? nullptr : &it->second;
+  }
+};
+
+void parseNrrdFields(const std::string& path, const std::vector<std::uint8_t>& bytes, NrrdDescription& d) {
   if (bytes.size() < 8 || std::memcmp(bytes.data(), "NRRD000", 7) != 0)
     fail(path, "not a NRRD file (no 'NRRD000x' magic at the start)");
-  std::map<std::string, std::string> fields;
   std::size_t pos = 0;
-  bool blank = false;
   int lineNo = 0;
   while (pos < bytes.size()) {
     std::size_t eol = pos;
@@ -176,7 +181,7 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
     pos = std::min(eol + 1, bytes.size());
     if (++lineNo == 1) continue;
     if (line.empty()) {
-      blank = true;
+      d.blank = true;
       break;
     }
     if (line[0] == '#') continue;
@@ -184,215 +189,240 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
     const auto colon = line.find(": ");
     if (colon == std::string::npos)
       fail(path, "header line " + std::to_string(lineNo) + " is not 'field: value'");
-    fields[trim(line.substr(0, colon))] = trim(line.substr(colon + 2));
+    d.fields[trim(line.substr(0, colon))] = trim(line.substr(colon + 2));
     if (lineNo > 10000) fail(path, "header longer than 10000 lines");
   }
-  auto field = [&](const std::string& a, const std::string& b = "") -> const std::string* {
-    auto it = fields.find(a);
-    if (it == fields.end() && !b.empty()) it = fields.find(b);
-    return it == fields.end() ? nullptr : &it->second;
-  };
+  d.headerEnd = pos;
+}
+
+// type, dimension, sizes and kinds.
+void nrrdSizes(const std::string& path, NrrdDescription& d) {
   for (const char* req : {"type", "dimension", "sizes", "encoding"})
-    if (!field(req)) fail(path, std::string("the header has no '") + req + "' field");
-  const NrrdType type = parseType(path, *field("type"));
-  const std::string dimText = *field("dimension");
+    if (!d.field(req)) fail(path, std::string("the header has no '") + req + "' field");
+  d.type = &sampleTypeInfo(parseType(path, *d.field("type")));
+  const std::string dimText = *d.field("dimension");
   if (dimText.empty() || dimText.find_first_not_of("0123456789") != std::string::npos || dimText.size() > 2)
     fail(path, "dimension '" + dimText + "' is not a small whole number");
-  const int ndim = std::stoi(dimText);
-  if (ndim < 3 || ndim > 4)
+  d.ndim = std::stoi(dimText);
+  if (d.ndim < 3 || d.ndim > 4)
     fail(path, "dimension " + dimText + " (3D volumes, or 4D with one component axis, are read)");
-  std::vector<long long> sizes;
-  for (const std::string& w : words(*field("sizes"))) {
+  for (const std::string& w : words(*d.field("sizes"))) {
     if (w.find_first_not_of("0123456789") != std::string::npos || w.size() > 12)
       fail(path, "sizes entry '" + w + "' is not a whole number");
-    sizes.push_back(std::stoll(w));
-    if (sizes.back() < 1) fail(path, "sizes entry " + w + " must be >= 1");
+    d.sizes.push_back(std::stoll(w));
+    if (d.sizes.back() < 1) fail(path, "sizes entry " + w + " must be >= 1");
   }
-  if (static_cast<int>(sizes.size()) != ndim)
-    fail(path, "'sizes' has " + std::to_string(sizes.size()) + " entries for dimension " + dimText);
-  long long total = 1;
-  for (long long s : sizes) {
-    if (total > kMaxValues / s) fail(path, "sizes are absurd (more than 2^31 values); refusing to allocate");
-    total *= s;
+  if (static_cast<int>(d.sizes.size()) != d.ndim)
+    fail(path, "'sizes' has " + std::to_string(d.sizes.size()) + " entries for dimension " + dimText);
+  for (long long n : d.sizes) {
+    if (d.total > kMaxValues / n)
+      fail(path, "sizes are absurd (more than 2^31 values); refusing to allocate");
+    d.total *= n;
   }
-  std::vector<std::string> kinds(static_cast<std::size_t>(ndim), "");
-  if (const std::string* k = field("kinds")) {
-    kinds = words(*k);
+  d.kinds.assign(static_cast<std::size_t>(d.ndim), "");
+  if (const std::string* k = d.field("kinds")) {
+    d.kinds = words(*k);
     // Multi-word kinds do not exist; "3D-symmetric-matrix" is one word.
-    if (static_cast<int>(kinds.size()) != ndim)
-      fail(path, "'kinds' has " + std::to_string(kinds.size()) + " entries for dimension " + dimText);
+    if (static_cast<int>(d.kinds.size()) != d.ndim)
+      fail(path, "'kinds' has " + std::to_string(d.kinds.size()) + " entries for dimension " + dimText);
   }
-  // Which axes are spatial.
-  std::vector<glm::dvec3> dirs(static_cast<std::size_t>(ndim));
-  std::vector<bool> spatial(static_cast<std::size_t>(ndim), false);
-  const std::string* spaceDirs = field("space directions");
+}
+
+// Axis directions from 'spacings' and the kinds (no 'space directions'): spatial axes along x, y, z.
+void nrrdDirectionsFromSpacings(const NrrdDescription& d, std::vector<glm::dvec3>& dirs,
+                                std::vector<bool>& spatial) {
+  std::vector<double> spacings(static_cast<std::size_t>(d.ndim), 1.0);
+  if (const std::string* sp = d.field("spacings")) {
+    const auto w = words(*sp);
+    for (std::size_t a = 0; a < w.size() && a < spacings.size(); ++a) {
+      char* end = nullptr;
+      const double v = std::strtod(w[a].c_str(), &end);
+      spacings[a] = std::isfinite(v) && v > 0 ? v : 1.0;
+    }
+  }
+  int axis = 0;
+  for (std::size_t a = 0; a < static_cast<std::size_t>(d.ndim); ++a) {
+    const std::string& k = d.kinds[a];
+    if (k.empty() || k == "domain" || k == "space") {
+      spatial[a] = true;
+      glm::dvec3 v(0.0);
+      if (axis < 3) v[axis] = spacings[a];
+      dirs[a] = v;
+      ++axis;
+    }
+  }
+}
+
+// Which axes are spatial (and their directions), which one holds components.
+void nrrdAxes(const std::string& path, NrrdDescription& d, NrrdVolume& out) {
+  const auto n = static_cast<std::size_t>(d.ndim);
+  d.dirs.assign(n, glm::dvec3(0.0));
+  std::vector<bool> spatial(n, false);
+  const std::string* spaceDirs = d.field("space directions");
+  d.spaceDirs = spaceDirs != nullptr;
   if (spaceDirs) {
     const std::vector<std::string> e = vectorEntries(*spaceDirs);
-    if (static_cast<int>(e.size()) != ndim)
-      fail(path, "'space directions' has " + std::to_string(e.size()) + " entries for dimension " + dimText);
-    for (int a = 0; a < ndim; ++a)
-      spatial[static_cast<std::size_t>(a)] = parseVector(
-          path, "space directions", e[static_cast<std::size_t>(a)], dirs[static_cast<std::size_t>(a)]);
+    if (e.size() != n)
+      fail(path, "'space directions' has " + std::to_string(e.size()) + " entries for dimension " +
+                     std::to_string(d.ndim));
+    for (std::size_t a = 0; a < n; ++a)
+      spatial[a] = parseVector(path, "space directions", e[a], d.dirs[a]);
   } else {
-    std::vector<double> spacings(static_cast<std::size_t>(ndim), 1.0);
-    if (const std::string* sp = field("spacings")) {
-      const auto w = words(*sp);
-      for (std::size_t a = 0; a < w.size() && a < spacings.size(); ++a) {
-        char* end = nullptr;
-        const double v = std::strtod(w[a].c_str(), &end);
-        spacings[a] = std::isfinite(v) && v > 0 ? v : 1.0;
-      }
-    }
-    int axis = 0;
-    for (int a = 0; a < ndim; ++a) {
-      const std::string& k = kinds[static_cast<std::size_t>(a)];
-      if (k.empty() || k == "domain" || k == "space") {
-        spatial[static_cast<std::size_t>(a)] = true;
-        glm::dvec3 d(0.0);
-        if (axis < 3) d[axis] = spacings[static_cast<std::size_t>(a)];
-        dirs[static_cast<std::size_t>(a)] = d;
-        ++axis;
-      }
-    }
-    h.warnings.emplace_back("no 'space directions': orientation unknown, assuming RAS voxel axes");
+    nrrdDirectionsFromSpacings(d, d.dirs, spatial);
+    out.header.warnings.emplace_back("no 'space directions': orientation unknown, assuming RAS voxel axes");
   }
-  std::vector<int> spatialAxes;
-  int compAxis = -1;
-  for (int a = 0; a < ndim; ++a) {
+  for (int a = 0; a < d.ndim; ++a) {
     if (spatial[static_cast<std::size_t>(a)])
-      spatialAxes.push_back(a);
-    else if (compAxis < 0)
-      compAxis = a;
+      d.spatialAxes.push_back(a);
+    else if (d.compAxis < 0)
+      d.compAxis = a;
     else
       fail(path, "more than one non-spatial axis (one component axis is read)");
   }
-  if (spatialAxes.size() != 3)
-    fail(path, std::to_string(spatialAxes.size()) + " spatial axes (3 are needed)");
-  if (compAxis >= 0) out.kind = kinds[static_cast<std::size_t>(compAxis)];
+  if (d.spatialAxes.size() != 3)
+    fail(path, std::to_string(d.spatialAxes.size()) + " spatial axes (3 are needed)");
+  if (d.compAxis >= 0) out.kind = d.kinds[static_cast<std::size_t>(d.compAxis)];
+}
 
-  // Space and orientation.
-  glm::dmat3 toRas(1.0);
+// The space's axes -> RAS; returns the space's name.
+std::string nrrdSpace(const std::string& path, const NrrdDescription& d, NrrdVolume& out) {
   std::string space = "right-anterior-superior";
-  if (const std::string* s = field("space")) {
+  if (const std::string* s = d.field("space")) {
     space = *s;
     if (space == "left-posterior-superior" || space == "LPS") {
-      toRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1));
+      out.spaceToRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1));
       out.lps = true;
     } else if (space == "left-anterior-superior" || space == "LAS") {
-      toRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+      out.spaceToRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
     } else if (space != "right-anterior-superior" && space != "RAS") {
       fail(path, "space '" + space + "' is not read (RAS, LAS and LPS are)");
     }
-  } else if (spaceDirs) {
-    h.warnings.emplace_back("no 'space' field: space directions taken as RAS");
+  } else if (d.spaceDirs) {
+    out.header.warnings.emplace_back("no 'space' field: space directions taken as RAS");
   }
+  return space;
+}
+
+// The grid (voxel -> world RAS) and the header facts shown by `info`.
+void nrrdGeometry(const std::string& path, const NrrdDescription& d, NrrdVolume& out) {
+  VolumeHeader& h = out.header;
+  const std::string space = nrrdSpace(path, d, out);
+  const glm::dmat3 toRas = out.spaceToRas;
   glm::dvec3 origin(0.0);
-  if (const std::string* o = field("space origin")) {
+  if (const std::string* o = d.field("space origin")) {
     if (!parseVector(path, "space origin", trim(*o), origin)) fail(path, "'space origin' is none");
   }
   glm::dmat4 affine(1.0);
   glm::ivec3 gdims;
   for (int c = 0; c < 3; ++c) {
-    const int a = spatialAxes[static_cast<std::size_t>(c)];
-    if (sizes[static_cast<std::size_t>(a)] > std::numeric_limits<int>::max()) fail(path, "a size is absurd");
-    gdims[c] = static_cast<int>(sizes[static_cast<std::size_t>(a)]);
-    affine[c] = glm::dvec4(toRas * dirs[static_cast<std::size_t>(a)], 0.0);
+    const auto a = static_cast<std::size_t>(d.spatialAxes[static_cast<std::size_t>(c)]);
+    if (d.sizes[a] > std::numeric_limits<int>::max()) fail(path, "a size is absurd");
+    gdims[c] = static_cast<int>(d.sizes[a]);
+    affine[c] = glm::dvec4(toRas * d.dirs[a], 0.0);
   }
   affine[3] = glm::dvec4(toRas * origin, 1.0);
-  out.spaceToRas = toRas;
   if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the space directions are singular");
   h.grid = Grid::fromAffine(gdims, affine);
   // Dimensions in the canonical order (i, j, k, components); the header's own order is kept in intentName.
   h.dims = {gdims.x, gdims.y, gdims.z};
-  if (compAxis >= 0) h.dims.push_back(sizes[static_cast<std::size_t>(compAxis)]);
-  h.datatypeName = *field("type");
-  h.affineSource = std::string(spaceDirs ? "space directions + origin" : "spacings") + " in " + space;
+  if (d.compAxis >= 0) h.dims.push_back(d.sizes[static_cast<std::size_t>(d.compAxis)]);
+  h.datatypeName = *d.field("type");
+  h.affineSource = std::string(d.spaceDirs ? "space directions + origin" : "spacings") + " in " + space;
   std::string stored;
-  for (long long sz : sizes)
+  for (long long sz : d.sizes)
     stored += (stored.empty() ? "" : "x") + std::to_string(sz);
   h.intentName = (out.kind.empty() ? "" : "kind " + out.kind + ", ") + "sizes as stored " + stored;
   // Symmetric-matrix kinds are tensors, as NIfTI's SYMMATRIX intent says (what `info` looks for).
   if (out.kind == "3D-symmetric-matrix" || out.kind == "3D-masked-symmetric-matrix" ||
       out.kind == "3D-matrix" || out.kind == "3D-masked-matrix")
     h.intentCode = 1005;
-  if (const std::string* mf = field("measurement frame")) {
-    const std::vector<std::string> e = vectorEntries(*mf);
-    if (e.size() != 3)
-      fail(path, "'measurement frame' has " + std::to_string(e.size()) + " vectors (3 expected)");
-    for (int c = 0; c < 3; ++c) {
-      glm::dvec3 v;
-      if (!parseVector(path, "measurement frame", e[static_cast<std::size_t>(c)], v))
-        fail(path, "'measurement frame' vector is none");
-      out.measurementFrame[c] = v; // columns
-    }
-    out.hasMeasurementFrame = true;
-  }
+}
 
-  // Data.
-  const std::string encoding = *field("encoding");
-  const bool big = field("endian") && *field("endian") == "big";
-  if (field("endian") && *field("endian") != "big" && *field("endian") != "little")
-    fail(path, "endian '" + *field("endian") + "' is neither little nor big");
-  const bool gz = encoding == "gzip" || encoding == "gz";
-  const bool ascii = encoding == "ascii" || encoding == "text" || encoding == "txt";
-  if (!gz && !ascii && encoding != "raw")
+void nrrdMeasurementFrame(const std::string& path, const NrrdDescription& d, NrrdVolume& out) {
+  const std::string* mf = d.field("measurement frame");
+  if (!mf) return;
+  const std::vector<std::string> e = vectorEntries(*mf);
+  if (e.size() != 3)
+    fail(path, "'measurement frame' has " + std::to_string(e.size()) + " vectors (3 expected)");
+  for (int c = 0; c < 3; ++c) {
+    glm::dvec3 v;
+    if (!parseVector(path, "measurement frame", e[static_cast<std::size_t>(c)], v))
+      fail(path, "'measurement frame' vector is none");
+    out.measurementFrame[c] = v; // columns
+  }
+  out.hasMeasurementFrame = true;
+}
+
+// How the data are stored.
+struct NrrdEncoding {
+  bool big = false, gz = false, ascii = false;
+};
+
+NrrdEncoding nrrdEncoding(const std::string& path, const NrrdDescription& d) {
+  NrrdEncoding e;
+  const std::string encoding = *d.field("encoding");
+  const std::string* endian = d.field("endian");
+  e.big = endian && *endian == "big";
+  if (endian && *endian != "big" && *endian != "little")
+    fail(path, "endian '" + *endian + "' is neither little nor big");
+  e.gz = encoding == "gzip" || encoding == "gz";
+  e.ascii = encoding == "ascii" || encoding == "text" || encoding == "txt";
+  if (!e.gz && !e.ascii && encoding != "raw")
     fail(path, "encoding '" + encoding + "' is not read (raw, gzip and ascii are)");
-  std::vector<std::uint8_t> detached;
-  const std::vector<std::uint8_t>* src = &bytes;
-  std::size_t start = pos;
-  if (const std::string* df = field("data file", "datafile")) {
-    const std::string name = trim(*df);
-    if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || words(name).size() > 1)
-      fail(path, "data file '" + name + "': multi-file data are not read");
-    const std::string dataPath =
-        fs::path(name).is_absolute() ? name : (fs::path(path).parent_path() / name).string();
-    std::error_code ec;
-    if (!fs::is_regular_file(dataPath, ec)) fail(path, "data file " + dataPath + " does not exist");
-    if (!withData) return out;
-    // A gzip data file is inflated below, like attached gzip data: read it as stored.
-    std::FILE* f = std::fopen(dataPath.c_str(), "rb");
-    if (!f) fail(path, "cannot open data file " + dataPath);
-    detached.resize(static_cast<std::size_t>(fs::file_size(dataPath, ec)));
-    const bool ok = std::fread(detached.data(), 1, detached.size(), f) == detached.size();
-    std::fclose(f);
-    if (!ok) fail(path, "cannot read data file " + dataPath);
-    src = &detached;
-    start = 0;
-  } else if (!blank) {
-    fail(path, "no blank line after the header and no 'data file' (truncated file?)");
+  return e;
+}
+
+// The detached data file named by 'data file', or "" when the data are attached.
+std::string nrrdDataFile(const std::string& path, const NrrdDescription& d) {
+  const std::string* df = d.field("data file", "datafile");
+  if (!df) {
+    if (!d.blank) fail(path, "no blank line after the header and no 'data file' (truncated file?)");
+    return "";
   }
-  if (!withData) {
-    if (!gz && !ascii && bytes.size() - start < static_cast<std::size_t>(total * type.bytes))
-      fail(path, "is truncated: " + std::to_string(bytes.size() - start) + " data bytes, the header needs " +
-                     std::to_string(total * type.bytes));
-    return out;
-  }
-  long long lineSkip = 0, byteSkip = 0;
-  if (const std::string* ls = field("line skip", "lineskip")) lineSkip = std::atoll(ls->c_str());
-  if (const std::string* bs = field("byte skip", "byteskip")) byteSkip = std::atoll(bs->c_str());
-  for (long long l = 0; l < lineSkip && start < src->size(); ++l) {
-    while (start < src->size() && (*src)[start] != '\n')
-      ++start;
-    ++start;
-  }
-  const std::size_t need = static_cast<std::size_t>(total * type.bytes);
-  std::vector<std::uint8_t> inflated;
-  const std::uint8_t* data = nullptr;
+  const std::string name = trim(*df);
+  if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || words(name).size() > 1)
+    fail(path, "data file '" + name + "': multi-file data are not read");
+  const std::string dataPath =
+      fs::path(name).is_absolute() ? name : (fs::path(path).parent_path() / name).string();
+  std::error_code ec;
+  if (!fs::is_regular_file(dataPath, ec)) fail(path, "data file " + dataPath + " does not exist");
+  return dataPath;
+}
+
+// A detached data file as stored (a gzip one is inflated later, like attached gzip data).
+std::vector<std::uint8_t> readDetached(const std::string& path, const std::string& dataPath) {
+  std::error_code ec;
+  std::FILE* f = std::fopen(dataPath.c_str(), "rb");
+  if (!f) fail(path, "cannot open data file " + dataPath);
+  std::vector<std::uint8_t> detached(static_cast<std::size_t>(fs::file_size(dataPath, ec)));
+  const bool ok = std::fread(detached.data(), 1, detached.size(), f) == detached.size();
+  std::fclose(f);
+  if (!ok) fail(path, "cannot read data file " + dataPath);
+  return detached;
+}
+
+std::vector<double> nrrdAsciiValues(const std::string& path, const std::vector<std::uint8_t>& src,
+                                    std::size_t start, long long total) {
+  const std::string text(src.begin() + static_cast<std::ptrdiff_t>(std::min(start, src.size())), src.end());
+  std::istringstream in(text);
   std::vector<double> values;
-  if (ascii) {
-    const std::string text(src->begin() + static_cast<std::ptrdiff_t>(std::min(start, src->size())),
-                           src->end());
-    std::istringstream in(text);
-    values.reserve(static_cast<std::size_t>(total));
-    double v;
-    while (static_cast<long long>(values.size()) < total && in >> v)
-      values.push_back(v);
-    if (static_cast<long long>(values.size()) < total)
-      fail(path, "ascii data hold " + std::to_string(values.size()) + " numbers, the header needs " +
-                     std::to_string(total));
-  } else if (gz) {
-    if (start > src->size()) fail(path, "the data start beyond the end of the file");
-    inflated = inflateAll(path, src->data() + start, src->size() - start, need);
+  values.reserve(static_cast<std::size_t>(total));
+  double v;
+  while (static_cast<long long>(values.size()) < total && in >> v)
+    values.push_back(v);
+  if (static_cast<long long>(values.size()) < total)
+    fail(path, "ascii data hold " + std::to_string(values.size()) + " numbers, the header needs " +
+                   std::to_string(total));
+  return values;
+}
+
+// The binary data: inflated into `inflated` (gzip) or where they lie in `src` (raw), skips applied.
+const std::uint8_t* nrrdBinaryData(const std::string& path, const std::vector<std::uint8_t>& src,
+                                   std::size_t start, long long byteSkip, bool gz, std::size_t need,
+                                   std::vector<std::uint8_t>& inflated) {
+  if (gz) {
+    if (start > src.size()) fail(path, "the data start beyond the end of the file");
+    inflated = inflateAll(path, src.data() + start, src.size() - start, need);
     if (byteSkip > 0) {
       // byte skip applies to the decoded data
       if (static_cast<std::size_t>(byteSkip) > inflated.size()) fail(path, "byte skip beyond the data");
@@ -401,39 +431,95 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
     if (inflated.size() < need)
       fail(path, "is truncated: " + std::to_string(inflated.size()) + " bytes inflated, the header needs " +
                      std::to_string(need));
-    data = inflated.data();
-  } else {
-    std::size_t at = start;
-    if (byteSkip == -1) {
-      if (src->size() < need) fail(path, "is truncated: the data need " + std::to_string(need) + " bytes");
-      at = src->size() - need;
-    } else if (byteSkip < 0) {
-      fail(path, "byte skip " + std::to_string(byteSkip) + " is invalid");
-    } else {
-      at += static_cast<std::size_t>(byteSkip);
-    }
-    if (at > src->size() || src->size() - at < need)
-      fail(path, "is truncated: " + std::to_string(at > src->size() ? 0 : src->size() - at) +
-                     " data bytes, the header needs " + std::to_string(need));
-    data = src->data() + at;
+    return inflated.data();
   }
-  const int comps = compAxis >= 0 ? static_cast<int>(sizes[static_cast<std::size_t>(compAxis)]) : 1;
-  out.volume = ScalarVolume(h.grid, comps);
-  std::vector<long long> idx(static_cast<std::size_t>(ndim), 0);
-  for (long long n = 0; n < total; ++n) {
-    const double v = ascii ? values[static_cast<std::size_t>(n)] : fetch(data + n * type.bytes, type, big);
-    const long long i = idx[static_cast<std::size_t>(spatialAxes[0])],
-                    j = idx[static_cast<std::size_t>(spatialAxes[1])],
-                    k = idx[static_cast<std::size_t>(spatialAxes[2])];
-    const long long c = compAxis >= 0 ? idx[static_cast<std::size_t>(compAxis)] : 0;
-    const std::size_t voxel = h.grid.index(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+  std::size_t at = start;
+  if (byteSkip == -1) {
+    if (src.size() < need) fail(path, "is truncated: the data need " + std::to_string(need) + " bytes");
+    at = src.size() - need;
+  } else if (byteSkip < 0) {
+    fail(path, "byte skip " + std::to_string(byteSkip) + " is invalid");
+  } else {
+    at += static_cast<std::size_t>(byteSkip);
+  }
+  if (at > src.size() || src.size() - at < need)
+    fail(path, "is truncated: " + std::to_string(at > src.size() ? 0 : src.size() - at) +
+                   " data bytes, the header needs " + std::to_string(need));
+  return src.data() + at;
+}
+
+// The values in stored order into out.volume (components interleaved per voxel).
+void nrrdVoxels(const NrrdDescription& d, const NrrdEncoding& e, const std::uint8_t* data,
+                const std::vector<double>& values, NrrdVolume& out) {
+  const Grid& g = out.header.grid;
+  const int comps = d.compAxis >= 0 ? static_cast<int>(d.sizes[static_cast<std::size_t>(d.compAxis)]) : 1;
+  out.volume = ScalarVolume(g, comps);
+  const SampleTypeInfo& type = *d.type;
+  std::vector<long long> idx(static_cast<std::size_t>(d.ndim), 0);
+  const auto axis = [&](int a) { return idx[static_cast<std::size_t>(a)]; };
+  for (long long n = 0; n < d.total; ++n) {
+    const double v = e.ascii ? values[static_cast<std::size_t>(n)] : type.fetch(data + n * type.bytes, e.big);
+    const long long c = d.compAxis >= 0 ? axis(d.compAxis) : 0;
+    const std::size_t voxel =
+        g.index(static_cast<int>(axis(d.spatialAxes[0])), static_cast<int>(axis(d.spatialAxes[1])),
+                static_cast<int>(axis(d.spatialAxes[2])));
     out.volume.data[voxel * static_cast<std::size_t>(comps) + static_cast<std::size_t>(c)] =
         static_cast<float>(v);
-    for (int a = 0; a < ndim; ++a) {
-      if (++idx[static_cast<std::size_t>(a)] < sizes[static_cast<std::size_t>(a)]) break;
+    for (int a = 0; a < d.ndim; ++a) {
+      if (++idx[static_cast<std::size_t>(a)] < d.sizes[static_cast<std::size_t>(a)]) break;
       idx[static_cast<std::size_t>(a)] = 0;
     }
   }
+}
+
+// Reads the data described by `d` from `src`, starting at `start` (line and byte skips still to apply).
+void readNrrdData(const std::string& path, const NrrdDescription& d, const NrrdEncoding& e,
+                  const std::vector<std::uint8_t>& src, std::size_t start, NrrdVolume& out) {
+  long long lineSkip = 0, byteSkip = 0;
+  if (const std::string* ls = d.field("line skip", "lineskip")) lineSkip = std::atoll(ls->c_str());
+  if (const std::string* bs = d.field("byte skip", "byteskip")) byteSkip = std::atoll(bs->c_str());
+  for (long long l = 0; l < lineSkip && start < src.size(); ++l) {
+    while (start < src.size() && src[start] != '\n')
+      ++start;
+    ++start;
+  }
+  const std::size_t need = static_cast<std::size_t>(d.total * d.type->bytes);
+  std::vector<std::uint8_t> inflated;
+  const std::uint8_t* data = nullptr;
+  std::vector<double> values;
+  if (e.ascii)
+    values = nrrdAsciiValues(path, src, start, d.total);
+  else
+    data = nrrdBinaryData(path, src, start, byteSkip, e.gz, need, inflated);
+  nrrdVoxels(d, e, data, values, out);
+}
+
+} // namespace
+
+NrrdVolume readNrrd(const std::string& path, bool withData) {
+  NrrdVolume out;
+  out.header.path = path;
+  out.header.niftiVersion = 0;
+  const std::vector<std::uint8_t> bytes = readFileBytes(path, nullptr, std::size_t(1) << 33);
+  NrrdDescription d;
+  parseNrrdFields(path, bytes, d);
+  nrrdSizes(path, d);
+  nrrdAxes(path, d, out);
+  nrrdGeometry(path, d, out);
+  nrrdMeasurementFrame(path, d, out);
+  const NrrdEncoding e = nrrdEncoding(path, d);
+  const std::string dataPath = nrrdDataFile(path, d);
+  if (!withData) {
+    const std::size_t need = static_cast<std::size_t>(d.total * d.type->bytes);
+    if (dataPath.empty() && !e.gz && !e.ascii && bytes.size() - d.headerEnd < need)
+      fail(path, "is truncated: " + std::to_string(bytes.size() - d.headerEnd) +
+                     " data bytes, the header needs " + std::to_string(need));
+    return out;
+  }
+  if (dataPath.empty())
+    readNrrdData(path, d, e, bytes, d.headerEnd, out);
+  else
+    readNrrdData(path, d, e, readDetached(path, dataPath), 0, out);
   return out;
 }
 

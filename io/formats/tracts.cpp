@@ -116,10 +116,11 @@ std::string trim(const std::string& s) {
 
 // ---------------------------------------------------------------------------------------------------- .tck
 
-Polylines readTck(const std::string& path, TckInfo* infoOut) {
-  const std::string data = readAll(path, "tract file");
-  TckInfo info;
-  // Header: lines up to "END". Its size is bounded by the data offset; refuse runaway headers.
+namespace {
+
+// The .tck header lines up to END into info.fields; returns the byte after the END line. Its size is
+// bounded by the data offset; runaway headers are refused.
+std::size_t parseTckHeader(const std::string& path, const std::string& data, TckInfo& info) {
   std::size_t pos = 0;
   bool first = true, ended = false;
   while (pos < data.size() && pos < (1u << 24)) {
@@ -143,8 +144,11 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
   }
   if (first) throw InputError(path + ": not an MRtrix .tck file (no 'mrtrix tracks' line)");
   if (!ended) throw InputError(path + ": .tck header has no END line (truncated header?)");
-  const std::size_t headerEnd = pos;
+  return pos;
+}
 
+// datatype and count from the fields; returns the 'file' entry.
+std::string tckFields(const std::string& path, TckInfo& info) {
   std::string file;
   for (const auto& [k, v] : info.fields) {
     if (k == "datatype")
@@ -161,50 +165,42 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
       }
     }
   }
-  int width = 0;
-  bool big = false;
-  if (info.datatype == "Float32LE")
-    width = 4;
-  else if (info.datatype == "Float32BE")
-    width = 4, big = true;
-  else if (info.datatype == "Float64LE")
-    width = 8;
-  else if (info.datatype == "Float64BE")
-    width = 8, big = true;
-  else if (info.datatype.empty())
-    throw InputError(path + ": .tck header has no datatype");
-  else
-    throw InputError(path + ": unsupported .tck datatype '" + info.datatype + "'");
+  return file;
+}
 
+// Bytes per coordinate (4 or 8) and the byte order from the datatype.
+int tckWidth(const std::string& path, const std::string& datatype, bool& big) {
+  big = datatype == "Float32BE" || datatype == "Float64BE";
+  if (datatype == "Float32LE" || datatype == "Float32BE") return 4;
+  if (datatype == "Float64LE" || datatype == "Float64BE") return 8;
+  if (datatype.empty()) throw InputError(path + ": .tck header has no datatype");
+  throw InputError(path + ": unsupported .tck datatype '" + datatype + "'");
+}
+
+// The data offset of "file: . OFFSET", checked against the header's end and the file size.
+std::size_t tckDataOffset(const std::string& path, const std::string& file, std::size_t headerEnd,
+                          std::size_t size) {
   if (file.empty()) throw InputError(path + ": .tck header has no 'file:' entry");
-  {
-    std::istringstream ss(file);
-    std::string dot;
-    long long off = -1;
-    ss >> dot >> off;
-    if (dot != ".")
-      throw InputError(path + ": .tck data in a separate file ('" + file + "') is not supported");
-    if (ss.fail() || off < 0) throw InputError(path + ": bad .tck data offset in 'file: " + file + "'");
-    if (static_cast<unsigned long long>(off) < headerEnd ||
-        static_cast<unsigned long long>(off) > data.size())
-      throw InputError(path + ": .tck data offset " + std::to_string(off) + " lies " +
-                       (static_cast<unsigned long long>(off) < headerEnd ? "inside the header"
-                                                                         : "beyond the end of the file") +
-                       " (file size " + std::to_string(data.size()) + " bytes)");
-    info.dataOffset = static_cast<std::size_t>(off);
-  }
+  std::istringstream ss(file);
+  std::string dot;
+  long long off = -1;
+  ss >> dot >> off;
+  if (dot != ".") throw InputError(path + ": .tck data in a separate file ('" + file + "') is not supported");
+  if (ss.fail() || off < 0) throw InputError(path + ": bad .tck data offset in 'file: " + file + "'");
+  const auto u = static_cast<unsigned long long>(off);
+  if (u < headerEnd || u > size)
+    throw InputError(path + ": .tck data offset " + std::to_string(off) + " lies " +
+                     (u < headerEnd ? "inside the header" : "beyond the end of the file") + " (file size " +
+                     std::to_string(size) + " bytes)");
+  return static_cast<std::size_t>(off);
+}
 
+// The triplets into `out` (NaN triplets separate streamlines); returns whether an Inf triplet ended them.
+bool readTckPoints(const std::string& path, const char* base, std::size_t triplets, int width, bool swap,
+                   Polylines& out) {
   const std::size_t triplet = 3u * static_cast<std::size_t>(width);
-  const std::size_t available = data.size() - info.dataOffset;
-  const std::size_t triplets = available / triplet;
-  // Each streamline needs at least its NaN separator triplet.
-  const bool swap = big == kHostLittle;
-
-  Polylines out;
   out.points.reserve(triplets);
   out.offsets.push_back(0);
-  bool terminated = false;
-  const char* base = data.data() + info.dataOffset;
   for (std::size_t t = 0; t < triplets; ++t) {
     double v[3];
     for (int c = 0; c < 3; ++c) {
@@ -217,10 +213,7 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
       out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
       continue;
     }
-    if (infs == 3) {
-      terminated = true;
-      break;
-    }
+    if (infs == 3) return true;
     if (nans || infs)
       throw InputError(path + ": non-finite coordinate in triplet " + std::to_string(t) +
                        " of the .tck data");
@@ -230,6 +223,26 @@ Polylines readTck(const std::string& path, TckInfo* infoOut) {
       throw InputError(path + ": too many points for one tract set");
     out.points.emplace_back(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
   }
+  return false;
+}
+
+} // namespace
+
+Polylines readTck(const std::string& path, TckInfo* infoOut) {
+  const std::string data = readAll(path, "tract file");
+  TckInfo info;
+  const std::size_t headerEnd = parseTckHeader(path, data, info);
+  const std::string file = tckFields(path, info);
+  bool big = false;
+  const int width = tckWidth(path, info.datatype, big);
+  info.dataOffset = tckDataOffset(path, file, headerEnd, data.size());
+
+  const std::size_t triplet = 3u * static_cast<std::size_t>(width);
+  const std::size_t available = data.size() - info.dataOffset;
+  const bool swap = big == kHostLittle;
+  Polylines out;
+  const bool terminated =
+      readTckPoints(path, data.data() + info.dataOffset, available / triplet, width, swap, out);
   if (!terminated) {
     // MATLAB writers end the data with a NaN triplet and no Inf; nibabel reads such files to the end.
     if (available % triplet != 0)
@@ -430,13 +443,10 @@ glm::dmat4 trkVoxmmToWorldOf(const TrkInfo& info) {
   return trkVoxmmToWorld(info);
 }
 
-Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
-  std::string data = readAll(path, "tract file");
-  TrkInfo info;
-  if (isGzip(data)) {
-    data = gunzipBytes(path, data);
-    info.gzipped = true;
-  }
+namespace {
+
+// The 1000-byte header into `info` (checked); returns whether its numbers are byte-swapped.
+bool parseTrkHeader(const std::string& path, const std::string& data, TrkInfo& info) {
   if (data.size() < kTrkHeaderSize)
     throw InputError(path + ": truncated TrackVis header (" + std::to_string(data.size()) +
                      " of 1000 bytes)");
@@ -453,7 +463,6 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
     swap = kHostLittle, info.bigEndian = true;
   else
     throw InputError(path + ": bad TrackVis header size " + std::to_string(hdrLe) + " (expected 1000)");
-
   for (int a = 0; a < 3; ++a) {
     info.dims[a] = loadScalar<std::int16_t>(h + 6 + 2 * a, swap);
     info.voxelSize[a] = loadScalar<float>(h + 12 + 4 * a, swap);
@@ -467,7 +476,6 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   info.voxelOrder.assign(h + 948, strnlen(h + 948, 4));
   info.declaredCount = loadScalar<std::int32_t>(h + 988, swap);
   info.version = loadScalar<std::int32_t>(h + 992, swap);
-
   if (info.version != 1 && info.version != 2)
     throw InputError(path + ": unsupported TrackVis version " + std::to_string(info.version));
   if (info.nScalars < 0 || info.nScalars > 100 || info.nProperties < 0 || info.nProperties > 100)
@@ -477,8 +485,12 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
     if (!(info.voxelSize[a] > 0 && info.voxelSize[a] < 1e4) || info.dims[a] < 0)
       throw InputError(path + ": bad TrackVis voxel size or dimensions");
   if (info.declaredCount < 0) throw InputError(path + ": negative TrackVis track count");
+  return swap;
+}
 
-  // nibabel's rules: no vox_to_ras (element [3][3] zero) means identity; no voxel_order means LPS.
+// The voxmm -> world mapping of the points (and info's geometry fields), by nibabel's rules: no
+// vox_to_ras (element [3][3] zero) means identity; no voxel_order means LPS.
+glm::dmat4 trkGeometry(const std::string& path, TrkInfo& info) {
   info.voxToRasUsed = info.voxToRas;
   if (info.voxToRas[3][3] == 0) {
     info.voxToRasUsed = glm::dmat4(1.0);
@@ -501,21 +513,22 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
     info.indexToWorld[3] += toWorld[a] * (0.5 * info.voxelSize[a]);
   for (int a = 0; a < 3; ++a)
     info.indexToWorld[a] *= info.voxelSize[a];
+  return toWorld;
+}
 
-  // Point record: xyz + scalars; track record: count + points + properties.
+// The track records (count, points with their scalars, properties) into `out`, `scalars` and `props`.
+void readTrkRecords(const std::string& path, const std::string& data, const TrkInfo& info, bool swap,
+                    const glm::dmat4& toWorld, Polylines& out, std::vector<float>& scalars,
+                    std::vector<float>& props) {
   const std::size_t nS = static_cast<std::size_t>(info.nScalars),
                     nP = static_cast<std::size_t>(info.nProperties);
-  const std::size_t perPoint = 4u * (3u + nS);
-  const std::size_t perTrackExtra = 4u * nP;
+  const std::size_t perPoint = 4u * (3u + nS), perTrackExtra = 4u * nP;
   const std::size_t body = data.size() - kTrkHeaderSize;
   if (info.declaredCount > 0 && static_cast<std::size_t>(info.declaredCount) > body / (4 + perTrackExtra))
     throw InputError(path + ": TrackVis count " + std::to_string(info.declaredCount) + " is impossible for " +
                      std::to_string(body) + " bytes of data");
-
-  Polylines out;
   out.points.reserve(body / perPoint);
   out.offsets.push_back(0);
-  std::vector<float> scalars, props;
   if (nS) scalars.reserve(body / perPoint * nS);
   std::size_t pos = kTrkHeaderSize;
   const double m[12] = {toWorld[0][0], toWorld[1][0], toWorld[2][0], toWorld[3][0],
@@ -556,24 +569,75 @@ Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
   if (info.declaredCount > 0 && static_cast<long long>(out.lineCount()) < info.declaredCount)
     throw InputError(path + ": truncated TrackVis data (" + std::to_string(out.lineCount()) + " of " +
                      std::to_string(info.declaredCount) + " tracks)");
+}
+
+// `items` rows of `width` values, cut into the named slices.
+void splitTrkValues(const std::vector<float>& all, std::size_t width, std::size_t items,
+                    const std::vector<TrkSlice>& slices, std::vector<TractValues>& to) {
+  for (const auto& sl : slices) {
+    TractValues v{sl.name, sl.count, {}};
+    v.values.resize(items * static_cast<std::size_t>(sl.count));
+    for (std::size_t i = 0; i < items; ++i)
+      for (int c = 0; c < sl.count; ++c)
+        v.values[i * static_cast<std::size_t>(sl.count) + static_cast<std::size_t>(c)] =
+            all[i * width + static_cast<std::size_t>(sl.first + c)];
+    to.push_back(std::move(v));
+  }
+}
+
+} // namespace
+
+Polylines readTrk(const std::string& path, TrkInfo* infoOut) {
+  std::string data = readAll(path, "tract file");
+  TrkInfo info;
+  if (isGzip(data)) {
+    data = gunzipBytes(path, data);
+    info.gzipped = true;
+  }
+  const bool swap = parseTrkHeader(path, data, info);
+  const glm::dmat4 toWorld = trkGeometry(path, info);
+  Polylines out;
+  std::vector<float> scalars, props;
+  readTrkRecords(path, data, info, swap, toWorld, out, scalars, props);
   // Scalars become per-point data and properties per-streamline data, named as nibabel names them.
-  auto split = [](const std::vector<float>& all, std::size_t width, std::size_t items,
-                  const std::vector<TrkSlice>& slices, std::vector<TractValues>& to) {
-    for (const auto& sl : slices) {
-      TractValues v{sl.name, sl.count, {}};
-      v.values.resize(items * static_cast<std::size_t>(sl.count));
-      for (std::size_t i = 0; i < items; ++i)
-        for (int c = 0; c < sl.count; ++c)
-          v.values[i * static_cast<std::size_t>(sl.count) + static_cast<std::size_t>(c)] =
-              all[i * width + static_cast<std::size_t>(sl.first + c)];
-      to.push_back(std::move(v));
-    }
-  };
-  if (nS) split(scalars, nS, out.points.size(), trkSlices(h + 38, info.nScalars, "scalars"), out.perPoint);
-  if (nP) split(props, nP, out.lineCount(), trkSlices(h + 240, info.nProperties, "properties"), out.perLine);
+  const char* h = data.data();
+  const auto nS = static_cast<std::size_t>(info.nScalars), nP = static_cast<std::size_t>(info.nProperties);
+  if (nS)
+    splitTrkValues(scalars, nS, out.points.size(), trkSlices(h + 38, info.nScalars, "scalars"), out.perPoint);
+  if (nP)
+    splitTrkValues(props, nP, out.lineCount(), trkSlices(h + 240, info.nProperties, "properties"),
+                   out.perLine);
   if (infoOut) *infoOut = info;
   return out;
 }
+
+namespace {
+
+// Per-point data become scalars and per-streamline data properties, at most 10 names of at most 19
+// characters each, written into the header `h` at `at`; a count above 1 is encoded after the name's NUL (as
+// nibabel does). Returns the number of values per item.
+int encodeTrkNames(const std::string& path, char* h, const std::vector<TractValues>& data, int at,
+                   const char* what, std::vector<const TractValues*>& kept) {
+  int total = 0;
+  std::string dropped;
+  for (const auto& d : data) {
+    if (kept.size() == 10 || d.name.size() > 18 || d.name.empty() || d.components > 9) {
+      dropped += (dropped.empty() ? "'" : ", '") + d.name + "'";
+      continue;
+    }
+    char* f = h + at + 20 * static_cast<int>(kept.size());
+    std::memcpy(f, d.name.data(), d.name.size());
+    if (d.components > 1) f[d.name.size() + 1] = static_cast<char>('0' + d.components);
+    kept.push_back(&d);
+    total += d.components;
+  }
+  if (!dropped.empty())
+    logWarning(path + ": a TrackVis file holds at most 10 " + what +
+               " (names up to 18 characters, up to 9 values each); dropped " + dropped);
+  return total;
+}
+
+} // namespace
 
 void writeTrk(const std::string& path, const Polylines& lines, const Grid& reference) {
   checkFinite(lines, path);
@@ -589,31 +653,9 @@ void writeTrk(const std::string& path, const Polylines& lines, const Grid& refer
     putLe<std::int16_t>(h + 6 + 2 * a, static_cast<std::int16_t>(reference.dims[a]));
     putLe<float>(h + 12 + 4 * a, static_cast<float>(reference.spacing[a]));
   }
-  // Per-point data become scalars and per-streamline data properties, at most 10 names of at most 19
-  // characters each; a count above 1 is encoded after the name's NUL (as nibabel does).
-  auto encode = [&](const std::vector<TractValues>& data, int at, const char* what,
-                    std::vector<const TractValues*>& kept) {
-    int total = 0;
-    std::string dropped;
-    for (const auto& d : data) {
-      if (kept.size() == 10 || d.name.size() > 18 || d.name.empty() || d.components > 9) {
-        dropped += (dropped.empty() ? "'" : ", '") + d.name + "'";
-        continue;
-      }
-      char* f = h + at + 20 * static_cast<int>(kept.size());
-      std::memcpy(f, d.name.data(), d.name.size());
-      if (d.components > 1) f[d.name.size() + 1] = static_cast<char>('0' + d.components);
-      kept.push_back(&d);
-      total += d.components;
-    }
-    if (!dropped.empty())
-      logWarning(path + ": a TrackVis file holds at most 10 " + what +
-                 " (names up to 18 characters, up to 9 values each); dropped " + dropped);
-    return total;
-  };
   std::vector<const TractValues*> sc, pr;
-  const int nS = encode(lines.perPoint, 38, "per-point scalars", sc);
-  const int nP = encode(lines.perLine, 240, "per-streamline properties", pr);
+  const int nS = encodeTrkNames(path, h, lines.perPoint, 38, "per-point scalars", sc);
+  const int nP = encodeTrkNames(path, h, lines.perLine, 240, "per-streamline properties", pr);
   putLe<std::int16_t>(h + 36, static_cast<std::int16_t>(nS));
   putLe<std::int16_t>(h + 238, static_cast<std::int16_t>(nP));
   if (!lines.groups.empty()) warnDropped(path, "a TrackVis file", {}, {}, lines.groups);

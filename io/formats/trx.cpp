@@ -1,9 +1,9 @@
 #include "io/formats/trx.h"
 
 #include "io/formats/atomic_file.h"
+#include "io/formats/zip_archive.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/formats/zip_archive.h"
 
 #include <algorithm>
 #include <bit>
@@ -237,11 +237,8 @@ struct Container {
   std::map<std::string, std::string_view> arrays;
 };
 
-} // namespace
-
-Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
-  TrxInfo info;
-  Container box;
+// The entries of a TRX zip archive or folder into `box` (all names checked to stay inside).
+void openTrxContainer(const std::string& path, TrxInfo& info, Container& box) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     info.folder = true;
@@ -258,20 +255,22 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
       box.arrays[rel] = box.files.back()->bytes();
     }
     if (ec) throw InputError(path + ": cannot list the TRX folder: " + ec.message());
-  } else {
-    if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read tract file: no such file");
-    box.zip = std::make_unique<ZipReader>(path);
-    for (const auto& e : box.zip->entries()) {
-      if (!safeEntryName(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' escapes the archive");
-      if (e.name.back() == '/') continue; // folder entry
-      if (box.arrays.count(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' appears twice");
-      box.buffers.push_back(std::make_unique<std::string>());
-      box.arrays[e.name] = box.zip->read(e, *box.buffers.back());
-      if (e.method != 0) ++info.deflatedEntries;
-    }
+    return;
   }
+  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read tract file: no such file");
+  box.zip = std::make_unique<ZipReader>(path);
+  for (const auto& e : box.zip->entries()) {
+    if (!safeEntryName(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' escapes the archive");
+    if (e.name.back() == '/') continue; // folder entry
+    if (box.arrays.count(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' appears twice");
+    box.buffers.push_back(std::make_unique<std::string>());
+    box.arrays[e.name] = box.zip->read(e, *box.buffers.back());
+    if (e.method != 0) ++info.deflatedEntries;
+  }
+}
 
-  // header.json
+// header.json: the counts, VOXEL_TO_RASMM and DIMENSIONS into `info`.
+void readTrxHeader(const std::string& path, const Container& box, TrxInfo& info) {
   auto hj = box.arrays.find("header.json");
   if (hj == box.arrays.end()) throw InputError(path + ": TRX has no header.json");
   const JsonValue header = JsonParser(hj->second, path).parseDocument();
@@ -308,46 +307,57 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
     }
     if (!ok) throw InputError(path + ": TRX DIMENSIONS is not three non-negative integers");
   }
+}
 
-  const std::size_t nSHeader = static_cast<std::size_t>(info.nbStreamlines),
-                    nV = static_cast<std::size_t>(info.nbVertices);
-  Polylines out;
+// The positions and offsets arrays with their dtypes.
+struct TrxCore {
   std::string_view positions, offsets;
   Dtype posType{}, offType{};
+};
+
+TrxCore findTrxCore(const std::string& path, const Container& box, TrxInfo& info) {
+  TrxCore core;
   for (const auto& [name, bytes] : box.arrays) {
     if (name.rfind("positions.", 0) == 0) {
       std::string base, dt;
       int comps = 0;
-      if (!splitArrayName(name, base, comps, dt) || comps != 3 || !parseDtype(dt, posType) ||
-          posType.kind != Kind::Float)
+      if (!splitArrayName(name, base, comps, dt) || comps != 3 || !parseDtype(dt, core.posType) ||
+          core.posType.kind != Kind::Float)
         throw InputError(path + ": TRX positions '" + name + "' must be positions.3.float16|float32|float64");
-      if (!positions.empty()) throw InputError(path + ": TRX holds two positions arrays");
-      positions = bytes;
+      if (!core.positions.empty()) throw InputError(path + ": TRX holds two positions arrays");
+      core.positions = bytes;
       info.positionsDtype = dt;
     } else if (name.rfind("offsets.", 0) == 0) {
       const std::string dt = name.substr(8);
-      if ((dt != "uint32" && dt != "uint64") || !parseDtype(dt, offType))
+      if ((dt != "uint32" && dt != "uint64") || !parseDtype(dt, core.offType))
         throw InputError(path + ": TRX offsets '" + name +
                          "' has an unknown dtype (uint32 or uint64 expected)");
-      if (!offsets.empty()) throw InputError(path + ": TRX holds two offsets arrays");
-      offsets = bytes;
+      if (!core.offsets.empty()) throw InputError(path + ": TRX holds two offsets arrays");
+      core.offsets = bytes;
       info.offsetsDtype = dt;
     }
   }
-  if (positions.data() == nullptr && nV > 0) throw InputError(path + ": TRX has no positions array");
-  if (offsets.data() == nullptr && nSHeader > 0) throw InputError(path + ": TRX has no offsets array");
-  if (positions.size() != nV * 3 * static_cast<std::size_t>(posType.width))
-    throw InputError(path + ": TRX positions hold " + std::to_string(positions.size()) +
+  return core;
+}
+
+// The array sizes against the header's counts; returns the number of streamlines to read.
+std::size_t trxStreamlineCount(const std::string& path, const TrxCore& c, TrxInfo& info, std::size_t& nOff) {
+  const std::size_t nSHeader = static_cast<std::size_t>(info.nbStreamlines),
+                    nV = static_cast<std::size_t>(info.nbVertices);
+  if (c.positions.data() == nullptr && nV > 0) throw InputError(path + ": TRX has no positions array");
+  if (c.offsets.data() == nullptr && nSHeader > 0) throw InputError(path + ": TRX has no offsets array");
+  if (c.positions.size() != nV * 3 * static_cast<std::size_t>(c.posType.width))
+    throw InputError(path + ": TRX positions hold " + std::to_string(c.positions.size()) +
                      " bytes, but NB_VERTICES " + std::to_string(nV) + " needs " +
-                     std::to_string(nV * 3 * static_cast<std::size_t>(posType.width)));
-  const std::size_t nOff = offType.width ? offsets.size() / static_cast<std::size_t>(offType.width) : 0;
-  if (offType.width && (offsets.size() % static_cast<std::size_t>(offType.width) != 0 ||
-                        (nOff != nSHeader && nOff != nSHeader + 1)))
-    throw InputError(path + ": TRX offsets hold " + std::to_string(offsets.size()) +
+                     std::to_string(nV * 3 * static_cast<std::size_t>(c.posType.width)));
+  const auto width = static_cast<std::size_t>(c.offType.width);
+  nOff = width ? c.offsets.size() / width : 0;
+  if (width && (c.offsets.size() % width != 0 || (nOff != nSHeader && nOff != nSHeader + 1)))
+    throw InputError(path + ": TRX offsets hold " + std::to_string(c.offsets.size()) +
                      " bytes, but NB_STREAMLINES " + std::to_string(nSHeader) + " needs " +
                      std::to_string(nSHeader) + " or " + std::to_string(nSHeader + 1) + " entries");
   std::size_t nS = nSHeader;
-  if (nS > 0 && nOff == nS + 1 && element(offsets.data(), offType, nOff - 1) != static_cast<double>(nV)) {
+  if (nS > 0 && nOff == nS + 1 && element(c.offsets.data(), c.offType, nOff - 1) != static_cast<double>(nV)) {
     // NB_STREAMLINES + 1 entries whose last is not NB_VERTICES: one start per streamline and a header count
     // one short (dpsv.trx from niivue's demos: 460 starts, 460 dps values, NB_STREAMLINES 459). The data
     // arrays below must then agree with the offsets.
@@ -357,11 +367,16 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
                " streamlines");
   }
   info.offsetsHaveEnd = nS > 0 && nOff == nS + 1;
+  return nS;
+}
 
-  // Offsets: start at 0, never decrease, stay within NB_VERTICES; the end entry, if present, is NB_VERTICES.
+// Offsets: start at 0, never decrease, stay within NB_VERTICES; the end entry, if present, is NB_VERTICES.
+void readTrxOffsets(const std::string& path, const TrxCore& c, const TrxInfo& info, std::size_t nS,
+                    std::size_t nOff, Polylines& out) {
+  const auto nV = static_cast<std::size_t>(info.nbVertices);
   out.offsets.resize(nS + 1);
   for (std::size_t i = 0; i < nOff; ++i) {
-    const double o = element(offsets.data(), offType, i);
+    const double o = element(c.offsets.data(), c.offType, i);
     if (o > static_cast<double>(nV) || (i > 0 && o < out.offsets[i - 1]) || (i == 0 && o != 0))
       throw InputError(path + ": TRX offsets are inconsistent at entry " + std::to_string(i) + " (" +
                        std::to_string(static_cast<unsigned long long>(o)) + ", NB_VERTICES " +
@@ -373,76 +388,103 @@ Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
                      std::to_string(nV));
   out.offsets[nS] = static_cast<std::uint32_t>(nV);
   if (nS == 0 && nV > 0) throw InputError(path + ": TRX holds vertices but no streamlines");
+}
 
-  // Positions: world RAS mm as stored; float32 is copied once, the others converted.
+// Positions: world RAS mm as stored; float32 is copied once, the others converted.
+void readTrxPositions(const std::string& path, const TrxCore& c, std::size_t nV, Polylines& out) {
   out.points.resize(nV);
-  if (posType.width == 4) {
-    if (nV) std::memcpy(out.points.data(), positions.data(), nV * 12);
+  if (c.posType.width == 4) {
+    if (nV) std::memcpy(out.points.data(), c.positions.data(), nV * 12);
   } else {
     for (std::size_t i = 0; i < nV; ++i)
-      for (int c = 0; c < 3; ++c)
-        out.points[i][c] =
-            static_cast<float>(element(positions.data(), posType, 3 * i + static_cast<std::size_t>(c)));
+      for (int k = 0; k < 3; ++k)
+        out.points[i][k] =
+            static_cast<float>(element(c.positions.data(), c.posType, 3 * i + static_cast<std::size_t>(k)));
   }
   for (std::size_t i = 0; i < nV; ++i) {
     const glm::vec3& p = out.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError(path + ": TRX position " + std::to_string(i) + " is not finite");
   }
+}
 
+// A groups/ entry: one integer streamline index per member.
+TractGroup readTrxGroup(const std::string& path, const std::string& name, const std::string& base,
+                        std::string_view bytes, const Dtype& d, int comps, std::size_t items,
+                        std::size_t nS) {
+  if (d.kind == Kind::Float || comps != 1)
+    throw InputError(path + ": TRX group '" + name + "' must be one integer index per streamline");
+  TractGroup g{base, {}};
+  g.lines.resize(items);
+  for (std::size_t i = 0; i < items; ++i) {
+    const double v = element(bytes.data(), d, i);
+    if (v < 0 || v >= static_cast<double>(nS))
+      throw InputError(path + ": TRX group '" + base + "' names streamline " +
+                       std::to_string(static_cast<long long>(v)) + " of " + std::to_string(nS));
+    g.lines[i] = static_cast<std::uint32_t>(v);
+  }
+  return g;
+}
+
+// A dps/, dpv/ or groups/ entry into `out`.
+void readTrxDataEntry(const std::string& path, const std::string& name, std::string_view bytes,
+                      std::size_t nS, std::size_t nV, Polylines& out) {
+  const bool dps = name.rfind("dps/", 0) == 0, grp = name.rfind("groups/", 0) == 0;
+  const std::string file = name.substr(name.find('/') + 1);
+  std::string base, dt;
+  int comps = 1;
+  Dtype d{};
+  if (file.find('/') != std::string::npos || !splitArrayName(file, base, comps, dt))
+    throw InputError(path + ": TRX entry '" + name + "' is not named <name>[.<n>].<dtype>");
+  if (!parseDtype(dt, d))
+    throw InputError(path + ": TRX entry '" + name + "' has an unknown dtype '" + dt + "'");
+  const std::size_t items =
+      dps || grp
+          ? (grp ? bytes.size() / static_cast<std::size_t>(d.width) / static_cast<std::size_t>(comps) : nS)
+          : nV;
+  const std::size_t want = items * static_cast<std::size_t>(comps) * static_cast<std::size_t>(d.width);
+  if (bytes.size() != want)
+    throw InputError(path + ": TRX entry '" + name + "' holds " + std::to_string(bytes.size()) +
+                     " bytes, expected " + std::to_string(want) +
+                     (grp   ? ""
+                      : dps ? " (NB_STREAMLINES x components x dtype)"
+                            : " (NB_VERTICES x components x dtype)"));
+  if (grp) {
+    out.groups.push_back(readTrxGroup(path, name, base, bytes, d, comps, items, nS));
+    return;
+  }
+  TractValues v{base, comps, {}};
+  const std::size_t n = items * static_cast<std::size_t>(comps);
+  v.values.resize(n);
+  if (d.kind == Kind::Float && d.width == 4) {
+    if (n) std::memcpy(v.values.data(), bytes.data(), n * 4);
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      v.values[i] = static_cast<float>(element(bytes.data(), d, i));
+  }
+  (dps ? out.perLine : out.perPoint).push_back(std::move(v));
+}
+
+} // namespace
+
+Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
+  TrxInfo info;
+  Container box;
+  openTrxContainer(path, info, box);
+  readTrxHeader(path, box, info);
+  const TrxCore core = findTrxCore(path, box, info);
+  std::size_t nOff = 0;
+  const std::size_t nS = trxStreamlineCount(path, core, info, nOff);
+  const auto nV = static_cast<std::size_t>(info.nbVertices);
+  Polylines out;
+  readTrxOffsets(path, core, info, nS, nOff, out);
+  readTrxPositions(path, core, nV, out);
   // dps/, dpv/, groups/
   for (const auto& [name, bytes] : box.arrays) {
-    const bool dps = name.rfind("dps/", 0) == 0, dpv = name.rfind("dpv/", 0) == 0,
-               grp = name.rfind("groups/", 0) == 0;
-    if (!dps && !dpv && !grp) {
-      if (name != "header.json" && name.rfind("positions.", 0) != 0 && name.rfind("offsets.", 0) != 0)
-        info.skipped.push_back(name);
-      continue;
-    }
-    const std::string file = name.substr(name.find('/') + 1);
-    std::string base, dt;
-    int comps = 1;
-    Dtype d{};
-    if (file.find('/') != std::string::npos || !splitArrayName(file, base, comps, dt))
-      throw InputError(path + ": TRX entry '" + name + "' is not named <name>[.<n>].<dtype>");
-    if (!parseDtype(dt, d))
-      throw InputError(path + ": TRX entry '" + name + "' has an unknown dtype '" + dt + "'");
-    const std::size_t items =
-        dps || grp
-            ? (grp ? bytes.size() / static_cast<std::size_t>(d.width) / static_cast<std::size_t>(comps) : nS)
-            : nV;
-    const std::size_t want = items * static_cast<std::size_t>(comps) * static_cast<std::size_t>(d.width);
-    if (bytes.size() != want)
-      throw InputError(path + ": TRX entry '" + name + "' holds " + std::to_string(bytes.size()) +
-                       " bytes, expected " + std::to_string(want) +
-                       (grp   ? ""
-                        : dps ? " (NB_STREAMLINES x components x dtype)"
-                              : " (NB_VERTICES x components x dtype)"));
-    if (grp) {
-      if (d.kind == Kind::Float || comps != 1)
-        throw InputError(path + ": TRX group '" + name + "' must be one integer index per streamline");
-      TractGroup g{base, {}};
-      g.lines.resize(items);
-      for (std::size_t i = 0; i < items; ++i) {
-        const double v = element(bytes.data(), d, i);
-        if (v < 0 || v >= static_cast<double>(nS))
-          throw InputError(path + ": TRX group '" + base + "' names streamline " +
-                           std::to_string(static_cast<long long>(v)) + " of " + std::to_string(nS));
-        g.lines[i] = static_cast<std::uint32_t>(v);
-      }
-      out.groups.push_back(std::move(g));
-      continue;
-    }
-    TractValues v{base, comps, {}};
-    const std::size_t n = items * static_cast<std::size_t>(comps);
-    v.values.resize(n);
-    if (d.kind == Kind::Float && d.width == 4) {
-      if (n) std::memcpy(v.values.data(), bytes.data(), n * 4);
-    } else {
-      for (std::size_t i = 0; i < n; ++i)
-        v.values[i] = static_cast<float>(element(bytes.data(), d, i));
-    }
-    (dps ? out.perLine : out.perPoint).push_back(std::move(v));
+    if (name.rfind("dps/", 0) == 0 || name.rfind("dpv/", 0) == 0 || name.rfind("groups/", 0) == 0)
+      readTrxDataEntry(path, name, bytes, nS, nV, out);
+    else if (name != "header.json" && name.rfind("positions.", 0) != 0 && name.rfind("offsets.", 0) != 0)
+      info.skipped.push_back(name);
   }
   if (!info.skipped.empty()) {
     std::string s;
