@@ -187,7 +187,7 @@ int cmdCheck(const CommandArgs& argv) {
   req.mask = args.text("mask");
   const std::string layoutText = args.text("layout");
   req.tensor = args.text("tensor");
-  req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layoutText, true);
+  req.fibres = req.bval.empty() && req.bvec.empty() && isFibreSet(req.input, layoutText);
   if (req.fibres)
     req.fibreLayout = layoutText;
   else

@@ -6,6 +6,7 @@
 #include "app/scene/tensor_input.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
+#include "io/model/log.h"
 #include "surfaces/analyses/agreement.h"
 
 #include <algorithm>
@@ -31,28 +32,28 @@ Mesh surfaceOf(const SurfaceSpec& spec, const TensorField& field, const ScalarVo
   return {};
 }
 
-Measured measureAgainstTensors(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
+Measured measureAgainstTensors(const io::OpenedInput& input, const std::string& layoutText, const std::string& tensorPath,
                                TensorInputOptions in, const SurfaceSpec& spec, const Polylines& tracts,
                                const surfaces::AgreementOptions& ao) {
-  if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
+  if (!tensorPath.empty())
+    throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input.path + " is not one");
   in.layout = io::parseLayout(layoutText);
-  const io::LoadedTensors loaded = loadTensorInput(input, in);
+  const io::LoadedTensors loaded = loadTensors(input, in);
   Measured m;
-  m.mesh = surfaceOf(spec, loaded.field, computeFaMap(loaded.field), input);
+  m.mesh = surfaceOf(spec, loaded.field, computeFaMap(loaded.field), input.path);
   m.result = surfaces::tractSurfaceAgreement(tracts, m.mesh, loaded.field, ao);
   return m;
 }
 
 // The surface from the paired tensor (or the fibre set's carrier and own FA), the angles against the fibres.
-Measured measureAgainstFibres(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
-                              const SurfaceSpec& spec, const Polylines& tracts, const surfaces::AgreementOptions& ao,
-                              bool quiet) {
-  const FibreInput fi = loadFibreInput(input, layoutText, tensorPath, quiet);
+Measured measureAgainstFibres(const io::OpenedInput& input, const std::string& tensorPath, const SurfaceSpec& spec,
+                              const Polylines& tracts, const surfaces::AgreementOptions& ao, bool quiet) {
+  const FibreInput fi = loadFibreInput(input, tensorPath, quiet);
   checkFibreSurface(spec, fi);
   const ScalarVolume fa = fi.fa.data.empty() ? ScalarVolume(fi.carrier.grid, 1) : fi.fa;
   Measured m;
   m.fibres = true;
-  m.mesh = surfaceOf(spec, fi.carrier, fa, input);
+  m.mesh = surfaceOf(spec, fi.carrier, fa, input.path);
   m.result = surfaces::tractSurfaceAgreement(tracts, m.mesh, fi.fibres.set, ao);
   return m;
 }
@@ -130,9 +131,12 @@ int cmdCompare(const CommandArgs& argv) {
   in.quiet = json;
 
   const Polylines tracts = readTracts(tractsPath);
-  const Measured m = in.bval.empty() && in.bvec.empty() && isFibreInput(input, layoutText, json)
-                         ? measureAgainstFibres(input, layoutText, tensorPath, spec, tracts, ao, json)
-                         : measureAgainstTensors(input, layoutText, tensorPath, in, spec, tracts, ao);
+  const io::OpenedInput opened =
+      io::openInput(inputRequest(input, layoutText, in, in.bval.empty() && in.bvec.empty()));
+  const bool fibres = opened.kind == io::InputKind::Fibres;
+  if (fibres && !json && layoutText == "auto") logInfo(input + ": read as a fibre set (" + opened.reason + ")");
+  const Measured m = fibres ? measureAgainstFibres(opened, tensorPath, spec, tracts, ao, json)
+                            : measureAgainstTensors(opened, layoutText, tensorPath, in, spec, tracts, ao);
   const surfaces::AgreementResult& r = m.result;
   const Mesh& mesh = m.mesh;
 

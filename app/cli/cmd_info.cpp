@@ -418,6 +418,92 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
   return 0;
 }
 
+std::string fibreNum(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+std::string fibreVec(const glm::dvec3& v) {
+  return "[" + fibreNum(v.x) + ", " + fibreNum(v.y) + ", " + fibreNum(v.z) + "]";
+}
+
+// `dtfabric info` for a fibre file: summary, or with ijk the voxel's fibres ("fibres": [{"direction": [x, y,
+// z], "amplitude": a}, ...], unit world RAS, strongest first) and, with a paired tensor, its FA and e1.
+int describeFibreInput(const io::OpenedInput& opened, const std::string& tensorPath, const int* ijk, bool json) {
+  const std::string& path = opened.path;
+  FibreInput in = loadFibreInput(opened, tensorPath, true);
+  const FibreSet& s = in.fibres.set;
+  const Grid& g = s.grid;
+  const std::string layout = io::fibreLayoutName(in.fibres.layout);
+  if (!ijk) {
+    if (json) {
+      std::printf("{\"file\":\"%s\",\"is_tensor\":false,\"is_fibres\":true,\"fibre_layout\":\"%s\","
+                  "\"layout_reason\":\"%s\",\"dims\":[%d,%d,%d],\"orientation\":\"%s\",\"max_fibres\":%d,"
+                  "\"voxels_with_fibres\":%zu,\"max_amplitude\":%s}\n",
+                  path.c_str(), layout.c_str(), in.fibres.layoutReason.c_str(), g.dims.x, g.dims.y, g.dims.z,
+                  g.orientationCode().c_str(), s.maxFibres, s.occupiedVoxels(),
+                  fibreNum(s.maxAmplitude()).c_str());
+      return 0;
+    }
+    std::printf("file:         %s\n", path.c_str());
+    std::printf("fibre set:    %s (%s)\n", layout.c_str(), in.fibres.layoutReason.c_str());
+    std::printf("dims:         %d x %d x %d, %s, up to %d fibres per voxel\n", g.dims.x, g.dims.y, g.dims.z,
+                g.orientationCode().c_str(), s.maxFibres);
+    std::printf("voxels:       %zu with fibres; largest amplitude %s\n", s.occupiedVoxels(),
+                fibreNum(s.maxAmplitude()).c_str());
+    for (const std::string& w : in.fibres.warnings)
+      std::printf("warning:      %s\n", w.c_str());
+    return 0;
+  }
+  if (!g.contains(ijk[0], ijk[1], ijk[2]))
+    throw UsageError("voxel " + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
+                     std::to_string(ijk[2]) + " is outside the grid " + std::to_string(g.dims.x) + "x" +
+                     std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z));
+  const glm::dvec3 world = g.toWorld(glm::dvec3(ijk[0], ijk[1], ijk[2]));
+  const Fibre* f = s.at(ijk[0], ijk[1], ijk[2]);
+  const int n = s.count(g.index(ijk[0], ijk[1], ijk[2]));
+  std::string tensorJson, tensorText;
+  if (in.tensor) {
+    const std::size_t idx = g.index(ijk[0], ijk[1], ijk[2]);
+    const EigenSystem e = eigenDecompose(in.tensor->field.tensors[idx].toMat());
+    const double fa = in.tensor->field.valid[idx] ? computeMetrics(e).fa : 0.0;
+    tensorJson = ", \"is_tensor\": true, \"tensor_file\": \"" + tensorPath +
+                 "\", \"valid\": " + (in.tensor->field.valid[idx] ? "true" : "false") +
+                 ", \"fa\": " + fibreNum(fa) + ", \"eigenvalues\": " + fibreVec(e.values) + ", \"eigenvectors\": [" +
+                 fibreVec(e.vectors[0]) + ", " + fibreVec(e.vectors[1]) + ", " + fibreVec(e.vectors[2]) + "]";
+    tensorText = "tensor:       " + tensorPath + ": FA " + fibreNum(fa) + ", e1 " + fibreVec(e.vectors[0]) + "\n";
+  } else {
+    tensorJson = ", \"is_tensor\": false";
+    if (!in.fa.data.empty()) {
+      const double fa = in.fa.data[g.index(ijk[0], ijk[1], ijk[2])];
+      tensorJson += ", \"fa\": " + fibreNum(fa) + ", \"fa_file\": \"" + in.faSource + "\"";
+      tensorText = "FA:           " + fibreNum(fa) + " (" + in.faSource + ")\n";
+    }
+  }
+  if (json) {
+    std::string fibres;
+    for (int k = 0; k < n; ++k)
+      fibres += std::string(k ? ", " : "") + "{\"direction\": " + fibreVec(glm::dvec3(f[k].direction)) +
+                ", \"amplitude\": " + fibreNum(f[k].amplitude) + "}";
+    std::printf("{\"file\": \"%s\", \"voxel\": [%d, %d, %d], \"world\": %s, \"is_fibres\": true, "
+                "\"fibre_layout\": \"%s\", \"fibres\": [%s]%s}\n",
+                path.c_str(), ijk[0], ijk[1], ijk[2], fibreVec(world).c_str(), layout.c_str(), fibres.c_str(),
+                tensorJson.c_str());
+    return 0;
+  }
+  std::printf("file:         %s\n", path.c_str());
+  std::printf("voxel:        %d, %d, %d\n", ijk[0], ijk[1], ijk[2]);
+  std::printf("world:        %s mm (RAS)\n", fibreVec(world).c_str());
+  std::printf("fibre layout: %s\n", layout.c_str());
+  if (n == 0) std::printf("note:         no fibre in this voxel\n");
+  for (int k = 0; k < n; ++k)
+    std::printf("fibre %d:      direction %8.5f %8.5f %8.5f (unit, world RAS), amplitude %s\n", k + 1,
+                f[k].direction.x, f[k].direction.y, f[k].direction.z, fibreNum(f[k].amplitude).c_str());
+  std::fputs(tensorText.c_str(), stdout);
+  return 0;
+}
+
 } // namespace
 
 const OptionTable& infoOptions() {
@@ -471,18 +557,24 @@ int cmdInfo(const CommandArgs& argv) {
   int ijk[3] = {0, 0, 0};
   if (voxelText) parseTriple(*voxelText, ijk);
   args.finish();
-  if (isFibreInput(path, layoutText, true))
-    return describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);
+  // Only whether the file is a fibre set is asked of the opener: any other volume is described as it is
+  // (a 4D volume without gradient files too).
+  io::InputRequest request;
+  request.path = path;
+  request.layout = layoutText;
+  const io::FormatGuess format = io::detectFormat(path);
+  if (const auto fibres = io::openFibreSet(request, format))
+    return describeFibreInput(*fibres, tensorPath, voxelText ? ijk : nullptr, json);
   if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre set; " + path + " is not one");
   io::TensorLayout layout = io::parseLayout(layoutText);
 
-  io::VolumeHeader h = io::readHeader(path);
+  io::VolumeHeader h = io::readHeader(path, format);
   if (layout != io::TensorLayout::Auto || looksLikeTensor(h)) {
-    io::LoadedTensors t = io::readTensorVolume(path, layout);
+    io::LoadedTensors t = io::readTensorVolume(path, format, layout);
     if (voxelText) return describeVoxel(path, t.header, &t, nullptr, ijk, json);
     return describeTensors(t, json);
   }
-  ScalarVolume v = io::readScalarVolume(path, &h);
+  ScalarVolume v = io::readScalarVolume(path, format, &h);
   if (voxelText) return describeVoxel(path, h, nullptr, &v, ijk, json);
   return describeScalar(v, h, json);
 }

@@ -152,12 +152,13 @@ py::object load(const py::object& path, const std::string& layout, const py::obj
   io::LoadedTensors tensors;
   {
     py::gil_scoped_release release;
-    if (in.bval.empty() && in.bvec.empty() && isFibreInput(p, layout, true)) {
-      fibres = loadFibreInput(p, layout, tensorPath, true);
+    const io::OpenedInput opened = io::openInput(inputRequest(p, layout, in, in.bval.empty() && in.bvec.empty()));
+    if (opened.kind == io::InputKind::Fibres) {
+      fibres = loadFibreInput(opened, tensorPath, true);
     } else {
       if (!tensorPath.empty())
         throw UsageError("tensor= pairs a tensor with a fibre set; " + p + " is not one");
-      tensors = loadTensorInput(p, in);
+      tensors = loadTensors(opened, in);
     }
   }
   if (fibres) {
@@ -467,7 +468,7 @@ py::dict check(const py::object& input, const py::object& bval, const py::object
   CheckRun run;
   {
     py::gil_scoped_release release;
-    req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layout, true);
+    req.fibres = req.bval.empty() && req.bvec.empty() && isFibreSet(req.input, layout);
     if (req.fibres)
       req.fibreLayout = layout;
     else

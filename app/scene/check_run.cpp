@@ -102,8 +102,8 @@ CheckRun runCheck(const CheckRequest& r) {
     if (!r.mask.empty()) run.mask = readMaskOn(r.mask, run.field.grid, r.input);
     run.loadSeconds = secondsSince(t0);
   } else {
-    if (bval.empty()) bval = gradientSibling(r.input, ".bval");
-    if (bvec.empty()) bvec = gradientSibling(r.input, ".bvec");
+    if (bval.empty()) bval = io::gradientSibling(r.input, ".bval");
+    if (bvec.empty()) bvec = io::gradientSibling(r.input, ".bvec");
     if (!fs::exists(bval))
       throw InputError(r.input + ": no b-value file (looked for " + bval + "; give --bval)");
     if (!fs::exists(bvec))

@@ -20,7 +20,7 @@ struct CheckRequest {
   std::string bval, bvec; // empty: INPUT's sibling files when INPUT is a DWI
   std::string mask;       // empty: the fit's automatic mask (DWI) or every valid voxel (tensor file)
   io::TensorLayout layout = io::TensorLayout::Auto; // tensor files
-  bool fibres = false;     // INPUT is a fibre set (app/scene/fibre_input.h: isFibreInput)
+  bool fibres = false;     // INPUT is a fibre set (app/scene/fibre_input.h: isFibreSet)
   std::string fibreLayout; // fibre sets: auto or a fibre layout name
   std::string tensor;      // fibre sets: a paired tensor whose FA selects the white matter
   surfaces::CheckOptions options;

@@ -1,6 +1,6 @@
-// Crossing-fibre INPUT for `info` and `render`: decides whether a file is a fibre set (io/formats/fibre_io.h), loads
-// it with an optional paired tensor (--tensor: FA for isosurfaces, FA modulation and the grey background),
-// and describes one voxel's fibres for `dtfabric info --voxel`.
+// Crossing-fibre INPUT for `info` and `render`: a file io::openInput (io/input.h) found to be a fibre set,
+// loaded with an optional paired tensor (--tensor: FA for isosurfaces, FA modulation and the grey
+// background).
 #pragma once
 
 #include "app/scene/surface_spec.h"
@@ -20,12 +20,14 @@ struct FibreInput {
   std::string faSource; // where fa comes from ("" when empty)
 };
 
-// True when `layoutText` names a fibre layout, or is auto and `path` looks like a fibre file (the reason is
-// logged unless quiet).
-bool isFibreInput(const std::string& path, const std::string& layoutText, bool quiet = false);
+// Whether `path` opens as a fibre set (io::openFibreSet: `layoutText` names a fibre layout, or is auto and
+// the file looks like one).
+bool isFibreSet(const std::string& path, const std::string& layoutText);
 
-// Loads the fibre set (layout from `layoutText`: auto or a fibre layout) and the optional tensor; logs the
-// layout and its reason unless quiet. Throws InputError (also when the tensor's grid differs).
+// Loads the fibre set an opened INPUT is and the optional tensor; logs the layout and its reason unless
+// quiet. Throws InputError (also for another kind of file, and when the tensor's grid differs).
+FibreInput loadFibreInput(const io::OpenedInput& input, const std::string& tensorPath, bool quiet = false);
+// The same for a file known to be a fibre set (layout from `layoutText`: auto or a fibre layout).
 FibreInput loadFibreInput(const std::string& path, const std::string& layoutText,
                           const std::string& tensorPath, bool quiet = false);
 
@@ -36,10 +38,5 @@ void checkFibreSurface(const SurfaceSpec& spec, const FibreInput& input);
 // The principal eigenvector of every valid tensor as a one-fibre set, amplitude = FA: a tensor shown the
 // multi-population way (e1 only).
 FibreSet principalFibres(const TensorField& field);
-
-// `dtfabric info` for a fibre file: summary, or with ijk the voxel's fibres ("fibres": [{"direction": [x, y,
-// z], "amplitude": a}, ...], unit world RAS, strongest first) and, with a paired tensor, its FA and e1.
-int describeFibreInput(const std::string& path, const std::string& layoutText, const std::string& tensorPath,
-                       const int* ijk, bool json);
 
 } // namespace dtf::app

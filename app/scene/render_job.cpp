@@ -131,8 +131,11 @@ struct Scene {
 
 // Loads the first pane's data; a fibre set switches `p` to the fibre colours unless a colour was chosen.
 void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
-  if (!r.field && isFibreInput(r.input, r.layout)) {
-    s.fibreIn = loadFibreInput(r.input, r.layout, r.tensor);
+  const io::OpenedInput in =
+      r.field ? io::OpenedInput{} : io::openInput(inputRequest(r.input, r.layout, r.tensorOptions, true));
+  if (!r.field && in.kind == io::InputKind::Fibres) {
+    if (r.layout == "auto") logInfo(r.input + ": read as a fibre set (" + in.reason + ")");
+    s.fibreIn = loadFibreInput(in, r.tensor);
     checkFibreSurface(r.surface, *s.fibreIn);
     if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
     if (p.colour != render::ColourMode::Fibres)
@@ -143,7 +146,7 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   } else {
     if (!r.tensor.empty())
       throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + r.input + " is not one");
-    if (!r.field) s.loaded = loadTensorInput(r.input, r.tensorOptions);
+    if (!r.field) s.loaded = loadTensors(in, r.tensorOptions);
   }
   s.field = s.fibreIn ? &s.fibreIn->carrier : r.field ? r.field : &s.loaded.field;
   s.fa = !s.fibreIn                   ? computeFaMap(*s.field)
@@ -173,9 +176,13 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
   const ScalarVolume* fa2 = &s.fa;
   ScalarVolume faOther;
   SurfaceSpec spec2 = r.surface;
-  if (split.kind == SplitMode::Kind::Input && isFibreInput(split.value, "auto")) {
+  const io::OpenedInput in = split.kind == SplitMode::Kind::Input
+                                 ? io::openInput(inputRequest(split.value, "auto", r.tensorOptions, true))
+                                 : io::OpenedInput{};
+  if (split.kind == SplitMode::Kind::Input && in.kind == io::InputKind::Fibres) {
     // DTI beside a fibre set: both panes in the fibre colours, the tensor as its principal direction.
-    out.fibreIn = loadFibreInput(split.value, "auto", "");
+    logInfo(split.value + ": read as a fibre set (" + in.reason + ")");
+    out.fibreIn = loadFibreInput(in, "");
     if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
     if (p.colour != render::ColourMode::Fibres)
       throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
@@ -184,7 +191,7 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
     fa2 = &faOther;
   } else if (split.kind == SplitMode::Kind::Input) {
     if (s.fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
-    out.loaded = loadTensorInput(split.value, r.tensorOptions);
+    out.loaded = loadTensors(in, r.tensorOptions);
     faOther = computeFaMap(out.loaded.field);
     out.field = &out.loaded.field;
     fa2 = &faOther;

@@ -1,8 +1,9 @@
-// Turns a command's INPUT into a tensor field: any tensor file the io layer reads, or a DWI with its
-// bval/bvec (fitted with WLS inside an automatic or given mask). Shared by render, surface and the viewer.
+// Turns a command's INPUT, opened by io::openInput (io/input.h), into a tensor field: any tensor file the io
+// layer reads, or a DWI with its bval/bvec (fitted with WLS inside an automatic or given mask). Shared by
+// render, surface and the viewer.
 #pragma once
 
-#include "io/formats/tensor_io.h"
+#include "io/input.h"
 
 #include <functional>
 #include <string>
@@ -18,11 +19,18 @@ struct TensorInputOptions {
   std::function<void(const std::string&)> onStage;
 };
 
-// INPUT's sibling gradient file: dwi.nii.gz -> dwi.bval for ext ".bval".
-std::string gradientSibling(const std::string& path, const std::string& ext);
+// The opener's request for INPUT with these options: `layoutText` (a tensor or fibre layout name), the
+// gradient files, and whether a fibre set is an answer.
+io::InputRequest inputRequest(const std::string& path, const std::string& layoutText,
+                              const TensorInputOptions& options, bool fibres);
 
-// Loads INPUT. A 4D file whose volume count is not 6 (or any file given --bval/--bvec) is treated as a DWI
-// and fitted. Throws InputError/UsageError naming the file.
+// The tensors of an opened tensor file (read in options.layout) or DWI (fitted). Throws InputError for
+// another kind, naming what it is.
+io::LoadedTensors loadTensors(const io::OpenedInput& input, const TensorInputOptions& options);
+
+// Opens INPUT as tensors or a DWI (io::openInput, no fibre sets) and loads it. A 4D file whose volume count
+// is not 6 (or any file given --bval/--bvec) is treated as a DWI and fitted. Throws InputError/UsageError
+// naming the file.
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& options);
 
 } // namespace dtf::app

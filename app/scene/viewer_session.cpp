@@ -199,8 +199,8 @@ void ViewerSession::loadFile(const ui::LoadFile& a) {
     first = parseSurfaceSpec("fa=0.25");
   }
   addInput(a.path);
-  addInput(gradientSibling(a.path, ".bval"));
-  addInput(gradientSibling(a.path, ".bvec"));
+  addInput(io::gradientSibling(a.path, ".bval"));
+  addInput(io::gradientSibling(a.path, ".bvec"));
   addInput(a.tensor);
   latestLoad_ = nextId_++;
   latestSurface_ = latestLoad_;

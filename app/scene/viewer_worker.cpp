@@ -81,8 +81,12 @@ WorkerResult ViewerWorker::load(const LoadJob& job, WorkContext& context) {
     data->path = job.path;
     SurfaceSpec first = job.first;
     try {
-      if (isFibreInput(job.path, job.layout, true)) {
-        FibreInput in = loadFibreInput(job.path, job.layout, job.tensorPath, true);
+      TensorInputOptions options;
+      options.quiet = true;
+      options.onStage = [&context](const std::string& stage) { context.setStage(stage); };
+      const io::OpenedInput opened = io::openInput(inputRequest(job.path, job.layout, options, true));
+      if (opened.kind == io::InputKind::Fibres) {
+        FibreInput in = loadFibreInput(opened, job.tensorPath, true);
         data->pairedTensor = in.tensor.has_value();
         data->loaded.layoutReason = in.fibres.layoutReason;
         data->loaded.header = in.fibres.header;
@@ -98,11 +102,8 @@ WorkerResult ViewerWorker::load(const LoadJob& job, WorkContext& context) {
         if (!job.tensorPath.empty())
           throw UsageError("a paired tensor (" + job.tensorPath + ") goes with a fibre set; " + job.path +
                            " is not one");
-        TensorInputOptions in;
-        in.layout = io::parseLayout(job.layout);
-        in.quiet = true;
-        in.onStage = [&context](const std::string& stage) { context.setStage(stage); };
-        data->loaded = loadTensorInput(job.path, in);
+        options.layout = io::parseLayout(job.layout);
+        data->loaded = loadTensors(opened, options);
         context.setStage("computing FA");
         data->fa = computeFaMap(data->loaded.field);
       }

@@ -595,8 +595,8 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
     if (!a) continue;
     if (const auto* load = std::get_if<ui::LoadFile>(a)) {
       inputs.push_back(load->path);
-      inputs.push_back(gradientSibling(load->path, ".bval"));
-      inputs.push_back(gradientSibling(load->path, ".bvec"));
+      inputs.push_back(io::gradientSibling(load->path, ".bval"));
+      inputs.push_back(io::gradientSibling(load->path, ".bvec"));
     } else if (const auto* tracts = std::get_if<ui::LoadTracts>(a)) {
       inputs.push_back(tracts->path);
     } else if (const auto* surface = std::get_if<ui::SetSurfaceSpec>(a)) {

@@ -1,9 +1,9 @@
 #include "io/diffusion/dwi.h"
-#include "io/formats/format_detail.h"
 
+#include "io/formats/format_detail.h"
+#include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/formats/tensor_io.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -150,9 +150,9 @@ Dwi makeDwi(Volume<float> signal, std::vector<double> bvals, const std::vector<g
 namespace {
 
 // The DWI with the gradient table stored in the file (MRtrix dw_scheme, DSI Studio b_table).
-Dwi readStoredDwi(const std::string& path, double b0Threshold) {
+Dwi readStoredDwi(const std::string& path, const FormatGuess& format, double b0Threshold) {
   try {
-    detail::StoredGradients s = detail::readStoredGradients(path);
+    detail::StoredGradients s = detail::readStoredGradients(path, format);
     // makeDwi takes the bvec frame, which R*F maps to world.
     const glm::dmat3 toBvec = glm::inverse(bvecFrameToWorld(s.signal.grid)) * s.directionsToWorld;
     std::vector<glm::dvec3> bvecs;
@@ -172,10 +172,15 @@ Dwi readStoredDwi(const std::string& path, double b0Threshold) {
 
 Dwi readDwi(const std::string& dwiPath, const std::string& bvalPath, const std::string& bvecPath,
             double b0Threshold) {
-  if (bvalPath.empty() && bvecPath.empty()) return readStoredDwi(dwiPath, b0Threshold);
+  return readDwi(dwiPath, detectFormat(dwiPath), bvalPath, bvecPath, b0Threshold);
+}
+
+Dwi readDwi(const std::string& dwiPath, const FormatGuess& format, const std::string& bvalPath,
+            const std::string& bvecPath, double b0Threshold) {
+  if (bvalPath.empty() && bvecPath.empty()) return readStoredDwi(dwiPath, format, b0Threshold);
   try {
     VolumeHeader header;
-    ScalarVolume signal = readScalarVolume(dwiPath, &header);
+    ScalarVolume signal = readScalarVolume(dwiPath, format, &header);
     if (signal.components < 2)
       throw InputError(dwiPath + " is not a 4D diffusion series (it holds " +
                        countText(static_cast<std::size_t>(signal.components), "volume") + ")");

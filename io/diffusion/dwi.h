@@ -9,6 +9,7 @@
 // A tensor fitted against world gradients is then a world tensor, so no rotation is needed afterwards.
 #pragma once
 
+#include "io/formats/formats.h"
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
 
@@ -52,6 +53,9 @@ Dwi makeDwi(Volume<float> signal, std::vector<double> bvals, const std::vector<g
 // SRC's b_table (see io/formats/dsi_studio.h); InputError when the file holds none.
 Dwi readDwi(const std::string& dwiPath, const std::string& bvalPath, const std::string& bvecPath,
             double b0Threshold = 50.0);
+// The same for a DWI whose format was detected already (detectFormat; see io/input.h).
+Dwi readDwi(const std::string& dwiPath, const FormatGuess& format, const std::string& bvalPath,
+            const std::string& bvecPath, double b0Threshold = 50.0);
 
 enum class FitMethod { Wls, Ols };
 

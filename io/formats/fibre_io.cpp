@@ -102,9 +102,9 @@ std::string markerLayout(const std::string& descrip) {
   return name.substr(0, name.find(' '));
 }
 
-LoadedFibres readPeaks(const std::string& path, FibreLayout layout) {
+LoadedFibres readPeaks(const std::string& path, const FormatGuess& format, FibreLayout layout) {
   LoadedFibres out;
-  ScalarVolume raw = readScalarVolume(path, &out.header);
+  ScalarVolume raw = readScalarVolume(path, format, &out.header);
   out.files.push_back(path);
   out.warnings = out.header.warnings;
   bool hasNan = false;
@@ -354,6 +354,10 @@ FibreLayout parseFibreLayout(const std::string& n) {
 }
 
 bool looksLikeFibres(const std::string& path, std::string* reason) {
+  return looksLikeFibres(path, detectFormat(path), reason);
+}
+
+bool looksLikeFibres(const std::string& path, const FormatGuess& g, std::string* reason) {
   auto say = [&](bool r, const std::string& why) {
     if (reason) *reason = why;
     return r;
@@ -362,11 +366,10 @@ bool looksLikeFibres(const std::string& path, std::string* reason) {
   if (fs::is_directory(path)) return say(false, "a folder without dyads1.nii.gz"); // the readers say why
   if (const std::string base = dtifitV1Base(path); !base.empty())
     return say(true, "an FSL dtifit set " + base + " with V1 but no L1-L3");
-  const FormatGuess g = detectFormat(path);
   if (g.format == FileFormat::DsiStudioFib) return say(true, "a DSI Studio FIB file (" + g.reason + ")");
   if (g.format != FileFormat::Nifti)
     return say(false, std::string(formatName(g.format)) + ", not a NIfTI peaks file"); // its reader says more
-  VolumeHeader h = readHeader(path);
+  VolumeHeader h = readHeader(path, g);
   if (!markerLayout(h.descrip).empty()) return say(true, "written by dtfabric as a fibre set");
   long long comps = 1;
   for (std::size_t i = 3; i < h.dims.size(); ++i)
@@ -381,7 +384,7 @@ bool looksLikeFibres(const std::string& path, std::string* reason) {
       break;
     }
   if (fs::exists(stem + ".bval")) return say(false, "has a sibling .bval (a DWI)");
-  ScalarVolume raw = readScalarVolume(path);
+  ScalarVolume raw = readScalarVolume(path, g);
   const auto c = static_cast<std::size_t>(raw.components);
   std::vector<std::size_t> negative(c, 0), nonzero(c, 0);
   for (std::size_t i = 0; i < raw.data.size(); ++i) {
@@ -402,6 +405,10 @@ bool looksLikeFibres(const std::string& path, std::string* reason) {
 }
 
 LoadedFibres readFibres(const std::string& path, FibreLayout layout) {
+  return readFibres(path, detectFormat(path), layout);
+}
+
+LoadedFibres readFibres(const std::string& path, const FormatGuess& format, FibreLayout layout) {
   {
     if (layout == FibreLayout::Bedpostx || (layout == FibreLayout::Auto && isBedpostxPath(path))) {
       LoadedFibres out = readBedpostx(path);
@@ -415,12 +422,12 @@ LoadedFibres readFibres(const std::string& path, FibreLayout layout) {
     }
     if (fs::is_directory(path)) fail(path, "is a folder without dyads1.nii.gz (not a bedpostx folder)");
     if (layout == FibreLayout::DsiStudio ||
-        (layout == FibreLayout::Auto && detectFormat(path).format == FileFormat::DsiStudioFib))
+        (layout == FibreLayout::Auto && format.format == FileFormat::DsiStudioFib))
       return readDsiStudioFibres(path);
     if (layout == FibreLayout::DtifitV1 || layout == FibreLayout::Auto)
       if (const std::string base = dtifitV1Base(path); !base.empty()) return readDtifitV1(base);
     if (layout == FibreLayout::DtifitV1) fail(path, "is not an FSL dtifit set with V1 and no L1-L3");
-    return readPeaks(path, layout);
+    return readPeaks(path, format, layout);
   }
 }
 

@@ -55,11 +55,14 @@ struct LoadedFibres {
 // detected: name its layout. `reason` says why either way. Reads the data of 4D files. Throws InputError for
 // unreadable files.
 bool looksLikeFibres(const std::string& path, std::string* reason = nullptr);
+// The same for a file whose format was detected already (detectFormat; see io/input.h).
+bool looksLikeFibres(const std::string& path, const FormatGuess& format, std::string* reason = nullptr);
 
 // Reads a fibre file (see the layouts above; dsi-studio and dtifit-v1 only by Auto). Throws InputError for
 // unreadable files, a volume count that is not a multiple of 3, Inf or partly-NaN triplets, no fibre at all,
 // or (bedpostx) a missing fractions file or dyads/fractions on different grids.
 LoadedFibres readFibres(const std::string& path, FibreLayout layout = FibreLayout::Auto);
+LoadedFibres readFibres(const std::string& path, const FormatGuess& format, FibreLayout layout);
 
 // Writes `set` in `layout` (not Auto): a peaks file at `path` (.nii or .nii.gz), or for bedpostx a folder
 // `path` with dyadsN.nii.gz and mean_fNsamples.nii.gz (N = 1..K). Amplitudes are written as vector lengths

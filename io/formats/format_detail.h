@@ -118,7 +118,7 @@ VolumeHeader dsiHeader(const std::string& path);
 
 // The signal and the gradient table stored in the file (MRtrix dw_scheme, DSI Studio b_table);
 // io/formats/formats.cpp. Throws InputError when the file holds no table or a single volume.
-StoredGradients readStoredGradients(const std::string& path);
+StoredGradients readStoredGradients(const std::string& path, const FormatGuess& format);
 
 // --- AFNI (io/formats/afni_io.cpp): bricks as components; header only when !withData.
 ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withData);

@@ -93,8 +93,7 @@ void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& by
   out.commit();
 }
 
-StoredGradients readStoredGradients(const std::string& path) {
-  const FormatGuess g = detectFormat(path);
+StoredGradients readStoredGradients(const std::string& path, const FormatGuess& g) {
   if (g.format == FileFormat::DsiStudioSrc) return readDsiSrc(path);
   if (g.format != FileFormat::Mrtrix)
     throw InputError(path + ": no gradient table inside a " + formatName(g.format) +
@@ -102,8 +101,7 @@ StoredGradients readStoredGradients(const std::string& path) {
   MrtrixImage m = readMrtrix(path, true);
   if (m.dwScheme.empty())
     throw InputError(path + ": the MRtrix image has no dw_scheme entry; give --bval and --bvec");
-  if (m.volume.components < 2)
-    throw InputError(path + " is not a 4D diffusion series (it holds one volume)");
+  if (m.volume.components < 2) throw InputError(path + " is not a 4D diffusion series (it holds one volume)");
   // dw_scheme rows are (gx, gy, gz, b) in the scanner frame.
   StoredGradients out;
   for (const auto& row : m.dwScheme) {
@@ -224,8 +222,11 @@ FormatGuess detectFormat(const std::string& path) {
 }
 
 bool hasEmbeddedGradients(const std::string& path) {
+  return hasEmbeddedGradients(path, detectFormat(path));
+}
+
+bool hasEmbeddedGradients(const std::string& path, const FormatGuess& g) {
   try {
-    const FormatGuess g = detectFormat(path);
     if (g.format == FileFormat::DsiStudioSrc) return true;
     if (g.format == FileFormat::Mrtrix) return !readMrtrix(path, false).dwScheme.empty();
   } catch (const Error&) {
@@ -263,15 +264,19 @@ void noteFormat(VolumeHeader& h, const FormatGuess& g) {
 }
 
 [[noreturn]] void notAVolume(const std::string& path, const FormatGuess& g) {
-  throw InputError(path + ": a " + formatName(g.format) +
-                   " file holds fibre populations, not one volume: `dtfabric render` and `info` read it as a fibre set (" +
-                       g.reason + ")");
+  throw InputError(
+      path + ": a " + formatName(g.format) +
+      " file holds fibre populations, not one volume: `dtfabric render` and `info` read it as a fibre set (" +
+      g.reason + ")");
 }
 
 } // namespace
 
 VolumeHeader readHeader(const std::string& path) {
-  const FormatGuess g = detectFormat(path);
+  return readHeader(path, detectFormat(path));
+}
+
+VolumeHeader readHeader(const std::string& path, const FormatGuess& g) {
   VolumeHeader h;
   switch (g.format) {
   case FileFormat::Nifti:
@@ -300,7 +305,10 @@ VolumeHeader readHeader(const std::string& path) {
 }
 
 ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
-  const FormatGuess g = detectFormat(path);
+  return readScalarVolume(path, detectFormat(path), header);
+}
+
+ScalarVolume readScalarVolume(const std::string& path, const FormatGuess& g, VolumeHeader* header) {
   ScalarVolume v;
   VolumeHeader h;
   switch (g.format) {
@@ -336,7 +344,11 @@ ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header) {
 }
 
 LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout) {
-  FormatGuess g = detectFormat(path);
+  return readTensorVolume(path, detectFormat(path), layout);
+}
+
+LoadedTensors readTensorVolume(const std::string& path, const FormatGuess& format, TensorLayout layout) {
+  FormatGuess g = format;
   // A dtifit member (dti_V1, dti_L2, dti_FA ...) that is not itself a tensor volume stands for its set,
   // unless a layout is given: then the file itself is meant.
   if (g.format == FileFormat::Nifti && layout == TensorLayout::Auto && !dtifitBasename(path).empty()) {

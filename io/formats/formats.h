@@ -34,6 +34,7 @@ FormatGuess detectFormat(const std::string& path);
 // True when `path` is a DWI whose gradient table is stored inside the file (an MRtrix image with a
 // dw_scheme entry, a DSI Studio SRC): then no bval/bvec files are needed. Never throws.
 bool hasEmbeddedGradients(const std::string& path);
+bool hasEmbeddedGradients(const std::string& path, const FormatGuess& format);
 
 // The basename of the FSL dtifit set `path` names (the basename itself, or a member such as dti_V1.nii.gz
 // or dti_FA.nii.gz whose set has _V1 or _L1 files), or "" when it names none. readTensorVolume reads such

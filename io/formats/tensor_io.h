@@ -9,6 +9,7 @@
 // whose message starts with the file name (UsageError for a bad layout name).
 #pragma once
 
+#include "io/formats/formats.h"
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
 
@@ -66,6 +67,9 @@ struct LoadedTensors {
 // tensor (FSL vs MRtrix order). An explicit layout overrides detection. NaN/Inf voxels become invalid.
 // Throws InputError for unreadable files, absurd sizes, unsupported datatypes or a non-tensor shape.
 LoadedTensors readTensorVolume(const std::string& path, TensorLayout layout = TensorLayout::Auto);
+// The same for a file whose format was detected already (detectFormat; see io/input.h).
+LoadedTensors readTensorVolume(const std::string& path, const FormatGuess& format,
+                               TensorLayout layout = TensorLayout::Auto);
 // Writes `field` in `layout` as float32 (voxel-frame layouts rotate back out of world space; DTI-TK
 // scales to 1e-3 mm^2/s), sform = qform = grid.voxelToWorld (code 1). Atomic: a temporary file renamed
 // into place. `niftiVersion` 1 or 2; the name must end in .nii or .nii.gz, or .mif/.mif.gz/.mih for an
@@ -78,11 +82,13 @@ void writeTensorVolume(const std::string& path, const TensorField& field, Tensor
 // Any 1D-7D volume as float (scl_slope/inter applied); components = product of dims 4..7, interleaved
 // per voxel. Throws InputError.
 ScalarVolume readScalarVolume(const std::string& path, VolumeHeader* header = nullptr);
+ScalarVolume readScalarVolume(const std::string& path, const FormatGuess& format, VolumeHeader* header = nullptr);
 // Writes float32, components as dim4, sform = qform = v.grid.voxelToWorld, `descrip` in the header (at most
 // 79 characters; NIfTI only), or as an MRtrix image (.mif/.mif.gz/.mih). Atomic. Throws InputError.
 void writeScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion = 1,
                        const std::string& descrip = "dtfabric");
 // Header only (no voxel data read), with the same checks as the readers. Throws InputError.
 VolumeHeader readHeader(const std::string& path);
+VolumeHeader readHeader(const std::string& path, const FormatGuess& format);
 
 } // namespace dtf::io
