@@ -4,11 +4,11 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/tract_files.h"
-#include "app/scene/fibre_input.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/formats/tensor_io.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <charconv>
@@ -432,7 +432,7 @@ std::string fibreVec(const glm::dvec3& v) {
 // z], "amplitude": a}, ...], unit world RAS, strongest first) and, with a paired tensor, its FA and e1.
 int describeFibreInput(const io::OpenedInput& opened, const std::string& tensorPath, const int* ijk, bool json) {
   const std::string& path = opened.path;
-  FibreInput in = loadFibreInput(opened, tensorPath, true);
+  session::FibreInput in = session::loadFibreInput(opened, tensorPath, true);
   const FibreSet& s = in.fibres.set;
   const Grid& g = s.grid;
   const std::string layout = io::fibreLayoutName(in.fibres.layout);
@@ -546,7 +546,7 @@ const OptionTable& infoOptions() {
 
 int cmdInfo(const CommandArgs& argv) {
   for (const auto& a : argv)
-    if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
+    if (!a.empty() && a[0] != '-' && session::isTractFileName(a)) return cmdTractInfo(argv);
   ParsedOptions args(infoOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
   const std::string path = args.positional(0, "FILE (see --help)");
