@@ -90,8 +90,174 @@ std::string metricsPath(const io::BidsRun& run, const std::string& outputRoot) {
       .string();
 }
 
-RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
-                      const ParticipantOptions& optIn) {
+namespace {
+
+// Hashes of the run's files; a run whose files cannot be read fails here with the file named.
+void hashInputs(const io::BidsRun& run, io::FlatJson& doc) {
+  std::error_code ec;
+  try {
+    doc.set("input_hash_dwi", io::fileHash(run.dwi));
+    if (fs::exists(run.bval, ec)) doc.set("input_hash_bval", io::fileHash(run.bval));
+    if (fs::exists(run.bvec, ec)) doc.set("input_hash_bvec", io::fileHash(run.bvec));
+  } catch (const std::exception& e) {
+    doc.set("status", "failed");
+    doc.set("message", e.what());
+  }
+}
+
+// True (with `out` filled) when the metrics document at docPath is complete for the same parameters and
+// inputs, and its figures exist.
+bool completeAndUnchanged(const io::FlatJson& doc, const std::string& docPath, const fs::path& dir,
+                          RunOutcome& out) {
+  std::error_code ec;
+  try {
+    const io::FlatJson old = io::FlatJson::parse(io::readTextFile(docPath), docPath);
+    bool complete = old.get("status") == "ok";
+    for (const char* k : {"params", "input_hash_dwi", "input_hash_bval", "input_hash_bvec"})
+      complete = complete && old.get(k) == doc.get(k);
+    for (const auto& f : figureKinds())
+      if (old.has(std::string("figure_") + f.desc))
+        complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
+    if (!complete) return false;
+    out.ok = true;
+    out.skipped = true;
+    out.verdict = old.get("check_verdict");
+    out.message = "complete and unchanged";
+    return true;
+  } catch (const Error&) {
+    return false; // an unreadable document is recomputed
+  }
+}
+
+// Metrics over the white matter: valid voxels of the fit (its automatic brain mask) with FA >= 0.3; the
+// orientation check's verdict and scores; the grid.
+void setMetrics(const CheckRun& check, const MetricMaps& maps, io::FlatJson& doc) {
+  const surfaces::OrientationReport& rep = check.report;
+  std::vector<double> fa, md;
+  std::size_t brain = 0;
+  for (std::size_t i = 0; i < check.field.valid.size(); ++i) {
+    if (!check.field.valid[i]) continue;
+    ++brain;
+    if (maps.fa.data[i] < kWhiteMatterFa) continue;
+    fa.push_back(maps.fa.data[i]);
+    md.push_back(maps.md.data[i] * 1e3); // 10^-3 mm^2/s
+  }
+  doc.setNumber("fa_wm_mean", mean(fa));
+  doc.setNumber("fa_wm_median", median(fa));
+  doc.setNumber("md_wm_mean", mean(md));
+  doc.setNumber("md_wm_median", median(md));
+  doc.set("md_units", "1e-3 mm^2/s");
+  doc.setNumber("wm_voxels", static_cast<double>(fa.size()), 12);
+  doc.setNumber("brain_voxels", static_cast<double>(brain), 12);
+  doc.setNumber("wm_fraction", brain ? static_cast<double>(fa.size()) / static_cast<double>(brain) : 0);
+  doc.set("check_verdict", surfaces::verdictName(rep.verdict));
+  doc.set("check_correction", rep.correction.name());
+  doc.set("check_best", rep.candidates[rep.best].transform.name());
+  doc.setNumber("check_score_given", rep.scoreGiven);
+  doc.setNumber("check_score_best", rep.scoreBest);
+  doc.setNumber("check_margin", rep.margin);
+  doc.set("check_reason", rep.reason);
+  const Grid& g = check.field.grid;
+  doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
+                      " " + g.orientationCode());
+  doc.setNumber("volumes", static_cast<double>(check.bvals.size()), 12);
+}
+
+// The surfaces of the figures (desc, mesh, in figureKinds() order). Slice positions come from this run's
+// data, not fixed indices: surfaces::chooseEvidenceSlices on the field the best-scoring table gives (left-
+// right white matter counts need the right axes). Axial: the slice with the most left-right white matter
+// near the midline (the callosal body); coronal: the slice with the most superior-inferior white matter
+// (the corticospinal tracts in the internal capsules).
+std::vector<std::pair<std::string, Mesh>> figureMeshes(const CheckRun& check, const MetricMaps& maps,
+                                                       io::FlatJson& doc) {
+  const surfaces::OrientationReport& rep = check.report;
+  const TensorField best =
+      surfaces::transformedField(check.field, check.tableToWorld, rep.candidates[rep.best].transform);
+  const surfaces::EvidenceSlices slices = surfaces::chooseEvidenceSlices(best, nullptr, kWhiteMatterFa);
+  doc.setNumber("slice_axial", slices.axial, 6);
+  doc.setNumber("slice_coronal", slices.coronal, 6);
+  SurfaceSpec axial, coronal, iso;
+  axial.kind = coronal.kind = SurfaceSpec::Kind::Slice;
+  axial.axis = "axial";
+  axial.index = slices.axial;
+  coronal.axis = "coronal";
+  coronal.index = slices.coronal;
+  iso.kind = SurfaceSpec::Kind::Fa;
+  iso.value = kIsoFa;
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa));
+  meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa));
+  meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa));
+  return meshes;
+}
+
+// The figures show the data with its given table (what a user of the data would see); the contact sheet
+// shows the candidates side by side.
+void writeFigures(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o, const CheckRun& check,
+                  const std::vector<std::pair<std::string, Mesh>>& meshes, io::FlatJson& doc) {
+  render::GlContext::headless();
+  render::FabricRenderer renderer;
+  renderer.resize(o.figurePx, o.figurePx);
+  renderer.setField(check.field);
+  const std::vector<std::pair<std::string, std::pair<std::size_t, std::string>>> figures = {
+      {"fabricAxial", {0, "axial"}},
+      {"fabricCoronal", {1, "coronal"}},
+      {"fabricIsoLeft", {2, "left"}},
+      {"fabricIsoSuperior", {2, "superior"}}};
+  for (const auto& [desc, how] : figures) {
+    const std::string name = io::derivativeName(run, desc, "dwi", ".png");
+    render(renderer, meshes[how.first].second, how.second, (dir / name).string());
+    doc.set("figure_" + desc, name);
+  }
+  if (check.report.verdict != surfaces::Verdict::Ok) {
+    const std::string name = io::derivativeName(run, "fabricCheck", "dwi", ".png");
+    const Image sheet = renderContactSheet(check, sheetRows(check.report), o.sheetPanelPx);
+    io::writePng((dir / name).string(), sheet);
+    doc.set("figure_fabricCheck", name);
+  }
+}
+
+// The check, metrics and figures of one run into `doc` (status ok), or its failure (status failed, the
+// message naming the run's file when the error does not).
+void analyseRun(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o,
+                std::chrono::steady_clock::time_point t0, io::FlatJson& doc, RunOutcome& out) {
+  try {
+    CheckRequest req;
+    req.input = run.dwi;
+    req.bval = run.bval;
+    req.bvec = run.bvec;
+    req.fitThreads = o.fitThreads;
+    CheckRun check = runCheck(req);
+    const surfaces::OrientationReport& rep = check.report;
+    const MetricMaps maps = computeMetricMaps(check.field, false, false);
+    setMetrics(check, maps, doc);
+    const auto tf = std::chrono::steady_clock::now();
+    writeFigures(run, dir, o, check, figureMeshes(check, maps, doc), doc);
+    doc.setNumber("seconds_load", check.loadSeconds, 4);
+    doc.setNumber("seconds_fit", check.fitSeconds, 4);
+    doc.setNumber("seconds_check", check.checkSeconds, 4);
+    doc.setNumber("seconds_figures", secondsSince(tf), 4);
+    doc.setNumber("seconds_total", secondsSince(t0), 4);
+    doc.set("status", "ok");
+    doc.set("message", std::string("verdict ") + surfaces::verdictName(rep.verdict) + ": " + rep.reason);
+    out.verdict = surfaces::verdictName(rep.verdict);
+  } catch (const std::bad_alloc&) {
+    doc.set("status", "failed");
+    doc.set("message", run.dwi + ": out of memory");
+  } catch (const std::exception& e) {
+    doc.set("status", "failed");
+    const std::string what = e.what();
+    // Errors name their file; add the run's when one does not.
+    doc.set("message", what.find(fs::path(run.dwi).filename().string()) == std::string::npos &&
+                               what.find(".bv") == std::string::npos
+                           ? run.dwi + ": " + what
+                           : what);
+  }
+}
+
+} // namespace
+
+RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, const ParticipantOptions& optIn) {
   ParticipantOptions o = optIn;
   if (o.sheetPanelPx <= 0) o.sheetPanelPx = std::max(96, o.figurePx / 2);
   const auto t0 = std::chrono::steady_clock::now();
@@ -109,150 +275,16 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
   doc.set("dtfabric_version", o.version);
   doc.set("params", paramsText(o));
   RunOutcome out;
-  try {
-    // Hashes first: a run whose files cannot be read fails here with the file named.
-    doc.set("input_hash_dwi", io::fileHash(run.dwi));
-    if (fs::exists(run.bval, ec)) doc.set("input_hash_bval", io::fileHash(run.bval));
-    if (fs::exists(run.bvec, ec)) doc.set("input_hash_bvec", io::fileHash(run.bvec));
-  } catch (const std::exception& e) {
-    doc.set("status", "failed");
-    doc.set("message", e.what());
+  hashInputs(run, doc);
+  if (!o.force && !doc.has("status") && fs::exists(docPath, ec) && completeAndUnchanged(doc, docPath, dir, out)) {
+    out.seconds = secondsSince(t0);
+    return out;
   }
-
-  if (!o.force && !doc.has("status") && fs::exists(docPath, ec)) {
-    try {
-      const io::FlatJson old = io::FlatJson::parse(io::readTextFile(docPath), docPath);
-      bool complete = old.get("status") == "ok";
-      for (const char* k : {"params", "input_hash_dwi", "input_hash_bval", "input_hash_bvec"})
-        complete = complete && old.get(k) == doc.get(k);
-      for (const auto& f : figureKinds())
-        if (old.has(std::string("figure_") + f.desc))
-          complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
-      if (complete) {
-        out.ok = true;
-        out.skipped = true;
-        out.verdict = old.get("check_verdict");
-        out.message = "complete and unchanged";
-        out.seconds = secondsSince(t0);
-        return out;
-      }
-    } catch (const Error&) {
-      // An unreadable document is recomputed.
-    }
-  }
-
   if (!doc.has("status") && !run.problem.empty()) {
     doc.set("status", "failed");
     doc.set("message", run.dwi + ": " + run.problem);
   }
-  if (!doc.has("status")) {
-    try {
-      CheckRequest req;
-      req.input = run.dwi;
-      req.bval = run.bval;
-      req.bvec = run.bvec;
-      req.fitThreads = o.fitThreads;
-      CheckRun check = runCheck(req);
-      const surfaces::OrientationReport& rep = check.report;
-
-      // Metrics over the white matter: valid voxels of the fit (its automatic brain mask) with FA >= 0.3.
-      const MetricMaps maps = computeMetricMaps(check.field, false, false);
-      std::vector<double> fa, md;
-      std::size_t brain = 0;
-      for (std::size_t i = 0; i < check.field.valid.size(); ++i) {
-        if (!check.field.valid[i]) continue;
-        ++brain;
-        if (maps.fa.data[i] < kWhiteMatterFa) continue;
-        fa.push_back(maps.fa.data[i]);
-        md.push_back(maps.md.data[i] * 1e3); // 10^-3 mm^2/s
-      }
-      doc.setNumber("fa_wm_mean", mean(fa));
-      doc.setNumber("fa_wm_median", median(fa));
-      doc.setNumber("md_wm_mean", mean(md));
-      doc.setNumber("md_wm_median", median(md));
-      doc.set("md_units", "1e-3 mm^2/s");
-      doc.setNumber("wm_voxels", static_cast<double>(fa.size()), 12);
-      doc.setNumber("brain_voxels", static_cast<double>(brain), 12);
-      doc.setNumber("wm_fraction", brain ? static_cast<double>(fa.size()) / static_cast<double>(brain) : 0);
-      doc.set("check_verdict", surfaces::verdictName(rep.verdict));
-      doc.set("check_correction", rep.correction.name());
-      doc.set("check_best", rep.candidates[rep.best].transform.name());
-      doc.setNumber("check_score_given", rep.scoreGiven);
-      doc.setNumber("check_score_best", rep.scoreBest);
-      doc.setNumber("check_margin", rep.margin);
-      doc.set("check_reason", rep.reason);
-      const Grid& g = check.field.grid;
-      doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" +
-                          std::to_string(g.dims.z) + " " + g.orientationCode());
-      doc.setNumber("volumes", static_cast<double>(check.bvals.size()), 12);
-
-      // Slice positions from this run's data, not fixed indices: surfaces::chooseEvidenceSlices on the field
-      // the best-scoring table gives (left-right white matter counts need the right axes). Axial: the slice
-      // with the most left-right white matter near the midline (the callosal body); coronal: the slice with
-      // the most superior-inferior white matter (the corticospinal tracts in the internal capsules).
-      const auto tf = std::chrono::steady_clock::now();
-      const TensorField best =
-          surfaces::transformedField(check.field, check.tableToWorld, rep.candidates[rep.best].transform);
-      const surfaces::EvidenceSlices slices = surfaces::chooseEvidenceSlices(best, nullptr, kWhiteMatterFa);
-      doc.setNumber("slice_axial", slices.axial, 6);
-      doc.setNumber("slice_coronal", slices.coronal, 6);
-      std::vector<std::pair<std::string, Mesh>> meshes; // desc, mesh, in figureKinds() order
-      {
-        SurfaceSpec axial, coronal, iso;
-        axial.kind = coronal.kind = SurfaceSpec::Kind::Slice;
-        axial.axis = "axial";
-        axial.index = slices.axial;
-        coronal.axis = "coronal";
-        coronal.index = slices.coronal;
-        iso.kind = SurfaceSpec::Kind::Fa;
-        iso.value = kIsoFa;
-        meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa));
-        meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa));
-        meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa));
-      }
-      // The figures show the data with its given table (what a user of the data would see); the contact
-      // sheet shows the candidates side by side.
-      render::GlContext::headless();
-      render::FabricRenderer renderer;
-      renderer.resize(o.figurePx, o.figurePx);
-      renderer.setField(check.field);
-      const std::vector<std::pair<std::string, std::pair<std::size_t, std::string>>> figures = {
-          {"fabricAxial", {0, "axial"}},
-          {"fabricCoronal", {1, "coronal"}},
-          {"fabricIsoLeft", {2, "left"}},
-          {"fabricIsoSuperior", {2, "superior"}}};
-      for (const auto& [desc, how] : figures) {
-        const std::string name = io::derivativeName(run, desc, "dwi", ".png");
-        render(renderer, meshes[how.first].second, how.second, (dir / name).string());
-        doc.set("figure_" + desc, name);
-      }
-      if (rep.verdict != surfaces::Verdict::Ok) {
-        const std::string name = io::derivativeName(run, "fabricCheck", "dwi", ".png");
-        const Image sheet = renderContactSheet(check, sheetRows(rep), o.sheetPanelPx);
-        io::writePng((dir / name).string(), sheet);
-        doc.set("figure_fabricCheck", name);
-      }
-      doc.setNumber("seconds_load", check.loadSeconds, 4);
-      doc.setNumber("seconds_fit", check.fitSeconds, 4);
-      doc.setNumber("seconds_check", check.checkSeconds, 4);
-      doc.setNumber("seconds_figures", secondsSince(tf), 4);
-      doc.setNumber("seconds_total", secondsSince(t0), 4);
-      doc.set("status", "ok");
-      doc.set("message", std::string("verdict ") + surfaces::verdictName(rep.verdict) + ": " + rep.reason);
-      out.verdict = surfaces::verdictName(rep.verdict);
-    } catch (const std::bad_alloc&) {
-      doc.set("status", "failed");
-      doc.set("message", run.dwi + ": out of memory");
-    } catch (const std::exception& e) {
-      doc.set("status", "failed");
-      const std::string what = e.what();
-      // Errors name their file; add the run's when one does not.
-      doc.set("message", what.find(fs::path(run.dwi).filename().string()) == std::string::npos &&
-                                 what.find(".bv") == std::string::npos
-                             ? run.dwi + ": " + what
-                             : what);
-    }
-  }
+  if (!doc.has("status")) analyseRun(run, dir, o, t0, doc, out);
   out.ok = doc.get("status") == "ok";
   out.message = doc.get("message");
   io::writeTextIfChanged(docPath, doc.text()); // last: the run is complete once this exists
