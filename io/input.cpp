@@ -46,17 +46,8 @@ OpenedInput openBySiblings(const InputRequest& r, const FormatGuess& g, const Vo
 } // namespace
 
 const char* inputKindName(InputKind kind) {
-  switch (kind) {
-  case InputKind::Tensors:
-    return "tensor volume";
-  case InputKind::Fibres:
-    return "fibre set";
-  case InputKind::Dwi:
-    return "DWI";
-  case InputKind::Tractogram:
-    return "tractogram";
-  }
-  return "unknown";
+  static const char* const kNames[] = {"tensor volume", "fibre set", "DWI", "tractogram"}; // InputKind order
+  return kNames[static_cast<int>(kind)];
 }
 
 std::string gradientSibling(const std::string& path, const std::string& ext) {
