@@ -1,7 +1,7 @@
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
 // surfaces/orientation_check.h and app/check_run.h).
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/png_io.h"

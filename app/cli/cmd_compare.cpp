@@ -1,6 +1,6 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/agreement.h)
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "surfaces/agreement.h"
 #include "ui/session/fibre_input.h"

@@ -1,6 +1,6 @@
 // `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/dwi.h and io/tensor_io.h.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/atomic_file.h"
 #include "io/dwi.h"
 #include "io/formats.h"

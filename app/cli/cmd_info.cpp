@@ -1,9 +1,9 @@
 // `dtfabric info`: describes a NIfTI volume the way the readers see it (header facts, chosen affine,
 // detected tensor layout and why, value ranges, NaN/non-positive counts, FA statistics) or one voxel's
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/tensor_io.h"

@@ -1,7 +1,7 @@
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/atomic_file.h"
 #include "io/fibre_io.h"
 #include "io/model/error.h"

@@ -1,5 +1,5 @@
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"

@@ -1,6 +1,6 @@
 // `dtfabric track`: deterministic tensor tractography (surfaces/tracking.h) to any tract file format.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"

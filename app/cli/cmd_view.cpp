@@ -1,7 +1,7 @@
 // `dtfabric view`: checks the arguments and the script before a window opens, then runs the viewer.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
 #include "io/fibre_io.h"

@@ -8,7 +8,7 @@
 // the parser cannot disagree.
 #pragma once
 
-#include "app/cli/commands.h"
+#include "app/command/command.h"
 
 #include <limits>
 #include <optional>
@@ -86,8 +86,9 @@ struct OptionTable {
   std::string command;            // "compare", "bench view"
   std::string positionals;        // the usage line's positional part, "INPUT", "IN OUT" ("" none)
   std::size_t maxPositionals = 0; // more are an "unexpected argument"
-  static constexpr std::size_t kAnyNumber = std::numeric_limits<std::size_t>::max(); // maxPositionals: no limit
-  std::string intro;              // prose after the usage line
+  static constexpr std::size_t kAnyNumber =
+      std::numeric_limits<std::size_t>::max(); // maxPositionals: no limit
+  std::string intro;                           // prose after the usage line
   std::vector<CliOption> options;
   std::string epilogue;     // prose after the options ("" none)
   std::string synopsisTail; // appended to the synopsis ("[OPTIONS]" is added when options are hidden)

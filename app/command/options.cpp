@@ -1,6 +1,6 @@
-#include "app/cli/options.h"
+#include "app/command/options.h"
 
-#include "app/cli/args.h"
+#include "app/command/args.h"
 #include "io/model/error.h"
 #include "io/tensor_io.h"
 #include "render/fabric_options.h"
