@@ -5,10 +5,10 @@
 #include "app/bench/bench.h"
 #include "app/command/args.h"
 #include "app/command/options.h"
-#include "io/bids.h"
-#include "io/bids_report.h"
-#include "io/model/error.h"
 #include "ui/session/bids_participant.h"
+#include "io/bids/bids.h"
+#include "io/bids/bids_report.h"
+#include "io/model/error.h"
 
 #include <chrono>
 #include <cmath>

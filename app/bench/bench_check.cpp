@@ -5,9 +5,9 @@
 #include "app/bench/bench.h"
 #include "app/command/args.h"
 #include "app/command/options.h"
-#include "io/dwi.h"
-#include "io/model/error.h"
 #include "ui/session/check_run.h"
+#include "io/diffusion/dwi.h"
+#include "io/model/error.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,7 +3,7 @@
 // float32 positions stored uncompressed, one per-streamline and one per-point array) written here.
 #include "app/bench/bench.h"
 #include "io/model/error.h"
-#include "io/trx.h"
+#include "io/formats/trx.h"
 #include "ui/session/tract_files.h"
 
 #include <algorithm>

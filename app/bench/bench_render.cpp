@@ -9,7 +9,7 @@
 #include "app/command/args.h"
 #include "app/command/options.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/embedding.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"

@@ -7,8 +7,8 @@
 #include "app/command/args.h"
 #include "app/command/options.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
-#include "surfaces/tracking.h"
+#include "io/formats/tensor_io.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <chrono>
 #include <cstdio>

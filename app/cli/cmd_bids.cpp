@@ -1,4 +1,4 @@
-// `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids.h, io/bids_report.h and
+// `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids/bids.h, io/bids/bids_report.h and
 // app/bids_participant.h.
 //
 // Parallelism: the headless GL context is one per process (render::GlContext::headless() is a process
@@ -10,10 +10,10 @@
 // worker dies with its parent (PR_SET_PDEATHSIG): a killed run leaves no workers behind.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/bids.h"
-#include "io/bids_report.h"
-#include "io/model/error.h"
 #include "ui/session/bids_participant.h"
+#include "io/bids/bids.h"
+#include "io/bids/bids_report.h"
+#include "io/model/error.h"
 
 #include <algorithm>
 #include <cerrno>

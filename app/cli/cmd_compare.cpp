@@ -1,8 +1,8 @@
-// `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/agreement.h)
+// `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
 #include "app/command/options.h"
 #include "io/model/error.h"
-#include "surfaces/agreement.h"
+#include "surfaces/analyses/agreement.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"

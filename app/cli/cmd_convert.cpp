@@ -4,10 +4,10 @@
 // --reference (a NIfTI image, or a .trk/.trx whose header is used).
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/atomic_file.h"
-#include "io/model/error.h"
-#include "io/tensor_io.h"
 #include "ui/session/tract_files.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <filesystem>

@@ -6,7 +6,7 @@
 #include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/tract_files.h"
 

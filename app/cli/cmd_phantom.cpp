@@ -2,10 +2,10 @@
 // optionally its scalar field, so every later stage can be run on input with a known answer.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/fibre_io.h"
 #include "io/model/error.h"
+#include "io/formats/fibre_io.h"
 #include "io/phantoms.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <filesystem>

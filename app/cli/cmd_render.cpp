@@ -1,17 +1,17 @@
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
-#include "app/cli/commands.h"
 #include "app/command/args.h"
+#include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/atomic_file.h"
-#include "io/fibre_io.h"
-#include "io/model/error.h"
-#include "io/model/log.h"
-#include "io/png_io.h"
-#include "render/fabric_options.h"
 #include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/tract_colouring.h"
+#include "io/formats/atomic_file.h"
+#include "io/formats/fibre_io.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/formats/png_io.h"
+#include "render/fabric_options.h"
 
 #include <chrono>
 #include <filesystem>

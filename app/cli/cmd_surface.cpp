@@ -1,13 +1,13 @@
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/atomic_file.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"
 #include "surfaces/mesh_checks.h"
 #include "surfaces/mesh_io.h"
 #include "surfaces/slices.h"
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
 
 #include <chrono>
 #include <cmath>

@@ -1,15 +1,15 @@
-// `dtfabric track`: deterministic tensor tractography (surfaces/tracking.h) to any tract file format.
+// `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file format.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/atomic_file.h"
-#include "io/model/error.h"
-#include "io/model/log.h"
-#include "surfaces/slices.h"
-#include "surfaces/tracking.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_job.h"
 #include "ui/session/tract_files.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "surfaces/slices.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,17 +5,17 @@
 // classes of dtfabric/_errors.py.
 #include "app/python/arrays.h"
 #include "app/python/gl_thread.h"
-#include "io/fibre_io.h"
-#include "io/model/error.h"
-#include "io/model/log.h"
-#include "io/png_io.h"
-#include "render/fabric_options.h"
 #include "ui/session/check_run.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_job.h"
+#include "io/formats/fibre_io.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/formats/png_io.h"
+#include "render/fabric_options.h"
 
 #include <cstdio>
 #include <cstring>

@@ -1,13 +1,13 @@
 #include "app/viewer/view_script.h"
 
-#include "io/atomic_file.h"
-#include "io/fibre_io.h"
-#include "io/model/error.h"
-#include "render/fabric_options.h"
-#include "surfaces/slices.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_request.h"
+#include "io/formats/atomic_file.h"
+#include "io/formats/fibre_io.h"
+#include "io/model/error.h"
+#include "render/fabric_options.h"
+#include "surfaces/slices.h"
 
 #include <algorithm>
 #include <cctype>

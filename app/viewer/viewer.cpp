@@ -1,10 +1,10 @@
 #include "app/viewer/viewer.h"
 
-#include "io/atomic_file.h"
-#include "io/model/error.h"
-#include "render/gl_context.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/tract_overlay.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "render/gl_context.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,13 +1,13 @@
 #include "ui/session/bids_participant.h"
 
-#include "io/atomic_file.h"
+#include "ui/session/check_run.h"
+#include "ui/session/surface_spec.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
-#include "ui/session/check_run.h"
-#include "ui/session/surface_spec.h"
 
 #include <algorithm>
 #include <chrono>

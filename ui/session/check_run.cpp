@@ -1,16 +1,16 @@
 #include "ui/session/check_run.h"
 
-#include "io/atomic_file.h"
-#include "io/dwi.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "io/formats/atomic_file.h"
+#include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 #include "render/bitmap_text.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "surfaces/slices.h"
-#include "ui/session/fibre_input.h"
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
 
 #include <algorithm>
 #include <chrono>

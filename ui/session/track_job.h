@@ -4,7 +4,7 @@
 #pragma once
 
 #include "io/model/tensor_field.h"
-#include "surfaces/tracking.h"
+#include "surfaces/tracking/tracking.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 

@@ -2,7 +2,7 @@
 
 #include "io/model/error.h"
 #include "surfaces/mesh_checks.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 #include "surfaces/slices.h"
 #include "ui/session/tract_files.h"
 #include "ui/session/tract_overlay.h"

@@ -9,8 +9,8 @@
 
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
-#include "surfaces/agreement.h"
-#include "surfaces/tracking.h"
+#include "surfaces/analyses/agreement.h"
+#include "surfaces/tracking/tracking.h"
 #include "ui/session/actions.h"
 #include "ui/session/track_request.h"
 #include "ui/session/viewer_worker.h"

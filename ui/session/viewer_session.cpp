@@ -1,14 +1,14 @@
 #include "ui/session/viewer_session.h"
 
-#include "io/atomic_file.h"
-#include "io/model/error.h"
-#include "io/model/log.h"
-#include "io/model/tensor.h"
-#include "surfaces/slices.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_request.h"
 #include "ui/session/tract_colouring.h"
 #include "ui/session/tract_files.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/model/tensor.h"
+#include "surfaces/slices.h"
 
 #include <algorithm>
 #include <cmath>

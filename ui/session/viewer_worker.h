@@ -6,13 +6,13 @@
 // thread-safe). Results are polled by the GUI thread.
 #pragma once
 
-#include "io/fibre_io.h"
-#include "io/model/geometry.h"
-#include "io/model/volume.h"
-#include "io/tensor_io.h"
-#include "surfaces/isosurface.h"
 #include "ui/session/coalescing_worker.h"
 #include "ui/session/surface_spec.h"
+#include "io/formats/fibre_io.h"
+#include "io/model/geometry.h"
+#include "io/model/volume.h"
+#include "io/formats/tensor_io.h"
+#include "surfaces/isosurface.h"
 
 #include <cstdint>
 #include <memory>

@@ -4,14 +4,14 @@
 // (`dtfabric compare`, `dtfabric track`) or against the library call. Real brain: the shared
 // iu_prisma_dwi tensors and their 2000 deterministic streamlines.
 #include "app/viewer/viewer.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
-#include "io/tracts.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
+#include "io/formats/tracts.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 #include "support/window.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_files.h"
 

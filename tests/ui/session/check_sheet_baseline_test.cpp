@@ -3,10 +3,10 @@
 // corrected one (threads running with them). The corrected row must reproduce the true table's row pixel for
 // pixel (the same tensors up to float rounding), and the sheet is compared with its baseline (looked at when
 // made).
-#include "io/dwi.h"
+#include "ui/session/check_run.h"
+#include "io/diffusion/dwi.h"
 #include "support/baseline.h"
 #include "support/gl_test.h"
-#include "ui/session/check_run.h"
 
 #include <cstdio>
 #include <fstream>

@@ -4,8 +4,8 @@
 // variants built here byte by byte, round trips through every pair of formats, and bad TRX files refused.
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/tracts.h"
-#include "io/trx.h"
+#include "io/formats/tracts.h"
+#include "io/formats/trx.h"
 #include "support/test_env.h"
 #include "support/zip_builder.h"
 #include "ui/session/tract_files.h"

@@ -2,8 +2,8 @@
 // half-voxel convention in closed form, byte orders and datatypes, the real MRtrix/nibabel files against
 // each other and the brain mask, and bad files refused with InputError naming the file.
 #include "io/model/error.h"
-#include "io/tensor_io.h"
-#include "io/tracts.h"
+#include "io/formats/tensor_io.h"
+#include "io/formats/tracts.h"
 #include "support/test_env.h"
 #include "surfaces/polyline_io.h"
 #include "ui/session/tract_files.h"

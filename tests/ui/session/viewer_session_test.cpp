@@ -2,12 +2,12 @@
 // no GLFW): loading with the layout diagnosis, surface specs and their extraction on the worker, the
 // write/overwrite policy, errors into the modal's chain, fibre sets with their Fibres panel state and the
 // probe's text for a known voxel of the crossing phantom.
-#include "io/fibre_io.h"
-#include "io/phantoms.h"
-#include "io/tensor_io.h"
-#include "support/test_env.h"
 #include "ui/session/tract_files.h"
 #include "ui/session/viewer_session.h"
+#include "io/formats/fibre_io.h"
+#include "io/phantoms.h"
+#include "io/formats/tensor_io.h"
+#include "support/test_env.h"
 
 #include <chrono>
 #include <cmath>
