@@ -131,6 +131,26 @@ TEST(Layering, WindowAndGlLoaderStayInTheirModules) {
   EXPECT_GT(scanned, 50);
 }
 
+// The panels' vocabulary and the fabric options table are plain values: through every header they include,
+// directly or not, they reach no GL loader (render/fabric_params.h, not render/fabric_renderer.h).
+TEST(Layering, VocabularyHeadersReachNoGlLoader) {
+  const fs::path root = dtf::test::sourceDir();
+  const auto graph = fileGraph(scanIncludes(root, kTops));
+  const std::regex gl(R"(#\s*include\s*[<\"](epoxy/|EGL/|GL/))");
+  for (const char* header : {"ui/session/actions.h", "ui/session/viewer_state.h", "ui/session/keymap.h",
+                             "render/fabric_options.h", "render/fabric_params.h"}) {
+    ASSERT_TRUE(fs::exists(root / header)) << header;
+    std::set<std::string> files = reachable(graph, header);
+    files.insert(header);
+    EXPECT_FALSE(files.count("render/fabric_renderer.h")) << header << " reaches render/fabric_renderer.h";
+    for (const auto& f : files) {
+      std::ifstream in(root / f);
+      for (std::string line; std::getline(in, line);)
+        EXPECT_FALSE(std::regex_search(line, gl)) << header << " reaches " << f << ": " << line;
+    }
+  }
+}
+
 // The checker itself, on a small tree in a scratch folder: clean, it reports nothing; each wrong include
 // added to it is reported.
 TEST(Layering, TheCheckerReportsAWrongIncludeInASyntheticTree) {

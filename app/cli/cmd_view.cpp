@@ -51,15 +51,8 @@ const OptionTable& viewOptions() {
                 "first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE")
             .defaultSays("the FA 0.25 isosurface")
             .hidden(),
-        O::text("layout", "L",
-                "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
-                "dipy-peaks, bedpostx)",
-                d.layout)
-            .hidden(),
-        O::text(
-            "tensor", "F",
-            "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor colours "
-            "beside the fibres)"),
+        layoutOption(LayoutNames::TensorOrFibre).hidden(),
+        pairedTensorOption("FA (fa= surfaces, the split's tensor colours beside the fibres)"),
         O::text("size", "WxH", "window size in pixels, 320x240 to 8192x8192",
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)

@@ -67,6 +67,7 @@ struct CliOption {
   CliOption internalOnly() &&;
   CliOption noDefault() &&;
   CliOption measuredIn(std::string unit) &&;
+  CliOption alsoSays(const std::string& more) &&; // appended to the help: what a command adds to a shared row
 
   std::string written() const;    // "--near MM", "-o FILE", "--json"
   std::string switchName() const; // "--near", "-o"
@@ -148,5 +149,15 @@ std::vector<CliOption> fabricCliOptions();
 void checkTensorLayout(const std::string& value); // io::parseLayout's names
 void checkSize(const std::string& value);         // "1024x768"
 void checkTriple(const std::string& value);       // "I,J,K"
+
+// The input rows the commands share, each declared once; a command adds what is particular to it with
+// `.alsoSays(...)`. The layout names come from io (io::layoutName, io::fibreLayoutName).
+enum class LayoutNames { Tensor, TensorOrFibre };
+std::string layoutNamesText(LayoutNames which); // "fsl, mrtrix, symmatrix, dtitk" (+ the fibre-set ones)
+CliOption layoutOption(LayoutNames which); // --layout L, default auto (Tensor: checked by io::parseLayout)
+CliOption bvalOption();                    // --bval F: INPUT is a DWI, its tensors are fitted
+CliOption bvecOption();                    // --bvec F
+CliOption fitMaskOption();                 // --mask M: where the DWI fit runs
+CliOption pairedTensorOption(const std::string& forWhat); // --tensor F beside a fibre set
 
 } // namespace dtf::app

@@ -156,6 +156,21 @@ inline std::map<std::string, std::set<std::string>> folderGraph(const std::vecto
   return g;
 }
 
+// The files `from` includes, directly or through other files of the graph (not `from` itself).
+inline std::set<std::string> reachable(const std::map<std::string, std::set<std::string>>& graph,
+                                       const std::string& from) {
+  std::set<std::string> seen;
+  std::vector<std::string> todo{from};
+  while (!todo.empty()) {
+    const std::string v = todo.back();
+    todo.pop_back();
+    if (auto it = graph.find(v); it != graph.end())
+      for (const auto& w : it->second)
+        if (seen.insert(w).second) todo.push_back(w);
+  }
+  return seen;
+}
+
 inline std::string joined(const std::vector<std::string>& nodes) {
   std::string s;
   for (const auto& n : nodes)
