@@ -4,7 +4,7 @@
 // validation and help, the script's `set` keys and the Fabric panel's sliders all read this table.
 #pragma once
 
-#include "render/fabric_renderer.h"
+#include "render/fabric_params.h"
 
 #include <string>
 #include <vector>

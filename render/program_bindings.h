@@ -109,6 +109,12 @@ struct TractLayerProgram {
   };
 };
 
+// tracts/lines.vert + lines.geom + lines.frag (TractRenderer): no textures, uniforms only.
+struct TractLinesProgram {
+  static constexpr std::span<const BindingName> kBindings{};
+  enum class Uniform { View, Proj, ViewRot, Viewport, WidthPx, DepthBiasMm, Plane, SlabMm, Count };
+};
+
 // The programs' bindings as defines.
 template <class Program>
 std::vector<std::string> programDefines() {
@@ -220,6 +226,31 @@ constexpr const char* uniformName(PhongProgram::Uniform u) {
   case U::Orthographic: return "u_orthographic";
   case U::Colour: return "u_colour";
   case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(TractLinesProgram::Uniform u) {
+  using U = TractLinesProgram::Uniform;
+  switch (u) {
+  case U::View:
+    return "u_view";
+  case U::Proj:
+    return "u_proj";
+  case U::ViewRot:
+    return "u_viewRot";
+  case U::Viewport:
+    return "u_viewport";
+  case U::WidthPx:
+    return "u_widthPx";
+  case U::DepthBiasMm:
+    return "u_depthBiasMm";
+  case U::Plane:
+    return "u_plane";
+  case U::SlabMm:
+    return "u_slabMm";
+  case U::Count:
+    break;
   }
   return "";
 }

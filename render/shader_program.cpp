@@ -104,21 +104,32 @@ std::vector<std::string> bindingDefines(std::initializer_list<std::span<const Bi
 }
 
 ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
-                             const std::vector<std::string>& defines, const std::vector<const char*>& uniforms) {
-  GLuint vs = compileShaderStage(GL_VERTEX_SHADER, vertexFile, defines);
-  GLuint fs = 0;
+                             const std::vector<std::string>& defines,
+                             const std::vector<const char*>& uniforms)
+    : ShaderProgram({{GL_VERTEX_SHADER, vertexFile}, {GL_FRAGMENT_SHADER, fragmentFile}}, defines, uniforms) {
+}
+
+ShaderProgram::ShaderProgram(const std::vector<std::pair<GLenum, std::string>>& stages,
+                             const std::vector<std::string>& defines,
+                             const std::vector<const char*>& uniforms) {
+  std::vector<GLuint> compiled;
+  std::string files;
   try {
-    fs = compileShaderStage(GL_FRAGMENT_SHADER, fragmentFile, defines);
+    for (const auto& [stage, file] : stages) {
+      compiled.push_back(compileShaderStage(stage, file, defines));
+      files += (files.empty() ? "" : " + ") + file;
+    }
   } catch (...) {
-    glDeleteShader(vs);
+    for (GLuint s : compiled)
+      glDeleteShader(s);
     throw;
   }
   program_ = ProgramHandle(glCreateProgram());
-  glAttachShader(program_.id(), vs);
-  glAttachShader(program_.id(), fs);
+  for (GLuint s : compiled)
+    glAttachShader(program_.id(), s);
   glLinkProgram(program_.id());
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+  for (GLuint s : compiled)
+    glDeleteShader(s);
   GLint ok = 0;
   glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -127,7 +138,7 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
     std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
     glGetProgramInfoLog(program_.id(), len, nullptr, log.data());
     log.resize(std::strlen(log.c_str()));
-    throw GlError("linking " + vertexFile + " + " + fragmentFile + " failed:\n" + log);
+    throw GlError("linking " + files + " failed:\n" + log);
   }
   locations_.reserve(uniforms.size());
   for (const char* name : uniforms) locations_.push_back(glGetUniformLocation(program_.id(), name));

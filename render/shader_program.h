@@ -6,15 +6,15 @@
 
 #include "render/gl_objects.h"
 
-#include <glm/glm.hpp>
-
 #include <array>
 #include <cstddef>
+#include <glm/glm.hpp>
 #include <initializer_list>
 #include <memory>
 #include <span>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace dtf::render {
@@ -71,6 +71,10 @@ public:
   // locations of `uniforms` are looked up once, after linking: set(E, v) with an enum whose values index
   // that list uses them (-1 where the uniform is unused in this program, which the GL ignores).
   ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
+                const std::vector<std::string>& defines = {}, const std::vector<const char*>& uniforms = {});
+  // The same for any list of stages, e.g. {{GL_VERTEX_SHADER, "a.vert"}, {GL_GEOMETRY_SHADER, "a.geom"},
+  // ...}.
+  ShaderProgram(const std::vector<std::pair<GLenum, std::string>>& stages,
                 const std::vector<std::string>& defines = {}, const std::vector<const char*>& uniforms = {});
 
   GLuint id() const { return program_.id(); }

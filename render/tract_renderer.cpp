@@ -1,14 +1,12 @@
 #include "render/tract_renderer.h"
 
-#include "render/gl_state.h"
-
 #include "io/model/error.h"
+#include "render/gl_state.h"
+#include "render/program_bindings.h"
 #include "render/shader_program.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <glm/gtc/type_ptr.hpp>
 #include <string>
 
 namespace dtf::render {
@@ -157,42 +155,12 @@ DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints
   return d;
 }
 
-TractRenderer::TractRenderer() : vao_(createVertexArray()) {
-  GLuint stages[3] = {compileShaderStage(GL_VERTEX_SHADER, "tracts/lines.vert"), 0, 0};
-  try {
-    stages[1] = compileShaderStage(GL_GEOMETRY_SHADER, "tracts/lines.geom");
-    stages[2] = compileShaderStage(GL_FRAGMENT_SHADER, "tracts/lines.frag");
-  } catch (...) {
-    for (GLuint s : stages)
-      if (s) glDeleteShader(s);
-    throw;
-  }
-  program_ = ProgramHandle(glCreateProgram());
-  for (GLuint s : stages)
-    glAttachShader(program_.id(), s);
-  glLinkProgram(program_.id());
-  for (GLuint s : stages)
-    glDeleteShader(s);
-  GLint ok = 0;
-  glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetProgramiv(program_.id(), GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
-    glGetProgramInfoLog(program_.id(), len, nullptr, log.data());
-    log.resize(std::strlen(log.c_str()));
-    throw GlError("linking tracts/lines.{vert,geom,frag} failed:\n" + log);
-  }
-  const GLuint p = program_.id();
-  uView_ = glGetUniformLocation(p, "u_view");
-  uProj_ = glGetUniformLocation(p, "u_proj");
-  uViewRot_ = glGetUniformLocation(p, "u_viewRot");
-  uViewport_ = glGetUniformLocation(p, "u_viewport");
-  uWidth_ = glGetUniformLocation(p, "u_widthPx");
-  uBias_ = glGetUniformLocation(p, "u_depthBiasMm");
-  uPlane_ = glGetUniformLocation(p, "u_plane");
-  uSlab_ = glGetUniformLocation(p, "u_slabMm");
-}
+TractRenderer::TractRenderer()
+    : program_({{GL_VERTEX_SHADER, "tracts/lines.vert"},
+                {GL_GEOMETRY_SHADER, "tracts/lines.geom"},
+                {GL_FRAGMENT_SHADER, "tracts/lines.frag"}},
+               programDefines<TractLinesProgram>(), uniformNames<TractLinesProgram::Uniform>()),
+      vao_(createVertexArray()) {}
 
 void TractRenderer::setTracts(const Polylines& lines, std::size_t maxPoints) {
   upload(prepareDisplayTracts(lines, maxPoints));
@@ -254,16 +222,16 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style, int lev
   count = std::min(count, available - first);
   // FrameView keeps world -> clip of the viewport and world -> eye; the projection is their quotient.
   const glm::mat4 proj = view.viewProjViewport * glm::inverse(view.view);
-  const GLuint p = program_.id();
-  glProgramUniformMatrix4fv(p, uView_, 1, GL_FALSE, glm::value_ptr(view.view));
-  glProgramUniformMatrix4fv(p, uProj_, 1, GL_FALSE, glm::value_ptr(proj));
-  glProgramUniformMatrix3fv(p, uViewRot_, 1, GL_FALSE, glm::value_ptr(view.viewRot));
-  glProgramUniform2f(p, uViewport_, float(view.viewport.x), float(view.viewport.y));
-  glProgramUniform1f(p, uWidth_, std::max(style.widthPx, 0.5f));
-  glProgramUniform1f(p, uBias_, style.depthBiasMm);
-  glProgramUniform4f(p, uPlane_, style.plane.x, style.plane.y, style.plane.z, style.plane.w);
-  glProgramUniform1f(p, uSlab_, style.slabMm);
-  glUseProgram(p);
+  using U = TractLinesProgram::Uniform;
+  program_.set(U::View, view.view);
+  program_.set(U::Proj, proj);
+  program_.set(U::ViewRot, view.viewRot);
+  program_.set(U::Viewport, glm::vec2(view.viewport));
+  program_.set(U::WidthPx, std::max(style.widthPx, 0.5f));
+  program_.set(U::DepthBiasMm, style.depthBiasMm);
+  program_.set(U::Plane, style.plane);
+  program_.set(U::SlabMm, style.slabMm);
+  program_.use();
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);

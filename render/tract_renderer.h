@@ -18,6 +18,7 @@
 #include "io/model/geometry.h"
 #include "render/fabric/frame_view.h"
 #include "render/gl_objects.h"
+#include "render/shader_program.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -98,13 +99,11 @@ public:
   std::size_t segmentCount(int level = 0) const;
 
 private:
-  ProgramHandle program_;
+  ShaderProgram program_; // tracts/lines.{vert,geom,frag}; uniforms by TractLinesProgram::Uniform
   VertexArray vao_;
   Buffer points_, segments_, colours_;
   std::vector<std::size_t> levelOffsets_{0};
   std::size_t pointCount_ = 0, lineCount_ = 0;
-  GLint uView_ = -1, uProj_ = -1, uViewRot_ = -1, uViewport_ = -1, uWidth_ = -1, uBias_ = -1, uPlane_ = -1,
-        uSlab_ = -1;
 };
 
 } // namespace dtf::render

@@ -2,8 +2,8 @@
 // --json, and returns the exit code.
 #pragma once
 
-#include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/command.h"
+#include "app/command/options.h"
 #include "io/model/geometry.h"
 #include "io/model/tensor_field.h"
 
@@ -14,13 +14,14 @@
 
 namespace dtf::app {
 
-// One benchmark of `dtfabric bench NAME`. A new benchmark is one entry in benchmarks() (app/cli/cmd_bench.cpp)
-// and its file app/bench/bench_NAME.cpp; `dtfabric --help`, `bench --help` and the README's table follow.
+// One benchmark of `dtfabric bench NAME`. A new benchmark is one entry in benchmarks()
+// (app/bench/benchmarks.cpp) and its file app/bench/bench_NAME.cpp; `dtfabric --help`, `bench --help` and the
+// README's table follow.
 struct Benchmark {
   const char* name;
   const char* summary; // one line
   int (*run)(const CommandArgs& args);
-  const OptionTable& (*options)() = nullptr; // its flags and --help (app/cli/options.h; nullptr: not yet)
+  const OptionTable& (*options)() = nullptr; // its flags and --help (app/command/options.h; nullptr: not yet)
 };
 // Every benchmark, in the order help lists them.
 const std::vector<Benchmark>& benchmarks();

@@ -3,8 +3,8 @@
 // hundred runs (the measured rows replicated), with the report's load time in headless Chromium when it is
 // on the PATH (a peer measurement, never a dependency).
 #include "app/bench/bench.h"
-#include "app/cli/args.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "ui/session/bids_participant.h"
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"

@@ -3,8 +3,8 @@
 // dependency) on the same DWI, table and mask. dwigradcheck tracks streamlines for every candidate table;
 // we fit once and turn the tensors. Reports both times, the speed-up and whether both chose the same table.
 #include "app/bench/bench.h"
-#include "app/cli/args.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "ui/session/check_run.h"
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"

@@ -1,8 +1,8 @@
 // `dtfabric bench io`: load time of an HCP-sized tensor volume, FA-map time, and tensor-fit times of the
 // real DWI and of a 1.5 mm upsampled copy, each the median of a few runs, beside their goals.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
-#include "app/cli/args.h"
+#include "app/command/options.h"
+#include "app/command/args.h"
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"

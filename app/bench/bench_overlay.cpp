@@ -10,8 +10,8 @@
 //              1M-point tractogram against a sphere of 36k triangles: one exact query per point on one thread
 //              (the former method) against the bounded, prefiltered, threaded selection.
 #include "app/bench/bench.h"
-#include "app/cli/args.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "render/fabric_renderer.h"

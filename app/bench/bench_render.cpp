@@ -6,8 +6,8 @@
 // raw GL pass of the sphere's depth and world normals, then EmbeddedFabric::draw into its framebuffer, next
 // to the own front end on the same camera.
 #include "app/bench/bench.h"
-#include "app/cli/args.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "render/embedding.h"

@@ -2,8 +2,8 @@
 // volume (145 x 174 x 145). The FA map is the real brain's resampled onto that grid when the shared data
 // is there (realistic surface complexity), else the brain phantom's.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
-#include "app/cli/args.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/phantoms.h"
 #include "io/formats/tensor_io.h"

@@ -4,8 +4,8 @@
 // it runs in the same invocation with the same settings and threads on the raw DWI, as the peer. tckgen
 // interpolates the DWI and fits a tensor at every step; we interpolate the fitted tensors, as the fabric does.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
-#include "app/cli/args.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "surfaces/tracking/tracking.h"

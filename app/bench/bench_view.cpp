@@ -2,8 +2,8 @@
 // the FA threshold is swept and while the camera rotates, on the real brain's FA isosurface. Runs in the
 // headless context: the window adds only ImGui and a blit.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
-#include "app/cli/args.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"
 #include "render/gl_context.h"

@@ -1,7 +1,6 @@
-#include "app/cli/commands.h"
-#include "app/cli/options.h"
-
 #include "app/bench/bench.h"
+#include "app/cli/commands.h"
+#include "app/command/options.h"
 #include "app/viewer/view_script.h"
 #include "io/model/error.h"
 #include "io/model/log.h"

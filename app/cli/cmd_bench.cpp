@@ -1,73 +1,11 @@
+// `dtfabric bench NAME`: runs one benchmark of the list (app/bench/benchmarks.cpp).
 #include "app/bench/bench.h"
 #include "app/cli/commands.h"
 #include "io/model/error.h"
 
-#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <sstream>
-#include <unistd.h>
 
 namespace dtf::app {
-
-std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::string>& given) {
-  namespace fs = std::filesystem;
-  if (given) return fs::path(*given);
-  if (const char* env = std::getenv("DTF_SHARED_DATA"); env && *env) return fs::path(env);
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return std::nullopt;
-  for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
-    if (fs::exists(p / "shared" / "data" / "iu_prisma_dwi")) return p / "shared" / "data";
-  return std::nullopt;
-}
-
-std::string findOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  return {};
-}
-
-double loadAverage() {
-  double l = -1;
-  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
-    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
-    std::fclose(f);
-  }
-  return l;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-CliOption sharedDataOption() {
-  return CliOption::text("data", "DIR",
-                         "the shared data folder (default $DTF_SHARED_DATA, else shared/data beside an ancestor of "
-                         "the executable)");
-}
-
-const std::vector<Benchmark>& benchmarks() {
-  static const std::vector<Benchmark> list = {
-      {"io",
-       "load time of an HCP-sized tensor volume, DWI fit times, FA-map time, the real tensor in each format, "
-       "tractogram loads (stroke.trk.gz beside nibabel, a 1 M-streamline TRX)",
-       benchIo, benchIoOptions},
-      {"render", "per-pass GPU times and ms/frame of the fabric against plain Phong", benchRender,
-       benchRenderOptions},
-      {"surfaces", "FA-threshold sweep: re-extraction time per threshold on an HCP-sized volume", benchSurfaces, benchSurfacesOptions},
-      {"tracts", "streamlines/s of deterministic tensor tracking on the real brain", benchTracts, benchTractsOptions},
-      {"overlay", "the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection",
-       benchOverlay, benchOverlayOptions},
-      {"view", "the viewer's frame times and FA-sweep latency, headless", benchView, benchViewOptions},
-      {"check", "the orientation check on the real DWI against MRtrix dwigradcheck (when on the PATH)", benchCheck, benchCheckOptions},
-      {"bids", "seconds per participant of `dtfabric bids` on the real DWI; the group report for 300 rows", benchBids, benchBidsOptions},
-  };
-  return list;
-}
 
 int cmdBench(const CommandArgs& args) {
   std::string names;

@@ -9,7 +9,7 @@
 // and for llvmpipe (LP_NUM_THREADS), so N jobs never ask for more threads than the machine has cores. A
 // worker dies with its parent (PR_SET_PDEATHSIG): a killed run leaves no workers behind.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/bids_participant.h"
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"

@@ -1,7 +1,7 @@
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
 // surfaces/analyses/orientation_check.h and app/check_run.h).
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/check_run.h"
 #include "ui/session/fibre_input.h"
 #include "io/formats/atomic_file.h"
@@ -140,26 +140,24 @@ const OptionTable& checkOptions() {
         "  inconclusive  too little white matter or too small a margin to say\n"
         "The thresholds are printed with every result.";
     t.options = {
-        O::text("bval", "F",
-                "the gradient table (FSL, with --bvec; bvec 3xN or Nx3, frame: voxel axes, x negated when "
-                "det(affine) > 0). Every diffusion-weighted direction must be a unit vector"),
-        O::text("bvec", "F", "the gradient directions beside --bval"),
-        O::text("mask", "M", "fit and score only inside M (same grid); default: the fit's automatic mask"),
-        O::text("layout", "L",
-                "layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets (mrtrix-peaks, "
-                "dipy-peaks, bedpostx)",
-                "auto"),
-        O::text("tensor", "F", "fibre sets: a tensor on the same grid whose FA selects the white matter"),
+        bvalOption().alsoSays("; bvec 3xN or Nx3, frame: voxel axes, x negated when det(affine) > 0. Every "
+                              "diffusion-weighted direction must be a unit vector"),
+        bvecOption(),
+        fitMaskOption().alsoSays(", and score only there; default: the fit's automatic mask"),
+        layoutOption(LayoutNames::TensorOrFibre),
+        pairedTensorOption("the FA that selects the white matter"),
         O::flag("json",
                 "one JSON object: verdict, correction (M, 3x3 row-major), score_given, score_best, margin, "
                 "candidates (matrix, score), mask and white-matter voxel counts, the white-matter rule, "
                 "thresholds; tensor files and fibre sets: the layout and why"),
-        O::text("sheet", "OUT.png",
-                "contact sheet: the fabric on the axial slice through the callosal body, the coronal slice "
-                "through the corticospinal tracts and the midline sagittal slice (radiological), for the given "
-                "table and the two best others, labelled with transform and score (DWIs and tensor files; not "
-                "drawn for fibre sets)"),
-        O::integer("sheet-size", "PX", 320, closedRange(64, 2048), "edge of each contact-sheet panel in pixels")
+        O::text(
+            "sheet", "OUT.png",
+            "contact sheet: the fabric on the axial slice through the callosal body, the coronal slice "
+            "through the corticospinal tracts and the midline sagittal slice (radiological), for the given "
+            "table and the two best others, labelled with transform and score (DWIs and tensor files; not "
+            "drawn for fibre sets)"),
+        O::integer("sheet-size", "PX", 320, closedRange(64, 2048),
+                   "edge of each contact-sheet panel in pixels")
             .hidden(),
         O::text("fix-bvec", "OUT.bvec",
                 "write the corrected FSL table (DWI only; refused when inconclusive unless --force)"),

@@ -1,6 +1,6 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "surfaces/analyses/agreement.h"
@@ -92,20 +92,14 @@ const OptionTable& compareOptions() {
             .required(),
         O::number("near", "MM", ao.nearMm, atLeast(0), "distance from the surface"),
         O::integer("bins", "N", ao.bins, closedRange(1, 90), "histogram bins over 0..90 deg"),
-        O::text("layout", "L",
-                "layout override: tensor files (fsl, mrtrix, symmatrix, dtitk) or fibre sets (mrtrix-peaks, "
-                "dipy-peaks, bedpostx)",
-                "auto")
+        layoutOption(LayoutNames::TensorOrFibre).hidden(),
+        pairedTensorOption("the surface's FA (fa= surfaces) and fibre= surfaces").hidden(),
+        O::number(
+            "fibre-threshold", "T", ao.fibreThreshold, closedRange(0, 0.999),
+            "fibre sets: drop populations below T x their voxel's strongest (as `render --fibre-threshold`)")
             .hidden(),
-        O::text("tensor", "F",
-                "fibre sets: a tensor volume on the same grid for the surface's FA (fa= surfaces) and fibre= "
-                "surfaces")
-            .hidden(),
-        O::number("fibre-threshold", "T", ao.fibreThreshold, closedRange(0, 0.999),
-                  "fibre sets: drop populations below T x their voxel's strongest (as `render --fibre-threshold`)")
-            .hidden(),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        bvalOption().hidden(),
+        bvecOption().hidden(),
         O::flag("json", "{points, mean_deg, median_deg, frac_below_15, histogram: [...], bin_deg, ...}"),
     };
     return t;

@@ -3,7 +3,7 @@
 // dropped). .trk and .trx need a reference space: the source's own header when it has one, else
 // --reference (a NIfTI image, or a .trk/.trx whose header is used).
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"

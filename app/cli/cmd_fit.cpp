@@ -1,6 +1,6 @@
 // `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/diffusion/dwi.h and io/formats/tensor_io.h.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/formats/atomic_file.h"
 #include "io/diffusion/dwi.h"
 #include "io/formats/formats.h"
@@ -68,17 +68,16 @@ const OptionTable& fitOptions() {
     t.maxPositionals = 1;
     t.intro = "Fits a diffusion tensor per voxel (log-linear model; WLS = DIPY's two-step weighted fit).";
     t.options = {
-        O::text("bval", "F",
-                "gradient table (FSL format; with --bvec, 3xN or Nx3). Default: the DWI path with .nii/.nii.gz "
-                "replaced by .bval/.bvec; not needed for an MRtrix DWI with a dw_scheme or a DSI Studio .src.gz "
-                "(their own tables are used)"),
-        O::text("bvec", "F", "the gradient directions beside --bval"),
-        O::text("mask", "M",
-                "fit only where M is non-zero (same grid as the DWI); default: an automatic, approximate mask "
-                "(Otsu on the mean b=0 image)"),
-        O::text("output", "OUT",
-                "output tensor volume, mm^2/s: .nii[.gz], .mif/.mif.gz (MRtrix image in MRtrix's convention), "
-                ".mih or .nrrd (teem tensor NRRD in RAS space)")
+        bvalOption().alsoSays(
+            "; bvec 3xN or Nx3. Default: the DWI path with .nii/.nii.gz replaced by "
+            ".bval/.bvec; not needed for an MRtrix DWI with a dw_scheme or a DSI Studio .src.gz "
+            "(their own tables are used)"),
+        bvecOption(),
+        fitMaskOption().alsoSays("; default: an automatic, approximate mask (Otsu on the mean b=0 image)"),
+        O::text(
+            "output", "OUT",
+            "output tensor volume, mm^2/s: .nii[.gz], .mif/.mif.gz (MRtrix image in MRtrix's convention), "
+            ".mih or .nrrd (teem tensor NRRD in RAS space)")
             .required(),
         O::choice("layout", "L", {"fsl", "mrtrix", "symmatrix", "dtitk"}, "fsl",
                   "on-disk layout of OUT (fsl: xx xy xz yy yz zz in the bvec frame)"),

@@ -1,9 +1,9 @@
 // `dtfabric info`: describes a NIfTI volume the way the readers see it (header facts, chosen affine,
 // detected tensor layout and why, value ranges, NaN/non-positive counts, FA statistics) or one voxel's
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/formats/tensor_io.h"
@@ -528,11 +528,9 @@ const OptionTable& infoOptions() {
         "detected (or named with --layout mrtrix-peaks|dipy-peaks|bedpostx); --voxel then lists the voxel's fibres\n"
         "(unit world RAS directions with amplitudes, strongest first; JSON key \"fibres\").";
     t.options = {
-        O::text("layout", "L",
-                "tensor layout: auto, fsl, mrtrix, symmatrix, dtitk (anything but auto reads FILE as tensors and "
-                "fails when it is not a tensor volume), or a fibre-set layout: mrtrix-peaks, dipy-peaks, bedpostx",
-                "auto"),
-        O::text("tensor", "F", "pair a tensor volume with a fibre set (its FA and eigenvectors are shown beside)"),
+        layoutOption(LayoutNames::TensorOrFibre)
+            .alsoSays("; a tensor layout reads FILE as tensors and fails when it is not a tensor volume"),
+        pairedTensorOption("its FA and eigenvectors, shown beside the fibres"),
         O::flag("json", "print one JSON object instead of text"),
         O::text("voxel", "I,J,K",
                 "one voxel (0-based): world position, world tensor, eigenvalues (descending, mm^2/s), "

@@ -1,7 +1,7 @@
 // `dtfabric phantom`: writes an analytic tensor field (io/phantoms.h) in a chosen on-disk layout, and
 // optionally its scalar field, so every later stage can be run on input with a known answer.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/formats/fibre_io.h"
 #include "io/phantoms.h"

@@ -1,7 +1,7 @@
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
-#include "app/cli/args.h"
+#include "app/command/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
@@ -134,25 +134,21 @@ std::vector<CliOption> backgroundAndTractRows(const session::RenderRequest& d) {
   };
 }
 
-std::vector<CliOption> inputRows(const session::RenderRequest& d) {
-  using O = CliOption;
+// The input rows (app/command/options.h); the layout's default, auto, is RenderRequest's.
+std::vector<CliOption> inputRows() {
   return {
-      O::text("layout", "L",
-              "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
-              "dipy-peaks, bedpostx)",
-              d.layout)
+      layoutOption(LayoutNames::TensorOrFibre)
           .hidden()
           .under(
               "Input (INPUT may also be a fibre set: MRtrix sh2peaks or DIPY peaks file, FSL bedpostx folder "
               "or dyadsN file,\nDSI Studio .fib.gz, FSL dtifit set with V1 but no L1-L3; the last two bring "
               "their own FA)"),
-      O::text(
-          "tensor", "F",
-          "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, FA modulation, --background "
-          "fa|md); without it (or the file's own FA) those are refused"),
-      O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
-      O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
-      O::text("mask", "F", "DWI fit mask").hidden(),
+      pairedTensorOption(
+          "FA (fa= surfaces, FA modulation, --background fa|md); without it (or the file's own "
+          "FA) those are refused"),
+      bvalOption().hidden(),
+      bvecOption().hidden(),
+      fitMaskOption().hidden(),
   };
 }
 
@@ -168,7 +164,7 @@ const OptionTable& renderOptions() {
     t.intro = kIntro;
     t.epilogue = kViews;
     for (const auto& part :
-         {outputSurfaceAndViewRows(d), fabricRows(), backgroundAndTractRows(d), inputRows(d)})
+         {outputSurfaceAndViewRows(d), fabricRows(), backgroundAndTractRows(d), inputRows()})
       t.options.insert(t.options.end(), part.begin(), part.end());
     return t;
   }();

@@ -1,5 +1,5 @@
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "io/formats/atomic_file.h"
@@ -72,16 +72,16 @@ const OptionTable& surfaceOptions() {
             .hidden()
             .under("SURFACE is one of"),
         O::text("fa", "T", "FA isosurface at T (same as --surface fa=T)").hidden(),
-        O::text("slice", "AXIS[:I]", "axial|coronal|sagittal slice I (default the middle), clipped to the data")
+        O::text("slice", "AXIS[:I]",
+                "axial|coronal|sagittal slice I (default the middle), clipped to the data")
             .hidden(),
-        O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)").hidden(),
+        O::text("fibre-surface", "X0,Y0,Z0:X1,Y1,Z1", "stream surface of e1 seeded on a line (world mm)")
+            .hidden(),
         O::text("fibre-surface-voxel", "I0,J0,K0:I1,J1,K1", "the same in voxel indices").hidden(),
         O::text("output", "MESH", "the mesh to write: .ply, .vtp or .obj").hidden().under("Options"),
-        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
-            .checkedBy(checkTensorLayout)
-            .hidden(),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        layoutOption(LayoutNames::Tensor).hidden(),
+        bvalOption().hidden(),
+        bvecOption().hidden(),
         O::number("smooth", "SIGMA", bo.smoothSigmaVoxels, atLeast(0),
                   "FA isosurface pre-smoothing in voxels (0 = none)")
             .hidden(),
@@ -89,13 +89,17 @@ const OptionTable& surfaceOptions() {
                   "drop components smaller than F x the largest")
             .hidden(),
         O::number("step", "MM", bo.fibreStepMm, above(0), "fibre surfaces: tracing step").hidden(),
-        O::number("length", "MM", bo.fibreLengthMm, above(0), "fibre surfaces: length of each traced line").hidden(),
-        O::number("fa-stop", "F", bo.fibreFaStop, closedRange(0, 1), "fibre surfaces: stop below this FA").hidden(),
-        O::number("seed-spacing", "MM", bo.fibreSeedSpacingMm, above(0), "fibre surfaces: seed spacing on the line")
+        O::number("length", "MM", bo.fibreLengthMm, above(0), "fibre surfaces: length of each traced line")
             .hidden(),
-        O::text("from", "AXIS",
-                "fibre surfaces: the flat slice to compare with (default: the axis plane that best contains the "
-                "seed line)")
+        O::number("fa-stop", "F", bo.fibreFaStop, closedRange(0, 1), "fibre surfaces: stop below this FA")
+            .hidden(),
+        O::number("seed-spacing", "MM", bo.fibreSeedSpacingMm, above(0),
+                  "fibre surfaces: seed spacing on the line")
+            .hidden(),
+        O::text(
+            "from", "AXIS",
+            "fibre surfaces: the flat slice to compare with (default: the axis plane that best contains the "
+            "seed line)")
             .hidden(),
         O::flag("check", "report self-intersections (CGAL); always done for fibre surfaces").hidden(),
         O::flag("repair", "remove self-intersecting triangles before writing").hidden(),

@@ -1,6 +1,6 @@
 // `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file format.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_job.h"
@@ -69,12 +69,9 @@ std::vector<CliOption> trackingRows(const session::TrackRequest& d) {
                  "random seed; the output depends only on it, not on --threads")
           .hidden(),
       O::integer("threads", "T", to.threads, atLeast(0), "worker threads").defaultSays("all cores").hidden(),
-      O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
-          .checkedBy(checkTensorLayout)
-          .hidden()
-          .under("Other"),
-      O::text("bval", "F", "treat INPUT as a DWI and fit tensors (with --bvec)").hidden(),
-      O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+      layoutOption(LayoutNames::Tensor).hidden().under("Other"),
+      bvalOption().hidden(),
+      bvecOption().hidden(),
       O::flag("force", "overwrite an existing output").hidden(),
       O::flag("json", "print the report as one JSON object").hidden(),
   };

@@ -2,7 +2,7 @@
 // streamline and point counts, length statistics, per-streamline/per-point data with their shapes and
 // ranges, and groups. Text for people, --json for scripts.
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/options.h"
 #include "io/model/error.h"
 #include "ui/session/tract_files.h"
 

@@ -1,7 +1,7 @@
 // `dtfabric view`: checks the arguments and the script before a window opens, then runs the viewer.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
 #include "io/formats/fibre_io.h"
@@ -51,15 +51,8 @@ const OptionTable& viewOptions() {
                 "first surface: fa=T | slice=AXIS[:I] | plane=... | fibre=... | iso=FILE:V | mesh=FILE")
             .defaultSays("the FA 0.25 isosurface")
             .hidden(),
-        O::text("layout", "L",
-                "tensor layout override (fsl, mrtrix, symmatrix, dtitk) or fibre layout (mrtrix-peaks, "
-                "dipy-peaks, bedpostx)",
-                d.layout)
-            .hidden(),
-        O::text(
-            "tensor", "F",
-            "fibre sets: a tensor volume on the same grid for FA (fa= surfaces, the split's tensor colours "
-            "beside the fibres)"),
+        layoutOption(LayoutNames::TensorOrFibre).hidden(),
+        pairedTensorOption("FA (fa= surfaces, the split's tensor colours beside the fibres)"),
         O::text("size", "WxH", "window size in pixels, 320x240 to 8192x8192",
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)

@@ -1,29 +1,17 @@
-// The dtfabric subcommands. Each takes the arguments after its name and returns the process exit code:
-// 0 ok, 1 usage, 2 bad input, 3 GL/render failure. Errors are thrown as dtf::Error subclasses and mapped
-// to exit codes in cli.cpp.
+// The dtfabric subcommands. Each takes the arguments after its name and returns the process exit code
+// (app/command/command.h).
 //
 // A new command is one entry in commands() (cli.cpp) and its file app/cli/cmd_NAME.cpp with
 // `int cmdName(const CommandArgs&)` declared here; `dtfabric --help`, `dtfabric help --markdown` (the
 // README's command table) and the test that checks them follow from the entry.
 #pragma once
 
+#include "app/command/command.h"
+
 #include <string>
 #include <vector>
 
 namespace dtf::app {
-
-using CommandArgs = std::vector<std::string>;
-struct OptionTable; // app/cli/options.h
-
-struct Command {
-  const char* name;
-  const char* synopsis;    // the arguments after the name, as the README's table shows them (nullptr: from
-                           // the option table)
-  const char* summary;     // one line for `dtfabric --help`
-  const char* description; // the README's table
-  int (*run)(const CommandArgs& args);
-  const OptionTable& (*options)() = nullptr; // its flags, defaults, ranges and --help (nullptr: not yet)
-};
 
 int cmdInfo(const CommandArgs& args);
 int cmdFit(const CommandArgs& args);
@@ -41,7 +29,7 @@ int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
 int cmdBids(const CommandArgs& args);
 
-// The option tables of the commands (app/cli/options.h), each in its command's file.
+// The option tables of the commands (app/command/options.h), each in its command's file.
 const OptionTable& infoOptions();
 const OptionTable& tractInfoOptions();
 const OptionTable& fitOptions();

@@ -23,7 +23,21 @@ struct ProgramCase {
   std::span<const BindingName> bindings;
   std::vector<const char*> uniforms;
   std::vector<std::vector<std::string>> variants; // each compiled with the bindings' defines added
+  std::string geometry = {};                      // a geometry stage between them ("" none)
 };
+
+// The program's stages as ShaderProgram takes them.
+std::vector<std::pair<GLenum, std::string>> stagesOf(const ProgramCase& c) {
+  std::vector<std::pair<GLenum, std::string>> stages = {{GL_VERTEX_SHADER, c.vertex}};
+  if (!c.geometry.empty()) stages.emplace_back(GL_GEOMETRY_SHADER, c.geometry);
+  stages.emplace_back(GL_FRAGMENT_SHADER, c.fragment);
+  return stages;
+}
+
+ProgramCase withGeometry(ProgramCase c, std::string geometry) {
+  c.geometry = std::move(geometry);
+  return c;
+}
 
 template <class Program>
 ProgramCase makeCase(std::string name, std::string vertex, std::string fragment,
@@ -45,9 +59,10 @@ std::vector<ProgramCase> allPrograms() {
           uniformNames<CompositeProgram::Uniform>()),
       makeCase<SilhouetteProgram>("silhouette", "common/fullscreen.vert", "fabric/silhouette.frag",
                                   {{}, {"FAR_PLANE"}}, uniformNames<SilhouetteProgram::Uniform>()),
-      makeCase<ProjectionProgram>("projection", "common/deferred.vert", "fabric/projection.frag",
-                                  {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND"}, {"NOISE_BLEND", "BACKGROUND", "FIBRES"}},
-                                  uniformNames<ProjectionProgram::Uniform>()),
+      makeCase<ProjectionProgram>(
+          "projection", "common/deferred.vert", "fabric/projection.frag",
+          {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND"}, {"NOISE_BLEND", "BACKGROUND", "FIBRES"}},
+          uniformNames<ProjectionProgram::Uniform>()),
       makeCase<GeometryProgram>("geometry", "fabric/geometry.vert", "fabric/geometry.frag", {{}},
                                 uniformNames<GeometryProgram::Uniform>()),
       makeCase<HostImportProgram>("host import", "common/deferred.vert", "fabric/host_import.frag", {{}},
@@ -55,6 +70,9 @@ std::vector<ProgramCase> allPrograms() {
       makeCase<PhongProgram>("phong", "fabric/phong.vert", "fabric/phong.frag", {{}},
                              uniformNames<PhongProgram::Uniform>()),
       makeCase<TractLayerProgram>("tract layer", "common/fullscreen.vert", "tracts/layer.frag", {{}}),
+      withGeometry(makeCase<TractLinesProgram>("tract lines", "tracts/lines.vert", "tracts/lines.frag", {{}},
+                                               uniformNames<TractLinesProgram::Uniform>()),
+                   "tracts/lines.geom"),
   };
 }
 
@@ -88,7 +106,7 @@ TEST_F(ProgramBindings, TheGlReportsTheNamedBindingsAndEveryNamedUniformExists) 
     for (const auto& variant : c.variants) {
       std::vector<std::string> defines = bindingDefines({c.bindings});
       defines.insert(defines.end(), variant.begin(), variant.end());
-      ShaderProgram p(c.vertex, c.fragment, defines, c.uniforms);
+      ShaderProgram p(stagesOf(c), defines, c.uniforms);
       for (const BindingName& b : c.bindings) {
         const GLint reported = reportedBinding(p.id(), b.uniform);
         if (reported < 0) continue; // not used by this variant
@@ -117,7 +135,7 @@ TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
   for (const ProgramCase& c : allPrograms()) {
     if (c.bindings.empty()) continue;
     try {
-      ShaderProgram p(c.vertex, c.fragment, c.variants.front());
+      ShaderProgram p(stagesOf(c), c.variants.front());
       ADD_FAILURE() << c.name << " compiled without its binding defines";
     } catch (const GlError& e) {
       const std::string msg = e.what();

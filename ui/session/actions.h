@@ -5,7 +5,7 @@
 #pragma once
 
 #include "render/camera.h"
-#include "render/fabric_renderer.h"
+#include "render/fabric_params.h"
 
 #include <glm/glm.hpp>
 #include <optional>

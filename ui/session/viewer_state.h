@@ -5,7 +5,7 @@
 
 #include "io/model/fibre_set.h"
 #include "render/camera.h"
-#include "render/fabric_renderer.h"
+#include "render/fabric_params.h"
 #include "ui/session/actions.h"
 
 #include <array>

@@ -3,15 +3,15 @@
 // usage line list, and what its code reads; README.md's tables are exactly `dtfabric help --markdown`.
 #include "app/bench/bench.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
-#include "io/model/error.h"
+#include "app/command/options.h"
 #include "app/viewer/view_script.h"
+#include "io/model/error.h"
 #include "render/fabric_options.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
 #include <cmath>
+#include <gtest/gtest.h>
 #include <regex>
 #include <set>
 #include <sstream>

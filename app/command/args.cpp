@@ -1,4 +1,4 @@
-#include "app/cli/args.h"
+#include "app/command/args.h"
 
 #include "io/model/error.h"
 
@@ -37,7 +37,8 @@ void parseTriple(const std::string& text, int out[3]) {
     }
     ++n;
   }
-  if (n != 3 || ss.rdbuf()->in_avail() > 0) throw UsageError("expected three integers I,J,K, got '" + text + "'");
+  if (n != 3 || ss.rdbuf()->in_avail() > 0)
+    throw UsageError("expected three integers I,J,K, got '" + text + "'");
 }
 
 } // namespace dtf::app

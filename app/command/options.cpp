@@ -1,8 +1,9 @@
-#include "app/cli/options.h"
+#include "app/command/options.h"
 
-#include "app/cli/args.h"
-#include "io/model/error.h"
+#include "app/command/args.h"
+#include "io/formats/fibre_io.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/error.h"
 #include "render/fabric_options.h"
 
 #include <algorithm>
@@ -181,6 +182,10 @@ CliOption CliOption::noDefault() && {
 }
 CliOption CliOption::measuredIn(std::string u) && {
   unit = std::move(u);
+  return std::move(*this);
+}
+CliOption CliOption::alsoSays(const std::string& more) && {
+  help += more;
   return std::move(*this);
 }
 
@@ -499,6 +504,42 @@ void checkSize(const std::string& value) {
 void checkTriple(const std::string& value) {
   int ijk[3];
   parseTriple(value, ijk);
+}
+
+std::string layoutNamesText(LayoutNames which) {
+  std::string s;
+  for (auto l : {io::TensorLayout::Fsl, io::TensorLayout::Mrtrix, io::TensorLayout::Symmatrix,
+                 io::TensorLayout::Dtitk})
+    s += (s.empty() ? "" : ", ") + std::string(io::layoutName(l));
+  if (which == LayoutNames::Tensor) return s;
+  std::string f;
+  for (auto l : {io::FibreLayout::MrtrixPeaks, io::FibreLayout::DipyPeaks, io::FibreLayout::Bedpostx})
+    f += (f.empty() ? "" : ", ") + std::string(io::fibreLayoutName(l));
+  return "tensor files (" + s + ") or fibre sets (" + f + ")";
+}
+
+CliOption layoutOption(LayoutNames which) {
+  if (which == LayoutNames::Tensor)
+    return CliOption::text("layout", "L", "tensor layout override (" + layoutNamesText(which) + ")", "auto")
+        .checkedBy(checkTensorLayout);
+  return CliOption::text("layout", "L", "layout override: " + layoutNamesText(which), "auto");
+}
+
+CliOption bvalOption() {
+  return CliOption::text("bval", "F",
+                         "treat INPUT as a DWI and fit tensors (FSL gradient table, with --bvec)");
+}
+
+CliOption bvecOption() {
+  return CliOption::text("bvec", "F", "the DWI's gradient directions (with --bval)");
+}
+
+CliOption fitMaskOption() {
+  return CliOption::text("mask", "M", "fit only where M is non-zero (same grid as the DWI)");
+}
+
+CliOption pairedTensorOption(const std::string& forWhat) {
+  return CliOption::text("tensor", "F", "fibre sets: a tensor volume on the same grid for " + forWhat);
 }
 
 } // namespace dtf::app

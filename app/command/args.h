@@ -1,4 +1,4 @@
-// Value parsers the option tables (app/cli/options.h) share: sizes and index triples.
+// Value parsers the option tables (app/command/options.h) share: sizes and index triples.
 #pragma once
 
 #include <string>

@@ -8,7 +8,7 @@
 // the parser cannot disagree.
 #pragma once
 
-#include "app/cli/commands.h"
+#include "app/command/command.h"
 
 #include <limits>
 #include <optional>
@@ -67,6 +67,7 @@ struct CliOption {
   CliOption internalOnly() &&;
   CliOption noDefault() &&;
   CliOption measuredIn(std::string unit) &&;
+  CliOption alsoSays(const std::string& more) &&; // appended to the help: what a command adds to a shared row
 
   std::string written() const;    // "--near MM", "-o FILE", "--json"
   std::string switchName() const; // "--near", "-o"
@@ -86,8 +87,9 @@ struct OptionTable {
   std::string command;            // "compare", "bench view"
   std::string positionals;        // the usage line's positional part, "INPUT", "IN OUT" ("" none)
   std::size_t maxPositionals = 0; // more are an "unexpected argument"
-  static constexpr std::size_t kAnyNumber = std::numeric_limits<std::size_t>::max(); // maxPositionals: no limit
-  std::string intro;              // prose after the usage line
+  static constexpr std::size_t kAnyNumber =
+      std::numeric_limits<std::size_t>::max(); // maxPositionals: no limit
+  std::string intro;                           // prose after the usage line
   std::vector<CliOption> options;
   std::string epilogue;     // prose after the options ("" none)
   std::string synopsisTail; // appended to the synopsis ("[OPTIONS]" is added when options are hidden)
@@ -147,5 +149,15 @@ std::vector<CliOption> fabricCliOptions();
 void checkTensorLayout(const std::string& value); // io::parseLayout's names
 void checkSize(const std::string& value);         // "1024x768"
 void checkTriple(const std::string& value);       // "I,J,K"
+
+// The input rows the commands share, each declared once; a command adds what is particular to it with
+// `.alsoSays(...)`. The layout names come from io (io::layoutName, io::fibreLayoutName).
+enum class LayoutNames { Tensor, TensorOrFibre };
+std::string layoutNamesText(LayoutNames which); // "fsl, mrtrix, symmatrix, dtitk" (+ the fibre-set ones)
+CliOption layoutOption(LayoutNames which); // --layout L, default auto (Tensor: checked by io::parseLayout)
+CliOption bvalOption();                    // --bval F: INPUT is a DWI, its tensors are fitted
+CliOption bvecOption();                    // --bvec F
+CliOption fitMaskOption();                 // --mask M: where the DWI fit runs
+CliOption pairedTensorOption(const std::string& forWhat); // --tensor F beside a fibre set
 
 } // namespace dtf::app
