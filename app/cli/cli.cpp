@@ -1,5 +1,6 @@
 #include "app/bench/bench.h"
 #include "app/cli/commands.h"
+#include "app/cli/manual.h"
 #include "app/command/options.h"
 #include "app/viewer/view_script.h"
 #include "io/model/error.h"
@@ -8,6 +9,10 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+
+#ifndef DTF_VERSION
+#define DTF_VERSION "unknown"
+#endif
 
 namespace dtf::app {
 
@@ -86,13 +91,14 @@ const std::vector<Command>& commands() {
 }
 
 namespace {
-
 std::string joinedBenchNames() {
   std::string names;
   for (const auto& b : benchmarks())
     names += (names.empty() ? "" : ", ") + std::string(b.name);
   return names;
 }
+} // namespace
+
 std::string summaryOf(const Command& c) {
   return c.summary ? c.summary : "benchmarks: " + joinedBenchNames();
 }
@@ -112,6 +118,8 @@ std::string descriptionOf(const Command& c) {
   d.back() = '.';
   return d;
 }
+
+namespace {
 // A markdown table cell: '|' escaped.
 std::string cell(const std::string& text) {
   std::string out;
@@ -125,7 +133,7 @@ std::string cell(const std::string& text) {
 void printUsage() {
   std::printf("usage: dtfabric COMMAND [ARGS]\n\ncommands:\n");
   for (const auto& c : commands()) std::printf("  %-9s %s\n", c.name, summaryOf(c).c_str());
-  std::printf("\n`dtfabric COMMAND --help` describes each command.\n"
+  std::printf("\n`dtfabric COMMAND --help` describes each command; `dtfabric --version` prints the version.\n"
               "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.\n");
 }
 } // namespace
@@ -145,7 +153,12 @@ const OptionTable& helpOptions() {
     OptionTable t;
     t.command = "help";
     t.intro = "Lists the commands; `dtfabric COMMAND --help` describes each.";
-    t.options = {CliOption::flag("markdown", "the README's command and script tables (markdown)")};
+    t.options = {CliOption::flag("markdown", "the README's command and script tables (markdown)"),
+                 // What the build installs (app/cli/manual.h).
+                 CliOption::text("man", "NAME", "the roff source of man page NAME (dtfabric, dtfabric-render, ...)")
+                     .internalOnly(),
+                 CliOption::flag("man-pages", "the names of the man pages, one a line").internalOnly(),
+                 CliOption::flag("bash-completion", "the bash completion script").internalOnly()};
     return t;
   }();
   return table;
@@ -155,8 +168,16 @@ int cmdHelp(const CommandArgs& argv) {
   ParsedOptions args(helpOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
   const bool markdown = args.flag("markdown");
+  const auto man = args.get("man");
+  const bool manPages = args.flag("man-pages"), completion = args.flag("bash-completion");
   args.finish();
-  if (markdown)
+  if (man)
+    std::fputs(manPage(*man).c_str(), stdout);
+  else if (manPages)
+    for (const auto& name : manPageNames()) std::printf("%s\n", name.c_str());
+  else if (completion)
+    std::fputs(bashCompletion().c_str(), stdout);
+  else if (markdown)
     std::fputs(markdownTables().c_str(), stdout);
   else
     printUsage();
@@ -172,6 +193,10 @@ int runCli(int argc, char** argv) {
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
     printUsage();
     return argc < 2 ? 1 : 0;
+  }
+  if (!std::strcmp(argv[1], "--version")) {
+    std::printf("dtfabric %s\n", DTF_VERSION);
+    return 0;
   }
   std::string name = argv[1];
   CommandArgs rest(argv + 2, argv + argc);

@@ -46,6 +46,11 @@ const OptionTable& helpOptions();
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();
+// A command's one-line summary (`dtfabric --help`), its arguments after the name (usage line, README) and
+// its description (README, man page).
+std::string summaryOf(const Command& c);
+std::string synopsisOf(const Command& c);
+std::string descriptionOf(const Command& c);
 // The README's tables: commands, then the viewer's script commands (markdown).
 std::string markdownTables();
 // Entry point shared by main() and the CLI tests.

@@ -238,6 +238,19 @@ void CliOption::validate(const std::string& value) const {
   if (check) check(value);
 }
 
+std::string CliOption::fullHelp() const {
+  std::string facts;
+  if (!defaultNote.empty())
+    facts = "default " + defaultNote;
+  else if (!defaultValue.empty())
+    facts = "default " + defaultValue;
+  if ((kind == Kind::Number || kind == Kind::Integer) && !range.text().empty())
+    facts += (facts.empty() ? "" : "; ") + rangeText();
+  if (kind == Kind::Choice && help.find(choices.front()) == std::string::npos)
+    facts = joined(choices, ", ", " or ") + (facts.empty() ? "" : "; " + facts);
+  return facts.empty() ? help : help + " (" + facts + ")";
+}
+
 // ---- tables ----
 
 const CliOption* OptionTable::find(const std::string& name) const {
@@ -297,18 +310,7 @@ std::string OptionTable::help() const {
     }
     std::string line = "  " + o.written();
     line.resize(std::max(line.size() + 2, column), ' ');
-    std::string help = o.help;
-    std::string facts;
-    if (!o.defaultNote.empty())
-      facts = "default " + o.defaultNote;
-    else if (!o.defaultValue.empty())
-      facts = "default " + o.defaultValue;
-    if ((o.kind == CliOption::Kind::Number || o.kind == CliOption::Kind::Integer) && !o.range.text().empty())
-      facts += (facts.empty() ? "" : "; ") + o.rangeText();
-    if (o.kind == CliOption::Kind::Choice && help.find(o.choices.front()) == std::string::npos)
-      facts = joined(o.choices, ", ", " or ") + (facts.empty() ? "" : "; " + facts);
-    if (!facts.empty()) help += " (" + facts + ")";
-    out += line + wrapped(help, line.size(), column, kWidth) + "\n";
+    out += line + wrapped(o.fullHelp(), line.size(), column, kWidth) + "\n";
   }
   if (!epilogue.empty()) out += "\n" + epilogue + (epilogue.back() == '\n' ? "" : "\n");
   return out;

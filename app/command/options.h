@@ -75,6 +75,8 @@ struct CliOption {
   void validate(const std::string& value) const;
   // "[0, 1000] mm", "in [0, 1000] mm" (inRange: as the range error says it), ">= 0".
   std::string rangeText(bool inRange = false) const;
+  // The help with the default, range and choices appended, as --help and the man pages print it.
+  std::string fullHelp() const;
 };
 
 // Ranges for the builders.
