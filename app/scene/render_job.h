@@ -13,6 +13,7 @@
 #include "io/model/tensor_field.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
+#include "render/figure_furniture.h"
 
 #include <optional>
 #include <string>
@@ -48,6 +49,10 @@ struct RenderRequest {
   TractColouring colouring;
   double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;
   SplitMode split;
+  int supersample = 1;               // render at N x the size and box-filter down (1..4); the noise cell,
+                                     // advection step, silhouette and tract widths scale with N, so the
+                                     // fabric is the same one, anti-aliased
+  render::FigureFurniture furniture; // orientation letters, legend, scale bar (per pane)
   std::string output = "the image"; // what GL errors name
 };
 

@@ -7,3 +7,4 @@ dtf_test(test_fibre_surface SOURCES surfaces/fibre_surface_test.cpp LIBS dtf_sur
 dtf_test(test_mesh_checks SOURCES surfaces/mesh_checks_test.cpp LIBS dtf_surfaces dtf_model)
 dtf_test(test_tract_tracking SOURCES surfaces/tract_tracking_test.cpp LIBS dtf_surfaces dtf_io dtf_model)
 dtf_test(test_tract_agreement SOURCES surfaces/tract_agreement_test.cpp LIBS dtf_surfaces dtf_io dtf_model)
+dtf_test(test_isosurface_smoothing SOURCES surfaces/isosurface_smoothing_test.cpp LIBS dtf_surfaces dtf_model)

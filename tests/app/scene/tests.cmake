@@ -9,3 +9,5 @@ dtf_test(test_tract_io SOURCES app/scene/tract_io_test.cpp LIBS dtf_scene dtf_su
 dtf_test(test_coalescing_worker SOURCES app/scene/coalescing_worker_test.cpp LIBS dtf_model)
 dtf_test(test_tract_overlay_rule SOURCES app/scene/tract_overlay_rule_test.cpp LIBS dtf_scene)
 dtf_test(test_viewer_session SOURCES app/scene/viewer_session_test.cpp LIBS dtf_scene)
+dtf_test(test_smooth_edge SOURCES app/scene/smooth_edge_gl_test.cpp LIBS dtf_scene dtf_render dtf_io dtf_model)
+dtf_test(test_supersample SOURCES app/scene/supersample_gl_test.cpp LIBS dtf_scene dtf_render dtf_io dtf_model)
