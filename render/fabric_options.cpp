@@ -52,10 +52,11 @@ const std::vector<FabricOption> kOptions = {
     {"look", "", "LOOK",
      "anatomy (the fabric's opacity follows FA over a grey background: --background, a DWI's mean b=0, "
      "else FA; isotropic tissue shows the anatomy) | plain (the paper's look: the fabric wherever there is "
-     "tensor data)",
-     K::Choice, closed(0, 1), none(), "look", nullptr, false,
-     [](const FabricParams& p) { return p.look == Look::Anatomy ? 0.0 : 1.0; },
-     [](FabricParams& p, double v) { p.look = v == 0 ? Look::Anatomy : Look::Plain; }, "anatomy plain"},
+     "tensor data) | dec-fa (no fabric: the classic DEC-FA map, |e1| x FA, medical colour, for comparison)",
+     K::Choice, closed(0, 2), none(), "look", nullptr, false,
+     [](const FabricParams& p) { return p.look == Look::Anatomy ? 0.0 : p.look == Look::Plain ? 1.0 : 2.0; },
+     [](FabricParams& p, double v) { p.look = v == 0 ? Look::Anatomy : v == 1 ? Look::Plain : Look::DecFa; },
+     "anatomy plain dec-fa"},
     {"opacity-fa-low", "", "F",
      "anatomy look: FA below which the fabric is transparent (opacity smoothstep(F, opacity-fa-high, FA))",
      K::Number, closed(0, 1), closed(0, 1), "opacity from FA", "%.2f", false, DTF_FIELD(opacityFaLow, float)},

@@ -13,8 +13,9 @@ enum class ColourMode { Medical, Engineering, Fibres };
 
 // Anatomy: the fabric's opacity follows FA (FabricParams::opacityFa*) over a grey background (a background
 // volume when one is set, else FA), so isotropic tissue shows the anatomy. Plain: the paper's look, the
-// fabric on every point with tensor data.
-enum class Look { Anatomy, Plain };
+// fabric on every point with tensor data. DecFa: no fabric, the classic DEC-FA map (|e1| x FA; medical colour
+// only), for comparison.
+enum class Look { Anatomy, Plain, DecFa };
 
 struct FabricParams {
   double lod = 0; // l of Eq. 7 in mm; 0 = auto: one noise tile spans autoLodPixels pixels (follows

@@ -43,7 +43,7 @@ struct CompositeProgram {
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Anatomy, OpacityFa, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Anatomy, OpacityFa, DecFa, Count
   };
 };
 
@@ -147,6 +147,7 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::SecondaryFa: return "u_secondaryFa";
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
   case U::Anatomy: return "u_anatomy";
+  case U::DecFa: return "u_decFa";
   case U::OpacityFa: return "u_opacityFa";
   case U::Count: break;
   }

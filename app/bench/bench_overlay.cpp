@@ -1,5 +1,5 @@
 // `dtfabric bench overlay`: the tract overlay (render/tract_renderer.h, render/tract_layer.h) over a finished
-// fabric, and the near-surface selection (surfaces/near_surface.h).
+// fabric, and the near-surface selection (surfaces/analyses/near_surface.h).
 //   draw:      ms of one full draw (every display point): the real brain's axial slice 22 with 2000 tracts of
 //              the shared deterministic tractogram (all, and the default 3 mm slab), and a synthetic
 //              tractogram of 1M points over a plane. GPU time from GL_TIME_ELAPSED, wall time with glFinish.
@@ -10,18 +10,18 @@
 //              1M-point tractogram against a sphere of 36k triangles: one exact query per point on one thread
 //              (the former method) against the bounded, prefiltered, threaded selection.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
 #include "app/cli/args.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tract_files.h"
+#include "app/cli/options.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <chrono>
@@ -256,16 +256,17 @@ int benchOverlay(const CommandArgs& argv) {
     if (std::filesystem::exists(tensor) && std::filesystem::exists(tck)) {
       const TensorField field = io::readTensorVolume(tensor.string()).field;
       const ScalarVolume fa = computeFaMap(field);
-      const Mesh slice = buildSurface(parseSurfaceSpec("slice=axial:22"), field, fa);
-      const Polylines all = readTracts(tck.string());
+      const Mesh slice = session::buildSurface(session::parseSurfaceSpec("slice=axial:22"), field, fa);
+      const Polylines all = session::readTracts(tck.string());
       Scene scene{&slice, &field, &all, {}, render::StandardView::Axial};
       tr.setTracts(all);
       draws.push_back(timeDraw("brain_slice22_2000_all", fabric, scene, tr, width, height, frames));
       scene.style.plane = surfaces::meshPlane(slice).value_or(glm::vec4(0, 0, 1, -slice.positions.front().z));
       scene.style.slabMm = 3.0f;
       draws.push_back(timeDraw("brain_slice22_2000_slab3", fabric, scene, tr, width, height, frames));
-      selections.push_back(timeSelection("brain_2000_vs_fa025", all,
-                                         buildSurface(parseSurfaceSpec("fa=0.25"), field, fa), reference));
+      selections.push_back(
+          timeSelection("brain_2000_vs_fa025", all,
+                        session::buildSurface(session::parseSurfaceSpec("fa=0.25"), field, fa), reference));
     }
   }
   Scene scene{&plane, &planeField, &synthetic, {}, render::StandardView::Superior};

@@ -8,13 +8,13 @@
 #include "app/bench/bench.h"
 #include "app/cli/args.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/embedding.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
+#include "ui/session/surface_spec.h"
 
 #include <algorithm>
 #include <chrono>
@@ -114,7 +114,7 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   c.name = "brain_fa025";
   c.field = io::readTensorVolume(path.string()).field;
   ScalarVolume fa = computeFaMap(c.field);
-  c.mesh = buildSurface(parseSurfaceSpec("fa=0.25"), c.field, fa);
+  c.mesh = session::buildSurface(session::parseSurfaceSpec("fa=0.25"), c.field, fa);
   return c;
 }
 
@@ -370,11 +370,11 @@ std::vector<LookResult> runLooks(render::FabricRenderer& r, const TensorField& f
                                  int frames) {
   std::vector<LookResult> out;
   const ScalarVolume fa = computeFaMap(field);
-  SurfaceBuildOptions lattice, smooth;
+  session::SurfaceBuildOptions lattice, smooth;
   smooth.dataEdgeCells = true;
-  const SurfaceSpec spec = parseSurfaceSpec("slice=axial");
-  const Mesh latticeMesh = buildSurface(spec, field, fa, lattice);
-  const Mesh smoothMesh = buildSurface(spec, field, fa, smooth);
+  const session::SurfaceSpec spec = session::parseSurfaceSpec("slice=axial");
+  const Mesh latticeMesh = session::buildSurface(spec, field, fa, lattice);
+  const Mesh smoothMesh = session::buildSurface(spec, field, fa, smooth);
   r.setField(field);
   glm::vec3 lo, hi;
   latticeMesh.bounds(lo, hi);

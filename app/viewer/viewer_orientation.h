@@ -1,14 +1,14 @@
 // The viewer's orientation check: when the scene's dataset changes (a DWI, tensor file or a new load), the
-// check (surfaces/orientation_check.h) runs on its own thread; its verdict is shown by
+// check (surfaces/analyses/orientation_check.h) runs on its own thread; its verdict is shown by
 // ui/orientation_banner.h over the scene; on request the contact sheet is rendered (on the GUI thread, with
 // the window's context) into a texture; "apply the correction" turns the scene's tensors in memory
 // (ViewerScene::replaceField). Kept apart from the window and the scene so either can change without touching
 // it.
 #pragma once
 
-#include "app/scene/check_run.h"
 #include "app/viewer/viewer.h"
-#include "ui/orientation_banner.h"
+#include "ui/panels/orientation_banner.h"
+#include "ui/session/check_run.h"
 
 #include <future>
 #include <memory>
@@ -35,13 +35,13 @@ public:
 
 private:
   struct Result {
-    std::shared_ptr<const ViewerDataset> data;
-    CheckRun run;
+    std::shared_ptr<const session::ViewerDataset> data;
+    session::CheckRun run;
     std::string error;
   };
   void renderSheet();
 
-  std::shared_ptr<const ViewerDataset> seen_; // the dataset the last check was started for
+  std::shared_ptr<const session::ViewerDataset> seen_; // the dataset the last check was started for
   std::future<Result> running_;
   std::optional<Result> result_;
   ui::OrientationBannerState banner_;

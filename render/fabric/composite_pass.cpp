@@ -39,6 +39,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set(U::SecondaryFa, s.secondaryFa);
   p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   p.set(U::Anatomy, s.anatomy ? 1 : 0);
+  p.set(U::DecFa, s.decFa ? 1 : 0);
   p.set(U::OpacityFa, s.opacityFa);
   p.use();
   bindTexture(Unit::P1, in.p1->id());

@@ -30,6 +30,7 @@ struct CompositeSettings {
   bool background = false;     // a grey background volume beneath the fabric (projection's lambda.z)
   bool anatomy = false;        // the anatomy look: the fabric's opacity follows FA over the grey beneath
   glm::vec2 opacityFa{0.15f, 0.4f}; // anatomy: smoothstep(x, y, FA)
+  bool decFa = false;          // medical: no fabric, the DEC-FA map |e1| x FA
   glm::ivec2 origin{0};        // the viewport's lower-left pixel in the framebuffer drawn into
   // The depth written is the projection's window depth (CompositeInputs::depth) as it is, depth-tested with
   // GL_LEQUAL against the framebuffer's depth (a host's framebuffer holding the same surface passes); else

@@ -187,6 +187,7 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
   cs.anatomy = p.look == Look::Anatomy;
+  cs.decFa = p.look == Look::DecFa;
   cs.opacityFa = {p.opacityFaLow, p.opacityFaHigh};
   cs.origin = origin;
   cs.windowDepth = windowDepth;

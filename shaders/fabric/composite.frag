@@ -52,6 +52,7 @@ uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which 
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
 uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
 uniform bool u_anatomy = false;        // the anatomy look
+uniform bool u_decFa = false;          // MEDICAL: no fabric, the DEC-FA map |e1| x FA (for comparison)
 uniform vec2 u_opacityFa = vec2(0.15, 0.4); // anatomy: FA at which the fabric starts to show, and is opaque
 
 out vec4 o_colour;
@@ -152,6 +153,7 @@ vec4 compose(ivec2 t, vec4 s) {
     float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
     c = mix(primary, mix(secondary, primary, onTop), w2);
     c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.y));
+    if (u_decFa) c = abs(eig.xyz) * fa;
   }
   vec4 under = beneath(lam, fa, c, cover);
   c = mix(under.rgb, c, cover * opacity(fa));

@@ -1,6 +1,6 @@
 // `.ci/demo` without a display: it fits the bundled real brain and writes its four figures, and they show
 // the anatomy they are captioned with.
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/figures.h"
 #include "support/test_env.h"
@@ -11,7 +11,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kFigures[] = {"axial_cc.png", "coronal_cst.png", "fa_left.png", "axial_cc_tracts.png"};
+const char* kFigures[] = {"axial_cc.png", "axial_cc_decfa.png", "coronal_cst.png", "fa_left.png",
+                           "axial_cc_tracts.png"};
 
 // Runs the demo's headless path with this build's executable (no package check, no build) into `out`.
 dtf::test::CliResult runDemo(const fs::path& out, const fs::path& scratch) {

@@ -4,7 +4,7 @@
 // headless (font atlas, no backend) with simulated clicks.
 #include "app/viewer/viewer.h"
 #include "app/viewer/viewer_orientation.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "support/gl_test.h"
 
 #include <chrono>
@@ -80,7 +80,7 @@ TEST_F(ViewerOrientationCheck, FlippedTableIsCorrectedInMemory) {
       os << "\n";
     }
   }
-  scene->apply(ui::LoadFile{(scratch / "dwi.nii.gz").string(), "auto"});
+  scene->apply(session::LoadFile{(scratch / "dwi.nii.gz").string(), "auto"});
   for (int i = 0; i < 3000 && !scene->settled(); ++i) {
     scene->update();
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
