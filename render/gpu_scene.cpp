@@ -131,7 +131,7 @@ void GpuTensorField::upload(const TensorField& field) {
   glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
   glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
   checkUploaded(d, 2 * a.size() * sizeof(float), "tensor field's");
-  // The edge field: the mask (b's .w) blurred along each axis by [1 2 1] / 4, zero outside the grid.
+  // The edge field: the mask (b's .w) blurred along each axis by [1 2 1] / 4.
   std::vector<float> e(n), tmp(n);
   for (std::size_t i = 0; i < n; ++i)
     e[i] = b[i * 4 + 3];
@@ -143,8 +143,9 @@ void GpuTensorField::upload(const TensorField& field) {
         for (int i = 0; i < d.x; ++i) {
           const std::size_t idx = static_cast<std::size_t>(i) + stride[1] * j + stride[2] * k;
           const int pos = axis == 0 ? i : axis == 1 ? j : k;
-          const float lo = pos > 0 ? e[idx - stride[axis]] : 0.0f;
-          const float hi = pos + 1 < len ? e[idx + stride[axis]] : 0.0f;
+          // Replicated at the grid's faces: data reaching the face stays data up to it, as the tensor textures.
+          const float lo = pos > 0 ? e[idx - stride[axis]] : e[idx];
+          const float hi = pos + 1 < len ? e[idx + stride[axis]] : e[idx];
           tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
         }
     e.swap(tmp);
@@ -154,9 +155,7 @@ void GpuTensorField::upload(const TensorField& field) {
   checkUploaded(d, e.size() * sizeof(float), "tensor field's edge");
   edge_.setFilter(GL_LINEAR, GL_LINEAR);
   for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-    glTextureParameteri(edge_.id(), wrap, GL_CLAMP_TO_BORDER);
-  const float zero[4] = {0, 0, 0, 0};
-  glTextureParameterfv(edge_.id(), GL_TEXTURE_BORDER_COLOR, zero);
+    glTextureParameteri(edge_.id(), wrap, GL_CLAMP_TO_EDGE);
   worldToTex_ = worldToTexture(field.grid);
 }
 
