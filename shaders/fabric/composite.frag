@@ -67,9 +67,12 @@ float opacity(float fa) {
 // What lies beneath the fabric (rgb) and the pixel's alpha: the background volume's grey (alpha 1: it covers
 // the whole surface), else in the anatomy look FA as grey, else the fabric itself; without a background
 // volume the alpha is the data's cover, so outside the data's edge the framebuffer shows.
-vec4 beneath(vec4 lam, float fa, vec3 fabric, float cover) {
+vec4 beneath(vec4 lam, float fa, vec3 fabric, float cover, float noiseP) {
 #ifdef BACKGROUND
   return vec4(vec3(lam.z), 1.0);
+#elif defined(WINDOW_DEPTH)
+  // A host's surface is drawn whole: outside the data, the grey noise of "no tensor here".
+  return cover > 0.0 ? vec4(u_anatomy ? vec3(fa) : fabric, 1.0) : vec4(vec3(0.45) * (0.6 + 0.4 * noiseP), 1.0);
 #else
   return vec4(u_anatomy ? vec3(fa) : fabric, cover);
 #endif
@@ -128,7 +131,7 @@ vec4 compose(ivec2 t, vec4 s) {
     if (last >= 1) c = mix(c, layerColour(b, fb, sat, bright), last == 1 ? 1.0 : cover(b, fb));
     c = mix(c, layerColour(a, fa0, sat, bright), last == 0 ? 1.0 : cover(a, fa0));
   }
-  vec4 under = beneath(lam, fa, c, dataCover);
+  vec4 under = beneath(lam, fa, c, dataCover, f0);
   c = mix(under.rgb, c, dataCover * opacity(fa));
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
@@ -155,7 +158,7 @@ vec4 compose(ivec2 t, vec4 s) {
     c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.y));
     if (u_decFa) c = abs(eig.xyz) * fa;
   }
-  vec4 under = beneath(lam, fa, c, cover);
+  vec4 under = beneath(lam, fa, c, cover, p1);
   c = mix(under.rgb, c, cover * opacity(fa));
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
@@ -169,7 +172,7 @@ vec4 compose(ivec2 t, vec4 s) {
   {
     vec4 lam = texelFetch(u_lambda, t, 0);
     float fa = texelFetch(u_eigen, t, 0).w;
-    vec4 under = beneath(lam, fa, c, lam.w);
+    vec4 under = beneath(lam, fa, c, lam.w, stretch(p.r));
     c = mix(under.rgb + e, c, lam.w * opacity(fa));
     alpha = under.a;
   }
