@@ -41,13 +41,27 @@ const std::vector<FabricOption> kOptions = {
      "medical (DEC colour of the principal direction modulated by FA) | engineering (paper Eq. 13) | fibres "
      "(fibre sets: each population in its own DEC colour, strongest on top; a tensor as its principal "
      "direction only)",
-     K::Colour, closed(0, 2), none(), "colour", nullptr, false,
+     K::Choice, closed(0, 2), none(), "colour", nullptr, false,
      [](const FabricParams& p) {
        return p.colour == ColourMode::Medical ? 0.0 : p.colour == ColourMode::Engineering ? 1.0 : 2.0;
      },
      [](FabricParams& p, double v) {
        p.colour = v == 0 ? ColourMode::Medical : v == 1 ? ColourMode::Engineering : ColourMode::Fibres;
-     }},
+     },
+     "medical engineering fibres"},
+    {"look", "", "LOOK",
+     "anatomy (the fabric's opacity follows FA over a grey background: --background, a DWI's mean b=0, "
+     "else FA; isotropic tissue shows the anatomy) | plain (the paper's look: the fabric wherever there is "
+     "tensor data) | dec-fa (no fabric: the classic DEC-FA map, |e1| x FA, medical colour, for comparison)",
+     K::Choice, closed(0, 2), none(), "look", nullptr, false,
+     [](const FabricParams& p) { return p.look == Look::Anatomy ? 0.0 : p.look == Look::Plain ? 1.0 : 2.0; },
+     [](FabricParams& p, double v) { p.look = v == 0 ? Look::Anatomy : v == 1 ? Look::Plain : Look::DecFa; },
+     "anatomy plain dec-fa"},
+    {"opacity-fa-low", "", "F",
+     "anatomy look: FA below which the fabric is transparent (opacity smoothstep(F, opacity-fa-high, FA))",
+     K::Number, closed(0, 1), closed(0, 1), "opacity from FA", "%.2f", false, DTF_FIELD(opacityFaLow, float)},
+    {"opacity-fa-high", "", "F", "anatomy look: FA from which the fabric is opaque", K::Number, closed(0, 1),
+     closed(0, 1), "opaque at FA", "%.2f", false, DTF_FIELD(opacityFaHigh, float)},
     {"fibre-threshold", "fiber-threshold", "T",
      "fibre sets: drop lobes below T times their voxel's strongest (relative amplitude threshold)", K::Number,
      R{0, 1, false, true}, none(), nullptr, nullptr, false, DTF_FIELD(fibreThreshold, float)},
@@ -111,11 +125,14 @@ double FabricOption::parse(const std::string& text) const {
     if (text == "off") return 0;
     throw UsageError(n + " takes on or off, got '" + text + "'");
   }
-  if (kind == Kind::Colour) {
-    if (text == "medical") return 0;
-    if (text == "engineering") return 1;
-    if (text == "fibres" || text == "fibers") return 2;
-    throw UsageError(n + " takes medical, engineering or fibres, got '" + text + "'");
+  if (kind == Kind::Choice) {
+    const auto names = choiceNames();
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (text == names[i] || (names[i] == "fibres" && text == "fibers")) return static_cast<double>(i);
+      list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    }
+    throw UsageError(n + " takes " + list + ", got '" + text + "'");
   }
   const char* s = text.c_str();
   char* end = nullptr;
@@ -126,6 +143,14 @@ double FabricOption::parse(const std::string& text) const {
     throw UsageError(n + " takes an integer, got '" + text + "'");
   if (!range.contains(v)) throw UsageError(n + " must lie in " + range.text() + ", got " + text);
   return v;
+}
+
+std::vector<std::string> FabricOption::choiceNames() const {
+  std::vector<std::string> names;
+  std::istringstream in(choices ? choices : "");
+  for (std::string a; in >> a;)
+    names.push_back(a);
+  return names;
 }
 
 std::string FabricOption::cliSynopsis() const {
@@ -145,7 +170,11 @@ const FabricOption* findFabricOption(const std::string& key) {
 
 std::string formatFabricValue(const FabricOption& o, double v) {
   if (o.kind == FabricOption::Kind::OnOff) return v != 0 ? "on" : "off";
-  if (o.kind == FabricOption::Kind::Colour) return v == 0 ? "medical" : v == 1 ? "engineering" : "fibres";
+  if (o.kind == FabricOption::Kind::Choice) {
+    const auto names = o.choiceNames();
+    const auto i = static_cast<std::size_t>(v);
+    return i < names.size() ? names[i] : number(v);
+  }
   return number(v);
 }
 

@@ -16,7 +16,7 @@ struct FabricOption {
     Number,  // a real number in `range`
     Integer, // an integer in `range`
     OnOff,   // on|off in scripts, a checkbox; on by default, the CLI has --no-NAME
-    Colour,  // medical|engineering (0|1)
+    Choice,  // one of `choices` (its index); the CLI and scripts take the name
   };
   struct Range {
     double lo = 0, hi = 0;
@@ -36,6 +36,10 @@ struct FabricOption {
   bool sliderLogarithmic;
   double (*get)(const FabricParams&);
   void (*set)(FabricParams&, double);
+  const char* choices = nullptr; // Kind::Choice: the names, space-separated, in index order
+
+  // Kind::Choice: the names in index order.
+  std::vector<std::string> choiceNames() const;
 
   bool matches(const std::string& key) const; // the name or an alias
   // Parses and validates `text`; throws UsageError "NAME must lie in RANGE, got TEXT" and the like.

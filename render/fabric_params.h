@@ -11,6 +11,12 @@ namespace dtf::render {
 // population (up to three) in its own DEC colour (a tensor shown this way is its e1 only).
 enum class ColourMode { Medical, Engineering, Fibres };
 
+// Anatomy: the fabric's opacity follows FA (FabricParams::opacityFa*) over a grey background (a background
+// volume when one is set, else FA), so isotropic tissue shows the anatomy. Plain: the paper's look, the
+// fabric on every point with tensor data. DecFa: no fabric, the classic DEC-FA map (|e1| x FA; medical colour
+// only), for comparison.
+enum class Look { Anatomy, Plain, DecFa };
+
 struct FabricParams {
   double lod = 0; // l of Eq. 7 in mm; 0 = auto: one noise tile spans autoLodPixels pixels (follows
                   // the zoom; set a fixed l for the same texture across views, meshes and hosts)
@@ -36,6 +42,9 @@ struct FabricParams {
   int stillMaxIterations = 100;        // renderStill: iteration cap
   double stillChangedFraction = 0.002; // renderStill: stop when fewer covered pixels than this changed
   float fadeOutOfPlane = 0.0f;
+  Look look = Look::Anatomy;
+  float opacityFaLow = 0.15f;  // Look::Anatomy: the fabric's opacity is smoothstep(low, high, FA)
+  float opacityFaHigh = 0.4f;
   float faFloor = 0.0f;         // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;     // renderFrame: internal resolution while the camera moves (e.g. 0.5)
   float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest

@@ -70,6 +70,12 @@ GlState GlState::capture() {
   s.blend = glIsEnabled(GL_BLEND);
   for (int i = 0; i < kDrawBuffers; ++i)
     s.blendi[i] = glIsEnabledi(GL_BLEND, static_cast<GLuint>(i));
+  glGetIntegerv(GL_BLEND_SRC_RGB, &s.blendFunc[0]);
+  glGetIntegerv(GL_BLEND_DST_RGB, &s.blendFunc[1]);
+  glGetIntegerv(GL_BLEND_SRC_ALPHA, &s.blendFunc[2]);
+  glGetIntegerv(GL_BLEND_DST_ALPHA, &s.blendFunc[3]);
+  glGetIntegerv(GL_BLEND_EQUATION_RGB, &s.blendEquation[0]);
+  glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &s.blendEquation[1]);
   for (int i = 0; i < kClipDistances; ++i)
     s.clipDistance[i] = glIsEnabled(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
   glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depthMask);
@@ -114,6 +120,9 @@ void GlState::restore() const {
     else
       glDisablei(GL_BLEND, static_cast<GLuint>(i));
   }
+  glBlendFuncSeparate(static_cast<GLenum>(blendFunc[0]), static_cast<GLenum>(blendFunc[1]),
+                      static_cast<GLenum>(blendFunc[2]), static_cast<GLenum>(blendFunc[3]));
+  glBlendEquationSeparate(static_cast<GLenum>(blendEquation[0]), static_cast<GLenum>(blendEquation[1]));
   for (int i = 0; i < kClipDistances; ++i)
     setSwitch(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i), clipDistance[i]);
   glDepthMask(depthMask);
@@ -167,6 +176,8 @@ std::string GlState::differences(const GlState& o) const {
   DTF_DIFF(colourLogicOp);
   DTF_DIFF(framebufferSrgb);
   DTF_DIFF(blendi);
+  DTF_DIFF(blendFunc);
+  DTF_DIFF(blendEquation);
   DTF_DIFF(clipDistance);
   DTF_DIFF(depthMask);
   DTF_DIFF(depthFunc);

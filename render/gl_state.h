@@ -5,8 +5,9 @@
 // writes, clip distances), depth mask and function, colour masks, cull face and front face, polygon mode,
 // program, vertex array, the active texture unit, the 2D and 3D textures and sampler objects bound to the
 // first units, the atomic counter buffer bindings, the pixel pack/unpack buffers and pixel store
-// parameters. Clear values, blend and stencil functions and the scissor box are not touched by the passes
-// (they clear with glClearNamedFramebuffer*, never blend and never enable the scissor or stencil test).
+// parameters, the blend functions and equations (of draw buffer 0; restored for all). Clear values, stencil
+// functions and the scissor box are not touched by the passes (they clear with glClearNamedFramebuffer*
+// and never enable the scissor or stencil test).
 #pragma once
 
 #include <array>
@@ -33,6 +34,8 @@ struct GlState {
   GLboolean stencilTest = GL_FALSE, polygonOffsetFill = GL_FALSE, depthClamp = GL_FALSE;
   GLboolean rasterizerDiscard = GL_FALSE, colourLogicOp = GL_FALSE, framebufferSrgb = GL_FALSE;
   std::array<GLboolean, kDrawBuffers> blendi{}; // per draw buffer (glEnablei)
+  std::array<GLint, 4> blendFunc{GL_ONE, GL_ZERO, GL_ONE, GL_ZERO}; // src RGB, dst RGB, src alpha, dst alpha
+  std::array<GLint, 2> blendEquation{GL_FUNC_ADD, GL_FUNC_ADD};      // RGB, alpha
   std::array<GLboolean, kClipDistances> clipDistance{};
   GLboolean depthMask = GL_TRUE;
   GLint depthFunc = GL_LESS;

@@ -131,6 +131,31 @@ void GpuTensorField::upload(const TensorField& field) {
   glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
   glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
   checkUploaded(d, 2 * a.size() * sizeof(float), "tensor field's");
+  // The edge field: the mask (b's .w) blurred along each axis by [1 2 1] / 4.
+  std::vector<float> e(n), tmp(n);
+  for (std::size_t i = 0; i < n; ++i)
+    e[i] = b[i * 4 + 3];
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.x) * d.y};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int len = d[axis];
+    for (int k = 0; k < d.z; ++k)
+      for (int j = 0; j < d.y; ++j)
+        for (int i = 0; i < d.x; ++i) {
+          const std::size_t idx = static_cast<std::size_t>(i) + stride[1] * j + stride[2] * k;
+          const int pos = axis == 0 ? i : axis == 1 ? j : k;
+          // Replicated at the grid's faces: data reaching the face stays data up to it, as the tensor textures.
+          const float lo = pos > 0 ? e[idx - stride[axis]] : e[idx];
+          const float hi = pos + 1 < len ? e[idx + stride[axis]] : e[idx];
+          tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
+        }
+    e.swap(tmp);
+  }
+  edge_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
+  glTextureSubImage3D(edge_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, e.data());
+  checkUploaded(d, e.size() * sizeof(float), "tensor field's edge");
+  edge_.setFilter(GL_LINEAR, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTextureParameteri(edge_.id(), wrap, GL_CLAMP_TO_EDGE);
   worldToTex_ = worldToTexture(field.grid);
 }
 
@@ -158,9 +183,10 @@ void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
 
 void GpuScalarVolume::bind(GLuint unit) const { glBindTextureUnit(unit, texture_.id()); }
 
-void GpuTensorField::bind(GLuint unitA, GLuint unitB) const {
+void GpuTensorField::bind(GLuint unitA, GLuint unitB, GLuint unitEdge) const {
   glBindTextureUnit(unitA, a_.id());
   glBindTextureUnit(unitB, b_.id());
+  glBindTextureUnit(unitEdge, edge_.id());
 }
 
 Texture uploadNoise(const NoiseTile& tile) {

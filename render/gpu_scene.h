@@ -41,17 +41,20 @@ private:
 class GpuTensorField {
 public:
   GpuTensorField() = default;
-  // Texture A: xx xy xz yy; texture B: yz zz FA valid (world RAS, mm^2/s). Throws GlError when the grid
-  // exceeds GL_MAX_3D_TEXTURE_SIZE or the GPU runs out of memory for the textures (GL_OUT_OF_MEMORY).
+  // Texture A: xx xy xz yy; texture B: yz zz FA valid (world RAS, mm^2/s); the edge texture: the data mask
+  // blurred by a 3x3x3 binomial kernel (sigma about 0.7 voxel), whose 0.5 contour is the data's smooth
+  // outline (the raw mask's trilinear contour cuts voxel corners at 45 degrees). Throws GlError when the
+  // grid exceeds GL_MAX_3D_TEXTURE_SIZE or the GPU runs out of memory for the textures (GL_OUT_OF_MEMORY).
   void upload(const TensorField& field);
-  // Binds texture A to `unitA`, B to `unitB` (a program's UNIT_TENSOR_A and UNIT_TENSOR_B).
-  void bind(GLuint unitA, GLuint unitB) const;
+  // Binds texture A to `unitA`, B to `unitB` (a program's UNIT_TENSOR_A and UNIT_TENSOR_B), the edge texture
+  // to `unitEdge` (UNIT_TENSOR_EDGE).
+  void bind(GLuint unitA, GLuint unitB, GLuint unitEdge) const;
   // World RAS mm -> 3D texture coordinates (voxel centres at (i + 0.5) / dims).
   const glm::mat4& worldToTex() const { return worldToTex_; }
   bool empty() const { return !a_; }
 
 private:
-  Texture a_, b_;
+  Texture a_, b_, edge_;
   glm::mat4 worldToTex_{1.0f};
 };
 

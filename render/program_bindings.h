@@ -43,7 +43,7 @@ struct CompositeProgram {
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Anatomy, OpacityFa, DecFa, Count
   };
 };
 
@@ -59,11 +59,12 @@ struct SilhouetteProgram {
 struct ProjectionProgram {
   enum class Unit : GLuint {
     TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Geometry = 4, Lobe2 = 5,
-    FibreFa = 6
+    FibreFa = 6, TensorEdge = 7
   };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::TensorA), "UNIT_TENSOR_A", "u_tensorA"},
       {unit(Unit::TensorB), "UNIT_TENSOR_B", "u_tensorB"},
+      {unit(Unit::TensorEdge), "UNIT_TENSOR_EDGE", "u_tensorEdge"},
       {unit(Unit::Lobe0), "UNIT_LOBE0", "u_lobe0"},
       {unit(Unit::Lobe1), "UNIT_LOBE1", "u_lobe1"},
       {unit(Unit::Lobe2), "UNIT_LOBE2", "u_lobe2"},
@@ -151,6 +152,9 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::SecondaryRatio: return "u_secondaryRatio";
   case U::SecondaryFa: return "u_secondaryFa";
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
+  case U::Anatomy: return "u_anatomy";
+  case U::DecFa: return "u_decFa";
+  case U::OpacityFa: return "u_opacityFa";
   case U::Count: break;
   }
   return "";

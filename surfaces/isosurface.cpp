@@ -9,6 +9,7 @@
 #include <vtkImageGaussianSmooth.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkWindowedSincPolyDataFilter.h>
 
@@ -81,7 +82,7 @@ IsosurfaceSweeper::~IsosurfaceSweeper() = default;
 IsosurfaceSweeper::IsosurfaceSweeper(IsosurfaceSweeper&&) noexcept = default;
 IsosurfaceSweeper& IsosurfaceSweeper::operator=(IsosurfaceSweeper&&) noexcept = default;
 
-Mesh IsosurfaceSweeper::extract(double isovalue) const {
+Mesh IsosurfaceSweeper::extract(double isovalue, SmoothingReport* report) const {
   if (!impl_ || !impl_->image) return {};
   const IsosurfaceOptions& options = impl_->options;
   vtkNew<vtkFlyingEdges3D> contour;
@@ -103,8 +104,36 @@ Mesh IsosurfaceSweeper::extract(double isovalue) const {
     sinc->BoundarySmoothingOff();
     sinc->FeatureEdgeSmoothingOff();
     sinc->NonManifoldSmoothingOn();
+    sinc->Update();
+    vtkSmartPointer<vtkPolyData> smoothed = sinc->GetOutput();
+    // The filter keeps the points' order: bound each vertex's shift (index space = voxels).
+    vtkPoints* before = poly->GetPoints();
+    vtkPoints* after = smoothed->GetPoints();
+    SmoothingReport r;
+    if (before && after && before->GetNumberOfPoints() == after->GetNumberOfPoints()) {
+      const double limit = std::max(options.maxShiftVoxels, 0.0);
+      double sum = 0;
+      r.vertices = static_cast<std::size_t>(after->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < after->GetNumberOfPoints(); ++i) {
+        double a[3], b[3];
+        before->GetPoint(i, a);
+        after->GetPoint(i, b);
+        glm::dvec3 d(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+        const double len = glm::length(d);
+        r.maxShiftVoxels = std::max(r.maxShiftVoxels, len);
+        if (len > limit) {
+          d *= limit / len;
+          after->SetPoint(i, a[0] + d.x, a[1] + d.y, a[2] + d.z);
+          ++r.clamped;
+        }
+        sum += std::min(len, limit);
+      }
+      r.meanShiftVoxels = r.vertices ? sum / static_cast<double>(r.vertices) : 0.0;
+      after->Modified();
+    }
+    if (report) *report = r;
     vtkNew<vtkPolyDataNormals> normals;
-    normals->SetInputConnection(sinc->GetOutputPort());
+    normals->SetInputData(smoothed);
     normals->SplittingOff();
     normals->ConsistencyOn();
     normals->AutoOrientNormalsOff();
@@ -133,8 +162,9 @@ Mesh IsosurfaceSweeper::extract(double isovalue) const {
   return m;
 }
 
-Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const IsosurfaceOptions& options) {
-  return IsosurfaceSweeper(volume, options).extract(isovalue);
+Mesh extractIsosurface(const ScalarVolume& volume, double isovalue, const IsosurfaceOptions& options,
+                       SmoothingReport* report) {
+  return IsosurfaceSweeper(volume, options).extract(isovalue, report);
 }
 
 } // namespace dtf::surfaces

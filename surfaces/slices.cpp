@@ -27,9 +27,10 @@ int worldAxis(SliceAxis a) { return a == SliceAxis::Sagittal ? 0 : a == SliceAxi
 
 bool cellKept(const SliceOptions& o, const glm::ivec3 corners[4]) {
   if (!o.clip) return true;
+  int passing = 0;
   for (int c = 0; c < 4; ++c)
-    if (!(o.clip->at(corners[c].x, corners[c].y, corners[c].z) >= o.clipFloor)) return false;
-  return true;
+    if (o.clip->at(corners[c].x, corners[c].y, corners[c].z) >= o.clipFloor) ++passing;
+  return o.anyCorner ? passing > 0 : passing == 4;
 }
 
 // Drops vertices no triangle uses and renumbers the indices.
@@ -140,6 +141,13 @@ Mesh makePlane(const Grid& grid, const glm::dvec3& point, const glm::dvec3& norm
     if (!options.clip) return true;
     return sampleTrilinear(*options.clip, p) >= options.clipFloor;
   };
+  auto keepCell = [&](std::size_t k) {
+    if (!options.anyCorner)
+      return keep(vox[k]) && keep(vox[k + 1]) && keep(vox[k + steps]) && keep(vox[k + steps + 1]);
+    for (std::size_t q : {k, k + 1, k + steps, k + steps + 1})
+      if (!inside(vox[q])) return false;
+    return keep(vox[k]) || keep(vox[k + 1]) || keep(vox[k + steps]) || keep(vox[k + steps + 1]);
+  };
   auto vertex = [&](int b, int c) {
     std::size_t k = static_cast<std::size_t>(b) * steps + c;
     if (vid[k] < 0) {
@@ -152,7 +160,7 @@ Mesh makePlane(const Grid& grid, const glm::dvec3& point, const glm::dvec3& norm
   for (int b = 0; b + 1 < steps; ++b)
     for (int c = 0; c + 1 < steps; ++c) {
       const std::size_t k = static_cast<std::size_t>(b) * steps + c;
-      if (!keep(vox[k]) || !keep(vox[k + 1]) || !keep(vox[k + steps]) || !keep(vox[k + steps + 1])) continue;
+      if (!keepCell(k)) continue;
       std::uint32_t i00 = vertex(b, c), i10 = vertex(b, c + 1), i01 = vertex(b + 1, c), i11 = vertex(b + 1, c + 1);
       // t1 x t2 = n, so (c, b) order is counter-clockwise seen from +n.
       m.indices.insert(m.indices.end(), {i00, i10, i11, i00, i11, i01});

@@ -22,6 +22,10 @@ int sliceCount(const Grid& grid, SliceAxis axis);
 struct SliceOptions {
   const ScalarVolume* clip = nullptr; // keep only cells where clip >= clipFloor at all corners (nullptr = whole plane)
   float clipFloor = 0.5f;
+  // Keep a cell when ANY corner passes: the mesh then also holds the cells the clip field's clipFloor
+  // contour crosses, where a renderer draws a smooth sub-voxel edge (slices: the bilinear contour lies in
+  // them exactly; planes: in the cells of their sampling step).
+  bool anyCorner = false;
 };
 
 // A slice through voxel centres at `index` along the voxel axis of `axis`. Throws InputError if the index

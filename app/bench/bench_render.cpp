@@ -357,6 +357,75 @@ EmbeddedResult runEmbedded(const Case& c, const render::Camera& camera, int widt
   return res;
 }
 
+// The figure look's costs on the real brain's middle axial slice, static camera, fabric frames as above:
+// today's fabric (plain look, the slice clipped to whole voxels of data), the smooth data edge (the cells the
+// edge crosses kept, the cover ramp drawn), the anatomy look over a background volume (FA on the data's grid,
+// sampled per fragment), and a 2x supersampled still's frame (4x the pixels) plus its box filter on the CPU.
+struct LookResult {
+  std::string name;
+  double ms = 0, cpuMs = 0; // per frame
+};
+
+std::vector<LookResult> runLooks(render::FabricRenderer& r, const TensorField& field, int width, int height,
+                                 int frames) {
+  std::vector<LookResult> out;
+  const ScalarVolume fa = computeFaMap(field);
+  session::SurfaceBuildOptions lattice, smooth;
+  smooth.dataEdgeCells = true;
+  const session::SurfaceSpec spec = session::parseSurfaceSpec("slice=axial");
+  const Mesh latticeMesh = session::buildSurface(spec, field, fa, lattice);
+  const Mesh smoothMesh = session::buildSurface(spec, field, fa, smooth);
+  r.setField(field);
+  glm::vec3 lo, hi;
+  latticeMesh.bounds(lo, hi);
+  const render::Camera cam =
+      render::Camera::standard(render::StandardView::Inferior, lo, hi, double(width) / height);
+  auto timed = [&](const std::string& name, const Mesh& mesh, const render::FabricParams& p, int scale) {
+    r.setMesh(mesh);
+    r.resize(width * scale, height * scale);
+    r.renderFrame(cam, p); // warm: programs, targets
+    glFinish();
+    std::clock_t c0 = std::clock();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = 0; f < frames; ++f) {
+      r.renderFrame(cam, p);
+      if (scale > 1) {
+        // The supersampled still's filter: read back and box-filter down on the CPU, as `render` does.
+        const Image big = r.readback();
+        Image small(width, height);
+        for (int y = 0; y < height; ++y)
+          for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 4; ++c) {
+              int sum = 0;
+              for (int dy = 0; dy < scale; ++dy)
+                for (int dx = 0; dx < scale; ++dx)
+                  sum += big.pixel(x * scale + dx, y * scale + dy)[c];
+              small.pixel(x, y)[c] = static_cast<std::uint8_t>(sum / (scale * scale));
+            }
+      }
+      glFinish();
+    }
+    out.push_back({name, msSince(t0) / frames, 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC / frames});
+  };
+  render::FabricParams plain;
+  plain.look = render::Look::Plain;
+  r.setBackground(nullptr);
+  timed("plain_lattice_edge", latticeMesh, plain, 1);
+  timed("plain_smooth_edge", smoothMesh, plain, 1);
+  render::FabricParams anatomy;
+  timed("anatomy_fa_beneath", smoothMesh, anatomy, 1);
+  r.setBackground(&fa, 0.0f, 1.0f);
+  timed("anatomy_background", smoothMesh, anatomy, 1);
+  r.setBackground(nullptr);
+  render::FabricParams two = anatomy;
+  two.stepPixels *= 2;
+  two.autoLodPixels *= 2;
+  two.silhouettePixels *= 2;
+  timed("anatomy_supersample2", smoothMesh, two, 2);
+  r.resize(width, height);
+  return out;
+}
+
 } // namespace
 
 const OptionTable& benchRenderOptions() {
@@ -382,7 +451,8 @@ const OptionTable& benchRenderOptions() {
         sharedDataOption(),
         O::choice("color", "C", {"medical", "engineering"}, "medical", "colour mode of the fabric"),
         O::text("only", "CASE[,CASE...]",
-                "run only these cases: sphere_41k, sphere_41k_fibres3, sphere_572k, brain_fa025")
+                "run only these cases: sphere_41k, sphere_41k_fibres3, sphere_572k, brain_fa025, looks (the "
+                "figure look's costs on the brain's axial slice)")
             .defaultSays("all"),
         O::flag("no-peer", "skip ParaView's Surface LIC"),
         O::integer("peer-frames", "N", d.frames, closedRange(1, 1000), "timed frames per peer mode")
@@ -404,6 +474,7 @@ struct Report {
   EmbeddedResult embedded;
   RenderPeerResult peer;
   RenderPeerOurs mine;
+  std::vector<LookResult> looks; // empty: the real brain was not there
 };
 
 void printJson(const Report& rep) {
@@ -436,7 +507,11 @@ void printJson(const Report& rep) {
   else
     std::printf(", \"embedded\": null");
   printRenderPeerJson(peer, mine);
-  std::printf("}\n");
+  std::printf(", \"looks\": [");
+  for (std::size_t i = 0; i < rep.looks.size(); ++i)
+    std::printf("%s{\"name\": \"%s\", \"ms\": %.2f, \"cpu_ms\": %.2f}", i ? ", " : "", rep.looks[i].name.c_str(),
+                rep.looks[i].ms, rep.looks[i].cpuMs);
+  std::printf("]}\n");
 }
 
 void printTable(const Report& rep) {
@@ -524,6 +599,14 @@ void printTable(const Report& rep) {
               "at half resolution while moving. Times are wall-clock ms/frame; CPU load from other processes inflates\n"
               "them (the load average is printed above).\n");
   printRenderPeerTable(peer, mine);
+  if (!rep.looks.empty()) {
+    std::printf("\nfigure look on the real brain's middle axial slice (radiological, static camera, frame as above;\n"
+                "supersample2 = the frame at 2x the size plus the readback and box filter of a still):\n");
+    const LookResult& base = rep.looks.front();
+    for (const LookResult& l : rep.looks)
+      std::printf("  %-22s %7.1f ms wall %7.1f ms CPU   x%.2f CPU of %s\n", l.name.c_str(), l.ms, l.cpuMs,
+                  l.cpuMs / std::max(base.cpuMs, 1e-9), base.name.c_str());
+  }
 }
 } // namespace
 
@@ -570,7 +653,11 @@ int benchRender(const CommandArgs& argv) {
                                                     ours->fabricCpuMs, ours->phongCpuMs}
                                    : RenderPeerOurs{};
 
-  const Report report{ctx.description(), width, height, frames, std::move(results), embedded, peer, mine};
+  std::vector<LookResult> looks;
+  if (!noBrain && (only.empty() || ("," + only + ",").find(",looks,") != std::string::npos))
+    if (auto b = brainCase(dataDir)) looks = runLooks(renderer, b->field, width, height, frames);
+  const Report report{ctx.description(), width, height, frames, std::move(results), embedded, peer, mine,
+                      std::move(looks)};
   if (json)
     printJson(report);
   else

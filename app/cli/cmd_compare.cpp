@@ -26,7 +26,9 @@ struct Measured {
 Mesh surfaceOf(const session::SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa,
                const std::string& input) {
   try {
-    return session::buildSurface(spec, field, fa);
+    session::SurfaceBuildOptions shown; // the surface as render and the viewer show it
+    shown.dataEdgeCells = true;
+    return session::buildSurface(spec, field, fa, shown);
   } catch (const Error&) {
     rethrowWithContext("while building the " + session::describeSurface(spec) + " of " + input);
   }

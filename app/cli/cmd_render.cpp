@@ -61,7 +61,7 @@ std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d)
       O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
       O::flag("force", "overwrite an existing OUT.png (never an input)").hidden(),
       O::text("surface", "SPEC",
-              "fa=T: FA isosurface at T\n"
+              "fa=T: FA isosurface at T (windowed-sinc smoothed, 15 iterations, no vertex moved more than 0.5 voxel)\n"
               "iso=FILE:VALUE: isosurface of a scalar NIfTI volume\n"
               "slice=AXIS[:I]: axial|coronal|sagittal slice I (default the middle)\n"
               "plane=X,Y,Z:NX,NY,NZ | fibre=X0,Y0,Z0:X1,Y1,Z1 | mesh=FILE (PLY/OBJ/VTK/VTP, world mm)")
@@ -81,10 +81,19 @@ std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d)
               "no effect on the plain camera positions")
           .hidden(),
       O::flag("perspective", "perspective instead of orthographic projection").hidden(),
-      O::text("size", "WxH", "image size in pixels, 16x16 to 8192x8192",
+      O::text("size", "WxH",
+              "image size in pixels, 16x16 to 8192x8192; above 768 the fabric keeps the threads of a 768 px "
+              "image (noise cell and step scale with the size): larger is sharper, not finer",
               std::to_string(d.width) + "x" + std::to_string(d.height))
           .checkedBy(checkSize)
           .hidden(),
+      O::integer("supersample", "N", d.supersample, closedRange(1, 4),
+                 "render at N times the size and box-filter down: anti-aliased thread edges, the same fabric "
+                 "(noise cell, advection step, silhouette and tract widths scale with N)")
+          .under("Figure"),
+      O::flag("no-letters", "no orientation letters (L/R, A/P, S/I) at the image edges").hidden(),
+      O::flag("no-legend", "no orientation legend (the world axes in DEC colours, bottom right)").hidden(),
+      O::flag("no-scale-bar", "no scale bar in mm (bottom left; orthographic views)").hidden(),
   };
 }
 
@@ -182,6 +191,10 @@ void readSurfaceAndView(ParsedOptions& args, session::RenderRequest& r) {
   const auto view = args.get("view");
   r.view = view ? render::parseView(*view) : session::defaultView(r.surface);
   r.perspective = args.flag("perspective");
+  r.supersample = args.integer("supersample");
+  r.furniture.letters = !args.flag("no-letters");
+  r.furniture.legend = !args.flag("no-legend");
+  r.furniture.scaleBar = !args.flag("no-scale-bar");
 }
 
 // The fabric options: --NAME VALUE, and --no-NAME for the on/off ones. A fibre set's default colour mode is
@@ -190,7 +203,7 @@ void readFabricOptions(ParsedOptions& args, session::RenderRequest& r) {
   for (const auto& o : render::fabricOptions()) {
     if (o.kind == render::FabricOption::Kind::OnOff) {
       if (args.flag(std::string("no-") + o.name)) o.set(r.params, 0);
-    } else if (o.kind == render::FabricOption::Kind::Colour) {
+    } else if (o.kind == render::FabricOption::Kind::Choice) {
       const auto v = args.get(o.name);
       if (!v) continue;
       try {
@@ -198,8 +211,10 @@ void readFabricOptions(ParsedOptions& args, session::RenderRequest& r) {
       } catch (const UsageError& e) {
         throw UsageError(std::string("--") + e.what());
       }
-      r.colourGiven = true;
-      r.colourName = *v;
+      if (std::string(o.name) == "color") {
+        r.colourGiven = true;
+        r.colourName = *v;
+      }
     } else if (args.given(o.name)) {
       o.set(r.params, args.number(o.name));
     }

@@ -71,7 +71,9 @@ const OptionTable& surfaceOptions() {
                 "fibre-voxel=I0,J0,K0:I1,J1,K1 | mesh=FILE")
             .hidden()
             .under("SURFACE is one of"),
-        O::text("fa", "T", "FA isosurface at T (same as --surface fa=T)").hidden(),
+        O::text("fa", "T",
+                "FA isosurface at T (same as --surface fa=T), smoothed as --mesh-smooth and --max-shift say")
+            .hidden(),
         O::text("slice", "AXIS[:I]",
                 "axial|coronal|sagittal slice I (default the middle), clipped to the data")
             .hidden(),
@@ -84,6 +86,14 @@ const OptionTable& surfaceOptions() {
         bvecOption().hidden(),
         O::number("smooth", "SIGMA", bo.smoothSigmaVoxels, atLeast(0),
                   "FA isosurface pre-smoothing in voxels (0 = none)")
+            .hidden(),
+        O::integer("mesh-smooth", "N", bo.meshSmoothIterations, closedRange(0, 200),
+                   "FA isosurfaces: windowed-sinc mesh smoothing iterations (VTK, pass band 0.1; 0 = none); "
+                   "normals recomputed after")
+            .hidden(),
+        O::number("max-shift", "VOXELS", bo.maxShiftVoxels, atLeast(0),
+                  "FA isosurfaces: the smoothing moves no vertex further than this (larger shifts clamped; "
+                  "reported)")
             .hidden(),
         O::number("min-component", "F", bo.minComponentFraction, closedRange(0, 1),
                   "drop components smaller than F x the largest")
@@ -127,6 +137,10 @@ int cmdSurface(const CommandArgs& argv) {
   session::SurfaceBuildOptions bo;
   bo.smoothSigmaVoxels = args.number("smooth");
   bo.minComponentFraction = args.number("min-component");
+  bo.meshSmoothIterations = args.integer("mesh-smooth");
+  bo.maxShiftVoxels = args.number("max-shift");
+  surfaces::SmoothingReport smoothing;
+  bo.smoothing = &smoothing;
   bo.fibreStepMm = args.number("step");
   bo.fibreLengthMm = args.number("length");
   bo.fibreFaStop = args.number("fa-stop");
@@ -177,12 +191,20 @@ int cmdSurface(const CommandArgs& argv) {
                 meshArea(mesh), buildMs, score);
     if (flatScore >= 0) std::printf(", \"flat_slice\": \"%s\", \"flat_e1_dot_n\": %.6f", flatName.c_str(), flatScore);
     if (checked) std::printf(", \"self_intersections\": %zu, \"removed_triangles\": %zu", intersections, removed);
+    if (smoothing.vertices)
+      std::printf(", \"smoothing_max_shift_voxels\": %.4f, \"smoothing_clamped\": %zu", smoothing.maxShiftVoxels,
+                  smoothing.clamped);
     std::printf(", \"output\": \"%s\"}\n", output.c_str());
   } else {
     std::printf("surface:   %s\n", session::describeSurface(spec).c_str());
     std::printf("layout:    %s (%s)\n", io::layoutName(loaded.layout), loaded.layoutReason.c_str());
     std::printf("mesh:      %zu triangles, %zu vertices, %.1f mm^2, built in %.1f ms\n", mesh.triangleCount(),
                 mesh.positions.size(), meshArea(mesh), buildMs);
+    if (smoothing.vertices)
+      std::printf("smoothing: %d windowed-sinc iterations, largest shift %.3f voxel, %zu of %zu vertices clamped "
+                  "to %.2f voxel\n",
+                  bo.meshSmoothIterations, smoothing.maxShiftVoxels, smoothing.clamped, smoothing.vertices,
+                  bo.maxShiftVoxels);
     std::printf("quality:   mean |e1 . n| = %.4f (FA- and area-weighted; 0 = fibres lie in the surface)\n", score);
     if (flatScore >= 0)
       std::printf("           the flat %s plane through the seed line: %.4f\n", flatName.c_str(), flatScore);

@@ -474,7 +474,7 @@ std::vector<CliOption> fabricCliOptions() {
     case K::OnOff:
       o = CliOption::flag(std::string("no-") + f.name, std::string("no ") + f.help);
       break;
-    case K::Colour:
+    case K::Choice:
       o = CliOption::text(f.name, f.metavar, f.help, render::formatFabricValue(f, def));
       break;
     case K::Number:

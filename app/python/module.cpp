@@ -290,6 +290,16 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   }
   for (const auto& [key, value] : params) {
     const std::string k = py::str(key);
+    // The figure's options (the render command's --supersample, --no-letters, --no-legend, --no-scale-bar).
+    if (k == "supersample") {
+      r.supersample = castOr<int>(value, "supersample must be an integer 1..4");
+      continue;
+    }
+    if (k == "letters" || k == "legend" || k == "scale_bar") {
+      const bool on = castOr<bool>(value, (k + " must be True or False").c_str());
+      (k == "letters" ? r.furniture.letters : k == "legend" ? r.furniture.legend : r.furniture.scaleBar) = on;
+      continue;
+    }
     if (k == "color") {
       r.colourName = optionText(value);
       r.colourGiven = true;
@@ -713,8 +723,9 @@ input: a TensorField, a FibreSet from load(), a path, or an array/nibabel image 
 surface: a surface spec (fa=T, slice=AXIS[:I], plane=..., fibre=..., mesh=FILE; '+' joins).
 view, size=(W, H), colour, neurological, perspective, background, background_window=(lo, hi), tracts,
 tracts_color, tracts_range=(lo, hi), tracts_group, tracts_near, tracts_slab, tracts_slab_depth, tract_width,
-split: as the command's flags. Further keyword arguments are the fabric options of `dtfabric render --help`
-with '-' written '_' (blend_k=0.1, lighting=False, ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
+split: as the command's flags. supersample=N (1..4) and letters=, legend=, scale_bar= (True/False) as its
+Figure flags. Further keyword arguments are the fabric options of `dtfabric render --help` with '-' written
+'_' (blend_k=0.1, lighting=False, look='plain', ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
 
   m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
         py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,

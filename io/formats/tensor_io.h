@@ -59,6 +59,7 @@ struct LoadedTensors {
   std::vector<std::string> warnings; // header warnings plus layout/scale doubts
   std::size_t nanVoxels = 0;         // voxels with NaN/Inf components (stored as invalid)
   std::size_t nonPositiveVoxels = 0; // finite, non-zero voxels with an eigenvalue <= 0
+  ScalarVolume meanB0;               // a fitted DWI's mean b=0 image (its lowest-b volumes), else empty
 };
 
 // Reads a tensor volume (4D x 6 or 5D SYMMATRIX) into world RAS mm^2/s. `layout` Auto detects it and

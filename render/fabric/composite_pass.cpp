@@ -38,6 +38,9 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set(U::SecondaryRatio, s.secondaryRatio);
   p.set(U::SecondaryFa, s.secondaryFa);
   p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
+  p.set(U::Anatomy, s.anatomy ? 1 : 0);
+  p.set(U::DecFa, s.decFa ? 1 : 0);
+  p.set(U::OpacityFa, s.opacityFa);
   p.use();
   bindTexture(Unit::P1, in.p1->id());
   bindTexture(Unit::P2, in.p2->id());
@@ -54,8 +57,14 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);
   glDepthMask(GL_TRUE);
+  // The data's anti-aliased edge: straight alpha over what is beneath (the clear colour, a host's image).
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glBlendEquation(GL_FUNC_ADD);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBlendFunc(GL_ONE, GL_ZERO);
+  glDisable(GL_BLEND);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);
 }

@@ -1,7 +1,8 @@
 // Pass 4 of the fabric (paper §2.6, Eq. 13, and the medical colouring of §3.2): combines the advected
 // fields, silhouettes and light into the final colour of the viewport, and writes gl_FragDepth from the
 // projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at
-// the viewport size; empty pixels are discarded (the caller's clear colour stays).
+// the viewport size; empty pixels are discarded (the caller's clear colour stays); at the data's edge
+// without a background volume the colour is blended over the framebuffer by the data's cover (alpha).
 //   inputs: advected p1, p2, projection surface/eigen/lambda, silhouette edges
 #pragma once
 
@@ -26,7 +27,10 @@ struct CompositeSettings {
   float secondaryRatio = 0.5f; // medical: lambda2'/lambda1' from which the secondary direction shows
   float secondaryFa = 0.2f;    // medical: FA below which the secondary direction shows
   float fadeOutOfPlane = 0.0f; // medical: 0..1 fading of structures along the normal
-  bool background = false;     // grey background values where there is no tensor data
+  bool background = false;     // a grey background volume beneath the fabric (projection's lambda.z)
+  bool anatomy = false;        // the anatomy look: the fabric's opacity follows FA over the grey beneath
+  glm::vec2 opacityFa{0.15f, 0.4f}; // anatomy: smoothstep(x, y, FA)
+  bool decFa = false;          // medical: no fabric, the DEC-FA map |e1| x FA
   glm::ivec2 origin{0};        // the viewport's lower-left pixel in the framebuffer drawn into
   // The depth written is the projection's window depth (CompositeInputs::depth) as it is, depth-tested with
   // GL_LEQUAL against the framebuffer's depth (a host's framebuffer holding the same surface passes); else

@@ -186,6 +186,9 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.sharpen = static_cast<float>(p.sharpen);
   cs.fadeOutOfPlane = p.fadeOutOfPlane;
   cs.background = !background_.empty();
+  cs.anatomy = p.look == Look::Anatomy;
+  cs.decFa = p.look == Look::DecFa;
+  cs.opacityFa = {p.opacityFaLow, p.opacityFaHigh};
   cs.origin = origin;
   cs.windowDepth = windowDepth;
   CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(),

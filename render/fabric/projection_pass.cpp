@@ -92,7 +92,7 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   if (useFibres)
     fibres->bind({unit(Unit::Lobe0), unit(Unit::Lobe1), unit(Unit::Lobe2)}, unit(Unit::FibreFa));
   else
-    field.bind(unit(Unit::TensorA), unit(Unit::TensorB));
+    field.bind(unit(Unit::TensorA), unit(Unit::TensorB), unit(Unit::TensorEdge));
   bindTexture(Unit::Noise, noise.id());
   bindTexture(Unit::Geometry, geometry.geometry().id());
   glBindVertexArray(vao_.id());

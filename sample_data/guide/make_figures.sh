@@ -30,7 +30,7 @@ render() { dtf render "$@" --size "${size}x$size" --force; }
 
 # Getting started: exactly what `.ci/demo` shows without a display.
 env -u DISPLAY DTFABRIC="$exe" DTF_DEMO_OUT="$work/demo" DTF_DEMO_SIZE="$size" .ci/demo >"$work/demo.txt"
-for f in axial_cc coronal_cst fa_left axial_cc_tracts; do
+for f in axial_cc axial_cc_decfa coronal_cst fa_left axial_cc_tracts; do
   cp "$work/demo/$f.png" "$out/demo_$f.png"
 done
 tensor=$work/demo/dti_tensor.nii.gz

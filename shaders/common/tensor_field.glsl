@@ -5,17 +5,19 @@
 
 layout(binding = UNIT_TENSOR_A) uniform sampler3D u_tensorA;
 layout(binding = UNIT_TENSOR_B) uniform sampler3D u_tensorB;
+layout(binding = UNIT_TENSOR_EDGE) uniform sampler3D u_tensorEdge; // the mask, blurred (GpuTensorField)
 uniform mat4 u_worldToTex;
 
-// False outside the data or where fewer than half the interpolation weights are valid voxels.
-bool sampleTensor(vec3 worldPos, out mat3 t, out float fa) {
+// The interpolated validity `valid` (the trilinear data mask, 0..1) and, where it is at least minValid, the
+// tensor renormalised by it. False where valid < minValid (outside the data: t = 0, fa = 0).
+bool sampleTensorValid(vec3 worldPos, float minValid, out mat3 t, out float fa, out float valid) {
   vec3 tc = (u_worldToTex * vec4(worldPos, 1.0)).xyz;
   vec4 a = texture(u_tensorA, tc);
   vec4 b = texture(u_tensorB, tc);
   t = mat3(0.0);
   fa = 0.0;
-  float valid = b.w;
-  if (!(valid >= 0.5)) return false;
+  valid = clamp(b.w, 0.0, 1.0);
+  if (!(valid >= minValid) || valid <= 0.0) return false;
   float inv = 1.0 / valid;
   a *= inv;
   b.xyz *= inv;
@@ -25,4 +27,15 @@ bool sampleTensor(vec3 worldPos, out mat3 t, out float fa) {
            a.z, b.x, b.y);
   fa = clamp(b.z, 0.0, 1.0);
   return true;
+}
+
+// The data's edge field at a world point: the blurred mask, trilinear; its 0.5 contour is the smooth outline.
+float dataEdge(vec3 worldPos) {
+  return texture(u_tensorEdge, (u_worldToTex * vec4(worldPos, 1.0)).xyz).r;
+}
+
+// False outside the data or where fewer than half the interpolation weights are valid voxels.
+bool sampleTensor(vec3 worldPos, out mat3 t, out float fa) {
+  float valid;
+  return sampleTensorValid(worldPos, 0.5, t, fa, valid);
 }

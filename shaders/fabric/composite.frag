@@ -13,15 +13,20 @@
 // one is drawn over it where its threads are bright (strongest on top); a population's weight (amplitude
 // relative to the strongest x its in-surface fraction) dims it and thins its cover, so weak and out-of-plane
 // populations fade.
+// Looks: plain (the paper's: the fabric wherever there is tensor data) and anatomy (u_anatomy: the fabric's
+// opacity is smoothstep(u_opacityFa.x, u_opacityFa.y, FA) over the grey beneath, so isotropic tissue shows
+// the anatomy and white matter its full colours). The grey beneath is the background volume (BACKGROUND),
+// else FA. The data's edge is the projection's cover ramp (lambda.w, 0..1 over about a pixel): outside it the
+// background volume shows, or without one the framebuffer beneath (the output alpha is the cover; blended).
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
-// BACKGROUND (grey values where there is no tensor data), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
+// BACKGROUND (a grey volume beneath the fabric), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed).
 layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
 layout(binding = UNIT_P2) uniform sampler2D u_p2;
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;       // beta, L, linear depth, coverage
 layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // e
 layout(binding = UNIT_EIGEN) uniform sampler2D u_eigen;           // |e1| (world), FA
-layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;         // lambda2'/lambda1', |e1.n|, background grey, data
+layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;         // lambda2'/lambda1', |e1.n|, background grey, cover
 #ifdef FIBRES
 layout(binding = UNIT_P3) uniform sampler2D u_p3;                 // third population's advected field
 layout(binding = UNIT_FIBRES) uniform usampler2D u_fibres;        // packUnorm4x8(|d_k|, weight_k), k = 1..3
@@ -46,11 +51,32 @@ uniform float u_sharpen = 0.5;     // SHARPEN: unsharp mask weight on the compos
 uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
 uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
-uniform vec3 u_noData = vec3(0.45);    // colour of surface points without tensor data (no background)
+uniform bool u_anatomy = false;        // the anatomy look
+uniform bool u_decFa = false;          // MEDICAL: no fabric, the DEC-FA map |e1| x FA (for comparison)
+uniform vec2 u_opacityFa = vec2(0.15, 0.4); // anatomy: FA at which the fabric starts to show, and is opaque
 
 out vec4 o_colour;
 
 float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
+
+// The fabric's opacity where there is data: 1 (plain), or the anatomy look's ramp on FA.
+float opacity(float fa) {
+  return u_anatomy ? smoothstep(u_opacityFa.x, max(u_opacityFa.y, u_opacityFa.x + 1e-3), fa) : 1.0;
+}
+
+// What lies beneath the fabric (rgb) and the pixel's alpha: the background volume's grey (alpha 1: it covers
+// the whole surface), else in the anatomy look FA as grey, else the fabric itself; without a background
+// volume the alpha is the data's cover, so outside the data's edge the framebuffer shows.
+vec4 beneath(vec4 lam, float fa, vec3 fabric, float cover, float noiseP) {
+#ifdef BACKGROUND
+  return vec4(vec3(lam.z), 1.0);
+#elif defined(WINDOW_DEPTH)
+  // A host's surface is drawn whole: outside the data, the grey noise of "no tensor here".
+  return cover > 0.0 ? vec4(u_anatomy ? vec3(fa) : fabric, 1.0) : vec4(vec3(0.45) * (0.6 + 0.4 * noiseP), 1.0);
+#else
+  return vec4(u_anatomy ? vec3(fa) : fabric, cover);
+#endif
+}
 
 #ifdef FIBRES
 // One population's layer: its DEC colour (FA modulated), brightened by its fabric f, dimmed by its weight.
@@ -61,8 +87,8 @@ vec3 layerColour(vec4 pop, float f, float sat, float bright) {
 float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.0, 0.3, pop.w); }
 #endif
 
-vec3 compose(ivec2 t, vec4 s) {
-  if (s.a < 0.5) return vec3(0.0);
+vec4 compose(ivec2 t, vec4 s) {
+  if (s.a < 0.5) return vec4(0.0);
   vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
   p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
 #ifdef SILHOUETTES
@@ -72,18 +98,16 @@ vec3 compose(ivec2 t, vec4 s) {
 #endif
   float L = u_lighting ? s.g : 1.0;
   vec3 c;
+  float alpha = 1.0;
 #ifdef FIBRES
   vec4 lam = texelFetch(u_lambda, t, 0);
   float fa = texelFetch(u_eigen, t, 0).w;
   float p3 = texelFetch(u_p3, t, 0).r;
   p3 = p3 < 0.0 ? s.r : p3;
   float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
-  if (lam.w < 0.5) {
-#ifdef BACKGROUND
-    c = vec3(lam.z);
-#else
-    c = u_noData * (0.6 + 0.4 * f0);
-#endif
+  float dataCover = lam.w;
+  if (dataCover <= 0.0) {
+    c = vec3(0.0);
   } else {
     uvec4 q = texelFetch(u_fibres, t, 0);
     vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
@@ -107,19 +131,19 @@ vec3 compose(ivec2 t, vec4 s) {
     if (last >= 1) c = mix(c, layerColour(b, fb, sat, bright), last == 1 ? 1.0 : cover(b, fb));
     c = mix(c, layerColour(a, fa0, sat, bright), last == 0 ? 1.0 : cover(a, fa0));
   }
+  vec4 under = beneath(lam, fa, c, dataCover, f0);
+  c = mix(under.rgb, c, dataCover * opacity(fa));
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
+  alpha = under.a;
 #elif defined(MEDICAL)
   vec4 eig = texelFetch(u_eigen, t, 0);
   vec4 lam = texelFetch(u_lambda, t, 0);
   float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
-  if (lam.w < 0.5) {
-#ifdef BACKGROUND
-    c = vec3(lam.z);
-#else
-    c = u_noData * (0.6 + 0.4 * p1);
-#endif
+  float cover = lam.w;
+  if (cover <= 0.0) {
+    c = vec3(0.0);
   } else {
     vec3 dec = abs(eig.xyz);
     // DEC modulated by FA: saturation and brightness grow with FA, so grey matter stays calm.
@@ -132,32 +156,41 @@ vec3 compose(ivec2 t, vec4 s) {
     float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
     c = mix(primary, mix(secondary, primary, onTop), w2);
     c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.y));
+    if (u_decFa) c = abs(eig.xyz) * fa;
   }
+  vec4 under = beneath(lam, fa, c, cover, p1);
+  c = mix(under.rgb, c, cover * opacity(fa));
   c *= mix(1.0, L, u_lightMix);
   c = mix(c, vec3(0.0), e);
+  alpha = under.a;
 #else
   float f1 = max(stretch(p.r), 1e-3), f2 = max(stretch(p.g), 1e-3);
   float light = u_lighting ? u_lightWeight * L : 0.0;
   c.r = u_r * f2 / (8.0 * f1 * f1) + e + light;
   c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
   c.b = e + light;
-#ifdef BACKGROUND
-  vec4 lam = texelFetch(u_lambda, t, 0);
-  if (lam.w < 0.5) c = vec3(lam.z) + e;
-#endif
+  {
+    vec4 lam = texelFetch(u_lambda, t, 0);
+    float fa = texelFetch(u_eigen, t, 0).w;
+    vec4 under = beneath(lam, fa, c, lam.w, stretch(p.r));
+    c = mix(under.rgb + e, c, lam.w * opacity(fa));
+    alpha = under.a;
+  }
 #endif
 #ifdef DEPTH_COLOUR
   float d = clamp((s.b - u_depthRange.x) / max(u_depthRange.y - u_depthRange.x, 1e-6), 0.0, 1.0);
   c = mix(c, mix(c, vec3(0.35, 0.4, 0.5) * dot(c, vec3(0.333)), 0.8), u_depthColour * d);
 #endif
-  return c;
+  return vec4(c, alpha);
 }
 
 void main() {
   ivec2 t = ivec2((gl_FragCoord.xy - vec2(u_origin)) * u_scale) + u_guard;
   vec4 s = texelFetch(u_surface, t, 0);
   if (s.a < 0.5) discard;
-  vec3 c = compose(t, s);
+  vec4 composed = compose(t, s);
+  if (composed.a <= 0.0) discard; // outside the data's edge, no background volume
+  vec3 c = composed.rgb;
 #ifdef SHARPEN
   {
     vec3 sum = vec3(0.0);
@@ -165,14 +198,14 @@ void main() {
     for (int i = 0; i < 4; ++i) {
       ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
       if (texelFetch(u_surface, q, 0).a > 0.5) {
-        sum += compose(q, texelFetch(u_surface, q, 0));
+        sum += compose(q, texelFetch(u_surface, q, 0)).rgb;
         n += 1.0;
       }
     }
     if (n > 0.0) c += u_sharpen * (c - sum / n);
   }
 #endif
-  o_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
+  o_colour = vec4(clamp(c, 0.0, 1.0), composed.a);
 #ifdef WINDOW_DEPTH
   // Two units of a 24-bit depth buffer nearer (1.2e-7): the conversion of the written float back to the
   // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.

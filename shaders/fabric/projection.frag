@@ -54,7 +54,7 @@ uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 layout(location = 0) out uvec4 o_vectors;
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
-layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, 1 = tensor data
+layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, data cover (0..1)
 #ifdef FIBRES
 layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k) for populations k = 1..3
 #endif
@@ -143,7 +143,14 @@ void main() {
   }
 #else
   mat3 t;
-  if (sampleTensor(world, t, fa) && fa >= u_faFloor) {
+  float valid;
+  // Tensors are decoded a little beyond the data's edge (the advection runs on across it); the edge itself is
+  // the 0.5 contour of the blurred mask sampled trilinearly, drawn as a coverage ramp one pixel wide (its
+  // change per pixel from the screen-space derivative): a smooth sub-voxel outline, never the voxel lattice.
+  bool decoded = sampleTensorValid(world, 0.02, t, fa, valid);
+  float edge = dataEdge(world);
+  float cover = clamp((edge - 0.5) / max(fwidth(edge), 1e-4) + 0.5, 0.0, 1.0);
+  if (decoded && fa >= u_faFloor) {
     // Eq. 1-2: T' = P T P^T with P = I - n n^T. T' has n as an eigenvector with eigenvalue 0, so the
     // closed-form solver's "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in
     // the tangent plane, where u^T T' w = u^T T w for u, w orthogonal to n: T' need not be formed.
@@ -162,13 +169,12 @@ void main() {
     lambda.y = abs(dot(e1, n));
 #endif
     lambda.x = l1 > 0.0 ? clamp(l2 / l1, 0.0, 1.0) : 1.0;
-    lambda.w = 1.0;
+    lambda.w = cover;
   }
 #endif
 #ifdef BACKGROUND
-  else {
-    lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
-  }
+  // The grey beneath the fabric (everywhere: the anatomy look shows it through isotropic tissue).
+  lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
 #endif
 #ifdef FIBRES
   o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), packSnorm2x16(v3));

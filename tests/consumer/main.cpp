@@ -433,6 +433,7 @@ int main(int argc, char** argv) {
     hv.framebuffer = outFbo;
     dtf::render::FabricParams params;
     params.background = glm::vec3(0.0f);
+    params.look = dtf::render::Look::Plain; // the paper's look, as consumer_sphere.png holds it
     fabric.drawStill(hv, params);
     std::printf("fabric drawn into the host's framebuffer in %.3f s (%d advection iterations)\n", seconds(t0),
                 fabric.lastIterations());

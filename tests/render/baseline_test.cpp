@@ -86,6 +86,7 @@ TEST_F(Baseline, Bretzel5HessianOnItsIsosurface) {
   for (ColourMode mode : {ColourMode::Engineering, ColourMode::Medical}) {
     FabricParams p;
     p.colour = mode;
+    p.look = Look::Plain; // the paper's look
     Image img = renderFabric(a.mesh, a.field, cam, p);
     EXPECT_GT(coverage(img), 0.2);
     test::compareToBaseline(mode == ColourMode::Engineering ? "bretzel5_engineering" : "bretzel5_medical", img);
@@ -121,6 +122,7 @@ TEST_F(Baseline, RealBrainAxialSlice) {
   for (ColourMode mode : {ColourMode::Medical, ColourMode::Engineering}) {
     FabricParams p;
     p.colour = mode;
+    p.look = Look::Plain; // the paper's look
     Image img = renderFabric(slice, b.field, cam, p);
     EXPECT_GT(coverage(img), 0.4);
     if (mode == ColourMode::Medical) {
@@ -157,6 +159,7 @@ TEST_F(Baseline, RealBrainFaIsosurface) {
   for (ColourMode mode : {ColourMode::Medical, ColourMode::Engineering}) {
     FabricParams p;
     p.colour = mode;
+    p.look = Look::Plain; // the paper's look
     Image img = renderFabric(mesh, b.field, cam, p);
     EXPECT_GT(coverage(img), 0.25);
     test::compareToBaseline(mode == ColourMode::Medical ? "brain_fa025_medical" : "brain_fa025_engineering", img);

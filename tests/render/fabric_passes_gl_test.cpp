@@ -555,6 +555,10 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   Texture ta = textureFrom(GL_R32F, GL_RED, kW, kH, p1), tb = textureFrom(GL_R32F, GL_RED, kW, kH, p2);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges), tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
+  // The projection's lambda: .w is the data's cover (1: inside the data's edge).
+  std::vector<float> covered(beta.size() * 4, 0.0f);
+  for (std::size_t i = 0; i < beta.size(); ++i) covered[i * 4 + 3] = 1.0f;
+  Texture tl = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, covered);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
   glTextureSubImage2D(td.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
   Texture out = Texture::create2D(GL_RGBA32F, kW, kH);
@@ -571,7 +575,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   view.viewport = {kW, kH};
   view.internal = {kW, kH};
   view.target = {kW, kH};
-  pass.run({&ta, &tb, &ts, &te, &tz, &tz}, view, cs);
+  pass.run({&ta, &tb, &ts, &te, &tz, &tl}, view, cs);
   auto c = readTexture(out, 4);
   for (std::size_t i = 0; i < beta.size(); ++i) {
     double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);

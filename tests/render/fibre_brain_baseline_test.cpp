@@ -45,6 +45,7 @@ Image renderSlice(FabricRenderer& r, const Slice& s, const FibreSet& f, const Sc
   r.resize(kSize, kSize);
   FabricParams p;
   p.colour = ColourMode::Fibres;
+  p.look = Look::Plain; // the paper's look: the fibres' fabric in every tissue
   return r.renderStill(s.camera, p);
 }
 

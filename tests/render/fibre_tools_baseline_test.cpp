@@ -35,6 +35,7 @@ Image renderAxial(const io::LoadedFibres& f, int k, Camera* camera) {
   r.resize(kSize, kSize);
   FabricParams p;
   p.colour = ColourMode::Fibres;
+  p.look = Look::Plain; // the paper's look: the fibres' fabric in every tissue
   return r.renderStill(*camera, p);
 }
 

@@ -216,11 +216,15 @@ void fabricPanel(const session::ViewerState& s, session::ActionList& out) {
     if (!o.sliderLabel) continue;
     double v = o.get(p);
     bool c = false;
-    if (o.kind == Kind::Colour) {
-      int colour = static_cast<int>(v);
-      static const char* const colours[] = {"medical", "engineering", "fibres"};
-      c = ImGui::Combo(o.sliderLabel, &colour, colours, 3);
-      v = colour;
+    if (o.kind == Kind::Choice) {
+      int choice = static_cast<int>(v);
+      // ImGui's zero-separated item list: the table's names with the spaces as separators.
+      char items[128] = {};
+      std::strncpy(items, o.choices ? o.choices : "", sizeof items - 2);
+      for (char& ch : items)
+        if (ch == ' ') ch = '\0';
+      c = ImGui::Combo(o.sliderLabel, &choice, items);
+      v = choice;
     } else if (o.kind == Kind::OnOff) {
       bool on = v != 0;
       c = ImGui::Checkbox(o.sliderLabel, &on);

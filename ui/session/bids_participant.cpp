@@ -7,6 +7,7 @@
 #include "io/formats/png_io.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
+#include "render/figure_furniture.h"
 #include "render/gl_context.h"
 
 #include <algorithm>
@@ -68,7 +69,8 @@ void render(render::FabricRenderer& renderer, const Mesh& mesh, const std::strin
   const render::Camera camera =
       render::Camera::standard(render::parseView(view), glm::dvec3(lo), glm::dvec3(hi), 1.0, false, true);
   render::FabricParams params;
-  const Image img = renderer.renderStill(camera, params);
+  Image img = renderer.renderStill(camera, params);
+  render::drawFurniture(img, camera, renderer.frameView().pixelMm, {});
   io::writePng(path, img);
 }
 
@@ -185,9 +187,11 @@ std::vector<std::pair<std::string, Mesh>> figureMeshes(const CheckRun& check, co
   iso.kind = SurfaceSpec::Kind::Fa;
   iso.value = kIsoFa;
   std::vector<std::pair<std::string, Mesh>> meshes;
-  meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa));
-  meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa));
-  meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa));
+  SurfaceBuildOptions figure;
+  figure.dataEdgeCells = true; // the smooth data edge
+  meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa, figure));
+  meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa, figure));
+  meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa, figure));
   return meshes;
 }
 

@@ -257,6 +257,7 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
   render::FabricRenderer renderer;
   renderer.resize(panelPx, panelPx);
   render::FabricParams params;
+  params.look = render::Look::Plain; // the evidence is the threads, in every tissue
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const surfaces::CandidateScore& cand = rep.candidates[rows[r]];
     const TensorField field = surfaces::transformedField(run.field, run.tableToWorld, cand.transform);

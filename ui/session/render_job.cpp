@@ -25,6 +25,20 @@ struct Background {
   float lo = 0, hi = 1;
 };
 
+// The grey ramp of a volume: its non-zero values' 1st..99th percentile. False when it has none.
+bool percentileWindow(Background& b) {
+  std::vector<float> v;
+  for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
+    const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
+    if (std::isfinite(x) && x != 0) v.push_back(x);
+  }
+  if (v.empty()) return false;
+  std::sort(v.begin(), v.end());
+  b.lo = v[v.size() / 100];
+  b.hi = v[v.size() - 1 - v.size() / 100];
+  return true;
+}
+
 // --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile).
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa) {
@@ -40,15 +54,7 @@ Background loadBackground(const std::string& what, const std::string& window, co
     b.hi = 0.003f;
   } else {
     b.volume = io::readScalarVolume(what);
-    std::vector<float> v;
-    for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
-      const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
-      if (std::isfinite(x) && x != 0) v.push_back(x);
-    }
-    if (v.empty()) throw InputError(what + ": the background volume holds no non-zero values");
-    std::sort(v.begin(), v.end());
-    b.lo = v[v.size() / 100];
-    b.hi = v[v.size() - 1 - v.size() / 100];
+    if (!percentileWindow(b)) throw InputError(what + ": the background volume holds no non-zero values");
   }
   if (!window.empty()) {
     const auto comma = window.find(',');
@@ -101,6 +107,29 @@ void validate(const RenderRequest& r) {
   if (!(r.tractWidth > 0 && r.tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
   if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
     throw UsageError("--split tracts needs --tracts FILE");
+  if (r.supersample < 1 || r.supersample > 4) throw UsageError("--supersample must be 1, 2, 3 or 4");
+  if (r.width * r.supersample > 16384 || r.height * r.supersample > 16384)
+    throw UsageError("--supersample: the size times N must stay within 16384x16384");
+}
+
+// The image size up to which the fabric's threads are those of the pixel-based defaults (FabricParams'
+// stepPixels, autoLodPixels); larger images scale them (the same fabric, sharper).
+constexpr double kFabricReferencePx = 768;
+
+// The N x N box filter of a supersampled image (RGBA8; sizes are multiples of n).
+Image downsample(const Image& big, int n) {
+  if (n == 1) return big;
+  Image out(big.width / n, big.height / n);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < n; ++dy)
+          for (int dx = 0; dx < n; ++dx)
+            sum += big.pixel(x * n + dx, y * n + dy)[c];
+        out.pixel(x, y)[c] = static_cast<std::uint8_t>((sum + n * n / 2) / (n * n));
+      }
+  return out;
 }
 
 Mesh buildNamedSurface(const SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa,
@@ -152,8 +181,15 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   s.fa = !s.fibreIn                   ? computeFaMap(*s.field)
          : s.fibreIn->fa.data.empty() ? ScalarVolume(s.field->grid, 1)
                                       : s.fibreIn->fa;
-  s.buildOptions.clipToData = r.background.empty();
   s.background = loadBackground(r.background, r.backgroundWindow, *s.field, s.fa);
+  // The anatomy look over a DWI: its mean b=0 image beneath, unless a background was given. (Over a tensor
+  // file the composite shows FA beneath, within the data's edge.)
+  if (r.background.empty() && p.look == render::Look::Anatomy && !s.loaded.meanB0.data.empty()) {
+    s.background.volume = std::move(s.loaded.meanB0);
+    if (!percentileWindow(s.background)) s.background.volume = ScalarVolume{};
+  }
+  s.buildOptions.clipToData = s.background.volume.data.empty();
+  s.buildOptions.dataEdgeCells = true;
   s.mesh = buildNamedSurface(r.surface, *s.field, s.fa, s.buildOptions, "the surface");
   if (!r.tracts.empty()) s.tracts = readTracts(r.tracts);
   s.coloured = applyTractColouring(s.tracts, r.colouring, r.tracts);
@@ -205,8 +241,8 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
 class PaneRenderer {
 public:
   PaneRenderer(const RenderRequest& r, const Scene& s, const SecondPane& second, render::StandardView view)
-      : r_(r), s_(s), second_(second) {
-    renderer_.resize(r.width, r.height);
+      : r_(r), s_(s), second_(second), n_(r.supersample) {
+    renderer_.resize(r.width * n_, r.height * n_);
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
     s.mesh.bounds(lo_, hi_);
@@ -215,7 +251,8 @@ public:
     if (!r.tracts.empty()) tracts_.emplace();
   }
 
-  // One pane: `m` woven from `f`, with the tracts over it when asked and given.
+  // One pane: `m` woven from `f`, with the tracts over it when asked and given; filtered down to the
+  // requested size and furnished.
   Image pane(const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
     renderer_.setMesh(m);
     renderer_.setField(f);
@@ -223,12 +260,26 @@ public:
       auto [set, setFa] = fibresOf(f);
       renderer_.setFibres(*set, setFa);
     }
-    Image img = renderer_.renderStill(camera_, params);
-    return withTracts && tracts_ ? overlay(m, img) : img;
+    Image img = renderer_.renderStill(camera_, scaled(params));
+    if (withTracts && tracts_)
+      if (auto over = tractsOver(m)) return finish(*over);
+    return finish(img);
   }
 
-  // The tracts shown on `m` (the one overlay rule, ui/session/tract_overlay.h) drawn over `fabric`.
+  // The tracts shown on `m` (the one overlay rule, ui/session/tract_overlay.h) over the last pane rendered
+  // (`fabric`, returned when there are none).
   Image overlay(const Mesh& m, const Image& fabric) {
+    if (!tracts_) return fabric;
+    auto over = tractsOver(m);
+    return over ? finish(*over) : fabric;
+  }
+
+  int lastIterations() const { return renderer_.lastIterations(); }
+
+private:
+  // The tracts drawn over the renderer's output (at the supersampled size), read back; none when no tract
+  // lies near the surface.
+  std::optional<Image> tractsOver(const Mesh& m) {
     TractOverlayOptions options;
     options.nearMm = r_.tractsNear;
     options.clipMm = r_.tractsSlab;
@@ -237,13 +288,13 @@ public:
     const TractClip clip =
         tractClip(selection.pick, options, glm::vec3(camera_.forward()), 0.5f * (lo_ + hi_));
     render::TractStyle style;
-    style.widthPx = static_cast<float>(r_.tractWidth);
+    style.widthPx = static_cast<float>(r_.tractWidth * n_);
     style.plane = clip.plane;
     style.slabMm = clip.slabMm;
     tracts_->upload(tractOverlayDisplay(selection.all ? s_.tracts : selection.near));
     if (tracts_->lineCount() == 0) {
       logWarning("no tract of " + r_.tracts + " lies near the surface");
-      return fabric;
+      return std::nullopt;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
     tracts_->draw(renderer_.frameView(), style);
@@ -252,9 +303,28 @@ public:
     return out;
   }
 
-  int lastIterations() const { return renderer_.lastIterations(); }
+  // Supersampling: the same fabric at n times the pixels (noise cell, step and silhouette in pixels x n).
+  // Above kFabricReferencePx the fabric keeps the threads of an image that size (the noise cell and the
+  // advection step scale with the image), so a larger image shows the same fabric sharper, not a finer one.
+  render::FabricParams scaled(render::FabricParams p) const {
+    const double size = std::max(r_.width, r_.height);
+    const double k = n_ * std::max(1.0, size / kFabricReferencePx);
+    p.stepPixels *= k;
+    p.autoLodPixels *= k;
+    p.silhouettePixels *= n_;
+    p.guard = static_cast<int>(std::ceil(p.guard * k));
+    return p;
+  }
 
-private:
+  // Filtered down to the requested size, then the figure's furniture at that size.
+  Image finish(const Image& full) const {
+    Image img = downsample(full, n_);
+    render::FigureFurniture furniture = r_.furniture;
+    furniture.scaleBar = furniture.scaleBar && !r_.perspective; // one pixel size only without perspective
+    render::drawFurniture(img, camera_, renderer_.frameView().pixelMm * n_, furniture);
+    return img;
+  }
+
   // Fibre colours: the fibre set of the pane (a tensor's principal directions when it has none).
   std::pair<const FibreSet*, const ScalarVolume*> fibresOf(const TensorField& f) {
     if (s_.fibreIn && &f == &s_.fibreIn->carrier)
@@ -267,6 +337,7 @@ private:
   const RenderRequest& r_;
   const Scene& s_;
   const SecondPane& second_;
+  int n_; // supersampling factor
   // Makes the process's headless context current before the renderer compiles its programs.
   struct CurrentContext {
     CurrentContext() { render::GlContext::headless(); }

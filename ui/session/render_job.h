@@ -10,6 +10,7 @@
 #include "io/model/tensor_field.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
+#include "render/figure_furniture.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/tract_colouring.h"
@@ -38,7 +39,8 @@ struct RenderRequest {
   SurfaceSpec surface;
   std::optional<render::StandardView> view; // default: the slice's own view, else superior
   bool neurological = false, perspective = false;
-  int width = 768, height = 768;
+  int width = 768, height = 768; // above 768 the fabric keeps the threads of a 768 px image (noise cell and
+                                 // advection step scale), so a larger image is sharper, not finer
   render::FabricParams params;
   bool colourGiven = false;     // params.colour was chosen (a fibre set defaults to fibres)
   std::string colourName;       // as given, for messages
@@ -48,6 +50,10 @@ struct RenderRequest {
   TractColouring colouring;
   double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;
   SplitMode split;
+  int supersample = 1;               // render at N x the size and box-filter down (1..4); the noise cell,
+                                     // advection step, silhouette and tract widths scale with N, so the
+                                     // fabric is the same one, anti-aliased
+  render::FigureFurniture furniture; // orientation letters, legend, scale bar (per pane)
   std::string output = "the image"; // what GL errors name
 };
 

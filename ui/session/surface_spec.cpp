@@ -167,7 +167,8 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
     io.smoothSigmaVoxels = o.smoothSigmaVoxels;
     io.minComponentFraction = o.minComponentFraction;
     io.meshSmoothIterations = o.meshSmoothIterations;
-    m = surfaces::extractIsosurface(fa, s.value, io);
+    io.maxShiftVoxels = o.maxShiftVoxels;
+    m = surfaces::extractIsosurface(fa, s.value, io, o.smoothing);
     if (m.empty()) throw InputError("FA threshold " + std::to_string(s.value) + " yields no surface");
     break;
   }
@@ -186,6 +187,7 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
     ScalarVolume clip = validMask(field);
     surfaces::SliceOptions so;
     if (o.clipToData) so.clip = &clip;
+    so.anyCorner = o.dataEdgeCells;
     m = surfaces::makeSlice(field.grid, axis, idx, so);
     if (m.empty()) throw InputError(describeSurface(s) + " holds no tensor data");
     break;
@@ -194,6 +196,10 @@ Mesh buildSurface(const SurfaceSpec& s, const TensorField& field, const ScalarVo
     ScalarVolume clip = validMask(field);
     surfaces::SliceOptions so;
     if (o.clipToData) so.clip = &clip;
+    if (o.dataEdgeCells) {
+      so.anyCorner = true;
+      so.clipFloor = 0.05f; // the 0.5 contour can pass between samples of the plane's step
+    }
     double step = o.planeStepMm > 0
                       ? o.planeStepMm
                       : 0.5 * std::min({field.grid.spacing.x, field.grid.spacing.y, field.grid.spacing.z});

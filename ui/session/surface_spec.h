@@ -12,6 +12,7 @@
 
 #include "io/model/geometry.h"
 #include "io/model/tensor_field.h"
+#include "surfaces/isosurface.h"
 
 #include <string>
 #include <vector>
@@ -33,10 +34,15 @@ struct SurfaceSpec {
 struct SurfaceBuildOptions {
   double smoothSigmaVoxels = 0.6; // FA isosurfaces: Gaussian pre-smoothing
   double minComponentFraction = 0.02;
-  int meshSmoothIterations = 0;
-  double planeStepMm = 0.0; // oblique planes: 0 = half the smallest voxel size
-  bool clipToData = true;   // slices and planes: only where there is tensor data (false: whole grid,
-                            // for a background volume to show around the brain)
+  int meshSmoothIterations = 15;    // FA isosurfaces: windowed-sinc mesh smoothing (0 = none), each vertex
+  double maxShiftVoxels = 0.5;      // moved at most this far (voxels; larger shifts clamped)
+  surfaces::SmoothingReport* smoothing = nullptr; // receives what the smoothing did (optional)
+  double planeStepMm = 0.0;         // oblique planes: 0 = half the smallest voxel size
+  bool clipToData = true;           // slices and planes: only where there is tensor data (false: whole grid,
+                                    // for a background volume to show around the brain)
+  bool dataEdgeCells = false;       // clipped slices and planes also keep the cells the data's edge crosses
+                                    // (renderers draw the smooth sub-voxel edge there; exports keep whole
+                                    // cells of data only)
   double fibreStepMm = 0.5, fibreLengthMm = 40, fibreFaStop = 0.15, fibreSeedSpacingMm = 0.75;
 };
 

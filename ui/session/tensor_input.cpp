@@ -3,6 +3,8 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 
+#include <algorithm>
+
 namespace dtf::session {
 
 io::InputRequest inputRequest(const std::string& path, const std::string& layoutText,
@@ -14,6 +16,24 @@ io::InputRequest inputRequest(const std::string& path, const std::string& layout
   r.bvec = o.bvec;
   r.fibres = fibres;
   return r;
+}
+
+// The mean of the DWI's volumes at the lowest b-value (b=0 when there are any, within 50 s/mm^2 of it).
+static ScalarVolume meanLowestB(const io::Dwi& d) {
+  const int n = d.signal.components;
+  if (n < 1 || d.bvals.size() != static_cast<std::size_t>(n)) return {};
+  const double lowest = *std::min_element(d.bvals.begin(), d.bvals.end());
+  std::vector<int> use;
+  for (int v = 0; v < n; ++v)
+    if (d.bvals[static_cast<std::size_t>(v)] <= lowest + 50.0) use.push_back(v);
+  ScalarVolume out(d.signal.grid, 1);
+  for (std::size_t i = 0; i < d.signal.grid.voxelCount(); ++i) {
+    double sum = 0;
+    for (int v : use)
+      sum += d.signal.data[i * static_cast<std::size_t>(n) + static_cast<std::size_t>(v)];
+    out.data[i] = static_cast<float>(sum / static_cast<double>(use.size()));
+  }
+  return out;
 }
 
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& o) {
@@ -51,6 +71,7 @@ io::LoadedTensors loadTensors(const io::OpenedInput& in, const TensorInputOption
       "fitted from the DWI " + path +
       (in.embeddedGradients ? " with its own gradient table" : " with " + in.bval + " and " + in.bvec);
   out.header = io::readInputHeader(in);
+  out.meanB0 = meanLowestB(d);
   return out;
 }
 

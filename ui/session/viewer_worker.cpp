@@ -116,6 +116,7 @@ WorkerResult ViewerWorker::load(const LoadJob& job, WorkContext& context) {
       io.smoothSigmaVoxels = data->buildOptions.smoothSigmaVoxels;
       io.minComponentFraction = data->buildOptions.minComponentFraction;
       io.meshSmoothIterations = data->buildOptions.meshSmoothIterations;
+      io.maxShiftVoxels = data->buildOptions.maxShiftVoxels;
       data->sweeper = std::make_unique<surfaces::IsosurfaceSweeper>(data->fa, io);
     }
     const Grid& g = data->loaded.field.grid;

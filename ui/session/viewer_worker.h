@@ -29,7 +29,7 @@ struct ViewerDataset {
   ScalarVolume fa; // empty for a fibre set without FA (no paired tensor, none in the file)
   std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared
                                                         // by a copy whose tensors were turned: the same FA)
-  SurfaceBuildOptions buildOptions;
+  SurfaceBuildOptions buildOptions{.dataEdgeCells = true}; // the renderer draws the smooth data edge
   glm::dvec3 lo{0.0}, hi{0.0}; // world bounds of the grid (voxel corners), mm
   // Fibre sets (ui/session/fibre_input.h): the fibres as read, whether a tensor is paired, where FA comes
   // from.

@@ -97,7 +97,7 @@ TEST(Help, FabricOptionRowsAcceptWhatTheFabricTableAccepts) {
       continue;
     }
     EXPECT_EQ(o.name, f.name);
-    if (f.kind == dtf::render::FabricOption::Kind::Colour) continue; // validated by FabricOption::parse
+    if (f.kind == dtf::render::FabricOption::Kind::Choice) continue; // validated by FabricOption::parse
     std::vector<std::string> samples = {"x", "0", "1", "0.5", "-1", "2"};
     for (double v : {f.range.lo, f.range.hi})
       for (double d : {-1.0, -1e-3, 0.0, 1e-3, 1.0})

@@ -22,7 +22,9 @@ class TractBaseline : public GlTest {};
 
 // Runs `dtfabric render ARGS -o OUT` and returns the PNG.
 Image renderCli(const std::string& args, const fs::path& out) {
-  const std::string cmd = std::string(DTF_EXE) + " render " + args + " -o " + out.string() + " --force";
+  // The paper's look without the figure furniture: the overlay is what these baselines hold.
+  const std::string cmd = std::string(DTF_EXE) + " render " + args +
+                          " --look plain --no-letters --no-legend --no-scale-bar -o " + out.string() + " --force";
   const int status = std::system(cmd.c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
   return fs::exists(out) ? io::readPng(out.string()) : Image();

@@ -102,7 +102,8 @@ TEST(ViewWindow, SliceKeysMoveTheSlice) {
   DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
-      runViewer(dir, "key A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
+      // The paper's look: the phantom's isotropic tissue carries the fabric (the anatomy look shows its FA 0).
+      runViewer(dir, "set look plain\nkey A\nscreenshot-scene " + shot(dir, "s0.png") + "\nkey PgUp\nscreenshot-scene " +
                          shot(dir, "s1.png") + "\nkey Down\nkey Down\nscreenshot-scene " +
                          shot(dir, "s2.png") + "\nquit\n");
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
@@ -118,7 +119,7 @@ TEST(ViewWindow, SplitViewShowsTwoPanes) {
   DTF_XVFB_SETUP();
   const auto dir = dtf::test::scratchDir();
   const auto r =
-      runViewer(dir, "key C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
+      runViewer(dir, "set look plain\nkey C\nscreenshot-scene " + shot(dir, "one.png") + "\nsplit on\nscreenshot-scene " +
                          shot(dir, "two.png") + "\nscreenshot " + shot(dir, "two_window.png") + "\nquit\n");
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
   ASSERT_EQ(r.exitCode, 0) << r.err;
