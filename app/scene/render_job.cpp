@@ -7,6 +7,8 @@
 #include "app/scene/tract_overlay.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "io/uncertainty.h"
+#include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
 
@@ -123,6 +125,7 @@ struct Scene {
   const TensorField* field = nullptr;
   ScalarVolume fa;
   Background background;
+  ScalarVolume cone; // degrees; empty without --uncertainty
   SurfaceBuildOptions buildOptions;
   Mesh mesh;
   Polylines tracts;
@@ -151,6 +154,13 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
                                       : s.fibreIn->fa;
   s.buildOptions.clipToData = r.background.empty();
   s.background = loadBackground(r.background, r.backgroundWindow, *s.field, s.fa);
+  if (!r.uncertainty.empty()) {
+    try {
+      s.cone = io::readConeMap(r.uncertainty);
+    } catch (...) {
+      rethrowWithContext("while reading the uncertainty map " + r.uncertainty);
+    }
+  }
   s.mesh = buildNamedSurface(r.surface, *s.field, s.fa, s.buildOptions, "the surface");
   if (!r.tracts.empty()) s.tracts = readTracts(r.tracts);
   s.coloured = applyTractColouring(s.tracts, r.colouring, r.tracts);
@@ -202,6 +212,7 @@ public:
     renderer_.resize(r.width, r.height);
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
+    if (!s.cone.data.empty()) renderer_.setUncertainty(&s.cone);
     s.mesh.bounds(lo_, hi_);
     camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
                                        r.neurological, !r.perspective);
@@ -309,6 +320,7 @@ RenderResult runRender(const RenderRequest& r) {
   const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
+  if (!scene.cone.data.empty()) render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);
