@@ -204,7 +204,8 @@ void timeBootstrap(const std::string& dwiPath, int threads, Figure& boot, std::v
     io::UncertaintyMaps maps;
     io::FitStats stats;
     boot.t = medianTiming(1, [&] { io::bootstrapTensors(dwi, nullptr, o, b, maps, {}, &stats); });
-    notes.push_back("bootstrap: " + std::to_string(stats.voxelsFitted) + " voxels x 200 resamples of " + dwiPath);
+    notes.push_back("bootstrap: " + std::to_string(stats.voxelsFitted) + " voxels x 200 resamples of " +
+                    dwiPath);
   } catch (const Error& e) {
     notes.push_back(std::string("bootstrap skipped: ") + e.what());
   }

@@ -17,7 +17,8 @@ const std::vector<Command>& commands() {
       {"info", nullptr,
        "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)",
        "file format and why, header, orientation, detected tensor layout and why, value ranges, FA statistics; "
-       "one voxel's world tensor, eigen-system and metrics (with `--uncertainty CONE`, its cone). For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
+       "one voxel's world tensor, eigen-system and metrics (with `--uncertainty CONE`, its cone). For a "
+       "tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
        ".vtp): format, header facts (space, voxel order, dimensions, affine), streamline and point counts, "
        "lengths, per-streamline/per-point data with shapes and ranges, groups. For a fibre set (MRtrix or DIPY "
        "peaks, FSL bedpostx, DSI Studio `.fib.gz`, FSL dtifit V1 without L1–L3): layout and frame with the reason, "

@@ -152,7 +152,8 @@ int cmdFit(const CommandArgs& argv) {
   if (maskPath) inputs.push_back(*maskPath);
   for (const auto& out : outputs) {
     io::refuseOverwritingInput(out, inputs);
-    if (!force && std::filesystem::exists(out)) throw InputError(out + " exists (use --force to overwrite it)");
+    if (!force && std::filesystem::exists(out))
+      throw InputError(out + " exists (use --force to overwrite it)");
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -183,10 +184,9 @@ int cmdFit(const CommandArgs& argv) {
   TensorField field;
   io::UncertaintyMaps maps;
   try {
-    field = bootstrap.resamples > 0
-                ? io::bootstrapTensors(dwi, maskPath ? &mask : nullptr, options, bootstrap, maps, std::ref(printer),
-                                       &stats)
-                : io::fitTensors(dwi, maskPath ? &mask : nullptr, options, std::ref(printer), &stats);
+    const MaskVolume* m = maskPath ? &mask : nullptr;
+    field = bootstrap.resamples > 0 ? io::bootstrapTensors(dwi, m, options, bootstrap, maps, std::ref(printer), &stats)
+                                    : io::fitTensors(dwi, m, options, std::ref(printer), &stats);
   } catch (...) {
     if (printer.tty) std::fputc('\n', stderr);
     rethrowWithContext("while fitting " + dwiPath + (maskPath ? " with mask " + *maskPath : ""));

@@ -498,9 +498,9 @@ const OptionTable& infoOptions() {
                 "eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD; a fibre set's fibres")
             .checkedBy(checkTriple),
         O::text("uncertainty", "CONE",
-                "with --voxel: also the 95 % cone of uncertainty there (degrees; JSON key \"cone_deg\", a list) "
-                "from a cone map (fit --bootstrap N --cone CONE) or a bedpostx folder with samples (one per "
-                "population); nearest voxel of CONE's grid"),
+                "with --voxel: also the 95 % cone of uncertainty there (degrees; JSON key \"cone_deg\", a "
+                "list) from a cone map (fit --bootstrap N --cone CONE) or a bedpostx folder with samples (one "
+                "per population); nearest voxel of CONE's grid"),
     };
     return t;
   }();
@@ -521,7 +521,8 @@ int cmdInfo(const CommandArgs& argv) {
   if (voxelText) parseTriple(*voxelText, ijk);
   const std::string conePath = args.text("uncertainty");
   args.finish();
-  if (!conePath.empty() && !voxelText) throw UsageError("--uncertainty reports a voxel's cone: give --voxel I,J,K");
+  if (!conePath.empty() && !voxelText)
+    throw UsageError("--uncertainty reports a voxel's cone: give --voxel I,J,K");
   if (isFibreInput(path, layoutText, true))
     return describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);
   if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre set; " + path + " is not one");
