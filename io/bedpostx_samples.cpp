@@ -28,7 +28,9 @@ const std::regex& samplesName() {
   return r;
 }
 
-[[noreturn]] void fail(const std::string& file, const std::string& what) { throw InputError(file + ": " + what); }
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw InputError(file + ": " + what);
+}
 
 } // namespace
 
@@ -48,7 +50,8 @@ BedpostxSamples readBedpostxSamples(const std::string& path, double percentile, 
     const std::string th = existing(folder, "merged_th" + id + "samples");
     if (th.empty()) {
       if (pop == 1)
-        fail(path, "no merged_th1samples.nii.gz in " + folder.string() + " (not a bedpostx folder with samples)");
+        fail(path,
+             "no merged_th1samples.nii.gz in " + folder.string() + " (not a bedpostx folder with samples)");
       break;
     }
     const std::string ph = existing(folder, "merged_ph" + id + "samples");
@@ -85,7 +88,8 @@ BedpostxSamples readBedpostxSamples(const std::string& path, double percentile, 
       if (!(fm >= minFraction)) continue;
       for (int s = 0; s < n; ++s) {
         const double t = vt.data[v * n + s], p = vp.data[v * n + s];
-        if (!std::isfinite(t) || !std::isfinite(p)) fail(th, "voxel " + std::to_string(v) + " holds NaN/Inf angles");
+        if (!std::isfinite(t) || !std::isfinite(p))
+          fail(th, "voxel " + std::to_string(v) + " holds NaN/Inf angles");
         dirs[static_cast<std::size_t>(s)] =
             glm::vec3(m * glm::dvec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
       }

@@ -56,11 +56,11 @@ double faOf(const double* t) {
 
 // Per-thread scratch.
 struct Scratch {
-  std::vector<double> logs, w, fitted, h;  // n; h: 7 x n hat rows
-  std::vector<float> g;                    // 6 x n: H rows 1..6 times the scaled residuals
-  std::vector<float> out;                  // 6 x N resampled tensors (1e-3 mm^2/s)
-  std::vector<glm::vec3> dirs;             // N
-  std::vector<float> angles;               // N
+  std::vector<double> logs, w, fitted, h; // n; h: 7 x n hat rows
+  std::vector<float> g;                   // 6 x n: H rows 1..6 times the scaled residuals
+  std::vector<float> out;                 // 6 x N resampled tensors (1e-3 mm^2/s)
+  std::vector<glm::vec3> dirs;            // N
+  std::vector<float> angles;              // N
   Scratch(int n, int resamples)
       : logs(n), w(n), fitted(n), h(static_cast<std::size_t>(kUnknowns) * n),
         g(static_cast<std::size_t>(6) * n), out(static_cast<std::size_t>(6) * resamples), dirs(resamples),
@@ -188,7 +188,8 @@ void bootstrapSlice(int k, const Job& job, Scratch& s, FitStats& sliceStats) {
       }
       const double r = (s.logs[v] - fit) / std::sqrt(std::max(1.0 - lev, 1e-3));
       for (int i = 0; i < 6; ++i)
-        s.g[static_cast<std::size_t>(i) * n + v] = static_cast<float>(s.h[static_cast<std::size_t>(i + 1) * n + v] * r);
+        s.g[static_cast<std::size_t>(i) * n + v] =
+            static_cast<float>(s.h[static_cast<std::size_t>(i + 1) * n + v] * r);
     }
     // The N refits at once: out = beta + G T (6 x n times n x N, sign matrix shared by all voxels).
     for (int i = 0; i < 6; ++i) {
@@ -228,7 +229,8 @@ void bootstrapSlice(int k, const Job& job, Scratch& s, FitStats& sliceStats) {
     std::nth_element(s.angles.begin(), s.angles.begin() + static_cast<std::ptrdiff_t>(rank), s.angles.end());
     job.maps.cone.data[idx] = s.angles[rank];
     const double faMean = faSum / N;
-    job.maps.faSd.data[idx] = static_cast<float>(std::sqrt(std::max(0.0, (faSq - N * faMean * faMean) / (N - 1))));
+    job.maps.faSd.data[idx] =
+        static_cast<float>(std::sqrt(std::max(0.0, (faSq - N * faMean * faMean) / (N - 1))));
   }
   sliceStats.voxelsFitted += stats.voxelsFitted;
   sliceStats.clampedSignals += stats.clampedSignals;
@@ -274,12 +276,14 @@ TensorField bootstrapTensors(const Dwi& dwi, const MaskVolume* mask, const FitOp
   const int n = dwi.signal.components;
   const std::size_t count = grid.voxelCount();
   if (bootstrap.resamples < 2 || bootstrap.resamples > 100000)
-    throw InputError("a bootstrap needs 2 to 100000 resamples; asked for " + std::to_string(bootstrap.resamples));
+    throw InputError("a bootstrap needs 2 to 100000 resamples; asked for " +
+                     std::to_string(bootstrap.resamples));
   if (!(bootstrap.percentile > 0 && bootstrap.percentile < 100))
     throw InputError("the cone's percentile must lie in (0, 100)");
   if (n < kUnknowns)
     throw InputError("a tensor fit needs at least 7 volumes; the DWI has " + std::to_string(n));
-  if (dwi.bvals.size() != static_cast<std::size_t>(n) || dwi.gradientsWorld.size() != static_cast<std::size_t>(n))
+  if (dwi.bvals.size() != static_cast<std::size_t>(n) ||
+      dwi.gradientsWorld.size() != static_cast<std::size_t>(n))
     throw InputError("the gradient table has " + std::to_string(dwi.bvals.size()) + " entries for " +
                      std::to_string(n) + " DWI volumes");
   if (dwi.signal.data.size() != count * static_cast<std::size_t>(n))

@@ -26,9 +26,9 @@ struct DirectionSpread {
 DirectionSpread directionSpread(const glm::vec3* directions, std::size_t count, double percentile = 95.0);
 
 struct BootstrapOptions {
-  int resamples = 200;       // N refits
-  std::uint64_t seed = 1;    // of the Rademacher signs (fixed: the same command gives the same maps)
-  double percentile = 95.0;  // of the cone
+  int resamples = 200;      // N refits
+  std::uint64_t seed = 1;   // of the Rademacher signs (fixed: the same command gives the same maps)
+  double percentile = 95.0; // of the cone
 };
 
 // Per-voxel maps on the DWI grid, NaN outside the mask and where the fit is invalid.
@@ -54,10 +54,10 @@ TensorField bootstrapTensors(const Dwi& dwi, const MaskVolume* mask, const FitOp
 // volume per sample.
 struct BedpostxSamples {
   Grid grid;
-  std::vector<ScalarVolume> cone;       // per population: degrees; NaN where mean f < minFraction
-  std::vector<Volume<float>> mean;      // per population: dyadic mean direction, world RAS, 3 components
+  std::vector<ScalarVolume> cone;  // per population: degrees; NaN where mean f < minFraction
+  std::vector<Volume<float>> mean; // per population: dyadic mean direction, world RAS, 3 components
   std::vector<ScalarVolume> meanFraction;
-  std::vector<std::string> files;       // the files read
+  std::vector<std::string> files; // the files read
   int samples = 0;
 };
 // `path` is a bedpostx folder or one of its merged_* files. Throws InputError naming the file for a

@@ -320,7 +320,8 @@ RenderResult runRender(const RenderRequest& r) {
   const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
-  if (!scene.cone.data.empty()) render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
+  if (!scene.cone.data.empty())
+    render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);

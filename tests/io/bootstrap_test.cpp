@@ -71,7 +71,9 @@ Phantom phantom(double snr, unsigned seed, glm::ivec3 dims = {12, 12, 6}) {
   return p;
 }
 
-MaskVolume fullMask(const Grid& g) { return MaskVolume(g, 1, 1); }
+MaskVolume fullMask(const Grid& g) {
+  return MaskVolume(g, 1, 1);
+}
 
 double angleDeg(glm::dvec3 a, glm::dvec3 b) {
   return std::acos(std::min(1.0, std::abs(glm::dot(glm::normalize(a), glm::normalize(b))))) * 180.0 / kPi;

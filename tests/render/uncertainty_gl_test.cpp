@@ -2,14 +2,13 @@
 // CPU reference (render/fray.h), and the whole pipeline on a constant field whose cone widens across the
 // slice: the threads' coherence falls with the cone while their orientation stays the data's; without a
 // cone map (or with a zero one) the field looks the same everywhere.
-#include "support/gl_test.h"
-#include "support/orientation_histogram.h"
-
 #include "io/model/tensor.h"
 #include "render/fabric/projection_pass.h"
 #include "render/fabric_renderer.h"
 #include "render/fray.h"
 #include "render/reference/scenes.h"
+#include "support/gl_test.h"
+#include "support/orientation_histogram.h"
 
 #include <algorithm>
 #include <cstring>
@@ -26,11 +25,12 @@ class Uncertainty : public GlTest {};
 std::vector<float> readVectors(const Texture& t) {
   std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4), raw.data());
+  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4),
+                    raw.data());
   std::vector<float> v(raw.size());
   auto unpack = [](std::uint32_t bits) {
-    return std::max(static_cast<float>(static_cast<std::int16_t>(static_cast<std::uint16_t>(bits))) / 32767.0f,
-                    -1.0f);
+    return std::max(
+        static_cast<float>(static_cast<std::int16_t>(static_cast<std::uint16_t>(bits))) / 32767.0f, -1.0f);
   };
   for (std::size_t i = 0; i < raw.size() / 4; ++i)
     for (int c = 0; c < 2; ++c) {
@@ -67,7 +67,8 @@ struct AxialScene {
 
 TEST(FrayReference, DrawsAreUniformSymmetricAndPerCell) {
   // The draw is constant inside a cell, differs between cells, and spreads over [-1, 1] with mean ~0.
-  EXPECT_EQ(frayDraw({0.1f, 0.1f, 0.1f}, glm::vec3(0), 16, 16, 0), frayDraw({0.9f, 0.5f, 0.2f}, glm::vec3(0), 16, 16, 0));
+  EXPECT_EQ(frayDraw({0.1f, 0.1f, 0.1f}, glm::vec3(0), 16, 16, 0),
+            frayDraw({0.9f, 0.5f, 0.2f}, glm::vec3(0), 16, 16, 0));
   double sum = 0, sq = 0, lo = 1, hi = -1;
   int n = 0, differ = 0;
   for (int j = -50; j < 50; ++j)
@@ -205,13 +206,15 @@ TEST_F(Uncertainty, ThreadsFrayAsTheConeWidensWhileTheirOrientationStaysTrue) {
       EXPECT_LT(test::orientationDiff(glm::degrees(o), 0.0), 15.0) << "band " << b;
     }
     const double of = glm::degrees(0.5 * std::atan2(mean.y, mean.x));
-    std::printf("band %d (rows %d..%d): coherence plain %.3f frayed %.3f, orientation plain %.1f frayed %.1f\n", b,
-                y0, y1, cp, cf, op, of);
+    std::printf(
+        "band %d (rows %d..%d): coherence plain %.3f frayed %.3f, orientation plain %.1f frayed %.1f\n", b,
+        y0, y1, cp, cf, op, of);
     cohPlain.push_back(cp);
     cohFrayed.push_back(cf);
     EXPECT_LT(test::orientationDiff(op, 0.0), 4.0);
     // The estimate's scatter grows as the coherence falls (widest band: ~0.27, about +-6 degrees).
-    EXPECT_LT(test::orientationDiff(of, 0.0), 8.0) << "the mean direction must stay the data's (band " << b << ")";
+    EXPECT_LT(test::orientationDiff(of, 0.0), 8.0)
+        << "the mean direction must stay the data's (band " << b << ")";
   }
   const auto [lo, hi] = std::minmax_element(cohPlain.begin(), cohPlain.end());
   EXPECT_LT(*hi / *lo, 1.15) << "without uncertainty the field looks the same everywhere";
@@ -232,5 +235,6 @@ TEST(FrayLegend, DrawsSwatchesAndLabelsInTheCorner) {
   EXPECT_EQ(litTop, 0); // only at the bottom-left
   Image tiny(20, 20);
   drawFrayLegend(tiny, 1.0f, 1); // too small: draws nothing, no crash
-  for (auto c : tiny.rgba) ASSERT_EQ(c, 0);
+  for (auto c : tiny.rgba)
+    ASSERT_EQ(c, 0);
 }

@@ -16,7 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // One bootstrap of the bundled brain shared by the tests of this file (20 resamples keep it quick).
 struct Fitted {
@@ -73,7 +75,8 @@ TEST(UncertaintyCli, FitWritesConeAndFaSpreadOnTheDwiGrid) {
 TEST(UncertaintyCli, InfoReportsTheVoxelsCone) {
   const Fitted& f = fitted();
   ASSERT_EQ(f.run.exitCode, 0) << f.run.err;
-  const auto r = test::runDtfabric("info " + q(f.tensor) + " --voxel 36,42,22 --uncertainty " + q(f.cone), f.dir);
+  const auto r =
+      test::runDtfabric("info " + q(f.tensor) + " --voxel 36,42,22 --uncertainty " + q(f.cone), f.dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("cone95:"), std::string::npos) << r.out;
   const auto j =
@@ -93,9 +96,11 @@ TEST(UncertaintyCli, RenderFraysWithAConeMapAndWithABedpostxFolder) {
   const std::string base = "render " + q(f.tensor) + " --surface slice=axial:22 --size 256x256 --force -o ";
   const auto plain = test::runDtfabric(base + q(f.dir / "plain.png"), f.dir);
   ASSERT_EQ(plain.exitCode, 0) << plain.err;
-  const auto frayed = test::runDtfabric(base + q(f.dir / "frayed.png") + " --uncertainty " + q(f.cone), f.dir);
+  const auto frayed =
+      test::runDtfabric(base + q(f.dir / "frayed.png") + " --uncertainty " + q(f.cone), f.dir);
   ASSERT_EQ(frayed.exitCode, 0) << frayed.err;
-  const Image a = io::readPng((f.dir / "plain.png").string()), b = io::readPng((f.dir / "frayed.png").string());
+  const Image a = io::readPng((f.dir / "plain.png").string()),
+              b = io::readPng((f.dir / "frayed.png").string());
   ASSERT_EQ(a.rgba.size(), b.rgba.size());
   // The legend: white text at the bottom-left where the plain image is dark background.
   int legend = 0, changed = 0;
@@ -124,7 +129,8 @@ TEST(UncertaintyCli, RenderFraysWithAConeMapAndWithABedpostxFolder) {
   const auto viaBedpostx =
       test::runDtfabric(base + q(f.dir / "bedpostx.png") + " --uncertainty " + q(bp), f.dir);
   ASSERT_EQ(viaBedpostx.exitCode, 0) << viaBedpostx.err;
-  const auto info = test::runDtfabric("info " + q(f.tensor) + " --voxel 36,42,22 --uncertainty " + q(bp), f.dir);
+  const auto info =
+      test::runDtfabric("info " + q(f.tensor) + " --voxel 36,42,22 --uncertainty " + q(bp), f.dir);
   ASSERT_EQ(info.exitCode, 0) << info.err;
   EXPECT_NE(info.out.find("cone95:       30 deg"), std::string::npos) << info.out;
 }
@@ -133,13 +139,14 @@ TEST(UncertaintyCli, BadUsageAndBadMaps) {
   const Fitted& f = fitted();
   ASSERT_EQ(f.run.exitCode, 0) << f.run.err;
   const std::string dwi = q(test::sourceDir() / "sample_data" / "dwi.nii.gz");
-  auto r = test::runDtfabric("fit " + dwi + " --cone " + q(f.dir / "c.nii.gz") + " -o " + q(f.dir / "t.nii.gz"),
-                             f.dir);
+  auto r = test::runDtfabric(
+      "fit " + dwi + " --cone " + q(f.dir / "c.nii.gz") + " -o " + q(f.dir / "t.nii.gz"), f.dir);
   EXPECT_EQ(r.exitCode, 1) << r.err;
   EXPECT_NE(r.err.find("--bootstrap"), std::string::npos) << r.err;
   r = test::runDtfabric("fit " + dwi + " --bootstrap 10 -o " + q(f.dir / "t.nii.gz"), f.dir);
   EXPECT_EQ(r.exitCode, 1) << r.err;
-  r = test::runDtfabric("fit " + dwi + " --bootstrap 10 --cone " + dwi + " -o " + q(f.dir / "t.nii.gz"), f.dir);
+  r = test::runDtfabric("fit " + dwi + " --bootstrap 10 --cone " + dwi + " -o " + q(f.dir / "t.nii.gz"),
+                        f.dir);
   EXPECT_NE(r.exitCode, 0) << "must never overwrite an input";
   // A 4D volume as a cone map: exit 2, the file named.
   r = test::runDtfabric("render " + q(f.tensor) + " --surface slice=axial:22 --size 64x64 --force -o " +
