@@ -8,8 +8,8 @@
 #include "app/scene/fibre_input.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
-#include "io/tensor_io.h"
-#include "io/uncertainty.h"
+#include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 
 #include <algorithm>
 #include <charconv>

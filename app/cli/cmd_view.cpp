@@ -5,10 +5,10 @@
 #include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
-#include "io/uncertainty.h"
+#include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 
 #include <cstdio>
 #include <optional>

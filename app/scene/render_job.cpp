@@ -7,7 +7,7 @@
 #include "app/scene/tract_overlay.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/uncertainty.h"
+#include "io/diffusion/uncertainty.h"
 #include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"

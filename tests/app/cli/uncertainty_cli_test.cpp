@@ -2,9 +2,9 @@
 // degrees where the mask is, NaN outside, narrow in the corpus callosum and wide at the ventricles), `info
 // --voxel --uncertainty`, `render --uncertainty` (a legend, frayed pixels, the plain image unchanged without
 // it) with a cone map and with a bedpostx folder, and bad usage (exit 1) or a bad map (exit 2, file named).
-#include "io/fibre_io.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/fibre_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 
