@@ -86,6 +86,12 @@ const std::vector<FabricOption> kOptions = {
      closed(8, 4096), none(), nullptr, nullptr, false, DTF_FIELD(autoLodPixels, double)},
     {"seed", "", "S", "reaction-diffusion noise seed", K::Integer, closed(0, 2147483647), none(), nullptr,
      nullptr, false, DTF_FIELD(seed, std::uint32_t)},
+    {"fray", "", "W",
+     "with --uncertainty: each noise cell turns the threads by a random angle of up to W times the voxel's 95 % "
+     "cone of uncertainty (0 = no fraying)",
+     K::Number, closed(0, 4), closed(0, 2), "fray", "%.2f", false, DTF_FIELD(fray, double)},
+    {"fray-cells", "", "N", "with --uncertainty: noise cells per noise tile edge, each turned by its own angle",
+     K::Number, closed(1, 256), none(), nullptr, nullptr, false, DTF_FIELD(frayCells, double)},
     {"fa-floor", "", "F", "the fabric only where FA >= F (elsewhere the background or grey)", K::Number,
      R{0, 1, false, true}, none(), nullptr, nullptr, false, DTF_FIELD(faFloor, float)},
 };

@@ -47,6 +47,8 @@ struct FabricParams {
   float opacityFaHigh = 0.4f;
   float faFloor = 0.0f;         // fabric only where FA >= faFloor (the rest shows the background or grey)
   double movingScale = 1.0;     // renderFrame: internal resolution while the camera moves (e.g. 0.5)
+  double fray = 1.0;       // with a cone map: each noise cell turns by up to fray x its 95 % cone
+  double frayCells = 16.0; // noise cells per noise tile edge (each cell one hash-drawn turn)
   float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
                                 // are dropped (between mrview's usual 0.1 and 0.2)
 };

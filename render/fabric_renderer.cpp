@@ -29,6 +29,8 @@ void FabricRenderer::clearFibres() {
   pipeline_.clearFibres();
 }
 
+void FabricRenderer::setUncertainty(const ScalarVolume* cone) { pipeline_.setUncertainty(cone); }
+
 void FabricRenderer::setBackground(const ScalarVolume* volume, float lo, float hi) {
   pipeline_.setBackground(volume, lo, hi);
 }

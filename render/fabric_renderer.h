@@ -34,6 +34,9 @@ public:
   // A grey background (FA, MD, a T1 on any grid) shown where the surface has no tensor data, windowed to
   // [lo, hi]; nullptr removes it.
   void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
+  // A 95 % cone-of-uncertainty map in degrees on any grid (io::readConeMap): the threads fray as the cone
+  // widens (FabricParams::fray); nullptr removes it.
+  void setUncertainty(const ScalarVolume* cone);
   // Output size in pixels; targets are re-created only when it changes.
   void resize(int width, int height);
 

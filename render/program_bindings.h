@@ -59,7 +59,7 @@ struct SilhouetteProgram {
 struct ProjectionProgram {
   enum class Unit : GLuint {
     TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Geometry = 4, Lobe2 = 5,
-    FibreFa = 6, TensorEdge = 7
+    FibreFa = 6, TensorEdge = 7, Uncertainty = 8
   };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::TensorA), "UNIT_TENSOR_A", "u_tensorA"},
@@ -72,10 +72,12 @@ struct ProjectionProgram {
       {unit(Unit::Noise), "UNIT_NOISE", "u_noise"},
       {unit(Unit::Background), "UNIT_BACKGROUND", "u_background"},
       {unit(Unit::Geometry), "UNIT_GEOMETRY", "u_geometry"},
+      {unit(Unit::Uncertainty), "UNIT_UNCERTAINTY", "u_uncertainty"},
   };
   enum class Uniform {
     ClipToEye, EyeToWorld, ViewProj, ViewRot, TargetSize, Eps, DegenerateTol, Orthographic, PixelMm,
-    PixelMmPerDepth, NoiseOrigin, Lod, NoiseBlend, WorldToTex, LobeCount, FaFloor, BackgroundWorldToTex, Count
+    PixelMmPerDepth, NoiseOrigin, Lod, NoiseBlend, WorldToTex, LobeCount, FaFloor, BackgroundWorldToTex,
+    UncertaintyWorldToTex, Fray, FrayCells, Count
   };
 };
 
@@ -190,6 +192,9 @@ constexpr const char* uniformName(ProjectionProgram::Uniform u) {
   case U::LobeCount: return "u_lobeCount";
   case U::FaFloor: return "u_faFloor";
   case U::BackgroundWorldToTex: return "u_backgroundWorldToTex";
+  case U::UncertaintyWorldToTex: return "u_uncertaintyWorldToTex";
+  case U::Fray: return "u_fray";
+  case U::FrayCells: return "u_frayCells";
   case U::Count: break;
   }
   return "";

@@ -6,6 +6,7 @@
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 
 #include <algorithm>
 #include <chrono>
@@ -182,6 +183,34 @@ void timeFits(const std::optional<fs::path>& dataDir, int threads, Figure& fitRe
   fitUp.t = medianTiming(5, [&] { io::fitTensors(up, &upMask, o); });
 }
 
+// A 200-resample wild bootstrap (WLS, automatic mask) of the bundled brain, once (it takes seconds).
+void timeBootstrap(const std::string& dwiPath, int threads, Figure& boot, std::vector<std::string>& notes) {
+  if (!fs::exists(dwiPath)) {
+    notes.push_back("bootstrap skipped: no " + dwiPath + " (run from the source tree or give --sample-dwi)");
+    return;
+  }
+  try {
+    std::string base = dwiPath;
+    for (const std::string ext : {".nii.gz", ".nii"})
+      if (base.size() > ext.size() && base.compare(base.size() - ext.size(), ext.size(), ext) == 0) {
+        base.resize(base.size() - ext.size());
+        break;
+      }
+    const io::Dwi dwi = io::readDwi(dwiPath, base + ".bval", base + ".bvec");
+    io::FitOptions o;
+    o.threads = threads;
+    io::BootstrapOptions b;
+    b.resamples = 200;
+    io::UncertaintyMaps maps;
+    io::FitStats stats;
+    boot.t = medianTiming(1, [&] { io::bootstrapTensors(dwi, nullptr, o, b, maps, {}, &stats); });
+    notes.push_back("bootstrap: " + std::to_string(stats.voxelsFitted) + " voxels x 200 resamples of " +
+                    dwiPath);
+  } catch (const Error& e) {
+    notes.push_back(std::string("bootstrap skipped: ") + e.what());
+  }
+}
+
 } // namespace
 
 const OptionTable& benchIoOptions() {
@@ -194,12 +223,15 @@ const OptionTable& benchIoOptions() {
         "of the real DWI (DIR/iu_prisma_dwi, with its mask) and of a 1.5 mm upsampled copy;\n"
         "load times of the real tensor as NIfTI, MRtrix .mif/.mif.gz, NRRD and a dtifit set;\n"
         "tractogram loads: DIR/niivue_tracts/stroke.trk.gz beside nibabel's load of it (when\n"
-        "python3-nibabel is present) and a TRX of 1 M streamlines made here. The fit figures are\n"
-        "skipped when the shared data are not found. Medians of a few runs.";
+        "python3-nibabel is present) and a TRX of 1 M streamlines made here; a 200-resample wild\n"
+        "bootstrap of the bundled brain (--sample-dwi). The fit figures are skipped when the shared data\n"
+        "are not found. Medians of a few runs.";
     t.options = {
         O::flag("json", "one JSON object"),
         sharedDataOption(),
         O::integer("threads", "N", 0, atLeast(0), "fit threads, 0 = all cores"),
+        O::text("sample-dwi", "FILE", "the DWI of the bootstrap figure (its .bval/.bvec beside it)",
+                "sample_data/dwi.nii.gz"),
     };
     return t;
   }();
@@ -212,6 +244,7 @@ int benchIo(const CommandArgs& argv) {
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
   const int threads = args.integer("threads");
+  const std::string sampleDwi = args.text("sample-dwi");
   args.finish();
 
   std::vector<std::string> notes;
@@ -219,10 +252,12 @@ int benchIo(const CommandArgs& argv) {
   Figure fa{"fa_map_s", "FA map 145x174x145", {}, 0.1, "< 100 ms"};
   Figure fitReal{"fit_real_s", "fit 72x72x39x21 (mask)", {}, 0.13, "<= 0.13 s (MRtrix dwi2tensor)"};
   Figure fitUp{"fit_upsampled_s", "fit 144x144x78x21 (mask)", {}, 1.2, "<= 1.2 s (MRtrix dwi2tensor)"};
+  Figure boot{"bootstrap_200_s", "wild bootstrap x200, bundled brain", {}, 10.0, "<= 10 s"};
 
   timeHcpSized(load, fa, notes);
   const auto dataDir = findSharedDataDir(dataArg);
   timeFits(dataDir, threads, fitReal, fitUp, notes);
+  timeBootstrap(sampleDwi, threads, boot, notes);
 
   const std::vector<TractLoadFigure> tractLoads = benchTractLoads(dataDir, notes);
   std::vector<Figure> tractFigures;
@@ -232,7 +267,7 @@ int benchIo(const CommandArgs& argv) {
 
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const double load1 = loadAverage();
-  std::vector<const Figure*> figures = {&load, &fa, &fitReal, &fitUp};
+  std::vector<const Figure*> figures = {&load, &fa, &fitReal, &fitUp, &boot};
   for (const auto& f : tractFigures)
     figures.push_back(&f);
   if (json) {

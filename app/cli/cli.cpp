@@ -21,7 +21,8 @@ const std::vector<Command>& commands() {
       {"info", nullptr,
        "describe a tensor, scalar or DWI volume, or a tractogram (header, counts, lengths, data)",
        "file format and why, header, orientation, detected tensor layout and why, value ranges, FA statistics; "
-       "one voxel's world tensor, eigen-system and metrics. For a tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
+       "one voxel's world tensor, eigen-system and metrics (with `--uncertainty CONE`, its cone). For a "
+       "tractogram (.tck, .trk, .trk.gz, .trx, .vtk, "
        ".vtp): format, header facts (space, voxel order, dimensions, affine), streamline and point counts, "
        "lengths, per-streamline/per-point data with shapes and ranges, groups. For a fibre set (MRtrix or DIPY "
        "peaks, FSL bedpostx, DSI Studio `.fib.gz`, FSL dtifit V1 without L1–L3): layout and frame with the reason, "
@@ -32,7 +33,9 @@ const std::vector<Command>& commands() {
       {"fit", nullptr,
        "fit diffusion tensors to a DWI with bval/bvec (WLS or OLS)",
        "fit tensors to a DWI (WLS by default; automatic mask when none is given); an MRtrix DWI with "
-       "`dw_scheme` or a DSI Studio `.src.gz` needs no bval/bvec; OUT `.nii[.gz]`, `.mif[.gz]`/`.mih` or `.nrrd`",
+       "`dw_scheme` or a DSI Studio `.src.gz` needs no bval/bvec; OUT `.nii[.gz]`, `.mif[.gz]`/`.mih` or `.nrrd`; "
+       "`--bootstrap N --cone CONE`: a wild bootstrap writing the 95 % cone of uncertainty of the principal "
+       "direction (degrees) and `--fa-sd` FA's spread",
        cmdFit, fitOptions},
       {"phantom", nullptr,
        "write an analytic tensor field (sphere, bretzel5, constant, crossing, brain)",
@@ -49,7 +52,8 @@ const std::vector<Command>& commands() {
        "the fabric, headless; for a fibre set (peaks) the multi-population fabric, each population in its own "
        "DEC colour, strongest on top (`--split input=PEAKS` beside a tensor INPUT: DTI beside the fibres on one "
        "camera); tracts over it in DEC colours or coloured by a per-point or per-streamline value "
-       "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups",
+       "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups; "
+       "`--uncertainty CONE` (a cone map or a bedpostx folder): threads fray as the cone widens, with a legend",
        cmdRender, renderOptions},
       {"track", nullptr,
        "deterministic tensor tractography to .tck/.trk/.trx/.vtk",

@@ -6,7 +6,9 @@
 #include "io/formats/formats.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -38,16 +40,17 @@ std::optional<std::string> sibling(const std::string& dwi, const std::string& ex
 struct ProgressPrinter {
   bool tty = isatty(STDERR_FILENO) == 1;
   int lastShown = -1;
+  const char* label = "fitting";
   void operator()(double f) {
     const int pct = static_cast<int>(std::lround(f * 100));
     if (tty) {
       if (pct == lastShown) return;
-      std::fprintf(stderr, "\rfitting: %3d%%", pct);
+      std::fprintf(stderr, "\r%s: %3d%%", label, pct);
       if (pct >= 100) std::fputc('\n', stderr);
     } else {
       const int step = pct / 25 * 25;
       if (step == lastShown || step == 0) return;
-      std::fprintf(stderr, "fitting: %d%%\n", step);
+      std::fprintf(stderr, "%s: %d%%\n", label, step);
       lastShown = step;
       return;
     }
@@ -85,6 +88,14 @@ const OptionTable& fitOptions() {
         O::number("b0-threshold", "B", defaults.b0Threshold, atLeast(0), "b-values <= B s/mm^2 count as b=0"),
         O::integer("threads", "N", defaults.threads, atLeast(0), "worker threads, 0 = all cores"),
         O::flag("force", "overwrite an existing OUT (never an input)"),
+        O::integer("bootstrap", "N", 0, closedRange(0, 100000),
+                   "wild bootstrap with N resamples (Rademacher-signed residuals, refit with the fit's weights): "
+                   "writes --cone and --fa-sd; 0 = none")
+            .under("Uncertainty"),
+        O::text("cone", "FILE",
+                "with --bootstrap: the 95 % cone of uncertainty of the principal direction, degrees (NIfTI on "
+                "the DWI grid, NaN outside the mask); `render --uncertainty FILE` shows it"),
+        O::text("fa-sd", "FILE", "with --bootstrap: the standard deviation of FA over the resamples (NIfTI)"),
     };
     return t;
   }();
@@ -108,7 +119,25 @@ int cmdFit(const CommandArgs& argv) {
   options.b0Threshold = args.number("b0-threshold");
   options.threads = args.integer("threads");
   const bool force = args.flag("force");
+  io::BootstrapOptions bootstrap;
+  bootstrap.resamples = args.integer("bootstrap");
+  const auto conePath = args.get("cone");
+  const auto faSdPath = args.get("fa-sd");
   args.finish();
+  if (bootstrap.resamples == 1) throw UsageError("--bootstrap needs at least 2 resamples");
+  if ((conePath || faSdPath) && bootstrap.resamples == 0)
+    throw UsageError("--cone and --fa-sd need --bootstrap N (e.g. --bootstrap 200)");
+  if (bootstrap.resamples > 0 && !conePath && !faSdPath)
+    throw UsageError("--bootstrap needs --cone FILE and/or --fa-sd FILE to write its result to");
+  std::vector<std::string> outputs{*output};
+  for (const auto& p : {conePath, faSdPath})
+    if (p) {
+      if (!io::isWritableVolumeName(*p))
+        throw UsageError("the bootstrap maps are NIfTI (.nii or .nii.gz), got '" + *p + "'");
+      if (std::find(outputs.begin(), outputs.end(), *p) != outputs.end())
+        throw UsageError("two outputs are the same file: " + *p);
+      outputs.push_back(*p);
+    }
 
   const bool embedded = !bval && !bvec && io::hasEmbeddedGradients(dwiPath);
   if (embedded) bval = bvec = std::string();
@@ -120,9 +149,11 @@ int cmdFit(const CommandArgs& argv) {
   std::vector<std::string> inputs{dwiPath};
   if (!embedded) inputs.insert(inputs.end(), {*bval, *bvec});
   if (maskPath) inputs.push_back(*maskPath);
-  io::refuseOverwritingInput(*output, inputs);
-  if (!force && std::filesystem::exists(*output))
-    throw InputError(*output + " exists (use --force to overwrite it)");
+  for (const auto& out : outputs) {
+    io::refuseOverwritingInput(out, inputs);
+    if (!force && std::filesystem::exists(out))
+      throw InputError(out + " exists (use --force to overwrite it)");
+  }
 
   const auto start = std::chrono::steady_clock::now();
   io::Dwi dwi = io::readDwi(dwiPath, *bval, *bvec, options.b0Threshold);
@@ -145,14 +176,27 @@ int cmdFit(const CommandArgs& argv) {
                maskPath ? ("mask " + *maskPath).c_str() : "automatic mask");
   io::FitStats stats;
   ProgressPrinter printer;
+  if (bootstrap.resamples > 0) {
+    printer.label = "bootstrap";
+    std::fprintf(stderr, "wild bootstrap: %d resamples\n", bootstrap.resamples);
+  }
   TensorField field;
+  io::UncertaintyMaps maps;
   try {
-    field = io::fitTensors(dwi, maskPath ? &mask : nullptr, options, std::ref(printer), &stats);
+    const MaskVolume* m = maskPath ? &mask : nullptr;
+    field = bootstrap.resamples > 0 ? io::bootstrapTensors(dwi, m, options, bootstrap, maps, std::ref(printer), &stats)
+                                    : io::fitTensors(dwi, m, options, std::ref(printer), &stats);
   } catch (...) {
     if (printer.tty) std::fputc('\n', stderr);
     rethrowWithContext("while fitting " + dwiPath + (maskPath ? " with mask " + *maskPath : ""));
   }
   io::writeTensorVolume(*output, field, layout);
+  if (conePath)
+    io::writeScalarVolume(*conePath, maps.cone, 1,
+                          "dtfabric cone95 deg, wild bootstrap N=" + std::to_string(bootstrap.resamples));
+  if (faSdPath)
+    io::writeScalarVolume(*faSdPath, maps.faSd, 1,
+                          "dtfabric FA sd, wild bootstrap N=" + std::to_string(bootstrap.resamples));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "fitted %zu voxels (%zu not positive definite, %zu invalid, %zu signals clamped)\n",
                stats.voxelsFitted, stats.nonPositiveTensors, stats.invalidVoxels, stats.clampedSignals);
@@ -161,6 +205,8 @@ int cmdFit(const CommandArgs& argv) {
           ? std::string(io::layoutName(layout)) + " layout"
           : std::string(io::formatName(io::detectFormat(*output).format)) + ", its own convention";
   std::printf("wrote %s (%s) in %.2f s\n", output->c_str(), written.c_str(), seconds);
+  if (conePath) std::printf("wrote %s (95 %% cone of uncertainty, degrees)\n", conePath->c_str());
+  if (faSdPath) std::printf("wrote %s (bootstrap standard deviation of FA)\n", faSdPath->c_str());
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/tract_files.h"
 
@@ -343,14 +344,53 @@ int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) 
   return 0;
 }
 
+// The cones of uncertainty (degrees) at world position `world` from a cone map (one value) or a bedpostx
+// folder with samples (one per population), nearest voxel; NaN outside its grid or its mask.
+std::vector<double> conesAt(const std::string& conePath, const glm::dvec3& world) {
+  std::vector<ScalarVolume> maps;
+  try {
+    if (io::isBedpostxSamplesPath(conePath))
+      maps = io::readBedpostxSamples(conePath).cone;
+    else
+      maps.push_back(io::readConeMap(conePath));
+  } catch (...) {
+    rethrowWithContext("while reading the uncertainty map " + conePath);
+  }
+  std::vector<double> out;
+  for (const auto& m : maps) {
+    const glm::dvec3 ijk = glm::dvec3(glm::inverse(m.grid.voxelToWorld) * glm::dvec4(world, 1.0));
+    const int i = static_cast<int>(std::lround(ijk.x)), j = static_cast<int>(std::lround(ijk.y)),
+              k = static_cast<int>(std::lround(ijk.z));
+    out.push_back(m.grid.contains(i, j, k) ? m.data[m.grid.index(i, j, k)] : std::nan(""));
+  }
+  return out;
+}
+
+void printCones(const std::vector<double>& cones, const std::string& conePath, Json* j) {
+  if (conePath.empty()) return;
+  if (j) {
+    j->key("cone_deg").begin('[');
+    for (double c : cones)
+      j->value(c); // NaN is written as null
+    j->end(']');
+    return;
+  }
+  std::printf("cone95:      ");
+  for (double c : cones)
+    std::printf(" %s", std::isfinite(c) ? (num(c) + " deg").c_str() : "none");
+  std::printf(" (95 %% cone of uncertainty of the principal direction%s, %s)\n",
+              cones.size() > 1 ? ", per population" : "", conePath.c_str());
+}
+
 int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::LoadedTensors* t,
-                  const ScalarVolume* v, const int ijk[3], bool json) {
+                  const ScalarVolume* v, const int ijk[3], bool json, const std::string& conePath) {
   const Grid& g = h.grid;
   if (!g.contains(ijk[0], ijk[1], ijk[2]))
     throw UsageError("voxel " + std::to_string(ijk[0]) + "," + std::to_string(ijk[1]) + "," +
                      std::to_string(ijk[2]) + " is outside the grid " + std::to_string(g.dims.x) + "x" +
                      std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z));
   glm::dvec3 world = g.toWorld(glm::dvec3(ijk[0], ijk[1], ijk[2]));
+  const std::vector<double> cones = conePath.empty() ? std::vector<double>{} : conesAt(conePath, world);
   Json j;
   if (json) {
     j.begin('{');
@@ -371,13 +411,16 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
       j.key("values").begin('[');
       for (int c = 0; c < comps; ++c)
         j.value(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
-      j.end(']').end('}');
+      j.end(']');
+      printCones(cones, conePath, &j);
+      j.end('}');
       std::printf("%s\n", j.text().c_str());
     } else {
       std::printf("values:      ");
       for (int c = 0; c < comps; ++c)
         std::printf(" %s", num(v->at(ijk[0], ijk[1], ijk[2], c)).c_str());
       std::printf("\n");
+      printCones(cones, conePath, nullptr);
     }
     return 0;
   }
@@ -401,6 +444,7 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
       j.vec(e.vectors[i]);
     j.end(']');
     j.key("fa").value(mt.fa).key("md").value(mt.md).key("ad").value(mt.ad).key("rd").value(mt.rd);
+    printCones(cones, conePath, &j);
     j.end('}');
     std::printf("%s\n", j.text().c_str());
     return 0;
@@ -415,6 +459,7 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
     std::printf("eigenvector %d: %8.5f %8.5f %8.5f (world RAS)\n", i + 1, e.vectors[i].x, e.vectors[i].y,
                 e.vectors[i].z);
   std::printf("FA %.4f  MD %.4e  AD %.4e  RD %.4e\n", mt.fa, mt.md, mt.ad, mt.rd);
+  printCones(cones, conePath, nullptr);
   return 0;
 }
 
@@ -536,6 +581,10 @@ const OptionTable& infoOptions() {
                 "one voxel (0-based): world position, world tensor, eigenvalues (descending, mm^2/s), "
                 "eigenvectors (rows, world RAS, principal first), FA, MD, AD, RD; a fibre set's fibres")
             .checkedBy(checkTriple),
+        O::text("uncertainty", "CONE",
+                "with --voxel: also the 95 % cone of uncertainty there (degrees; JSON key \"cone_deg\", a "
+                "list) from a cone map (fit --bootstrap N --cone CONE) or a bedpostx folder with samples (one "
+                "per population); nearest voxel of CONE's grid"),
     };
     return t;
   }();
@@ -554,7 +603,10 @@ int cmdInfo(const CommandArgs& argv) {
   auto voxelText = args.get("voxel");
   int ijk[3] = {0, 0, 0};
   if (voxelText) parseTriple(*voxelText, ijk);
+  const std::string conePath = args.text("uncertainty");
   args.finish();
+  if (!conePath.empty() && !voxelText)
+    throw UsageError("--uncertainty reports a voxel's cone: give --voxel I,J,K");
   // Only whether the file is a fibre set is asked of the opener: any other volume is described as it is
   // (a 4D volume without gradient files too).
   io::InputRequest request;
@@ -569,11 +621,11 @@ int cmdInfo(const CommandArgs& argv) {
   io::VolumeHeader h = io::readHeader(path, format);
   if (layout != io::TensorLayout::Auto || looksLikeTensor(h)) {
     io::LoadedTensors t = io::readTensorVolume(path, format, layout);
-    if (voxelText) return describeVoxel(path, t.header, &t, nullptr, ijk, json);
+    if (voxelText) return describeVoxel(path, t.header, &t, nullptr, ijk, json, conePath);
     return describeTensors(t, json);
   }
   ScalarVolume v = io::readScalarVolume(path, format, &h);
-  if (voxelText) return describeVoxel(path, h, nullptr, &v, ijk, json);
+  if (voxelText) return describeVoxel(path, h, nullptr, &v, ijk, json, conePath);
   return describeScalar(v, h, json);
 }
 

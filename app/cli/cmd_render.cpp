@@ -107,6 +107,12 @@ std::vector<CliOption> backgroundAndTractRows(const session::RenderRequest& d) {
       O::text("background-window", "LO,HI", "grey ramp")
           .defaultSays("fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile")
           .hidden(),
+      O::text("uncertainty", "CONE",
+              "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE; any grid) or a "
+              "bedpostx folder with merged_th1samples/merged_ph1samples: the threads fray as the cone widens "
+              "(--fray W, --fray-cells N) while keeping the data's mean direction; a legend shows the look per "
+              "cone")
+          .under("Uncertainty"),
       O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)")
           .under("Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y "
                  "green, z blue)"),
@@ -247,6 +253,7 @@ void readTractOptions(ParsedOptions& args, session::RenderRequest& r) {
   r.tractsSlabDepth = args.number("tracts-slab-depth");
   r.background = args.text("background");
   r.backgroundWindow = args.text("background-window");
+  r.uncertainty = args.text("uncertainty");
   r.tractWidth = args.number("tract-width");
   const auto split = args.get("split");
   r.split = split ? session::parseSplitMode(*split) : session::SplitMode{};
@@ -262,7 +269,8 @@ void checkOutput(const session::RenderRequest& r, bool force) {
     throw UsageError("output " + r.output + " is the input: refusing to overwrite it");
   const session::TensorInputOptions& in = r.tensorOptions;
   io::refuseOverwritingInput(
-      r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor});
+      r.output,
+      {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor, r.uncertainty});
   if (!force && fs::exists(r.output)) throw InputError(r.output + " exists (use --force to overwrite it)");
 }
 

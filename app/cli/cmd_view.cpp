@@ -7,6 +7,7 @@
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "io/diffusion/uncertainty.h"
 #include "ui/session/surface_spec.h"
 
 #include <cstdio>
@@ -57,6 +58,9 @@ const OptionTable& viewOptions() {
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)
             .hidden(),
+        O::text("uncertainty", "CONE",
+                "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE) or a bedpostx folder "
+                "with samples: the threads fray as the cone widens (Fabric panel: fray)"),
         O::text("script", "FILE",
                 "replay a viewer script: one command of the list below per line, `#` comments.\n"
                 "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 "
@@ -85,6 +89,7 @@ int cmdView(const CommandArgs& argv) {
   const std::string layout = args.text("layout");
   const std::string tensor = args.text("tensor");
   const bool force = args.flag("force");
+  const std::string uncertainty = args.text("uncertainty");
   args.finish();
   if (!surface.empty()) session::parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
@@ -106,6 +111,13 @@ int cmdView(const CommandArgs& argv) {
         }
   }
 
+  if (!uncertainty.empty()) { // read before a window opens: a bad map is exit code 2
+    try {
+      o.uncertainty = io::readConeMap(uncertainty);
+    } catch (...) {
+      rethrowWithContext("while reading the uncertainty map " + uncertainty);
+    }
+  }
   o.inputs = inputs;
   o.surface = surface;
   o.layout = layout;

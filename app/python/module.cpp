@@ -11,10 +11,14 @@
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_job.h"
+#include "io/diffusion/dwi.h"
+#include "io/diffusion/uncertainty.h"
 #include "io/formats/fibre_io.h"
+#include "io/formats/formats.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/formats/png_io.h"
 #include "render/fabric_options.h"
 
 #include <cstdio>
@@ -261,7 +265,8 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
                                       double tractsNear, double tractsSlab, double tractsSlabDepth,
                                       double tractWidth, const py::object& split, const std::string& layout,
                                       const py::object& bval, const py::object& bvec, const py::object& mask,
-                                      const py::object& tensor, const py::kwargs& params) {
+                                      const py::object& tensor, const py::object& uncertainty,
+                                      const py::kwargs& params) {
   session::RenderRequest r;
   std::shared_ptr<const io::LoadedTensors> held;
   r.layout = layout;
@@ -312,6 +317,7 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
     r.backgroundWindow = py::str(py::repr(py::float_(w.first))).cast<std::string>() + "," +
                          py::str(py::repr(py::float_(w.second))).cast<std::string>();
   }
+  r.uncertainty = optionalPath(uncertainty);
   r.tracts = optionalPath(tracts);
   if (!tractsColor.is_none()) r.colouring.value = tractsColor.cast<std::string>();
   if (!tractsRange.is_none())
@@ -716,16 +722,17 @@ set. Returns a TensorField or a FibreSet.)");
         py::arg("tracts_near") = 3.0, py::arg("tracts_slab") = 0.0, py::arg("tracts_slab_depth") = 0.0,
         py::arg("tract_width") = 2.0, py::arg("split") = py::none(), py::arg("layout") = "auto",
         py::arg("bval") = py::none(), py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
-        py::arg("tensor") = py::none(),
+        py::arg("tensor") = py::none(), py::arg("uncertainty") = py::none(),
         R"(Renders the fabric headless: the pixels `dtfabric render` writes for the same arguments.
 
 input: a TensorField, a FibreSet from load(), a path, or an array/nibabel image (layout= names its layout).
 surface: a surface spec (fa=T, slice=AXIS[:I], plane=..., fibre=..., mesh=FILE; '+' joins).
 view, size=(W, H), colour, neurological, perspective, background, background_window=(lo, hi), tracts,
 tracts_color, tracts_range=(lo, hi), tracts_group, tracts_near, tracts_slab, tracts_slab_depth, tract_width,
-split: as the command's flags. supersample=N (1..4) and letters=, legend=, scale_bar= (True/False) as its
-Figure flags. Further keyword arguments are the fabric options of `dtfabric render --help` with '-' written
-'_' (blend_k=0.1, lighting=False, look='plain', ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
+split, uncertainty (a cone map or bedpostx folder: the threads fray): as the command's flags. supersample=N
+(1..4) and letters=, legend=, scale_bar= (True/False) as its Figure flags. Further keyword arguments are the
+fabric options of `dtfabric render --help` with '-' written '_' (blend_k=0.1, lighting=False, look='plain',
+...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
 
   m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
         py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,
@@ -749,6 +756,73 @@ Default: select=1000 streamlines seeded where the field holds a tensor.)");
         py::arg("min_margin") = 0.07, py::arg("min_white_matter") = 3000,
         "The orientation check of a DWI with its table, a tensor file or a fibre set: the dict of "
         "`dtfabric check --json`.");
+
+  m.def(
+      "uncertainty",
+      [](const py::object& path) {
+        const std::string p = pathText(path);
+        std::vector<ScalarVolume> cones;
+        {
+          py::gil_scoped_release release;
+          if (io::isBedpostxSamplesPath(p))
+            cones = io::readBedpostxSamples(p).cone;
+          else
+            cones.push_back(io::readConeMap(p));
+        }
+        if (cones.size() == 1) return py::make_tuple(scalarArray(cones[0]), affineArray(cones[0].grid));
+        ScalarVolume all(cones[0].grid, static_cast<int>(cones.size()));
+        for (std::size_t v = 0; v < all.grid.voxelCount(); ++v)
+          for (std::size_t c = 0; c < cones.size(); ++c)
+            all.data[v * cones.size() + c] = cones[c].data[v];
+        return py::make_tuple(scalarArray(all), affineArray(all.grid));
+      },
+      py::arg("path"),
+      R"(Reads a cone-of-uncertainty map (degrees, NaN outside the mask) as `render --uncertainty` does: a NIfTI
+from `dtfabric fit --bootstrap N --cone FILE`, or a bedpostx folder with merged_thN/phN/fNsamples (one cone per
+population). Returns (cone, affine): float32 (X, Y, Z), or (X, Y, Z, K) for K populations, and the 4x4
+voxel -> world RAS affine.)");
+
+  m.def(
+      "bootstrap",
+      [](const py::object& dwiPath, const py::object& bval, const py::object& bvec, const py::object& mask,
+         int resamples, int threads) {
+        const std::string p = pathText(dwiPath);
+        session::TensorInputOptions in = tensorOptions("auto", bval, bvec, mask);
+        io::UncertaintyMaps maps;
+        io::LoadedTensors t;
+        {
+          py::gil_scoped_release release;
+          // As `dtfabric fit`: the DWI's own table (MRtrix, DSI Studio) or sibling .bval/.bvec by default.
+          if (in.bval.empty() && in.bvec.empty() && !io::hasEmbeddedGradients(p)) {
+            in.bval = session::gradientSibling(p, ".bval");
+            in.bvec = session::gradientSibling(p, ".bvec");
+          }
+          io::Dwi dwi = io::readDwi(p, in.bval, in.bvec);
+          MaskVolume m;
+          if (!in.mask.empty()) {
+            ScalarVolume v = io::readScalarVolume(in.mask);
+            m = MaskVolume(v.grid, 1, 0);
+            for (std::size_t i = 0; i < m.data.size(); ++i)
+              m.data[i] = v.data[i * static_cast<std::size_t>(v.components)] != 0 ? 1 : 0;
+          }
+          io::FitOptions o;
+          o.threads = threads;
+          io::BootstrapOptions b;
+          b.resamples = resamples;
+          t.field = io::bootstrapTensors(dwi, in.mask.empty() ? nullptr : &m, o, b, maps);
+        }
+        py::dict d;
+        d["cone"] = scalarArray(maps.cone);
+        d["fa_sd"] = scalarArray(maps.faSd);
+        d["affine"] = affineArray(maps.cone.grid);
+        d["tensors"] = py::cast(wrapTensors(std::move(t), p, ""));
+        return d;
+      },
+      py::arg("dwi"), py::arg("bval") = py::none(), py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
+      py::arg("resamples") = 200, py::arg("threads") = 0,
+      R"(Wild bootstrap of the WLS tensor fit as `dtfabric fit --bootstrap N`: a dict with "cone" (float32
+(X, Y, Z), the 95 % cone of uncertainty of the principal direction in degrees, NaN outside the mask), "fa_sd"
+(FA's bootstrap standard deviation), "affine" and "tensors" (the fit, a TensorField).)");
 
   m.def(
       "read_png",

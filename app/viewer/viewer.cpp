@@ -113,6 +113,10 @@ render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRend
     fieldUploaded_[slot] = session_.fieldSerial();
     principalUploaded_[slot] = principal;
   }
+  if (coneUploaded_[slot] != coneSerial_) {
+    r->setUncertainty(cone_ ? &*cone_ : nullptr);
+    coneUploaded_[slot] = coneSerial_;
+  }
   if (session_.mesh() && meshUploaded_[slot] != session_.meshSerial()) {
     r->setMesh(*session_.mesh());
     meshUploaded_[slot] = session_.meshSerial();

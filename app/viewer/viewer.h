@@ -54,6 +54,14 @@ public:
   // to the frame time (setFrameMs) between 1/4 and `s`, in steps of 1/8 so targets are rarely re-created.
   // 1 = off.
   void setInteractiveScale(double s) { interactiveScale_ = scale_ = std::clamp(s, 0.25, 1.0); }
+  // A 95 % cone-of-uncertainty map (degrees, io::readConeMap) that frays the threads of every pane;
+  // nullopt removes it.
+  void setUncertainty(std::optional<ScalarVolume> cone) {
+    cone_ = std::move(cone);
+    ++coneSerial_;
+    dataChanged();
+  }
+  bool hasUncertainty() const { return cone_.has_value(); }
   // Renders every pane again on the next render() as if the camera had moved (benchmarks).
   void redraw() { cameraChanged(); }
   // Pane p's full-size renderer (pass timings in benchmarks).
@@ -128,7 +136,9 @@ private:
   std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
   // Serials of the mesh and field each renderer holds, and whether it holds a tensor's principal directions
   // as fibres (the fibres colour mode on tensors).
-  std::array<std::uint64_t, 4> meshUploaded_{}, fieldUploaded_{};
+  std::array<std::uint64_t, 4> meshUploaded_{}, fieldUploaded_{}, coneUploaded_{};
+  std::optional<ScalarVolume> cone_;
+  std::uint64_t coneSerial_ = 0;
   std::array<bool, 4> principalUploaded_{};
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;

@@ -444,6 +444,7 @@ int runViewerWindow(const ViewerWindowOptions& o) {
   ViewerWindow window(o.width, o.height, o.surface, o.script);
   for (auto it = o.inputs.rbegin(); it != o.inputs.rend(); ++it)
     window.scene().addRecent(*it);
+  if (o.uncertainty) window.scene().setUncertainty(*o.uncertainty);
   if (!o.inputs.empty()) {
     window.setOpenPath(o.inputs.front());
     window.setTensorPath(o.tensor);

@@ -2,7 +2,9 @@
 #pragma once
 
 #include "app/viewer/view_script.h"
+#include "io/model/volume.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@ struct ViewerWindowOptions {
   std::string tensor;                 // a fibre-set first input: its paired tensor volume (FA)
   int width = 1280, height = 800;     // window size, pixels
   const ViewScript* script = nullptr; // replayed when given (outputs already checked)
+  std::optional<ScalarVolume> uncertainty; // a cone map (degrees) that frays the threads; read by the caller
 };
 
 // Opens the window and runs until it closes or the script quits; returns the exit code. Throws GlError when

@@ -12,7 +12,8 @@ namespace {
 // Parameters whose change invalidates the advection state.
 auto stateKey(const FabricParams& p) {
   return std::make_tuple(p.lod, p.autoLodPixels, p.spotScale, p.seed, p.noiseSize, p.stepPixels, p.silhouette,
-                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold);
+                         p.silhouettePixels, p.noiseBlend, p.guard, p.colour, p.faFloor, p.fibreThreshold, p.fray,
+                         p.frayCells);
 }
 
 void boundsOf(const Grid& g, glm::vec3& lo, glm::vec3& hi) {
@@ -49,6 +50,14 @@ void FabricPipeline::clearFibres() {
   fibreSet_ = FibreSet{};
   fibreFa_.reset();
   haveFibres_ = false;
+  dataChanged_ = true;
+}
+
+void FabricPipeline::setUncertainty(const ScalarVolume* cone) {
+  if (cone)
+    uncertainty_.upload(*cone, 0.0f, 90.0f);
+  else
+    uncertainty_.clear();
   dataChanged_ = true;
 }
 
@@ -119,6 +128,9 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   ps.principal = p.colour == ColourMode::Medical;
   ps.faFloor = p.faFloor;
   ps.fibres = p.colour == ColourMode::Fibres;
+  ps.uncertainty = &uncertainty_;
+  ps.fray = static_cast<float>(p.fray);
+  ps.frayCells = static_cast<float>(p.frayCells);
   if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");
   if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
     uploadedThreshold_ = p.fibreThreshold;

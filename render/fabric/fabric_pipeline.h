@@ -36,6 +36,9 @@ public:
   void setFibres(const FibreSet& fibres, const ScalarVolume* fa = nullptr);
   void clearFibres();
   void setBackground(const ScalarVolume* volume, float lo, float hi);
+  // A cone-of-uncertainty map in degrees (io::readConeMap) that frays the threads; null removes it.
+  void setUncertainty(const ScalarVolume* cone);
+  bool hasUncertainty() const { return !uncertainty_.empty(); }
   // World bounds of the data's voxel centres (tensor field, else fibre set); false when there is none.
   bool dataBounds(glm::vec3& lo, glm::vec3& hi) const;
   // b_min of Eq. 7 for the given parameters: the lower corner of the data bounds (the fibre set's in the
@@ -85,6 +88,7 @@ private:
   std::optional<ScalarVolume> fibreFa_;
   float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;
+  GpuScalarVolume uncertainty_;
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;
   bool haveField_ = false, haveFibres_ = false;

@@ -9,7 +9,7 @@ using U = ProjectionProgram::Uniform;
 
 TensorStage::TensorStage()
     : program_("common/deferred.vert", "fabric/projection.frag",
-               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES"}, programDefines<ProjectionProgram>(),
+               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}, programDefines<ProjectionProgram>(),
                uniformNames<U>()),
       vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
   program_.get(1); // the default variant compiles with the pass, so a broken shader fails early
@@ -61,9 +61,10 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
   const bool hasBackground = background && !background->empty();
+  const bool fray = s.uncertainty && !s.uncertainty->empty() && s.fray > 0.0f;
   const ShaderProgram& p =
       program_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
-                   (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u));
+                   (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u) | (fray ? 16u : 0u));
   p.set(U::ClipToEye, view.clipToEye);
   p.set(U::EyeToWorld, view.eyeToWorld);
   p.set(U::ViewProj, view.viewProj);
@@ -87,6 +88,12 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   if (hasBackground) {
     p.set(U::BackgroundWorldToTex, background->worldToTex());
     background->bind(unit(Unit::Background));
+  }
+  if (fray) {
+    p.set(U::UncertaintyWorldToTex, s.uncertainty->worldToTex());
+    p.set(U::Fray, s.fray);
+    p.set(U::FrayCells, s.frayCells);
+    s.uncertainty->bind(unit(Unit::Uncertainty));
   }
   p.use();
   if (useFibres)

@@ -45,6 +45,11 @@ struct ProjectionSettings {
   bool cullHidden = true;      // cull back faces of closed meshes seen from outside (same image)
   float faFloor = 0.0f;        // the fabric only where FA >= faFloor; elsewhere "no tensor data"
   bool fibres = false;         // sample the GpuFibreSet instead of the tensor field
+  // Uncertainty (optional): a cone map in degrees (uploaded windowed to [0, 90]); each noise cell of edge
+  // lod / frayCells turns the directions by a hash-drawn angle in [-1, 1] x fray x cone (common/fray.glsl).
+  const GpuScalarVolume* uncertainty = nullptr;
+  float fray = 1.0f;
+  float frayCells = 16.0f;
 };
 
 // The tensor stage: geometry buffers -> directions, beta, light, eigen, lambda (fibres).

@@ -22,6 +22,13 @@
 #endif
 #include "common/lighting.glsl"
 #include "common/octahedral.glsl"
+#ifdef UNCERTAINTY
+#include "common/fray.glsl"
+layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees, trilinear
+uniform mat4 u_uncertaintyWorldToTex;
+uniform float u_fray = 1.0;       // strength: the turn is up to u_fray x the cone
+uniform float u_frayCells = 16.0; // noise cells per implicit voxel edge
+#endif
 
 layout(early_fragment_tests) in;
 
@@ -112,6 +119,10 @@ void main() {
 
   vec4 vectors = vec4(0.0);
   vec4 eigen = vec4(0.0);
+#ifdef UNCERTAINTY
+  float coneRad = radians(90.0) * u_fray *
+                  texture(u_uncertainty, (u_uncertaintyWorldToTex * vec4(world, 1.0)).xyz).r;
+#endif
   vec4 lambda = vec4(0.0);
   float fa;
 #ifdef FIBRES
@@ -130,6 +141,9 @@ void main() {
       if (famp[k] <= 0.0) continue;
       vec3 pd = fdir[k] - n * dot(n, fdir[k]); // P d
       float inPlane = length(pd);
+#ifdef UNCERTAINTY
+      pd = frayRotate(pd, n, coneRad * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, uint(k)));
+#endif
       if (inPlane > 0.05) img[k] = imageDirection(c0, pd / inPlane);
       float weight = clamp(famp[k] / top, 0.0, 1.0) * inPlane;
       fibres[k] = packUnorm4x8(vec4(abs(fdir[k]), weight));
@@ -161,6 +175,11 @@ void main() {
     bool directional = mag > 0.0 && (l1 - l2) > u_degenerateTol * mag;
     if (directional) {
       vec4 c0 = u_viewProj * vec4(world, 1.0);
+#ifdef UNCERTAINTY
+      float turn = coneRad * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, 0u);
+      e1p = frayRotate(e1p, n, turn);
+      e2p = frayRotate(e2p, n, turn);
+#endif
       vectors = vec4(imageDirection(c0, e1p), imageDirection(c0, e2p));
     }
 #ifdef WITH_PRINCIPAL

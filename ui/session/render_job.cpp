@@ -4,6 +4,8 @@
 
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "io/diffusion/uncertainty.h"
+#include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
 #include "ui/session/fibre_input.h"
@@ -152,6 +154,7 @@ struct Scene {
   const TensorField* field = nullptr;
   ScalarVolume fa;
   Background background;
+  ScalarVolume cone; // degrees; empty without --uncertainty
   SurfaceBuildOptions buildOptions;
   Mesh mesh;
   Polylines tracts;
@@ -190,6 +193,13 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   }
   s.buildOptions.clipToData = s.background.volume.data.empty();
   s.buildOptions.dataEdgeCells = true;
+  if (!r.uncertainty.empty()) {
+    try {
+      s.cone = io::readConeMap(r.uncertainty);
+    } catch (...) {
+      rethrowWithContext("while reading the uncertainty map " + r.uncertainty);
+    }
+  }
   s.mesh = buildNamedSurface(r.surface, *s.field, s.fa, s.buildOptions, "the surface");
   if (!r.tracts.empty()) s.tracts = readTracts(r.tracts);
   s.coloured = applyTractColouring(s.tracts, r.colouring, r.tracts);
@@ -245,6 +255,7 @@ public:
     renderer_.resize(r.width * n_, r.height * n_);
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
+    if (!s.cone.data.empty()) renderer_.setUncertainty(&s.cone);
     s.mesh.bounds(lo_, hi_);
     camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
                                        r.neurological, !r.perspective);
@@ -388,6 +399,8 @@ RenderResult runRender(const RenderRequest& r) {
   const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
+  if (!scene.cone.data.empty())
+    render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);

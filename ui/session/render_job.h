@@ -46,6 +46,8 @@ struct RenderRequest {
   std::string colourName;       // as given, for messages
   std::string background;       // fa | md | FILE, or empty
   std::string backgroundWindow; // LO,HI or empty
+  std::string uncertainty;      // a cone map (degrees, any grid) or a bedpostx folder: the threads fray
+                                // (params.fray) and a legend is drawn; empty: none
   std::string tracts;           // tract file or empty
   TractColouring colouring;
   double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;

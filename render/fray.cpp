@@ -1,0 +1,72 @@
+#include "render/fray.h"
+
+#include "render/bitmap_text.h"
+
+#include <cmath>
+#include <string>
+
+namespace dtf::render {
+
+std::uint32_t frayHash(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+float frayDraw(glm::vec3 world, glm::vec3 origin, float lod, float cells, std::uint32_t salt) {
+  const glm::vec3 f = glm::floor((world - origin) / lod * cells);
+  const auto u = [](float v) { return static_cast<std::uint32_t>(static_cast<std::int32_t>(v)); };
+  const std::uint32_t h = frayHash(u(f.x) ^ frayHash(u(f.y) ^ frayHash(u(f.z) ^ frayHash(salt))));
+  return static_cast<float>(h >> 8) * (2.0f / 16777215.0f) - 1.0f;
+}
+
+float frayAngle(glm::vec3 world, glm::vec3 origin, float lod, float cells, float coneDeg, float fray,
+                std::uint32_t salt) {
+  return frayDraw(world, origin, lod, cells, salt) * fray * glm::radians(coneDeg);
+}
+
+namespace {
+
+// An anti-aliasing-free line of width `w` pixels from a to b.
+void stroke(Image& im, glm::vec2 a, glm::vec2 b, int w, std::uint8_t r, std::uint8_t g, std::uint8_t bl) {
+  const float len = glm::length(b - a);
+  const int steps = std::max(1, static_cast<int>(len * 2));
+  for (int i = 0; i <= steps; ++i) {
+    const glm::vec2 p = a + (b - a) * (static_cast<float>(i) / steps);
+    fillRect(im, static_cast<int>(p.x) - w / 2, static_cast<int>(p.y) - w / 2, w, w, r, g, bl);
+  }
+}
+
+} // namespace
+
+void drawFrayLegend(Image& image, float fray, int scale) {
+  const float cones[] = {0, 10, 20, 40};
+  const int box = 18 * scale, gap = 4 * scale, pad = 3 * scale;
+  const std::string caption = "95% CONE (DEG)";
+  const int width = std::max(4 * box + 5 * gap, textWidth(caption, scale) + 2 * gap);
+  const int height = box + 2 * textHeight(scale) + 4 * gap;
+  const int x0 = pad, y0 = image.height - height - pad;
+  if (x0 + width > image.width || y0 < 0) return; // too small an image for a legend
+  fillRect(image, x0, y0, width, height, 0, 0, 0);
+  drawText(image, x0 + gap, y0 + gap, caption, scale, 255, 255, 255);
+  const int by = y0 + 2 * gap + textHeight(scale);
+  for (int c = 0; c < 4; ++c) {
+    const int bx = x0 + gap + c * (box + gap);
+    fillRect(image, bx, by, box, box, 40, 40, 40);
+    // A 3x4 grid of cells, each a horizontal thread turned by its cell's draw, as the renderer turns them.
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const float a = frayAngle(glm::vec3(i, j, 0), glm::vec3(0), 1, 1, cones[c], fray, 7);
+        const glm::vec2 centre(bx + (i + 0.5f) * box / 3.0f, by + (j + 0.5f) * box / 4.0f);
+        const glm::vec2 d = 0.5f * box / 3.0f * glm::vec2(std::cos(a), -std::sin(a));
+        stroke(image, centre - d, centre + d, std::max(1, scale), 230, 230, 230);
+      }
+    const std::string label = std::to_string(static_cast<int>(cones[c]));
+    drawText(image, bx + (box - textWidth(label, scale)) / 2, by + box + gap, label, scale, 255, 255, 255);
+  }
+}
+
+} // namespace dtf::render

@@ -1,0 +1,25 @@
+// CPU side of the uncertainty display (shaders/common/fray.glsl): the per-cell turn of the advection
+// directions as a reference for the GLSL, and the legend that says what the look means in degrees.
+#pragma once
+
+#include "io/model/image.h"
+
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace dtf::render {
+
+// frayHash of fray.glsl (lowbias32).
+std::uint32_t frayHash(std::uint32_t x);
+// frayDraw of fray.glsl: the signed unit draw in [-1, 1] of the noise cell holding `world` (mm).
+float frayDraw(glm::vec3 world, glm::vec3 origin, float lod, float cells, std::uint32_t salt);
+// The turn in radians at `world` for a cone of `coneDeg` degrees and strength `fray`.
+float frayAngle(glm::vec3 world, glm::vec3 origin, float lod, float cells, float coneDeg, float fray,
+                std::uint32_t salt = 0);
+
+// Draws the legend of the uncertainty display at the image's bottom-left corner: swatches of short
+// strokes turned as the renderer turns them for cones of 0, 10, 20 and 40 degrees at strength `fray`,
+// with their labels and a caption. `scale` is the font scale (1 = 5x7 pixel glyphs).
+void drawFrayLegend(Image& image, float fray, int scale);
+
+} // namespace dtf::render
