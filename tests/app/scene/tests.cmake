@@ -9,3 +9,4 @@ dtf_test(test_tract_io SOURCES app/scene/tract_io_test.cpp LIBS dtf_scene dtf_su
 dtf_test(test_coalescing_worker SOURCES app/scene/coalescing_worker_test.cpp LIBS dtf_model)
 dtf_test(test_tract_overlay_rule SOURCES app/scene/tract_overlay_rule_test.cpp LIBS dtf_scene)
 dtf_test(test_viewer_session SOURCES app/scene/viewer_session_test.cpp LIBS dtf_scene)
+dtf_test(test_movie_coherence SOURCES app/scene/movie_coherence_gl_test.cpp LIBS dtf_scene)
