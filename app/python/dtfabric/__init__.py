@@ -12,10 +12,10 @@ time). Long work releases the GIL.
 """
 
 from ._errors import Error, FileError, FormatError, GlError, UsageError
-from ._core import FibreSet, Surface, TensorField, check, fabric_options, load, read_png, render, surface, track
+from ._core import FibreSet, Surface, TensorField, check, fabric_options, load, movie, read_png, render, surface, track
 
 __all__ = [
     "Error", "FileError", "FormatError", "GlError", "UsageError",
     "FibreSet", "Surface", "TensorField",
-    "load", "render", "surface", "track", "check", "read_png", "fabric_options",
+    "load", "render", "movie", "surface", "track", "check", "read_png", "fabric_options",
 ]
