@@ -64,6 +64,9 @@ const OptionTable& viewOptions() {
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)
             .hidden(),
+        O::flag("ortho",
+                "open in the ortho layout: axial, coronal and sagittal slices through a crosshair (click a "
+                "slice pane to move it) beside the 3D pane"),
         O::text("script", "FILE",
                 "replay a viewer script: one command of the list below per line, `#` comments.\n"
                 "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 "
@@ -92,6 +95,7 @@ int cmdView(const CommandArgs& argv) {
   const std::string layout = args.text("layout");
   const std::string tensor = args.text("tensor");
   const bool force = args.flag("force");
+  o.ortho = args.flag("ortho");
   args.finish();
   if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
@@ -110,6 +114,7 @@ int cmdView(const CommandArgs& argv) {
         if (auto* a = std::get_if<ui::Action>(&step.command)) {
           if (auto* shot = std::get_if<ui::Screenshot>(a)) shot->force = true;
           if (auto* camera = std::get_if<ui::SaveCamera>(a)) camera->force = true;
+          if (auto* movie = std::get_if<ui::RecordMovie>(a)) movie->force = true;
         }
   }
 

@@ -42,6 +42,13 @@ void validate(const MovieRequest& r) {
 
 } // namespace
 
+render::Camera turnedAbout(const render::Camera& camera, const glm::dvec3& axis, double degrees) {
+  const double a = glm::radians(degrees);
+  render::Camera c = camera;
+  c.lookAt(camera.target + rotate(camera.eye - camera.target, axis, a), camera.target, rotate(camera.up, axis, a));
+  return c;
+}
+
 std::vector<render::Camera> turntableCameras(render::StandardView start, const glm::dvec3& lo, const glm::dvec3& hi,
                                              double aspect, int frames, double elevationDeg, bool neurological,
                                              bool orthographic) {
@@ -56,13 +63,9 @@ std::vector<render::Camera> turntableCameras(render::StandardView start, const g
   const glm::dvec3 up = rotate(c0.up, right, -e);
   std::vector<render::Camera> cams;
   cams.reserve(static_cast<std::size_t>(std::max(frames, 0)));
-  const glm::dvec3 z(0, 0, 1);
-  for (int i = 0; i < frames; ++i) {
-    const double a = 2.0 * 3.14159265358979323846 * i / frames;
-    render::Camera c = c0;
-    c.lookAt(c0.target + rotate(d, z, a), c0.target, rotate(up, z, a));
-    cams.push_back(c);
-  }
+  render::Camera raised = c0;
+  raised.lookAt(c0.target + d, c0.target, up);
+  for (int i = 0; i < frames; ++i) cams.push_back(turnedAbout(raised, glm::dvec3(0, 0, 1), 360.0 * i / frames));
   return cams;
 }
 

@@ -30,6 +30,9 @@ std::vector<render::Camera> turntableCameras(render::StandardView start, const g
                                              double aspect, int frames, double elevationDeg, bool neurological,
                                              bool orthographic);
 
+// `camera` turned by `degrees` about the unit `axis` through its target (eye and up; right-handed).
+render::Camera turnedAbout(const render::Camera& camera, const glm::dvec3& axis, double degrees);
+
 // Slice indices of a sweep: `frames` indices from the first to the last slice along `axis` whose slice holds
 // data (FA > 0), evenly spaced (repeating indices when frames exceed the slices).
 std::vector<int> sweepIndices(const ScalarVolume& fa, const std::string& axis, int frames);
