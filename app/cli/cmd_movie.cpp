@@ -5,9 +5,9 @@
 #include "app/cli/options.h"
 #include "app/scene/movie_job.h"
 #include "app/scene/surface_spec.h"
+#include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/movie_writer.h"
 #include "render/fabric_options.h"
 
 #include <chrono>

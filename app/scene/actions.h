@@ -30,7 +30,7 @@ enum class SecondPane { OtherColourMode, Phong, Tracts };
 // "colour", "phong", "tracts" (the script's names).
 const char* secondPaneName(SecondPane mode);
 
-// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/fibre_io.h) as `dtfabric render` reads it.
+// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/formats/fibre_io.h) as `dtfabric render` reads it.
 struct LoadFile {
   std::string path;
   std::string layout = "auto"; // auto, a tensor layout (fsl|mrtrix|symmatrix|dtitk) or a fibre layout
@@ -80,7 +80,7 @@ struct SetCrosshair {
   glm::dvec3 world;
 };
 // Records a turntable of what the 3D pane shows (its surface, fabric and camera, a full turn about the pane's
-// vertical, the screen's up direction through the camera's target) to an MP4, a GIF or a directory of PNG frames (io/movie_writer.h),
+// vertical, the screen's up direction through the camera's target) to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
 // the advection state carried from frame to frame. An existing output only with `force`; never an input.
 struct RecordMovie {
   std::string path;
@@ -180,7 +180,7 @@ struct SaveTracts {
   std::string path;
   bool force = false;
 };
-// Angle between the tracts near the surface and the fabric's direction (surfaces/agreement.h, all points).
+// Angle between the tracts near the surface and the fabric's direction (surfaces/analyses/agreement.h, all points).
 struct ComputeAgreement {
   double nearMm = 2.0;
   int bins = 9;

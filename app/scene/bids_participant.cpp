@@ -2,9 +2,9 @@
 
 #include "app/scene/check_run.h"
 #include "app/scene/surface_spec.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"

@@ -3,10 +3,10 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/track_request.h"
-#include "io/atomic_file.h"
-#include "io/fibre_io.h"
+#include "io/formats/atomic_file.h"
+#include "io/formats/fibre_io.h"
+#include "io/formats/movie_writer.h"
 #include "io/model/error.h"
-#include "io/movie_writer.h"
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
 

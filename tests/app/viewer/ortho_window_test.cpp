@@ -1,7 +1,7 @@
 // `dtfabric view --ortho` in a real window under Xvfb, driven by a script: the crosshair and click lines move
 // the crosshair (printed with its slices), the scene screenshot exports the whole layout at the scene's size,
 // and `movie turntable` records the 3D pane to PNG frames and an MP4 with the frame count asked for.
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 #include "support/window.h"
