@@ -3,8 +3,8 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/movie_job.h"
-#include "app/scene/surface_spec.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/surface_spec.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -41,7 +41,7 @@ CliOption::Range aboveUpTo(double lo, double hi) {
 const OptionTable& movieOptions() {
   static const OptionTable table = [] {
     using O = CliOption;
-    const MovieRequest d;
+    const session::MovieRequest d;
     OptionTable t;
     t.command = "movie";
     t.positionals = "INPUT";
@@ -115,19 +115,19 @@ void readFabric(ParsedOptions& args, render::FabricParams& p) {
   }
 }
 
-void readMotion(ParsedOptions& args, MovieRequest& m) {
+void readMotion(ParsedOptions& args, session::MovieRequest& m) {
   const bool turntable = args.flag("turntable");
   const auto sweep = args.get("sweep");
   const auto faSweep = args.get("fa-sweep");
   if (int(turntable) + int(bool(sweep)) + int(bool(faSweep)) != 1)
     throw UsageError("give exactly one of --turntable, --sweep AXIS and --fa-sweep LO:HI");
-  if (turntable) m.kind = MovieRequest::Kind::Turntable;
+  if (turntable) m.kind = session::MovieRequest::Kind::Turntable;
   if (sweep) {
-    m.kind = MovieRequest::Kind::Sweep;
+    m.kind = session::MovieRequest::Kind::Sweep;
     m.axis = *sweep;
   }
   if (faSweep) {
-    m.kind = MovieRequest::Kind::FaSweep;
+    m.kind = session::MovieRequest::Kind::FaSweep;
     const auto colon = faSweep->find(':');
     char* end = nullptr;
     bool ok = colon != std::string::npos;
@@ -148,16 +148,16 @@ void readMotion(ParsedOptions& args, MovieRequest& m) {
 int cmdMovie(const CommandArgs& argv) {
   ParsedOptions args(movieOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
-  MovieRequest m;
-  RenderRequest& r = m.render;
+  session::MovieRequest m;
+  session::RenderRequest& r = m.render;
   r.input = args.positional(0, "INPUT");
   const std::string output = args.required("output");
   r.output = output;
   readMotion(args, m);
   const auto surface = args.get("surface");
-  if (surface && m.kind != MovieRequest::Kind::Turntable)
+  if (surface && m.kind != session::MovieRequest::Kind::Turntable)
     throw UsageError("--surface is the turntable's; a sweep builds its own surfaces");
-  r.surface = parseSurfaceSpec(surface.value_or("fa=0.25"));
+  r.surface = session::parseSurfaceSpec(surface.value_or("fa=0.25"));
   m.frames = args.integer("frames");
   const double fps = args.number("fps");
   parseSize(args.text("size"), r.width, r.height);
@@ -183,7 +183,7 @@ int cmdMovie(const CommandArgs& argv) {
   io::refuseMovieOverInputs(output, inputs);
   io::MovieWriter writer(output, r.width, r.height, fps, force); // checks ffmpeg, --force, the directory
   const auto t0 = std::chrono::steady_clock::now();
-  runMovie(
+  session::runMovie(
       m, [&](int, const Image& frame) { writer.add(frame); },
       [&](int done, int total) {
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

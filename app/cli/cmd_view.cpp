@@ -2,12 +2,12 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "ui/session/surface_spec.h"
 
 #include <cstdio>
 #include <optional>
@@ -97,7 +97,7 @@ int cmdView(const CommandArgs& argv) {
   const bool force = args.flag("force");
   o.ortho = args.flag("ortho");
   args.finish();
-  if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
+  if (!surface.empty()) session::parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
   if (!tensor.empty() && inputs.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT");
 
@@ -111,10 +111,10 @@ int cmdView(const CommandArgs& argv) {
     checkScriptOutputs(*script, inputs, force);
     if (force)
       for (ScriptStep& step : script->steps)
-        if (auto* a = std::get_if<ui::Action>(&step.command)) {
-          if (auto* shot = std::get_if<ui::Screenshot>(a)) shot->force = true;
-          if (auto* camera = std::get_if<ui::SaveCamera>(a)) camera->force = true;
-          if (auto* movie = std::get_if<ui::RecordMovie>(a)) movie->force = true;
+        if (auto* a = std::get_if<session::Action>(&step.command)) {
+          if (auto* shot = std::get_if<session::Screenshot>(a)) shot->force = true;
+          if (auto* camera = std::get_if<session::SaveCamera>(a)) camera->force = true;
+          if (auto* movie = std::get_if<session::RecordMovie>(a)) movie->force = true;
         }
   }
 

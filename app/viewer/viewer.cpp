@@ -1,10 +1,10 @@
 #include "app/viewer/viewer.h"
 
-#include "app/scene/fibre_input.h"
-#include "app/scene/movie_job.h"
-#include "app/scene/orientation_labels.h"
-#include "app/scene/tract_overlay.h"
-#include "app/scene/viewer_worker.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/orientation_labels.h"
+#include "ui/session/tract_overlay.h"
+#include "ui/session/viewer_worker.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
@@ -66,7 +66,7 @@ bool ViewerScene::converged() const {
 
 bool ViewerScene::paneShowsTracts(int p) const {
   if (!state().tractsVisible || !tractRenderer_ || tractRenderer_->segmentCount(0) == 0) return false;
-  return !(state().split && state().secondPane == ui::SecondPane::Tracts && p == 0);
+  return !(state().split && state().secondPane == session::SecondPane::Tracts && p == 0);
 }
 
 std::array<int, 4> ViewerScene::paneRect(int p) const {
@@ -125,7 +125,7 @@ bool ViewerScene::clickAt(double x, double y) {
   const glm::dvec3 at = c.target + right * ((x - r[0] - 0.5 * r[2]) * mm) - up * ((y - r[1] - 0.5 * r[3]) * mm);
   // The point of this pane's slice plane: the crosshair's depth along the view is kept.
   const glm::dvec3 fwd = c.forward(), cross = state().crosshair;
-  apply(ui::SetCrosshair{at - glm::dot(at - cross, fwd) * fwd});
+  apply(session::SetCrosshair{at - glm::dot(at - cross, fwd) * fwd});
   return true;
 }
 
@@ -152,7 +152,7 @@ void ViewerScene::dataChanged() {
 }
 
 void ViewerScene::setView(render::StandardView v) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   state.view = v;
   const auto data = session_.dataset();
   if (!data) return;
@@ -174,7 +174,7 @@ void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
     } else if (principal) {
       // A tensor in the fibres colour mode: its principal directions as one population, as `render` does.
       if (!principal_ || principalSerial_ != session_.fieldSerial()) {
-        principal_ = principalFibres(data->loaded.field);
+        principal_ = session::principalFibres(data->loaded.field);
         principalSerial_ = session_.fieldSerial();
       }
       r.setFibres(*principal_);
@@ -235,7 +235,7 @@ void ViewerScene::update() {
 }
 
 void ViewerScene::updateOrtho() {
-  ui::ViewerState& st = session_.state();
+  session::ViewerState& st = session_.state();
   const auto data = session_.dataset();
   if (!data) return;
   const Grid& grid = data->loaded.field.grid;
@@ -263,8 +263,8 @@ void ViewerScene::updateOrtho() {
     if (index == orthoBuilt_[s]) continue;
     orthoBuilt_[s] = index;
     try {
-      orthoMeshes_[s] = extractViewerSurface(
-          *data, parseSurfaceSpec(std::string("slice=") + kOrthoAxis[s] + ":" + std::to_string(index)));
+      orthoMeshes_[s] = session::extractViewerSurface(
+          *data, session::parseSurfaceSpec(std::string("slice=") + kOrthoAxis[s] + ":" + std::to_string(index)));
     } catch (const InputError&) {
       orthoMeshes_[s] = Mesh{}; // no data in this slice: the pane stays empty
     }
@@ -302,7 +302,7 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
   }
 }
 
-void ViewerScene::startRecording(const ui::RecordMovie& a) {
+void ViewerScene::startRecording(const session::RecordMovie& a) {
   const auto data = session_.dataset();
   if (!data || !session_.mesh()) throw UsageError("load data before recording a movie");
   if (a.frames < 1 || a.frames > 10000) throw UsageError("a movie has 1 to 10000 frames");
@@ -317,7 +317,7 @@ void ViewerScene::startRecording(const ui::RecordMovie& a) {
   rec->params = state().fabric;
   rec->frames = a.frames;
   recording_ = std::move(rec);
-  ui::ViewerState& st = session_.state();
+  session::ViewerState& st = session_.state();
   st.recording = true;
   st.recordedFrames = 0;
   st.recordFrames = a.frames;
@@ -326,7 +326,7 @@ void ViewerScene::startRecording(const ui::RecordMovie& a) {
 
 void ViewerScene::recordFrame() {
   Recording& rec = *recording_;
-  ui::ViewerState& st = session_.state();
+  session::ViewerState& st = session_.state();
   try {
     if (!recorder_) recorder_ = std::make_unique<render::FabricRenderer>();
     render::FabricRenderer& r = *recorder_;
@@ -337,7 +337,7 @@ void ViewerScene::recordFrame() {
     }
     // About the pane's vertical: the screen's up direction through the camera's target.
     const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
-    const render::Camera cam = turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
+    const render::Camera cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
     r.renderMovieFrame(cam, rec.params, rec.next == 0);
     rec.writer->add(r.readback());
     st.recordedFrames = ++rec.next;
@@ -368,7 +368,7 @@ render::ColourMode ViewerScene::otherColour(render::ColourMode mode) const {
 }
 
 void ViewerScene::render(int width, int height) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   width = std::max(width, 1);
   height = std::max(height, 1);
   if (width != width_ || height != height_) {
@@ -409,14 +409,14 @@ void ViewerScene::render(int width, int height) {
       r.resize(size.x, size.y);
       outputRenderer_[p] = &r;
       outputSize_[p] = size;
-      if (p == 1 && state.secondPane == ui::SecondPane::Phong) {
+      if (p == 1 && state.secondPane == session::SecondPane::Phong) {
         r.renderPhong(cam);
         outputFbo_[p] = r.output().id();
         dirty_[p] = low;
         continue;
       }
       render::FabricParams params = state.fabric;
-      if (p == 1 && state.secondPane == ui::SecondPane::OtherColourMode)
+      if (p == 1 && state.secondPane == session::SecondPane::OtherColourMode)
         params.colour = otherColour(params.colour);
       if (low) {
         params.autoLodPixels *= scale;
@@ -526,7 +526,7 @@ Image ViewerScene::layoutImage() const {
     const glm::dvec3 right = cam.right(), up = glm::normalize(glm::cross(right, cam.forward()));
     const int scale = 2, th = render::textHeight(scale);
     const auto letter = [&](const glm::dvec3& d, int x, int y) {
-      const std::string t = anatomicalLabel(d);
+      const std::string t = session::anatomicalLabel(d);
       render::drawText(img, x - render::textWidth(t, scale) / 2, y - th / 2, t, scale, 255, 230, 90);
     };
     letter(right, r[0] + r[2] - 10, r[1] + r[3] / 2);
@@ -568,7 +568,7 @@ void ViewerScene::probe(double x, double y) {
 }
 
 void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   render::FabricRenderer& r = *outputRenderer_[p];
   const int slot = &r == lowRes_[p].get() ? 2 + p : p;
   if (!tractLayers_[slot]) tractLayers_[slot] = std::make_unique<render::TractLayer>();
@@ -581,13 +581,14 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
   f.view = r.frameView();
   // The width on screen: an interactive frame is magnified by the blit.
   f.style.widthPx = static_cast<float>(state.tractWidthPx * outputSize_[p].x / std::max(rect[2], 1));
-  TractPick pick;
+  session::TractPick pick;
   if (session_.tractsSlab()) pick.plane = session_.tractsPlane();
-  TractOverlayOptions overlay;
+  session::TractOverlayOptions overlay;
   overlay.nearMm = state.tractsNearMm;
   overlay.clipMm = state.tractsClipMm;
   overlay.clipDepthMm = state.tractsClipOffsetMm;
-  const TractClip clip = tractClip(pick, overlay, glm::vec3(camera(p).forward()), session_.meshCentre());
+  const session::TractClip clip =
+      session::tractClip(pick, overlay, glm::vec3(camera(p).forward()), session_.meshCentre());
   f.style.plane = clip.plane;
   f.style.slabMm = clip.slabMm;
   f.key = tractKeys_[p] = tractKey();
@@ -606,36 +607,36 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
       all ? static_cast<double>(layer.shownSegments()) / static_cast<double>(all) : 1.0;
 }
 
-void ViewerScene::applyKey(ui::Key key) {
-  ui::ActionList actions;
-  ui::keyActions(key, state(), actions);
+void ViewerScene::applyKey(session::Key key) {
+  session::ActionList actions;
+  session::keyActions(key, state(), actions);
   for (const auto& a : actions)
     apply(a);
 }
 
-void ViewerScene::apply(const ui::Action& action) {
+void ViewerScene::apply(const session::Action& action) {
   session_.apply(action);
   try {
-    if (applyView(action) || !std::holds_alternative<ui::SetFabricParams>(action)) return;
+    if (applyView(action) || !std::holds_alternative<session::SetFabricParams>(action)) return;
     dataChanged(); // new fabric parameters: the panes start again
   } catch (...) {
     session_.setError(currentExceptionMessage());
   }
 }
 
-bool ViewerScene::applyView(const ui::Action& action) {
-  ui::ViewerState& state = session_.state();
+bool ViewerScene::applyView(const session::Action& action) {
+  session::ViewerState& state = session_.state();
   return std::visit(
       [&](const auto& a) {
         using T = std::decay_t<decltype(a)>;
-        if constexpr (std::is_same_v<T, ui::SetView>) {
+        if constexpr (std::is_same_v<T, session::SetView>) {
           setView(a.view);
-        } else if constexpr (std::is_same_v<T, ui::SetNeurological>) {
+        } else if constexpr (std::is_same_v<T, session::SetNeurological>) {
           state.neurological = a.on;
           using V = render::StandardView;
           if (state.view == V::Axial || state.view == V::Coronal || state.view == V::Sagittal)
             setView(state.view);
-        } else if constexpr (std::is_same_v<T, ui::SetSplit>) {
+        } else if constexpr (std::is_same_v<T, session::SetSplit>) {
           if (a.mode && *a.mode != state.secondPane) {
             state.secondPane = *a.mode;
             dataChanged();
@@ -648,14 +649,14 @@ bool ViewerScene::applyView(const ui::Action& action) {
               cameras_[p].fit(data->lo, data->hi, paneAspect(p));
           activePane_ = 0;
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetLinkedCameras>) {
+        } else if constexpr (std::is_same_v<T, session::SetLinkedCameras>) {
           state.linked = a.on;
           cameras_[1] = cameras_[0];
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetSecondPane>) {
+        } else if constexpr (std::is_same_v<T, session::SetSecondPane>) {
           state.secondPane = a.mode;
           dataChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetOrtho>) {
+        } else if constexpr (std::is_same_v<T, session::SetOrtho>) {
           if (a.on == state.ortho) return true;
           state.ortho = a.on;
           const auto data = session_.dataset();
@@ -665,17 +666,17 @@ bool ViewerScene::applyView(const ui::Action& action) {
           if (data) cameras_[0].fit(data->lo, data->hi, paneAspect(0));
           activePane_ = 0;
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetCrosshair>) {
+        } else if constexpr (std::is_same_v<T, session::SetCrosshair>) {
           const auto data = session_.dataset();
           if (!data) throw UsageError("load data before placing the crosshair");
           state.crosshair = glm::clamp(a.world, data->lo, data->hi);
           if (state.ortho) updateOrtho();
-        } else if constexpr (std::is_same_v<T, ui::RecordMovie>) {
+        } else if constexpr (std::is_same_v<T, session::RecordMovie>) {
           if (recording_) throw UsageError("a movie is already being recorded");
           if (session_.mayWrite(a.path, a.force, action)) startRecording(a);
-        } else if constexpr (std::is_same_v<T, ui::ResetView>) {
+        } else if constexpr (std::is_same_v<T, session::ResetView>) {
           setView(session_.homeView());
-        } else if constexpr (std::is_same_v<T, ui::Rotate>) {
+        } else if constexpr (std::is_same_v<T, session::Rotate>) {
           const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
           const double s = std::max(std::min(rect[2], rect[3]), 1);
           // Arcball from the pane centre in steps of <= 10 pixels, like a real drag.
@@ -685,7 +686,7 @@ bool ViewerScene::applyView(const ui::Action& action) {
           for (int i = 0; i < n; ++i)
             cam.trackball({0.0, 0.0}, {2.0 * a.dx / n / s, -2.0 * a.dy / n / s});
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::Pan>) {
+        } else if constexpr (std::is_same_v<T, session::Pan>) {
           const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
           render::Camera& cam = cameraFor(a.pane);
           const double dist = glm::length(cam.target - cam.eye);
@@ -697,17 +698,17 @@ bool ViewerScene::applyView(const ui::Action& action) {
           cam.eye += shift;
           cam.target += shift;
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::Zoom>) {
+        } else if constexpr (std::is_same_v<T, session::Zoom>) {
           if (a.factor > 0) cameraFor(a.pane).zoom(1.0 / a.factor);
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SaveCamera>) {
+        } else if constexpr (std::is_same_v<T, session::SaveCamera>) {
           if (session_.mayWrite(a.path, a.force, action)) writeCameraFile(a.path, cameraFor(-1));
-        } else if constexpr (std::is_same_v<T, ui::ConfirmOverwrite>) {
+        } else if constexpr (std::is_same_v<T, session::ConfirmOverwrite>) {
           // Screenshots are the window's: it answers the prompt itself and takes them.
           if (auto forced = session_.answerOverwrite(a.overwrite);
-              forced && !std::holds_alternative<ui::Screenshot>(*forced))
+              forced && !std::holds_alternative<session::Screenshot>(*forced))
             apply(*forced);
-        } else if constexpr (std::is_same_v<T, ui::LoadCamera>) {
+        } else if constexpr (std::is_same_v<T, session::LoadCamera>) {
           cameraFor(-1) = readCameraFile(a.path);
           if (state.linked) cameras_[1] = cameras_[0];
           cameraChanged();

@@ -3,7 +3,7 @@
 // follow to the crosshair's slices, and what they show changes); the crosshair is drawn where it lies; each
 // pane carries its orientation letters (radiological by default, neurological when chosen); the exported
 // layout has the scene's size.
-#include "app/scene/orientation_labels.h"
+#include "ui/session/orientation_labels.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 
@@ -29,8 +29,8 @@ bool crosshairColour(const std::uint8_t* p) {
 TEST(ViewOrtho, ClickMovesTheCrosshairAndTheOtherPanesFollow) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::ui::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::ui::SetOrtho{true});
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
   v.converge();
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
   ASSERT_TRUE(v.state().ortho);
@@ -85,27 +85,27 @@ TEST(ViewOrtho, ClickMovesTheCrosshairAndTheOtherPanesFollow) {
   EXPECT_TRUE(crosshairColour(after.pixel(int(std::floor(inCoronal.x)), scene.orthoRect(1)[1] + 3)));
 
   // A crosshair outside the data is clamped to it.
-  v.apply(dtf::ui::SetCrosshair{glm::dvec3(1e4, 0, 0)});
+  v.apply(dtf::session::SetCrosshair{glm::dvec3(1e4, 0, 0)});
   EXPECT_DOUBLE_EQ(v.state().crosshair.x, data->hi.x);
 }
 
 TEST(ViewOrtho, EachSlicePaneHasItsOrientationLetters) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::ui::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::ui::SetOrtho{true});
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
   v.converge();
   const auto letters = [&](int s) {
     const dtf::render::Camera& c = v.scene.orthoCamera(s);
     const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
-    return std::string(dtf::app::anatomicalLabel(-right)) + dtf::app::anatomicalLabel(right) +
-           dtf::app::anatomicalLabel(up) + dtf::app::anatomicalLabel(-up); // left, right, top, bottom
+    return std::string(dtf::session::anatomicalLabel(-right)) + dtf::session::anatomicalLabel(right) +
+           dtf::session::anatomicalLabel(up) + dtf::session::anatomicalLabel(-up); // left, right, top, bottom
   };
   // Radiological: the patient's right on the image's left; sagittal from the left (anterior on the left).
   EXPECT_EQ(letters(0), "RLAP");
   EXPECT_EQ(letters(1), "RLSI");
   EXPECT_EQ(letters(2), "APSI");
-  v.apply(dtf::ui::SetNeurological{true});
+  v.apply(dtf::session::SetNeurological{true});
   v.converge();
   EXPECT_EQ(letters(0), "LRAP");
   EXPECT_EQ(letters(1), "LRSI");
@@ -118,7 +118,7 @@ TEST(ViewOrtho, EachSlicePaneHasItsOrientationLetters) {
     for (int x = r[0] + 2; x < r[0] + 18; ++x) yellow += crosshairColour(img.pixel(x, y));
   EXPECT_GT(yellow, 10);
   // Leaving the layout gives the 3D pane the whole scene again.
-  v.apply(dtf::ui::SetOrtho{false});
+  v.apply(dtf::session::SetOrtho{false});
   EXPECT_EQ(v.scene.paneRect(0), (std::array<int, 4>{0, 0, 256, 256}));
   EXPECT_EQ(v.scene.orthoPaneAt(10, 10), -1);
 }
