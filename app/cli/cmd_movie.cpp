@@ -98,19 +98,18 @@ const OptionTable& movieOptions() {
 namespace {
 
 void readFabric(ParsedOptions& args, render::FabricParams& p) {
+  using K = render::FabricOption::Kind;
   for (const auto& o : render::fabricOptions()) {
-    if (o.kind == render::FabricOption::Kind::OnOff) {
+    if (o.kind == K::OnOff) {
       if (args.flag(std::string("no-") + o.name)) o.set(p, 0);
-    } else if (o.kind == render::FabricOption::Kind::Colour) {
-      const auto v = args.get(o.name);
-      if (!v) continue;
+    } else if (o.kind == K::Number || o.kind == K::Integer) {
+      if (args.given(o.name)) o.set(p, args.number(o.name));
+    } else if (const auto v = args.get(o.name)) { // named values (the colour mode)
       try {
         o.set(p, o.parse(*v));
       } catch (const UsageError& e) {
         throw UsageError(std::string("--") + e.what());
       }
-    } else if (args.given(o.name)) {
-      o.set(p, args.number(o.name));
     }
   }
 }
