@@ -103,6 +103,28 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   return readback();
 }
 
+void FabricRenderer::renderMovieFrame(const Camera& camera, const FabricParams& p, bool first) {
+  const GlStateGuard guard;
+  if (first)
+    pipeline_.invalidate();
+  else
+    pipeline_.reprojectNext();
+  still_ = true; // full resolution
+  try {
+    prepare(camera, p);
+  } catch (...) {
+    still_ = false;
+    throw;
+  }
+  still_ = false;
+  if (first)
+    lastIterations_ = pipeline_.converge(p);
+  else
+    pipeline_.advect(p);
+  pipeline_.keepHistory(view_);
+  composite(p);
+}
+
 void FabricRenderer::renderPhong(const Camera& camera, const glm::vec3& colour) {
   const GlStateGuard guard;
   if (size_.x < 1) throw GlError("FabricRenderer: resize() before rendering");

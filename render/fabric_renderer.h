@@ -48,6 +48,13 @@ public:
   // then until fewer than stillChangedFraction of the covered pixels change by more than epsilon (or
   // stillMaxIterations); composites and reads back. Deterministic.
   Image renderStill(const Camera& camera, const FabricParams& params);
+  // One frame of a movie, composited into the output target (read it with readback()). `first`: a still
+  // (renderStill's convergence). Otherwise the previous movie frame's advection state, reprojected into
+  // this view and onto this mesh (surface points visible in both frames keep their state; newly visible
+  // ones start from beta), then params.iterations Eq. 12 iterations: the paper's interactive mode, coherent
+  // under camera motion and surface changes instead of restarting from the noise. Changing the parameters
+  // or the size between frames restarts from beta. Full resolution (movingScale does not apply).
+  void renderMovieFrame(const Camera& camera, const FabricParams& params, bool first);
   // Plain Blinn-Phong of the same mesh into the output target.
   void renderPhong(const Camera& camera, const glm::vec3& colour = glm::vec3(0.8f));
   // The output target, row 0 at the top.

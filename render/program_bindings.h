@@ -11,7 +11,9 @@ namespace dtf::render {
 
 // fabric/advection.frag (AdvectionPass), every variant.
 struct AdvectionProgram {
-  enum class Unit : GLuint { Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5 };
+  enum class Unit : GLuint {
+    Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
+  };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
@@ -20,9 +22,11 @@ struct AdvectionProgram {
       {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
+      {unit(Unit::HistorySurface), "UNIT_HISTORY_SURFACE", "u_histSurface"},
+      {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
-  enum class Uniform { K, Step, ComplementSecond, Epsilon, Count };
+  enum class Uniform { K, Step, ComplementSecond, Epsilon, WindowToWorld, WorldToPrevWindow, WorldToPrevEye, DepthTol, Count };
 };
 
 // fabric/composite.frag (CompositePass).
@@ -131,6 +135,10 @@ constexpr const char* uniformName(AdvectionProgram::Uniform u) {
   case U::Step: return "u_step";
   case U::ComplementSecond: return "u_complementSecond";
   case U::Epsilon: return "u_epsilon";
+  case U::WindowToWorld: return "u_windowToWorld";
+  case U::WorldToPrevWindow: return "u_worldToPrevWindow";
+  case U::WorldToPrevEye: return "u_worldToPrevEye";
+  case U::DepthTol: return "u_depthTol";
   case U::Count: break;
   }
   return "";

@@ -55,6 +55,13 @@ const std::vector<Command>& commands() {
        "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups; "
        "`--uncertainty CONE` (a cone map or a bedpostx folder): threads fray as the cone widens, with a legend",
        cmdRender, renderOptions},
+      {"movie", nullptr,
+       "a turntable, slice sweep or FA-threshold sweep of the fabric to MP4, GIF or PNG frames, headless",
+       "a turntable around a surface, a sweep of slices through the data or an FA-threshold sweep (the "
+       "isosurface extracted per frame), the advection state carried from frame to frame (no re-seeded "
+       "flicker); MP4 (H.264) and GIF through the `ffmpeg` program on PATH, or numbered PNG frames into `DIR/`; "
+       "atomic, never over an input",
+       cmdMovie, movieOptions},
       {"track", nullptr,
        "deterministic tensor tractography to .tck/.trk/.trx/.vtk",
        "deterministic tensor tractography (RK4, FA stop, angle limit, length range)", cmdTrack,

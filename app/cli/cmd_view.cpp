@@ -61,6 +61,9 @@ const OptionTable& viewOptions() {
         O::text("uncertainty", "CONE",
                 "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE) or a bedpostx folder "
                 "with samples: the threads fray as the cone widens (Fabric panel: fray)"),
+        O::flag("ortho",
+                "open in the ortho layout: axial, coronal and sagittal slices through a crosshair (click a "
+                "slice pane to move it) beside the 3D pane"),
         O::text("script", "FILE",
                 "replay a viewer script: one command of the list below per line, `#` comments.\n"
                 "A bad line fails before the window opens (exit code 2); with `quit`, the exit code is 2 "
@@ -90,6 +93,7 @@ int cmdView(const CommandArgs& argv) {
   const std::string tensor = args.text("tensor");
   const bool force = args.flag("force");
   const std::string uncertainty = args.text("uncertainty");
+  o.ortho = args.flag("ortho");
   args.finish();
   if (!surface.empty()) session::parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
@@ -108,6 +112,7 @@ int cmdView(const CommandArgs& argv) {
         if (auto* a = std::get_if<session::Action>(&step.command)) {
           if (auto* shot = std::get_if<session::Screenshot>(a)) shot->force = true;
           if (auto* camera = std::get_if<session::SaveCamera>(a)) camera->force = true;
+          if (auto* movie = std::get_if<session::RecordMovie>(a)) movie->force = true;
         }
   }
 

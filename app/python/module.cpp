@@ -7,6 +7,7 @@
 #include "app/python/gl_thread.h"
 #include "ui/session/check_run.h"
 #include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
 #include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
@@ -15,6 +16,7 @@
 #include "io/diffusion/uncertainty.h"
 #include "io/formats/fibre_io.h"
 #include "io/formats/formats.h"
+#include "io/formats/movie_writer.h"
 #include "io/formats/png_io.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
@@ -341,6 +343,79 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
     runOnGlThread([&] { result = session::runRender(r); });
   }
   return imageArray(result.image);
+}
+
+// --- movie
+
+py::object makeMovie(const py::object& input, const py::object& output, bool turntable, const py::object& sweep,
+                     const py::object& faSweep, const std::string& surface, int frames, double fps,
+                     const py::object& size, const py::object& view, double elevation, bool neurological,
+                     bool perspective, const py::object& background, bool force, const std::string& layout,
+                     const py::object& bval, const py::object& bvec, const py::object& mask,
+                     const py::kwargs& params) {
+  session::MovieRequest m;
+  session::RenderRequest& r = m.render;
+  std::shared_ptr<const io::LoadedTensors> held;
+  if (isPathLike(input)) {
+    r.input = pathText(input);
+    r.tensorOptions = tensorOptions(layout, bval, bvec, mask);
+    r.layout = layout;
+  } else {
+    held = tensorsOf(input, layout, bval, bvec, mask, r.input);
+    r.field = &held->field;
+  }
+  const int motions = int(turntable) + int(!sweep.is_none()) + int(!faSweep.is_none());
+  if (motions != 1) throw UsageError("give exactly one of turntable=True, sweep=AXIS and fa_sweep=(LO, HI)");
+  if (turntable) m.kind = session::MovieRequest::Kind::Turntable;
+  if (!sweep.is_none()) {
+    m.kind = session::MovieRequest::Kind::Sweep;
+    m.axis = castOr<std::string>(sweep, "sweep must be axial, coronal or sagittal");
+  }
+  if (!faSweep.is_none()) {
+    m.kind = session::MovieRequest::Kind::FaSweep;
+    std::tie(m.faLo, m.faHi) = castOr<std::pair<double, double>>(faSweep, "fa_sweep must be (lo, hi)");
+  }
+  r.surface = session::parseSurfaceSpec(surface);
+  m.frames = frames;
+  m.elevationDeg = elevation;
+  std::tie(r.width, r.height) = sizeOf(size);
+  if (!view.is_none()) r.view = render::parseView(view.cast<std::string>());
+  r.neurological = neurological;
+  r.perspective = perspective;
+  r.background = background.is_none() ? "" : optionText(background);
+  for (const auto& [key, value] : params) setFabricOption(r.params, py::str(key), value);
+  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
+    throw UsageError("size must be between 16x16 and 8192x8192");
+
+  std::optional<io::MovieWriter> writer;
+  std::string out;
+  if (!output.is_none()) {
+    out = pathText(output);
+    r.output = out;
+    io::refuseMovieOverInputs(out, {r.input, r.tensorOptions.bval, r.tensorOptions.bvec, r.tensorOptions.mask,
+                                    r.surface.file, r.background});
+    writer.emplace(out, r.width, r.height, fps, force);
+  } else {
+    r.output = "the movie of " + r.input;
+  }
+  std::vector<Image> kept;
+  {
+    py::gil_scoped_release release;
+    runOnGlThread([&] {
+      session::runMovie(m, [&](int, const Image& img) {
+        if (writer)
+          writer->add(img);
+        else
+          kept.push_back(img);
+      });
+    });
+    if (writer) writer->finish();
+  }
+  if (writer) return py::str(out);
+  py::array_t<std::uint8_t> all({py::ssize_t(kept.size()), py::ssize_t(r.height), py::ssize_t(r.width), py::ssize_t(4)});
+  auto* dst = all.mutable_data();
+  for (const auto& img : kept) dst = std::copy(img.rgba.begin(), img.rgba.end(), dst);
+  return all;
 }
 
 // --- surface, track
@@ -733,6 +808,21 @@ split, uncertainty (a cone map or bedpostx folder: the threads fray): as the com
 (1..4) and letters=, legend=, scale_bar= (True/False) as its Figure flags. Further keyword arguments are the
 fabric options of `dtfabric render --help` with '-' written '_' (blend_k=0.1, lighting=False, look='plain',
 ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
+
+  m.def("movie", &makeMovie, py::arg("input"), py::arg("output") = py::none(), py::arg("turntable") = false,
+        py::arg("sweep") = py::none(), py::arg("fa_sweep") = py::none(), py::arg("surface") = "fa=0.25",
+        py::arg("frames") = 36, py::arg("fps") = 12.0, py::arg("size") = std::make_pair(512, 512),
+        py::arg("view") = py::none(), py::arg("elevation") = 20.0, py::arg("neurological") = false,
+        py::arg("perspective") = false, py::arg("background") = py::none(), py::arg("force") = false,
+        py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+        py::arg("mask") = py::none(),
+        R"(A movie of the fabric, as `dtfabric movie` makes it: exactly one of turntable=True, sweep="axial"
+(coronal, sagittal) or fa_sweep=(lo, hi). The advection state is carried from frame to frame (no re-seeded
+flicker). output: OUT.mp4 or OUT.gif (through the ffmpeg program on PATH) or "DIR/" (numbered PNG frames),
+written atomically, an existing output replaced only with force=True; returns its path. output=None returns
+the frames as an (N, H, W, 4) uint8 array. surface (the turntable's), frames, fps, size=(W, H), view,
+elevation, neurological, perspective, background, layout, bval, bvec, mask: as the command's flags; further
+keyword arguments are the fabric options (frame_iterations=3, blend_k=0.1, ...).)");
 
   m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
         py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,

@@ -5,6 +5,7 @@
 #include "ui/session/track_request.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/fibre_io.h"
+#include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
@@ -379,6 +380,46 @@ void parseProbe(const ScriptLine& line, ScriptStep& step) {
   step.command = ScriptProbe{x, y};
 }
 
+void parseClick(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "click X Y");
+  const double x = number(w[1], "click X"), y = number(w[2], "click Y");
+  if (x < 0 || y < 0 || x > 1e5 || y > 1e5) throw LineError{"click: pixel coordinates must be non-negative"};
+  step.command = ScriptClick{x, y};
+}
+
+void parseLayout(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "layout single|ortho");
+  if (w[1] != "single" && w[1] != "ortho") throw LineError{"layout takes single or ortho, got '" + w[1] + "'"};
+  step.command = session::Action(session::SetOrtho{w[1] == "ortho"});
+}
+
+void parseCrosshair(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 3, "crosshair X Y Z");
+  const glm::dvec3 p(number(w[1], "crosshair X"), number(w[2], "crosshair Y"), number(w[3], "crosshair Z"));
+  if (std::abs(p.x) > 1e5 || std::abs(p.y) > 1e5 || std::abs(p.z) > 1e5)
+    throw LineError{"crosshair: world coordinates beyond 10^5 mm"};
+  step.command = session::Action(session::SetCrosshair{p});
+}
+
+void parseMovie(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const char* usage = "movie turntable FRAMES [--force] PATH (.mp4, .gif or DIR/)";
+  if (w.size() < 4 || w[1] != "turntable") throw LineError{std::string("usage: ") + usage};
+  const int frames = integer(w[2], "movie frames");
+  if (frames < 1 || frames > 10000) throw LineError{"movie frames must lie in [1, 10000], got " + w[2]};
+  const std::string rest = restOf(restOf(line.text, w[0]), w[1]);
+  const auto [p, force] = outputArg(restOf(rest, w[2]), usage);
+  try {
+    io::movieFormatOf(p);
+  } catch (const UsageError& e) {
+    throw LineError{e.what()};
+  }
+  step.command = session::Action(session::RecordMovie{p, frames, 12, force});
+}
+
 void parseResize(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "resize WxH");
@@ -553,8 +594,11 @@ const std::vector<ScriptCommand> kCommands = {
      "compare`'s numbers",
      parseAgreement},
     {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
-    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels)",
-     parseScreenshot},
+    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels; in the ortho layout the whole layout with its crosshair and orientation letters)", parseScreenshot},
+    {"layout", "single|ortho", "ortho: axial, coronal and sagittal slices through the crosshair beside the 3D pane; single: the 3D view alone (or split)", parseLayout},
+    {"crosshair", "X Y Z", "move the ortho layout's crosshair to world RAS X, Y, Z mm (the slice panes follow); prints it with its slices to stderr", parseCrosshair},
+    {"click", "X Y", "a click at scene pixel (X, Y) (y down): in an ortho slice pane it moves the crosshair there; prints it to stderr", parseClick},
+    {"movie", "turntable FRAMES [--force] PATH", "record a full turn of the 3D pane (its surface, fabric and camera) about its vertical axis: FRAMES frames to PATH .mp4 or .gif (ffmpeg on PATH) or DIR/ (PNG frames), the advection state carried from frame to frame", parseMovie},
     {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
     {"camera-load", "PATH", "read a camera file", parseCameraLoad},
     {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
@@ -645,12 +689,14 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
     const auto* shot = a ? std::get_if<session::Screenshot>(a) : nullptr;
     const auto* camera = a ? std::get_if<session::SaveCamera>(a) : nullptr;
     const auto* tracts = a ? std::get_if<session::SaveTracts>(a) : nullptr;
-    if (!shot && !camera && !tracts) continue;
-    const std::string& path = shot ? shot->path : camera ? camera->path : tracts->path;
-    const bool lineForce = shot ? shot->force : camera ? camera->force : tracts->force;
+    const auto* movie = a ? std::get_if<session::RecordMovie>(a) : nullptr;
+    if (!shot && !camera && !tracts && !movie) continue;
+    const std::string& path = shot ? shot->path : camera ? camera->path : tracts ? tracts->path : movie->path;
+    const bool lineForce = shot ? shot->force : camera ? camera->force : tracts ? tracts->force : movie->force;
     const std::string where = script.file + ":" + std::to_string(step.line) + ": ";
     try {
       io::refuseOverwritingInput(path, inputs);
+      if (movie) io::refuseMovieOverInputs(path, inputs);
     } catch (const InputError& e) {
       throw InputError(where + e.what());
     }

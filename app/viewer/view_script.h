@@ -24,6 +24,9 @@ struct ScriptWait {
 struct ScriptProbe {
   double x, y; // scene pixels, y down
 };
+struct ScriptClick {
+  double x, y; // scene pixels, y down: in the ortho layout, a click in a slice pane moves the crosshair
+};
 struct ScriptResize {
   int width, height; // window pixels
 };
@@ -34,7 +37,7 @@ struct ScriptSetParam {
 
 struct ScriptStep {
   int line = 0; // 1-based line in the file
-  std::variant<session::Action, session::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize> command;
+  std::variant<session::Action, session::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize, ScriptClick> command;
 };
 
 struct ViewScript {

@@ -1,10 +1,16 @@
 #include "app/viewer/viewer.h"
 
 #include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/orientation_labels.h"
 #include "ui/session/tract_overlay.h"
+#include "ui/session/viewer_worker.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/movie_writer.h"
 #include "io/model/error.h"
+#include "render/bitmap_text.h"
 #include "render/gl_context.h"
+#include "surfaces/slices.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +26,20 @@ constexpr int kStillIterations = 12;    // advection iterations per frame once t
 constexpr double kMotionSeconds = 0.15; // a camera change keeps frames interactive this long
 constexpr double kTargetFrameMs = 66;   // interactive frame time the resolution adapts to (15 fps)
 
+const char* const kOrthoAxis[3] = {"axial", "coronal", "sagittal"};
+constexpr render::StandardView kOrthoView[3] = {render::StandardView::Axial, render::StandardView::Coronal,
+                                                render::StandardView::Sagittal};
+
 } // namespace
+
+struct ViewerScene::Recording {
+  std::optional<io::MovieWriter> writer;
+  std::string path;
+  render::Camera start;
+  render::FabricParams params;
+  int frames = 0, next = 0;
+  glm::ivec2 size{0};
+};
 
 ViewerScene::ViewerScene(const std::string& surface) : session_(surface) {
   for (auto& r : renderers_)
@@ -39,6 +58,9 @@ bool ViewerScene::converged() const {
         (!tractLayer_[p] || !tractLayer_[p]->complete() || tractKeys_[p] != tractKey()))
       return false;
   }
+  if (state().ortho && hasMesh)
+    for (bool d : orthoDirty_)
+      if (d) return false;
   return true;
 }
 
@@ -48,6 +70,10 @@ bool ViewerScene::paneShowsTracts(int p) const {
 }
 
 std::array<int, 4> ViewerScene::paneRect(int p) const {
+  if (state().ortho) {
+    const int w2 = std::max(width_ / 2, 1), h2 = std::max(height_ / 2, 1);
+    return {w2, h2, std::max(width_ - w2, 1), std::max(height_ - h2, 1)};
+  }
   if (!state().split) return {0, 0, width_, height_};
   const int half = std::max(width_ / 2, 1);
   return p == 0 ? std::array<int, 4>{0, 0, half, height_}
@@ -55,7 +81,52 @@ std::array<int, 4> ViewerScene::paneRect(int p) const {
 }
 
 int ViewerScene::paneAt(double x) const {
-  return state().split && x >= paneRect(1)[0] ? 1 : 0;
+  return paneCount() == 2 && x >= paneRect(1)[0] ? 1 : 0;
+}
+
+std::array<int, 4> ViewerScene::orthoRect(int s) const {
+  const int w2 = std::max(width_ / 2, 1), h2 = std::max(height_ / 2, 1);
+  const int x = s == 1 ? w2 : 0, y = s == 2 ? h2 : 0;
+  return {x, y, std::max(s == 1 ? width_ - w2 : w2, 1), std::max(s == 2 ? height_ - h2 : h2, 1)};
+}
+
+int ViewerScene::orthoPaneAt(double x, double y) const {
+  if (!state().ortho) return -1;
+  for (int s = 0; s < 3; ++s) {
+    const auto r = orthoRect(s);
+    if (x >= r[0] && x < r[0] + r[2] && y >= r[1] && y < r[1] + r[3]) return s;
+  }
+  return -1;
+}
+
+namespace {
+// Millimetres per pixel of an orthographic camera over a pane `height` pixels high.
+double mmPerPixel(const render::Camera& c, int height) {
+  return 2.0 * c.orthoHalfHeight / std::max(height, 1);
+}
+} // namespace
+
+glm::dvec2 ViewerScene::orthoPixel(int s, const glm::dvec3& world) const {
+  const render::Camera& c = orthoCameras_[s];
+  const auto r = orthoRect(s);
+  const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+  const double mm = mmPerPixel(c, r[3]);
+  const glm::dvec3 d = world - c.target;
+  return {r[0] + 0.5 * r[2] + glm::dot(d, right) / mm, r[1] + 0.5 * r[3] - glm::dot(d, up) / mm};
+}
+
+bool ViewerScene::clickAt(double x, double y) {
+  const int s = orthoPaneAt(x, y);
+  if (s < 0 || !session_.dataset()) return false;
+  const render::Camera& c = orthoCameras_[s];
+  const auto r = orthoRect(s);
+  const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+  const double mm = mmPerPixel(c, r[3]);
+  const glm::dvec3 at = c.target + right * ((x - r[0] - 0.5 * r[2]) * mm) - up * ((y - r[1] - 0.5 * r[3]) * mm);
+  // The point of this pane's slice plane: the crosshair's depth along the view is kept.
+  const glm::dvec3 fwd = c.forward(), cross = state().crosshair;
+  apply(session::SetCrosshair{at - glm::dot(at - cross, fwd) * fwd});
+  return true;
 }
 
 double ViewerScene::paneAspect(int p) const {
@@ -93,30 +164,34 @@ void ViewerScene::setView(render::StandardView v) {
   cameraChanged();
 }
 
-render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRenderer>& r, int slot) {
+void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
   const auto data = session_.dataset();
   const bool principal = data && !data->fibres && state().fabric.colour == render::ColourMode::Fibres;
   if (data && (fieldUploaded_[slot] != session_.fieldSerial() || principalUploaded_[slot] != principal)) {
-    if (fieldUploaded_[slot] != session_.fieldSerial()) r->setField(data->loaded.field);
+    if (fieldUploaded_[slot] != session_.fieldSerial()) r.setField(data->loaded.field);
     if (data->fibres) {
-      r->setFibres(data->fibres->set, data->fa.data.empty() ? nullptr : &data->fa);
+      r.setFibres(data->fibres->set, data->fa.data.empty() ? nullptr : &data->fa);
     } else if (principal) {
       // A tensor in the fibres colour mode: its principal directions as one population, as `render` does.
       if (!principal_ || principalSerial_ != session_.fieldSerial()) {
         principal_ = session::principalFibres(data->loaded.field);
         principalSerial_ = session_.fieldSerial();
       }
-      r->setFibres(*principal_);
+      r.setFibres(*principal_);
     } else {
-      r->clearFibres();
+      r.clearFibres();
     }
     fieldUploaded_[slot] = session_.fieldSerial();
     principalUploaded_[slot] = principal;
   }
   if (coneUploaded_[slot] != coneSerial_) {
-    r->setUncertainty(cone_ ? &*cone_ : nullptr);
+    r.setUncertainty(cone_ ? &*cone_ : nullptr);
     coneUploaded_[slot] = coneSerial_;
   }
+}
+
+render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRenderer>& r, int slot) {
+  uploadField(*r, slot);
   if (session_.mesh() && meshUploaded_[slot] != session_.meshSerial()) {
     r->setMesh(*session_.mesh());
     meshUploaded_[slot] = session_.meshSerial();
@@ -135,11 +210,19 @@ void ViewerScene::update() {
   }
   if (session_.loadSerial() != seenLoad_) {
     seenLoad_ = session_.loadSerial();
+    if (const auto data = session_.dataset()) session_.state().crosshair = 0.5 * (data->lo + data->hi);
     setView(session_.homeView());
   }
   if (session_.meshSerial() != seenMesh_) {
     seenMesh_ = session_.meshSerial();
     cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
+  }
+  if (state().ortho) {
+    try {
+      updateOrtho();
+    } catch (...) {
+      session_.setError("while cutting the ortho slices: " + currentExceptionMessage());
+    }
   }
   if (session_.displaySerial() != seenDisplay_ && session_.tractDisplay()) {
     seenDisplay_ = session_.displaySerial();
@@ -152,6 +235,129 @@ void ViewerScene::update() {
     } catch (...) {
       session_.setError("while uploading the tracts: " + currentExceptionMessage());
     }
+  }
+}
+
+void ViewerScene::updateOrtho() {
+  session::ViewerState& st = session_.state();
+  const auto data = session_.dataset();
+  if (!data) return;
+  const Grid& grid = data->loaded.field.grid;
+  const int neuro = st.neurological ? 1 : 0;
+  const bool newField = orthoField_ != session_.fieldSerial();
+  if (newField || orthoCameraKey_ != std::array<int, 3>{width_, height_, neuro}) {
+    orthoCameraKey_ = {width_, height_, neuro};
+    for (int s = 0; s < 3; ++s) {
+      const auto r = orthoRect(s);
+      orthoCameras_[s] = render::Camera::standard(kOrthoView[s], data->lo, data->hi,
+                                                  double(r[2]) / std::max(r[3], 1), st.neurological);
+      orthoDirty_[s] = true;
+    }
+  }
+  if (newField) {
+    orthoField_ = session_.fieldSerial();
+    orthoBuilt_ = {-1, -1, -1};
+  }
+  const glm::dvec3 ijk = grid.toVoxel(st.crosshair);
+  for (int s = 0; s < 3; ++s) {
+    const auto axis = static_cast<surfaces::SliceAxis>(s);
+    const int va = surfaces::voxelAxisFor(grid, axis);
+    const int index = std::clamp(static_cast<int>(std::lround(ijk[va])), 0, grid.dims[va] - 1);
+    st.orthoSlice[s] = index;
+    if (index == orthoBuilt_[s]) continue;
+    orthoBuilt_[s] = index;
+    try {
+      orthoMeshes_[s] = session::extractViewerSurface(
+          *data, session::parseSurfaceSpec(std::string("slice=") + kOrthoAxis[s] + ":" + std::to_string(index)));
+    } catch (const InputError&) {
+      orthoMeshes_[s] = Mesh{}; // no data in this slice: the pane stays empty
+    }
+    orthoMeshNew_[s] = true;
+    orthoDirty_[s] = true;
+    orthoIterations_[s] = 0;
+    orthoCovered_[s] = 0;
+  }
+}
+
+void ViewerScene::renderOrtho(const render::FabricParams& base) {
+  for (int s = 0; s < 3; ++s) {
+    if (!orthoDirty_[s]) continue;
+    if (orthoMeshes_[s].empty()) {
+      orthoDirty_[s] = false;
+      continue;
+    }
+    if (!orthoRenderers_[s]) orthoRenderers_[s] = std::make_unique<render::FabricRenderer>();
+    render::FabricRenderer& r = *orthoRenderers_[s];
+    uploadField(r, 4 + s);
+    if (orthoMeshNew_[s]) {
+      r.setMesh(orthoMeshes_[s]);
+      orthoMeshNew_[s] = false;
+    }
+    const auto rect = orthoRect(s);
+    r.resize(rect[2], rect[3]);
+    render::FabricParams params = base;
+    params.iterations = std::max(params.iterations, kStillIterations);
+    r.renderFrame(orthoCameras_[s], params);
+    orthoIterations_[s] += params.iterations;
+    if (orthoCovered_[s] == 0) orthoCovered_[s] = std::max(r.coveredPixels(), 1u);
+    if (r.changedPixels() <= params.stillChangedFraction * orthoCovered_[s] ||
+        orthoIterations_[s] >= std::max(params.stillMaxIterations, kStillIterations))
+      orthoDirty_[s] = false;
+  }
+}
+
+void ViewerScene::startRecording(const session::RecordMovie& a) {
+  const auto data = session_.dataset();
+  if (!data || !session_.mesh()) throw UsageError("load data before recording a movie");
+  if (a.frames < 1 || a.frames > 10000) throw UsageError("a movie has 1 to 10000 frames");
+  io::refuseMovieOverInputs(a.path, {data->path});
+  const auto rect = paneRect(0);
+  auto rec = std::make_unique<Recording>();
+  rec->size = {rect[2], rect[3]};
+  if (io::movieFormatOf(a.path) == io::MovieFormat::Mp4) rec->size = {rect[2] / 2 * 2, rect[3] / 2 * 2};
+  rec->writer.emplace(a.path, rec->size.x, rec->size.y, a.fps, true); // mayWrite said yes
+  rec->path = a.path;
+  rec->start = camera(0);
+  rec->params = state().fabric;
+  rec->frames = a.frames;
+  recording_ = std::move(rec);
+  session::ViewerState& st = session_.state();
+  st.recording = true;
+  st.recordedFrames = 0;
+  st.recordFrames = a.frames;
+  st.recordStatus = "recording " + a.path;
+}
+
+void ViewerScene::recordFrame() {
+  Recording& rec = *recording_;
+  session::ViewerState& st = session_.state();
+  try {
+    if (!recorder_) recorder_ = std::make_unique<render::FabricRenderer>();
+    render::FabricRenderer& r = *recorder_;
+    uploadField(r, 7);
+    if (rec.next == 0) {
+      r.setMesh(*session_.mesh());
+      r.resize(rec.size.x, rec.size.y);
+    }
+    // About the pane's vertical: the screen's up direction through the camera's target.
+    const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
+    const render::Camera cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
+    r.renderMovieFrame(cam, rec.params, rec.next == 0);
+    rec.writer->add(r.readback());
+    st.recordedFrames = ++rec.next;
+    if (rec.next == rec.frames) {
+      rec.writer->finish();
+      st.recordStatus = "wrote " + std::to_string(rec.frames) + " frames to " + rec.path;
+      std::fprintf(stderr, "%s\n", st.recordStatus.c_str());
+      recording_.reset();
+      st.recording = false;
+    }
+  } catch (...) {
+    const std::string path = rec.path;
+    recording_.reset(); // removes what was written
+    st.recording = false;
+    st.recordStatus = "recording failed";
+    session_.setError("while recording " + path + ": " + currentExceptionMessage());
   }
 }
 
@@ -175,6 +381,7 @@ void ViewerScene::render(int width, int height) {
     dataChanged();
   }
   if (!session_.mesh() || !hasField_) return;
+  if (recording_) recordFrame();
   const auto now = std::chrono::steady_clock::now();
   const bool moving =
       interacting_ || std::chrono::duration<double>(now - lastMotion_).count() < kMotionSeconds;
@@ -237,10 +444,12 @@ void ViewerScene::render(int width, int height) {
     }
     for (int p = 0; p < paneCount(); ++p)
       if (tractsShown_[p] && outputRenderer_[p] && outputFbo_[p]) tractFrame(p, fabricChanged[p], moving);
+    if (state.ortho) renderOrtho(state.fabric);
     static const std::string where = "rendering the fabric"; // no allocation per frame
     render::checkGl(where);
   } catch (...) {
     dirty_.fill(false); // do not repeat a failing frame every frame
+    orthoDirty_.fill(false);
     try {
       throw;
     } catch (const GlError&) {
@@ -262,9 +471,78 @@ void ViewerScene::present(unsigned fbo, int x, int y) {
     const auto rect = paneRect(p);
     const glm::ivec2 src = outputSize_[p];
     const bool same = src.x == rect[2] && src.y == rect[3];
-    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, src.x, src.y, x + rect[0], y, x + rect[0] + rect[2],
-                           y + rect[3], GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+    const int y0 = y + height_ - rect[1] - rect[3]; // GL rows count up from the scene's bottom
+    glBlitNamedFramebuffer(outputFbo_[p], fbo, 0, 0, src.x, src.y, x + rect[0], y0, x + rect[0] + rect[2],
+                           y0 + rect[3], GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
   }
+  if (!state().ortho) return;
+  for (int s = 0; s < 3; ++s) {
+    if (!orthoRenderers_[s] || orthoMeshes_[s].empty()) continue;
+    const auto rect = orthoRect(s);
+    const int y0 = y + height_ - rect[1] - rect[3];
+    glBlitNamedFramebuffer(orthoRenderers_[s]->output().id(), fbo, 0, 0, rect[2], rect[3], x + rect[0], y0,
+                           x + rect[0] + rect[2], y0 + rect[3], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+}
+
+void ViewerScene::readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 4>& rect, Image& into) const {
+  if (!fbo || size.x < 1 || size.y < 1) return;
+  std::vector<std::uint8_t> rows(static_cast<std::size_t>(size.x) * size.y * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  // Nearest sampling of the output onto the pane (the same size once the pane is still).
+  for (int y = 0; y < rect[3]; ++y) {
+    const int sy = size.y - 1 - std::min(y * size.y / std::max(rect[3], 1), size.y - 1);
+    for (int x = 0; x < rect[2]; ++x) {
+      const int sx = std::min(x * size.x / std::max(rect[2], 1), size.x - 1);
+      const int dx = rect[0] + x, dy = rect[1] + y;
+      if (dx < 0 || dy < 0 || dx >= into.width || dy >= into.height) continue;
+      std::uint8_t* d = &into.rgba[(static_cast<std::size_t>(dy) * into.width + dx) * 4];
+      const std::uint8_t* src = &rows[(static_cast<std::size_t>(sy) * size.x + sx) * 4];
+      d[0] = src[0];
+      d[1] = src[1];
+      d[2] = src[2];
+      d[3] = 255;
+    }
+  }
+}
+
+Image ViewerScene::layoutImage() const {
+  Image img(width_, height_);
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+  if (!session_.mesh()) return img;
+  for (int p = 0; p < paneCount(); ++p) readPane(outputFbo_[p], outputSize_[p], paneRect(p), img);
+  if (!state().ortho) return img;
+  const glm::dvec3 cross = state().crosshair;
+  for (int s = 0; s < 3; ++s) {
+    const auto r = orthoRect(s);
+    if (orthoRenderers_[s] && !orthoMeshes_[s].empty())
+      readPane(orthoRenderers_[s]->output().id(), {r[2], r[3]}, r, img);
+    // The crosshair: a horizontal and a vertical line through its point, clipped to the pane.
+    const glm::dvec2 c = orthoPixel(s, cross);
+    const int cx = static_cast<int>(std::floor(c.x)), cy = static_cast<int>(std::floor(c.y));
+    if (cy >= r[1] && cy < r[1] + r[3]) render::fillRect(img, r[0], cy, r[2], 1, 255, 230, 90);
+    if (cx >= r[0] && cx < r[0] + r[2]) render::fillRect(img, cx, r[1], 1, r[3], 255, 230, 90);
+    // Orientation letters at the middle of each edge.
+    const render::Camera& cam = orthoCameras_[s];
+    const glm::dvec3 right = cam.right(), up = glm::normalize(glm::cross(right, cam.forward()));
+    const int scale = 2, th = render::textHeight(scale);
+    const auto letter = [&](const glm::dvec3& d, int x, int y) {
+      const std::string t = session::anatomicalLabel(d);
+      render::drawText(img, x - render::textWidth(t, scale) / 2, y - th / 2, t, scale, 255, 230, 90);
+    };
+    letter(right, r[0] + r[2] - 10, r[1] + r[3] / 2);
+    letter(-right, r[0] + 10, r[1] + r[3] / 2);
+    letter(up, r[0] + r[2] / 2, r[1] + 10);
+    letter(-up, r[0] + r[2] / 2, r[1] + r[3] - 10);
+  }
+  // Pane borders.
+  const int w2 = std::max(width_ / 2, 1), h2 = std::max(height_ / 2, 1);
+  render::fillRect(img, w2 - 1, 0, 2, height_, 90, 90, 90);
+  render::fillRect(img, 0, h2 - 1, width_, 2, 90, 90, 90);
+  return img;
 }
 
 void ViewerScene::probe(double x, double y) {
@@ -273,10 +551,11 @@ void ViewerScene::probe(double x, double y) {
   const int p = paneAt(x);
   const auto rect = paneRect(p);
   if (!outputFbo_[p] || !outputRenderer_[p] || rect[2] < 1 || rect[3] < 1) return;
+  if (x < rect[0] || y < rect[1]) return; // the ortho layout's slice panes
   // Pixel of the output target (smaller than the pane after an interactive frame), y up.
   const glm::ivec2 size = outputSize_[p];
   const int px = static_cast<int>((x - rect[0]) * size.x / rect[2]);
-  const int py = size.y - 1 - static_cast<int>(y * size.y / rect[3]);
+  const int py = size.y - 1 - static_cast<int>((y - rect[1]) * size.y / rect[3]);
   if (px < 0 || py < 0 || px >= size.x || py >= size.y) return;
   float depth = 1.0f;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, outputFbo_[p]);
@@ -381,6 +660,24 @@ bool ViewerScene::applyView(const session::Action& action) {
         } else if constexpr (std::is_same_v<T, session::SetSecondPane>) {
           state.secondPane = a.mode;
           dataChanged();
+        } else if constexpr (std::is_same_v<T, session::SetOrtho>) {
+          if (a.on == state.ortho) return true;
+          state.ortho = a.on;
+          const auto data = session_.dataset();
+          if (a.on && data && state.crosshair == glm::dvec3(0.0)) state.crosshair = 0.5 * (data->lo + data->hi);
+          orthoCameraKey_ = {0, 0, -1};
+          orthoDirty_.fill(true);
+          if (data) cameras_[0].fit(data->lo, data->hi, paneAspect(0));
+          activePane_ = 0;
+          cameraChanged();
+        } else if constexpr (std::is_same_v<T, session::SetCrosshair>) {
+          const auto data = session_.dataset();
+          if (!data) throw UsageError("load data before placing the crosshair");
+          state.crosshair = glm::clamp(a.world, data->lo, data->hi);
+          if (state.ortho) updateOrtho();
+        } else if constexpr (std::is_same_v<T, session::RecordMovie>) {
+          if (recording_) throw UsageError("a movie is already being recorded");
+          if (session_.mayWrite(a.path, a.force, action)) startRecording(a);
         } else if constexpr (std::is_same_v<T, session::ResetView>) {
           setView(session_.homeView());
         } else if constexpr (std::is_same_v<T, session::Rotate>) {

@@ -69,8 +69,8 @@ public:
 
   session::ViewerSession& session() { return session_; }
   const session::ViewerState& state() const { return session_.state(); }
-  // No load, extraction, tract loading, selection, tracking, agreement or save queued or running.
-  bool settled() const { return session_.settled(); }
+  // No load, extraction, tract loading, selection, tracking, agreement, save or recording queued or running.
+  bool settled() const { return session_.settled() && !recording_; }
   // Every pane reached still quality, its tracts included.
   bool converged() const;
   // Pane p draws the tracts: some are loaded and visible, and p is not the plain left pane of the split
@@ -82,12 +82,29 @@ public:
   const Polylines* shownTracts() const { return session_.shownTracts(); }
   const render::DisplayTracts* displayedTracts() const { return uploaded_.get(); }
   const render::TractBudget& tractBudget() const { return tractBudget_; }
-  int paneCount() const { return state().split ? 2 : 1; }
+  int paneCount() const { return state().split && !state().ortho ? 2 : 1; }
   // Pane p's rectangle in scene pixels (x, y down, w, h) and its camera.
   std::array<int, 4> paneRect(int p) const;
   const render::Camera& camera(int p) const { return cameras_[state().linked ? 0 : p]; }
   int paneAt(double x) const;
   void setActivePane(int p) { activePane_ = p; }
+
+  // The ortho layout (session::SetOrtho): the axial, coronal and sagittal slice panes s = 0, 1, 2 through the
+  // crosshair, top left, top right and bottom left; the 3D pane (pane 0) bottom right. Slice pane s's
+  // rectangle in scene pixels (x, y down, w, h) and its camera (the display views, radiological unless
+  // neurological).
+  std::array<int, 4> orthoRect(int s) const;
+  const render::Camera& orthoCamera(int s) const { return orthoCameras_[s]; }
+  // The slice pane under scene pixel (x, y down), or -1 (the 3D pane, outside, not the ortho layout).
+  int orthoPaneAt(double x, double y) const;
+  // Scene pixel (x, y down) of a world point in slice pane s.
+  glm::dvec2 orthoPixel(int s, const glm::dvec3& world) const;
+  // In the ortho layout, a click at scene pixel (x, y down) in a slice pane moves the crosshair to that point
+  // of the pane's slice plane (the other panes follow to its slices); returns whether it was in one.
+  bool clickAt(double x, double y);
+  // The scene as a figure, width x height of the last render(), row 0 at the top: every pane as rendered, and
+  // in the ortho layout the crosshair and each slice pane's orientation letters.
+  Image layoutImage() const;
   // Shows an error (outermost context first) in the modal; errorSerial() counts the errors shown so far.
   void setError(const std::string& message) { session_.setError(message); }
   std::uint64_t errorSerial() const { return session_.errorSerial(); }
@@ -113,9 +130,18 @@ public:
   void replaceField(TensorField field) { session_.replaceField(std::move(field)); }
 
 private:
+  struct Recording; // a turntable being recorded (viewer.cpp)
   // Uploads the current mesh / field / fibres to `r` when it has not seen them yet (4 renderers, used as
   // needed).
   render::FabricRenderer& upToDate(std::unique_ptr<render::FabricRenderer>& r, int slot);
+  // The field / fibres part of upToDate; slots 4..6 are the slice panes, 7 the recorder.
+  void uploadField(render::FabricRenderer& r, int slot);
+  // Ortho layout: slice indices through the crosshair, meshes rebuilt where an index changed, cameras.
+  void updateOrtho();
+  void renderOrtho(const render::FabricParams& params);
+  void startRecording(const session::RecordMovie& request);
+  void recordFrame();
+  void readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 4>& rect, Image& into) const;
   void setView(render::StandardView v);
   void cameraChanged();
   void dataChanged();
@@ -136,10 +162,10 @@ private:
   std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
   // Serials of the mesh and field each renderer holds, and whether it holds a tensor's principal directions
   // as fibres (the fibres colour mode on tensors).
-  std::array<std::uint64_t, 4> meshUploaded_{}, fieldUploaded_{}, coneUploaded_{};
+  std::array<std::uint64_t, 8> meshUploaded_{}, fieldUploaded_{}, coneUploaded_{};
   std::optional<ScalarVolume> cone_;
   std::uint64_t coneSerial_ = 0;
-  std::array<bool, 4> principalUploaded_{};
+  std::array<bool, 8> principalUploaded_{};
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;
   std::uint64_t seenLoad_ = 0, seenField_ = 0, seenMesh_ = 0, seenDisplay_ = 0; // the session's serials taken
@@ -167,6 +193,20 @@ private:
   std::array<bool, 2> tractsShown_{false, false};
   render::TractBudget tractBudget_;
   bool glFailed_ = false;
+
+  // Ortho layout.
+  std::array<std::unique_ptr<render::FabricRenderer>, 3> orthoRenderers_;
+  std::array<Mesh, 3> orthoMeshes_;
+  std::array<render::Camera, 3> orthoCameras_;
+  std::array<int, 3> orthoBuilt_{-1, -1, -1}; // slice index of each mesh (-1: none)
+  std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};
+  std::array<int, 3> orthoIterations_{0, 0, 0};
+  std::array<unsigned, 3> orthoCovered_{0, 0, 0};
+  std::uint64_t orthoField_ = 0; // the field serial the meshes were cut from
+  std::array<int, 3> orthoCameraKey_{0, 0, -1}; // width, height, neurological the cameras were made for
+
+  std::unique_ptr<Recording> recording_;
+  std::unique_ptr<render::FabricRenderer> recorder_;
 };
 
 // Camera files: a small text format (eye, target, up, projection); throws InputError on a bad file.

@@ -133,6 +133,7 @@ public:
     scene_->setAskBeforeOverwrite(script == nullptr);
     if (script) scene_->addInput(script->file);
     std::snprintf(buffers_.screenshotPath.data(), buffers_.screenshotPath.size(), "dtfabric.png");
+    std::snprintf(buffers_.moviePath.data(), buffers_.moviePath.size(), "dtfabric_turntable.mp4");
     std::snprintf(buffers_.cameraPath.data(), buffers_.cameraPath.size(), "dtfabric.camera");
     std::snprintf(buffers_.tractSavePath.data(), buffers_.tractSavePath.size(), "tracts.tck");
     actions_.reserve(32);
@@ -224,7 +225,11 @@ private:
     pendingShot_.reset();
     try {
       if (shot.path.empty()) throw InputError("screenshot: no path given");
-      io::writePng(shot.path, readFramebuffer(x, y, w, h));
+      // The ortho layout as a figure: the panes with the crosshair and each slice pane's letters.
+      if (shot.sceneOnly && scene_->state().ortho)
+        io::writePng(shot.path, scene_->layoutImage());
+      else
+        io::writePng(shot.path, readFramebuffer(x, y, w, h));
       std::cerr << "wrote " << shot.path << (shot.sceneOnly ? " (scene)" : " (window)") << "\n";
     } catch (const std::exception& e) {
       scene_->setError(std::string("while saving a screenshot: ") + e.what());
@@ -255,7 +260,17 @@ private:
     const bool middle = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
     const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                        glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-    if (!dragging_ && (left || middle) && !io.WantCaptureMouse && inScene(x, y)) {
+    // Ortho layout: a left press (and drag) in a slice pane moves the crosshair.
+    if (left && !dragging_ && !io.WantCaptureMouse && inScene(x, y) &&
+        (crossDragging_ || scene_->orthoPaneAt(x * scale_ - sceneX_, y * scale_) >= 0)) {
+      if (x != lastX_ || y != lastY_ || !crossDragging_) scene_->clickAt(x * scale_ - sceneX_, y * scale_);
+      crossDragging_ = true;
+      lastX_ = x;
+      lastY_ = y;
+    } else if (!left) {
+      crossDragging_ = false;
+    }
+    if (!crossDragging_ && !dragging_ && (left || middle) && !io.WantCaptureMouse && inScene(x, y)) {
       dragging_ = true;
       panning_ = middle || shift;
       dragPane_ = scene_->paneAt(x * scale_ - sceneX_);
@@ -316,6 +331,43 @@ private:
       }
       if (p == 1) dl->AddLine(ImVec2(x0, y0), ImVec2(x0, y1), IM_COL32(90, 90, 90, 255), 2.0f);
     }
+    if (!scene_->state().ortho) return;
+    for (int s = 0; s < 3; ++s) {
+      const auto r = scene_->orthoRect(s);
+      const render::Camera& c = scene_->orthoCamera(s);
+      const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+      const float x0 = (sceneX_ + r[0]) * inv, y0 = r[1] * inv, x1 = x0 + r[2] * inv, y1 = y0 + r[3] * inv;
+      const float mx = 0.5f * (x0 + x1), my = 0.5f * (y0 + y1);
+      const glm::dvec2 at = scene_->orthoPixel(s, scene_->state().crosshair);
+      const float cx = static_cast<float>((sceneX_ + at.x) * inv), cy = static_cast<float>(at.y * inv);
+      dl->PushClipRect(ImVec2(x0, y0), ImVec2(x1, y1), true);
+      dl->AddLine(ImVec2(x0, cy), ImVec2(x1, cy), IM_COL32(255, 230, 90, 200), 1.0f);
+      dl->AddLine(ImVec2(cx, y0), ImVec2(cx, y1), IM_COL32(255, 230, 90, 200), 1.0f);
+      dl->PopClipRect();
+      const struct {
+        const char* text;
+        ImVec2 at;
+      } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
+                     {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
+                     {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
+                     {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
+      for (const auto& l : labels) {
+        dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
+        dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
+      }
+    }
+    const auto r0 = scene_->paneRect(0);
+    const float gx = (sceneX_ + r0[0]) * inv, gy = r0[1] * inv;
+    dl->AddLine(ImVec2(gx, 0), ImVec2(gx, (r0[1] + r0[3]) * inv), IM_COL32(90, 90, 90, 255), 2.0f);
+    dl->AddLine(ImVec2(sceneX_ * inv, gy), ImVec2((sceneX_ + r0[0] + r0[2]) * inv, gy), IM_COL32(90, 90, 90, 255),
+                2.0f);
+  }
+
+  void printCrosshair(int line) {
+    const session::ViewerState& s = scene_->state();
+    std::fprintf(stderr, "%s:%d: crosshair %.2f %.2f %.2f mm, slices axial %d coronal %d sagittal %d\n",
+                 script_->file.c_str(), line, s.crosshair.x, s.crosshair.y, s.crosshair.z, s.orthoSlice[0],
+                 s.orthoSlice[1], s.orthoSlice[2]);
   }
 
   void checkDebugOutput() {
@@ -376,6 +428,7 @@ private:
       if (action) {
         const auto errorsBefore = scene_->errorSerial();
         perform(*action);
+        if (std::holds_alternative<session::SetCrosshair>(*action)) printCrosshair(step.line);
         if (shot || std::holds_alternative<session::Quit>(*action)) return;
         if (scene_->errorSerial() != errorsBefore)
           return;                       // reported at the end of this frame, with this line
@@ -392,6 +445,11 @@ private:
         glfwSetWindowSize(window_, size->width, size->height);
         waitFrames_ = 2; // the new size arrives with the next events
         return;
+      } else if (const auto* click = std::get_if<ScriptClick>(&step.command)) {
+        if (!scene_->clickAt(click->x, click->y))
+          std::fprintf(stderr, "%s:%d: click %g %g: not in a slice pane of the ortho layout\n",
+                       script_->file.c_str(), step.line, click->x, click->y);
+        printCrosshair(step.line);
       } else if (const auto* at = std::get_if<ScriptProbe>(&step.command)) {
         scene_->probe(at->x, at->y);
         const session::ProbeInfo& p = scene_->state().probe;
@@ -425,7 +483,7 @@ private:
   bool quit_ = false;
   double scale_ = 1;
   int sceneX_ = 0, sceneY_ = 0, sceneW_ = 1, sceneH_ = 1;
-  bool dragging_ = false, panning_ = false;
+  bool dragging_ = false, panning_ = false, crossDragging_ = false;
   int dragPane_ = 0;
   double lastX_ = 0, lastY_ = 0, probeX_ = -1, probeY_ = -1;
   const ViewScript* script_ = nullptr;
@@ -445,6 +503,7 @@ int runViewerWindow(const ViewerWindowOptions& o) {
   for (auto it = o.inputs.rbegin(); it != o.inputs.rend(); ++it)
     window.scene().addRecent(*it);
   if (o.uncertainty) window.scene().setUncertainty(*o.uncertainty);
+  if (o.ortho) window.scene().apply(session::SetOrtho{true});
   if (!o.inputs.empty()) {
     window.setOpenPath(o.inputs.front());
     window.setTensorPath(o.tensor);

@@ -16,6 +16,7 @@ struct ViewerWindowOptions {
   std::string layout = "auto";        // tensor or fibre layout of the first input
   std::string tensor;                 // a fibre-set first input: its paired tensor volume (FA)
   int width = 1280, height = 800;     // window size, pixels
+  bool ortho = false;                 // open in the ortho layout
   const ViewScript* script = nullptr; // replayed when given (outputs already checked)
   std::optional<ScalarVolume> uncertainty; // a cone map (degrees) that frays the threads; read by the caller
 };

@@ -8,10 +8,11 @@ namespace {
 using Unit = AdvectionProgram::Unit;
 using U = AdvectionProgram::Uniform;
 
-std::vector<std::string> resetDefines(bool third) {
+std::vector<std::string> resetDefines(bool third, bool reproject = false) {
   std::vector<std::string> d = programDefines<AdvectionProgram>();
   d.push_back("RESET");
   if (third) d.push_back("THIRD");
+  if (reproject) d.push_back("REPROJECT");
   return d;
 }
 } // namespace
@@ -21,6 +22,7 @@ AdvectionPass::AdvectionPass()
                  programDefines<AdvectionProgram>(), uniformNames<U>()),
       reset_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false), uniformNames<U>()),
       reset3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
+      reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false, true), uniformNames<U>()),
       vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
@@ -85,6 +87,51 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fiel
   program.use();
   bindTexture(Unit::Surface, surface.id());
   bindTexture(Unit::Silhouette, edges.id());
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  current_ = 0;
+}
+
+void AdvectionPass::keepHistory(const Texture& surface) {
+  if (size_.x < 1 || surface.width() != size_.x || surface.height() != size_.y) return;
+  if (historySize_ != size_) {
+    for (auto& t : history_) {
+      t = Texture::create2D(GL_R32F, size_.x, size_.y);
+      t.setFilter(GL_LINEAR, GL_LINEAR);
+      t.setWrap(GL_CLAMP_TO_EDGE);
+    }
+    historySurface_ = Texture::create2D(GL_RGBA32F, size_.x, size_.y);
+    historySize_ = size_;
+  }
+  for (int c = 0; c < 2; ++c)
+    glCopyImageSubData(state_[current_][c].id(), GL_TEXTURE_2D, 0, 0, 0, 0, history_[c].id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, size_.x, size_.y, 1);
+  glCopyImageSubData(surface.id(), GL_TEXTURE_2D, 0, 0, 0, 0, historySurface_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                     size_.x, size_.y, 1);
+}
+
+void AdvectionPass::reproject(const Texture& surface, const Texture& edges, const Texture& depth,
+                              const glm::mat4& windowToWorld, const glm::mat4& worldToPrevWindow,
+                              const glm::mat4& worldToPrevEye, float depthTolMm, bool complementSecond) {
+  resize({surface.width(), surface.height()});
+  if (!hasHistory()) {
+    reset(surface, edges, 2, complementSecond);
+    return;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, resetFbo_.id());
+  glViewport(0, 0, size_.x, size_.y);
+  reproject_.set(U::ComplementSecond, complementSecond ? 1 : 0);
+  reproject_.set(U::WindowToWorld, windowToWorld);
+  reproject_.set(U::WorldToPrevWindow, worldToPrevWindow);
+  reproject_.set(U::WorldToPrevEye, worldToPrevEye);
+  reproject_.set(U::DepthTol, depthTolMm);
+  reproject_.use();
+  bindTexture(Unit::Surface, surface.id());
+  bindTexture(Unit::Silhouette, edges.id());
+  bindTexture(Unit::Prev1, history_[0].id());
+  bindTexture(Unit::Prev2, history_[1].id());
+  bindTexture(Unit::HistorySurface, historySurface_.id());
+  bindTexture(Unit::Depth, depth.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = 0;

@@ -41,6 +41,17 @@ public:
   // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
   // iterations skip (see iterate) hold the blocked state in either.
   void reset(const Texture& surface, const Texture& edges, int fields = 2, bool complementSecond = false);
+  // Movies: keeps a copy of the current (p1, p2) state and of the projection's surface target it was
+  // computed on, for reproject() in the next frame. The copies are (re)allocated only when the size changes.
+  void keepHistory(const Texture& surface);
+  bool hasHistory() const { return historySize_ == size_ && size_.x > 0; }
+  // Like reset() (two fields), but p_0 comes from the kept state where the same surface point was visible in
+  // the kept frame (see fabric/advection.frag, REPROJECT): `depth` is this frame's window depth,
+  // `windowToWorld` maps (pixel x, y, window depth, 1) to world, `worldToPrevWindow` and `worldToPrevEye`
+  // are the kept frame's; `depthTolMm` the linear-depth mismatch that counts as another surface.
+  void reproject(const Texture& surface, const Texture& edges, const Texture& depth,
+                 const glm::mat4& windowToWorld, const glm::mat4& worldToPrevWindow,
+                 const glm::mat4& worldToPrevEye, float depthTolMm, bool complementSecond = false);
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.
@@ -60,7 +71,7 @@ public:
 private:
   void step(const AdvectionSettings& s, bool countChanges, bool covered, bool third);
   ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
-  ShaderProgram reset_, reset3_;
+  ShaderProgram reset_, reset3_, reproject_;
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_;
@@ -68,6 +79,8 @@ private:
   Texture state_[2][3]; // [ping-pong][component]
   int current_ = 0;
   glm::ivec2 size_{0};
+  Texture history_[2], historySurface_; // keepHistory()
+  glm::ivec2 historySize_{0};
 };
 
 } // namespace dtf::render

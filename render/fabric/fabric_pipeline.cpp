@@ -146,12 +146,40 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
   endTimer();
 
-  if (restart)
+  const bool reproject = restart && reprojectNext_ && !forceRestart && historyView_ &&
+                         historyView_->target == view.target && stateKey(p) == stateKey(lastParams_) &&
+                         fields(p) == 2 && advection_.hasHistory();
+  reprojectNext_ = false;
+  if (reproject) {
+    const FrameView& h = *historyView_;
+    // Window coordinates (pixels, depth in [0, 1]) <-> clip coordinates of the guarded target.
+    const auto toWindow = [](glm::ivec2 t) {
+      glm::mat4 m(1.0f);
+      m[0][0] = 0.5f * float(t.x);
+      m[1][1] = 0.5f * float(t.y);
+      m[2][2] = 0.5f;
+      m[3] = glm::vec4(0.5f * float(t.x), 0.5f * float(t.y), 0.5f, 1.0f);
+      return m;
+    };
+    const glm::mat4 windowToWorld = glm::inverse(toWindow(view.target) * view.viewProj);
+    const glm::mat4 worldToPrevWindow = toWindow(h.target) * h.viewProj;
+    // Another surface: more than a few pixels or 1 mm apart in depth.
+    const float tol = std::max(1.0f, 4.0f * std::max(view.pixelMm, h.pixelMm));
+    advection_.reproject(projection_.surface(), silhouette_.edges(), projection_.depth(), windowToWorld,
+                         worldToPrevWindow, h.view, tol,
+                         p.colour == ColourMode::Fibres);
+  } else if (restart) {
     advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
+  }
   dataChanged_ = false;
   lastViewProj_ = view.viewProj;
   lastParams_ = p;
   return restart;
+}
+
+void FabricPipeline::keepHistory(const FrameView& view) {
+  advection_.keepHistory(projection_.surface());
+  historyView_ = view;
 }
 
 void FabricPipeline::advect(const FabricParams& p) {

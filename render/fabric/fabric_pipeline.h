@@ -54,6 +54,12 @@ public:
   // projection's time covers both stages) and this call ends it. Returns whether the advection restarted.
   bool project(const FrameView& view, const FabricParams& params, const glm::vec3& noiseFallback,
                bool forceRestart = false);
+  // Movies: the next project() that would restart the advection because the view or the surface changed
+  // (not the parameters or the size) starts instead from the state kept by keepHistory(), reprojected into
+  // the new view (AdvectionPass::reproject), so the fabric stays coherent from frame to frame.
+  void reprojectNext() { reprojectNext_ = true; }
+  // Keeps the current state and the surface it lies on (after the frame's advection) for reprojectNext().
+  void keepHistory(const FrameView& view);
   // params.iterations Eq. 12 iterations, continuing the state.
   void advect(const FabricParams& params);
   // Iterates to convergence (see FabricRenderer::renderStill); returns the iterations run.
@@ -97,6 +103,8 @@ private:
   std::array<bool, kPasses> timerUsed_{};
   bool timing_ = false;
   bool dataChanged_ = true;
+  bool reprojectNext_ = false;
+  std::optional<FrameView> historyView_;
   glm::mat4 lastViewProj_{0.0f};
   FabricParams lastParams_;
 };

@@ -10,6 +10,10 @@
 // ping-pong textures at once: p1 = p2 = beta, or BLOCKED. With FAR_PLANE, only covered pixels are shaded
 // (early depth test against the surface's depth; see common/fullscreen.vert). With THIRD, a third field p3
 // (fibre sets' third population) advects along the vectors' .w direction; RESET THIRD also writes p3.
+// RESET REPROJECT (movies, two fields) starts from the previous frame's state instead of beta where the same
+// surface point was visible there: the pixel's world position (from the window depth) is projected into the
+// previous frame, whose kept state is sampled bilinearly when its linear depth there agrees within
+// u_depthTol mm and no blocked texel touches the sample; elsewhere (newly visible surface) p_0 = beta.
 layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
 layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
 layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
@@ -17,6 +21,14 @@ layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r be
 layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
 #ifdef THIRD
 layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
+#endif
+#ifdef REPROJECT
+layout(binding = UNIT_HISTORY_SURFACE) uniform sampler2D u_histSurface; // previous frame's surface (.b depth)
+layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;                // this frame's window depth
+uniform mat4 u_windowToWorld;     // (pixel x, y, window depth, 1) of this frame -> world
+uniform mat4 u_worldToPrevWindow; // world -> previous frame's (pixel x, y)
+uniform mat4 u_worldToPrevEye;    // world -> previous frame's eye space
+uniform float u_depthTol;         // mm
 #endif
 
 const float BLOCKED = -1e20;
@@ -44,8 +56,28 @@ void main() {
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
   bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
-  o_p1 = o_p1b = blocked ? BLOCKED : s.r;
-  o_p2 = o_p2b = blocked ? BLOCKED : (u_complementSecond ? 1.0 - s.r : s.r);
+  float p1 = s.r, p2 = u_complementSecond ? 1.0 - s.r : s.r;
+#ifdef REPROJECT
+  if (!blocked) {
+    vec4 w = u_windowToWorld * vec4(gl_FragCoord.xy, texelFetch(u_depth, p, 0).r, 1.0);
+    w /= w.w;
+    vec4 q = u_worldToPrevWindow * w;
+    vec2 x = q.xy / q.w;
+    if (all(greaterThanEqual(x, vec2(1.0))) && all(lessThan(x, vec2(size - 1)))) {
+      vec4 h = texelFetch(u_histSurface, ivec2(x), 0);
+      if (h.a > 0.5 && abs(h.b + (u_worldToPrevEye * w).z) < u_depthTol) {
+        vec2 uv = x / vec2(size);
+        float a = texture(u_prev1, uv).r, b = texture(u_prev2, uv).r;
+        if (a >= 0.0 && b >= 0.0) {
+          p1 = a;
+          p2 = b;
+        }
+      }
+    }
+  }
+#endif
+  o_p1 = o_p1b = blocked ? BLOCKED : p1;
+  o_p2 = o_p2b = blocked ? BLOCKED : p2;
 #ifdef THIRD
   o_p3 = o_p3b = blocked ? BLOCKED : s.r;
 #endif

@@ -49,7 +49,8 @@ ProgramCase makeCase(std::string name, std::string vertex, std::string fragment,
 std::vector<ProgramCase> allPrograms() {
   return {
       makeCase<AdvectionProgram>("advection", "common/fullscreen.vert", "fabric/advection.frag",
-                                 {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"}},
+                                 {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"},
+                                  {"RESET", "REPROJECT"}},
                                  uniformNames<AdvectionProgram::Uniform>()),
       makeCase<CompositeProgram>(
           "composite", "common/fullscreen.vert", "fabric/composite.frag",

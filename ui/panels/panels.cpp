@@ -297,6 +297,11 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   ImGui::SameLine();
   if (ImGui::Checkbox("linked camera", &linked)) out.push_back(session::SetLinkedCameras{linked});
   probe(b, "linked camera");
+  bool ortho = s.ortho;
+  if (ImGui::Checkbox("ortho layout", &ortho)) out.push_back(session::SetOrtho{ortho});
+  probe(b, "ortho layout");
+  if (s.ortho)
+    ImGui::Text("crosshair %.1f %.1f %.1f mm (click a slice)", s.crosshair.x, s.crosshair.y, s.crosshair.z);
   int second = static_cast<int>(s.secondPane);
   static const char* const panes[] = {"other colour mode", "Phong shading", "fabric + tracts"};
   if (ImGui::Combo("right pane", &second, panes, 3))
@@ -313,6 +318,21 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   if (ImGui::Button("Save camera")) out.push_back(session::SaveCamera{b.cameraPath.data()});
   ImGui::SameLine();
   if (ImGui::Button("Load camera")) out.push_back(session::LoadCamera{b.cameraPath.data()});
+
+  // A turntable of the 3D pane as shown (surface, fabric, camera).
+  ImGui::InputText("##movie", b.moviePath.data(), b.moviePath.size());
+  ImGui::SetNextItemWidth(90);
+  ImGui::InputInt("frames", &b.movieFrames);
+  b.movieFrames = std::clamp(b.movieFrames, 1, 10000);
+  ImGui::SameLine();
+  if (s.recording) {
+    ImGui::Text("recording %d/%d", s.recordedFrames, s.recordFrames);
+  } else {
+    if (ImGui::Button("Record turntable") && b.moviePath[0] != '\0')
+      out.push_back(session::RecordMovie{b.moviePath.data(), b.movieFrames});
+    probe(b, "Record turntable");
+  }
+  if (!s.recordStatus.empty() && !s.recording) ImGui::TextWrapped("%s", s.recordStatus.c_str());
 }
 
 void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {

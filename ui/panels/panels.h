@@ -23,6 +23,8 @@ struct PanelBuffers {
   std::array<char, 1024> tensorPath{}; // fibre sets: the paired tensor of the next load
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};
+  std::array<char, 1024> moviePath{}; // Record turntable: .mp4, .gif or DIR/
+  int movieFrames = 36;
   std::array<char, 1024> tractPath{};
   std::array<char, 1024> tractSavePath{};
   session::ViewerTrackRequest track; // the tracking parameters being edited

@@ -81,7 +81,15 @@ std::string describe(const Action& action) {
           return a.on ? "SetLinkedCameras on" : "SetLinkedCameras off";
         else if constexpr (std::is_same_v<T, SetSecondPane>)
           return std::string("SetSecondPane ") + secondPaneName(a.mode);
-        else if constexpr (std::is_same_v<T, ResetView>)
+        else if constexpr (std::is_same_v<T, SetOrtho>)
+          return a.on ? "SetOrtho on" : "SetOrtho off";
+        else if constexpr (std::is_same_v<T, SetCrosshair>) {
+          std::snprintf(buf, sizeof buf, "SetCrosshair %g %g %g", a.world.x, a.world.y, a.world.z);
+          return buf;
+        } else if constexpr (std::is_same_v<T, RecordMovie>) {
+          std::snprintf(buf, sizeof buf, "RecordMovie turntable %d frames at %g fps ", a.frames, a.fps);
+          return buf + std::string(a.force ? "--force " : "") + a.path;
+        } else if constexpr (std::is_same_v<T, ResetView>)
           return "ResetView";
         else if constexpr (std::is_same_v<T, Rotate>) {
           std::snprintf(buf, sizeof buf, "Rotate %g %g", a.dx, a.dy);

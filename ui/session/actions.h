@@ -69,6 +69,25 @@ struct SetLinkedCameras {
 struct SetSecondPane {
   SecondPane mode;
 };
+// The ortho layout: axial, coronal and sagittal slices through the crosshair (three panes) beside the 3D
+// pane; off: the single (or split) 3D view.
+struct SetOrtho {
+  bool on;
+};
+// Moves the crosshair of the ortho layout to a world RAS point (mm; clamped to the data); the slice panes
+// follow to the slices through it.
+struct SetCrosshair {
+  glm::dvec3 world;
+};
+// Records a turntable of what the 3D pane shows (its surface, fabric and camera, a full turn about the pane's
+// vertical, the screen's up direction through the camera's target) to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
+// the advection state carried from frame to frame. An existing output only with `force`; never an input.
+struct RecordMovie {
+  std::string path;
+  int frames = 36;
+  double fps = 12;
+  bool force = false;
+};
 struct ResetView {};
 // Camera motion in window pixels (y down) over pane `pane` (-1 = the active pane).
 struct Rotate {
@@ -175,7 +194,7 @@ struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
-                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
                  SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
                  SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;

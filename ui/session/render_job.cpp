@@ -287,6 +287,17 @@ public:
 
   int lastIterations() const { return renderer_.lastIterations(); }
 
+  void setMovieMesh(const Mesh& m) { renderer_.setMesh(m); }
+  // A movie frame (FabricRenderer::renderMovieFrame) of the mesh set last.
+  Image movieFrame(const render::Camera& camera, const render::FabricParams& params, bool first) {
+    if (!movieField_) renderer_.setField(*s_.field);
+    movieField_ = true;
+    renderer_.renderMovieFrame(camera, params, first);
+    render::checkGl("rendering " + r_.output);
+    return renderer_.readback();
+  }
+
+
 private:
   // The tracts drawn over the renderer's output (at the supersampled size), read back; none when no tract
   // lies near the surface.
@@ -358,6 +369,7 @@ private:
   glm::vec3 lo_{0.0f}, hi_{0.0f};
   std::optional<render::TractRenderer> tracts_;
   std::optional<FibreSet> principal_;
+  bool movieField_ = false;
 };
 
 // The image: one pane, or two side by side as the split asks.
@@ -409,6 +421,59 @@ RenderResult runRender(const RenderRequest& r) {
   result.view = view;
   result.iterations = panes.lastIterations();
   return result;
+}
+
+struct FrameSession::Impl {
+  RenderRequest request;
+  render::FabricParams params;
+  Scene scene;
+  SecondPane none;
+  std::optional<PaneRenderer> panes;
+};
+
+FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.request = request;
+  m.request.split = {};
+  m.request.tracts.clear();
+  validate(m.request);
+  if (!m.request.field && isFibreInput(m.request.input, m.request.layout))
+    throw UsageError("movies take a tensor volume or a DWI; " + m.request.input + " is a fibre set");
+  m.params = m.request.params;
+  loadScene(m.request, m.params, m.scene);
+  m.panes.emplace(m.request, m.scene, m.none, m.request.view ? *m.request.view : defaultView(m.request.surface));
+  m.panes->setMovieMesh(m.scene.mesh);
+}
+
+FrameSession::~FrameSession() = default;
+
+const TensorField& FrameSession::field() const {
+  return *impl_->scene.field;
+}
+
+const ScalarVolume& FrameSession::fa() const {
+  return impl_->scene.fa;
+}
+
+const Mesh& FrameSession::surface() const {
+  return impl_->scene.mesh;
+}
+
+Mesh FrameSession::build(const SurfaceSpec& spec) const {
+  const Scene& s = impl_->scene;
+  return buildNamedSurface(spec, *s.field, s.fa, s.buildOptions, "the surface");
+}
+
+render::FabricParams& FrameSession::params() {
+  return impl_->params;
+}
+
+void FrameSession::setMesh(const Mesh& mesh) {
+  impl_->panes->setMovieMesh(mesh);
+}
+
+Image FrameSession::frame(const render::Camera& camera, bool first) {
+  return impl_->panes->movieFrame(camera, impl_->params, first);
 }
 
 } // namespace dtf::session

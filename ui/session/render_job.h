@@ -15,6 +15,7 @@
 #include "ui/session/tensor_input.h"
 #include "ui/session/tract_colouring.h"
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -73,5 +74,35 @@ render::StandardView defaultView(const SurfaceSpec& spec);
 // Loads, builds and renders. Throws InputError (data, files: named), UsageError (combinations the data
 // refuses, e.g. --color medical on a fibre set), GlError (no context, GL failure).
 RenderResult runRender(const RenderRequest& request);
+
+// Many frames of one request (movies): the data, FA, background and the request's surface loaded once, then
+// frames of any surface of the same data from any camera, the advection state carried from frame to frame
+// (render::FabricRenderer::renderMovieFrame). Tensor and DWI inputs (not fibre sets); no split panes, no
+// tracts. The headless context is made current on the calling thread, as for runRender.
+class FrameSession {
+public:
+  // Loads and builds; throws as runRender.
+  explicit FrameSession(const RenderRequest& request);
+  ~FrameSession();
+  FrameSession(const FrameSession&) = delete;
+  FrameSession& operator=(const FrameSession&) = delete;
+
+  const TensorField& field() const;
+  const ScalarVolume& fa() const;
+  const Mesh& surface() const; // the request's surface
+  // Another surface of the same data with the request's build options (InputError when empty).
+  Mesh build(const SurfaceSpec& spec) const;
+  // The fabric parameters of the next frames (a change restarts the advection from the noise).
+  render::FabricParams& params();
+  // The mesh of the next frames (uploaded now; initially the request's surface). Cheap to call per frame.
+  void setMesh(const Mesh& mesh);
+  // One frame seen by `camera`: `first` starts from the noise and converges, the others continue the
+  // previous frame's state, reprojected into this view and onto the current mesh.
+  Image frame(const render::Camera& camera, bool first);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 } // namespace dtf::session

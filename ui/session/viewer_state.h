@@ -86,6 +86,12 @@ struct ViewerState {
   bool split = false;
   bool linked = true;
   SecondPane secondPane = SecondPane::OtherColourMode;
+  bool ortho = false;            // the ortho layout (ui::SetOrtho)
+  glm::dvec3 crosshair{0.0};     // its crosshair, world RAS mm
+  std::array<int, 3> orthoSlice{0, 0, 0}; // the slices through it: axial, coronal, sagittal indices
+  bool recording = false;        // a turntable is being recorded (ui::RecordMovie)
+  int recordedFrames = 0, recordFrames = 0;
+  std::string recordStatus;      // the last recording: what it wrote, or why not
 
   bool busy = false;      // loading / fitting on the worker thread
   std::string busyStage;  // e.g. "reading tensors"

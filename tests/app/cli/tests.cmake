@@ -22,3 +22,4 @@ dtf_test(test_tract_overlay_baseline SOURCES app/cli/tract_baseline_test.cpp LIB
 dtf_test(test_manual_cli SOURCES app/cli/manual_cli_test.cpp LIBS dtf_cli)
 add_dependencies(test_manual_cli dtf_manual)
 dtf_test(test_uncertainty_cli SOURCES app/cli/uncertainty_cli_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_movie_cli SOURCES app/cli/movie_cli_test.cpp LIBS dtf_render dtf_io dtf_model)

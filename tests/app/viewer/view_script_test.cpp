@@ -393,3 +393,30 @@ TEST(ViewScript, FibresLinesOpenAFibreSetWithItsLayoutAndPairedTensor) {
   EXPECT_NE(parseError("fibres layout=fsl /p.nii").find("layout must be"), std::string::npos);
   EXPECT_NE(parseError("fibres tensor= /p.nii").find("usage: fibres"), std::string::npos);
 }
+
+TEST(ViewScript, OrthoLayoutCrosshairClickAndMovieLines) {
+  const ViewScript s = parseViewScript("layout ortho\ncrosshair 1.5 -20 30\nclick 12 34\n"
+                                       "movie turntable 24 out dir/turntable.mp4\nmovie turntable 6 --force frames/\n"
+                                       "layout single\n",
+                                       "demo.txt");
+  ASSERT_EQ(s.steps.size(), 6u);
+  EXPECT_TRUE(actionAt<session::SetOrtho>(s, 0).on);
+  EXPECT_EQ(actionAt<session::SetCrosshair>(s, 1).world, glm::dvec3(1.5, -20, 30));
+  const auto* click = std::get_if<ScriptClick>(&s.steps[2].command);
+  ASSERT_NE(click, nullptr);
+  EXPECT_EQ(click->x, 12);
+  EXPECT_EQ(click->y, 34);
+  const auto& movie = actionAt<session::RecordMovie>(s, 3);
+  EXPECT_EQ(movie.frames, 24);
+  EXPECT_EQ(movie.path, "out dir/turntable.mp4"); // paths may hold spaces
+  EXPECT_FALSE(movie.force);
+  EXPECT_TRUE(actionAt<session::RecordMovie>(s, 4).force);
+  EXPECT_EQ(actionAt<session::RecordMovie>(s, 4).path, "frames/");
+  EXPECT_FALSE(actionAt<session::SetOrtho>(s, 5).on);
+  EXPECT_NE(parseError("layout triple\n").find("demo.txt:1: layout takes single or ortho"), std::string::npos);
+  EXPECT_NE(parseError("crosshair 1 2\n").find("demo.txt:1:"), std::string::npos);
+  EXPECT_NE(parseError("click -1 2\n").find("non-negative"), std::string::npos);
+  EXPECT_NE(parseError("movie sweep 3 a.mp4\n").find("usage: movie turntable"), std::string::npos);
+  EXPECT_NE(parseError("movie turntable 0 a.mp4\n").find("[1, 10000]"), std::string::npos);
+  EXPECT_NE(parseError("movie turntable 5 a.avi\n").find(".mp4"), std::string::npos);
+}

@@ -11,3 +11,4 @@ dtf_test(test_tract_overlay_rule SOURCES ui/session/tract_overlay_rule_test.cpp 
 dtf_test(test_viewer_session SOURCES ui/session/viewer_session_test.cpp LIBS dtf_session)
 dtf_test(test_smooth_edge SOURCES ui/session/smooth_edge_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_supersample SOURCES ui/session/supersample_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
+dtf_test(test_movie_coherence SOURCES ui/session/movie_coherence_gl_test.cpp LIBS dtf_session)

@@ -1,0 +1,124 @@
+// The viewer's ortho layout headless: three slice panes through one crosshair beside the 3D pane. A click in
+// a slice pane moves the crosshair within that slice's plane (the pane's own slice stays, the other two
+// follow to the crosshair's slices, and what they show changes); the crosshair is drawn where it lies; each
+// pane carries its orientation letters (radiological by default, neurological when chosen); the exported
+// layout has the scene's size.
+#include "ui/session/orientation_labels.h"
+#include "support/gl_test.h"
+#include "support/view_scene.h"
+
+namespace {
+
+const std::string kPhantom = (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string();
+
+// Mean absolute RGB difference of two images over the rectangle r (x, y, w, h).
+double regionDiff(const dtf::Image& a, const dtf::Image& b, const std::array<int, 4>& r) {
+  double sum = 0;
+  for (int y = r[1]; y < r[1] + r[3]; ++y)
+    for (int x = r[0]; x < r[0] + r[2]; ++x)
+      for (int c = 0; c < 3; ++c) sum += std::abs(int(a.pixel(x, y)[c]) - int(b.pixel(x, y)[c]));
+  return sum / (3.0 * r[2] * r[3]);
+}
+
+bool crosshairColour(const std::uint8_t* p) {
+  return p[0] == 255 && p[1] == 230 && p[2] == 90;
+}
+
+} // namespace
+
+TEST(ViewOrtho, ClickMovesTheCrosshairAndTheOtherPanesFollow) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  ASSERT_TRUE(v.state().ortho);
+  auto& scene = v.scene;
+  const auto data = scene.dataset();
+  ASSERT_TRUE(data);
+  // The crosshair starts at the centre of the data; the slices through it are the middle ones (48^3 grid).
+  const glm::dvec3 c0 = v.state().crosshair;
+  EXPECT_LT(glm::length(c0 - 0.5 * (data->lo + data->hi)), 1e-9);
+  const auto s0 = v.state().orthoSlice;
+  for (int s = 0; s < 3; ++s) EXPECT_NEAR(s0[std::size_t(s)], 24, 1) << s;
+  const dtf::Image before = scene.layoutImage();
+  EXPECT_EQ(before.width, 256);
+  EXPECT_EQ(before.height, 256);
+
+  // A click in the axial pane, up and to the image's left of the crosshair: anterior and (radiological) the
+  // patient's right.
+  const auto axial = scene.orthoRect(0);
+  const glm::dvec2 at = scene.orthoPixel(0, c0);
+  const glm::dvec2 click = at + glm::dvec2(-30, -25);
+  ASSERT_EQ(scene.orthoPaneAt(click.x, click.y), 0);
+  ASSERT_TRUE(scene.clickAt(click.x, click.y));
+  EXPECT_FALSE(scene.clickAt(scene.paneRect(0)[0] + 5.0, scene.paneRect(0)[1] + 5.0)); // the 3D pane
+  const glm::dvec3 c1 = v.state().crosshair;
+  EXPECT_GT(c1.x, c0.x + 5) << "the patient's right lies on the axial pane's left";
+  EXPECT_GT(c1.y, c0.y + 5) << "anterior lies up";
+  EXPECT_DOUBLE_EQ(c1.z, c0.z) << "a click in the axial pane stays in its slice";
+  // The crosshair lies under the clicked pixel.
+  const glm::dvec2 back = scene.orthoPixel(0, c1);
+  EXPECT_NEAR(back.x, click.x, 1e-6);
+  EXPECT_NEAR(back.y, click.y, 1e-6);
+  const auto s1 = v.state().orthoSlice;
+  EXPECT_EQ(s1[0], s0[0]) << "the axial pane keeps its slice";
+  EXPECT_NE(s1[1], s0[1]) << "the coronal pane follows to the crosshair";
+  EXPECT_NE(s1[2], s0[2]) << "the sagittal pane follows to the crosshair";
+  // The slices are the voxels nearest the crosshair.
+  const glm::dvec3 ijk = data->loaded.field.grid.toVoxel(c1);
+  EXPECT_EQ(s1[1], int(std::lround(ijk.y)));
+  EXPECT_EQ(s1[2], int(std::lround(ijk.x)));
+  v.converge();
+  const dtf::Image after = scene.layoutImage();
+  EXPECT_GT(regionDiff(before, after, scene.orthoRect(1)), 3.0) << "the coronal pane shows another slice";
+  EXPECT_GT(regionDiff(before, after, scene.orthoRect(2)), 3.0) << "the sagittal pane shows another slice";
+  EXPECT_LT(regionDiff(before, after, scene.paneRect(0)), 0.5) << "the 3D pane is unchanged";
+  // The crosshair is drawn through the clicked point of the axial pane (and not elsewhere on that row).
+  const int cx = int(std::floor(click.x)), cy = int(std::floor(click.y));
+  EXPECT_TRUE(crosshairColour(after.pixel(axial[0] + 3, cy)));
+  EXPECT_TRUE(crosshairColour(after.pixel(cx, axial[1] + 3)));
+  EXPECT_FALSE(crosshairColour(before.pixel(axial[0] + 3, cy)));
+  // ... and through the crosshair's projection in the coronal pane.
+  const glm::dvec2 inCoronal = scene.orthoPixel(1, c1);
+  EXPECT_TRUE(crosshairColour(after.pixel(int(std::floor(inCoronal.x)), scene.orthoRect(1)[1] + 3)));
+
+  // A crosshair outside the data is clamped to it.
+  v.apply(dtf::session::SetCrosshair{glm::dvec3(1e4, 0, 0)});
+  EXPECT_DOUBLE_EQ(v.state().crosshair.x, data->hi.x);
+}
+
+TEST(ViewOrtho, EachSlicePaneHasItsOrientationLetters) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  const auto letters = [&](int s) {
+    const dtf::render::Camera& c = v.scene.orthoCamera(s);
+    const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+    return std::string(dtf::session::anatomicalLabel(-right)) + dtf::session::anatomicalLabel(right) +
+           dtf::session::anatomicalLabel(up) + dtf::session::anatomicalLabel(-up); // left, right, top, bottom
+  };
+  // Radiological: the patient's right on the image's left; sagittal from the left (anterior on the left).
+  EXPECT_EQ(letters(0), "RLAP");
+  EXPECT_EQ(letters(1), "RLSI");
+  EXPECT_EQ(letters(2), "APSI");
+  v.apply(dtf::session::SetNeurological{true});
+  v.converge();
+  EXPECT_EQ(letters(0), "LRAP");
+  EXPECT_EQ(letters(1), "LRSI");
+  EXPECT_EQ(letters(2), "PASI");
+  // The exported layout carries the letters: yellow text near the middle of the axial pane's left edge.
+  const dtf::Image img = v.scene.layoutImage();
+  const auto r = v.scene.orthoRect(0);
+  int yellow = 0;
+  for (int y = r[1] + r[3] / 2 - 8; y < r[1] + r[3] / 2 + 8; ++y)
+    for (int x = r[0] + 2; x < r[0] + 18; ++x) yellow += crosshairColour(img.pixel(x, y));
+  EXPECT_GT(yellow, 10);
+  // Leaving the layout gives the 3D pane the whole scene again.
+  v.apply(dtf::session::SetOrtho{false});
+  EXPECT_EQ(v.scene.paneRect(0), (std::array<int, 4>{0, 0, 256, 256}));
+  EXPECT_EQ(v.scene.orthoPaneAt(10, 10), -1);
+}
