@@ -2,6 +2,7 @@
 
 #include "app/scene/check_run.h"
 #include "app/scene/surface_spec.h"
+#include "app/scene/web_page.h"
 #include "io/atomic_file.h"
 #include "io/model/error.h"
 #include "io/png_io.h"
@@ -45,7 +46,8 @@ double mean(const std::vector<double>& v) {
 
 std::string paramsText(const ParticipantOptions& o) {
   return "dtfabric " + o.version + "; figure " + std::to_string(o.figurePx) + " px; sheet panel " +
-         std::to_string(o.sheetPanelPx) + " px; wm fa>=0.3; iso fa=0.4";
+         std::to_string(o.sheetPanelPx) + " px; wm fa>=0.3; iso fa=0.4" +
+         (o.webPx > 0 ? "; web " + std::to_string(o.webPx) + " px" : "");
 }
 
 // Removes the temporary siblings a killed run left beside this run's outputs (io::AtomicOutput names them
@@ -56,7 +58,7 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& stem) {
   const std::string prefix = "." + stem + "_desc-fabric";
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove(e.path(), ec);
+    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove_all(e.path(), ec);
   }
 }
 
@@ -128,6 +130,7 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
       for (const auto& f : figureKinds())
         if (old.has(std::string("figure_") + f.desc))
           complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
+      if (old.has("web_page")) complete = complete && fs::exists(dir / old.get("web_page"), ec);
       if (complete) {
         out.ok = true;
         out.skipped = true;
@@ -232,6 +235,19 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
         io::writePng((dir / name).string(), sheet);
         doc.set("figure_fabricCheck", name);
       }
+      if (o.webPx > 0) {
+        const std::string name = io::derivativeName(run, "fabricWeb", "dwi", "");
+        WebPageRequest web;
+        web.input = run.dwi;
+        web.field = &check.field;
+        web.size = o.webPx;
+        web.output = (dir / name).string();
+        web.force = true;
+        web.title = run.stem;
+        const WebPageResult written = writeWebPage(web);
+        doc.set("web_page", name + "/index.html");
+        doc.setNumber("seconds_web", written.seconds, 4);
+      }
       doc.setNumber("seconds_load", check.loadSeconds, 4);
       doc.setNumber("seconds_fit", check.fitSeconds, 4);
       doc.setNumber("seconds_check", check.checkSeconds, 4);
@@ -291,6 +307,7 @@ io::GroupRow readGroupRow(const io::BidsRun& run, const std::string& outputRoot)
     const std::string name = doc.get(std::string("figure_") + f.desc);
     if (!name.empty()) row.figures.push_back({f.caption, (rel / name).generic_string()});
   }
+  if (doc.has("web_page")) row.webPage = (rel / doc.get("web_page")).generic_string();
   return row;
 }
 

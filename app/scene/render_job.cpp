@@ -18,14 +18,6 @@
 
 namespace dtf::app {
 
-namespace {
-
-struct Background {
-  ScalarVolume volume; // empty: none
-  float lo = 0, hi = 1;
-};
-
-// --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile).
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa) {
   Background b;
@@ -63,8 +55,6 @@ Background loadBackground(const std::string& what, const std::string& window, co
   }
   return b;
 }
-
-} // namespace
 
 SplitMode parseSplitMode(const std::string& text) {
   SplitMode m;

@@ -19,3 +19,4 @@ dtf_test(test_tract_colour_cli SOURCES app/cli/tract_colour_cli_test.cpp LIBS dt
 dtf_test(test_tract_cli SOURCES app/cli/tract_cli_test.cpp LIBS dtf_model)
 dtf_test(test_help_cli SOURCES app/cli/help_cli_test.cpp LIBS dtf_cli)
 dtf_test(test_tract_overlay_baseline SOURCES app/cli/tract_baseline_test.cpp LIBS dtf_render dtf_io dtf_model)
+dtf_test(test_web_cli SOURCES app/cli/web_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
