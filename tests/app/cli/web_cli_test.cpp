@@ -362,4 +362,52 @@ TEST_F(WebPage, LoadsInChromiumFromFileDrawsProbesAndFollowsTheSlider) {
   EXPECT_GT(differT, 200) << "the tract overlay changes nothing";
 }
 
+// Known anatomy on the real brain: on the page's axial slice 22 the body of the corpus callosum (voxel
+// 33,42,22) is red (left-right) and on coronal slice 34 the corticospinal tract (voxel 30,34,15) blue
+// (superior-inferior), where the exported mapping puts those voxels; the table holds their FA and direction.
+TEST(WebPageRealBrain, CallosumRedAndCorticospinalBlueWhereTheMappingPutsThem) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  const fs::path scratch = test::scratchDir(), page = scratch / "page";
+  const auto r =
+      runDtfabric("web " + shellQuoted(tensor) + " -o " + shellQuoted(page) + " --size 144", scratch);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json d = assignedJson(page / "data.js");
+  const Grid g = io::readTensorVolume(tensor.string()).field.grid;
+  const std::string vtext = readText(page / "voxels.js");
+  const auto table = base64Decode(vtext.substr(vtext.find('"') + 1));
+  struct Landmark {
+    int axis;
+    glm::ivec3 voxel;
+    int channel; // the dominant colour and direction component: 0 red / x, 2 blue / z
+  };
+  for (const Landmark& l : {Landmark{0, {33, 42, 22}, 0}, Landmark{1, {30, 34, 15}, 2}}) {
+    SCOPED_TRACE(l.channel == 0 ? "corpus callosum" : "corticospinal tract");
+    const std::size_t o = g.index(l.voxel.x, l.voxel.y, l.voxel.z) * 4;
+    EXPECT_GT((table[o] - 1) / 254.0, 0.5);
+    const glm::dvec3 e1((table[o + 1] - 128) / 127.0, (table[o + 2] - 128) / 127.0,
+                        (table[o + 3] - 128) / 127.0);
+    EXPECT_GT(std::abs(e1[l.channel]), 0.8) << e1.x << " " << e1.y << " " << e1.z;
+
+    const json& ax = d["axes"][l.axis];
+    const int slice = l.voxel[ax["voxelAxis"].get<int>()];
+    char file[64];
+    std::snprintf(file, sizeof file, "%s%03d.png", ax["image"].get<std::string>().c_str(), slice);
+    const Image img = io::readPng((page / file).string());
+    const glm::dvec3 p = g.toWorld(glm::dvec3(l.voxel)) - vec3(ax["centre"]);
+    const double mm = ax["mmPerPixel"];
+    const int px = static_cast<int>(img.width / 2.0 + glm::dot(p, vec3(ax["right"])) / mm);
+    const int py = static_cast<int>(img.height / 2.0 - glm::dot(p, vec3(ax["up"])) / mm);
+    double sum[3] = {0, 0, 0};
+    for (int y = py - 3; y <= py + 3; ++y)
+      for (int x = px - 3; x <= px + 3; ++x)
+        for (int c = 0; c < 3; ++c)
+          sum[c] += img.pixel(x, y)[c];
+    std::printf("%s slice %d, voxel at pixel (%d, %d): mean colour %.0f %.0f %.0f\n",
+                ax["name"].get<std::string>().c_str(), slice, px, py, sum[0] / 49, sum[1] / 49, sum[2] / 49);
+    for (int c = 0; c < 3; ++c) {
+      if (c != l.channel) EXPECT_GT(sum[l.channel], 1.5 * sum[c]) << "channel " << c;
+    }
+  }
+}
+
 } // namespace
