@@ -405,7 +405,9 @@ TEST(WebPageRealBrain, CallosumRedAndCorticospinalBlueWhereTheMappingPutsThem) {
     std::printf("%s slice %d, voxel at pixel (%d, %d): mean colour %.0f %.0f %.0f\n",
                 ax["name"].get<std::string>().c_str(), slice, px, py, sum[0] / 49, sum[1] / 49, sum[2] / 49);
     for (int c = 0; c < 3; ++c) {
-      if (c != l.channel) EXPECT_GT(sum[l.channel], 1.5 * sum[c]) << "channel " << c;
+      if (c != l.channel) {
+        EXPECT_GT(sum[l.channel], 1.5 * sum[c]) << "channel " << c;
+      }
     }
   }
 }
