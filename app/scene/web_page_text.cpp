@@ -29,7 +29,7 @@ html,body{margin:0;height:100%;background:#111;color:#ddd;font:13px/1.4 system-u
 .letter{position:absolute;font:bold 16px system-ui,sans-serif;color:#ffd54a;text-shadow:0 0 3px #000;pointer-events:none}
 #lt{left:50%;top:6px;transform:translateX(-50%)} #lb{left:50%;bottom:6px;transform:translateX(-50%)}
 #ll{left:8px;top:50%;transform:translateY(-50%)} #lr{right:8px;top:50%;transform:translateY(-50%)}
-#note{position:absolute;left:8px;bottom:6px;color:#999;pointer-events:none}
+#note{position:absolute;left:8px;top:6px;color:#999;pointer-events:none}
 #side{width:290px;padding:10px 12px;background:#1b1b1b;border-left:1px solid #333;overflow:auto}
 h1{font-size:15px;margin:0 0 8px;word-break:break-all}
 .row{margin:8px 0}

@@ -336,6 +336,17 @@ TEST_F(WebPage, LoadsInChromiumFromFileDrawsProbesAndFollowsTheSlider) {
   }
   EXPECT_GT(b["probeLeft"]["world"][0].get<double>(), b["probeRight"]["world"][0].get<double>() + 3);
 
+  // Neurological: the same slice mirrored, so the letters and the probe's sides swap.
+  const std::string neuro = test::chromiumSelfCheck(
+      page / "index.html", scratch_, log, "axis=axial&neuro=1&slice=" + std::to_string(slice) + "&selfcheck");
+  ASSERT_FALSE(neuro.empty()) << log;
+  const json n = json::parse(neuro);
+  EXPECT_EQ(n["letters"], "LRAP");
+  EXPECT_EQ(n["errors"], json::array()) << neuro;
+  EXPECT_LT(n["before"]["probeLeft"]["world"][0].get<double>(),
+            n["before"]["probeRight"]["world"][0].get<double>() - 3);
+  EXPECT_EQ(n["before"]["probeLeft"]["voxel"], b["probeRight"]["voxel"]);
+
   // Screenshots: the fabric drawn, another slice looks different, the tract overlay changes the picture.
   const std::string url = "file://" + (page / "index.html").string();
   const fs::path shotA = scratch_ / "slice_a.png", shotB = scratch_ / "slice_b.png",
