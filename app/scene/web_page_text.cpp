@@ -338,6 +338,39 @@ const char* webViewerJs() {
       else setTimeout(poll, 20);
     })();
   }
+  // The viewer's keys, the wheel and a drag as a user gives them (events dispatched on the page), each with
+  // what it changed; the view is restored after.
+  function interact() {
+    const key = k => window.dispatchEvent(new KeyboardEvent('keydown', { key: k, bubbles: true }));
+    const a0 = state.axis, s0 = state.slice[a0], r = {};
+    key('ArrowUp');
+    r.up = state.slice[a0] - s0;
+    key('ArrowDown');
+    key('PageDown');
+    r.pageDown = state.slice[a0] - s0;
+    key('PageUp');
+    r.axes = ['c', 's', 'a'].map(k => { key(k); return D.axes[state.axis].name; });
+    state.axis = a0;
+    setSlice(a0, s0);
+    // Whole pixels: mouse events carry integer client coordinates.
+    const rect = view.getBoundingClientRect();
+    const cx = Math.round(rect.left + rect.width * 0.3), cy = Math.round(rect.top + rect.height * 0.4);
+    const before = probe(cx - rect.left, cy - rect.top);
+    view.dispatchEvent(new WheelEvent('wheel', { deltaY: -400, clientX: cx, clientY: cy, bubbles: true, cancelable: true }));
+    const after = probe(cx - rect.left, cy - rect.top);
+    r.zoom = state.zoom;
+    // Zooming keeps the point under the pointer.
+    r.zoomShiftMm = before && after ? Math.hypot(...before.world.map((x, i) => x - after.world[i])) : null;
+    const pan0 = [state.panX, state.panY];
+    view.dispatchEvent(new MouseEvent('mousedown', { clientX: cx, clientY: cy, bubbles: true }));
+    view.dispatchEvent(new MouseEvent('mousemove', { clientX: cx + 30, clientY: cy - 20, bubbles: true }));
+    window.dispatchEvent(new MouseEvent('mouseup', { clientX: cx + 30, clientY: cy - 20, bubbles: true }));
+    r.pan = [state.panX - pan0[0], state.panY - pan0[1]];
+    key('r');
+    r.reset = [state.zoom, state.panX, state.panY];
+    r.probeText = document.getElementById('probe').textContent;
+    return r;
+  }
   if (params.has('selfcheck')) {
     const out = { axis: D.axes[state.axis].name, before: {}, after: {} };
     const first = currentSrc();
@@ -361,6 +394,7 @@ const char* webViewerJs() {
         out.resources = refs.length;
         out.outside = refs.filter(n => n.indexOf(base) !== 0);
         out.letters = ['ll', 'lr', 'lt', 'lb'].map(id => document.getElementById(id).textContent).join('');
+        out.interaction = interact();
         out.errors = caught;
         const pre = document.createElement('pre');
         pre.id = 'dtf-selfcheck';

@@ -336,6 +336,18 @@ TEST_F(WebPage, LoadsInChromiumFromFileDrawsProbesAndFollowsTheSlider) {
   }
   EXPECT_GT(b["probeLeft"]["world"][0].get<double>(), b["probeRight"]["world"][0].get<double>() + 3);
 
+  // Keys, wheel and drag as a user gives them.
+  const json& i = c["interaction"];
+  EXPECT_EQ(i["up"], 1) << text;
+  EXPECT_EQ(i["pageDown"], -5) << text;
+  EXPECT_EQ(i["axes"], json({"coronal", "sagittal", "axial"}));
+  EXPECT_GT(i["zoom"].get<double>(), 1.5);
+  ASSERT_TRUE(i["zoomShiftMm"].is_number()) << text;
+  EXPECT_LT(i["zoomShiftMm"].get<double>(), 0.01);
+  EXPECT_EQ(i["pan"], json({30, -20}));
+  EXPECT_EQ(i["reset"], json({1, 0, 0}));
+  EXPECT_NE(i["probeText"].get<std::string>().find(" mm\nvoxel  "), std::string::npos) << text;
+
   // Neurological: the same slice mirrored, so the letters and the probe's sides swap.
   const std::string neuro = test::chromiumSelfCheck(
       page / "index.html", scratch_, log, "axis=axial&neuro=1&slice=" + std::to_string(slice) + "&selfcheck");
