@@ -30,7 +30,7 @@ const OptionTable& webOptions() {
         "a DWI (fitted first). The folder is written beside DIR and renamed into place.";
     t.options = {
         O::text("output", "DIR", "the folder to write").required().under("Output"),
-        O::flag("force", "replace an existing DIR (never one that holds an input)"),
+        O::flag("force", "replace an existing DIR that holds a page this command wrote (an empty one too)"),
         O::integer("size", "N", d.size, closedRange(16, 4096), "pixels of each slice image's longer side")
             .measuredIn("pixels"),
         O::text("title", "TEXT", "the page's title").defaultSays("INPUT's file name"),

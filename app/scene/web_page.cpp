@@ -150,6 +150,23 @@ void refuseFolderHoldingInputs(const fs::path& output, const std::vector<std::st
   }
 }
 
+// A folder this command wrote: index.html, data.js holding window.DTF_WEB, the slices folder, and nothing
+// else. --force replaces only such a folder (or an empty one), never a folder of other files.
+bool isWebPageFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name != "index.html" && name != "viewer.js" && name != "data.js" && name != "voxels.js" &&
+        name != "slices")
+      return false;
+  }
+  std::ifstream data(dir / "data.js");
+  std::string head(32, '\0');
+  data.read(head.data(), static_cast<std::streamsize>(head.size()));
+  return !ec && fs::is_directory(dir / "slices", ec) && fs::exists(dir / "index.html", ec) &&
+         head.rfind("window.DTF_WEB = ", 0) == 0;
+}
+
 nlohmann::json vec(const glm::dvec3& v) {
   return {v.x, v.y, v.z};
 }
@@ -222,6 +239,8 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
     if (!fs::is_directory(output, ec))
       throw InputError(r.output + " exists and is not a folder: refusing to replace it");
     if (!r.force) throw InputError(r.output + " exists (use --force to replace it)");
+    if (!fs::is_empty(output, ec) && !isWebPageFolder(output))
+      throw InputError(r.output + " exists and is not a page dtfabric web wrote: refusing to replace it");
   }
   auto progress = [&](const std::string& s) {
     if (r.onProgress) r.onProgress(s);

@@ -236,6 +236,14 @@ TEST_F(WebPage, WritesTheFolderWithTableAndMappingThatMatchTheImages) {
   EXPECT_EQ(r.exitCode, 2) << r.err;
   EXPECT_NE(r.err.find("missing.nii.gz"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(scratch_ / "p2"));
+  // --force replaces only a page this command wrote.
+  const fs::path other = scratch_ / "other";
+  fs::create_directories(other);
+  std::ofstream(other / "notes.txt") << "not a page\n";
+  r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(other) + " --force", scratch_);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("is not a page dtfabric web wrote"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(other / "notes.txt"));
   // --force replaces it.
   r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(page) + " --size 64 --force", scratch_);
   EXPECT_EQ(r.exitCode, 0) << r.err;
