@@ -1,5 +1,5 @@
 // The orientation check's banner in the viewer: after a DWI or tensor file is loaded the check runs on the
-// worker (surfaces/orientation_check.h); this panel warns when it is not ok: a two-line coloured strip across
+// worker (surfaces/analyses/orientation_check.h); this panel warns when it is not ok: a two-line coloured strip across
 // the top of the scene with the verdict (the reason as a tooltip), the contact sheet and, when another table
 // scores best, "apply the correction" (in memory; saving a corrected table is explicit, with `dtfabric check
 // --fix-bvec`). An ok verdict or a running check shows nothing. Like ui/panels.h it reads

@@ -6,8 +6,8 @@
 #include "app/bench/bench.h"
 #include "app/cli/options.h"
 #include "app/scene/bids_participant.h"
-#include "io/bids.h"
-#include "io/bids_report.h"
+#include "io/bids/bids.h"
+#include "io/bids/bids_report.h"
 #include "io/model/error.h"
 
 #include <chrono>

@@ -6,7 +6,7 @@
 #include "app/bench/bench.h"
 #include "app/cli/options.h"
 #include "app/scene/check_run.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 
 #include <algorithm>

@@ -3,9 +3,9 @@
 #include "app/bench/bench.h"
 #include "app/cli/options.h"
 #include "app/cli/args.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <algorithm>
 #include <chrono>

@@ -4,7 +4,7 @@
 #include "app/bench/bench.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <chrono>
 #include <ctime>

@@ -4,7 +4,7 @@
 #include "app/bench/bench.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
-#include "io/trx.h"
+#include "io/formats/trx.h"
 
 #include <algorithm>
 #include <chrono>

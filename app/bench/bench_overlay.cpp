@@ -1,5 +1,5 @@
 // `dtfabric bench overlay`: the tract overlay (render/tract_renderer.h, render/tract_layer.h) over a finished
-// fabric, and the near-surface selection (surfaces/near_surface.h).
+// fabric, and the near-surface selection (surfaces/analyses/near_surface.h).
 //   draw:      ms of one full draw (every display point): the real brain's axial slice 22 with 2000 tracts of
 //              the shared deterministic tractogram (all, and the default 3 mm slab), and a synthetic
 //              tractogram of 1M points over a plane. GPU time from GL_TIME_ELAPSED, wall time with glFinish.
@@ -15,13 +15,13 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 
 #include <algorithm>
 #include <chrono>

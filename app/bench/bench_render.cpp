@@ -10,7 +10,7 @@
 #include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/embedding.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"

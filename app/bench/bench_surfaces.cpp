@@ -6,7 +6,7 @@
 #include "app/cli/args.h"
 #include "io/model/error.h"
 #include "io/phantoms.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "surfaces/isosurface.h"
 
 #include <chrono>

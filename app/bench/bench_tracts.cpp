@@ -7,8 +7,8 @@
 #include "app/cli/options.h"
 #include "app/cli/args.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
-#include "surfaces/tracking.h"
+#include "io/formats/tensor_io.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <chrono>
 #include <cstdio>

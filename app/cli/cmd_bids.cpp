@@ -1,4 +1,4 @@
-// `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids.h, io/bids_report.h and
+// `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids/bids.h, io/bids/bids_report.h and
 // app/bids_participant.h.
 //
 // Parallelism: the headless GL context is one per process (render::GlContext::headless() is a process
@@ -11,8 +11,8 @@
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "app/scene/bids_participant.h"
-#include "io/bids.h"
-#include "io/bids_report.h"
+#include "io/bids/bids.h"
+#include "io/bids/bids_report.h"
 #include "io/model/error.h"
 
 #include <algorithm>

@@ -1,12 +1,12 @@
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
-// surfaces/orientation_check.h and app/check_run.h).
+// surfaces/analyses/orientation_check.h and app/check_run.h).
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "app/scene/check_run.h"
 #include "app/scene/fibre_input.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 
 #include <algorithm>
 #include <cstdio>

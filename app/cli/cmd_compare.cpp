@@ -1,4 +1,4 @@
-// `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/agreement.h)
+// `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "app/scene/fibre_input.h"
@@ -6,7 +6,7 @@
 #include "app/scene/tensor_input.h"
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
-#include "surfaces/agreement.h"
+#include "surfaces/analyses/agreement.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -5,9 +5,9 @@
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "app/scene/tract_files.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <filesystem>

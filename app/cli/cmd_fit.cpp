@@ -1,11 +1,11 @@
-// `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/dwi.h and io/tensor_io.h.
+// `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/diffusion/dwi.h and io/formats/tensor_io.h.
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "io/atomic_file.h"
-#include "io/dwi.h"
-#include "io/formats.h"
+#include "io/formats/atomic_file.h"
+#include "io/diffusion/dwi.h"
+#include "io/formats/formats.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <chrono>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include "app/scene/fibre_input.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <algorithm>
 #include <charconv>

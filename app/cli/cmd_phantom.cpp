@@ -3,9 +3,9 @@
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "io/model/error.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/phantoms.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <filesystem>

@@ -6,11 +6,11 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/tract_colouring.h"
-#include "io/atomic_file.h"
-#include "io/fibre_io.h"
+#include "io/formats/atomic_file.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/fabric_options.h"
 
 #include <chrono>

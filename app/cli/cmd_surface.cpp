@@ -2,7 +2,7 @@
 #include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"
 #include "surfaces/mesh_checks.h"

@@ -1,15 +1,15 @@
-// `dtfabric track`: deterministic tensor tractography (surfaces/tracking.h) to any tract file format.
+// `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file format.
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/track_job.h"
 #include "app/scene/tract_files.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "surfaces/slices.h"
-#include "surfaces/tracking.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,9 +5,9 @@
 #include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <optional>

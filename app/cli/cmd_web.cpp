@@ -4,7 +4,7 @@
 #include "app/cli/options.h"
 #include "app/scene/web_page.h"
 #include "io/model/log.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 

@@ -2,7 +2,7 @@
 
 #include "app/cli/args.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/fabric_options.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "app/python/arrays.h"
 
-#include "io/format_detail.h"
+#include "io/formats/format_detail.h"
 #include "io/model/error.h"
 
 #include <cmath>

@@ -4,10 +4,10 @@
 // so an array and the file it came from give the same field.
 #pragma once
 
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/geometry.h"
 #include "io/model/image.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

@@ -11,10 +11,10 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "app/scene/track_job.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/fabric_options.h"
 
 #include <cstdio>

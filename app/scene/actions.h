@@ -30,7 +30,7 @@ enum class SecondPane { OtherColourMode, Phong, Tracts };
 // "colour", "phong", "tracts" (the script's names).
 const char* secondPaneName(SecondPane mode);
 
-// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/fibre_io.h) as `dtfabric render` reads it.
+// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/formats/fibre_io.h) as `dtfabric render` reads it.
 struct LoadFile {
   std::string path;
   std::string layout = "auto"; // auto, a tensor layout (fsl|mrtrix|symmatrix|dtitk) or a fibre layout
@@ -161,7 +161,7 @@ struct SaveTracts {
   std::string path;
   bool force = false;
 };
-// Angle between the tracts near the surface and the fabric's direction (surfaces/agreement.h, all points).
+// Angle between the tracts near the surface and the fabric's direction (surfaces/analyses/agreement.h, all points).
 struct ComputeAgreement {
   double nearMm = 2.0;
   int bins = 9;

@@ -4,8 +4,8 @@
 // hashes and the parameters, so a run is complete exactly when its document says so and its figures exist.
 #pragma once
 
-#include "io/bids.h"
-#include "io/bids_report.h"
+#include "io/bids/bids.h"
+#include "io/bids/bids_report.h"
 
 #include <string>
 #include <vector>

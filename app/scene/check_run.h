@@ -7,8 +7,8 @@
 #include "io/model/image.h"
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
-#include "io/tensor_io.h"
-#include "surfaces/orientation_check.h"
+#include "io/formats/tensor_io.h"
+#include "surfaces/analyses/orientation_check.h"
 
 #include <string>
 #include <vector>

@@ -1,11 +1,11 @@
-// Crossing-fibre INPUT for `info` and `render`: decides whether a file is a fibre set (io/fibre_io.h), loads
+// Crossing-fibre INPUT for `info` and `render`: decides whether a file is a fibre set (io/formats/fibre_io.h), loads
 // it with an optional paired tensor (--tensor: FA for isosurfaces, FA modulation and the grey background),
 // and describes one voxel's fibres for `dtfabric info --voxel`.
 #pragma once
 
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 
 #include <optional>
 #include <string>

@@ -1,7 +1,7 @@
 #include "app/scene/surface_spec.h"
 
 #include "io/model/error.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "surfaces/fibre_surface.h"
 #include "surfaces/isosurface.h"
 #include "surfaces/mesh_io.h"

@@ -1,8 +1,8 @@
 #include "app/scene/tensor_input.h"
 
-#include "io/dwi.h"
-#include "io/formats.h"
-#include "io/fibre_io.h"
+#include "io/diffusion/dwi.h"
+#include "io/formats/formats.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 

@@ -2,7 +2,7 @@
 // bval/bvec (fitted with WLS inside an automatic or given mask). Shared by render, surface and the viewer.
 #pragma once
 
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 #include <functional>
 #include <string>

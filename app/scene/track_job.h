@@ -6,7 +6,7 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tensor_input.h"
 #include "io/model/tensor_field.h"
-#include "surfaces/tracking.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <glm/glm.hpp>
 #include <optional>

@@ -3,7 +3,7 @@
 // builds without the worker.
 #pragma once
 
-#include "surfaces/tracking.h"
+#include "surfaces/tracking/tracking.h"
 #include "app/scene/actions.h"
 
 namespace dtf::app {

@@ -1,8 +1,8 @@
 #include "app/scene/tract_files.h"
 
 #include "io/model/error.h"
-#include "io/tracts.h"
-#include "io/trx.h"
+#include "io/formats/tracts.h"
+#include "io/formats/trx.h"
 #include "surfaces/polyline_io.h"
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "app/scene/tract_overlay.h"
 
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 
 namespace dtf::app {
 

@@ -33,7 +33,7 @@ struct TractPick {
 TractPick pickTracts(const Mesh& surface, double nearMm);
 
 // The tracts `surface` shows: `all` (every tract: a planar surface, or nearMm 0) or the pieces within nearMm
-// of it in `near` (surfaces/near_surface.h). A set `cancel` stops early with an empty `near`.
+// of it in `near` (surfaces/analyses/near_surface.h). A set `cancel` stops early with an empty `near`.
 struct TractSelection {
   TractPick pick;
   bool all = true;

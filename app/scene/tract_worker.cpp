@@ -4,7 +4,7 @@
 #include "app/scene/tract_overlay.h"
 #include "io/model/error.h"
 #include "surfaces/mesh_checks.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 #include "surfaces/slices.h"
 
 #include <algorithm>

@@ -12,8 +12,8 @@
 #include "app/scene/viewer_worker.h"
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
-#include "surfaces/agreement.h"
-#include "surfaces/tracking.h"
+#include "surfaces/analyses/agreement.h"
+#include "surfaces/tracking/tracking.h"
 
 #include <cstdint>
 #include <memory>

@@ -4,7 +4,7 @@
 #include "app/scene/track_request.h"
 #include "app/scene/tract_colouring.h"
 #include "app/scene/tract_files.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"

@@ -125,7 +125,7 @@ struct ViewerState {
   std::size_t trackSeedsDone = 0;
   std::string trackStatus; // the last run: what it produced, or why not
   std::string saveStatus;
-  // Agreement of the tracts near the surface with the fabric (surfaces/agreement.h).
+  // Agreement of the tracts near the surface with the fabric (surfaces/analyses/agreement.h).
   bool agreementRunning = false;
   bool hasAgreement = false;
   std::vector<float> agreementHistogram; // counts per bin of agreementBinDeg over 0..90 degrees

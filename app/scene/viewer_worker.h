@@ -8,10 +8,10 @@
 
 #include "app/scene/coalescing_worker.h"
 #include "app/scene/surface_spec.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/model/geometry.h"
 #include "io/model/volume.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "surfaces/isosurface.h"
 
 #include <cstdint>

@@ -7,7 +7,7 @@
 // and the ray from it along `forward` meets the slice's voxel plane (voxel index `voxelAxis` = slice) at the
 // probed point. Images are rendered in the radiological convention; the neurological one mirrors them.
 #include "app/scene/web_page.h"
-#include "io/bids_report.h"
+#include "io/bids/bids_report.h"
 
 namespace dtf::app {
 

@@ -2,7 +2,7 @@
 
 #include "app/scene/fibre_input.h"
 #include "app/scene/tract_overlay.h"
-#include "io/atomic_file.h"
+#include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "render/gl_context.h"
 

@@ -1,6 +1,6 @@
 #include "app/viewer/viewer_orientation.h"
 
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 
 #include <epoxy/gl.h>

@@ -1,5 +1,5 @@
 // The viewer's orientation check: when the scene's dataset changes (a DWI, tensor file or a new load), the
-// check (surfaces/orientation_check.h) runs on its own thread; its verdict is shown by
+// check (surfaces/analyses/orientation_check.h) runs on its own thread; its verdict is shown by
 // ui/orientation_banner.h over the scene; on request the contact sheet is rendered (on the GUI thread, with
 // the window's context) into a texture; "apply the correction" turns the scene's tensors in memory
 // (ViewerScene::replaceField). Kept apart from the window and the scene so either can change without touching

@@ -8,7 +8,7 @@
 #include "app/viewer/viewer.h"
 #include "app/viewer/viewer_orientation.h"
 #include "io/model/error.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/gl_context.h"
 #include "ui/panels.h"
 

@@ -1,7 +1,7 @@
 // The canonical in-memory crossing-fibre volume ("fibre set"): per voxel up to `maxFibres` fibre
 // populations, each a unit direction in WORLD RAS (already rotated out of any voxel/bvec frame) with an
 // amplitude (FOD peak amplitude, volume fraction, or 1 where the file carries no amplitude), sorted
-// strongest first. Readers (io/fibre_io.h) convert into this form, like TensorField for tensors.
+// strongest first. Readers (io/formats/fibre_io.h) convert into this form, like TensorField for tensors.
 //
 // Storage: fibres[grid.index(i,j,k) * maxFibres + n] for n < maxFibres; a slot with amplitude 0 (and a
 // zero direction) is absent, and absent slots always follow the present ones. Directions have no sign.

@@ -1,12 +1,12 @@
-// libFuzzer target: the readers of other tools' formats behind io/formats.h (MRtrix images, NRRD, DSI
+// libFuzzer target: the readers of other tools' formats behind io/formats/formats.h (MRtrix images, NRRD, DSI
 // Studio SRC/FIB, AFNI .HEAD). The first input byte picks the file name's extension (the readers detect by
 // content first, by name second); the rest is the file. Any dtf::Error is an accepted outcome; a crash, a
 // sanitizer report, a leak or an allocation beyond -rss_limit_mb is a finding.
 #include "fuzz_file.h"
-#include "io/dsi_studio.h"
+#include "io/formats/dsi_studio.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool quiet = (dtf::setLogSink([](dtf::LogLevel, const std::string&) {}), true);

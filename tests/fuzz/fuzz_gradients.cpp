@@ -1,8 +1,8 @@
-// libFuzzer target: bval/bvec parsing and the gradient table checks (io/dwi.h). The input is read both as
+// libFuzzer target: bval/bvec parsing and the gradient table checks (io/diffusion/dwi.h). The input is read both as
 // a bval and as a bvec file; when both parse to the same count, makeDwi checks them against a 2x2x2
 // volume with that many components (directions normalised and rotated into world RAS).
 #include "fuzz_file.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 

@@ -1,11 +1,11 @@
-// libFuzzer target: NIfTI header, scalar, tensor (io/tensor_io.h) and fibre-peaks (io/fibre_io.h) readers. Inputs that start with the
+// libFuzzer target: NIfTI header, scalar, tensor (io/formats/tensor_io.h) and fibre-peaks (io/formats/fibre_io.h) readers. Inputs that start with the
 // gzip magic are read as .nii.gz, the others as .nii. Any dtf::Error is an accepted outcome; a crash, a
 // sanitizer report, a leak or an allocation beyond -rss_limit_mb is a finding.
 #include "fuzz_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/fibre_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/fibre_io.h"
+#include "io/formats/tensor_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool quiet = (dtf::setLogSink([](dtf::LogLevel, const std::string&) {}), true);

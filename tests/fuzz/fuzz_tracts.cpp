@@ -1,11 +1,11 @@
-// libFuzzer target: MRtrix .tck, TrackVis .trk / .trk.gz (io/tracts.h) or TRX zip (io/trx.h) reader,
+// libFuzzer target: MRtrix .tck, TrackVis .trk / .trk.gz (io/formats/tracts.h) or TRX zip (io/formats/trx.h) reader,
 // chosen at build time by DTF_FUZZ_TRACT_EXT (".tck", ".trk", ".trk.gz" or ".trx"). Any dtf::Error is an
 // accepted outcome.
 #include "fuzz_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/tracts.h"
-#include "io/trx.h"
+#include "io/formats/tracts.h"
+#include "io/formats/trx.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool quiet = (dtf::setLogSink([](dtf::LogLevel, const std::string&) {}), true);

@@ -2,11 +2,11 @@
 // (.nii and .nii.gz, NIfTI-1 and -2), a DWI-shaped 4D volume, gradient tables, .tck/.trk tracts and viewer
 // scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx,
 // DIR/view_script, DIR/formats).
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "io/phantoms.h"
-#include "io/tensor_io.h"
-#include "io/tracts.h"
-#include "io/trx.h"
+#include "io/formats/tensor_io.h"
+#include "io/formats/tracts.h"
+#include "io/formats/trx.h"
 
 #include <cstdio>
 #include <filesystem>

@@ -6,8 +6,8 @@
 #include "support/baseline.h"
 #include "support/gl_test.h"
 
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
 #include "surfaces/isosurface.h"

@@ -5,7 +5,7 @@
 // state (queried here with raw GL, independently of render/gl_state.h) is unchanged after every call and
 // does not change the image, and the noise is anchored to the data (two meshes cut from the same field carry
 // the same noise at the same world point).
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/embedding.h"
 #include "render/fabric/projection_pass.h"
 #include "render/fabric_renderer.h"

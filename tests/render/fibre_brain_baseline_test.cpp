@@ -2,7 +2,7 @@
 // frame) and DIPY (voxel frame) peaks render the same thread orientations, and the DIPY file read in the
 // wrong frame does not; a coronal slice through the corticospinal tracts shows them (blue) woven with the
 // corpus callosum (red), checked at the reference voxels and against a 256x256 baseline.
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "render/fabric_renderer.h"
 #include "support/baseline.h"
 #include "support/gl_test.h"

@@ -4,7 +4,7 @@
 // per-population colours agree with the CPU reference of its interpolation (interpolateSlots).
 #include "io/model/fibre_set.h"
 #include "io/phantoms.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
 #include "support/gl_test.h"

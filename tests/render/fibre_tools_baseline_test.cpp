@@ -3,7 +3,7 @@
 // readFibres(Auto), rendered on an axial slice through the corpus callosum: the callosum is red with threads
 // running left-right, checked at voxels found in each file (dti_fa/FA > 0.45 with a left-right first fibre
 // on the midline) and against 256x256 baselines.
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "render/fabric_renderer.h"
 #include "support/baseline.h"
 #include "support/gl_test.h"

@@ -5,8 +5,8 @@
 #include "support/gl_test.h"
 
 #include "io/model/tensor_field.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "surfaces/isosurface.h"

@@ -7,7 +7,7 @@
 #include "support/test_env.h"
 
 #include "io/model/image.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "io/model/image.h"
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 
 #include <algorithm>
 #include <cmath>

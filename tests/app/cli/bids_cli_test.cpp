@@ -4,8 +4,8 @@
 // a table one direction short and a DIPY crop too small to judge. Both levels, the rerun, a run killed
 // part-way, the Snakemake workflow, the report in headless Chromium, and bad input.
 #include "io/model/error.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/chromium.h"
 #include "support/cli.h"
 #include "support/test_env.h"

@@ -1,7 +1,7 @@
 // `dtfabric check` end to end on the real data: the JSON keys, corrupted tables corrected back through
 // --fix-bvec, tensor files in the wrong layout, the DIPY crops, and bad input (exit 2 naming the file).
-#include "io/dwi.h"
-#include "io/tensor_io.h"
+#include "io/diffusion/dwi.h"
+#include "io/formats/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 

@@ -1,6 +1,6 @@
 // `.ci/demo` without a display: it fits the bundled real brain and writes its four figures, and they show
 // the anatomy they are captioned with.
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/figures.h"
 #include "support/test_env.h"

@@ -1,7 +1,7 @@
 // The crossing-fibre commands through the real executable: `phantom crossing` in every fibre layout on RAS
 // and LAS grids read back by `info --voxel --json` as the same world directions; `render` of a fibre set
 // (FA surfaces refused without --tensor) and DTI beside the fibres with --split input=PEAKS.
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 

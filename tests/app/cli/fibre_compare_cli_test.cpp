@@ -4,7 +4,7 @@
 // bundle); against the tensor the points inside the crossing are 30 degrees off (its principal direction is
 // the average). Bad input (mismatched grid, missing file) exits 2 naming the file.
 #include "io/model/geometry.h"
-#include "io/tracts.h"
+#include "io/formats/tracts.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 

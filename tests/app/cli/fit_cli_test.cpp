@@ -1,6 +1,6 @@
 // `dtfabric fit` end to end through the real executable: the IU Prisma DWI fitted and read back, output
 // overwrite rules, and bad input (exit 2, file named) or bad usage (exit 1).
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/test_env.h"
 
 #include <cstdlib>

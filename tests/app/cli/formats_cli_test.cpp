@@ -1,9 +1,9 @@
 // Other tools' formats through the real executable: `info` names the format and why, `fit` takes an MRtrix
 // DWI with its dw_scheme and a DSI Studio SRC without bval/bvec files, and writes .mif and .nrrd outputs
 // that read back as the same world tensors as a NIfTI fit.
-#include "io/dwi.h"
-#include "io/format_detail.h"
-#include "io/tensor_io.h"
+#include "io/diffusion/dwi.h"
+#include "io/formats/format_detail.h"
+#include "io/formats/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 

@@ -1,7 +1,7 @@
 // `dtfabric info` and `dtfabric phantom` as a user runs them: exit codes, messages naming the file, text
 // and JSON output (parsed back), on the real brain tensors and on malformed files made here.
 #include "io/model/tensor_field.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/test_env.h"
 
 #include <cmath>

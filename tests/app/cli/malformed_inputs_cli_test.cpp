@@ -827,7 +827,7 @@ std::vector<Case> catalogue() {
                   return trxZip([](auto& e) { e.push_back({"dps/../../x.float32", "abcdefgh", false}); });
                 },
                 {"escapes the archive"}));
-  // ---- MRtrix images, NRRD, DSI Studio, FSL dtifit sets (io/formats.h)
+  // ---- MRtrix images, NRRD, DSI Studio, FSL dtifit sets (io/formats/formats.h)
   const auto mif = [](const std::string& lines, std::size_t dataBytes, std::size_t offset = 256) {
     std::string h = "mrtrix image\n" + lines + "file: . " + std::to_string(offset) + "\nEND\n";
     h.resize(std::max(h.size(), offset), '\0');

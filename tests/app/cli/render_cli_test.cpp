@@ -3,7 +3,7 @@
 #include "support/cli.h"
 #include "support/gl_test.h"
 
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 
 #include <cstdlib>
 #include <fstream>

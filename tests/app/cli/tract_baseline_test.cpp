@@ -6,7 +6,7 @@
 #include "support/baseline.h"
 #include "support/gl_test.h"
 
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 
 #include <cstdlib>
 #include <filesystem>

@@ -1,8 +1,8 @@
 // `dtfabric render --tracts-color/--tracts-range/--tracts-group` end to end on the sample phantom with a TRX
 // made here: tracts take the colour map's colours (low end purple, high end yellow) instead of DEC, the
 // colour bar at the right edge holds the map's end colours, and a group shows only its streamlines.
-#include "io/png_io.h"
-#include "io/trx.h"
+#include "io/formats/png_io.h"
+#include "io/formats/trx.h"
 #include "support/polylines.h"
 #include "support/gl_test.h"
 #include "support/window.h"

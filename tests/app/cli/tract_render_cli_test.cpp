@@ -1,7 +1,7 @@
 // `dtfabric render --tracts/--split` end to end: the PNG has the right size (2W x H for a split), the same
 // arguments give the same bytes, and a bad tract file is exit 2 naming the file.
-#include "io/png_io.h"
-#include "io/tracts.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tracts.h"
 #include "support/polylines.h"
 #include "support/cli.h"
 #include "support/gl_test.h"

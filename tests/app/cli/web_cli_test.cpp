@@ -5,8 +5,8 @@
 // and voxel agree with the affine).
 #include "io/model/tensor.h"
 #include "io/phantoms.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/chromium.h"
 #include "support/cli.h"
 #include "support/test_env.h"

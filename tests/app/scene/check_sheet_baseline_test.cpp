@@ -4,7 +4,7 @@
 // pixel (the same tensors up to float rounding), and the sheet is compared with its baseline (looked at when
 // made).
 #include "app/scene/check_run.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "support/baseline.h"
 #include "support/gl_test.h"
 

@@ -5,8 +5,8 @@
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/tracts.h"
-#include "io/trx.h"
+#include "io/formats/tracts.h"
+#include "io/formats/trx.h"
 #include "support/test_env.h"
 #include "support/zip_builder.h"
 

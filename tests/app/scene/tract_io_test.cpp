@@ -3,8 +3,8 @@
 // each other and the brain mask, and bad files refused with InputError naming the file.
 #include "app/scene/tract_files.h"
 #include "io/model/error.h"
-#include "io/tensor_io.h"
-#include "io/tracts.h"
+#include "io/formats/tensor_io.h"
+#include "io/formats/tracts.h"
 #include "support/test_env.h"
 #include "surfaces/polyline_io.h"
 

@@ -1,13 +1,13 @@
 // CPU side of the tract overlay: display decimation (render/tract_renderer.h) and the near-surface
-// selection (surfaces/near_surface.h) on a plane, where the distance to the surface is |z|.
+// selection (surfaces/analyses/near_surface.h) on a plane, where the distance to the surface is |z|.
 #include "app/scene/surface_spec.h"
 #include "app/scene/tract_files.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "render/reference/scenes.h"
 #include "render/tract_renderer.h"
 #include "support/polylines.h"
 #include "support/test_env.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 
 #include <cmath>
 #include <gtest/gtest.h>

@@ -4,9 +4,9 @@
 // probe's text for a known voxel of the crossing phantom.
 #include "app/scene/tract_files.h"
 #include "app/scene/viewer_session.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/phantoms.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/test_env.h"
 
 #include <chrono>

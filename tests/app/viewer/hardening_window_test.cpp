@@ -2,8 +2,8 @@
 // texture limit open the error modal while the viewer goes on (a good file loads afterwards); a script's
 // screenshot and camera-save lines do not replace files they did not write unless they say --force.
 // Skips without xvfb-run unless DTF_REQUIRE_GL=1.
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 #include "support/window.h"

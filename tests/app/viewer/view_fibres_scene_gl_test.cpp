@@ -4,10 +4,10 @@
 // average instead; the uploads follow a change of colour mode without reloading. The orientation histogram
 // is the fibre render tests' check (support/orientation_histogram.h).
 #include "app/viewer/viewer.h"
-#include "io/fibre_io.h"
+#include "io/formats/fibre_io.h"
 #include "io/phantoms.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 

@@ -4,7 +4,7 @@
 // and the rendered centre of the crossing shows threads along both bundles (the orientation-histogram check
 // of the fibre render tests), not along their tensor average. The whole window is kept for a look (Fibres
 // section: file, layout, threshold, populations drawn).
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/orientation_histogram.h"
 #include "support/test_env.h"

@@ -2,7 +2,7 @@
 // frames while the camera rotates, run without a heap allocation in the viewer's own code. Counts every
 // operator new of this process between frames (headless GL; skips without a context).
 #include "app/viewer/viewer.h"
-#include "io/tracts.h"
+#include "io/formats/tracts.h"
 #include "support/counting_allocator.h"
 #include "support/gl_test.h"
 

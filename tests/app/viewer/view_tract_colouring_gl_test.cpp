@@ -2,7 +2,7 @@
 // arcuate bundles shown or hidden by group, and the dpsv.trx tracts coloured by a per-point value through
 // the tract colour map, checked against the library (Polylines::subset, tractValueColour). No volume is
 // loaded, so every streamline is drawn (the near-surface selection's carrying of per-point data is tested
-// with surfaces/near_surface.h).
+// with surfaces/analyses/near_surface.h).
 #include "app/scene/tract_files.h"
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"

@@ -2,7 +2,7 @@
 // by group (ARC_L alone draws less than both) and the dpsv.trx tracts coloured by their per-point 'z'
 // through the colour map instead of DEC, on the real iu_prisma brain; the whole window is kept for a look
 // (Tracts panel: colour-by combo, range, colour bar, group checkboxes).
-#include "io/png_io.h"
+#include "io/formats/png_io.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 #include "support/window.h"

@@ -6,14 +6,14 @@
 #include "app/scene/surface_spec.h"
 #include "app/scene/tract_files.h"
 #include "app/viewer/viewer.h"
-#include "io/png_io.h"
-#include "io/tensor_io.h"
-#include "io/tracts.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tensor_io.h"
+#include "io/formats/tracts.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 #include "support/window.h"
-#include "surfaces/near_surface.h"
+#include "surfaces/analyses/near_surface.h"
 
 #include <chrono>
 #include <cmath>

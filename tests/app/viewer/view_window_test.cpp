@@ -1,8 +1,8 @@
 // `dtfabric view` in a real GLFW window under Xvfb, driven by scripts: panels drawn, screenshots written,
 // the FA slider, slice keys and split view change what is on screen. Skips without xvfb-run unless
 // DTF_REQUIRE_GL=1. Each test runs the viewer once at 640x480 on the bundled brain phantom.
-#include "io/png_io.h"
-#include "io/tracts.h"
+#include "io/formats/png_io.h"
+#include "io/formats/tracts.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 #include "support/window.h"

@@ -3,7 +3,7 @@
 // --force), and a tensor field beyond GL_MAX_3D_TEXTURE_SIZE ends in the error modal and a GL failure while
 // the scene goes on to load a good file.
 #include "app/viewer/viewer.h"
-#include "io/tensor_io.h"
+#include "io/formats/tensor_io.h"
 #include "support/gl_test.h"
 
 #include <chrono>

@@ -4,7 +4,7 @@
 // headless (font atlas, no backend) with simulated clicks.
 #include "app/viewer/viewer.h"
 #include "app/viewer/viewer_orientation.h"
-#include "io/dwi.h"
+#include "io/diffusion/dwi.h"
 #include "support/gl_test.h"
 
 #include <chrono>

@@ -1,0 +1,51 @@
+#include "io/formats/atomic_file.h"
+
+#include "io/model/error.h"
+
+#include <atomic>
+#include <system_error>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace dtf::io {
+
+AtomicOutput::AtomicOutput(const std::string& target) : target_(target) {
+  static std::atomic<unsigned> counter{0};
+  fs::path p(target);
+  fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError("cannot write " + target + ": directory does not exist");
+  temp_ = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
+                  std::to_string(counter++)))
+              .string();
+  // Keep the final extension so libraries that pick a format by name (nifti .gz) see the right one.
+  if (p.extension() == ".gz") temp_ += ".nii.gz";
+  else temp_ += p.extension().string();
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(temp_, ec);
+  }
+}
+
+void AtomicOutput::commit() {
+  std::error_code ec;
+  fs::rename(temp_, target_, ec);
+  if (ec) throw InputError("cannot write " + target_ + ": " + ec.message());
+  committed_ = true;
+}
+
+void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  for (const auto& in : inputs) {
+    if (in.empty()) continue;
+    if (fs::exists(output, ec) && fs::exists(in, ec) && fs::equivalent(output, in, ec))
+      throw InputError("refusing to write " + output + ": it is an input file");
+  }
+}
+
+} // namespace dtf::io

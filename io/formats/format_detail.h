@@ -1,0 +1,177 @@
+// Internal to dtf_io: the per-format readers and writers behind the dispatch in io/formats/formats.cpp, and the
+// pieces they share. Other modules use io/formats/tensor_io.h and io/formats/formats.h. Every reader throws InputError
+// whose message starts with the file name.
+#pragma once
+
+#include "io/formats/formats.h"
+#include "io/formats/tensor_io.h"
+#include "io/model/error.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace dtf::io::detail {
+
+// --- NIfTI (io/formats/nifti_io.cpp)
+VolumeHeader readNiftiHeader(const std::string& path);
+ScalarVolume readNiftiScalarVolume(const std::string& path, VolumeHeader* header);
+LoadedTensors readNiftiTensorVolume(const std::string& path, TensorLayout layout);
+void writeNiftiTensorVolume(const std::string& path, const TensorField& field, TensorLayout layout,
+                            int niftiVersion);
+void writeNiftiScalarVolume(const std::string& path, const ScalarVolume& v, int niftiVersion,
+                            const std::string& descrip);
+
+// Fills out.field (and layout, reason, counts, warnings) from a 6-component volume whose components are in
+// the on-disk order of `layout` (Auto: detected as for NIfTI, `preferred` when ambiguous). out.header must
+// be filled. Throws InputError when every voxel is NaN.
+void tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, TensorLayout layout, bool fiveD,
+                           const std::string& path, TensorLayout preferred);
+
+// Stores a world tensor at voxel i (zero or non-finite: counted and left invalid).
+inline void storeWorldTensor(LoadedTensors& out, std::size_t i, const glm::dmat3& m) {
+  bool finite = true, zero = true;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      finite = finite && std::isfinite(m[c][r]);
+      zero = zero && m[c][r] == 0;
+    }
+  if (!finite) {
+    ++out.nanVoxels;
+    return;
+  }
+  if (zero) return;
+  out.field.tensors[i] = SymTensor::fromMat(m);
+  out.field.valid[i] = 1;
+  const double m2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  if (!(m[0][0] > 0 && m2 > 0 && glm::determinant(m) > 0)) ++out.nonPositiveVoxels;
+}
+
+// Throws InputError "PATH: PROBLEM": every reader's message starts with the file name.
+[[noreturn]] inline void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path + ": " + problem);
+}
+
+// `s` without leading and trailing blanks, tabs and carriage returns.
+inline std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+// One stored number of `bytes` (1, 2, 4 or 8) at p, in either byte order, as double. Used per voxel by the
+// MRtrix and NRRD readers.
+inline double fetchNumber(const std::uint8_t* p, int bytes, bool isFloat, bool isSigned, bool bigEndian) {
+  std::uint8_t b[8];
+  for (int k = 0; k < bytes; ++k)
+    b[k] = bigEndian ? p[bytes - 1 - k] : p[k];
+  switch (bytes) {
+  case 1:
+    return isSigned ? static_cast<double>(static_cast<std::int8_t>(b[0])) : b[0];
+  case 2: {
+    std::uint16_t v;
+    std::memcpy(&v, b, 2);
+    return isSigned ? static_cast<double>(static_cast<std::int16_t>(v)) : v;
+  }
+  case 4: {
+    std::uint32_t v;
+    std::memcpy(&v, b, 4);
+    if (isFloat) {
+      float f;
+      std::memcpy(&f, &v, 4);
+      return f;
+    }
+    return isSigned ? static_cast<double>(static_cast<std::int32_t>(v)) : v;
+  }
+  default: {
+    std::uint64_t v;
+    std::memcpy(&v, b, 8);
+    if (isFloat) {
+      double f;
+      std::memcpy(&f, &v, 8);
+      return f;
+    }
+    return isSigned ? static_cast<double>(static_cast<std::int64_t>(v)) : static_cast<double>(v);
+  }
+  }
+}
+
+// --- MRtrix images (io/formats/mrtrix_io.cpp)
+struct MrtrixImage {
+  VolumeHeader header;                       // dims (all axes), grid (axes 0-2), datatype name, scaling
+  ScalarVolume volume;                       // axes 3.. flattened into components (axis 3 fastest)
+  std::vector<std::vector<double>> dwScheme; // dw_scheme rows (gx gy gz b, scanner frame), may be empty
+};
+MrtrixImage readMrtrix(const std::string& path, bool withData);
+// Writes `v` (components become axis 3) as float32 in the given stride layout (one signed rank per axis,
+// e.g. {-1, 2, 3, 4} or {4, 1, 2, 3}: MRtrix's "layout", smallest |rank| fastest, negative = stored in
+// reverse); empty = {1, 2, 3, 4}. `extraHeader` lines ("key: value") are added verbatim. Atomic.
+void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vector<int>& strides = {},
+                 const std::vector<std::string>& extraHeader = {});
+
+// --- NRRD (io/formats/nrrd_io.cpp)
+struct NrrdVolume {
+  VolumeHeader header;
+  ScalarVolume volume; // non-spatial axis (at most one) as components
+  std::string kind;    // kind of the non-spatial axis ("3D-symmetric-matrix", ...), or ""
+  glm::dmat3 measurementFrame{1.0};
+  bool hasMeasurementFrame = false;
+  bool lps = false;           // the header's space was LPS (already converted to RAS in the grid)
+  glm::dmat3 spaceToRas{1.0}; // the space's axes -> RAS (diag(-1,-1,1) for LPS, diag(-1,1,1) for LAS)
+};
+NrrdVolume readNrrd(const std::string& path, bool withData);
+LoadedTensors nrrdTensors(const std::string& path);
+// Writes world tensors as an attached, gzip-encoded NRRD (RAS space, 3D-masked-symmetric-matrix first,
+// identity measurement frame). Atomic. Throws InputError.
+void writeNrrdTensors(const std::string& path, const TensorField& field);
+
+// --- FSL dtifit eigen-systems (io/formats/dtifit_io.cpp)
+// The basename of a dtifit set from `path` (basename itself or any member file), or "" when none.
+std::string dtifitBasename(const std::string& path);
+// The file of `member` ("V1", "L1", "FA", ...) of the set `base` (.nii.gz or .nii), or "" when absent.
+std::string dtifitMemberFile(const std::string& base, const std::string& member);
+LoadedTensors readDtifit(const std::string& path);
+VolumeHeader dtifitHeader(const std::string& path);
+
+// A DWI's signal with the gradient table stored in the same file, as stored: io/diffusion/dwi.cpp checks it
+// and turns it into a Dwi.
+struct StoredGradients {
+  ScalarVolume signal;                // components = volumes
+  std::vector<double> bvals;          // s/mm^2
+  std::vector<glm::dvec3> directions; // as stored (not normalised)
+  glm::dmat3 directionsToWorld{1.0};  // stored frame -> world RAS (identity for a scanner-frame table)
+  std::string table;                  // the entry that held the table: "dw_scheme", "b_table"
+};
+
+// --- DSI Studio (io/formats/dsi_studio.cpp)
+ScalarVolume readDsiSrcSignal(const std::string& path, VolumeHeader* header);
+StoredGradients readDsiSrc(const std::string& path);
+VolumeHeader dsiHeader(const std::string& path);
+
+// The signal and the gradient table stored in the file (MRtrix dw_scheme, DSI Studio b_table);
+// io/formats/formats.cpp. Throws InputError when the file holds no table or a single volume.
+StoredGradients readStoredGradients(const std::string& path);
+
+// --- AFNI (io/formats/afni_io.cpp): bricks as components; header only when !withData.
+ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withData);
+std::string afniBrikFile(const std::string& head);
+
+// --- shared byte helpers
+// Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
+// InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.
+std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip = nullptr,
+                                        std::size_t limit = std::size_t(1) << 33);
+// Reads up to `n` leading bytes (inflated when gzip). Never throws; empty when unreadable.
+std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n);
+// Writes bytes to `path` (gzip when `gz`) through a temporary file renamed into place. Throws InputError.
+void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& bytes, bool gz);
+
+bool endsWith(const std::string& s, const std::string& suffix);
+// More values than this are refused before allocating.
+constexpr long long kMaxValues = 1LL << 31;
+
+} // namespace dtf::io::detail

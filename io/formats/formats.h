@@ -1,0 +1,48 @@
+// Which file format a volume path holds, found from its content first and its name second. The readers in
+// io/formats/tensor_io.h (readHeader, readScalarVolume, readTensorVolume) and readDwi dispatch through this, so
+// every command opens NIfTI, MRtrix images, NRRD, FSL dtifit eigen-systems and DSI Studio SRC files the
+// same way. The chosen format and the reason are kept on VolumeHeader (format, formatReason).
+#pragma once
+
+#include <string>
+
+namespace dtf::io {
+
+enum class FileFormat {
+  Nifti,        // .nii / .nii.gz (NIfTI-1 or NIfTI-2)
+  Mrtrix,       // .mif / .mif.gz / .mih (+ data file)
+  Nrrd,         // .nrrd (attached header) / .nhdr (detached)
+  DtifitSet,    // FSL dtifit outputs: basename, or any of its _V1.._V3 / _L1.._L3 / _FA / _MD files
+  DsiStudioSrc, // DSI Studio .src.gz (raw DWI and b-table, MATLAB v4)
+  DsiStudioFib, // DSI Studio .fib.gz (fibre populations and DTI maps, MATLAB v4)
+  Afni,         // AFNI +orig/+tlrc .HEAD with .BRIK[.gz]: scalar and vector bricks (tensors not yet)
+};
+
+const char* formatName(FileFormat f);
+
+struct FormatGuess {
+  FileFormat format = FileFormat::Nifti;
+  std::string reason; // e.g. "content starts with 'mrtrix image'"
+};
+
+// Detects the format of `path`: the magic bytes ("mrtrix image", "NRRD000", a NIfTI sizeof_hdr, a MATLAB
+// v4 matrix header; gzip streams are inflated to look), then the name. A path that does not exist is
+// a dtifit basename when <path>_V1/_L1 files exist (members are NIfTI files: see dtifitSetOf). Never throws;
+// an unreadable file is reported as NIfTI by name so that the NIfTI reader gives its error.
+FormatGuess detectFormat(const std::string& path);
+
+// True when `path` is a DWI whose gradient table is stored inside the file (an MRtrix image with a
+// dw_scheme entry, a DSI Studio SRC): then no bval/bvec files are needed. Never throws.
+bool hasEmbeddedGradients(const std::string& path);
+
+// The basename of the FSL dtifit set `path` names (the basename itself, or a member such as dti_V1.nii.gz
+// or dti_FA.nii.gz whose set has _V1 or _L1 files), or "" when it names none. readTensorVolume reads such
+// a member as its whole set. Never throws.
+std::string dtifitSetOf(const std::string& path);
+
+// True when a tensor or scalar writer accepts the output name: .nii, .nii.gz, .mif, .mif.gz, .mih.
+bool isWritableVolumeName(const std::string& path);
+// The same for tensor writers, which also write .nrrd.
+bool isWritableTensorName(const std::string& path);
+
+} // namespace dtf::io

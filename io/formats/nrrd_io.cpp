@@ -1,0 +1,559 @@
+// NRRD (teem's format, NRRD0001-0005): attached (.nrrd) and detached (.nhdr + data file) headers; raw,
+// gzip and ascii encodings; either endianness. Axes are read in the order the header lists them (axis 0
+// fastest); the axes with a space direction (or, without `space directions`, those whose kind is not a
+// tensor/list kind) are the voxel axes i, j, k in that order, and at most one other axis becomes the
+// components. Geometry: voxel -> space = [space directions | space origin], then LPS (or LAS) -> RAS.
+// Tensors (kinds 3D-symmetric-matrix: xx xy xz yy yz zz; 3D-masked-symmetric-matrix: a leading confidence,
+// voxels with confidence < 0.5 are masked out as teem's tend does) are stored in the measurement frame:
+// D_space = M D M^T, M's columns being the `measurement frame` vectors (the NRRD format definition), then
+// D_ras = S D_space S with S = diag(-1, -1, 1) for LPS.
+#include "io/formats/format_detail.h"
+#include "io/model/error.h"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <zlib.h>
+
+namespace fs = std::filesystem;
+
+namespace dtf::io::detail {
+
+namespace {
+
+
+std::vector<std::string> words(const std::string& s) {
+  std::istringstream in(s);
+  std::vector<std::string> out;
+  std::string w;
+  while (in >> w)
+    out.push_back(w);
+  return out;
+}
+
+struct NrrdType {
+  int bytes = 0;
+  bool isFloat = false, isSigned = true;
+};
+
+NrrdType parseType(const std::string& path, const std::string& t) {
+  static const std::map<std::string, NrrdType> kTypes = {{"signed char", {1, false, true}},
+                                                         {"int8", {1, false, true}},
+                                                         {"int8_t", {1, false, true}},
+                                                         {"uchar", {1, false, false}},
+                                                         {"unsigned char", {1, false, false}},
+                                                         {"uint8", {1, false, false}},
+                                                         {"uint8_t", {1, false, false}},
+                                                         {"short", {2, false, true}},
+                                                         {"short int", {2, false, true}},
+                                                         {"signed short", {2, false, true}},
+                                                         {"signed short int", {2, false, true}},
+                                                         {"int16", {2, false, true}},
+                                                         {"int16_t", {2, false, true}},
+                                                         {"ushort", {2, false, false}},
+                                                         {"unsigned short", {2, false, false}},
+                                                         {"unsigned short int", {2, false, false}},
+                                                         {"uint16", {2, false, false}},
+                                                         {"uint16_t", {2, false, false}},
+                                                         {"int", {4, false, true}},
+                                                         {"signed int", {4, false, true}},
+                                                         {"int32", {4, false, true}},
+                                                         {"int32_t", {4, false, true}},
+                                                         {"uint", {4, false, false}},
+                                                         {"unsigned int", {4, false, false}},
+                                                         {"uint32", {4, false, false}},
+                                                         {"uint32_t", {4, false, false}},
+                                                         {"longlong", {8, false, true}},
+                                                         {"long long", {8, false, true}},
+                                                         {"long long int", {8, false, true}},
+                                                         {"signed long long", {8, false, true}},
+                                                         {"signed long long int", {8, false, true}},
+                                                         {"int64", {8, false, true}},
+                                                         {"int64_t", {8, false, true}},
+                                                         {"ulonglong", {8, false, false}},
+                                                         {"unsigned long long", {8, false, false}},
+                                                         {"unsigned long long int", {8, false, false}},
+                                                         {"uint64", {8, false, false}},
+                                                         {"uint64_t", {8, false, false}},
+                                                         {"float", {4, true, true}},
+                                                         {"double", {8, true, true}}};
+  const auto it = kTypes.find(t);
+  if (it == kTypes.end())
+    fail(path, "unsupported type '" + t + "' (integer types, float and double are read)");
+  return it->second;
+}
+
+double fetch(const std::uint8_t* p, const NrrdType& d, bool big) {
+  return fetchNumber(p, d.bytes, d.isFloat, d.isSigned, big);
+}
+
+// "(1,0,0)" -> vector; "none" -> nullopt-like flag.
+bool parseVector(const std::string& path, const std::string& key, const std::string& text, glm::dvec3& v) {
+  if (text == "none") return false;
+  if (text.size() < 2 || text.front() != '(' || text.back() != ')')
+    fail(path, "'" + key + "' entry '" + text + "' is not a vector like (1,0,0)");
+  std::string inner = text.substr(1, text.size() - 2);
+  std::replace(inner.begin(), inner.end(), ',', ' ');
+  std::istringstream in(inner);
+  double a[3];
+  for (double& x : a)
+    if (!(in >> x) || !std::isfinite(x))
+      fail(path, "'" + key + "' entry '" + text + "' is not 3 finite numbers");
+  std::string rest;
+  if (in >> rest) fail(path, "'" + key + "' entry '" + text + "' has more than 3 numbers (3D spaces only)");
+  v = glm::dvec3(a[0], a[1], a[2]);
+  return true;
+}
+
+// Vector entries separated by spaces, each in parentheses or "none".
+std::vector<std::string> vectorEntries(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t'))
+      ++i;
+    if (i >= s.size()) break;
+    std::size_t j = i;
+    if (s[i] == '(') {
+      j = s.find(')', i);
+      j = j == std::string::npos ? s.size() : j + 1;
+    } else {
+      while (j < s.size() && s[j] != ' ' && s[j] != '\t')
+        ++j;
+    }
+    out.push_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> inflateAll(const std::string& path, const std::uint8_t* p, std::size_t n,
+                                     std::size_t expect) {
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) fail(path, "cannot start zlib");
+  std::vector<std::uint8_t> out(std::max<std::size_t>(expect, 1));
+  z.next_in = const_cast<Bytef*>(p);
+  z.avail_in = static_cast<uInt>(std::min<std::size_t>(n, std::numeric_limits<uInt>::max()));
+  int r = Z_OK;
+  while (r == Z_OK) {
+    if (z.total_out >= out.size()) break;
+    z.next_out = out.data() + z.total_out;
+    z.avail_out =
+        static_cast<uInt>(std::min<std::size_t>(out.size() - z.total_out, std::numeric_limits<uInt>::max()));
+    r = inflate(&z, Z_NO_FLUSH);
+  }
+  const std::size_t got = z.total_out;
+  inflateEnd(&z);
+  if (r != Z_OK && r != Z_STREAM_END) fail(path, "corrupt gzip data");
+  out.resize(got);
+  return out;
+}
+
+} // namespace
+
+NrrdVolume readNrrd(const std::string& path, bool withData) {
+  NrrdVolume out;
+  VolumeHeader& h = out.header;
+  h.path = path;
+  h.niftiVersion = 0;
+  const std::vector<std::uint8_t> bytes = readFileBytes(path, nullptr, std::size_t(1) << 33);
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), "NRRD000", 7) != 0)
+    fail(path, "not a NRRD file (no 'NRRD000x' magic at the start)");
+  std::map<std::string, std::string> fields;
+  std::size_t pos = 0;
+  bool blank = false;
+  int lineNo = 0;
+  while (pos < bytes.size()) {
+    std::size_t eol = pos;
+    while (eol < bytes.size() && bytes[eol] != '\n')
+      ++eol;
+    std::string line(bytes.begin() + static_cast<std::ptrdiff_t>(pos),
+                     bytes.begin() + static_cast<std::ptrdiff_t>(eol));
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    pos = std::min(eol + 1, bytes.size());
+    if (++lineNo == 1) continue;
+    if (line.empty()) {
+      blank = true;
+      break;
+    }
+    if (line[0] == '#') continue;
+    if (line.find(":=") != std::string::npos) continue; // key/value pairs
+    const auto colon = line.find(": ");
+    if (colon == std::string::npos)
+      fail(path, "header line " + std::to_string(lineNo) + " is not 'field: value'");
+    fields[trim(line.substr(0, colon))] = trim(line.substr(colon + 2));
+    if (lineNo > 10000) fail(path, "header longer than 10000 lines");
+  }
+  auto field = [&](const std::string& a, const std::string& b = "") -> const std::string* {
+    auto it = fields.find(a);
+    if (it == fields.end() && !b.empty()) it = fields.find(b);
+    return it == fields.end() ? nullptr : &it->second;
+  };
+  for (const char* req : {"type", "dimension", "sizes", "encoding"})
+    if (!field(req)) fail(path, std::string("the header has no '") + req + "' field");
+  const NrrdType type = parseType(path, *field("type"));
+  const std::string dimText = *field("dimension");
+  if (dimText.empty() || dimText.find_first_not_of("0123456789") != std::string::npos || dimText.size() > 2)
+    fail(path, "dimension '" + dimText + "' is not a small whole number");
+  const int ndim = std::stoi(dimText);
+  if (ndim < 3 || ndim > 4)
+    fail(path, "dimension " + dimText + " (3D volumes, or 4D with one component axis, are read)");
+  std::vector<long long> sizes;
+  for (const std::string& w : words(*field("sizes"))) {
+    if (w.find_first_not_of("0123456789") != std::string::npos || w.size() > 12)
+      fail(path, "sizes entry '" + w + "' is not a whole number");
+    sizes.push_back(std::stoll(w));
+    if (sizes.back() < 1) fail(path, "sizes entry " + w + " must be >= 1");
+  }
+  if (static_cast<int>(sizes.size()) != ndim)
+    fail(path, "'sizes' has " + std::to_string(sizes.size()) + " entries for dimension " + dimText);
+  long long total = 1;
+  for (long long s : sizes) {
+    if (total > kMaxValues / s) fail(path, "sizes are absurd (more than 2^31 values); refusing to allocate");
+    total *= s;
+  }
+  std::vector<std::string> kinds(static_cast<std::size_t>(ndim), "");
+  if (const std::string* k = field("kinds")) {
+    kinds = words(*k);
+    // Multi-word kinds do not exist; "3D-symmetric-matrix" is one word.
+    if (static_cast<int>(kinds.size()) != ndim)
+      fail(path, "'kinds' has " + std::to_string(kinds.size()) + " entries for dimension " + dimText);
+  }
+  // Which axes are spatial.
+  std::vector<glm::dvec3> dirs(static_cast<std::size_t>(ndim));
+  std::vector<bool> spatial(static_cast<std::size_t>(ndim), false);
+  const std::string* spaceDirs = field("space directions");
+  if (spaceDirs) {
+    const std::vector<std::string> e = vectorEntries(*spaceDirs);
+    if (static_cast<int>(e.size()) != ndim)
+      fail(path, "'space directions' has " + std::to_string(e.size()) + " entries for dimension " + dimText);
+    for (int a = 0; a < ndim; ++a)
+      spatial[static_cast<std::size_t>(a)] = parseVector(
+          path, "space directions", e[static_cast<std::size_t>(a)], dirs[static_cast<std::size_t>(a)]);
+  } else {
+    std::vector<double> spacings(static_cast<std::size_t>(ndim), 1.0);
+    if (const std::string* sp = field("spacings")) {
+      const auto w = words(*sp);
+      for (std::size_t a = 0; a < w.size() && a < spacings.size(); ++a) {
+        char* end = nullptr;
+        const double v = std::strtod(w[a].c_str(), &end);
+        spacings[a] = std::isfinite(v) && v > 0 ? v : 1.0;
+      }
+    }
+    int axis = 0;
+    for (int a = 0; a < ndim; ++a) {
+      const std::string& k = kinds[static_cast<std::size_t>(a)];
+      if (k.empty() || k == "domain" || k == "space") {
+        spatial[static_cast<std::size_t>(a)] = true;
+        glm::dvec3 d(0.0);
+        if (axis < 3) d[axis] = spacings[static_cast<std::size_t>(a)];
+        dirs[static_cast<std::size_t>(a)] = d;
+        ++axis;
+      }
+    }
+    h.warnings.emplace_back("no 'space directions': orientation unknown, assuming RAS voxel axes");
+  }
+  std::vector<int> spatialAxes;
+  int compAxis = -1;
+  for (int a = 0; a < ndim; ++a) {
+    if (spatial[static_cast<std::size_t>(a)])
+      spatialAxes.push_back(a);
+    else if (compAxis < 0)
+      compAxis = a;
+    else
+      fail(path, "more than one non-spatial axis (one component axis is read)");
+  }
+  if (spatialAxes.size() != 3)
+    fail(path, std::to_string(spatialAxes.size()) + " spatial axes (3 are needed)");
+  if (compAxis >= 0) out.kind = kinds[static_cast<std::size_t>(compAxis)];
+
+  // Space and orientation.
+  glm::dmat3 toRas(1.0);
+  std::string space = "right-anterior-superior";
+  if (const std::string* s = field("space")) {
+    space = *s;
+    if (space == "left-posterior-superior" || space == "LPS") {
+      toRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1));
+      out.lps = true;
+    } else if (space == "left-anterior-superior" || space == "LAS") {
+      toRas = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+    } else if (space != "right-anterior-superior" && space != "RAS") {
+      fail(path, "space '" + space + "' is not read (RAS, LAS and LPS are)");
+    }
+  } else if (spaceDirs) {
+    h.warnings.emplace_back("no 'space' field: space directions taken as RAS");
+  }
+  glm::dvec3 origin(0.0);
+  if (const std::string* o = field("space origin")) {
+    if (!parseVector(path, "space origin", trim(*o), origin)) fail(path, "'space origin' is none");
+  }
+  glm::dmat4 affine(1.0);
+  glm::ivec3 gdims;
+  for (int c = 0; c < 3; ++c) {
+    const int a = spatialAxes[static_cast<std::size_t>(c)];
+    if (sizes[static_cast<std::size_t>(a)] > std::numeric_limits<int>::max()) fail(path, "a size is absurd");
+    gdims[c] = static_cast<int>(sizes[static_cast<std::size_t>(a)]);
+    affine[c] = glm::dvec4(toRas * dirs[static_cast<std::size_t>(a)], 0.0);
+  }
+  affine[3] = glm::dvec4(toRas * origin, 1.0);
+  out.spaceToRas = toRas;
+  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the space directions are singular");
+  h.grid = Grid::fromAffine(gdims, affine);
+  // Dimensions in the canonical order (i, j, k, components); the header's own order is kept in intentName.
+  h.dims = {gdims.x, gdims.y, gdims.z};
+  if (compAxis >= 0) h.dims.push_back(sizes[static_cast<std::size_t>(compAxis)]);
+  h.datatypeName = *field("type");
+  h.affineSource = std::string(spaceDirs ? "space directions + origin" : "spacings") + " in " + space;
+  std::string stored;
+  for (long long sz : sizes)
+    stored += (stored.empty() ? "" : "x") + std::to_string(sz);
+  h.intentName = (out.kind.empty() ? "" : "kind " + out.kind + ", ") + "sizes as stored " + stored;
+  // Symmetric-matrix kinds are tensors, as NIfTI's SYMMATRIX intent says (what `info` looks for).
+  if (out.kind == "3D-symmetric-matrix" || out.kind == "3D-masked-symmetric-matrix" ||
+      out.kind == "3D-matrix" || out.kind == "3D-masked-matrix")
+    h.intentCode = 1005;
+  if (const std::string* mf = field("measurement frame")) {
+    const std::vector<std::string> e = vectorEntries(*mf);
+    if (e.size() != 3)
+      fail(path, "'measurement frame' has " + std::to_string(e.size()) + " vectors (3 expected)");
+    for (int c = 0; c < 3; ++c) {
+      glm::dvec3 v;
+      if (!parseVector(path, "measurement frame", e[static_cast<std::size_t>(c)], v))
+        fail(path, "'measurement frame' vector is none");
+      out.measurementFrame[c] = v; // columns
+    }
+    out.hasMeasurementFrame = true;
+  }
+
+  // Data.
+  const std::string encoding = *field("encoding");
+  const bool big = field("endian") && *field("endian") == "big";
+  if (field("endian") && *field("endian") != "big" && *field("endian") != "little")
+    fail(path, "endian '" + *field("endian") + "' is neither little nor big");
+  const bool gz = encoding == "gzip" || encoding == "gz";
+  const bool ascii = encoding == "ascii" || encoding == "text" || encoding == "txt";
+  if (!gz && !ascii && encoding != "raw")
+    fail(path, "encoding '" + encoding + "' is not read (raw, gzip and ascii are)");
+  std::vector<std::uint8_t> detached;
+  const std::vector<std::uint8_t>* src = &bytes;
+  std::size_t start = pos;
+  if (const std::string* df = field("data file", "datafile")) {
+    const std::string name = trim(*df);
+    if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || words(name).size() > 1)
+      fail(path, "data file '" + name + "': multi-file data are not read");
+    const std::string dataPath =
+        fs::path(name).is_absolute() ? name : (fs::path(path).parent_path() / name).string();
+    std::error_code ec;
+    if (!fs::is_regular_file(dataPath, ec)) fail(path, "data file " + dataPath + " does not exist");
+    if (!withData) return out;
+    // A gzip data file is inflated below, like attached gzip data: read it as stored.
+    std::FILE* f = std::fopen(dataPath.c_str(), "rb");
+    if (!f) fail(path, "cannot open data file " + dataPath);
+    detached.resize(static_cast<std::size_t>(fs::file_size(dataPath, ec)));
+    const bool ok = std::fread(detached.data(), 1, detached.size(), f) == detached.size();
+    std::fclose(f);
+    if (!ok) fail(path, "cannot read data file " + dataPath);
+    src = &detached;
+    start = 0;
+  } else if (!blank) {
+    fail(path, "no blank line after the header and no 'data file' (truncated file?)");
+  }
+  if (!withData) {
+    if (!gz && !ascii && bytes.size() - start < static_cast<std::size_t>(total * type.bytes))
+      fail(path, "is truncated: " + std::to_string(bytes.size() - start) + " data bytes, the header needs " +
+                     std::to_string(total * type.bytes));
+    return out;
+  }
+  long long lineSkip = 0, byteSkip = 0;
+  if (const std::string* ls = field("line skip", "lineskip")) lineSkip = std::atoll(ls->c_str());
+  if (const std::string* bs = field("byte skip", "byteskip")) byteSkip = std::atoll(bs->c_str());
+  for (long long l = 0; l < lineSkip && start < src->size(); ++l) {
+    while (start < src->size() && (*src)[start] != '\n')
+      ++start;
+    ++start;
+  }
+  const std::size_t need = static_cast<std::size_t>(total * type.bytes);
+  std::vector<std::uint8_t> inflated;
+  const std::uint8_t* data = nullptr;
+  std::vector<double> values;
+  if (ascii) {
+    const std::string text(src->begin() + static_cast<std::ptrdiff_t>(std::min(start, src->size())),
+                           src->end());
+    std::istringstream in(text);
+    values.reserve(static_cast<std::size_t>(total));
+    double v;
+    while (static_cast<long long>(values.size()) < total && in >> v)
+      values.push_back(v);
+    if (static_cast<long long>(values.size()) < total)
+      fail(path, "ascii data hold " + std::to_string(values.size()) + " numbers, the header needs " +
+                     std::to_string(total));
+  } else if (gz) {
+    if (start > src->size()) fail(path, "the data start beyond the end of the file");
+    inflated = inflateAll(path, src->data() + start, src->size() - start, need);
+    if (byteSkip > 0) {
+      // byte skip applies to the decoded data
+      if (static_cast<std::size_t>(byteSkip) > inflated.size()) fail(path, "byte skip beyond the data");
+      inflated.erase(inflated.begin(), inflated.begin() + byteSkip);
+    }
+    if (inflated.size() < need)
+      fail(path, "is truncated: " + std::to_string(inflated.size()) + " bytes inflated, the header needs " +
+                     std::to_string(need));
+    data = inflated.data();
+  } else {
+    std::size_t at = start;
+    if (byteSkip == -1) {
+      if (src->size() < need) fail(path, "is truncated: the data need " + std::to_string(need) + " bytes");
+      at = src->size() - need;
+    } else if (byteSkip < 0) {
+      fail(path, "byte skip " + std::to_string(byteSkip) + " is invalid");
+    } else {
+      at += static_cast<std::size_t>(byteSkip);
+    }
+    if (at > src->size() || src->size() - at < need)
+      fail(path, "is truncated: " + std::to_string(at > src->size() ? 0 : src->size() - at) +
+                     " data bytes, the header needs " + std::to_string(need));
+    data = src->data() + at;
+  }
+  const int comps = compAxis >= 0 ? static_cast<int>(sizes[static_cast<std::size_t>(compAxis)]) : 1;
+  out.volume = ScalarVolume(h.grid, comps);
+  std::vector<long long> idx(static_cast<std::size_t>(ndim), 0);
+  for (long long n = 0; n < total; ++n) {
+    const double v = ascii ? values[static_cast<std::size_t>(n)] : fetch(data + n * type.bytes, type, big);
+    const long long i = idx[static_cast<std::size_t>(spatialAxes[0])],
+                    j = idx[static_cast<std::size_t>(spatialAxes[1])],
+                    k = idx[static_cast<std::size_t>(spatialAxes[2])];
+    const long long c = compAxis >= 0 ? idx[static_cast<std::size_t>(compAxis)] : 0;
+    const std::size_t voxel = h.grid.index(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+    out.volume.data[voxel * static_cast<std::size_t>(comps) + static_cast<std::size_t>(c)] =
+        static_cast<float>(v);
+    for (int a = 0; a < ndim; ++a) {
+      if (++idx[static_cast<std::size_t>(a)] < sizes[static_cast<std::size_t>(a)]) break;
+      idx[static_cast<std::size_t>(a)] = 0;
+    }
+  }
+  return out;
+}
+
+LoadedTensors nrrdTensors(const std::string& path) {
+  NrrdVolume n = readNrrd(path, true);
+  const bool masked = n.kind == "3D-masked-symmetric-matrix";
+  const bool full = n.kind == "3D-matrix" || n.kind == "3D-masked-matrix";
+  const bool fullMasked = n.kind == "3D-masked-matrix";
+  if (n.kind != "3D-symmetric-matrix" && !masked && !full)
+    fail(path,
+         "is not a tensor NRRD: the component axis has kind '" + n.kind +
+             "' (3D-symmetric-matrix, 3D-masked-symmetric-matrix, 3D-matrix or 3D-masked-matrix expected)");
+  const int want = full ? (fullMasked ? 10 : 9) : masked ? 7 : 6;
+  if (n.volume.components != want)
+    fail(path, "kind " + n.kind + " needs " + std::to_string(want) + " components, the axis has " +
+                   std::to_string(n.volume.components));
+  LoadedTensors out;
+  out.header = n.header;
+  out.warnings = n.header.warnings;
+  out.layout = TensorLayout::Fsl; // component order xx xy xz yy yz zz
+  out.layoutReason = "NRRD kind " + n.kind + " (" + (masked || fullMasked ? "confidence, then " : "") +
+                     (full ? "row-major 3x3, symmetrised" : "xx xy xz yy yz zz") + "); " +
+                     (n.hasMeasurementFrame ? "measurement frame applied (D = M D M^T)"
+                                            : "no measurement frame (tensors in the space's axes)") +
+                     (n.lps ? ", then LPS -> RAS" : "");
+  if (!n.hasMeasurementFrame)
+    out.warnings.emplace_back("no measurement frame: tensors taken to be in the space's axes");
+  const glm::dmat3 r = n.spaceToRas * n.measurementFrame;
+  out.field = makeTensorField(n.header.grid);
+  const std::size_t nv = n.header.grid.voxelCount();
+  std::size_t masked0 = 0;
+  for (std::size_t i = 0; i < nv; ++i) {
+    const float* c = &n.volume.data[i * static_cast<std::size_t>(want)];
+    if (full) {
+      // Row-major 3x3 (ITK writes diffusion tensors this way too), symmetrised.
+      if (fullMasked && !(c[0] >= 0.5f)) {
+        ++masked0;
+        continue;
+      }
+      const float* f = fullMasked ? c + 1 : c;
+      glm::dmat3 d;
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+          d[col][row] = 0.5 * (double(f[row * 3 + col]) + double(f[col * 3 + row]));
+      storeWorldTensor(out, i, r * d * glm::transpose(r));
+      continue;
+    }
+    if (masked) {
+      if (!(c[0] >= 0.5f)) {
+        ++masked0;
+        continue;
+      }
+      ++c;
+    }
+    glm::dmat3 d;
+    d[0][0] = c[0];
+    d[0][1] = d[1][0] = c[1];
+    d[0][2] = d[2][0] = c[2];
+    d[1][1] = c[3];
+    d[1][2] = d[2][1] = c[4];
+    d[2][2] = c[5];
+    storeWorldTensor(out, i, r * d * glm::transpose(r));
+  }
+  if (masked || fullMasked)
+    out.layoutReason += "; " + std::to_string(masked0) + " voxels with confidence < 0.5 masked out";
+  if (out.nanVoxels)
+    out.warnings.push_back(std::to_string(out.nanVoxels) + " voxel(s) hold NaN/Inf values (marked invalid)");
+  return out;
+}
+
+} // namespace dtf::io::detail
+
+namespace dtf::io::detail {
+
+void writeNrrdTensors(const std::string& path, const TensorField& field) {
+  const std::size_t nv = field.grid.voxelCount();
+  if (field.tensors.size() != nv || field.valid.size() != nv)
+    throw InputError("cannot write " + path + ": tensor field size does not match its grid");
+  const Grid& g = field.grid;
+  auto vec = [](const glm::dvec3& v) {
+    std::ostringstream o;
+    o.precision(17);
+    o << "(" << v.x << "," << v.y << "," << v.z << ")";
+    return o.str();
+  };
+  // Attached header, RAS space, identity measurement frame (the tensors are world tensors), the tensor
+  // axis first with a confidence of 1 where a tensor is valid, 0 elsewhere; gzip-encoded float32.
+  std::string h = "NRRD0005\n# written by dtfabric: world RAS tensors, mm^2/s\ntype: float\ndimension: 4\n";
+  h += "sizes: 7 " + std::to_string(g.dims.x) + " " + std::to_string(g.dims.y) + " " +
+       std::to_string(g.dims.z) + "\n";
+  h += "kinds: 3D-masked-symmetric-matrix space space space\nspace: right-anterior-superior\n";
+  h += "space directions: none " + vec(glm::dvec3(g.voxelToWorld[0])) + " " +
+       vec(glm::dvec3(g.voxelToWorld[1])) + " " + vec(glm::dvec3(g.voxelToWorld[2])) + "\n";
+  h += "space origin: " + vec(glm::dvec3(g.voxelToWorld[3])) + "\n";
+  h += "measurement frame: (1,0,0) (0,1,0) (0,0,1)\nendian: little\nencoding: gzip\n\n";
+  std::vector<float> values(nv * 7, 0.0f);
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (!field.valid[i]) continue;
+    const auto c = field.tensors[i].components(); // xx xy xz yy yz zz, teem's order
+    values[i * 7] = 1.0f;
+    for (int k = 0; k < 6; ++k)
+      values[i * 7 + 1 + static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k)];
+  }
+  // Header as plain text, then one gzip member of the values (teem's attached gzip layout).
+  uLong bound = compressBound(static_cast<uLong>(values.size() * 4)) + 64;
+  std::vector<std::uint8_t> z(bound);
+  z_stream s{};
+  if (deflateInit2(&s, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw InputError("cannot write " + path + ": zlib failed");
+  s.next_in = reinterpret_cast<Bytef*>(values.data());
+  s.avail_in = static_cast<uInt>(values.size() * 4);
+  s.next_out = z.data();
+  s.avail_out = static_cast<uInt>(z.size());
+  const int r = deflate(&s, Z_FINISH);
+  z.resize(s.total_out);
+  deflateEnd(&s);
+  if (r != Z_STREAM_END) throw InputError("cannot write " + path + ": zlib failed");
+  std::vector<std::uint8_t> out(h.begin(), h.end());
+  out.insert(out.end(), z.begin(), z.end());
+  writeFileBytes(path, out, false);
+}
+
+} // namespace dtf::io::detail

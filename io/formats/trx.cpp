@@ -1,0 +1,512 @@
+#include "io/formats/trx.h"
+
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/formats/zip_archive.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace dtf::io {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "TRX arrays are read in place as little-endian");
+
+// ---- a minimal JSON reader for header.json (objects, arrays, numbers, strings, true/false/null)
+struct JsonValue {
+  enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
+  double number = 0;
+  std::string text;
+  std::vector<JsonValue> items;  // array elements, or object member values
+  std::vector<std::string> keys; // object member names, beside their values in `items`
+  const JsonValue* find(const std::string& k) const {
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (keys[i] == k) return &items[i];
+    return nullptr;
+  }
+};
+
+class JsonParser {
+public:
+  JsonParser(std::string_view s, const std::string& path) : s_(s), path_(path) {}
+  JsonValue parseDocument() {
+    JsonValue v = parse(0);
+    skip();
+    if (p_ != s_.size()) fail("trailing characters");
+    return v;
+  }
+
+private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InputError(path_ + ": bad TRX header.json (" + why + " at byte " + std::to_string(p_) + ")");
+  }
+  void skip() {
+    while (p_ < s_.size() && std::strchr(" \t\r\n", s_[p_]) && s_[p_])
+      ++p_;
+  }
+  bool eat(char c) {
+    skip();
+    if (p_ < s_.size() && s_[p_] == c) return ++p_, true;
+    return false;
+  }
+  std::string str() {
+    if (!eat('"')) fail("expected a string");
+    std::string out;
+    while (p_ < s_.size() && s_[p_] != '"') {
+      char c = s_[p_++];
+      if (c == '\\') {
+        if (p_ >= s_.size()) fail("unterminated string");
+        c = s_[p_++];
+        if (c == 'u') {
+          if (p_ + 4 > s_.size()) fail("bad escape");
+          p_ += 4; // non-ASCII characters are not needed in header keys
+          c = '?';
+        } else if (c == 'n')
+          c = '\n';
+        else if (c == 't')
+          c = '\t';
+      }
+      out.push_back(c);
+    }
+    if (p_ >= s_.size()) fail("unterminated string");
+    ++p_;
+    return out;
+  }
+  JsonValue parse(int depth) {
+    if (depth > 32) fail("nesting too deep");
+    skip();
+    if (p_ >= s_.size()) fail("unexpected end");
+    JsonValue v;
+    const char c = s_[p_];
+    if (c == '{') {
+      ++p_;
+      v.kind = JsonValue::Object;
+      if (eat('}')) return v;
+      do {
+        std::string k = str();
+        if (!eat(':')) fail("expected ':'");
+        v.keys.push_back(std::move(k));
+        v.items.push_back(parse(depth + 1));
+      } while (eat(','));
+      if (!eat('}')) fail("expected '}'");
+    } else if (c == '[') {
+      ++p_;
+      v.kind = JsonValue::Array;
+      if (eat(']')) return v;
+      do
+        v.items.push_back(parse(depth + 1));
+      while (eat(','));
+      if (!eat(']')) fail("expected ']'");
+    } else if (c == '"') {
+      v.kind = JsonValue::String;
+      v.text = str();
+    } else if (s_.substr(p_, 4) == "true" || s_.substr(p_, 5) == "false") {
+      v.kind = JsonValue::Bool;
+      v.number = c == 't';
+      p_ += c == 't' ? 4 : 5;
+    } else if (s_.substr(p_, 4) == "null") {
+      p_ += 4;
+    } else {
+      std::size_t e = p_;
+      while (e < s_.size() && std::strchr("+-0123456789.eE", s_[e]) && s_[e])
+        ++e;
+      if (e == p_) fail("unexpected character");
+      const std::string num(s_.substr(p_, e - p_));
+      char* end = nullptr;
+      v.number = std::strtod(num.c_str(), &end);
+      if (end != num.c_str() + num.size()) fail("bad number");
+      v.kind = JsonValue::Number;
+      p_ = e;
+    }
+    return v;
+  }
+  std::string_view s_;
+  std::size_t p_ = 0;
+  const std::string& path_;
+};
+
+// ---- dtypes
+enum class Kind { Float, Signed, Unsigned };
+struct Dtype {
+  Kind kind;
+  int width;
+};
+
+bool parseDtype(const std::string& name, Dtype& d) {
+  static const std::map<std::string, Dtype> known = {
+      {"float16", {Kind::Float, 2}},   {"float32", {Kind::Float, 4}},   {"float64", {Kind::Float, 8}},
+      {"int8", {Kind::Signed, 1}},     {"int16", {Kind::Signed, 2}},    {"int32", {Kind::Signed, 4}},
+      {"int64", {Kind::Signed, 8}},    {"uint8", {Kind::Unsigned, 1}},  {"uint16", {Kind::Unsigned, 2}},
+      {"uint32", {Kind::Unsigned, 4}}, {"uint64", {Kind::Unsigned, 8}}, {"bool", {Kind::Unsigned, 1}}};
+  auto it = known.find(name);
+  if (it == known.end()) return false;
+  d = it->second;
+  return true;
+}
+
+float halfToFloat(std::uint16_t h) {
+  const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
+  const std::uint32_t exp = (h >> 10) & 0x1fu, mant = h & 0x3ffu;
+  if (exp == 0) {
+    const float v = std::ldexp(static_cast<float>(mant), -24);
+    return sign ? -v : v;
+  }
+  const std::uint32_t bits =
+      exp == 31 ? (sign | 0x7f800000u | (mant << 13)) : (sign | ((exp + 112) << 23) | (mant << 13));
+  return std::bit_cast<float>(bits);
+}
+
+// Element i of a little-endian typed array, as double.
+double element(const char* p, const Dtype& d, std::size_t i) {
+  p += i * static_cast<std::size_t>(d.width);
+  auto get = [p](auto v) {
+    std::memcpy(&v, p, sizeof v);
+    return static_cast<double>(v);
+  };
+  switch (d.kind) {
+  case Kind::Float:
+    if (d.width == 2) {
+      std::uint16_t h;
+      std::memcpy(&h, p, 2);
+      return halfToFloat(h);
+    }
+    return d.width == 4 ? get(float{}) : get(double{});
+  case Kind::Signed:
+    return d.width == 1   ? get(std::int8_t{})
+           : d.width == 2 ? get(std::int16_t{})
+           : d.width == 4 ? get(std::int32_t{})
+                          : get(std::int64_t{});
+  case Kind::Unsigned:
+    return d.width == 1   ? get(std::uint8_t{})
+           : d.width == 2 ? get(std::uint16_t{})
+           : d.width == 4 ? get(std::uint32_t{})
+                          : get(std::uint64_t{});
+  }
+  return 0;
+}
+
+// "<name>[.<n>].<dtype>" -> name, components, dtype text.
+bool splitArrayName(const std::string& file, std::string& name, int& components, std::string& dtype) {
+  const auto dot = file.rfind('.');
+  if (dot == std::string::npos || dot == 0) return false;
+  dtype = file.substr(dot + 1);
+  name = file.substr(0, dot);
+  components = 1;
+  const auto dot2 = name.rfind('.');
+  if (dot2 != std::string::npos && dot2 + 1 < name.size() &&
+      std::all_of(name.begin() + static_cast<long>(dot2) + 1, name.end(),
+                  [](char c) { return c >= '0' && c <= '9'; })) {
+    if (name.size() - dot2 - 1 > 4) return false;
+    components = std::stoi(name.substr(dot2 + 1));
+    name = name.substr(0, dot2);
+  }
+  return !name.empty() && components >= 1;
+}
+
+// Entry names stay inside the archive/folder: relative, no "..", no backslashes, no empty components.
+bool safeEntryName(const std::string& n) {
+  if (n.empty() || n.front() == '/' || n.find('\\') != std::string::npos || n.find('\0') != std::string::npos)
+    return false;
+  std::size_t b = 0;
+  while (b <= n.size()) {
+    std::size_t e = n.find('/', b);
+    if (e == std::string::npos) e = n.size();
+    const std::string part = n.substr(b, e - b);
+    if (part == ".." || part == "." || (part.empty() && e != n.size())) return false;
+    b = e + 1;
+  }
+  return true;
+}
+
+// The arrays of a TRX container, as views into mappings or inflated buffers owned here.
+struct Container {
+  std::unique_ptr<ZipReader> zip;
+  std::vector<std::unique_ptr<MappedFile>> files;
+  std::vector<std::unique_ptr<std::string>> buffers;
+  std::map<std::string, std::string_view> arrays;
+};
+
+} // namespace
+
+Polylines readTrx(const std::string& path, TrxInfo* infoOut) {
+  TrxInfo info;
+  Container box;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    info.folder = true;
+    const fs::path root(path);
+    for (auto it = fs::recursive_directory_iterator(root, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+      const std::string rel = fs::relative(it->path(), root, ec).generic_string();
+      if (it->is_symlink(ec))
+        throw InputError(path + ": TRX entry '" + rel +
+                         "' is a symbolic link (it could point outside the folder)");
+      if (it->is_directory(ec)) continue;
+      if (!safeEntryName(rel)) throw InputError(path + ": TRX entry '" + rel + "' escapes the folder");
+      box.files.push_back(std::make_unique<MappedFile>(it->path().string()));
+      box.arrays[rel] = box.files.back()->bytes();
+    }
+    if (ec) throw InputError(path + ": cannot list the TRX folder: " + ec.message());
+  } else {
+    if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read tract file: no such file");
+    box.zip = std::make_unique<ZipReader>(path);
+    for (const auto& e : box.zip->entries()) {
+      if (!safeEntryName(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' escapes the archive");
+      if (e.name.back() == '/') continue; // folder entry
+      if (box.arrays.count(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' appears twice");
+      box.buffers.push_back(std::make_unique<std::string>());
+      box.arrays[e.name] = box.zip->read(e, *box.buffers.back());
+      if (e.method != 0) ++info.deflatedEntries;
+    }
+  }
+
+  // header.json
+  auto hj = box.arrays.find("header.json");
+  if (hj == box.arrays.end()) throw InputError(path + ": TRX has no header.json");
+  const JsonValue header = JsonParser(hj->second, path).parseDocument();
+  auto count = [&](const char* key) {
+    const JsonValue* v = header.find(key);
+    if (!v || v->kind != JsonValue::Number || v->number < 0 || v->number > 4e9 ||
+        v->number != std::floor(v->number))
+      throw InputError(path + ": TRX header.json has no valid " + key);
+    return static_cast<long long>(v->number);
+  };
+  info.nbStreamlines = count("NB_STREAMLINES");
+  info.nbVertices = count("NB_VERTICES");
+  if (info.nbVertices >= 0xffffffffLL) throw InputError(path + ": too many points for one tract set");
+  if (const JsonValue* a = header.find("VOXEL_TO_RASMM")) {
+    bool ok = a->kind == JsonValue::Array && a->items.size() == 4;
+    for (int r = 0; ok && r < 4; ++r) {
+      const JsonValue& row = a->items[static_cast<std::size_t>(r)];
+      ok = row.kind == JsonValue::Array && row.items.size() == 4;
+      for (int c = 0; ok && c < 4; ++c) {
+        ok = row.items[static_cast<std::size_t>(c)].kind == JsonValue::Number;
+        if (ok) info.voxToRas[c][r] = row.items[static_cast<std::size_t>(c)].number;
+      }
+    }
+    if (!ok) throw InputError(path + ": TRX VOXEL_TO_RASMM is not a 4x4 array of numbers");
+  } else {
+    logWarning(path + ": TRX header.json has no VOXEL_TO_RASMM; assuming the identity");
+  }
+  if (const JsonValue* d = header.find("DIMENSIONS")) {
+    bool ok = d->kind == JsonValue::Array && d->items.size() == 3;
+    for (int a = 0; ok && a < 3; ++a) {
+      const JsonValue& v = d->items[static_cast<std::size_t>(a)];
+      ok = v.kind == JsonValue::Number && v.number >= 0 && v.number < 1e6;
+      if (ok) info.dims[a] = static_cast<int>(v.number);
+    }
+    if (!ok) throw InputError(path + ": TRX DIMENSIONS is not three non-negative integers");
+  }
+
+  const std::size_t nSHeader = static_cast<std::size_t>(info.nbStreamlines),
+                    nV = static_cast<std::size_t>(info.nbVertices);
+  Polylines out;
+  std::string_view positions, offsets;
+  Dtype posType{}, offType{};
+  for (const auto& [name, bytes] : box.arrays) {
+    if (name.rfind("positions.", 0) == 0) {
+      std::string base, dt;
+      int comps = 0;
+      if (!splitArrayName(name, base, comps, dt) || comps != 3 || !parseDtype(dt, posType) ||
+          posType.kind != Kind::Float)
+        throw InputError(path + ": TRX positions '" + name + "' must be positions.3.float16|float32|float64");
+      if (!positions.empty()) throw InputError(path + ": TRX holds two positions arrays");
+      positions = bytes;
+      info.positionsDtype = dt;
+    } else if (name.rfind("offsets.", 0) == 0) {
+      const std::string dt = name.substr(8);
+      if ((dt != "uint32" && dt != "uint64") || !parseDtype(dt, offType))
+        throw InputError(path + ": TRX offsets '" + name +
+                         "' has an unknown dtype (uint32 or uint64 expected)");
+      if (!offsets.empty()) throw InputError(path + ": TRX holds two offsets arrays");
+      offsets = bytes;
+      info.offsetsDtype = dt;
+    }
+  }
+  if (positions.data() == nullptr && nV > 0) throw InputError(path + ": TRX has no positions array");
+  if (offsets.data() == nullptr && nSHeader > 0) throw InputError(path + ": TRX has no offsets array");
+  if (positions.size() != nV * 3 * static_cast<std::size_t>(posType.width))
+    throw InputError(path + ": TRX positions hold " + std::to_string(positions.size()) +
+                     " bytes, but NB_VERTICES " + std::to_string(nV) + " needs " +
+                     std::to_string(nV * 3 * static_cast<std::size_t>(posType.width)));
+  const std::size_t nOff = offType.width ? offsets.size() / static_cast<std::size_t>(offType.width) : 0;
+  if (offType.width && (offsets.size() % static_cast<std::size_t>(offType.width) != 0 ||
+                        (nOff != nSHeader && nOff != nSHeader + 1)))
+    throw InputError(path + ": TRX offsets hold " + std::to_string(offsets.size()) +
+                     " bytes, but NB_STREAMLINES " + std::to_string(nSHeader) + " needs " +
+                     std::to_string(nSHeader) + " or " + std::to_string(nSHeader + 1) + " entries");
+  std::size_t nS = nSHeader;
+  if (nS > 0 && nOff == nS + 1 && element(offsets.data(), offType, nOff - 1) != static_cast<double>(nV)) {
+    // NB_STREAMLINES + 1 entries whose last is not NB_VERTICES: one start per streamline and a header count
+    // one short (dpsv.trx from niivue's demos: 460 starts, 460 dps values, NB_STREAMLINES 459). The data
+    // arrays below must then agree with the offsets.
+    nS = nOff;
+    logWarning(path + ": TRX header NB_STREAMLINES " + std::to_string(nSHeader) + " but the offsets hold " +
+               std::to_string(nOff) + " streamline starts and no end entry; reading " + std::to_string(nOff) +
+               " streamlines");
+  }
+  info.offsetsHaveEnd = nS > 0 && nOff == nS + 1;
+
+  // Offsets: start at 0, never decrease, stay within NB_VERTICES; the end entry, if present, is NB_VERTICES.
+  out.offsets.resize(nS + 1);
+  for (std::size_t i = 0; i < nOff; ++i) {
+    const double o = element(offsets.data(), offType, i);
+    if (o > static_cast<double>(nV) || (i > 0 && o < out.offsets[i - 1]) || (i == 0 && o != 0))
+      throw InputError(path + ": TRX offsets are inconsistent at entry " + std::to_string(i) + " (" +
+                       std::to_string(static_cast<unsigned long long>(o)) + ", NB_VERTICES " +
+                       std::to_string(nV) + ")");
+    out.offsets[i] = static_cast<std::uint32_t>(o);
+  }
+  if (info.offsetsHaveEnd && out.offsets[nS] != nV)
+    throw InputError(path + ": TRX offsets end at " + std::to_string(out.offsets[nS]) + ", not NB_VERTICES " +
+                     std::to_string(nV));
+  out.offsets[nS] = static_cast<std::uint32_t>(nV);
+  if (nS == 0 && nV > 0) throw InputError(path + ": TRX holds vertices but no streamlines");
+
+  // Positions: world RAS mm as stored; float32 is copied once, the others converted.
+  out.points.resize(nV);
+  if (posType.width == 4) {
+    if (nV) std::memcpy(out.points.data(), positions.data(), nV * 12);
+  } else {
+    for (std::size_t i = 0; i < nV; ++i)
+      for (int c = 0; c < 3; ++c)
+        out.points[i][c] =
+            static_cast<float>(element(positions.data(), posType, 3 * i + static_cast<std::size_t>(c)));
+  }
+  for (std::size_t i = 0; i < nV; ++i) {
+    const glm::vec3& p = out.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(path + ": TRX position " + std::to_string(i) + " is not finite");
+  }
+
+  // dps/, dpv/, groups/
+  for (const auto& [name, bytes] : box.arrays) {
+    const bool dps = name.rfind("dps/", 0) == 0, dpv = name.rfind("dpv/", 0) == 0,
+               grp = name.rfind("groups/", 0) == 0;
+    if (!dps && !dpv && !grp) {
+      if (name != "header.json" && name.rfind("positions.", 0) != 0 && name.rfind("offsets.", 0) != 0)
+        info.skipped.push_back(name);
+      continue;
+    }
+    const std::string file = name.substr(name.find('/') + 1);
+    std::string base, dt;
+    int comps = 1;
+    Dtype d{};
+    if (file.find('/') != std::string::npos || !splitArrayName(file, base, comps, dt))
+      throw InputError(path + ": TRX entry '" + name + "' is not named <name>[.<n>].<dtype>");
+    if (!parseDtype(dt, d))
+      throw InputError(path + ": TRX entry '" + name + "' has an unknown dtype '" + dt + "'");
+    const std::size_t items =
+        dps || grp
+            ? (grp ? bytes.size() / static_cast<std::size_t>(d.width) / static_cast<std::size_t>(comps) : nS)
+            : nV;
+    const std::size_t want = items * static_cast<std::size_t>(comps) * static_cast<std::size_t>(d.width);
+    if (bytes.size() != want)
+      throw InputError(path + ": TRX entry '" + name + "' holds " + std::to_string(bytes.size()) +
+                       " bytes, expected " + std::to_string(want) +
+                       (grp   ? ""
+                        : dps ? " (NB_STREAMLINES x components x dtype)"
+                              : " (NB_VERTICES x components x dtype)"));
+    if (grp) {
+      if (d.kind == Kind::Float || comps != 1)
+        throw InputError(path + ": TRX group '" + name + "' must be one integer index per streamline");
+      TractGroup g{base, {}};
+      g.lines.resize(items);
+      for (std::size_t i = 0; i < items; ++i) {
+        const double v = element(bytes.data(), d, i);
+        if (v < 0 || v >= static_cast<double>(nS))
+          throw InputError(path + ": TRX group '" + base + "' names streamline " +
+                           std::to_string(static_cast<long long>(v)) + " of " + std::to_string(nS));
+        g.lines[i] = static_cast<std::uint32_t>(v);
+      }
+      out.groups.push_back(std::move(g));
+      continue;
+    }
+    TractValues v{base, comps, {}};
+    const std::size_t n = items * static_cast<std::size_t>(comps);
+    v.values.resize(n);
+    if (d.kind == Kind::Float && d.width == 4) {
+      if (n) std::memcpy(v.values.data(), bytes.data(), n * 4);
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        v.values[i] = static_cast<float>(element(bytes.data(), d, i));
+    }
+    (dps ? out.perLine : out.perPoint).push_back(std::move(v));
+  }
+  if (!info.skipped.empty()) {
+    std::string s;
+    for (const auto& n : info.skipped)
+      s += (s.empty() ? "'" : ", '") + n + "'";
+    logWarning(path + ": TRX entries not read (data per group and unknown names): " + s);
+  }
+  if (infoOut) *infoOut = std::move(info);
+  return out;
+}
+
+void writeTrx(const std::string& path, const Polylines& lines, const Grid& reference) {
+  if (const std::string bad = lines.inconsistency(); !bad.empty())
+    throw InputError("cannot write " + path + ": inconsistent tracts (" + bad + ")");
+  for (std::size_t i = 0; i < lines.points.size(); ++i) {
+    const glm::vec3& p = lines.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError("cannot write " + path + ": point " + std::to_string(i) + " is not finite");
+  }
+  std::ostringstream h;
+  h.precision(17);
+  h << "{\"VOXEL_TO_RASMM\": [";
+  for (int r = 0; r < 4; ++r) {
+    h << (r ? ", [" : "[");
+    for (int c = 0; c < 4; ++c)
+      h << (c ? ", " : "") << reference.voxelToWorld[c][r];
+    h << "]";
+  }
+  h << "], \"DIMENSIONS\": [" << reference.dims.x << ", " << reference.dims.y << ", " << reference.dims.z
+    << "], \"NB_VERTICES\": " << lines.points.size() << ", \"NB_STREAMLINES\": " << lines.lineCount() << "}";
+  const std::string header = h.str();
+
+  AtomicOutput out(path);
+  {
+    std::ofstream f(out.tempPath(), std::ios::binary | std::ios::trunc);
+    if (!f) throw InputError("cannot write " + path + ": cannot create a temporary file");
+    ZipWriter zip(f, path);
+    zip.add("header.json", header.data(), header.size());
+    zip.add("positions.3.float32", lines.points.data(), lines.points.size() * sizeof(glm::vec3));
+    const std::vector<std::uint32_t> offsets =
+        lines.offsets.empty() ? std::vector<std::uint32_t>{0} : lines.offsets;
+    zip.add("offsets.uint32", offsets.data(), offsets.size() * 4);
+    auto arrays = [&](const std::vector<TractValues>& data, const char* folder) {
+      for (const auto& d : data) {
+        if (!safeEntryName(d.name) || d.name.find('/') != std::string::npos) {
+          logWarning(path + ": data name '" + d.name + "' cannot be a TRX entry name; dropped");
+          continue;
+        }
+        const std::string comps = d.components > 1 ? "." + std::to_string(d.components) : "";
+        zip.add(std::string(folder) + d.name + comps + ".float32", d.values.data(), d.values.size() * 4);
+      }
+    };
+    arrays(lines.perLine, "dps/");
+    arrays(lines.perPoint, "dpv/");
+    for (const auto& g : lines.groups) {
+      if (!safeEntryName(g.name) || g.name.find('/') != std::string::npos) {
+        logWarning(path + ": group name '" + g.name + "' cannot be a TRX entry name; dropped");
+        continue;
+      }
+      zip.add("groups/" + g.name + ".uint32", g.lines.data(), g.lines.size() * 4);
+    }
+    zip.finish();
+  }
+  out.commit();
+}
+
+} // namespace dtf::io

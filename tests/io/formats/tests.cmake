@@ -1,0 +1,4 @@
+# Tests of io/formats/ (dtf_test(...) lines; the label follows from each file's suffix).
+dtf_test(test_io_nifti SOURCES io/formats/io_nifti_test.cpp LIBS dtf_io dtf_nifti)
+dtf_test(test_io_formats SOURCES io/formats/io_formats_test.cpp LIBS dtf_io dtf_model ZLIB::ZLIB)
+dtf_test(test_fibres SOURCES io/formats/fibre_io_test.cpp LIBS dtf_io)

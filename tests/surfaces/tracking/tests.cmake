@@ -1,0 +1,2 @@
+# Tests of surfaces/tracking/ (dtf_test(...) lines; the label follows from each file's suffix).
+dtf_test(test_tract_tracking SOURCES surfaces/tracking/tract_tracking_test.cpp LIBS dtf_surfaces dtf_io dtf_model)
