@@ -8,7 +8,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-# The component libraries that make up libdtfabric. app/scene (the front ends' session) is not part of it.
+# The component libraries that make up libdtfabric. ui/session (the front ends' session) is not part of it.
 set(DTF_PACKAGE_COMPONENTS dtf_model dtf_io dtf_shaders dtf_surfaces dtf_render)
 
 # dtf_public_headers(FILE...): headers of the calling folder (paths relative to it) that belong to the

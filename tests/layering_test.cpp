@@ -16,20 +16,24 @@ const std::map<std::string, std::vector<std::string>> kAllowed = {
     {"shaders", {}},
     {"surfaces", {"io/model"}},
     {"render", {"io/model", "shaders"}},
-    {"app/scene", {"io/model", "io", "shaders", "surfaces", "render"}},
-    {"ui", {"render", "io/model", "app/scene"}},
-    {"app/viewer", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene"}},
-    {"app/cli", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/bench"}},
-    {"app/bench", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene", "app/viewer", "app/cli"}},
-    {"app/python", {"io/model", "io", "shaders", "surfaces", "render", "ui", "app/scene"}},
+    {"ui/session", {"io/model", "io", "shaders", "surfaces", "render"}},
+    {"ui/panels", {"render", "io/model", "ui/session"}},
+    {"app/viewer", {"io/model", "io", "shaders", "surfaces", "render", "ui/panels", "ui/session"}},
+    {"app/cli",
+     {"io/model", "io", "shaders", "surfaces", "render", "ui/panels", "ui/session", "app/viewer",
+      "app/bench"}},
+    {"app/bench",
+     {"io/model", "io", "shaders", "surfaces", "render", "ui/panels", "ui/session", "app/viewer", "app/cli"}},
+    {"app/python", {"io/model", "io", "shaders", "surfaces", "render", "ui/panels", "ui/session"}},
 };
 
 std::string moduleOf(const std::string& rel) {
   if (rel.rfind("io/model/", 0) == 0) return "io/model";
-  if (rel.rfind("app/", 0) == 0) {
-    auto slash = rel.find('/', 4);
-    return slash == std::string::npos ? "app" : rel.substr(0, slash);
-  }
+  for (const std::string top : {"app/", "ui/"})
+    if (rel.rfind(top, 0) == 0) {
+      auto slash = rel.find('/', top.size());
+      return slash == std::string::npos ? top.substr(0, top.size() - 1) : rel.substr(0, slash);
+    }
   auto slash = rel.find('/');
   return slash == std::string::npos ? "" : rel.substr(0, slash);
 }
@@ -79,7 +83,7 @@ TEST(Layering, HeavyLibrariesStayOutOfPublicHeaders) {
   }
 }
 
-// Each source file under app/ belongs to one of its front ends or the scene library.
+// Each source file under app/ belongs to one of its front ends.
 TEST(Layering, AppSourcesLiveInTheirFolders) {
   const fs::path root = dtf::test::sourceDir();
   int seen = 0;
@@ -87,14 +91,15 @@ TEST(Layering, AppSourcesLiveInTheirFolders) {
     auto ext = entry.path().extension().string();
     if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
     const std::string rel = fs::relative(entry.path(), root).string();
-    EXPECT_TRUE(kAllowed.count(moduleOf(rel))) << rel << " is not in app/scene, app/cli, app/viewer or app/bench";
+    EXPECT_TRUE(kAllowed.count(moduleOf(rel)))
+        << rel << " is not in app/cli, app/viewer, app/bench or app/python";
     ++seen;
   }
   EXPECT_GT(seen, 20);
 }
 
-// GLFW appears only in the viewer; the scene needs neither a window, ImGui nor a GL loader; ui/ draws through
-// ImGui only (no epoxy).
+// GLFW appears only in the viewer; the session needs neither a window, ImGui nor a GL loader; the panels draw
+// through ImGui only (no epoxy).
 TEST(Layering, WindowAndGlLoaderStayInTheirModules) {
   const fs::path root = dtf::test::sourceDir();
   const std::regex glfw(R"(#\s*include\s*[<\"]GLFW/)"), imgui(R"(#\s*include\s*[<\"]imgui)"),
@@ -112,8 +117,8 @@ TEST(Layering, WindowAndGlLoaderStayInTheirModules) {
         const bool glfwHere = std::regex_search(line, glfw), imguiHere = std::regex_search(line, imgui),
                    epoxyHere = std::regex_search(line, epoxy);
         EXPECT_FALSE(glfwHere && mod != "app/viewer") << rel << ": " << line;
-        EXPECT_FALSE(imguiHere && mod == "app/scene") << rel << ": " << line;
-        EXPECT_FALSE(epoxyHere && (mod == "app/scene" || mod == "ui")) << rel << ": " << line;
+        EXPECT_FALSE(imguiHere && mod == "ui/session") << rel << ": " << line;
+        EXPECT_FALSE(epoxyHere && (mod == "ui/session" || mod == "ui/panels")) << rel << ": " << line;
       }
       ++scanned;
     }

@@ -2,10 +2,10 @@
 // the four figures, in this process with every core), and the group level's time for a cohort of a few
 // hundred runs (the measured rows replicated), with the report's load time in headless Chromium when it is
 // on the PATH (a peer measurement, never a dependency).
-#include "app/cli/args.h"
 #include "app/bench/bench.h"
+#include "app/cli/args.h"
 #include "app/cli/options.h"
-#include "app/scene/bids_participant.h"
+#include "ui/session/bids_participant.h"
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"
 #include "io/model/error.h"
@@ -68,9 +68,11 @@ const OptionTable& benchBidsOptions() {
         "write the group report of a replicated cohort.";
     t.options = {
         sharedDataOption(),
-        O::integer("runs", "N", 3, closedRange(1, 50), "participants made of the real DWI, processed one after the other"),
+        O::integer("runs", "N", 3, closedRange(1, 50),
+                   "participants made of the real DWI, processed one after the other"),
         O::integer("rows", "N", 300, closedRange(1, 100000), "rows of the replicated cohort for the report"),
-        O::integer("figure-size", "PX", ParticipantOptions{}.figurePx, closedRange(64, 2048), "figure edge (as `dtfabric bids`)"),
+        O::integer("figure-size", "PX", session::ParticipantOptions{}.figurePx, closedRange(64, 2048),
+                   "figure edge (as `dtfabric bids`)"),
         O::flag("json", "one JSON object"),
         O::flag("keep", "keep the scratch dataset and outputs (printed)"),
     };
@@ -111,14 +113,14 @@ void makeCohort(const fs::path& src, const fs::path& bids, int runs) {
 
 // Each run processed in this process, one after the other; the stage times from its metrics document.
 void timeParticipants(const io::BidsDataset& ds, const fs::path& out, BidsFigures& f) {
-  ParticipantOptions opts;
+  session::ParticipantOptions opts;
   opts.figurePx = f.figurePx;
   opts.version = DTF_VERSION;
   opts.fitThreads = f.cores;
   for (const auto& r : ds.runs) {
-    const RunOutcome o = processRun(r, out.string(), opts);
+    const session::RunOutcome o = session::processRun(r, out.string(), opts);
     if (!o.ok) throw InputError("bench bids: " + r.dwi + " failed: " + o.message);
-    const std::string doc = metricsPath(r, out.string());
+    const std::string doc = session::metricsPath(r, out.string());
     const io::FlatJson j = io::FlatJson::parse(io::readTextFile(doc), doc);
     f.total.push_back(o.seconds);
     f.load.push_back(j.number("seconds_load"));
@@ -132,7 +134,7 @@ void timeParticipants(const io::BidsDataset& ds, const fs::path& out, BidsFigure
 void timeGroupReport(const io::BidsDataset& ds, const fs::path& out, BidsFigures& f) {
   std::vector<io::GroupRow> base;
   for (const auto& r : ds.runs)
-    base.push_back(readGroupRow(r, out.string()));
+    base.push_back(session::readGroupRow(r, out.string()));
   std::vector<io::GroupRow> rows;
   for (int n = 0; n < f.rows; ++n) {
     io::GroupRow row = base[static_cast<std::size_t>(n) % base.size()];

@@ -2,10 +2,10 @@
 // MRtrix's dwigradcheck (Debian mrtrix3; a peer run in the same invocation when on the PATH, never a
 // dependency) on the same DWI, table and mask. dwigradcheck tracks streamlines for every candidate table;
 // we fit once and turn the tensors. Reports both times, the speed-up and whether both chose the same table.
-#include "app/cli/args.h"
 #include "app/bench/bench.h"
+#include "app/cli/args.h"
 #include "app/cli/options.h"
-#include "app/scene/check_run.h"
+#include "ui/session/check_run.h"
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
 
@@ -84,17 +84,17 @@ int benchCheck(const CommandArgs& argv) {
         "the real data (iu_prisma_dwi/dwi.nii.gz) was not found; give --data DIR or set DTF_SHARED_DATA");
   const auto dir = *data / "iu_prisma_dwi";
 
-  CheckRequest req;
+  session::CheckRequest req;
   req.input = (dir / "dwi.nii.gz").string();
   req.bval = (dir / "dwi.bval").string();
   req.bvec = (dir / "dwi.bvec").string();
   req.mask = (dir / "derived" / "mask.nii.gz").string();
   using Clock = std::chrono::steady_clock;
   std::vector<double> total, load, fit, score;
-  CheckRun run;
+  session::CheckRun run;
   for (int i = 0; i < repeat; ++i) {
     const auto t0 = Clock::now();
-    run = runCheck(req);
+    run = session::runCheck(req);
     total.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
     load.push_back(run.loadSeconds);
     fit.push_back(run.fitSeconds);

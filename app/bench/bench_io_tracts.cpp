@@ -2,9 +2,9 @@
 // nibabel's load of the same file in the same run, and a TRX zip of 1 M streamlines (12 points each,
 // float32 positions stored uncompressed, one per-streamline and one per-point array) written here.
 #include "app/bench/bench.h"
-#include "app/scene/tract_files.h"
 #include "io/model/error.h"
 #include "io/formats/trx.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <chrono>
@@ -72,8 +72,9 @@ std::vector<TractLoadFigure> benchTractLoads(const std::optional<fs::path>& data
   TractLoadFigure nib{"trk_gz_load_nibabel_s", "  nibabel 5 load, same file", "(reference)", -1, -1, -1};
   if (dataDir && fs::exists(stroke)) {
     std::size_t lines = 0;
-    readTracts(stroke.string()); // warm the page cache
-    std::tie(trk.wall, trk.cpu) = timeRuns(5, [&] { lines = readTracts(stroke.string()).lineCount(); });
+    session::readTracts(stroke.string()); // warm the page cache
+    std::tie(trk.wall, trk.cpu) =
+        timeRuns(5, [&] { lines = session::readTracts(stroke.string()).lineCount(); });
     if (lines != 36763)
       notes.push_back("stroke.trk.gz held " + std::to_string(lines) + " streamlines, not 36763");
     std::tie(nib.wall, nib.cpu) = nibabelLoadSeconds(stroke, 5);

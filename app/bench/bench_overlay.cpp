@@ -10,10 +10,8 @@
 //              1M-point tractogram against a sphere of 36k triangles: one exact query per point on one thread
 //              (the former method) against the bounded, prefiltered, threaded selection.
 #include "app/bench/bench.h"
-#include "app/cli/options.h"
 #include "app/cli/args.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tract_files.h"
+#include "app/cli/options.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "render/fabric_renderer.h"
@@ -22,6 +20,8 @@
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "surfaces/analyses/near_surface.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <chrono>
@@ -256,16 +256,17 @@ int benchOverlay(const CommandArgs& argv) {
     if (std::filesystem::exists(tensor) && std::filesystem::exists(tck)) {
       const TensorField field = io::readTensorVolume(tensor.string()).field;
       const ScalarVolume fa = computeFaMap(field);
-      const Mesh slice = buildSurface(parseSurfaceSpec("slice=axial:22"), field, fa);
-      const Polylines all = readTracts(tck.string());
+      const Mesh slice = session::buildSurface(session::parseSurfaceSpec("slice=axial:22"), field, fa);
+      const Polylines all = session::readTracts(tck.string());
       Scene scene{&slice, &field, &all, {}, render::StandardView::Axial};
       tr.setTracts(all);
       draws.push_back(timeDraw("brain_slice22_2000_all", fabric, scene, tr, width, height, frames));
       scene.style.plane = surfaces::meshPlane(slice).value_or(glm::vec4(0, 0, 1, -slice.positions.front().z));
       scene.style.slabMm = 3.0f;
       draws.push_back(timeDraw("brain_slice22_2000_slab3", fabric, scene, tr, width, height, frames));
-      selections.push_back(timeSelection("brain_2000_vs_fa025", all,
-                                         buildSurface(parseSurfaceSpec("fa=0.25"), field, fa), reference));
+      selections.push_back(
+          timeSelection("brain_2000_vs_fa025", all,
+                        session::buildSurface(session::parseSurfaceSpec("fa=0.25"), field, fa), reference));
     }
   }
   Scene scene{&plane, &planeField, &synthetic, {}, render::StandardView::Superior};

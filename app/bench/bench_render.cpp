@@ -8,13 +8,13 @@
 #include "app/bench/bench.h"
 #include "app/cli/args.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "render/embedding.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
+#include "ui/session/surface_spec.h"
 
 #include <algorithm>
 #include <chrono>
@@ -114,7 +114,7 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   c.name = "brain_fa025";
   c.field = io::readTensorVolume(path.string()).field;
   ScalarVolume fa = computeFaMap(c.field);
-  c.mesh = buildSurface(parseSurfaceSpec("fa=0.25"), c.field, fa);
+  c.mesh = session::buildSurface(session::parseSurfaceSpec("fa=0.25"), c.field, fa);
   return c;
 }
 

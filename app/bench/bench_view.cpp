@@ -102,7 +102,7 @@ public:
 
   double load(const std::string& input) {
     const auto t0 = Clock::now();
-    scene_.apply(ui::LoadFile{input, "auto"});
+    scene_.apply(session::LoadFile{input, "auto"});
     waitSettled(scene_, 300);
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   }
@@ -136,7 +136,7 @@ public:
     const auto t0 = Clock::now();
     for (int i = 0; i < frames_; ++i) {
       const double phase = static_cast<double>(i % 120) / 120.0;
-      scene_.apply(ui::SetFaThreshold{0.15 + 0.30 * (phase < 0.5 ? 2 * phase : 2 - 2 * phase)});
+      scene_.apply(session::SetFaThreshold{0.15 + 0.30 * (phase < 0.5 ? 2 * phase : 2 - 2 * phase)});
       f.sweepMs.push_back(frame());
     }
     f.sweepSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -148,7 +148,7 @@ public:
   std::vector<double> rotate() {
     std::vector<double> ms;
     for (int i = 0; i < frames_; ++i) {
-      scene_.apply(ui::Rotate{6.0, 2.0});
+      scene_.apply(session::Rotate{6.0, 2.0});
       ms.push_back(frame());
     }
     return ms;
@@ -180,7 +180,7 @@ public:
   void tracts(const std::string& path, ViewFigures& f) {
     scene_.setInteractiveScale(0.5); // as in the first rotation
     const auto t0 = Clock::now();
-    scene_.apply(ui::LoadTracts{path});
+    scene_.apply(session::LoadTracts{path});
     waitSettled(scene_, 300);
     f.tractsReadyMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     f.tractPoints = scene_.state().tractPoints;

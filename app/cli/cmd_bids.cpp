@@ -10,7 +10,7 @@
 // worker dies with its parent (PR_SET_PDEATHSIG): a killed run leaves no workers behind.
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/bids_participant.h"
+#include "ui/session/bids_participant.h"
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"
 #include "io/model/error.h"
@@ -64,7 +64,7 @@ struct Progress {
   std::size_t total = 0, done = 0, failed = 0, skipped = 0;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
 
-  void report(const io::BidsRun& r, const RunOutcome& o) {
+  void report(const io::BidsRun& r, const session::RunOutcome& o) {
     ++done;
     failed += !o.ok;
     skipped += o.skipped;
@@ -80,11 +80,11 @@ struct Progress {
   }
 };
 
-RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::string& out, double seconds) {
-  RunOutcome o;
+session::RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::string& out, double seconds) {
+  session::RunOutcome o;
   o.seconds = seconds;
   try {
-    const std::string path = metricsPath(run, out);
+    const std::string path = session::metricsPath(run, out);
     const io::FlatJson doc = io::FlatJson::parse(io::readTextFile(path), path);
     o.ok = doc.get("status") == "ok";
     o.verdict = doc.get("check_verdict");
@@ -101,7 +101,7 @@ RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::string& out, d
 class WorkerPool {
 public:
   WorkerPool(const std::vector<io::BidsRun>& runs, const std::string& bids, const std::string& out,
-             const ParticipantOptions& opts, Progress& progress)
+             const session::ParticipantOptions& opts, Progress& progress)
       : runs_(runs), bids_(bids), out_(out), opts_(opts), progress_(progress),
         exe_(fs::read_symlink("/proc/self/exe").string()) {}
   ~WorkerPool() {
@@ -200,7 +200,7 @@ private:
     w.run = static_cast<long>(next_++);
     w.start = std::chrono::steady_clock::now();
     std::error_code ec;
-    w.docTime = fs::last_write_time(metricsPath(r, out_), ec);
+    w.docTime = fs::last_write_time(session::metricsPath(r, out_), ec);
     if (ec) w.docTime = fs::file_time_type::min();
     std::fprintf(stderr, "  running %s (worker %d)\n", runLabel(r).c_str(), static_cast<int>(w.pid));
   }
@@ -224,10 +224,10 @@ private:
 
   void runDone(const Worker& w) {
     const io::BidsRun& r = runs_[static_cast<std::size_t>(w.run)];
-    RunOutcome o = outcomeFromDocument(r, out_, secondsSince(w.start));
+    session::RunOutcome o = outcomeFromDocument(r, out_, secondsSince(w.start));
     std::error_code ec;
     o.skipped = o.ok && w.docTime != fs::file_time_type::min() &&
-                fs::last_write_time(metricsPath(r, out_), ec) == w.docTime;
+                fs::last_write_time(session::metricsPath(r, out_), ec) == w.docTime;
     progress_.report(r, o);
   }
 
@@ -237,7 +237,7 @@ private:
     int status = 0;
     ::waitpid(w.pid, &status, 0);
     const io::BidsRun& r = runs_[static_cast<std::size_t>(w.run)];
-    RunOutcome o;
+    session::RunOutcome o;
     o.seconds = secondsSince(w.start);
     o.message = "the worker processing " + r.dwi + " ended " +
                 (WIFSIGNALED(status) ? "by signal " + std::to_string(WTERMSIG(status))
@@ -257,7 +257,7 @@ private:
   const std::vector<io::BidsRun>& runs_;
   const std::string& bids_;
   const std::string& out_;
-  const ParticipantOptions& opts_;
+  const session::ParticipantOptions& opts_;
   Progress& progress_;
   const std::string exe_;
   std::vector<Worker> workers_;
@@ -265,7 +265,7 @@ private:
 };
 
 int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bids, const std::string& out,
-                    const ParticipantOptions& opts, int jobs) {
+                    const session::ParticipantOptions& opts, int jobs) {
   Progress progress;
   progress.total = runs.size();
   std::fprintf(stderr, "dtfabric bids: %zu run%s, %d job%s, %d thread%s each\n", runs.size(),
@@ -274,7 +274,7 @@ int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bid
   if (jobs <= 1 || runs.size() <= 1) {
     for (const auto& r : runs) {
       std::fprintf(stderr, "  running %s\n", runLabel(r).c_str());
-      progress.report(r, processRun(r, out, opts));
+      progress.report(r, session::processRun(r, out, opts));
     }
   } else {
     WorkerPool(runs, bids, out, opts, progress).run(std::min(runs.size(), static_cast<std::size_t>(jobs)));
@@ -288,7 +288,7 @@ int runParticipants(const std::vector<io::BidsRun>& runs, const std::string& bid
 int runGroup(const io::BidsDataset& ds, const std::vector<io::BidsRun>& runs, const std::string& out) {
   std::vector<io::GroupRow> rows;
   for (const auto& r : runs)
-    rows.push_back(readGroupRow(r, out));
+    rows.push_back(session::readGroupRow(r, out));
   io::flagOutliers(rows);
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -339,16 +339,18 @@ const OptionTable& bidsOptions() {
         "             sortable table, a mosaic of every run's figures, flags for failed runs, corrected or\n"
         "             inconclusive tables and outlying metrics, click-through to each run's figures).";
     t.options = {
-        O::list("participant-label", "L", "only these participants (\"01\" or \"sub-01\"); unknown labels are an error"),
+        O::list("participant-label", "L",
+                "only these participants (\"01\" or \"sub-01\"); unknown labels are an error"),
         O::list("session-label", "S", "only these sessions"),
-        O::integer("jobs", "N", 1, closedRange(1, 256),
-                   "runs in parallel (child processes). Threads per job: max(1, cores / N) for the fit and the "
-                   "renderer")
+        O::integer(
+            "jobs", "N", 1, closedRange(1, 256),
+            "runs in parallel (child processes). Threads per job: max(1, cores / N) for the fit and the "
+            "renderer")
             .defaultSays("the number of cores"),
         O::integer("threads", "N", 1, closedRange(1, 1024),
                    "threads of each job for the fit and the renderer (LP_NUM_THREADS of workers)")
             .defaultSays("max(1, cores / N of --jobs)"),
-        O::integer("figure-size", "PX", ParticipantOptions{}.figurePx, closedRange(64, 2048),
+        O::integer("figure-size", "PX", session::ParticipantOptions{}.figurePx, closedRange(64, 2048),
                    "edge of each figure (the contact sheet's panels are half)"),
         O::flag("web", "participant level: also each run's web page (`dtfabric web`: every slice, in any "
                        "browser), …_desc-fabricWeb_dwi/index.html; the group report links it"),
@@ -377,7 +379,7 @@ int cmdBids(const CommandArgs& argv) {
     throw UsageError("the analysis level must be participant or group, got '" + level + "'");
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const int jobs = args.given("jobs") ? args.integer("jobs") : cores;
-  ParticipantOptions opts;
+  session::ParticipantOptions opts;
   opts.figurePx = args.integer("figure-size");
   opts.force = args.flag("force");
   const bool web = args.flag("web");
@@ -404,7 +406,7 @@ int cmdBids(const CommandArgs& argv) {
   if (worker) {
     for (std::string label; std::getline(std::cin, label);) {
       for (const auto& r : runs)
-        if (runLabel(r) == label) processRun(r, out, opts);
+        if (runLabel(r) == label) session::processRun(r, out, opts);
       std::cout << "done" << std::endl;
     }
     return 0;

@@ -2,8 +2,8 @@
 // surfaces/analyses/orientation_check.h and app/check_run.h).
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/check_run.h"
-#include "app/scene/fibre_input.h"
+#include "ui/session/check_run.h"
+#include "ui/session/fibre_input.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
@@ -38,7 +38,7 @@ std::string jsonString(const std::string& s) {
   return o + "\"";
 }
 
-void printJson(const CheckRun& run, const std::string& input) {
+void printJson(const session::CheckRun& run, const std::string& input) {
   const surfaces::OrientationReport& r = run.report;
   std::printf("{\"input\": %s, \"kind\": \"%s\", \"frame\": \"%s\", \"verdict\": \"%s\", \"reason\": %s,\n",
               jsonString(input).c_str(),
@@ -70,7 +70,7 @@ void printJson(const CheckRun& run, const std::string& input) {
   std::printf("]}\n");
 }
 
-void printText(const CheckRun& run, const std::string& input) {
+void printText(const session::CheckRun& run, const std::string& input) {
   const surfaces::OrientationReport& r = run.report;
   const Grid& g = run.field.grid;
   if (run.dwi)
@@ -180,14 +180,14 @@ const OptionTable& checkOptions() {
 int cmdCheck(const CommandArgs& argv) {
   ParsedOptions args(checkOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
-  CheckRequest req;
+  session::CheckRequest req;
   req.input = args.positional(0, "INPUT (see --help)");
   req.bval = args.text("bval");
   req.bvec = args.text("bvec");
   req.mask = args.text("mask");
   const std::string layoutText = args.text("layout");
   req.tensor = args.text("tensor");
-  req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layoutText, true);
+  req.fibres = req.bval.empty() && req.bvec.empty() && session::isFibreInput(req.input, layoutText, true);
   if (req.fibres)
     req.fibreLayout = layoutText;
   else
@@ -214,7 +214,7 @@ int cmdCheck(const CommandArgs& argv) {
   if (req.fibres && !sheet.empty())
     throw UsageError("--sheet is drawn for DWIs and tensor files only; " + req.input +
                      " is a fibre set (use `dtfabric render` with it to look at the fibres)");
-  CheckRun run = runCheck(req);
+  session::CheckRun run = session::runCheck(req);
   if (!fix.empty()) {
     // Checked again now that the sibling tables are known.
     io::refuseOverwritingInput(fix, {req.input, run.bvalPath, run.bvecPath, req.mask});
@@ -235,12 +235,12 @@ int cmdCheck(const CommandArgs& argv) {
     const surfaces::AxisTransform m = run.report.verdict == surfaces::Verdict::Inconclusive
                                           ? run.report.candidates[run.report.best].transform
                                           : run.report.correction;
-    writeCorrectedBvec(fix, run.bvecs, m);
+    session::writeCorrectedBvec(fix, run.bvecs, m);
     std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(),
                  run.bvecPath.c_str());
   }
   if (!sheet.empty()) {
-    const Image img = renderContactSheet(run, sheetRows(run.report), panelPx);
+    const Image img = session::renderContactSheet(run, session::sheetRows(run.report), panelPx);
     io::writePng(sheet, img);
     std::fprintf(stderr, "wrote %s (%dx%d)\n", sheet.c_str(), img.width, img.height);
   }

@@ -1,12 +1,12 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/fibre_input.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
-#include "app/scene/tract_files.h"
 #include "io/model/error.h"
 #include "surfaces/analyses/agreement.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -22,21 +22,23 @@ struct Measured {
   bool fibres = false; // against a fibre set's nearest population
 };
 
-Mesh surfaceOf(const SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa, const std::string& input) {
+Mesh surfaceOf(const session::SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa,
+               const std::string& input) {
   try {
-    return buildSurface(spec, field, fa);
+    return session::buildSurface(spec, field, fa);
   } catch (const Error&) {
-    rethrowWithContext("while building the " + describeSurface(spec) + " of " + input);
+    rethrowWithContext("while building the " + session::describeSurface(spec) + " of " + input);
   }
   return {};
 }
 
-Measured measureAgainstTensors(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
-                               TensorInputOptions in, const SurfaceSpec& spec, const Polylines& tracts,
+Measured measureAgainstTensors(const std::string& input, const std::string& layoutText,
+                               const std::string& tensorPath, session::TensorInputOptions in,
+                               const session::SurfaceSpec& spec, const Polylines& tracts,
                                const surfaces::AgreementOptions& ao) {
   if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + input + " is not one");
   in.layout = io::parseLayout(layoutText);
-  const io::LoadedTensors loaded = loadTensorInput(input, in);
+  const io::LoadedTensors loaded = session::loadTensorInput(input, in);
   Measured m;
   m.mesh = surfaceOf(spec, loaded.field, computeFaMap(loaded.field), input);
   m.result = surfaces::tractSurfaceAgreement(tracts, m.mesh, loaded.field, ao);
@@ -44,11 +46,11 @@ Measured measureAgainstTensors(const std::string& input, const std::string& layo
 }
 
 // The surface from the paired tensor (or the fibre set's carrier and own FA), the angles against the fibres.
-Measured measureAgainstFibres(const std::string& input, const std::string& layoutText, const std::string& tensorPath,
-                              const SurfaceSpec& spec, const Polylines& tracts, const surfaces::AgreementOptions& ao,
-                              bool quiet) {
-  const FibreInput fi = loadFibreInput(input, layoutText, tensorPath, quiet);
-  checkFibreSurface(spec, fi);
+Measured measureAgainstFibres(const std::string& input, const std::string& layoutText,
+                              const std::string& tensorPath, const session::SurfaceSpec& spec,
+                              const Polylines& tracts, const surfaces::AgreementOptions& ao, bool quiet) {
+  const session::FibreInput fi = session::loadFibreInput(input, layoutText, tensorPath, quiet);
+  session::checkFibreSurface(spec, fi);
   const ScalarVolume fa = fi.fa.data.empty() ? ScalarVolume(fi.carrier.grid, 1) : fi.fa;
   Measured m;
   m.fibres = true;
@@ -121,16 +123,16 @@ int cmdCompare(const CommandArgs& argv) {
   ao.fibreThreshold = static_cast<float>(args.number("fibre-threshold"));
   const std::string layoutText = args.text("layout");
   const std::string tensorPath = args.text("tensor");
-  TensorInputOptions in;
+  session::TensorInputOptions in;
   in.bval = args.text("bval");
   in.bvec = args.text("bvec");
   const bool json = args.flag("json");
   args.finish();
-  const SurfaceSpec spec = parseSurfaceSpec(surfaceText);
+  const session::SurfaceSpec spec = session::parseSurfaceSpec(surfaceText);
   in.quiet = json;
 
-  const Polylines tracts = readTracts(tractsPath);
-  const Measured m = in.bval.empty() && in.bvec.empty() && isFibreInput(input, layoutText, json)
+  const Polylines tracts = session::readTracts(tractsPath);
+  const Measured m = in.bval.empty() && in.bvec.empty() && session::isFibreInput(input, layoutText, json)
                          ? measureAgainstFibres(input, layoutText, tensorPath, spec, tracts, ao, json)
                          : measureAgainstTensors(input, layoutText, tensorPath, in, spec, tracts, ao);
   const surfaces::AgreementResult& r = m.result;
@@ -146,12 +148,13 @@ int cmdCompare(const CommandArgs& argv) {
         "], \"bin_deg\": %g, \"near_points\": %zu, \"skipped_tangent\": %zu, \"skipped_degenerate\": %zu, "
         "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\", \"against\": \"%s\"}\n",
         r.binDeg, r.nearPoints, r.skippedTangent, r.skippedDegenerate, tracts.lineCount(), ao.nearMm,
-        describeSurface(spec).c_str(), m.fibres ? "nearest fibre population" : "tensor principal direction");
+        session::describeSurface(spec).c_str(),
+        m.fibres ? "nearest fibre population" : "tensor principal direction");
     return 0;
   }
   std::printf("tracts: %s (%zu streamlines, %zu points)\n", tractsPath.c_str(), tracts.lineCount(),
               tracts.points.size());
-  std::printf("surface: %s (%zu triangles)\n", describeSurface(spec).c_str(), mesh.triangleCount());
+  std::printf("surface: %s (%zu triangles)\n", session::describeSurface(spec).c_str(), mesh.triangleCount());
   std::printf(
       "points within %g mm: %zu; compared %zu (skipped: %zu steep crossings, %zu without an in-surface "
       "direction)\n",

@@ -4,7 +4,7 @@
 // --reference (a NIfTI image, or a .trk/.trx whose header is used).
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/tract_files.h"
+#include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
@@ -38,9 +38,9 @@ const OptionTable& convertOptions() {
 }
 
 Grid referenceGridOf(const std::string& path) {
-  if (isTractFileName(path)) {
-    TractFileFacts facts;
-    readTracts(path, &facts);
+  if (session::isTractFileName(path)) {
+    session::TractFileFacts facts;
+    session::readTracts(path, &facts);
     if (!facts.grid)
       throw InputError(path + ": this tract file records no reference space (use a NIfTI image)");
     return *facts.grid;
@@ -56,17 +56,17 @@ int cmdConvert(const CommandArgs& argv) {
   const auto reference = args.get("reference");
   const bool force = args.flag("force");
   args.finish();
-  if (!isTractFileName(out))
+  if (!session::isTractFileName(out))
     throw UsageError("OUT '" + out + "' has no tract file extension (.tck, .trk, .trk.gz, .trx, .vtk, .vtp)");
   io::refuseOverwritingInput(out, {in, reference.value_or("")});
   std::error_code ec;
   if (!force && std::filesystem::exists(out, ec))
     throw InputError(out + " exists (use --force to overwrite)");
 
-  TractFileFacts facts;
-  const Polylines lines = readTracts(in, &facts);
+  session::TractFileFacts facts;
+  const Polylines lines = session::readTracts(in, &facts);
   std::optional<Grid> grid = reference ? std::optional<Grid>(referenceGridOf(*reference)) : facts.grid;
-  writeTracts(out, lines, grid ? &*grid : nullptr);
+  session::writeTracts(out, lines, grid ? &*grid : nullptr);
   std::printf(
       "%s: %zu streamlines, %zu points, %zu per-streamline and %zu per-point arrays, %zu groups -> %s\n",
       in.c_str(), lines.lineCount(), lines.points.size(), lines.perLine.size(), lines.perPoint.size(),

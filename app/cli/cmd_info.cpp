@@ -4,11 +4,11 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/tract_files.h"
-#include "app/scene/fibre_input.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/formats/tensor_io.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <charconv>
@@ -460,7 +460,7 @@ const OptionTable& infoOptions() {
 
 int cmdInfo(const CommandArgs& argv) {
   for (const auto& a : argv)
-    if (!a.empty() && a[0] != '-' && isTractFileName(a)) return cmdTractInfo(argv);
+    if (!a.empty() && a[0] != '-' && session::isTractFileName(a)) return cmdTractInfo(argv);
   ParsedOptions args(infoOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
   const std::string path = args.positional(0, "FILE (see --help)");
@@ -471,8 +471,8 @@ int cmdInfo(const CommandArgs& argv) {
   int ijk[3] = {0, 0, 0};
   if (voxelText) parseTriple(*voxelText, ijk);
   args.finish();
-  if (isFibreInput(path, layoutText, true))
-    return describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);
+  if (session::isFibreInput(path, layoutText, true))
+    return session::describeFibreInput(path, layoutText, tensorPath, voxelText ? ijk : nullptr, json);
   if (!tensorPath.empty()) throw UsageError("--tensor pairs a tensor with a fibre set; " + path + " is not one");
   io::TensorLayout layout = io::parseLayout(layoutText);
 

@@ -2,10 +2,10 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/render_job.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
-#include "app/scene/tract_colouring.h"
+#include "ui/session/render_job.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/tract_colouring.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
@@ -55,7 +55,7 @@ CliOption::Range aboveUpTo(double lo, double hi) {
   return r;
 }
 
-std::vector<CliOption> outputSurfaceAndViewRows(const RenderRequest& d) {
+std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d) {
   using O = CliOption;
   return {
       O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
@@ -88,7 +88,7 @@ std::vector<CliOption> outputSurfaceAndViewRows(const RenderRequest& d) {
   };
 }
 
-std::vector<CliOption> backgroundAndTractRows(const RenderRequest& d) {
+std::vector<CliOption> backgroundAndTractRows(const session::RenderRequest& d) {
   using O = CliOption;
   return {
       O::text("background", "B", "fa | md | FILE (any scalar NIfTI on any grid, e.g. a T1 in world RAS)")
@@ -134,7 +134,7 @@ std::vector<CliOption> backgroundAndTractRows(const RenderRequest& d) {
   };
 }
 
-std::vector<CliOption> inputRows(const RenderRequest& d) {
+std::vector<CliOption> inputRows(const session::RenderRequest& d) {
   using O = CliOption;
   return {
       O::text("layout", "L",
@@ -160,7 +160,7 @@ std::vector<CliOption> inputRows(const RenderRequest& d) {
 
 const OptionTable& renderOptions() {
   static const OptionTable table = [] {
-    const RenderRequest d; // the defaults
+    const session::RenderRequest d; // the defaults
     OptionTable t;
     t.command = "render";
     t.positionals = "INPUT";
@@ -177,20 +177,20 @@ const OptionTable& renderOptions() {
 
 namespace {
 
-void readSurfaceAndView(ParsedOptions& args, RenderRequest& r) {
+void readSurfaceAndView(ParsedOptions& args, session::RenderRequest& r) {
   parseSize(args.text("size"), r.width, r.height);
   if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
     throw UsageError("--size must be between 16x16 and 8192x8192");
-  r.surface = parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
+  r.surface = session::parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
   r.neurological = args.flag("neurological");
   const auto view = args.get("view");
-  r.view = view ? render::parseView(*view) : defaultView(r.surface);
+  r.view = view ? render::parseView(*view) : session::defaultView(r.surface);
   r.perspective = args.flag("perspective");
 }
 
 // The fabric options: --NAME VALUE, and --no-NAME for the on/off ones. A fibre set's default colour mode is
 // fibres, so whether --color was given is kept.
-void readFabricOptions(ParsedOptions& args, RenderRequest& r) {
+void readFabricOptions(ParsedOptions& args, session::RenderRequest& r) {
   for (const auto& o : render::fabricOptions()) {
     if (o.kind == render::FabricOption::Kind::OnOff) {
       if (args.flag(std::string("no-") + o.name)) o.set(r.params, 0);
@@ -210,7 +210,7 @@ void readFabricOptions(ParsedOptions& args, RenderRequest& r) {
   }
 }
 
-void readInputOptions(ParsedOptions& args, RenderRequest& r) {
+void readInputOptions(ParsedOptions& args, session::RenderRequest& r) {
   r.layout = args.text("layout");
   r.tensor = args.text("tensor");
   if (!io::isFibreLayoutName(r.layout)) r.tensorOptions.layout = io::parseLayout(r.layout);
@@ -219,11 +219,11 @@ void readInputOptions(ParsedOptions& args, RenderRequest& r) {
   r.tensorOptions.mask = args.text("mask");
 }
 
-void readTractOptions(ParsedOptions& args, RenderRequest& r) {
+void readTractOptions(ParsedOptions& args, session::RenderRequest& r) {
   r.tracts = args.text("tracts");
-  TractColouring& colouring = r.colouring;
+  session::TractColouring& colouring = r.colouring;
   colouring.value = args.text("tracts-color");
-  if (auto range = args.get("tracts-range")) colouring.range = parseTractRange(*range);
+  if (auto range = args.get("tracts-range")) colouring.range = session::parseTractRange(*range);
   if (auto g = args.get("tracts-group")) {
     std::stringstream ss(*g);
     for (std::string name; std::getline(ss, name, ',');)
@@ -238,24 +238,24 @@ void readTractOptions(ParsedOptions& args, RenderRequest& r) {
   r.backgroundWindow = args.text("background-window");
   r.tractWidth = args.number("tract-width");
   const auto split = args.get("split");
-  r.split = split ? parseSplitMode(*split) : SplitMode{};
-  if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
+  r.split = split ? session::parseSplitMode(*split) : session::SplitMode{};
+  if (r.split.kind == session::SplitMode::Kind::Tracts && r.tracts.empty())
     throw UsageError("--split tracts needs --tracts FILE");
 }
 
 // Refuses to write over an input, or over an existing file without --force.
-void checkOutput(const RenderRequest& r, bool force) {
+void checkOutput(const session::RenderRequest& r, bool force) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(r.output) && fs::equivalent(r.output, r.input, ec))
     throw UsageError("output " + r.output + " is the input: refusing to overwrite it");
-  const TensorInputOptions& in = r.tensorOptions;
+  const session::TensorInputOptions& in = r.tensorOptions;
   io::refuseOverwritingInput(
       r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor});
   if (!force && fs::exists(r.output)) throw InputError(r.output + " exists (use --force to overwrite it)");
 }
 
-void logRendered(const RenderRequest& r, const RenderResult& result, double seconds) {
+void logRendered(const session::RenderRequest& r, const session::RenderResult& result, double seconds) {
   logInfo("rendered " + result.surface + " (" + std::to_string(result.triangles) + " triangles), view " +
           render::viewName(*r.view) + (r.neurological ? " (neurological)" : "") + ", " +
           std::to_string(result.iterations) + " advection iterations, " + std::to_string(r.width) + "x" +
@@ -268,7 +268,7 @@ void logRendered(const RenderRequest& r, const RenderResult& result, double seco
 int cmdRender(const CommandArgs& argv) {
   ParsedOptions args(renderOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
-  RenderRequest request;
+  session::RenderRequest request;
   request.input = args.positional(0, "INPUT");
   request.output = args.required("output");
   readSurfaceAndView(args, request);
@@ -280,7 +280,7 @@ int cmdRender(const CommandArgs& argv) {
   checkOutput(request, force);
 
   const auto t0 = std::chrono::steady_clock::now();
-  const RenderResult result = runRender(request);
+  const session::RenderResult result = session::runRender(request);
   io::writePng(request.output, result.image);
   logRendered(request, result, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;

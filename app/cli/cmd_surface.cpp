@@ -1,7 +1,7 @@
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"
@@ -19,7 +19,8 @@ namespace dtf::app {
 namespace {
 // The quality figure of the axis-aligned plane through a fibre surface's seed line (`from` names its axis;
 // empty: the axis plane that best contains the line), and the plane's name.
-double flatSliceScore(const SurfaceSpec& spec, const TensorField& field, const std::string& from, std::string& name) {
+double flatSliceScore(const session::SurfaceSpec& spec, const TensorField& field, const std::string& from,
+                      std::string& name) {
   const glm::dvec3 a = spec.voxelCoords ? field.grid.toWorld(spec.a) : spec.a;
   const glm::dvec3 b = spec.voxelCoords ? field.grid.toWorld(spec.b) : spec.b;
   const glm::dvec3 dir = glm::normalize(b - a);
@@ -54,7 +55,7 @@ double meshArea(const Mesh& m) {
 const OptionTable& surfaceOptions() {
   using O = CliOption;
   static const OptionTable table = [] {
-    const SurfaceBuildOptions bo;
+    const session::SurfaceBuildOptions bo;
     OptionTable t;
     t.command = "surface";
     t.positionals = "INPUT";
@@ -114,12 +115,12 @@ int cmdSurface(const CommandArgs& argv) {
   const std::string output = args.required("output");
   const std::optional<std::string> given = surfaceArgument(args);
   if (!given) throw UsageError("give exactly one surface (--surface, --fa, --slice or --fibre-surface)");
-  SurfaceSpec spec = parseSurfaceSpec(*given);
-  TensorInputOptions in;
+  session::SurfaceSpec spec = session::parseSurfaceSpec(*given);
+  session::TensorInputOptions in;
   in.layout = io::parseLayout(args.text("layout"));
   in.bval = args.text("bval");
   in.bvec = args.text("bvec");
-  SurfaceBuildOptions bo;
+  session::SurfaceBuildOptions bo;
   bo.smoothSigmaVoxels = args.number("smooth");
   bo.minComponentFraction = args.number("min-component");
   bo.fibreStepMm = args.number("step");
@@ -128,7 +129,7 @@ int cmdSurface(const CommandArgs& argv) {
   bo.fibreSeedSpacingMm = args.number("seed-spacing");
   const std::string from = args.text("from");
   const bool json = args.flag("json"), force = args.flag("force"), repair = args.flag("repair");
-  const bool check = args.flag("check") || repair || spec.kind == SurfaceSpec::Kind::Fibre;
+  const bool check = args.flag("check") || repair || spec.kind == session::SurfaceSpec::Kind::Fibre;
   const double remesh = args.number("remesh");
   args.finish();
 
@@ -137,15 +138,15 @@ int cmdSurface(const CommandArgs& argv) {
     throw InputError(output + " exists (use --force to overwrite)");
 
   in.quiet = json;
-  io::LoadedTensors loaded = loadTensorInput(input, in);
+  io::LoadedTensors loaded = session::loadTensorInput(input, in);
   const TensorField& field = loaded.field;
   ScalarVolume fa = computeFaMap(field);
   auto t0 = std::chrono::steady_clock::now();
   Mesh mesh;
   try {
-    mesh = buildSurface(spec, field, fa, bo);
+    mesh = session::buildSurface(spec, field, fa, bo);
   } catch (const Error&) {
-    rethrowWithContext("while building the " + describeSurface(spec) + " of " + input);
+    rethrowWithContext("while building the " + session::describeSurface(spec) + " of " + input);
   }
   double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (remesh > 0) mesh = surfaces::remeshIsotropic(mesh, remesh);
@@ -160,20 +161,21 @@ int cmdSurface(const CommandArgs& argv) {
 
   // Fibre surfaces are compared with the flat slice through their seed line.
   std::string flatName;
-  const double flatScore = spec.kind == SurfaceSpec::Kind::Fibre ? flatSliceScore(spec, field, from, flatName) : -1;
+  const double flatScore =
+      spec.kind == session::SurfaceSpec::Kind::Fibre ? flatSliceScore(spec, field, from, flatName) : -1;
 
   surfaces::writeMesh(output, mesh);
 
   if (json) {
     std::printf("{\"surface\": \"%s\", \"triangles\": %zu, \"vertices\": %zu, \"area_mm2\": %.3f, "
                 "\"build_ms\": %.2f, \"e1_dot_n\": %.6f",
-                describeSurface(spec).c_str(), mesh.triangleCount(), mesh.positions.size(), meshArea(mesh), buildMs,
-                score);
+                session::describeSurface(spec).c_str(), mesh.triangleCount(), mesh.positions.size(),
+                meshArea(mesh), buildMs, score);
     if (flatScore >= 0) std::printf(", \"flat_slice\": \"%s\", \"flat_e1_dot_n\": %.6f", flatName.c_str(), flatScore);
     if (checked) std::printf(", \"self_intersections\": %zu, \"removed_triangles\": %zu", intersections, removed);
     std::printf(", \"output\": \"%s\"}\n", output.c_str());
   } else {
-    std::printf("surface:   %s\n", describeSurface(spec).c_str());
+    std::printf("surface:   %s\n", session::describeSurface(spec).c_str());
     std::printf("layout:    %s (%s)\n", io::layoutName(loaded.layout), loaded.layoutReason.c_str());
     std::printf("mesh:      %zu triangles, %zu vertices, %.1f mm^2, built in %.1f ms\n", mesh.triangleCount(),
                 mesh.positions.size(), meshArea(mesh), buildMs);

@@ -1,10 +1,10 @@
 // `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file format.
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
-#include "app/scene/track_job.h"
-#include "app/scene/tract_files.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_job.h"
+#include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -22,7 +22,7 @@ namespace dtf::app {
 
 namespace {
 
-std::vector<CliOption> seedingRows(const TrackRequest& d) {
+std::vector<CliOption> seedingRows(const session::TrackRequest& d) {
   using O = CliOption;
   return {
       O::text("output", "OUT.tck|.trk|.trk.gz|.trx|.vtk|.vtp", "the tract file to write")
@@ -50,7 +50,7 @@ std::vector<CliOption> seedingRows(const TrackRequest& d) {
   };
 }
 
-std::vector<CliOption> trackingRows(const TrackRequest& d) {
+std::vector<CliOption> trackingRows(const session::TrackRequest& d) {
   using O = CliOption;
   const surfaces::TrackingOptions& to = d.options;
   return {
@@ -84,7 +84,7 @@ std::vector<CliOption> trackingRows(const TrackRequest& d) {
 
 const OptionTable& trackOptions() {
   static const OptionTable table = [] {
-    const TrackRequest d; // the defaults
+    const session::TrackRequest d; // the defaults
     OptionTable t;
     t.command = "track";
     t.positionals = "INPUT";
@@ -129,7 +129,7 @@ double lineLength(const Polylines& l, std::size_t i) {
 
 // The command line of one track run: the request, and what is checked or parsed after the output check.
 struct TrackCli {
-  TrackRequest request;
+  session::TrackRequest request;
   std::string output;
   std::optional<std::string> seedSphere, seedSurface, seedSlice;
   bool seedsGiven = false; // --seeds N: no shortfall warning
@@ -138,7 +138,7 @@ struct TrackCli {
 
 // Where and how many seeds: at most one place, at most one count.
 void readSeeding(ParsedOptions& args, TrackCli& cli) {
-  TrackRequest& r = cli.request;
+  session::TrackRequest& r = cli.request;
   const auto seedsMask = args.get("seeds-mask");
   cli.seedSphere = args.get("seed-sphere");
   cli.seedSurface = args.get("seed-surface");
@@ -156,7 +156,7 @@ void readSeeding(ParsedOptions& args, TrackCli& cli) {
 }
 
 void readTracking(ParsedOptions& args, TrackCli& cli) {
-  TrackRequest& r = cli.request;
+  session::TrackRequest& r = cli.request;
   surfaces::TrackingOptions& to = r.options;
   to.stepMm = args.number("step");
   to.faStop = args.number("fa-stop");
@@ -176,7 +176,7 @@ void readTracking(ParsedOptions& args, TrackCli& cli) {
 
 // The seed sphere and seed slice, parsed after the output check.
 void parseSeedPlaces(TrackCli& cli) {
-  TrackRequest& r = cli.request;
+  session::TrackRequest& r = cli.request;
   if (cli.seedSphere) {
     auto v = parseList(*cli.seedSphere, 4, "--seed-sphere");
     r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
@@ -196,21 +196,21 @@ void parseSeedPlaces(TrackCli& cli) {
 }
 
 // Tracks, with a progress line on an interactive terminal.
-TrackRun track(TrackRequest& request, bool json) {
+session::TrackRun track(session::TrackRequest& request, bool json) {
   const bool interactive = !json && ::isatty(2);
   if (interactive)
     request.options.progress = [](std::size_t done, std::size_t planned) {
       std::fprintf(stderr, "\rtracking: %zu / %zu seeds", done, planned);
       std::fflush(stderr);
     };
-  TrackRun run = runTrack(request);
+  session::TrackRun run = session::runTrack(request);
   if (interactive) std::fputs("\n", stderr);
   return run;
 }
 
 // No streamline is an input error; fewer than selected a warning.
 void checkResult(const TrackCli& cli, const surfaces::TrackingResult& r) {
-  const TrackRequest& q = cli.request;
+  const session::TrackRequest& q = cli.request;
   if (r.lines.lineCount() == 0) {
     std::ostringstream msg;
     msg << "no streamline passed from " << r.seedsTried << " seeds (" << r.seedsBelowFa << " below FA "
@@ -223,7 +223,7 @@ void checkResult(const TrackCli& cli, const surfaces::TrackingResult& r) {
                " streamlines after " + std::to_string(r.seedsTried) + " seeds");
 }
 
-void printReport(const TrackCli& cli, const TrackRun& run) {
+void printReport(const TrackCli& cli, const session::TrackRun& run) {
   const surfaces::TrackingResult& r = run.result;
   const surfaces::TrackingOptions& to = cli.request.options;
   const char* output = cli.output.c_str();
@@ -260,10 +260,10 @@ int cmdTrack(const CommandArgs& argv) {
   ParsedOptions args(trackOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
   TrackCli cli;
-  TrackRequest& request = cli.request;
+  session::TrackRequest& request = cli.request;
   request.input = args.positional(0, "INPUT");
   cli.output = args.required("output");
-  if (!isTractFileName(cli.output))
+  if (!session::isTractFileName(cli.output))
     throw UsageError("output " + cli.output + " must end in .tck, .trk, .trk.gz, .trx, .vtk or .vtp");
   readSeeding(args, cli);
   readTracking(args, cli);
@@ -272,7 +272,7 @@ int cmdTrack(const CommandArgs& argv) {
   args.finish();
   surfaces::validate(request.options);
 
-  if (cli.seedSurface) request.seedSurface = parseSurfaceSpec(*cli.seedSurface);
+  if (cli.seedSurface) request.seedSurface = session::parseSurfaceSpec(*cli.seedSurface);
   io::refuseOverwritingInput(cli.output, {request.input, request.tensorOptions.bval,
                                           request.tensorOptions.bvec, request.stopMask, request.seedsMask,
                                           request.seedSurface ? request.seedSurface->file : ""});
@@ -281,9 +281,9 @@ int cmdTrack(const CommandArgs& argv) {
   parseSeedPlaces(cli);
   request.tensorOptions.quiet = cli.json;
 
-  TrackRun run = track(request, cli.json);
+  session::TrackRun run = track(request, cli.json);
   checkResult(cli, run.result);
-  writeTracts(cli.output, run.result.lines, &run.grid);
+  session::writeTracts(cli.output, run.result.lines, &run.grid);
   printReport(cli, run);
   return 0;
 }

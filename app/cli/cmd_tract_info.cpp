@@ -3,8 +3,8 @@
 // ranges, and groups. Text for people, --json for scripts.
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/tract_files.h"
 #include "io/model/error.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <charconv>
@@ -163,7 +163,7 @@ void dataJson(std::ostringstream& o, const Polylines& lines) {
   o << "}";
 }
 
-std::string tractsJson(const std::string& path, const TractFileFacts& facts, const Polylines& lines,
+std::string tractsJson(const std::string& path, const session::TractFileFacts& facts, const Polylines& lines,
                        const TractSummary& s) {
   std::ostringstream o;
   o << "{\"file\": " << quote(path) << ",\"format\": " << quote(facts.format)
@@ -183,7 +183,7 @@ std::string tractsJson(const std::string& path, const TractFileFacts& facts, con
   return o.str();
 }
 
-std::string tractsText(const std::string& path, const TractFileFacts& facts, const Polylines& lines,
+std::string tractsText(const std::string& path, const session::TractFileFacts& facts, const Polylines& lines,
                        const TractSummary& s) {
   std::ostringstream o;
   char buf[256];
@@ -242,8 +242,8 @@ int cmdTractInfo(const CommandArgs& argv) {
   const bool json = args.flag("json");
   args.finish();
 
-  TractFileFacts facts;
-  const Polylines lines = readTracts(path, &facts);
+  session::TractFileFacts facts;
+  const Polylines lines = session::readTracts(path, &facts);
   const TractSummary summary = summarise(lines);
   std::fputs((json ? tractsJson(path, facts, lines, summary) : tractsText(path, facts, lines, summary)).c_str(),
              stdout);

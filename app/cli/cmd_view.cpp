@@ -2,12 +2,12 @@
 #include "app/cli/args.h"
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/surface_spec.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
+#include "ui/session/surface_spec.h"
 
 #include <cstdio>
 #include <optional>
@@ -93,7 +93,7 @@ int cmdView(const CommandArgs& argv) {
   const std::string tensor = args.text("tensor");
   const bool force = args.flag("force");
   args.finish();
-  if (!surface.empty()) parseSurfaceSpec(surface); // usage errors before a window opens
+  if (!surface.empty()) session::parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
   if (!tensor.empty() && inputs.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT");
 
@@ -107,9 +107,9 @@ int cmdView(const CommandArgs& argv) {
     checkScriptOutputs(*script, inputs, force);
     if (force)
       for (ScriptStep& step : script->steps)
-        if (auto* a = std::get_if<ui::Action>(&step.command)) {
-          if (auto* shot = std::get_if<ui::Screenshot>(a)) shot->force = true;
-          if (auto* camera = std::get_if<ui::SaveCamera>(a)) camera->force = true;
+        if (auto* a = std::get_if<session::Action>(&step.command)) {
+          if (auto* shot = std::get_if<session::Screenshot>(a)) shot->force = true;
+          if (auto* camera = std::get_if<session::SaveCamera>(a)) camera->force = true;
         }
   }
 

@@ -1,8 +1,8 @@
 // `dtfabric web INPUT -o DIR`: a self-contained folder (index.html, scripts, slice images) to browse the
-// fabric of every slice in any browser from the file system (app/scene/web_page.h).
+// fabric of every slice in any browser from the file system (ui/session/web_page.h).
 #include "app/cli/commands.h"
 #include "app/cli/options.h"
-#include "app/scene/web_page.h"
+#include "ui/session/web_page.h"
 #include "io/model/log.h"
 #include "io/formats/tensor_io.h"
 
@@ -13,7 +13,7 @@ namespace dtf::app {
 const OptionTable& webOptions() {
   using O = CliOption;
   static const OptionTable table = [] {
-    const WebPageRequest d;
+    const session::WebPageRequest d;
     OptionTable t;
     t.command = "web";
     t.positionals = "INPUT";
@@ -61,7 +61,7 @@ const OptionTable& webOptions() {
 int cmdWeb(const CommandArgs& argv) {
   ParsedOptions args(webOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
-  WebPageRequest r;
+  session::WebPageRequest r;
   r.input = args.positional(0, "INPUT");
   r.output = args.required("output");
   r.force = args.flag("force");
@@ -76,7 +76,7 @@ int cmdWeb(const CommandArgs& argv) {
   r.tensorOptions.mask = args.text("mask");
   args.finish();
   r.onProgress = [](const std::string& s) { logInfo("web: " + s); };
-  const WebPageResult w = writeWebPage(r);
+  const session::WebPageResult w = session::writeWebPage(r);
   std::printf(
       "%s: %d axial, %d coronal, %d sagittal slices, %zu images, %.1f MB in %.1f s -> %s/index.html\n",
       r.input.c_str(), w.slices[0], w.slices[1], w.slices[2], w.images, double(w.bytes) / 1e6, w.seconds,

@@ -5,12 +5,12 @@
 // classes of dtfabric/_errors.py.
 #include "app/python/arrays.h"
 #include "app/python/gl_thread.h"
-#include "app/scene/check_run.h"
-#include "app/scene/fibre_input.h"
-#include "app/scene/render_job.h"
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
-#include "app/scene/track_job.h"
+#include "ui/session/check_run.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/render_job.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_job.h"
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -29,8 +29,6 @@
 namespace py = pybind11;
 
 namespace dtf::python {
-
-using namespace dtf::app;
 
 namespace {
 
@@ -56,7 +54,7 @@ struct PyTensorField {
 };
 
 struct PyFibreSet {
-  std::shared_ptr<const FibreInput> data;
+  std::shared_ptr<const session::FibreInput> data;
   std::string source, layoutGiven, tensorPath;
   py::object directionsCache, amplitudesCache;
 };
@@ -132,9 +130,9 @@ PyTensorField fieldFromPython(const py::object& array, const py::object& affineA
   return wrapTensors(std::move(t), name, layout == "auto" ? "" : layout);
 }
 
-TensorInputOptions tensorOptions(const std::string& layout, const py::object& bval, const py::object& bvec,
-                                 const py::object& mask) {
-  TensorInputOptions in;
+session::TensorInputOptions tensorOptions(const std::string& layout, const py::object& bval,
+                                          const py::object& bvec, const py::object& mask) {
+  session::TensorInputOptions in;
   if (!io::isFibreLayoutName(layout)) in.layout = io::parseLayout(layout);
   in.bval = optionalPath(bval);
   in.bvec = optionalPath(bvec);
@@ -147,22 +145,22 @@ py::object load(const py::object& path, const std::string& layout, const py::obj
                 const py::object& bvec, const py::object& mask, const py::object& tensor) {
   const std::string p = pathText(path);
   const std::string tensorPath = optionalPath(tensor);
-  const TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
-  std::optional<FibreInput> fibres;
+  const session::TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
+  std::optional<session::FibreInput> fibres;
   io::LoadedTensors tensors;
   {
     py::gil_scoped_release release;
-    if (in.bval.empty() && in.bvec.empty() && isFibreInput(p, layout, true)) {
-      fibres = loadFibreInput(p, layout, tensorPath, true);
+    if (in.bval.empty() && in.bvec.empty() && session::isFibreInput(p, layout, true)) {
+      fibres = session::loadFibreInput(p, layout, tensorPath, true);
     } else {
       if (!tensorPath.empty())
         throw UsageError("tensor= pairs a tensor with a fibre set; " + p + " is not one");
-      tensors = loadTensorInput(p, in);
+      tensors = session::loadTensorInput(p, in);
     }
   }
   if (fibres) {
     PyFibreSet f;
-    f.data = std::make_shared<const FibreInput>(std::move(*fibres));
+    f.data = std::make_shared<const session::FibreInput>(std::move(*fibres));
     f.source = p;
     f.layoutGiven = layout;
     f.tensorPath = tensorPath;
@@ -191,11 +189,11 @@ std::shared_ptr<const io::LoadedTensors> tensorsOf(const py::object& input, cons
   }
   if (isPathLike(input)) {
     source = pathText(input);
-    const TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
+    const session::TensorInputOptions in = tensorOptions(layout, bval, bvec, mask);
     io::LoadedTensors t;
     {
       py::gil_scoped_release release;
-      t = loadTensorInput(source, in);
+      t = session::loadTensorInput(source, in);
     }
     return std::make_shared<const io::LoadedTensors>(std::move(t));
   }
@@ -263,7 +261,7 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
                                       double tractWidth, const py::object& split, const std::string& layout,
                                       const py::object& bval, const py::object& bvec, const py::object& mask,
                                       const py::object& tensor, const py::kwargs& params) {
-  RenderRequest r;
+  session::RenderRequest r;
   std::shared_ptr<const io::LoadedTensors> held;
   r.layout = layout;
   r.tensor = optionalPath(tensor);
@@ -279,7 +277,7 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
     held = tensorsOf(input, layout, bval, bvec, mask, r.input);
     r.field = &held->field;
   }
-  r.surface = parseSurfaceSpec(surface);
+  r.surface = session::parseSurfaceSpec(surface);
   if (!view.is_none()) r.view = render::parseView(view.cast<std::string>());
   std::tie(r.width, r.height) = sizeOf(size);
   r.neurological = neurological;
@@ -317,13 +315,13 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   r.tractsSlab = tractsSlab;
   r.tractsSlabDepth = tractsSlabDepth;
   r.tractWidth = tractWidth;
-  if (!split.is_none()) r.split = parseSplitMode(split.cast<std::string>());
+  if (!split.is_none()) r.split = session::parseSplitMode(split.cast<std::string>());
   r.output = "the image of " + r.input;
 
-  RenderResult result;
+  session::RenderResult result;
   {
     py::gil_scoped_release release;
-    runOnGlThread([&] { result = runRender(r); });
+    runOnGlThread([&] { result = session::runRender(r); });
   }
   return imageArray(result.image);
 }
@@ -335,8 +333,8 @@ PySurface makeSurface(const py::object& input, const std::string& spec, double s
                       const std::string& layout, const py::object& bval, const py::object& bvec) {
   std::string source;
   auto tensors = tensorsOf(input, layout, bval, bvec, py::none(), source);
-  const SurfaceSpec s = parseSurfaceSpec(spec);
-  SurfaceBuildOptions bo;
+  const session::SurfaceSpec s = session::parseSurfaceSpec(spec);
+  session::SurfaceBuildOptions bo;
   bo.smoothSigmaVoxels = smooth;
   bo.minComponentFraction = minComponent;
   bo.fibreStepMm = step;
@@ -348,14 +346,14 @@ PySurface makeSurface(const py::object& input, const std::string& spec, double s
   {
     py::gil_scoped_release release;
     try {
-      mesh = buildSurface(s, tensors->field, computeFaMap(tensors->field), bo);
+      mesh = session::buildSurface(s, tensors->field, computeFaMap(tensors->field), bo);
     } catch (const Error&) {
-      rethrowWithContext("while building the " + describeSurface(s) + " of " + source);
+      rethrowWithContext("while building the " + session::describeSurface(s) + " of " + source);
     }
     if (mesh.normals.size() != mesh.positions.size()) mesh.computeNormals();
   }
   PySurface out;
-  out.description = describeSurface(s);
+  out.description = session::describeSurface(s);
   const auto n = static_cast<py::ssize_t>(mesh.positions.size());
   py::array_t<float> v({n, py::ssize_t(3)}), nr({n, py::ssize_t(3)});
   std::memcpy(v.mutable_data(), mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
@@ -373,7 +371,7 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
                const py::object& seeds, int seedsPerVoxel, double step, double faStop, double angle,
                double minLength, double maxLength, bool rk4, const py::object& mask, long long seed,
                int threads, const std::string& layout, const py::object& bval, const py::object& bvec) {
-  TrackRequest r;
+  session::TrackRequest r;
   std::string source;
   auto tensors = tensorsOf(input, layout, bval, bvec, py::none(), source);
   r.input = source;
@@ -384,7 +382,7 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
     if (v.size() != 4) throw UsageError("seed_sphere must be (x, y, z, radius) in world mm");
     r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
   }
-  if (!seedSurface.is_none()) r.seedSurface = parseSurfaceSpec(seedSurface.cast<std::string>());
+  if (!seedSurface.is_none()) r.seedSurface = session::parseSurfaceSpec(seedSurface.cast<std::string>());
   if (!seedSlice.is_none()) {
     std::pair<std::string, int> s;
     if (py::isinstance<py::str>(seedSlice)) {
@@ -422,10 +420,10 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
   r.options.rk4 = rk4;
   if (threads < 0) throw UsageError("threads must be >= 0");
   r.options.threads = threads;
-  TrackRun run;
+  session::TrackRun run;
   {
     py::gil_scoped_release release;
-    run = runTrack(r);
+    run = session::runTrack(r);
   }
   const Polylines& l = run.result.lines;
   py::list out;
@@ -454,7 +452,7 @@ py::list matrixList(const surfaces::AxisTransform& t) {
 py::dict check(const py::object& input, const py::object& bval, const py::object& bvec,
                const py::object& mask, const std::string& layout, const py::object& tensor, double minMargin,
                int minWhiteMatter) {
-  CheckRequest req;
+  session::CheckRequest req;
   req.input = pathText(input);
   req.bval = optionalPath(bval);
   req.bvec = optionalPath(bvec);
@@ -464,15 +462,15 @@ py::dict check(const py::object& input, const py::object& bval, const py::object
   if (minWhiteMatter < 1) throw UsageError("min_white_matter must be at least 1");
   req.options.minMargin = minMargin;
   req.options.minWhiteMatter = static_cast<std::size_t>(minWhiteMatter);
-  CheckRun run;
+  session::CheckRun run;
   {
     py::gil_scoped_release release;
-    req.fibres = req.bval.empty() && req.bvec.empty() && isFibreInput(req.input, layout, true);
+    req.fibres = req.bval.empty() && req.bvec.empty() && session::isFibreInput(req.input, layout, true);
     if (req.fibres)
       req.fibreLayout = layout;
     else
       req.layout = io::parseLayout(layout);
-    run = runCheck(req);
+    run = session::runCheck(req);
   }
   const surfaces::OrientationReport& r = run.report;
   py::dict d;

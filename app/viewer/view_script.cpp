@@ -1,8 +1,8 @@
 #include "app/viewer/view_script.h"
 
-#include "app/scene/surface_spec.h"
-#include "app/scene/tensor_input.h"
-#include "app/scene/track_request.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_request.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/fibre_io.h"
 #include "io/model/error.h"
@@ -86,8 +86,8 @@ ScriptSetParam parseParam(const std::string& name, const std::string& value) {
 }
 
 // `track KEY=VALUE ...`: the options of `dtfabric track` (see view_script.h).
-ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
-  ui::TrackRequest r;
+session::ViewerTrackRequest parseTrack(const std::vector<std::string>& w) {
+  session::ViewerTrackRequest r;
   bool counted = false;
   for (std::size_t i = 1; i < w.size(); ++i) {
     const std::string& a = w[i];
@@ -99,7 +99,7 @@ ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
     if (eq == std::string::npos || eq + 1 == a.size())
       throw LineError{"track: expected KEY=VALUE, got '" + a + "'"};
     const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
-    auto setCount = [&](ui::SeedCount kind) {
+    auto setCount = [&](session::SeedCount kind) {
       if (counted) throw LineError{"track: give one of select=, seeds=, per-voxel="};
       counted = true;
       r.count = kind;
@@ -111,9 +111,9 @@ ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
       const std::string kind = value.substr(0, colon),
                         rest = colon == std::string::npos ? "" : value.substr(colon + 1);
       if (kind == "surface" && rest.empty()) {
-        r.seeds = ui::SeedKind::Surface;
+        r.seeds = session::SeedKind::Surface;
       } else if (kind == "slice" && !rest.empty()) {
-        r.seeds = ui::SeedKind::Slice;
+        r.seeds = session::SeedKind::Slice;
         const auto c2 = rest.find(':');
         try {
           r.sliceAxis = static_cast<int>(surfaces::parseSliceAxis(rest.substr(0, c2)));
@@ -124,7 +124,7 @@ ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
         if (c2 != std::string::npos && (r.sliceIndex < 0 || r.sliceIndex > 1'000'000))
           throw LineError{"track: slice index must lie in [0, 10^6]"};
       } else if (kind == "sphere" && !rest.empty()) {
-        r.seeds = ui::SeedKind::Sphere;
+        r.seeds = session::SeedKind::Sphere;
         double v[4];
         std::size_t at = 0;
         for (int k = 0; k < 4; ++k) {
@@ -138,18 +138,18 @@ ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
         r.centre = glm::dvec3(v[0], v[1], v[2]);
         r.radiusMm = v[3];
       } else if (kind == "fa" && !rest.empty()) {
-        r.seeds = ui::SeedKind::FaMask;
+        r.seeds = session::SeedKind::FaMask;
         r.faMask = number(rest, "track FA mask");
         if (!(r.faMask > 0 && r.faMask < 1)) throw LineError{"track: from=fa:T needs 0 < T < 1"};
       } else {
         throw LineError{"track: from=surface | slice:AXIS[:I] | sphere:X,Y,Z,R | fa:T, got '" + value + "'"};
       }
     } else if (key == "select") {
-      setCount(ui::SeedCount::Select);
+      setCount(session::SeedCount::Select);
     } else if (key == "seeds") {
-      setCount(ui::SeedCount::Seeds);
+      setCount(session::SeedCount::Seeds);
     } else if (key == "per-voxel") {
-      setCount(ui::SeedCount::PerVoxel);
+      setCount(session::SeedCount::PerVoxel);
     } else if (key == "fa-stop") {
       r.faStop = number(value, "track fa-stop");
     } else if (key == "angle") {
@@ -170,10 +170,10 @@ ui::TrackRequest parseTrack(const std::vector<std::string>& w) {
           "rk4, euler)"};
     }
   }
-  if (r.count == ui::SeedCount::PerVoxel && r.seeds != ui::SeedKind::FaMask)
+  if (r.count == session::SeedCount::PerVoxel && r.seeds != session::SeedKind::FaMask)
     throw LineError{"track: per-voxel needs from=fa:T"};
   try {
-    surfaces::validate(dtf::app::trackingOptions(r));
+    surfaces::validate(dtf::session::trackingOptions(r));
   } catch (const UsageError& e) {
     throw LineError{std::string("track: ") + e.what()};
   }
@@ -212,13 +212,13 @@ struct ScriptLine {
 namespace {
 
 void parseLoad(const ScriptLine& line, ScriptStep& step) {
-  step.command = ui::Action(ui::LoadFile{line.path("load PATH"), "auto"});
+  step.command = session::Action(session::LoadFile{line.path("load PATH"), "auto"});
 }
 
 // fibres [layout=L] [tensor=FILE] PATH: the options come first, the path is the rest of the line.
 void parseFibres(const ScriptLine& line, ScriptStep& step) {
   static const char* const kUsage = "fibres [layout=L] [tensor=FILE] PATH";
-  ui::LoadFile load;
+  session::LoadFile load;
   load.layout = "fibres-auto";
   std::string rest = restOf(line.text, line.words[0]);
   while (rest.starts_with("layout=") || rest.starts_with("tensor=")) {
@@ -239,18 +239,18 @@ void parseFibres(const ScriptLine& line, ScriptStep& step) {
   }
   if (rest.empty()) throw LineError{std::string("usage: ") + kUsage};
   load.path = rest;
-  step.command = ui::Action(load);
+  step.command = session::Action(load);
 }
 
 void parseSurface(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "surface SPEC");
   try {
-    parseSurfaceSpec(w[1]);
+    session::parseSurfaceSpec(w[1]);
   } catch (const UsageError& e) {
     throw LineError{e.what()};
   }
-  step.command = ui::Action(ui::SetSurfaceSpec{w[1]});
+  step.command = session::Action(session::SetSurfaceSpec{w[1]});
 }
 
 void parseFa(const ScriptLine& line, ScriptStep& step) {
@@ -258,7 +258,7 @@ void parseFa(const ScriptLine& line, ScriptStep& step) {
   expectArgs(w, 1, "fa T");
   const double t = number(w[1], "fa threshold");
   if (t <= 0 || t >= 1) throw LineError{"fa threshold must lie in (0, 1), got " + w[1]};
-  step.command = ui::Action(ui::SetFaThreshold{t});
+  step.command = session::Action(session::SetFaThreshold{t});
 }
 
 void parseSlice(const ScriptLine& line, ScriptStep& step) {
@@ -272,13 +272,13 @@ void parseSlice(const ScriptLine& line, ScriptStep& step) {
   }
   const int index = integer(w[2], "slice index");
   if (index < 0) throw LineError{"slice index must not be negative"};
-  step.command = ui::Action(ui::SetSlice{axis, index});
+  step.command = session::Action(session::SetSlice{axis, index});
 }
 
 void parseKey(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
-  auto key = ui::parseKey(w[1]);
+  auto key = session::parseKey(w[1]);
   if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
   step.command = *key;
 }
@@ -289,7 +289,8 @@ void parseRotate(const ScriptLine& line, ScriptStep& step) {
   expectArgs(w, 2, c == "rotate" ? "rotate DX DY" : "pan DX DY");
   const double dx = number(w[1], c + " DX"), dy = number(w[2], c + " DY");
   if (std::abs(dx) > 1e5 || std::abs(dy) > 1e5) throw LineError{c + ": drag too large"};
-  step.command = c == "rotate" ? ui::Action(ui::Rotate{dx, dy}) : ui::Action(ui::Pan{dx, dy});
+  step.command =
+      c == "rotate" ? session::Action(session::Rotate{dx, dy}) : session::Action(session::Pan{dx, dy});
 }
 
 void parseZoom(const ScriptLine& line, ScriptStep& step) {
@@ -297,14 +298,14 @@ void parseZoom(const ScriptLine& line, ScriptStep& step) {
   expectArgs(w, 1, "zoom F");
   const double f = number(w[1], "zoom factor");
   if (f <= 0.01 || f > 100) throw LineError{"zoom factor must lie in (0.01, 100], got " + w[1]};
-  step.command = ui::Action(ui::Zoom{f});
+  step.command = session::Action(session::Zoom{f});
 }
 
 void parseView(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "view NAME");
   try {
-    step.command = ui::Action(ui::SetView{render::parseView(w[1])});
+    step.command = session::Action(session::SetView{render::parseView(w[1])});
   } catch (const UsageError& e) {
     throw LineError{e.what()};
   }
@@ -314,13 +315,13 @@ void parseSplit(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "split on|off|colour|phong|tracts");
   if (w[1] == "colour" || w[1] == "color")
-    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::OtherColourMode});
+    step.command = session::Action(session::SetSplit{true, session::SecondPane::OtherColourMode});
   else if (w[1] == "phong")
-    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Phong});
+    step.command = session::Action(session::SetSplit{true, session::SecondPane::Phong});
   else if (w[1] == "tracts")
-    step.command = ui::Action(ui::SetSplit{true, ui::SecondPane::Tracts});
+    step.command = session::Action(session::SetSplit{true, session::SecondPane::Tracts});
   else if (w[1] == "on" || w[1] == "off" || w[1] == "1" || w[1] == "0" || w[1] == "true" || w[1] == "false")
-    step.command = ui::Action(ui::SetSplit{onOff(w[1], "split")});
+    step.command = session::Action(session::SetSplit{onOff(w[1], "split")});
   else
     throw LineError{"split takes on or off (or colour, phong, tracts), got '" + w[1] + "'"};
 }
@@ -328,13 +329,13 @@ void parseSplit(const ScriptLine& line, ScriptStep& step) {
 void parseLinked(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "linked on|off");
-  step.command = ui::Action(ui::SetLinkedCameras{onOff(w[1], "linked")});
+  step.command = session::Action(session::SetLinkedCameras{onOff(w[1], "linked")});
 }
 
 void parseNeurological(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "neurological on|off");
-  step.command = ui::Action(ui::SetNeurological{onOff(w[1], "neurological")});
+  step.command = session::Action(session::SetNeurological{onOff(w[1], "neurological")});
 }
 
 void parseSet(const ScriptLine& line, ScriptStep& step) {
@@ -357,16 +358,16 @@ void parseScreenshot(const ScriptLine& line, ScriptStep& step) {
   const auto [p, force] = outputArg(line.path(usage), usage);
   if (p.size() < 4 || p.compare(p.size() - 4, 4, ".png") != 0)
     throw LineError{c + ": the path must end in .png"};
-  step.command = ui::Action(ui::Screenshot{p, c == "screenshot-scene", force});
+  step.command = session::Action(session::Screenshot{p, c == "screenshot-scene", force});
 }
 
 void parseCameraSave(const ScriptLine& line, ScriptStep& step) {
   const auto [p, force] = outputArg(line.path("camera-save [--force] PATH"), "camera-save [--force] PATH");
-  step.command = ui::Action(ui::SaveCamera{p, force});
+  step.command = session::Action(session::SaveCamera{p, force});
 }
 
 void parseCameraLoad(const ScriptLine& line, ScriptStep& step) {
-  step.command = ui::Action(ui::LoadCamera{line.path("camera-load PATH")});
+  step.command = session::Action(session::LoadCamera{line.path("camera-load PATH")});
 }
 
 void parseProbe(const ScriptLine& line, ScriptStep& step) {
@@ -391,13 +392,13 @@ void parseResize(const ScriptLine& line, ScriptStep& step) {
 }
 
 void parseTracts(const ScriptLine& line, ScriptStep& step) {
-  step.command = ui::Action(ui::LoadTracts{line.path("tracts PATH")});
+  step.command = session::Action(session::LoadTracts{line.path("tracts PATH")});
 }
 
 void parseTractsVisible(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "tracts-visible on|off");
-  step.command = ui::Action(ui::SetTractsVisible{onOff(w[1], "tracts-visible")});
+  step.command = session::Action(session::SetTractsVisible{onOff(w[1], "tracts-visible")});
 }
 
 void parseTractsNear(const ScriptLine& line, ScriptStep& step) {
@@ -405,7 +406,7 @@ void parseTractsNear(const ScriptLine& line, ScriptStep& step) {
   expectArgs(w, 1, "tracts-near MM");
   const double mm = number(w[1], "tracts-near");
   if (mm < 0 || mm > 1000) throw LineError{"tracts-near must lie in [0, 1000] mm, got " + w[1]};
-  step.command = ui::Action(ui::SetTractsNear{mm});
+  step.command = session::Action(session::SetTractsNear{mm});
 }
 
 void parseTractsClip(const ScriptLine& line, ScriptStep& step) {
@@ -416,13 +417,13 @@ void parseTractsClip(const ScriptLine& line, ScriptStep& step) {
   const double offset = w.size() == 3 ? number(w[2], "tracts-clip depth") : 0.0;
   if (std::abs(offset) > 1000)
     throw LineError{"tracts-clip depth must lie in [-1000, 1000] mm, got " + w[2]};
-  step.command = ui::Action(ui::SetTractsClip{mm, offset});
+  step.command = session::Action(session::SetTractsClip{mm, offset});
 }
 
 void parseTractsColour(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   if (w.size() != 2 && w.size() != 4) throw LineError{"usage: tracts-color NAME|dec [LO HI]"};
-  ui::SetTractColour c;
+  session::SetTractColour c;
   if (w[1] != "dec") c.value = w[1];
   if (w.size() == 4) {
     if (c.value.empty()) throw LineError{"tracts-color dec takes no range"};
@@ -430,13 +431,13 @@ void parseTractsColour(const ScriptLine& line, ScriptStep& step) {
     if (!(lo < hi)) throw LineError{"tracts-color needs LO < HI, got " + w[2] + " " + w[3]};
     c.range = std::make_pair(lo, hi);
   }
-  step.command = ui::Action(std::move(c));
+  step.command = session::Action(std::move(c));
 }
 
 void parseTractsGroups(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 1, "tracts-groups G[,G...]|all|none");
-  ui::SetTractGroups g;
+  session::SetTractGroups g;
   g.all = w[1] == "all";
   if (!g.all && w[1] != "none") {
     std::size_t start = 0;
@@ -447,7 +448,7 @@ void parseTractsGroups(const ScriptLine& line, ScriptStep& step) {
       start = comma + 1;
     }
   }
-  step.command = ui::Action(std::move(g));
+  step.command = session::Action(std::move(g));
 }
 
 void parseTractWidth(const ScriptLine& line, ScriptStep& step) {
@@ -455,72 +456,105 @@ void parseTractWidth(const ScriptLine& line, ScriptStep& step) {
   expectArgs(w, 1, "tract-width PX");
   const double px = number(w[1], "tract-width");
   if (px <= 0 || px > 32) throw LineError{"tract-width must lie in (0, 32] pixels, got " + w[1]};
-  step.command = ui::Action(ui::SetTractWidth{px});
+  step.command = session::Action(session::SetTractWidth{px});
 }
 
 void parseTrackLine(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
-  step.command = ui::Action(ui::TrackTracts{parseTrack(w)});
+  step.command = session::Action(session::TrackTracts{parseTrack(w)});
 }
 
 void parseTrackCancel(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 0, "track-cancel");
-  step.command = ui::Action(ui::CancelTracking{});
+  step.command = session::Action(session::CancelTracking{});
 }
 
 void parseTractsSave(const ScriptLine& line, ScriptStep& step) {
   const auto [p, force] = outputArg(line.path("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
-  step.command = ui::Action(ui::SaveTracts{p, force});
+  step.command = session::Action(session::SaveTracts{p, force});
 }
 
 void parseAgreement(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   if (w.size() > 3) throw LineError{"usage: agreement [NEAR_MM [BINS]]"};
-  ui::ComputeAgreement a;
+  session::ComputeAgreement a;
   if (w.size() > 1) a.nearMm = number(w[1], "agreement distance");
   if (w.size() > 2) a.bins = integer(w[2], "agreement bins");
   if (a.nearMm < 0 || a.nearMm > 1000) throw LineError{"agreement distance must lie in [0, 1000] mm"};
   if (a.bins < 1 || a.bins > 90) throw LineError{"agreement bins must lie in 1..90"};
-  step.command = ui::Action(a);
+  step.command = session::Action(a);
 }
 
 void parseQuit(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 0, "quit");
-  step.command = ui::Action(ui::Quit{});
+  step.command = session::Action(session::Quit{});
 }
 
 // The script's commands, in the order help lists them.
 const std::vector<ScriptCommand> kCommands = {
-    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec, or a fibre set it detects)", parseLoad},
-    {"fibres", "[layout=L] [tensor=FILE] PATH", "open a fibre set (peaks, bedpostx, ...) as `dtfabric render` does: L mrtrix-peaks|dipy-peaks|bedpostx (default: detected); tensor= pairs a tensor volume on the same grid (FA); the fibre threshold is `set fibre-threshold T`", parseFibres},
-    {"surface", "SPEC", "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
+    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec, or a fibre set it detects)",
+     parseLoad},
+    {"fibres", "[layout=L] [tensor=FILE] PATH",
+     "open a fibre set (peaks, bedpostx, ...) as `dtfabric render` does: L mrtrix-peaks|dipy-peaks|bedpostx "
+     "(default: detected); tensor= pairs a tensor volume on the same grid (FA); the fibre threshold is `set "
+     "fibre-threshold T`",
+     parseFibres},
+    {"surface", "SPEC",
+     "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
     {"fa", "T", "FA isosurface at T (0 < T < 1)", parseFa},
     {"slice", "AXIS INDEX", "axial, coronal or sagittal slice INDEX", parseSlice},
-    {"key", "NAME", "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view)", parseKey},
+    {"key", "NAME", "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view)",
+     parseKey},
     {"rotate", "DX DY", "trackball drag by DX, DY window pixels (y down)", parseRotate},
     {"pan", "DX DY", "pan by DX, DY window pixels", parseRotate},
     {"zoom", "F", "magnify by F (2 = twice as large)", parseZoom},
-    {"view", "NAME", "superior, inferior, anterior, posterior, left, right, or the display views axial, coronal, sagittal", parseView},
-    {"neurological", "on|off", "neurological display convention (default off: radiological)", parseNeurological},
+    {"view", "NAME",
+     "superior, inferior, anterior, posterior, left, right, or the display views axial, coronal, sagittal",
+     parseView},
+    {"neurological", "on|off", "neurological display convention (default off: radiological)",
+     parseNeurological},
     {"resize", "WxH", "resize the window", parseResize},
-    {"split", "on|off|colour|phong|tracts", "two panes; colour, phong and tracts also pick the right pane (the other colour mode, Phong shading, fabric + tracts beside the fabric alone)", parseSplit},
+    {"split", "on|off|colour|phong|tracts",
+     "two panes; colour, phong and tracts also pick the right pane (the other colour mode, Phong shading, "
+     "fabric + tracts beside the fabric alone)",
+     parseSplit},
     {"linked", "on|off", "one camera for both panes", parseLinked},
-    {"set", "NAME VALUE", "a fabric option, as `dtfabric render --NAME VALUE` (older names: k, r, colour, depth-colour, fade)", parseSet},
-    {"tracts", "PATH", "load .tck/.trk/.vtk streamlines (world RAS mm) and draw them over the fabric", parseTracts},
+    {"set", "NAME VALUE",
+     "a fabric option, as `dtfabric render --NAME VALUE` (older names: k, r, colour, depth-colour, fade)",
+     parseSet},
+    {"tracts", "PATH", "load .tck/.trk/.vtk streamlines (world RAS mm) and draw them over the fabric",
+     parseTracts},
     {"tracts-visible", "on|off", "show or hide the tracts", parseTractsVisible},
-    {"tracts-near", "MM", "only tract segments within MM of the surface (0 = every tract; default 3)", parseTractsNear},
-    {"tracts-clip", "MM [DEPTH]", "clip slab for dense tractograms: only points within MM of the plane facing the camera through the surface's centre, moved DEPTH mm away from the viewer (0 = off); on a planar surface, within MM of its plane", parseTractsClip},
-    {"tracts-color", "NAME|dec [LO HI]", "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over LO..HI (default: the value's min..max); dec: direction colours", parseTractsColour},
-    {"tracts-groups", "G[,G...]|all|none", "show only the streamlines of the named groups (e.g. an AFQ .trx's bundles); all: every streamline", parseTractsGroups},
+    {"tracts-near", "MM", "only tract segments within MM of the surface (0 = every tract; default 3)",
+     parseTractsNear},
+    {"tracts-clip", "MM [DEPTH]",
+     "clip slab for dense tractograms: only points within MM of the plane facing the camera through the "
+     "surface's centre, moved DEPTH mm away from the viewer (0 = off); on a planar surface, within MM of its "
+     "plane",
+     parseTractsClip},
+    {"tracts-color", "NAME|dec [LO HI]",
+     "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over "
+     "LO..HI (default: the value's min..max); dec: direction colours",
+     parseTractsColour},
+    {"tracts-groups", "G[,G...]|all|none",
+     "show only the streamlines of the named groups (e.g. an AFQ .trx's bundles); all: every streamline",
+     parseTractsGroups},
     {"tract-width", "PX", "tube width in pixels (default 2)", parseTractWidth},
-    {"track", "[KEY=VALUE ...]", "tracking on the worker, as `dtfabric track`: from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T, select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler", parseTrackLine},
+    {"track", "[KEY=VALUE ...]",
+     "tracking on the worker, as `dtfabric track`: from=surface|slice:AXIS[:I]|sphere:X,Y,Z,R|fa:T, "
+     "select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler",
+     parseTrackLine},
     {"track-cancel", "", "cancel a running `track`", parseTrackCancel},
     {"tracts-save", "[--force] PATH", "write every point of the tracts to .tck/.trk/.vtk", parseTractsSave},
-    {"agreement", "[MM [BINS]]", "tract/fabric angles within MM (default 2) of the surface in BINS bins (default 9); prints `dtfabric compare`'s numbers", parseAgreement},
+    {"agreement", "[MM [BINS]]",
+     "tract/fabric angles within MM (default 2) of the surface in BINS bins (default 9); prints `dtfabric "
+     "compare`'s numbers",
+     parseAgreement},
     {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
-    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels)", parseScreenshot},
+    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels)",
+     parseScreenshot},
     {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
     {"camera-load", "PATH", "read a camera file", parseCameraLoad},
     {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
@@ -591,26 +625,26 @@ ViewScript loadViewScript(const std::string& path) {
 void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force) {
   inputs.push_back(script.file);
   for (const ScriptStep& step : script.steps) {
-    const auto* a = std::get_if<ui::Action>(&step.command);
+    const auto* a = std::get_if<session::Action>(&step.command);
     if (!a) continue;
-    if (const auto* load = std::get_if<ui::LoadFile>(a)) {
+    if (const auto* load = std::get_if<session::LoadFile>(a)) {
       inputs.push_back(load->path);
-      inputs.push_back(gradientSibling(load->path, ".bval"));
-      inputs.push_back(gradientSibling(load->path, ".bvec"));
-    } else if (const auto* tracts = std::get_if<ui::LoadTracts>(a)) {
+      inputs.push_back(session::gradientSibling(load->path, ".bval"));
+      inputs.push_back(session::gradientSibling(load->path, ".bvec"));
+    } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
       inputs.push_back(tracts->path);
-    } else if (const auto* surface = std::get_if<ui::SetSurfaceSpec>(a)) {
-      const SurfaceSpec spec = parseSurfaceSpec(surface->text);
+    } else if (const auto* surface = std::get_if<session::SetSurfaceSpec>(a)) {
+      const session::SurfaceSpec spec = session::parseSurfaceSpec(surface->text);
       inputs.push_back(spec.file);
       for (const auto& part : spec.parts)
         inputs.push_back(part.file);
     }
   }
   for (const ScriptStep& step : script.steps) {
-    const auto* a = std::get_if<ui::Action>(&step.command);
-    const auto* shot = a ? std::get_if<ui::Screenshot>(a) : nullptr;
-    const auto* camera = a ? std::get_if<ui::SaveCamera>(a) : nullptr;
-    const auto* tracts = a ? std::get_if<ui::SaveTracts>(a) : nullptr;
+    const auto* a = std::get_if<session::Action>(&step.command);
+    const auto* shot = a ? std::get_if<session::Screenshot>(a) : nullptr;
+    const auto* camera = a ? std::get_if<session::SaveCamera>(a) : nullptr;
+    const auto* tracts = a ? std::get_if<session::SaveTracts>(a) : nullptr;
     if (!shot && !camera && !tracts) continue;
     const std::string& path = shot ? shot->path : camera ? camera->path : tracts->path;
     const bool lineForce = shot ? shot->force : camera ? camera->force : tracts->force;

@@ -9,8 +9,8 @@
 #pragma once
 
 #include "render/fabric_renderer.h"
-#include "app/scene/actions.h"
-#include "app/scene/keymap.h"
+#include "ui/session/actions.h"
+#include "ui/session/keymap.h"
 
 #include <string>
 #include <variant>
@@ -34,7 +34,7 @@ struct ScriptSetParam {
 
 struct ScriptStep {
   int line = 0; // 1-based line in the file
-  std::variant<ui::Action, ui::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize> command;
+  std::variant<session::Action, session::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize> command;
 };
 
 struct ViewScript {

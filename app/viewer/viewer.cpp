@@ -1,7 +1,7 @@
 #include "app/viewer/viewer.h"
 
-#include "app/scene/fibre_input.h"
-#include "app/scene/tract_overlay.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/tract_overlay.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "render/gl_context.h"
@@ -44,7 +44,7 @@ bool ViewerScene::converged() const {
 
 bool ViewerScene::paneShowsTracts(int p) const {
   if (!state().tractsVisible || !tractRenderer_ || tractRenderer_->segmentCount(0) == 0) return false;
-  return !(state().split && state().secondPane == ui::SecondPane::Tracts && p == 0);
+  return !(state().split && state().secondPane == session::SecondPane::Tracts && p == 0);
 }
 
 std::array<int, 4> ViewerScene::paneRect(int p) const {
@@ -81,7 +81,7 @@ void ViewerScene::dataChanged() {
 }
 
 void ViewerScene::setView(render::StandardView v) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   state.view = v;
   const auto data = session_.dataset();
   if (!data) return;
@@ -103,7 +103,7 @@ render::FabricRenderer& ViewerScene::upToDate(std::unique_ptr<render::FabricRend
     } else if (principal) {
       // A tensor in the fibres colour mode: its principal directions as one population, as `render` does.
       if (!principal_ || principalSerial_ != session_.fieldSerial()) {
-        principal_ = principalFibres(data->loaded.field);
+        principal_ = session::principalFibres(data->loaded.field);
         principalSerial_ = session_.fieldSerial();
       }
       r->setFibres(*principal_);
@@ -162,7 +162,7 @@ render::ColourMode ViewerScene::otherColour(render::ColourMode mode) const {
 }
 
 void ViewerScene::render(int width, int height) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   width = std::max(width, 1);
   height = std::max(height, 1);
   if (width != width_ || height != height_) {
@@ -202,14 +202,14 @@ void ViewerScene::render(int width, int height) {
       r.resize(size.x, size.y);
       outputRenderer_[p] = &r;
       outputSize_[p] = size;
-      if (p == 1 && state.secondPane == ui::SecondPane::Phong) {
+      if (p == 1 && state.secondPane == session::SecondPane::Phong) {
         r.renderPhong(cam);
         outputFbo_[p] = r.output().id();
         dirty_[p] = low;
         continue;
       }
       render::FabricParams params = state.fabric;
-      if (p == 1 && state.secondPane == ui::SecondPane::OtherColourMode)
+      if (p == 1 && state.secondPane == session::SecondPane::OtherColourMode)
         params.colour = otherColour(params.colour);
       if (low) {
         params.autoLodPixels *= scale;
@@ -289,7 +289,7 @@ void ViewerScene::probe(double x, double y) {
 }
 
 void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
-  ui::ViewerState& state = session_.state();
+  session::ViewerState& state = session_.state();
   render::FabricRenderer& r = *outputRenderer_[p];
   const int slot = &r == lowRes_[p].get() ? 2 + p : p;
   if (!tractLayers_[slot]) tractLayers_[slot] = std::make_unique<render::TractLayer>();
@@ -302,13 +302,14 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
   f.view = r.frameView();
   // The width on screen: an interactive frame is magnified by the blit.
   f.style.widthPx = static_cast<float>(state.tractWidthPx * outputSize_[p].x / std::max(rect[2], 1));
-  TractPick pick;
+  session::TractPick pick;
   if (session_.tractsSlab()) pick.plane = session_.tractsPlane();
-  TractOverlayOptions overlay;
+  session::TractOverlayOptions overlay;
   overlay.nearMm = state.tractsNearMm;
   overlay.clipMm = state.tractsClipMm;
   overlay.clipDepthMm = state.tractsClipOffsetMm;
-  const TractClip clip = tractClip(pick, overlay, glm::vec3(camera(p).forward()), session_.meshCentre());
+  const session::TractClip clip =
+      session::tractClip(pick, overlay, glm::vec3(camera(p).forward()), session_.meshCentre());
   f.style.plane = clip.plane;
   f.style.slabMm = clip.slabMm;
   f.key = tractKeys_[p] = tractKey();
@@ -327,36 +328,36 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
       all ? static_cast<double>(layer.shownSegments()) / static_cast<double>(all) : 1.0;
 }
 
-void ViewerScene::applyKey(ui::Key key) {
-  ui::ActionList actions;
-  ui::keyActions(key, state(), actions);
+void ViewerScene::applyKey(session::Key key) {
+  session::ActionList actions;
+  session::keyActions(key, state(), actions);
   for (const auto& a : actions)
     apply(a);
 }
 
-void ViewerScene::apply(const ui::Action& action) {
+void ViewerScene::apply(const session::Action& action) {
   session_.apply(action);
   try {
-    if (applyView(action) || !std::holds_alternative<ui::SetFabricParams>(action)) return;
+    if (applyView(action) || !std::holds_alternative<session::SetFabricParams>(action)) return;
     dataChanged(); // new fabric parameters: the panes start again
   } catch (...) {
     session_.setError(currentExceptionMessage());
   }
 }
 
-bool ViewerScene::applyView(const ui::Action& action) {
-  ui::ViewerState& state = session_.state();
+bool ViewerScene::applyView(const session::Action& action) {
+  session::ViewerState& state = session_.state();
   return std::visit(
       [&](const auto& a) {
         using T = std::decay_t<decltype(a)>;
-        if constexpr (std::is_same_v<T, ui::SetView>) {
+        if constexpr (std::is_same_v<T, session::SetView>) {
           setView(a.view);
-        } else if constexpr (std::is_same_v<T, ui::SetNeurological>) {
+        } else if constexpr (std::is_same_v<T, session::SetNeurological>) {
           state.neurological = a.on;
           using V = render::StandardView;
           if (state.view == V::Axial || state.view == V::Coronal || state.view == V::Sagittal)
             setView(state.view);
-        } else if constexpr (std::is_same_v<T, ui::SetSplit>) {
+        } else if constexpr (std::is_same_v<T, session::SetSplit>) {
           if (a.mode && *a.mode != state.secondPane) {
             state.secondPane = *a.mode;
             dataChanged();
@@ -369,16 +370,16 @@ bool ViewerScene::applyView(const ui::Action& action) {
               cameras_[p].fit(data->lo, data->hi, paneAspect(p));
           activePane_ = 0;
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetLinkedCameras>) {
+        } else if constexpr (std::is_same_v<T, session::SetLinkedCameras>) {
           state.linked = a.on;
           cameras_[1] = cameras_[0];
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SetSecondPane>) {
+        } else if constexpr (std::is_same_v<T, session::SetSecondPane>) {
           state.secondPane = a.mode;
           dataChanged();
-        } else if constexpr (std::is_same_v<T, ui::ResetView>) {
+        } else if constexpr (std::is_same_v<T, session::ResetView>) {
           setView(session_.homeView());
-        } else if constexpr (std::is_same_v<T, ui::Rotate>) {
+        } else if constexpr (std::is_same_v<T, session::Rotate>) {
           const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
           const double s = std::max(std::min(rect[2], rect[3]), 1);
           // Arcball from the pane centre in steps of <= 10 pixels, like a real drag.
@@ -388,7 +389,7 @@ bool ViewerScene::applyView(const ui::Action& action) {
           for (int i = 0; i < n; ++i)
             cam.trackball({0.0, 0.0}, {2.0 * a.dx / n / s, -2.0 * a.dy / n / s});
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::Pan>) {
+        } else if constexpr (std::is_same_v<T, session::Pan>) {
           const auto rect = paneRect(a.pane < 0 ? activePane_ : a.pane);
           render::Camera& cam = cameraFor(a.pane);
           const double dist = glm::length(cam.target - cam.eye);
@@ -400,17 +401,17 @@ bool ViewerScene::applyView(const ui::Action& action) {
           cam.eye += shift;
           cam.target += shift;
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::Zoom>) {
+        } else if constexpr (std::is_same_v<T, session::Zoom>) {
           if (a.factor > 0) cameraFor(a.pane).zoom(1.0 / a.factor);
           cameraChanged();
-        } else if constexpr (std::is_same_v<T, ui::SaveCamera>) {
+        } else if constexpr (std::is_same_v<T, session::SaveCamera>) {
           if (session_.mayWrite(a.path, a.force, action)) writeCameraFile(a.path, cameraFor(-1));
-        } else if constexpr (std::is_same_v<T, ui::ConfirmOverwrite>) {
+        } else if constexpr (std::is_same_v<T, session::ConfirmOverwrite>) {
           // Screenshots are the window's: it answers the prompt itself and takes them.
           if (auto forced = session_.answerOverwrite(a.overwrite);
-              forced && !std::holds_alternative<ui::Screenshot>(*forced))
+              forced && !std::holds_alternative<session::Screenshot>(*forced))
             apply(*forced);
-        } else if constexpr (std::is_same_v<T, ui::LoadCamera>) {
+        } else if constexpr (std::is_same_v<T, session::LoadCamera>) {
           cameraFor(-1) = readCameraFile(a.path);
           if (state.linked) cameras_[1] = cameras_[0];
           cameraChanged();

@@ -1,21 +1,21 @@
-// The viewer's panes over a session (app/scene/viewer_session.h, which holds the data, the surface, the
+// The viewer's panes over a session (ui/session/viewer_session.h, which holds the data, the surface, the
 // tracts, the workers, the write policy and the error modal): one or two fabric panes (FabricRenderer each,
 // the batch renderer's path), their cameras, and the tracts the session selected drawn over them
 // (render/tract_layer.h under a frame budget). It performs the camera and pane actions and hands the rest of
-// app/scene/actions.h to the session. It needs a current GL 4.5 context but no GLFW, so `dtfabric view`
+// ui/session/actions.h to the session. It needs a current GL 4.5 context but no GLFW, so `dtfabric view`
 // drives it from a window and `dtfabric bench view` from the headless context. Errors never escape: they
 // become the session's error chain, which the window shows as a modal.
 #pragma once
 
-#include "app/scene/actions.h"
-#include "app/scene/keymap.h"
-#include "app/scene/viewer_session.h"
-#include "app/scene/viewer_state.h"
 #include "io/model/image.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
+#include "ui/session/actions.h"
+#include "ui/session/keymap.h"
+#include "ui/session/viewer_session.h"
+#include "ui/session/viewer_state.h"
 
 #include <algorithm>
 #include <array>
@@ -30,14 +30,14 @@ namespace dtf::app {
 
 class ViewerScene {
 public:
-  // `surface`: the first surface in app/scene/surface_spec.h syntax (empty = FA isosurface at 0.25).
+  // `surface`: the first surface in ui/session/surface_spec.h syntax (empty = FA isosurface at 0.25).
   explicit ViewerScene(const std::string& surface = {});
   ~ViewerScene();
 
   // Performs an action: cameras and panes here, the rest in the session (Screenshot and Quit are the
   // window's; they are ignored here).
-  void apply(const ui::Action& action);
-  void applyKey(ui::Key key);
+  void apply(const session::Action& action);
+  void applyKey(session::Key key);
   // Takes the session's finished work and uploads what changed. Call once per frame.
   void update();
   // Renders the panes for a scene area of width x height pixels: interactive frames while the camera moves
@@ -59,8 +59,8 @@ public:
   // Pane p's full-size renderer (pass timings in benchmarks).
   render::FabricRenderer& paneRenderer(int p) { return upToDate(renderers_[p], p); }
 
-  ViewerSession& session() { return session_; }
-  const ui::ViewerState& state() const { return session_.state(); }
+  session::ViewerSession& session() { return session_; }
+  const session::ViewerState& state() const { return session_.state(); }
   // No load, extraction, tract loading, selection, tracking, agreement or save queued or running.
   bool settled() const { return session_.settled(); }
   // Every pane reached still quality, its tracts included.
@@ -88,17 +88,19 @@ public:
   std::uint64_t meshSerial() const { return session_.meshSerial(); }
   void addRecent(const std::string& path) { session_.addRecent(path); }
 
-  // The session's write policy (app/scene/viewer_session.h).
-  bool mayWrite(const std::string& path, bool force, const ui::Action& action) {
+  // The session's write policy (ui/session/viewer_session.h).
+  bool mayWrite(const std::string& path, bool force, const session::Action& action) {
     return session_.mayWrite(path, force, action);
   }
-  std::optional<ui::Action> answerOverwrite(bool overwrite) { return session_.answerOverwrite(overwrite); }
+  std::optional<session::Action> answerOverwrite(bool overwrite) {
+    return session_.answerOverwrite(overwrite);
+  }
   void setAskBeforeOverwrite(bool on) { session_.setAskBeforeOverwrite(on); }
   void addInput(const std::string& path) { session_.addInput(path); }
   // A GL failure (GlError: context, shaders, GPU memory, texture limits) was reported since construction.
   bool glFailed() const { return glFailed_; }
   // The data on screen (null before the first load).
-  std::shared_ptr<const ViewerDataset> dataset() const { return session_.dataset(); }
+  std::shared_ptr<const session::ViewerDataset> dataset() const { return session_.dataset(); }
   // Replaces the tensors on screen by `field` (same grid; the orientation check's correction, in memory).
   void replaceField(TensorField field) { session_.replaceField(std::move(field)); }
 
@@ -112,7 +114,7 @@ private:
   render::Camera& cameraFor(int pane);
   double paneAspect(int p) const;
   // Performs the camera and pane actions; false for the session's.
-  bool applyView(const ui::Action& action);
+  bool applyView(const session::Action& action);
   void tractFrame(int p, bool fabricChanged, bool moving);
   render::ColourMode otherColour(render::ColourMode mode) const;
   // What a tract layer draws besides the camera: the selection uploaded, the surface it is depth-tested
@@ -121,7 +123,7 @@ private:
     return (seenDisplay_ * 1000003 + session_.meshSerial()) * 1009 + session_.tractStyleSerial();
   }
 
-  ViewerSession session_;
+  session::ViewerSession session_;
   std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
   std::array<std::unique_ptr<render::FabricRenderer>, 2> lowRes_;    // interactive frames
   // Serials of the mesh and field each renderer holds, and whether it holds a tensor's principal directions

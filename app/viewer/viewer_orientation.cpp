@@ -30,7 +30,7 @@ void ViewerOrientation::release() {
 
 void ViewerOrientation::frame(ViewerScene& scene, const float rect[4],
                               std::map<std::string, std::array<float, 2>>* centres) {
-  const std::shared_ptr<const ViewerDataset> data = scene.dataset();
+  const std::shared_ptr<const session::ViewerDataset> data = scene.dataset();
   if (data && data->fibres && data != seen_ && !running_.valid()) {
     // A fibre set is checked by `dtfabric check PEAKS`; its carrier field here is no diffusion tensor.
     seen_ = data;
@@ -88,7 +88,7 @@ void ViewerOrientation::frame(ViewerScene& scene, const float rect[4],
     break;
   case ui::OrientationAction::ApplyCorrection:
     if (result_ && result_->error.empty()) {
-      const CheckRun& run = result_->run;
+      const session::CheckRun& run = result_->run;
       scene.replaceField(surfaces::transformedField(run.field, run.tableToWorld, run.report.correction));
       seen_ = scene.dataset(); // the corrected data is not checked again
       banner_.applied = true;
@@ -106,7 +106,8 @@ void ViewerOrientation::renderSheet() {
     GLint fbo = 0, viewport[4];
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &fbo);
     glGetIntegerv(GL_VIEWPORT, viewport);
-    const Image sheet = renderContactSheet(result_->run, sheetRows(result_->run.report), 192, false);
+    const Image sheet =
+        session::renderContactSheet(result_->run, session::sheetRows(result_->run.report), 192, false);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(fbo));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glGenTextures(1, &texture_);

@@ -6,9 +6,9 @@
 // it.
 #pragma once
 
-#include "app/scene/check_run.h"
 #include "app/viewer/viewer.h"
-#include "ui/orientation_banner.h"
+#include "ui/panels/orientation_banner.h"
+#include "ui/session/check_run.h"
 
 #include <future>
 #include <memory>
@@ -35,13 +35,13 @@ public:
 
 private:
   struct Result {
-    std::shared_ptr<const ViewerDataset> data;
-    CheckRun run;
+    std::shared_ptr<const session::ViewerDataset> data;
+    session::CheckRun run;
     std::string error;
   };
   void renderSheet();
 
-  std::shared_ptr<const ViewerDataset> seen_; // the dataset the last check was started for
+  std::shared_ptr<const session::ViewerDataset> seen_; // the dataset the last check was started for
   std::future<Result> running_;
   std::optional<Result> result_;
   ui::OrientationBannerState banner_;

@@ -3,14 +3,14 @@
 // blitted under the panels each frame.
 #include "app/viewer/window.h"
 
-#include "app/scene/surface_spec.h"
-#include "app/scene/orientation_labels.h"
 #include "app/viewer/viewer.h"
 #include "app/viewer/viewer_orientation.h"
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
 #include "render/gl_context.h"
-#include "ui/panels.h"
+#include "ui/panels/panels.h"
+#include "ui/session/orientation_labels.h"
+#include "ui/session/surface_spec.h"
 
 #include <GLFW/glfw3.h>
 #include <array>
@@ -52,24 +52,24 @@ void onScroll(GLFWwindow* w, double, double dy) {
   if (auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w))) q->scroll += dy;
 }
 
-std::optional<ui::Key> mapKey(int key) {
+std::optional<session::Key> mapKey(int key) {
   switch (key) {
   case GLFW_KEY_UP:
-    return ui::Key::Up;
+    return session::Key::Up;
   case GLFW_KEY_DOWN:
-    return ui::Key::Down;
+    return session::Key::Down;
   case GLFW_KEY_PAGE_UP:
-    return ui::Key::PageUp;
+    return session::Key::PageUp;
   case GLFW_KEY_PAGE_DOWN:
-    return ui::Key::PageDown;
+    return session::Key::PageDown;
   case GLFW_KEY_A:
-    return ui::Key::A;
+    return session::Key::A;
   case GLFW_KEY_C:
-    return ui::Key::C;
+    return session::Key::C;
   case GLFW_KEY_S:
-    return ui::Key::S;
+    return session::Key::S;
   case GLFW_KEY_R:
-    return ui::Key::R;
+    return session::Key::R;
   default:
     return std::nullopt;
   }
@@ -220,7 +220,7 @@ private:
   }
 
   void takeScreenshot(int x, int y, int w, int h) {
-    const ui::Screenshot shot = *pendingShot_;
+    const session::Screenshot shot = *pendingShot_;
     pendingShot_.reset();
     try {
       if (shot.path.empty()) throw InputError("screenshot: no path given");
@@ -231,12 +231,12 @@ private:
     }
   }
 
-  void perform(const ui::Action& a) {
-    if (const auto* s = std::get_if<ui::Screenshot>(&a)) {
+  void perform(const session::Action& a) {
+    if (const auto* s = std::get_if<session::Screenshot>(&a)) {
       if (scene_->mayWrite(s->path, s->force, a)) pendingShot_ = *s;
-    } else if (const auto* c = std::get_if<ui::ConfirmOverwrite>(&a)) {
+    } else if (const auto* c = std::get_if<session::ConfirmOverwrite>(&a)) {
       if (auto forced = scene_->answerOverwrite(c->overwrite)) perform(*forced);
-    } else if (std::holds_alternative<ui::Quit>(a))
+    } else if (std::holds_alternative<session::Quit>(a))
       quit_ = true;
     else
       scene_->apply(a);
@@ -269,19 +269,19 @@ private:
     if (dragging_ && (x != lastX_ || y != lastY_)) {
       const double dx = (x - lastX_) * scale_, dy = (y - lastY_) * scale_;
       if (panning_)
-        scene_->apply(ui::Pan{dx, dy, dragPane_});
+        scene_->apply(session::Pan{dx, dy, dragPane_});
       else
-        scene_->apply(ui::Rotate{dx, dy, dragPane_});
+        scene_->apply(session::Rotate{dx, dy, dragPane_});
       lastX_ = x;
       lastY_ = y;
     }
     if (input_.scroll != 0 && !io.WantCaptureMouse && inScene(x, y))
-      scene_->apply(ui::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
+      scene_->apply(session::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
     input_.scroll = 0;
     for (std::size_t i = 0; i < input_.keyCount; ++i) {
       if (io.WantCaptureKeyboard) break;
       if (input_.keys[i] == GLFW_KEY_ESCAPE && !scene_->state().errorChain.empty())
-        scene_->apply(ui::DismissError{});
+        scene_->apply(session::DismissError{});
       if (auto k = mapKey(input_.keys[i]); k && !(input_.mods[i] & (GLFW_MOD_CONTROL | GLFW_MOD_ALT)))
         scene_->applyKey(*k);
     }
@@ -306,10 +306,10 @@ private:
       const struct {
         const char* text;
         ImVec2 at;
-      } labels[4] = {{anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
-                     {anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
-                     {anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
-                     {anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
+      } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
+                     {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
+                     {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
+                     {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
       for (const auto& l : labels) {
         dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
         dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
@@ -351,11 +351,11 @@ private:
     const auto now = std::chrono::steady_clock::now();
     while (runningScript()) {
       const ScriptStep& step = script_->steps[next_];
-      const auto* action = std::get_if<ui::Action>(&step.command);
-      const bool shot = action && std::holds_alternative<ui::Screenshot>(*action);
+      const auto* action = std::get_if<session::Action>(&step.command);
+      const bool shot = action && std::holds_alternative<session::Screenshot>(*action);
       const bool probe = std::holds_alternative<ScriptProbe>(step.command);
       // track-cancel is meant for the running tracking: it does not wait for the worker.
-      const bool cancel = action && std::holds_alternative<ui::CancelTracking>(*action);
+      const bool cancel = action && std::holds_alternative<session::CancelTracking>(*action);
       // Screenshots and probes read the rendered image: they wait for the fabric to converge.
       const bool ready = cancel || (scene_->settled() && (!(shot || probe) || scene_->converged()));
       if (!ready) {
@@ -376,13 +376,13 @@ private:
       if (action) {
         const auto errorsBefore = scene_->errorSerial();
         perform(*action);
-        if (shot || std::holds_alternative<ui::Quit>(*action)) return;
+        if (shot || std::holds_alternative<session::Quit>(*action)) return;
         if (scene_->errorSerial() != errorsBefore)
           return;                       // reported at the end of this frame, with this line
         if (!scene_->settled()) return; // started work on the worker
         // An error is reported at the end of this frame with lastLine_: this line's, not a later one's.
         if (scene_->errorSerial() != reportedErrors_) return;
-      } else if (const auto* key = std::get_if<ui::Key>(&step.command)) {
+      } else if (const auto* key = std::get_if<session::Key>(&step.command)) {
         scene_->applyKey(*key);
         if (!scene_->settled()) return;
       } else if (const auto* wait = std::get_if<ScriptWait>(&step.command)) {
@@ -394,7 +394,7 @@ private:
         return;
       } else if (const auto* at = std::get_if<ScriptProbe>(&step.command)) {
         scene_->probe(at->x, at->y);
-        const ui::ProbeInfo& p = scene_->state().probe;
+        const session::ProbeInfo& p = scene_->state().probe;
         std::fprintf(stderr, "%s:%d: probe %g %g: ", script_->file.c_str(), step.line, at->x, at->y);
         if (!p.onSurface)
           std::fprintf(stderr, "background\n");
@@ -407,7 +407,7 @@ private:
       } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
         render::FabricParams p = scene_->state().fabric;
         applyScriptParam(p, *param);
-        scene_->apply(ui::SetFabricParams{p});
+        scene_->apply(session::SetFabricParams{p});
       }
     }
   }
@@ -420,8 +420,8 @@ private:
   ViewerOrientation orientationCheck_; // the check's banner over the scene
   ui::PanelBuffers buffers_;
   ui::PanelLayout layout_;
-  ui::ActionList actions_;
-  std::optional<ui::Screenshot> pendingShot_;
+  session::ActionList actions_;
+  std::optional<session::Screenshot> pendingShot_;
   bool quit_ = false;
   double scale_ = 1;
   int sceneX_ = 0, sceneY_ = 0, sceneW_ = 1, sceneH_ = 1;
@@ -447,7 +447,7 @@ int runViewerWindow(const ViewerWindowOptions& o) {
   if (!o.inputs.empty()) {
     window.setOpenPath(o.inputs.front());
     window.setTensorPath(o.tensor);
-    window.scene().apply(ui::LoadFile{o.inputs.front(), o.layout, o.tensor});
+    window.scene().apply(session::LoadFile{o.inputs.front(), o.layout, o.tensor});
   }
   return window.run();
 }

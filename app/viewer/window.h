@@ -10,7 +10,7 @@ namespace dtf::app {
 
 struct ViewerWindowOptions {
   std::vector<std::string> inputs;    // the first is loaded, all are listed under recent files
-  std::string surface;                // first surface (app/scene/surface_spec.h syntax); empty: FA 0.25
+  std::string surface;                // first surface (ui/session/surface_spec.h syntax); empty: FA 0.25
   std::string layout = "auto";        // tensor or fibre layout of the first input
   std::string tensor;                 // a fibre-set first input: its paired tensor volume (FA)
   int width = 1280, height = 800;     // window size, pixels

@@ -39,8 +39,8 @@ struct ViewScene {
     frame();
     ASSERT_TRUE(scene.converged());
   }
-  void apply(const ui::Action& a) { scene.apply(a); }
-  const ui::ViewerState& state() const { return scene.state(); }
+  void apply(const session::Action& a) { scene.apply(a); }
+  const session::ViewerState& state() const { return scene.state(); }
   std::string lastError() const { return state().errorChain.empty() ? "" : state().errorChain.back(); }
   // What the window would show: the panes blitted into a w x h target, row 0 at the top.
   Image image(int w = 256, int h = 256) {

@@ -28,7 +28,7 @@ io::PhantomOptions crossing() {
 // The centre of the crossing after convergence (zoomed to about 13 mm, inside the overlap of the bundles),
 // and its histogram's peaks.
 std::vector<double> centrePeaks(test::ViewScene& s, const char* name, std::array<double, test::kBins>* hist) {
-  s.apply(ui::Zoom{5});
+  s.apply(session::Zoom{5});
   s.converge();
   const Image img = s.image();
   if (test::envFlag("DTF_TEST_SAVE_IMAGES")) io::writePng((test::binaryDir() / name).string(), img);
@@ -51,7 +51,7 @@ TEST(ViewFibresScene, ACrossingFibreSetWeavesBothBundles) {
   const std::string peaks = (dir / "x60_peaks.nii.gz").string();
   io::writeFibres(peaks, io::makeFibrePhantom("crossing", crossing()), io::FibreLayout::DipyPeaks);
   test::ViewScene s("slice=axial");
-  s.apply(ui::LoadFile{peaks});
+  s.apply(session::LoadFile{peaks});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   ASSERT_TRUE(s.state().fibres.present);
@@ -71,7 +71,7 @@ TEST(ViewFibresScene, ATensorInTheFibresModeShowsItsPrincipalDirectionLikeTheMed
   const std::string tensor = (dir / "x60_tensor.nii.gz").string();
   io::writeTensorVolume(tensor, io::makePhantom("crossing", crossing()).tensors, io::TensorLayout::Fsl);
   test::ViewScene s("slice=axial");
-  s.apply(ui::LoadFile{tensor});
+  s.apply(session::LoadFile{tensor});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_EQ(s.state().fabric.colour, render::ColourMode::Medical);
@@ -80,7 +80,7 @@ TEST(ViewFibresScene, ATensorInTheFibresModeShowsItsPrincipalDirectionLikeTheMed
   // The same field in the fibres mode: uploaded as one population (the principal direction) on the fly.
   render::FabricParams params = s.state().fabric;
   params.colour = render::ColourMode::Fibres;
-  s.apply(ui::SetFabricParams{params});
+  s.apply(session::SetFabricParams{params});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   std::array<double, test::kBins> fibres{};
@@ -95,7 +95,7 @@ TEST(ViewFibresScene, ATensorInTheFibresModeShowsItsPrincipalDirectionLikeTheMed
   EXPECT_LT(test::binValue(fibres, 30.0), 0.5) << "fibres-mode peaks: " << list(pf);
   // Back to medical: the principal-direction upload is dropped again and the image is the medical one.
   params.colour = render::ColourMode::Medical;
-  s.apply(ui::SetFabricParams{params});
+  s.apply(session::SetFabricParams{params});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   const auto again = test::orientationHistogram(s.image(), 40, 40, 216, 216);

@@ -1,10 +1,10 @@
 // The viewer opens in the selected display convention, as `dtfabric render --view axial`: radiological by
 // default (the patient's right on the image's left), neurological when chosen, whatever the first surface;
 // the pane's edge letters name the side the camera puts there.
-#include "app/scene/orientation_labels.h"
 #include "app/viewer/viewer.h"
 #include "render/camera.h"
 #include "support/gl_test.h"
+#include "ui/session/orientation_labels.h"
 
 #include <chrono>
 #include <thread>
@@ -14,8 +14,8 @@ namespace {
 using dtf::render::Camera;
 
 void loadPhantom(dtf::app::ViewerScene& scene) {
-  scene.apply(
-      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  scene.apply(dtf::session::LoadFile{
+      (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
   for (int i = 0; i < 3000 && !scene.settled(); ++i) {
     scene.update();
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -47,9 +47,9 @@ TEST(ViewInitialView, RadiologicalByDefaultForEveryFirstSurface) {
     EXPECT_LT(screenX(c, centre + glm::dvec3(40, 0, 0)), screenX(c, centre - glm::dvec3(40, 0, 0)))
         << "the patient's right is not on the image's left";
     EXPECT_GT(c.up.y, 0.99) << "anterior is not up";
-    EXPECT_STREQ(dtf::app::anatomicalLabel(-c.right()), "R") << "left edge";
-    EXPECT_STREQ(dtf::app::anatomicalLabel(c.right()), "L") << "right edge";
-    EXPECT_STREQ(dtf::app::anatomicalLabel(c.up), "A") << "top edge";
+    EXPECT_STREQ(dtf::session::anatomicalLabel(-c.right()), "R") << "left edge";
+    EXPECT_STREQ(dtf::session::anatomicalLabel(c.right()), "L") << "right edge";
+    EXPECT_STREQ(dtf::session::anatomicalLabel(c.up), "A") << "top edge";
     // The same orientation as `dtfabric render --view axial`.
     const Camera batch =
         Camera::standard(dtf::render::StandardView::Axial, glm::dvec3(-1), glm::dvec3(1), 1.0);
@@ -62,11 +62,11 @@ TEST(ViewInitialView, NeurologicalWhenChosen) {
   DTF_GL_TEST_SETUP();
   dtf::app::ViewerScene scene;
   loadPhantom(scene);
-  scene.apply(dtf::ui::SetNeurological{true});
-  scene.apply(dtf::ui::ResetView{});
+  scene.apply(dtf::session::SetNeurological{true});
+  scene.apply(dtf::session::ResetView{});
   const Camera& c = scene.camera(0);
   const glm::dvec3 centre = c.target;
   EXPECT_GT(screenX(c, centre + glm::dvec3(40, 0, 0)), screenX(c, centre - glm::dvec3(40, 0, 0)))
       << "neurological: the patient's right on the image's right";
-  EXPECT_STREQ(dtf::app::anatomicalLabel(c.right()), "R");
+  EXPECT_STREQ(dtf::session::anatomicalLabel(c.right()), "R");
 }

@@ -22,7 +22,7 @@ using dtf::test::counting;
 // interactive path (its renderer's targets are created on first use). Leaves the counter off.
 std::pair<long, long> countStillAndMoving(dtf::app::ViewerScene& scene) {
   for (int i = 0; i < 3; ++i) {
-    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.apply(dtf::session::Rotate{4, 0});
     scene.update();
     scene.render(160, 120);
   }
@@ -34,7 +34,7 @@ std::pair<long, long> countStillAndMoving(dtf::app::ViewerScene& scene) {
   }
   const long still = allocations.exchange(0);
   for (int i = 0; i < 5; ++i) {
-    scene.apply(dtf::ui::Rotate{4, 0});
+    scene.apply(dtf::session::Rotate{4, 0});
     scene.update();
     scene.render(160, 120);
   }
@@ -45,8 +45,8 @@ std::pair<long, long> countStillAndMoving(dtf::app::ViewerScene& scene) {
 TEST(ViewScene, FramesDoNotAllocate) {
   DTF_GL_TEST_SETUP();
   dtf::app::ViewerScene scene("slice=axial");
-  scene.apply(
-      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  scene.apply(dtf::session::LoadFile{
+      (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
   for (int i = 0; i < 3000 && !scene.settled(); ++i) {
     scene.update();
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -85,9 +85,9 @@ TEST(ViewScene, FramesWithTractsDoNotAllocate) {
   const auto tck = dtf::test::scratchDir() / "helices.tck";
   dtf::io::writeTck(tck.string(), lines);
   dtf::app::ViewerScene scene("slice=axial");
-  scene.apply(
-      dtf::ui::LoadFile{(dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
-  scene.apply(dtf::ui::LoadTracts{tck.string()});
+  scene.apply(dtf::session::LoadFile{
+      (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  scene.apply(dtf::session::LoadTracts{tck.string()});
   for (int i = 0; i < 3000 && !(scene.settled() && scene.converged()); ++i) {
     scene.update();
     scene.render(160, 120);

@@ -12,7 +12,7 @@ using namespace dtf::app;
 
 namespace {
 template <typename T> const T& actionAt(const ViewScript& s, std::size_t i) {
-  const auto* a = std::get_if<ui::Action>(&s.steps.at(i).command);
+  const auto* a = std::get_if<session::Action>(&s.steps.at(i).command);
   EXPECT_NE(a, nullptr) << "step " << i << " is not a ui action";
   return std::get<T>(*a);
 }
@@ -55,27 +55,27 @@ TEST(ViewScript, ParsesEveryCommand) {
   ASSERT_EQ(s.steps.size(), 21u);
   EXPECT_EQ(s.file, "fig.txt");
   EXPECT_EQ(s.steps[0].line, 2);
-  EXPECT_EQ(actionAt<ui::LoadFile>(s, 0).path, "/data/my brain.nii.gz"); // paths keep their spaces
-  EXPECT_EQ(actionAt<ui::SetSurfaceSpec>(s, 1).text, "slice=coronal:12");
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetFaThreshold>(s, 2).value, 0.3);
-  EXPECT_EQ(actionAt<ui::SetSlice>(s, 3).axis, 2);
-  EXPECT_EQ(actionAt<ui::SetSlice>(s, 3).index, 7);
-  EXPECT_EQ(std::get<ui::Key>(s.steps[4].command), ui::Key::PageUp);
-  EXPECT_DOUBLE_EQ(actionAt<ui::Rotate>(s, 5).dx, 40);
-  EXPECT_DOUBLE_EQ(actionAt<ui::Rotate>(s, 5).dy, -10);
-  EXPECT_DOUBLE_EQ(actionAt<ui::Pan>(s, 6).dy, 6);
-  EXPECT_DOUBLE_EQ(actionAt<ui::Zoom>(s, 7).factor, 2);
-  EXPECT_EQ(actionAt<ui::SetView>(s, 8).view, render::StandardView::Anterior);
-  EXPECT_TRUE(actionAt<ui::SetSplit>(s, 9).on);
-  EXPECT_FALSE(actionAt<ui::SetLinkedCameras>(s, 10).on);
-  EXPECT_TRUE(actionAt<ui::SetNeurological>(s, 11).on);
+  EXPECT_EQ(actionAt<session::LoadFile>(s, 0).path, "/data/my brain.nii.gz"); // paths keep their spaces
+  EXPECT_EQ(actionAt<session::SetSurfaceSpec>(s, 1).text, "slice=coronal:12");
+  EXPECT_DOUBLE_EQ(actionAt<session::SetFaThreshold>(s, 2).value, 0.3);
+  EXPECT_EQ(actionAt<session::SetSlice>(s, 3).axis, 2);
+  EXPECT_EQ(actionAt<session::SetSlice>(s, 3).index, 7);
+  EXPECT_EQ(std::get<session::Key>(s.steps[4].command), session::Key::PageUp);
+  EXPECT_DOUBLE_EQ(actionAt<session::Rotate>(s, 5).dx, 40);
+  EXPECT_DOUBLE_EQ(actionAt<session::Rotate>(s, 5).dy, -10);
+  EXPECT_DOUBLE_EQ(actionAt<session::Pan>(s, 6).dy, 6);
+  EXPECT_DOUBLE_EQ(actionAt<session::Zoom>(s, 7).factor, 2);
+  EXPECT_EQ(actionAt<session::SetView>(s, 8).view, render::StandardView::Anterior);
+  EXPECT_TRUE(actionAt<session::SetSplit>(s, 9).on);
+  EXPECT_FALSE(actionAt<session::SetLinkedCameras>(s, 10).on);
+  EXPECT_TRUE(actionAt<session::SetNeurological>(s, 11).on);
   EXPECT_EQ(std::get<ScriptSetParam>(s.steps[12].command).name, "blend-k");
   EXPECT_EQ(std::get<ScriptWait>(s.steps[15].command).frames, 5);
-  EXPECT_FALSE(actionAt<ui::Screenshot>(s, 16).sceneOnly);
-  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 17).sceneOnly);
-  EXPECT_EQ(actionAt<ui::Screenshot>(s, 17).path, "out/b.png");
-  EXPECT_EQ(actionAt<ui::LoadCamera>(s, 19).path, "cam.txt");
-  EXPECT_TRUE(std::holds_alternative<ui::Quit>(std::get<ui::Action>(s.steps[20].command)));
+  EXPECT_FALSE(actionAt<session::Screenshot>(s, 16).sceneOnly);
+  EXPECT_TRUE(actionAt<session::Screenshot>(s, 17).sceneOnly);
+  EXPECT_EQ(actionAt<session::Screenshot>(s, 17).path, "out/b.png");
+  EXPECT_EQ(actionAt<session::LoadCamera>(s, 19).path, "cam.txt");
+  EXPECT_TRUE(std::holds_alternative<session::Quit>(std::get<session::Action>(s.steps[20].command)));
   EXPECT_EQ(s.steps[20].line, 23);
 }
 
@@ -101,7 +101,7 @@ TEST(ViewScript, SetParamsApplyToFabricParams) {
 TEST(ViewScript, TractsLineLoadsStreamlines) {
   const ViewScript s = parseViewScript("tracts /data/cst left.tck\n", "t.txt");
   ASSERT_EQ(s.steps.size(), 1u);
-  EXPECT_EQ(actionAt<ui::LoadTracts>(s, 0).path, "/data/cst left.tck");
+  EXPECT_EQ(actionAt<session::LoadTracts>(s, 0).path, "/data/cst left.tck");
   EXPECT_NE(parseError("tracts").find("usage: tracts PATH"), std::string::npos);
 }
 
@@ -172,21 +172,21 @@ TEST(ViewScript, TractLinesParse) {
                                        "agreement 3 18\n",
                                        "t.txt");
   ASSERT_EQ(s.steps.size(), 10u);
-  EXPECT_FALSE(actionAt<ui::SetTractsVisible>(s, 0).on);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsNear>(s, 1).mm, 2.5);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractWidth>(s, 2).px, 3.0);
-  EXPECT_TRUE(actionAt<ui::SetSplit>(s, 3).on);
-  EXPECT_EQ(actionAt<ui::SetSplit>(s, 3).mode, ui::SecondPane::Tracts);
-  EXPECT_EQ(actionAt<ui::SetSplit>(s, 4).mode, ui::SecondPane::Phong);
-  actionAt<ui::CancelTracking>(s, 5);
-  EXPECT_EQ(actionAt<ui::SaveTracts>(s, 6).path, "out/my tracts.tck");
-  EXPECT_FALSE(actionAt<ui::SaveTracts>(s, 6).force);
-  EXPECT_EQ(actionAt<ui::SaveTracts>(s, 7).path, "out/t.trk");
-  EXPECT_TRUE(actionAt<ui::SaveTracts>(s, 7).force);
-  EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 8).nearMm, 2.0); // `dtfabric compare`'s defaults
-  EXPECT_EQ(actionAt<ui::ComputeAgreement>(s, 8).bins, 9);
-  EXPECT_DOUBLE_EQ(actionAt<ui::ComputeAgreement>(s, 9).nearMm, 3.0);
-  EXPECT_EQ(actionAt<ui::ComputeAgreement>(s, 9).bins, 18);
+  EXPECT_FALSE(actionAt<session::SetTractsVisible>(s, 0).on);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsNear>(s, 1).mm, 2.5);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractWidth>(s, 2).px, 3.0);
+  EXPECT_TRUE(actionAt<session::SetSplit>(s, 3).on);
+  EXPECT_EQ(actionAt<session::SetSplit>(s, 3).mode, session::SecondPane::Tracts);
+  EXPECT_EQ(actionAt<session::SetSplit>(s, 4).mode, session::SecondPane::Phong);
+  actionAt<session::CancelTracking>(s, 5);
+  EXPECT_EQ(actionAt<session::SaveTracts>(s, 6).path, "out/my tracts.tck");
+  EXPECT_FALSE(actionAt<session::SaveTracts>(s, 6).force);
+  EXPECT_EQ(actionAt<session::SaveTracts>(s, 7).path, "out/t.trk");
+  EXPECT_TRUE(actionAt<session::SaveTracts>(s, 7).force);
+  EXPECT_DOUBLE_EQ(actionAt<session::ComputeAgreement>(s, 8).nearMm, 2.0); // `dtfabric compare`'s defaults
+  EXPECT_EQ(actionAt<session::ComputeAgreement>(s, 8).bins, 9);
+  EXPECT_DOUBLE_EQ(actionAt<session::ComputeAgreement>(s, 9).nearMm, 3.0);
+  EXPECT_EQ(actionAt<session::ComputeAgreement>(s, 9).bins, 18);
 }
 
 TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
@@ -197,17 +197,17 @@ TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
                                        "track from=fa:0.4 per-voxel=2\n"
                                        "track from=slice:axial\n",
                                        "t.txt");
-  const ui::TrackRequest def = actionAt<ui::TrackTracts>(s, 0).request;
-  EXPECT_EQ(def.seeds, ui::SeedKind::Surface);
-  EXPECT_EQ(def.count, ui::SeedCount::Select);
+  const session::ViewerTrackRequest def = actionAt<session::TrackTracts>(s, 0).request;
+  EXPECT_EQ(def.seeds, session::SeedKind::Surface);
+  EXPECT_EQ(def.count, session::SeedCount::Select);
   EXPECT_EQ(def.number, 1000);
   EXPECT_DOUBLE_EQ(def.faStop, 0.15);
   EXPECT_TRUE(def.rk4);
-  const ui::TrackRequest a = actionAt<ui::TrackTracts>(s, 1).request;
-  EXPECT_EQ(a.seeds, ui::SeedKind::Slice);
+  const session::ViewerTrackRequest a = actionAt<session::TrackTracts>(s, 1).request;
+  EXPECT_EQ(a.seeds, session::SeedKind::Slice);
   EXPECT_EQ(a.sliceAxis, 1);
   EXPECT_EQ(a.sliceIndex, 12);
-  EXPECT_EQ(a.count, ui::SeedCount::Seeds);
+  EXPECT_EQ(a.count, session::SeedCount::Seeds);
   EXPECT_EQ(a.number, 500);
   EXPECT_DOUBLE_EQ(a.faStop, 0.2);
   EXPECT_DOUBLE_EQ(a.angleDeg, 45);
@@ -216,27 +216,29 @@ TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
   EXPECT_DOUBLE_EQ(a.maxLengthMm, 100);
   EXPECT_EQ(a.rngSeed, 7);
   EXPECT_FALSE(a.rk4);
-  const ui::TrackRequest b = actionAt<ui::TrackTracts>(s, 2).request;
-  EXPECT_EQ(b.seeds, ui::SeedKind::Sphere);
+  const session::ViewerTrackRequest b = actionAt<session::TrackTracts>(s, 2).request;
+  EXPECT_EQ(b.seeds, session::SeedKind::Sphere);
   EXPECT_EQ(b.centre, glm::dvec3(1.5, -2, 30));
   EXPECT_DOUBLE_EQ(b.radiusMm, 8);
   EXPECT_EQ(b.number, 20);
-  const ui::TrackRequest c = actionAt<ui::TrackTracts>(s, 3).request;
-  EXPECT_EQ(c.seeds, ui::SeedKind::FaMask);
+  const session::ViewerTrackRequest c = actionAt<session::TrackTracts>(s, 3).request;
+  EXPECT_EQ(c.seeds, session::SeedKind::FaMask);
   EXPECT_DOUBLE_EQ(c.faMask, 0.4);
-  EXPECT_EQ(c.count, ui::SeedCount::PerVoxel);
+  EXPECT_EQ(c.count, session::SeedCount::PerVoxel);
   EXPECT_EQ(c.number, 2);
-  EXPECT_EQ(actionAt<ui::TrackTracts>(s, 4).request.sliceIndex, -1) << "no index: the viewer's current slice";
+  EXPECT_EQ(actionAt<session::TrackTracts>(s, 4).request.sliceIndex, -1)
+      << "no index: the viewer's current slice";
 }
 
 TEST(ViewScript, TractClipLinesParse) {
   const ViewScript s = parseViewScript("tracts-clip 4 -12.5\ntracts-clip 2\ntracts-clip 0\n", "t.txt");
   ASSERT_EQ(s.steps.size(), 3u);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 0).mm, 4.0);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 0).offsetMm, -12.5);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 1).mm, 2.0);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 1).offsetMm, 0.0) << "no depth: through the surface's centre";
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractsClip>(s, 2).mm, 0.0);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsClip>(s, 0).mm, 4.0);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsClip>(s, 0).offsetMm, -12.5);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsClip>(s, 1).mm, 2.0);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsClip>(s, 1).offsetMm, 0.0)
+      << "no depth: through the surface's centre";
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractsClip>(s, 2).mm, 0.0);
   EXPECT_NE(parseError("tracts-clip -1").find("demo.txt:1: tracts-clip must lie in [0, 1000]"),
             std::string::npos);
   EXPECT_NE(parseError("tracts-clip 3 2000").find("tracts-clip depth must lie in [-1000, 1000]"),
@@ -276,17 +278,17 @@ TEST(ViewScript, OutputLinesTakeForceBeforeThePath) {
                                        "camera-save --forced.cam\n",
                                        "f.txt");
   ASSERT_EQ(s.steps.size(), 5u);
-  EXPECT_FALSE(actionAt<ui::Screenshot>(s, 0).force);
-  EXPECT_EQ(actionAt<ui::Screenshot>(s, 0).path, "a b.png");
-  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 1).force);
-  EXPECT_EQ(actionAt<ui::Screenshot>(s, 1).path, "out/a.png");
-  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 2).force);
-  EXPECT_TRUE(actionAt<ui::Screenshot>(s, 2).sceneOnly);
-  EXPECT_EQ(actionAt<ui::Screenshot>(s, 2).path, "my shot.png");
-  EXPECT_TRUE(actionAt<ui::SaveCamera>(s, 3).force);
-  EXPECT_EQ(actionAt<ui::SaveCamera>(s, 3).path, "cam 1");
-  EXPECT_FALSE(actionAt<ui::SaveCamera>(s, 4).force); // a path that merely starts with --force
-  EXPECT_EQ(actionAt<ui::SaveCamera>(s, 4).path, "--forced.cam");
+  EXPECT_FALSE(actionAt<session::Screenshot>(s, 0).force);
+  EXPECT_EQ(actionAt<session::Screenshot>(s, 0).path, "a b.png");
+  EXPECT_TRUE(actionAt<session::Screenshot>(s, 1).force);
+  EXPECT_EQ(actionAt<session::Screenshot>(s, 1).path, "out/a.png");
+  EXPECT_TRUE(actionAt<session::Screenshot>(s, 2).force);
+  EXPECT_TRUE(actionAt<session::Screenshot>(s, 2).sceneOnly);
+  EXPECT_EQ(actionAt<session::Screenshot>(s, 2).path, "my shot.png");
+  EXPECT_TRUE(actionAt<session::SaveCamera>(s, 3).force);
+  EXPECT_EQ(actionAt<session::SaveCamera>(s, 3).path, "cam 1");
+  EXPECT_FALSE(actionAt<session::SaveCamera>(s, 4).force); // a path that merely starts with --force
+  EXPECT_EQ(actionAt<session::SaveCamera>(s, 4).path, "--forced.cam");
 }
 
 namespace {
@@ -346,21 +348,21 @@ TEST(ViewScript, TractColourAndGroupLinesParse) {
                       "tracts-groups ARC_L,ARC_R\ntracts-groups all\ntracts-groups none\n",
                       "t.txt");
   ASSERT_EQ(s.steps.size(), 7u);
-  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 0).value, "z");
-  EXPECT_FALSE(actionAt<ui::SetTractColour>(s, 0).range) << "no range: the value's min..max";
-  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 1).value, "fa");
-  ASSERT_TRUE(actionAt<ui::SetTractColour>(s, 1).range);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractColour>(s, 1).range->first, 0.2);
-  EXPECT_DOUBLE_EQ(actionAt<ui::SetTractColour>(s, 1).range->second, 0.8);
-  EXPECT_EQ(actionAt<ui::SetTractColour>(s, 2).value, "") << "dec: direction colours";
-  EXPECT_FALSE(actionAt<ui::SetTractGroups>(s, 3).all);
-  EXPECT_EQ(actionAt<ui::SetTractGroups>(s, 3).shown, std::vector<std::string>{"ARC_L"});
-  EXPECT_EQ(actionAt<ui::SetTractGroups>(s, 4).shown, (std::vector<std::string>{"ARC_L", "ARC_R"}));
-  EXPECT_TRUE(actionAt<ui::SetTractGroups>(s, 5).all);
-  EXPECT_FALSE(actionAt<ui::SetTractGroups>(s, 6).all);
-  EXPECT_TRUE(actionAt<ui::SetTractGroups>(s, 6).shown.empty()) << "none hides every streamline";
-  EXPECT_EQ(ui::describe(std::get<ui::Action>(s.steps[1].command)), "SetTractColour fa 0.2 0.8");
-  EXPECT_EQ(ui::describe(std::get<ui::Action>(s.steps[4].command)), "SetTractGroups ARC_L ARC_R");
+  EXPECT_EQ(actionAt<session::SetTractColour>(s, 0).value, "z");
+  EXPECT_FALSE(actionAt<session::SetTractColour>(s, 0).range) << "no range: the value's min..max";
+  EXPECT_EQ(actionAt<session::SetTractColour>(s, 1).value, "fa");
+  ASSERT_TRUE(actionAt<session::SetTractColour>(s, 1).range);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractColour>(s, 1).range->first, 0.2);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetTractColour>(s, 1).range->second, 0.8);
+  EXPECT_EQ(actionAt<session::SetTractColour>(s, 2).value, "") << "dec: direction colours";
+  EXPECT_FALSE(actionAt<session::SetTractGroups>(s, 3).all);
+  EXPECT_EQ(actionAt<session::SetTractGroups>(s, 3).shown, std::vector<std::string>{"ARC_L"});
+  EXPECT_EQ(actionAt<session::SetTractGroups>(s, 4).shown, (std::vector<std::string>{"ARC_L", "ARC_R"}));
+  EXPECT_TRUE(actionAt<session::SetTractGroups>(s, 5).all);
+  EXPECT_FALSE(actionAt<session::SetTractGroups>(s, 6).all);
+  EXPECT_TRUE(actionAt<session::SetTractGroups>(s, 6).shown.empty()) << "none hides every streamline";
+  EXPECT_EQ(session::describe(std::get<session::Action>(s.steps[1].command)), "SetTractColour fa 0.2 0.8");
+  EXPECT_EQ(session::describe(std::get<session::Action>(s.steps[4].command)), "SetTractGroups ARC_L ARC_R");
 
   EXPECT_NE(parseError("tracts-color").find("demo.txt:1: usage: tracts-color NAME|dec [LO HI]"),
             std::string::npos);
@@ -377,15 +379,15 @@ TEST(ViewScript, FibresLinesOpenAFibreSetWithItsLayoutAndPairedTensor) {
                                        "fibres layout=dipy-peaks tensor=/data/dti.nii.gz /data/peaks.nii.gz\n"
                                        "fibres layout=auto /data/bedpostx\n",
                                        "f.txt");
-  const auto& a = actionAt<ui::LoadFile>(s, 0);
+  const auto& a = actionAt<session::LoadFile>(s, 0);
   EXPECT_EQ(a.path, "/data/my peaks.nii.gz"); // the path keeps its spaces
   EXPECT_EQ(a.layout, "fibres-auto");         // detected among the fibre layouts, never read as a tensor
   EXPECT_TRUE(a.tensor.empty());
-  const auto& b = actionAt<ui::LoadFile>(s, 1);
+  const auto& b = actionAt<session::LoadFile>(s, 1);
   EXPECT_EQ(b.path, "/data/peaks.nii.gz");
   EXPECT_EQ(b.layout, "dipy-peaks");
   EXPECT_EQ(b.tensor, "/data/dti.nii.gz");
-  EXPECT_EQ(actionAt<ui::LoadFile>(s, 2).layout, "fibres-auto");
+  EXPECT_EQ(actionAt<session::LoadFile>(s, 2).layout, "fibres-auto");
   EXPECT_NE(parseError("fibres").find("usage: fibres"), std::string::npos);
   EXPECT_NE(parseError("fibres layout=dipy-peaks").find("usage: fibres"), std::string::npos);
   EXPECT_NE(parseError("fibres layout=fsl /p.nii").find("layout must be"), std::string::npos);

@@ -3,11 +3,11 @@
 // the tract colour map, checked against the library (Polylines::subset, tractValueColour). No volume is
 // loaded, so every streamline is drawn (the near-surface selection's carrying of per-point data is tested
 // with surfaces/analyses/near_surface.h).
-#include "app/scene/tract_files.h"
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"
 #include "render/tract_renderer.h"
 #include "support/gl_test.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <chrono>
@@ -50,17 +50,17 @@ const TractGroup& group(const Polylines& l, const std::string& name) {
 TEST(ViewTractColouring, GroupsShowOnlyTheirStreamlines) {
   DTF_GL_TEST_SETUP();
   DTF_SHARED_FILE(afq, "niivue_tracts/afq_tractography.trx");
-  const Polylines all = app::readTracts(afq.string());
+  const Polylines all = session::readTracts(afq.string());
   const Polylines left = all.subset(group(all, "ARC_L").lines);
   ASSERT_EQ(left.lineCount(), 486u);
   Scene s;
-  s.scene.apply(ui::LoadTracts{afq.string()});
+  s.scene.apply(session::LoadTracts{afq.string()});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_EQ(s.scene.state().tractGroupNames, (std::vector<std::string>{"ARC_L", "ARC_R"}));
   EXPECT_EQ(s.scene.state().tractsShownLines, 508u) << "no surface: every streamline";
 
-  ui::SetTractGroups onlyLeft;
+  session::SetTractGroups onlyLeft;
   onlyLeft.all = false;
   onlyLeft.shown = {"ARC_L"};
   s.scene.apply(onlyLeft);
@@ -73,17 +73,17 @@ TEST(ViewTractColouring, GroupsShowOnlyTheirStreamlines) {
   EXPECT_EQ(s.scene.state().tractsShownLines, 486u);
   EXPECT_EQ(s.scene.state().tractCount, 508u) << "analysis and saving keep every streamline";
 
-  ui::SetTractGroups none;
+  session::SetTractGroups none;
   none.all = false;
   s.scene.apply(none);
   s.converge();
   EXPECT_EQ(s.scene.shownTracts()->lineCount(), 0u);
-  s.scene.apply(ui::SetTractGroups{});
+  s.scene.apply(session::SetTractGroups{});
   s.converge();
   EXPECT_EQ(s.scene.state().tractsShownLines, 508u);
 
   // An unknown group is an error naming the file and the groups; the choice on screen stays.
-  ui::SetTractGroups wrong;
+  session::SetTractGroups wrong;
   wrong.all = false;
   wrong.shown = {"CST_L"};
   s.scene.apply(wrong);
@@ -95,12 +95,12 @@ TEST(ViewTractColouring, GroupsShowOnlyTheirStreamlines) {
 TEST(ViewTractColouring, ValueColoursFollowTheColourMapAndItsRange) {
   DTF_GL_TEST_SETUP();
   DTF_SHARED_FILE(dpsv, "niivue_tracts/dpsv.trx");
-  const Polylines all = app::readTracts(dpsv.string());
+  const Polylines all = session::readTracts(dpsv.string());
   const std::vector<float> z = all.valuesPerPoint("z");
   ASSERT_EQ(z.size(), all.points.size());
   const auto [zlo, zhi] = std::minmax_element(z.begin(), z.end());
   Scene s;
-  s.scene.apply(ui::LoadTracts{dpsv.string()});
+  s.scene.apply(session::LoadTracts{dpsv.string()});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   const auto& names = s.scene.state().tractDataNames;
@@ -109,7 +109,7 @@ TEST(ViewTractColouring, ValueColoursFollowTheColourMapAndItsRange) {
   ASSERT_NE(s.scene.displayedTracts(), nullptr);
   EXPECT_TRUE(s.scene.displayedTracts()->colours.empty()) << "DEC by default";
 
-  s.scene.apply(ui::SetTractColour{"z", {}});
+  s.scene.apply(session::SetTractColour{"z", {}});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_EQ(s.scene.state().tractColourBy, "z");
@@ -137,7 +137,7 @@ TEST(ViewTractColouring, ValueColoursFollowTheColourMapAndItsRange) {
   EXPECT_GT(distinct, 20u) << "z varies along the tracts: many colours";
 
   // A chosen range: values below it take the low end of the map.
-  s.scene.apply(ui::SetTractColour{"z", std::make_pair(double(*zhi) - 1.0, double(*zhi))});
+  s.scene.apply(session::SetTractColour{"z", std::make_pair(double(*zhi) - 1.0, double(*zhi))});
   s.converge();
   EXPECT_DOUBLE_EQ(s.scene.state().tractColourLo, *zhi - 1.0);
   const glm::vec3 low = render::tractValueColour(0.0f);
@@ -149,10 +149,10 @@ TEST(ViewTractColouring, ValueColoursFollowTheColourMapAndItsRange) {
   EXPECT_GT(atLow, r->colours.size() / 2) << "most of the tracts lie below the top 1 mm";
 
   // Unknown data: an error naming the file and the data; DEC restores the default.
-  s.scene.apply(ui::SetTractColour{"fa", {}});
+  s.scene.apply(session::SetTractColour{"fa", {}});
   EXPECT_NE(s.lastError().find("no per-point or per-streamline data 'fa'"), std::string::npos)
       << s.lastError();
-  s.scene.apply(ui::SetTractColour{});
+  s.scene.apply(session::SetTractColour{});
   s.converge();
   EXPECT_TRUE(s.scene.displayedTracts()->colours.empty());
   EXPECT_EQ(s.scene.state().tractColourBy, "");

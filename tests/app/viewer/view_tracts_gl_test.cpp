@@ -3,8 +3,6 @@
 // agreement measure on the worker threads, each checked against the command line that does the same
 // (`dtfabric compare`, `dtfabric track`) or against the library call. Real brain: the shared
 // iu_prisma_dwi tensors and their 2000 deterministic streamlines.
-#include "app/scene/surface_spec.h"
-#include "app/scene/tract_files.h"
 #include "app/viewer/viewer.h"
 #include "io/formats/png_io.h"
 #include "io/formats/tensor_io.h"
@@ -14,6 +12,8 @@
 #include "support/view_scene.h"
 #include "support/window.h"
 #include "surfaces/analyses/near_surface.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tract_files.h"
 
 #include <chrono>
 #include <cmath>
@@ -56,11 +56,11 @@ std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {
 TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
   BRAIN_FILES();
   Scene s("slice=axial:22");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   const Image plain = s.image();
-  s.apply(ui::LoadTracts{tck.string()});
+  s.apply(session::LoadTracts{tck.string()});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_EQ(s.state().tractCount, 2000u);
@@ -69,15 +69,15 @@ TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
   const std::size_t drawn = dtf::test::tractPixels(tracts, plain);
   EXPECT_GT(drawn, 2000u) << "DEC-coloured tract pixels over the fabric";
   // A thin slab keeps fewer of them.
-  s.apply(ui::SetTractsNear{0.5});
+  s.apply(session::SetTractsNear{0.5});
   s.converge();
   EXPECT_LT(dtf::test::tractPixels(s.image(), plain), drawn * 3 / 4);
-  s.apply(ui::SetTractsNear{3.0});
-  s.apply(ui::SetTractsVisible{false});
+  s.apply(session::SetTractsNear{3.0});
+  s.apply(session::SetTractsVisible{false});
   s.converge();
   const Image hidden = s.image();
   EXPECT_LT(dtf::test::tractPixels(hidden, plain), drawn / 50) << "hidden tracts left pixels behind";
-  s.apply(ui::SetTractsVisible{true});
+  s.apply(session::SetTractsVisible{true});
   s.converge();
   EXPECT_LT(differing(s.image(), tracts), tracts.rgba.size() / 4 / 100)
       << "showing them again restores the image";
@@ -85,16 +85,16 @@ TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
   // Split "fabric | fabric + tracts": one camera, the same fabric in the same colour mode, so the panes
   // differ by the tracts alone, and not at all once they are hidden.
   using dtf::test::paneDifference;
-  s.apply(ui::SetSplit{true, ui::SecondPane::Tracts});
+  s.apply(session::SetSplit{true, session::SecondPane::Tracts});
   s.converge();
   const Image split = s.image();
   io::writePng((test::scratchDir() / "split.png").string(), split);
   const std::size_t withTracts = paneDifference(split);
   EXPECT_GT(withTracts, 500u) << "the right pane carries the tracts";
-  s.apply(ui::SetTractsVisible{false});
+  s.apply(session::SetTractsVisible{false});
   s.converge();
   EXPECT_LT(paneDifference(s.image()), withTracts / 20) << "without tracts both panes show the same fabric";
-  s.apply(ui::SetTractsVisible{true});
+  s.apply(session::SetTractsVisible{true});
   s.converge();
   EXPECT_FALSE(s.scene.paneShowsTracts(0));
   EXPECT_TRUE(s.scene.paneShowsTracts(1));
@@ -103,28 +103,28 @@ TEST(ViewTracts, DrawnOverTheFabricHiddenOnRequestAndSplitFabricVersusTracts) {
 TEST(ViewTracts, SelectionFollowsTheSurfaceAndEqualsTheLibrarySelection) {
   BRAIN_FILES();
   Scene s("fa=0.3");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
-  s.apply(ui::LoadTracts{tck.string()});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{tck.string()});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_FALSE(s.state().tractsSlab);
   const TensorField field = io::readTensorVolume(tensor.string()).field;
-  const Polylines all = app::readTracts(tck.string());
+  const Polylines all = session::readTracts(tck.string());
   const ScalarVolume fa = computeFaMap(field);
   auto expected = [&](double t, double near) {
-    const Mesh m = app::buildSurface(app::parseSurfaceSpec("fa=" + std::to_string(t)), field, fa);
+    const Mesh m = session::buildSurface(session::parseSurfaceSpec("fa=" + std::to_string(t)), field, fa);
     return surfaces::selectNearSurface(all, surfaces::DistanceQuery(m), near).points.size();
   };
   const std::size_t at03 = s.state().tractsShownPoints;
   EXPECT_EQ(at03, expected(0.3, 3.0));
-  s.apply(ui::SetFaThreshold{0.2});
+  s.apply(session::SetFaThreshold{0.2});
   s.converge();
   EXPECT_EQ(s.state().tractsShownPoints, expected(0.2, 3.0));
   EXPECT_NE(s.state().tractsShownPoints, at03);
-  s.apply(ui::SetTractsNear{1.5});
+  s.apply(session::SetTractsNear{1.5});
   s.converge();
   EXPECT_EQ(s.state().tractsShownPoints, expected(0.2, 1.5));
-  s.apply(ui::SetTractsNear{0});
+  s.apply(session::SetTractsNear{0});
   s.converge();
   EXPECT_EQ(s.state().tractsShownPoints, all.points.size()) << "0 mm: every tract";
 }
@@ -134,12 +134,12 @@ TEST(ViewTracts, SelectionFollowsTheSurfaceAndEqualsTheLibrarySelection) {
 TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
   BRAIN_FILES();
   Scene s("fa=0.25");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   const Image plain = s.image();
-  s.apply(ui::LoadTracts{tck.string()});
-  s.apply(ui::SetTractsNear{0}); // every tract: the case the clip is for
+  s.apply(session::LoadTracts{tck.string()});
+  s.apply(session::SetTractsNear{0}); // every tract: the case the clip is for
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_FALSE(s.state().tractsSlab);
@@ -147,7 +147,7 @@ TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
   const std::size_t allDrawn = dtf::test::tractPixels(all, plain);
   ASSERT_GT(allDrawn, 3000u);
 
-  s.apply(ui::SetTractsClip{4.0, 0.0});
+  s.apply(session::SetTractsClip{4.0, 0.0});
   s.converge();
   const Image centre = s.image();
   io::writePng((test::scratchDir() / "clip_centre.png").string(), centre);
@@ -155,42 +155,42 @@ TEST(ViewTracts, ClipSlabThinsTheTractsFollowsItsDepthAndTurnsOff) {
   EXPECT_LT(centreDrawn, allDrawn * 2 / 3) << "an 8 mm slab keeps a part of a whole-brain tractogram";
   EXPECT_GT(centreDrawn, allDrawn / 50) << "the slab through the centre of the brain cuts tracts";
 
-  s.apply(ui::SetTractsClip{4.0, 25.0});
+  s.apply(session::SetTractsClip{4.0, 25.0});
   s.converge();
   const Image deeper = s.image();
   EXPECT_GT(dtf::test::tractPixels(deeper, plain), allDrawn / 100);
   EXPECT_GT(differing(deeper, centre), centreDrawn / 4) << "another depth shows other tracts";
 
-  s.apply(ui::SetTractsClip{4.0, 200.0}); // beyond the brain along the view
+  s.apply(session::SetTractsClip{4.0, 200.0}); // beyond the brain along the view
   s.converge();
   EXPECT_LT(dtf::test::tractPixels(s.image(), plain), allDrawn / 200)
       << "a slab outside the data shows no tract";
 
-  s.apply(ui::SetTractsClip{0.0, 200.0});
+  s.apply(session::SetTractsClip{0.0, 200.0});
   s.converge();
   EXPECT_LT(differing(s.image(), all), all.rgba.size() / 4 / 100) << "0 mm turns the clip off";
-  EXPECT_EQ(s.state().tractsShownPoints, app::readTracts(tck.string()).points.size())
+  EXPECT_EQ(s.state().tractsShownPoints, session::readTracts(tck.string()).points.size())
       << "the clip is for display: the selection keeps every point";
 }
 
 TEST(ViewTracts, AgreementMatchesTheCompareCommand) {
   BRAIN_FILES();
   Scene s("fa=0.25");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
-  s.apply(ui::LoadTracts{tck.string()});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{tck.string()});
   s.converge();
   const auto dir = test::scratchDir();
   for (const char* surface : {"fa=0.25", "slice=axial:22"}) {
     SCOPED_TRACE(surface);
-    s.apply(ui::SetSurfaceSpec{surface});
-    s.apply(ui::ComputeAgreement{2.0, 9});
+    s.apply(session::SetSurfaceSpec{surface});
+    s.apply(session::ComputeAgreement{2.0, 9});
     s.converge();
     ASSERT_EQ(s.lastError(), "");
     ASSERT_TRUE(s.state().hasAgreement);
     const test::CompareRun c = test::runCompare(tensor, tck, surface, dir);
     ASSERT_EQ(c.cli.exitCode, 0) << c.cli.err;
     ASSERT_TRUE(c.complete) << c.cli.out;
-    const ui::ViewerState& v = s.state();
+    const session::ViewerState& v = s.state();
     EXPECT_EQ(v.agreementPoints, c.points);
     EXPECT_NEAR(v.agreementMeanDeg, c.mean, 1e-4);
     EXPECT_NEAR(v.agreementMedianDeg, c.median, 1e-4);
@@ -206,14 +206,14 @@ TEST(ViewTracts, AgreementMatchesTheCompareCommand) {
 TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
   BRAIN_FILES();
   Scene s("slice=axial:22");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
   s.converge();
-  ui::TrackRequest r;
-  r.seeds = ui::SeedKind::Slice;
+  session::ViewerTrackRequest r;
+  r.seeds = session::SeedKind::Slice;
   r.sliceAxis = 0;
   r.sliceIndex = -1; // the slice on screen: 22
   r.number = 150;
-  s.apply(ui::TrackTracts{r});
+  s.apply(session::TrackTracts{r});
   EXPECT_TRUE(s.state().tracking);
   s.converge();
   ASSERT_EQ(s.lastError(), "");
@@ -221,7 +221,7 @@ TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
   EXPECT_EQ(s.state().tractCount, 150u) << s.state().trackStatus;
   const auto dir = test::scratchDir();
   const auto viewer = dir / "viewer.tck", cli = dir / "cli.tck";
-  s.apply(ui::SaveTracts{viewer.string()});
+  s.apply(session::SaveTracts{viewer.string()});
   s.converge();
   ASSERT_EQ(s.lastError(), "");
   EXPECT_EQ(s.state().saveStatus, "wrote " + viewer.string());
@@ -235,38 +235,38 @@ TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
   // An existing file is not replaced unless asked: scripts fail naming it, the window asks first.
   const auto before = fs::file_size(viewer);
   s.scene.setAskBeforeOverwrite(false); // as under --script
-  s.apply(ui::SaveTracts{viewer.string()});
+  s.apply(session::SaveTracts{viewer.string()});
   EXPECT_NE(s.lastError().find(viewer.string() + " exists"), std::string::npos) << s.lastError();
-  s.apply(ui::DismissError{});
+  s.apply(session::DismissError{});
   s.scene.setAskBeforeOverwrite(true);
-  s.apply(ui::SaveTracts{viewer.string()});
+  s.apply(session::SaveTracts{viewer.string()});
   EXPECT_EQ(s.state().overwritePath, viewer.string());
   EXPECT_EQ(s.lastError(), "");
-  s.apply(ui::ConfirmOverwrite{false}); // Cancel: nothing written
+  s.apply(session::ConfirmOverwrite{false}); // Cancel: nothing written
   EXPECT_EQ(s.state().overwritePath, "");
   fs::resize_file(viewer, 10);
-  s.apply(ui::SaveTracts{viewer.string()});
-  s.apply(ui::ConfirmOverwrite{true}); // Overwrite
+  s.apply(session::SaveTracts{viewer.string()});
+  s.apply(session::ConfirmOverwrite{true}); // Overwrite
   EXPECT_EQ(s.state().overwritePath, "");
   s.converge();
   EXPECT_EQ(s.lastError(), "");
   EXPECT_EQ(fs::file_size(viewer), before) << "the prompt's Overwrite rewrote the file";
   // Only tract files.
-  s.apply(ui::SaveTracts{tensor.string(), true});
+  s.apply(session::SaveTracts{tensor.string(), true});
   EXPECT_NE(s.lastError().find("tract files end in .tck, .trk or .vtk"), std::string::npos) << s.lastError();
 }
 
 TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
   BRAIN_FILES();
   Scene s("slice=axial:22");
-  s.apply(ui::LoadFile{tensor.string(), "auto"});
-  s.apply(ui::LoadTracts{tck.string()});
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{tck.string()});
   s.converge();
-  ui::TrackRequest r;
-  r.seeds = ui::SeedKind::FaMask;
+  session::ViewerTrackRequest r;
+  r.seeds = session::SeedKind::FaMask;
   r.faMask = 0.2;
   r.number = 5'000'000; // minutes of work
-  s.apply(ui::TrackTracts{r});
+  s.apply(session::TrackTracts{r});
   const auto t0 = Clock::now();
   while (s.state().trackSeedsDone == 0 && secondsSince(t0) < 30) {
     s.frame();
@@ -274,35 +274,35 @@ TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
   }
   EXPECT_GT(s.state().trackSeedsDone, 0u) << "progress is reported while tracking";
   EXPECT_GT(s.state().trackProgress, 0.0);
-  s.apply(ui::TrackTracts{r});
+  s.apply(session::TrackTracts{r});
   EXPECT_NE(s.lastError().find("tracking is already running"), std::string::npos) << s.lastError();
-  s.apply(ui::DismissError{});
+  s.apply(session::DismissError{});
   const auto c0 = Clock::now();
-  s.apply(ui::CancelTracking{});
+  s.apply(session::CancelTracking{});
   s.converge();
   EXPECT_LT(secondsSince(c0), 20.0);
   EXPECT_NE(s.state().trackStatus.find("tracking cancelled"), std::string::npos) << s.state().trackStatus;
   EXPECT_EQ(s.state().tractPath, tck.string()) << "a cancelled run keeps the tracts on screen";
   EXPECT_EQ(s.state().tractCount, 2000u);
   // The loaded file is an input: never overwritten, whatever the flags.
-  s.apply(ui::SaveTracts{tck.string(), true});
+  s.apply(session::SaveTracts{tck.string(), true});
   EXPECT_EQ(s.lastError(), "refusing to write " + tck.string() + ": it is an input file");
-  s.apply(ui::DismissError{});
+  s.apply(session::DismissError{});
 
   const auto dir = test::scratchDir();
   const auto bad = dir / "broken.tck";
   std::ofstream(bad) << "mrtrix tracks\nfile: . 20\ndatatype: Float32LE\nEND\n";
-  s.apply(ui::LoadTracts{bad.string()});
+  s.apply(session::LoadTracts{bad.string()});
   s.converge();
   ASSERT_FALSE(s.state().errorChain.empty());
   EXPECT_EQ(s.state().errorChain.front(), "while loading tracts " + bad.string());
   EXPECT_EQ(s.state().tractCount, 2000u) << "the previous tracts stay";
-  s.apply(ui::DismissError{});
-  r = ui::TrackRequest{};
-  r.seeds = ui::SeedKind::Sphere;
+  s.apply(session::DismissError{});
+  r = session::ViewerTrackRequest{};
+  r.seeds = session::SeedKind::Sphere;
   r.centre = glm::dvec3(500, 500, 500); // outside the brain: no streamline
   r.number = 5;
-  s.apply(ui::TrackTracts{r});
+  s.apply(session::TrackTracts{r});
   s.converge();
   ASSERT_FALSE(s.state().errorChain.empty());
   EXPECT_EQ(s.state().errorChain.front(), "while tracking");
@@ -326,9 +326,9 @@ TEST(ViewTracts, AMillionPointsStayInteractiveAndEndComplete) {
   const auto dir = test::scratchDir();
   io::writeTck((dir / "big.tck").string(), big);
   Scene s("slice=axial");
-  s.apply(ui::LoadFile{(test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
-  s.apply(ui::LoadTracts{(dir / "big.tck").string()});
-  s.apply(ui::SetTractsNear{0});
+  s.apply(session::LoadFile{(test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
+  s.apply(session::LoadTracts{(dir / "big.tck").string()});
+  s.apply(session::SetTractsNear{0});
   s.converge(300);
   ASSERT_EQ(s.lastError(), "");
   ASSERT_NE(s.scene.tractRenderer(), nullptr);
@@ -338,7 +338,7 @@ TEST(ViewTracts, AMillionPointsStayInteractiveAndEndComplete) {
   // Moving: each frame draws what its budget allows, a coarser level or part of one.
   bool reduced = false;
   for (int i = 0; i < 8; ++i) {
-    s.apply(ui::Rotate{6, 0});
+    s.apply(session::Rotate{6, 0});
     s.frame();
     reduced |= s.state().tractsLevel > 0 || s.state().tractsLevelFraction < 1.0;
   }

@@ -47,57 +47,57 @@ TEST(ViewerOutputs, ExistingFilesWaitForThePromptAndInputsAreRefused) {
   const fs::path volume = dir / "brain.nii.gz", cam = dir / "view.camera";
   fs::copy_file(kSample, volume);
   app::ViewerScene scene("slice=axial");
-  scene.apply(ui::LoadFile{volume.string(), "auto"});
+  scene.apply(session::LoadFile{volume.string(), "auto"});
   settle(scene);
   ASSERT_TRUE(scene.state().hasData) << errors(scene);
 
   // A new file is written at once.
-  scene.apply(ui::SaveCamera{cam.string()});
+  scene.apply(session::SaveCamera{cam.string()});
   EXPECT_TRUE(scene.state().errorChain.empty()) << errors(scene);
   EXPECT_NO_THROW(app::readCameraFile(cam.string()));
   // An existing one waits for the prompt; Cancel keeps it, Overwrite replaces it.
   std::ofstream(cam) << "precious";
-  scene.apply(ui::SaveCamera{cam.string()});
+  scene.apply(session::SaveCamera{cam.string()});
   EXPECT_EQ(scene.state().overwritePath, cam.string());
   EXPECT_EQ(readAll(cam), "precious");
-  scene.apply(ui::ConfirmOverwrite{false});
+  scene.apply(session::ConfirmOverwrite{false});
   EXPECT_TRUE(scene.state().overwritePath.empty());
   EXPECT_EQ(readAll(cam), "precious");
-  scene.apply(ui::SaveCamera{cam.string()});
-  scene.apply(ui::ConfirmOverwrite{true});
+  scene.apply(session::SaveCamera{cam.string()});
+  scene.apply(session::ConfirmOverwrite{true});
   EXPECT_TRUE(scene.state().overwritePath.empty());
   EXPECT_NO_THROW(app::readCameraFile(cam.string()));
   EXPECT_TRUE(scene.state().errorChain.empty()) << errors(scene);
   // A screenshot's prompt hands the window the forced action to perform.
   const fs::path shot = dir / "shot.png";
   std::ofstream(shot) << "precious";
-  const ui::Action shotAction = ui::Screenshot{shot.string(), true};
+  const session::Action shotAction = session::Screenshot{shot.string(), true};
   EXPECT_FALSE(scene.mayWrite(shot.string(), false, shotAction));
   EXPECT_EQ(scene.state().overwritePath, shot.string());
   const auto forced = scene.answerOverwrite(true);
-  ASSERT_TRUE(forced && std::holds_alternative<ui::Screenshot>(*forced));
-  EXPECT_TRUE(std::get<ui::Screenshot>(*forced).force);
-  EXPECT_TRUE(std::get<ui::Screenshot>(*forced).sceneOnly);
+  ASSERT_TRUE(forced && std::holds_alternative<session::Screenshot>(*forced));
+  EXPECT_TRUE(std::get<session::Screenshot>(*forced).force);
+  EXPECT_TRUE(std::get<session::Screenshot>(*forced).sceneOnly);
   EXPECT_TRUE(scene.mayWrite(shot.string(), true, *forced));
 
   // The loaded volume is an input: refused even when forced, and left as it was.
   const std::string before = readAll(volume);
-  scene.apply(ui::SaveCamera{volume.string(), true});
+  scene.apply(session::SaveCamera{volume.string(), true});
   ASSERT_FALSE(scene.state().errorChain.empty());
   EXPECT_NE(errors(scene).find("it is an input file"), std::string::npos) << errors(scene);
   EXPECT_EQ(readAll(volume), before);
   EXPECT_TRUE(scene.state().overwritePath.empty());
-  scene.apply(ui::DismissError{});
+  scene.apply(session::DismissError{});
 
   // Without asking (a script), an existing file is an error naming it unless forced.
   scene.setAskBeforeOverwrite(false);
   std::ofstream(cam) << "precious";
-  scene.apply(ui::SaveCamera{cam.string()});
+  scene.apply(session::SaveCamera{cam.string()});
   EXPECT_NE(errors(scene).find(cam.string() + " exists (use --force"), std::string::npos) << errors(scene);
   EXPECT_EQ(readAll(cam), "precious");
   EXPECT_TRUE(scene.state().overwritePath.empty());
-  scene.apply(ui::DismissError{});
-  scene.apply(ui::SaveCamera{cam.string(), true});
+  scene.apply(session::DismissError{});
+  scene.apply(session::SaveCamera{cam.string(), true});
   EXPECT_TRUE(scene.state().errorChain.empty()) << errors(scene);
   EXPECT_NO_THROW(app::readCameraFile(cam.string()));
   // Written through a temporary file: nothing but the outputs is left in the folder.
@@ -127,7 +127,7 @@ TEST(ViewerGlLimits, FieldBeyondTheMax3DTextureSizeIsAGlErrorAndTheSceneGoesOn) 
   io::writeTensorVolume(wide.string(), f, io::TensorLayout::Mrtrix);
 
   app::ViewerScene scene("slice=axial");
-  scene.apply(ui::LoadFile{wide.string(), "auto"});
+  scene.apply(session::LoadFile{wide.string(), "auto"});
   settle(scene);
   ASSERT_TRUE(scene.state().hasData) << errors(scene);
   for (int i = 0; i < 5; ++i)
@@ -141,15 +141,15 @@ TEST(ViewerGlLimits, FieldBeyondTheMax3DTextureSizeIsAGlErrorAndTheSceneGoesOn) 
   EXPECT_TRUE(scene.glFailed());
   // One error, not one per frame.
   const auto serial = scene.errorSerial();
-  scene.apply(ui::Rotate{10, 0});
+  scene.apply(session::Rotate{10, 0});
   for (int i = 0; i < 3; ++i)
     scene.render(160, 120);
   EXPECT_EQ(scene.errorSerial(), serial);
   render::takeDebugMessages(); // the refused upload left none, but do not let it leak into the next test
 
   // The scene is still usable: a good file loads and renders to convergence.
-  scene.apply(ui::DismissError{});
-  scene.apply(ui::LoadFile{kSample.string(), "auto"});
+  scene.apply(session::DismissError{});
+  scene.apply(session::LoadFile{kSample.string(), "auto"});
   settle(scene);
   for (int i = 0; i < 400 && !scene.converged(); ++i) {
     scene.update();

@@ -80,7 +80,7 @@ TEST_F(ViewerOrientationCheck, FlippedTableIsCorrectedInMemory) {
       os << "\n";
     }
   }
-  scene->apply(ui::LoadFile{(scratch / "dwi.nii.gz").string(), "auto"});
+  scene->apply(session::LoadFile{(scratch / "dwi.nii.gz").string(), "auto"});
   for (int i = 0; i < 3000 && !scene->settled(); ++i) {
     scene->update();
     std::this_thread::sleep_for(std::chrono::milliseconds(5));

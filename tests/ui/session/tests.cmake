@@ -1,0 +1,11 @@
+# Tests of ui/session/ (dtf_test(...) lines; the label follows from each file's suffix).
+dtf_test(test_session_layering SOURCES ui/session/session_layering_test.cpp LIBS dtf_model)
+dtf_test(test_check_sheet SOURCES ui/session/check_sheet_baseline_test.cpp LIBS dtf_session)
+dtf_test(test_tensor_input_stage SOURCES ui/session/tensor_input_stage_test.cpp LIBS dtf_session)
+dtf_test(test_tract_overlay_select SOURCES ui/session/tract_overlay_select_test.cpp LIBS dtf_session)
+dtf_test(test_surface_spec SOURCES ui/session/surface_spec_test.cpp LIBS dtf_session)
+dtf_test(test_tract_formats SOURCES ui/session/tract_formats_test.cpp LIBS dtf_session dtf_surfaces dtf_io dtf_model ZLIB::ZLIB)
+dtf_test(test_tract_io SOURCES ui/session/tract_io_test.cpp LIBS dtf_session dtf_surfaces dtf_io dtf_model)
+dtf_test(test_coalescing_worker SOURCES ui/session/coalescing_worker_test.cpp LIBS dtf_model)
+dtf_test(test_tract_overlay_rule SOURCES ui/session/tract_overlay_rule_test.cpp LIBS dtf_session)
+dtf_test(test_viewer_session SOURCES ui/session/viewer_session_test.cpp LIBS dtf_session)

@@ -1,3 +1,0 @@
-# Tests of ui/ (dtf_test(...) lines; the label follows from each file's suffix).
-dtf_test(test_view_ui SOURCES ui/view_ui_test.cpp LIBS dtf_ui)
-dtf_test(test_orientation_banner SOURCES ui/orientation_banner_test.cpp LIBS dtf_ui)

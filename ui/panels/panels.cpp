@@ -1,0 +1,566 @@
+#include "ui/panels/panels.h"
+
+#include "render/fabric_options.h"
+#include "render/tract_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <imgui.h>
+
+namespace dtf::ui {
+
+const std::array<const char*, 8> kLayoutNames = {"auto",  "fsl",          "mrtrix",     "symmatrix",
+                                                 "dtitk", "mrtrix-peaks", "dipy-peaks", "bedpostx"};
+
+namespace {
+
+// Records the centre of the last widget for tests (PanelBuffers::itemCentres): of its frame, without the
+// label that sliders and combos draw to the right of it.
+void probe(PanelBuffers& b, const char* label) {
+  if (!b.itemCentres) return;
+  const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+  const float right = std::min(hi.x, lo.x + ImGui::CalcItemWidth());
+  (*b.itemCentres)[label] = {0.5f * (lo.x + right), 0.5f * (lo.y + hi.y)};
+}
+
+bool sliderDouble(const char* label, double& v, float lo, float hi, const char* format,
+                  bool logarithmic = false) {
+  float f = static_cast<float>(v);
+  if (!ImGui::SliderFloat(label, &f, lo, hi, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+    return false;
+  v = f;
+  return true;
+}
+
+void copyPath(std::array<char, 1024>& dst, const std::string& src) {
+  std::snprintf(dst.data(), dst.size(), "%s", src.c_str());
+}
+
+constexpr ImGuiWindowFlags kFixed =
+    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+
+// Colour by (DEC or a data value) with its range and colour bar, and a checkbox per group.
+void tractColouringWidgets(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  const char* current = s.tractColourBy.empty() ? "DEC (direction)" : s.tractColourBy.c_str();
+  if (ImGui::BeginCombo("colour by", current)) {
+    if (ImGui::Selectable("DEC (direction)", s.tractColourBy.empty()))
+      out.push_back(session::SetTractColour{});
+    for (const std::string& name : s.tractDataNames)
+      if (ImGui::Selectable(name.c_str(), name == s.tractColourBy))
+        out.push_back(session::SetTractColour{name, {}});
+    ImGui::EndCombo();
+  }
+  probe(b, "colour by");
+  if (!s.tractColourBy.empty()) {
+    double lo = s.tractColourLo, hi = s.tractColourHi;
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.35f);
+    const bool loEntered = ImGui::InputDouble("min", &lo, 0, 0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue);
+    probe(b, "colour min");
+    ImGui::SameLine();
+    const bool hiEntered = ImGui::InputDouble("max", &hi, 0, 0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue);
+    probe(b, "colour max");
+    ImGui::PopItemWidth();
+    if ((loEntered || hiEntered) && std::isfinite(lo) && std::isfinite(hi) && lo < hi)
+      out.push_back(session::SetTractColour{s.tractColourBy, std::make_pair(lo, hi)});
+    // The colour map, low on the left, as a strip of flat cells.
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const float w = ImGui::GetContentRegionAvail().x, h = ImGui::GetFrameHeight() * 0.6f;
+    constexpr int kCells = 32;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int i = 0; i < kCells; ++i) {
+      const glm::vec3 c = render::tractValueColour((static_cast<float>(i) + 0.5f) / kCells);
+      draw->AddRectFilled(ImVec2(p.x + w * static_cast<float>(i) / kCells, p.y),
+                          ImVec2(p.x + w * static_cast<float>(i + 1) / kCells, p.y + h),
+                          ImGui::ColorConvertFloat4ToU32(ImVec4(c.x, c.y, c.z, 1.0f)));
+    }
+    ImGui::Dummy(ImVec2(w, h));
+    ImGui::TextDisabled("%.4g .. %.4g (viridis)", s.tractColourLo, s.tractColourHi);
+  }
+  if (s.tractGroupNames.empty()) return;
+  ImGui::TextUnformatted("groups");
+  for (std::size_t g = 0; g < s.tractGroupNames.size(); ++g) {
+    bool on = g < s.tractGroupShown.size() && s.tractGroupShown[g];
+    ImGui::PushID(static_cast<int>(g));
+    if (ImGui::Checkbox(s.tractGroupNames[g].c_str(), &on)) {
+      session::SetTractGroups groups;
+      groups.all = false;
+      for (std::size_t k = 0; k < s.tractGroupNames.size(); ++k)
+        if (k == g ? on : (k < s.tractGroupShown.size() && s.tractGroupShown[k]))
+          groups.shown.push_back(s.tractGroupNames[k]);
+      groups.all = groups.shown.size() == s.tractGroupNames.size();
+      if (groups.all) groups.shown.clear();
+      out.push_back(std::move(groups));
+    }
+    probe(b, s.tractGroupNames[g].c_str());
+    ImGui::PopID();
+  }
+}
+
+} // namespace
+
+void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]) {
+  rect[0] = std::min(layout.sideWidth, width - 1);
+  rect[1] = 0;
+  rect[2] = std::max(width - rect[0], 1.0f);
+  rect[3] = std::max(height - layout.statusHeight, 1.0f);
+}
+
+void dataPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (!ImGui::CollapsingHeader("Data", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  const bool enter =
+      ImGui::InputText("##path", b.openPath.data(), b.openPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+  probe(b, "path");
+  ImGui::SameLine();
+  const bool open = ImGui::Button("Open");
+  probe(b, "Open");
+  ImGui::Combo("layout", &b.layout, kLayoutNames.data(), static_cast<int>(kLayoutNames.size()));
+  probe(b, "layout");
+  ImGui::InputText("tensor", b.tensorPath.data(), b.tensorPath.size());
+  probe(b, "tensor");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("fibre sets: a tensor volume on the same grid (FA)");
+  if ((enter || open) && b.openPath[0] != '\0')
+    out.push_back(session::LoadFile{b.openPath.data(), kLayoutNames[b.layout], b.tensorPath.data()});
+  if (s.hasData) {
+    ImGui::SameLine();
+    if (ImGui::Button("Reload"))
+      out.push_back(session::LoadFile{s.data.path, kLayoutNames[b.layout], b.tensorPath.data()});
+    probe(b, "Reload");
+  }
+  if (!s.recent.empty() && ImGui::TreeNodeEx("Recent files", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (std::size_t i = 0; i < s.recent.size() && i < 8; ++i) {
+      ImGui::PushID(static_cast<int>(i));
+      if (ImGui::Selectable(s.recent[i].c_str(), s.hasData && s.recent[i] == s.data.path)) {
+        copyPath(b.openPath, s.recent[i]);
+        out.push_back(session::LoadFile{s.recent[i], kLayoutNames[b.layout], b.tensorPath.data()});
+      }
+      ImGui::PopID();
+    }
+    ImGui::TreePop();
+  }
+  if (!s.hasData) {
+    ImGui::TextDisabled(s.busy ? "loading..." : "no data loaded");
+    return;
+  }
+  const session::DataInfo& d = s.data;
+  ImGui::TextWrapped("%s", d.path.c_str());
+  ImGui::Text("%d x %d x %d voxels, %.2f x %.2f x %.2f mm", d.dims.x, d.dims.y, d.dims.z, d.spacing.x,
+              d.spacing.y, d.spacing.z);
+  ImGui::Text("orientation %s, %zu valid voxels", d.orientation.c_str(), d.validVoxels);
+  ImGui::Text("layout %s", d.layout.c_str());
+  if (!d.layoutReason.empty()) ImGui::TextWrapped("(%s)", d.layoutReason.c_str());
+  for (const auto& w : d.warnings)
+    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "warning: %s", w.c_str());
+}
+
+void surfacePanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (!ImGui::CollapsingHeader("Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::BeginDisabled(!s.hasData);
+  static const char* const kinds[] = {"FA isosurface",  "axial slice",   "coronal slice",
+                                      "sagittal slice", "fibre surface", "other (from a spec)"};
+  int kind = static_cast<int>(s.surface);
+  if (ImGui::Combo("type", &kind, kinds, 6) && kind != static_cast<int>(session::SurfaceKind::Other))
+    out.push_back(session::SetSurfaceKind{static_cast<session::SurfaceKind>(kind)});
+  probe(b, "type");
+
+  ImGui::BeginDisabled(s.surface != session::SurfaceKind::FaIsosurface);
+  double fa = s.faThreshold;
+  // Live sweep: every change while dragging is sent; the viewer re-extracts the latest on its worker.
+  if (sliderDouble("FA threshold", fa, 0.05f, 0.9f, "%.3f")) out.push_back(session::SetFaThreshold{fa});
+  probe(b, "FA threshold");
+  ImGui::EndDisabled();
+
+  // "##slice" keeps the IDs apart from the View panel's axial/coronal/sagittal buttons.
+  static const char* const axes[] = {"axial##slice", "coronal##slice", "sagittal##slice"};
+  static const char* const probes[] = {"axial slice", "coronal slice", "sagittal slice"};
+  for (int a = 0; a < 3; ++a) {
+    ImGui::BeginDisabled(session::sliceAxisOf(s.surface) != a);
+    int idx = s.slice[a];
+    if (ImGui::SliderInt(axes[a], &idx, 0, std::max(s.sliceCount[a] - 1, 0)))
+      out.push_back(session::SetSlice{a, idx});
+    probe(b, probes[a]);
+    ImGui::EndDisabled();
+  }
+
+  if (b.fibreSeedSerial != s.fibreSeedSerial) { // a seed line set elsewhere (script, command line)
+    b.fibreSeedSerial = s.fibreSeedSerial;
+    std::copy(s.fibreSeed.begin(), s.fibreSeed.begin() + 3, b.fibreFrom.begin());
+    std::copy(s.fibreSeed.begin() + 3, s.fibreSeed.end(), b.fibreTo.begin());
+  }
+  if (s.surface == session::SurfaceKind::Fibre) {
+    ImGui::TextWrapped("Seed line (voxel indices); the stream surface of e1 grows from it.");
+    ImGui::InputInt3("from", b.fibreFrom.data());
+    ImGui::InputInt3("to", b.fibreTo.data());
+    if (ImGui::Button("Build fibre surface")) {
+      char spec[160];
+      std::snprintf(spec, sizeof spec, "fibre-voxel=%d,%d,%d:%d,%d,%d", b.fibreFrom[0], b.fibreFrom[1],
+                    b.fibreFrom[2], b.fibreTo[0], b.fibreTo[1], b.fibreTo[2]);
+      out.push_back(session::SetSurfaceSpec{spec});
+    }
+    probe(b, "Build fibre surface");
+  }
+  ImGui::EndDisabled();
+  if (!s.surfaceText.empty())
+    ImGui::TextWrapped("%s, %zu triangles%s", s.surfaceText.c_str(), s.triangles,
+                       s.surfacePending ? " (updating)" : "");
+}
+
+void fabricPanel(const session::ViewerState& s, session::ActionList& out) {
+  if (!ImGui::CollapsingHeader("Fabric", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  render::FabricParams p = s.fabric;
+  bool changed = false;
+  // The options of render/fabric_options.h that have a control on the panel, with the table's slider ranges.
+  using Kind = render::FabricOption::Kind;
+  for (const auto& o : render::fabricOptions()) {
+    if (!o.sliderLabel) continue;
+    double v = o.get(p);
+    bool c = false;
+    if (o.kind == Kind::Colour) {
+      int colour = static_cast<int>(v);
+      static const char* const colours[] = {"medical", "engineering", "fibres"};
+      c = ImGui::Combo(o.sliderLabel, &colour, colours, 3);
+      v = colour;
+    } else if (o.kind == Kind::OnOff) {
+      bool on = v != 0;
+      c = ImGui::Checkbox(o.sliderLabel, &on);
+      v = on ? 1 : 0;
+    } else if (o.kind == Kind::Integer) {
+      int i = static_cast<int>(v);
+      c = ImGui::SliderInt(o.sliderLabel, &i, static_cast<int>(o.slider.lo), static_cast<int>(o.slider.hi));
+      v = i;
+    } else {
+      c = sliderDouble(o.sliderLabel, v, static_cast<float>(o.slider.lo), static_cast<float>(o.slider.hi),
+                       o.sliderFormat, o.sliderLogarithmic);
+    }
+    if (c) {
+      o.set(p, v);
+      changed = true;
+    }
+  }
+  if (changed) out.push_back(session::SetFabricParams{p});
+}
+
+void fibresPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  const session::FibreInfo& f = s.fibres;
+  if (!f.present || !ImGui::CollapsingHeader("Fibres", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextWrapped("%s", f.path.c_str());
+  ImGui::Text("layout %s, up to %d fibres per voxel", f.layout.c_str(), f.slots);
+  if (!f.layoutReason.empty()) ImGui::TextWrapped("(%s)", f.layoutReason.c_str());
+  if (f.faSource.empty())
+    ImGui::TextWrapped(
+        "no FA: pair a tensor (the Data panel's tensor field, `view --tensor`) for FA surfaces");
+  else
+    ImGui::TextWrapped("FA from %s", f.faSource.c_str());
+  // The threshold is the option table's fibre-threshold, over the range the CLI accepts.
+  if (const render::FabricOption* o = render::findFabricOption("fibre-threshold")) {
+    double v = o->get(s.fabric);
+    if (sliderDouble("fibre threshold", v, static_cast<float>(o->range.lo), static_cast<float>(o->range.hi),
+                     "%.2f", false)) {
+      render::FabricParams p = s.fabric;
+      o->set(p, v);
+      out.push_back(session::SetFabricParams{p});
+    }
+    probe(b, "fibre threshold");
+  }
+  ImGui::Text("voxels with fibres: %zu", f.voxels);
+  ImGui::Text("populations drawn (threshold %.2f):", static_cast<double>(f.threshold));
+  for (std::size_t n = 0; n < f.populations.size(); ++n)
+    ImGui::BulletText("%zu %s: %zu voxels", n + 1, n ? "populations" : "population", f.populations[n]);
+}
+
+void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  using V = render::StandardView;
+  static const V views[] = {V::Superior, V::Inferior, V::Anterior, V::Posterior, V::Left,
+                            V::Right,    V::Axial,    V::Coronal,  V::Sagittal};
+  for (int i = 0; i < 9; ++i) {
+    if (i % 3) ImGui::SameLine();
+    const char* name = render::viewName(views[i]);
+    if (ImGui::Button(name, ImVec2(88, 0))) out.push_back(session::SetView{views[i]});
+    probe(b, name);
+  }
+  if (ImGui::RadioButton("radiological", !s.neurological) && s.neurological)
+    out.push_back(session::SetNeurological{false});
+  probe(b, "radiological");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("neurological", s.neurological) && !s.neurological)
+    out.push_back(session::SetNeurological{true});
+  probe(b, "neurological");
+  bool split = s.split, linked = s.linked;
+  if (ImGui::Checkbox("split", &split)) out.push_back(session::SetSplit{split});
+  probe(b, "split");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("linked camera", &linked)) out.push_back(session::SetLinkedCameras{linked});
+  probe(b, "linked camera");
+  int second = static_cast<int>(s.secondPane);
+  static const char* const panes[] = {"other colour mode", "Phong shading", "fabric + tracts"};
+  if (ImGui::Combo("right pane", &second, panes, 3))
+    out.push_back(session::SetSecondPane{static_cast<session::SecondPane>(second)});
+  if (ImGui::Button("Reset view (R)")) out.push_back(session::ResetView{});
+  probe(b, "Reset view");
+
+  ImGui::InputText("##shot", b.screenshotPath.data(), b.screenshotPath.size());
+  if (ImGui::Button("Screenshot window")) out.push_back(session::Screenshot{b.screenshotPath.data(), false});
+  probe(b, "Screenshot window");
+  ImGui::SameLine();
+  if (ImGui::Button("scene only")) out.push_back(session::Screenshot{b.screenshotPath.data(), true});
+  ImGui::InputText("##camera", b.cameraPath.data(), b.cameraPath.size());
+  if (ImGui::Button("Save camera")) out.push_back(session::SaveCamera{b.cameraPath.data()});
+  ImGui::SameLine();
+  if (ImGui::Button("Load camera")) out.push_back(session::LoadCamera{b.cameraPath.data()});
+}
+
+void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  const bool open = ImGui::CollapsingHeader("Tracts");
+  probe(b, "Tracts");
+  if (!open) return;
+  const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(),
+                                      ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  const bool load = ImGui::Button("Load tracts");
+  probe(b, "Load tracts");
+  if ((enter || load) && b.tractPath[0] != '\0') out.push_back(session::LoadTracts{b.tractPath.data()});
+  if (s.tractsLoading) ImGui::TextDisabled("loading...");
+  if (s.tractPath.empty()) {
+    ImGui::TextDisabled(".tck, .trk or .vtk streamlines (world RAS mm), or track below");
+  } else {
+    ImGui::TextWrapped("%s", s.tractPath.c_str());
+    ImGui::TextWrapped("%zu streamlines, %zu points, mean length %.1f mm", s.tractCount, s.tractPoints,
+                       s.tractMeanLengthMm);
+    bool visible = s.tractsVisible;
+    if (ImGui::Checkbox("show tracts", &visible)) out.push_back(session::SetTractsVisible{visible});
+    probe(b, "show tracts");
+    double width = s.tractWidthPx;
+    if (sliderDouble("width (px)", width, 0.5f, 8.0f, "%.1f")) out.push_back(session::SetTractWidth{width});
+    probe(b, "width (px)");
+    double near = s.tractsNearMm;
+    if (sliderDouble("near surface (mm)", near, 0.0f, 20.0f, "%.1f"))
+      out.push_back(session::SetTractsNear{near});
+    probe(b, "near surface (mm)");
+    // Planar surfaces: every tract within a slab around the plane, the clip's half-width when set, else the
+    // near distance; curved surfaces: the tracts near them, clipped by the camera-facing slab.
+    const double planarSlab = s.tractsClipMm > 0 ? s.tractsClipMm : s.tractsNearMm;
+    if (s.tractsSlab && planarSlab > 0)
+      ImGui::TextDisabled("planar surface: slab of +-%.1f mm", planarSlab);
+    else if (s.tractsSlab || s.tractsNearMm <= 0)
+      ImGui::TextDisabled("every tract is shown");
+    double clip = s.tractsClipMm, clipOffset = s.tractsClipOffsetMm;
+    bool clipChanged = sliderDouble("clip slab (mm)", clip, 0.0f, 50.0f, "%.1f");
+    probe(b, "clip slab (mm)");
+    if (clip > 0) {
+      clipChanged |= sliderDouble("clip depth (mm)", clipOffset, -100.0f, 100.0f, "%.1f");
+      probe(b, "clip depth (mm)");
+      if (s.tractsSlab) ImGui::TextDisabled("planar surface: the slab lies around its plane");
+    }
+    if (clipChanged) out.push_back(session::SetTractsClip{clip, clipOffset});
+    ImGui::Text("shown: %zu pieces, %zu points%s", s.tractsShownLines, s.tractsShownPoints,
+                s.tractsSelecting ? " (selecting...)" : "");
+    if (s.tractsLevel > 0 || s.tractsLevelFraction < 1)
+      ImGui::TextDisabled("drawing level %d (every %d-th point), %.0f%% of the lines", s.tractsLevel,
+                          1 << s.tractsLevel, 100.0 * s.tractsLevelFraction);
+    tractColouringWidgets(s, b, out);
+    ImGui::InputText("##savetracts", b.tractSavePath.data(), b.tractSavePath.size());
+    ImGui::SameLine();
+    if (ImGui::Button("Save") && b.tractSavePath[0] != '\0')
+      out.push_back(session::SaveTracts{b.tractSavePath.data()});
+    probe(b, "Save");
+    if (!s.saveStatus.empty()) ImGui::TextDisabled("%s", s.saveStatus.c_str());
+  }
+
+  const bool tracking = ImGui::TreeNode("Tracking");
+  probe(b, "Tracking");
+  if (tracking) {
+    session::ViewerTrackRequest& t = b.track;
+    static const char* const seedKinds[] = {"surface on screen", "slice", "sphere (ROI)", "FA mask"};
+    int seeds = static_cast<int>(t.seeds);
+    if (ImGui::Combo("seeds", &seeds, seedKinds, 4)) t.seeds = static_cast<session::SeedKind>(seeds);
+    probe(b, "seeds");
+    if (t.seeds == session::SeedKind::Slice) {
+      static const char* const axes[] = {"axial", "coronal", "sagittal"};
+      ImGui::Combo("slice axis", &t.sliceAxis, axes, 3);
+      ImGui::InputInt("slice (-1 current)", &t.sliceIndex);
+      t.sliceIndex = std::max(t.sliceIndex, -1);
+    } else if (t.seeds == session::SeedKind::Sphere) {
+      float c[3] = {static_cast<float>(t.centre.x), static_cast<float>(t.centre.y),
+                    static_cast<float>(t.centre.z)};
+      if (ImGui::InputFloat3("centre (mm)", c)) t.centre = glm::dvec3(c[0], c[1], c[2]);
+      if (s.probe.onSurface && ImGui::Button("centre at the last probed point")) t.centre = s.probe.world;
+      sliderDouble("radius (mm)", t.radiusMm, 1.0f, 50.0f, "%.1f");
+    } else if (t.seeds == session::SeedKind::FaMask) {
+      sliderDouble("mask FA >=", t.faMask, 0.05f, 0.9f, "%.2f");
+    }
+    static const char* const counts[] = {"streamlines", "seeds", "seeds per voxel"};
+    int count = static_cast<int>(t.count);
+    if (ImGui::Combo("count", &count, counts, t.seeds == session::SeedKind::FaMask ? 3 : 2))
+      t.count = static_cast<session::SeedCount>(count);
+    if (t.seeds != session::SeedKind::FaMask && t.count == session::SeedCount::PerVoxel)
+      t.count = session::SeedCount::Select;
+    ImGui::InputInt("number", &t.number);
+    t.number = std::clamp(t.number, 1, 10'000'000);
+    sliderDouble("FA stop", t.faStop, 0.0f, 0.6f, "%.2f");
+    sliderDouble("angle (deg/step)", t.angleDeg, 5.0f, 90.0f, "%.0f");
+    sliderDouble("step (mm)", t.stepMm, 0.1f, 3.0f, "%.2f");
+    sliderDouble("min length (mm)", t.minLengthMm, 0.0f, 200.0f, "%.0f");
+    sliderDouble("max length (mm)", t.maxLengthMm, 10.0f, 500.0f, "%.0f");
+    ImGui::Checkbox("RK4 (off: Euler)", &t.rk4);
+    ImGui::InputInt("random seed", &t.rngSeed);
+    t.rngSeed = std::max(t.rngSeed, 0);
+    if (s.tracking) {
+      char overlay[64];
+      std::snprintf(overlay, sizeof overlay, "%zu seeds", s.trackSeedsDone);
+      ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(-80, 0), overlay);
+      ImGui::SameLine();
+      if (ImGui::Button("Cancel")) out.push_back(session::CancelTracking{});
+      probe(b, "Cancel");
+    } else {
+      ImGui::BeginDisabled(!s.hasData);
+      if (ImGui::Button("Track")) out.push_back(session::TrackTracts{t});
+      probe(b, "Track");
+      ImGui::EndDisabled();
+    }
+    if (!s.trackStatus.empty()) ImGui::TextWrapped("%s", s.trackStatus.c_str());
+    ImGui::TreePop();
+  }
+
+  const bool agreement = ImGui::TreeNode("Agreement with the fabric");
+  probe(b, "Agreement with the fabric");
+  if (agreement) {
+    sliderDouble("within (mm)", b.agreementNearMm, 0.5f, 10.0f, "%.1f");
+    ImGui::SliderInt("bins", &b.agreementBins, 3, 30);
+    ImGui::BeginDisabled(s.tractPath.empty() || !s.hasData || s.agreementRunning);
+    if (ImGui::Button("Compute"))
+      out.push_back(session::ComputeAgreement{b.agreementNearMm, b.agreementBins});
+    probe(b, "Compute");
+    ImGui::EndDisabled();
+    if (s.agreementRunning) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("computing...");
+    }
+    if (s.hasAgreement) {
+      ImGui::PlotHistogram("##angles", s.agreementHistogram.data(),
+                           static_cast<int>(s.agreementHistogram.size()), 0, "tract-fabric angle, 0-90 deg",
+                           0.0f, FLT_MAX,
+                           ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
+      probe(b, "agreement histogram");
+      ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "
+                         "%zu skipped)",
+                         s.agreementPoints, s.agreementMedianDeg, s.agreementMeanDeg,
+                         100.0 * s.agreementFracBelow15, s.agreementNearPoints, s.agreementNearMm,
+                         s.agreementSkipped);
+      ImGui::TextDisabled("on the %s", s.agreementSurface.c_str());
+    }
+    ImGui::TreePop();
+  }
+}
+
+void statusBar(const session::ViewerState& s, const PanelLayout& layout) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - layout.statusHeight));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x, layout.statusHeight));
+  ImGui::Begin("##status", nullptr, kFixed | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar);
+  if (s.busy) {
+    // Indeterminate progress: the loader reports stages, not fractions.
+    const float phase = static_cast<float>(std::fmod(s.busySeconds, 1.5) / 1.5);
+    ImGui::ProgressBar(phase, ImVec2(120, 0), "");
+    ImGui::SameLine();
+    ImGui::Text("%s (%.0f s)", s.busyStage.c_str(), s.busySeconds);
+    ImGui::SameLine();
+  }
+  if (s.tracking) { // long work on the tract worker: progress with its own bar
+    ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(120, 0), "");
+    ImGui::SameLine();
+    ImGui::Text("tracking: %zu seeds", s.trackSeedsDone);
+    ImGui::SameLine();
+  } else if (s.tractsSelecting || s.agreementRunning) {
+    ImGui::TextDisabled(s.agreementRunning ? "agreement..." : "selecting tracts...");
+    ImGui::SameLine();
+  }
+  const session::ProbeInfo& p = s.probe;
+  if (p.onSurface) {
+    ImGui::Text("(%.1f, %.1f, %.1f) mm", p.world.x, p.world.y, p.world.z);
+    if (p.inData) {
+      ImGui::SameLine();
+      // Tensor and fibres of the voxel (ui/session/viewer_session.h), clipped before the frame time.
+      const ImVec2 at = ImGui::GetCursorScreenPos();
+      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - 210.0f), at.y + layout.statusHeight),
+                          true);
+      ImGui::TextUnformatted(p.text.c_str());
+      ImGui::PopClipRect();
+    }
+  } else {
+    ImGui::TextDisabled("cursor not on the surface");
+  }
+  ImGui::SameLine(std::max(ImGui::GetWindowWidth() - 200.0f, ImGui::GetCursorPosX() + 10));
+  ImGui::Text("%5.1f ms %s", s.frameMs, s.converged ? "still" : "refining");
+  ImGui::End();
+}
+
+void errorModal(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (s.errorChain.empty()) return;
+  if (!ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 0),
+                                      ImVec2(std::max(io.DisplaySize.x * 0.9f, 300.0f), FLT_MAX));
+  if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    for (std::size_t i = 0; i < s.errorChain.size(); ++i) {
+      if (i) ImGui::Indent(12);
+      ImGui::TextWrapped("%s", s.errorChain[i].c_str());
+    }
+    if (s.errorChain.size() > 1) ImGui::Unindent(12.0f * static_cast<float>(s.errorChain.size() - 1));
+    if (ImGui::Button("OK", ImVec2(120, 0))) {
+      out.push_back(session::DismissError{});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "OK");
+    ImGui::EndPopup();
+  }
+}
+
+void overwriteModal(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  // The error modal goes first: ImGui stacks popups, and an error hides the question until dismissed.
+  if (s.overwritePath.empty() || !s.errorChain.empty()) return;
+  if (!ImGui::IsPopupOpen("Overwrite?")) ImGui::OpenPopup("Overwrite?");
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextWrapped("%s exists. Replace it?", s.overwritePath.c_str());
+    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
+      out.push_back(session::ConfirmOverwrite{true});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Overwrite");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(120, 0))) {
+      out.push_back(session::ConfirmOverwrite{false});
+      ImGui::CloseCurrentPopup();
+    }
+    probe(b, "Cancel");
+    ImGui::EndPopup();
+  }
+}
+
+void drawPanels(const session::ViewerState& s, PanelBuffers& b, const PanelLayout& layout,
+                session::ActionList& out) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(layout.sideWidth, std::max(io.DisplaySize.y - layout.statusHeight, 1.0f)));
+  ImGui::Begin("dtfabric", nullptr, kFixed);
+  ImGui::PushItemWidth(-120);
+  dataPanel(s, b, out);
+  surfacePanel(s, b, out);
+  fabricPanel(s, out);
+  fibresPanel(s, b, out);
+  viewPanel(s, b, out);
+  tractsPanel(s, b, out);
+  ImGui::PopItemWidth();
+  ImGui::End();
+  statusBar(s, layout);
+  errorModal(s, b, out);
+  overwriteModal(s, b, out);
+}
+
+} // namespace dtf::ui

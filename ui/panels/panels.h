@@ -1,0 +1,66 @@
+// The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar,
+// a status bar with the voxel under the cursor, a progress line for work on the worker thread, the error
+// modal and the overwrite prompt. Each panel reads the ViewerState by const reference and appends what the
+// user asked for to an ActionList; nothing is changed here (the session and the viewer perform the actions).
+// Needs a current ImGui context inside NewFrame()/Render(); no renderer backend is needed, so the panels also
+// run headless in tests.
+#pragma once
+
+#include "ui/session/actions.h"
+#include "ui/session/viewer_state.h"
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dtf::ui {
+
+// Widget state that ImGui needs to own between frames (text fields), owned by the caller.
+struct PanelBuffers {
+  std::array<char, 1024> openPath{};
+  int layout = 0;                      // index into kLayoutNames
+  std::array<char, 1024> tensorPath{}; // fibre sets: the paired tensor of the next load
+  std::array<char, 1024> screenshotPath{};
+  std::array<char, 1024> cameraPath{};
+  std::array<char, 1024> tractPath{};
+  std::array<char, 1024> tractSavePath{};
+  session::ViewerTrackRequest track; // the tracking parameters being edited
+  double agreementNearMm = 2.0;      // `dtfabric compare --near`
+  int agreementBins = 9;
+  std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
+  unsigned fibreSeedSerial = 0; // ViewerState::fibreSeedSerial last copied into fibreFrom/To
+  // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
+  std::map<std::string, std::array<float, 2>>* itemCentres = nullptr;
+};
+
+// Layout of the window: the side bar on the left, the status bar at the bottom, the scene in between.
+struct PanelLayout {
+  float sideWidth = 300;
+  float statusHeight = 26;
+};
+
+// Scene rectangle (window pixels, y down) left free by the panels for a window of the given size.
+void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]);
+
+void dataPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+void surfacePanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+void fabricPanel(const session::ViewerState& state, session::ActionList& out);
+// Shown for a fibre set: its file, layout and FA source, the fibre threshold, the populations drawn.
+void fibresPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+void viewPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+void tractsPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+void statusBar(const session::ViewerState& state, const PanelLayout& layout);
+void errorModal(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+// Asks whether to replace the existing file state.overwritePath (a screenshot, camera or tract file the
+// user asked for): ConfirmOverwrite{true} or {false}.
+void overwriteModal(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+
+// All of the above for one frame.
+void drawPanels(const session::ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout,
+                session::ActionList& out);
+
+// Layout names in the order of PanelBuffers::layout.
+extern const std::array<const char*, 8> kLayoutNames;
+
+} // namespace dtf::ui

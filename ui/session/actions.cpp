@@ -1,0 +1,166 @@
+#include "ui/session/actions.h"
+
+#include <cstdio>
+#include <type_traits>
+
+namespace dtf::session {
+
+const char* surfaceKindName(SurfaceKind kind) {
+  switch (kind) {
+  case SurfaceKind::FaIsosurface:
+    return "FA isosurface";
+  case SurfaceKind::Axial:
+    return "axial slice";
+  case SurfaceKind::Coronal:
+    return "coronal slice";
+  case SurfaceKind::Sagittal:
+    return "sagittal slice";
+  case SurfaceKind::Fibre:
+    return "fibre surface";
+  case SurfaceKind::Other:
+    return "other surface";
+  }
+  return "?";
+}
+
+const char* secondPaneName(SecondPane mode) {
+  switch (mode) {
+  case SecondPane::OtherColourMode:
+    return "colour";
+  case SecondPane::Phong:
+    return "phong";
+  case SecondPane::Tracts:
+    return "tracts";
+  }
+  return "?";
+}
+
+int sliceAxisOf(SurfaceKind kind) {
+  switch (kind) {
+  case SurfaceKind::Axial:
+    return 0;
+  case SurfaceKind::Coronal:
+    return 1;
+  case SurfaceKind::Sagittal:
+    return 2;
+  default:
+    return -1;
+  }
+}
+
+std::string describe(const Action& action) {
+  char buf[160];
+  return std::visit(
+      [&](const auto& a) -> std::string {
+        using T = std::decay_t<decltype(a)>;
+        if constexpr (std::is_same_v<T, LoadFile>)
+          return "LoadFile " + a.path + " layout=" + a.layout +
+                 (a.tensor.empty() ? "" : " tensor=" + a.tensor);
+        else if constexpr (std::is_same_v<T, SetSurfaceKind>)
+          return std::string("SetSurfaceKind ") + surfaceKindName(a.kind);
+        else if constexpr (std::is_same_v<T, SetSurfaceSpec>)
+          return "SetSurfaceSpec " + a.text;
+        else if constexpr (std::is_same_v<T, SetFaThreshold>) {
+          std::snprintf(buf, sizeof buf, "SetFaThreshold %g", a.value);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetSlice>) {
+          std::snprintf(buf, sizeof buf, "SetSlice %d %d", a.axis, a.index);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetFabricParams>) {
+          std::snprintf(buf, sizeof buf, "SetFabricParams k=%g iterations=%d r=%g", a.params.k,
+                        a.params.iterations, a.params.r);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetView>)
+          return std::string("SetView ") + render::viewName(a.view);
+        else if constexpr (std::is_same_v<T, SetNeurological>)
+          return a.on ? "SetNeurological on" : "SetNeurological off";
+        else if constexpr (std::is_same_v<T, SetSplit>)
+          return std::string(a.on ? "SetSplit on" : "SetSplit off") +
+                 (a.mode ? std::string(" ") + secondPaneName(*a.mode) : std::string());
+        else if constexpr (std::is_same_v<T, SetLinkedCameras>)
+          return a.on ? "SetLinkedCameras on" : "SetLinkedCameras off";
+        else if constexpr (std::is_same_v<T, SetSecondPane>)
+          return std::string("SetSecondPane ") + secondPaneName(a.mode);
+        else if constexpr (std::is_same_v<T, ResetView>)
+          return "ResetView";
+        else if constexpr (std::is_same_v<T, Rotate>) {
+          std::snprintf(buf, sizeof buf, "Rotate %g %g", a.dx, a.dy);
+          return buf;
+        } else if constexpr (std::is_same_v<T, Pan>) {
+          std::snprintf(buf, sizeof buf, "Pan %g %g", a.dx, a.dy);
+          return buf;
+        } else if constexpr (std::is_same_v<T, Zoom>) {
+          std::snprintf(buf, sizeof buf, "Zoom %g", a.factor);
+          return buf;
+        } else if constexpr (std::is_same_v<T, Screenshot>)
+          return std::string(a.sceneOnly ? "Screenshot scene " : "Screenshot ") +
+                 (a.force ? "--force " : "") + a.path;
+        else if constexpr (std::is_same_v<T, SaveCamera>)
+          return "SaveCamera " + std::string(a.force ? "--force " : "") + a.path;
+        else if constexpr (std::is_same_v<T, LoadCamera>)
+          return "LoadCamera " + a.path;
+        else if constexpr (std::is_same_v<T, LoadTracts>)
+          return "LoadTracts " + a.path;
+        else if constexpr (std::is_same_v<T, SetTractsVisible>)
+          return a.on ? "SetTractsVisible on" : "SetTractsVisible off";
+        else if constexpr (std::is_same_v<T, SetTractsNear>) {
+          std::snprintf(buf, sizeof buf, "SetTractsNear %g", a.mm);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetTractWidth>) {
+          std::snprintf(buf, sizeof buf, "SetTractWidth %g", a.px);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetTractsClip>) {
+          std::snprintf(buf, sizeof buf, "SetTractsClip %g %g", a.mm, a.offsetMm);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SetTractColour>) {
+          if (a.value.empty()) return "SetTractColour dec";
+          if (!a.range) return "SetTractColour " + a.value;
+          std::snprintf(buf, sizeof buf, " %g %g", a.range->first, a.range->second);
+          return "SetTractColour " + a.value + buf;
+        } else if constexpr (std::is_same_v<T, SetTractGroups>) {
+          if (a.all) return "SetTractGroups all";
+          std::string s = "SetTractGroups";
+          for (const auto& g : a.shown)
+            s += " " + g;
+          return a.shown.empty() ? s + " none" : s;
+        } else if constexpr (std::is_same_v<T, TrackTracts>) {
+          static const char* const seeds[] = {"surface", "slice", "sphere", "fa-mask"};
+          static const char* const counts[] = {"select", "seeds", "per-voxel"};
+          const ViewerTrackRequest& r = a.request;
+          std::snprintf(buf, sizeof buf,
+                        "TrackTracts seeds=%s %s=%d fa-stop=%g angle=%g step=%g length=%g..%g",
+                        seeds[static_cast<int>(r.seeds)], counts[static_cast<int>(r.count)], r.number,
+                        r.faStop, r.angleDeg, r.stepMm, r.minLengthMm, r.maxLengthMm);
+          return buf;
+        } else if constexpr (std::is_same_v<T, CancelTracking>)
+          return "CancelTracking";
+        else if constexpr (std::is_same_v<T, SaveTracts>)
+          return "SaveTracts " + a.path + (a.force ? " (force)" : "");
+        else if constexpr (std::is_same_v<T, ComputeAgreement>) {
+          std::snprintf(buf, sizeof buf, "ComputeAgreement near=%g bins=%d", a.nearMm, a.bins);
+          return buf;
+        } else if constexpr (std::is_same_v<T, DismissError>)
+          return "DismissError";
+        else if constexpr (std::is_same_v<T, ConfirmOverwrite>)
+          return a.overwrite ? "ConfirmOverwrite yes" : "ConfirmOverwrite no";
+        else
+          return "Quit";
+      },
+      action);
+}
+
+std::vector<std::string> splitErrorChain(const std::string& message) {
+  // Contexts are added as "while ...: " prefixes (dtf::rethrowWithContext); the rest is the cause.
+  std::vector<std::string> links;
+  std::size_t start = 0;
+  while (message.compare(start, 6, "while ") == 0) {
+    const std::size_t colon = message.find(": ", start);
+    if (colon == std::string::npos) break;
+    links.push_back(message.substr(start, colon - start));
+    start = colon + 2;
+  }
+  if (start < message.size() || links.empty()) links.push_back(message.substr(start));
+  return links;
+}
+
+} // namespace dtf::session

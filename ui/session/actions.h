@@ -1,0 +1,192 @@
+// What the viewer's user asked for. Panels (ui/panels.h), the key map (ui/keymap.h), mouse handling and
+// viewer scripts all produce these values; the session (ui/session/viewer_session.h) and the viewer's panes
+// perform them. Plain values, below ui/ (namespace ui: the vocabulary of the panels), so the panels can be
+// tested without a window, every GUI action can be replayed from a script, and the session needs no ImGui.
+#pragma once
+
+#include "render/camera.h"
+#include "render/fabric_renderer.h"
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace dtf::session {
+
+// The surface types of the Surface panel; Axial/Coronal/Sagittal are slices, Other is any other surface
+// spec (iso=, plane=, mesh=) given in a script or on the command line.
+enum class SurfaceKind { FaIsosurface, Axial, Coronal, Sagittal, Fibre, Other };
+
+const char* surfaceKindName(SurfaceKind kind);
+// Slice axis index 0 = axial, 1 = coronal, 2 = sagittal for a slice kind; -1 otherwise.
+int sliceAxisOf(SurfaceKind kind);
+
+// What the right pane of a split view shows: the other colour mode, Phong shading, or the same fabric with
+// the tracts (the left pane then shows the fabric alone).
+enum class SecondPane { OtherColourMode, Phong, Tracts };
+// "colour", "phong", "tracts" (the script's names).
+const char* secondPaneName(SecondPane mode);
+
+// A tensor volume, a DWI, or a fibre set (peaks, bedpostx, ...: io/formats/fibre_io.h) as `dtfabric render` reads it.
+struct LoadFile {
+  std::string path;
+  std::string layout = "auto"; // auto, a tensor layout (fsl|mrtrix|symmatrix|dtitk) or a fibre layout
+  std::string tensor;          // fibre sets: a tensor volume on the same grid (FA); empty: none
+};
+struct SetSurfaceKind {
+  SurfaceKind kind;
+};
+// `text` in the syntax of ui/session/surface_spec.h (fa=T, slice=AXIS:I, fibre-voxel=..., mesh=FILE, ...).
+struct SetSurfaceSpec {
+  std::string text;
+};
+struct SetFaThreshold {
+  double value;
+};
+struct SetSlice {
+  int axis;  // 0 axial, 1 coronal, 2 sagittal
+  int index; // voxel index along the axis, clamped by the viewer
+};
+struct SetFabricParams {
+  render::FabricParams params;
+};
+struct SetView {
+  render::StandardView view;
+};
+struct SetNeurological {
+  bool on;
+};
+struct SetSplit {
+  bool on;
+  std::optional<SecondPane> mode = std::nullopt; // also sets what the right pane shows
+};
+struct SetLinkedCameras {
+  bool on;
+};
+struct SetSecondPane {
+  SecondPane mode;
+};
+struct ResetView {};
+// Camera motion in window pixels (y down) over pane `pane` (-1 = the active pane).
+struct Rotate {
+  double dx, dy;
+  int pane = -1;
+};
+struct Pan {
+  double dx, dy;
+  int pane = -1;
+};
+// Magnification: 2 shows everything twice as large.
+struct Zoom {
+  double factor;
+  int pane = -1;
+};
+// A PNG of the whole window (panels included) or of the fabric panes only. Outputs never replace an input
+// file; an existing file is replaced only with `force` (the GUI asks first, a script line says --force).
+struct Screenshot {
+  std::string path;
+  bool sceneOnly = false;
+  bool force = false;
+};
+struct SaveCamera {
+  std::string path;
+  bool force = false;
+};
+struct LoadCamera {
+  std::string path;
+};
+// Streamlines (.tck, .trk, .vtk, world RAS mm) to load and draw over the fabric.
+struct LoadTracts {
+  std::string path;
+};
+struct SetTractsVisible {
+  bool on;
+};
+// Only tract segments within `mm` of the surface are shown (a slab of half-width `mm` around a planar
+// surface); 0 shows every tract.
+struct SetTractsNear {
+  double mm;
+};
+struct SetTractWidth {
+  double px;
+};
+// A clip slab for large tractograms: only tract points within `mm` of the plane facing the camera through
+// the surface's centre, moved `offsetMm` along the view direction (away from the viewer), are drawn. It
+// follows the camera; 0 turns it off. On a planar surface with a near-surface distance, that slab applies.
+struct SetTractsClip {
+  double mm;
+  double offsetMm = 0;
+};
+// Colours the tracts by a per-point or per-streamline data value through the tract colour map
+// (render/tract_renderer.h) over `range` (default: the value's min..max); an empty `value` restores DEC.
+struct SetTractColour {
+  std::string value;
+  std::optional<std::pair<double, double>> range;
+};
+// Shows only the streamlines of the named groups (e.g. a bundle of an AFQ .trx); `all` shows every
+// streamline, grouped or not. No group and not `all` hides every streamline.
+struct SetTractGroups {
+  std::vector<std::string> shown;
+  bool all = true;
+};
+// Deterministic tensor tractography from the viewer (the options of `dtfabric track`).
+enum class SeedKind { Surface, Slice, Sphere, FaMask };
+enum class SeedCount { Select, Seeds, PerVoxel };
+struct ViewerTrackRequest {
+  SeedKind seeds = SeedKind::Surface; // the surface on screen, a slice, a ball or the voxels above an FA
+  int sliceAxis = 0;                  // Slice: 0 axial, 1 coronal, 2 sagittal
+  int sliceIndex = -1;                // Slice: -1 = the viewer's current slice on that axis
+  glm::dvec3 centre{0.0};             // Sphere: world mm
+  double radiusMm = 10.0;
+  double faMask = 0.3; // FaMask: seeds in the voxels with FA >= faMask
+  SeedCount count = SeedCount::Select;
+  int number = 1000; // streamlines to keep (Select), seeds (Seeds), seeds per voxel (PerVoxel, FaMask only)
+  double faStop = 0.15, angleDeg = 60.0, stepMm = 1.0, minLengthMm = 30.0, maxLengthMm = 250.0;
+  bool rk4 = true;
+  int rngSeed = 1;
+};
+struct TrackTracts {
+  ViewerTrackRequest request;
+};
+struct CancelTracking {};
+// Writes the tracts on screen (all points, not the display decimation) to .tck/.trk/.vtk, atomically. An
+// existing file is replaced only with `overwrite`; otherwise the panel asks first (`askFirst`) and a
+// script fails.
+// Writes the tracts on screen (.tck, .trk, .vtk); an existing file is replaced only with `force` (the
+// overwrite prompt sets it), an input never.
+struct SaveTracts {
+  std::string path;
+  bool force = false;
+};
+// Angle between the tracts near the surface and the fabric's direction (surfaces/analyses/agreement.h, all points).
+struct ComputeAgreement {
+  double nearMm = 2.0;
+  int bins = 9;
+};
+struct DismissError {};
+// The answer to the overwrite prompt (ViewerState::overwritePath): write the pending output or drop it.
+struct ConfirmOverwrite {
+  bool overwrite;
+};
+struct Quit {};
+
+using Action =
+    std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, ResetView, Rotate, Pan, Zoom,
+                 Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
+                 SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
+                 SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;
+
+// Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
+using ActionList = std::vector<Action>;
+
+// Splits an error message chain "while A: while B: cause" into its links, outermost first (the error modal).
+std::vector<std::string> splitErrorChain(const std::string& message);
+
+// A one-line description for logs and tests, e.g. "SetFaThreshold 0.3".
+std::string describe(const Action& action);
+
+} // namespace dtf::session

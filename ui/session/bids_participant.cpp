@@ -1,0 +1,314 @@
+#include "ui/session/bids_participant.h"
+
+#include "ui/session/check_run.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/web_page.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/formats/png_io.h"
+#include "render/camera.h"
+#include "render/fabric_renderer.h"
+#include "render/gl_context.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace dtf::session {
+
+namespace {
+
+constexpr double kWhiteMatterFa = 0.3; // as the orientation check's white matter
+constexpr double kIsoFa =
+    0.4; // the FA isosurface of the 3D views: the white-matter core (0.25 wraps the cortex)
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mean(const std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  double s = 0;
+  for (double x : v)
+    s += x;
+  return s / static_cast<double>(v.size());
+}
+
+std::string paramsText(const ParticipantOptions& o) {
+  return "dtfabric " + o.version + "; figure " + std::to_string(o.figurePx) + " px; sheet panel " +
+         std::to_string(o.sheetPanelPx) + " px; wm fa>=0.3; iso fa=0.4" +
+         (o.webPx > 0 ? "; web " + std::to_string(o.webPx) + " px" : "");
+}
+
+// Removes the temporary siblings a killed run left beside this run's outputs (io::AtomicOutput names them
+// ".<target>.tmp<pid>_<n>…"). Only this run's derivative names match: "sub-01_desc-fabric…" is not a prefix
+// of another run's "sub-01_acq-x_desc-fabric…", which a parallel worker may be writing in the same folder.
+void removeStaleTemporaries(const fs::path& dir, const std::string& stem) {
+  std::error_code ec;
+  const std::string prefix = "." + stem + "_desc-fabric";
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove_all(e.path(), ec);
+  }
+}
+
+void render(render::FabricRenderer& renderer, const Mesh& mesh, const std::string& view,
+            const std::string& path) {
+  renderer.setMesh(mesh);
+  glm::vec3 lo, hi;
+  mesh.bounds(lo, hi);
+  const render::Camera camera =
+      render::Camera::standard(render::parseView(view), glm::dvec3(lo), glm::dvec3(hi), 1.0, false, true);
+  render::FabricParams params;
+  const Image img = renderer.renderStill(camera, params);
+  io::writePng(path, img);
+}
+
+} // namespace
+
+const std::vector<FigureKind>& figureKinds() {
+  static const std::vector<FigureKind> kinds = {
+      {"fabricAxial", "axial slice through the corpus callosum"},
+      {"fabricCoronal", "coronal slice through the corticospinal tracts"},
+      {"fabricIsoLeft", "FA 0.4 isosurface from the left"},
+      {"fabricIsoSuperior", "FA 0.4 isosurface from above"},
+      {"fabricCheck", "orientation check contact sheet"},
+  };
+  return kinds;
+}
+
+std::string metricsPath(const io::BidsRun& run, const std::string& outputRoot) {
+  return (fs::path(outputRoot) / run.relDir / io::derivativeName(run, "fabricMetrics", "dwi", ".json"))
+      .string();
+}
+
+RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot,
+                      const ParticipantOptions& optIn) {
+  ParticipantOptions o = optIn;
+  if (o.sheetPanelPx <= 0) o.sheetPanelPx = std::max(96, o.figurePx / 2);
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path dir = fs::path(outputRoot) / run.relDir;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError("cannot create " + dir.string() + ": " + ec.message());
+  removeStaleTemporaries(dir, run.stem);
+  const std::string docPath = metricsPath(run, outputRoot);
+
+  io::FlatJson doc;
+  doc.set("source", fs::path(run.dwi).filename().string());
+  doc.set("participant_id", "sub-" + run.subject);
+  doc.set("session_id", run.session.empty() ? "n/a" : "ses-" + run.session);
+  doc.set("dtfabric_version", o.version);
+  doc.set("params", paramsText(o));
+  RunOutcome out;
+  try {
+    // Hashes first: a run whose files cannot be read fails here with the file named.
+    doc.set("input_hash_dwi", io::fileHash(run.dwi));
+    if (fs::exists(run.bval, ec)) doc.set("input_hash_bval", io::fileHash(run.bval));
+    if (fs::exists(run.bvec, ec)) doc.set("input_hash_bvec", io::fileHash(run.bvec));
+  } catch (const std::exception& e) {
+    doc.set("status", "failed");
+    doc.set("message", e.what());
+  }
+
+  if (!o.force && !doc.has("status") && fs::exists(docPath, ec)) {
+    try {
+      const io::FlatJson old = io::FlatJson::parse(io::readTextFile(docPath), docPath);
+      bool complete = old.get("status") == "ok";
+      for (const char* k : {"params", "input_hash_dwi", "input_hash_bval", "input_hash_bvec"})
+        complete = complete && old.get(k) == doc.get(k);
+      for (const auto& f : figureKinds())
+        if (old.has(std::string("figure_") + f.desc))
+          complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
+      if (old.has("web_page")) complete = complete && fs::exists(dir / old.get("web_page"), ec);
+      if (complete) {
+        out.ok = true;
+        out.skipped = true;
+        out.verdict = old.get("check_verdict");
+        out.message = "complete and unchanged";
+        out.seconds = secondsSince(t0);
+        return out;
+      }
+    } catch (const Error&) {
+      // An unreadable document is recomputed.
+    }
+  }
+
+  if (!doc.has("status") && !run.problem.empty()) {
+    doc.set("status", "failed");
+    doc.set("message", run.dwi + ": " + run.problem);
+  }
+  if (!doc.has("status")) {
+    try {
+      CheckRequest req;
+      req.input = run.dwi;
+      req.bval = run.bval;
+      req.bvec = run.bvec;
+      req.fitThreads = o.fitThreads;
+      CheckRun check = runCheck(req);
+      const surfaces::OrientationReport& rep = check.report;
+
+      // Metrics over the white matter: valid voxels of the fit (its automatic brain mask) with FA >= 0.3.
+      const MetricMaps maps = computeMetricMaps(check.field, false, false);
+      std::vector<double> fa, md;
+      std::size_t brain = 0;
+      for (std::size_t i = 0; i < check.field.valid.size(); ++i) {
+        if (!check.field.valid[i]) continue;
+        ++brain;
+        if (maps.fa.data[i] < kWhiteMatterFa) continue;
+        fa.push_back(maps.fa.data[i]);
+        md.push_back(maps.md.data[i] * 1e3); // 10^-3 mm^2/s
+      }
+      doc.setNumber("fa_wm_mean", mean(fa));
+      doc.setNumber("fa_wm_median", median(fa));
+      doc.setNumber("md_wm_mean", mean(md));
+      doc.setNumber("md_wm_median", median(md));
+      doc.set("md_units", "1e-3 mm^2/s");
+      doc.setNumber("wm_voxels", static_cast<double>(fa.size()), 12);
+      doc.setNumber("brain_voxels", static_cast<double>(brain), 12);
+      doc.setNumber("wm_fraction", brain ? static_cast<double>(fa.size()) / static_cast<double>(brain) : 0);
+      doc.set("check_verdict", surfaces::verdictName(rep.verdict));
+      doc.set("check_correction", rep.correction.name());
+      doc.set("check_best", rep.candidates[rep.best].transform.name());
+      doc.setNumber("check_score_given", rep.scoreGiven);
+      doc.setNumber("check_score_best", rep.scoreBest);
+      doc.setNumber("check_margin", rep.margin);
+      doc.set("check_reason", rep.reason);
+      const Grid& g = check.field.grid;
+      doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" +
+                          std::to_string(g.dims.z) + " " + g.orientationCode());
+      doc.setNumber("volumes", static_cast<double>(check.bvals.size()), 12);
+
+      // Slice positions from this run's data, not fixed indices: surfaces::chooseEvidenceSlices on the field
+      // the best-scoring table gives (left-right white matter counts need the right axes). Axial: the slice
+      // with the most left-right white matter near the midline (the callosal body); coronal: the slice with
+      // the most superior-inferior white matter (the corticospinal tracts in the internal capsules).
+      const auto tf = std::chrono::steady_clock::now();
+      const TensorField best =
+          surfaces::transformedField(check.field, check.tableToWorld, rep.candidates[rep.best].transform);
+      const surfaces::EvidenceSlices slices = surfaces::chooseEvidenceSlices(best, nullptr, kWhiteMatterFa);
+      doc.setNumber("slice_axial", slices.axial, 6);
+      doc.setNumber("slice_coronal", slices.coronal, 6);
+      std::vector<std::pair<std::string, Mesh>> meshes; // desc, mesh, in figureKinds() order
+      {
+        SurfaceSpec axial, coronal, iso;
+        axial.kind = coronal.kind = SurfaceSpec::Kind::Slice;
+        axial.axis = "axial";
+        axial.index = slices.axial;
+        coronal.axis = "coronal";
+        coronal.index = slices.coronal;
+        iso.kind = SurfaceSpec::Kind::Fa;
+        iso.value = kIsoFa;
+        meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa));
+        meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa));
+        meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa));
+      }
+      // The figures show the data with its given table (what a user of the data would see); the contact
+      // sheet shows the candidates side by side.
+      render::GlContext::headless();
+      render::FabricRenderer renderer;
+      renderer.resize(o.figurePx, o.figurePx);
+      renderer.setField(check.field);
+      const std::vector<std::pair<std::string, std::pair<std::size_t, std::string>>> figures = {
+          {"fabricAxial", {0, "axial"}},
+          {"fabricCoronal", {1, "coronal"}},
+          {"fabricIsoLeft", {2, "left"}},
+          {"fabricIsoSuperior", {2, "superior"}}};
+      for (const auto& [desc, how] : figures) {
+        const std::string name = io::derivativeName(run, desc, "dwi", ".png");
+        render(renderer, meshes[how.first].second, how.second, (dir / name).string());
+        doc.set("figure_" + desc, name);
+      }
+      if (rep.verdict != surfaces::Verdict::Ok) {
+        const std::string name = io::derivativeName(run, "fabricCheck", "dwi", ".png");
+        const Image sheet = renderContactSheet(check, sheetRows(rep), o.sheetPanelPx);
+        io::writePng((dir / name).string(), sheet);
+        doc.set("figure_fabricCheck", name);
+      }
+      if (o.webPx > 0) {
+        const std::string name = io::derivativeName(run, "fabricWeb", "dwi", "");
+        WebPageRequest web;
+        web.input = run.dwi;
+        web.field = &check.field;
+        web.size = o.webPx;
+        web.output = (dir / name).string();
+        web.force = true;
+        web.title = run.stem;
+        const WebPageResult written = writeWebPage(web);
+        doc.set("web_page", name + "/index.html");
+        doc.setNumber("seconds_web", written.seconds, 4);
+      }
+      doc.setNumber("seconds_load", check.loadSeconds, 4);
+      doc.setNumber("seconds_fit", check.fitSeconds, 4);
+      doc.setNumber("seconds_check", check.checkSeconds, 4);
+      doc.setNumber("seconds_figures", secondsSince(tf), 4);
+      doc.setNumber("seconds_total", secondsSince(t0), 4);
+      doc.set("status", "ok");
+      doc.set("message", std::string("verdict ") + surfaces::verdictName(rep.verdict) + ": " + rep.reason);
+      out.verdict = surfaces::verdictName(rep.verdict);
+    } catch (const std::bad_alloc&) {
+      doc.set("status", "failed");
+      doc.set("message", run.dwi + ": out of memory");
+    } catch (const std::exception& e) {
+      doc.set("status", "failed");
+      const std::string what = e.what();
+      // Errors name their file; add the run's when one does not.
+      doc.set("message", what.find(fs::path(run.dwi).filename().string()) == std::string::npos &&
+                                 what.find(".bv") == std::string::npos
+                             ? run.dwi + ": " + what
+                             : what);
+    }
+  }
+  out.ok = doc.get("status") == "ok";
+  out.message = doc.get("message");
+  io::writeTextIfChanged(docPath, doc.text()); // last: the run is complete once this exists
+  out.seconds = secondsSince(t0);
+  return out;
+}
+
+io::GroupRow readGroupRow(const io::BidsRun& run, const std::string& outputRoot) {
+  io::GroupRow row;
+  row.participant = "sub-" + run.subject;
+  row.session = run.session.empty() ? "" : "ses-" + run.session;
+  row.run = run.stem;
+  row.metrics.assign(io::groupMetricColumns().size(), std::nan(""));
+  const std::string path = metricsPath(run, outputRoot);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    row.message = "not processed: no " + path + " (run the participant level for sub-" + run.subject + ")";
+    return row;
+  }
+  io::FlatJson doc;
+  try {
+    doc = io::FlatJson::parse(io::readTextFile(path), path);
+  } catch (const Error& e) {
+    row.message = e.what();
+    return row;
+  }
+  row.ok = doc.get("status") == "ok";
+  row.message = doc.get("message");
+  row.verdict = doc.get("check_verdict");
+  row.correction = doc.get("check_correction");
+  row.seconds = doc.number("seconds_total");
+  for (std::size_t c = 0; c < row.metrics.size(); ++c)
+    row.metrics[c] = doc.number(io::groupMetricColumns()[c]);
+  const fs::path rel = fs::path(run.relDir);
+  for (const auto& f : figureKinds()) {
+    const std::string name = doc.get(std::string("figure_") + f.desc);
+    if (!name.empty()) row.figures.push_back({f.caption, (rel / name).generic_string()});
+  }
+  if (doc.has("web_page")) row.webPage = (rel / doc.get("web_page")).generic_string();
+  return row;
+}
+
+} // namespace dtf::session

@@ -1,0 +1,313 @@
+// The render session behind `dtfabric render` and dtfabric.render (Python): load, build the surfaces, render
+// the panes and overlay the tracts.
+#include "ui/session/render_job.h"
+
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "render/gl_context.h"
+#include "render/tract_renderer.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/tract_files.h"
+#include "ui/session/tract_overlay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <vector>
+
+namespace dtf::session {
+
+Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
+                          const ScalarVolume& fa) {
+  Background b;
+  if (what.empty()) {
+    if (!window.empty()) throw UsageError("--background-window needs --background");
+    return b;
+  }
+  if (what == "fa") {
+    b.volume = fa;
+  } else if (what == "md") {
+    b.volume = computeMetricMaps(field, false, false).md;
+    b.hi = 0.003f;
+  } else {
+    b.volume = io::readScalarVolume(what);
+    std::vector<float> v;
+    for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
+      const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
+      if (std::isfinite(x) && x != 0) v.push_back(x);
+    }
+    if (v.empty()) throw InputError(what + ": the background volume holds no non-zero values");
+    std::sort(v.begin(), v.end());
+    b.lo = v[v.size() / 100];
+    b.hi = v[v.size() - 1 - v.size() / 100];
+  }
+  if (!window.empty()) {
+    const auto comma = window.find(',');
+    char* end = nullptr;
+    const std::string a = window.substr(0, comma),
+                      c = comma == std::string::npos ? "" : window.substr(comma + 1);
+    b.lo = std::strtof(a.c_str(), &end);
+    const bool okA = !a.empty() && *end == '\0';
+    b.hi = std::strtof(c.c_str(), &end);
+    if (!okA || c.empty() || *end != '\0' || !(b.hi > b.lo))
+      throw UsageError("--background-window must be LO,HI with LO < HI, got '" + window + "'");
+  }
+  return b;
+}
+
+SplitMode parseSplitMode(const std::string& text) {
+  SplitMode m;
+  if (text == "tracts")
+    m.kind = SplitMode::Kind::Tracts;
+  else if (text == "colour" || text == "color")
+    m.kind = SplitMode::Kind::Colour;
+  else if (text.rfind("surface=", 0) == 0 && text.size() > 8)
+    m = {SplitMode::Kind::Surface, text.substr(8)};
+  else if (text.rfind("input=", 0) == 0 && text.size() > 6)
+    m = {SplitMode::Kind::Input, text.substr(6)};
+  else
+    throw UsageError("--split must be tracts, colour, surface=SPEC or input=FILE, not '" + text + "'");
+  return m;
+}
+
+render::StandardView defaultView(const SurfaceSpec& spec) {
+  if (spec.kind == SurfaceSpec::Kind::Slice) return render::parseView(spec.axis);
+  return render::StandardView::Superior;
+}
+
+namespace {
+
+// The command checks these as it parses its flags; other callers get the same limits here.
+void validate(const RenderRequest& r) {
+  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
+    throw UsageError("the size must be between 16x16 and 8192x8192");
+  if ((!r.colouring.value.empty() || r.colouring.range || !r.colouring.groups.empty()) && r.tracts.empty())
+    throw UsageError("--tracts-color, --tracts-range and --tracts-group need --tracts FILE");
+  if (!(r.tractsNear >= 0 && r.tractsNear <= 1000)) throw UsageError("--tracts-near must be in [0, 1000] mm");
+  if (!(r.tractsSlab >= 0 && r.tractsSlab <= 1000)) throw UsageError("--tracts-slab must be in [0, 1000] mm");
+  if (!(std::abs(r.tractsSlabDepth) <= 1000))
+    throw UsageError("--tracts-slab-depth must be in [-1000, 1000] mm");
+  if (!(r.tractWidth > 0 && r.tractWidth <= 32)) throw UsageError("--tract-width must be in (0, 32] pixels");
+  if (r.split.kind == SplitMode::Kind::Tracts && r.tracts.empty())
+    throw UsageError("--split tracts needs --tracts FILE");
+}
+
+Mesh buildNamedSurface(const SurfaceSpec& spec, const TensorField& field, const ScalarVolume& fa,
+                       const SurfaceBuildOptions& options, const std::string& what) {
+  Mesh mesh;
+  try {
+    mesh = buildSurface(spec, field, fa, options);
+  } catch (...) {
+    rethrowWithContext("while building " + what + " " + describeSurface(spec));
+  }
+  if (mesh.empty()) throw InputError(what + " " + describeSurface(spec) + " is empty");
+  return mesh;
+}
+
+// The first pane's data: a fibre set (its carrier field gives surfaces their grid and data mask) or tensors,
+// FA, the background, the surface and the tracts. Built in place: `field` points into it.
+struct Scene {
+  std::optional<FibreInput> fibreIn;
+  io::LoadedTensors loaded;
+  const TensorField* field = nullptr;
+  ScalarVolume fa;
+  Background background;
+  SurfaceBuildOptions buildOptions;
+  Mesh mesh;
+  Polylines tracts;
+  TractColouringApplied coloured;
+};
+
+// Loads the first pane's data; a fibre set switches `p` to the fibre colours unless a colour was chosen.
+void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
+  if (!r.field && isFibreInput(r.input, r.layout)) {
+    s.fibreIn = loadFibreInput(r.input, r.layout, r.tensor);
+    checkFibreSurface(r.surface, *s.fibreIn);
+    if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
+    if (p.colour != render::ColourMode::Fibres)
+      throw UsageError("--color " + r.colourName +
+                       " colours a tensor's eigenvectors; a fibre set is shown with --color fibres");
+    if ((!s.fibreIn->tensor && r.background == "md") || (s.fibreIn->fa.data.empty() && r.background == "fa"))
+      throw UsageError("--background " + r.background + " needs a tensor: pair one with --tensor FILE");
+  } else {
+    if (!r.tensor.empty())
+      throw UsageError("--tensor pairs a tensor with a fibre-set INPUT; " + r.input + " is not one");
+    if (!r.field) s.loaded = loadTensorInput(r.input, r.tensorOptions);
+  }
+  s.field = s.fibreIn ? &s.fibreIn->carrier : r.field ? r.field : &s.loaded.field;
+  s.fa = !s.fibreIn                   ? computeFaMap(*s.field)
+         : s.fibreIn->fa.data.empty() ? ScalarVolume(s.field->grid, 1)
+                                      : s.fibreIn->fa;
+  s.buildOptions.clipToData = r.background.empty();
+  s.background = loadBackground(r.background, r.backgroundWindow, *s.field, s.fa);
+  s.mesh = buildNamedSurface(r.surface, *s.field, s.fa, s.buildOptions, "the surface");
+  if (!r.tracts.empty()) s.tracts = readTracts(r.tracts);
+  s.coloured = applyTractColouring(s.tracts, r.colouring, r.tracts);
+  if (s.coloured.coloured) logInfo(s.coloured.summary);
+}
+
+// The second pane's data (split surface= or input=): another surface of the same field, or the same surface
+// of another input. Built in place: `field` points into it or into the scene.
+struct SecondPane {
+  io::LoadedTensors loaded;
+  std::optional<FibreInput> fibreIn;
+  const TensorField* field = nullptr;
+  Mesh mesh;
+};
+
+void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams& p, SecondPane& out) {
+  const SplitMode& split = r.split;
+  if (split.kind != SplitMode::Kind::Surface && split.kind != SplitMode::Kind::Input) return;
+  out.field = s.field;
+  const ScalarVolume* fa2 = &s.fa;
+  ScalarVolume faOther;
+  SurfaceSpec spec2 = r.surface;
+  if (split.kind == SplitMode::Kind::Input && isFibreInput(split.value, "auto")) {
+    // DTI beside a fibre set: both panes in the fibre colours, the tensor as its principal direction.
+    out.fibreIn = loadFibreInput(split.value, "auto", "");
+    if (!r.colourGiven) p.colour = render::ColourMode::Fibres;
+    if (p.colour != render::ColourMode::Fibres)
+      throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
+    out.field = &out.fibreIn->carrier;
+    faOther = ScalarVolume(out.field->grid, 1);
+    fa2 = &faOther;
+  } else if (split.kind == SplitMode::Kind::Input) {
+    if (s.fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
+    out.loaded = loadTensorInput(split.value, r.tensorOptions);
+    faOther = computeFaMap(out.loaded.field);
+    out.field = &out.loaded.field;
+    fa2 = &faOther;
+  } else {
+    spec2 = parseSurfaceSpec(split.value);
+  }
+  out.mesh = buildNamedSurface(spec2, *out.field, *fa2, s.buildOptions, "the second pane's surface");
+}
+
+// The GL part: one renderer and camera for every pane (linked views), the tract overlay.
+class PaneRenderer {
+public:
+  PaneRenderer(const RenderRequest& r, const Scene& s, const SecondPane& second, render::StandardView view)
+      : r_(r), s_(s), second_(second) {
+    renderer_.resize(r.width, r.height);
+    if (!s.background.volume.data.empty())
+      renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
+    s.mesh.bounds(lo_, hi_);
+    camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
+                                       r.neurological, !r.perspective);
+    if (!r.tracts.empty()) tracts_.emplace();
+  }
+
+  // One pane: `m` woven from `f`, with the tracts over it when asked and given.
+  Image pane(const Mesh& m, const TensorField& f, const render::FabricParams& params, bool withTracts) {
+    renderer_.setMesh(m);
+    renderer_.setField(f);
+    if (params.colour == render::ColourMode::Fibres) {
+      auto [set, setFa] = fibresOf(f);
+      renderer_.setFibres(*set, setFa);
+    }
+    Image img = renderer_.renderStill(camera_, params);
+    return withTracts && tracts_ ? overlay(m, img) : img;
+  }
+
+  // The tracts shown on `m` (the one overlay rule, ui/session/tract_overlay.h) drawn over `fabric`.
+  Image overlay(const Mesh& m, const Image& fabric) {
+    TractOverlayOptions options;
+    options.nearMm = r_.tractsNear;
+    options.clipMm = r_.tractsSlab;
+    options.clipDepthMm = r_.tractsSlabDepth;
+    const TractSelection selection = selectTracts(s_.tracts, m, r_.tractsNear);
+    const TractClip clip =
+        tractClip(selection.pick, options, glm::vec3(camera_.forward()), 0.5f * (lo_ + hi_));
+    render::TractStyle style;
+    style.widthPx = static_cast<float>(r_.tractWidth);
+    style.plane = clip.plane;
+    style.slabMm = clip.slabMm;
+    tracts_->upload(tractOverlayDisplay(selection.all ? s_.tracts : selection.near));
+    if (tracts_->lineCount() == 0) {
+      logWarning("no tract of " + r_.tracts + " lies near the surface");
+      return fabric;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
+    tracts_->draw(renderer_.frameView(), style);
+    Image out = renderer_.readback();
+    if (s_.coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
+    return out;
+  }
+
+  int lastIterations() const { return renderer_.lastIterations(); }
+
+private:
+  // Fibre colours: the fibre set of the pane (a tensor's principal directions when it has none).
+  std::pair<const FibreSet*, const ScalarVolume*> fibresOf(const TensorField& f) {
+    if (s_.fibreIn && &f == &s_.fibreIn->carrier)
+      return {&s_.fibreIn->fibres.set, s_.fibreIn->fa.data.empty() ? nullptr : &s_.fa};
+    if (second_.fibreIn && &f == &second_.fibreIn->carrier) return {&second_.fibreIn->fibres.set, nullptr};
+    principal_ = principalFibres(f);
+    return {&*principal_, &f == s_.field ? &s_.fa : nullptr};
+  }
+
+  const RenderRequest& r_;
+  const Scene& s_;
+  const SecondPane& second_;
+  // Makes the process's headless context current before the renderer compiles its programs.
+  struct CurrentContext {
+    CurrentContext() { render::GlContext::headless(); }
+  } context_;
+  render::FabricRenderer renderer_;
+  render::Camera camera_;
+  glm::vec3 lo_{0.0f}, hi_{0.0f};
+  std::optional<render::TractRenderer> tracts_;
+  std::optional<FibreSet> principal_;
+};
+
+// The image: one pane, or two side by side as the split asks.
+Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& second, PaneRenderer& panes,
+                  render::FabricParams p) {
+  switch (r.split.kind) {
+  case SplitMode::Kind::Tracts: {
+    Image plain = panes.pane(s.mesh, *s.field, p, false);
+    return sideBySide(plain, panes.overlay(s.mesh, plain));
+  }
+  case SplitMode::Kind::Colour: {
+    if (s.fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
+    render::FabricParams p2 = p;
+    p.colour = render::ColourMode::Medical;
+    p2.colour = render::ColourMode::Engineering;
+    Image left = panes.pane(s.mesh, *s.field, p, true);
+    return sideBySide(left, panes.pane(s.mesh, *s.field, p2, true));
+  }
+  case SplitMode::Kind::Surface:
+  case SplitMode::Kind::Input: {
+    Image left = panes.pane(s.mesh, *s.field, p, true);
+    return sideBySide(left, panes.pane(second.mesh, *second.field, p, true));
+  }
+  case SplitMode::Kind::None:
+    break;
+  }
+  return panes.pane(s.mesh, *s.field, p, true);
+}
+
+} // namespace
+
+RenderResult runRender(const RenderRequest& r) {
+  validate(r);
+  render::FabricParams p = r.params;
+  Scene scene;
+  loadScene(r, p, scene);
+  SecondPane second;
+  loadSecondPane(r, scene, p, second);
+  const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
+  PaneRenderer panes(r, scene, second, view);
+  Image image = renderPanes(r, scene, second, panes, p);
+  render::checkGl("rendering " + r.output);
+  RenderResult result;
+  result.image = std::move(image);
+  result.surface = describeSurface(r.surface);
+  result.triangles = scene.mesh.triangleCount();
+  result.view = view;
+  result.iterations = panes.lastIterations();
+  return result;
+}
+
+} // namespace dtf::session

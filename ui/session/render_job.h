@@ -1,0 +1,80 @@
+// One headless render of the fabric, as `dtfabric render` and the Python module's dtfabric.render run it: a
+// request (input file or an in-memory tensor field, surface, view, size, fabric parameters, background,
+// tracts, split panes) in, an RGBA image out. The caller has validated the flag values it parsed; the job
+// loads the data, builds the surfaces, renders with the headless GL context current on the calling thread
+// (render::GlContext::headless(): every job of a process must run on the thread that created it) and
+// returns the pixels. Equal requests give equal pixels.
+#pragma once
+
+#include "io/model/image.h"
+#include "io/model/tensor_field.h"
+#include "render/camera.h"
+#include "render/fabric_renderer.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/tract_colouring.h"
+
+#include <optional>
+#include <string>
+
+namespace dtf::session {
+
+// The second pane of a split render: tracts | colour | surface=SPEC | input=FILE.
+struct SplitMode {
+  enum class Kind { None, Tracts, Colour, Surface, Input } kind = Kind::None;
+  std::string value; // the SPEC or FILE
+};
+
+// Parses tracts | colour | color | surface=SPEC | input=FILE. Throws UsageError for anything else.
+SplitMode parseSplitMode(const std::string& text);
+
+struct RenderRequest {
+  std::string input;                  // INPUT: a tensor file, a DWI or a fibre set
+  const TensorField* field = nullptr; // when set: these tensors instead of loading `input` (which then only
+                                      // names them in messages)
+  TensorInputOptions tensorOptions;   // tensor layout, bval/bvec, DWI fit mask
+  std::string layout = "auto";        // the layout as given: a tensor or a fibre layout name, or auto
+  std::string tensor;                 // fibre sets: a paired tensor file (FA)
+  SurfaceSpec surface;
+  std::optional<render::StandardView> view; // default: the slice's own view, else superior
+  bool neurological = false, perspective = false;
+  int width = 768, height = 768;
+  render::FabricParams params;
+  bool colourGiven = false;     // params.colour was chosen (a fibre set defaults to fibres)
+  std::string colourName;       // as given, for messages
+  std::string background;       // fa | md | FILE, or empty
+  std::string backgroundWindow; // LO,HI or empty
+  std::string tracts;           // tract file or empty
+  TractColouring colouring;
+  double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;
+  SplitMode split;
+  std::string output = "the image"; // what GL errors name
+};
+
+struct RenderResult {
+  Image image;
+  std::string surface;       // describeSurface of the request's surface
+  std::size_t triangles = 0; // of the (first pane's) surface
+  render::StandardView view = render::StandardView::Superior;
+  int iterations = 0; // advection iterations of the last pane
+};
+
+// A grey background volume shown where the fabric is absent.
+struct Background {
+  ScalarVolume volume; // empty: none
+  float lo = 0, hi = 1;
+};
+
+// --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile); empty
+// `what`: none. `fa` is the field's FA map. Throws UsageError (bad window), InputError (unreadable FILE).
+Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
+                          const ScalarVolume& fa);
+
+// The view a surface is shown from by default: a slice's own view, else superior.
+render::StandardView defaultView(const SurfaceSpec& spec);
+
+// Loads, builds and renders. Throws InputError (data, files: named), UsageError (combinations the data
+// refuses, e.g. --color medical on a fibre set), GlError (no context, GL failure).
+RenderResult runRender(const RenderRequest& request);
+
+} // namespace dtf::session

@@ -1,0 +1,34 @@
+// Tract display choices shared by `render --tracts` (and meant for the viewer): show only some groups, and
+// colour by a per-point or per-streamline value through the tract colour map instead of DEC.
+#pragma once
+
+#include "io/model/geometry.h"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dtf::session {
+
+struct TractColouring {
+  std::vector<std::string> groups;                // empty: all streamlines
+  std::string value;                              // data name; empty: DEC colours
+  std::optional<std::pair<double, double>> range; // colour map range; default: the value's min..max
+};
+
+struct TractColouringApplied {
+  bool coloured = false;
+  double lo = 0, hi = 0; // the range mapped to the ends of the colour map
+  std::string summary;   // e.g. "coloured by 'fa' 0.12 .. 0.85 (viridis)"
+};
+
+// Keeps the chosen groups' streamlines (each once, in file order) and, when a value is chosen, adds the
+// per-point display colours (render/tract_renderer.h) of that value. Throws InputError naming `path` and
+// the names available when a group or value does not exist, UsageError for an empty range.
+TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring& c, const std::string& path);
+
+// "LO,HI" -> range; UsageError otherwise.
+std::pair<double, double> parseTractRange(const std::string& text);
+
+} // namespace dtf::session

@@ -1,0 +1,717 @@
+#include "ui/session/viewer_session.h"
+
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_request.h"
+#include "ui/session/tract_colouring.h"
+#include "ui/session/tract_files.h"
+#include "io/formats/atomic_file.h"
+#include "io/model/error.h"
+#include "io/model/log.h"
+#include "io/model/tensor.h"
+#include "surfaces/slices.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace dtf::session {
+
+namespace {
+
+constexpr std::size_t kMaxRecent = 8;
+constexpr int kDrawnPopulations = 3; // the fabric weaves at most the first three fibres of a voxel
+const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
+
+SurfaceKind sliceKind(int axis) {
+  return axis == 0 ? SurfaceKind::Axial : axis == 1 ? SurfaceKind::Coronal : SurfaceKind::Sagittal;
+}
+
+render::StandardView homeViewFor(SurfaceKind k) {
+  switch (k) {
+  case SurfaceKind::Axial:
+    return render::StandardView::Axial;
+  case SurfaceKind::Coronal:
+    return render::StandardView::Coronal;
+  case SurfaceKind::Sagittal:
+    return render::StandardView::Sagittal;
+  default: // curved surfaces: the display convention's axial view, as `dtfabric render --view axial`
+    return render::StandardView::Axial;
+  }
+}
+
+// Whether fibre n of a voxel (strongest first) is woven at `threshold`: among the first three, and at least
+// `threshold` times the voxel's strongest.
+bool drawn(int n, float amplitude, float strongest, float threshold) {
+  return n < kDrawnPopulations && amplitude > 0 && amplitude >= threshold * strongest;
+}
+
+} // namespace
+
+ViewerSession::ViewerSession(const std::string& surface) : initialSurface_(surface) {
+  if (!surface.empty()) {
+    try {
+      applySpec(parseSurfaceSpec(surface));
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+}
+
+ViewerSession::~ViewerSession() = default;
+
+void ViewerSession::setError(const std::string& message) {
+  state_.errorChain = splitErrorChain(message);
+  ++errorSerial_;
+}
+
+void ViewerSession::addInput(const std::string& path) {
+  if (!path.empty() && std::find(inputs_.begin(), inputs_.end(), path) == inputs_.end())
+    inputs_.push_back(path);
+}
+
+bool ViewerSession::mayWrite(const std::string& path, bool force, const Action& action) {
+  try {
+    io::refuseOverwritingInput(path, inputs_);
+    std::error_code ec;
+    if (force || !std::filesystem::exists(path, ec)) return true;
+    if (!askBeforeOverwrite_)
+      throw InputError(path + " exists (use --force to overwrite it: `view --force`, or a script line's "
+                              "--force before the path)");
+    pendingOverwrite_ = action;
+    state_.overwritePath = path;
+  } catch (...) {
+    setError(currentExceptionMessage());
+  }
+  return false;
+}
+
+std::optional<Action> ViewerSession::answerOverwrite(bool overwrite) {
+  std::optional<Action> a;
+  a.swap(pendingOverwrite_);
+  state_.overwritePath.clear();
+  if (!a || !overwrite) return std::nullopt;
+  if (auto* shot = std::get_if<Screenshot>(&*a)) shot->force = true;
+  if (auto* cam = std::get_if<SaveCamera>(&*a)) cam->force = true;
+  if (auto* tracts = std::get_if<SaveTracts>(&*a)) tracts->force = true;
+  return a;
+}
+
+void ViewerSession::addRecent(const std::string& path) {
+  auto& r = state_.recent;
+  r.erase(std::remove(r.begin(), r.end(), path), r.end());
+  r.insert(r.begin(), path);
+  if (r.size() > kMaxRecent) r.resize(kMaxRecent);
+}
+
+bool ViewerSession::settled() const {
+  return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy() &&
+         !pendingAgreement_;
+}
+
+SurfaceSpec ViewerSession::currentSpec() const {
+  SurfaceSpec s;
+  const int axis = sliceAxisOf(state_.surface);
+  if (state_.surface == SurfaceKind::FaIsosurface) {
+    s.kind = SurfaceSpec::Kind::Fa;
+    s.value = state_.faThreshold;
+    s.text = "fa=" + std::to_string(state_.faThreshold);
+  } else if (axis >= 0) {
+    s.kind = SurfaceSpec::Kind::Slice;
+    s.axis = kAxisNames[axis];
+    s.index = data_ ? state_.slice[axis] : -1;
+    s.text = "slice=" + s.axis;
+  } else {
+    s = otherSpec_;
+  }
+  return s;
+}
+
+void ViewerSession::applySpec(const SurfaceSpec& spec) {
+  switch (spec.kind) {
+  case SurfaceSpec::Kind::Fa:
+    state_.surface = SurfaceKind::FaIsosurface;
+    state_.faThreshold = spec.value;
+    break;
+  case SurfaceSpec::Kind::Slice: {
+    const int axis = static_cast<int>(surfaces::parseSliceAxis(spec.axis));
+    state_.surface = sliceKind(axis);
+    if (spec.index >= 0) state_.slice[axis] = std::min(spec.index, std::max(state_.sliceCount[axis] - 1, 0));
+    break;
+  }
+  case SurfaceSpec::Kind::Fibre: {
+    state_.surface = SurfaceKind::Fibre;
+    otherSpec_ = spec;
+    // The Surface panel edits the seed line in voxel indices.
+    glm::dvec3 a = spec.a, b = spec.b;
+    if (!spec.voxelCoords && data_) {
+      a = data_->loaded.field.grid.toVoxel(a);
+      b = data_->loaded.field.grid.toVoxel(b);
+    }
+    if (spec.voxelCoords || data_) {
+      const glm::ivec3 ia(glm::round(a)), ib(glm::round(b));
+      state_.fibreSeed = {ia.x, ia.y, ia.z, ib.x, ib.y, ib.z};
+      ++state_.fibreSeedSerial;
+    }
+    break;
+  }
+  default:
+    state_.surface = SurfaceKind::Other;
+    otherSpec_ = spec;
+    break;
+  }
+}
+
+void ViewerSession::replaceField(TensorField field) {
+  if (!data_ || data_->fibres || field.grid.dims != data_->loaded.field.grid.dims) return;
+  auto d = std::make_shared<ViewerDataset>(*data_);
+  d->loaded.field = std::move(field);
+  data_ = std::move(d);
+  ++fieldSerial_;
+  requestSurface();
+}
+
+void ViewerSession::requestSurface() {
+  if (!data_) return;
+  if ((state_.surface == SurfaceKind::Fibre && otherSpec_.kind != SurfaceSpec::Kind::Fibre) ||
+      (state_.surface == SurfaceKind::Other && otherSpec_.text.empty()))
+    return; // waits for a seed line / spec
+  latestSurface_ = nextId_++;
+  state_.surfacePending = true;
+  worker_.requestSurface(latestSurface_, data_, currentSpec());
+}
+
+void ViewerSession::loadFile(const LoadFile& a) {
+  const std::string layout = a.layout.empty() ? "auto" : a.layout;
+  if (!io::isFibreLayoutName(layout)) io::parseLayout(layout); // a usage error before the worker runs
+  SurfaceSpec first = currentSpec();
+  if (first.kind == SurfaceSpec::Kind::Slice && !data_) {
+    // A slice index from the command line is kept; the viewer clamps it once the grid is known.
+    if (!initialSurface_.empty()) first = parseSurfaceSpec(initialSurface_);
+  } else if (first.kind == SurfaceSpec::Kind::Slice) {
+    first.index = -1; // a new grid: start in the middle
+  }
+  if ((first.kind == SurfaceSpec::Kind::Fibre || first.kind == SurfaceSpec::Kind::Mesh ||
+       first.kind == SurfaceSpec::Kind::Iso || first.kind == SurfaceSpec::Kind::Plane) &&
+      first.text.empty()) {
+    first = parseSurfaceSpec("fa=0.25");
+  }
+  addInput(a.path);
+  addInput(gradientSibling(a.path, ".bval"));
+  addInput(gradientSibling(a.path, ".bvec"));
+  addInput(a.tensor);
+  latestLoad_ = nextId_++;
+  latestSurface_ = latestLoad_;
+  state_.busy = true;
+  state_.busyStage = "reading " + a.path;
+  busySince_ = std::chrono::steady_clock::now();
+  // A surface the user named for the first load (`view --surface fa=...`) is refused, as `render` refuses it,
+  // when a fibre set has no FA; the default one gives way to a slice.
+  const bool named = !data_ && !initialSurface_.empty();
+  worker_.requestLoad(latestLoad_, a.path, layout, a.tensor, first, !named);
+}
+
+void ViewerSession::setMesh(Mesh&& mesh) {
+  mesh_ = std::make_shared<const Mesh>(std::move(mesh));
+  ++meshSerial_;
+  glm::vec3 lo, hi;
+  mesh_->bounds(lo, hi);
+  meshCentre_ = 0.5f * (lo + hi);
+  state_.triangles = mesh_->triangleCount();
+  requestSelection();
+}
+
+void ViewerSession::countFibres() {
+  FibreInfo& info = state_.fibres;
+  info.populations = {0, 0, 0};
+  info.threshold = state_.fabric.fibreThreshold;
+  if (!data_ || !data_->fibres) return;
+  const FibreSet& set = data_->fibres->set;
+  const std::size_t k = static_cast<std::size_t>(set.maxFibres);
+  for (std::size_t v = 0; v < set.grid.voxelCount(); ++v) {
+    const Fibre* f = &set.fibres[v * k];
+    int n = 0;
+    for (std::size_t i = 0; i < k; ++i)
+      n += drawn(static_cast<int>(i), f[i].amplitude, f[0].amplitude, info.threshold) ? 1 : 0;
+    if (n > 0) ++info.populations[static_cast<std::size_t>(n - 1)];
+  }
+}
+
+void ViewerSession::onResult(WorkerResult& r) {
+  using K = WorkerResult::Kind;
+  if (r.id < latestLoad_) return; // belongs to data already replaced
+  if (r.kind == K::Loaded) {
+    data_ = r.data;
+    const ViewerDataset& d = *data_;
+    const TensorField& f = d.loaded.field;
+    state_.busy = false;
+    state_.hasData = true;
+    DataInfo& info = state_.data;
+    info.path = d.path;
+    info.layout = d.fibres ? io::fibreLayoutName(d.fibres->layout) : io::layoutName(d.loaded.layout);
+    info.layoutReason = d.loaded.layoutReason;
+    info.orientation = f.grid.orientationCode();
+    info.dims = f.grid.dims;
+    info.spacing = f.grid.spacing;
+    info.validVoxels = static_cast<std::size_t>(std::count(f.valid.begin(), f.valid.end(), 1));
+    info.warnings = d.loaded.warnings;
+    FibreInfo& fibres = state_.fibres;
+    const bool hadFibres = fibres.present;
+    fibres = {};
+    if (d.fibres) {
+      fibres.present = true;
+      fibres.path = d.path;
+      fibres.layout = io::fibreLayoutName(d.fibres->layout);
+      fibres.layoutReason = d.fibres->layoutReason;
+      fibres.faSource = d.faSource;
+      fibres.slots = d.fibres->set.maxFibres;
+      fibres.voxels = d.fibres->set.occupiedVoxels();
+      // A fibre set is woven one population per field (the way `dtfabric render` shows it).
+      state_.fabric.colour = render::ColourMode::Fibres;
+    } else if (hadFibres && state_.fabric.colour == render::ColourMode::Fibres) {
+      state_.fabric.colour = render::ColourMode::Medical; // tensors after a fibre set: the default mode again
+    }
+    countFibres();
+    for (int a = 0; a < 3; ++a) {
+      state_.sliceCount[a] = surfaces::sliceCount(f.grid, static_cast<surfaces::SliceAxis>(a));
+      state_.slice[a] = state_.sliceCount[a] / 2;
+    }
+    applySpec(r.spec);
+    if (r.spec.kind == SurfaceSpec::Kind::Slice && r.spec.index < 0) {
+      const int axis = sliceAxisOf(state_.surface);
+      state_.slice[axis] = state_.sliceCount[axis] / 2;
+    }
+    ++fieldSerial_;
+    mesh_.reset();
+    state_.surfacePending = false;
+    state_.surfaceText = describeSurface(currentSpec());
+    if (!r.mesh.empty())
+      setMesh(std::move(r.mesh));
+    else if (!r.error.empty())
+      setError(r.error);
+    else
+      state_.surfaceText += ": empty";
+    addRecent(d.path);
+    homeView_ = homeViewFor(state_.surface);
+    ++loadSerial_;
+    return;
+  }
+  if (r.id == latestLoad_ && r.kind == K::Failed) {
+    state_.busy = false;
+    setError(r.error);
+    return;
+  }
+  state_.surfacePending = r.id < latestSurface_;
+  if (r.kind == K::Failed) {
+    setError("while building the " + describeSurface(r.spec) + ": " + r.error);
+    return;
+  }
+  state_.surfaceText = describeSurface(r.spec);
+  if (r.mesh.empty()) {
+    state_.surfaceText += ": empty (previous surface shown)";
+    return;
+  }
+  setMesh(std::move(r.mesh));
+}
+
+void ViewerSession::update() {
+  WorkerResult r;
+  while (worker_.poll(r)) {
+    try {
+      onResult(r);
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+  if (state_.tractsLoading && tractsLoading_.valid() &&
+      tractsLoading_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    state_.tractsLoading = false;
+    try {
+      setTracts(std::make_shared<const Polylines>(tractsLoading_.get()), pendingTractPath_);
+      logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
+              std::to_string(state_.tractPoints) + " points");
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+  TractResult tr;
+  while (tractWorker_.poll(tr)) {
+    try {
+      onTractResult(tr);
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+  if (state_.tracking) tractWorker_.tracking(&state_.trackSeedsDone, &state_.trackProgress);
+  if (pendingAgreement_ && !state_.busy && !state_.surfacePending && !state_.tractsLoading) {
+    const ComputeAgreement a = *pendingAgreement_;
+    pendingAgreement_.reset();
+    try {
+      startAgreement(a);
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+  state_.agreementRunning = pendingAgreement_.has_value() || tractWorker_.agreementRunning();
+  if (state_.busy) {
+    worker_.loading(&state_.busyStage);
+    state_.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - busySince_).count();
+  }
+}
+
+void ViewerSession::clearProbe() {
+  state_.probe.onSurface = state_.probe.inData = false;
+  state_.probe.fibres.clear();
+  state_.probe.text.clear();
+}
+
+void ViewerSession::probeAt(const glm::dvec3& world) {
+  clearProbe();
+  ProbeInfo& out = state_.probe;
+  if (!data_) return;
+  out.onSurface = true;
+  out.world = world;
+  const TensorField& f = data_->loaded.field;
+  out.voxel = glm::ivec3(glm::round(f.grid.toVoxel(world)));
+  if (!f.grid.contains(out.voxel.x, out.voxel.y, out.voxel.z)) return;
+  const std::size_t i = f.grid.index(out.voxel.x, out.voxel.y, out.voxel.z);
+  out.hasTensor = f.valid[i] && (!data_->fibres || data_->pairedTensor);
+  if (out.hasTensor) {
+    const EigenSystem e = eigenDecompose(f.tensors[i]);
+    out.fa = fractionalAnisotropy(e.values);
+    out.eigenvalues = e.values;
+    out.e1 = e.vectors[0];
+  }
+  if (data_->fibres) {
+    const FibreSet& set = data_->fibres->set;
+    const Fibre* v = set.at(out.voxel.x, out.voxel.y, out.voxel.z);
+    const float threshold = state_.fabric.fibreThreshold;
+    for (int n = 0; n < set.maxFibres && v[n].amplitude > 0; ++n) {
+      ProbeFibre p;
+      p.direction = v[n].direction;
+      p.amplitude = v[n].amplitude;
+      p.relative = v[n].amplitude / v[0].amplitude;
+      p.drawn = drawn(n, v[n].amplitude, v[0].amplitude, threshold);
+      out.fibres.push_back(p);
+    }
+  }
+  out.inData = out.hasTensor || !out.fibres.empty();
+  if (out.inData) out.text = describeProbe(out);
+}
+
+std::string describeProbe(const ProbeInfo& p) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "voxel %d %d %d", p.voxel.x, p.voxel.y, p.voxel.z);
+  std::string text = buf;
+  if (p.hasTensor) {
+    std::snprintf(buf, sizeof buf, ", FA %.4f, e1 %.3f %.3f %.3f, lambda %.2e %.2e %.2e", p.fa, p.e1.x,
+                  p.e1.y, p.e1.z, p.eigenvalues.x, p.eigenvalues.y, p.eigenvalues.z);
+    text += buf;
+  }
+  if (!p.fibres.empty()) {
+    text += "; fibres:";
+    for (std::size_t n = 0; n < p.fibres.size(); ++n) {
+      const ProbeFibre& f = p.fibres[n];
+      std::snprintf(buf, sizeof buf, "%s (%.3f %.3f %.3f) amplitude %.3g (%.0f%%)%s", n ? "," : "",
+                    f.direction.x, f.direction.y, f.direction.z, f.amplitude, 100.0 * f.relative,
+                    f.drawn ? "" : " not drawn");
+      text += buf;
+    }
+  } else if (!p.hasTensor) {
+    text += ": no fibre";
+  }
+  return text;
+}
+
+void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std::string& label) {
+  tracts_ = std::move(lines);
+  ++tractsSerial_;
+  const Polylines& l = *tracts_;
+  state_.tractPath = label;
+  state_.tractCount = l.lineCount();
+  state_.tractPoints = l.points.size();
+  double total = 0;
+  for (std::size_t i = 0; i < l.lineCount(); ++i)
+    for (std::uint32_t k = l.offsets[i] + 1; k < l.offsets[i + 1]; ++k)
+      total += glm::length(l.points[k] - l.points[k - 1]);
+  state_.tractMeanLengthMm = l.lineCount() ? total / static_cast<double>(l.lineCount()) : 0;
+  state_.hasAgreement = false; // computed for other tracts
+  state_.tractDataNames.clear();
+  for (const auto& d : l.perPoint)
+    if (d.name != render::kTractDisplayColours) state_.tractDataNames.push_back(d.name);
+  for (const auto& d : l.perLine)
+    state_.tractDataNames.push_back(d.name);
+  state_.tractGroupNames.clear();
+  for (const auto& g : l.groups)
+    state_.tractGroupNames.push_back(g.name);
+  applyTractChoice({}, {}); // names belong to a file: new tracts start in DEC with every streamline
+  requestSelection();
+}
+
+void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTractGroups& groups) {
+  if (!tracts_) {
+    if (!colour.value.empty() || !groups.all) throw UsageError("load or track tracts before colouring them");
+    return;
+  }
+  std::shared_ptr<const Polylines> shown = tracts_;
+  TractColouringApplied applied;
+  if (!colour.value.empty() || !groups.all) {
+    // A copy once per choice (not per frame); the near-surface selection carries the display colours
+    // of the kept points.
+    Polylines lines = *tracts_;
+    TractColouring c;
+    c.value = colour.value;
+    c.range = colour.range;
+    if (!groups.all) {
+      if (groups.shown.empty())
+        lines = lines.subset(std::vector<std::uint32_t>{});
+      else
+        c.groups = groups.shown;
+    }
+    applied = applyTractColouring(lines, c, state_.tractPath);
+    shown = std::make_shared<const Polylines>(std::move(lines));
+  }
+  shownTracts_ = std::move(shown);
+  tractColour_ = colour;
+  tractGroups_ = groups;
+  ++tractsSerial_; // the worker's cached display of every tract is stale
+  state_.tractColourBy = colour.value;
+  if (applied.coloured) state_.tractColourLo = applied.lo, state_.tractColourHi = applied.hi;
+  state_.tractGroupShown.assign(state_.tractGroupNames.size(), groups.all ? 1 : 0);
+  if (!groups.all)
+    for (std::size_t g = 0; g < state_.tractGroupNames.size(); ++g)
+      for (const auto& name : groups.shown)
+        if (name == state_.tractGroupNames[g]) state_.tractGroupShown[g] = 1;
+  if (applied.coloured) logInfo(applied.summary);
+}
+
+void ViewerSession::requestSelection() {
+  if (!tracts_) return;
+  SelectionJob job;
+  job.id = latestSelection_ = nextId_++;
+  job.tracts = shownTracts_ ? shownTracts_ : tracts_;
+  job.tractsSerial = tractsSerial_;
+  job.mesh = mesh_;
+  job.nearMm = state_.tractsNearMm;
+  state_.tractsSelecting = true;
+  tractWorker_.requestSelection(std::move(job));
+}
+
+void ViewerSession::onTractResult(TractResult& r) {
+  using K = TractResult::Kind;
+  if (r.kind == K::Failed) {
+    if (r.id == latestSelection_) state_.tractsSelecting = false;
+    if (r.id == latestTracking_) {
+      state_.tracking = false;
+      state_.trackStatus = "failed: " + r.error;
+    }
+    setError("while " + r.what + ": " + r.error);
+    return;
+  }
+  if (r.kind == K::Selection) {
+    if (r.id != latestSelection_) return; // a newer selection is on its way
+    state_.tractsSelecting = false;
+    display_ = r.display;
+    ++displaySerial_;
+    tractsSlab_ = r.slab;
+    tractsPlane_ = r.plane;
+    state_.tractsSlab = r.slab;
+    state_.tractsShownLines = r.display->lines; // after the display decimation
+    state_.tractsShownPoints = r.display->points.size();
+    logInfo("tracts shown: " + std::to_string(r.lines) + " streamline pieces, " + std::to_string(r.points) +
+            " points" + (r.slab ? " (slab around the plane)" : ""));
+  } else if (r.kind == K::Tracking) {
+    if (r.id != latestTracking_) return;
+    state_.tracking = false;
+    state_.trackStatus = r.report;
+    logInfo(r.report);
+    if (!r.cancelled) setTracts(std::move(r.tracts), "tracked in the viewer");
+  } else if (r.kind == K::Agreement) {
+    if (r.id != latestAgreement_) return;
+    const surfaces::AgreementResult& a = r.agreement;
+    state_.hasAgreement = true;
+    state_.agreementHistogram.assign(a.histogram.begin(), a.histogram.end());
+    state_.agreementBinDeg = a.binDeg;
+    state_.agreementMeanDeg = a.meanDeg;
+    state_.agreementMedianDeg = a.medianDeg;
+    state_.agreementFracBelow15 = a.fracBelow15;
+    state_.agreementPoints = a.anglesDeg.size();
+    state_.agreementNearPoints = a.nearPoints;
+    state_.agreementSkipped = a.skippedTangent + a.skippedDegenerate;
+    std::string histogram;
+    for (std::size_t b = 0; b < a.histogram.size(); ++b)
+      histogram += (b ? " " : "") + std::to_string(a.histogram[b]);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "agreement: %zu points compared, %zu within %g mm (%zu steep crossings, %zu without an "
+                  "in-surface direction), mean %.4f deg, median %.4f deg, below 15 deg %.6f, histogram [",
+                  a.anglesDeg.size(), a.nearPoints, state_.agreementNearMm, a.skippedTangent,
+                  a.skippedDegenerate, a.meanDeg, a.medianDeg, a.fracBelow15);
+    logInfo(text + histogram + "] on the " + state_.agreementSurface);
+  } else if (r.kind == K::Saved) {
+    state_.saveStatus = "wrote " + r.path;
+    logInfo(state_.saveStatus);
+  }
+}
+
+void ViewerSession::startTracking(const ViewerTrackRequest& request) {
+  if (!data_) throw UsageError("load a tensor volume before tracking");
+  if (data_->fibres && !data_->pairedTensor)
+    throw UsageError("tracking follows tensors: pair a tensor with the fibre set (--tensor FILE)");
+  ViewerTrackRequest r = request;
+  if (r.seeds == SeedKind::Slice && r.sliceIndex < 0)
+    r.sliceIndex = state_.slice[static_cast<std::size_t>(std::clamp(r.sliceAxis, 0, 2))];
+  surfaces::validate(trackingOptions(r));
+  TrackingJob job;
+  job.id = nextId_++;
+  job.data = data_;
+  job.mesh = mesh_;
+  job.request = r;
+  tractWorker_.requestTracking(std::move(job)); // throws while tracking runs
+  latestTracking_ = nextId_ - 1;
+  state_.tracking = true;
+  state_.trackProgress = 0;
+  state_.trackSeedsDone = 0;
+  state_.trackStatus = "tracking...";
+}
+
+void ViewerSession::startAgreement(const ComputeAgreement& a) {
+  if (!(a.nearMm >= 0 && a.nearMm <= 1000)) throw UsageError("agreement distance must lie in [0, 1000] mm");
+  if (a.bins < 1 || a.bins > 90) throw UsageError("agreement bins must lie in 1..90");
+  if (state_.busy || state_.surfacePending || state_.tractsLoading) {
+    pendingAgreement_ = a; // for the surface and tracts on their way, not the ones they replace
+    state_.agreementRunning = true;
+    return;
+  }
+  if (!tracts_) throw UsageError("load or track tracts before computing the agreement");
+  if (!data_ || !mesh_) throw UsageError("the agreement needs a tensor volume and a surface on screen");
+  if (data_->fibres && !data_->pairedTensor)
+    throw UsageError("the agreement measures tracts against tensors: pair a tensor with the fibre set");
+  AgreementJob job;
+  job.id = latestAgreement_ = nextId_++;
+  job.tracts = tracts_;
+  job.mesh = mesh_;
+  job.data = data_;
+  job.options.nearMm = a.nearMm;
+  job.options.bins = a.bins;
+  state_.agreementNearMm = a.nearMm;
+  state_.agreementSurface = state_.surfaceText;
+  state_.agreementRunning = true;
+  tractWorker_.requestAgreement(std::move(job));
+}
+
+void ViewerSession::saveTracts(const SaveTracts& a) {
+  if (!tracts_) throw UsageError("no tracts to save");
+  if (a.path.empty()) throw UsageError("saving tracts: no path given");
+  if (!isTractFileName(a.path)) throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
+  if (!mayWrite(a.path, a.force, Action(a))) return; // an input, or the overwrite prompt
+  SaveJob job;
+  job.id = nextId_++;
+  job.tracts = tracts_;
+  job.path = a.path;
+  job.overwrite = a.force;
+  if (data_)
+    job.reference = data_->loaded.field.grid;
+  else if (a.path.size() >= 4 && (a.path.ends_with(".trk") || a.path.ends_with(".TRK")))
+    throw UsageError("a .trk file needs a loaded tensor volume for its voxel grid");
+  state_.saveStatus = "saving " + a.path;
+  tractWorker_.requestSave(std::move(job));
+}
+
+void ViewerSession::apply(const Action& action) {
+  try {
+    std::visit(
+        [&](const auto& a) {
+          using T = std::decay_t<decltype(a)>;
+          if constexpr (std::is_same_v<T, LoadFile>) {
+            loadFile(a);
+          } else if constexpr (std::is_same_v<T, SetSurfaceKind>) {
+            if (a.kind == SurfaceKind::Other || a.kind == state_.surface) return;
+            state_.surface = a.kind;
+            if (a.kind == SurfaceKind::Fibre && otherSpec_.kind != SurfaceSpec::Kind::Fibre)
+              state_.surfaceText = "fibre surface: enter a seed line and press Build";
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, SetSurfaceSpec>) {
+            const SurfaceSpec spec = parseSurfaceSpec(a.text);
+            addInput(spec.file);
+            for (const auto& part : spec.parts)
+              addInput(part.file);
+            applySpec(spec);
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, SetFaThreshold>) {
+            state_.faThreshold = std::clamp(a.value, 0.01, 0.99);
+            state_.surface = SurfaceKind::FaIsosurface;
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, SetSlice>) {
+            const int axis = std::clamp(a.axis, 0, 2);
+            state_.slice[axis] = std::clamp(a.index, 0, std::max(state_.sliceCount[axis] - 1, 0));
+            state_.surface = sliceKind(axis);
+            requestSurface();
+          } else if constexpr (std::is_same_v<T, SetFabricParams>) {
+            render::FabricParams p = a.params;
+            if (state_.fibres.present && p.colour != render::ColourMode::Fibres)
+              throw UsageError(
+                  "a fibre set is shown in the fibres colour mode (medical and engineering colour "
+                  "a tensor's eigenvectors)");
+            const bool recount = p.fibreThreshold != state_.fabric.fibreThreshold;
+            state_.fabric = p;
+            if (recount) countFibres();
+          } else if constexpr (std::is_same_v<T, LoadTracts>) {
+            if (state_.tractsLoading) throw UsageError("tracts are still loading");
+            const std::string path = a.path;
+            addInput(path);
+            state_.tractsLoading = true;
+            tractsLoading_ = std::async(std::launch::async, [path] {
+              try {
+                return readTracts(path);
+              } catch (...) {
+                rethrowWithContext("while loading tracts " + path);
+              }
+            });
+            state_.tractPath.clear();
+            pendingTractPath_ = path;
+          } else if constexpr (std::is_same_v<T, SetTractsVisible>) {
+            state_.tractsVisible = a.on;
+          } else if constexpr (std::is_same_v<T, SetTractsNear>) {
+            if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("tract distance must lie in [0, 1000] mm");
+            state_.tractsNearMm = a.mm;
+            requestSelection();
+          } else if constexpr (std::is_same_v<T, SetTractsClip>) {
+            if (!(a.mm >= 0 && a.mm <= 1000))
+              throw UsageError("clip slab half-width must lie in [0, 1000] mm");
+            if (!(std::abs(a.offsetMm) <= 1000))
+              throw UsageError("clip slab depth must lie in [-1000, 1000] mm");
+            state_.tractsClipMm = a.mm;
+            state_.tractsClipOffsetMm = a.offsetMm;
+            ++tractStyleSerial_;
+          } else if constexpr (std::is_same_v<T, SetTractColour>) {
+            applyTractChoice(a, tractGroups_);
+            requestSelection();
+          } else if constexpr (std::is_same_v<T, SetTractGroups>) {
+            applyTractChoice(tractColour_, a);
+            requestSelection();
+          } else if constexpr (std::is_same_v<T, SetTractWidth>) {
+            if (!(a.px > 0 && a.px <= 32)) throw UsageError("tract width must lie in (0, 32] pixels");
+            state_.tractWidthPx = a.px;
+            ++tractStyleSerial_;
+          } else if constexpr (std::is_same_v<T, TrackTracts>) {
+            startTracking(a.request);
+          } else if constexpr (std::is_same_v<T, CancelTracking>) {
+            tractWorker_.cancelTracking();
+          } else if constexpr (std::is_same_v<T, SaveTracts>) {
+            saveTracts(a);
+          } else if constexpr (std::is_same_v<T, ComputeAgreement>) {
+            startAgreement(a);
+          } else if constexpr (std::is_same_v<T, DismissError>) {
+            state_.errorChain.clear();
+          }
+          // The rest (cameras, panes, screenshots, camera files, the overwrite answer, quit) is the front
+          // end's.
+        },
+        action);
+  } catch (...) {
+    setError(currentExceptionMessage());
+  }
+}
+
+} // namespace dtf::session
