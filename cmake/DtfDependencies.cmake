@@ -29,6 +29,8 @@ pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 # The window, the panels and the executable only (DTF_BUILD_APPS).
 if(DTF_BUILD_APPS)
   find_package(glfw3 REQUIRED)
+  # JSON written by the session layer (the web page's data).
+  find_package(nlohmann_json 3 REQUIRED)
   # Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
   set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")

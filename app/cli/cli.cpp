@@ -89,6 +89,13 @@ const std::vector<Command>& commands() {
        "contact sheet when not `ok`) and a metrics JSON under `OUTPUT_DIR/sub-XX/[ses-YY/]dwi/`; the group level "
        "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
        cmdBids, bidsOptions},
+      {"web", nullptr,
+       "write a self-contained web page (folder) to browse every slice's fabric in any browser",
+       "a folder that opens from the file system in any current browser (no server, no network): the fabric "
+       "of every axial, coronal and sagittal slice, a slider per axis, the viewer's keys, zoom and pan, "
+       "orientation letters, the radiological/neurological choice, a probe (world mm, voxel, FA, principal "
+       "direction) and, with `--tracts`, a tract overlay toggle",
+       cmdWeb, webOptions},
       {"view", nullptr, "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, Fibres for fibre sets, View, Tracts), "
        "status bar with the voxel under the cursor (its tensor and fibres); `--script` replays actions for reproducible figures (see below; `--force`: its "

@@ -154,6 +154,11 @@ private:
                                      "--threads",   std::to_string(opts_.fitThreads),
                                      "--figure-size", std::to_string(opts_.figurePx)};
     if (opts_.force) args.push_back("--force");
+    if (opts_.webPx > 0) {
+      args.push_back("--web");
+      args.push_back("--web-size");
+      args.push_back(std::to_string(opts_.webPx));
+    }
     const std::string lp = std::to_string(opts_.fitThreads);
     const pid_t parent = ::getpid();
     const pid_t pid = ::fork();
@@ -323,6 +328,7 @@ const OptionTable& bidsOptions() {
         "               …_desc-fabricIsoLeft_dwi.png    fabric on the FA 0.4 isosurface, from the left\n"
         "               …_desc-fabricIsoSuperior_dwi.png   the same from above\n"
         "               …_desc-fabricCheck_dwi.png      the check's contact sheet (verdict corrected or inconclusive)\n"
+        "               …_desc-fabricWeb_dwi/index.html with --web: the web page of every slice (`dtfabric web`)\n"
         "               …_desc-fabricMetrics_dwi.json   FA/MD in the white matter (FA >= 0.3), verdict and scores,\n"
         "                                               timings, input hashes; written last\n"
         "             and OUTPUT_DIR/dataset_description.json (DatasetType derivative). Slices are chosen from each\n"
@@ -346,6 +352,10 @@ const OptionTable& bidsOptions() {
             .defaultSays("max(1, cores / N of --jobs)"),
         O::integer("figure-size", "PX", session::ParticipantOptions{}.figurePx, closedRange(64, 2048),
                    "edge of each figure (the contact sheet's panels are half)"),
+        O::flag("web", "participant level: also each run's web page (`dtfabric web`: every slice, in any "
+                       "browser), …_desc-fabricWeb_dwi/index.html; the group report links it"),
+        O::integer("web-size", "PX", 256, closedRange(16, 2048), "the web page's slice images (longer side)")
+            .measuredIn("pixels"),
         O::flag("force", "recompute complete runs too"),
         O::flag("worker", "a pool worker of --jobs (run labels on stdin, \"done\" on stdout)").internalOnly(),
     };
@@ -372,6 +382,10 @@ int cmdBids(const CommandArgs& argv) {
   session::ParticipantOptions opts;
   opts.figurePx = args.integer("figure-size");
   opts.force = args.flag("force");
+  const bool web = args.flag("web");
+  const int webSize = args.integer("web-size");
+  if (!web && args.given("web-size")) throw UsageError("--web-size needs --web");
+  opts.webPx = web ? webSize : 0;
   opts.version = DTF_VERSION;
   const bool worker = args.flag("worker"); // a pool worker (run labels on stdin, "done" on stdout)
   opts.fitThreads = args.given("threads") ? args.integer("threads") : std::max(1, cores / jobs);

@@ -29,6 +29,7 @@ int cmdConvert(const CommandArgs& args);
 int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
 int cmdBids(const CommandArgs& args);
+int cmdWeb(const CommandArgs& args);
 
 // The option tables of the commands (app/command/options.h), each in its command's file.
 const OptionTable& infoOptions();
@@ -43,6 +44,7 @@ const OptionTable& convertOptions();
 const OptionTable& compareOptions();
 const OptionTable& checkOptions();
 const OptionTable& bidsOptions();
+const OptionTable& webOptions();
 const OptionTable& viewOptions();
 const OptionTable& helpOptions();
 

@@ -201,6 +201,7 @@ function openDetail(i){
   h+='<table><tr><th>metric</th><th>value</th></tr>';
   Object.keys(r.metrics).forEach(function(k){h+='<tr><td>'+esc(k)+'</td><td class="num">'+esc(r.metrics[k])+'</td></tr>';});
   h+='</table>';
+  if(r.web)h+='<p><a class="web" href="'+encodeURI(r.web)+'" target="_blank">browse every slice (web page)</a></p>';
   r.figures.forEach(function(f){h+='<figure><a href="'+encodeURI(f.path)+'" target="_blank"><img src="'+encodeURI(f.path)+'" alt="'+esc(f.label)+'"></a><figcaption>'+esc(f.label)+'</figcaption></figure>';});
   detail.innerHTML=h;detail.classList.add('open');detail.scrollTop=0;
   detail.querySelector('.close').addEventListener('click',function(){detail.classList.remove('open');});
@@ -230,7 +231,8 @@ if(location.hash==='#selfcheck'){
     const out={images:imgs.length,loaded:ok.filter(Boolean).length,
       broken:imgs.filter(function(im,i){return !ok[i];}).map(function(im){return im.getAttribute('src');}),
       errors:caught,flagged:flagged,lists:lists,rows:document.querySelectorAll('#all tbody tr').length,
-      cards:document.querySelectorAll('.card').length};
+      cards:document.querySelectorAll('.card').length,
+      web:Array.from(document.querySelectorAll('#all a.web')).map(function(a){return a.getAttribute('href');})};
     // Click-through: click the card with the most figures, wait for the overlay's full-size images.
     let most=null;document.querySelectorAll('.card').forEach(function(c){if(!most||c.querySelectorAll('img').length>most.querySelectorAll('img').length)most=c;});
     if(most)most.click();
@@ -327,8 +329,10 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const GroupRow& r = rows[i];
     h += std::string("<tr") + (r.ok ? "" : " class=\"failed\"") + " data-id=\"" + htmlEscape(rowId(r)) +
-         "\"><td><a href=\"#\" data-run=\"" + std::to_string(i) + "\">" + htmlEscape(r.run) +
-         "</a></td><td>" + htmlEscape(r.participant) + "</td><td>" +
+         "\"><td><a href=\"#\" data-run=\"" + std::to_string(i) + "\">" + htmlEscape(r.run) + "</a>" +
+         (r.webPage.empty() ? std::string()
+                            : " <a class=\"web\" href=\"" + htmlEscape(r.webPage) + "\" target=\"_blank\">web</a>") +
+         "</td><td>" + htmlEscape(r.participant) + "</td><td>" +
          htmlEscape(r.session.empty() ? "n/a" : r.session) + "</td><td>" + (r.ok ? "ok" : "failed") +
          "</td><td>" + htmlEscape(r.verdict) + "</td><td>" + htmlEscape(r.correction) + "</td>";
     for (std::size_t c = 0; c < cols.size(); ++c) {
@@ -378,7 +382,9 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
     for (std::size_t f = 0; f < r.figures.size(); ++f)
       data += (f ? "," : "") + std::string("{\"label\":") + jsonQuote(r.figures[f].label) +
               ",\"path\":" + jsonQuote(r.figures[f].path) + "}";
-    data += "]}";
+    data += "]";
+    if (!r.webPage.empty()) data += ",\"web\":" + jsonQuote(r.webPage);
+    data += "}";
   }
   data += "]";
   std::string safe;

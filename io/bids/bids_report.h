@@ -29,6 +29,7 @@ struct GroupRow {
   double seconds = 0;          // participant-level wall time (report only, not group.tsv)
   std::string message;
   std::vector<GroupFigure> figures;
+  std::string webPage; // the run's web page (index.html) relative to the output folder, "" none
   std::vector<std::string> outliers; // metric names flagged (filled by flagOutliers)
 };
 
@@ -45,7 +46,7 @@ std::string groupTsv(const std::vector<GroupRow>& rows);
 
 // The report page. `title` heads it; `generated` is a line such as "dtfabric 0.1.0, 2026-11-24 06:30 UTC".
 // The page embeds a self-check that runs when opened with "#selfcheck": it waits for every image, then
-// writes a JSON summary (images, loaded, broken, errors caught, the flagged rows per flag, and the overlay
+// writes a JSON summary (images, loaded, broken, errors caught, the flagged rows per flag, the web page links, and the overlay
 // opened by clicking the card with the most figures: its images loaded) into <pre id="dtf-selfcheck">, for
 // headless-browser tests. With "#timing" it sorts the table by a metric twice and opens one run's figures,
 // and writes the milliseconds into <pre id="dtf-timing"> (for `bench bids`).

@@ -55,6 +55,13 @@ render "$tensor" --surface "mesh=$work/cst.ply" --view anterior -o "$out/surface
 dtf track "$tensor" --seed-sphere 18,3.72,21.6,6 --select 300 -o "$work/cst.tck" --force 2>"$work/track.txt"
 render "$tensor" --surface slice=coronal:34 --tracts "$work/cst.tck" -o "$out/track_cst.png"
 
+# web: the page of every slice, opened from the file system in headless Chromium at the corpus callosum.
+dtf web "$tensor" --tracts "$work/cst.tck" -o "$work/web" --force >"$work/web.txt" 2>&1
+command -v chromium >/dev/null || { echo "make_figures.sh: chromium is missing (Debian package chromium)" >&2; exit 2; }
+chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=${win_w},$((win_h * 7 / 10)) \
+  --virtual-time-budget=10000 --screenshot="$out/web_page.png" "file://$work/web/index.html#axis=axial&slice=22" \
+  >/dev/null 2>&1
+
 # phantom: the synthetic brain the tests use.
 dtf phantom brain -o "$work/phantom.nii.gz" --size 48 --spacing 3.5 --force >/dev/null
 render "$work/phantom.nii.gz" -o "$out/phantom_brain.png"

@@ -2,6 +2,7 @@
 
 #include "ui/session/check_run.h"
 #include "ui/session/surface_spec.h"
+#include "ui/session/web_page.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
@@ -46,7 +47,8 @@ double mean(const std::vector<double>& v) {
 
 std::string paramsText(const ParticipantOptions& o) {
   return "dtfabric " + o.version + "; figure " + std::to_string(o.figurePx) + " px; sheet panel " +
-         std::to_string(o.sheetPanelPx) + " px; wm fa>=0.3; iso fa=0.4";
+         std::to_string(o.sheetPanelPx) + " px; wm fa>=0.3; iso fa=0.4" +
+         (o.webPx > 0 ? "; web " + std::to_string(o.webPx) + " px" : "");
 }
 
 // Removes the temporary siblings a killed run left beside this run's outputs (io::AtomicOutput names them
@@ -57,7 +59,7 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& stem) {
   const std::string prefix = "." + stem + "_desc-fabric";
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove(e.path(), ec);
+    if (name.rfind(prefix, 0) == 0 && name.find(".tmp") != std::string::npos) fs::remove_all(e.path(), ec);
   }
 }
 
@@ -120,6 +122,7 @@ bool completeAndUnchanged(const io::FlatJson& doc, const std::string& docPath, c
     for (const auto& f : figureKinds())
       if (old.has(std::string("figure_") + f.desc))
         complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
+    if (old.has("web_page")) complete = complete && fs::exists(dir / old.get("web_page"), ec);
     if (!complete) return false;
     out.ok = true;
     out.skipped = true;
@@ -221,6 +224,23 @@ void writeFigures(const io::BidsRun& run, const fs::path& dir, const Participant
   }
 }
 
+// The run's web page (dtfabric web) beside its figures, when asked for.
+void writeRunWebPage(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o, const CheckRun& check,
+                     io::FlatJson& doc) {
+  if (o.webPx <= 0) return;
+  const std::string name = io::derivativeName(run, "fabricWeb", "dwi", "");
+  WebPageRequest web;
+  web.input = run.dwi;
+  web.field = &check.field;
+  web.size = o.webPx;
+  web.output = (dir / name).string();
+  web.force = true;
+  web.title = run.stem;
+  const WebPageResult written = writeWebPage(web);
+  doc.set("web_page", name + "/index.html");
+  doc.setNumber("seconds_web", written.seconds, 4);
+}
+
 // The check, metrics and figures of one run into `doc` (status ok), or its failure (status failed, the
 // message naming the run's file when the error does not).
 void analyseRun(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o,
@@ -237,6 +257,7 @@ void analyseRun(const io::BidsRun& run, const fs::path& dir, const ParticipantOp
     setMetrics(check, maps, doc);
     const auto tf = std::chrono::steady_clock::now();
     writeFigures(run, dir, o, check, figureMeshes(check, maps, doc), doc);
+    writeRunWebPage(run, dir, o, check, doc);
     doc.setNumber("seconds_load", check.loadSeconds, 4);
     doc.setNumber("seconds_fit", check.fitSeconds, 4);
     doc.setNumber("seconds_check", check.checkSeconds, 4);
@@ -284,6 +305,7 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, con
     out.seconds = secondsSince(t0);
     return out;
   }
+
   if (!doc.has("status") && !run.problem.empty()) {
     doc.set("status", "failed");
     doc.set("message", run.dwi + ": " + run.problem);
@@ -327,6 +349,7 @@ io::GroupRow readGroupRow(const io::BidsRun& run, const std::string& outputRoot)
     const std::string name = doc.get(std::string("figure_") + f.desc);
     if (!name.empty()) row.figures.push_back({f.caption, (rel / name).generic_string()});
   }
+  if (doc.has("web_page")) row.webPage = (rel / doc.get("web_page")).generic_string();
   return row;
 }
 

@@ -17,6 +17,7 @@ struct ParticipantOptions {
   int sheetPanelPx = 0; // contact-sheet panel edge; 0 = figurePx / 2 (at least 96)
   int fitThreads = 0;   // 0 = hardware concurrency
   bool force = false;   // recompute even when complete and unchanged
+  int webPx = 0;        // > 0: also the run's web page (ui/session/web_page.h), images of this size
   std::string version;  // dtfabric's version, recorded and part of the parameters
 };
 

@@ -22,11 +22,6 @@ namespace dtf::session {
 
 namespace {
 
-struct Background {
-  ScalarVolume volume; // empty: none
-  float lo = 0, hi = 1;
-};
-
 // The grey ramp of a volume: its non-zero values' 1st..99th percentile. False when it has none.
 bool percentileWindow(Background& b) {
   std::vector<float> v;
@@ -41,7 +36,8 @@ bool percentileWindow(Background& b) {
   return true;
 }
 
-// --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile).
+} // namespace
+
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa) {
   Background b;
@@ -71,8 +67,6 @@ Background loadBackground(const std::string& what, const std::string& window, co
   }
   return b;
 }
-
-} // namespace
 
 SplitMode parseSplitMode(const std::string& text) {
   SplitMode m;

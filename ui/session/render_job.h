@@ -68,6 +68,17 @@ struct RenderResult {
   int iterations = 0; // advection iterations of the last pane
 };
 
+// A grey background volume shown where the fabric is absent.
+struct Background {
+  ScalarVolume volume; // empty: none
+  float lo = 0, hi = 1;
+};
+
+// --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile); empty
+// `what`: none. `fa` is the field's FA map. Throws UsageError (bad window), InputError (unreadable FILE).
+Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
+                          const ScalarVolume& fa);
+
 // The view a surface is shown from by default: a slice's own view, else superior.
 render::StandardView defaultView(const SurfaceSpec& spec);
 

@@ -6,6 +6,7 @@
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
 #include "io/formats/tensor_io.h"
+#include "support/chromium.h"
 #include "support/cli.h"
 #include "support/test_env.h"
 #include "support/volumes.h"
@@ -28,14 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace dtf;
 using test::readText;
+using test::chromiumSelfCheck;
 using test::runDtfabric;
-
-// Tools the tests run: skipped when absent, failed when DTF_REQUIRE_TOOLS is set (CI installs them).
-#define DTF_REQUIRE_TOOL(name)                                                                               \
-  if (std::system("command -v " name " >/dev/null 2>&1") != 0) {                                             \
-    if (test::envFlag("DTF_REQUIRE_TOOLS")) FAIL() << name " is not installed (.ci/setup installs it)";      \
-    GTEST_SKIP() << name " is not installed (Debian package " name "; CI requires it)";                      \
-  }
 
 std::string q(const fs::path& p) {
   return "'" + p.string() + "'";
@@ -355,26 +350,6 @@ protected:
   fs::path bids_, scratch_;
 };
 
-// The chromium self-check of the page: the JSON the page writes into <pre id="dtf-selfcheck">.
-std::string chromiumSelfCheck(const fs::path& html, const fs::path& scratch, std::string& log) {
-  const fs::path dom = scratch / "dom.html", err = scratch / "chromium.log";
-  const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --enable-logging=stderr --v=0 "
-                          "--virtual-time-budget=20000 --dump-dom 'file://" +
-                          html.string() + "#selfcheck' >" + q(dom) + " 2>" + q(err);
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  log = readText(err);
-  std::string text = readText(dom);
-  std::smatch m;
-  if (!std::regex_search(text, m, std::regex("<pre id=\"dtf-selfcheck\">([^<]*)</pre>"))) return "";
-  std::string json = m[1];
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"&quot;", "\""}, {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}}) {
-    for (std::size_t p = json.find(from); p != std::string::npos; p = json.find(from, p + to.size()))
-      json.replace(p, from.size(), to);
-  }
-  return json;
-}
-
 std::set<std::string> jsonList(const std::string& json, const std::string& key) {
   std::smatch m;
   std::set<std::string> out;
@@ -461,11 +436,7 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
       << brokenCheck;
 
   const fs::path shot = scratch_ / "report.png";
-  const std::string cmd =
-      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1400,2200 "
-      "--virtual-time-budget=10000 --screenshot=" +
-      q(shot) + " 'file://" + (out / "group_report.html").string() + "' >/dev/null 2>&1";
-  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(test::chromiumScreenshot("file://" + (out / "group_report.html").string(), shot, 1400, 2200));
   const Image img = io::readPng(shot.string());
   EXPECT_EQ(img.width, 1400);
   std::printf("screenshot: %s\n", shot.c_str());
@@ -557,6 +528,43 @@ TEST_F(BidsCohort, KilledWorkerFailsItsRunOnly) {
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find("5 ok (4 unchanged), 0 failed"), std::string::npos) << r.err;
   EXPECT_TRUE(temporaries(out).empty());
+}
+
+TEST_F(BidsCohort, WebPagePerRunLinkedFromTheGroupReport) {
+  const fs::path out = scratch_ / "out";
+  auto r = runDtfabric("bids " + q(bids_) + " " + q(out) +
+                           " participant --jobs 1 --figure-size 128 --web --web-size 64 --participant-label 07",
+                       scratch_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const fs::path dir = out / "sub-07/dwi";
+  const std::string doc = readText(dir / "sub-07_desc-fabricMetrics_dwi.json");
+  EXPECT_NE(doc.find("\"web_page\": \"sub-07_desc-fabricWeb_dwi/index.html\""), std::string::npos) << doc;
+  for (const char* f : {"index.html", "data.js", "voxels.js", "viewer.js"})
+    EXPECT_TRUE(fs::exists(dir / "sub-07_desc-fabricWeb_dwi" / f)) << f;
+  EXPECT_TRUE(temporaries(out).empty());
+  // Complete and unchanged: the rerun skips it.
+  r = runDtfabric("bids " + q(bids_) + " " + q(out) +
+                      " participant --jobs 1 --figure-size 128 --web --web-size 64 --participant-label 07",
+                  scratch_);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("1 ok (1 unchanged), 0 failed"), std::string::npos) << r.err;
+  EXPECT_EQ(runDtfabric("bids " + q(bids_) + " " + q(out) + " participant --web-size 64", scratch_).exitCode, 1);
+
+  r = runDtfabric("bids " + q(bids_) + " " + q(out) + " group --participant-label 07", scratch_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  DTF_REQUIRE_TOOL("chromium");
+  std::string log;
+  const std::string check = chromiumSelfCheck(out / "group_report.html", scratch_, log);
+  ASSERT_FALSE(check.empty()) << log;
+  EXPECT_EQ(jsonList(check, "web"), std::set<std::string>{"sub-07/dwi/sub-07_desc-fabricWeb_dwi/index.html"})
+      << check;
+  EXPECT_NE(check.find("\"errors\":[]"), std::string::npos) << check;
+  // The linked page itself loads from file:// without errors and shows its slice.
+  const std::string page = chromiumSelfCheck(dir / "sub-07_desc-fabricWeb_dwi/index.html", scratch_, log);
+  ASSERT_FALSE(page.empty()) << log;
+  EXPECT_NE(page.find("\"errors\":[]"), std::string::npos) << page;
+  EXPECT_NE(page.find("\"outside\":[]"), std::string::npos) << page;
+  EXPECT_NE(page.find("\"loaded\":true"), std::string::npos) << page;
 }
 
 TEST_F(BidsCohort, SnakemakeWorkflowGivesTheSameGroupTable) {

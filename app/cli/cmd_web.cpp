@@ -1,0 +1,87 @@
+// `dtfabric web INPUT -o DIR`: a self-contained folder (index.html, scripts, slice images) to browse the
+// fabric of every slice in any browser from the file system (ui/session/web_page.h).
+#include "app/cli/commands.h"
+#include "app/cli/options.h"
+#include "ui/session/web_page.h"
+#include "io/model/log.h"
+#include "io/formats/tensor_io.h"
+
+#include <cstdio>
+
+namespace dtf::app {
+
+const OptionTable& webOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    const session::WebPageRequest d;
+    OptionTable t;
+    t.command = "web";
+    t.positionals = "INPUT";
+    t.maxPositionals = 1;
+    t.intro =
+        "Writes a folder DIR that shows INPUT's fabric in any current browser, opened from the file system\n"
+        "(DIR/index.html; no server, no network): every axial, coronal and sagittal slice that holds data,\n"
+        "rendered headless once (the `render` fabric, radiological; the page mirrors it for the "
+        "neurological\n"
+        "convention), a slider per axis, Up/Down/PgUp/PgDn and A/C/S keys, zoom and pan, orientation letters "
+        "and\n"
+        "a probe (world mm, voxel, FA, principal direction) from a per-voxel table. INPUT is a tensor volume "
+        "or\n"
+        "a DWI (fitted first). The folder is written beside DIR and renamed into place.";
+    t.options = {
+        O::text("output", "DIR", "the folder to write").required().under("Output"),
+        O::flag("force", "replace an existing DIR that holds a page this command wrote (an empty one too)"),
+        O::integer("size", "N", d.size, closedRange(16, 4096), "pixels of each slice image's longer side")
+            .measuredIn("pixels"),
+        O::text("title", "TEXT", "the page's title").defaultSays("INPUT's file name"),
+        O::text("background", "B",
+                "fa | md | FILE: grey background where the fabric is absent (every slice of the grid is then "
+                "rendered)")
+            .under("Content"),
+        O::text(
+            "tracts", "FILE",
+            ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts: a second image set with the tracts near each "
+            "slice, toggled in the page"),
+        O::number("tracts-near", "MM", d.tractsNearMm, closedRange(0.1, 100),
+                  "tract segments within MM of the slice's plane are drawn")
+            .measuredIn("mm"),
+        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
+            .checkedBy(checkTensorLayout)
+            .under("Input"),
+        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)"),
+        O::text("bvec", "F", "the DWI's gradient directions (with --bval)"),
+        O::text("mask", "F", "DWI fit mask"),
+    };
+    t.epilogue = "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.";
+    return t;
+  }();
+  return table;
+}
+
+int cmdWeb(const CommandArgs& argv) {
+  ParsedOptions args(webOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  session::WebPageRequest r;
+  r.input = args.positional(0, "INPUT");
+  r.output = args.required("output");
+  r.force = args.flag("force");
+  r.size = args.integer("size");
+  r.title = args.text("title");
+  r.background = args.text("background");
+  r.tracts = args.text("tracts");
+  r.tractsNearMm = args.number("tracts-near");
+  r.tensorOptions.layout = io::parseLayout(args.text("layout"));
+  r.tensorOptions.bval = args.text("bval");
+  r.tensorOptions.bvec = args.text("bvec");
+  r.tensorOptions.mask = args.text("mask");
+  args.finish();
+  r.onProgress = [](const std::string& s) { logInfo("web: " + s); };
+  const session::WebPageResult w = session::writeWebPage(r);
+  std::printf(
+      "%s: %d axial, %d coronal, %d sagittal slices, %zu images, %.1f MB in %.1f s -> %s/index.html\n",
+      r.input.c_str(), w.slices[0], w.slices[1], w.slices[2], w.images, double(w.bytes) / 1e6, w.seconds,
+      r.output.c_str());
+  return 0;
+}
+
+} // namespace dtf::app
