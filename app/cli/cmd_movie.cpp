@@ -1,14 +1,14 @@
 // `dtfabric movie`: a turntable, a slice sweep or an FA-threshold sweep of the fabric, headless, to an MP4,
 // a GIF or numbered PNG frames, the advection state carried from frame to frame.
-#include "app/cli/args.h"
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
-#include "ui/session/movie_job.h"
-#include "ui/session/surface_spec.h"
+#include "app/command/args.h"
+#include "app/command/options.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "render/fabric_options.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/surface_spec.h"
 
 #include <chrono>
 #include <cstdio>
@@ -19,16 +19,20 @@ namespace dtf::app {
 namespace {
 
 const char* kIntro =
-    "Renders a movie of the fabric on INPUT (a tensor volume or a DWI with --bval/--bvec), headless: a turntable\n"
+    "Renders a movie of the fabric on INPUT (a tensor volume or a DWI with --bval/--bvec), headless: a "
+    "turntable\n"
     "around the surface (a full turn about the superior axis), a sweep of slices through the data, or an\n"
-    "FA-threshold sweep (the isosurface extracted again for every frame). The fabric stays coherent from frame\n"
+    "FA-threshold sweep (the isosurface extracted again for every frame). The fabric stays coherent from "
+    "frame\n"
     "to frame: each frame continues the previous frame's advection state, reprojected into the new view and\n"
     "onto the new surface, with --frame-iterations iterations of Eq. 12 (the paper's interactive mode); the\n"
     "first frame is a converged still. OUT.mp4 (H.264, yuv420p: even sizes) and OUT.gif are encoded by the\n"
-    "`ffmpeg` program found on PATH; DIR/ receives frame_0000.png, frame_0001.png, ... The output appears only\n"
+    "`ffmpeg` program found on PATH; DIR/ receives frame_0000.png, frame_0001.png, ... The output appears "
+    "only\n"
     "when complete (temporary file or directory, renamed). Progress on stderr.";
 
-const char* kEpilogue = "Exit codes: 0 ok, 1 usage, 2 bad input (or no ffmpeg for MP4/GIF), 3 GL/render failure.";
+const char* kEpilogue =
+    "Exit codes: 0 ok, 1 usage, 2 bad input (or no ffmpeg for MP4/GIF), 3 GL/render failure.";
 
 CliOption::Range aboveUpTo(double lo, double hi) {
   CliOption::Range r = closedRange(lo, hi);
@@ -49,12 +53,14 @@ const OptionTable& movieOptions() {
     t.intro = kIntro;
     t.epilogue = kEpilogue;
     t.options = {
-        O::text("output", "OUT.mp4|OUT.gif|DIR/", "the movie: .mp4, .gif, or a directory of numbered PNG frames")
+        O::text("output", "OUT.mp4|OUT.gif|DIR/",
+                "the movie: .mp4, .gif, or a directory of numbered PNG frames")
             .required()
             .under("Output"),
-        O::text("surface", "SPEC",
-                "the turntable's surface: fa=T | slice=AXIS[:I] | plane=... | mesh=FILE (as `dtfabric render`)",
-                "fa=0.25"),
+        O::text(
+            "surface", "SPEC",
+            "the turntable's surface: fa=T | slice=AXIS[:I] | plane=... | mesh=FILE (as `dtfabric render`)",
+            "fa=0.25"),
         O::flag("turntable", "a full turn about the superior axis").under("Motion (one of)"),
         O::choice("sweep", "AXIS", {"axial", "coronal", "sagittal"}, "",
                   "slices along AXIS from the first to the last that holds data")
@@ -138,7 +144,8 @@ void readMotion(ParsedOptions& args, session::MovieRequest& m) {
       ok = ok && !b.empty() && *end == '\0';
     }
     if (!ok || !(m.faLo > 0 && m.faLo < 1 && m.faHi > 0 && m.faHi < 1) || m.faLo == m.faHi)
-      throw UsageError("--fa-sweep must be LO:HI, two different FA thresholds in (0, 1), not '" + *faSweep + "'");
+      throw UsageError("--fa-sweep must be LO:HI, two different FA thresholds in (0, 1), not '" + *faSweep +
+                       "'");
   }
 }
 
@@ -177,8 +184,9 @@ int cmdMovie(const CommandArgs& argv) {
   readFabric(args, r.params);
   args.finish();
 
-  const std::vector<std::string> inputs = {r.input, r.tensorOptions.bval, r.tensorOptions.bvec,
-                                           r.tensorOptions.mask, r.surface.file, r.background};
+  const std::vector<std::string> inputs = {
+      r.input,        r.tensorOptions.bval, r.tensorOptions.bvec, r.tensorOptions.mask,
+      r.surface.file, r.background};
   io::refuseMovieOverInputs(output, inputs);
   io::MovieWriter writer(output, r.width, r.height, fps, force); // checks ffmpeg, --force, the directory
   const auto t0 = std::chrono::steady_clock::now();

@@ -1,10 +1,10 @@
 // `dtfabric web INPUT -o DIR`: a self-contained folder (index.html, scripts, slice images) to browse the
 // fabric of every slice in any browser from the file system (ui/session/web_page.h).
 #include "app/cli/commands.h"
-#include "app/cli/options.h"
-#include "ui/session/web_page.h"
-#include "io/model/log.h"
+#include "app/command/options.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/log.h"
+#include "ui/session/web_page.h"
 
 #include <cstdio>
 

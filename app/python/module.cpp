@@ -19,6 +19,7 @@
 #include "io/formats/movie_writer.h"
 #include "io/formats/png_io.h"
 #include "io/formats/tensor_io.h"
+#include "io/input.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "render/fabric_options.h"
@@ -884,8 +885,8 @@ voxel -> world RAS affine.)");
           py::gil_scoped_release release;
           // As `dtfabric fit`: the DWI's own table (MRtrix, DSI Studio) or sibling .bval/.bvec by default.
           if (in.bval.empty() && in.bvec.empty() && !io::hasEmbeddedGradients(p)) {
-            in.bval = session::gradientSibling(p, ".bval");
-            in.bvec = session::gradientSibling(p, ".bvec");
+            in.bval = io::gradientSibling(p, ".bval");
+            in.bvec = io::gradientSibling(p, ".bvec");
           }
           io::Dwi dwi = io::readDwi(p, in.bval, in.bvec);
           MaskVolume m;

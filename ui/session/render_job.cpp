@@ -431,7 +431,7 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   m.request.split = {};
   m.request.tracts.clear();
   validate(m.request);
-  if (!m.request.field && isFibreInput(m.request.input, m.request.layout))
+  if (!m.request.field && isFibreSet(m.request.input, m.request.layout))
     throw UsageError("movies take a tensor volume or a DWI; " + m.request.input + " is a fibre set");
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);

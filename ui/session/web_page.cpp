@@ -277,7 +277,9 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
     clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
   surfaces::SliceOptions sliceOptions;
   if (background.volume.data.empty()) sliceOptions.clip = &clip;
-  const render::FabricParams params;
+  // The paper's look: every data voxel drawn (the page's probe carries FA; the anatomy look is not applied).
+  render::FabricParams params;
+  params.look = render::Look::Plain;
 
   WebPageResult result;
   nlohmann::json axes = nlohmann::json::array();

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 using namespace dtf;
 namespace fs = std::filesystem;
@@ -28,7 +29,8 @@ struct Fitted {
 const Fitted& fitted() {
   static const Fitted f = [] {
     Fitted r;
-    r.dir = test::binaryDir() / "test_scratch" / "uncertainty_cli";
+    // One folder per test process: ctest runs this file's cases in parallel processes.
+    r.dir = test::binaryDir() / "test_scratch" / ("uncertainty_cli_" + std::to_string(::getpid()));
     fs::remove_all(r.dir);
     fs::create_directories(r.dir);
     r.tensor = r.dir / "dti.nii.gz";

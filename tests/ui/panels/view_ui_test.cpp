@@ -30,7 +30,7 @@ protected:
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;
-    io.DisplaySize = ImVec2(1280, 800);
+    io.DisplaySize = ImVec2(1280, 1600); // tall enough that every panel widget is laid out unclipped
     io.DeltaTime = 1.0f / 60.0f;
     unsigned char* pixels = nullptr;
     int w = 0, h = 0;
