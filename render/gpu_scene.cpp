@@ -1,6 +1,7 @@
 #include "render/gpu_scene.h"
 
 #include "render/detail/volume_upload.h"
+#include "render/gl_context.h"
 
 #include "io/model/error.h"
 
@@ -87,8 +88,11 @@ void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what) {
                   std::to_string(bytes >> 20) + " MiB)");
   char code[16];
   std::snprintf(code, sizeof code, "0x%04x", e);
+  // The driver's debug messages name the call that failed (the error may be left by an earlier call).
+  std::string said;
+  for (const std::string& m : takeDebugMessages()) said += "; " + m;
   throw GlError(std::string("uploading the ") + what + " 3D textures (" + grid +
-                " voxels) failed: GL error " + code);
+                " voxels) failed: GL error " + code + said);
 }
 
 glm::mat4 worldToTexture(const Grid& grid) {
