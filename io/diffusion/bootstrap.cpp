@@ -274,31 +274,12 @@ TensorField bootstrapTensors(const Dwi& dwi, const MaskVolume* mask, const FitOp
                              const ProgressFn& progress, FitStats* stats) {
   const Grid& grid = dwi.signal.grid;
   const int n = dwi.signal.components;
-  const std::size_t count = grid.voxelCount();
   if (bootstrap.resamples < 2 || bootstrap.resamples > 100000)
     throw InputError("a bootstrap needs 2 to 100000 resamples; asked for " +
                      std::to_string(bootstrap.resamples));
   if (!(bootstrap.percentile > 0 && bootstrap.percentile < 100))
     throw InputError("the cone's percentile must lie in (0, 100)");
-  if (n < kUnknowns)
-    throw InputError("a tensor fit needs at least 7 volumes; the DWI has " + std::to_string(n));
-  if (dwi.bvals.size() != static_cast<std::size_t>(n) ||
-      dwi.gradientsWorld.size() != static_cast<std::size_t>(n))
-    throw InputError("the gradient table has " + std::to_string(dwi.bvals.size()) + " entries for " +
-                     std::to_string(n) + " DWI volumes");
-  if (dwi.signal.data.size() != count * static_cast<std::size_t>(n))
-    throw InputError("DWI signal size does not match its grid");
-  if (!(options.minSignal > 0)) throw InputError("minimum signal must be positive");
-  std::vector<unsigned char> inside;
-  if (mask) {
-    if (!sameGrid(mask->grid, grid) || mask->data.size() != count)
-      throw InputError("the mask grid differs from the DWI grid or its affine");
-    inside.resize(count);
-    for (std::size_t i = 0; i < count; ++i)
-      inside[i] = mask->data[i] ? 1 : 0;
-  } else {
-    inside = automaticMask(dwi, options.b0Threshold).data;
-  }
+  const std::vector<unsigned char> inside = fitVoxels(dwi, mask, options);
   const Design design = makeDesign(dwi);
   const int N = bootstrap.resamples;
   std::vector<float> signs(static_cast<std::size_t>(n) * N);

@@ -109,8 +109,7 @@ void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<uns
 
 } // namespace
 
-TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options,
-                       const ProgressFn& progress, FitStats* stats) {
+std::vector<unsigned char> detail::fitVoxels(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options) {
   const Grid& grid = dwi.signal.grid;
   const int n = dwi.signal.components;
   const std::size_t count = grid.voxelCount();
@@ -137,7 +136,14 @@ TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions&
   } else {
     inside = automaticMask(dwi, options.b0Threshold).data;
   }
+  return inside;
+}
 
+TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options,
+                       const ProgressFn& progress, FitStats* stats) {
+  const Grid& grid = dwi.signal.grid;
+  const int n = dwi.signal.components;
+  const std::vector<unsigned char> inside = fitVoxels(dwi, mask, options);
   const Design design = makeDesign(dwi);
   TensorField out = makeTensorField(grid);
   const int slices = grid.dims.z;

@@ -150,4 +150,8 @@ inline bool sameGrid(const Grid& a, const Grid& b) {
   return true;
 }
 
+// The checks every tensor fit makes of its input (volume count, gradient table, signal size, minimum signal)
+// and the voxels it fits: the mask's, on the DWI's grid, else the automatic mask. Throws InputError.
+std::vector<unsigned char> fitVoxels(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options);
+
 } // namespace dtf::io::detail
