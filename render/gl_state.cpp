@@ -86,6 +86,11 @@ GlState GlState::capture() {
   glGetIntegerv(GL_FRONT_FACE, &s.frontFace);
   glGetIntegerv(GL_POLYGON_MODE, s.polygonMode.data());
   glGetIntegerv(GL_CURRENT_PROGRAM, &s.program);
+  if (s.program != 0) {
+    GLint deleted = GL_FALSE;
+    glGetProgramiv(static_cast<GLuint>(s.program), GL_DELETE_STATUS, &deleted);
+    s.programDeleted = deleted ? GL_TRUE : GL_FALSE;
+  }
   glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &s.vertexArray);
   glGetIntegerv(GL_ATOMIC_COUNTER_BUFFER_BINDING, &s.atomicCounterBuffer);
   glGetIntegeri_v(GL_ATOMIC_COUNTER_BUFFER_BINDING, 0, &s.atomicCounterBuffer0);
@@ -133,7 +138,7 @@ void GlState::restore() const {
   glCullFace(static_cast<GLenum>(cullFaceMode));
   glFrontFace(static_cast<GLenum>(frontFace));
   glPolygonMode(GL_FRONT_AND_BACK, static_cast<GLenum>(polygonMode[0]));
-  glUseProgram(static_cast<GLuint>(program));
+  glUseProgram(programDeleted ? 0u : static_cast<GLuint>(program));
   glBindVertexArray(static_cast<GLuint>(vertexArray));
   if (atomicCounterSize0 > 0)
     glBindBufferRange(GL_ATOMIC_COUNTER_BUFFER, 0, static_cast<GLuint>(atomicCounterBuffer0),
@@ -186,6 +191,7 @@ std::string GlState::differences(const GlState& o) const {
   DTF_DIFF(frontFace);
   DTF_DIFF(polygonMode);
   DTF_DIFF(program);
+  DTF_DIFF(programDeleted);
   DTF_DIFF(vertexArray);
   DTF_DIFF(activeTexture);
   DTF_DIFF(atomicCounterBuffer);

@@ -43,6 +43,10 @@ struct GlState {
   GLint cullFaceMode = GL_BACK, frontFace = GL_CCW;
   std::array<GLint, 2> polygonMode{GL_FILL, GL_FILL};
   GLint program = 0, vertexArray = 0, activeTexture = GL_TEXTURE0, atomicCounterBuffer = 0;
+  // The current program was deleted while in use (GL_DELETE_STATUS): GL frees it as soon as another
+  // program is made current, so restore() cannot bring it back and leaves no program current instead of
+  // binding a freed name (GL_INVALID_VALUE, or another program where the driver reuses names).
+  GLboolean programDeleted = GL_FALSE;
   GLint atomicCounterBuffer0 = 0; // indexed binding 0 with its range
   GLint64 atomicCounterStart0 = 0, atomicCounterSize0 = 0;
   GLint pixelPackBuffer = 0, pixelUnpackBuffer = 0;

@@ -7,6 +7,7 @@
 #include "render/reference/scenes.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
+#include "io/model/fibre_set.h"
 #include "support/gl_test.h"
 
 using namespace dtf;
@@ -106,4 +107,68 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   glActiveTexture(GL_TEXTURE0);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   EXPECT_EQ(fabric.renderStill(camera, p).rgba, still.rgba);
+}
+
+// A host may delete its current program (GL keeps it until it is no longer in use). The first pass's
+// glUseProgram then deletes it for good, so restoring its name would be GL_INVALID_VALUE (or, where the
+// driver reuses freed names, bind whatever program took the name). The frame leaves no program current
+// instead, and no GL error behind for the next upload to report.
+TEST_F(GlStateTest, AHostProgramDeletedWhileCurrentIsNotRestored) {
+  FabricRenderer fabric;
+  const Grid grid = reference::centredGrid(16, 4.0);
+  fabric.setMesh(reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 60, 60, 8));
+  fabric.setField(reference::constantField(grid, {0, 1, 0}));
+  FibreSet fibres = makeFibreSet(grid, 3);
+  for (std::size_t v = 0; v < grid.voxelCount(); ++v) {
+    fibres.fibres[v * 3 + 0] = {glm::vec3(1, 0, 0), 1.0f};
+    fibres.fibres[v * 3 + 1] = {glm::vec3(0, 1, 0), 0.7f};
+    fibres.fibres[v * 3 + 2] = {glm::vec3(0, 0, 1), 0.5f};
+  }
+  fabric.setFibres(fibres);
+  fabric.resize(64, 64);
+  const Camera camera = Camera::standard(StandardView::Superior, {-30, -30, -30}, {30, 30, 30}, 1.0);
+  FabricParams p;
+  p.colour = ColourMode::Fibres;
+  fabric.renderFrame(camera, p); // programs and targets exist before the host's program is made
+
+  const char* vs = "#version 450 core\nvoid main() { gl_Position = vec4(0.0, 0.0, 0.0, 1.0); }\n";
+  const char* fs = "#version 450 core\nout vec4 o;\nvoid main() { o = vec4(1.0); }\n";
+  auto hostProgram = [&] {
+    GLuint program = glCreateProgram();
+    for (auto [stage, src] : {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
+      GLuint sh = glCreateShader(stage);
+      glShaderSource(sh, 1, &src, nullptr);
+      glCompileShader(sh);
+      glAttachShader(program, sh);
+      glDeleteShader(sh);
+    }
+    glLinkProgram(program);
+    glUseProgram(program);
+    glDeleteProgram(program); // flagged for deletion, still current
+    return program;
+  };
+  ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  for (ColourMode mode : {ColourMode::Fibres, ColourMode::Medical}) {
+    const GLuint program = hostProgram();
+    GLint current = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    ASSERT_EQ(current, static_cast<GLint>(program));
+    p.colour = mode;
+    fabric.renderFrame(camera, p);
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)) << "after a frame over a deleted host program";
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    EXPECT_EQ(current, 0);
+    // The background upload checks for GL errors: none is left behind.
+    const ScalarVolume fa(grid, 1, 0.5f);
+    EXPECT_NO_THROW(fabric.setBackground(&fa));
+    fabric.setBackground(nullptr);
+  }
+  // The same through renderPhong and readback.
+  hostProgram();
+  fabric.renderPhong(camera);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)) << "after a Phong frame over a deleted host program";
+  hostProgram();
+  EXPECT_GT(fabric.readback().width, 0);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR)) << "after a readback over a deleted host program";
 }
