@@ -62,6 +62,12 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p) {
                             static_cast<float>(p.movingScale));
   if (p.colour == ColourMode::Fibres && pipeline_.fibresEmpty())
     throw GlError("the fibre colour mode needs a fibre set (setFibres)");
+  // A still camera over unchanged data and parameters: the geometry buffers, the tensor stage's targets and
+  // the silhouettes of the last frame are the ones this frame would write.
+  if (!still_ && pipeline_.projectionCurrent(view_, p)) {
+    pipeline_.reuseProjection();
+    return;
+  }
   glm::vec3 lo, hi;
   const bool haveData = pipeline_.dataBounds(lo, hi);
   pipeline_.beginTimer(FabricPipeline::kProjection);

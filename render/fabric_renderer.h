@@ -42,7 +42,8 @@ public:
 
   // One interactive frame: projection, silhouette, params.iterations advection steps continuing the
   // previous frame's state (restarted from beta when the camera, data or parameters changed, so moving
-  // the camera never smears), composite.
+  // the camera never smears), composite. With the camera, size, data and parameters of the previous frame
+  // the projection and silhouettes are not recomputed (they are unchanged): the frame advects and composites.
   void renderFrame(const Camera& camera, const FabricParams& params);
   // A still image: starts from beta and iterates at least until the start's weight (1 - k)^n < epsilon,
   // then until fewer than stillChangedFraction of the covered pixels change by more than epsilon (or

@@ -112,7 +112,7 @@ RenderPeerResult parseRenderPeerOutput(const std::string& text);
 glm::dvec3 principalInSurfaceDirection(const glm::dmat3& t, const glm::dvec3& n);
 // Our figures on the same mesh, ms/frame (0 when not measured), for the ratios.
 struct RenderPeerOurs {
-  double fabricMs = 0, movingMs = 0, phongMs = 0, fabricCpuMs = 0, phongCpuMs = 0;
+  double fabricMs = 0, movingMs = 0, phongMs = 0, fabricCpuMs = 0, phongCpuMs = 0, movingCpuMs = 0;
 };
 // The peer's lines for the `bench render` table, and the ", \"peer\": ..." members of its JSON object.
 void printRenderPeerTable(const RenderPeerResult& peer, const RenderPeerOurs& ours);

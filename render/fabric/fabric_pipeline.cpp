@@ -105,6 +105,11 @@ void FabricPipeline::endTimer() {
   if (timing_) glEndQuery(GL_TIME_ELAPSED);
 }
 
+bool FabricPipeline::projectionCurrent(const FrameView& view, const FabricParams& p) const {
+  return projected_ && !dataChanged_ && view.viewProj == lastViewProj_ && view.target == lastTarget_ &&
+         view.pixelMm == lastPixelMm_ && view.depthRange == lastDepthRange_ && stateKey(p) == stateKey(lastParams_);
+}
+
 bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const glm::vec3& noiseFallback,
                              bool forceRestart) {
   NoiseOptions no;
@@ -172,7 +177,11 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
     advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
   }
   dataChanged_ = false;
+  projected_ = true;
   lastViewProj_ = view.viewProj;
+  lastTarget_ = view.target;
+  lastPixelMm_ = view.pixelMm;
+  lastDepthRange_ = view.depthRange;
   lastParams_ = p;
   return restart;
 }

@@ -48,6 +48,13 @@ public:
   // The advection state restarts on the next project() (the geometry buffers changed for another reason).
   void invalidate() { dataChanged_ = true; }
 
+  // Whether the geometry buffers, the tensor stage's targets and the silhouettes from the last project() still
+  // hold for `view` and `params`: the same view matrices and target size, the same data and the same
+  // parameters, nothing invalidated since. A still camera then skips the geometry stage, the tensor stage
+  // and the silhouettes (they would write the same values) and only advects and composites.
+  bool projectionCurrent(const FrameView& view, const FabricParams& params) const;
+  // A frame that skips project() because projectionCurrent(): the state carries on.
+  void reuseProjection() { reprojectNext_ = false; }
   // Tensor stage on the geometry stage's buffers, then silhouettes; restarts the advection from beta when
   // the data, the view's matrices or the parameters changed since the last call, or `forceRestart`.
   // The geometry stage must have run for `view`; the caller starts the kProjection timer before it (the
@@ -106,6 +113,10 @@ private:
   bool reprojectNext_ = false;
   std::optional<FrameView> historyView_;
   glm::mat4 lastViewProj_{0.0f};
+  glm::ivec2 lastTarget_{0};
+  float lastPixelMm_ = 0.0f;
+  glm::vec2 lastDepthRange_{0.0f};
+  bool projected_ = false; // project() ran since the last invalidation
   FabricParams lastParams_;
 };
 

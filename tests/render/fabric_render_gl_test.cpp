@@ -177,3 +177,53 @@ TEST_F(FabricRender, OutputDepthIsTheRasterisedDepthOfTheSurface) {
     EXPECT_GT(covered, n * n / 4);
   }
 }
+
+// A still camera reuses the previous frame's projection and silhouettes: three frames of 3 iterations give
+// the image of one frame of 9, and the projection is not run again (no projection time). A camera, data or
+// parameter change projects again: the frame equals a fresh renderer's.
+TEST_F(FabricRender, StillCameraFramesReuseTheProjectionAndMatchTheWholeFrame) {
+  AxialScene s;
+  const TensorField crossing = reference::constantField(s.grid, {1, 1, 0});
+  auto fresh = [&](const Camera& cam, const FabricParams& p, const TensorField& field) {
+    FabricRenderer f;
+    f.setMesh(s.mesh);
+    f.setField(field);
+    f.resize(96, 96);
+    f.renderFrame(cam, p);
+    return f.readback();
+  };
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.setField(crossing);
+  r.resize(96, 96);
+  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  p.iterations = 3;
+  r.setTiming(true);
+  r.renderFrame(cam, p);
+  EXPECT_GT(r.coveredPixels(), 0u);
+  for (int i = 0; i < 2; ++i) {
+    r.renderFrame(cam, p);
+    EXPECT_EQ(r.lastTimes().projection, 0.0) << "the projection ran for a still camera";
+    EXPECT_EQ(r.lastTimes().silhouette, 0.0) << "the silhouettes ran for a still camera";
+  }
+  r.setTiming(false);
+  FabricParams nine = p;
+  nine.iterations = 9;
+  EXPECT_EQ(r.readback().rgba, fresh(cam, nine, crossing).rgba);
+
+  cam.trackball({0, 0}, {0.05, 0});
+  r.renderFrame(cam, p);
+  EXPECT_EQ(r.readback().rgba, fresh(cam, p, crossing).rgba) << "after a camera step";
+  FabricParams engineering = p;
+  engineering.colour = ColourMode::Engineering;
+  r.renderFrame(cam, engineering);
+  EXPECT_EQ(r.readback().rgba, fresh(cam, engineering, crossing).rgba) << "after a parameter change";
+  const TensorField other = reference::constantField(s.grid, {0, 1, 0});
+  r.setField(other);
+  r.renderFrame(cam, engineering);
+  EXPECT_EQ(r.readback().rgba, fresh(cam, engineering, other).rgba) << "after a data change";
+  r.setMesh(reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
+  r.renderFrame(cam, engineering);
+  EXPECT_NE(r.readback().rgba, fresh(cam, engineering, other).rgba) << "after a mesh change";
+}
