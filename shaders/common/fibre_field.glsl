@@ -15,16 +15,24 @@ layout(binding = UNIT_FIBRE_FA) uniform sampler3D u_fibreFa; // FA (or 1), 1 whe
 uniform mat4 u_worldToTex;
 uniform int u_lobeCount = 1; // 1..3 slots uploaded
 
-vec4 sampleLobe(int l, vec3 tc) {
-  if (l == 0) return texture(u_lobe0, tc);
-  if (l == 1) return texture(u_lobe1, tc);
-  return texture(u_lobe2, tc);
-}
-
-vec4 fetchLobe(int l, ivec3 p) {
-  if (l == 0) return texelFetch(u_lobe0, p, 0);
-  if (l == 1) return texelFetch(u_lobe1, p, 0);
-  return texelFetch(u_lobe2, p, 0);
+// One slot at texture coordinate tc: its direction and amplitude (amp 0 = none) by the rule above. A
+// function of the sampler, called once per slot: a slot chosen by a runtime index would make a software
+// rasteriser sample every slot's texture for each slot (its branches run masked, not skipped).
+void sampleSlot(sampler3D lobe, vec3 tc, ivec3 nearest, float occupancy, inout int n, out vec3 dir, out float amp) {
+  dir = vec3(0.0);
+  amp = 0.0;
+  vec4 a = texture(lobe, tc);
+  if (a.w <= 0.0) return;
+  float len = length(a.xyz);
+  vec3 d = len > 0.0 ? a.xyz / len : vec3(0.0);
+  if (len < 0.9 * a.w) {
+    vec4 q = texelFetch(lobe, nearest, 0);
+    if (q.w > 0.0) d = q.xyz / q.w;
+  }
+  if (dot(d, d) == 0.0) return;
+  dir = normalize(d);
+  amp = a.w / occupancy;
+  ++n;
 }
 
 // Up to three fibres at worldPos in slot order (amp 0 = none; a slot follows one bundle from voxel to voxel,
@@ -42,20 +50,8 @@ int sampleFibres(vec3 worldPos, out vec3 dir[3], out float amp[3], out float fa)
   ivec3 dims = textureSize(u_lobe0, 0);
   ivec3 nearest = clamp(ivec3(floor(tc * vec3(dims))), ivec3(0), dims - 1);
   int n = 0;
-  for (int j = 0; j < 3; ++j) {
-    if (j >= u_lobeCount) break;
-    vec4 a = sampleLobe(j, tc);
-    if (a.w <= 0.0) continue;
-    float len = length(a.xyz);
-    vec3 d = len > 0.0 ? a.xyz / len : vec3(0.0);
-    if (len < 0.9 * a.w) {
-      vec4 q = fetchLobe(j, nearest);
-      if (q.w > 0.0) d = q.xyz / q.w;
-    }
-    if (dot(d, d) == 0.0) continue;
-    dir[j] = normalize(d);
-    amp[j] = a.w / fo.g;
-    ++n;
-  }
+  if (u_lobeCount > 0) sampleSlot(u_lobe0, tc, nearest, fo.g, n, dir[0], amp[0]);
+  if (u_lobeCount > 1) sampleSlot(u_lobe1, tc, nearest, fo.g, n, dir[1], amp[1]);
+  if (u_lobeCount > 2) sampleSlot(u_lobe2, tc, nearest, fo.g, n, dir[2], amp[2]);
   return n;
 }
