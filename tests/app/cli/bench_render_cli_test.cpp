@@ -37,3 +37,24 @@ TEST(BenchRenderCli, ReportsTheParaViewPeerExactlyWhenItIsOnThePath) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("peer: skipped (--no-peer)"), std::string::npos) << r.out;
 }
+
+// The fabric/Phong ratios of wall and CPU time, still and moving camera, per case, and the three-population
+// ratio against the tensor fabric, in the table and in the JSON object.
+TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
+  DTF_GL_TEST_SETUP();
+  auto dir = dtf::test::scratchDir();
+  auto r = dtf::test::runDtfabric(
+      "bench render --size 96x72 --frames 2 --only sphere_41k,sphere_41k_fibres3 --no-brain --no-peer", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::regex ratio(R"(sphere_41k +still [0-9.]+ wall, [0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall, [0-9.]+ )"
+                         R"((CPU|GPU) time)");
+  EXPECT_TRUE(std::regex_search(r.out, ratio)) << r.out;
+  const std::regex three(R"(three fibre populations vs the two-direction tensor fabric[^\n]*\n +still [0-9.]+ wall, )"
+                         R"([0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall)");
+  EXPECT_TRUE(std::regex_search(r.out, three)) << r.out;
+  r = dtf::test::runDtfabric("bench render --size 96x72 --frames 2 --only sphere_41k --no-brain --no-peer --json", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_GT(jsonNumber(r.out, "moving_cpu_ms"), 0) << r.out;
+  EXPECT_GT(jsonNumber(r.out, "cpu_ratio"), 0) << r.out;
+  EXPECT_GT(jsonNumber(r.out, "moving_cpu_ratio"), 0) << r.out;
+}
