@@ -6,6 +6,7 @@
 #include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
+#include "io/formats/formats.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
 #include "ui/session/fibre_input.h"

@@ -3,7 +3,7 @@
 // throws InputError whose message starts with the file name.
 #pragma once
 
-#include "io/formats/formats.h"
+#include "io/formats/format_guess.h"
 #include "io/formats/sample_types.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
@@ -127,8 +127,13 @@ std::string afniBrikFile(const std::string& head);
 // --- shared byte helpers
 // Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
 // InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.
+// `expect` (0: unknown) is the inflated size a header declares: it sizes the buffer (libdeflate inflates
+// whole buffers; see io/formats/gzip.h).
 std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip = nullptr,
-                                        std::size_t limit = std::size_t(1) << 33);
+                                        std::size_t limit = std::size_t(1) << 33, std::size_t expect = 0);
+// The file's bytes as stored (no inflation); at most `limit` bytes (throws InputError beyond, or when
+// the file is missing or unreadable).
+std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit = std::size_t(1) << 40);
 // Reads up to `n` leading bytes (inflated when gzip). Never throws; empty when unreadable.
 std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n);
 // Writes bytes to `path` (gzip when `gz`) through a temporary file renamed into place. Throws InputError.
