@@ -231,6 +231,14 @@ std::string dtifitSetOf(const std::string& path) {
   }
 }
 
+bool isDtifitTensorSet(const std::string& path) {
+  const std::string base = dtifitSetOf(path);
+  if (base.empty()) return false;
+  for (const char* m : {"V1", "V2", "V3", "L1", "L2", "L3"})
+    if (dtifitMemberFile(base, m).empty()) return false;
+  return true;
+}
+
 bool isWritableVolumeName(const std::string& path) {
   for (const char* e : {".nii", ".nii.gz", ".mif", ".mif.gz", ".mih"})
     if (endsWith(path, e) && path.size() > std::strlen(e)) return true;

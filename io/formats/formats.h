@@ -26,6 +26,10 @@ bool hasEmbeddedGradients(const std::string& path, const FormatGuess& format);
 // a member as its whole set. Never throws.
 std::string dtifitSetOf(const std::string& path);
 
+// True when `path` names an FSL dtifit set (its basename or any member file) that holds all of V1-V3 and
+// L1-L3, so readTensorVolume reads it (from any of its files) as the set's tensor. Never throws.
+bool isDtifitTensorSet(const std::string& path);
+
 // True when a tensor or scalar writer accepts the output name: .nii, .nii.gz, .mif, .mif.gz, .mih.
 bool isWritableVolumeName(const std::string& path);
 // The same for tensor writers, which also write .nrrd.

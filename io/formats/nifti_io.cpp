@@ -64,6 +64,9 @@ struct NimDeleter {
 };
 using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
 
+using detail::ComponentEvidence;
+using detail::ComponentKind;
+using detail::componentEvidence;
 using detail::fail;
 
 void quietNifti() {
@@ -701,7 +704,8 @@ LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
 
 struct Detection {
   TensorLayout layout = TensorLayout::Fsl;
-  bool notTensor = false; // signed like directions: refused
+  bool notTensor = false; // fibre peaks: refused
+  bool ambiguous = false; // fits a tensor and peaks: refused, a layout must be named
   std::string reason;
   std::vector<std::string> warnings;
 };
@@ -735,20 +739,22 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
   std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
-  // A tensor in any order has three diagonal volumes that are (almost) never negative. Fewer than three
-  // mostly-positive volumes means signed components: directions (two fibre peaks), not a tensor.
-  int mostlyPositive = 0;
-  for (double f : fsl.positive)
-    mostlyPositive += f >= 0.9;
-  if (fsl.voxels > 0 && mostlyPositive < 3 && fsl.plausible < 0.5 && mrtrix.plausible < 0.5) {
+  // What the values can be: a tensor is positive semi-definite in nearly every voxel; peaks come in
+  // triplets (see componentEvidence). Signs alone are no evidence: sign-normalised peaks have none.
+  const ComponentEvidence ev = componentEvidence(raw);
+  if (ev.kind == ComponentKind::Peaks) {
     d.notTensor = true;
-    d.reason = shape + " whose components are signed like directions (only " +
-               std::to_string(mostlyPositive) + " of 6 volumes positive in >= 90% of " +
-               std::to_string(fsl.voxels) + " voxels; positive semi-definite as FSL " +
-               percent(fsl.plausible) + ", as MRtrix " + percent(mrtrix.plausible) +
-               "): two fibre peaks, not a tensor";
+    d.reason = shape + " that is no tensor but two fibre peaks (" + ev.evidence + ")";
     return d;
   }
+  if (ev.kind == ComponentKind::Ambiguous) {
+    d.ambiguous = true;
+    d.reason = shape + " that fits both a tensor and two fibre peaks (" + ev.evidence + ")";
+    return d;
+  }
+  if (ev.kind == ComponentKind::Neither)
+    d.warnings.push_back("the values fit neither a diffusion tensor nor fibre peaks well (" + ev.evidence +
+                         "); read as a tensor, use --layout to say what the file holds");
   const std::string assumed = preferred == TensorLayout::Mrtrix ? "MRtrix" : "FSL";
   if (fsl.voxels == 0) {
     d.layout = preferred;
@@ -818,6 +824,9 @@ void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, 
     if (d.notTensor)
       fail(path, "is not a tensor volume: " + d.reason +
                      " (read it as a fibre set: --layout mrtrix-peaks or dipy-peaks)");
+    if (d.ambiguous)
+      fail(path, "cannot tell what the file holds: " + d.reason +
+                     "; name it: --layout fsl or mrtrix for a tensor, mrtrix-peaks or dipy-peaks for fibre peaks");
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());

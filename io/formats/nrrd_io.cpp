@@ -121,6 +121,14 @@ std::vector<std::string> vectorEntries(const std::string& s) {
   return out;
 }
 
+// True when the columns of `m` do not span 3D space: |det| tiny beside the product of the column lengths
+// (scale-free, so 0.1 mm voxels are not singular), or not finite.
+bool singular(const glm::dmat3& m) {
+  const double scale = glm::length(m[0]) * glm::length(m[1]) * glm::length(m[2]);
+  const double det = glm::determinant(m);
+  return !std::isfinite(det) || !std::isfinite(scale) || !(scale > 0) || std::abs(det) <= 1e-6 * scale;
+}
+
 // The header of a NRRD file as written ("field: value" lines), with its axes sorted out.
 struct NrrdDescription {
   std::map<std::string, std::string> fields;
@@ -299,7 +307,8 @@ void nrrdGeometry(const std::string& path, const NrrdDescription& d, NrrdVolume&
     affine[c] = glm::dvec4(toRas * d.dirs[a], 0.0);
   }
   affine[3] = glm::dvec4(toRas * origin, 1.0);
-  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the space directions are singular");
+  if (singular(glm::dmat3(affine)))
+    fail(path, "the space directions are singular (they do not span 3D space): no voxel-to-world affine");
   h.grid = Grid::fromAffine(gdims, affine);
   // Dimensions in the canonical order (i, j, k, components); the header's own order is kept in intentName.
   h.dims = {gdims.x, gdims.y, gdims.z};
@@ -328,6 +337,19 @@ void nrrdMeasurementFrame(const std::string& path, const NrrdDescription& d, Nrr
       fail(path, "'measurement frame' vector is none");
     out.measurementFrame[c] = v; // columns
   }
+  // A singular frame would flatten every tensor silently (D = M D M^T loses a dimension).
+  if (singular(out.measurementFrame))
+    fail(path, "the measurement frame " + trim(*mf) +
+                   " is singular (its vectors do not span 3D space): tensors cannot be taken to world space");
+  const glm::dmat3 g = glm::transpose(out.measurementFrame) * out.measurementFrame;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (std::abs(g[c][r] - (c == r ? 1.0 : 0.0)) > 1e-3) {
+        out.header.warnings.push_back("the measurement frame " + trim(*mf) +
+                                      " is not a rotation: tensors are transformed by it as given");
+        c = 3;
+        break;
+      }
   out.hasMeasurementFrame = true;
 }
 

@@ -25,3 +25,4 @@ dtf_test(test_uncertainty_cli SOURCES app/cli/uncertainty_cli_test.cpp LIBS dtf_
 dtf_test(test_movie_cli SOURCES app/cli/movie_cli_test.cpp LIBS dtf_render dtf_io dtf_model)
 dtf_test(test_web_cli SOURCES app/cli/web_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_gzip_cli SOURCES app/cli/gzip_cli_test.cpp LIBS dtf_io dtf_model ZLIB::ZLIB)
+dtf_test(test_detection_cli SOURCES app/cli/detection_cli_test.cpp LIBS dtf_io dtf_model)
