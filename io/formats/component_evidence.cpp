@@ -1,7 +1,6 @@
 // Tensor or fibre peaks: what the values of a volume with 3K components per voxel can be, judged from a
 // sample of its voxels rather than from the signs of its values (sign-normalised peaks have none).
 #include "io/formats/format_detail.h"
-#include "io/model/tensor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +12,7 @@ namespace dtf::io::detail {
 namespace {
 
 // At most this many voxels with data are examined (evenly spread over the volume).
-constexpr std::size_t kSample = 20000;
+constexpr std::size_t kSample = 8000;
 
 std::string pct(double f) {
   std::ostringstream o;
@@ -23,17 +22,26 @@ std::string pct(double f) {
 }
 
 // Positive semi-definite within noise: the smallest eigenvalue is not below -1% of the largest magnitude.
+// Eigenvalues only, in closed form (trigonometric; the vectors of eigenDecompose are not needed here).
 bool psd(const float* c, const int* o) {
-  glm::dmat3 m;
-  m[0][0] = c[o[0]];
-  m[0][1] = m[1][0] = c[o[1]];
-  m[0][2] = m[2][0] = c[o[2]];
-  m[1][1] = c[o[3]];
-  m[1][2] = m[2][1] = c[o[4]];
-  m[2][2] = c[o[5]];
-  const glm::dvec3 l = eigenDecompose(m).values; // descending
-  const double big = std::max(std::abs(l.x), std::abs(l.z));
-  return big > 0 && l.z >= -0.01 * big;
+  const double a00 = c[o[0]], a01 = c[o[1]], a02 = c[o[2]], a11 = c[o[3]], a12 = c[o[4]], a22 = c[o[5]];
+  const double p1 = a01 * a01 + a02 * a02 + a12 * a12;
+  double hi, lo;
+  if (p1 == 0) {
+    hi = std::max({a00, a11, a22});
+    lo = std::min({a00, a11, a22});
+  } else {
+    const double q = (a00 + a11 + a22) / 3;
+    const double p = std::sqrt(((a00 - q) * (a00 - q) + (a11 - q) * (a11 - q) + (a22 - q) * (a22 - q) + 2 * p1) / 6);
+    const double b00 = (a00 - q) / p, b11 = (a11 - q) / p, b22 = (a22 - q) / p, b01 = a01 / p, b02 = a02 / p,
+                 b12 = a12 / p;
+    const double det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+    const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
+    hi = q + 2 * p * std::cos(phi);
+    lo = q + 2 * p * std::cos(phi + 2.0943951023931957); // + 2 pi / 3
+  }
+  const double big = std::max(std::abs(hi), std::abs(lo));
+  return big > 0 && lo >= -0.01 * big;
 }
 
 // The counts over the sampled voxels.

@@ -53,7 +53,7 @@ inline void storeWorldTensor(LoadedTensors& out, std::size_t i, const glm::dmat3
 
 // --- Tensor or fibre peaks? (io/formats/component_evidence.cpp)
 enum class ComponentKind { Tensor, Peaks, Ambiguous, Neither };
-// What a volume with 3K components per voxel (interleaved) can be, from an even sample of up to 20,000 of
+// What a volume with 3K components per voxel (interleaved) can be, from an even sample of up to 8,000 of
 // its voxels with data. With 6 components a tensor must be positive semi-definite (smallest eigenvalue
 // >= -1% of the largest) in nearly every voxel, read in FSL or MRtrix order: >= 90% is a tensor, < 50% is
 // not. Peaks come in triplets that only peaks show (a triplet zero or NaN beside a present one in >= 1% of
