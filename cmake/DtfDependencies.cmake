@@ -23,6 +23,8 @@ find_package(VTK 9 REQUIRED COMPONENTS
 
 find_package(CGAL REQUIRED)
 
+# gzip inflation of whole buffers for the readers (.nii.gz, .mif.gz, .trk.gz, NRRD gzip, zip entries).
+pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 

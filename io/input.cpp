@@ -69,6 +69,8 @@ std::optional<OpenedInput> openFibreSet(const InputRequest& r, const FormatGuess
     in.fibreLayout = parseFibreLayout(r.layout);
     return in;
   }
+  // Gradient files given: a DWI, whatever its values look like.
+  if (!r.bval.empty() || !r.bvec.empty()) return std::nullopt;
   std::string why;
   if (r.layout != "auto" || !looksLikeFibres(r.path, g, &why)) return std::nullopt;
   return opened(r, InputKind::Fibres, why, g);
@@ -105,7 +107,7 @@ OpenedInput openInput(const InputRequest& r) {
     return out;
   }
   const VolumeHeader h = readHeader(r.path, g);
-  // 9, 12, ... volumes signed like directions: peaks (6 volumes are refused by the tensor reader itself).
+  // 9, 12, ... volumes like peaks (6 volumes are refused by the tensor reader itself).
   // Asked already when fibres are an answer and the layout is auto.
   std::string why;
   const bool fibresAsked = r.fibres && r.layout == "auto";

@@ -6,6 +6,7 @@
 #include "app/command/options.h"
 #include "io/model/error.h"
 #include "io/model/tensor.h"
+#include "io/formats/formats.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
 #include "ui/session/fibre_input.h"
@@ -620,7 +621,8 @@ int cmdInfo(const CommandArgs& argv) {
   io::TensorLayout layout = io::parseLayout(layoutText);
 
   io::VolumeHeader h = io::readHeader(path, format);
-  if (layout != io::TensorLayout::Auto || looksLikeTensor(h)) {
+  // Any file of a complete FSL dtifit set stands for the set's tensor, as `render` reads it.
+  if (layout != io::TensorLayout::Auto || looksLikeTensor(h) || io::isDtifitTensorSet(path)) {
     io::LoadedTensors t = io::readTensorVolume(path, format, layout);
     if (voxelText) return describeVoxel(path, t.header, &t, nullptr, ijk, json, conePath);
     return describeTensors(t, json);

@@ -1,6 +1,7 @@
 #include "io/diffusion/dwi.h"
 
 #include "io/formats/format_detail.h"
+#include "io/formats/formats.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"

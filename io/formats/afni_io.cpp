@@ -5,6 +5,7 @@
 // Bricks: BRICK_TYPES (0 byte, 1 short, 3 float, 5 double; complex and RGB refused), BRICK_FLOAT_FACS
 // (0 = unscaled), BYTEORDER_STRING (LSB_FIRST / MSB_FIRST); each brick is a whole volume, i fastest.
 #include "io/formats/format_detail.h"
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 
 #include <cstring>
@@ -211,7 +212,11 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   const std::string brik = afniBrikFile(path);
   if (brik.empty()) fail(path, "no .BRIK or .BRIK.gz beside it");
   if (!withData) return {};
-  const std::vector<std::uint8_t> data = readFileBytes(brik);
+  // A .BRIK.gz is inflated into the size the header declares, and refused when it runs far beyond it.
+  const bool gz = endsWith(brik, ".gz");
+  const auto declared = static_cast<std::size_t>(bytes);
+  const std::vector<std::uint8_t> data =
+      gz ? readFileBytes(brik, nullptr, inflateLimit(declared), declared) : readFileBytes(brik);
   if (static_cast<long long>(data.size()) < bytes)
     fail(path, "data file " + brik + " is truncated: " + std::to_string(data.size()) +
                    " bytes, the header needs " + std::to_string(bytes));

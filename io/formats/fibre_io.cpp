@@ -22,6 +22,9 @@ namespace {
 
 constexpr const char* kMarker = "dtfabric fibres layout=";
 
+using detail::ComponentEvidence;
+using detail::ComponentKind;
+using detail::componentEvidence;
 using detail::fail;
 
 std::string fmt(double v, int precision = 3) {
@@ -384,24 +387,22 @@ bool looksLikeFibres(const std::string& path, const FormatGuess& g, std::string*
       break;
     }
   if (fs::exists(stem + ".bval")) return say(false, "has a sibling .bval (a DWI)");
-  ScalarVolume raw = readScalarVolume(path, g);
-  const auto c = static_cast<std::size_t>(raw.components);
-  std::vector<std::size_t> negative(c, 0), nonzero(c, 0);
-  for (std::size_t i = 0; i < raw.data.size(); ++i) {
-    const float x = raw.data[i];
-    if (!std::isfinite(x) || x == 0.0f) continue;
-    ++nonzero[i % c];
-    negative[i % c] += x < 0.0f;
+  // Decided by what the values can be (detail::componentEvidence), not by their signs: sign-normalised peaks
+  // have none. Six components that fit a tensor are left to the tensor reader (which refuses a file that fits
+  // both).
+  const ComponentEvidence e = componentEvidence(readScalarVolume(path, g));
+  const std::string peaks = std::to_string(comps / 3) + " peaks";
+  switch (e.kind) {
+  case ComponentKind::Peaks:
+    return say(true, "triplets like fibre peaks (" + peaks + "; " + e.evidence + ")");
+  case ComponentKind::Ambiguous:
+    return say(false, "fits both a tensor and " + peaks + " (" + e.evidence + ")");
+  case ComponentKind::Tensor:
+    return say(false, "positive semi-definite like a tensor (" + e.evidence + ")");
+  case ComponentKind::Neither:
+    break;
   }
-  // x and y (and usually z) of a direction take both signs; a tensor's diagonal volumes and a DWI never do.
-  std::size_t signedVolumes = 0;
-  for (std::size_t k = 0; k < c; ++k)
-    signedVolumes += nonzero[k] && double(negative[k]) >= 0.05 * double(nonzero[k]);
-  const std::string counts = std::to_string(signedVolumes) + " of " + std::to_string(c) +
-                             " volumes negative in >= 5% of their non-zero voxels";
-  if (3 * signedVolumes >= 2 * c)
-    return say(true, counts + ": signed like directions (" + std::to_string(c / 3) + " peaks)");
-  return say(false, counts + " (not directions)");
+  return say(false, "not like fibre peaks (" + e.evidence + ")");
 }
 
 LoadedFibres readFibres(const std::string& path, FibreLayout layout) {

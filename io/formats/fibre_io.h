@@ -48,12 +48,12 @@ struct LoadedFibres {
 };
 
 // Whether `path` is a fibre file rather than a tensor or DWI: a DSI Studio FIB file, an FSL dtifit set
-// (its basename or V1 file) with V1 but no L1-L3, a folder or a dyadsN/mean_fN name (bedpostx), a descrip written
-// by writeFibres, or a 4D file with 3K volumes (K >= 2, no sibling .bval) whose every volumes hold negative
-// values in >= 5% of their non-zero voxels in at least two thirds of its volumes (signed like directions; a
-// tensor has 3 signed volumes of 6, a DWI none). A single-peak file (3 volumes, e.g. a V1 map) is never
-// detected: name its layout. `reason` says why either way. Reads the data of 4D files. Throws InputError for
-// unreadable files.
+// (its basename or V1 file) with V1 but no L1-L3, a folder or a dyadsN/mean_fNsamples name (bedpostx), a
+// descrip written by writeFibres, or a 4D file with 3K volumes (K >= 2, no sibling .bval) whose values are
+// triplets like peaks and (6 volumes) not a positive semi-definite tensor: see detail::componentEvidence
+// (io/formats/format_detail.h), which judges what the values can be, not their signs. A single-peak file
+// (3 volumes, e.g. a V1 map) is never detected: name its layout. `reason` says why either way. Reads the data
+// of 4D files. Throws InputError for unreadable files.
 bool looksLikeFibres(const std::string& path, std::string* reason = nullptr);
 // The same for a file whose format was detected already (detectFormat; see io/input.h).
 bool looksLikeFibres(const std::string& path, const FormatGuess& format, std::string* reason = nullptr);

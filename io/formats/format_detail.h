@@ -3,7 +3,7 @@
 // throws InputError whose message starts with the file name.
 #pragma once
 
-#include "io/formats/formats.h"
+#include "io/formats/format_guess.h"
 #include "io/formats/sample_types.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
@@ -50,6 +50,30 @@ inline void storeWorldTensor(LoadedTensors& out, std::size_t i, const glm::dmat3
   const double m2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
   if (!(m[0][0] > 0 && m2 > 0 && glm::determinant(m) > 0)) ++out.nonPositiveVoxels;
 }
+
+// --- Tensor or fibre peaks? (io/formats/component_evidence.cpp)
+enum class ComponentKind { Tensor, Peaks, Ambiguous, Neither };
+// What a volume with 3K components per voxel (interleaved) can be, from an even sample of up to 8,000 of
+// its voxels with data. With 6 components a tensor must be positive semi-definite (smallest eigenvalue
+// >= -1% of the largest) in nearly every voxel, read in FSL or MRtrix order: >= 90% is a tensor, < 50% is
+// not. Peaks come in triplets that only peaks show (a triplet zero or NaN beside a present one in >= 1% of
+// voxels, unit vectors in >= 90%), or that peaks usually show (two thirds of the components signed,
+// amplitudes sorted strongest first in >= 99% of voxels with several). A tensor fit with peak-only triplets
+// is Ambiguous (the caller refuses and asks for a layout); between 50% and 90% peak-only triplets decide
+// for peaks, else the tensor stands; below 50% (or 9+ components) any peak evidence makes Peaks, none
+// Neither. Approximate by nature: thresholds chosen on real MRtrix/DIPY peaks and tensors (every layout).
+struct ComponentEvidence {
+  ComponentKind kind = ComponentKind::Neither;
+  std::size_t voxels = 0;                 // voxels examined
+  double psdFsl = 0, psdMrtrix = 0;       // fraction positive semi-definite in each order (6 components)
+  double tripletGaps = 0;                 // fraction with a triplet zero or NaN beside a present one
+  double partialNan = 0;                  // fraction with a partly-NaN or Inf triplet
+  double unitTriplets = 0;                // fraction whose present triplets are all unit vectors
+  double orderedAmplitudes = 0;           // of voxels with 2+ present triplets: lengths non-increasing
+  double signedComponents = 0;            // fraction of components negative in >= 5% of their voxels
+  std::string evidence;                   // the figures above in words
+};
+ComponentEvidence componentEvidence(const ScalarVolume& raw);
 
 // Throws InputError "PATH: PROBLEM": every reader's message starts with the file name.
 [[noreturn]] inline void fail(const std::string& path, const std::string& problem) {
@@ -127,8 +151,13 @@ std::string afniBrikFile(const std::string& head);
 // --- shared byte helpers
 // Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
 // InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.
+// `expect` (0: unknown) is the inflated size a header declares: it sizes the buffer (libdeflate inflates
+// whole buffers; see io/formats/gzip.h).
 std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip = nullptr,
-                                        std::size_t limit = std::size_t(1) << 33);
+                                        std::size_t limit = std::size_t(1) << 33, std::size_t expect = 0);
+// The file's bytes as stored (no inflation); at most `limit` bytes (throws InputError beyond, or when
+// the file is missing or unreadable).
+std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit = std::size_t(1) << 40);
 // Reads up to `n` leading bytes (inflated when gzip). Never throws; empty when unreadable.
 std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n);
 // Writes bytes to `path` (gzip when `gz`) through a temporary file renamed into place. Throws InputError.

@@ -4,6 +4,7 @@
 
 #include "io/formats/atomic_file.h"
 #include "io/formats/format_detail.h"
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 
 #include <cstring>
@@ -20,42 +21,37 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, std::size_t limit) {
+std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": file does not exist");
   if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError(path + ": cannot open the file");
-  unsigned char magic[2] = {0, 0};
-  const std::size_t m = std::fread(magic, 1, 2, f);
-  std::fclose(f);
-  const bool gz = m == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
-  if (wasGzip) *wasGzip = gz;
-  gzFile g = gzopen(path.c_str(), "rb");
-  if (!g) throw InputError(path + ": cannot open the file");
-  std::vector<std::uint8_t> out;
-  // Chunks grow from 64 KiB to 16 MiB: small files stay cheap, large ones need few calls.
-  std::size_t chunk = std::size_t(1) << 16;
-  for (;;) {
-    const std::size_t at = out.size();
-    if (at >= limit) {
-      gzclose(g);
-      throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
-    }
-    out.resize(at + chunk);
-    const int r = gzread(g, out.data() + at, static_cast<unsigned>(chunk));
-    if (r < 0) {
-      gzclose(g);
-      throw InputError(path + ": corrupt gzip stream");
-    }
-    out.resize(at + static_cast<std::size_t>(r));
-    if (static_cast<std::size_t>(r) < chunk) break;
-    chunk = std::min(chunk * 2, std::size_t(1) << 24);
+  const auto size = fs::file_size(path, ec);
+  if (!ec && size > limit) {
+    std::fclose(f);
+    throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
   }
-  // A truncated gzip stream reads short without an error from gzread; gzclose_r reports it.
-  const int closed = gzclose(g);
-  if (gz && closed != Z_OK) throw InputError(path + ": the gzip stream is truncated or corrupt");
+  std::vector<std::uint8_t> out(ec ? 0 : static_cast<std::size_t>(size));
+  const std::size_t got = out.empty() ? 0 : std::fread(out.data(), 1, out.size(), f);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed || got != out.size()) throw InputError(path + ": cannot read the file");
   return out;
+}
+
+std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, std::size_t limit,
+                                        std::size_t expect) {
+  // The compressed bytes are read whole and inflated in one call (libdeflate), every gzip member of the file.
+  std::vector<std::uint8_t> raw = readRawFile(path, std::max(limit, std::size_t(1) << 20));
+  const bool gz = isGzip(raw.data(), raw.size());
+  if (wasGzip) *wasGzip = gz;
+  if (!gz) {
+    if (raw.size() > limit)
+      throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
+    return raw;
+  }
+  return inflateGzip(path, raw.data(), raw.size(), expect, limit, "the gzip data");
 }
 
 std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n) {
@@ -73,22 +69,15 @@ std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n) 
 void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& bytes, bool gz) {
   AtomicOutput out(path);
   bool ok = true;
+  std::FILE* f = std::fopen(out.tempPath().c_str(), "wb");
+  if (!f) throw InputError("cannot write " + path + ": cannot open the file for writing");
   if (gz) {
-    gzFile g = gzopen(out.tempPath().c_str(), "wb6");
-    if (!g) throw InputError("cannot write " + path + ": cannot open the file for writing");
-    std::size_t at = 0;
-    while (ok && at < bytes.size()) {
-      const auto n = static_cast<unsigned>(std::min<std::size_t>(bytes.size() - at, std::size_t(1) << 30));
-      ok = gzwrite(g, bytes.data() + at, n) == static_cast<int>(n);
-      at += n;
-    }
-    ok = gzclose(g) == Z_OK && ok;
+    const std::vector<std::uint8_t> packed = gzipCompress(bytes.data(), bytes.size());
+    ok = std::fwrite(packed.data(), 1, packed.size(), f) == packed.size();
   } else {
-    std::FILE* f = std::fopen(out.tempPath().c_str(), "wb");
-    if (!f) throw InputError("cannot write " + path + ": cannot open the file for writing");
     ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    ok = std::fclose(f) == 0 && ok;
   }
+  ok = std::fclose(f) == 0 && ok;
   if (!ok) throw InputError("cannot write " + path + ": write failed (disk full?)");
   out.commit();
 }
@@ -240,6 +229,14 @@ std::string dtifitSetOf(const std::string& path) {
   } catch (const Error&) {
     return {};
   }
+}
+
+bool isDtifitTensorSet(const std::string& path) {
+  const std::string base = dtifitSetOf(path);
+  if (base.empty()) return false;
+  for (const char* m : {"V1", "V2", "V3", "L1", "L2", "L3"})
+    if (dtifitMemberFile(base, m).empty()) return false;
+  return true;
 }
 
 bool isWritableVolumeName(const std::string& path) {

@@ -4,26 +4,11 @@
 // same way. The chosen format and the reason are kept on VolumeHeader (format, formatReason).
 #pragma once
 
+#include "io/formats/format_guess.h"
+
 #include <string>
 
 namespace dtf::io {
-
-enum class FileFormat {
-  Nifti,        // .nii / .nii.gz (NIfTI-1 or NIfTI-2)
-  Mrtrix,       // .mif / .mif.gz / .mih (+ data file)
-  Nrrd,         // .nrrd (attached header) / .nhdr (detached)
-  DtifitSet,    // FSL dtifit outputs: basename, or any of its _V1.._V3 / _L1.._L3 / _FA / _MD files
-  DsiStudioSrc, // DSI Studio .src.gz (raw DWI and b-table, MATLAB v4)
-  DsiStudioFib, // DSI Studio .fib.gz (fibre populations and DTI maps, MATLAB v4)
-  Afni,         // AFNI +orig/+tlrc .HEAD with .BRIK[.gz]: scalar and vector bricks (tensors not yet)
-};
-
-const char* formatName(FileFormat f);
-
-struct FormatGuess {
-  FileFormat format = FileFormat::Nifti;
-  std::string reason; // e.g. "content starts with 'mrtrix image'"
-};
 
 // Detects the format of `path`: the magic bytes ("mrtrix image", "NRRD000", a NIfTI sizeof_hdr, a MATLAB
 // v4 matrix header; gzip streams are inflated to look), then the name. A path that does not exist is
@@ -40,6 +25,10 @@ bool hasEmbeddedGradients(const std::string& path, const FormatGuess& format);
 // or dti_FA.nii.gz whose set has _V1 or _L1 files), or "" when it names none. readTensorVolume reads such
 // a member as its whole set. Never throws.
 std::string dtifitSetOf(const std::string& path);
+
+// True when `path` names an FSL dtifit set (its basename or any member file) that holds all of V1-V3 and
+// L1-L3, so readTensorVolume reads it (from any of its files) as the set's tensor. Never throws.
+bool isDtifitTensorSet(const std::string& path);
 
 // True when a tensor or scalar writer accepts the output name: .nii, .nii.gz, .mif, .mif.gz, .mih.
 bool isWritableVolumeName(const std::string& path);

@@ -11,6 +11,7 @@
 // Values are offset + scale * stored (`scaling: offset,scale`). Bit images pack 8 voxels per byte, the
 // first voxel in the most significant bit (MRtrix's BITMASK >> (i % 8)).
 #include "io/formats/format_detail.h"
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -144,24 +145,6 @@ struct MrtrixDescription {
   double offset = 0, scale = 1;
   std::size_t headerEnd = 0; // byte after the END line
 };
-
-// The header's bytes: the whole (inflated) file when the data are wanted, else its first MiB. Sets `gz`.
-std::vector<std::uint8_t> mrtrixBytes(const std::string& path, bool withData, bool& gz) {
-  // .mif.gz files hold header and data in one gzip stream: the whole file is inflated for the data, its
-  // first MiB for the header alone.
-  std::error_code ec;
-  if (!withData && !fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
-  std::vector<std::uint8_t> bytes = withData ? readFileBytes(path, &gz) : peekFileBytes(path, 1 << 20);
-  if (!withData) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    unsigned char m[2] = {0, 0};
-    if (f) {
-      gz = std::fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-      std::fclose(f);
-    }
-  }
-  return bytes;
-}
 
 // One "key: value" header line into `d` (and the dw_scheme and comments into `img`).
 void mrtrixHeaderEntry(const std::string& path, const std::string& key, const std::string& value,
@@ -311,6 +294,45 @@ void mrtrixDataLocation(const std::string& path, const std::string& entry, std::
     if (name.find('/') == 0) fail(path, "data file '" + name + "' is an absolute path (refused)");
     dataPath = (fs::path(path).parent_path() / name).string();
   }
+}
+
+// The header's bytes: the whole (inflated) file when the data are wanted, else its first MiB. Sets `gz`.
+std::vector<std::uint8_t> mrtrixBytes(const std::string& path, bool withData, bool& gz) {
+  // .mif.gz files hold header and data in one gzip stream: the whole file is inflated for the data, its
+  // first MiB for the header alone.
+  std::error_code ec;
+  if (!withData && !fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
+  gz = false;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    unsigned char m[2] = {0, 0};
+    gz = std::fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
+    std::fclose(f);
+  }
+  if (!withData) return peekFileBytes(path, 1 << 20);
+  std::size_t limit = std::size_t(1) << 33, expect = 0;
+  if (gz) {
+    // The header (its first MiB, inflated by zlib's stream) declares how many bytes the stream holds: the
+    // whole stream is inflated into that size and refused when it runs far beyond (a deflate bomb). A header
+    // that does not parse here is reported by the full read.
+    try {
+      MrtrixImage probe;
+      const MrtrixDescription d = parseMrtrixHeader(path, peekFileBytes(path, 1 << 20), probe);
+      std::string dataPath;
+      long long offset = 0;
+      if (!d.files.empty()) mrtrixDataLocation(path, d.files[0], dataPath, offset);
+      if (dataPath != path) offset = static_cast<long long>(d.headerEnd); // data elsewhere: header alone
+      long long need = 0;
+      if (dataPath == path && !d.datatypeText.empty()) {
+        const long long total = mrtrixValueCount(path, d);
+        const DataType dt = parseDatatype(path, d.datatypeText);
+        need = dt.bytes == 0 ? (total + 7) / 8 : total * dt.bytes;
+      }
+      expect = static_cast<std::size_t>(offset + need);
+      limit = inflateLimit(expect);
+    } catch (const InputError&) {
+    }
+  }
+  return readFileBytes(path, &gz, limit, expect);
 }
 
 // The data's bytes (`bytes` itself for data in the same file; else read into `dataBytes` when withData),

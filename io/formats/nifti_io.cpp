@@ -2,6 +2,7 @@
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
 #include "io/formats/atomic_file.h"
 #include "io/formats/format_detail.h"
+#include "io/formats/gzip.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 
@@ -63,6 +64,9 @@ struct NimDeleter {
 };
 using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
 
+using detail::ComponentEvidence;
+using detail::ComponentKind;
+using detail::componentEvidence;
 using detail::fail;
 
 void quietNifti() {
@@ -407,56 +411,49 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   auto n = static_cast<std::size_t>(nim->nvox);
   std::size_t bytes = n * static_cast<std::size_t>(nim->nbyper);
   const std::string file = dataFile(nim, path);
-  const bool gz = nifti_is_gzfile(file.c_str());
-  znzFile fp = znzopen(file.c_str(), "rb", gz);
-  if (znz_isnull(fp)) fail(path, "cannot open the file");
-  // znzseek returns 0 (plain files) or the new offset (gzip); -1 on failure. znzread returns (size_t)-1 on
-  // a gzip error.
-  bool ok = znzseek(fp, static_cast<znz_off_t>(nim->iname_offset), SEEK_SET) >= 0;
-  // A plain file's length was checked against the header, so its buffer is allocated at once. A gzip
-  // stream's length is unknown until inflated: grow the buffer as data arrives, so a small file whose
-  // header declares gigabytes fails on its short data instead of allocating them.
-  std::vector<unsigned char> raw;
-  std::size_t got = 0;
-  constexpr std::size_t kChunk = std::size_t(64) << 20;
+  const auto offset = static_cast<std::size_t>(nim->iname_offset);
+  std::vector<std::uint8_t> inflated;
+  std::vector<unsigned char> plain;
+  unsigned char* raw = nullptr;
   try {
-    while (ok && got < bytes) {
-      std::size_t want = gz ? std::min(kChunk, bytes - got) : bytes;
-      raw.resize(got + want);
-      std::size_t r = znzread(raw.data() + got, 1, want, fp);
-      if (r == static_cast<std::size_t>(-1)) {
-        got = r;
-        break;
-      }
-      got += r;
-      if (r < want) break;
+    if (nifti_is_gzfile(file.c_str())) {
+      // The whole gzip file is inflated in one call (libdeflate; every member of a multi-member file), into
+      // a buffer the size the header declares and never beyond a little more: a small file whose header
+      // declares gigabytes fails on its short data, one that inflates far beyond its header as a bomb.
+      const std::size_t declared = offset + bytes;
+      const std::vector<std::uint8_t> packed = detail::readRawFile(file);
+      const detail::InflateResult r =
+          detail::inflateGzipTo(packed.data(), packed.size(), declared, detail::inflateLimit(declared), inflated);
+      if (r.status == detail::InflateStatus::TooLarge) detail::tooLarge(path, "the voxel data", declared, r.limit);
+      if (r.status != detail::InflateStatus::Ok || inflated.size() < declared)
+        fail(path, "cannot read the voxel data: the file is truncated or its gzip stream is corrupt (" +
+                       (r.status == detail::InflateStatus::Ok
+                            ? std::to_string(inflated.size()) + " bytes inflated, the header declares " +
+                                  std::to_string(declared)
+                            : "gzip member " + std::to_string(r.members + 1) + " at byte " + std::to_string(r.at) +
+                                  " does not inflate or fails its CRC-32/size check") +
+                       ")");
+      raw = inflated.data() + offset;
+    } else {
+      znzFile fp = znzopen(file.c_str(), "rb", 0);
+      if (znz_isnull(fp)) fail(path, "cannot open the file");
+      // The file's length was checked against the header, so the buffer is allocated at once.
+      bool ok = znzseek(fp, static_cast<znz_off_t>(offset), SEEK_SET) >= 0;
+      plain.resize(bytes);
+      ok = ok && znzread(plain.data(), 1, bytes, fp) == bytes;
+      znzclose(fp);
+      if (!ok) fail(path, "cannot read the voxel data: the file is truncated");
+      raw = plain.data();
     }
   } catch (const std::bad_alloc&) {
-    znzclose(fp);
     fail(path, "not enough memory for " + std::to_string(bytes) + " bytes of voxel data");
   }
-  ok = ok && got == bytes;
-  if (ok && gz) {
-    // Read on to the end of the stream so zlib checks the CRC: corruption that still inflates is caught.
-    char extra[64];
-    std::size_t r;
-    while ((r = znzread(extra, 1, sizeof(extra), fp)) > 0 && r != static_cast<std::size_t>(-1)) {
-    }
-    ok = r != static_cast<std::size_t>(-1);
-  }
-  znzclose(fp);
-  if (!ok) {
-    std::string detail = got == static_cast<std::size_t>(-1) || got == bytes
-                             ? ""
-                             : " (got " + std::to_string(got) + " of " + std::to_string(bytes) + " bytes)";
-    fail(path, "cannot read the voxel data: the file is truncated or its gzip stream is corrupt" + detail);
-  }
   if (nim->byteorder != nifti_short_order() && nim->swapsize > 1)
-    nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw.data());
+    nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw);
   std::vector<float> out(n);
   const SampleTypeInfo* type = sampleTypeOf(nim->datatype);
   if (!type) fail(path, "unsupported datatype"); // openHeader already refused these
-  type->toFloat(raw.data(), n, out.data());
+  type->toFloat(raw, n, out.data());
   // NIfTI: slope 0 means "no scaling"; a non-finite slope is treated the same way.
   double slope = nim->scl_slope, inter = nim->scl_inter;
   if (slope != 0 && std::isfinite(slope) && std::isfinite(inter) && !(slope == 1 && inter == 0))
@@ -707,7 +704,8 @@ LayoutFit fitOrder(const ScalarVolume& raw, const int* o) {
 
 struct Detection {
   TensorLayout layout = TensorLayout::Fsl;
-  bool notTensor = false; // signed like directions: refused
+  bool notTensor = false; // fibre peaks: refused
+  bool ambiguous = false; // fits a tensor and peaks: refused, a layout must be named
   std::string reason;
   std::vector<std::string> warnings;
 };
@@ -741,20 +739,22 @@ Detection detectLayout(const VolumeHeader& h, const ScalarVolume& raw, bool five
   }
   LayoutFit fsl = fitOrder(raw, kFslOrder), mrtrix = fitOrder(raw, kMrtrixOrder);
   std::string shape = fiveD ? "6 components (no SYMMATRIX intent)" : "4D with 6 volumes";
-  // A tensor in any order has three diagonal volumes that are (almost) never negative. Fewer than three
-  // mostly-positive volumes means signed components: directions (two fibre peaks), not a tensor.
-  int mostlyPositive = 0;
-  for (double f : fsl.positive)
-    mostlyPositive += f >= 0.9;
-  if (fsl.voxels > 0 && mostlyPositive < 3 && fsl.plausible < 0.5 && mrtrix.plausible < 0.5) {
+  // What the values can be: a tensor is positive semi-definite in nearly every voxel; peaks come in
+  // triplets (see componentEvidence). Signs alone are no evidence: sign-normalised peaks have none.
+  const ComponentEvidence ev = componentEvidence(raw);
+  if (ev.kind == ComponentKind::Peaks) {
     d.notTensor = true;
-    d.reason = shape + " whose components are signed like directions (only " +
-               std::to_string(mostlyPositive) + " of 6 volumes positive in >= 90% of " +
-               std::to_string(fsl.voxels) + " voxels; positive semi-definite as FSL " +
-               percent(fsl.plausible) + ", as MRtrix " + percent(mrtrix.plausible) +
-               "): two fibre peaks, not a tensor";
+    d.reason = shape + " that is no tensor but two fibre peaks (" + ev.evidence + ")";
     return d;
   }
+  if (ev.kind == ComponentKind::Ambiguous) {
+    d.ambiguous = true;
+    d.reason = shape + " that fits both a tensor and two fibre peaks (" + ev.evidence + ")";
+    return d;
+  }
+  if (ev.kind == ComponentKind::Neither)
+    d.warnings.push_back("the values fit neither a diffusion tensor nor fibre peaks well (" + ev.evidence +
+                         "); read as a tensor, use --layout to say what the file holds");
   const std::string assumed = preferred == TensorLayout::Mrtrix ? "MRtrix" : "FSL";
   if (fsl.voxels == 0) {
     d.layout = preferred;
@@ -824,6 +824,9 @@ void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, 
     if (d.notTensor)
       fail(path, "is not a tensor volume: " + d.reason +
                      " (read it as a fibre set: --layout mrtrix-peaks or dipy-peaks)");
+    if (d.ambiguous)
+      fail(path, "cannot tell what the file holds: " + d.reason +
+                     "; name it: --layout fsl or mrtrix for a tensor, mrtrix-peaks or dipy-peaks for fibre peaks");
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());

@@ -8,6 +8,7 @@
 // D_space = M D M^T, M's columns being the `measurement frame` vectors (the NRRD format definition), then
 // D_ras = S D_space S with S = diag(-1, -1, 1) for LPS.
 #include "io/formats/format_detail.h"
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -16,7 +17,6 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <zlib.h>
 
 namespace fs = std::filesystem;
 
@@ -121,26 +121,12 @@ std::vector<std::string> vectorEntries(const std::string& s) {
   return out;
 }
 
-std::vector<std::uint8_t> inflateAll(const std::string& path, const std::uint8_t* p, std::size_t n,
-                                     std::size_t expect) {
-  z_stream z{};
-  if (inflateInit2(&z, 15 + 32) != Z_OK) fail(path, "cannot start zlib");
-  std::vector<std::uint8_t> out(std::max<std::size_t>(expect, 1));
-  z.next_in = const_cast<Bytef*>(p);
-  z.avail_in = static_cast<uInt>(std::min<std::size_t>(n, std::numeric_limits<uInt>::max()));
-  int r = Z_OK;
-  while (r == Z_OK) {
-    if (z.total_out >= out.size()) break;
-    z.next_out = out.data() + z.total_out;
-    z.avail_out =
-        static_cast<uInt>(std::min<std::size_t>(out.size() - z.total_out, std::numeric_limits<uInt>::max()));
-    r = inflate(&z, Z_NO_FLUSH);
-  }
-  const std::size_t got = z.total_out;
-  inflateEnd(&z);
-  if (r != Z_OK && r != Z_STREAM_END) fail(path, "corrupt gzip data");
-  out.resize(got);
-  return out;
+// True when the columns of `m` do not span 3D space: |det| tiny beside the product of the column lengths
+// (scale-free, so 0.1 mm voxels are not singular), or not finite.
+bool singular(const glm::dmat3& m) {
+  const double scale = glm::length(m[0]) * glm::length(m[1]) * glm::length(m[2]);
+  const double det = glm::determinant(m);
+  return !std::isfinite(det) || !std::isfinite(scale) || !(scale > 0) || std::abs(det) <= 1e-6 * scale;
 }
 
 // The header of a NRRD file as written ("field: value" lines), with its axes sorted out.
@@ -321,7 +307,8 @@ void nrrdGeometry(const std::string& path, const NrrdDescription& d, NrrdVolume&
     affine[c] = glm::dvec4(toRas * d.dirs[a], 0.0);
   }
   affine[3] = glm::dvec4(toRas * origin, 1.0);
-  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12) fail(path, "the space directions are singular");
+  if (singular(glm::dmat3(affine)))
+    fail(path, "the space directions are singular (they do not span 3D space): no voxel-to-world affine");
   h.grid = Grid::fromAffine(gdims, affine);
   // Dimensions in the canonical order (i, j, k, components); the header's own order is kept in intentName.
   h.dims = {gdims.x, gdims.y, gdims.z};
@@ -350,6 +337,19 @@ void nrrdMeasurementFrame(const std::string& path, const NrrdDescription& d, Nrr
       fail(path, "'measurement frame' vector is none");
     out.measurementFrame[c] = v; // columns
   }
+  // A singular frame would flatten every tensor silently (D = M D M^T loses a dimension).
+  if (singular(out.measurementFrame))
+    fail(path, "the measurement frame " + trim(*mf) +
+                   " is singular (its vectors do not span 3D space): tensors cannot be taken to world space");
+  const glm::dmat3 g = glm::transpose(out.measurementFrame) * out.measurementFrame;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (std::abs(g[c][r] - (c == r ? 1.0 : 0.0)) > 1e-3) {
+        out.header.warnings.push_back("the measurement frame " + trim(*mf) +
+                                      " is not a rotation: tensors are transformed by it as given");
+        c = 3;
+        break;
+      }
   out.hasMeasurementFrame = true;
 }
 
@@ -422,7 +422,10 @@ const std::uint8_t* nrrdBinaryData(const std::string& path, const std::vector<st
                                    std::vector<std::uint8_t>& inflated) {
   if (gz) {
     if (start > src.size()) fail(path, "the data start beyond the end of the file");
-    inflated = inflateAll(path, src.data() + start, src.size() - start, need);
+    // One call inflates every gzip member (libdeflate), never far beyond what the header declares.
+    const std::size_t declared = need + static_cast<std::size_t>(std::max(byteSkip, 0LL));
+    inflated = inflateGzip(path, src.data() + start, src.size() - start, declared, inflateLimit(declared),
+                           "the gzip-encoded data");
     if (byteSkip > 0) {
       // byte skip applies to the decoded data
       if (static_cast<std::size_t>(byteSkip) > inflated.size()) fail(path, "byte skip beyond the data");
@@ -624,19 +627,8 @@ void writeNrrdTensors(const std::string& path, const TensorField& field) {
       values[i * 7 + 1 + static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k)];
   }
   // Header as plain text, then one gzip member of the values (teem's attached gzip layout).
-  uLong bound = compressBound(static_cast<uLong>(values.size() * 4)) + 64;
-  std::vector<std::uint8_t> z(bound);
-  z_stream s{};
-  if (deflateInit2(&s, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw InputError("cannot write " + path + ": zlib failed");
-  s.next_in = reinterpret_cast<Bytef*>(values.data());
-  s.avail_in = static_cast<uInt>(values.size() * 4);
-  s.next_out = z.data();
-  s.avail_out = static_cast<uInt>(z.size());
-  const int r = deflate(&s, Z_FINISH);
-  z.resize(s.total_out);
-  deflateEnd(&s);
-  if (r != Z_STREAM_END) throw InputError("cannot write " + path + ": zlib failed");
+  const std::vector<std::uint8_t> z =
+      gzipCompress(reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(float));
   std::vector<std::uint8_t> out(h.begin(), h.end());
   out.insert(out.end(), z.begin(), z.end());
   writeFileBytes(path, out, false);

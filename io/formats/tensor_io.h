@@ -9,7 +9,7 @@
 // whose message starts with the file name (UsageError for a bad layout name).
 #pragma once
 
-#include "io/formats/formats.h"
+#include "io/formats/format_guess.h"
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
 

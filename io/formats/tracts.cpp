@@ -1,6 +1,7 @@
 #include "io/formats/tracts.h"
 
 #include "io/formats/atomic_file.h"
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 
@@ -14,7 +15,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-#include <zlib.h>
 
 namespace fs = std::filesystem;
 
@@ -361,55 +361,18 @@ bool isGzip(const std::string& d) {
          static_cast<unsigned char>(d[1]) == 0x8b;
 }
 
+// A .trk.gz inflated whole (libdeflate; every gzip member). A TrackVis header declares no data size, so
+// the bound is the format's practical one (8 GiB) and deflate's own 1032:1.
 std::string gunzipBytes(const std::string& path, const std::string& in) {
-  z_stream zs{};
-  if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError(path + ": cannot start gzip decompression");
-  std::string out;
-  out.resize(std::max<std::size_t>(in.size() * 4, 1 << 16));
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
-  zs.avail_in = static_cast<uInt>(std::min<std::size_t>(in.size(), std::numeric_limits<uInt>::max()));
-  std::size_t inLeft = in.size() - zs.avail_in;
-  int rc = Z_OK;
-  while (true) {
-    if (zs.total_out == out.size()) out.resize(out.size() * 2);
-    const std::size_t have = static_cast<std::size_t>(zs.total_out);
-    zs.next_out = reinterpret_cast<Bytef*>(out.data() + have);
-    zs.avail_out =
-        static_cast<uInt>(std::min<std::size_t>(out.size() - have, std::numeric_limits<uInt>::max()));
-    if (zs.avail_in == 0 && inLeft > 0) {
-      const std::size_t take = std::min<std::size_t>(inLeft, std::numeric_limits<uInt>::max());
-      zs.avail_in = static_cast<uInt>(take);
-      inLeft -= take;
-    }
-    rc = inflate(&zs, Z_NO_FLUSH);
-    if (rc == Z_STREAM_END) break;
-    if (rc != Z_OK && rc != Z_BUF_ERROR) break;
-    if (rc == Z_BUF_ERROR && zs.avail_in == 0 && inLeft == 0) break;
-  }
-  const std::size_t total = static_cast<std::size_t>(zs.total_out);
-  inflateEnd(&zs);
-  if (rc != Z_STREAM_END)
-    throw InputError(path + ": corrupt or truncated gzip data (" +
-                     std::string(rc == Z_DATA_ERROR ? "bad deflate stream or checksum" : "ends early") + ")");
-  out.resize(total);
-  return out;
+  const std::vector<std::uint8_t> out =
+      detail::inflateGzip(path, reinterpret_cast<const std::uint8_t*>(in.data()), in.size(), 0, std::size_t(1) << 33,
+                  "the gzip data");
+  return std::string(out.begin(), out.end());
 }
 
-std::string gzipBytes(const std::string& path, const std::string& in) {
-  z_stream zs{};
-  if (deflateInit2(&zs, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw InputError("cannot write " + path + ": cannot start gzip compression");
-  std::string out(deflateBound(&zs, static_cast<uLong>(in.size())) + 64, '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
-  zs.avail_in = static_cast<uInt>(in.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  const int rc = deflate(&zs, Z_FINISH);
-  out.resize(static_cast<std::size_t>(zs.total_out));
-  deflateEnd(&zs);
-  if (rc != Z_STREAM_END || in.size() > std::numeric_limits<uInt>::max())
-    throw InputError("cannot write " + path + ": gzip compression failed");
-  return out;
+std::string gzipBytes(const std::string&, const std::string& in) {
+  const std::vector<std::uint8_t> out = detail::gzipCompress(reinterpret_cast<const std::uint8_t*>(in.data()), in.size());
+  return std::string(out.begin(), out.end());
 }
 
 glm::dmat4 trkVoxmmToWorld(const TrkInfo& info) {

@@ -1,5 +1,6 @@
 #include "io/formats/zip_archive.h"
 
+#include "io/formats/gzip.h"
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -153,29 +154,12 @@ std::string_view ZipReader::read(const Entry& e, std::string& storage) const {
     if (e.size > e.compressedSize * 1032 + 1024)
       throw InputError(path_ + ": zip entry '" + e.name + "' claims " + std::to_string(e.size) + " bytes from " +
                        std::to_string(e.compressedSize) + " compressed (corrupt archive)");
-    storage.resize(static_cast<std::size_t>(e.size) + 1); // one spare byte detects streams that run long
-    z_stream zs{};
-    if (inflateInit2(&zs, -15) != Z_OK) throw InputError(path_ + ": cannot start inflating '" + e.name + "'");
-    std::uint64_t inLeft = e.compressedSize, outDone = 0;
-    zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(src));
-    int rc = Z_OK;
-    while (rc == Z_OK) {
-      if (zs.avail_in == 0 && inLeft > 0) {
-        zs.avail_in = static_cast<uInt>(std::min<std::uint64_t>(inLeft, 1u << 30));
-        inLeft -= zs.avail_in;
-      }
-      zs.next_out = reinterpret_cast<Bytef*>(storage.data() + outDone);
-      const uInt room = static_cast<uInt>(std::min<std::uint64_t>(e.size + 1 - outDone, 1u << 30));
-      zs.avail_out = room;
-      rc = inflate(&zs, Z_NO_FLUSH);
-      outDone += room - zs.avail_out;
-      if (rc == Z_BUF_ERROR && (zs.avail_in == 0 && inLeft == 0)) break;
-      if (rc == Z_BUF_ERROR) rc = Z_OK;
-    }
-    inflateEnd(&zs);
-    if (rc != Z_STREAM_END || outDone != e.size)
-      throw InputError(path_ + ": zip entry '" + e.name + "' has corrupt deflate data or the wrong size");
+    // One call into a buffer of the declared size (libdeflate): a stream that gives more or fewer bytes, or
+    // runs past the entry's compressed bytes, is refused.
     storage.resize(static_cast<std::size_t>(e.size));
+    if (!detail::inflateRawExact(reinterpret_cast<const std::uint8_t*>(src), static_cast<std::size_t>(e.compressedSize),
+                         reinterpret_cast<std::uint8_t*>(storage.data()), storage.size()))
+      throw InputError(path_ + ": zip entry '" + e.name + "' has corrupt deflate data or the wrong size");
     out = storage;
   } else {
     throw InputError(path_ + ": zip entry '" + e.name + "' uses compression method " +

@@ -92,7 +92,7 @@ TEST(InputOpener, ThreePeakFileIsRefusedWhereOnlyTensorsAreRead) {
   io::writeScalarVolume(plain, io::readScalarVolume(marked), 1, "peaks");
   const io::OpenedInput in = openFile(plain);
   EXPECT_EQ(in.kind, io::InputKind::Fibres);
-  EXPECT_NE(in.reason.find("signed like directions"), std::string::npos) << in.reason;
+  EXPECT_NE(in.reason.find("like fibre peaks"), std::string::npos) << in.reason;
   try {
     openFile(plain, "auto", false);
     FAIL() << "a fibre set opened as tensors";

@@ -1018,14 +1018,14 @@ std::vector<Case> catalogue() {
                },
                2,
                {"dyads1.nii", "has no fractions file", "mean_f1samples"}});
-  // Two peaks in 6 volumes are signed like directions: never read as an "ambiguous FSL tensor".
+  // Two peaks in 6 volumes are triplets like peaks, not a positive semi-definite tensor: never read as a tensor.
   c.push_back({"TwoPeaksAreNotATensor",
                [](const fs::path& dir) {
                  writeBytes(dir / "two_peaks.nii", peaksNifti(6, {}).bytes());
                  return "surface " + q(dir / "two_peaks.nii") + " --slice axial -o " + q(dir / "s.ply");
                },
                2,
-               {"two_peaks.nii", "signed like directions", "not a tensor"},
+               {"two_peaks.nii", "two fibre peaks", "not a tensor"},
                "s.ply"});
   return c;
 }

@@ -253,7 +253,7 @@ TEST(FibreIo, SixVolumePeaksAreNotReadAsATensor) {
     io::readTensorVolume(path);
     FAIL() << "two peaks read as a tensor";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("signed like directions"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no tensor but two fibre peaks"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
   }
 }

@@ -577,6 +577,71 @@ TEST(NrrdTensor, BothSpacesFramesAndAxisOrdersGiveTheSameWorldTensor) {
   }
 }
 
+// A singular (or NaN) measurement frame would flatten every tensor silently, a singular space-directions
+// matrix leaves no voxel-to-world affine: both are refused naming the file; a frame that is not a rotation
+// is read with a warning.
+TEST(NrrdTensor, SingularOrNanFramesAndSpaceDirectionsAreRefused) {
+  const fs::path dir = test::scratchDir();
+  glm::dmat4 a(1.0);
+  a[0][0] = a[1][1] = a[2][2] = 1.5;
+  TensorField f = makeTensorField(Grid::fromAffine({4, 3, 2}, a));
+  for (std::size_t i = 0; i < f.tensors.size(); ++i) {
+    f.tensors[i] = SymTensor::fromMat(glm::dmat3(7e-4) + glm::dmat3(1e-5 * static_cast<double>(i)));
+    f.valid[i] = 1;
+  }
+  const fs::path good = dir / "good.nrrd";
+  io::writeTensorVolume(good.string(), f, io::TensorLayout::Auto);
+  const auto raw = io::detail::readFileBytes(good.string());
+  const std::string text(raw.begin(), raw.end());
+  // The file with one header line replaced.
+  auto variant = [&](const std::string& name, const std::string& key, const std::string& value) {
+    std::string t = text;
+    const auto at = t.find(key + ": ");
+    EXPECT_NE(at, std::string::npos) << key;
+    t.replace(at, t.find('\n', at) - at, key + ": " + value);
+    const fs::path p = dir / name;
+    writeBytes(p, t);
+    return p.string();
+  };
+  auto refusal = [](const std::string& p) {
+    try {
+      io::readTensorVolume(p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const struct {
+    const char* name;
+    const char* key;
+    const char* value;
+    const char* says;
+  } cases[] = {
+      {"coplanar_frame.nrrd", "measurement frame", "(1,0,0) (0,1,0) (1,1,0)", "singular"},
+      {"zero_frame.nrrd", "measurement frame", "(1,0,0) (0,0,0) (0,0,1)", "singular"},
+      {"parallel_frame.nrrd", "measurement frame", "(0,0,2) (0,1,0) (0,0,1)", "singular"},
+      {"nan_frame.nrrd", "measurement frame", "(nan,0,0) (0,1,0) (0,0,1)", "finite"},
+      {"singular_dirs.nrrd", "space directions", "none (1.5,0,0) (0,1.5,0) (3,3,0)", "singular"},
+      {"nan_dirs.nrrd", "space directions", "none (1.5,0,0) (0,nan,0) (0,0,1.5)", "finite"},
+  };
+  for (const auto& c : cases) {
+    const std::string p = variant(c.name, c.key, c.value);
+    const std::string msg = refusal(p);
+    EXPECT_EQ(msg.rfind(p, 0), 0u) << c.name << ": " << msg;
+    EXPECT_NE(msg.find(c.says), std::string::npos) << c.name << ": " << msg;
+  }
+  // Tiny but regular voxels are no singular matrix.
+  const std::string tiny = variant("tiny.nrrd", "space directions", "none (0.001,0,0) (0,0.001,0) (0,0,0.001)");
+  EXPECT_EQ(refusal(tiny), "");
+  // A scaled frame is read, with a warning that it is not a rotation.
+  auto notRotation = [](const io::LoadedTensors& t) {
+    return std::any_of(t.warnings.begin(), t.warnings.end(),
+                       [](const std::string& w) { return w.find("not a rotation") != std::string::npos; });
+  };
+  EXPECT_TRUE(notRotation(io::readTensorVolume(variant("scaled.nrrd", "measurement frame", "(2,0,0) (0,1,0) (0,0,1)"))));
+  EXPECT_FALSE(notRotation(io::readTensorVolume(good.string())));
+}
+
 // ---------------------------------------------------------------- DSI Studio
 
 TEST(DsiStudio, FittingTheSrcGivesTheFibsDtiFaAndFirstFibre) {

@@ -1,0 +1,68 @@
+// `dtfabric info` on gzip files as users meet them: several gzip members read as one, a truncated file and
+// a deflate bomb (a small file inflating far beyond its header) give exit code 2 and a message naming the file.
+#include "io/formats/tensor_io.h"
+#include "io/model/tensor_field.h"
+#include "support/cli.h"
+#include "support/gzip_files.h"
+#include "support/test_env.h"
+
+#include <gtest/gtest.h>
+
+namespace fs = std::filesystem;
+using namespace dtf;
+
+namespace {
+
+fs::path writeTensors(const fs::path& dir, const std::string& name) {
+  glm::dmat4 a(1.0);
+  a[0][0] = a[1][1] = a[2][2] = 2.0;
+  TensorField f = makeTensorField(Grid::fromAffine({6, 5, 4}, a));
+  for (std::size_t i = 0; i < f.tensors.size(); ++i) {
+    glm::dmat3 m(3e-4);
+    m[0][0] = 1e-3 + 1e-4 * static_cast<double>(i % 7);
+    f.tensors[i] = SymTensor::fromMat(m);
+    f.valid[i] = 1;
+  }
+  const fs::path p = dir / name;
+  io::writeTensorVolume(p.string(), f, io::TensorLayout::Fsl);
+  return p;
+}
+
+} // namespace
+
+TEST(GzipCli, MultiMemberFileIsDescribedLikeTheOriginal) {
+  const fs::path dir = test::scratchDir();
+  const fs::path p = writeTensors(dir, "t.nii.gz"), multi = dir / "multi.nii.gz";
+  const test::Bytes raw = test::gunzipFile(p);
+  test::writeBytes(multi, test::multiMember(raw, {348, raw.size() / 2}));
+  const test::CliResult a = test::runDtfabric("info '" + p.string() + "' --json", dir);
+  const test::CliResult b = test::runDtfabric("info '" + multi.string() + "' --json", dir);
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  // The same description, the file's name apart.
+  std::string expected = a.out;
+  for (auto at = expected.find(p.string()); at != std::string::npos; at = expected.find(p.string(), at + 1))
+    expected.replace(at, p.string().size(), multi.string());
+  EXPECT_EQ(b.out, expected);
+  EXPECT_NE(b.out.find("valid_voxels"), std::string::npos) << b.out;
+}
+
+TEST(GzipCli, TruncatedAndBombFilesExitTwoNamingTheFile) {
+  const fs::path dir = test::scratchDir();
+  for (const char* name : {"t.nii.gz", "t.mif.gz"}) {
+    const fs::path p = writeTensors(dir, name);
+    const test::Bytes raw = test::gunzipFile(p);
+    const fs::path bomb = dir / (std::string("bomb_") + name), cut = dir / (std::string("cut_") + name);
+    test::writeBytes(bomb, test::bomb(raw, std::size_t(128) << 20));
+    test::Bytes b = test::readBytes(p);
+    b.resize(b.size() / 2);
+    test::writeBytes(cut, b);
+    for (const fs::path& bad : {bomb, cut}) {
+      const test::CliResult r = test::runDtfabric("info '" + bad.string() + "'", dir);
+      EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.out << r.err;
+      EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
+    }
+    const test::CliResult r = test::runDtfabric("info '" + bomb.string() + "'", dir);
+    EXPECT_NE(r.err.find("deflate bomb"), std::string::npos) << r.err;
+  }
+}
