@@ -18,6 +18,7 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
 #include <sys/wait.h>
@@ -375,12 +376,11 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
       << r.err;
   checkRunFiles(out, 128);
   EXPECT_TRUE(temporaries(out).empty());
-  const std::string desc = readText(out / "dataset_description.json");
-  EXPECT_NE(desc.find("\"DatasetType\": \"derivative\""), std::string::npos) << desc;
-  EXPECT_NE(desc.find("\"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": \""), std::string::npos)
-      << desc;
-  EXPECT_NE(desc.find("\"SourceDatasets\": [{\"URL\": \"file://" + bids_.string() + "\"}]"),
-            std::string::npos);
+  const nlohmann::json desc = nlohmann::json::parse(readText(out / "dataset_description.json"));
+  EXPECT_EQ(desc.at("DatasetType"), "derivative") << desc;
+  EXPECT_EQ(desc.at("GeneratedBy").at(0).at("Name"), "dtfabric") << desc;
+  EXPECT_TRUE(desc.at("GeneratedBy").at(0).at("Version").is_string()) << desc;
+  EXPECT_EQ(desc.at("SourceDatasets").at(0).at("URL"), "file://" + bids_.string()) << desc;
   const std::string doc = readText(out / "sub-02/dwi/sub-02_dir-AP_run-1_desc-fabricMetrics_dwi.json");
   for (const char* key : {"\"input_hash_dwi\": \"crc32:", "\"input_hash_bvec\": ", "\"seconds_fit\": ",
                           "\"seconds_figures\": ", "\"check_score_best\": ", "\"slice_axial\": "})

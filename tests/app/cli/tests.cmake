@@ -1,5 +1,5 @@
 # Tests of app/cli/ (dtf_test(...) lines; the label follows from each file's suffix).
-dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_check_cli SOURCES app/cli/check_cli_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_fibre_check_cli SOURCES app/cli/fibre_check_cli_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_fibre_compare_cli SOURCES app/cli/fibre_compare_cli_test.cpp LIBS dtf_io dtf_model)
