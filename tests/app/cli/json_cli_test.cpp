@@ -101,7 +101,9 @@ TEST(JsonCli, TrackAndInfoCarryHostilePathsExactly) {
 
   r = runDtfabric("check " + word(tensor) + " --json", dir);
   EXPECT_LT(r.exitCode, 3) << r.err; // a phantom may be too small to decide; the report is still JSON
-  if (!r.out.empty()) EXPECT_EQ(parsed(r).value("input", ""), tensor.string());
+  if (!r.out.empty()) {
+    EXPECT_EQ(parsed(r).value("input", ""), tensor.string());
+  }
 
   const fs::path mesh = dir / (kHostile + ".obj");
   r = runDtfabric("surface " + word(tensor) + " --slice axial:12 -o " + word(mesh) + " --json", dir);
