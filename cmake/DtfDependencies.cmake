@@ -25,14 +25,15 @@ find_package(CGAL REQUIRED)
 
 # gzip inflation of whole buffers for the readers (.nii.gz, .mif.gz, .trk.gz, NRRD gzip, zip entries).
 pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
+# Every JSON document read or written (header-only; private to the libraries that use it).
+find_package(nlohmann_json 3 REQUIRED)
+
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 
 # The window, the panels and the executable only (DTF_BUILD_APPS).
 if(DTF_BUILD_APPS)
   find_package(glfw3 REQUIRED)
-  # JSON written by the session layer (the web page's data).
-  find_package(nlohmann_json 3 REQUIRED)
   # Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
   set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")

@@ -8,6 +8,7 @@
 #include "io/model/tensor_field.h"
 
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -112,8 +113,8 @@ glm::dvec3 principalInSurfaceDirection(const glm::dmat3& t, const glm::dvec3& n)
 struct RenderPeerOurs {
   double fabricMs = 0, movingMs = 0, phongMs = 0, fabricCpuMs = 0, phongCpuMs = 0, movingCpuMs = 0;
 };
-// The peer's lines for the `bench render` table, and the ", \"peer\": ..." members of its JSON object.
+// The peer's lines for the `bench render` table, and the "peer" (and "peer_note") members of its JSON object.
 void printRenderPeerTable(const RenderPeerResult& peer, const RenderPeerOurs& ours);
-void printRenderPeerJson(const RenderPeerResult& peer, const RenderPeerOurs& ours);
+void addRenderPeerJson(nlohmann::ordered_json& j, const RenderPeerResult& peer, const RenderPeerOurs& ours);
 
 } // namespace dtf::app

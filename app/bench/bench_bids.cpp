@@ -10,12 +10,14 @@
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"
 #include "io/model/error.h"
+#include "io/formats/json.h"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -98,7 +100,7 @@ struct BidsFigures {
 void makeCohort(const fs::path& src, const fs::path& bids, int runs) {
   fs::create_directories(bids);
   io::writeTextIfChanged((bids / "dataset_description.json").string(),
-                         "{\"Name\": \"bench\", \"BIDSVersion\": \"1.8.0\"}\n");
+                         io::jsonText(nlohmann::ordered_json{{"Name", "bench"}, {"BIDSVersion", "1.8.0"}}, 2) + "\n");
   for (int n = 1; n <= runs; ++n) {
     char sub[16];
     std::snprintf(sub, sizeof sub, "%02d", n);
@@ -121,12 +123,12 @@ void timeParticipants(const io::BidsDataset& ds, const fs::path& out, BidsFigure
     const session::RunOutcome o = session::processRun(r, out.string(), opts);
     if (!o.ok) throw InputError("bench bids: " + r.dwi + " failed: " + o.message);
     const std::string doc = session::metricsPath(r, out.string());
-    const io::FlatJson j = io::FlatJson::parse(io::readTextFile(doc), doc);
+    const nlohmann::ordered_json j = io::readJsonFile(doc);
     f.total.push_back(o.seconds);
-    f.load.push_back(j.number("seconds_load"));
-    f.fit.push_back(j.number("seconds_fit"));
-    f.check.push_back(j.number("seconds_check"));
-    f.figures.push_back(j.number("seconds_figures"));
+    f.load.push_back(io::jsonNumber(j, "seconds_load"));
+    f.fit.push_back(io::jsonNumber(j, "seconds_fit"));
+    f.check.push_back(io::jsonNumber(j, "seconds_check"));
+    f.figures.push_back(io::jsonNumber(j, "seconds_figures"));
   }
 }
 
@@ -180,14 +182,26 @@ void timeJobs(const fs::path& bids, const fs::path& out, std::size_t runs, BidsF
 }
 
 void printBidsJson(const BidsFigures& f) {
-  std::printf("{\"runs\": %zu, \"figure_px\": %d, \"cores\": %d, \"seconds_per_run\": %.3f, "
-              "\"seconds_load\": %.3f, \"seconds_fit\": %.3f, \"seconds_check\": %.3f, \"seconds_figures\": %.3f, "
-              "\"first_run_seconds\": %.3f, \"report_rows\": %d, \"report_seconds\": %.4f, \"report_bytes\": %zu, "
-              "\"chromium_empty_seconds\": %.3f, \"chromium_report_seconds\": %.3f, \"sort_ms\": %.2f, "
-              "\"detail_ms\": %.2f, \"script_ms\": %.1f, \"jobs\": %d, \"seconds_per_run_jobs\": %.3f}\n",
-              f.total.size(), f.figurePx, f.cores, median(f.total), median(f.load), median(f.fit), median(f.check),
-              median(f.figures), f.total.front(), f.rows, f.groupSeconds, f.htmlBytes, f.chromeEmpty,
-              f.chromeReport, f.sortMs, f.detailMs, f.scriptMs, f.cores, f.jobsPerRun);
+  const nlohmann::ordered_json j = {{"runs", f.total.size()},
+                                    {"figure_px", f.figurePx},
+                                    {"cores", f.cores},
+                                    {"seconds_per_run", median(f.total)},
+                                    {"seconds_load", median(f.load)},
+                                    {"seconds_fit", median(f.fit)},
+                                    {"seconds_check", median(f.check)},
+                                    {"seconds_figures", median(f.figures)},
+                                    {"first_run_seconds", f.total.front()},
+                                    {"report_rows", f.rows},
+                                    {"report_seconds", f.groupSeconds},
+                                    {"report_bytes", f.htmlBytes},
+                                    {"chromium_empty_seconds", f.chromeEmpty},
+                                    {"chromium_report_seconds", f.chromeReport},
+                                    {"sort_ms", f.sortMs},
+                                    {"detail_ms", f.detailMs},
+                                    {"script_ms", f.scriptMs},
+                                    {"jobs", f.cores},
+                                    {"seconds_per_run_jobs", f.jobsPerRun}};
+  std::printf("%s\n", io::jsonText(j).c_str());
 }
 
 void printBidsTable(const BidsFigures& f) {

@@ -9,12 +9,14 @@
 #include "ui/session/check_run.h"
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -138,16 +140,26 @@ int benchCheck(const CommandArgs& argv) {
   }
   const bool same = peer.ran && peer.choice == ourChoice;
   if (json) {
-    std::printf(
-        "{\"bench\": \"check\", \"data\": \"%s\", \"repeat\": %d, \"seconds\": %.4f, \"load_s\": %.4f, "
-        "\"fit_s\": %.4f, \"score_s\": %.5f, \"verdict\": \"%s\", \"choice\": \"%s\", \"margin\": %.4f, "
-        "\"white_matter_voxels\": %zu, \"peer\": \"MRtrix dwigradcheck\", \"peer_ran\": %s, "
-        "\"peer_seconds\": %.3f, \"peer_threads\": %d, \"peer_choice\": \"%s\", \"speedup\": %.1f, "
-        "\"same_table\": %s, \"peer_note\": \"%s\"}\n",
-        req.input.c_str(), repeat, ours, median(load), median(fit), median(score),
-        surfaces::verdictName(run.report.verdict), ourChoice.c_str(), run.report.margin,
-        run.report.whiteMatterVoxels, peer.ran ? "true" : "false", peer.seconds, threads, peer.choice.c_str(),
-        peer.ran ? peer.seconds / ours : 0.0, same ? "true" : "false", peer.note.c_str());
+    const nlohmann::ordered_json j = {{"bench", "check"},
+                                      {"data", req.input},
+                                      {"repeat", repeat},
+                                      {"seconds", ours},
+                                      {"load_s", median(load)},
+                                      {"fit_s", median(fit)},
+                                      {"score_s", median(score)},
+                                      {"verdict", surfaces::verdictName(run.report.verdict)},
+                                      {"choice", ourChoice},
+                                      {"margin", run.report.margin},
+                                      {"white_matter_voxels", run.report.whiteMatterVoxels},
+                                      {"peer", "MRtrix dwigradcheck"},
+                                      {"peer_ran", peer.ran},
+                                      {"peer_seconds", peer.seconds},
+                                      {"peer_threads", threads},
+                                      {"peer_choice", peer.choice},
+                                      {"speedup", peer.ran ? peer.seconds / ours : 0.0},
+                                      {"same_table", same},
+                                      {"peer_note", peer.note}};
+    std::printf("%s\n", io::jsonText(j).c_str());
     return 0;
   }
   std::printf("bench check: %s, mask %s\n", req.input.c_str(), req.mask.c_str());

@@ -7,6 +7,7 @@
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +17,7 @@
 #include <ctime>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
@@ -271,26 +273,19 @@ int benchIo(const CommandArgs& argv) {
   for (const auto& f : tractFigures)
     figures.push_back(&f);
   if (json) {
-    std::printf("{\"threads\": %d, \"cores\": %u, \"load_average\": %.2f", threads, cores, load1);
+    nlohmann::ordered_json j = {{"threads", threads}, {"cores", cores}, {"load_average", load1}};
     for (const Figure* f : figures) {
-      if (f->t.wall >= 0)
-        std::printf(", \"%s\": %.4f, \"%s_cpu\": %.4f", f->key, f->t.wall, f->key, f->t.cpu);
-      else
-        std::printf(", \"%s\": null, \"%s_cpu\": null", f->key, f->key);
-      std::printf(", \"%s_goal\": %.3f", f->key, f->goal);
+      const std::string key = f->key;
+      j[key] = f->t.wall >= 0 ? nlohmann::ordered_json(f->t.wall) : nlohmann::ordered_json();
+      j[key + "_cpu"] = f->t.wall >= 0 ? nlohmann::ordered_json(f->t.cpu) : nlohmann::ordered_json();
+      j[key + "_goal"] = f->goal;
     }
-    for (const FormatLoadFigure& f : formats)
-      std::printf(", \"%s\": %.4f, \"%s_cpu\": %.4f", f.key.c_str(), f.wall, f.key.c_str(), f.cpu);
-    std::printf(", \"notes\": [");
-    for (std::size_t i = 0; i < notes.size(); ++i) {
-      std::string s;
-      for (char c : notes[i]) {
-        if (c == '"' || c == '\\') s += '\\';
-        s += c;
-      }
-      std::printf("%s\"%s\"", i ? ", " : "", s.c_str());
+    for (const FormatLoadFigure& f : formats) {
+      j[f.key] = f.wall;
+      j[f.key + "_cpu"] = f.cpu;
     }
-    std::printf("]}\n");
+    j["notes"] = notes;
+    std::printf("%s\n", io::jsonText(j).c_str());
   } else {
     std::printf("bench io (%u cores, threads %s, load average %.2f; medians, wall and process CPU)\n", cores,
                 threads > 0 ? std::to_string(threads).c_str() : "all", load1);

@@ -15,6 +15,7 @@
 #include "render/gl_context.h"
 #include "render/reference/scenes.h"
 #include "ui/session/surface_spec.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +23,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
@@ -495,35 +497,54 @@ void printJson(const Report& rep) {
   const auto& embedded = rep.embedded;
   const auto& peer = rep.peer;
   const auto& mine = rep.mine;
-  std::printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, \"cases\": [", renderer.c_str(),
-              width, height, frames);
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const Result& r = results[i];
-    std::printf("%s{\"name\": \"%s\", \"triangles\": %zu, \"fabric_ms\": %.2f, \"phong_ms\": %.2f, "
-                "\"moving_ms\": %.2f, \"moving_half_res_ms\": %.2f, \"fabric_cpu_ms\": %.2f, \"moving_cpu_ms\": %.2f, \"phong_cpu_ms\": %.2f, \"ratio\": %.2f, \"cpu_ratio\": %.2f, \"moving_cpu_ratio\": %.2f, \"coverage\": %.3f, \"passes_ms\": {\"projection\": %.2f, "
-                "\"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f, \"phong\": %.2f}}",
-                i ? ", " : "", r.name.c_str(), r.triangles, r.fabricMs, r.phongMs, r.movingMs, r.movingHalfMs,
-                r.fabricCpuMs, r.movingCpuMs, r.phongCpuMs, r.fabricMs / std::max(r.phongMs, 1e-9),
-                r.fabricCpuMs / std::max(r.phongCpuMs, 1e-9), r.movingCpuMs / std::max(r.phongCpuMs, 1e-9), r.coverage,
-                r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
-  }
-  std::printf("]");
+  using Json = nlohmann::ordered_json;
+  Json j = {{"renderer", renderer}, {"width", width}, {"height", height}, {"frames", frames}};
+  Json cases = Json::array();
+  for (const Result& r : results)
+    cases.push_back({{"name", r.name},
+                     {"triangles", r.triangles},
+                     {"fabric_ms", r.fabricMs},
+                     {"phong_ms", r.phongMs},
+                     {"moving_ms", r.movingMs},
+                     {"moving_half_res_ms", r.movingHalfMs},
+                     {"fabric_cpu_ms", r.fabricCpuMs},
+                     {"moving_cpu_ms", r.movingCpuMs},
+                     {"phong_cpu_ms", r.phongCpuMs},
+                     {"ratio", r.fabricMs / std::max(r.phongMs, 1e-9)},
+                     {"cpu_ratio", r.fabricCpuMs / std::max(r.phongCpuMs, 1e-9)},
+                     {"moving_cpu_ratio", r.movingCpuMs / std::max(r.phongCpuMs, 1e-9)},
+                     {"coverage", r.coverage},
+                     {"passes_ms",
+                      {{"projection", r.passes.projection},
+                       {"silhouette", r.passes.silhouette},
+                       {"advection", r.passes.advection},
+                       {"composite", r.passes.composite},
+                       {"phong", r.passes.phong}}}});
+  j["cases"] = cases;
   if (embedded.ran)
-    std::printf(", \"embedded\": {\"name\": \"sphere_41k\", \"embedded_ms\": %.2f, \"embedded_moving_ms\": %.2f, "
-                "\"embedded_cpu_ms\": %.2f, \"host_pass_ms\": %.2f, \"host_pass_cpu_ms\": %.2f, \"own_ms\": %.2f, \"own_cpu_ms\": %.2f, \"own_moving_ms\": %.2f, \"passes_ms\": {\"host_geometry\": %.2f, "
-                "\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": %.2f}}",
-                embedded.ms, embedded.movingMs, embedded.cpuMs, embedded.hostOnlyMs, embedded.hostOnlyCpuMs,
-                results[0].fabricMs, results[0].fabricCpuMs, results[0].movingMs,
-                embedded.hostPassMs, embedded.passes.projection, embedded.passes.silhouette, embedded.passes.advection,
-                embedded.passes.composite);
+    j["embedded"] = {{"name", "sphere_41k"},
+                     {"embedded_ms", embedded.ms},
+                     {"embedded_moving_ms", embedded.movingMs},
+                     {"embedded_cpu_ms", embedded.cpuMs},
+                     {"host_pass_ms", embedded.hostOnlyMs},
+                     {"host_pass_cpu_ms", embedded.hostOnlyCpuMs},
+                     {"own_ms", results[0].fabricMs},
+                     {"own_cpu_ms", results[0].fabricCpuMs},
+                     {"own_moving_ms", results[0].movingMs},
+                     {"passes_ms",
+                      {{"host_geometry", embedded.hostPassMs},
+                       {"projection", embedded.passes.projection},
+                       {"silhouette", embedded.passes.silhouette},
+                       {"advection", embedded.passes.advection},
+                       {"composite", embedded.passes.composite}}}};
   else
-    std::printf(", \"embedded\": null");
-  printRenderPeerJson(peer, mine);
-  std::printf(", \"looks\": [");
-  for (std::size_t i = 0; i < rep.looks.size(); ++i)
-    std::printf("%s{\"name\": \"%s\", \"ms\": %.2f, \"cpu_ms\": %.2f}", i ? ", " : "", rep.looks[i].name.c_str(),
-                rep.looks[i].ms, rep.looks[i].cpuMs);
-  std::printf("]}\n");
+    j["embedded"] = nullptr;
+  addRenderPeerJson(j, peer, mine);
+  Json looks = Json::array();
+  for (const auto& l : rep.looks)
+    looks.push_back({{"name", l.name}, {"ms", l.ms}, {"cpu_ms", l.cpuMs}});
+  j["looks"] = looks;
+  std::printf("%s\n", io::jsonText(j).c_str());
 }
 
 void printTable(const Report& rep) {

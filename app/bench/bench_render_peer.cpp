@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -366,14 +367,10 @@ void printRenderPeerTable(const RenderPeerResult& p, const RenderPeerOurs& ours)
   if (!p.png.empty()) std::printf("  one frame of its default LIC: %s\n", p.png.c_str());
 }
 
-void printRenderPeerJson(const RenderPeerResult& p, const RenderPeerOurs& ours) {
-  std::string note;
-  for (char c : p.note) {
-    if (c == '"' || c == '\\') note += '\\';
-    note += c == '\n' || c == '\t' ? ' ' : c;
-  }
+void addRenderPeerJson(nlohmann::ordered_json& j, const RenderPeerResult& p, const RenderPeerOurs& ours) {
   if (!p.ran) {
-    std::printf(", \"peer\": null, \"peer_note\": \"%s\"", note.c_str());
+    j["peer"] = nullptr;
+    j["peer_note"] = p.note;
     return;
   }
   double load = -1; // 1-minute load average when the peer finished
@@ -382,17 +379,22 @@ void printRenderPeerJson(const RenderPeerResult& p, const RenderPeerOurs& ours) 
     std::fclose(f);
   }
   auto ratio = [](double a, double b) { return a > 0 && b > 0 ? a / b : 0.0; };
-  std::printf(
-      ", \"peer\": {\"name\": \"%s\", \"case\": \"sphere_41k\", \"frames\": %d, \"coverage\": %.3f, "
-      "\"lic_default_steps\": %d, \"lic_default_ms\": %.2f, \"lic_one_step_ms\": %.2f, \"surface_ms\": %.2f, "
-      "\"lic_default_cpu_ms\": %.2f, \"lic_one_step_cpu_ms\": %.2f, \"surface_cpu_ms\": %.2f, "
-      "\"default_over_fabric\": %.2f, \"default_over_moving\": %.2f, \"default_over_fabric_cpu\": %.2f, "
-      "\"default_over_moving_cpu\": %.2f, "
-      "\"load_average\": %.2f}",
-      p.name.c_str(), p.frames, p.coverage, p.licDefaultSteps, p.licDefaultMs, p.licOneStepMs, p.surfaceMs,
-      p.licDefaultCpuMs, p.licOneStepCpuMs, p.surfaceCpuMs, ratio(p.licDefaultMs, ours.fabricMs),
-      ratio(p.licDefaultMs, ours.movingMs), ratio(p.licDefaultCpuMs, ours.fabricCpuMs),
-      ratio(p.licDefaultCpuMs, ours.movingCpuMs), load);
+  j["peer"] = {{"name", p.name},
+               {"case", "sphere_41k"},
+               {"frames", p.frames},
+               {"coverage", p.coverage},
+               {"lic_default_steps", p.licDefaultSteps},
+               {"lic_default_ms", p.licDefaultMs},
+               {"lic_one_step_ms", p.licOneStepMs},
+               {"surface_ms", p.surfaceMs},
+               {"lic_default_cpu_ms", p.licDefaultCpuMs},
+               {"lic_one_step_cpu_ms", p.licOneStepCpuMs},
+               {"surface_cpu_ms", p.surfaceCpuMs},
+               {"default_over_fabric", ratio(p.licDefaultMs, ours.fabricMs)},
+               {"default_over_moving", ratio(p.licDefaultMs, ours.movingMs)},
+               {"default_over_fabric_cpu", ratio(p.licDefaultCpuMs, ours.fabricCpuMs)},
+               {"default_over_moving_cpu", ratio(p.licDefaultCpuMs, ours.movingCpuMs)},
+               {"load_average", load}};
 }
 
 } // namespace dtf::app

@@ -8,9 +8,11 @@
 #include "io/phantoms.h"
 #include "io/formats/tensor_io.h"
 #include "surfaces/isosurface.h"
+#include "io/formats/json.h"
 
 #include <chrono>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -95,12 +97,17 @@ int benchSurfaces(const CommandArgs& argv) {
   for (double v : perThreshold) worst = std::max(worst, v);
 
   if (json) {
-    std::printf("{\"source\": \"%s\", \"dims\": [145, 174, 145], \"prepare_ms\": %.2f, \"extract_ms_median\": %.2f, "
-                "\"extract_ms_max\": %.2f, \"goal_ms\": 50, \"thresholds\": [",
-                source.c_str(), prepareMs, med, worst);
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      std::printf("%s{\"fa\": %.2f, \"triangles\": %zu}", i ? ", " : "", rows[i].first, rows[i].second);
-    std::printf("]}\n");
+    nlohmann::ordered_json thresholds = nlohmann::ordered_json::array();
+    for (const auto& [fa, triangles] : rows)
+      thresholds.push_back({{"fa", fa}, {"triangles", triangles}});
+    const nlohmann::ordered_json j = {{"source", source},
+                                      {"dims", {145, 174, 145}},
+                                      {"prepare_ms", prepareMs},
+                                      {"extract_ms_median", med},
+                                      {"extract_ms_max", worst},
+                                      {"goal_ms", 50},
+                                      {"thresholds", thresholds}};
+    std::printf("%s\n", io::jsonText(j).c_str());
   } else {
     std::printf("FA isosurface sweep on %s\n", source.c_str());
     std::printf("  one-off preparation (mask, smoothing, padding): %8.1f ms\n", prepareMs);

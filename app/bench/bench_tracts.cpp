@@ -10,11 +10,13 @@
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "surfaces/tracking/tracking.h"
+#include "io/formats/json.h"
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <sys/resource.h>
 #include <thread>
@@ -153,16 +155,23 @@ PeerRun runTckgen(const std::filesystem::path& data, int count, int threads) {
 void printTractsJson(const TrackingTimes& t, const TrackingInput& in, bool rk4, const PeerRun& peer) {
   const surfaces::TrackingResult& r = t.result;
   const double s = t.seconds;
-  std::printf("{\"streamlines\": %zu, \"points\": %zu, \"seeds\": %zu, \"seconds\": %.3f, "
-              "\"streamlines_per_s\": %.1f, "
-              "\"points_per_s\": %.1f, \"seeds_per_s\": %.1f, \"cpu_s\": %.3f, \"threads\": %d, "
-              "\"hardware_threads\": %u, "
-              "\"integrator\": \"%s\", \"load_s\": %.3f, \"peer\": \"MRtrix tckgen -algorithm Tensor_Det\", "
-              "\"peer_ran\": %s, \"peer_seconds\": %.3f, \"peer_cpu_s\": %.3f}\n",
-              r.lines.lineCount(), r.lines.points.size(), r.seedsTried, s,
-              static_cast<double>(r.lines.lineCount()) / s, static_cast<double>(r.lines.points.size()) / s,
-              static_cast<double>(r.seedsTried) / s, t.cpuSeconds, r.threads, std::thread::hardware_concurrency(),
-              rk4 ? "rk4" : "euler", in.loadSeconds, peer.ran ? "true" : "false", peer.seconds, peer.cpuSeconds);
+  const nlohmann::ordered_json j = {{"streamlines", r.lines.lineCount()},
+                                    {"points", r.lines.points.size()},
+                                    {"seeds", r.seedsTried},
+                                    {"seconds", s},
+                                    {"streamlines_per_s", static_cast<double>(r.lines.lineCount()) / s},
+                                    {"points_per_s", static_cast<double>(r.lines.points.size()) / s},
+                                    {"seeds_per_s", static_cast<double>(r.seedsTried) / s},
+                                    {"cpu_s", t.cpuSeconds},
+                                    {"threads", r.threads},
+                                    {"hardware_threads", std::thread::hardware_concurrency()},
+                                    {"integrator", rk4 ? "rk4" : "euler"},
+                                    {"load_s", in.loadSeconds},
+                                    {"peer", "MRtrix tckgen -algorithm Tensor_Det"},
+                                    {"peer_ran", peer.ran},
+                                    {"peer_seconds", peer.seconds},
+                                    {"peer_cpu_s", peer.cpuSeconds}};
+  std::printf("%s\n", io::jsonText(j).c_str());
 }
 
 void printTractsTable(const TrackingTimes& t, const TrackingInput& in, bool rk4, int repeat, const PeerRun& peer) {

@@ -7,12 +7,14 @@
 #include "app/viewer/viewer.h"
 #include "io/model/error.h"
 #include "render/gl_context.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <epoxy/gl.h>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <thread>
 
@@ -200,25 +202,43 @@ private:
 void printViewJson(const ViewFigures& f, const std::string& gl) {
   const Stats sw = stats(f.sweepMs), ro = stats(f.rotateMs), rf = stats(f.rotateFullMs), rt = stats(f.rotateTractsMs);
   const render::PassTimes& pt = f.passes;
-  std::printf(
-      "{\"input\": \"%s\", \"width\": %d, \"height\": %d, \"load_ms\": %.1f, \"triangles\": %zu, "
-      "\"sweep\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": "
-      "%.1f, "
-      "\"surfaces_shown\": %llu, \"surfaces_per_s\": %.2f}, "
-      "\"rotate\": {\"frames\": %d, \"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": "
-      "%.1f}, "
-      "\"rotate_full_size\": {\"mean_ms\": %.2f, \"median_ms\": %.2f, \"p95_ms\": %.2f, \"fps\": %.1f}, "
-      "\"passes_ms\": {\"projection\": %.2f, \"silhouette\": %.2f, \"advection\": %.2f, \"composite\": "
-      "%.2f}, "
-      "\"still\": {\"frames\": %d, \"ms\": %.1f}, "
-      "\"tracts\": {\"points\": %zu, \"shown\": %zu, \"load_select_ms\": %.1f, \"rotate_mean_ms\": %.2f, "
-      "\"rotate_median_ms\": %.2f, \"rotate_p95_ms\": %.2f, \"rotate_fps\": %.1f, \"still_frames\": %d, "
-      "\"still_ms\": %.1f}, \"load_average\": %.2f, \"gl\": \"%s\"}\n",
-      f.input.c_str(), f.width, f.height, f.loadMs, f.triangles, sw.frames, sw.mean, sw.median, sw.p95, sw.fps,
-      f.meshesShown, f.meshesShown / f.sweepSeconds, ro.frames, ro.mean, ro.median, ro.p95, ro.fps, rf.mean,
-      rf.median, rf.p95, rf.fps, pt.projection, pt.silhouette, pt.advection, pt.composite, f.stillFrames,
-      f.stillMs, f.tractPoints, f.tractsShown, f.tractsReadyMs, rt.mean, rt.median, rt.p95, rt.fps,
-      f.tractsStillFrames, f.tractsStillMs, loadAverage(), gl.c_str());
+  using Json = nlohmann::ordered_json;
+  const Json j = {
+      {"input", f.input},
+      {"width", f.width},
+      {"height", f.height},
+      {"load_ms", f.loadMs},
+      {"triangles", f.triangles},
+      {"sweep",
+       {{"frames", sw.frames},
+        {"mean_ms", sw.mean},
+        {"median_ms", sw.median},
+        {"p95_ms", sw.p95},
+        {"fps", sw.fps},
+        {"surfaces_shown", f.meshesShown},
+        {"surfaces_per_s", f.meshesShown / f.sweepSeconds}}},
+      {"rotate",
+       {{"frames", ro.frames}, {"mean_ms", ro.mean}, {"median_ms", ro.median}, {"p95_ms", ro.p95}, {"fps", ro.fps}}},
+      {"rotate_full_size", {{"mean_ms", rf.mean}, {"median_ms", rf.median}, {"p95_ms", rf.p95}, {"fps", rf.fps}}},
+      {"passes_ms",
+       {{"projection", pt.projection},
+        {"silhouette", pt.silhouette},
+        {"advection", pt.advection},
+        {"composite", pt.composite}}},
+      {"still", {{"frames", f.stillFrames}, {"ms", f.stillMs}}},
+      {"tracts",
+       {{"points", f.tractPoints},
+        {"shown", f.tractsShown},
+        {"load_select_ms", f.tractsReadyMs},
+        {"rotate_mean_ms", rt.mean},
+        {"rotate_median_ms", rt.median},
+        {"rotate_p95_ms", rt.p95},
+        {"rotate_fps", rt.fps},
+        {"still_frames", f.tractsStillFrames},
+        {"still_ms", f.tractsStillMs}}},
+      {"load_average", loadAverage()},
+      {"gl", gl}};
+  std::printf("%s\n", io::jsonText(j).c_str());
 }
 
 void printViewTable(const ViewFigures& f, const std::string& gl) {

@@ -14,6 +14,7 @@
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"
 #include "io/model/error.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -26,6 +27,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <poll.h>
 #include <string>
 #include <sys/prctl.h>
@@ -85,10 +87,10 @@ session::RunOutcome outcomeFromDocument(const io::BidsRun& run, const std::strin
   o.seconds = seconds;
   try {
     const std::string path = session::metricsPath(run, out);
-    const io::FlatJson doc = io::FlatJson::parse(io::readTextFile(path), path);
-    o.ok = doc.get("status") == "ok";
-    o.verdict = doc.get("check_verdict");
-    o.message = doc.get("message");
+    const nlohmann::ordered_json doc = io::readJsonFile(path);
+    o.ok = io::jsonString(doc, "status") == "ok";
+    o.verdict = io::jsonString(doc, "check_verdict");
+    o.message = io::jsonString(doc, "message");
   } catch (const Error& e) {
     o.message = e.what();
   }

@@ -5,12 +5,14 @@
 #include "ui/session/check_run.h"
 #include "ui/session/fibre_input.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace dtf::app {
@@ -28,46 +30,42 @@ std::string matrixJson(const surfaces::AxisTransform& t) {
   return s + "]";
 }
 
-std::string jsonString(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) continue;
-    o += c;
-  }
-  return o + "\"";
+nlohmann::ordered_json matrix(const surfaces::AxisTransform& t) {
+  nlohmann::ordered_json m = nlohmann::ordered_json::array();
+  for (std::size_t row = 0; row < 3; ++row)
+    m.push_back({t.m[row * 3], t.m[row * 3 + 1], t.m[row * 3 + 2]});
+  return m;
 }
 
 void printJson(const session::CheckRun& run, const std::string& input) {
   const surfaces::OrientationReport& r = run.report;
-  std::printf("{\"input\": %s, \"kind\": \"%s\", \"frame\": \"%s\", \"verdict\": \"%s\", \"reason\": %s,\n",
-              jsonString(input).c_str(),
-              run.dwi      ? "dwi"
-              : run.fibres ? "fibres"
-                           : "tensor",
-              run.frameName.c_str(), surfaces::verdictName(r.verdict), jsonString(r.reason).c_str());
-  if (!run.dwi) std::printf(" \"layout\": %s,\n", jsonString(run.layoutNote).c_str());
-  std::printf(" \"correction\": %s, \"correction_name\": \"%s\",\n", matrixJson(r.correction).c_str(),
-              r.correction.name().c_str());
-  std::printf(
-      " \"score_given\": %.6f, \"score_best\": %.6f, \"margin\": %.6f, \"best\": \"%s\", \"runner_up\": "
-      "\"%s\",\n",
-      r.scoreGiven, r.scoreBest, r.margin, r.candidates[r.best].transform.name().c_str(),
-      r.candidates[r.runnerUp].transform.name().c_str());
-  std::printf(" \"mask_voxels\": %zu, \"white_matter_voxels\": %zu, \"white_matter_rule\": %s,\n",
-              r.maskVoxels, r.whiteMatterVoxels, jsonString(r.whiteMatterRule).c_str());
-  std::printf(
-      " \"thresholds\": {\"fa\": %.3f, \"cos\": %.3f, \"min_white_matter\": %zu, \"min_margin\": %.4f},\n",
-      r.options.faThreshold, r.options.cosThreshold, r.options.minWhiteMatter, r.options.minMargin);
-  std::printf(" \"seconds\": {\"load\": %.4f, \"fit\": %.4f, \"check\": %.4f},\n", run.loadSeconds,
-              run.fitSeconds, run.checkSeconds);
-  std::printf(" \"candidates\": [");
-  for (std::size_t i = 0; i < r.candidates.size(); ++i) {
-    const auto& c = r.candidates[i];
-    std::printf("%s\n  {\"name\": \"%s\", \"matrix\": %s, \"score\": %.6f, \"pairs\": %zu}", i ? "," : "",
-                c.transform.name().c_str(), matrixJson(c.transform).c_str(), c.score, c.pairs);
-  }
-  std::printf("]}\n");
+  nlohmann::ordered_json j = {{"input", input},
+                              {"kind", run.dwi ? "dwi" : run.fibres ? "fibres" : "tensor"},
+                              {"frame", run.frameName},
+                              {"verdict", surfaces::verdictName(r.verdict)},
+                              {"reason", r.reason}};
+  if (!run.dwi) j["layout"] = run.layoutNote;
+  j["correction"] = matrix(r.correction);
+  j["correction_name"] = r.correction.name();
+  j["score_given"] = r.scoreGiven;
+  j["score_best"] = r.scoreBest;
+  j["margin"] = r.margin;
+  j["best"] = r.candidates[r.best].transform.name();
+  j["runner_up"] = r.candidates[r.runnerUp].transform.name();
+  j["mask_voxels"] = r.maskVoxels;
+  j["white_matter_voxels"] = r.whiteMatterVoxels;
+  j["white_matter_rule"] = r.whiteMatterRule;
+  j["thresholds"] = {{"fa", r.options.faThreshold},
+                     {"cos", r.options.cosThreshold},
+                     {"min_white_matter", r.options.minWhiteMatter},
+                     {"min_margin", r.options.minMargin}};
+  j["seconds"] = {{"load", run.loadSeconds}, {"fit", run.fitSeconds}, {"check", run.checkSeconds}};
+  nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
+  for (const auto& c : r.candidates)
+    candidates.push_back(
+        {{"name", c.transform.name()}, {"matrix", matrix(c.transform)}, {"score", c.score}, {"pairs", c.pairs}});
+  j["candidates"] = candidates;
+  std::printf("%s\n", io::jsonText(j).c_str());
 }
 
 void printText(const session::CheckRun& run, const std::string& input) {

@@ -1,6 +1,7 @@
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
 #include "app/command/options.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "surfaces/analyses/agreement.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace dtf::app {
@@ -140,17 +142,21 @@ int cmdCompare(const CommandArgs& argv) {
   const Mesh& mesh = m.mesh;
 
   if (json) {
-    std::printf("{\"points\": %zu, \"mean_deg\": %.4f, \"median_deg\": %.4f, \"frac_below_15\": %.6f, "
-                "\"histogram\": [",
-                r.anglesDeg.size(), r.meanDeg, r.medianDeg, r.fracBelow15);
-    for (std::size_t b = 0; b < r.histogram.size(); ++b)
-      std::printf("%s%zu", b ? ", " : "", r.histogram[b]);
-    std::printf(
-        "], \"bin_deg\": %g, \"near_points\": %zu, \"skipped_tangent\": %zu, \"skipped_degenerate\": %zu, "
-        "\"streamlines\": %zu, \"near_mm\": %g, \"surface\": \"%s\", \"against\": \"%s\"}\n",
-        r.binDeg, r.nearPoints, r.skippedTangent, r.skippedDegenerate, tracts.lineCount(), ao.nearMm,
-        session::describeSurface(spec).c_str(),
-        m.fibres ? "nearest fibre population" : "tensor principal direction");
+    const nlohmann::ordered_json j = {
+        {"points", r.anglesDeg.size()},
+        {"mean_deg", r.meanDeg}, // null when no point was compared
+        {"median_deg", r.medianDeg},
+        {"frac_below_15", r.fracBelow15},
+        {"histogram", r.histogram},
+        {"bin_deg", r.binDeg},
+        {"near_points", r.nearPoints},
+        {"skipped_tangent", r.skippedTangent},
+        {"skipped_degenerate", r.skippedDegenerate},
+        {"streamlines", tracts.lineCount()},
+        {"near_mm", ao.nearMm},
+        {"surface", session::describeSurface(spec)},
+        {"against", m.fibres ? "nearest fibre population" : "tensor principal direction"}};
+    std::printf("%s\n", io::jsonText(j).c_str());
     return 0;
   }
   std::printf("tracts: %s (%zu streamlines, %zu points)\n", tractsPath.c_str(), tracts.lineCount(),

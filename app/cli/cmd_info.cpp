@@ -7,6 +7,7 @@
 #include "io/model/error.h"
 #include "io/model/tensor.h"
 #include "io/formats/formats.h"
+#include "io/formats/json.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
 #include "ui/session/fibre_input.h"
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -27,108 +29,15 @@ namespace {
 
 const char* kComponentNames[6] = {"xx", "xy", "xz", "yy", "yz", "zz"};
 
-// Minimal JSON writer: objects and arrays with automatic commas; doubles in shortest round-trip form,
-// non-finite values as null.
-class Json {
-public:
-  Json& key(const std::string& k) {
-    comma();
-    str(k);
-    out_ << ':';
-    pendingValue_ = true;
-    return *this;
-  }
-  Json& begin(char c) {
-    comma();
-    out_ << c;
-    first_.push_back(true);
-    return *this;
-  }
-  Json& end(char c) {
-    out_ << c;
-    first_.pop_back();
-    return *this;
-  }
-  Json& value(double v) {
-    comma();
-    if (!std::isfinite(v)) {
-      out_ << "null";
-      return *this;
-    }
-    char buf[32];
-    auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    out_ << std::string(buf, r.ptr);
-    return *this;
-  }
-  Json& value(long long v) {
-    comma();
-    out_ << v;
-    return *this;
-  }
-  Json& value(bool v) {
-    comma();
-    out_ << (v ? "true" : "false");
-    return *this;
-  }
-  Json& value(const std::string& s) {
-    comma();
-    str(s);
-    return *this;
-  }
-  Json& vec(const glm::dvec3& v) {
-    begin('[');
-    for (int i = 0; i < 3; ++i)
-      value(v[i]);
-    return end(']');
-  }
-  std::string text() const { return out_.str(); }
+using Json = nlohmann::ordered_json; // members in the order written; NaN and infinities print as null
 
-private:
-  void comma() {
-    if (pendingValue_) {
-      pendingValue_ = false;
-      return;
-    }
-    if (!first_.empty()) {
-      if (!first_.back()) out_ << ',';
-      first_.back() = false;
-    }
-  }
-  void str(const std::string& s) {
-    out_ << '"';
-    for (unsigned char c : s) {
-      switch (c) {
-      case '"':
-        out_ << "\\\"";
-        break;
-      case '\\':
-        out_ << "\\\\";
-        break;
-      case '\n':
-        out_ << "\\n";
-        break;
-      case '\r':
-        out_ << "\\r";
-        break;
-      case '\t':
-        out_ << "\\t";
-        break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-          out_ << buf;
-        } else {
-          out_ << c;
-        }
-      }
-    }
-    out_ << '"';
-  }
-  std::ostringstream out_;
-  std::vector<bool> first_;
-  bool pendingValue_ = false;
-};
+Json vec(const glm::dvec3& v) {
+  return Json::array({v.x, v.y, v.z});
+}
+
+void printJson(const Json& j) {
+  std::printf("%s\n", io::jsonText(j).c_str());
+}
 
 // The smallest and largest value seen.
 struct MinMax {
@@ -165,32 +74,26 @@ bool looksLikeTensor(const io::VolumeHeader& h) {
 }
 
 void headerJson(Json& j, const io::VolumeHeader& h) {
-  j.key("file").value(h.path);
-  j.key("file_format").value(h.format);
-  j.key("format_reason").value(h.formatReason);
-  j.key("nifti_version").value(static_cast<long long>(h.niftiVersion));
-  j.key("dims").begin('[');
-  for (long long d : h.dims)
-    j.value(d);
-  j.end(']');
-  j.key("voxel_size").vec(h.grid.spacing);
-  j.key("affine").begin('[');
-  for (int r = 0; r < 4; ++r) {
-    j.begin('[');
-    for (int c = 0; c < 4; ++c)
-      j.value(h.grid.voxelToWorld[c][r]);
-    j.end(']');
-  }
-  j.end(']');
-  j.key("affine_source").value(h.affineSource);
-  j.key("qform_code").value(static_cast<long long>(h.qformCode));
-  j.key("sform_code").value(static_cast<long long>(h.sformCode));
-  j.key("orientation").value(h.grid.orientationCode());
-  j.key("datatype").value(h.datatypeName);
-  j.key("intent_code").value(static_cast<long long>(h.intentCode));
-  j.key("intent_name").value(h.intentName);
-  j.key("scl_slope").value(h.sclSlope);
-  j.key("scl_inter").value(h.sclInter);
+  j["file"] = h.path;
+  j["file_format"] = h.format;
+  j["format_reason"] = h.formatReason;
+  j["nifti_version"] = h.niftiVersion;
+  j["dims"] = h.dims;
+  j["voxel_size"] = vec(h.grid.spacing);
+  Json affine = Json::array();
+  for (int r = 0; r < 4; ++r)
+    affine.push_back({h.grid.voxelToWorld[0][r], h.grid.voxelToWorld[1][r], h.grid.voxelToWorld[2][r],
+                      h.grid.voxelToWorld[3][r]});
+  j["affine"] = affine;
+  j["affine_source"] = h.affineSource;
+  j["qform_code"] = h.qformCode;
+  j["sform_code"] = h.sformCode;
+  j["orientation"] = h.grid.orientationCode();
+  j["datatype"] = h.datatypeName;
+  j["intent_code"] = h.intentCode;
+  j["intent_name"] = h.intentName;
+  j["scl_slope"] = h.sclSlope;
+  j["scl_inter"] = h.sclInter;
 }
 
 void headerText(const io::VolumeHeader& h) {
@@ -225,10 +128,7 @@ void headerText(const io::VolumeHeader& h) {
 
 void warningsOut(Json* j, const std::vector<std::string>& warnings) {
   if (j) {
-    j->key("warnings").begin('[');
-    for (const auto& w : warnings)
-      j->value(w);
-    j->end(']');
+    (*j)["warnings"] = warnings;
     return;
   }
   for (const auto& w : warnings)
@@ -261,30 +161,23 @@ int describeTensors(const io::LoadedTensors& t, bool json) {
   }
   if (json) {
     Json j;
-    j.begin('{');
     headerJson(j, t.header);
-    j.key("is_tensor").value(true);
-    j.key("layout").value(std::string(io::layoutName(t.layout)));
-    j.key("layout_reason").value(t.layoutReason);
-    j.key("units").value(std::string("mm^2/s"));
-    j.key("frame").value(std::string("world RAS"));
-    j.key("voxels").value(static_cast<long long>(f.tensors.size()));
-    j.key("valid_voxels").value(static_cast<long long>(valid));
-    j.key("nan_voxels").value(static_cast<long long>(t.nanVoxels));
-    j.key("non_positive_voxels").value(static_cast<long long>(t.nonPositiveVoxels));
-    j.key("component_ranges").begin('{');
-    for (int k = 0; k < 6; ++k) {
-      j.key(kComponentNames[k]).begin('[');
-      j.value(ranges[k].empty() ? NAN : ranges[k].lo).value(ranges[k].empty() ? NAN : ranges[k].hi);
-      j.end(']');
-    }
-    j.end('}');
-    j.key("fa").begin('{');
-    j.key("mean").value(faMean).key("median").value(faMedian).key("max").value(faMax);
-    j.end('}');
+    j["is_tensor"] = true;
+    j["layout"] = io::layoutName(t.layout);
+    j["layout_reason"] = t.layoutReason;
+    j["units"] = "mm^2/s";
+    j["frame"] = "world RAS";
+    j["voxels"] = f.tensors.size();
+    j["valid_voxels"] = valid;
+    j["nan_voxels"] = t.nanVoxels;
+    j["non_positive_voxels"] = t.nonPositiveVoxels;
+    Json comps = Json::object();
+    for (int k = 0; k < 6; ++k)
+      comps[kComponentNames[k]] = {ranges[k].empty() ? NAN : ranges[k].lo, ranges[k].empty() ? NAN : ranges[k].hi};
+    j["component_ranges"] = comps;
+    j["fa"] = {{"mean", faMean}, {"median", faMedian}, {"max", faMax}};
     warningsOut(&j, t.warnings);
-    j.end('}');
-    std::printf("%s\n", j.text().c_str());
+    printJson(j);
     return 0;
   }
   headerText(t.header);
@@ -318,23 +211,17 @@ int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) 
     if (!r.empty()) all.add(r.lo), all.add(r.hi);
   if (json) {
     Json j;
-    j.begin('{');
     headerJson(j, h);
-    j.key("is_tensor").value(false);
-    j.key("components").value(static_cast<long long>(v.components));
-    j.key("value_range")
-        .begin('[')
-        .value(all.empty() ? NAN : all.lo)
-        .value(all.empty() ? NAN : all.hi)
-        .end(']');
-    j.key("component_ranges").begin('[');
+    j["is_tensor"] = false;
+    j["components"] = v.components;
+    j["value_range"] = {all.empty() ? NAN : all.lo, all.empty() ? NAN : all.hi};
+    Json comps = Json::array();
     for (const auto& r : ranges)
-      j.begin('[').value(r.empty() ? NAN : r.lo).value(r.empty() ? NAN : r.hi).end(']');
-    j.end(']');
-    j.key("nan_values").value(static_cast<long long>(nonFinite));
+      comps.push_back({r.empty() ? NAN : r.lo, r.empty() ? NAN : r.hi});
+    j["component_ranges"] = comps;
+    j["nan_values"] = nonFinite;
     warningsOut(&j, h.warnings);
-    j.end('}');
-    std::printf("%s\n", j.text().c_str());
+    printJson(j);
     return 0;
   }
   headerText(h);
@@ -371,10 +258,7 @@ std::vector<double> conesAt(const std::string& conePath, const glm::dvec3& world
 void printCones(const std::vector<double>& cones, const std::string& conePath, Json* j) {
   if (conePath.empty()) return;
   if (j) {
-    j->key("cone_deg").begin('[');
-    for (double c : cones)
-      j->value(c); // NaN is written as null
-    j->end(']');
+    (*j)["cone_deg"] = cones; // NaN is written as null
     return;
   }
   std::printf("cone95:      ");
@@ -395,11 +279,9 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
   const std::vector<double> cones = conePath.empty() ? std::vector<double>{} : conesAt(conePath, world);
   Json j;
   if (json) {
-    j.begin('{');
-    j.key("file").value(path);
-    j.key("voxel").begin('[').value(static_cast<long long>(ijk[0])).value(static_cast<long long>(ijk[1]));
-    j.value(static_cast<long long>(ijk[2])).end(']');
-    j.key("world").vec(world);
+    j["file"] = path;
+    j["voxel"] = {ijk[0], ijk[1], ijk[2]};
+    j["world"] = vec(world);
   } else {
     std::printf("file:         %s\n", path.c_str());
     std::printf("voxel:        %d, %d, %d\n", ijk[0], ijk[1], ijk[2]);
@@ -409,14 +291,13 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
   if (!t) {
     int comps = v->components;
     if (json) {
-      j.key("is_tensor").value(false);
-      j.key("values").begin('[');
+      j["is_tensor"] = false;
+      Json values = Json::array();
       for (int c = 0; c < comps; ++c)
-        j.value(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
-      j.end(']');
+        values.push_back(static_cast<double>(v->at(ijk[0], ijk[1], ijk[2], c)));
+      j["values"] = values;
       printCones(cones, conePath, &j);
-      j.end('}');
-      std::printf("%s\n", j.text().c_str());
+      printJson(j);
     } else {
       std::printf("values:      ");
       for (int c = 0; c < comps; ++c)
@@ -432,23 +313,20 @@ int describeVoxel(const std::string& path, const io::VolumeHeader& h, const io::
   EigenSystem e = eigenDecompose(m);
   TensorMetrics mt = computeMetrics(e);
   if (json) {
-    j.key("is_tensor").value(true);
-    j.key("layout").value(std::string(io::layoutName(t->layout)));
-    j.key("valid").value(valid);
-    j.key("units").value(std::string("mm^2/s"));
-    j.key("tensor_world").begin('[');
-    for (int r = 0; r < 3; ++r)
-      j.vec(glm::dvec3(m[0][r], m[1][r], m[2][r]));
-    j.end(']');
-    j.key("eigenvalues").vec(e.values);
-    j.key("eigenvectors").begin('[');
-    for (int i = 0; i < 3; ++i)
-      j.vec(e.vectors[i]);
-    j.end(']');
-    j.key("fa").value(mt.fa).key("md").value(mt.md).key("ad").value(mt.ad).key("rd").value(mt.rd);
+    j["is_tensor"] = true;
+    j["layout"] = io::layoutName(t->layout);
+    j["valid"] = valid;
+    j["units"] = "mm^2/s";
+    j["tensor_world"] = {vec({m[0][0], m[1][0], m[2][0]}), vec({m[0][1], m[1][1], m[2][1]}),
+                         vec({m[0][2], m[1][2], m[2][2]})};
+    j["eigenvalues"] = vec(e.values);
+    j["eigenvectors"] = {vec(e.vectors[0]), vec(e.vectors[1]), vec(e.vectors[2])};
+    j["fa"] = mt.fa;
+    j["md"] = mt.md;
+    j["ad"] = mt.ad;
+    j["rd"] = mt.rd;
     printCones(cones, conePath, &j);
-    j.end('}');
-    std::printf("%s\n", j.text().c_str());
+    printJson(j);
     return 0;
   }
   std::printf("layout:       %s\n", io::layoutName(t->layout));
@@ -485,12 +363,16 @@ int describeFibreInput(const io::OpenedInput& opened, const std::string& tensorP
   const std::string layout = io::fibreLayoutName(in.fibres.layout);
   if (!ijk) {
     if (json) {
-      std::printf("{\"file\":\"%s\",\"is_tensor\":false,\"is_fibres\":true,\"fibre_layout\":\"%s\","
-                  "\"layout_reason\":\"%s\",\"dims\":[%d,%d,%d],\"orientation\":\"%s\",\"max_fibres\":%d,"
-                  "\"voxels_with_fibres\":%zu,\"max_amplitude\":%s}\n",
-                  path.c_str(), layout.c_str(), in.fibres.layoutReason.c_str(), g.dims.x, g.dims.y, g.dims.z,
-                  g.orientationCode().c_str(), s.maxFibres, s.occupiedVoxels(),
-                  fibreNum(s.maxAmplitude()).c_str());
+      printJson({{"file", path},
+                 {"is_tensor", false},
+                 {"is_fibres", true},
+                 {"fibre_layout", layout},
+                 {"layout_reason", in.fibres.layoutReason},
+                 {"dims", {g.dims.x, g.dims.y, g.dims.z}},
+                 {"orientation", g.orientationCode()},
+                 {"max_fibres", s.maxFibres},
+                 {"voxels_with_fibres", s.occupiedVoxels()},
+                 {"max_amplitude", s.maxAmplitude()}});
       return 0;
     }
     std::printf("file:         %s\n", path.c_str());
@@ -510,33 +392,38 @@ int describeFibreInput(const io::OpenedInput& opened, const std::string& tensorP
   const glm::dvec3 world = g.toWorld(glm::dvec3(ijk[0], ijk[1], ijk[2]));
   const Fibre* f = s.at(ijk[0], ijk[1], ijk[2]);
   const int n = s.count(g.index(ijk[0], ijk[1], ijk[2]));
-  std::string tensorJson, tensorText;
+  Json j = {{"file", path},
+            {"voxel", {ijk[0], ijk[1], ijk[2]}},
+            {"world", vec(world)},
+            {"is_fibres", true},
+            {"fibre_layout", layout}};
+  Json fibres = Json::array();
+  for (int k = 0; k < n; ++k)
+    fibres.push_back({{"direction", vec(glm::dvec3(f[k].direction))}, {"amplitude", f[k].amplitude}});
+  j["fibres"] = fibres;
+  std::string tensorText;
   if (in.tensor) {
     const std::size_t idx = g.index(ijk[0], ijk[1], ijk[2]);
     const EigenSystem e = eigenDecompose(in.tensor->field.tensors[idx].toMat());
     const double fa = in.tensor->field.valid[idx] ? computeMetrics(e).fa : 0.0;
-    tensorJson = ", \"is_tensor\": true, \"tensor_file\": \"" + tensorPath +
-                 "\", \"valid\": " + (in.tensor->field.valid[idx] ? "true" : "false") +
-                 ", \"fa\": " + fibreNum(fa) + ", \"eigenvalues\": " + fibreVec(e.values) + ", \"eigenvectors\": [" +
-                 fibreVec(e.vectors[0]) + ", " + fibreVec(e.vectors[1]) + ", " + fibreVec(e.vectors[2]) + "]";
+    j["is_tensor"] = true;
+    j["tensor_file"] = tensorPath;
+    j["valid"] = in.tensor->field.valid[idx] != 0;
+    j["fa"] = fa;
+    j["eigenvalues"] = vec(e.values);
+    j["eigenvectors"] = {vec(e.vectors[0]), vec(e.vectors[1]), vec(e.vectors[2])};
     tensorText = "tensor:       " + tensorPath + ": FA " + fibreNum(fa) + ", e1 " + fibreVec(e.vectors[0]) + "\n";
   } else {
-    tensorJson = ", \"is_tensor\": false";
+    j["is_tensor"] = false;
     if (!in.fa.data.empty()) {
       const double fa = in.fa.data[g.index(ijk[0], ijk[1], ijk[2])];
-      tensorJson += ", \"fa\": " + fibreNum(fa) + ", \"fa_file\": \"" + in.faSource + "\"";
+      j["fa"] = fa;
+      j["fa_file"] = in.faSource;
       tensorText = "FA:           " + fibreNum(fa) + " (" + in.faSource + ")\n";
     }
   }
   if (json) {
-    std::string fibres;
-    for (int k = 0; k < n; ++k)
-      fibres += std::string(k ? ", " : "") + "{\"direction\": " + fibreVec(glm::dvec3(f[k].direction)) +
-                ", \"amplitude\": " + fibreNum(f[k].amplitude) + "}";
-    std::printf("{\"file\": \"%s\", \"voxel\": [%d, %d, %d], \"world\": %s, \"is_fibres\": true, "
-                "\"fibre_layout\": \"%s\", \"fibres\": [%s]%s}\n",
-                path.c_str(), ijk[0], ijk[1], ijk[2], fibreVec(world).c_str(), layout.c_str(), fibres.c_str(),
-                tensorJson.c_str());
+    printJson(j);
     return 0;
   }
   std::printf("file:         %s\n", path.c_str());

@@ -3,6 +3,7 @@
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"
 #include "surfaces/mesh_checks.h"
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 namespace dtf::app {
 
@@ -185,16 +187,26 @@ int cmdSurface(const CommandArgs& argv) {
   surfaces::writeMesh(output, mesh);
 
   if (json) {
-    std::printf("{\"surface\": \"%s\", \"triangles\": %zu, \"vertices\": %zu, \"area_mm2\": %.3f, "
-                "\"build_ms\": %.2f, \"e1_dot_n\": %.6f",
-                session::describeSurface(spec).c_str(), mesh.triangleCount(), mesh.positions.size(),
-                meshArea(mesh), buildMs, score);
-    if (flatScore >= 0) std::printf(", \"flat_slice\": \"%s\", \"flat_e1_dot_n\": %.6f", flatName.c_str(), flatScore);
-    if (checked) std::printf(", \"self_intersections\": %zu, \"removed_triangles\": %zu", intersections, removed);
-    if (smoothing.vertices)
-      std::printf(", \"smoothing_max_shift_voxels\": %.4f, \"smoothing_clamped\": %zu", smoothing.maxShiftVoxels,
-                  smoothing.clamped);
-    std::printf(", \"output\": \"%s\"}\n", output.c_str());
+    nlohmann::ordered_json j = {{"surface", session::describeSurface(spec)},
+                                {"triangles", mesh.triangleCount()},
+                                {"vertices", mesh.positions.size()},
+                                {"area_mm2", meshArea(mesh)},
+                                {"build_ms", buildMs},
+                                {"e1_dot_n", score}};
+    if (flatScore >= 0) {
+      j["flat_slice"] = flatName;
+      j["flat_e1_dot_n"] = flatScore;
+    }
+    if (checked) {
+      j["self_intersections"] = intersections;
+      j["removed_triangles"] = removed;
+    }
+    if (smoothing.vertices) {
+      j["smoothing_max_shift_voxels"] = smoothing.maxShiftVoxels;
+      j["smoothing_clamped"] = smoothing.clamped;
+    }
+    j["output"] = output;
+    std::printf("%s\n", io::jsonText(j).c_str());
   } else {
     std::printf("surface:   %s\n", session::describeSurface(spec).c_str());
     std::printf("layout:    %s (%s)\n", io::layoutName(loaded.layout), loaded.layoutReason.c_str());

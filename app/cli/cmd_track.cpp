@@ -6,6 +6,7 @@
 #include "ui/session/track_job.h"
 #include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "surfaces/slices.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
 
@@ -239,14 +241,24 @@ void printReport(const TrackCli& cli, const session::TrackRun& run) {
   std::sort(lengths.begin(), lengths.end());
   const double medLen = lengths[lengths.size() / 2];
   if (cli.json) {
-    std::printf(
-        "{\"output\": \"%s\", \"streamlines\": %zu, \"points\": %zu, \"seeds_tried\": %zu, "
-        "\"seeds_below_fa\": %zu, \"too_short\": %zu, \"length_min_mm\": %.3f, \"length_median_mm\": %.3f, "
-        "\"length_max_mm\": %.3f, \"seconds\": %.4f, \"threads\": %d, \"integrator\": \"%s\", "
-        "\"step_mm\": %g, \"fa_stop\": %g, \"angle_deg\": %g, \"seed\": %d, \"cancelled\": %s}\n",
-        output, r.lines.lineCount(), r.lines.points.size(), r.seedsTried, r.seedsBelowFa, r.tooShort,
-        lengths.front(), medLen, lengths.back(), run.seconds, r.threads, to.rk4 ? "rk4" : "euler", to.stepMm,
-        to.faStop, to.maxAngleDeg, static_cast<int>(cli.request.rngSeed), r.cancelled ? "true" : "false");
+    const nlohmann::ordered_json j = {{"output", cli.output},
+                                      {"streamlines", r.lines.lineCount()},
+                                      {"points", r.lines.points.size()},
+                                      {"seeds_tried", r.seedsTried},
+                                      {"seeds_below_fa", r.seedsBelowFa},
+                                      {"too_short", r.tooShort},
+                                      {"length_min_mm", lengths.front()},
+                                      {"length_median_mm", medLen},
+                                      {"length_max_mm", lengths.back()},
+                                      {"seconds", run.seconds},
+                                      {"threads", r.threads},
+                                      {"integrator", to.rk4 ? "rk4" : "euler"},
+                                      {"step_mm", to.stepMm},
+                                      {"fa_stop", to.faStop},
+                                      {"angle_deg", to.maxAngleDeg},
+                                      {"seed", static_cast<int>(cli.request.rngSeed)},
+                                      {"cancelled", r.cancelled}};
+    std::printf("%s\n", io::jsonText(j).c_str());
     return;
   }
   const std::string& stopMask = cli.request.stopMask;

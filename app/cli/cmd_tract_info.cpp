@@ -3,14 +3,15 @@
 // ranges, and groups. Text for people, --json for scripts.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "ui/session/tract_files.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,27 +20,7 @@ namespace dtf::app {
 
 namespace {
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-std::string quote(const std::string& s) {
-  std::string o = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\')
-      o += '\\', o += static_cast<char>(c);
-    else if (c < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      o += b;
-    } else
-      o += static_cast<char>(c);
-  }
-  return o + "\"";
-}
+using Json = nlohmann::ordered_json;
 
 struct Stats {
   double min = 0, max = 0, mean = 0, median = 0;
@@ -62,9 +43,8 @@ Stats statsOf(std::vector<double> v) {
   return s;
 }
 
-std::string statsJson(const Stats& s) {
-  return "{\"min\": " + num(s.min) + ",\"mean\": " + num(s.mean) + ",\"median\": " + num(s.median) +
-         ",\"max\": " + num(s.max) + "}";
+Json statsJson(const Stats& s) {
+  return {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}};
 }
 
 } // namespace
@@ -121,66 +101,62 @@ std::pair<double, double> valueRange(const TractValues& d) {
   return {a, b};
 }
 
-void gridJson(std::ostringstream& o, const Grid& g) {
-  o << ",\"dimensions\": [" << g.dims.x << "," << g.dims.y << "," << g.dims.z << "],\"voxel_size\": ["
-    << num(g.spacing.x) << "," << num(g.spacing.y) << "," << num(g.spacing.z)
-    << "],\"orientation\": " << quote(g.orientationCode()) << ",\"affine\": [";
-  for (int r = 0; r < 4; ++r) {
-    o << (r ? ",[" : "[");
-    for (int c = 0; c < 4; ++c)
-      o << (c ? "," : "") << num(g.voxelToWorld[c][r]);
-    o << "]";
-  }
-  o << "]";
+void gridJson(Json& o, const Grid& g) {
+  o["dimensions"] = {g.dims.x, g.dims.y, g.dims.z};
+  o["voxel_size"] = {g.spacing.x, g.spacing.y, g.spacing.z};
+  o["orientation"] = g.orientationCode();
+  Json affine = Json::array();
+  for (int r = 0; r < 4; ++r)
+    affine.push_back({g.voxelToWorld[0][r], g.voxelToWorld[1][r], g.voxelToWorld[2][r], g.voxelToWorld[3][r]});
+  o["affine"] = affine;
 }
 
-void dataJson(std::ostringstream& o, const Polylines& lines) {
-  auto names = [&](const char* key, const std::vector<TractValues>& data) {
-    o << ",\"" << key << "\": [";
-    for (std::size_t i = 0; i < data.size(); ++i)
-      o << (i ? "," : "") << quote(data[i].name);
-    o << "]";
+void dataJson(Json& o, const Polylines& lines) {
+  auto names = [&](const auto& items) {
+    Json n = Json::array();
+    for (const auto& d : items)
+      n.push_back(d.name);
+    return n;
   };
-  names("dps", lines.perLine);
-  names("dpv", lines.perPoint);
-  o << ",\"groups\": [";
-  for (std::size_t i = 0; i < lines.groups.size(); ++i)
-    o << (i ? "," : "") << quote(lines.groups[i].name);
-  o << "],\"data\": [";
-  bool first = true;
+  o["dps"] = names(lines.perLine);
+  o["dpv"] = names(lines.perPoint);
+  o["groups"] = names(lines.groups);
+  Json data = Json::array();
   for (int per = 0; per < 2; ++per)
     for (const auto& d : per ? lines.perPoint : lines.perLine) {
       const auto [a, b] = valueRange(d);
       const std::size_t items = d.values.size() / static_cast<std::size_t>(d.components);
-      o << (first ? "" : ",") << "{\"name\": " << quote(d.name) << ",\"per\": \""
-        << (per ? "point" : "streamline") << "\",\"shape\": [" << items << "," << d.components
-        << "],\"min\": " << num(a) << ",\"max\": " << num(b) << "}";
-      first = false;
+      data.push_back({{"name", d.name},
+                      {"per", per ? "point" : "streamline"},
+                      {"shape", {items, d.components}},
+                      {"min", a},
+                      {"max", b}});
     }
-  o << "],\"group_sizes\": {";
-  for (std::size_t i = 0; i < lines.groups.size(); ++i)
-    o << (i ? "," : "") << quote(lines.groups[i].name) << ": " << lines.groups[i].lines.size();
-  o << "}";
+  o["data"] = data;
+  Json sizes = Json::object();
+  for (const auto& g : lines.groups)
+    sizes[g.name] = g.lines.size();
+  o["group_sizes"] = sizes;
 }
 
 std::string tractsJson(const std::string& path, const session::TractFileFacts& facts, const Polylines& lines,
                        const TractSummary& s) {
-  std::ostringstream o;
-  o << "{\"file\": " << quote(path) << ",\"format\": " << quote(facts.format)
-    << ",\"streamlines\": " << lines.lineCount() << ",\"points\": " << lines.points.size()
-    << ",\"declared_count\": " << facts.declaredCount;
-  o << ",\"header\": {";
-  for (std::size_t i = 0; i < facts.fields.size(); ++i)
-    o << (i ? "," : "") << quote(facts.fields[i].first) << ": " << quote(facts.fields[i].second);
-  o << "}";
+  Json o = {{"file", path},
+            {"format", facts.format},
+            {"streamlines", lines.lineCount()},
+            {"points", lines.points.size()},
+            {"declared_count", facts.declaredCount}};
+  Json header = Json::object();
+  for (const auto& [k, v] : facts.fields)
+    header[k] = v;
+  o["header"] = header;
   if (facts.grid) gridJson(o, *facts.grid);
-  o << ",\"length_mm\": " << statsJson(s.length) << ",\"points_per_streamline\": " << statsJson(s.pointsPerLine);
+  o["length_mm"] = statsJson(s.length);
+  o["points_per_streamline"] = statsJson(s.pointsPerLine);
   if (!lines.points.empty())
-    o << ",\"bounds_mm\": [[" << num(s.lo.x) << "," << num(s.lo.y) << "," << num(s.lo.z) << "],[" << num(s.hi.x)
-      << "," << num(s.hi.y) << "," << num(s.hi.z) << "]]";
+    o["bounds_mm"] = {{s.lo.x, s.lo.y, s.lo.z}, {s.hi.x, s.hi.y, s.hi.z}};
   dataJson(o, lines);
-  o << "}\n";
-  return o.str();
+  return io::jsonText(o) + "\n";
 }
 
 std::string tractsText(const std::string& path, const session::TractFileFacts& facts, const Polylines& lines,

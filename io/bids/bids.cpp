@@ -1,6 +1,7 @@
 #include "io/bids/bids.h"
 
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <zlib.h>
@@ -118,17 +120,9 @@ BidsDataset scanBidsDataset(const std::string& rootArg) {
   if (!fs::exists(desc, ec))
     throw InputError(rootArg + ": not a BIDS dataset: dataset_description.json is missing");
   {
-    const std::string text = readTextFile(desc.string());
-    const auto first = text.find_first_not_of(" \t\r\n");
-    if (first == std::string::npos || text[first] != '{' || text.find('}') == std::string::npos)
-      throw InputError(desc.string() + ": not a JSON object (BIDS dataset_description.json)");
-    // Name is a plain string in every valid description; read it without a general JSON parser.
-    const auto key = text.find("\"Name\"");
-    if (key != std::string::npos) {
-      const auto open = text.find('"', text.find(':', key) + 1);
-      const auto close = open == std::string::npos ? open : text.find('"', open + 1);
-      if (close != std::string::npos) ds.name = text.substr(open + 1, close - open - 1);
-    }
+    const nlohmann::ordered_json d = readJsonFile(desc.string());
+    if (!d.is_object()) throw InputError(desc.string() + ": not a JSON object (BIDS dataset_description.json)");
+    ds.name = jsonString(d, "Name");
   }
   for (const auto& entry : fs::directory_iterator(root, ec)) {
     const std::string name = entry.path().filename().string();
@@ -201,16 +195,16 @@ void refuseOutputInsideInput(const std::string& bidsRoot, const std::string& out
 
 void writeDerivativeDescription(const std::string& outputRoot, const BidsDataset& source,
                                 const std::string& version) {
-  std::string text = "{\n";
-  text +=
-      "  \"Name\": " + jsonQuote("dtfabric QC" + (source.name.empty() ? "" : " of " + source.name)) + ",\n";
-  text += "  \"BIDSVersion\": \"1.8.0\",\n";
-  text += "  \"DatasetType\": \"derivative\",\n";
-  text += "  \"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": " + jsonQuote(version) +
-          ", \"Description\": \"tensor fit, gradient-orientation check and fabric figures per diffusion "
-          "run\"}],\n";
-  text += "  \"SourceDatasets\": [{\"URL\": " + jsonQuote("file://" + source.root) + "}]\n";
-  text += "}\n";
+  const nlohmann::ordered_json d = {
+      {"Name", "dtfabric QC" + (source.name.empty() ? "" : " of " + source.name)},
+      {"BIDSVersion", "1.8.0"},
+      {"DatasetType", "derivative"},
+      {"GeneratedBy",
+       {{{"Name", "dtfabric"},
+         {"Version", version},
+         {"Description", "tensor fit, gradient-orientation check and fabric figures per diffusion run"}}}},
+      {"SourceDatasets", {{{"URL", "file://" + source.root}}}}};
+  const std::string text = jsonText(d, 2) + "\n";
   writeTextIfChanged((fs::path(outputRoot) / "dataset_description.json").string(), text);
 }
 
@@ -232,131 +226,6 @@ std::string fileHash(const std::string& path) {
   std::snprintf(out, sizeof out, "crc32:%08lx:%llu", static_cast<unsigned long>(crc),
                 static_cast<unsigned long long>(size));
   return out;
-}
-
-std::string jsonQuote(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += c;
-    } else if (c == '\n') {
-      o += "\\n";
-    } else if (c == '\t') {
-      o += "\\t";
-    } else if (static_cast<unsigned char>(c) >= 0x20) {
-      o += c;
-    }
-  }
-  return o + "\"";
-}
-
-void FlatJson::set(const std::string& key, const std::string& value) {
-  if (!values_.count(key)) order_.push_back(key);
-  values_[key] = {value, true};
-}
-
-void FlatJson::setNumber(const std::string& key, double value, int precision) {
-  if (!values_.count(key)) order_.push_back(key);
-  char buf[64];
-  if (std::isfinite(value))
-    std::snprintf(buf, sizeof buf, "%.*g", precision, value);
-  else
-    std::snprintf(buf, sizeof buf, "null");
-  values_[key] = {buf, false};
-}
-
-void FlatJson::setBool(const std::string& key, bool value) {
-  if (!values_.count(key)) order_.push_back(key);
-  values_[key] = {value ? "true" : "false", false};
-}
-
-bool FlatJson::has(const std::string& key) const {
-  return values_.count(key) > 0;
-}
-
-std::string FlatJson::get(const std::string& key) const {
-  auto it = values_.find(key);
-  return it == values_.end() ? "" : it->second.first;
-}
-
-double FlatJson::number(const std::string& key) const {
-  auto it = values_.find(key);
-  if (it == values_.end() || it->second.second) return std::nan("");
-  char* end = nullptr;
-  const double v = std::strtod(it->second.first.c_str(), &end);
-  return end && *end == 0 && !it->second.first.empty() ? v : std::nan("");
-}
-
-std::string FlatJson::text() const {
-  std::string o = "{\n";
-  for (std::size_t i = 0; i < order_.size(); ++i) {
-    const auto& [v, isString] = values_.at(order_[i]);
-    o += "  " + jsonQuote(order_[i]) + ": " + (isString ? jsonQuote(v) : v) +
-         (i + 1 < order_.size() ? ",\n" : "\n");
-  }
-  return o + "}\n";
-}
-
-FlatJson FlatJson::parse(const std::string& text, const std::string& origin) {
-  FlatJson j;
-  std::size_t i = 0;
-  auto fail = [&](const std::string& what) -> void {
-    throw InputError(origin + ": " + what + " at byte " + std::to_string(i) +
-                     " (expected a flat JSON object)");
-  };
-  auto skip = [&] {
-    while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])))
-      ++i;
-  };
-  auto str = [&]() -> std::string {
-    if (i >= text.size() || text[i] != '"') fail("no string");
-    std::string s;
-    for (++i; i < text.size() && text[i] != '"'; ++i) {
-      if (text[i] == '\\' && i + 1 < text.size()) {
-        const char e = text[++i];
-        s += e == 'n' ? '\n' : e == 't' ? '\t' : e;
-      } else {
-        s += text[i];
-      }
-    }
-    if (i >= text.size()) fail("unterminated string");
-    ++i;
-    return s;
-  };
-  skip();
-  if (i >= text.size() || text[i] != '{') fail("no '{'");
-  ++i;
-  skip();
-  if (i < text.size() && text[i] == '}') return j;
-  while (true) {
-    skip();
-    const std::string key = str();
-    skip();
-    if (i >= text.size() || text[i] != ':') fail("no ':'");
-    ++i;
-    skip();
-    if (i < text.size() && text[i] == '"') {
-      j.set(key, str());
-    } else {
-      const std::size_t start = i;
-      while (i < text.size() && text[i] != ',' && text[i] != '}' &&
-             !std::isspace(static_cast<unsigned char>(text[i])))
-        ++i;
-      const std::string v = text.substr(start, i - start);
-      if (v.empty() || v[0] == '{' || v[0] == '[') fail("a nested value");
-      if (!j.values_.count(key)) j.order_.push_back(key);
-      j.values_[key] = {v, false};
-    }
-    skip();
-    if (i < text.size() && text[i] == ',') {
-      ++i;
-      continue;
-    }
-    if (i < text.size() && text[i] == '}') break;
-    fail("no ',' or '}'");
-  }
-  return j;
 }
 
 std::string readTextFile(const std::string& path) {

@@ -1,12 +1,10 @@
 // BIDS datasets as `dtfabric bids` reads and writes them: finding the diffusion runs of a raw dataset
 // (`sub-*/[ses-*/]dwi/*_dwi.nii[.gz]` with their `.bval`/`.bvec`), naming derivatives (every entity of the
-// source name kept, `desc-…` added before the suffix), the derivative's `dataset_description.json`, and the
-// small flat JSON documents the participant level writes and the group level reads back. Pure file-system
-// work: no imaging here.
+// source name kept, `desc-…` added before the suffix) and the derivative's `dataset_description.json`. Pure
+// file-system work: no imaging here.
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -60,36 +58,10 @@ void writeDerivativeDescription(const std::string& outputRoot, const BidsDataset
 // InputError when the file cannot be read.
 std::string fileHash(const std::string& path);
 
-// A flat JSON object of string, number and boolean values, written in insertion order.
-class FlatJson {
-public:
-  void set(const std::string& key, const std::string& value);
-  void set(const std::string& key, const char* value) { set(key, std::string(value)); }
-  void setNumber(const std::string& key, double value, int precision = 6);
-  void setBool(const std::string& key, bool value);
-  bool has(const std::string& key) const;
-  // The value as written (strings unescaped); "" when absent.
-  std::string get(const std::string& key) const;
-  // The numeric value; NaN when absent or not a number.
-  double number(const std::string& key) const;
-  const std::vector<std::string>& keys() const { return order_; }
-
-  std::string text() const;
-  // Parses text written by text() (or any flat JSON object of strings, numbers, booleans and null). Throws
-  // InputError naming `origin` on anything else.
-  static FlatJson parse(const std::string& text, const std::string& origin);
-
-private:
-  std::vector<std::string> order_;
-  std::map<std::string, std::pair<std::string, bool>> values_; // value text, is-string
-};
-
 // Writes `text` to `path` atomically unless the file already holds exactly that text. Returns true when it
 // wrote. Throws InputError.
 bool writeTextIfChanged(const std::string& path, const std::string& text);
 // The whole file; throws InputError naming the path when it cannot be read.
 std::string readTextFile(const std::string& path);
-// JSON string literal with the quotes.
-std::string jsonQuote(const std::string& s);
 
 } // namespace dtf::io

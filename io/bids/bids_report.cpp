@@ -1,10 +1,12 @@
 #include "io/bids/bids_report.h"
 
 #include "io/bids/bids.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 namespace dtf::io {
 
@@ -365,30 +367,26 @@ std::string groupReportHtml(const std::vector<GroupRow>& rows, const std::string
   }
   h += "</div>\n<div id=\"detail\"></div>\n";
 
-  // Per-run data for the detail overlay (escaped so "</script>" cannot end the element).
-  std::string data = "[";
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const GroupRow& r = rows[i];
-    data += std::string(i ? ",\n" : "\n") + "{\"run\":" + jsonQuote(r.run) +
-            ",\"message\":" + jsonQuote(r.message) + ",\"flags\":[";
-    const auto flags = flagsOf(r);
-    for (std::size_t f = 0; f < flags.size(); ++f)
-      data += (f ? "," : "") + jsonQuote(flags[f]);
-    data += "],\"metrics\":{";
+  // Per-run data for the detail overlay. '<' is written as \u003c (the same string in JSON) so that no
+  // "</script>" or "<!--" inside a name can end or change the element.
+  nlohmann::ordered_json data = nlohmann::ordered_json::array();
+  for (const GroupRow& r : rows) {
+    nlohmann::ordered_json metrics = nlohmann::ordered_json::object();
     for (std::size_t c = 0; c < cols.size(); ++c)
-      data += (c ? "," : "") + jsonQuote(cols[c]) + ":" +
-              jsonQuote(number(c < r.metrics.size() ? r.metrics[c] : std::nan(""), 6));
-    data += "},\"figures\":[";
-    for (std::size_t f = 0; f < r.figures.size(); ++f)
-      data += (f ? "," : "") + std::string("{\"label\":") + jsonQuote(r.figures[f].label) +
-              ",\"path\":" + jsonQuote(r.figures[f].path) + "}";
-    data += "]";
-    if (!r.webPage.empty()) data += ",\"web\":" + jsonQuote(r.webPage);
-    data += "}";
+      metrics[cols[c]] = number(c < r.metrics.size() ? r.metrics[c] : std::nan(""), 6);
+    nlohmann::ordered_json figures = nlohmann::ordered_json::array();
+    for (const auto& f : r.figures)
+      figures.push_back({{"label", f.label}, {"path", f.path}});
+    nlohmann::ordered_json run = {{"run", r.run},
+                                  {"message", r.message},
+                                  {"flags", flagsOf(r)},
+                                  {"metrics", metrics},
+                                  {"figures", figures}};
+    if (!r.webPage.empty()) run["web"] = r.webPage;
+    data.push_back(run);
   }
-  data += "]";
   std::string safe;
-  for (char c : data)
+  for (char c : jsonText(data))
     safe += c == '<' ? std::string("\\u003c") : std::string(1, c);
   h += "<script type=\"application/json\" id=\"dtf-data\">" + safe + "</script>\n";
   h += std::string("<script>") + kScript + "</script>\n</body></html>\n";

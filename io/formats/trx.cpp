@@ -1,6 +1,7 @@
 #include "io/formats/trx.h"
 
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/formats/zip_archive.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -22,119 +24,6 @@ namespace dtf::io {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "TRX arrays are read in place as little-endian");
-
-// ---- a minimal JSON reader for header.json (objects, arrays, numbers, strings, true/false/null)
-struct JsonValue {
-  enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
-  double number = 0;
-  std::string text;
-  std::vector<JsonValue> items;  // array elements, or object member values
-  std::vector<std::string> keys; // object member names, beside their values in `items`
-  const JsonValue* find(const std::string& k) const {
-    for (std::size_t i = 0; i < keys.size(); ++i)
-      if (keys[i] == k) return &items[i];
-    return nullptr;
-  }
-};
-
-class JsonParser {
-public:
-  JsonParser(std::string_view s, const std::string& path) : s_(s), path_(path) {}
-  JsonValue parseDocument() {
-    JsonValue v = parse(0);
-    skip();
-    if (p_ != s_.size()) fail("trailing characters");
-    return v;
-  }
-
-private:
-  [[noreturn]] void fail(const std::string& why) const {
-    throw InputError(path_ + ": bad TRX header.json (" + why + " at byte " + std::to_string(p_) + ")");
-  }
-  void skip() {
-    while (p_ < s_.size() && std::strchr(" \t\r\n", s_[p_]) && s_[p_])
-      ++p_;
-  }
-  bool eat(char c) {
-    skip();
-    if (p_ < s_.size() && s_[p_] == c) return ++p_, true;
-    return false;
-  }
-  std::string str() {
-    if (!eat('"')) fail("expected a string");
-    std::string out;
-    while (p_ < s_.size() && s_[p_] != '"') {
-      char c = s_[p_++];
-      if (c == '\\') {
-        if (p_ >= s_.size()) fail("unterminated string");
-        c = s_[p_++];
-        if (c == 'u') {
-          if (p_ + 4 > s_.size()) fail("bad escape");
-          p_ += 4; // non-ASCII characters are not needed in header keys
-          c = '?';
-        } else if (c == 'n')
-          c = '\n';
-        else if (c == 't')
-          c = '\t';
-      }
-      out.push_back(c);
-    }
-    if (p_ >= s_.size()) fail("unterminated string");
-    ++p_;
-    return out;
-  }
-  JsonValue parse(int depth) {
-    if (depth > 32) fail("nesting too deep");
-    skip();
-    if (p_ >= s_.size()) fail("unexpected end");
-    JsonValue v;
-    const char c = s_[p_];
-    if (c == '{') {
-      ++p_;
-      v.kind = JsonValue::Object;
-      if (eat('}')) return v;
-      do {
-        std::string k = str();
-        if (!eat(':')) fail("expected ':'");
-        v.keys.push_back(std::move(k));
-        v.items.push_back(parse(depth + 1));
-      } while (eat(','));
-      if (!eat('}')) fail("expected '}'");
-    } else if (c == '[') {
-      ++p_;
-      v.kind = JsonValue::Array;
-      if (eat(']')) return v;
-      do
-        v.items.push_back(parse(depth + 1));
-      while (eat(','));
-      if (!eat(']')) fail("expected ']'");
-    } else if (c == '"') {
-      v.kind = JsonValue::String;
-      v.text = str();
-    } else if (s_.substr(p_, 4) == "true" || s_.substr(p_, 5) == "false") {
-      v.kind = JsonValue::Bool;
-      v.number = c == 't';
-      p_ += c == 't' ? 4 : 5;
-    } else if (s_.substr(p_, 4) == "null") {
-      p_ += 4;
-    } else {
-      std::size_t e = p_;
-      while (e < s_.size() && std::strchr("+-0123456789.eE", s_[e]) && s_[e])
-        ++e;
-      if (e == p_) fail("unexpected character");
-      const std::string num(s_.substr(p_, e - p_));
-      char* end = nullptr;
-      v.number = std::strtod(num.c_str(), &end);
-      if (end != num.c_str() + num.size()) fail("bad number");
-      v.kind = JsonValue::Number;
-      p_ = e;
-    }
-    return v;
-  }
-  std::string_view s_;
-  std::size_t p_ = 0;
-  const std::string& path_;
-};
 
 // ---- dtypes
 enum class Kind { Float, Signed, Unsigned };
@@ -269,41 +158,48 @@ void openTrxContainer(const std::string& path, TrxInfo& info, Container& box) {
   }
 }
 
-// header.json: the counts, VOXEL_TO_RASMM and DIMENSIONS into `info`.
+// header.json: the counts, VOXEL_TO_RASMM and DIMENSIONS into `info`. Any valid JSON is accepted (escapes,
+// exponents, whitespace, members in any order); numbers written as 1.2e2 or 120.0 count as integers.
 void readTrxHeader(const std::string& path, const Container& box, TrxInfo& info) {
   auto hj = box.arrays.find("header.json");
   if (hj == box.arrays.end()) throw InputError(path + ": TRX has no header.json");
-  const JsonValue header = JsonParser(hj->second, path).parseDocument();
+  const nlohmann::ordered_json header = parseJson(hj->second, path + ": bad TRX header.json");
+  if (!header.is_object()) throw InputError(path + ": TRX header.json is not a JSON object");
+  auto member = [&](const char* key) -> const nlohmann::ordered_json* {
+    const auto it = header.find(key);
+    return it == header.end() ? nullptr : &*it;
+  };
   auto count = [&](const char* key) {
-    const JsonValue* v = header.find(key);
-    if (!v || v->kind != JsonValue::Number || v->number < 0 || v->number > 4e9 ||
-        v->number != std::floor(v->number))
+    const auto* v = member(key);
+    const double n = v && v->is_number() ? v->get<double>() : -1;
+    if (!(n >= 0 && n <= 4e9 && n == std::floor(n)))
       throw InputError(path + ": TRX header.json has no valid " + key);
-    return static_cast<long long>(v->number);
+    return static_cast<long long>(n);
   };
   info.nbStreamlines = count("NB_STREAMLINES");
   info.nbVertices = count("NB_VERTICES");
   if (info.nbVertices >= 0xffffffffLL) throw InputError(path + ": too many points for one tract set");
-  if (const JsonValue* a = header.find("VOXEL_TO_RASMM")) {
-    bool ok = a->kind == JsonValue::Array && a->items.size() == 4;
-    for (int r = 0; ok && r < 4; ++r) {
-      const JsonValue& row = a->items[static_cast<std::size_t>(r)];
-      ok = row.kind == JsonValue::Array && row.items.size() == 4;
-      for (int c = 0; ok && c < 4; ++c) {
-        ok = row.items[static_cast<std::size_t>(c)].kind == JsonValue::Number;
-        if (ok) info.voxToRas[c][r] = row.items[static_cast<std::size_t>(c)].number;
+  if (const auto* a = member("VOXEL_TO_RASMM")) {
+    bool ok = a->is_array() && a->size() == 4;
+    for (std::size_t r = 0; ok && r < 4; ++r) {
+      const auto& row = (*a)[r];
+      ok = row.is_array() && row.size() == 4;
+      for (std::size_t c = 0; ok && c < 4; ++c) {
+        ok = row[c].is_number() && std::isfinite(row[c].get<double>());
+        if (ok) info.voxToRas[static_cast<int>(c)][static_cast<int>(r)] = row[c].get<double>();
       }
     }
     if (!ok) throw InputError(path + ": TRX VOXEL_TO_RASMM is not a 4x4 array of numbers");
   } else {
     logWarning(path + ": TRX header.json has no VOXEL_TO_RASMM; assuming the identity");
   }
-  if (const JsonValue* d = header.find("DIMENSIONS")) {
-    bool ok = d->kind == JsonValue::Array && d->items.size() == 3;
-    for (int a = 0; ok && a < 3; ++a) {
-      const JsonValue& v = d->items[static_cast<std::size_t>(a)];
-      ok = v.kind == JsonValue::Number && v.number >= 0 && v.number < 1e6;
-      if (ok) info.dims[a] = static_cast<int>(v.number);
+  if (const auto* d = member("DIMENSIONS")) {
+    bool ok = d->is_array() && d->size() == 3;
+    for (std::size_t a = 0; ok && a < 3; ++a) {
+      const auto& v = (*d)[a];
+      ok = v.is_number() && v.get<double>() >= 0 && v.get<double>() < 1e6 &&
+           v.get<double>() == std::floor(v.get<double>());
+      if (ok) info.dims[static_cast<int>(a)] = static_cast<int>(v.get<double>());
     }
     if (!ok) throw InputError(path + ": TRX DIMENSIONS is not three non-negative integers");
   }
@@ -504,18 +400,15 @@ void writeTrx(const std::string& path, const Polylines& lines, const Grid& refer
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError("cannot write " + path + ": point " + std::to_string(i) + " is not finite");
   }
-  std::ostringstream h;
-  h.precision(17);
-  h << "{\"VOXEL_TO_RASMM\": [";
-  for (int r = 0; r < 4; ++r) {
-    h << (r ? ", [" : "[");
-    for (int c = 0; c < 4; ++c)
-      h << (c ? ", " : "") << reference.voxelToWorld[c][r];
-    h << "]";
-  }
-  h << "], \"DIMENSIONS\": [" << reference.dims.x << ", " << reference.dims.y << ", " << reference.dims.z
-    << "], \"NB_VERTICES\": " << lines.points.size() << ", \"NB_STREAMLINES\": " << lines.lineCount() << "}";
-  const std::string header = h.str();
+  nlohmann::ordered_json affine = nlohmann::ordered_json::array();
+  for (int r = 0; r < 4; ++r)
+    affine.push_back({reference.voxelToWorld[0][r], reference.voxelToWorld[1][r], reference.voxelToWorld[2][r],
+                      reference.voxelToWorld[3][r]});
+  const nlohmann::ordered_json h = {{"VOXEL_TO_RASMM", affine},
+                                    {"DIMENSIONS", {reference.dims.x, reference.dims.y, reference.dims.z}},
+                                    {"NB_VERTICES", lines.points.size()},
+                                    {"NB_STREAMLINES", lines.lineCount()}};
+  const std::string header = jsonText(h);
 
   AtomicOutput out(path);
   {

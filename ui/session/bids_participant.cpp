@@ -4,6 +4,7 @@
 #include "ui/session/surface_spec.h"
 #include "ui/session/web_page.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "io/formats/png_io.h"
 #include "render/camera.h"
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
 
@@ -97,36 +99,36 @@ std::string metricsPath(const io::BidsRun& run, const std::string& outputRoot) {
 namespace {
 
 // Hashes of the run's files; a run whose files cannot be read fails here with the file named.
-void hashInputs(const io::BidsRun& run, io::FlatJson& doc) {
+void hashInputs(const io::BidsRun& run, nlohmann::ordered_json& doc) {
   std::error_code ec;
   try {
-    doc.set("input_hash_dwi", io::fileHash(run.dwi));
-    if (fs::exists(run.bval, ec)) doc.set("input_hash_bval", io::fileHash(run.bval));
-    if (fs::exists(run.bvec, ec)) doc.set("input_hash_bvec", io::fileHash(run.bvec));
+    doc["input_hash_dwi"] = io::fileHash(run.dwi);
+    if (fs::exists(run.bval, ec)) doc["input_hash_bval"] = io::fileHash(run.bval);
+    if (fs::exists(run.bvec, ec)) doc["input_hash_bvec"] = io::fileHash(run.bvec);
   } catch (const std::exception& e) {
-    doc.set("status", "failed");
-    doc.set("message", e.what());
+    doc["status"] = "failed";
+    doc["message"] = e.what();
   }
 }
 
 // True (with `out` filled) when the metrics document at docPath is complete for the same parameters and
 // inputs, and its figures exist.
-bool completeAndUnchanged(const io::FlatJson& doc, const std::string& docPath, const fs::path& dir,
+bool completeAndUnchanged(const nlohmann::ordered_json& doc, const std::string& docPath, const fs::path& dir,
                           RunOutcome& out) {
   std::error_code ec;
   try {
-    const io::FlatJson old = io::FlatJson::parse(io::readTextFile(docPath), docPath);
-    bool complete = old.get("status") == "ok";
+    const nlohmann::ordered_json old = io::readJsonFile(docPath);
+    bool complete = io::jsonString(old, "status") == "ok";
     for (const char* k : {"params", "input_hash_dwi", "input_hash_bval", "input_hash_bvec"})
-      complete = complete && old.get(k) == doc.get(k);
+      complete = complete && io::jsonString(old, k) == io::jsonString(doc, k);
     for (const auto& f : figureKinds())
-      if (old.has(std::string("figure_") + f.desc))
-        complete = complete && fs::exists(dir / old.get(std::string("figure_") + f.desc), ec);
-    if (old.has("web_page")) complete = complete && fs::exists(dir / old.get("web_page"), ec);
+      if (old.contains(std::string("figure_") + f.desc))
+        complete = complete && fs::exists(dir / io::jsonString(old, std::string("figure_") + f.desc), ec);
+    if (old.contains("web_page")) complete = complete && fs::exists(dir / io::jsonString(old, "web_page"), ec);
     if (!complete) return false;
     out.ok = true;
     out.skipped = true;
-    out.verdict = old.get("check_verdict");
+    out.verdict = io::jsonString(old, "check_verdict");
     out.message = "complete and unchanged";
     return true;
   } catch (const Error&) {
@@ -136,7 +138,7 @@ bool completeAndUnchanged(const io::FlatJson& doc, const std::string& docPath, c
 
 // Metrics over the white matter: valid voxels of the fit (its automatic brain mask) with FA >= 0.3; the
 // orientation check's verdict and scores; the grid.
-void setMetrics(const CheckRun& check, const MetricMaps& maps, io::FlatJson& doc) {
+void setMetrics(const CheckRun& check, const MetricMaps& maps, nlohmann::ordered_json& doc) {
   const surfaces::OrientationReport& rep = check.report;
   std::vector<double> fa, md;
   std::size_t brain = 0;
@@ -147,25 +149,25 @@ void setMetrics(const CheckRun& check, const MetricMaps& maps, io::FlatJson& doc
     fa.push_back(maps.fa.data[i]);
     md.push_back(maps.md.data[i] * 1e3); // 10^-3 mm^2/s
   }
-  doc.setNumber("fa_wm_mean", mean(fa));
-  doc.setNumber("fa_wm_median", median(fa));
-  doc.setNumber("md_wm_mean", mean(md));
-  doc.setNumber("md_wm_median", median(md));
-  doc.set("md_units", "1e-3 mm^2/s");
-  doc.setNumber("wm_voxels", static_cast<double>(fa.size()), 12);
-  doc.setNumber("brain_voxels", static_cast<double>(brain), 12);
-  doc.setNumber("wm_fraction", brain ? static_cast<double>(fa.size()) / static_cast<double>(brain) : 0);
-  doc.set("check_verdict", surfaces::verdictName(rep.verdict));
-  doc.set("check_correction", rep.correction.name());
-  doc.set("check_best", rep.candidates[rep.best].transform.name());
-  doc.setNumber("check_score_given", rep.scoreGiven);
-  doc.setNumber("check_score_best", rep.scoreBest);
-  doc.setNumber("check_margin", rep.margin);
-  doc.set("check_reason", rep.reason);
+  doc["fa_wm_mean"] = mean(fa);
+  doc["fa_wm_median"] = median(fa);
+  doc["md_wm_mean"] = mean(md);
+  doc["md_wm_median"] = median(md);
+  doc["md_units"] = "1e-3 mm^2/s";
+  doc["wm_voxels"] = fa.size();
+  doc["brain_voxels"] = brain;
+  doc["wm_fraction"] = brain ? static_cast<double>(fa.size()) / static_cast<double>(brain) : 0;
+  doc["check_verdict"] = surfaces::verdictName(rep.verdict);
+  doc["check_correction"] = rep.correction.name();
+  doc["check_best"] = rep.candidates[rep.best].transform.name();
+  doc["check_score_given"] = rep.scoreGiven;
+  doc["check_score_best"] = rep.scoreBest;
+  doc["check_margin"] = rep.margin;
+  doc["check_reason"] = rep.reason;
   const Grid& g = check.field.grid;
-  doc.set("grid", std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
-                      " " + g.orientationCode());
-  doc.setNumber("volumes", static_cast<double>(check.bvals.size()), 12);
+  doc["grid"] = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) + " " +
+                g.orientationCode();
+  doc["volumes"] = check.bvals.size();
 }
 
 // The surfaces of the figures (desc, mesh, in figureKinds() order). Slice positions come from this run's
@@ -174,13 +176,13 @@ void setMetrics(const CheckRun& check, const MetricMaps& maps, io::FlatJson& doc
 // near the midline (the callosal body); coronal: the slice with the most superior-inferior white matter
 // (the corticospinal tracts in the internal capsules).
 std::vector<std::pair<std::string, Mesh>> figureMeshes(const CheckRun& check, const MetricMaps& maps,
-                                                       io::FlatJson& doc) {
+                                                       nlohmann::ordered_json& doc) {
   const surfaces::OrientationReport& rep = check.report;
   const TensorField best =
       surfaces::transformedField(check.field, check.tableToWorld, rep.candidates[rep.best].transform);
   const surfaces::EvidenceSlices slices = surfaces::chooseEvidenceSlices(best, nullptr, kWhiteMatterFa);
-  doc.setNumber("slice_axial", slices.axial, 6);
-  doc.setNumber("slice_coronal", slices.coronal, 6);
+  doc["slice_axial"] = slices.axial;
+  doc["slice_coronal"] = slices.coronal;
   SurfaceSpec axial, coronal, iso;
   axial.kind = coronal.kind = SurfaceSpec::Kind::Slice;
   axial.axis = "axial";
@@ -201,7 +203,7 @@ std::vector<std::pair<std::string, Mesh>> figureMeshes(const CheckRun& check, co
 // The figures show the data with its given table (what a user of the data would see); the contact sheet
 // shows the candidates side by side.
 void writeFigures(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o, const CheckRun& check,
-                  const std::vector<std::pair<std::string, Mesh>>& meshes, io::FlatJson& doc) {
+                  const std::vector<std::pair<std::string, Mesh>>& meshes, nlohmann::ordered_json& doc) {
   render::GlContext::headless();
   render::FabricRenderer renderer;
   renderer.resize(o.figurePx, o.figurePx);
@@ -214,19 +216,19 @@ void writeFigures(const io::BidsRun& run, const fs::path& dir, const Participant
   for (const auto& [desc, how] : figures) {
     const std::string name = io::derivativeName(run, desc, "dwi", ".png");
     render(renderer, meshes[how.first].second, how.second, (dir / name).string());
-    doc.set("figure_" + desc, name);
+    doc["figure_" + desc] = name;
   }
   if (check.report.verdict != surfaces::Verdict::Ok) {
     const std::string name = io::derivativeName(run, "fabricCheck", "dwi", ".png");
     const Image sheet = renderContactSheet(check, sheetRows(check.report), o.sheetPanelPx);
     io::writePng((dir / name).string(), sheet);
-    doc.set("figure_fabricCheck", name);
+    doc["figure_fabricCheck"] = name;
   }
 }
 
 // The run's web page (dtfabric web) beside its figures, when asked for.
 void writeRunWebPage(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o, const CheckRun& check,
-                     io::FlatJson& doc) {
+                     nlohmann::ordered_json& doc) {
   if (o.webPx <= 0) return;
   const std::string name = io::derivativeName(run, "fabricWeb", "dwi", "");
   WebPageRequest web;
@@ -237,14 +239,14 @@ void writeRunWebPage(const io::BidsRun& run, const fs::path& dir, const Particip
   web.force = true;
   web.title = run.stem;
   const WebPageResult written = writeWebPage(web);
-  doc.set("web_page", name + "/index.html");
-  doc.setNumber("seconds_web", written.seconds, 4);
+  doc["web_page"] = name + "/index.html";
+  doc["seconds_web"] = written.seconds;
 }
 
 // The check, metrics and figures of one run into `doc` (status ok), or its failure (status failed, the
 // message naming the run's file when the error does not).
 void analyseRun(const io::BidsRun& run, const fs::path& dir, const ParticipantOptions& o,
-                std::chrono::steady_clock::time_point t0, io::FlatJson& doc, RunOutcome& out) {
+                std::chrono::steady_clock::time_point t0, nlohmann::ordered_json& doc, RunOutcome& out) {
   try {
     CheckRequest req;
     req.input = run.dwi;
@@ -258,25 +260,25 @@ void analyseRun(const io::BidsRun& run, const fs::path& dir, const ParticipantOp
     const auto tf = std::chrono::steady_clock::now();
     writeFigures(run, dir, o, check, figureMeshes(check, maps, doc), doc);
     writeRunWebPage(run, dir, o, check, doc);
-    doc.setNumber("seconds_load", check.loadSeconds, 4);
-    doc.setNumber("seconds_fit", check.fitSeconds, 4);
-    doc.setNumber("seconds_check", check.checkSeconds, 4);
-    doc.setNumber("seconds_figures", secondsSince(tf), 4);
-    doc.setNumber("seconds_total", secondsSince(t0), 4);
-    doc.set("status", "ok");
-    doc.set("message", std::string("verdict ") + surfaces::verdictName(rep.verdict) + ": " + rep.reason);
+    doc["seconds_load"] = check.loadSeconds;
+    doc["seconds_fit"] = check.fitSeconds;
+    doc["seconds_check"] = check.checkSeconds;
+    doc["seconds_figures"] = secondsSince(tf);
+    doc["seconds_total"] = secondsSince(t0);
+    doc["status"] = "ok";
+    doc["message"] = std::string("verdict ") + surfaces::verdictName(rep.verdict) + ": " + rep.reason;
     out.verdict = surfaces::verdictName(rep.verdict);
   } catch (const std::bad_alloc&) {
-    doc.set("status", "failed");
-    doc.set("message", run.dwi + ": out of memory");
+    doc["status"] = "failed";
+    doc["message"] = run.dwi + ": out of memory";
   } catch (const std::exception& e) {
-    doc.set("status", "failed");
+    doc["status"] = "failed";
     const std::string what = e.what();
     // Errors name their file; add the run's when one does not.
-    doc.set("message", what.find(fs::path(run.dwi).filename().string()) == std::string::npos &&
-                               what.find(".bv") == std::string::npos
-                           ? run.dwi + ": " + what
-                           : what);
+    doc["message"] = what.find(fs::path(run.dwi).filename().string()) == std::string::npos &&
+                             what.find(".bv") == std::string::npos
+                         ? run.dwi + ": " + what
+                         : what;
   }
 }
 
@@ -293,27 +295,27 @@ RunOutcome processRun(const io::BidsRun& run, const std::string& outputRoot, con
   removeStaleTemporaries(dir, run.stem);
   const std::string docPath = metricsPath(run, outputRoot);
 
-  io::FlatJson doc;
-  doc.set("source", fs::path(run.dwi).filename().string());
-  doc.set("participant_id", "sub-" + run.subject);
-  doc.set("session_id", run.session.empty() ? "n/a" : "ses-" + run.session);
-  doc.set("dtfabric_version", o.version);
-  doc.set("params", paramsText(o));
+  nlohmann::ordered_json doc;
+  doc["source"] = fs::path(run.dwi).filename().string();
+  doc["participant_id"] = "sub-" + run.subject;
+  doc["session_id"] = run.session.empty() ? "n/a" : "ses-" + run.session;
+  doc["dtfabric_version"] = o.version;
+  doc["params"] = paramsText(o);
   RunOutcome out;
   hashInputs(run, doc);
-  if (!o.force && !doc.has("status") && fs::exists(docPath, ec) && completeAndUnchanged(doc, docPath, dir, out)) {
+  if (!o.force && !doc.contains("status") && fs::exists(docPath, ec) && completeAndUnchanged(doc, docPath, dir, out)) {
     out.seconds = secondsSince(t0);
     return out;
   }
 
-  if (!doc.has("status") && !run.problem.empty()) {
-    doc.set("status", "failed");
-    doc.set("message", run.dwi + ": " + run.problem);
+  if (!doc.contains("status") && !run.problem.empty()) {
+    doc["status"] = "failed";
+    doc["message"] = run.dwi + ": " + run.problem;
   }
-  if (!doc.has("status")) analyseRun(run, dir, o, t0, doc, out);
-  out.ok = doc.get("status") == "ok";
-  out.message = doc.get("message");
-  io::writeTextIfChanged(docPath, doc.text()); // last: the run is complete once this exists
+  if (!doc.contains("status")) analyseRun(run, dir, o, t0, doc, out);
+  out.ok = io::jsonString(doc, "status") == "ok";
+  out.message = io::jsonString(doc, "message");
+  io::writeTextIfChanged(docPath, io::jsonText(doc, 2) + "\n"); // last: the run is complete once this exists
   out.seconds = secondsSince(t0);
   return out;
 }
@@ -330,26 +332,30 @@ io::GroupRow readGroupRow(const io::BidsRun& run, const std::string& outputRoot)
     row.message = "not processed: no " + path + " (run the participant level for sub-" + run.subject + ")";
     return row;
   }
-  io::FlatJson doc;
+  nlohmann::ordered_json doc;
   try {
-    doc = io::FlatJson::parse(io::readTextFile(path), path);
+    doc = io::readJsonFile(path);
   } catch (const Error& e) {
     row.message = e.what();
     return row;
   }
-  row.ok = doc.get("status") == "ok";
-  row.message = doc.get("message");
-  row.verdict = doc.get("check_verdict");
-  row.correction = doc.get("check_correction");
-  row.seconds = doc.number("seconds_total");
+  if (!doc.is_object()) {
+    row.message = path + ": not a JSON object (a metrics document)";
+    return row;
+  }
+  row.ok = io::jsonString(doc, "status") == "ok";
+  row.message = io::jsonString(doc, "message");
+  row.verdict = io::jsonString(doc, "check_verdict");
+  row.correction = io::jsonString(doc, "check_correction");
+  row.seconds = io::jsonNumber(doc, "seconds_total");
   for (std::size_t c = 0; c < row.metrics.size(); ++c)
-    row.metrics[c] = doc.number(io::groupMetricColumns()[c]);
+    row.metrics[c] = io::jsonNumber(doc, io::groupMetricColumns()[c]);
   const fs::path rel = fs::path(run.relDir);
   for (const auto& f : figureKinds()) {
-    const std::string name = doc.get(std::string("figure_") + f.desc);
+    const std::string name = io::jsonString(doc, std::string("figure_") + f.desc);
     if (!name.empty()) row.figures.push_back({f.caption, (rel / name).generic_string()});
   }
-  if (doc.has("web_page")) row.webPage = (rel / doc.get("web_page")).generic_string();
+  if (doc.contains("web_page")) row.webPage = (rel / io::jsonString(doc, "web_page")).generic_string();
   return row;
 }
 

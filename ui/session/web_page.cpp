@@ -12,6 +12,7 @@
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
 #include "surfaces/slices.h"
+#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -352,7 +353,7 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
       {"background", r.background},
       {"tracts", tractLayer ? fs::path(r.tracts).filename().string() : std::string()},
       {"axes", axes}};
-  writeText(folder.dir() / "data.js", "window.DTF_WEB = " + data.dump() + ";\n");
+  writeText(folder.dir() / "data.js", "window.DTF_WEB = " + io::jsonText(data) + ";\n");
   writeText(folder.dir() / "voxels.js",
             "window.DTF_WEB_VOXELS = \"" + base64Encode(webVoxelTable(field)) + "\";\n");
   writeText(folder.dir() / "viewer.js", webViewerJs());

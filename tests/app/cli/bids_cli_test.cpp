@@ -18,6 +18,7 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
 #include <sys/wait.h>
@@ -34,6 +35,14 @@ using test::runDtfabric;
 
 std::string q(const fs::path& p) {
   return "'" + p.string() + "'";
+}
+
+// One shell word holding `s` exactly, whatever it contains.
+std::string shellWord(const std::string& s) {
+  std::string o = "'";
+  for (char c : s)
+    o += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return o + "'";
 }
 
 // Voxel axis i reversed (LAS -> RAS), the affine adjusted so every voxel keeps its world position. The FSL
@@ -375,12 +384,11 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
       << r.err;
   checkRunFiles(out, 128);
   EXPECT_TRUE(temporaries(out).empty());
-  const std::string desc = readText(out / "dataset_description.json");
-  EXPECT_NE(desc.find("\"DatasetType\": \"derivative\""), std::string::npos) << desc;
-  EXPECT_NE(desc.find("\"GeneratedBy\": [{\"Name\": \"dtfabric\", \"Version\": \""), std::string::npos)
-      << desc;
-  EXPECT_NE(desc.find("\"SourceDatasets\": [{\"URL\": \"file://" + bids_.string() + "\"}]"),
-            std::string::npos);
+  const nlohmann::json desc = nlohmann::json::parse(readText(out / "dataset_description.json"));
+  EXPECT_EQ(desc.at("DatasetType"), "derivative") << desc;
+  EXPECT_EQ(desc.at("GeneratedBy").at(0).at("Name"), "dtfabric") << desc;
+  EXPECT_TRUE(desc.at("GeneratedBy").at(0).at("Version").is_string()) << desc;
+  EXPECT_EQ(desc.at("SourceDatasets").at(0).at("URL"), "file://" + bids_.string()) << desc;
   const std::string doc = readText(out / "sub-02/dwi/sub-02_dir-AP_run-1_desc-fabricMetrics_dwi.json");
   for (const char* key : {"\"input_hash_dwi\": \"crc32:", "\"input_hash_bvec\": ", "\"seconds_fit\": ",
                           "\"seconds_figures\": ", "\"check_score_best\": ", "\"slice_axial\": "})
@@ -587,6 +595,75 @@ TEST_F(BidsCohort, SnakemakeWorkflowGivesTheSameGroupTable) {
   checkGroupTable(viaSnakemake);
   for (const char* f : {"group_report.html", "dataset_description.json"})
     EXPECT_TRUE(fs::exists(viaSnakemake / f)) << f;
+}
+
+// Folder names built to break a shell or a page: quotes of both kinds, `$(...)`, markup, brackets and (in the
+// dataset's name) braces. The real workflow runs; nothing is executed from a name, every output is where it
+// belongs, and the report shows the names as text.
+TEST(BidsCli, SnakemakeWorkflowPassesHostileFolderNamesThrough) {
+  DTF_REQUIRE_TOOL("snakemake");
+  DTF_SHARED_FILE(dipy, "dipy_small");
+  const fs::path dir = test::scratchDir();
+  const fs::path bids = dir / "bids 'x\" $(touch PWNED) <b>{w}[1]";
+  const fs::path out = dir / "out 'y\" $(touch PWNED) <i>[2]";
+  fs::create_directories(bids);
+  const std::string name = "<img src=x onerror=alert(1)> & \"co\"";
+  std::ofstream(bids / "dataset_description.json")
+      << nlohmann::json{{"Name", name}, {"BIDSVersion", "1.8.0"}}.dump(2) << "\n";
+  copyRun(dipy, "small_64D", bids / "sub-01/dwi", "sub-01", ".nii");
+  copyRun(dipy, "small_64D", bids / "sub-02/dwi", "sub-02", ".nii");
+  fs::remove(bids / "sub-02/dwi/sub-02_dwi.bvec"); // fails; its message names the hostile path
+  const std::string cmd = "cd " + shellWord(dir.string()) + " && snakemake -s " +
+                          shellWord((test::sourceDir() / "app/workflow/Snakefile").string()) + " -d " +
+                          shellWord((dir / "work").string()) + " --cores 2 --config " +
+                          shellWord("bids_dir=" + bids.string()) + " " + shellWord("output_dir=" + out.string()) +
+                          " " + shellWord(std::string("dtfabric=") + DTF_EXE) + " figure_size=64 >" +
+                          shellWord((dir / "snakemake.log").string()) + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(dir / "snakemake.log");
+  const std::string log = readText(dir / "snakemake.log");
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    EXPECT_NE(e.path().filename(), "PWNED") << e.path();
+  EXPECT_FALSE(fs::exists(fs::current_path() / "PWNED"));
+  EXPECT_FALSE(fs::exists(test::sourceDir() / "PWNED"));
+
+  for (const char* f : {"group.tsv", "group_report.html", "dataset_description.json", "logs/sub-01.done",
+                        "logs/sub-02.done"})
+    EXPECT_TRUE(fs::is_regular_file(out / f)) << f << "\n" << log;
+  const nlohmann::json desc = nlohmann::json::parse(readText(out / "dataset_description.json"));
+  EXPECT_EQ(desc.at("Name"), "dtfabric QC of " + name);
+  EXPECT_EQ(desc.at("SourceDatasets").at(0).at("URL"), "file://" + bids.string());
+  const nlohmann::json ok = nlohmann::json::parse(readText(out / "sub-01/dwi/sub-01_desc-fabricMetrics_dwi.json"));
+  EXPECT_EQ(ok.at("status"), "ok");
+  const nlohmann::json failed =
+      nlohmann::json::parse(readText(out / "sub-02/dwi/sub-02_desc-fabricMetrics_dwi.json"));
+  EXPECT_EQ(failed.at("status"), "failed");
+  const std::string bvec = (bids / "sub-02/dwi/sub-02_dwi.bvec").string();
+  EXPECT_NE(failed.at("message").get<std::string>().find(bvec), std::string::npos) << failed.dump();
+  const auto tsv = readGroupTsv(out / "group.tsv");
+  ASSERT_EQ(tsv.size(), 2u);
+  EXPECT_EQ(tsv.at("sub-01").at("status"), "ok");
+  EXPECT_EQ(tsv.at("sub-02").at("status"), "failed");
+
+  // The report: every name is text. No element from the names; their escaped forms are there.
+  const std::string html = readText(out / "group_report.html");
+  for (const char* markup : {"<b>", "<i>", "<img src=x"})
+    EXPECT_EQ(html.find(markup), std::string::npos) << markup;
+  for (const char* text : {"&lt;img src=x onerror=alert(1)&gt; &amp; &quot;co&quot;", "&lt;b&gt;{w}[1]"})
+    EXPECT_NE(html.find(text), std::string::npos) << text;
+  // The detail overlay's data: valid JSON carrying the failed run's message exactly.
+  const std::string open = "<script type=\"application/json\" id=\"dtf-data\">";
+  const auto a = html.find(open), b = html.find("</script>", a);
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  const nlohmann::json data = nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+  ASSERT_EQ(data.size(), 2u);
+  int seen = 0;
+  for (const auto& run : data)
+    if (run.at("run") == "sub-02") {
+      EXPECT_EQ(run.at("message"), failed.at("message"));
+      ++seen;
+    }
+  EXPECT_EQ(seen, 1);
 }
 
 TEST(BidsCli, BadInputIsRefusedAndNothingInTheInputIsWritten) {

@@ -60,8 +60,8 @@ TEST(FormatsCli, InfoNamesTheFormatAndWhy) {
   EXPECT_NE(r.out.find("orientation:  RAS"), std::string::npos) << r.out;
   r = runDtfabric("info --json " + q(src), dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.out.find("\"file_format\":\"DSI Studio SRC\""), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("\"dims\":[72,72,36,21]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"file_format\": \"DSI Studio SRC\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"dims\": [72, 72, 36, 21]"), std::string::npos) << r.out;
   r = runDtfabric("info " + q(mask), dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("datatype Bit"), std::string::npos) << r.out;

@@ -1,5 +1,5 @@
 # Tests of app/cli/ (dtf_test(...) lines; the label follows from each file's suffix).
-dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_check_cli SOURCES app/cli/check_cli_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_fibre_check_cli SOURCES app/cli/fibre_check_cli_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_fibre_compare_cli SOURCES app/cli/fibre_compare_cli_test.cpp LIBS dtf_io dtf_model)
@@ -26,3 +26,4 @@ dtf_test(test_movie_cli SOURCES app/cli/movie_cli_test.cpp LIBS dtf_render dtf_i
 dtf_test(test_web_cli SOURCES app/cli/web_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_gzip_cli SOURCES app/cli/gzip_cli_test.cpp LIBS dtf_io dtf_model ZLIB::ZLIB)
 dtf_test(test_detection_cli SOURCES app/cli/detection_cli_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_json_cli SOURCES app/cli/json_cli_test.cpp LIBS dtf_io nlohmann_json::nlohmann_json ZLIB::ZLIB)

@@ -46,12 +46,12 @@ TEST(TractInfoCli, JsonKeysForEveryRealFile) {
   auto colby = runDtfabric("info " + q(dir / "colby.trk") + " --json", scratch);
   EXPECT_TRUE(has(colby.out, "\"voxel_order\": \"LPS\"")) << colby.out;
   EXPECT_TRUE(has(colby.out, "\"vox_to_ras\": \"not recorded (identity used)\""));
-  EXPECT_TRUE(has(colby.out, "\"dpv\": [\"effect   \",\"pval     \",\"pval_corr\"]"));
-  EXPECT_TRUE(has(colby.out, "\"dimensions\": [192,192,55]"));
+  EXPECT_TRUE(has(colby.out, "\"dpv\": [\"effect   \", \"pval     \", \"pval_corr\"]"));
+  EXPECT_TRUE(has(colby.out, "\"dimensions\": [192, 192, 55]"));
   EXPECT_TRUE(has(colby.err, "no vox_to_ras")) << colby.err;
   auto afq = runDtfabric("info " + q(dir / "afq_tractography.trx") + " --json", scratch);
-  EXPECT_TRUE(has(afq.out, "\"groups\": [\"ARC_L\",\"ARC_R\"]")) << afq.out;
-  EXPECT_TRUE(has(afq.out, "\"group_sizes\": {\"ARC_L\": 486,\"ARC_R\": 22}"));
+  EXPECT_TRUE(has(afq.out, "\"groups\": [\"ARC_L\", \"ARC_R\"]")) << afq.out;
+  EXPECT_TRUE(has(afq.out, "\"group_sizes\": {\"ARC_L\": 486, \"ARC_R\": 22}"));
   auto dpsv = runDtfabric("info " + q(dir / "dpsv.trx"), scratch);
   ASSERT_EQ(dpsv.exitCode, 0) << dpsv.err;
   EXPECT_TRUE(has(dpsv.out, "dps 'DataSetID': 460 x 1")) << dpsv.out;
@@ -78,7 +78,7 @@ TEST(TractInfoCli, LengthStatistics) {
              static_cast<std::streamsize>(head.size() + pts.size() * 4));
   auto r = runDtfabric("info " + q(dir / "l.tck") + " --json", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "\"length_mm\": {\"min\": 3,\"mean\": 5,\"median\": 5,\"max\": 7}")) << r.out;
+  EXPECT_TRUE(has(r.out, "\"length_mm\": {\"min\": 3.0, \"mean\": 5.0, \"median\": 5.0, \"max\": 7.0}")) << r.out;
 }
 
 // Every real file converts to every format; the result reads back with the same counts.

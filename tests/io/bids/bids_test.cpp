@@ -1,13 +1,15 @@
-// BIDS dataset scanning, derivative naming, the flat metrics documents and the group report's outlier rule
+// BIDS dataset scanning, derivative naming, the JSON documents (io/formats/json.h) and the group report's outlier rule
 // (io/bids/bids.h, io/bids/bids_report.h), on small trees of empty files and hand-made rows.
 #include "io/bids/bids.h"
 #include "io/bids/bids_report.h"
+#include "io/formats/json.h"
 #include "io/model/error.h"
 #include "support/test_env.h"
 
 #include <cmath>
 #include <fstream>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -98,21 +100,44 @@ TEST(Bids, RefusesWhatIsNotBidsAndOutputsInsideTheInput) {
       io::refuseOutputInsideInput(root.string(), (dir / "ds2").string())); // a prefix, not a parent
 }
 
-TEST(Bids, FlatJsonRoundTripAndHashes) {
-  io::FlatJson j;
-  j.set("message", "a \"quoted\"\tline\nwith\\slash");
-  j.setNumber("fa", 0.4463614, 7);
-  j.setNumber("missing", std::nan(""));
-  j.setBool("flag", true);
-  const io::FlatJson k = io::FlatJson::parse(j.text(), "test");
-  EXPECT_EQ(k.get("message"), j.get("message"));
-  EXPECT_DOUBLE_EQ(k.number("fa"), 0.4463614);
-  EXPECT_TRUE(std::isnan(k.number("missing")));
-  EXPECT_TRUE(std::isnan(k.number("message")));
-  EXPECT_EQ(k.get("flag"), "true");
-  EXPECT_EQ(k.keys(), j.keys());
-  EXPECT_THROW(io::FlatJson::parse("{\"a\": [1, 2]}", "x"), InputError);
-  EXPECT_THROW(io::FlatJson::parse("{\"a\": 1", "x"), InputError);
+TEST(Bids, JsonDocumentsRoundTripAndHashes) {
+  nlohmann::ordered_json j;
+  j["message"] = "a \"quoted\"\tline\nwith\\slash, <b>, caf\u00e9 \u6f22";
+  j["fa"] = 0.4463614;
+  j["missing"] = std::nan("");
+  j["flag"] = true;
+  j["count"] = std::size_t{1234567};
+  const std::string text = io::jsonText(j, 2);
+  EXPECT_NE(text.find("\"missing\": null"), std::string::npos) << text; // NaN is written as null
+  EXPECT_NE(text.find("\"count\": 1234567\n"), std::string::npos) << text;
+  const nlohmann::ordered_json k = io::parseJson(text, "test");
+  EXPECT_EQ(io::jsonString(k, "message"), j["message"].get<std::string>());
+  EXPECT_DOUBLE_EQ(io::jsonNumber(k, "fa"), 0.4463614);
+  EXPECT_TRUE(std::isnan(io::jsonNumber(k, "missing")));
+  EXPECT_TRUE(std::isnan(io::jsonNumber(k, "message")));
+  EXPECT_TRUE(std::isnan(io::jsonNumber(k, "absent")));
+  EXPECT_EQ(io::jsonString(k, "fa"), "");
+  EXPECT_EQ(k["flag"], true);
+  EXPECT_EQ(io::jsonNumber(k, "count"), 1234567);
+  std::vector<std::string> keys;
+  for (const auto& [key, v] : k.items())
+    keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"message", "fa", "missing", "flag", "count"})); // written order
+  // Not an object: the accessors give nothing instead of throwing.
+  EXPECT_EQ(io::jsonString(io::parseJson("[1, 2]", "x"), "a"), "");
+  EXPECT_TRUE(std::isnan(io::jsonNumber(io::parseJson("\"s\"", "x"), "a")));
+  // Bytes that are not UTF-8 (possible in a file name) are replaced, not fatal.
+  EXPECT_EQ(io::jsonText(nlohmann::ordered_json("a\xff" "b")), "\"a\xef\xbf\xbd" "b\"");
+  // Malformed text names its origin.
+  for (const char* bad : {"{\"a\": 1", "{\"a\": 1,}", "{'a': 1}", "{\"a\": NaN}", "{\"a\": 1} x", ""}) {
+    SCOPED_TRACE(bad);
+    try {
+      io::parseJson(bad, "doc.json");
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("doc.json: not valid JSON (", 0), 0u) << e.what();
+    }
+  }
 
   const fs::path dir = test::scratchDir();
   touch(dir / "a", "123456789");

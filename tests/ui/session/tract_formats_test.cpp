@@ -16,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <tuple>
 
 namespace fs = std::filesystem;
 using dtf::Grid;
@@ -565,6 +566,88 @@ TEST(TractFormatsTrx, DtypeAndOffsetVariantsReadAlike) {
           ++n;
         }
   EXPECT_EQ(n, 36);
+}
+
+// header.json as other writers may lay it out: any valid JSON reads the same (escaped key names, exponents,
+// whitespace of every kind, members in any order, unknown members of every type, deep nesting).
+TEST(TractFormatsTrx, UnusualButValidHeadersReadAlike) {
+  const fs::path dir = dtf::test::scratchDir();
+  const std::vector<std::pair<std::string, std::string>> headers = {
+      {"whitespace.trx",
+       "\r\n\t {\r\n\t\"NB_VERTICES\"\t:\r\n6 ,\n\"NB_STREAMLINES\" :3,\"DIMENSIONS\":[ 10 ,20,\t30 ] ,"
+       "\"VOXEL_TO_RASMM\":[[2,0,0,-10],[0,2,0,-20],[0,0,2,-30],[0,0,0,1]]\n}\n\t "},
+      {"exponents.trx",
+       R"({"NB_STREAMLINES": 3e0, "NB_VERTICES": 0.6E1, "DIMENSIONS": [1e1, 2.0e+1, 300e-1],
+           "VOXEL_TO_RASMM": [[2E0, 0.0, -0e0, -1.0e1], [0, 20e-1, 0, -2e+1], [0, 0, 2.000, -30.0e0],
+                              [0, 0, 0, 1e0]]})"},
+      {"escapes.trx",
+       R"({"NB_\u0053TREAMLINES": 3, "\u004eB_VERTICES": 6, "DIMENSIONS": [10, 20, 30],
+           "VOXEL_TO_RASMM": [[2, 0, 0, -10], [0, 2, 0, -20], [0, 0, 2, -30], [0, 0, 0, 1]],
+           "COMMENT": "a \"quoted\" \\ back\/slash, tab\t, caf\u00e9, \ud83e\udde0, caf\u00c3\u00a9 as bytes"})"},
+      {"order_and_extras.trx",
+       R"({"extra": {"nested": {"list": [1, -2.5e-3, "s", true, false, null, [], {}]}}, "flag": false,
+           "VOXEL_TO_RASMM": [[2, 0, 0, -10], [0, 2, 0, -20], [0, 0, 2, -30], [0, 0, 0, 1]], "nothing": null,
+           "DIMENSIONS": [10, 20, 30], "NB_VERTICES": 6, "NB_STREAMLINES": 3, "NB_GROUPS": 1})"},
+      {"deep.trx", "{\"deep\": " + std::string(5000, '[') + std::string(5000, ']') +
+                       R"(, "NB_STREAMLINES": 3, "NB_VERTICES": 6, "DIMENSIONS": [10, 20, 30],
+           "VOXEL_TO_RASMM": [[2, 0, 0, -10], [0, 2, 0, -20], [0, 0, 2, -30], [0, 0, 0, 1]]})"},
+  };
+  for (const auto& [name, header] : headers) {
+    SCOPED_TRACE(name);
+    auto entries = trxEntries("float32", "uint32", true, false);
+    entries[0].data = header;
+    writeBytes(dir / name, dtf::test::zipArchive(entries));
+    dtf::io::TrxInfo info;
+    const Polylines l = dtf::io::readTrx((dir / name).string(), &info);
+    EXPECT_EQ(info.nbStreamlines, 3);
+    EXPECT_EQ(info.nbVertices, 6);
+    EXPECT_EQ(info.dims[0], 10);
+    EXPECT_EQ(info.dims[1], 20);
+    EXPECT_EQ(info.dims[2], 30);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        EXPECT_EQ(info.voxToRas[c][r], r == c ? (r < 3 ? 2 : 1) : c == 3 ? -10.0 * (r + 1) : 0) << r << c;
+    ASSERT_EQ(l.offsets, (std::vector<std::uint32_t>{0, 2, 5, 6}));
+    EXPECT_EQ(l.points[5], glm::vec3(100, -50, 25.5f));
+  }
+}
+
+// Headers that are not valid JSON, or valid JSON without what a TRX header needs.
+TEST(TractFormatsTrx, MalformedHeadersAreRefused) {
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string affine = R"("VOXEL_TO_RASMM": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]])";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"trailing.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6} x)", "bad TRX header.json: not valid JSON"},
+      {"comma.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6,})", "bad TRX header.json: not valid JSON"},
+      {"single.trx", R"({'NB_STREAMLINES': 3, 'NB_VERTICES': 6})", "bad TRX header.json: not valid JSON"},
+      {"nan.trx", R"({"NB_STREAMLINES": NaN, "NB_VERTICES": 6})", "bad TRX header.json: not valid JSON"},
+      {"overflow.trx", R"({"NB_STREAMLINES": 1e999, "NB_VERTICES": 6})", "bad TRX header.json: not valid JSON"},
+      {"utf8.trx", "{\"NB_STREAMLINES\": 3, \"NB_VERTICES\": 6, \"x\": \"\xff\xfe\"}",
+       "bad TRX header.json: not valid JSON"},
+      {"control.trx", "{\"NB_STREAMLINES\": 3, \"NB_VERTICES\": 6, \"x\": \"a\nb\"}",
+       "bad TRX header.json: not valid JSON"},
+      {"empty.trx", "", "bad TRX header.json: not valid JSON"},
+      {"array.trx", "[3, 6]", "TRX header.json is not a JSON object"},
+      {"string.trx", R"({"NB_STREAMLINES": "3", "NB_VERTICES": 6})", "no valid NB_STREAMLINES"},
+      {"fraction.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6.5})", "no valid NB_VERTICES"},
+      {"negative.trx", R"({"NB_STREAMLINES": -3, "NB_VERTICES": 6})", "no valid NB_STREAMLINES"},
+      {"huge.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 1e12})", "no valid NB_VERTICES"},
+      {"missing.trx", R"({"NB_VERTICES": 6})", "no valid NB_STREAMLINES"},
+      {"affine.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6, "VOXEL_TO_RASMM": [[1,0,0],[0,1,0],[0,0,1]]})",
+       "VOXEL_TO_RASMM is not a 4x4 array of numbers"},
+      {"affinetext.trx",
+       R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6, "VOXEL_TO_RASMM": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,"1"]]})",
+       "VOXEL_TO_RASMM is not a 4x4 array of numbers"},
+      {"dims.trx", R"({"NB_STREAMLINES": 3, "NB_VERTICES": 6, )" + affine + R"(, "DIMENSIONS": [10, 20.5, 30]})",
+       "DIMENSIONS is not three non-negative integers"},
+  };
+  for (const auto& [name, header, why] : cases) {
+    SCOPED_TRACE(name);
+    auto entries = trxEntries("float32", "uint32", true, false);
+    entries[0].data = header;
+    writeBytes(dir / name, dtf::test::zipArchive(entries));
+    expectInputError([&] { dtf::session::readTracts((dir / name).string()); }, name, why);
+  }
 }
 
 // Bad TRX files: each refused with the file name and the reason.
