@@ -7,6 +7,7 @@
 #include "io/formats/format_detail.h"
 #include "io/model/error.h"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -150,7 +151,10 @@ Grid afniGrid(const std::string& path, const std::map<std::string, Attr>& a, con
   toRas[0][0] = -1;
   toRas[1][1] = -1;
   const glm::dmat4 affine = toRas * lps;
-  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12)
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(affine[c][r])) fail(path, "the voxel-to-world mapping (" + source + ") is not finite");
+  if (!(std::abs(glm::determinant(glm::dmat3(affine))) >= 1e-12))
     fail(path, "the voxel-to-world mapping is singular");
   return Grid::fromAffine(gd, affine);
 }
@@ -211,7 +215,9 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   const std::string brik = afniBrikFile(path);
   if (brik.empty()) fail(path, "no .BRIK or .BRIK.gz beside it");
   if (!withData) return {};
-  const std::vector<std::uint8_t> data = readFileBytes(brik);
+  // Never more than the bricks need is read (or inflated), and nothing when the file cannot hold them.
+  checkInflatable(path, "data file " + brik + " ", brik, static_cast<unsigned long long>(bytes));
+  const std::vector<std::uint8_t> data = readFileBytes(brik, nullptr, static_cast<std::size_t>(bytes), true);
   if (static_cast<long long>(data.size()) < bytes)
     fail(path, "data file " + brik + " is truncated: " + std::to_string(data.size()) +
                    " bytes, the header needs " + std::to_string(bytes));

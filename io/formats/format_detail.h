@@ -125,10 +125,27 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
 std::string afniBrikFile(const std::string& head);
 
 // --- shared byte helpers
-// Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
-// InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.
+// Deflate expands at most about 1032:1, so a gzip file of N bytes holds at most N * kMaxDeflateRatio bytes.
+constexpr std::size_t kMaxDeflateRatio = 1032;
+// Beyond kBombFloorBytes inflated, a gzip file inflating more than kBombRatio-fold is refused as a deflate
+// bomb (image data compress a few-fold; only near-empty volumes come close, and those are small).
+constexpr std::size_t kBombFloorBytes = std::size_t(256) << 20;
+constexpr std::size_t kBombRatio = 100;
+// Throws InputError "PATH: WHAT..." when data of `stored` bytes (gzip when `gz`) cannot give the `need` bytes
+// a header declares: too short ("is truncated"), or a gzip stream that would have to inflate more than
+// kBombRatio-fold beyond kBombFloorBytes ("a deflate bomb"). `note` is added after the sizes. Called before
+// anything is allocated.
+void checkInflatable(const std::string& path, const std::string& what, std::size_t stored, bool gz,
+                     unsigned long long need, const std::string& note = "");
+// The same for the file `file` (gzip when it starts with the gzip magic).
+void checkInflatable(const std::string& path, const std::string& what, const std::string& file,
+                     unsigned long long need, const std::string& note = "");
+// Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most: beyond them,
+// throws InputError, or with `stopAtLimit` returns the first `limit` bytes (the rest of a gzip stream is
+// inflated into a small buffer, up to 64 MiB, to check its CRC). Throws InputError naming the file for
+// unreadable or corrupt gzip files and for deflate bombs (see kBombRatio).
 std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip = nullptr,
-                                        std::size_t limit = std::size_t(1) << 33);
+                                        std::size_t limit = std::size_t(1) << 33, bool stopAtLimit = false);
 // Reads up to `n` leading bytes (inflated when gzip). Never throws; empty when unreadable.
 std::vector<std::uint8_t> peekFileBytes(const std::string& path, std::size_t n);
 // Writes bytes to `path` (gzip when `gz`) through a temporary file renamed into place. Throws InputError.

@@ -20,7 +20,35 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, std::size_t limit) {
+void checkInflatable(const std::string& path, const std::string& what, std::size_t stored, bool gz,
+                     unsigned long long need, const std::string& note) {
+  const std::string head = path + ": " + what;
+  if (!gz && need > stored)
+    throw InputError(head + "is truncated: its " + std::to_string(stored) + " bytes cannot hold the " +
+                     std::to_string(need) + " bytes the header needs" + note);
+  if (gz && need / kMaxDeflateRatio > stored + 1)
+    throw InputError(head + "is truncated: its " + std::to_string(stored) + " bytes of gzip data cannot hold the " +
+                     std::to_string(need) + " bytes the header needs" + note);
+  if (gz && need > kBombFloorBytes && need / kBombRatio > stored)
+    throw InputError(head + "would inflate " + std::to_string(stored) + " bytes to the " + std::to_string(need) +
+                     " the header declares" + note + " (over " + std::to_string(kBombRatio) +
+                     "-fold: a deflate bomb or a corrupt header; refused)");
+}
+
+void checkInflatable(const std::string& path, const std::string& what, const std::string& file,
+                     unsigned long long need, const std::string& note) {
+  std::error_code ec;
+  const auto stored = static_cast<std::size_t>(fs::file_size(file, ec));
+  unsigned char magic[2] = {0, 0};
+  if (std::FILE* f = std::fopen(file.c_str(), "rb")) {
+    if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+    std::fclose(f);
+  }
+  checkInflatable(path, what, ec ? 0 : stored, magic[0] == 0x1f && magic[1] == 0x8b, need, note);
+}
+
+std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, std::size_t limit,
+                                        bool stopAtLimit) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": file does not exist");
   if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory");
@@ -31,26 +59,54 @@ std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, 
   std::fclose(f);
   const bool gz = m == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
   if (wasGzip) *wasGzip = gz;
+  const std::size_t stored = static_cast<std::size_t>(fs::file_size(path, ec));
   gzFile g = gzopen(path.c_str(), "rb");
   if (!g) throw InputError(path + ": cannot open the file");
   std::vector<std::uint8_t> out;
   // Chunks grow from 64 KiB to 16 MiB: small files stay cheap, large ones need few calls.
   std::size_t chunk = std::size_t(1) << 16;
+  bool more = true;
   for (;;) {
     const std::size_t at = out.size();
     if (at >= limit) {
+      if (stopAtLimit) break;
       gzclose(g);
       throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
     }
-    out.resize(at + chunk);
-    const int r = gzread(g, out.data() + at, static_cast<unsigned>(chunk));
+    // A deflate bomb (a small file inflating to gigabytes) is refused before it fills the memory.
+    if (gz && at > kBombFloorBytes && at / kBombRatio > stored) {
+      gzclose(g);
+      throw InputError(path + ": inflates to more than " + std::to_string(at) + " bytes from " +
+                       std::to_string(stored) + " (over " + std::to_string(kBombRatio) +
+                       " times its size: a deflate bomb or a corrupt file; refused)");
+    }
+    const std::size_t want = stopAtLimit ? std::min(chunk, limit - at) : chunk;
+    out.resize(at + want);
+    const int r = gzread(g, out.data() + at, static_cast<unsigned>(want));
     if (r < 0) {
       gzclose(g);
       throw InputError(path + ": corrupt gzip stream");
     }
     out.resize(at + static_cast<std::size_t>(r));
-    if (static_cast<std::size_t>(r) < chunk) break;
+    if (static_cast<std::size_t>(r) < want) {
+      more = false;
+      break;
+    }
     chunk = std::min(chunk * 2, std::size_t(1) << 24);
+  }
+  if (gz && more) {
+    // Stopped at the limit: inflate what follows (up to 64 MiB, into a small buffer) so that the stream's
+    // CRC is still checked when the file ends there, as it should.
+    std::vector<std::uint8_t> sink(std::size_t(1) << 16);
+    std::size_t drained = 0;
+    int r = 0;
+    while (drained < (std::size_t(1) << 26) &&
+           (r = gzread(g, sink.data(), static_cast<unsigned>(sink.size()))) > 0)
+      drained += static_cast<std::size_t>(r);
+    if (r < 0) {
+      gzclose(g);
+      throw InputError(path + ": corrupt gzip stream");
+    }
   }
   // A truncated gzip stream reads short without an error from gzread; gzclose_r reports it.
   const int closed = gzclose(g);
