@@ -34,12 +34,6 @@ const char* kIntro =
 const char* kEpilogue =
     "Exit codes: 0 ok, 1 usage, 2 bad input (or no ffmpeg for MP4/GIF), 3 GL/render failure.";
 
-CliOption::Range aboveUpTo(double lo, double hi) {
-  CliOption::Range r = closedRange(lo, hi);
-  r.loOpen = true;
-  return r;
-}
-
 } // namespace
 
 const OptionTable& movieOptions() {
@@ -85,13 +79,10 @@ const OptionTable& movieOptions() {
         O::text("background", "B", "fa | md | FILE: grey where the fabric is absent (as `dtfabric render`)")
             .hidden(),
         O::text("background-window", "LO,HI", "grey ramp of the background").hidden(),
-        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
-            .checkedBy(checkTensorLayout)
-            .hidden()
-            .under("Input"),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
-        O::text("mask", "F", "DWI fit mask").hidden(),
+        layoutOption(LayoutNames::Tensor).hidden().under("Input"),
+        bvalOption().hidden(),
+        bvecOption().hidden(),
+        fitMaskOption().hidden(),
     };
     std::vector<CliOption> fabric = fabricCliOptions();
     fabric.front().group = "Fabric (paper §2; --frame-iterations per movie frame)";
