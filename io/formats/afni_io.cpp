@@ -8,6 +8,7 @@
 #include "io/formats/gzip.h"
 #include "io/model/error.h"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -151,7 +152,10 @@ Grid afniGrid(const std::string& path, const std::map<std::string, Attr>& a, con
   toRas[0][0] = -1;
   toRas[1][1] = -1;
   const glm::dmat4 affine = toRas * lps;
-  if (std::abs(glm::determinant(glm::dmat3(affine))) < 1e-12)
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(affine[c][r])) fail(path, "the voxel-to-world mapping (" + source + ") is not finite");
+  if (!(std::abs(glm::determinant(glm::dmat3(affine))) >= 1e-12))
     fail(path, "the voxel-to-world mapping is singular");
   return Grid::fromAffine(gd, affine);
 }
@@ -212,7 +216,9 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
   const std::string brik = afniBrikFile(path);
   if (brik.empty()) fail(path, "no .BRIK or .BRIK.gz beside it");
   if (!withData) return {};
-  // A .BRIK.gz is inflated into the size the header declares, and refused when it runs far beyond it.
+  // Nothing is read when the file cannot hold the bricks; a .BRIK.gz is inflated into the size the header
+  // declares, and refused when it runs far beyond it.
+  checkInflatable(path, "data file " + brik + " ", brik, static_cast<unsigned long long>(bytes));
   const bool gz = endsWith(brik, ".gz");
   const auto declared = static_cast<std::size_t>(bytes);
   const std::vector<std::uint8_t> data =

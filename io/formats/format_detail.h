@@ -149,6 +149,21 @@ ScalarVolume readAfni(const std::string& path, VolumeHeader* header, bool withDa
 std::string afniBrikFile(const std::string& head);
 
 // --- shared byte helpers
+// Deflate expands at most about 1032:1, so a gzip file of N bytes holds at most N * kMaxDeflateRatio bytes.
+constexpr std::size_t kMaxDeflateRatio = 1032;
+// Beyond kBombFloorBytes inflated, a gzip file inflating more than kBombRatio-fold is refused as a deflate
+// bomb (image data compress a few-fold; only near-empty volumes come close, and those are small).
+constexpr std::size_t kBombFloorBytes = std::size_t(256) << 20;
+constexpr std::size_t kBombRatio = 100;
+// Throws InputError "PATH: WHAT..." when data of `stored` bytes (gzip when `gz`) cannot give the `need` bytes
+// a header declares: too short ("is truncated"), or a gzip stream that would have to inflate more than
+// kBombRatio-fold beyond kBombFloorBytes ("a deflate bomb"). `note` is added after the sizes. Called before
+// anything is allocated.
+void checkInflatable(const std::string& path, const std::string& what, std::size_t stored, bool gz,
+                     unsigned long long need, const std::string& note = "");
+// The same for the file `file` (gzip when it starts with the gzip magic).
+void checkInflatable(const std::string& path, const std::string& what, const std::string& file,
+                     unsigned long long need, const std::string& note = "");
 // Reads a whole file, inflating it when it starts with the gzip magic. `limit` bytes at most (throws
 // InputError beyond). Throws InputError naming the file for unreadable or corrupt gzip files.
 // `expect` (0: unknown) is the inflated size a header declares: it sizes the buffer (libdeflate inflates

@@ -21,6 +21,33 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+void checkInflatable(const std::string& path, const std::string& what, std::size_t stored, bool gz,
+                     unsigned long long need, const std::string& note) {
+  const std::string head = path + ": " + what;
+  if (!gz && need > stored)
+    throw InputError(head + "is truncated: its " + std::to_string(stored) + " bytes cannot hold the " +
+                     std::to_string(need) + " bytes the header needs" + note);
+  if (gz && need / kMaxDeflateRatio > stored + 1)
+    throw InputError(head + "is truncated: its " + std::to_string(stored) + " bytes of gzip data cannot hold the " +
+                     std::to_string(need) + " bytes the header needs" + note);
+  if (gz && need > kBombFloorBytes && need / kBombRatio > stored)
+    throw InputError(head + "would inflate " + std::to_string(stored) + " bytes to the " + std::to_string(need) +
+                     " the header declares" + note + " (over " + std::to_string(kBombRatio) +
+                     "-fold: a deflate bomb or a corrupt header; refused)");
+}
+
+void checkInflatable(const std::string& path, const std::string& what, const std::string& file,
+                     unsigned long long need, const std::string& note) {
+  std::error_code ec;
+  const auto stored = static_cast<std::size_t>(fs::file_size(file, ec));
+  unsigned char magic[2] = {0, 0};
+  if (std::FILE* f = std::fopen(file.c_str(), "rb")) {
+    if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
+    std::fclose(f);
+  }
+  checkInflatable(path, what, ec ? 0 : stored, magic[0] == 0x1f && magic[1] == 0x8b, need, note);
+}
+
 std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": file does not exist");

@@ -146,6 +146,37 @@ struct MrtrixDescription {
   std::size_t headerEnd = 0; // byte after the END line
 };
 
+// The header's bytes: the file's first MiB (inflated). Sets `gz`. The data are read once the header has
+// said how many bytes they take (readMrtrix), so a gzip stream is never inflated beyond them.
+std::vector<std::uint8_t> mrtrixHeaderBytes(const std::string& path, bool& gz) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
+  std::vector<std::uint8_t> bytes = peekFileBytes(path, 1 << 20);
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  unsigned char m[2] = {0, 0};
+  if (f) {
+    gz = std::fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
+    std::fclose(f);
+  }
+  // A corrupt gzip stream inflates to nothing here: the full read names the problem.
+  if (bytes.empty() && gz) readFileBytes(path);
+  return bytes;
+}
+
+// The first `need` bytes of `file` (inflated), refused before anything is read when the file cannot hold
+// them (a gzip file holds at most kMaxDeflateRatio times its size).
+std::vector<std::uint8_t> mrtrixPrefix(const std::string& path, const std::string& file, long long offset,
+                                       long long need) {
+  checkInflatable(path, file == path ? "" : "data file " + file + " ", file,
+                  static_cast<unsigned long long>(offset + need), " (offset " + std::to_string(offset) + ")");
+  // A gzip stream (.mif.gz, or a gzip data file) is inflated whole (libdeflate) into the size the header
+  // declares and refused when it runs far beyond it; a plain file is read as it is.
+  const auto total = static_cast<std::size_t>(offset + need);
+  std::vector<std::uint8_t> raw = readRawFile(file);
+  if (!isGzip(raw.data(), raw.size())) return raw;
+  return inflateGzip(file, raw.data(), raw.size(), total, inflateLimit(total), "the gzip data");
+}
+
 // One "key: value" header line into `d` (and the dw_scheme and comments into `img`).
 void mrtrixHeaderEntry(const std::string& path, const std::string& key, const std::string& value,
                        MrtrixDescription& d, MrtrixImage& img) {
@@ -296,74 +327,38 @@ void mrtrixDataLocation(const std::string& path, const std::string& entry, std::
   }
 }
 
-// The header's bytes: the whole (inflated) file when the data are wanted, else its first MiB. Sets `gz`.
-std::vector<std::uint8_t> mrtrixBytes(const std::string& path, bool withData, bool& gz) {
-  // .mif.gz files hold header and data in one gzip stream: the whole file is inflated for the data, its
-  // first MiB for the header alone.
-  std::error_code ec;
-  if (!withData && !fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
-  gz = false;
-  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
-    unsigned char m[2] = {0, 0};
-    gz = std::fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-    std::fclose(f);
-  }
-  if (!withData) return peekFileBytes(path, 1 << 20);
-  std::size_t limit = std::size_t(1) << 33, expect = 0;
-  if (gz) {
-    // The header (its first MiB, inflated by zlib's stream) declares how many bytes the stream holds: the
-    // whole stream is inflated into that size and refused when it runs far beyond (a deflate bomb). A header
-    // that does not parse here is reported by the full read.
-    try {
-      MrtrixImage probe;
-      const MrtrixDescription d = parseMrtrixHeader(path, peekFileBytes(path, 1 << 20), probe);
-      std::string dataPath;
-      long long offset = 0;
-      if (!d.files.empty()) mrtrixDataLocation(path, d.files[0], dataPath, offset);
-      if (dataPath != path) offset = static_cast<long long>(d.headerEnd); // data elsewhere: header alone
-      long long need = 0;
-      if (dataPath == path && !d.datatypeText.empty()) {
-        const long long total = mrtrixValueCount(path, d);
-        const DataType dt = parseDatatype(path, d.datatypeText);
-        need = dt.bytes == 0 ? (total + 7) / 8 : total * dt.bytes;
-      }
-      expect = static_cast<std::size_t>(offset + need);
-      limit = inflateLimit(expect);
-    } catch (const InputError&) {
-    }
-  }
-  return readFileBytes(path, &gz, limit, expect);
-}
-
-// The data's bytes (`bytes` itself for data in the same file; else read into `dataBytes` when withData),
-// after checking that the data are all there. Null when !withData.
+// The data's bytes (read into `dataBytes` when withData, never more than the header needs), after checking
+// that the data are all there. Null when !withData.
 const std::vector<std::uint8_t>* mrtrixData(const std::string& path, const MrtrixDescription& d,
                                             const std::vector<std::uint8_t>& bytes, bool gz, bool withData,
                                             long long need, std::vector<std::uint8_t>& dataBytes,
                                             long long& dataOffset) {
   std::string dataPath;
   mrtrixDataLocation(path, d.files[0], dataPath, dataOffset);
-  std::error_code ec;
   const std::vector<std::uint8_t>* data = &bytes;
   if (dataPath != path) {
     if (!fs::exists(dataPath)) fail(path, "data file " + dataPath + " does not exist");
     if (withData) {
-      dataBytes = readFileBytes(dataPath);
+      dataBytes = mrtrixPrefix(path, dataPath, dataOffset, need);
       data = &dataBytes;
     } else {
-      const auto size = static_cast<long long>(fs::file_size(dataPath, ec));
-      if (!ec && size < dataOffset + need && !endsWith(dataPath, ".gz"))
-        fail(path, "data file " + dataPath + " is truncated: " + std::to_string(size) +
-                       " bytes, the header needs " + std::to_string(dataOffset + need));
+      checkInflatable(path, "data file " + dataPath + " ", dataPath,
+                      static_cast<unsigned long long>(dataOffset + need),
+                      " (offset " + std::to_string(dataOffset) + ")");
     }
   } else if (dataOffset < static_cast<long long>(d.headerEnd)) {
     fail(path, "file offset " + std::to_string(dataOffset) + " lies inside the header (which ends at byte " +
                    std::to_string(d.headerEnd) + ")");
   }
   long long have = static_cast<long long>(data->size());
-  if (!withData && dataPath == path) {
-    const auto size = fs::file_size(path, ec);
-    have = gz || ec ? std::numeric_limits<long long>::max() : static_cast<long long>(size);
+  if (withData && dataPath == path) {
+    dataBytes = mrtrixPrefix(path, path, dataOffset, need);
+    data = &dataBytes;
+    have = static_cast<long long>(data->size());
+  } else if (!withData && dataPath == path) {
+    checkInflatable(path, "", path, static_cast<unsigned long long>(dataOffset + need),
+                    " (offset " + std::to_string(dataOffset) + ")");
+    have = dataOffset + need;
   }
   if ((withData || dataPath == path) && have < dataOffset + need)
     fail(path, std::string(dataPath == path ? "" : "data file " + dataPath + " ") + "is truncated: " +
@@ -420,7 +415,7 @@ MrtrixImage readMrtrix(const std::string& path, bool withData) {
   h.path = path;
   h.niftiVersion = 0;
   bool gz = false;
-  const std::vector<std::uint8_t> bytes = mrtrixBytes(path, withData, gz);
+  const std::vector<std::uint8_t> bytes = mrtrixHeaderBytes(path, gz);
   const MrtrixDescription d = parseMrtrixHeader(path, bytes, img);
   const long long total = mrtrixValueCount(path, d);
   if (d.datatypeText.empty()) fail(path, "the header has no 'datatype'");

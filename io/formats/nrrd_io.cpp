@@ -216,14 +216,16 @@ void nrrdSizes(const std::string& path, NrrdDescription& d) {
 
 // Axis directions from 'spacings' and the kinds (no 'space directions'): spatial axes along x, y, z.
 void nrrdDirectionsFromSpacings(const NrrdDescription& d, std::vector<glm::dvec3>& dirs,
-                                std::vector<bool>& spatial) {
+                                std::vector<bool>& spatial, std::vector<std::string>& warnings) {
   std::vector<double> spacings(static_cast<std::size_t>(d.ndim), 1.0);
+  std::vector<std::string> given(static_cast<std::size_t>(d.ndim));
   if (const std::string* sp = d.field("spacings")) {
     const auto w = words(*sp);
     for (std::size_t a = 0; a < w.size() && a < spacings.size(); ++a) {
       char* end = nullptr;
       const double v = std::strtod(w[a].c_str(), &end);
       spacings[a] = std::isfinite(v) && v > 0 ? v : 1.0;
+      if (!(std::isfinite(v) && v > 0)) given[a] = w[a];
     }
   }
   int axis = 0;
@@ -233,6 +235,9 @@ void nrrdDirectionsFromSpacings(const NrrdDescription& d, std::vector<glm::dvec3
       spatial[a] = true;
       glm::dvec3 v(0.0);
       if (axis < 3) v[axis] = spacings[a];
+      if (!given[a].empty())
+        warnings.push_back("spacing '" + given[a] + "' of axis " + std::to_string(a) +
+                           " is not a positive number: 1 mm assumed");
       dirs[a] = v;
       ++axis;
     }
@@ -254,7 +259,7 @@ void nrrdAxes(const std::string& path, NrrdDescription& d, NrrdVolume& out) {
     for (std::size_t a = 0; a < n; ++a)
       spatial[a] = parseVector(path, "space directions", e[a], d.dirs[a]);
   } else {
-    nrrdDirectionsFromSpacings(d, d.dirs, spatial);
+    nrrdDirectionsFromSpacings(d, d.dirs, spatial, out.header.warnings);
     out.header.warnings.emplace_back("no 'space directions': orientation unknown, assuming RAS voxel axes");
   }
   for (int a = 0; a < d.ndim; ++a) {
@@ -307,6 +312,9 @@ void nrrdGeometry(const std::string& path, const NrrdDescription& d, NrrdVolume&
     affine[c] = glm::dvec4(toRas * d.dirs[a], 0.0);
   }
   affine[3] = glm::dvec4(toRas * origin, 1.0);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(affine[c][r])) fail(path, "the space directions or the space origin are not finite");
   if (singular(glm::dmat3(affine)))
     fail(path, "the space directions are singular (they do not span 3D space): no voxel-to-world affine");
   h.grid = Grid::fromAffine(gdims, affine);
@@ -406,7 +414,8 @@ std::vector<double> nrrdAsciiValues(const std::string& path, const std::vector<s
   const std::string text(src.begin() + static_cast<std::ptrdiff_t>(std::min(start, src.size())), src.end());
   std::istringstream in(text);
   std::vector<double> values;
-  values.reserve(static_cast<std::size_t>(total));
+  // Each number takes at least two characters with its separator: never reserve beyond what the text holds.
+  values.reserve(static_cast<std::size_t>(std::min<long long>(total, static_cast<long long>(text.size() / 2 + 1))));
   double v;
   while (static_cast<long long>(values.size()) < total && in >> v)
     values.push_back(v);
@@ -422,8 +431,14 @@ const std::uint8_t* nrrdBinaryData(const std::string& path, const std::vector<st
                                    std::vector<std::uint8_t>& inflated) {
   if (gz) {
     if (start > src.size()) fail(path, "the data start beyond the end of the file");
-    // One call inflates every gzip member (libdeflate), never far beyond what the header declares.
-    const std::size_t declared = need + static_cast<std::size_t>(std::max(byteSkip, 0LL));
+    // The byte skip applies to the inflated data: inflate it and the data after it.
+    if (byteSkip < 0) fail(path, "byte skip " + std::to_string(byteSkip) + " is invalid with gzip encoding");
+    if (static_cast<unsigned long long>(byteSkip) > (1ULL << 40))
+      fail(path, "byte skip " + std::to_string(byteSkip) + " is absurd");
+    // One call inflates every gzip member (libdeflate), never far beyond what the header declares; a header
+    // declaring more than the stream can hold (or only as a deflate bomb) is refused before allocating.
+    const std::size_t declared = need + static_cast<std::size_t>(byteSkip);
+    checkInflatable(path, "", src.size() - start, true, declared);
     inflated = inflateGzip(path, src.data() + start, src.size() - start, declared, inflateLimit(declared),
                            "the gzip-encoded data");
     if (byteSkip > 0) {
@@ -517,6 +532,7 @@ NrrdVolume readNrrd(const std::string& path, bool withData) {
     if (dataPath.empty() && !e.gz && !e.ascii && bytes.size() - d.headerEnd < need)
       fail(path, "is truncated: " + std::to_string(bytes.size() - d.headerEnd) +
                      " data bytes, the header needs " + std::to_string(need));
+    if (dataPath.empty() && e.gz) checkInflatable(path, "", bytes.size() - d.headerEnd, true, need);
     return out;
   }
   if (dataPath.empty())

@@ -158,6 +158,15 @@ void openTrxContainer(const std::string& path, TrxInfo& info, Container& box) {
   }
 }
 
+// VOXEL_TO_RASMM must be finite with an invertible rotation-scale part (a .trk written from it divides by it).
+void checkTrxAffine(const std::string& path, const glm::dmat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) throw InputError(path + ": TRX VOXEL_TO_RASMM is not finite");
+  if (!(std::abs(glm::determinant(glm::dmat3(m))) >= 1e-12))
+    throw InputError(path + ": TRX VOXEL_TO_RASMM is singular");
+}
+
 // header.json: the counts, VOXEL_TO_RASMM and DIMENSIONS into `info`. Any valid JSON is accepted (escapes,
 // exponents, whitespace, members in any order); numbers written as 1.2e2 or 120.0 count as integers.
 void readTrxHeader(const std::string& path, const Container& box, TrxInfo& info) {
@@ -190,6 +199,7 @@ void readTrxHeader(const std::string& path, const Container& box, TrxInfo& info)
       }
     }
     if (!ok) throw InputError(path + ": TRX VOXEL_TO_RASMM is not a 4x4 array of numbers");
+    checkTrxAffine(path, info.voxToRas);
   } else {
     logWarning(path + ": TRX header.json has no VOXEL_TO_RASMM; assuming the identity");
   }

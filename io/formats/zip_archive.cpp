@@ -154,6 +154,11 @@ std::string_view ZipReader::read(const Entry& e, std::string& storage) const {
     if (e.size > e.compressedSize * 1032 + 1024)
       throw InputError(path_ + ": zip entry '" + e.name + "' claims " + std::to_string(e.size) + " bytes from " +
                        std::to_string(e.compressedSize) + " compressed (corrupt archive)");
+    // A deflate bomb: beyond 256 MiB, more than 100-fold (tract coordinates compress a few-fold at most).
+    if (e.size > (std::uint64_t(256) << 20) && e.size / 100 > e.compressedSize)
+      throw InputError(path_ + ": zip entry '" + e.name + "' inflates to " + std::to_string(e.size) +
+                       " bytes from " + std::to_string(e.compressedSize) +
+                       " (over 100 times its size: a deflate bomb or a corrupt archive; refused)");
     // One call into a buffer of the declared size (libdeflate): a stream that gives more or fewer bytes, or
     // runs past the entry's compressed bytes, is refused.
     storage.resize(static_cast<std::size_t>(e.size));

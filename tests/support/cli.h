@@ -42,11 +42,13 @@ inline CliRun runDtfabricCombined(const std::string& args, const std::filesystem
   return r;
 }
 
-// `args` is appended to the executable path as shell words (quote paths that may hold spaces).
-inline CliResult runDtfabric(const std::string& args, const std::filesystem::path& scratch) {
+// `args` is appended to the executable path as shell words (quote paths that may hold spaces); `shellPrefix`
+// (e.g. "ulimit -v 1048576; ") comes before the command.
+inline CliResult runDtfabric(const std::string& args, const std::filesystem::path& scratch,
+                             const std::string& shellPrefix = "") {
   const auto outFile = scratch / "cli_stdout.txt", errFile = scratch / "cli_stderr.txt";
-  std::string cmd =
-      std::string("'") + DTF_EXE + "' " + args + " >'" + outFile.string() + "' 2>'" + errFile.string() + "'";
+  std::string cmd = shellPrefix + "'" + DTF_EXE + "' " + args + " >'" + outFile.string() + "' 2>'" +
+                    errFile.string() + "'";
   int status = std::system(cmd.c_str());
   CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);

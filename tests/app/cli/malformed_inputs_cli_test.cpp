@@ -176,6 +176,34 @@ std::string gzip(const std::string& raw) {
   return out;
 }
 
+// A gzip stream of `prefix` followed by `zeros` zero bytes (a deflate bomb when `zeros` is large: about 1 KiB
+// of stream per MiB), built in 1 MiB steps.
+std::string gzipWithZeros(const std::string& prefix, std::uint64_t zeros) {
+  z_stream z{};
+  deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);
+  const std::string block(std::size_t(1) << 20, '\0');
+  std::string out, buf(std::size_t(1) << 16, '\0');
+  auto feed = [&](const char* p, std::size_t n, int flush) {
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(p));
+    z.avail_in = static_cast<uInt>(n);
+    int rc;
+    do {
+      z.next_out = reinterpret_cast<Bytef*>(buf.data());
+      z.avail_out = static_cast<uInt>(buf.size());
+      rc = deflate(&z, flush);
+      out.append(buf.data(), buf.size() - z.avail_out);
+    } while (z.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
+  };
+  feed(prefix.data(), prefix.size(), zeros ? Z_NO_FLUSH : Z_FINISH);
+  for (std::uint64_t left = zeros; left > 0;) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, block.size()));
+    left -= n;
+    feed(block.data(), n, left ? Z_NO_FLUSH : Z_FINISH);
+  }
+  deflateEnd(&z);
+  return out;
+}
+
 // MRtrix .tck: `header` lines between "mrtrix tracks" and "END"; "file: . OFFSET" is added (pointing right
 // after END) unless the header names `file:` itself; then `points` as Float32LE triplets.
 std::string tck(const std::string& header, const std::vector<float>& points, bool addFile = true) {
@@ -255,7 +283,16 @@ struct Case {
   std::vector<std::string> errHas; // substrings of stderr
   std::string output;              // file name the command would write (must not exist afterwards)
   std::string outHas;              // for cases that succeed with a warning: a substring of stdout
+  // Run under a memory cap (2 GiB of address space; under ASan an RSS limit and no allocation over 1 GiB):
+  // for headers that declare gigabytes, the reader must refuse before allocating.
+  bool capMemory = false;
 };
+
+// The case with the memory cap on.
+Case capped(Case c) {
+  c.capMemory = true;
+  return c;
+}
 
 // `info` on a NIfTI file written from `bytes`.
 Case infoCase(std::string name, std::string file, std::function<std::string()> bytes,
@@ -937,6 +974,363 @@ std::vector<Case> catalogue() {
       infoCase("AfniMissingBrik", "nobrik+orig.HEAD",
                [=] { return afniHead + "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 3\n"; },
                {"no .BRIK"}));
+  // ---- adversarial cases for the readers of other tools' formats: declared sizes far beyond the file
+  // (refused before allocating: run under a memory cap), deflate bombs (refused beyond 256 MiB at more than
+  // 100-fold), offsets past the end, NaN or singular transforms, records cut short.
+  const std::string mifHuge = "mrtrix image\ndim: 1000,1000,1000\nvox: 1,1,1\nlayout: +0,+1,+2\n"
+                              "datatype: Float32LE\nfile: . 256\nEND\n";
+  c.push_back(capped(infoCase("MrtrixGzipDeclaringGigabytes", "huge.mif.gz",
+                              [=] {
+                                std::string h = mifHuge;
+                                h.resize(256 + 64, '\0');
+                                return gzip(h);
+                              },
+                              {"truncated", "cannot hold the 4000000256 bytes the header needs"},
+                              " --voxel 0,0,0")));
+  c.push_back(capped(infoCase("MrtrixDeclaringGigabytes", "huge.mif",
+                              [=] {
+                                std::string h = mifHuge;
+                                h.resize(256 + 64, '\0');
+                                return h;
+                              },
+                              {"truncated", "4000000256"}, " --voxel 0,0,0")));
+  c.push_back(capped(infoCase("MrtrixDeflateBomb", "bomb.mif.gz",
+                              [] {
+                                std::string h = "mrtrix image\ndim: 1024,1024,300\nvox: 1,1,1\n"
+                                                "layout: +0,+1,+2\ndatatype: UInt8\nfile: . 256\nEND\n";
+                                h.resize(256, '\0');
+                                return gzipWithZeros(h, std::uint64_t(300) << 20);
+                              },
+                              {"deflate bomb"}, " --voxel 0,0,0")));
+  c.push_back(infoCase("MrtrixNegativeOffset", "negoffset.mif",
+                       [=] {
+                         return "mrtrix image\n" + mifGeom + "datatype: Float32LE\nfile: . -64\nEND\n" +
+                                std::string(512, '\0');
+                       },
+                       {"file offset -64 is not a whole number >= 0"}));
+  c.push_back(infoCase("MrtrixNanTransform", "nantransform.mif",
+                       [=] {
+                         return mif("dim: 4,4,4\nvox: 2,2,2\nlayout: +0,+1,+2\ntransform: 1,0,0,0\n"
+                                    "transform: 0,nan,0,0\ntransform: 0,0,1,0\ndatatype: Float32LE\n",
+                                    256);
+                       },
+                       {"'transform' is not finite"}));
+  c.push_back(infoCase("MrtrixSingularTransform", "singular.mif",
+                       [=] {
+                         return mif("dim: 4,4,4\nvox: 2,2,2\nlayout: +0,+1,+2\ntransform: 1,0,0,0\n"
+                                    "transform: 1,0,0,0\ntransform: 0,0,1,0\ndatatype: Float32LE\n",
+                                    256);
+                       },
+                       {"the transform is singular"}));
+  c.push_back(infoCase("MrtrixDwSchemeRowCutShort", "dwcut.mif",
+                       [=] {
+                         return mif("dim: 2,2,2,2\nvox: 2,2,2\nlayout: +0,+1,+2,+3\ndatatype: Float32LE\n"
+                                    "dw_scheme: 0,0,0,0\ndw_scheme: 1,0,0\n",
+                                    64);
+                       },
+                       {"a dw_scheme row has 3 numbers (expected 4)"}));
+  c.push_back(capped(
+      infoCase("MrtrixDetachedDataDeclaringGigabytes", "split.mih",
+               [=] {
+                 return "mrtrix image\ndim: 1000,1000,1000\nvox: 1,1,1\nlayout: +0,+1,+2\n"
+                        "datatype: Float32LE\nfile: split.dat 0\nEND\n";
+               },
+               {"split.dat", "does not exist"})));
+  c.push_back(capped({"MrtrixDetachedGzipDataDeclaringGigabytes",
+                      [=](const fs::path& dir) {
+                        writeBytes(dir / "split.mih", "mrtrix image\ndim: 1000,1000,1000\nvox: 1,1,1\n"
+                                                      "layout: +0,+1,+2\ndatatype: Float32LE\n"
+                                                      "file: split.dat.gz 0\nEND\n");
+                        writeBytes(dir / "split.dat.gz", gzip(std::string(4096, '\0')));
+                        return "info " + q(dir / "split.mih") + " --voxel 0,0,0";
+                      },
+                      2,
+                      {"split.mih", "split.dat.gz", "truncated"}}));
+  const std::string nrrdGeom = "space: right-anterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
+                               "endian: little\n";
+  c.push_back(capped(infoCase("NrrdGzipDeclaringGigabytes", "huge.nrrd",
+                              [=] {
+                                return "NRRD0004\ntype: float\ndimension: 3\nsizes: 1000 1000 1000\n" +
+                                       nrrdGeom + "encoding: gzip\n\n" + gzip(std::string(4096, '\0'));
+                              },
+                              {"truncated", "4000000000 bytes the header needs"}, " --voxel 0,0,0")));
+  c.push_back(capped(infoCase("NrrdAsciiDeclaringGigabytes", "huge_ascii.nrrd",
+                              [=] {
+                                return "NRRD0004\ntype: double\ndimension: 3\nsizes: 1000 1000 1000\n" +
+                                       nrrdGeom + "encoding: ascii\n\n1 2 3 4 5 6 7 8\n";
+                              },
+                              {"ascii data hold 8 numbers, the header needs 1000000000"}, " --voxel 0,0,0")));
+  c.push_back(capped(infoCase("NrrdDeflateBomb", "bomb.nrrd",
+                              [=] {
+                                return "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 1024 1024 300\n" +
+                                       nrrdGeom + "encoding: gzip\n\n" +
+                                       gzipWithZeros("", std::uint64_t(300) << 20);
+                              },
+                              {"deflate bomb"}, " --voxel 0,0,0")));
+  c.push_back(infoCase("NrrdByteSkipPastTheEnd", "skip.nrrd",
+                       [=] {
+                         return "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\n" + nrrdGeom +
+                                "byte skip: 100000\nencoding: raw\n\n" + std::string(32, '\0');
+                       },
+                       {"truncated", "the header needs 32"}, " --voxel 0,0,0"));
+  c.push_back(infoCase("NrrdNanSpaceDirection", "nandir.nrrd",
+                       [] {
+                         return std::string("NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\n"
+                                            "space directions: (nan,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n") +
+                                std::string(32, '\0');
+                       },
+                       {"'space directions' entry '(nan,0,0)' is not 3 finite numbers"}));
+  c.push_back(infoCase("NrrdSingularSpaceDirections", "singular.nrrd",
+                       [] {
+                         return std::string("NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\n"
+                                            "space directions: (1,0,0) (2,0,0) (0,0,1)\nencoding: raw\n\n") +
+                                std::string(32, '\0');
+                       },
+                       {"the space directions are singular"}));
+  // NRRD writes "nan" for an unknown spacing: read as 1 mm, with a warning.
+  c.push_back({"NrrdNanSpacingIsReported",
+               [](const fs::path& dir) {
+                 writeBytes(dir / "nanspacing.nrrd", "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\n"
+                                                     "spacings: 1 nan 1\nencoding: raw\n\n" +
+                                                         std::string(32, '\0'));
+                 return "info " + q(dir / "nanspacing.nrrd");
+               },
+               0,
+               {},
+               "",
+               "spacing 'nan' of axis 1 is not a positive number: 1 mm assumed"});
+  c.push_back({"NrrdDetachedDataCutShort",
+               [=](const fs::path& dir) {
+                 writeBytes(dir / "cut.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: 4 4 4\n" + nrrdGeom +
+                                                  "encoding: raw\ndata file: cut.raw\n");
+                 writeBytes(dir / "cut.raw", std::string(100, '\0'));
+                 return "info " + q(dir / "cut.nhdr") + " --voxel 0,0,0";
+               },
+               2,
+               {"cut.nhdr", "truncated", "256"}});
+  const std::string afniGeom = "type = integer-attribute\nname = DATASET_RANK\ncount = 2\n 3 1\n\n"
+                               "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 3\n\n";
+  const std::string afniAffine = "type = float-attribute\nname = IJK_TO_DICOM_REAL\ncount = 12\n"
+                                 " 2 0 0 0 0 2 0 0 0 0 2 0\n\n";
+  const auto afni = [](const fs::path& dir, const std::string& head, const std::string& brik,
+                       const std::string& brikName = "a+orig.BRIK") {
+    writeBytes(dir / "a+orig.HEAD", head);
+    writeBytes(dir / brikName, brik);
+    return "info " + q(dir / "a+orig.HEAD") + " --voxel 0,0,0";
+  };
+  c.push_back(capped({"AfniDeclaringGigabytes",
+                      [=](const fs::path& dir) {
+                        return afni(dir,
+                                    afniGeom + afniAffine +
+                                        "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n"
+                                        " 1000 1000 1000\n",
+                                    std::string(4096, '\0'));
+                      },
+                      2,
+                      {"a+orig.HEAD", "truncated", "cannot hold the 4000000000"}}));
+  c.push_back(capped({"AfniGzipBrikDeclaringGigabytes",
+                      [=](const fs::path& dir) {
+                        return afni(dir,
+                                    afniGeom + afniAffine +
+                                        "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n"
+                                        " 1000 1000 1000\n",
+                                    gzip(std::string(4096, '\0')), "a+orig.BRIK.gz");
+                      },
+                      2,
+                      {"a+orig.HEAD", "truncated", "cannot hold the 4000000000"}}));
+  c.push_back(capped({"AfniDeflateBomb",
+                      [=](const fs::path& dir) {
+                        return afni(dir,
+                                    "type = integer-attribute\nname = DATASET_RANK\ncount = 2\n 3 1\n\n"
+                                    "type = integer-attribute\nname = BRICK_TYPES\ncount = 1\n 0\n\n" +
+                                        afniAffine +
+                                        "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n"
+                                    " 1024 1024 300\n",
+                                    gzipWithZeros("", std::uint64_t(300) << 20), "a+orig.BRIK.gz");
+                      },
+                      2,
+                      {"a+orig.BRIK.gz", "deflate bomb"}}));
+  for (const auto& [name, matrix, message] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           // istream reads no "nan": the attribute is refused as short.
+           {"AfniNanTransform", " 2 0 0 0 0 nan 0 0 0 0 2 0", "IJK_TO_DICOM_REAL holds fewer than 12 numbers"},
+           {"AfniSingularTransform", " 2 0 0 0 2 0 0 0 0 0 2 0", "singular"}}) {
+    c.push_back({name,
+                 [=, matrix = matrix](const fs::path& dir) {
+                   return afni(dir,
+                               afniGeom + "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n"
+                                          " 2 2 2\n\ntype = float-attribute\nname = IJK_TO_DICOM_REAL\n"
+                                          "count = 12\n" + matrix + "\n",
+                               std::string(32, '\0'));
+                 },
+                 2,
+                 {"a+orig.HEAD", message}});
+  }
+  c.push_back({"AfniAttributeCutShort",
+               [=](const fs::path& dir) {
+                 return afni(dir,
+                             afniGeom + "type = integer-attribute\nname = DATASET_DIMENSIONS\ncount = 3\n 2 2 2\n\n"
+                                        "type = float-attribute\nname = IJK_TO_DICOM_REAL\ncount = 12\n 2 0 0 0 0",
+                             std::string(32, '\0'));
+               },
+               2,
+               {"a+orig.HEAD", "IJK_TO_DICOM_REAL holds fewer than 12 numbers"}});
+  // DSI Studio: MATLAB v4 matrices (20-byte header, name, values).
+  const auto mat4 = [](const std::string& name, int type, int rows, int cols, const std::string& payload) {
+    std::string m;
+    for (std::int32_t v : {type, rows, cols, 0, static_cast<std::int32_t>(name.size() + 1)})
+      put<std::int32_t>(m, v);
+    return m + name + '\0' + payload;
+  };
+  const auto dsiHead = [mat4](float voxel) {
+    std::string dims, vox;
+    for (short d : {2, 2, 2})
+      put<std::int16_t>(dims, d);
+    for (float v : {2.f, voxel, 2.f})
+      put<float>(vox, v);
+    return mat4("dimension", 30, 1, 3, dims) + mat4("voxel_size", 10, 1, 3, vox);
+  };
+  c.push_back(capped(infoCase("DsiStudioMatrixDeclaringGigabytes", "huge.src.gz",
+                              [=] {
+                                return gzip(dsiHead(2) + mat4("b_table", 10, 4, 1, std::string(16, '\0')) +
+                                            mat4("image0", 10, 46340, 46340, std::string(64, '\0')));
+                              },
+                              {"matrix 'image0' is truncated", "of 8589582400 bytes"})));
+  c.push_back(capped(infoCase("DsiStudioDeflateBomb", "bomb.src.gz",
+                              [=] {
+                                // A valid header, then one 300 MiB matrix of zeros: the whole file inflates
+                                // 1000-fold.
+                                std::string h = dsiHead(2) + mat4("b_table", 10, 4, 1, std::string(16, '\0')) +
+                                                mat4("image0", 50, 1024 * 1024, 300, "");
+                                return gzipWithZeros(h, std::uint64_t(300) << 20);
+                              },
+                              {"deflate bomb"})));
+  c.push_back(infoCase("DsiStudioNanVoxelSize", "nanvox.src.gz",
+                       [=] {
+                         return gzip(dsiHead(kNaN) + mat4("b_table", 10, 4, 1, std::string(16, '\0')) +
+                                     mat4("image0", 10, 4, 2, std::string(32, '\0')));
+                       },
+                       {"voxel size nan is not positive"}));
+  c.push_back(infoCase("DsiStudioMatrixNameCutShort", "cutname.src.gz",
+                       [=] { return gzip(dsiHead(2) + mat4("b_table", 10, 4, 1, "").substr(0, 26)); },
+                       {"truncated matrix name"}));
+  c.push_back(infoCase("DsiStudioFibIndexOutsideVertices", "index.fib.gz",
+                       [=] {
+                         std::string verts, fa, idx;
+                         for (float v : {1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+                           put<float>(verts, v);
+                         for (int i = 0; i < 8; ++i) {
+                           put<float>(fa, 0.5f);
+                           put<float>(idx, i == 5 ? 7.0f : 1.0f);
+                         }
+                         return gzip(dsiHead(2) + mat4("odf_vertices", 10, 3, 2, verts) +
+                                     mat4("fa0", 10, 1, 8, fa) + mat4("index0", 10, 1, 8, idx));
+                       },
+                       {"index0 holds 7", "outside odf_vertices (2)"}));
+  // TRX: zip entries escaping the archive write nothing outside the output; offsets past the end or going
+  // back; a singular VOXEL_TO_RASMM; a deflate bomb; header.json cut short.
+  c.push_back({"TrxEntryEscapingWritesNothingOutside",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "in");
+                 writeBytes(dir / "in" / "evil.trx", trxZip([](auto& e) {
+                              e.push_back({"../outside.float32", "abcd", false});
+                            }));
+                 return "convert " + q(dir / "in" / "evil.trx") + " " + q(dir / "in" / "out.trx");
+               },
+               2,
+               {"evil.trx", "'../outside.float32' escapes the archive"},
+               "in/out.trx"});
+  c.push_back(tractCase("TrxAbsoluteEntryName", "absolute.trx",
+                        [] { return trxZip([](auto& e) { e.push_back({"/tmp/x.float32", "abcd", false}); }); },
+                        {"'/tmp/x.float32' escapes the archive"}));
+  c.push_back(tractCase("TrxOffsetsGoingBack", "back.trx",
+                        [] {
+                          return trxZip([](auto& e) {
+                            e[0].data = R"({"NB_STREAMLINES": 3, "NB_VERTICES": 4})";
+                            e[2].data = std::string("\0\0\0\0\3\0\0\0\1\0\0\0\4\0\0\0", 16);
+                          });
+                        },
+                        {"offsets are inconsistent"}));
+  c.push_back(tractCase("TrxOffsetPastTheEnd", "past.trx",
+                        [] {
+                          return trxZip([](auto& e) {
+                            e[2].data = std::string("\0\0\0\0\2\0\0\0\x10\0\0\0", 12);
+                          });
+                        },
+                        {"past.trx", "offsets"}));
+  c.push_back(tractCase("TrxSingularVoxelToRas", "singular.trx",
+                        [] {
+                          return trxZip([](auto& e) {
+                            e[0].data = R"({"VOXEL_TO_RASMM": [[0,0,0,0],[0,0,0,0],[0,0,0,0],[0,0,0,1]], )"
+                                        R"("DIMENSIONS": [8,8,8], "NB_STREAMLINES": 2, "NB_VERTICES": 4})";
+                          });
+                        },
+                        {"VOXEL_TO_RASMM"}));
+  c.push_back(tractCase("TrxHeaderCutShort", "cuthdr.trx",
+                        [] {
+                          return trxZip([](auto& e) { e[0].data.resize(e[0].data.size() / 2); });
+                        },
+                        {"header.json"}));
+  c.push_back(capped(tractCase("TrxDeflateBomb", "bomb.trx",
+                               [] {
+                                 return trxZip([](auto& e) {
+                                   std::uint32_t crc = 0;
+                                   const std::uint64_t n = std::uint64_t(300) << 20;
+                                   e.push_back({"dpv/bomb.float32", dtf::test::rawDeflateZeros(n, crc), true, n,
+                                                crc});
+                                 });
+                               },
+                               {"dpv/bomb.float32", "deflate bomb"})));
+  c.push_back(capped(tractCase("TrxEntryClaimingGigabytes", "claim.trx",
+                               [] {
+                                 return trxZip([](auto& e) {
+                                   e.push_back({"dpv/big.float32", dtf::test::rawDeflate("abcd"), true,
+                                                std::uint64_t(3) << 30, 0});
+                                 });
+                               },
+                               {"dpv/big.float32", "corrupt archive"})));
+  // bval/bvec tables: binary garbage, numbers beyond double, a record cut in the middle.
+  c.push_back(fitCase("BvalBinaryGarbage", dwi, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), kBvec,
+                      {"dwi.bval", "is not a number"}));
+  c.push_back(fitCase("BvalBeyondDouble", dwi, "0 1000 1e400 1000 1000 1000 1000 0\n", kBvec,
+                      {"dwi.bval", "line 1", "not a finite non-negative number"}));
+  c.push_back(fitCase("BvecCutInARow", dwi, kBval,
+                      "0 1 0 0 0.7071 0.7071 0 0\n0 0 1 0 0.7071 0 0.7071 0\n0 0 0 1 0 0.7",
+                      {"dwi.bvec"}));
+  // BIDS layouts: a description that is no object, one that is a folder, a label that walks out.
+  const auto bids = [](const fs::path& dir, const std::string& description, bool descriptionIsFolder) {
+    fs::create_directories(dir / "ds" / "sub-01" / "dwi");
+    if (descriptionIsFolder)
+      fs::create_directories(dir / "ds" / "dataset_description.json");
+    else
+      writeBytes(dir / "ds" / "dataset_description.json", description);
+    writeBytes(dir / "ds" / "sub-01" / "dwi" / "sub-01_dwi.nii", dwiNifti().bytes());
+    writeBytes(dir / "ds" / "sub-01" / "dwi" / "sub-01_dwi.bval", kBval);
+    writeBytes(dir / "ds" / "sub-01" / "dwi" / "sub-01_dwi.bvec", kBvec);
+  };
+  c.push_back({"BidsDescriptionNotAnObject",
+               [=](const fs::path& dir) {
+                 bids(dir, "[1, 2, 3]", false);
+                 return "bids " + q(dir / "ds") + " " + q(dir / "out") + " participant";
+               },
+               2,
+               {"dataset_description.json", "not a JSON object"},
+               "out"});
+  c.push_back({"BidsDescriptionIsAFolder",
+               [=](const fs::path& dir) {
+                 bids(dir, "", true);
+                 return "bids " + q(dir / "ds") + " " + q(dir / "out") + " participant";
+               },
+               2,
+               {"dataset_description.json"},
+               "out"});
+  c.push_back({"BidsParticipantLabelWalkingOut",
+               [=](const fs::path& dir) {
+                 bids(dir, R"({"Name": "x", "BIDSVersion": "1.8.0"})", false);
+                 return "bids " + q(dir / "ds") + " " + q(dir / "out") + " participant --participant-label ../../etc";
+               },
+               2,
+               {"no participant ../../etc"},
+               "out"});
   c.push_back({"DtifitSetWithoutV1OrEigenvalues",
                [](const fs::path& dir) {
                  Nifti v2;
@@ -1041,7 +1435,18 @@ TEST_P(MalformedInput, IsRefusedCleanly) {
   const Case& c = GetParam();
   const fs::path dir = dtf::test::scratchDir();
   const std::string args = c.setup(dir);
-  const CliResult r = runDtfabric(args, dir);
+#if defined(__SANITIZE_ADDRESS__)
+  const std::string cap =
+      "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:hard_rss_limit_mb=2560:max_allocation_size_mb=1024\" ";
+#elif defined(__SANITIZE_THREAD__)
+  const std::string cap; // TSan reserves its shadow memory at start: an address-space cap breaks it
+#else
+  const std::string cap = "ulimit -v 2097152; ";
+#endif
+  const CliResult r = runDtfabric(args, dir, c.capMemory ? cap : "");
+  if (c.capMemory) {
+    EXPECT_EQ(r.err.find("out of memory"), std::string::npos) << "an allocation failed:\n" << r.err;
+  }
   EXPECT_LT(r.exitCode, 128) << "killed by signal " << r.exitCode - 128 << "\n" << r.err;
   EXPECT_EQ(r.exitCode, c.exitCode) << "dtfabric " << args << "\nstdout:\n"
                                     << r.out << "\nstderr:\n"
