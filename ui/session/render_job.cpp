@@ -20,10 +20,7 @@
 
 namespace dtf::session {
 
-namespace {
-
-// The grey ramp of a volume: its non-zero values' 1st..99th percentile. False when it has none.
-bool percentileWindow(Background& b) {
+bool windowByPercentiles(Background& b) {
   std::vector<float> v;
   for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
     const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
@@ -35,8 +32,6 @@ bool percentileWindow(Background& b) {
   b.hi = v[v.size() - 1 - v.size() / 100];
   return true;
 }
-
-} // namespace
 
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa) {
@@ -52,7 +47,7 @@ Background loadBackground(const std::string& what, const std::string& window, co
     b.hi = 0.003f;
   } else {
     b.volume = io::readScalarVolume(what);
-    if (!percentileWindow(b)) throw InputError(what + ": the background volume holds no non-zero values");
+    if (!windowByPercentiles(b)) throw InputError(what + ": the background volume holds no non-zero values");
   }
   if (!window.empty()) {
     const auto comma = window.find(',');
@@ -183,7 +178,7 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   // file the composite shows FA beneath, within the data's edge.)
   if (r.background.empty() && p.look == render::Look::Anatomy && !s.loaded.meanB0.data.empty()) {
     s.background.volume = std::move(s.loaded.meanB0);
-    if (!percentileWindow(s.background)) s.background.volume = ScalarVolume{};
+    if (!windowByPercentiles(s.background)) s.background.volume = ScalarVolume{};
   }
   s.buildOptions.clipToData = s.background.volume.data.empty();
   s.buildOptions.dataEdgeCells = true;

@@ -74,6 +74,9 @@ struct Background {
   float lo = 0, hi = 1;
 };
 
+// Windows `b` to its volume's non-zero values' 1st..99th percentile; false when it has none.
+bool windowByPercentiles(Background& b);
+
 // --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile); empty
 // `what`: none. `fa` is the field's FA map. Throws UsageError (bad window), InputError (unreadable FILE).
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
