@@ -130,7 +130,11 @@ void main() {
   float famp[3];
   vec2 v3 = vec2(0.0);
   uvec4 fibres = uvec4(0u);
-  int count = sampleFibres(world, fdir, famp, fa);
+  // Decoded a little beyond the data's edge; the edge is the blurred occupancy's 0.5 contour, a coverage ramp
+  // one pixel wide as for tensors.
+  int count = sampleFibres(world, 0.02, fdir, famp, fa);
+  float edge = fibreEdge(world);
+  float cover = clamp((edge - 0.5) / max(fwidth(edge), 1e-4) + 0.5, 0.0, 1.0);
   if (count > 0 && fa >= u_faFloor) {
     vec4 c0 = u_viewProj * vec4(world, 1.0);
     int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
@@ -153,7 +157,7 @@ void main() {
     eigen.xyz = abs(fdir[strongest]);
     lambda.y = abs(dot(fdir[strongest], n));
     lambda.x = (famp[0] + famp[1] + famp[2] - top) / (2.0 * top);
-    lambda.w = 1.0;
+    lambda.w = cover;
   }
 #else
   mat3 t;
