@@ -35,7 +35,8 @@ public:
   // [lo, hi]; nullptr removes it.
   void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
   // A 95 % cone-of-uncertainty map in degrees on any grid (io::readConeMap): the threads fray as the cone
-  // widens (FabricParams::fray); nullptr removes it.
+  // widens (FabricParams::fray); nullptr removes it. One component: every direction's cone; one per fibre of
+  // the fibre set (its index order, on its grid): each population frays by its own cone.
   void setUncertainty(const ScalarVolume* cone);
   // Output size in pixels; targets are re-created only when it changes.
   void resize(int width, int height);

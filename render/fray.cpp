@@ -42,6 +42,28 @@ void stroke(Image& im, glm::vec2 a, glm::vec2 b, int w, std::uint8_t r, std::uin
 
 } // namespace
 
+ScalarVolume slotCones(const FibreSet& set, const FibreSet& slotted, const ScalarVolume& cones) {
+  ScalarVolume out(slotted.grid, 3);
+  const std::size_t n = slotted.grid.voxelCount(), k = static_cast<std::size_t>(set.maxFibres),
+                    ks = static_cast<std::size_t>(slotted.maxFibres), kc = static_cast<std::size_t>(cones.components);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t j = 0; j < std::min<std::size_t>(ks, 3); ++j) {
+      const Fibre& s = slotted.fibres[v * ks + j];
+      if (!(s.amplitude > 0.0f)) continue;
+      float best = -1.0f;
+      for (std::size_t i = 0; i < std::min(k, kc); ++i) {
+        const Fibre& f = set.fibres[v * k + i];
+        const float c = std::abs(glm::dot(f.direction, s.direction));
+        if (f.amplitude == s.amplitude && c > best) {
+          best = c;
+          const float cone = cones.data[v * kc + i];
+          out.data[v * 3 + j] = std::isfinite(cone) ? cone : 0.0f;
+        }
+      }
+    }
+  return out;
+}
+
 void drawFrayLegend(Image& image, float fray, int scale) {
   const float cones[] = {0, 10, 20, 40};
   const int box = 18 * scale, gap = 4 * scale, pad = 3 * scale;

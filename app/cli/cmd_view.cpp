@@ -8,6 +8,7 @@
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
+#include "ui/session/fibre_input.h"
 #include "ui/session/surface_spec.h"
 
 #include <cstdio>
@@ -118,7 +119,7 @@ int cmdView(const CommandArgs& argv) {
 
   if (!uncertainty.empty()) { // read before a window opens: a bad map is exit code 2
     try {
-      o.uncertainty = io::readConeMap(uncertainty);
+      o.uncertainty = session::readUncertainty(uncertainty);
     } catch (...) {
       rethrowWithContext("while reading the uncertainty map " + uncertainty);
     }

@@ -184,8 +184,14 @@ void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
     fieldUploaded_[slot] = session_.fieldSerial();
     principalUploaded_[slot] = principal;
   }
+  if (uncertainty_ && (coneBuilt_ != coneSerial_ || coneField_ != session_.fieldSerial())) {
+    cone_ = session::conesFor(*uncertainty_, data && data->fibres ? &data->fibres->set : nullptr);
+    coneBuilt_ = coneSerial_;
+    coneField_ = session_.fieldSerial();
+    coneUploaded_.fill(0);
+  }
   if (coneUploaded_[slot] != coneSerial_) {
-    r.setUncertainty(cone_ ? &*cone_ : nullptr);
+    r.setUncertainty(uncertainty_ ? &cone_ : nullptr);
     coneUploaded_[slot] = coneSerial_;
   }
 }

@@ -13,6 +13,7 @@
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/fibre_input.h"
 #include "ui/session/keymap.h"
 #include "ui/session/viewer_session.h"
 #include "ui/session/viewer_state.h"
@@ -56,12 +57,13 @@ public:
   void setInteractiveScale(double s) { interactiveScale_ = scale_ = std::clamp(s, 0.25, 1.0); }
   // A 95 % cone-of-uncertainty map (degrees, io::readConeMap) that frays the threads of every pane;
   // nullopt removes it.
-  void setUncertainty(std::optional<ScalarVolume> cone) {
-    cone_ = std::move(cone);
+  // A bedpostx folder's populations keep their own cones over a fibre set (session::conesFor).
+  void setUncertainty(std::optional<session::UncertaintyMap> map) {
+    uncertainty_ = std::move(map);
     ++coneSerial_;
     dataChanged();
   }
-  bool hasUncertainty() const { return cone_.has_value(); }
+  bool hasUncertainty() const { return uncertainty_.has_value(); }
   // Renders every pane again on the next render() as if the camera had moved (benchmarks).
   void redraw() { cameraChanged(); }
   // Pane p's full-size renderer (pass timings in benchmarks).
@@ -163,8 +165,9 @@ private:
   // Serials of the mesh and field each renderer holds, and whether it holds a tensor's principal directions
   // as fibres (the fibres colour mode on tensors).
   std::array<std::uint64_t, 8> meshUploaded_{}, fieldUploaded_{}, coneUploaded_{};
-  std::optional<ScalarVolume> cone_;
-  std::uint64_t coneSerial_ = 0;
+  std::optional<session::UncertaintyMap> uncertainty_;
+  ScalarVolume cone_;                          // conesFor(uncertainty_, the data's fibres)
+  std::uint64_t coneSerial_ = 0, coneBuilt_ = 0, coneField_ = 0; // cone_ is of coneBuilt_ and coneField_
   std::array<bool, 8> principalUploaded_{};
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;

@@ -184,7 +184,7 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   s.buildOptions.dataEdgeCells = true;
   if (!r.uncertainty.empty()) {
     try {
-      s.cone = io::readConeMap(r.uncertainty);
+      s.cone = conesFor(readUncertainty(r.uncertainty), s.fibreIn ? &s.fibreIn->fibres.set : nullptr);
     } catch (...) {
       rethrowWithContext("while reading the uncertainty map " + r.uncertainty);
     }
