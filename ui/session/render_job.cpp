@@ -103,6 +103,11 @@ void validate(const RenderRequest& r) {
     throw UsageError("--supersample: the size times N must stay within 16384x16384");
 }
 
+// The uncertainty legend's font scale for the request's image.
+int frayLegendScale(const RenderRequest& r) {
+  return std::max(1, r.height / 384);
+}
+
 // The image size up to which the fabric's threads are those of the pixel-based defaults (FabricParams'
 // stepPixels, autoLodPixels); larger images scale them (the same fabric, sharper).
 constexpr double kFabricReferencePx = 768;
@@ -309,9 +314,8 @@ private:
     }
     glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
     tracts_->draw(renderer_.frameView(), style);
-    Image out = renderer_.readback();
-    if (s_.coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
-    return out;
+    colourBarDue_ = s_.coloured.coloured; // drawn by finish() at the final size
+    return renderer_.readback();
   }
 
   // Supersampling: the same fabric at n times the pixels (noise cell, step and silhouette in pixels x n).
@@ -332,7 +336,11 @@ private:
     Image img = downsample(full, n_);
     render::FigureFurniture furniture = r_.furniture;
     furniture.scaleBar = furniture.scaleBar && !r_.perspective; // one pixel size only without perspective
+    if (!s_.cone.data.empty()) furniture.bottomLeftReserved = render::frayLegendHeight(frayLegendScale(r_));
     render::drawFurniture(img, camera_, renderer_.frameView().pixelMm * n_, furniture);
+    if (colourBarDue_ && furniture.colourBar)
+      render::drawColourBar(img, {r_.colouring.value, s_.coloured.lo, s_.coloured.hi});
+    colourBarDue_ = false;
     return img;
   }
 
@@ -359,6 +367,7 @@ private:
   std::optional<render::TractRenderer> tracts_;
   std::optional<FibreSet> principal_;
   bool movieField_ = false;
+  mutable bool colourBarDue_ = false; // the last tract overlay was coloured by a value
 };
 
 // The image: one pane, or two side by side as the split asks.
@@ -401,7 +410,7 @@ RenderResult runRender(const RenderRequest& r) {
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
   if (!scene.cone.data.empty())
-    render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
+    render::drawFrayLegend(image, static_cast<float>(p.fray), frayLegendScale(r));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);
