@@ -9,6 +9,7 @@
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "render/bitmap_text.h"
+#include "render/fray.h"
 #include "render/gl_context.h"
 #include "surfaces/slices.h"
 
@@ -190,6 +191,13 @@ void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
     coneField_ = session_.fieldSerial();
     coneUploaded_.fill(0);
   }
+  if (backgroundUploaded_[slot] != backgroundVersion_) {
+    if (background_)
+      r.setBackground(&background_->volume, background_->lo, background_->hi);
+    else
+      r.setBackground(nullptr);
+    backgroundUploaded_[slot] = backgroundVersion_;
+  }
   if (coneUploaded_[slot] != coneSerial_) {
     r.setUncertainty(uncertainty_ ? &cone_ : nullptr);
     coneUploaded_[slot] = coneSerial_;
@@ -219,6 +227,7 @@ void ViewerScene::update() {
     if (const auto data = session_.dataset()) session_.state().crosshair = 0.5 * (data->lo + data->hi);
     setView(session_.homeView());
   }
+  resolveBackground();
   if (session_.meshSerial() != seenMesh_) {
     seenMesh_ = session_.meshSerial();
     cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
@@ -310,6 +319,88 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
         orthoIterations_[s] >= std::max(params.stillMaxIterations, kStillIterations))
       orthoDirty_[s] = false;
   }
+}
+
+void ViewerScene::resolveBackground() {
+  const auto data = session_.dataset();
+  const bool anatomy = state().fabric.look == render::Look::Anatomy;
+  const std::uint64_t field = session_.fieldSerial();
+  if (backgroundResolved_ == backgroundSerial_ && backgroundField_ == field && backgroundAnatomy_ == anatomy)
+    return;
+  backgroundResolved_ = backgroundSerial_;
+  backgroundField_ = field;
+  backgroundAnatomy_ = anatomy;
+  const bool had = background_.has_value();
+  background_.reset();
+  std::string& shown = session_.state().background;
+  shown.clear();
+  const std::string& what = backgroundAsked_.what;
+  if (data && what.empty() && anatomy && !data->loaded.meanB0.data.empty()) {
+    session::Background b;
+    b.volume = data->loaded.meanB0;
+    if (session::windowByPercentiles(b)) {
+      background_ = std::move(b);
+      shown = "mean b=0";
+    }
+  } else if (data && !what.empty() && what != "none") {
+    try {
+      session::Background b = session::loadBackground(what, backgroundAsked_.window, data->loaded.field, data->fa);
+      if (b.volume.data.empty()) throw UsageError("--background " + what + " needs FA: these data have none");
+      background_ = std::move(b);
+      shown = what;
+    } catch (...) {
+      session_.setError("while loading the background " + what + ": " + currentExceptionMessage());
+    }
+  }
+  if (had || background_) {
+    ++backgroundVersion_;
+    dataChanged();
+  }
+}
+
+namespace {
+
+// A pane of the scene as a canvas: offset to its rectangle and clipped to it.
+class PaneCanvas final : public render::Canvas {
+public:
+  PaneCanvas(render::Canvas& scene, const std::array<int, 4>& rect) : scene_(scene), r_(rect) {}
+  int width() const override { return r_[2]; }
+  int height() const override { return r_[3]; }
+  void fill(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) override {
+    const int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, r_[2]), y1 = std::min(y + h, r_[3]);
+    if (x0 < x1 && y0 < y1) scene_.fill(r_[0] + x0, r_[1] + y0, x1 - x0, y1 - y0, r, g, b);
+  }
+
+private:
+  render::Canvas& scene_;
+  std::array<int, 4> r_;
+};
+
+} // namespace
+
+void ViewerScene::drawFurniture(render::Canvas& scene) const {
+  const session::ViewerState& st = state();
+  if (!session_.mesh() || !st.hasData) return;
+  if (colourBar_.name != st.tractColourBy) colourBar_.name = st.tractColourBy;
+  colourBar_.lo = st.tractColourLo;
+  colourBar_.hi = st.tractColourHi;
+  constexpr int kFrayScale = 1;
+  auto pane = [&](const std::array<int, 4>& rect, const render::Camera& cam, bool tracts, bool fray) {
+    PaneCanvas c(scene, rect);
+    render::FigureFurniture what;
+    what.letters = false; // the window labels every pane's edges itself
+    what.legend = st.legend;
+    what.scaleBar = st.scaleBar && cam.orthographic;
+    if (fray) what.bottomLeftReserved = render::frayLegendHeight(kFrayScale);
+    render::drawFurniture(c, cam, mmPerPixel(cam, rect[3]), what);
+    if (tracts && st.colourBar && !st.tractColourBy.empty()) render::drawColourBar(c, colourBar_);
+    if (fray) render::drawFrayLegend(c, static_cast<float>(st.fabric.fray), kFrayScale);
+  };
+  for (int p = 0; p < paneCount(); ++p)
+    pane(paneRect(p), camera(p), paneShowsTracts(p), uncertainty_ && p == 0);
+  if (st.ortho)
+    for (int s = 0; s < 3; ++s)
+      if (!orthoMeshes_[s].empty()) pane(orthoRect(s), orthoCameras_[s], false, false);
 }
 
 void ViewerScene::startRecording(const session::RecordMovie& a) {
@@ -520,7 +611,11 @@ Image ViewerScene::layoutImage() const {
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
   if (!session_.mesh()) return img;
   for (int p = 0; p < paneCount(); ++p) readPane(outputFbo_[p], outputSize_[p], paneRect(p), img);
-  if (!state().ortho) return img;
+  if (!state().ortho) {
+    render::ImageCanvas canvas(img);
+    drawFurniture(canvas);
+    return img;
+  }
   const glm::dvec3 cross = state().crosshair;
   for (int s = 0; s < 3; ++s) {
     const auto r = orthoRect(s);
@@ -544,6 +639,8 @@ Image ViewerScene::layoutImage() const {
     letter(up, r[0] + r[2] / 2, r[1] + 10);
     letter(-up, r[0] + r[2] / 2, r[1] + r[3] - 10);
   }
+  render::ImageCanvas canvas(img);
+  drawFurniture(canvas);
   // Pane borders.
   const int w2 = std::max(width_ / 2, 1), h2 = std::max(height_ / 2, 1);
   render::fillRect(img, w2 - 1, 0, 2, height_, 90, 90, 90);
@@ -684,6 +781,14 @@ bool ViewerScene::applyView(const session::Action& action) {
         } else if constexpr (std::is_same_v<T, session::RecordMovie>) {
           if (recording_) throw UsageError("a movie is already being recorded");
           if (session_.mayWrite(a.path, a.force, action)) startRecording(a);
+        } else if constexpr (std::is_same_v<T, session::SetBackground>) {
+          backgroundAsked_ = a;
+          ++backgroundSerial_;
+          resolveBackground();
+        } else if constexpr (std::is_same_v<T, session::SetFurniture>) {
+          if (a.legend) state.legend = *a.legend;
+          if (a.scaleBar) state.scaleBar = *a.scaleBar;
+          if (a.colourBar) state.colourBar = *a.colourBar;
         } else if constexpr (std::is_same_v<T, session::ResetView>) {
           setView(session_.homeView());
         } else if constexpr (std::is_same_v<T, session::Rotate>) {

@@ -309,6 +309,28 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   if (ImGui::Button("Reset view (R)")) out.push_back(session::ResetView{});
   probe(b, "Reset view");
 
+  // The grey beneath the fabric and the figure furniture over the panes (as `render` draws them).
+  ImGui::InputText("##background", b.backgroundPath.data(), b.backgroundPath.size());
+  probe(b, "background path");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("a scalar volume on any grid (a T1, say), fa or md");
+  ImGui::SameLine();
+  if (ImGui::Button("Background") && b.backgroundPath[0] != '\0')
+    out.push_back(session::SetBackground{b.backgroundPath.data(), ""});
+  probe(b, "Background");
+  ImGui::SameLine();
+  if (ImGui::Button("default")) out.push_back(session::SetBackground{});
+  probe(b, "default background");
+  ImGui::TextDisabled("beneath: %s", s.background.empty() ? "FA within the data" : s.background.c_str());
+  bool legend = s.legend, scaleBar = s.scaleBar, colourBar = s.colourBar;
+  if (ImGui::Checkbox("legend", &legend)) out.push_back(session::SetFurniture{legend, {}, {}});
+  probe(b, "legend");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("scale bar", &scaleBar)) out.push_back(session::SetFurniture{{}, scaleBar, {}});
+  probe(b, "scale bar");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("colour bar", &colourBar)) out.push_back(session::SetFurniture{{}, {}, colourBar});
+  probe(b, "colour bar");
+
   ImGui::InputText("##shot", b.screenshotPath.data(), b.screenshotPath.size());
   if (ImGui::Button("Screenshot window")) out.push_back(session::Screenshot{b.screenshotPath.data(), false});
   probe(b, "Screenshot window");

@@ -25,6 +25,7 @@ struct PanelBuffers {
   std::array<char, 1024> cameraPath{};
   std::array<char, 1024> moviePath{}; // Record turntable: .mp4, .gif or DIR/
   int movieFrames = 36;
+  std::array<char, 1024> backgroundPath{}; // the grey beneath: FILE, fa or md
   std::array<char, 1024> tractPath{};
   std::array<char, 1024> tractSavePath{};
   session::ViewerTrackRequest track; // the tracking parameters being edited

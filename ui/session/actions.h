@@ -88,6 +88,17 @@ struct RecordMovie {
   double fps = 12;
   bool force = false;
 };
+// The grey beneath the fabric: a scalar volume FILE on any grid (resampled in world space), fa or md of the
+// data, or none (FA within the data); empty: the default (a DWI's mean b=0 image in the anatomy look).
+// `window`: LO,HI, or empty (a FILE's 1st..99th percentile).
+struct SetBackground {
+  std::string what;
+  std::string window;
+};
+// The figure furniture drawn over the panes as `dtfabric render` draws it: each piece that is given.
+struct SetFurniture {
+  std::optional<bool> legend, scaleBar, colourBar;
+};
 struct ResetView {};
 // Camera motion in window pixels (y down) over pane `pane` (-1 = the active pane).
 struct Rotate {
@@ -194,7 +205,7 @@ struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
-                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, ResetView, Rotate, Pan, Zoom,
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, SetBackground, SetFurniture, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
                  SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
                  SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;
