@@ -54,7 +54,9 @@ public:
   // this view and onto this mesh (surface points visible in both frames keep their state; newly visible
   // ones start from beta), then params.iterations Eq. 12 iterations: the paper's interactive mode, coherent
   // under camera motion and surface changes instead of restarting from the noise. Changing the parameters
-  // or the size between frames restarts from beta. Full resolution (movingScale does not apply).
+  // or the size between frames restarts from beta. Full resolution (movingScale does not apply). Three-
+  // population fibre sets (three thread fields) converge every frame as a still instead (coherent: the noise
+  // is anchored to world space).
   void renderMovieFrame(const Camera& camera, const FabricParams& params, bool first);
   // Plain Blinn-Phong of the same mesh into the output target.
   void renderPhong(const Camera& camera, const glm::vec3& colour = glm::vec3(0.8f));

@@ -61,6 +61,9 @@ public:
   // (not the parameters or the size) starts instead from the state kept by keepHistory(), reprojected into
   // the new view (AdvectionPass::reproject), so the fabric stays coherent from frame to frame.
   void reprojectNext() { reprojectNext_ = true; }
+  // Whether reprojectNext() can carry the state for these parameters (two thread fields: tensors and fibre
+  // sets of up to two populations).
+  bool reprojects(const FabricParams& params) const { return fields(params) == 2; }
   // Keeps the current state and the surface it lies on (after the frame's advection) for reprojectNext().
   void keepHistory(const FrameView& view);
   // params.iterations Eq. 12 iterations, continuing the state.

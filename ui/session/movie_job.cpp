@@ -124,7 +124,18 @@ void runMovie(const MovieRequest& request, const std::function<void(int, const I
                     : (r.kind == MovieRequest::Kind::Sweep ? render::parseView(r.axis) : render::StandardView::Superior);
   const render::Camera camera = render::Camera::standard(view, lo, hi, aspect, neuro, ortho);
   std::vector<int> indices;
-  if (r.kind == MovieRequest::Kind::Sweep) indices = sweepIndices(session.fa(), r.axis, r.frames);
+  if (r.kind == MovieRequest::Kind::Sweep) {
+    // Through the slices holding data: FA > 0, or for a fibre set without FA its voxels with fibres.
+    const ScalarVolume& fa = session.fa();
+    const bool hasFa = std::any_of(fa.data.begin(), fa.data.end(), [](float v) { return v > 0; });
+    ScalarVolume occupied;
+    if (!hasFa) {
+      const TensorField& f = session.field();
+      occupied = ScalarVolume(f.grid, 1);
+      for (std::size_t v = 0; v < occupied.data.size(); ++v) occupied.data[v] = f.valid[v] ? 1.0f : 0.0f;
+    }
+    indices = sweepIndices(hasFa ? fa : occupied, r.axis, r.frames);
+  }
   Mesh mesh;
   for (int i = 0; i < r.frames; ++i) {
     const SurfaceSpec spec = r.kind == MovieRequest::Kind::Sweep ? sliceSpec(r.axis, indices[std::size_t(i)])

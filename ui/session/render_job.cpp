@@ -284,7 +284,13 @@ public:
   void setMovieMesh(const Mesh& m) { renderer_.setMesh(m); }
   // A movie frame (FabricRenderer::renderMovieFrame) of the mesh set last.
   Image movieFrame(const render::Camera& camera, const render::FabricParams& params, bool first) {
-    if (!movieField_) renderer_.setField(*s_.field);
+    if (!movieField_) {
+      renderer_.setField(*s_.field);
+      if (params.colour == render::ColourMode::Fibres) {
+        auto [set, setFa] = fibresOf(*s_.field);
+        renderer_.setFibres(*set, setFa);
+      }
+    }
     movieField_ = true;
     renderer_.renderMovieFrame(camera, params, first);
     render::checkGl("rendering " + r_.output);
@@ -435,8 +441,6 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   m.request.split = {};
   m.request.tracts.clear();
   validate(m.request);
-  if (!m.request.field && isFibreSet(m.request.input, m.request.layout))
-    throw UsageError("movies take a tensor volume or a DWI; " + m.request.input + " is a fibre set");
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);
   m.panes.emplace(m.request, m.scene, m.none, m.request.view ? *m.request.view : defaultView(m.request.surface));
