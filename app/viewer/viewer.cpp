@@ -40,6 +40,9 @@ struct ViewerScene::Recording {
   render::FabricParams params;
   int frames = 0, next = 0;
   glm::ivec2 size{0};
+  session::RecordMovie request; // what is recorded (turntable, slice sweep, FA sweep)
+  std::vector<int> slices;      // a slice sweep's indices
+  Mesh mesh;                    // a sweep's surface of the current frame
 };
 
 ViewerScene::ViewerScene(const std::string& surface) : session_(surface) {
@@ -414,6 +417,11 @@ void ViewerScene::startRecording(const session::RecordMovie& a) {
   if (io::movieFormatOf(a.path) == io::MovieFormat::Mp4) rec->size = {rect[2] / 2 * 2, rect[3] / 2 * 2};
   rec->writer.emplace(a.path, rec->size.x, rec->size.y, a.fps, true); // mayWrite said yes
   rec->path = a.path;
+  rec->request = a;
+  if (a.kind == session::RecordMovie::Kind::Sweep)
+    rec->slices = session::sweepIndices(data->fa, data->loaded.field, a.axis, a.frames);
+  if (a.kind == session::RecordMovie::Kind::FaSweep && data->fa.data.empty())
+    throw UsageError("an FA sweep needs FA: pair a tensor with the fibre set");
   rec->start = camera(0);
   rec->params = state().fabric;
   rec->frames = a.frames;
@@ -432,13 +440,24 @@ void ViewerScene::recordFrame() {
     if (!recorder_) recorder_ = std::make_unique<render::FabricRenderer>();
     render::FabricRenderer& r = *recorder_;
     uploadField(r, 7);
-    if (rec.next == 0) {
-      r.setMesh(*session_.mesh());
-      r.resize(rec.size.x, rec.size.y);
+    if (rec.next == 0) r.resize(rec.size.x, rec.size.y);
+    using K = session::RecordMovie::Kind;
+    render::Camera cam = rec.start;
+    if (rec.request.kind == K::Turntable) {
+      if (rec.next == 0) r.setMesh(*session_.mesh());
+      // About the pane's vertical: the screen's up direction through the camera's target.
+      const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
+      cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
+    } else {
+      // Sweeps: the pane's camera held, the surface of this frame cut on the UI thread (one per frame).
+      const auto data = session_.dataset();
+      const session::SurfaceSpec spec =
+          rec.request.kind == K::Sweep
+              ? session::sliceSweepSpec(rec.request.axis, rec.slices[static_cast<std::size_t>(rec.next)])
+              : session::faSweepSpec(rec.request.faLo, rec.request.faHi, rec.next, rec.frames);
+      rec.mesh = session::extractViewerSurface(*data, spec);
+      r.setMesh(rec.mesh);
     }
-    // About the pane's vertical: the screen's up direction through the camera's target.
-    const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
-    const render::Camera cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
     r.renderMovieFrame(cam, rec.params, rec.next == 0);
     rec.writer->add(r.readback());
     st.recordedFrames = ++rec.next;

@@ -87,7 +87,14 @@ std::string describe(const Action& action) {
           std::snprintf(buf, sizeof buf, "SetCrosshair %g %g %g", a.world.x, a.world.y, a.world.z);
           return buf;
         } else if constexpr (std::is_same_v<T, RecordMovie>) {
-          std::snprintf(buf, sizeof buf, "RecordMovie turntable %d frames at %g fps ", a.frames, a.fps);
+          if (a.kind == RecordMovie::Kind::Sweep)
+            std::snprintf(buf, sizeof buf, "RecordMovie sweep %s %d frames at %g fps ", a.axis.c_str(), a.frames,
+                          a.fps);
+          else if (a.kind == RecordMovie::Kind::FaSweep)
+            std::snprintf(buf, sizeof buf, "RecordMovie fa-sweep %g:%g %d frames at %g fps ", a.faLo, a.faHi,
+                          a.frames, a.fps);
+          else
+            std::snprintf(buf, sizeof buf, "RecordMovie turntable %d frames at %g fps ", a.frames, a.fps);
           return buf + std::string(a.force ? "--force " : "") + a.path;
         } else if constexpr (std::is_same_v<T, SetBackground>) {
           return "SetBackground " + (a.what.empty() ? std::string("default") : a.what) +

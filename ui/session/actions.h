@@ -79,14 +79,20 @@ struct SetOrtho {
 struct SetCrosshair {
   glm::dvec3 world;
 };
-// Records a turntable of what the 3D pane shows (its surface, fabric and camera, a full turn about the pane's
-// vertical, the screen's up direction through the camera's target) to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
+// Records what the 3D pane shows (its surface, fabric and camera): a turntable (a full turn about the pane's
+// vertical, the screen's up direction through the camera's target), a slice sweep or an FA-threshold sweep,
+// to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
 // the advection state carried from frame to frame. An existing output only with `force`; never an input.
+// Sweep: the pane's camera held while the slice moves through the slices holding data along `axis`;
+// FaSweep: the FA isosurface from faLo to faHi (the surface re-extracted per frame).
 struct RecordMovie {
   std::string path;
   int frames = 36;
   double fps = 12;
   bool force = false;
+  enum class Kind { Turntable, Sweep, FaSweep } kind = Kind::Turntable;
+  std::string axis = "axial";     // Sweep
+  double faLo = 0.15, faHi = 0.5; // FaSweep
 };
 // The grey beneath the fabric: a scalar volume FILE on any grid (resampled in world space), fa or md of the
 // data, or none (FA within the data); empty: the default (a DWI's mean b=0 image in the anatomy look).

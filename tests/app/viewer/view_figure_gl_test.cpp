@@ -181,3 +181,48 @@ TEST(ViewFigure, LegendScaleBarAndUncertaintyLegendAreDrawnWhereAskedAndSwitchOf
   EXPECT_GT(whitePixels(fray, {0, h - 75, w / 3, 20}), 20) << "the scale bar above it";
   if (test::envFlag("DTF_TEST_SAVE_IMAGES")) io::writePng((test::binaryDir() / "view_figure_fray.png").string(), fray);
 }
+
+TEST(ViewFigure, TheViewerRecordsSliceAndFaSweepsOfThePane) {
+  DTF_GL_TEST_SETUP();
+  const std::string phantom = (test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string();
+  const auto dir = test::scratchDir();
+  test::ViewScene v("slice=axial");
+  v.apply(session::LoadFile{phantom, "auto"});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  session::RecordMovie sweep{(dir / "sweep/").string(), 4};
+  sweep.kind = session::RecordMovie::Kind::Sweep;
+  sweep.axis = "axial";
+  v.apply(sweep);
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  session::RecordMovie fa{(dir / "fa/").string(), 3};
+  fa.kind = session::RecordMovie::Kind::FaSweep;
+  fa.faLo = 0.2;
+  fa.faHi = 0.5;
+  v.apply(fa);
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  auto frames = [](const std::filesystem::path& d) {
+    std::vector<Image> out;
+    for (int i = 0;; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d.png", i);
+      if (!std::filesystem::exists(d / name)) break;
+      out.push_back(io::readPng((d / name).string()));
+    }
+    return out;
+  };
+  const auto s = frames(dir / "sweep"), f = frames(dir / "fa");
+  ASSERT_EQ(s.size(), 4u);
+  ASSERT_EQ(f.size(), 3u);
+  // Each frame shows another slice / another isosurface: consecutive frames differ.
+  auto differ = [](const Image& a, const Image& b) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.rgba.size(); ++i) n += std::abs(int(a.rgba[i]) - int(b.rgba[i])) > 30;
+    return n;
+  };
+  for (std::size_t i = 1; i < s.size(); ++i) EXPECT_GT(differ(s[i - 1], s[i]), 500u) << i;
+  for (std::size_t i = 1; i < f.size(); ++i) EXPECT_GT(differ(f[i - 1], f[i]), 200u) << i;
+  EXPECT_EQ(v.state().recordStatus, "wrote 3 frames to " + (dir / "fa/").string());
+}
