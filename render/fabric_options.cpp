@@ -13,13 +13,13 @@ namespace dtf::render {
 namespace {
 
 using K = FabricOption::Kind;
-using R = FabricOption::Range;
+using R = Range;
 
 constexpr R closed(double lo, double hi) {
   return R{lo, hi, false, false};
 }
-constexpr R none() {
-  return R{};
+constexpr R none() { // no slider
+  return R{0, 0, false, false};
 }
 
 #define DTF_FIELD(field, type)                                                                               \
@@ -105,15 +105,6 @@ std::string number(double v) {
 }
 
 } // namespace
-
-bool FabricOption::Range::contains(double v) const {
-  if (!(v >= lo && v <= hi)) return false;
-  return !(loOpen && v == lo) && !(hiOpen && v == hi);
-}
-
-std::string FabricOption::Range::text() const {
-  return std::string(loOpen ? "(" : "[") + number(lo) + ", " + number(hi) + (hiOpen ? ")" : "]");
-}
 
 bool FabricOption::matches(const std::string& key) const {
   if (key == name) return true;

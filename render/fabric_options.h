@@ -4,6 +4,7 @@
 // validation and help, the script's `set` keys and the Fabric panel's sliders all read this table.
 #pragma once
 
+#include "io/model/range.h"
 #include "render/fabric_params.h"
 
 #include <string>
@@ -17,12 +18,6 @@ struct FabricOption {
     Integer, // an integer in `range`
     OnOff,   // on|off in scripts, a checkbox; on by default, the CLI has --no-NAME
     Choice,  // one of `choices` (its index); the CLI and scripts take the name
-  };
-  struct Range {
-    double lo = 0, hi = 0;
-    bool loOpen = false, hiOpen = false; // (lo, ...] or [..., hi)
-    bool contains(double v) const;
-    std::string text() const; // "(0, 1]"
   };
   const char* name;    // CLI flag without dashes and script key, e.g. "blend-k"
   const char* aliases; // other script keys, space-separated ("" none), e.g. "k"

@@ -26,7 +26,7 @@ const std::vector<Layer> kLayers = {
     {"render", {"io/model", "shaders"}},
     // The session every front end drives, and the panels that draw it.
     {"ui/session", {"io/model", "io", "shaders", "surfaces", "render"}},
-    {"ui/panels", {"io/model", "render", "ui/session"}},
+    {"ui/panels", {"io/model", "surfaces", "render", "ui/session"}},
     // The front ends: the command base (option tables, parsing, the command type), the viewer, the
     // benchmarks, the command line above them, and the Python module.
     {"app/command", {"io/model", "io", "render"}},

@@ -68,8 +68,6 @@ struct FormatLoadFigure {
 };
 std::vector<FormatLoadFigure> benchFormatLoads(const std::optional<std::filesystem::path>& dataDir,
                                                std::vector<std::string>& notes);
-// The executable `name` on the PATH, or empty.
-std::string findOnPath(const std::string& name);
 // The 1-minute load average, to tell figures taken on a contended machine apart (-1 when unknown).
 double loadAverage();
 

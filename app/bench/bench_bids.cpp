@@ -3,6 +3,7 @@
 // hundred runs (the measured rows replicated), with the report's load time in headless Chromium when it is
 // on the PATH (a peer measurement, never a dependency).
 #include "app/bench/bench.h"
+#include "io/formats/process.h"
 #include "app/command/args.h"
 #include "app/command/options.h"
 #include "ui/session/bids_participant.h"
@@ -37,10 +38,9 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 double chromiumSeconds(const std::string& chromium, const std::string& url, const fs::path& scratch,
                        std::string* dom = nullptr) {
   const fs::path dumped = scratch / "dom.html";
-  const std::string cmd = "'" + chromium + "' --headless --no-sandbox --disable-gpu --dump-dom '" + url +
-                          "' >'" + dumped.string() + "' 2>/dev/null";
   const auto t0 = std::chrono::steady_clock::now();
-  const int rc = std::system(cmd.c_str());
+  const int rc = io::runProgram({chromium, "--headless", "--no-sandbox", "--disable-gpu", "--dump-dom", url},
+                                {dumped.string(), "/dev/null", {}});
   const double s = secondsSince(t0);
   if (dom) *dom = io::readTextFile(dumped.string());
   return rc == 0 ? s : -1;
@@ -158,7 +158,7 @@ void timeGroupReport(const io::BidsDataset& ds, const fs::path& out, BidsFigures
 
 // Headless Chromium loading the report (beside an empty page for its start-up) and the page's own timings.
 void timeReportInChromium(const fs::path& out, const fs::path& scratch, BidsFigures& f) {
-  f.chromium = findOnPath("chromium");
+  f.chromium = io::findOnPath("chromium");
   if (f.chromium.empty()) return;
   io::writeTextIfChanged((out / "empty.html").string(), "<!DOCTYPE html><html><body>x</body></html>\n");
   f.chromeEmpty = chromiumSeconds(f.chromium, "file://" + (out / "empty.html").string(), scratch);
@@ -173,10 +173,9 @@ void timeReportInChromium(const fs::path& out, const fs::path& scratch, BidsFigu
 // The same runs through the CLI with --jobs (worker processes), all recomputed.
 void timeJobs(const fs::path& bids, const fs::path& out, std::size_t runs, BidsFigures& f) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string cmd = "'" + fs::read_symlink("/proc/self/exe").string() + "' bids '" + bids.string() + "' '" +
-                          out.string() + "' participant --force --jobs " + std::to_string(f.cores) +
-                          " --figure-size " + std::to_string(f.figurePx) + " >/dev/null 2>&1";
-  const int rc = std::system(cmd.c_str());
+  const int rc = io::runProgram({fs::read_symlink("/proc/self/exe").string(), "bids", bids.string(), out.string(),
+                                 "participant", "--force", "--jobs", std::to_string(f.cores), "--figure-size",
+                                 std::to_string(f.figurePx)});
   f.jobsPerRun = rc == 0 ? secondsSince(t0) / static_cast<double>(runs) : -1;
 }
 

@@ -3,6 +3,7 @@
 // dependency) on the same DWI, table and mask. dwigradcheck tracks streamlines for every candidate table;
 // we fit once and turn the tensors. Reports both times, the speed-up and whether both chose the same table.
 #include "app/bench/bench.h"
+#include "io/formats/process.h"
 #include "app/command/args.h"
 #include "app/command/options.h"
 #include "ui/session/check_run.h"
@@ -104,7 +105,7 @@ int benchCheck(const CommandArgs& argv) {
   const std::string ourChoice = run.report.candidates[run.report.best].transform.name();
 
   Peer peer;
-  const std::string exe = noPeer ? std::string() : findOnPath("dwigradcheck");
+  const std::string exe = noPeer ? std::string() : io::findOnPath("dwigradcheck");
   if (noPeer) {
     peer.note = "skipped (--no-peer)";
   } else if (exe.empty()) {
@@ -113,13 +114,13 @@ int benchCheck(const CommandArgs& argv) {
     const auto tmp =
         std::filesystem::temp_directory_path() / ("dtf_bench_gradcheck_" + std::to_string(::getpid()));
     std::filesystem::create_directories(tmp);
-    std::ostringstream cmd;
-    cmd << "'" << exe << "' '" << req.input << "' -fslgrad '" << req.bvec << "' '" << req.bval << "' -mask '"
-        << req.mask << "' -export_grad_fsl '" << (tmp / "out.bvec").string() << "' '"
-        << (tmp / "out.bval").string() << "' -scratch '" << tmp.string() << "' -nthreads " << threads
-        << " -force -quiet >'" << (tmp / "log.txt").string() << "' 2>&1";
+    const std::string log = (tmp / "log.txt").string();
     const auto t1 = Clock::now();
-    const int rc = std::system(cmd.str().c_str());
+    const int rc = io::runProgram({exe, req.input, "-fslgrad", req.bvec, req.bval, "-mask", req.mask,
+                                   "-export_grad_fsl", (tmp / "out.bvec").string(), (tmp / "out.bval").string(),
+                                   "-scratch", tmp.string(), "-nthreads", std::to_string(threads), "-force",
+                                   "-quiet"},
+                                  {log, log, {}});
     peer.seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     peer.ran = rc == 0 && std::filesystem::exists(tmp / "out.bvec");
     if (!peer.ran) {

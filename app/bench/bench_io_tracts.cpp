@@ -2,6 +2,7 @@
 // nibabel's load of the same file in the same run, and a TRX zip of 1 M streamlines (12 points each,
 // float32 positions stored uncompressed, one per-streamline and one per-point array) written here.
 #include "app/bench/bench.h"
+#include "io/formats/process.h"
 #include "io/model/error.h"
 #include "io/formats/trx.h"
 #include "ui/session/tract_files.h"
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <functional>
 #include <unistd.h>
 
@@ -45,18 +47,16 @@ std::pair<double, double> nibabelLoadSeconds(const fs::path& file, int runs) {
                              "    t.append(time.perf_counter() - t0)\n"
                              "    c.append(time.process_time() - c0)\n"
                              "print('DTF_NIBABEL', statistics.median(t), statistics.median(c), len(s))\n";
+  const fs::path out = fs::temp_directory_path() / ("dtf_bench_nibabel_" + std::to_string(::getpid()) + ".txt");
   for (const char* py : {"/usr/bin/python3", "python3"}) {
-    const std::string cmd = std::string(py) + " -c \"$DTF_BENCH_SCRIPT\" '" + file.string() + "' 2>/dev/null";
-    ::setenv("DTF_BENCH_SCRIPT", script.c_str(), 1);
-    std::FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) continue;
-    char line[256] = {0};
+    if (io::runProgram({py, "-c", script, file.string()}, {out.string(), "/dev/null", {}}) != 0) continue;
     double seconds = -1, cpu = -1;
     long count = 0;
-    while (std::fgets(line, sizeof line, p))
-      if (std::sscanf(line, "DTF_NIBABEL %lf %lf %ld", &seconds, &cpu, &count) == 3) break;
-    ::pclose(p);
-    ::unsetenv("DTF_BENCH_SCRIPT");
+    std::ifstream lines(out);
+    for (std::string line; std::getline(lines, line);)
+      if (std::sscanf(line.c_str(), "DTF_NIBABEL %lf %lf %ld", &seconds, &cpu, &count) == 3) break;
+    std::error_code ec;
+    fs::remove(out, ec);
     if (seconds > 0) return {seconds, cpu};
   }
   return {-1, -1};

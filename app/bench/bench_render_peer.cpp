@@ -7,6 +7,7 @@
 // render (a static camera costs the same as a moving one on llvmpipe); the camera still turns 0.5 deg per
 // frame, as a user's would. The peer never fails the bench: every failure becomes a note.
 #include "app/bench/bench.h"
+#include "io/formats/process.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,23 +128,10 @@ std::string pyString(const std::string& s) {
   return r + "'";
 }
 
-// A single-quoted shell word.
-std::string shellWord(const std::string& s) {
-  std::string r = "'";
-  for (char c : s)
-    r += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return r + "'";
-}
-
 // The first of `names` that is an executable on the PATH, or empty.
 std::string onPath(std::initializer_list<const char*> names) {
-  const char* path = std::getenv("PATH");
-  for (const char* name : names) {
-    std::stringstream ss(path ? path : "");
-    std::string dir;
-    while (std::getline(ss, dir, ':'))
-      if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  }
+  for (const char* name : names)
+    if (std::string found = io::findOnPath(name); !found.empty()) return found;
   return {};
 }
 
@@ -295,20 +283,19 @@ RenderPeerResult runRenderPeer(const Mesh& mesh, const TensorField& field, const
   // Xvfb on a taken number can leave the first one's clients with "bad X server connection". So take
   // a number of our own from the pid, and try another when nothing got rendered for want of a display.
   auto attempt = [&](int serverNum) {
-    std::ostringstream cmd;
-    if (const char* extra = std::getenv("DTF_PARAVIEW_PYTHONPATH"); extra && *extra)
-      cmd << "PYTHONPATH=" << shellWord(extra) << "${PYTHONPATH:+:$PYTHONPATH} ";
-    if (!timeout.empty()) cmd << shellWord(timeout) << " -k 10 " << timeoutS << " ";
+    std::vector<std::string> argv;
+    io::ProgramIo io{(dir / "out.txt").string(), (dir / "err.txt").string(), {}};
+    if (const char* extra = std::getenv("DTF_PARAVIEW_PYTHONPATH"); extra && *extra) {
+      const char* old = std::getenv("PYTHONPATH");
+      io.environment.push_back(std::string("PYTHONPATH=") + extra + (old && *old ? ":" + std::string(old) : ""));
+    }
+    if (!timeout.empty()) argv.insert(argv.end(), {timeout, "-k", "10", std::to_string(timeoutS)});
     if (!xvfb.empty())
-      cmd << shellWord(xvfb) << " -n " << serverNum << " -s "
-          << shellWord("-screen 0 " + std::to_string(std::max(o.width, 1280)) + "x" +
-                       std::to_string(std::max(o.height, 1024)) + "x24")
-          << " ";
-    cmd << shellWord(pv) << " " << shellWord((dir / "peer.py").string()) << " >"
-        << shellWord((dir / "out.txt").string()) << " 2>" << shellWord((dir / "err.txt").string())
-        << " </dev/null";
-    const int status = std::system(cmd.str().c_str());
-    return status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      argv.insert(argv.end(), {xvfb, "-n", std::to_string(serverNum), "-s",
+                               "-screen 0 " + std::to_string(std::max(o.width, 1280)) + "x" +
+                                   std::to_string(std::max(o.height, 1024)) + "x24"});
+    argv.insert(argv.end(), {pv, (dir / "peer.py").string()});
+    return io::runProgram(argv, io);
   };
   int code = 0;
   RenderPeerResult parsed;

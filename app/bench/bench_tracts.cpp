@@ -4,6 +4,7 @@
 // it runs in the same invocation with the same settings and threads on the raw DWI, as the peer. tckgen
 // interpolates the DWI and fits a tensor at every step; we interpolate the fitted tensors, as the fabric does.
 #include "app/bench/bench.h"
+#include "io/formats/process.h"
 #include "app/command/args.h"
 #include "app/command/options.h"
 #include "io/model/error.h"
@@ -120,7 +121,7 @@ TrackingTimes timeTracking(const TrackingInput& in, const surfaces::TrackingOpti
 // MRtrix tckgen on the raw DWI with the same settings and threads, when it is on the PATH.
 PeerRun runTckgen(const std::filesystem::path& data, int count, int threads) {
   PeerRun peer;
-  const std::string tckgen = dtf::app::findOnPath("tckgen");
+  const std::string tckgen = dtf::io::findOnPath("tckgen");
   const auto raw = data / "iu_prisma_dwi";
   const auto mask = (raw / "derived" / "mask.nii.gz").string();
   if (tckgen.empty()) {
@@ -133,15 +134,13 @@ PeerRun runTckgen(const std::filesystem::path& data, int count, int threads) {
   }
   const auto out =
       std::filesystem::temp_directory_path() / ("dtf_bench_tckgen_" + std::to_string(::getpid()) + ".tck");
-  std::ostringstream cmd;
-  cmd << "'" << tckgen << "' '" << (raw / "dwi.nii.gz").string() << "' '" << out.string()
-      << "' -algorithm Tensor_Det -fslgrad '" << (raw / "dwi.bvec").string() << "' '" << (raw / "dwi.bval").string()
-      << "' -seed_image '" << mask << "' -mask '" << mask << "' -select " << count
-      << " -step 1 -cutoff 0.15 -angle 60 -minlength 30 -maxlength 250 -nthreads " << threads
-      << " -quiet -force >/dev/null 2>&1";
   const double c0 = childCpuSeconds();
   auto t0 = Clock::now();
-  const int rc = std::system(cmd.str().c_str());
+  const int rc = dtf::io::runProgram(
+      {tckgen, (raw / "dwi.nii.gz").string(), out.string(), "-algorithm", "Tensor_Det", "-fslgrad",
+       (raw / "dwi.bvec").string(), (raw / "dwi.bval").string(), "-seed_image", mask, "-mask", mask, "-select",
+       std::to_string(count), "-step", "1", "-cutoff", "0.15", "-angle", "60", "-minlength", "30", "-maxlength",
+       "250", "-nthreads", std::to_string(threads), "-quiet", "-force"});
   peer.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   peer.cpuSeconds = childCpuSeconds() - c0;
   std::error_code ec;

@@ -22,14 +22,6 @@ std::optional<std::filesystem::path> findSharedDataDir(const std::optional<std::
   return std::nullopt;
 }
 
-std::string findOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && ::access((dir + "/" + name).c_str(), X_OK) == 0) return dir + "/" + name;
-  return {};
-}
-
 double loadAverage() {
   double l = -1;
   if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {

@@ -129,7 +129,8 @@ private:
   bool pendingValue_ = false;
 };
 
-struct Range {
+// The smallest and largest value seen.
+struct MinMax {
   double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
   void add(double v) {
     lo = std::min(lo, v);
@@ -235,7 +236,7 @@ void warningsOut(Json* j, const std::vector<std::string>& warnings) {
 
 int describeTensors(const io::LoadedTensors& t, bool json) {
   const TensorField& f = t.field;
-  Range ranges[6];
+  MinMax ranges[6];
   std::vector<double> fa;
   std::size_t valid = 0;
   for (std::size_t i = 0; i < f.tensors.size(); ++i) {
@@ -301,7 +302,7 @@ int describeTensors(const io::LoadedTensors& t, bool json) {
 }
 
 int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) {
-  std::vector<Range> ranges(static_cast<std::size_t>(v.components));
+  std::vector<MinMax> ranges(static_cast<std::size_t>(v.components));
   std::size_t nonFinite = 0;
   for (std::size_t i = 0; i < v.data.size(); ++i) {
     float x = v.data[i];
@@ -311,7 +312,7 @@ int describeScalar(const ScalarVolume& v, const io::VolumeHeader& h, bool json) 
     }
     ranges[i % static_cast<std::size_t>(v.components)].add(x);
   }
-  Range all;
+  MinMax all;
   for (const auto& r : ranges)
     if (!r.empty()) all.add(r.lo), all.add(r.hi);
   if (json) {

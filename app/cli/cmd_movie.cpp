@@ -34,12 +34,6 @@ const char* kIntro =
 const char* kEpilogue =
     "Exit codes: 0 ok, 1 usage, 2 bad input (or no ffmpeg for MP4/GIF), 3 GL/render failure.";
 
-CliOption::Range aboveUpTo(double lo, double hi) {
-  CliOption::Range r = closedRange(lo, hi);
-  r.loOpen = true;
-  return r;
-}
-
 } // namespace
 
 const OptionTable& movieOptions() {
@@ -90,9 +84,9 @@ const OptionTable& movieOptions() {
             .under("Input (INPUT may also be a fibre set: peaks, a bedpostx folder, ...; woven in the fibre "
                    "colours, one thread field per population)"),
         pairedTensorOption("FA (--fa-sweep, FA modulation, --background fa|md)"),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)").hidden(),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
-        O::text("mask", "F", "DWI fit mask").hidden(),
+        bvalOption().hidden(),
+        bvecOption().hidden(),
+        fitMaskOption().hidden(),
     };
     std::vector<CliOption> fabric = fabricCliOptions();
     fabric.front().group = "Fabric (paper §2; --frame-iterations per movie frame)";

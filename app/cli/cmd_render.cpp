@@ -48,13 +48,6 @@ std::vector<CliOption> fabricRows() {
   return rows;
 }
 
-// (lo, hi]
-CliOption::Range aboveUpTo(double lo, double hi) {
-  CliOption::Range r = closedRange(lo, hi);
-  r.loOpen = true;
-  return r;
-}
-
 std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d) {
   using O = CliOption;
   return {

@@ -10,6 +10,7 @@
 #include "io/model/log.h"
 #include "surfaces/slices.h"
 #include "surfaces/tracking/tracking.h"
+#include "surfaces/tracking/tracking_parameters.h"
 
 #include <algorithm>
 #include <cmath>
@@ -37,33 +38,38 @@ std::vector<CliOption> seedingRows(const session::TrackRequest& d) {
           .hidden(),
       O::text("seed-slice", "AXIS:I", "random points in the valid voxels of axial|coronal|sagittal slice I")
           .hidden(),
-      O::integer("select", "N", d.select, above(0),
+      O::integer("select", "N", d.number, above(0),
                  "keep seeding until N streamlines are accepted (at most 1000 x N seeds)")
           .hidden()
-          .under("How many (one of; default --select " + std::to_string(d.select) + ")"),
+          .under("How many (one of; default --select " + std::to_string(d.number) + ")"),
       O::integer("seeds", "N", 0, above(0), "track exactly N seeds and keep the streamlines that pass")
           .noDefault()
           .hidden(),
-      O::integer("seeds-per-voxel", "K", d.seedsPerVoxel, atLeast(0),
+      O::integer("seeds-per-voxel", "K", 0, atLeast(0),
                  "with --seeds-mask: K seeds in every mask voxel")
           .hidden(),
   };
 }
 
+// The tracking parameters' rows from their table (surfaces/tracking/tracking_parameters.h).
+std::vector<CliOption> parameterRows(const surfaces::TrackingParams& d) {
+  std::vector<CliOption> rows;
+  for (const auto& p : surfaces::trackingParameters()) {
+    CliOption o = CliOption::number(p.name, p.metavar, p.get(d), p.range, p.help);
+    o.unit = p.unit;
+    rows.push_back(std::move(o).hidden());
+  }
+  rows.front().group = "Tracking";
+  return rows;
+}
+
 std::vector<CliOption> trackingRows(const session::TrackRequest& d) {
   using O = CliOption;
   const surfaces::TrackingOptions& to = d.options;
-  return {
-      O::number("step", "MM", to.stepMm, anyNumber(), "step length").hidden().under("Tracking"),
-      O::number("fa-stop", "F", to.faStop, anyNumber(), "stop where FA < F; seeds below F are rejected")
-          .hidden(),
-      O::number("angle", "DEG", to.maxAngleDeg, anyNumber(),
-                "largest turn between successive steps (per step, as in MRtrix)")
-          .hidden(),
-      O::number("min-length", "MM", to.minLengthMm, anyNumber(), "discard shorter streamlines").hidden(),
-      O::number("max-length", "MM", to.maxLengthMm, anyNumber(), "stop at this length").hidden(),
-      O::flag("rk4", "fourth-order Runge-Kutta integrator (the default)").hidden(),
-      O::flag("euler", "Euler integrator (as MRtrix Tensor_Det)").hidden(),
+  std::vector<CliOption> rows = parameterRows(to);
+  std::vector<CliOption> more = {
+      O::flag("rk4", surfaces::kRk4Help).hidden(),
+      O::flag("euler", surfaces::kEulerHelp).hidden(),
       O::text("mask", "M", "stop where the NIfTI mask M is zero").hidden(),
       O::integer("seed", "S", static_cast<int>(d.rngSeed), anyNumber(),
                  "random seed; the output depends only on it, not on --threads")
@@ -75,6 +81,8 @@ std::vector<CliOption> trackingRows(const session::TrackRequest& d) {
       O::flag("force", "overwrite an existing output").hidden(),
       O::flag("json", "print the report as one JSON object").hidden(),
   };
+  rows.insert(rows.end(), more.begin(), more.end());
+  return rows;
 }
 
 } // namespace
@@ -142,24 +150,24 @@ void readSeeding(ParsedOptions& args, TrackCli& cli) {
   cli.seedSlice = args.get("seed-slice");
   if (!!seedsMask + !!cli.seedSphere + !!cli.seedSurface + !!cli.seedSlice > 1)
     throw UsageError("give at most one of --seeds-mask, --seed-sphere, --seed-surface, --seed-slice");
+  using K = session::SeedKind;
+  r.seeds = seedsMask ? K::Mask : cli.seedSphere ? K::Sphere : cli.seedSurface ? K::Surface
+            : cli.seedSlice ? K::Slice : K::Data;
   r.seedsMask = seedsMask.value_or("");
   cli.seedsGiven = args.given("seeds");
   if (args.given("select") && cli.seedsGiven) throw UsageError("give either --select or --seeds, not both");
-  r.select = args.integer("select");
-  r.seedCount = cli.seedsGiven ? args.integer("seeds") : 0;
-  r.seedsPerVoxel = args.integer("seeds-per-voxel");
-  if (r.seedsPerVoxel > 0 && !seedsMask)
-    throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
+  const int perVoxel = args.integer("seeds-per-voxel");
+  if (perVoxel > 0 && !seedsMask) throw UsageError("--seeds-per-voxel K needs --seeds-mask and K >= 0");
+  using C = session::SeedCount;
+  r.count = perVoxel > 0 ? C::PerVoxel : cli.seedsGiven ? C::Seeds : C::Select;
+  const int select = args.integer("select"), seeds = cli.seedsGiven ? args.integer("seeds") : 0;
+  r.number = perVoxel > 0 ? perVoxel : cli.seedsGiven ? seeds : select;
 }
 
 void readTracking(ParsedOptions& args, TrackCli& cli) {
   session::TrackRequest& r = cli.request;
   surfaces::TrackingOptions& to = r.options;
-  to.stepMm = args.number("step");
-  to.faStop = args.number("fa-stop");
-  to.maxAngleDeg = args.number("angle");
-  to.minLengthMm = args.number("min-length");
-  to.maxLengthMm = args.number("max-length");
+  for (const auto& p : surfaces::trackingParameters()) p.set(to, args.number(p.name));
   const bool rk4 = args.flag("rk4"), euler = args.flag("euler");
   if (rk4 && euler) throw UsageError("give either --rk4 or --euler");
   to.rk4 = !euler;
@@ -176,7 +184,8 @@ void parseSeedPlaces(TrackCli& cli) {
   session::TrackRequest& r = cli.request;
   if (cli.seedSphere) {
     auto v = parseList(*cli.seedSphere, 4, "--seed-sphere");
-    r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
+    r.centre = glm::dvec3(v[0], v[1], v[2]);
+    r.radiusMm = v[3];
   }
   if (!cli.seedSlice) return;
   const std::string& slice = *cli.seedSlice;
@@ -184,12 +193,12 @@ void parseSeedPlaces(TrackCli& cli) {
   if (colon == std::string::npos) throw UsageError("--seed-slice expects AXIS:INDEX, e.g. axial:20");
   try {
     std::size_t used = 0;
-    r.seedSliceIndex = std::stoi(slice.substr(colon + 1), &used);
+    r.sliceIndex = std::stoi(slice.substr(colon + 1), &used);
     if (used != slice.size() - colon - 1) throw std::invalid_argument("");
   } catch (const std::exception&) {
     throw UsageError("--seed-slice index '" + slice.substr(colon + 1) + "' is not an integer");
   }
-  r.seedSliceAxis = slice.substr(0, colon);
+  r.sliceAxis = static_cast<int>(surfaces::parseSliceAxis(slice.substr(0, colon)));
 }
 
 // Tracks, with a progress line on an interactive terminal.
@@ -215,8 +224,8 @@ void checkResult(const TrackCli& cli, const surfaces::TrackingResult& r) {
         << q.options.minLengthMm << " mm)";
     throw InputError(msg.str());
   }
-  if (!cli.seedsGiven && q.seedsPerVoxel == 0 && r.lines.lineCount() < static_cast<std::size_t>(q.select))
-    logWarning("only " + std::to_string(r.lines.lineCount()) + " of " + std::to_string(q.select) +
+  if (q.count == session::SeedCount::Select && r.lines.lineCount() < static_cast<std::size_t>(q.number))
+    logWarning("only " + std::to_string(r.lines.lineCount()) + " of " + std::to_string(q.number) +
                " streamlines after " + std::to_string(r.seedsTried) + " seeds");
 }
 

@@ -45,12 +45,10 @@ const OptionTable& webOptions() {
         O::number("tracts-near", "MM", d.tractsNearMm, closedRange(0.1, 100),
                   "tract segments within MM of the slice's plane are drawn")
             .measuredIn("mm"),
-        O::text("layout", "L", "tensor layout override (fsl, mrtrix, symmatrix, dtitk)", "auto")
-            .checkedBy(checkTensorLayout)
-            .under("Input"),
-        O::text("bval", "F", "treat INPUT as a DWI and fit tensors (WLS; with --bvec)"),
-        O::text("bvec", "F", "the DWI's gradient directions (with --bval)"),
-        O::text("mask", "F", "DWI fit mask"),
+        layoutOption(LayoutNames::Tensor).under("Input"),
+        bvalOption(),
+        bvecOption(),
+        fitMaskOption(),
     };
     t.epilogue = "Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL/render failure.";
     return t;

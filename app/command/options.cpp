@@ -19,20 +19,6 @@ namespace dtf::app {
 
 namespace {
 
-// The shortest text that reads back as `v`; a value that is exactly a float (a float field's default) as
-// the shortest text that reads back as that float ("0.15", not "0.150000006").
-std::string formatNumber(double v) {
-  const bool isFloat = static_cast<double>(static_cast<float>(v)) == v;
-  char buf[32];
-  for (int precision = 1; precision <= 17; ++precision) {
-    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-    if (std::strchr(buf, 'e') && std::abs(v) >= 1e-4 && std::abs(v) < 1e15) continue; // "90", not "9e+01"
-    const double back = std::strtod(buf, nullptr);
-    if (back == v || (isFloat && static_cast<float>(back) == static_cast<float>(v))) break;
-  }
-  return buf;
-}
-
 std::string joined(const std::vector<std::string>& items, const std::string& sep, const std::string& last) {
   std::string out;
   for (std::size_t i = 0; i < items.size(); ++i)
@@ -72,40 +58,20 @@ std::string wrapped(const std::string& text, std::size_t used, std::size_t inden
 
 // ---- ranges ----
 
-bool CliOption::Range::contains(double v) const {
-  if (!(v >= lo && v <= hi)) return false;
-  return !(loOpen && v == lo) && !(hiOpen && v == hi);
+Range closedRange(double lo, double hi) {
+  return Range::closed(lo, hi);
 }
-
-std::string CliOption::Range::text() const {
-  const bool lower = std::isfinite(lo), upper = std::isfinite(hi);
-  if (lower && upper)
-    return std::string(loOpen ? "(" : "[") + formatNumber(lo) + ", " + formatNumber(hi) +
-           (hiOpen ? ")" : "]");
-  if (lower) return std::string(loOpen ? "> " : ">= ") + formatNumber(lo);
-  if (upper) return std::string(hiOpen ? "< " : "<= ") + formatNumber(hi);
-  return "";
+Range atLeast(double lo) {
+  return Range::atLeast(lo);
 }
-
-CliOption::Range closedRange(double lo, double hi) {
-  CliOption::Range r;
-  r.lo = lo;
-  r.hi = hi;
-  return r;
+Range above(double lo) {
+  return Range::above(lo);
 }
-CliOption::Range atLeast(double lo) {
-  CliOption::Range r;
-  r.lo = lo;
-  return r;
+Range aboveUpTo(double lo, double hi) {
+  return {lo, hi, true, false};
 }
-CliOption::Range above(double lo) {
-  CliOption::Range r;
-  r.lo = lo;
-  r.loOpen = true;
-  return r;
-}
-CliOption::Range anyNumber() {
-  return CliOption::Range{};
+Range anyNumber() {
+  return Range{};
 }
 
 // ---- rows ----
@@ -135,7 +101,7 @@ CliOption CliOption::choice(std::string name, std::string metavar, std::vector<s
 }
 CliOption CliOption::number(std::string name, std::string metavar, double def, Range range,
                             std::string help) {
-  CliOption o = text(std::move(name), std::move(metavar), std::move(help), formatNumber(def));
+  CliOption o = text(std::move(name), std::move(metavar), std::move(help), shortestNumber(def));
   o.kind = Kind::Number;
   o.range = range;
   return o;
@@ -479,13 +445,8 @@ std::vector<CliOption> fabricCliOptions() {
       break;
     case K::Number:
     case K::Integer: {
-      CliOption::Range r;
-      r.lo = f.range.lo;
-      r.hi = f.range.hi;
-      r.loOpen = f.range.loOpen;
-      r.hiOpen = f.range.hiOpen;
-      o = f.kind == K::Number ? CliOption::number(f.name, f.metavar, def, r, f.help)
-                              : CliOption::integer(f.name, f.metavar, static_cast<int>(def), r, f.help);
+      o = f.kind == K::Number ? CliOption::number(f.name, f.metavar, def, f.range, f.help)
+                              : CliOption::integer(f.name, f.metavar, static_cast<int>(def), f.range, f.help);
       break;
     }
     }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "app/command/command.h"
+#include "io/model/range.h"
 
 #include <limits>
 #include <optional>
@@ -26,13 +27,6 @@ struct CliOption {
     Number,  // a real number in `range`
     Integer, // an integer in `range`
     List,    // --NAME V1 V2 ... (the values up to the next option; --NAME=V gives one)
-  };
-  struct Range {
-    double lo = -std::numeric_limits<double>::infinity();
-    double hi = std::numeric_limits<double>::infinity();
-    bool loOpen = false, hiOpen = false;
-    bool contains(double v) const;
-    std::string text() const; // "[1, 90]", ">= 0", "> 0"
   };
   enum class Synopsis { Optional, Required, Hidden }; // how the usage line shows it
 
@@ -80,10 +74,11 @@ struct CliOption {
 };
 
 // Ranges for the builders.
-CliOption::Range closedRange(double lo, double hi);
-CliOption::Range atLeast(double lo);
-CliOption::Range above(double lo);
-CliOption::Range anyNumber();
+Range closedRange(double lo, double hi);
+Range atLeast(double lo);
+Range above(double lo);
+Range aboveUpTo(double lo, double hi); // (lo, hi]
+Range anyNumber();
 
 struct OptionTable {
   std::string command;            // "compare", "bench view"

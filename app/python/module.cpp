@@ -23,7 +23,10 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "render/fabric_options.h"
+#include "surfaces/slices.h"
+#include "surfaces/tracking/tracking_parameters.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -474,12 +477,21 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
   r.input = source;
   r.field = &tensors->field;
   r.seedsMask = optionalPath(seedsMask);
+  using K = session::SeedKind;
+  if (!r.seedsMask.empty()) r.seeds = K::Mask;
+  const int places = !r.seedsMask.empty() + !seedSphere.is_none() + !seedSurface.is_none() + !seedSlice.is_none();
+  if (places > 1) throw UsageError("give at most one of seeds_mask, seed_sphere, seed_surface, seed_slice");
   if (!seedSphere.is_none()) {
     auto v = castOr<std::vector<double>>(seedSphere, "seed_sphere must be (x, y, z, radius) in world mm");
     if (v.size() != 4) throw UsageError("seed_sphere must be (x, y, z, radius) in world mm");
-    r.seedSphere = glm::dvec4(v[0], v[1], v[2], v[3]);
+    r.seeds = K::Sphere;
+    r.centre = glm::dvec3(v[0], v[1], v[2]);
+    r.radiusMm = v[3];
   }
-  if (!seedSurface.is_none()) r.seedSurface = session::parseSurfaceSpec(seedSurface.cast<std::string>());
+  if (!seedSurface.is_none()) {
+    r.seeds = K::Surface;
+    r.seedSurface = session::parseSurfaceSpec(seedSurface.cast<std::string>());
+  }
   if (!seedSlice.is_none()) {
     std::pair<std::string, int> s;
     if (py::isinstance<py::str>(seedSlice)) {
@@ -496,16 +508,23 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
     } else {
       s = castOr<std::pair<std::string, int>>(seedSlice, "seed_slice must be 'AXIS:INDEX' or (AXIS, INDEX)");
     }
-    r.seedSliceAxis = s.first;
-    r.seedSliceIndex = s.second;
+    r.seeds = K::Slice;
+    r.sliceAxis = static_cast<int>(surfaces::parseSliceAxis(s.first));
+    r.sliceIndex = s.second;
   }
   if (!select.is_none() && !seeds.is_none()) throw UsageError("give either select or seeds, not both");
-  if (!select.is_none()) r.select = select.cast<int>();
+  if (!select.is_none()) r.number = select.cast<int>();
   if (!seeds.is_none()) {
-    r.seedCount = seeds.cast<int>();
-    if (r.seedCount <= 0) throw UsageError("seeds must be positive");
+    r.count = session::SeedCount::Seeds;
+    r.number = seeds.cast<int>();
+    if (r.number <= 0) throw UsageError("seeds must be positive");
   }
-  r.seedsPerVoxel = seedsPerVoxel;
+  if (seedsPerVoxel < 0 || (seedsPerVoxel > 0 && r.seedsMask.empty()))
+    throw UsageError("seeds_per_voxel K needs seeds_mask and K >= 0");
+  if (seedsPerVoxel > 0) {
+    r.count = session::SeedCount::PerVoxel;
+    r.number = seedsPerVoxel;
+  }
   if (seed < 0) throw UsageError("seed must be >= 0");
   r.rngSeed = static_cast<std::uint64_t>(seed);
   r.stopMask = optionalPath(mask);
@@ -623,6 +642,15 @@ bool isFileProblem(const std::string& m) {
 void raise(const char* cls, const std::string& message) {
   py::object type = py::module_::import("dtfabric._errors").attr(cls);
   PyErr_SetObject(type.ptr(), py::str(message).ptr());
+}
+
+// A tracking parameter's keyword (its table name with '_' for '-') with TrackingParams' default.
+py::arg_v trackArg(const char* pythonName) {
+  std::string name = pythonName;
+  std::replace(name.begin(), name.end(), '_', '-');
+  const surfaces::TrackingParameter* p = surfaces::findTrackingParameter(name);
+  if (!p) throw std::logic_error(std::string("no tracking parameter ") + name);
+  return py::arg(pythonName) = p->get(surfaces::TrackingParams{});
 }
 
 } // namespace
@@ -839,9 +867,8 @@ keyword arguments are the fabric options (frame_iterations=3, blend_k=0.1, ...).
       "track", &track, py::arg("field"), py::arg("seeds_mask") = py::none(),
       py::arg("seed_sphere") = py::none(), py::arg("seed_surface") = py::none(),
       py::arg("seed_slice") = py::none(), py::arg("select") = py::none(), py::arg("seeds") = py::none(),
-      py::arg("seeds_per_voxel") = 0, py::arg("step") = 1.0, py::arg("fa_stop") = 0.15,
-      py::arg("angle") = 60.0, py::arg("min_length") = 30.0, py::arg("max_length") = 250.0,
-      py::arg("rk4") = true, py::arg("mask") = py::none(), py::arg("seed") = 1, py::arg("threads") = 0,
+      py::arg("seeds_per_voxel") = 0, trackArg("step"), trackArg("fa_stop"), trackArg("angle"),
+      trackArg("min_length"), trackArg("max_length"), py::arg("rk4") = surfaces::TrackingParams{}.rk4, py::arg("mask") = py::none(), py::arg("seed") = 1, py::arg("threads") = 0,
       py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
       R"(Deterministic tensor tractography as `dtfabric track`: a list of (N, 3) float32 streamlines, world RAS mm.
 Default: select=1000 streamlines seeded where the field holds a tensor.)");

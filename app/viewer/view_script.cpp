@@ -9,6 +9,7 @@
 #include "io/model/error.h"
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
+#include "surfaces/tracking/tracking_parameters.h"
 
 #include <algorithm>
 #include <cctype>
@@ -87,13 +88,14 @@ ScriptSetParam parseParam(const std::string& name, const std::string& value) {
 }
 
 // `track KEY=VALUE ...`: the options of `dtfabric track` (see view_script.h).
-session::ViewerTrackRequest parseTrack(const std::vector<std::string>& w) {
-  session::ViewerTrackRequest r;
+session::TrackRequest parseTrack(const std::vector<std::string>& w) {
+  session::TrackRequest r;
+  r.seeds = session::SeedKind::Surface; // the surface on screen
   bool counted = false;
   for (std::size_t i = 1; i < w.size(); ++i) {
     const std::string& a = w[i];
     if (a == "rk4" || a == "euler") {
-      r.rk4 = a == "rk4";
+      r.options.rk4 = a == "rk4";
       continue;
     }
     const auto eq = a.find('=');
@@ -151,30 +153,27 @@ session::ViewerTrackRequest parseTrack(const std::vector<std::string>& w) {
       setCount(session::SeedCount::Seeds);
     } else if (key == "per-voxel") {
       setCount(session::SeedCount::PerVoxel);
-    } else if (key == "fa-stop") {
-      r.faStop = number(value, "track fa-stop");
-    } else if (key == "angle") {
-      r.angleDeg = number(value, "track angle");
-    } else if (key == "step") {
-      r.stepMm = number(value, "track step");
-    } else if (key == "min-length") {
-      r.minLengthMm = number(value, "track min-length");
-    } else if (key == "max-length") {
-      r.maxLengthMm = number(value, "track max-length");
+    } else if (const surfaces::TrackingParameter* p = surfaces::findTrackingParameter(key)) {
+      try {
+        p->set(r.options, p->parse(value));
+      } catch (const UsageError& e) {
+        throw LineError{std::string("track: ") + e.what()};
+      }
     } else if (key == "seed") {
-      r.rngSeed = integer(value, "track seed");
-      if (r.rngSeed < 0) throw LineError{"track: seed must not be negative"};
+      const int seed = integer(value, "track seed");
+      if (seed < 0) throw LineError{"track: seed must not be negative"};
+      r.rngSeed = static_cast<std::uint64_t>(seed);
     } else {
-      throw LineError{
-          "track: unknown option '" + key +
-          "' (from, select, seeds, per-voxel, fa-stop, angle, step, min-length, max-length, seed, "
-          "rk4, euler)"};
+      std::string known = "from, select, seeds, per-voxel, ";
+      for (const auto& p : surfaces::trackingParameters())
+        known += std::string(p.name) + ", ";
+      throw LineError{"track: unknown option '" + key + "' (" + known + "seed, rk4, euler)"};
     }
   }
   if (r.count == session::SeedCount::PerVoxel && r.seeds != session::SeedKind::FaMask)
     throw LineError{"track: per-voxel needs from=fa:T"};
   try {
-    surfaces::validate(dtf::session::trackingOptions(r));
+    session::validate(r);
   } catch (const UsageError& e) {
     throw LineError{std::string("track: ") + e.what()};
   }

@@ -332,6 +332,23 @@ private:
     double inv_;
   };
 
+  // The anatomical letters at the four edges of a pane (screen points x0, y0 .. x1, y1), from its camera.
+  static void drawPaneLetters(ImDrawList* dl, const render::Camera& c, float x0, float y0, float x1, float y1) {
+    const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
+    const float mx = 0.5f * (x0 + x1), my = 0.5f * (y0 + y1);
+    const struct {
+      const char* text;
+      ImVec2 at;
+    } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
+                   {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
+                   {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
+                   {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
+    for (const auto& l : labels) {
+      dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
+      dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
+    }
+  }
+
   void drawOrientationLabels() {
     if (!scene_->state().hasData) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
@@ -340,47 +357,21 @@ private:
     const float inv = static_cast<float>(1.0 / scale_);
     for (int p = 0; p < scene_->paneCount(); ++p) {
       const auto r = scene_->paneRect(p);
-      const render::Camera& c = scene_->camera(p);
-      const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
       const float x0 = (sceneX_ + r[0]) * inv, y0 = r[1] * inv, x1 = x0 + r[2] * inv, y1 = y0 + r[3] * inv;
-      const float mx = 0.5f * (x0 + x1), my = 0.5f * (y0 + y1);
-      const struct {
-        const char* text;
-        ImVec2 at;
-      } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
-                     {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
-                     {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
-                     {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
-      for (const auto& l : labels) {
-        dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
-        dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
-      }
+      drawPaneLetters(dl, scene_->camera(p), x0, y0, x1, y1);
       if (p == 1) dl->AddLine(ImVec2(x0, y0), ImVec2(x0, y1), IM_COL32(90, 90, 90, 255), 2.0f);
     }
     if (!scene_->state().ortho) return;
     for (int s = 0; s < 3; ++s) {
       const auto r = scene_->orthoRect(s);
-      const render::Camera& c = scene_->orthoCamera(s);
-      const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
       const float x0 = (sceneX_ + r[0]) * inv, y0 = r[1] * inv, x1 = x0 + r[2] * inv, y1 = y0 + r[3] * inv;
-      const float mx = 0.5f * (x0 + x1), my = 0.5f * (y0 + y1);
       const glm::dvec2 at = scene_->orthoPixel(s, scene_->state().crosshair);
       const float cx = static_cast<float>((sceneX_ + at.x) * inv), cy = static_cast<float>(at.y * inv);
       dl->PushClipRect(ImVec2(x0, y0), ImVec2(x1, y1), true);
       dl->AddLine(ImVec2(x0, cy), ImVec2(x1, cy), IM_COL32(255, 230, 90, 200), 1.0f);
       dl->AddLine(ImVec2(cx, y0), ImVec2(cx, y1), IM_COL32(255, 230, 90, 200), 1.0f);
       dl->PopClipRect();
-      const struct {
-        const char* text;
-        ImVec2 at;
-      } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
-                     {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
-                     {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
-                     {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
-      for (const auto& l : labels) {
-        dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
-        dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
-      }
+      drawPaneLetters(dl, scene_->orthoCamera(s), x0, y0, x1, y1);
     }
     const auto r0 = scene_->paneRect(0);
     const float gx = (sceneX_ + r0[0]) * inv, gy = r0[1] * inv;

@@ -4,12 +4,9 @@
 #include "io/model/tensor.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <random>
-#include <thread>
 
 namespace dtf::io {
 
@@ -122,15 +119,7 @@ void bootstrapSlice(int k, const Job& job, Scratch& s, FitStats& sliceStats) {
     }
     if (!weighted) std::fill(s.w.begin(), s.w.end(), 1.0);
     Mat7 a;
-    {
-      double packed[kPacked];
-      for (int p = 0; p < kPacked; ++p)
-        packed[p] = dot(&d.outer[static_cast<std::size_t>(p) * n], s.w.data(), n);
-      int p = 0;
-      for (int i = 0; i < kUnknowns; ++i)
-        for (int j = i; j < kUnknowns; ++j)
-          a[i][j] = a[j][i] = packed[p++];
-    }
+    normalMatrix(d, s.w.data(), a);
     if (!cholesky7(a)) {
       if (!weighted) {
         ++stats.invalidVoxels;
@@ -138,13 +127,7 @@ void bootstrapSlice(int k, const Job& job, Scratch& s, FitStats& sliceStats) {
       }
       ++stats.wlsFallbacks; // as fitTensors: keep OLS
       std::fill(s.w.begin(), s.w.end(), 1.0);
-      double packed[kPacked];
-      for (int p = 0; p < kPacked; ++p)
-        packed[p] = dot(&d.outer[static_cast<std::size_t>(p) * n], s.w.data(), n);
-      int p = 0;
-      for (int i = 0; i < kUnknowns; ++i)
-        for (int j = i; j < kUnknowns; ++j)
-          a[i][j] = a[j][i] = packed[p++];
+      normalMatrix(d, s.w.data(), a);
       if (!cholesky7(a)) {
         ++stats.invalidVoxels;
         continue;
@@ -293,44 +276,12 @@ TensorField bootstrapTensors(const Dwi& dwi, const MaskVolume* mask, const FitOp
   maps.faSd = ScalarVolume(grid, 1, nan);
   const Job job{dwi, design, inside, options, bootstrap, signs, out, maps};
 
-  const int slices = grid.dims.z;
-  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, std::max(1, slices));
-  std::atomic<int> nextSlice{0}, doneSlices{0};
-  std::atomic<bool> cancelled{false};
-  std::vector<FitStats> threadStats(static_cast<std::size_t>(threads));
-  auto work = [&](int t, bool reportProgress) {
-    Scratch scratch(n, N);
-    for (int k = nextSlice++; k < slices && !cancelled; k = nextSlice++) {
-      bootstrapSlice(k, job, scratch, threadStats[t]);
-      const int done = ++doneSlices;
-      if (reportProgress && progress) progress(static_cast<double>(done) / slices);
-    }
-  };
-  std::vector<std::thread> pool;
-  std::exception_ptr error;
-  try {
-    for (int t = 1; t < threads; ++t)
-      pool.emplace_back(work, t, false);
-    work(0, true);
-  } catch (...) {
-    error = std::current_exception();
-    cancelled = true;
-  }
-  for (auto& th : pool)
-    th.join();
-  if (error) std::rethrow_exception(error);
-  if (progress) progress(1.0);
-  if (stats) {
-    *stats = FitStats{};
-    for (const auto& s : threadStats) {
-      stats->voxelsFitted += s.voxelsFitted;
-      stats->clampedSignals += s.clampedSignals;
-      stats->nonPositiveTensors += s.nonPositiveTensors;
-      stats->invalidVoxels += s.invalidVoxels;
-      stats->wlsFallbacks += s.wlsFallbacks;
-    }
-  }
+  const FitStats total = forEachSlice(grid.dims.z, options, progress, [&]() -> SliceWorker {
+    return [&, scratch = Scratch(n, N)](int k, FitStats& sliceStats) mutable {
+      bootstrapSlice(k, job, scratch, sliceStats);
+    };
+  });
+  if (stats) *stats = total;
   return out;
 }
 

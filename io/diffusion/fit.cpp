@@ -71,16 +71,11 @@ void fitSlice(int k, const Dwi& dwi, const Design& design, const std::vector<uns
       double* wy = weightedLogs.data();
       for (int v = 0; v < n; ++v)
         wy[v] = w[v] * logs[v];
-      double packed[kPacked], rhs[kUnknowns];
-      for (int p = 0; p < kPacked; ++p)
-        packed[p] = dot(&design.outer[static_cast<std::size_t>(p) * n], w, n);
+      double rhs[kUnknowns];
       for (int i = 0; i < kUnknowns; ++i)
         rhs[i] = dot(&design.columns[static_cast<std::size_t>(i) * n], wy, n);
       Mat7 a;
-      int p = 0;
-      for (int i = 0; i < kUnknowns; ++i)
-        for (int j = i; j < kUnknowns; ++j)
-          a[i][j] = a[j][i] = packed[p++];
+      normalMatrix(design, w, a);
       if (std::isfinite(maxPred) && cholesky7(a))
         choleskySolve7(a, rhs, beta);
       else
@@ -139,24 +134,17 @@ std::vector<unsigned char> detail::fitVoxels(const Dwi& dwi, const MaskVolume* m
   return inside;
 }
 
-TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options,
-                       const ProgressFn& progress, FitStats* stats) {
-  const Grid& grid = dwi.signal.grid;
-  const int n = dwi.signal.components;
-  const std::vector<unsigned char> inside = fitVoxels(dwi, mask, options);
-  const Design design = makeDesign(dwi);
-  TensorField out = makeTensorField(grid);
-  const int slices = grid.dims.z;
+FitStats detail::forEachSlice(int slices, const FitOptions& options, const ProgressFn& progress,
+                      const std::function<SliceWorker()>& makeWorker) {
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, std::max(1, slices));
-
   std::atomic<int> nextSlice{0}, doneSlices{0};
   std::atomic<bool> cancelled{false};
   std::vector<FitStats> threadStats(static_cast<std::size_t>(threads));
   auto work = [&](int t, bool reportProgress) {
-    std::vector<double> logs(static_cast<std::size_t>(n)), weights(logs), weightedLogs(logs);
+    const SliceWorker worker = makeWorker();
     for (int k = nextSlice++; k < slices && !cancelled; k = nextSlice++) {
-      fitSlice(k, dwi, design, inside, options, out, threadStats[t], logs, weights, weightedLogs);
+      worker(k, threadStats[static_cast<std::size_t>(t)]);
       const int done = ++doneSlices;
       if (reportProgress && progress) progress(static_cast<double>(done) / slices);
     }
@@ -166,7 +154,7 @@ TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions&
   try {
     for (int t = 1; t < threads; ++t)
       pool.emplace_back(work, t, false);
-    work(0, true); // the calling thread works too and is the only one calling `progress`
+    work(0, true);
   } catch (...) {
     error = std::current_exception(); // e.g. a progress callback cancelling the fit
     cancelled = true;
@@ -175,11 +163,26 @@ TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions&
     th.join();
   if (error) std::rethrow_exception(error);
   if (progress) progress(1.0);
-  if (stats) {
-    *stats = FitStats{};
-    for (const auto& s : threadStats)
-      addStats(*stats, s);
-  }
+  FitStats total;
+  for (const auto& s : threadStats)
+    addStats(total, s);
+  return total;
+}
+
+TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options,
+                       const ProgressFn& progress, FitStats* stats) {
+  const Grid& grid = dwi.signal.grid;
+  const int n = dwi.signal.components;
+  const std::vector<unsigned char> inside = fitVoxels(dwi, mask, options);
+  const Design design = makeDesign(dwi);
+  TensorField out = makeTensorField(grid);
+  const FitStats total = forEachSlice(grid.dims.z, options, progress, [&]() -> SliceWorker {
+    const std::vector<double> scratch(static_cast<std::size_t>(n));
+    return [&, logs = scratch, weights = scratch, weightedLogs = scratch](int k, FitStats& sliceStats) mutable {
+      fitSlice(k, dwi, design, inside, options, out, sliceStats, logs, weights, weightedLogs);
+    };
+  });
+  if (stats) *stats = total;
   return out;
 }
 

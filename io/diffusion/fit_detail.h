@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace dtf::io::detail {
@@ -86,6 +87,18 @@ struct Design {
   std::vector<double> outer;   // 28 x volumes: upper triangle of x_v x_v^T, so X^T W X = outer * w
 };
 
+// X^T W X of the design for per-volume weights `w` (the normal matrix of the weighted fit), symmetric.
+inline void normalMatrix(const Design& design, const double* w, Mat7& a) {
+  const int n = design.volumes;
+  double packed[kPacked];
+  for (int p = 0; p < kPacked; ++p)
+    packed[p] = dot(&design.outer[static_cast<std::size_t>(p) * n], w, n);
+  int p = 0;
+  for (int i = 0; i < kUnknowns; ++i)
+    for (int j = i; j < kUnknowns; ++j)
+      a[i][j] = a[j][i] = packed[p++];
+}
+
 inline Design makeDesign(const Dwi& dwi) {
   Design d;
   d.volumes = dwi.signal.components;
@@ -153,5 +166,13 @@ inline bool sameGrid(const Grid& a, const Grid& b) {
 // The checks every tensor fit makes of its input (volume count, gradient table, signal size, minimum signal)
 // and the voxels it fits: the mask's, on the DWI's grid, else the automatic mask. Throws InputError.
 std::vector<unsigned char> fitVoxels(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options);
+
+// Runs the z slices 0 .. slices-1 on options.threads threads (0: all cores), the calling thread among them
+// and the only one calling `progress`. Each thread calls makeWorker() once for its own worker (which holds
+// its scratch) and then worker(k, stats) for the slices it takes. The first exception stops the others and
+// is rethrown after all have joined. Returns the threads' stats summed.
+using SliceWorker = std::function<void(int slice, FitStats& stats)>;
+FitStats forEachSlice(int slices, const FitOptions& options, const ProgressFn& progress,
+                      const std::function<SliceWorker()>& makeWorker);
 
 } // namespace dtf::io::detail

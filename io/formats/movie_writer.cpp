@@ -1,7 +1,8 @@
 #include "io/formats/movie_writer.h"
 
-#include "io/model/error.h"
 #include "io/formats/png_io.h"
+#include "io/formats/process.h"
+#include "io/model/error.h"
 
 #include <algorithm>
 #include <atomic>
@@ -86,20 +87,6 @@ const char* movieFormatName(MovieFormat f) {
   case MovieFormat::Mp4: return "MP4";
   case MovieFormat::Gif: return "GIF";
   case MovieFormat::PngFrames: return "PNG frames";
-  }
-  return "";
-}
-
-std::string findOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  if (!path) return "";
-  std::stringstream ss(path);
-  for (std::string dir; std::getline(ss, dir, ':');) {
-    if (dir.empty()) continue;
-    const std::string candidate = dir + "/" + name;
-    struct stat st {};
-    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(candidate.c_str(), X_OK) == 0)
-      return candidate;
   }
   return "";
 }

@@ -19,9 +19,6 @@ enum class MovieFormat { Mp4, Gif, PngFrames };
 MovieFormat movieFormatOf(const std::string& output);
 const char* movieFormatName(MovieFormat format); // "MP4", "GIF", "PNG frames"
 
-// The absolute path of an executable `name` on PATH ("" when there is none).
-std::string findOnPath(const std::string& name);
-
 // Throws InputError when writing `output` (a file, or a directory replaced as a whole) would overwrite or
 // remove one of `inputs`.
 void refuseMovieOverInputs(const std::string& output, const std::vector<std::string>& inputs);

@@ -1,5 +1,7 @@
 #include "surfaces/tracking/tracking.h"
 
+#include "surfaces/tracking/tracking_parameters.h"
+
 #include "io/model/error.h"
 
 #include <algorithm>
@@ -274,14 +276,12 @@ glm::dvec3 voxelOf(const Grid& g, std::size_t idx) {
 
 } // namespace
 
-void validate(const TrackingOptions& o) {
-  if (!(o.stepMm > 0) || o.stepMm > 100) throw UsageError("tracking step must be in (0, 100] mm");
-  if (!(o.faStop >= 0) || o.faStop >= 1) throw UsageError("FA stop must be in [0, 1)");
-  if (!(o.maxAngleDeg > 0) || o.maxAngleDeg > 180)
-    throw UsageError("angle limit must be in (0, 180] degrees");
-  if (!(o.minLengthMm >= 0) || !(o.maxLengthMm > 0) || o.minLengthMm > o.maxLengthMm)
-    throw UsageError("length limits must satisfy 0 <= min <= max, max > 0");
-  if (o.maxLengthMm / o.stepMm > 1e6) throw UsageError("maximum length is more than a million steps");
+void validate(const TrackingParams& p) {
+  for (const auto& param : trackingParameters()) param.check(param.get(p));
+  if (p.minLengthMm > p.maxLengthMm)
+    throw UsageError("min-length " + shortestNumber(p.minLengthMm) + " mm exceeds max-length " +
+                     shortestNumber(p.maxLengthMm) + " mm");
+  if (p.maxLengthMm / p.stepMm > 1e6) throw UsageError("max-length is more than a million steps");
 }
 
 SeedSource seedsFromMask(const MaskVolume& mask, int perVoxel, std::uint64_t rngSeed) {

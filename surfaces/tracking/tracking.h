@@ -28,13 +28,20 @@
 
 namespace dtf::surfaces {
 
-struct TrackingOptions {
+// The tracking parameters a user sets; their names, help and ranges are in tracking_parameters.h.
+struct TrackingParams {
   double stepMm = 1.0;       // step length (the reference tracks use 1 mm; MRtrix's default is 0.1 voxel)
   double faStop = 0.15;      // stop (and reject seeds) below this FA
   double maxAngleDeg = 60.0; // largest turn between successive steps
   double minLengthMm = 30.0; // shorter streamlines are discarded
   double maxLengthMm = 250.0;
-  bool rk4 = true;                  // false: Euler (MRtrix Tensor_Det's default)
+  bool rk4 = true; // false: Euler (MRtrix Tensor_Det's default)
+};
+
+// The parameters and how one run goes: its stop mask, threads, progress and cancellation.
+struct TrackingOptions : TrackingParams {
+  TrackingOptions() = default;
+  explicit TrackingOptions(const TrackingParams& p) : TrackingParams(p) {}
   const MaskVolume* mask = nullptr; // stop where the nearest voxel of this mask is 0 (any grid); optional
   int threads = 0;                  // 0 = all hardware threads
   // Called on the calling thread about every 100 ms with (seeds done, seeds planned so far).
@@ -87,7 +94,7 @@ TrackingResult trackSelect(const TensorField& field, const SeedSource& seeds, st
 std::vector<glm::vec3> trackOne(const TensorField& field, const glm::dvec3& seed,
                                 const TrackingOptions& options);
 
-// Throws UsageError when an option is out of range (non-positive step, angle outside (0, 180], ...).
-void validate(const TrackingOptions& options);
+// Throws UsageError when a parameter lies outside its range in tracking_parameters.h, or min > max length.
+void validate(const TrackingParams& params);
 
 } // namespace dtf::surfaces

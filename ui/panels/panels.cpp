@@ -2,8 +2,10 @@
 
 #include "render/fabric_options.h"
 #include "render/tract_renderer.h"
+#include "surfaces/tracking/tracking_parameters.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -441,10 +443,13 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
   const bool tracking = ImGui::TreeNode("Tracking");
   probe(b, "Tracking");
   if (tracking) {
-    session::ViewerTrackRequest& t = b.track;
+    session::TrackRequest& t = b.track;
+    // The panel's seed places, in SeedKind order from Surface (a seed mask file is for `dtfabric track`).
     static const char* const seedKinds[] = {"surface on screen", "slice", "sphere (ROI)", "FA mask"};
-    int seeds = static_cast<int>(t.seeds);
-    if (ImGui::Combo("seeds", &seeds, seedKinds, 4)) t.seeds = static_cast<session::SeedKind>(seeds);
+    constexpr int kFirst = static_cast<int>(session::SeedKind::Surface);
+    if (t.seeds < session::SeedKind::Surface) t.seeds = session::SeedKind::Surface;
+    int seeds = static_cast<int>(t.seeds) - kFirst;
+    if (ImGui::Combo("seeds", &seeds, seedKinds, 4)) t.seeds = static_cast<session::SeedKind>(seeds + kFirst);
     probe(b, "seeds");
     if (t.seeds == session::SeedKind::Slice) {
       static const char* const axes[] = {"axial", "coronal", "sagittal"};
@@ -468,14 +473,16 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
       t.count = session::SeedCount::Select;
     ImGui::InputInt("number", &t.number);
     t.number = std::clamp(t.number, 1, 10'000'000);
-    sliderDouble("FA stop", t.faStop, 0.0f, 0.6f, "%.2f");
-    sliderDouble("angle (deg/step)", t.angleDeg, 5.0f, 90.0f, "%.0f");
-    sliderDouble("step (mm)", t.stepMm, 0.1f, 3.0f, "%.2f");
-    sliderDouble("min length (mm)", t.minLengthMm, 0.0f, 200.0f, "%.0f");
-    sliderDouble("max length (mm)", t.maxLengthMm, 10.0f, 500.0f, "%.0f");
-    ImGui::Checkbox("RK4 (off: Euler)", &t.rk4);
-    ImGui::InputInt("random seed", &t.rngSeed);
-    t.rngSeed = std::max(t.rngSeed, 0);
+    for (const auto& p : surfaces::trackingParameters()) {
+      double v = p.get(t.options);
+      if (sliderDouble(p.sliderLabel, v, static_cast<float>(p.slider.lo), static_cast<float>(p.slider.hi),
+                       p.sliderFormat) &&
+          p.range.contains(v))
+        p.set(t.options, v);
+    }
+    ImGui::Checkbox("RK4 (off: Euler)", &t.options.rk4);
+    int rngSeed = static_cast<int>(std::min<std::uint64_t>(t.rngSeed, INT_MAX));
+    if (ImGui::InputInt("random seed", &rngSeed)) t.rngSeed = static_cast<std::uint64_t>(std::max(rngSeed, 0));
     if (s.tracking) {
       char overlay[64];
       std::snprintf(overlay, sizeof overlay, "%zu seeds", s.trackSeedsDone);

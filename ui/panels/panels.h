@@ -30,7 +30,11 @@ struct PanelBuffers {
   std::array<char, 1024> backgroundPath{}; // the grey beneath: FILE, fa or md
   std::array<char, 1024> tractPath{};
   std::array<char, 1024> tractSavePath{};
-  session::ViewerTrackRequest track; // the tracking parameters being edited
+  session::TrackRequest track{[] {
+    session::TrackRequest r;
+    r.seeds = session::SeedKind::Surface; // the surface on screen
+    return r;
+  }()}; // the tracking request being edited
   double agreementNearMm = 2.0;      // `dtfabric compare --near`
   int agreementBins = 9;
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices

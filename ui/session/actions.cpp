@@ -148,13 +148,14 @@ std::string describe(const Action& action) {
             s += " " + g;
           return a.shown.empty() ? s + " none" : s;
         } else if constexpr (std::is_same_v<T, TrackTracts>) {
-          static const char* const seeds[] = {"surface", "slice", "sphere", "fa-mask"};
+          static const char* const seeds[] = {"data", "mask", "surface", "slice", "sphere", "fa-mask"};
           static const char* const counts[] = {"select", "seeds", "per-voxel"};
-          const ViewerTrackRequest& r = a.request;
+          const TrackRequest& r = a.request;
           std::snprintf(buf, sizeof buf,
                         "TrackTracts seeds=%s %s=%d fa-stop=%g angle=%g step=%g length=%g..%g",
                         seeds[static_cast<int>(r.seeds)], counts[static_cast<int>(r.count)], r.number,
-                        r.faStop, r.angleDeg, r.stepMm, r.minLengthMm, r.maxLengthMm);
+                        r.options.faStop, r.options.maxAngleDeg, r.options.stepMm, r.options.minLengthMm,
+                        r.options.maxLengthMm);
           return buf;
         } else if constexpr (std::is_same_v<T, CancelTracking>)
           return "CancelTracking";

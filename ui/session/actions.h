@@ -6,6 +6,7 @@
 
 #include "render/camera.h"
 #include "render/fabric_params.h"
+#include "ui/session/track_request.h"
 
 #include <glm/glm.hpp>
 #include <optional>
@@ -168,24 +169,9 @@ struct SetTractGroups {
   std::vector<std::string> shown;
   bool all = true;
 };
-// Deterministic tensor tractography from the viewer (the options of `dtfabric track`).
-enum class SeedKind { Surface, Slice, Sphere, FaMask };
-enum class SeedCount { Select, Seeds, PerVoxel };
-struct ViewerTrackRequest {
-  SeedKind seeds = SeedKind::Surface; // the surface on screen, a slice, a ball or the voxels above an FA
-  int sliceAxis = 0;                  // Slice: 0 axial, 1 coronal, 2 sagittal
-  int sliceIndex = -1;                // Slice: -1 = the viewer's current slice on that axis
-  glm::dvec3 centre{0.0};             // Sphere: world mm
-  double radiusMm = 10.0;
-  double faMask = 0.3; // FaMask: seeds in the voxels with FA >= faMask
-  SeedCount count = SeedCount::Select;
-  int number = 1000; // streamlines to keep (Select), seeds (Seeds), seeds per voxel (PerVoxel, FaMask only)
-  double faStop = 0.15, angleDeg = 60.0, stepMm = 1.0, minLengthMm = 30.0, maxLengthMm = 250.0;
-  bool rk4 = true;
-  int rngSeed = 1;
-};
+// Deterministic tensor tractography from the viewer (the options of `dtfabric track`; track_request.h).
 struct TrackTracts {
-  ViewerTrackRequest request;
+  TrackRequest request;
 };
 struct CancelTracking {};
 // Writes the tracts on screen (all points, not the display decimation) to .tck/.trk/.vtk, atomically. An

@@ -31,39 +31,6 @@ TractResult failed(std::uint64_t id, const char* what, const std::string& error)
 
 } // namespace
 
-surfaces::SeedSource seedsFor(const ViewerTrackRequest& r, const ViewerDataset& data, const Mesh* surface) {
-  const TensorField& field = data.loaded.field;
-  const auto seed = static_cast<std::uint64_t>(std::max(r.rngSeed, 0));
-  if (r.count == SeedCount::PerVoxel && r.seeds != SeedKind::FaMask)
-    throw UsageError("seeds per voxel need FA-mask seeds");
-  switch (r.seeds) {
-  case SeedKind::Surface:
-    if (!surface || surface->empty()) throw UsageError("no surface on screen to seed from");
-    return surfaces::seedsOnSurface(*surface, seed);
-  case SeedKind::Slice: {
-    if (r.sliceAxis < 0 || r.sliceAxis > 2) throw UsageError("seed slice axis must be 0, 1 or 2");
-    const auto axis = static_cast<surfaces::SliceAxis>(r.sliceAxis);
-    return surfaces::seedsOnSlice(field, surfaces::voxelAxisFor(field.grid, axis), r.sliceIndex, nullptr,
-                                  seed);
-  }
-  case SeedKind::Sphere:
-    return surfaces::seedsInSphere(r.centre, r.radiusMm, seed);
-  case SeedKind::FaMask: {
-    if (!(r.faMask > 0 && r.faMask < 1)) throw UsageError("the seed FA threshold must lie in (0, 1)");
-    MaskVolume mask(data.fa.grid, 1);
-    for (std::size_t i = 0; i < data.fa.grid.voxelCount(); ++i)
-      mask.data[i] = data.fa.data[i * static_cast<std::size_t>(data.fa.components)] >= r.faMask ? 1 : 0;
-    char what[64];
-    std::snprintf(what, sizeof what, " (FA >= %g)", r.faMask);
-    surfaces::SeedSource s =
-        surfaces::seedsFromMask(mask, r.count == SeedCount::PerVoxel ? r.number : 0, seed);
-    s.description += what;
-    return s;
-  }
-  }
-  throw UsageError("unknown seed kind");
-}
-
 TractWorker::TractWorker()
     : analysis_([this](AnalysisJob& job, WorkContext& context) { return analyse(job, context); },
                 {WorkLane{true, true}, WorkLane{false, false}, WorkLane{true, false}}),
@@ -193,11 +160,12 @@ std::optional<TractResult> TractWorker::analyse(AnalysisJob& job, WorkContext& c
 
 TractResult TractWorker::track(const TrackingJob& job, WorkContext& context) {
   const ViewerDataset& data = *job.data;
-  const surfaces::SeedSource source = seedsFor(job.request, data, job.mesh.get());
-  surfaces::TrackingOptions o = trackingOptions(job.request);
+  const surfaces::SeedSource source =
+      seedsFor(job.request, data.loaded.field, &data.fa, job.mesh.get(), nullptr);
+  surfaces::TrackingOptions o = job.request.options;
   o.cancel = &context.cancelFlag();
   o.progress = [&context](std::size_t done, std::size_t planned) { context.setCount(done, planned); };
-  const ViewerTrackRequest& q = job.request;
+  const TrackRequest& q = job.request;
   surfaces::TrackingResult t;
   if (q.count == SeedCount::Select) {
     if (q.number < 1) throw UsageError("the number of streamlines must be positive");

@@ -55,7 +55,7 @@ struct TrackingJob {
   std::uint64_t id = 0;
   std::shared_ptr<const ViewerDataset> data;
   std::shared_ptr<const Mesh> mesh; // SeedKind::Surface
-  ViewerTrackRequest request;       // sliceIndex already resolved (>= 0)
+  TrackRequest request;             // sliceIndex already resolved (>= 0)
 };
 
 struct AgreementJob {
@@ -112,9 +112,5 @@ private:
   CoalescingWorker<AnalysisJob, TractResult> analysis_;
   CoalescingWorker<TrackingJob, TractResult> tracker_;
 };
-
-// The seeds of a tracking request (the viewer's SeedKind, as `dtfabric track` builds them). Throws
-// UsageError/InputError for an impossible request (empty mask, slice outside the grid, ...).
-surfaces::SeedSource seedsFor(const ViewerTrackRequest& r, const ViewerDataset& data, const Mesh* surface);
 
 } // namespace dtf::session

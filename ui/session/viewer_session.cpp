@@ -554,14 +554,14 @@ void ViewerSession::onTractResult(TractResult& r) {
   }
 }
 
-void ViewerSession::startTracking(const ViewerTrackRequest& request) {
+void ViewerSession::startTracking(const TrackRequest& request) {
   if (!data_) throw UsageError("load a tensor volume before tracking");
   if (data_->fibres && !data_->pairedTensor)
     throw UsageError("tracking follows tensors: pair a tensor with the fibre set (--tensor FILE)");
-  ViewerTrackRequest r = request;
+  TrackRequest r = request;
   if (r.seeds == SeedKind::Slice && r.sliceIndex < 0)
     r.sliceIndex = state_.slice[static_cast<std::size_t>(std::clamp(r.sliceAxis, 0, 2))];
-  surfaces::validate(trackingOptions(r));
+  validate(r);
   TrackingJob job;
   job.id = nextId_++;
   job.data = data_;

@@ -114,7 +114,7 @@ private:
   // without tracts.
   void applyTractChoice(const SetTractColour& colour, const SetTractGroups& groups);
   void onTractResult(TractResult& r);
-  void startTracking(const ViewerTrackRequest& request);
+  void startTracking(const TrackRequest& request);
   void startAgreement(const ComputeAgreement& a);
   void saveTracts(const SaveTracts& a);
 

@@ -1,8 +1,10 @@
 // The viewer script parser (app/viewer/view_script.h): every command, comments, and FILE:LINE errors.
 #include "app/viewer/view_script.h"
 #include "io/model/error.h"
+#include "surfaces/tracking/tracking_parameters.h"
 #include "support/test_env.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -197,31 +199,31 @@ TEST(ViewScript, TrackLineTakesTheOptionsOfTheTrackCommand) {
                                        "track from=fa:0.4 per-voxel=2\n"
                                        "track from=slice:axial\n",
                                        "t.txt");
-  const session::ViewerTrackRequest def = actionAt<session::TrackTracts>(s, 0).request;
+  const session::TrackRequest def = actionAt<session::TrackTracts>(s, 0).request;
   EXPECT_EQ(def.seeds, session::SeedKind::Surface);
   EXPECT_EQ(def.count, session::SeedCount::Select);
   EXPECT_EQ(def.number, 1000);
-  EXPECT_DOUBLE_EQ(def.faStop, 0.15);
-  EXPECT_TRUE(def.rk4);
-  const session::ViewerTrackRequest a = actionAt<session::TrackTracts>(s, 1).request;
+  EXPECT_DOUBLE_EQ(def.options.faStop, 0.15);
+  EXPECT_TRUE(def.options.rk4);
+  const session::TrackRequest a = actionAt<session::TrackTracts>(s, 1).request;
   EXPECT_EQ(a.seeds, session::SeedKind::Slice);
   EXPECT_EQ(a.sliceAxis, 1);
   EXPECT_EQ(a.sliceIndex, 12);
   EXPECT_EQ(a.count, session::SeedCount::Seeds);
   EXPECT_EQ(a.number, 500);
-  EXPECT_DOUBLE_EQ(a.faStop, 0.2);
-  EXPECT_DOUBLE_EQ(a.angleDeg, 45);
-  EXPECT_DOUBLE_EQ(a.stepMm, 0.5);
-  EXPECT_DOUBLE_EQ(a.minLengthMm, 10);
-  EXPECT_DOUBLE_EQ(a.maxLengthMm, 100);
-  EXPECT_EQ(a.rngSeed, 7);
-  EXPECT_FALSE(a.rk4);
-  const session::ViewerTrackRequest b = actionAt<session::TrackTracts>(s, 2).request;
+  EXPECT_DOUBLE_EQ(a.options.faStop, 0.2);
+  EXPECT_DOUBLE_EQ(a.options.maxAngleDeg, 45);
+  EXPECT_DOUBLE_EQ(a.options.stepMm, 0.5);
+  EXPECT_DOUBLE_EQ(a.options.minLengthMm, 10);
+  EXPECT_DOUBLE_EQ(a.options.maxLengthMm, 100);
+  EXPECT_EQ(a.rngSeed, 7u);
+  EXPECT_FALSE(a.options.rk4);
+  const session::TrackRequest b = actionAt<session::TrackTracts>(s, 2).request;
   EXPECT_EQ(b.seeds, session::SeedKind::Sphere);
   EXPECT_EQ(b.centre, glm::dvec3(1.5, -2, 30));
   EXPECT_DOUBLE_EQ(b.radiusMm, 8);
   EXPECT_EQ(b.number, 20);
-  const session::ViewerTrackRequest c = actionAt<session::TrackTracts>(s, 3).request;
+  const session::TrackRequest c = actionAt<session::TrackTracts>(s, 3).request;
   EXPECT_EQ(c.seeds, session::SeedKind::FaMask);
   EXPECT_DOUBLE_EQ(c.faMask, 0.4);
   EXPECT_EQ(c.count, session::SeedCount::PerVoxel);
@@ -264,8 +266,8 @@ TEST(ViewScript, BadTractLinesNameTheProblem) {
             std::string::npos);
   EXPECT_NE(parseError("track per-voxel=2").find("per-voxel needs from=fa:T"), std::string::npos);
   EXPECT_NE(parseError("track select=0").find("select must lie in [1, 10^7]"), std::string::npos);
-  EXPECT_NE(parseError("track angle=200").find("track: angle limit must be in (0, 180]"), std::string::npos);
-  EXPECT_NE(parseError("track min-length=50 max-length=20").find("track: length limits"), std::string::npos);
+  EXPECT_NE(parseError("track angle=200").find("track: angle must lie in (0, 180] degrees, got 200"), std::string::npos);
+  EXPECT_NE(parseError("track min-length=50 max-length=20").find("track: min-length 50 mm exceeds max-length 20 mm"), std::string::npos);
   EXPECT_NE(parseError("track warp=9").find("track: unknown option 'warp'"), std::string::npos);
   EXPECT_NE(parseError("track fast").find("track: expected KEY=VALUE, got 'fast'"), std::string::npos);
   EXPECT_NE(parseError("split sideways").find("split takes on or off (or colour, phong, tracts)"),
@@ -436,4 +438,19 @@ TEST(ViewScript, OrthoLayoutCrosshairClickAndMovieLines) {
   EXPECT_EQ(faSweep.path, "fa dir/");
   EXPECT_NE(parseError("movie turntable 0 a.mp4\n").find("[1, 10000]"), std::string::npos);
   EXPECT_NE(parseError("movie turntable 5 a.avi\n").find(".mp4"), std::string::npos);
+}
+
+// The `track` line takes every tracking parameter of the table under its name, and refuses a value outside
+// the parameter's range with the table's message.
+TEST(ViewScript, TrackLineTakesEveryTrackingParameter) {
+  for (const auto& p : dtf::surfaces::trackingParameters()) {
+    SCOPED_TRACE(p.name);
+    const double inside = (p.slider.lo + p.slider.hi) / 2; // inside the range (the table test checks it)
+    const std::string key = p.name;
+    const ViewScript s = parseViewScript("track " + key + "=" + dtf::shortestNumber(inside) + "\n", "t.txt");
+    EXPECT_DOUBLE_EQ(p.get(actionAt<session::TrackTracts>(s, 0).request.options), inside);
+    const double outside = std::isfinite(p.range.hi) ? p.range.hi * 2 + 1 : -1;
+    const std::string error = parseError("track " + key + "=" + dtf::shortestNumber(outside));
+    EXPECT_NE(error.find("track: " + key + " must lie in " + p.range.text()), std::string::npos) << error;
+  }
 }

@@ -208,7 +208,7 @@ TEST(ViewTracts, TrackingMatchesTheTrackCommandAndSavingWritesEveryPoint) {
   Scene s("slice=axial:22");
   s.apply(session::LoadFile{tensor.string(), "auto"});
   s.converge();
-  session::ViewerTrackRequest r;
+  session::TrackRequest r;
   r.seeds = session::SeedKind::Slice;
   r.sliceAxis = 0;
   r.sliceIndex = -1; // the slice on screen: 22
@@ -262,7 +262,7 @@ TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
   s.apply(session::LoadFile{tensor.string(), "auto"});
   s.apply(session::LoadTracts{tck.string()});
   s.converge();
-  session::ViewerTrackRequest r;
+  session::TrackRequest r;
   r.seeds = session::SeedKind::FaMask;
   r.faMask = 0.2;
   r.number = 5'000'000; // minutes of work
@@ -298,7 +298,7 @@ TEST(ViewTracts, TrackingCanBeCancelledAndBadInputIsAnErrorNamingTheFile) {
   EXPECT_EQ(s.state().errorChain.front(), "while loading tracts " + bad.string());
   EXPECT_EQ(s.state().tractCount, 2000u) << "the previous tracts stay";
   s.apply(session::DismissError{});
-  r = session::ViewerTrackRequest{};
+  r = session::TrackRequest{};
   r.seeds = session::SeedKind::Sphere;
   r.centre = glm::dvec3(500, 500, 500); // outside the brain: no streamline
   r.number = 5;
