@@ -59,6 +59,10 @@ int textWidth(const std::string& text, int scale) {
   return static_cast<int>(text.size()) * 6 * scale;
 }
 
+void ImageCanvas::fill(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  fillRect(image_, x, y, w, h, r, g, b);
+}
+
 void fillRect(Image& image, int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
   for (int py = std::max(y, 0); py < std::min(y + h, image.height); ++py)
     for (int px = std::max(x, 0); px < std::min(x + w, image.width); ++px) {
@@ -72,13 +76,19 @@ void fillRect(Image& image, int x, int y, int w, int h, std::uint8_t r, std::uin
 
 void drawText(Image& image, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,
               std::uint8_t b) {
+  ImageCanvas canvas(image);
+  drawText(canvas, x, y, text, scale, r, g, b);
+}
+
+void drawText(Canvas& canvas, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,
+              std::uint8_t b) {
   int cx = x;
   for (char c : text) {
     const Glyph& glyph = glyphFor(c);
     for (int row = 0; row < 7; ++row)
       for (int col = 0; col < 5; ++col)
         if (glyph.rows[static_cast<std::size_t>(row)] & (0x10 >> col))
-          fillRect(image, cx + col * scale, y + row * scale, scale, scale, r, g, b);
+          canvas.fill(cx + col * scale, y + row * scale, scale, scale, r, g, b);
     cx += 6 * scale;
   }
 }

@@ -109,8 +109,11 @@ Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
   return readback();
 }
 
-void FabricRenderer::renderMovieFrame(const Camera& camera, const FabricParams& p, bool first) {
+void FabricRenderer::renderMovieFrame(const Camera& camera, const FabricParams& p, bool firstAsked) {
   const GlStateGuard guard;
+  // Three thread fields (three-population fibre sets) are not reprojected: each frame converges from the
+  // noise, which is anchored to world space, so consecutive frames stay coherent (at a still's cost).
+  const bool first = firstAsked || !pipeline_.reprojects(p);
   if (first)
     pipeline_.invalidate();
   else

@@ -35,7 +35,8 @@ public:
   // [lo, hi]; nullptr removes it.
   void setBackground(const ScalarVolume* volume, float lo = 0.0f, float hi = 1.0f);
   // A 95 % cone-of-uncertainty map in degrees on any grid (io::readConeMap): the threads fray as the cone
-  // widens (FabricParams::fray); nullptr removes it.
+  // widens (FabricParams::fray); nullptr removes it. One component: every direction's cone; one per fibre of
+  // the fibre set (its index order, on its grid): each population frays by its own cone.
   void setUncertainty(const ScalarVolume* cone);
   // Output size in pixels; targets are re-created only when it changes.
   void resize(int width, int height);
@@ -54,7 +55,9 @@ public:
   // this view and onto this mesh (surface points visible in both frames keep their state; newly visible
   // ones start from beta), then params.iterations Eq. 12 iterations: the paper's interactive mode, coherent
   // under camera motion and surface changes instead of restarting from the noise. Changing the parameters
-  // or the size between frames restarts from beta. Full resolution (movingScale does not apply).
+  // or the size between frames restarts from beta. Full resolution (movingScale does not apply). Three-
+  // population fibre sets (three thread fields) converge every frame as a still instead (coherent: the noise
+  // is anchored to world space).
   void renderMovieFrame(const Camera& camera, const FabricParams& params, bool first);
   // Plain Blinn-Phong of the same mesh into the output target.
   void renderPhong(const Camera& camera, const glm::vec3& colour = glm::vec3(0.8f));

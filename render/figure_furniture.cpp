@@ -1,6 +1,7 @@
 #include "render/figure_furniture.h"
 
 #include "render/bitmap_text.h"
+#include "render/tract_renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,7 @@ namespace dtf::render {
 namespace {
 
 // Text with a one-pixel dark outline, readable over any fabric colour.
-void outlinedText(Image& img, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,
+void outlinedText(Canvas& img, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,
                   std::uint8_t b) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
@@ -21,13 +22,13 @@ void outlinedText(Image& img, int x, int y, const std::string& text, int scale, 
 }
 
 // A line of `width` pixels from a to b (pixel centres), opaque.
-void line(Image& img, glm::dvec2 a, glm::dvec2 b, int width, const std::uint8_t c[3]) {
+void line(Canvas& img, glm::dvec2 a, glm::dvec2 b, int width, const std::uint8_t c[3]) {
   const double len = glm::length(b - a);
   const int steps = std::max(1, static_cast<int>(std::ceil(len * 2)));
   for (int s = 0; s <= steps; ++s) {
     const glm::dvec2 p = a + (b - a) * (static_cast<double>(s) / steps);
-    fillRect(img, static_cast<int>(std::lround(p.x)) - width / 2, static_cast<int>(std::lround(p.y)) - width / 2,
-             width, width, c[0], c[1], c[2]);
+    img.fill(static_cast<int>(std::lround(p.x)) - width / 2, static_cast<int>(std::lround(p.y)) - width / 2, width,
+             width, c[0], c[1], c[2]);
   }
 }
 
@@ -50,10 +51,48 @@ double scaleBarMm(int widthPx, double pixelMm) {
   return best;
 }
 
-void drawFurniture(Image& img, const Camera& camera, double pixelMm, const FigureFurniture& what) {
-  const int w = img.width, h = img.height;
+int furnitureScale(int width, int height) {
+  return std::clamp(std::min(width, height) / 256, 1, 4);
+}
+
+void drawFurniture(Image& image, const Camera& camera, double pixelMm, const FigureFurniture& what) {
+  ImageCanvas canvas(image);
+  drawFurniture(canvas, camera, pixelMm, what);
+}
+
+void drawColourBar(Image& image, const ValueColourBar& bar) {
+  ImageCanvas canvas(image);
+  drawColourBar(canvas, bar);
+}
+
+void drawColourBar(Canvas& img, const ValueColourBar& bar) {
+  const int w = img.width(), h = img.height();
+  if (w < 64 || h < 64) return;
+  const int scale = furnitureScale(w, h);
+  const int barW = std::max(8, w / 64), barH = std::max(16, h * 2 / 5);
+  // Inside the band of the orientation letter at the right edge's middle (drawFurniture's margin and size).
+  const int x0 = w - 4 * scale - textWidth("M", 2 * scale) - 4 * scale - barW, y0 = (h - barH) / 2;
+  img.fill(x0 - 1, y0 - 1, barW + 2, barH + 2, 255, 255, 255);
+  for (int y = 0; y < barH; ++y) {
+    const glm::vec3 c = tractValueColour(1.0f - float(y) / float(std::max(barH - 1, 1)));
+    img.fill(x0, y0 + y, barW, 1, static_cast<std::uint8_t>(std::lround(c.x * 255.0f)),
+             static_cast<std::uint8_t>(std::lround(c.y * 255.0f)), static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
+  }
+  char hi[32], lo[32];
+  std::snprintf(hi, sizeof hi, "%.3g", bar.hi);
+  std::snprintf(lo, sizeof lo, "%.3g", bar.lo);
+  const int th = textHeight(scale), gap = 3 * scale;
+  outlinedText(img, x0 - gap - textWidth(hi, scale), y0, hi, scale, 255, 255, 255);
+  outlinedText(img, x0 - gap - textWidth(lo, scale), y0 + barH - th, lo, scale, 255, 255, 255);
+  if (!bar.name.empty())
+    outlinedText(img, std::max(0, x0 + barW - textWidth(bar.name, scale)), y0 - gap - th, bar.name, scale, 255, 255,
+                 255);
+}
+
+void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const FigureFurniture& what) {
+  const int w = img.width(), h = img.height();
   if (w < 32 || h < 32) return;
-  const int scale = std::clamp(std::min(w, h) / 256, 1, 4);
+  const int scale = furnitureScale(w, h);
   const int margin = 4 * scale;
   const glm::dvec3 right = camera.right(), up = glm::normalize(glm::cross(right, camera.forward()));
   if (what.letters) {
@@ -71,9 +110,9 @@ void drawFurniture(Image& img, const Camera& camera, double pixelMm, const Figur
     if (mm > 0 && px >= 8) {
       char label[32];
       std::snprintf(label, sizeof label, "%g MM", mm);
-      const int y = h - margin - 3 * scale;
-      fillRect(img, margin - 1, y - 1, px + 2, 3 * scale + 2, 0, 0, 0);
-      fillRect(img, margin, y, px, 3 * scale, 255, 255, 255);
+      const int y = h - margin - 3 * scale - what.bottomLeftReserved;
+      img.fill(margin - 1, y - 1, px + 2, 3 * scale + 2, 0, 0, 0);
+      img.fill(margin, y, px, 3 * scale, 255, 255, 255);
       outlinedText(img, margin, y - textHeight(scale) - 2 * scale, label, scale, 255, 255, 255);
     }
   }

@@ -1,11 +1,15 @@
 // What a figure carries besides the fabric, drawn on the CPU into a rendered still (row 0 at the top):
 // orientation letters at the four edges (the anatomical side the camera puts there, so radiological and
 // neurological views are labelled as shown), a medical-colour orientation legend (the world axes through the
-// camera: R/L red, A/P green, S/I blue, as the DEC colours) and a scale bar in mm. No GL.
+// camera: R/L red, A/P green, S/I blue, as the DEC colours), a scale bar in mm and the colour bar of a tract
+// value. Drawn on a Canvas (render/bitmap_text.h): an image, or the viewer's overlay over its panes. No GL.
 #pragma once
 
 #include "io/model/image.h"
+#include "render/bitmap_text.h"
 #include "render/camera.h"
+
+#include <string>
 
 namespace dtf::render {
 
@@ -13,6 +17,14 @@ struct FigureFurniture {
   bool letters = true;  // L/R, A/P, S/I at the edges
   bool legend = true;   // the RGB axes glyph, bottom right
   bool scaleBar = true; // a bar of a round length in mm, bottom left (orthographic views only)
+  bool colourBar = true; // the tract value's colour bar, right edge (when tracts are coloured by a value)
+  int bottomLeftReserved = 0; // pixels above the bottom edge kept free at the left (another legend there)
+};
+
+// The colour bar of tracts coloured by a value (drawColourBar).
+struct ValueColourBar {
+  std::string name; // the value's name
+  double lo = 0, hi = 1; // the values at the colour map's ends
 };
 
 // The anatomical letter of a world direction's dominant axis: R/L (x), A/P (y), S/I (z).
@@ -20,7 +32,15 @@ char anatomicalLetter(const glm::dvec3& direction);
 // The scale bar's length in mm for an image `widthPx` wide at `pixelMm`: 1, 2 or 5 x 10^k, about a fifth of
 // the width.
 double scaleBarMm(int widthPx, double pixelMm);
+// The furniture's font scale on a canvas of this size (1 = 5x7 pixel glyphs).
+int furnitureScale(int width, int height);
 // Draws the furniture asked for. `pixelMm`: the pixel size in mm at the camera's target (orthographic).
+void drawFurniture(Canvas& canvas, const Camera& camera, double pixelMm, const FigureFurniture& what);
 void drawFurniture(Image& image, const Camera& camera, double pixelMm, const FigureFurniture& what);
+// The tract colour map (render/tract_renderer.h tractValueColour) as a vertical bar at the right edge, low
+// at the bottom, framed in white, labelled with `bar.hi` at its top, `bar.lo` at its bottom and the value's
+// name above it.
+void drawColourBar(Canvas& canvas, const ValueColourBar& bar);
+void drawColourBar(Image& image, const ValueColourBar& bar);
 
 } // namespace dtf::render

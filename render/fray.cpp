@@ -31,31 +31,62 @@ float frayAngle(glm::vec3 world, glm::vec3 origin, float lod, float cells, float
 namespace {
 
 // An anti-aliasing-free line of width `w` pixels from a to b.
-void stroke(Image& im, glm::vec2 a, glm::vec2 b, int w, std::uint8_t r, std::uint8_t g, std::uint8_t bl) {
+void stroke(Canvas& im, glm::vec2 a, glm::vec2 b, int w, std::uint8_t r, std::uint8_t g, std::uint8_t bl) {
   const float len = glm::length(b - a);
   const int steps = std::max(1, static_cast<int>(len * 2));
   for (int i = 0; i <= steps; ++i) {
     const glm::vec2 p = a + (b - a) * (static_cast<float>(i) / steps);
-    fillRect(im, static_cast<int>(p.x) - w / 2, static_cast<int>(p.y) - w / 2, w, w, r, g, bl);
+    im.fill(static_cast<int>(p.x) - w / 2, static_cast<int>(p.y) - w / 2, w, w, r, g, bl);
   }
 }
 
 } // namespace
 
+ScalarVolume slotCones(const FibreSet& set, const FibreSet& slotted, const ScalarVolume& cones) {
+  ScalarVolume out(slotted.grid, 3);
+  const std::size_t n = slotted.grid.voxelCount(), k = static_cast<std::size_t>(set.maxFibres),
+                    ks = static_cast<std::size_t>(slotted.maxFibres), kc = static_cast<std::size_t>(cones.components);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t j = 0; j < std::min<std::size_t>(ks, 3); ++j) {
+      const Fibre& s = slotted.fibres[v * ks + j];
+      if (!(s.amplitude > 0.0f)) continue;
+      float best = -1.0f;
+      for (std::size_t i = 0; i < std::min(k, kc); ++i) {
+        const Fibre& f = set.fibres[v * k + i];
+        const float c = std::abs(glm::dot(f.direction, s.direction));
+        if (f.amplitude == s.amplitude && c > best) {
+          best = c;
+          const float cone = cones.data[v * kc + i];
+          out.data[v * 3 + j] = std::isfinite(cone) ? cone : 0.0f;
+        }
+      }
+    }
+  return out;
+}
+
+int frayLegendHeight(int scale) {
+  return 18 * scale + 2 * textHeight(scale) + 4 * 4 * scale + 3 * scale;
+}
+
 void drawFrayLegend(Image& image, float fray, int scale) {
+  ImageCanvas canvas(image);
+  drawFrayLegend(canvas, fray, scale);
+}
+
+void drawFrayLegend(Canvas& image, float fray, int scale) {
   const float cones[] = {0, 10, 20, 40};
   const int box = 18 * scale, gap = 4 * scale, pad = 3 * scale;
   const std::string caption = "95% CONE (DEG)";
   const int width = std::max(4 * box + 5 * gap, textWidth(caption, scale) + 2 * gap);
   const int height = box + 2 * textHeight(scale) + 4 * gap;
-  const int x0 = pad, y0 = image.height - height - pad;
-  if (x0 + width > image.width || y0 < 0) return; // too small an image for a legend
-  fillRect(image, x0, y0, width, height, 0, 0, 0);
+  const int x0 = pad, y0 = image.height() - height - pad;
+  if (x0 + width > image.width() || y0 < 0) return; // too small an image for a legend
+  image.fill(x0, y0, width, height, 0, 0, 0);
   drawText(image, x0 + gap, y0 + gap, caption, scale, 255, 255, 255);
   const int by = y0 + 2 * gap + textHeight(scale);
   for (int c = 0; c < 4; ++c) {
     const int bx = x0 + gap + c * (box + gap);
-    fillRect(image, bx, by, box, box, 40, 40, 40);
+    image.fill(bx, by, box, box, 40, 40, 40);
     // A 3x4 grid of cells, each a horizontal thread turned by its cell's draw, as the renderer turns them.
     for (int j = 0; j < 4; ++j)
       for (int i = 0; i < 3; ++i) {

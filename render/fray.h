@@ -2,7 +2,9 @@
 // directions as a reference for the GLSL, and the legend that says what the look means in degrees.
 #pragma once
 
+#include "io/model/fibre_set.h"
 #include "io/model/image.h"
+#include "render/bitmap_text.h"
 
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -17,9 +19,17 @@ float frayDraw(glm::vec3 world, glm::vec3 origin, float lod, float cells, std::u
 float frayAngle(glm::vec3 world, glm::vec3 origin, float lod, float cells, float coneDeg, float fray,
                 std::uint32_t salt = 0);
 
+// Per-fibre cones (`cones`: one component per fibre of `set`, fibre index order, degrees) in the slot order
+// of `slotted` = continuousSlots(set, ...): 3 components, slot j's cone; slots without a fibre get 0. A
+// slot's lobe is matched to the voxel's fibre with the same amplitude and the largest |cos|.
+ScalarVolume slotCones(const FibreSet& set, const FibreSet& slotted, const ScalarVolume& cones);
+
 // Draws the legend of the uncertainty display at the image's bottom-left corner: swatches of short
 // strokes turned as the renderer turns them for cones of 0, 10, 20 and 40 degrees at strength `fray`,
 // with their labels and a caption. `scale` is the font scale (1 = 5x7 pixel glyphs).
 void drawFrayLegend(Image& image, float fray, int scale);
+void drawFrayLegend(Canvas& canvas, float fray, int scale);
+// The legend's height from the bottom edge in pixels (its margin included).
+int frayLegendHeight(int scale);
 
 } // namespace dtf::render

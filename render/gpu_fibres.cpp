@@ -14,6 +14,34 @@ using detail::checkFits3D;
 using detail::checkUploaded;
 using detail::worldToTexture;
 
+namespace {
+
+// Texel channel .b of `f` (4 floats per voxel): channel .g blurred along each axis by [1 2 1] / 4, the
+// values at the grid's faces replicated.
+void blurredOccupancy(std::vector<float>& f, const glm::ivec3& d) {
+  const std::size_t n = f.size() / 4;
+  std::vector<float> e(n), tmp(n);
+  for (std::size_t i = 0; i < n; ++i)
+    e[i] = f[i * 4 + 1];
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.x) * d.y};
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int k = 0; k < d.z; ++k)
+      for (int j = 0; j < d.y; ++j)
+        for (int i = 0; i < d.x; ++i) {
+          const std::size_t idx = static_cast<std::size_t>(i) + stride[1] * j + stride[2] * k;
+          const int pos = axis == 0 ? i : axis == 1 ? j : k;
+          const float lo = pos > 0 ? e[idx - stride[axis]] : e[idx];
+          const float hi = pos + 1 < d[axis] ? e[idx + stride[axis]] : e[idx];
+          tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
+        }
+    e.swap(tmp);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    f[i * 4 + 2] = e[i];
+}
+
+} // namespace
+
 void GpuFibreSet::clear() {
   for (Texture& t : lobe_)
     t = Texture();
@@ -45,8 +73,10 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
     lobe_[l] = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
     glTextureSubImage3D(lobe_[l].id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texel.data());
   }
-  // FA (or 1) and occupancy, both zero where the voxel has no fibre: FA / occupancy after interpolation.
-  std::vector<float> f(n * 2, 0.0f);
+  // FA (or 1) and occupancy, both zero where the voxel has no fibre: FA / occupancy after interpolation; the
+  // occupancy blurred along each axis by [1 2 1] / 4, whose 0.5 contour is the data's smooth edge (as the
+  // tensor field's edge texture).
+  std::vector<float> f(n * 4, 0.0f);
   for (std::size_t v = 0; v < n; ++v) {
     bool any = false;
     for (int l = 0; l < lobes_; ++l)
@@ -59,13 +89,14 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
       x = fa->data[v * static_cast<std::size_t>(fa->components)];
       x = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f;
     }
-    f[v * 2] = x;
-    f[v * 2 + 1] = 1.0f;
+    f[v * 4] = x;
+    f[v * 4 + 1] = 1.0f;
   }
-  fa_ = Texture::create3D(GL_RG32F, d.x, d.y, d.z);
-  glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RG, GL_FLOAT, f.data());
+  blurredOccupancy(f, d);
+  fa_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
+  glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, f.data());
   try {
-    checkUploaded(d, n * (static_cast<std::size_t>(lobes_) * 4 + 2) * sizeof(float), "fibre set's");
+    checkUploaded(d, n * (static_cast<std::size_t>(lobes_) * 4 + 4) * sizeof(float), "fibre set's");
   } catch (const GlError&) {
     clear();
     throw;

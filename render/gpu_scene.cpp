@@ -163,18 +163,20 @@ void GpuTensorField::upload(const TensorField& field) {
   worldToTex_ = worldToTexture(field.grid);
 }
 
-void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi) {
+void GpuScalarVolume::upload(const ScalarVolume& volume, float lo, float hi, int channels) {
   const glm::ivec3 d = volume.grid.dims;
   checkFits3D(d, "the background volume's");
-  const std::size_t n = volume.grid.voxelCount();
+  const std::size_t n = volume.grid.voxelCount(), ch = channels == 3 ? 3 : 1,
+                    comps = static_cast<std::size_t>(volume.components);
   const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
-  std::vector<float> v(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float x = volume.data[i * static_cast<std::size_t>(volume.components)];
-    v[i] = std::isfinite(x) ? std::clamp((x - lo) * scale, 0.0f, 1.0f) : 0.0f;
-  }
-  texture_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
-  glTextureSubImage3D(texture_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, v.data());
+  std::vector<float> v(n * ch);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t c = 0; c < ch; ++c) {
+      const float x = volume.data[i * comps + (c < comps ? c : 0)];
+      v[i * ch + c] = std::isfinite(x) ? std::clamp((x - lo) * scale, 0.0f, 1.0f) : 0.0f;
+    }
+  texture_ = Texture::create3D(ch == 3 ? GL_RGB32F : GL_R32F, d.x, d.y, d.z);
+  glTextureSubImage3D(texture_.id(), 0, 0, 0, 0, d.x, d.y, d.z, ch == 3 ? GL_RGB : GL_RED, GL_FLOAT, v.data());
   checkUploaded(d, v.size() * sizeof(float), "background volume's");
   texture_.setFilter(GL_LINEAR, GL_LINEAR);
   glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);

@@ -63,8 +63,9 @@ private:
 class GpuScalarVolume {
 public:
   GpuScalarVolume() = default;
-  // Uploads component 0 windowed to [lo, hi]. Throws GlError when the grid does not fit a 3D texture.
-  void upload(const ScalarVolume& volume, float lo, float hi);
+  // Uploads component 0 windowed to [lo, hi] (channels 1), or components 0..2 as RGB (channels 3; a volume
+  // with fewer components repeats its component 0). Throws GlError when the grid does not fit a 3D texture.
+  void upload(const ScalarVolume& volume, float lo, float hi, int channels = 1);
   void clear() { texture_ = Texture(); }
   // Binds the texture to `unit`.
   void bind(GLuint unit) const;

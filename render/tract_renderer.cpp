@@ -48,24 +48,6 @@ glm::vec3 tractValueColour(float t) {
   return glm::mix(anchors[i], anchors[i + 1], t - static_cast<float>(i));
 }
 
-void drawTractColourBar(std::uint8_t* rgba, int width, int height) {
-  const int barW = std::max(8, width / 64), barH = std::max(16, height * 2 / 5);
-  const int x0 = width - barW - std::max(4, width / 64), y0 = (height - barH) / 2;
-  for (int y = y0 - 1; y <= y0 + barH; ++y)
-    for (int x = x0 - 1; x <= x0 + barW; ++x) {
-      if (x < 0 || y < 0 || x >= width || y >= height) continue;
-      std::uint8_t* p =
-          rgba +
-          (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
-      const bool frame = x == x0 - 1 || x == x0 + barW || y == y0 - 1 || y == y0 + barH;
-      const glm::vec3 c =
-          frame ? glm::vec3(1.0f) : tractValueColour(1.0f - float(y - y0) / float(std::max(barH - 1, 1)));
-      for (int k = 0; k < 3; ++k)
-        p[k] = static_cast<std::uint8_t>(std::lround(c[k] * 255.0f));
-      p[3] = 255;
-    }
-}
-
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
   Polylines out;
   const std::size_t count = lines.lineCount();

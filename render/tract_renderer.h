@@ -66,11 +66,9 @@ struct DisplayTracts {
 // uses the RGB (lit like DEC), alpha 0 keeps the DEC colour of the tangent.
 inline constexpr const char* kTractDisplayColours = "display colour";
 // The colour map for tract values: viridis, linear between matplotlib's colours at 0, 1/4, 1/2, 3/4 and 1
-// (#440154, #3b528b, #21918c, #5ec962, #fde725); t is clamped to [0, 1].
+// (#440154, #3b528b, #21918c, #5ec962, #fde725); t is clamped to [0, 1]. Its legend: render/figure_furniture.h
+// drawColourBar.
 glm::vec3 tractValueColour(float t);
-// Draws a vertical colour bar of tractValueColour (low at the bottom) into `rgba` (width x height, 4 bytes
-// per pixel, row 0 at the top) at the right edge, framed in white: the legend of a coloured tract image.
-void drawTractColourBar(std::uint8_t* rgba, int width, int height);
 
 // Display decimation to maxPoints, then up to maxLevels levels of detail (a level is added only while it
 // has at most 3/4 of the previous level's segments).

@@ -19,7 +19,7 @@ namespace dtf::app {
 namespace {
 
 const char* kIntro =
-    "Renders a movie of the fabric on INPUT (a tensor volume or a DWI with --bval/--bvec), headless: a "
+    "Renders a movie of the fabric on INPUT (a tensor volume, a DWI with --bval/--bvec, or a fibre set), headless: a "
     "turntable\n"
     "around the surface (a full turn about the superior axis), a sweep of slices through the data, or an\n"
     "FA-threshold sweep (the isosurface extracted again for every frame). The fabric stays coherent from "
@@ -79,7 +79,11 @@ const OptionTable& movieOptions() {
         O::text("background", "B", "fa | md | FILE: grey where the fabric is absent (as `dtfabric render`)")
             .hidden(),
         O::text("background-window", "LO,HI", "grey ramp of the background").hidden(),
-        layoutOption(LayoutNames::Tensor).hidden().under("Input"),
+        layoutOption(LayoutNames::TensorOrFibre)
+            .hidden()
+            .under("Input (INPUT may also be a fibre set: peaks, a bedpostx folder, ...; woven in the fibre "
+                   "colours, one thread field per population)"),
+        pairedTensorOption("FA (--fa-sweep, FA modulation, --background fa|md)"),
         bvalOption().hidden(),
         bvecOption().hidden(),
         fitMaskOption().hidden(),
@@ -168,7 +172,8 @@ int cmdMovie(const CommandArgs& argv) {
   r.background = args.text("background");
   r.backgroundWindow = args.text("background-window");
   r.layout = args.text("layout");
-  r.tensorOptions.layout = io::parseLayout(r.layout);
+  r.tensor = args.text("tensor");
+  if (!io::isFibreLayoutName(r.layout)) r.tensorOptions.layout = io::parseLayout(r.layout);
   r.tensorOptions.bval = args.text("bval");
   r.tensorOptions.bvec = args.text("bvec");
   r.tensorOptions.mask = args.text("mask");
@@ -177,7 +182,7 @@ int cmdMovie(const CommandArgs& argv) {
 
   const std::vector<std::string> inputs = {
       r.input,        r.tensorOptions.bval, r.tensorOptions.bvec, r.tensorOptions.mask,
-      r.surface.file, r.background};
+      r.surface.file, r.background,         r.tensor};
   io::refuseMovieOverInputs(output, inputs);
   io::MovieWriter writer(output, r.width, r.height, fps, force); // checks ffmpeg, --force, the directory
   const auto t0 = std::chrono::steady_clock::now();

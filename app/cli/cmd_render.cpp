@@ -87,6 +87,7 @@ std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d)
       O::flag("no-letters", "no orientation letters (L/R, A/P, S/I) at the image edges").hidden(),
       O::flag("no-legend", "no orientation legend (the world axes in DEC colours, bottom right)").hidden(),
       O::flag("no-scale-bar", "no scale bar in mm (bottom left; orthographic views)").hidden(),
+      O::flag("no-colour-bar", "no colour bar of the tract value (right edge; with --tracts-color)").hidden(),
   };
 }
 
@@ -194,6 +195,7 @@ void readSurfaceAndView(ParsedOptions& args, session::RenderRequest& r) {
   r.furniture.letters = !args.flag("no-letters");
   r.furniture.legend = !args.flag("no-legend");
   r.furniture.scaleBar = !args.flag("no-scale-bar");
+  r.furniture.colourBar = !args.flag("no-colour-bar");
 }
 
 // The fabric options: --NAME VALUE, and --no-NAME for the on/off ones. A fibre set's default colour mode is

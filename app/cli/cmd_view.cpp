@@ -8,6 +8,7 @@
 #include "io/model/error.h"
 #include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
+#include "ui/session/fibre_input.h"
 #include "ui/session/surface_spec.h"
 
 #include <cstdio>
@@ -61,6 +62,14 @@ const OptionTable& viewOptions() {
         O::text("uncertainty", "CONE",
                 "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE) or a bedpostx folder "
                 "with samples: the threads fray as the cone widens (Fabric panel: fray)"),
+        O::text("background", "FILE|fa|md",
+                "the grey beneath the fabric: a scalar volume on any grid (a T1, say; resampled in world space), "
+                "or the data's FA or MD (default: a DWI's mean b=0 image; View panel: background)"),
+        O::text("background-window", "LO,HI", "the background's grey ramp (default: a FILE's 1st..99th percentile)")
+            .hidden(),
+        O::flag("no-legend", "no orientation legend over the panes (View panel: legend)").hidden(),
+        O::flag("no-scale-bar", "no scale bar over the panes (View panel: scale bar)").hidden(),
+        O::flag("no-colour-bar", "no colour bar of the tract value (View panel: colour bar)").hidden(),
         O::flag("ortho",
                 "open in the ortho layout: axial, coronal and sagittal slices through a crosshair (click a "
                 "slice pane to move it) beside the 3D pane"),
@@ -94,7 +103,13 @@ int cmdView(const CommandArgs& argv) {
   const bool force = args.flag("force");
   const std::string uncertainty = args.text("uncertainty");
   o.ortho = args.flag("ortho");
+  o.background = {args.text("background"), args.text("background-window")};
+  o.furniture = {!args.flag("no-legend"), !args.flag("no-scale-bar"), !args.flag("no-colour-bar")};
   args.finish();
+  if (!o.background.window.empty() && o.background.what.empty())
+    throw UsageError("--background-window needs --background");
+  if (!o.background.what.empty() && o.background.what != "fa" && o.background.what != "md")
+    io::readHeader(o.background.what); // an unreadable file is exit code 2 before a window opens
   if (!surface.empty()) session::parseSurfaceSpec(surface); // usage errors before a window opens
   if (!io::isFibreLayoutName(layout)) io::parseLayout(layout);
   if (!tensor.empty() && inputs.empty()) throw UsageError("--tensor pairs a tensor with a fibre-set INPUT");
@@ -118,7 +133,7 @@ int cmdView(const CommandArgs& argv) {
 
   if (!uncertainty.empty()) { // read before a window opens: a bad map is exit code 2
     try {
-      o.uncertainty = io::readConeMap(uncertainty);
+      o.uncertainty = session::readUncertainty(uncertainty);
     } catch (...) {
       rethrowWithContext("while reading the uncertainty map " + uncertainty);
     }

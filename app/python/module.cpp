@@ -301,14 +301,18 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   }
   for (const auto& [key, value] : params) {
     const std::string k = py::str(key);
-    // The figure's options (the render command's --supersample, --no-letters, --no-legend, --no-scale-bar).
+    // The figure's options (the render command's --supersample, --no-letters, --no-legend, --no-scale-bar,
+    // --no-colour-bar).
     if (k == "supersample") {
       r.supersample = castOr<int>(value, "supersample must be an integer 1..4");
       continue;
     }
-    if (k == "letters" || k == "legend" || k == "scale_bar") {
+    if (k == "letters" || k == "legend" || k == "scale_bar" || k == "colour_bar") {
       const bool on = castOr<bool>(value, (k + " must be True or False").c_str());
-      (k == "letters" ? r.furniture.letters : k == "legend" ? r.furniture.legend : r.furniture.scaleBar) = on;
+      (k == "letters"      ? r.furniture.letters
+       : k == "legend"     ? r.furniture.legend
+       : k == "scale_bar"  ? r.furniture.scaleBar
+                           : r.furniture.colourBar) = on;
       continue;
     }
     if (k == "color") {
@@ -834,7 +838,7 @@ surface: a surface spec (fa=T, slice=AXIS[:I], plane=..., fibre=..., mesh=FILE; 
 view, size=(W, H), colour, neurological, perspective, background, background_window=(lo, hi), tracts,
 tracts_color, tracts_range=(lo, hi), tracts_group, tracts_near, tracts_slab, tracts_slab_depth, tract_width,
 split, uncertainty (a cone map or bedpostx folder: the threads fray): as the command's flags. supersample=N
-(1..4) and letters=, legend=, scale_bar= (True/False) as its Figure flags. Further keyword arguments are the
+(1..4) and letters=, legend=, scale_bar=, colour_bar= (True/False) as its Figure flags. Further keyword arguments are the
 fabric options of `dtfabric render --help` with '-' written '_' (blend_k=0.1, lighting=False, look='plain',
 ...). Returns (H, W, 4) uint8 RGBA, row 0 at the top.)");
 

@@ -405,18 +405,59 @@ void parseCrosshair(const ScriptLine& line, ScriptStep& step) {
 
 void parseMovie(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
-  const char* usage = "movie turntable FRAMES [--force] PATH (.mp4, .gif or DIR/)";
-  if (w.size() < 4 || w[1] != "turntable") throw LineError{std::string("usage: ") + usage};
-  const int frames = integer(w[2], "movie frames");
-  if (frames < 1 || frames > 10000) throw LineError{"movie frames must lie in [1, 10000], got " + w[2]};
-  const std::string rest = restOf(restOf(line.text, w[0]), w[1]);
-  const auto [p, force] = outputArg(restOf(rest, w[2]), usage);
+  const char* usage = "movie turntable FRAMES [--force] PATH | movie sweep AXIS FRAMES [--force] PATH | movie "
+                      "fa-sweep LO:HI FRAMES [--force] PATH (PATH .mp4, .gif or DIR/)";
+  session::RecordMovie m;
+  const bool sweep = w.size() >= 2 && w[1] == "sweep", faSweep = w.size() >= 2 && w[1] == "fa-sweep";
+  const std::size_t at = sweep || faSweep ? 3 : 2; // the FRAMES word
+  if (w.size() < at + 2 || (!sweep && !faSweep && w[1] != "turntable")) throw LineError{std::string("usage: ") + usage};
+  if (sweep) {
+    if (w[2] != "axial" && w[2] != "coronal" && w[2] != "sagittal")
+      throw LineError{"movie sweep AXIS: axial, coronal or sagittal, got '" + w[2] + "'"};
+    m.kind = session::RecordMovie::Kind::Sweep;
+    m.axis = w[2];
+  } else if (faSweep) {
+    const auto colon = w[2].find(':');
+    if (colon == std::string::npos) throw LineError{std::string("usage: ") + usage};
+    m.kind = session::RecordMovie::Kind::FaSweep;
+    m.faLo = number(w[2].substr(0, colon), "movie fa-sweep LO");
+    m.faHi = number(w[2].substr(colon + 1), "movie fa-sweep HI");
+    if (!(m.faLo > 0 && m.faHi < 1 && m.faLo != m.faHi))
+      throw LineError{"movie fa-sweep LO:HI: two different thresholds in (0, 1), got " + w[2]};
+  }
+  m.frames = integer(w[at], "movie frames");
+  if (m.frames < 1 || m.frames > 10000) throw LineError{"movie frames must lie in [1, 10000], got " + w[at]};
+  std::string rest = restOf(line.text, w[0]);
+  for (std::size_t i = 1; i <= at; ++i) rest = restOf(rest, w[i]);
+  const auto [p, force] = outputArg(rest, usage);
   try {
     io::movieFormatOf(p);
   } catch (const UsageError& e) {
     throw LineError{e.what()};
   }
-  step.command = session::Action(session::RecordMovie{p, frames, 12, force});
+  m.path = p;
+  m.force = force;
+  step.command = session::Action(m);
+}
+
+void parseBackground(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const char* usage = "background FILE|fa|md|none|default [LO,HI]";
+  if (w.size() < 2 || w.size() > 3) throw LineError{std::string("usage: ") + usage};
+  step.command = session::Action(session::SetBackground{w[1] == "default" ? "" : w[1], w.size() == 3 ? w[2] : ""});
+}
+
+void parseFurniture(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 2, "furniture legend|scale-bar|colour-bar|all on|off");
+  const bool on = onOff(w[2], "furniture");
+  session::SetFurniture f;
+  if (w[1] == "legend" || w[1] == "all") f.legend = on;
+  if (w[1] == "scale-bar" || w[1] == "all") f.scaleBar = on;
+  if (w[1] == "colour-bar" || w[1] == "color-bar" || w[1] == "all") f.colourBar = on;
+  if (!f.legend && !f.scaleBar && !f.colourBar)
+    throw LineError{"furniture takes legend, scale-bar, colour-bar or all, got '" + w[1] + "'"};
+  step.command = session::Action(f);
 }
 
 void parseResize(const ScriptLine& line, ScriptStep& step) {
@@ -593,11 +634,19 @@ const std::vector<ScriptCommand> kCommands = {
      "compare`'s numbers",
      parseAgreement},
     {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
-    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only (no panels, no labels; in the ortho layout the whole layout with its crosshair and orientation letters)", parseScreenshot},
+    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only with their furniture (legend, scale bar, colour bar; no panels, no edge letters; in the ortho layout the whole layout with its crosshair and orientation letters)", parseScreenshot},
     {"layout", "single|ortho", "ortho: axial, coronal and sagittal slices through the crosshair beside the 3D pane; single: the 3D view alone (or split)", parseLayout},
     {"crosshair", "X Y Z", "move the ortho layout's crosshair to world RAS X, Y, Z mm (the slice panes follow); prints it with its slices to stderr", parseCrosshair},
     {"click", "X Y", "a click at scene pixel (X, Y) (y down): in an ortho slice pane it moves the crosshair there; prints it to stderr", parseClick},
-    {"movie", "turntable FRAMES [--force] PATH", "record a full turn of the 3D pane (its surface, fabric and camera) about its vertical axis: FRAMES frames to PATH .mp4 or .gif (ffmpeg on PATH) or DIR/ (PNG frames), the advection state carried from frame to frame", parseMovie},
+    {"movie", "turntable|sweep AXIS|fa-sweep LO:HI FRAMES [--force] PATH", "record what the 3D pane shows (its surface, fabric and camera): a full turn about its vertical axis, a sweep of AXIS slices through the data, or the FA isosurface from LO to HI; FRAMES frames to PATH .mp4 or .gif (ffmpeg on PATH) or DIR/ (PNG frames), the advection state carried from frame to frame", parseMovie},
+    {"background", "FILE|fa|md|none|default [LO,HI]",
+     "the grey beneath the fabric: a scalar volume on any grid (resampled in world space), the data's FA or MD, "
+     "none (FA within the data), default (a DWI's mean b=0 image); LO,HI: its grey ramp",
+     parseBackground},
+    {"furniture", "legend|scale-bar|colour-bar|all on|off",
+     "the figure furniture over the panes (and in screenshot-scene): the DEC orientation legend, the scale bar, "
+     "the tract value's colour bar",
+     parseFurniture},
     {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
     {"camera-load", "PATH", "read a camera file", parseCameraLoad},
     {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
@@ -676,6 +725,8 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
       inputs.push_back(io::gradientSibling(load->path, ".bvec"));
     } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
       inputs.push_back(tracts->path);
+    } else if (const auto* bg = std::get_if<session::SetBackground>(a)) {
+      inputs.push_back(bg->what);
     } else if (const auto* surface = std::get_if<session::SetSurfaceSpec>(a)) {
       const session::SurfaceSpec spec = session::parseSurfaceSpec(surface->text);
       inputs.push_back(spec.file);

@@ -9,6 +9,7 @@
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
 #include "render/bitmap_text.h"
+#include "render/fray.h"
 #include "render/gl_context.h"
 #include "surfaces/slices.h"
 
@@ -39,6 +40,9 @@ struct ViewerScene::Recording {
   render::FabricParams params;
   int frames = 0, next = 0;
   glm::ivec2 size{0};
+  session::RecordMovie request; // what is recorded (turntable, slice sweep, FA sweep)
+  std::vector<int> slices;      // a slice sweep's indices
+  Mesh mesh;                    // a sweep's surface of the current frame
 };
 
 ViewerScene::ViewerScene(const std::string& surface) : session_(surface) {
@@ -184,8 +188,21 @@ void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
     fieldUploaded_[slot] = session_.fieldSerial();
     principalUploaded_[slot] = principal;
   }
+  if (uncertainty_ && (coneBuilt_ != coneSerial_ || coneField_ != session_.fieldSerial())) {
+    cone_ = session::conesFor(*uncertainty_, data && data->fibres ? &data->fibres->set : nullptr);
+    coneBuilt_ = coneSerial_;
+    coneField_ = session_.fieldSerial();
+    coneUploaded_.fill(0);
+  }
+  if (backgroundUploaded_[slot] != backgroundVersion_) {
+    if (background_)
+      r.setBackground(&background_->volume, background_->lo, background_->hi);
+    else
+      r.setBackground(nullptr);
+    backgroundUploaded_[slot] = backgroundVersion_;
+  }
   if (coneUploaded_[slot] != coneSerial_) {
-    r.setUncertainty(cone_ ? &*cone_ : nullptr);
+    r.setUncertainty(uncertainty_ ? &cone_ : nullptr);
     coneUploaded_[slot] = coneSerial_;
   }
 }
@@ -213,6 +230,7 @@ void ViewerScene::update() {
     if (const auto data = session_.dataset()) session_.state().crosshair = 0.5 * (data->lo + data->hi);
     setView(session_.homeView());
   }
+  resolveBackground();
   if (session_.meshSerial() != seenMesh_) {
     seenMesh_ = session_.meshSerial();
     cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
@@ -306,6 +324,88 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
   }
 }
 
+void ViewerScene::resolveBackground() {
+  const auto data = session_.dataset();
+  const bool anatomy = state().fabric.look == render::Look::Anatomy;
+  const std::uint64_t field = session_.fieldSerial();
+  if (backgroundResolved_ == backgroundSerial_ && backgroundField_ == field && backgroundAnatomy_ == anatomy)
+    return;
+  backgroundResolved_ = backgroundSerial_;
+  backgroundField_ = field;
+  backgroundAnatomy_ = anatomy;
+  const bool had = background_.has_value();
+  background_.reset();
+  std::string& shown = session_.state().background;
+  shown.clear();
+  const std::string& what = backgroundAsked_.what;
+  if (data && what.empty() && anatomy && !data->loaded.meanB0.data.empty()) {
+    session::Background b;
+    b.volume = data->loaded.meanB0;
+    if (session::windowByPercentiles(b)) {
+      background_ = std::move(b);
+      shown = "mean b=0";
+    }
+  } else if (data && !what.empty() && what != "none") {
+    try {
+      session::Background b = session::loadBackground(what, backgroundAsked_.window, data->loaded.field, data->fa);
+      if (b.volume.data.empty()) throw UsageError("--background " + what + " needs FA: these data have none");
+      background_ = std::move(b);
+      shown = what;
+    } catch (...) {
+      session_.setError("while loading the background " + what + ": " + currentExceptionMessage());
+    }
+  }
+  if (had || background_) {
+    ++backgroundVersion_;
+    dataChanged();
+  }
+}
+
+namespace {
+
+// A pane of the scene as a canvas: offset to its rectangle and clipped to it.
+class PaneCanvas final : public render::Canvas {
+public:
+  PaneCanvas(render::Canvas& scene, const std::array<int, 4>& rect) : scene_(scene), r_(rect) {}
+  int width() const override { return r_[2]; }
+  int height() const override { return r_[3]; }
+  void fill(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) override {
+    const int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, r_[2]), y1 = std::min(y + h, r_[3]);
+    if (x0 < x1 && y0 < y1) scene_.fill(r_[0] + x0, r_[1] + y0, x1 - x0, y1 - y0, r, g, b);
+  }
+
+private:
+  render::Canvas& scene_;
+  std::array<int, 4> r_;
+};
+
+} // namespace
+
+void ViewerScene::drawFurniture(render::Canvas& scene) const {
+  const session::ViewerState& st = state();
+  if (!session_.mesh() || !st.hasData) return;
+  if (colourBar_.name != st.tractColourBy) colourBar_.name = st.tractColourBy;
+  colourBar_.lo = st.tractColourLo;
+  colourBar_.hi = st.tractColourHi;
+  constexpr int kFrayScale = 1;
+  auto pane = [&](const std::array<int, 4>& rect, const render::Camera& cam, bool tracts, bool fray) {
+    PaneCanvas c(scene, rect);
+    render::FigureFurniture what;
+    what.letters = false; // the window labels every pane's edges itself
+    what.legend = st.legend;
+    what.scaleBar = st.scaleBar && cam.orthographic;
+    if (fray) what.bottomLeftReserved = render::frayLegendHeight(kFrayScale);
+    render::drawFurniture(c, cam, mmPerPixel(cam, rect[3]), what);
+    if (tracts && st.colourBar && !st.tractColourBy.empty()) render::drawColourBar(c, colourBar_);
+    if (fray) render::drawFrayLegend(c, static_cast<float>(st.fabric.fray), kFrayScale);
+  };
+  for (int p = 0; p < paneCount(); ++p)
+    pane(paneRect(p), camera(p), paneShowsTracts(p), uncertainty_ && p == 0);
+  if (st.ortho)
+    for (int s = 0; s < 3; ++s)
+      if (!orthoMeshes_[s].empty()) pane(orthoRect(s), orthoCameras_[s], false, false);
+}
+
 void ViewerScene::startRecording(const session::RecordMovie& a) {
   const auto data = session_.dataset();
   if (!data || !session_.mesh()) throw UsageError("load data before recording a movie");
@@ -317,6 +417,11 @@ void ViewerScene::startRecording(const session::RecordMovie& a) {
   if (io::movieFormatOf(a.path) == io::MovieFormat::Mp4) rec->size = {rect[2] / 2 * 2, rect[3] / 2 * 2};
   rec->writer.emplace(a.path, rec->size.x, rec->size.y, a.fps, true); // mayWrite said yes
   rec->path = a.path;
+  rec->request = a;
+  if (a.kind == session::RecordMovie::Kind::Sweep)
+    rec->slices = session::sweepIndices(data->fa, data->loaded.field, a.axis, a.frames);
+  if (a.kind == session::RecordMovie::Kind::FaSweep && data->fa.data.empty())
+    throw UsageError("an FA sweep needs FA: pair a tensor with the fibre set");
   rec->start = camera(0);
   rec->params = state().fabric;
   rec->frames = a.frames;
@@ -335,13 +440,24 @@ void ViewerScene::recordFrame() {
     if (!recorder_) recorder_ = std::make_unique<render::FabricRenderer>();
     render::FabricRenderer& r = *recorder_;
     uploadField(r, 7);
-    if (rec.next == 0) {
-      r.setMesh(*session_.mesh());
-      r.resize(rec.size.x, rec.size.y);
+    if (rec.next == 0) r.resize(rec.size.x, rec.size.y);
+    using K = session::RecordMovie::Kind;
+    render::Camera cam = rec.start;
+    if (rec.request.kind == K::Turntable) {
+      if (rec.next == 0) r.setMesh(*session_.mesh());
+      // About the pane's vertical: the screen's up direction through the camera's target.
+      const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
+      cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
+    } else {
+      // Sweeps: the pane's camera held, the surface of this frame cut on the UI thread (one per frame).
+      const auto data = session_.dataset();
+      const session::SurfaceSpec spec =
+          rec.request.kind == K::Sweep
+              ? session::sliceSweepSpec(rec.request.axis, rec.slices[static_cast<std::size_t>(rec.next)])
+              : session::faSweepSpec(rec.request.faLo, rec.request.faHi, rec.next, rec.frames);
+      rec.mesh = session::extractViewerSurface(*data, spec);
+      r.setMesh(rec.mesh);
     }
-    // About the pane's vertical: the screen's up direction through the camera's target.
-    const glm::dvec3 up = glm::normalize(glm::cross(rec.start.right(), rec.start.forward()));
-    const render::Camera cam = session::turnedAbout(rec.start, up, 360.0 * rec.next / rec.frames);
     r.renderMovieFrame(cam, rec.params, rec.next == 0);
     rec.writer->add(r.readback());
     st.recordedFrames = ++rec.next;
@@ -514,7 +630,11 @@ Image ViewerScene::layoutImage() const {
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
   if (!session_.mesh()) return img;
   for (int p = 0; p < paneCount(); ++p) readPane(outputFbo_[p], outputSize_[p], paneRect(p), img);
-  if (!state().ortho) return img;
+  if (!state().ortho) {
+    render::ImageCanvas canvas(img);
+    drawFurniture(canvas);
+    return img;
+  }
   const glm::dvec3 cross = state().crosshair;
   for (int s = 0; s < 3; ++s) {
     const auto r = orthoRect(s);
@@ -538,6 +658,8 @@ Image ViewerScene::layoutImage() const {
     letter(up, r[0] + r[2] / 2, r[1] + 10);
     letter(-up, r[0] + r[2] / 2, r[1] + r[3] - 10);
   }
+  render::ImageCanvas canvas(img);
+  drawFurniture(canvas);
   // Pane borders.
   const int w2 = std::max(width_ / 2, 1), h2 = std::max(height_ / 2, 1);
   render::fillRect(img, w2 - 1, 0, 2, height_, 90, 90, 90);
@@ -678,6 +800,14 @@ bool ViewerScene::applyView(const session::Action& action) {
         } else if constexpr (std::is_same_v<T, session::RecordMovie>) {
           if (recording_) throw UsageError("a movie is already being recorded");
           if (session_.mayWrite(a.path, a.force, action)) startRecording(a);
+        } else if constexpr (std::is_same_v<T, session::SetBackground>) {
+          backgroundAsked_ = a;
+          ++backgroundSerial_;
+          resolveBackground();
+        } else if constexpr (std::is_same_v<T, session::SetFurniture>) {
+          if (a.legend) state.legend = *a.legend;
+          if (a.scaleBar) state.scaleBar = *a.scaleBar;
+          if (a.colourBar) state.colourBar = *a.colourBar;
         } else if constexpr (std::is_same_v<T, session::ResetView>) {
           setView(session_.homeView());
         } else if constexpr (std::is_same_v<T, session::Rotate>) {

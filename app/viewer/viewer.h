@@ -10,10 +10,13 @@
 #include "io/model/image.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
+#include "render/figure_furniture.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/fibre_input.h"
 #include "ui/session/keymap.h"
+#include "ui/session/render_job.h"
 #include "ui/session/viewer_session.h"
 #include "ui/session/viewer_state.h"
 
@@ -56,12 +59,20 @@ public:
   void setInteractiveScale(double s) { interactiveScale_ = scale_ = std::clamp(s, 0.25, 1.0); }
   // A 95 % cone-of-uncertainty map (degrees, io::readConeMap) that frays the threads of every pane;
   // nullopt removes it.
-  void setUncertainty(std::optional<ScalarVolume> cone) {
-    cone_ = std::move(cone);
+  // A bedpostx folder's populations keep their own cones over a fibre set (session::conesFor).
+  void setUncertainty(std::optional<session::UncertaintyMap> map) {
+    uncertainty_ = std::move(map);
     ++coneSerial_;
     dataChanged();
   }
-  bool hasUncertainty() const { return cone_.has_value(); }
+  bool hasUncertainty() const { return uncertainty_.has_value(); }
+  // The figure furniture over the panes as `render` draws it on a still (session::SetFurniture: the DEC
+  // orientation legend, the scale bar, the tract value's colour bar where tracts are coloured by a value)
+  // and the uncertainty legend, on a canvas of the scene area (scene pixels, y down). The window draws it
+  // over the panes; screenshot-scene and layoutImage() carry it.
+  void drawFurniture(render::Canvas& scene) const;
+  // The background on screen (session::SetBackground resolved for the data; null: none).
+  const session::Background* background() const { return background_ ? &*background_ : nullptr; }
   // Renders every pane again on the next render() as if the camera had moved (benchmarks).
   void redraw() { cameraChanged(); }
   // Pane p's full-size renderer (pass timings in benchmarks).
@@ -139,6 +150,9 @@ private:
   // Ortho layout: slice indices through the crosshair, meshes rebuilt where an index changed, cameras.
   void updateOrtho();
   void renderOrtho(const render::FabricParams& params);
+  // The grey beneath for the data on screen: SetBackground's choice, else a DWI's mean b=0 image in the
+  // anatomy look (as `render`); re-resolved when the choice, the data or the look change.
+  void resolveBackground();
   void startRecording(const session::RecordMovie& request);
   void recordFrame();
   void readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 4>& rect, Image& into) const;
@@ -163,9 +177,16 @@ private:
   // Serials of the mesh and field each renderer holds, and whether it holds a tensor's principal directions
   // as fibres (the fibres colour mode on tensors).
   std::array<std::uint64_t, 8> meshUploaded_{}, fieldUploaded_{}, coneUploaded_{};
-  std::optional<ScalarVolume> cone_;
-  std::uint64_t coneSerial_ = 0;
+  std::optional<session::UncertaintyMap> uncertainty_;
+  ScalarVolume cone_;                          // conesFor(uncertainty_, the data's fibres)
+  std::uint64_t coneSerial_ = 0, coneBuilt_ = 0, coneField_ = 0; // cone_ is of coneBuilt_ and coneField_
   std::array<bool, 8> principalUploaded_{};
+  session::SetBackground backgroundAsked_;
+  std::optional<session::Background> background_;
+  std::uint64_t backgroundSerial_ = 1, backgroundResolved_ = 0, backgroundField_ = 0, backgroundVersion_ = 1;
+  bool backgroundAnatomy_ = false;
+  std::array<std::uint64_t, 8> backgroundUploaded_{};
+  mutable render::ValueColourBar colourBar_; // the tracts' value and range (kept: drawing it allocates nothing)
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;
   std::uint64_t seenLoad_ = 0, seenField_ = 0, seenMesh_ = 0, seenDisplay_ = 0; // the session's serials taken

@@ -226,10 +226,16 @@ private:
     try {
       if (shot.path.empty()) throw InputError("screenshot: no path given");
       // The ortho layout as a figure: the panes with the crosshair and each slice pane's letters.
-      if (shot.sceneOnly && scene_->state().ortho)
+      if (shot.sceneOnly && scene_->state().ortho) {
         io::writePng(shot.path, scene_->layoutImage());
-      else
-        io::writePng(shot.path, readFramebuffer(x, y, w, h));
+      } else {
+        Image img = readFramebuffer(x, y, w, h);
+        if (shot.sceneOnly) { // the panes as a figure: with their furniture (the window's is drawn by ImGui)
+          render::ImageCanvas canvas(img);
+          scene_->drawFurniture(canvas);
+        }
+        io::writePng(shot.path, img);
+      }
       std::cerr << "wrote " << shot.path << (shot.sceneOnly ? " (scene)" : " (window)") << "\n";
     } catch (const std::exception& e) {
       scene_->setError(std::string("while saving a screenshot: ") + e.what());
@@ -308,6 +314,24 @@ private:
     }
   }
 
+  // The scene area of the window as a canvas for the figure furniture (scene pixels; ImGui draws in window
+  // points).
+  class ImGuiCanvas final : public render::Canvas {
+  public:
+    ImGuiCanvas(ImDrawList* dl, int x0, int w, int h, double scale) : dl_(dl), x0_(x0), w_(w), h_(h), inv_(1.0 / scale) {}
+    int width() const override { return w_; }
+    int height() const override { return h_; }
+    void fill(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) override {
+      const auto px = [&](int v) { return static_cast<float>(v * inv_); };
+      dl_->AddRectFilled(ImVec2(px(x0_ + x), px(y)), ImVec2(px(x0_ + x + w), px(y + h)), IM_COL32(r, g, b, 255));
+    }
+
+  private:
+    ImDrawList* dl_;
+    int x0_, w_, h_;
+    double inv_;
+  };
+
   // The anatomical letters at the four edges of a pane (screen points x0, y0 .. x1, y1), from its camera.
   static void drawPaneLetters(ImDrawList* dl, const render::Camera& c, float x0, float y0, float x1, float y1) {
     const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
@@ -328,6 +352,8 @@ private:
   void drawOrientationLabels() {
     if (!scene_->state().hasData) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    ImGuiCanvas canvas(dl, sceneX_, sceneW_, sceneH_, scale_);
+    scene_->drawFurniture(canvas);
     const float inv = static_cast<float>(1.0 / scale_);
     for (int p = 0; p < scene_->paneCount(); ++p) {
       const auto r = scene_->paneRect(p);
@@ -495,6 +521,8 @@ int runViewerWindow(const ViewerWindowOptions& o) {
     window.scene().addRecent(*it);
   if (o.uncertainty) window.scene().setUncertainty(*o.uncertainty);
   if (o.ortho) window.scene().apply(session::SetOrtho{true});
+  window.scene().apply(o.furniture);
+  if (!o.background.what.empty()) window.scene().apply(o.background);
   if (!o.inputs.empty()) {
     window.setOpenPath(o.inputs.front());
     window.setTensorPath(o.tensor);

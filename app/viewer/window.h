@@ -3,6 +3,8 @@
 
 #include "app/viewer/view_script.h"
 #include "io/model/volume.h"
+#include "ui/session/actions.h"
+#include "ui/session/fibre_input.h"
 
 #include <optional>
 #include <string>
@@ -18,7 +20,9 @@ struct ViewerWindowOptions {
   int width = 1280, height = 800;     // window size, pixels
   bool ortho = false;                 // open in the ortho layout
   const ViewScript* script = nullptr; // replayed when given (outputs already checked)
-  std::optional<ScalarVolume> uncertainty; // a cone map (degrees) that frays the threads; read by the caller
+  std::optional<session::UncertaintyMap> uncertainty; // a cone map that frays the threads; read by the caller
+  session::SetBackground background;                  // --background, --background-window
+  session::SetFurniture furniture;                    // --no-legend, --no-scale-bar, --no-colour-bar
 };
 
 // Opens the window and runs until it closes or the script quits; returns the exit code. Throws GlError when

@@ -1,6 +1,7 @@
 #include "render/fabric/fabric_pipeline.h"
 
 #include "io/model/error.h"
+#include "render/fray.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,6 +44,7 @@ void FabricPipeline::setFibres(const FibreSet& fibres, const ScalarVolume* fa) {
   haveFibres_ = fibres.grid.voxelCount() > 0;
   if (haveFibres_) boundsOf(fibres.grid, fibreLo_, fibreHi_);
   dataChanged_ = true;
+  if (cone_ && cone_->components > 1) uploadUncertainty();
 }
 
 void FabricPipeline::clearFibres() {
@@ -51,14 +53,28 @@ void FabricPipeline::clearFibres() {
   fibreFa_.reset();
   haveFibres_ = false;
   dataChanged_ = true;
+  if (cone_ && cone_->components > 1) uploadUncertainty();
 }
 
 void FabricPipeline::setUncertainty(const ScalarVolume* cone) {
-  if (cone)
-    uncertainty_.upload(*cone, 0.0f, 90.0f);
-  else
-    uncertainty_.clear();
+  cone_ = cone ? std::optional<ScalarVolume>(*cone) : std::nullopt;
+  uploadUncertainty();
+}
+
+void FabricPipeline::uploadUncertainty() {
   dataChanged_ = true;
+  if (!cone_) {
+    uncertainty_.clear();
+    return;
+  }
+  // Per-fibre cones follow their fibres into the slots the renderer advects (continuousSlots reorders and
+  // flips lobes per voxel: each slot's lobe is matched back to the set's fibre by amplitude and |cos|).
+  if (cone_->components > 1 && haveFibres_ && fibreSet_.grid.dims == cone_->grid.dims) {
+    const FibreSet slotted = continuousSlots(fibreSet_, uploadedThreshold_);
+    uncertainty_.upload(slotCones(fibreSet_, slotted, *cone_), 0.0f, 90.0f, 3);
+    return;
+  }
+  uncertainty_.upload(*cone_, 0.0f, 90.0f, 3);
 }
 
 void FabricPipeline::setBackground(const ScalarVolume* volume, float lo, float hi) {
@@ -140,6 +156,7 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   if (ps.fibres && p.fibreThreshold != uploadedThreshold_) { // the threshold is applied on upload
     uploadedThreshold_ = p.fibreThreshold;
     fibres_.upload(fibreSet_, fibreFa_ ? &*fibreFa_ : nullptr, uploadedThreshold_);
+    if (cone_ && cone_->components > 1) uploadUncertainty();
   }
   projection_.runTensor(field_, noise_, view, ps, &background_, &fibres_);
   endTimer(); // the projection's timer runs from the caller's geometry stage to here

@@ -36,7 +36,10 @@ public:
   void setFibres(const FibreSet& fibres, const ScalarVolume* fa = nullptr);
   void clearFibres();
   void setBackground(const ScalarVolume* volume, float lo, float hi);
-  // A cone-of-uncertainty map in degrees (io::readConeMap) that frays the threads; null removes it.
+  // A cone-of-uncertainty map in degrees (io::readConeMap) that frays the threads; null removes it. One
+  // component: every direction's cone; K components on the fibre set's grid: fibre k's cone (fibre index
+  // order of the set given to setFibres, e.g. bedpostx's populations), turned into the renderer's slot
+  // order here.
   void setUncertainty(const ScalarVolume* cone);
   bool hasUncertainty() const { return !uncertainty_.empty(); }
   // World bounds of the data's voxel centres (tensor field, else fibre set); false when there is none.
@@ -65,6 +68,9 @@ public:
   // (not the parameters or the size) starts instead from the state kept by keepHistory(), reprojected into
   // the new view (AdvectionPass::reproject), so the fabric stays coherent from frame to frame.
   void reprojectNext() { reprojectNext_ = true; }
+  // Whether reprojectNext() can carry the state for these parameters (two thread fields: tensors and fibre
+  // sets of up to two populations).
+  bool reprojects(const FabricParams& params) const { return fields(params) == 2; }
   // Keeps the current state and the surface it lies on (after the frame's advection) for reprojectNext().
   void keepHistory(const FrameView& view);
   // params.iterations Eq. 12 iterations, continuing the state.
@@ -102,6 +108,8 @@ private:
   float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;
   GpuScalarVolume uncertainty_;
+  std::optional<ScalarVolume> cone_; // as given, re-uploaded in slot order when the fibres change
+  void uploadUncertainty();
   Texture noise_;
   std::shared_ptr<const NoiseTile> noiseTile_;
   bool haveField_ = false, haveFibres_ = false;

@@ -24,7 +24,7 @@
 #include "common/octahedral.glsl"
 #ifdef UNCERTAINTY
 #include "common/fray.glsl"
-layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees, trilinear
+layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees per slot (rgb), trilinear
 uniform mat4 u_uncertaintyWorldToTex;
 uniform float u_fray = 1.0;       // strength: the turn is up to u_fray x the cone
 uniform float u_frayCells = 16.0; // noise cells per implicit voxel edge
@@ -120,8 +120,9 @@ void main() {
   vec4 vectors = vec4(0.0);
   vec4 eigen = vec4(0.0);
 #ifdef UNCERTAINTY
-  float coneRad = radians(90.0) * u_fray *
-                  texture(u_uncertainty, (u_uncertaintyWorldToTex * vec4(world, 1.0)).xyz).r;
+  // Tensors: .r; fibre sets: slot k's cone in component k.
+  vec3 coneRad = radians(90.0) * u_fray *
+                 texture(u_uncertainty, (u_uncertaintyWorldToTex * vec4(world, 1.0)).xyz).rgb;
 #endif
   vec4 lambda = vec4(0.0);
   float fa;
@@ -130,7 +131,11 @@ void main() {
   float famp[3];
   vec2 v3 = vec2(0.0);
   uvec4 fibres = uvec4(0u);
-  int count = sampleFibres(world, fdir, famp, fa);
+  // Decoded a little beyond the data's edge; the edge is the blurred occupancy's 0.5 contour, a coverage ramp
+  // one pixel wide as for tensors.
+  int count = sampleFibres(world, 0.02, fdir, famp, fa);
+  float edge = fibreEdge(world);
+  float cover = clamp((edge - 0.5) / max(fwidth(edge), 1e-4) + 0.5, 0.0, 1.0);
   if (count > 0 && fa >= u_faFloor) {
     vec4 c0 = u_viewProj * vec4(world, 1.0);
     int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
@@ -142,7 +147,7 @@ void main() {
       vec3 pd = fdir[k] - n * dot(n, fdir[k]); // P d
       float inPlane = length(pd);
 #ifdef UNCERTAINTY
-      pd = frayRotate(pd, n, coneRad * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, uint(k)));
+      pd = frayRotate(pd, n, coneRad[k] * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, uint(k)));
 #endif
       if (inPlane > 0.05) img[k] = imageDirection(c0, pd / inPlane);
       float weight = clamp(famp[k] / top, 0.0, 1.0) * inPlane;
@@ -153,7 +158,7 @@ void main() {
     eigen.xyz = abs(fdir[strongest]);
     lambda.y = abs(dot(fdir[strongest], n));
     lambda.x = (famp[0] + famp[1] + famp[2] - top) / (2.0 * top);
-    lambda.w = 1.0;
+    lambda.w = cover;
   }
 #else
   mat3 t;
@@ -176,7 +181,7 @@ void main() {
     if (directional) {
       vec4 c0 = u_viewProj * vec4(world, 1.0);
 #ifdef UNCERTAINTY
-      float turn = coneRad * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, 0u);
+      float turn = coneRad.x * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, 0u);
       e1p = frayRotate(e1p, n, turn);
       e2p = frayRotate(e2p, n, turn);
 #endif

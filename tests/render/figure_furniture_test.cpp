@@ -112,3 +112,43 @@ TEST(FigureFurniture, TheLegendShowsTheInPlaneAxesInTheirDecColours) {
   EXPECT_GT(green, 20); // A-P too
   EXPECT_LT(blue, red / 2); // S-I points along the view: a dot at most
 }
+
+TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
+  Image img = black();
+  drawColourBar(img, {"FA", 0.2, 0.85});
+  // The bar: 8 px wide, 48 px from the right edge (beside the letter band), 204 px tall centred; top
+  // #fde725, bottom #440154.
+  const int x = kSize - 48 + 4, y0 = (kSize - 204) / 2;
+  const std::uint8_t* top = img.pixel(x, y0);
+  const std::uint8_t* bottom = img.pixel(x, y0 + 203);
+  EXPECT_EQ(int(top[0]), 0xfd);
+  EXPECT_EQ(int(top[1]), 0xe7);
+  EXPECT_EQ(int(top[2]), 0x25);
+  EXPECT_EQ(int(bottom[0]), 0x44);
+  EXPECT_EQ(int(bottom[1]), 0x01);
+  EXPECT_EQ(int(bottom[2]), 0x54);
+  // Labels: the high value beside the top, the low one beside the bottom, the name above; white text.
+  auto white = [&](int x0, int y0, int x1, int y1) {
+    int n = 0;
+    for (int yy = y0; yy < y1; ++yy)
+      for (int xx = x0; xx < x1; ++xx)
+        n += img.pixel(xx, yy)[0] == 255 && img.pixel(xx, yy)[1] == 255 && img.pixel(xx, yy)[2] == 255;
+    return n;
+  };
+  EXPECT_GT(white(kSize - 110, y0, kSize - 57, y0 + 16), 10);              // "0.85"
+  EXPECT_GT(white(kSize - 110, y0 + 204 - 16, kSize - 57, y0 + 204), 10); // "0.2"
+  EXPECT_GT(white(kSize - 80, y0 - 20, kSize - 40, y0 - 2), 10);          // "FA"
+  EXPECT_EQ(lit(img, 0, 0, kSize - 120, kSize), 0);                       // nothing else
+  EXPECT_EQ(lit(img, kSize - 39, 0, kSize, kSize), 0); // the letter band stays free
+}
+
+TEST(FigureFurniture, AReservedCornerLiftsTheScaleBar) {
+  FigureFurniture bar{false, false, true};
+  Image low = black(), lifted = black();
+  drawFurniture(low, axial(false), 0.4, bar);
+  bar.bottomLeftReserved = 100;
+  drawFurniture(lifted, axial(false), 0.4, bar);
+  EXPECT_GT(lit(low, 0, kSize - 40, kSize / 3, kSize), 0);
+  EXPECT_EQ(lit(lifted, 0, kSize - 100, kSize / 3, kSize), 0);
+  EXPECT_GT(lit(lifted, 0, kSize - 140, kSize / 3, kSize - 100), 0);
+}

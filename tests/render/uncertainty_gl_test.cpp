@@ -238,3 +238,82 @@ TEST(FrayLegend, DrawsSwatchesAndLabelsInTheCorner) {
   for (auto c : tiny.rgba)
     ASSERT_EQ(c, 0);
 }
+
+TEST_F(Uncertainty, EachFibrePopulationFraysByItsOwnCone) {
+  // A crossing of an x bundle (the stronger, fibre 0, cone 0) and a y bundle (fibre 1, cone 30 degrees) on
+  // an axial plane seen from above: x is the image's horizontal, y its vertical. The x slot's image
+  // directions stay exactly horizontal; the y slot's turn within +-30 degrees of the vertical. With one
+  // cone for every population (population 1's, 0) neither would turn; with the y cone for both, both would.
+  const Grid grid = reference::centredGrid(24, 2.0);
+  FibreSet set;
+  set.grid = grid;
+  set.maxFibres = 2;
+  set.fibres.resize(grid.voxelCount() * 2);
+  for (std::size_t v = 0; v < grid.voxelCount(); ++v) {
+    set.fibres[v * 2] = {{1, 0, 0}, 0.6f};
+    set.fibres[v * 2 + 1] = {{0, 1, 0}, 0.4f};
+  }
+  ScalarVolume cones(grid, 2);
+  for (std::size_t v = 0; v < grid.voxelCount(); ++v) {
+    cones.data[v * 2] = 0.0f;
+    cones.data[v * 2 + 1] = 30.0f;
+  }
+  FabricRenderer r;
+  r.setMesh(reference::planeMesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 40, 40, 4));
+  r.setFibres(set);
+  r.setUncertainty(&cones);
+  r.resize(128, 128);
+  FabricParams p;
+  p.colour = ColourMode::Fibres;
+  p.frayCells = 8;
+  r.renderStill(Camera::standard(StandardView::Superior, {-20, -20, -1}, {20, 20, 1}, 1.0), p);
+  const auto vec = readVectors(r.projection().vectors());
+  const auto surf = test::readTexture(r.projection().surface(), 4);
+  // Per covered pixel and slot: the angle of the image direction from the nearest image axis, and which.
+  double xMax = 0, ySum = 0, yMax = 0;
+  int xs = 0, ys = 0;
+  for (std::size_t i = 0; i < surf.size() / 4; ++i) {
+    if (surf[i * 4 + 3] < 0.5f) continue;
+    for (int slot = 0; slot < 2; ++slot) {
+      const double dx = vec[i * 4 + 2 * slot], dy = vec[i * 4 + 2 * slot + 1];
+      if (std::hypot(dx, dy) < 0.5) continue;
+      const double fromHorizontal = glm::degrees(std::atan(std::abs(dy) / std::max(std::abs(dx), 1e-9)));
+      if (fromHorizontal < 45) {
+        xMax = std::max(xMax, fromHorizontal);
+        ++xs;
+      } else {
+        ySum += 90 - fromHorizontal;
+        yMax = std::max(yMax, 90 - fromHorizontal);
+        ++ys;
+      }
+    }
+  }
+  std::printf("x bundle: %d pixels, largest turn %.2f deg; y bundle: %d pixels, mean turn %.2f, largest %.2f\n", xs,
+              xMax, ys, ySum / std::max(ys, 1), yMax);
+  ASSERT_GT(xs, 5000);
+  ASSERT_GT(ys, 5000);
+  EXPECT_LT(xMax, 1.0);
+  EXPECT_GT(ySum / ys, 8.0); // |U(-1, 1)| x 30 degrees: 15 on average
+  EXPECT_LT(yMax, 31.0);
+  // The same cones given in the other fibre order follow their fibres (the set's order is what counts).
+  ScalarVolume swapped(grid, 2);
+  for (std::size_t v = 0; v < grid.voxelCount(); ++v) {
+    swapped.data[v * 2] = 30.0f;
+    swapped.data[v * 2 + 1] = 0.0f;
+  }
+  r.setUncertainty(&swapped);
+  r.renderStill(Camera::standard(StandardView::Superior, {-20, -20, -1}, {20, 20, 1}, 1.0), p);
+  const auto vec2 = readVectors(r.projection().vectors());
+  double xTurn = 0, yTurn = 0;
+  for (std::size_t i = 0; i < surf.size() / 4; ++i) {
+    if (surf[i * 4 + 3] < 0.5f) continue;
+    for (int slot = 0; slot < 2; ++slot) {
+      const double dx = vec2[i * 4 + 2 * slot], dy = vec2[i * 4 + 2 * slot + 1];
+      if (std::hypot(dx, dy) < 0.5) continue;
+      const double a = glm::degrees(std::atan(std::abs(dy) / std::max(std::abs(dx), 1e-9)));
+      (a < 45 ? xTurn : yTurn) = std::max(a < 45 ? xTurn : yTurn, a < 45 ? a : 90 - a);
+    }
+  }
+  EXPECT_GT(xTurn, 20.0);
+  EXPECT_LT(yTurn, 1.0);
+}

@@ -311,6 +311,28 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   if (ImGui::Button("Reset view (R)")) out.push_back(session::ResetView{});
   probe(b, "Reset view");
 
+  // The grey beneath the fabric and the figure furniture over the panes (as `render` draws them).
+  ImGui::InputText("##background", b.backgroundPath.data(), b.backgroundPath.size());
+  probe(b, "background path");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("a scalar volume on any grid (a T1, say), fa or md");
+  ImGui::SameLine();
+  if (ImGui::Button("Background") && b.backgroundPath[0] != '\0')
+    out.push_back(session::SetBackground{b.backgroundPath.data(), ""});
+  probe(b, "Background");
+  ImGui::SameLine();
+  if (ImGui::Button("default")) out.push_back(session::SetBackground{});
+  probe(b, "default background");
+  ImGui::TextDisabled("beneath: %s", s.background.empty() ? "FA within the data" : s.background.c_str());
+  bool legend = s.legend, scaleBar = s.scaleBar, colourBar = s.colourBar;
+  if (ImGui::Checkbox("legend", &legend)) out.push_back(session::SetFurniture{legend, {}, {}});
+  probe(b, "legend");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("scale bar", &scaleBar)) out.push_back(session::SetFurniture{{}, scaleBar, {}});
+  probe(b, "scale bar");
+  ImGui::SameLine();
+  if (ImGui::Checkbox("colour bar", &colourBar)) out.push_back(session::SetFurniture{{}, {}, colourBar});
+  probe(b, "colour bar");
+
   ImGui::InputText("##shot", b.screenshotPath.data(), b.screenshotPath.size());
   if (ImGui::Button("Screenshot window")) out.push_back(session::Screenshot{b.screenshotPath.data(), false});
   probe(b, "Screenshot window");
@@ -321,18 +343,42 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   ImGui::SameLine();
   if (ImGui::Button("Load camera")) out.push_back(session::LoadCamera{b.cameraPath.data()});
 
-  // A turntable of the 3D pane as shown (surface, fabric, camera).
+  // A movie of the 3D pane as shown (surface, fabric, camera): a turntable, a slice sweep, an FA sweep.
   ImGui::InputText("##movie", b.moviePath.data(), b.moviePath.size());
+  static const char* const kinds[] = {"turntable", "axial sweep", "coronal sweep", "sagittal sweep", "FA sweep"};
+  ImGui::SetNextItemWidth(130);
+  ImGui::Combo("##moviekind", &b.movieKind, kinds, 5);
+  probe(b, "movie kind");
+  ImGui::SameLine();
   ImGui::SetNextItemWidth(90);
   ImGui::InputInt("frames", &b.movieFrames);
   b.movieFrames = std::clamp(b.movieFrames, 1, 10000);
-  ImGui::SameLine();
+  if (b.movieKind == 4) {
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.3f);
+    ImGui::InputDouble("FA from", &b.movieFaLo, 0, 0, "%.2f");
+    ImGui::SameLine();
+    ImGui::InputDouble("to", &b.movieFaHi, 0, 0, "%.2f");
+    ImGui::PopItemWidth();
+    b.movieFaLo = std::clamp(b.movieFaLo, 0.01, 0.99);
+    b.movieFaHi = std::clamp(b.movieFaHi, 0.01, 0.99);
+  }
   if (s.recording) {
     ImGui::Text("recording %d/%d", s.recordedFrames, s.recordFrames);
   } else {
-    if (ImGui::Button("Record turntable") && b.moviePath[0] != '\0')
-      out.push_back(session::RecordMovie{b.moviePath.data(), b.movieFrames});
-    probe(b, "Record turntable");
+    if (ImGui::Button("Record") && b.moviePath[0] != '\0') {
+      session::RecordMovie m{b.moviePath.data(), b.movieFrames};
+      static const char* const axes[] = {"axial", "coronal", "sagittal"};
+      if (b.movieKind >= 1 && b.movieKind <= 3) {
+        m.kind = session::RecordMovie::Kind::Sweep;
+        m.axis = axes[b.movieKind - 1];
+      } else if (b.movieKind == 4) {
+        m.kind = session::RecordMovie::Kind::FaSweep;
+        m.faLo = b.movieFaLo;
+        m.faHi = b.movieFaHi;
+      }
+      out.push_back(m);
+    }
+    probe(b, "Record");
   }
   if (!s.recordStatus.empty() && !s.recording) ImGui::TextWrapped("%s", s.recordStatus.c_str());
 }

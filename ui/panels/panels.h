@@ -23,8 +23,11 @@ struct PanelBuffers {
   std::array<char, 1024> tensorPath{}; // fibre sets: the paired tensor of the next load
   std::array<char, 1024> screenshotPath{};
   std::array<char, 1024> cameraPath{};
-  std::array<char, 1024> moviePath{}; // Record turntable: .mp4, .gif or DIR/
+  std::array<char, 1024> moviePath{}; // Record: .mp4, .gif or DIR/
   int movieFrames = 36;
+  int movieKind = 0;                          // turntable, axial/coronal/sagittal sweep, FA sweep
+  double movieFaLo = 0.15, movieFaHi = 0.5;   // FA sweep
+  std::array<char, 1024> backgroundPath{}; // the grey beneath: FILE, fa or md
   std::array<char, 1024> tractPath{};
   std::array<char, 1024> tractSavePath{};
   session::TrackRequest track{[] {

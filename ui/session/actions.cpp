@@ -87,8 +87,24 @@ std::string describe(const Action& action) {
           std::snprintf(buf, sizeof buf, "SetCrosshair %g %g %g", a.world.x, a.world.y, a.world.z);
           return buf;
         } else if constexpr (std::is_same_v<T, RecordMovie>) {
-          std::snprintf(buf, sizeof buf, "RecordMovie turntable %d frames at %g fps ", a.frames, a.fps);
+          if (a.kind == RecordMovie::Kind::Sweep)
+            std::snprintf(buf, sizeof buf, "RecordMovie sweep %s %d frames at %g fps ", a.axis.c_str(), a.frames,
+                          a.fps);
+          else if (a.kind == RecordMovie::Kind::FaSweep)
+            std::snprintf(buf, sizeof buf, "RecordMovie fa-sweep %g:%g %d frames at %g fps ", a.faLo, a.faHi,
+                          a.frames, a.fps);
+          else
+            std::snprintf(buf, sizeof buf, "RecordMovie turntable %d frames at %g fps ", a.frames, a.fps);
           return buf + std::string(a.force ? "--force " : "") + a.path;
+        } else if constexpr (std::is_same_v<T, SetBackground>) {
+          return "SetBackground " + (a.what.empty() ? std::string("default") : a.what) +
+                 (a.window.empty() ? std::string() : " " + a.window);
+        } else if constexpr (std::is_same_v<T, SetFurniture>) {
+          auto piece = [](const char* name, const std::optional<bool>& on) {
+            return on ? std::string(" ") + name + (*on ? " on" : " off") : std::string();
+          };
+          return "SetFurniture" + piece("legend", a.legend) + piece("scale-bar", a.scaleBar) +
+                 piece("colour-bar", a.colourBar);
         } else if constexpr (std::is_same_v<T, ResetView>)
           return "ResetView";
         else if constexpr (std::is_same_v<T, Rotate>) {

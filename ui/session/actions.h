@@ -80,14 +80,31 @@ struct SetOrtho {
 struct SetCrosshair {
   glm::dvec3 world;
 };
-// Records a turntable of what the 3D pane shows (its surface, fabric and camera, a full turn about the pane's
-// vertical, the screen's up direction through the camera's target) to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
+// Records what the 3D pane shows (its surface, fabric and camera): a turntable (a full turn about the pane's
+// vertical, the screen's up direction through the camera's target), a slice sweep or an FA-threshold sweep,
+// to an MP4, a GIF or a directory of PNG frames (io/formats/movie_writer.h),
 // the advection state carried from frame to frame. An existing output only with `force`; never an input.
+// Sweep: the pane's camera held while the slice moves through the slices holding data along `axis`;
+// FaSweep: the FA isosurface from faLo to faHi (the surface re-extracted per frame).
 struct RecordMovie {
   std::string path;
   int frames = 36;
   double fps = 12;
   bool force = false;
+  enum class Kind { Turntable, Sweep, FaSweep } kind = Kind::Turntable;
+  std::string axis = "axial";     // Sweep
+  double faLo = 0.15, faHi = 0.5; // FaSweep
+};
+// The grey beneath the fabric: a scalar volume FILE on any grid (resampled in world space), fa or md of the
+// data, or none (FA within the data); empty: the default (a DWI's mean b=0 image in the anatomy look).
+// `window`: LO,HI, or empty (a FILE's 1st..99th percentile).
+struct SetBackground {
+  std::string what;
+  std::string window;
+};
+// The figure furniture drawn over the panes as `dtfabric render` draws it: each piece that is given.
+struct SetFurniture {
+  std::optional<bool> legend, scaleBar, colourBar;
 };
 struct ResetView {};
 // Camera motion in window pixels (y down) over pane `pane` (-1 = the active pane).
@@ -180,7 +197,7 @@ struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
-                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, ResetView, Rotate, Pan, Zoom,
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, SetBackground, SetFurniture, ResetView, Rotate, Pan, Zoom,
                  Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
                  SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
                  SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;

@@ -1,6 +1,7 @@
 #include "ui/session/bids_participant.h"
 
 #include "ui/session/check_run.h"
+#include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/web_page.h"
 #include "io/formats/atomic_file.h"
@@ -193,7 +194,8 @@ std::vector<std::pair<std::string, Mesh>> figureMeshes(const CheckRun& check, co
   iso.value = kIsoFa;
   std::vector<std::pair<std::string, Mesh>> meshes;
   SurfaceBuildOptions figure;
-  figure.dataEdgeCells = true; // the smooth data edge
+  figure.dataEdgeCells = true;                 // the smooth data edge
+  figure.clipToData = check.meanB0.data.empty(); // a DWI's slices cover the grid: its mean b=0 image around the data
   meshes.emplace_back("fabricAxial", buildSurface(axial, check.field, maps.fa, figure));
   meshes.emplace_back("fabricCoronal", buildSurface(coronal, check.field, maps.fa, figure));
   meshes.emplace_back("fabricIso", buildSurface(iso, check.field, maps.fa, figure));
@@ -208,6 +210,10 @@ void writeFigures(const io::BidsRun& run, const fs::path& dir, const Participant
   render::FabricRenderer renderer;
   renderer.resize(o.figurePx, o.figurePx);
   renderer.setField(check.field);
+  // The anatomy beneath (as `render` shows a DWI): the mean b=0 image of the fit, else FA.
+  Background b0;
+  b0.volume = check.meanB0;
+  if (!b0.volume.data.empty() && windowByPercentiles(b0)) renderer.setBackground(&b0.volume, b0.lo, b0.hi);
   const std::vector<std::pair<std::string, std::pair<std::size_t, std::string>>> figures = {
       {"fabricAxial", {0, "axial"}},
       {"fabricCoronal", {1, "coronal"}},

@@ -141,6 +141,7 @@ CheckRun runCheck(const CheckRequest& r) {
                        ": every volume is b=0 (b <= " + std::to_string(static_cast<int>(kB0Threshold)) +
                        " s/mm^2): there is no gradient direction to check");
     io::Dwi d = io::makeDwi(std::move(signal), run.bvals, run.bvecs, kB0Threshold, r.input, bval, bvec);
+    run.meanB0 = meanLowestB(d);
     if (!r.mask.empty()) run.mask = readMaskOn(r.mask, d.signal.grid, r.input);
     run.tableToWorld = io::bvecFrameToWorld(d.signal.grid);
     run.loadSeconds = secondsSince(t0);

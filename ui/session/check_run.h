@@ -40,6 +40,7 @@ struct CheckRun {
   glm::dmat3 tableToWorld{1.0};  // io::bvecFrameToWorld for a DWI, identity for a tensor file (world frame),
                                  // io::fibreFrameToWorld for a fibre set
   MaskVolume mask;               // the given mask; empty when none
+  ScalarVolume meanB0;           // a DWI's mean image at its lowest b-value (the figures' anatomy), else empty
   surfaces::OrientationReport report;
   double loadSeconds = 0, fitSeconds = 0, checkSeconds = 0;
 };

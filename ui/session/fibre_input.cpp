@@ -83,4 +83,40 @@ FibreSet principalFibres(const TensorField& field) {
   return s;
 }
 
+UncertaintyMap readUncertainty(const std::string& path) {
+  UncertaintyMap m;
+  if (io::isBedpostxSamplesPath(path)) {
+    auto samples = std::make_shared<io::BedpostxSamples>(io::readBedpostxSamples(path));
+    m.cone = samples->cone.at(0);
+    m.samples = std::move(samples);
+  } else {
+    m.cone = io::readConeMap(path);
+  }
+  return m;
+}
+
+ScalarVolume conesFor(const UncertaintyMap& map, const FibreSet* fibres) {
+  if (!fibres || !map.samples || map.samples->grid.dims != fibres->grid.dims || fibres->maxFibres < 1)
+    return map.cone;
+  const io::BedpostxSamples& s = *map.samples;
+  const std::size_t k = static_cast<std::size_t>(fibres->maxFibres);
+  ScalarVolume out(fibres->grid, fibres->maxFibres);
+  for (std::size_t v = 0; v < fibres->grid.voxelCount(); ++v)
+    for (std::size_t i = 0; i < k; ++i) {
+      const Fibre& f = fibres->fibres[v * k + i];
+      float best = -1.0f, cone = std::nanf("");
+      for (std::size_t p = 0; p < s.cone.size(); ++p) {
+        const float c = s.cone[p].data[v];
+        const glm::vec3 m(s.mean[p].data[v * 3], s.mean[p].data[v * 3 + 1], s.mean[p].data[v * 3 + 2]);
+        const float cosine = std::abs(glm::dot(m, f.direction));
+        if (f.amplitude > 0.0f && cosine > best) {
+          best = cosine;
+          cone = c;
+        }
+      }
+      out.data[v * k + i] = cone;
+    }
+  return out;
+}
+
 } // namespace dtf::session

@@ -5,7 +5,10 @@
 
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
+#include "io/diffusion/uncertainty.h"
 #include "io/formats/fibre_io.h"
+
+#include <memory>
 
 #include <optional>
 #include <string>
@@ -38,5 +41,19 @@ void checkFibreSurface(const SurfaceSpec& spec, const FibreInput& input);
 // The principal eigenvector of every valid tensor as a one-fibre set, amplitude = FA: a tensor shown the
 // multi-population way (e1 only).
 FibreSet principalFibres(const TensorField& field);
+
+// An uncertainty map as --uncertainty gives it: a cone map (degrees) or a bedpostx samples folder, whose
+// populations keep their own cones and mean directions.
+struct UncertaintyMap {
+  ScalarVolume cone;                                    // io::readConeMap: population 1 for bedpostx
+  std::shared_ptr<const io::BedpostxSamples> samples; // bedpostx only
+};
+// Reads `path` (io::readConeMap's inputs). Throws InputError naming the file.
+UncertaintyMap readUncertainty(const std::string& path);
+// The cone map to show: over a fibre set on the samples' grid one cone per fibre (fibre index order, as
+// render::FabricRenderer::setUncertainty takes it), each fibre taking the cone of the population whose mean
+// direction is nearest (largest |cos|; NaN where that population has no cone), so every population frays by its own
+// cone whatever order the set holds them in; otherwise `map.cone`.
+ScalarVolume conesFor(const UncertaintyMap& map, const FibreSet* fibres);
 
 } // namespace dtf::session

@@ -91,6 +91,24 @@ std::vector<int> sweepIndices(const ScalarVolume& fa, const std::string& axis, i
   return out;
 }
 
+SurfaceSpec faSweepSpec(double lo, double hi, int i, int frames) {
+  return faSpec(frames > 1 ? lo + (hi - lo) * i / (frames - 1) : lo);
+}
+
+SurfaceSpec sliceSweepSpec(const std::string& axis, int index) {
+  return sliceSpec(axis, index);
+}
+
+std::vector<int> sweepIndices(const ScalarVolume& fa, const TensorField& field, const std::string& axis,
+                              int frames) {
+  if (std::any_of(fa.data.begin(), fa.data.end(), [](float v) { return v > 0; }))
+    return sweepIndices(fa, axis, frames);
+  ScalarVolume occupied(field.grid, 1);
+  for (std::size_t v = 0; v < occupied.data.size() && v < field.valid.size(); ++v)
+    occupied.data[v] = field.valid[v] ? 1.0f : 0.0f;
+  return sweepIndices(occupied, axis, frames);
+}
+
 void runMovie(const MovieRequest& request, const std::function<void(int, const Image&)>& sink,
               const std::function<void(int, int)>& progress) {
   validate(request);
@@ -124,7 +142,7 @@ void runMovie(const MovieRequest& request, const std::function<void(int, const I
                     : (r.kind == MovieRequest::Kind::Sweep ? render::parseView(r.axis) : render::StandardView::Superior);
   const render::Camera camera = render::Camera::standard(view, lo, hi, aspect, neuro, ortho);
   std::vector<int> indices;
-  if (r.kind == MovieRequest::Kind::Sweep) indices = sweepIndices(session.fa(), r.axis, r.frames);
+  if (r.kind == MovieRequest::Kind::Sweep) indices = sweepIndices(session.fa(), session.field(), r.axis, r.frames);
   Mesh mesh;
   for (int i = 0; i < r.frames; ++i) {
     const SurfaceSpec spec = r.kind == MovieRequest::Kind::Sweep ? sliceSpec(r.axis, indices[std::size_t(i)])

@@ -37,6 +37,14 @@ render::Camera turnedAbout(const render::Camera& camera, const glm::dvec3& axis,
 // data (FA > 0), evenly spaced (repeating indices when frames exceed the slices).
 std::vector<int> sweepIndices(const ScalarVolume& fa, const std::string& axis, int frames);
 
+// The same through the slices holding data: FA > 0, or where there is no FA (a fibre set without a paired
+// tensor) the valid voxels of `field` (the fibres' carrier).
+std::vector<int> sweepIndices(const ScalarVolume& fa, const TensorField& field, const std::string& axis,
+                              int frames);
+// The surface of frame `i` of `frames` of an FA sweep from lo to hi, and of a slice sweep.
+SurfaceSpec faSweepSpec(double lo, double hi, int i, int frames);
+SurfaceSpec sliceSweepSpec(const std::string& axis, int index);
+
 // Renders the frames in order and hands each to `sink(index, image)`; `progress(done, total)` after each.
 // Throws as runRender; UsageError for a bad kind, range or frame count.
 void runMovie(const MovieRequest& request, const std::function<void(int, const Image&)>& sink,

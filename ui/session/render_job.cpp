@@ -20,10 +20,7 @@
 
 namespace dtf::session {
 
-namespace {
-
-// The grey ramp of a volume: its non-zero values' 1st..99th percentile. False when it has none.
-bool percentileWindow(Background& b) {
+bool windowByPercentiles(Background& b) {
   std::vector<float> v;
   for (std::size_t i = 0; i < b.volume.grid.voxelCount(); ++i) {
     const float x = b.volume.data[i * static_cast<std::size_t>(b.volume.components)];
@@ -35,8 +32,6 @@ bool percentileWindow(Background& b) {
   b.hi = v[v.size() - 1 - v.size() / 100];
   return true;
 }
-
-} // namespace
 
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa) {
@@ -52,7 +47,7 @@ Background loadBackground(const std::string& what, const std::string& window, co
     b.hi = 0.003f;
   } else {
     b.volume = io::readScalarVolume(what);
-    if (!percentileWindow(b)) throw InputError(what + ": the background volume holds no non-zero values");
+    if (!windowByPercentiles(b)) throw InputError(what + ": the background volume holds no non-zero values");
   }
   if (!window.empty()) {
     const auto comma = window.find(',');
@@ -106,6 +101,11 @@ void validate(const RenderRequest& r) {
   if (r.supersample < 1 || r.supersample > 4) throw UsageError("--supersample must be 1, 2, 3 or 4");
   if (r.width * r.supersample > 16384 || r.height * r.supersample > 16384)
     throw UsageError("--supersample: the size times N must stay within 16384x16384");
+}
+
+// The uncertainty legend's font scale for the request's image.
+int frayLegendScale(const RenderRequest& r) {
+  return std::max(1, r.height / 384);
 }
 
 // The image size up to which the fabric's threads are those of the pixel-based defaults (FabricParams'
@@ -183,13 +183,13 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   // file the composite shows FA beneath, within the data's edge.)
   if (r.background.empty() && p.look == render::Look::Anatomy && !s.loaded.meanB0.data.empty()) {
     s.background.volume = std::move(s.loaded.meanB0);
-    if (!percentileWindow(s.background)) s.background.volume = ScalarVolume{};
+    if (!windowByPercentiles(s.background)) s.background.volume = ScalarVolume{};
   }
   s.buildOptions.clipToData = s.background.volume.data.empty();
   s.buildOptions.dataEdgeCells = true;
   if (!r.uncertainty.empty()) {
     try {
-      s.cone = io::readConeMap(r.uncertainty);
+      s.cone = conesFor(readUncertainty(r.uncertainty), s.fibreIn ? &s.fibreIn->fibres.set : nullptr);
     } catch (...) {
       rethrowWithContext("while reading the uncertainty map " + r.uncertainty);
     }
@@ -284,7 +284,13 @@ public:
   void setMovieMesh(const Mesh& m) { renderer_.setMesh(m); }
   // A movie frame (FabricRenderer::renderMovieFrame) of the mesh set last.
   Image movieFrame(const render::Camera& camera, const render::FabricParams& params, bool first) {
-    if (!movieField_) renderer_.setField(*s_.field);
+    if (!movieField_) {
+      renderer_.setField(*s_.field);
+      if (params.colour == render::ColourMode::Fibres) {
+        auto [set, setFa] = fibresOf(*s_.field);
+        renderer_.setFibres(*set, setFa);
+      }
+    }
     movieField_ = true;
     renderer_.renderMovieFrame(camera, params, first);
     render::checkGl("rendering " + r_.output);
@@ -314,9 +320,8 @@ private:
     }
     glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
     tracts_->draw(renderer_.frameView(), style);
-    Image out = renderer_.readback();
-    if (s_.coloured.coloured) render::drawTractColourBar(out.rgba.data(), out.width, out.height);
-    return out;
+    colourBarDue_ = s_.coloured.coloured; // drawn by finish() at the final size
+    return renderer_.readback();
   }
 
   // Supersampling: the same fabric at n times the pixels (noise cell, step and silhouette in pixels x n).
@@ -337,7 +342,11 @@ private:
     Image img = downsample(full, n_);
     render::FigureFurniture furniture = r_.furniture;
     furniture.scaleBar = furniture.scaleBar && !r_.perspective; // one pixel size only without perspective
+    if (!s_.cone.data.empty()) furniture.bottomLeftReserved = render::frayLegendHeight(frayLegendScale(r_));
     render::drawFurniture(img, camera_, renderer_.frameView().pixelMm * n_, furniture);
+    if (colourBarDue_ && furniture.colourBar)
+      render::drawColourBar(img, {r_.colouring.value, s_.coloured.lo, s_.coloured.hi});
+    colourBarDue_ = false;
     return img;
   }
 
@@ -364,6 +373,7 @@ private:
   std::optional<render::TractRenderer> tracts_;
   std::optional<FibreSet> principal_;
   bool movieField_ = false;
+  mutable bool colourBarDue_ = false; // the last tract overlay was coloured by a value
 };
 
 // The image: one pane, or two side by side as the split asks.
@@ -406,7 +416,7 @@ RenderResult runRender(const RenderRequest& r) {
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
   if (!scene.cone.data.empty())
-    render::drawFrayLegend(image, static_cast<float>(p.fray), std::max(1, r.height / 384));
+    render::drawFrayLegend(image, static_cast<float>(p.fray), frayLegendScale(r));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);
@@ -431,8 +441,6 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   m.request.split = {};
   m.request.tracts.clear();
   validate(m.request);
-  if (!m.request.field && isFibreSet(m.request.input, m.request.layout))
-    throw UsageError("movies take a tensor volume or a DWI; " + m.request.input + " is a fibre set");
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);
   m.panes.emplace(m.request, m.scene, m.none, m.request.view ? *m.request.view : defaultView(m.request.surface));

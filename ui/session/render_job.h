@@ -74,6 +74,9 @@ struct Background {
   float lo = 0, hi = 1;
 };
 
+// Windows `b` to its volume's non-zero values' 1st..99th percentile; false when it has none.
+bool windowByPercentiles(Background& b);
+
 // --background fa|md|FILE with an optional LO,HI window (FILE default: its 1st..99th percentile); empty
 // `what`: none. `fa` is the field's FA map. Throws UsageError (bad window), InputError (unreadable FILE).
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
@@ -88,8 +91,7 @@ RenderResult runRender(const RenderRequest& request);
 
 // Many frames of one request (movies): the data, FA, background and the request's surface loaded once, then
 // frames of any surface of the same data from any camera, the advection state carried from frame to frame
-// (render::FabricRenderer::renderMovieFrame). Tensor and DWI inputs (not fibre sets); no split panes, no
-// tracts. The headless context is made current on the calling thread, as for runRender.
+// (render::FabricRenderer::renderMovieFrame). Tensor, DWI and fibre-set inputs; no split panes, no tracts. The headless context is made current on the calling thread, as for runRender.
 class FrameSession {
 public:
   // Loads and builds; throws as runRender.

@@ -18,8 +18,7 @@ io::InputRequest inputRequest(const std::string& path, const std::string& layout
   return r;
 }
 
-// The mean of the DWI's volumes at the lowest b-value (b=0 when there are any, within 50 s/mm^2 of it).
-static ScalarVolume meanLowestB(const io::Dwi& d) {
+ScalarVolume meanLowestB(const io::Dwi& d) {
   const int n = d.signal.components;
   if (n < 1 || d.bvals.size() != static_cast<std::size_t>(n)) return {};
   const double lowest = *std::min_element(d.bvals.begin(), d.bvals.end());

@@ -33,4 +33,8 @@ io::LoadedTensors loadTensors(const io::OpenedInput& input, const TensorInputOpt
 // naming the file.
 io::LoadedTensors loadTensorInput(const std::string& path, const TensorInputOptions& options);
 
+// The mean of a DWI's volumes at its lowest b-value (b=0 when there are any, within 50 s/mm^2 of it): the
+// anatomy shown beneath the fabric. Empty when the b-values do not match the volumes.
+ScalarVolume meanLowestB(const io::Dwi& dwi);
+
 } // namespace dtf::session

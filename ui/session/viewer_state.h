@@ -92,6 +92,8 @@ struct ViewerState {
   bool recording = false;        // a turntable is being recorded (ui::RecordMovie)
   int recordedFrames = 0, recordFrames = 0;
   std::string recordStatus;      // the last recording: what it wrote, or why not
+  std::string background;        // the grey beneath: a file, fa, md, "mean b=0", or "" (FA within the data)
+  bool legend = true, scaleBar = true, colourBar = true; // figure furniture over the panes (SetFurniture)
 
   bool busy = false;      // loading / fitting on the worker thread
   std::string busyStage;  // e.g. "reading tensors"

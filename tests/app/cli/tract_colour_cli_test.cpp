@@ -81,8 +81,10 @@ TEST(TractColourCli, ValueColoursBarAndGroups) {
   const dtf::Image none = render("none", "").first;
   const std::string tracts = " --tracts " + trx.string();
   // Value 5 mapped with range 0..1 -> the top of the map (yellow); with 10..11 -> the bottom (purple).
-  const auto [high, highLog] = render("high", tracts + " --tracts-color v --tracts-range 0,1");
-  const auto [low, lowLog] = render("low", tracts + " --tracts-color v --tracts-range 10,11");
+  // (The tracts' colours without the colour bar, whose labels are white.)
+  const auto [high, highLog] = render("high", tracts + " --tracts-color v --tracts-range 0,1 --no-colour-bar");
+  const auto [low, lowLog] = render("low", tracts + " --tracts-color v --tracts-range 10,11 --no-colour-bar");
+  const dtf::Image withBar = render("bar", tracts + " --tracts-color v --tracts-range 0,1").first;
   EXPECT_NE(highLog.find("coloured by 'v' from 0 (bottom of the bar) to 1 (top)"), std::string::npos)
       << highLog;
   const Diff h = diff(high, none), l = diff(low, none);
@@ -92,9 +94,11 @@ TEST(TractColourCli, ValueColoursBarAndGroups) {
   EXPECT_GT(h.mean.y, 1.5 * h.mean.z) << "yellow expected";
   EXPECT_GT(l.mean.z, 1.5 * l.mean.y) << "purple expected";
   EXPECT_GT(l.mean.x, 1.5 * l.mean.y) << "purple expected";
-  // The bar: 8 px wide, 4 px from the right edge, 51 px tall centred; top #fde725, bottom #440154.
-  const std::uint8_t* top = high.pixel(120, 38);
-  const std::uint8_t* bottom = high.pixel(120, 88);
+  // The bar: 8 px wide, 20 px from the right edge (beside the orientation letter), 51 px tall centred; top
+  // #fde725, bottom #440154.
+  const std::uint8_t* top = withBar.pixel(104, 38);
+  const std::uint8_t* bottom = withBar.pixel(104, 88);
+  EXPECT_NE(int(high.pixel(104, 38)[0]), 0xfd); // --no-colour-bar: none
   EXPECT_EQ(int(top[0]), 0xfd);
   EXPECT_EQ(int(top[1]), 0xe7);
   EXPECT_EQ(int(top[2]), 0x25);

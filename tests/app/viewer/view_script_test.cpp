@@ -419,6 +419,23 @@ TEST(ViewScript, OrthoLayoutCrosshairClickAndMovieLines) {
   EXPECT_NE(parseError("crosshair 1 2\n").find("demo.txt:1:"), std::string::npos);
   EXPECT_NE(parseError("click -1 2\n").find("non-negative"), std::string::npos);
   EXPECT_NE(parseError("movie sweep 3 a.mp4\n").find("usage: movie turntable"), std::string::npos);
+  EXPECT_NE(parseError("movie sweep oblique 3 a.mp4\n").find("axial, coronal or sagittal"), std::string::npos);
+  EXPECT_NE(parseError("movie fa-sweep 0.5:0.5 3 a.mp4\n").find("two different thresholds"), std::string::npos);
+  const ViewScript sweeps =
+      parseViewScript("movie sweep coronal 20 --force sweep.gif\nmovie fa-sweep 0.2:0.45 12 fa dir/\n", "demo.txt");
+  ASSERT_EQ(sweeps.steps.size(), 2u);
+  const auto& sweep = actionAt<session::RecordMovie>(sweeps, 0);
+  EXPECT_EQ(sweep.kind, session::RecordMovie::Kind::Sweep);
+  EXPECT_EQ(sweep.axis, "coronal");
+  EXPECT_EQ(sweep.frames, 20);
+  EXPECT_TRUE(sweep.force);
+  EXPECT_EQ(sweep.path, "sweep.gif");
+  const auto& faSweep = actionAt<session::RecordMovie>(sweeps, 1);
+  EXPECT_EQ(faSweep.kind, session::RecordMovie::Kind::FaSweep);
+  EXPECT_DOUBLE_EQ(faSweep.faLo, 0.2);
+  EXPECT_DOUBLE_EQ(faSweep.faHi, 0.45);
+  EXPECT_EQ(faSweep.frames, 12);
+  EXPECT_EQ(faSweep.path, "fa dir/");
   EXPECT_NE(parseError("movie turntable 0 a.mp4\n").find("[1, 10000]"), std::string::npos);
   EXPECT_NE(parseError("movie turntable 5 a.avi\n").find(".mp4"), std::string::npos);
 }

@@ -6,6 +6,7 @@
 #include "support/gl_test.h"
 #include "support/test_env.h"
 
+#include "ui/session/fibre_input.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "io/model/tensor_field.h"
@@ -135,4 +136,45 @@ TEST_F(SmoothEdge, TheOutlineOfARealSliceNoLongerFollowsTheVoxelAxes) {
   std::printf("partially covered pixels %ld, outline edges %ld\n", partial, o2.edges);
   EXPECT_GT(partial, o2.edges / 3);
   EXPECT_LT(partial, 2 * o2.edges);
+}
+
+TEST_F(SmoothEdge, AFibreSetsOutlineIsSmoothAndAntiAliasedToo) {
+  DTF_SHARED_FILE(peaks, "iu_prisma_dwi/derived/fibres/peaks_mrtrix.nii.gz");
+  const session::FibreInput in = session::loadFibreInput(peaks.string(), "auto", "", true);
+  const session::SurfaceSpec spec = session::parseSurfaceSpec("slice=axial:20");
+  session::SurfaceBuildOptions smooth;
+  smooth.dataEdgeCells = true;
+  const Mesh mesh = session::buildSurface(spec, in.carrier, ScalarVolume(in.carrier.grid, 1), smooth);
+
+  constexpr int kSize = 768;
+  render::FabricRenderer r;
+  r.resize(kSize, kSize);
+  r.setField(in.carrier);
+  r.setFibres(in.fibres.set);
+  r.setMesh(mesh);
+  glm::vec3 lo, hi;
+  mesh.bounds(lo, hi);
+  const render::Camera cam = render::Camera::standard(render::StandardView::Inferior, glm::dvec3(lo),
+                                                      glm::dvec3(hi), 1.0);
+  render::FabricParams p;
+  p.look = render::Look::Plain;
+  p.colour = render::ColourMode::Fibres;
+  p.silhouette = false;
+  p.stillMaxIterations = 10;
+  r.renderStill(cam, p);
+  int w = 0, h = 0;
+  const auto c = coverage(r, w, h);
+  const double voxelPx = 3.0 / r.frameView().pixelMm;
+  const Outline o = outline(c, w, h, static_cast<int>(0.8 * voxelPx));
+  const auto surface = test::readTexture(r.projection().surface(), 4);
+  const auto lambda = test::readTexture(r.projection().lambda(), 4);
+  long partial = 0;
+  for (std::size_t i = 0; i < lambda.size() / 4; ++i)
+    if (surface[i * 4 + 3] > 0.5f && lambda[i * 4 + 3] > 0.02f && lambda[i * 4 + 3] < 0.98f) ++partial;
+  std::printf("fibre set: outline edges in axis-aligned runs %.3f (%ld edges), partially covered pixels %ld\n",
+              o.fraction(), o.edges, partial);
+  ASSERT_GT(o.edges, 1000);
+  EXPECT_LT(o.fraction(), 0.35);
+  EXPECT_GT(partial, o.edges / 3); // a ramp about a pixel wide, not a 0/1 cover
+  EXPECT_LT(partial, 2 * o.edges);
 }

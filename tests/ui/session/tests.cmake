@@ -12,3 +12,5 @@ dtf_test(test_viewer_session SOURCES ui/session/viewer_session_test.cpp LIBS dtf
 dtf_test(test_smooth_edge SOURCES ui/session/smooth_edge_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_supersample SOURCES ui/session/supersample_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_movie_coherence SOURCES ui/session/movie_coherence_gl_test.cpp LIBS dtf_session)
+dtf_test(test_bids_figure SOURCES ui/session/bids_figure_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
+dtf_test(test_fibre_cones SOURCES ui/session/fibre_cones_test.cpp LIBS dtf_session)
