@@ -78,6 +78,9 @@ std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip, 
       throw InputError(path + ": more than " + std::to_string(limit) + " bytes of data; refusing to read on");
     return raw;
   }
+  // Without a declared size, a stream inflating more than kBombRatio-fold beyond kBombFloorBytes is refused
+  // as a deflate bomb before it fills the memory.
+  if (expect == 0) limit = std::min(limit, std::max(kBombFloorBytes, raw.size() * kBombRatio));
   return inflateGzip(path, raw.data(), raw.size(), expect, limit, "the gzip data");
 }
 
