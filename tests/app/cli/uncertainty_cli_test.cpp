@@ -86,7 +86,7 @@ TEST(UncertaintyCli, InfoReportsTheVoxelsCone) {
   ASSERT_EQ(j.exitCode, 0) << j.err;
   const ScalarVolume cone = io::readScalarVolume(f.cone.string());
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(j.out, m, std::regex(R"("cone_deg":\[([0-9.eE+-]+)\])"))) << j.out;
+  ASSERT_TRUE(std::regex_search(j.out, m, std::regex(R"("cone_deg":\s*\[\s*([0-9.eE+-]+)\s*\])"))) << j.out;
   EXPECT_NEAR(std::stod(m[1]), cone.data[cone.grid.index(36, 42, 22)], 1e-4);
   const auto usage = test::runDtfabric("info " + q(f.tensor) + " --uncertainty " + q(f.cone), f.dir);
   EXPECT_EQ(usage.exitCode, 1) << usage.err;
