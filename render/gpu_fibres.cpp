@@ -10,33 +10,17 @@
 
 namespace dtf::render {
 
+using detail::blurredMask;
 using detail::checkFits3D;
 using detail::checkUploaded;
 using detail::worldToTexture;
 
 namespace {
 
-// Texel channel .b of `f` (4 floats per voxel): channel .g blurred along each axis by [1 2 1] / 4, the
-// values at the grid's faces replicated.
+// Texel channel .b of `f` (4 floats per voxel): channel .g (1 where a voxel has fibres) as the edge field.
 void blurredOccupancy(std::vector<float>& f, const glm::ivec3& d) {
-  const std::size_t n = f.size() / 4;
-  std::vector<float> e(n), tmp(n);
-  for (std::size_t i = 0; i < n; ++i)
-    e[i] = f[i * 4 + 1];
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.x) * d.y};
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int k = 0; k < d.z; ++k)
-      for (int j = 0; j < d.y; ++j)
-        for (int i = 0; i < d.x; ++i) {
-          const std::size_t idx = static_cast<std::size_t>(i) + stride[1] * j + stride[2] * k;
-          const int pos = axis == 0 ? i : axis == 1 ? j : k;
-          const float lo = pos > 0 ? e[idx - stride[axis]] : e[idx];
-          const float hi = pos + 1 < d[axis] ? e[idx + stride[axis]] : e[idx];
-          tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
-        }
-    e.swap(tmp);
-  }
-  for (std::size_t i = 0; i < n; ++i)
+  const std::vector<float> e = blurredMask(f, 4, 1, d);
+  for (std::size_t i = 0; i < e.size(); ++i)
     f[i * 4 + 2] = e[i];
 }
 

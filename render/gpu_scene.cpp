@@ -95,6 +95,27 @@ void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what) {
                 " voxels) failed: GL error " + code + said);
 }
 
+std::vector<float> blurredMask(const std::vector<float>& texels, int stride, int channel, const glm::ivec3& d) {
+  const std::size_t n = static_cast<std::size_t>(d.x) * d.y * d.z;
+  std::vector<float> e(n), tmp(n);
+  for (std::size_t i = 0; i < n; ++i)
+    e[i] = texels[i * static_cast<std::size_t>(stride) + static_cast<std::size_t>(channel)];
+  const std::size_t step[3] = {1, static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.x) * d.y};
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int k = 0; k < d.z; ++k)
+      for (int j = 0; j < d.y; ++j)
+        for (int i = 0; i < d.x; ++i) {
+          const std::size_t idx = static_cast<std::size_t>(i) + step[1] * j + step[2] * k;
+          const int pos = axis == 0 ? i : axis == 1 ? j : k;
+          const float lo = pos > 0 ? e[idx - step[axis]] : e[idx];
+          const float hi = pos + 1 < d[axis] ? e[idx + step[axis]] : e[idx];
+          tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
+        }
+    e.swap(tmp);
+  }
+  return e;
+}
+
 glm::mat4 worldToTexture(const Grid& grid) {
   glm::dmat4 worldToVoxel = glm::inverse(grid.voxelToWorld);
   glm::dmat4 voxelToTex(1.0);
@@ -108,6 +129,7 @@ glm::mat4 worldToTexture(const Grid& grid) {
 
 using detail::checkFits3D;
 using detail::checkUploaded;
+using detail::blurredMask;
 using detail::worldToTexture;
 
 void GpuTensorField::upload(const TensorField& field) {
@@ -135,25 +157,7 @@ void GpuTensorField::upload(const TensorField& field) {
   glTextureSubImage3D(a_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, a.data());
   glTextureSubImage3D(b_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, b.data());
   checkUploaded(d, 2 * a.size() * sizeof(float), "tensor field's");
-  // The edge field: the mask (b's .w) blurred along each axis by [1 2 1] / 4.
-  std::vector<float> e(n), tmp(n);
-  for (std::size_t i = 0; i < n; ++i)
-    e[i] = b[i * 4 + 3];
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.x) * d.y};
-  for (int axis = 0; axis < 3; ++axis) {
-    const int len = d[axis];
-    for (int k = 0; k < d.z; ++k)
-      for (int j = 0; j < d.y; ++j)
-        for (int i = 0; i < d.x; ++i) {
-          const std::size_t idx = static_cast<std::size_t>(i) + stride[1] * j + stride[2] * k;
-          const int pos = axis == 0 ? i : axis == 1 ? j : k;
-          // Replicated at the grid's faces: data reaching the face stays data up to it, as the tensor textures.
-          const float lo = pos > 0 ? e[idx - stride[axis]] : e[idx];
-          const float hi = pos + 1 < len ? e[idx + stride[axis]] : e[idx];
-          tmp[idx] = 0.25f * lo + 0.5f * e[idx] + 0.25f * hi;
-        }
-    e.swap(tmp);
-  }
+  const std::vector<float> e = blurredMask(b, 4, 3, d); // the mask is b's .w
   edge_ = Texture::create3D(GL_R32F, d.x, d.y, d.z);
   glTextureSubImage3D(edge_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RED, GL_FLOAT, e.data());
   checkUploaded(d, e.size() * sizeof(float), "tensor field's edge");

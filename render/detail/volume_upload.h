@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <glm/glm.hpp>
+#include <vector>
 
 namespace dtf::render::detail {
 
@@ -16,5 +17,9 @@ void checkFits3D(const glm::ivec3& d, const char* what);
 void checkUploaded(const glm::ivec3& d, std::size_t bytes, const char* what);
 // World RAS mm -> 3D texture coordinates of the grid: tex = (voxel + 0.5) / dims.
 glm::mat4 worldToTexture(const Grid& grid);
+// The data's edge field: channel `channel` of `texels` (`stride` floats per voxel of a grid of dims d, a 0/1
+// mask) blurred along each axis by [1 2 1] / 4, replicated at the grid's faces so that data reaching a face
+// stay data up to it. Its 0.5 contour is the smooth outline of tensor fields and fibre sets.
+std::vector<float> blurredMask(const std::vector<float>& texels, int stride, int channel, const glm::ivec3& d);
 
 } // namespace dtf::render::detail
