@@ -20,9 +20,10 @@ struct ZipEntry {
   std::uint32_t inflatedCrc = 0;
 };
 
+// Little-endian, `bytes` wide; bytes beyond the eighth are zero (a shift by 64 or more is undefined).
 inline void zipPut(std::string& s, std::uint64_t v, int bytes) {
   for (int i = 0; i < bytes; ++i)
-    s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+    s.push_back(i < 8 ? static_cast<char>((v >> (8 * i)) & 0xff) : '\0');
 }
 
 inline std::string rawDeflate(const std::string& in) {
