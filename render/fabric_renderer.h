@@ -67,7 +67,8 @@ public:
   // GL_TIME_ELAPSED queries around each pass; results of the last frame in lastTimes() (waits).
   void setTiming(bool on) { pipeline_.setTiming(on); }
   PassTimes lastTimes() const;
-  // Advection iterations of the last renderStill / changed pixels after the last counted iteration.
+  // Advection iterations of the last renderStill / pixels changed by the last frame's last iteration (the
+  // largest unsigned after a frame that restarted from beta: such frames do not count, see advect()).
   int lastIterations() const { return lastIterations_; }
   unsigned changedPixels() const { return pipeline_.advection().changedPixels(); }
   // Covered pixels of the last projection, guard border included (occlusion query; waits).

@@ -26,18 +26,20 @@ struct AdvectionProgram {
       {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
-  enum class Uniform { K, Step, ComplementSecond, Epsilon, WindowToWorld, WorldToPrevWindow, WorldToPrevEye, DepthTol, Count };
+  enum class Uniform {
+    K, Step, ComplementSecond, Epsilon, WindowToWorld, WorldToPrevWindow, WorldToPrevEye, DepthTol, Threshold,
+    Background, Count
+  };
 };
 
 // fabric/composite.frag (CompositePass).
 struct CompositeProgram {
   enum class Unit : GLuint {
-    P1 = 0, Surface = 1, Silhouette = 2, P2 = 3, Eigen = 4, Lambda = 5, P3 = 6, Fibres = 7, Depth = 8
+    P1 = 0, Surface = 1, P2 = 3, Eigen = 4, Lambda = 5, P3 = 6, Fibres = 7, Depth = 8
   };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::P1), "UNIT_P1", "u_p1"},
       {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
-      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::P2), "UNIT_P2", "u_p2"},
       {unit(Unit::Eigen), "UNIT_EIGEN", "u_eigen"},
       {unit(Unit::Lambda), "UNIT_LAMBDA", "u_lambda"},
@@ -139,6 +141,8 @@ constexpr const char* uniformName(AdvectionProgram::Uniform u) {
   case U::WorldToPrevWindow: return "u_worldToPrevWindow";
   case U::WorldToPrevEye: return "u_worldToPrevEye";
   case U::DepthTol: return "u_depthTol";
+  case U::Threshold: return "u_threshold";
+  case U::Background: return "u_background";
   case U::Count: break;
   }
   return "";

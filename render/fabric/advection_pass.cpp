@@ -1,5 +1,8 @@
 #include "render/fabric/advection_pass.h"
 
+#include "io/model/error.h"
+
+#include <limits>
 #include <vector>
 
 namespace dtf::render {
@@ -8,11 +11,12 @@ namespace {
 using Unit = AdvectionProgram::Unit;
 using U = AdvectionProgram::Uniform;
 
-std::vector<std::string> resetDefines(bool third, bool reproject = false) {
+std::vector<std::string> resetDefines(bool third, bool reproject = false, bool silhouettes = false) {
   std::vector<std::string> d = programDefines<AdvectionProgram>();
   d.push_back("RESET");
   if (third) d.push_back("THIRD");
   if (reproject) d.push_back("REPROJECT");
+  if (silhouettes) d.push_back("SILHOUETTES");
   return d;
 }
 } // namespace
@@ -23,6 +27,10 @@ AdvectionPass::AdvectionPass()
       reset_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false), uniformNames<U>()),
       reset3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
       reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false, true), uniformNames<U>()),
+      resetEdges_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false, false, true),
+                  uniformNames<U>()),
+      resetEdges3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true, false, true),
+                   uniformNames<U>()),
       vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
@@ -50,6 +58,9 @@ void AdvectionPass::resize(glm::ivec2 target) {
   resetFbo3_ = createFramebuffer();
   attachTargets(resetFbo3_,
                 {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1], &state_[0][2], &state_[1][2]}, nullptr);
+  resetEdgesFbo_ = createFramebuffer();
+  resetEdgesFbo3_ = createFramebuffer();
+  attachedEdges_ = 0;
   attachedDepth_ = 0;
   current_ = 0;
 }
@@ -87,6 +98,31 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fiel
   program.use();
   bindTexture(Unit::Surface, surface.id());
   bindTexture(Unit::Silhouette, edges.id());
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  current_ = 0;
+}
+
+void AdvectionPass::resetFindingSilhouettes(const Texture& surface, const Texture& edges, float thresholdMm,
+                                            float backgroundMm, int fields, bool complementSecond) {
+  resize({surface.width(), surface.height()});
+  if (edges.width() != size_.x || edges.height() != size_.y)
+    throw GlError("AdvectionPass: the silhouette target's size differs from the surface's");
+  if (edges.id() != attachedEdges_) {
+    attachTargets(resetEdgesFbo_, {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1], &edges}, nullptr);
+    attachTargets(resetEdgesFbo3_,
+                  {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1], &state_[0][2], &state_[1][2], &edges},
+                  nullptr);
+    attachedEdges_ = edges.id();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetEdgesFbo3_ : resetEdgesFbo_).id());
+  glViewport(0, 0, size_.x, size_.y);
+  const ShaderProgram& program = fields >= 3 ? resetEdges3_ : resetEdges_;
+  program.set(U::ComplementSecond, complementSecond ? 1 : 0);
+  program.set(U::Threshold, thresholdMm);
+  program.set(U::Background, backgroundMm);
+  program.use();
+  bindTexture(Unit::Surface, surface.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = 0;
@@ -140,6 +176,7 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
 void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
                             const Texture* depth, int fields) {
   if (count <= 0) return;
+  counted_ = countChanges;
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   const GLuint depthId = covered ? depth->id() : 0;
   if (depthId != attachedDepth_) {
@@ -153,6 +190,11 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthMask(GL_FALSE);
   }
   bindTexture(Unit::Vectors, vectors.id());
+  // The counted variant (still frames) and the uncounted one (frames that restarted) compile together, so
+  // no frame compiles a program (and allocates) when the camera starts or stops moving.
+  const unsigned variant = (covered ? 1u : 0u) | (fields >= 3 ? 4u : 0u);
+  iteration_.get(variant);
+  iteration_.get(variant | 2u);
   for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, fields >= 3);
   if (covered) {
     glDepthFunc(GL_LESS);
@@ -185,6 +227,7 @@ std::vector<float> AdvectionPass::readFields() const {
 }
 
 unsigned AdvectionPass::changedPixels() const {
+  if (!counted_) return std::numeric_limits<unsigned>::max();
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   GLuint v = 0;
   glGetNamedBufferSubData(counter_.id(), 0, sizeof(GLuint), &v);

@@ -41,6 +41,11 @@ public:
   // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
   // iterations skip (see iterate) hold the blocked state in either.
   void reset(const Texture& surface, const Texture& edges, int fields = 2, bool complementSecond = false);
+  // reset() and the silhouette pass in one fullscreen pass: finds the silhouettes of `surface` as
+  // SilhouettePass::run does (every pixel shaded) and writes them into `edges` (the silhouette pass's
+  // target, the surface's size) while it restarts the state from them.
+  void resetFindingSilhouettes(const Texture& surface, const Texture& edges, float thresholdMm, float backgroundMm,
+                               int fields = 2, bool complementSecond = false);
   // Movies: keeps a copy of the current (p1, p2) state and of the projection's surface target it was
   // computed on, for reproject() in the next frame. The copies are (re)allocated only when the size changes.
   void keepHistory(const Texture& surface);
@@ -65,19 +70,21 @@ public:
   void setFields(const float* rg);
   // The current (p1, p2) pairs in GL row order (reads back; tests and diagnostics).
   std::vector<float> readFields() const;
-  // Pixels that changed by more than epsilon in the last counted iteration.
+  // Pixels that changed by more than epsilon in the last iteration of the last iterate(); the largest
+  // unsigned when that call did not count (not known to have converged).
   unsigned changedPixels() const;
 
 private:
   void step(const AdvectionSettings& s, bool countChanges, bool covered, bool third);
   ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
-  ShaderProgram reset_, reset3_, reproject_;
+  ShaderProgram reset_, reset3_, reproject_, resetEdges_, resetEdges3_;
   VertexArray vao_;
   Buffer counter_;
-  Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_;
-  GLuint attachedDepth_ = 0;
+  Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_, resetEdgesFbo_, resetEdgesFbo3_;
+  GLuint attachedDepth_ = 0, attachedEdges_ = 0;
   Texture state_[2][3]; // [ping-pong][component]
   int current_ = 0;
+  bool counted_ = false; // the last iterate() counted its changed pixels
   glm::ivec2 size_{0};
   Texture history_[2], historySurface_; // keepHistory()
   glm::ivec2 historySize_{0};

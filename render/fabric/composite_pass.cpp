@@ -45,7 +45,6 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   bindTexture(Unit::P1, in.p1->id());
   bindTexture(Unit::P2, in.p2->id());
   bindTexture(Unit::Surface, in.surface->id());
-  bindTexture(Unit::Silhouette, in.edges->id());
   bindTexture(Unit::Eigen, in.eigen->id());
   bindTexture(Unit::Lambda, in.lambda->id());
   if (s.mode == ColourMode::Fibres && in.fibres) {

@@ -3,7 +3,8 @@
 // projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at
 // the viewport size; empty pixels are discarded (the caller's clear colour stays); at the data's edge
 // without a background volume the colour is blended over the framebuffer by the data's cover (alpha).
-//   inputs: advected p1, p2, projection surface/eigen/lambda, silhouette edges
+//   inputs: advected p1, p2 (their blocked pixels off the target's outer ring are the silhouettes),
+//           projection surface/eigen/lambda
 #pragma once
 
 #include "render/fabric/frame_view.h"
@@ -42,7 +43,6 @@ struct CompositeInputs {
   const Texture* p1; // advected fields (negative where the advection was blocked)
   const Texture* p2;
   const Texture* surface;
-  const Texture* edges;
   const Texture* eigen;
   const Texture* lambda;
   const Texture* p3 = nullptr;     // Fibres: third population's field

@@ -161,17 +161,22 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   projection_.runTensor(field_, noise_, view, ps, &background_, &fibres_);
   endTimer(); // the projection's timer runs from the caller's geometry stage to here
 
-  beginTimer(kSilhouette);
   const float background = view.depthRange.y + (view.depthRange.y - view.depthRange.x) + 1.0f;
   // Without silhouettes the pass still marks the background, which the advection must not sample.
   const float threshold = p.silhouette ? static_cast<float>(p.silhouettePixels) * view.pixelMm : 3.0e38f;
-  silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
-  endTimer();
-
   const bool reproject = restart && reprojectNext_ && !forceRestart && historyView_ &&
                          historyView_->target == view.target && stateKey(p) == stateKey(lastParams_) &&
                          fields(p) == 2 && advection_.hasHistory();
   reprojectNext_ = false;
+  beginTimer(kSilhouette);
+  if (restart && !reproject) { // the restart from beta finds the silhouettes in the same pass
+    silhouette_.resize(projection_.size());
+    advection_.resetFindingSilhouettes(projection_.surface(), silhouette_.edges(), threshold, background, fields(p),
+                                       p.colour == ColourMode::Fibres);
+  } else {
+    silhouette_.run(projection_.surface(), threshold, background, &projection_.depth());
+  }
+  endTimer();
   if (reproject) {
     const FrameView& h = *historyView_;
     // Window coordinates (pixels, depth in [0, 1]) <-> clip coordinates of the guarded target.
@@ -190,11 +195,10 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
     advection_.reproject(projection_.surface(), silhouette_.edges(), projection_.depth(), windowToWorld,
                          worldToPrevWindow, h.view, tol,
                          p.colour == ColourMode::Fibres);
-  } else if (restart) {
-    advection_.reset(projection_.surface(), silhouette_.edges(), fields(p), p.colour == ColourMode::Fibres);
   }
   dataChanged_ = false;
   projected_ = true;
+  restarted_ = restart;
   lastViewProj_ = view.viewProj;
   lastTarget_ = view.target;
   lastPixelMm_ = view.pixelMm;
@@ -212,7 +216,10 @@ void FabricPipeline::advect(const FabricParams& p) {
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
                        static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
   beginTimer(kAdvection);
-  advection_.iterate(projection_.vectors(), as, p.iterations, true, &projection_.depth(), fields(p));
+  // A frame that restarted from beta is not converged whatever its count would say, and counting costs
+  // an atomic increment per changed pixel (all of them after a restart): only continued frames count.
+  advection_.iterate(projection_.vectors(), as, p.iterations, !restarted_, &projection_.depth(), fields(p));
+  restarted_ = false;
   endTimer();
 }
 
@@ -229,6 +236,7 @@ int FabricPipeline::converge(const FabricParams& p) {
     minIterations = 1;
   minIterations = std::clamp(minIterations, 1, std::max(p.stillMaxIterations, 1));
   const int chunk = std::max(p.iterations, 1);
+  restarted_ = false; // converged below: the next frame's count is meaningful
   int done = 0;
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
@@ -257,8 +265,8 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.opacityFa = {p.opacityFaLow, p.opacityFaHigh};
   cs.origin = origin;
   cs.windowDepth = windowDepth;
-  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(),
-                     &silhouette_.edges(), &projection_.eigen(), &projection_.lambda()};
+  CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &projection_.eigen(),
+                     &projection_.lambda()};
   if (p.colour == ColourMode::Fibres) {
     in.p3 = &advection_.field(2);
     in.fibres = &projection_.fibres();

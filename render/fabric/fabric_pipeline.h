@@ -125,6 +125,7 @@ private:
   float lastPixelMm_ = 0.0f;
   glm::vec2 lastDepthRange_{0.0f};
   bool projected_ = false; // project() ran since the last invalidation
+  bool restarted_ = false; // the last project() restarted the advection and advect() has not run since
   FabricParams lastParams_;
 };
 

@@ -7,7 +7,8 @@
 // sample is replaced by p_i(x), so nothing is carried across silhouettes or in from the background.
 // Blocked pixels keep their state. With COUNT, pixels whose value changed by more than u_epsilon are
 // counted in an atomic counter (the stopping criterion of §2.5). With RESET, the pass initialises both
-// ping-pong textures at once: p1 = p2 = beta, or BLOCKED. With FAR_PLANE, only covered pixels are shaded
+// ping-pong textures at once: p1 = p2 = beta, or BLOCKED; RESET SILHOUETTES also finds the silhouettes
+// (instead of reading the silhouette pass's target) and writes them there. With FAR_PLANE, only covered pixels are shaded
 // (early depth test against the surface's depth; see common/fullscreen.vert). With THIRD, a third field p3
 // (fibre sets' third population) advects along the vectors' .w direction; RESET THIRD also writes p3.
 // RESET REPROJECT (movies, two fields) starts from the previous frame's state instead of beta where the same
@@ -41,6 +42,13 @@ layout(early_fragment_tests) in;
 #endif
 
 #ifdef RESET
+#ifdef SILHOUETTES
+// The restart of a frame whose projection changed finds the silhouettes itself (the silhouette pass's test,
+// common/silhouette.glsl) and writes them for the composite and later frames: one fullscreen pass fewer.
+#include "common/silhouette.glsl"
+uniform float u_threshold;  // mm of |Laplacian| above which a pixel is a silhouette
+uniform float u_background; // linear depth assigned to empty pixels
+#endif
 layout(location = 0) out float o_p1;  // both ping-pong textures
 layout(location = 1) out float o_p2;
 layout(location = 2) out float o_p1b;
@@ -49,13 +57,26 @@ layout(location = 3) out float o_p2b;
 layout(location = 4) out float o_p3;
 layout(location = 5) out float o_p3b;
 #endif
+#ifdef SILHOUETTES
+#ifdef THIRD
+layout(location = 6) out float o_edge;
+#else
+layout(location = 4) out float o_edge;
+#endif
+#endif
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 s = texelFetch(u_surface, p, 0);
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
+#ifdef SILHOUETTES
+  float e = silhouetteEdge(u_surface, floor(gl_FragCoord.xy), u_threshold, u_background);
+  o_edge = e;
+  bool blocked = s.a < 0.5 || ring || e > 0.5;
+#else
   bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
+#endif
   float p1 = s.r, p2 = u_complementSecond ? 1.0 - s.r : s.r;
 #ifdef REPROJECT
   if (!blocked) {

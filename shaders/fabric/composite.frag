@@ -24,7 +24,6 @@
 layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
 layout(binding = UNIT_P2) uniform sampler2D u_p2;
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;       // beta, L, linear depth, coverage
-layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // e
 layout(binding = UNIT_EIGEN) uniform sampler2D u_eigen;           // |e1| (world), FA
 layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;         // lambda2'/lambda1', |e1.n|, background grey, cover
 #ifdef FIBRES
@@ -90,12 +89,15 @@ float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.
 vec4 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec4(0.0);
   vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
-  p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
 #ifdef SILHOUETTES
-  float e = texelFetch(u_silhouette, t, 0).r;
+  // The advection blocks exactly the silhouettes, the uncovered pixels and the target's outermost ring, so a
+  // covered pixel off the ring is a silhouette where its state is blocked: no fetch of the edge target.
+  ivec2 last = textureSize(u_p1, 0) - 1;
+  float e = p.x < 0.0 && all(greaterThan(t, ivec2(0))) && all(lessThan(t, last)) ? 1.0 : 0.0;
 #else
   float e = 0.0;
 #endif
+  p = mix(p, vec2(s.r), lessThan(p, vec2(0.0))); // blocked (silhouette, target edge): the noise itself
   float L = u_lighting ? s.g : 1.0;
   vec3 c;
   float alpha = 1.0;

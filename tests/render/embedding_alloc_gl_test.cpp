@@ -51,8 +51,8 @@ TEST(EmbeddingAlloc, HostFramesDoNotAllocate) {
       return glm::lookAt(glm::vec3(100.0f * std::sin(angle), 0.0f, 100.0f * std::cos(angle)), glm::vec3(0.0f),
                          glm::vec3(0, 1, 0));
     };
-    for (int i = 0; i < 3; ++i) { // warm-up: programs, noise, targets
-      v.view = viewAt(0.01f * float(i));
+    for (int i = 0; i < 6; ++i) { // warm-up of turning and fixed frames: programs, noise, targets
+      v.view = viewAt(0.01f * float(i < 3 ? i : 3));
       fabric.draw(v, p);
     }
     allocations = 0;

@@ -500,20 +500,28 @@ TEST_F(FabricPass, AdvectionForgetsItsStartAsOneMinusKToTheN) {
   EXPECT_NEAR(sum / count, expect, 1e-4);
 }
 
-TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
+// A surface target over a bowl of linear depth with a step at x = 46 and a hole of empty pixels; beta noise.
+std::vector<float> bowlSurface() {
   std::vector<float> surface(static_cast<std::size_t>(kW) * kH * 4, 0.0f);
-  auto depthAt = [&](int x, int y) { // a bowl plus a step; a hole of empty pixels
+  auto depthAt = [&](int x, int y) {
     double dx = x - 30.0, dy = y - 20.0;
     double d = 200.0 + 0.02 * (dx * dx + dy * dy) + (x > 45 ? 15.0 : 0.0);
     return d;
   };
+  auto beta = randomField(kW, kH, 1, 21);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       std::size_t i = static_cast<std::size_t>(y) * kW + x;
       bool on = !(x > 10 && x < 16 && y > 10 && y < 30);
+      surface[i * 4 + 0] = on ? beta[i] : 0.0f;
       surface[i * 4 + 2] = on ? static_cast<float>(depthAt(x, y)) : 0.0f;
       surface[i * 4 + 3] = on ? 1.0f : 0.0f;
     }
+  return surface;
+}
+
+TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
+  const std::vector<float> surface = bowlSurface();
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   SilhouettePass pass;
   const float threshold = 0.5f, background = 1000.0f;
@@ -541,20 +549,64 @@ TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
   EXPECT_GT(edges, 40); // the step and the hole's rim
 }
 
+// A frame that restarts finds its silhouettes in the restart pass itself: the same edges as the silhouette
+// pass and the same start state as the silhouette pass followed by the reset, bit for bit.
+TEST_F(FabricPass, RestartFindingSilhouettesEqualsSilhouettePassThenReset) {
+  const std::vector<float> surface = bowlSurface();
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  const float threshold = 0.5f, background = 1000.0f;
+  SilhouettePass twoPass, fused;
+  twoPass.run(ts, threshold, background);
+  AdvectionPass resetAfter, resetFinding;
+  resetAfter.reset(ts, twoPass.edges());
+  fused.resize({kW, kH});
+  fused.clear(); // the restart pass must write every pixel of the edges, not rely on what is there
+  resetFinding.resetFindingSilhouettes(ts, fused.edges(), threshold, background);
+  const auto e2 = readTexture(twoPass.edges(), 1), e1 = readTexture(fused.edges(), 1);
+  ASSERT_EQ(e1.size(), e2.size());
+  int edges = 0;
+  for (std::size_t i = 0; i < e1.size(); ++i) {
+    EXPECT_EQ(e1[i], e2[i]) << i;
+    edges += e1[i] > 0.5f;
+  }
+  EXPECT_GT(edges, 40);
+  const auto s2 = resetAfter.readFields(), s1 = resetFinding.readFields();
+  ASSERT_EQ(s1.size(), s2.size());
+  int blocked = 0, started = 0;
+  for (std::size_t i = 0; i < s1.size(); ++i) {
+    EXPECT_EQ(s1[i], s2[i]) << i;
+    if (s1[i] == kBlocked) ++blocked;
+    else if (s1[i] == surface[i / 2 * 4]) ++started; // p1 = p2 = beta
+  }
+  EXPECT_GT(blocked, 2 * 40);
+  EXPECT_EQ(blocked + started, static_cast<int>(s1.size()));
+}
+
 TEST_F(FabricPass, CompositeMatchesEquation13) {
   auto p = randomField(kW, kH, 2, 9);
   auto beta = randomField(kW, kH, 1, 10);
   auto surface = surfaceData(beta);
   auto light = randomField(kW, kH, 1, 11);
   for (std::size_t i = 0; i < beta.size(); ++i) surface[i * 4 + 1] = light[i];
+  // Silhouettes reach the composite as the advection's blocked pixels: every 7th pixel is blocked, and is a
+  // silhouette (e = 1, Eq. 13 on the noise beta itself) unless it lies on the target's outermost ring, which
+  // the advection blocks as well without it being a silhouette.
   std::vector<float> edges(beta.size(), 0.0f);
-  for (std::size_t i = 0; i < edges.size(); i += 7) edges[i] = 1.0f;
+  std::vector<bool> blocked(beta.size(), false);
+  for (std::size_t i = 0; i < blocked.size(); i += 7) {
+    const int x = static_cast<int>(i % kW), y = static_cast<int>(i / kW);
+    blocked[i] = true;
+    edges[i] = x > 0 && y > 0 && x < kW - 1 && y < kH - 1 ? 1.0f : 0.0f;
+  }
   std::vector<float> zeros(beta.size() * 4, 0.0f), depth(beta.size(), 0.5f);
   std::vector<float> p1(beta.size()), p2(beta.size());
-  for (std::size_t i = 0; i < beta.size(); ++i) p1[i] = p[i * 2], p2[i] = p[i * 2 + 1];
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    p1[i] = blocked[i] ? kBlocked : p[i * 2];
+    p2[i] = blocked[i] ? kBlocked : p[i * 2 + 1];
+  }
   Texture ta = textureFrom(GL_R32F, GL_RED, kW, kH, p1), tb = textureFrom(GL_R32F, GL_RED, kW, kH, p2);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
-  Texture te = textureFrom(GL_R16F, GL_RED, kW, kH, edges), tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
+  Texture tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
   // The projection's lambda: .w is the data's cover (1: inside the data's edge).
   std::vector<float> covered(beta.size() * 4, 0.0f);
   for (std::size_t i = 0; i < beta.size(); ++i) covered[i * 4 + 3] = 1.0f;
@@ -575,10 +627,14 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   view.viewport = {kW, kH};
   view.internal = {kW, kH};
   view.target = {kW, kH};
-  pass.run({&ta, &tb, &ts, &te, &tz, &tl}, view, cs);
+  pass.run({&ta, &tb, &ts, &tz, &tl}, view, cs);
   auto c = readTexture(out, 4);
+  int silhouettes = 0, ring = 0;
   for (std::size_t i = 0; i < beta.size(); ++i) {
-    double p1 = std::max(double(p[i * 2]), 1e-3), p2 = std::max(double(p[i * 2 + 1]), 1e-3);
+    silhouettes += edges[i] > 0.0f;
+    ring += blocked[i] && edges[i] == 0.0f;
+    const double q1 = blocked[i] ? beta[i] : p[i * 2], q2 = blocked[i] ? beta[i] : p[i * 2 + 1];
+    double p1 = std::max(q1, 1e-3), p2 = std::max(q2, 1e-3);
     double e = edges[i], l = 0.4 * light[i];
     double r = std::clamp(0.3 * p2 / (8 * p1 * p1) + e + l, 0.0, 1.0);
     double g = std::clamp(0.7 * p1 / (8 * p2 * p2) + e + l, 0.0, 1.0);
@@ -587,6 +643,8 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
     ASSERT_NEAR(c[i * 4 + 1], g, 1e-4) << i;
     ASSERT_NEAR(c[i * 4 + 2], b, 1e-4) << i;
   }
+  EXPECT_GT(silhouettes, 100);
+  EXPECT_GT(ring, 5);
 }
 
 TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary) {
@@ -597,7 +655,7 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   //   3: no tensor data                                            -> grey, no DEC colour
   const int n = 4;
   std::vector<float> adv = {0.1f, 0.9f, 0.95f, 0.5f, 0.05f, 0.95f, 0.5f, 0.5f};
-  std::vector<float> surface(n * 4), eigen(n * 4), lambda(n * 4), edges(n, 0.0f), depth(n, 0.5f);
+  std::vector<float> surface(n * 4), eigen(n * 4), lambda(n * 4), depth(n, 0.5f);
   for (int i = 0; i < n; ++i) {
     surface[i * 4 + 0] = 0.5f, surface[i * 4 + 1] = 1.0f, surface[i * 4 + 2] = 100.0f, surface[i * 4 + 3] = 1.0f;
     eigen[i * 4 + 0] = 1.0f, eigen[i * 4 + 3] = 0.7f;
@@ -607,7 +665,7 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   for (int i = 0; i < n; ++i) adv1[i] = adv[i * 2], adv2[i] = adv[i * 2 + 1];
   Texture ta = textureFrom(GL_R32F, GL_RED, n, 1, adv1), tb = textureFrom(GL_R32F, GL_RED, n, 1, adv2);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, n, 1, surface);
-  Texture te = textureFrom(GL_R16F, GL_RED, n, 1, edges), tg = textureFrom(GL_RGBA8, GL_RGBA, n, 1, eigen);
+  Texture tg = textureFrom(GL_RGBA8, GL_RGBA, n, 1, eigen);
   Texture tl = textureFrom(GL_RGBA8, GL_RGBA, n, 1, lambda);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, n, 1);
   glTextureSubImage2D(td.id(), 0, 0, 0, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
@@ -622,7 +680,7 @@ TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary)
   cs.silhouettes = false;
   FrameView view;
   view.viewport = view.internal = view.target = {n, 1};
-  pass.run({&ta, &tb, &ts, &te, &tg, &tl}, view, cs);
+  pass.run({&ta, &tb, &ts, &tg, &tl}, view, cs);
   auto c = readTexture(out, 4);
   auto saturation = [&](int i) {
     float mx = std::max({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]}), mn = std::min({c[i * 4], c[i * 4 + 1], c[i * 4 + 2]});

@@ -50,7 +50,7 @@ std::vector<ProgramCase> allPrograms() {
   return {
       makeCase<AdvectionProgram>("advection", "common/fullscreen.vert", "fabric/advection.frag",
                                  {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"},
-                                  {"RESET", "REPROJECT"}},
+                                  {"RESET", "REPROJECT"}, {"RESET", "SILHOUETTES"}, {"RESET", "THIRD", "SILHOUETTES"}},
                                  uniformNames<AdvectionProgram::Uniform>()),
       makeCase<CompositeProgram>(
           "composite", "common/fullscreen.vert", "fabric/composite.frag",
