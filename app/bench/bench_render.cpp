@@ -578,7 +578,8 @@ void printTable(const Report& rep) {
   auto fabricGpu = [](const render::PassTimes& t) { return t.projection + t.silhouette + t.advection + t.composite; };
   auto fabricSecond = [&](const Result& r) { return software ? r.fabricCpuMs : fabricGpu(r.passes); };
   auto phongSecond = [&](const Result& r) { return software ? r.phongCpuMs : r.passes.phong; };
-  std::printf("\nmoving camera, GPU ms per pass (the projection and silhouettes run every frame):\n");
+  std::printf("\nmoving camera, GPU ms per pass (the projection and silhouettes run every frame; silhou: the\n"
+              "silhouettes found by the restart from beta, one pass):\n");
   for (const Result& r : results)
     std::printf("  %-18s project %8.2f  silhou %8.2f  advect3 %8.2f  compos %8.2f\n", r.name.c_str(),
                 r.movingPasses.projection, r.movingPasses.silhouette, r.movingPasses.advection,
