@@ -57,9 +57,16 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);
   glDepthMask(GL_TRUE);
   // The data's anti-aliased edge: straight alpha over what is beneath (the clear colour, a host's image).
-  glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  glBlendEquation(GL_FUNC_ADD);
+  // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1, and blending
+  // would give the source unchanged at the cost of reading the framebuffer: it is off.
+  const bool opaque = s.background || (s.windowDepth && in.depth);
+  if (opaque) {
+    glDisable(GL_BLEND);
+  } else {
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glBlendEquation(GL_FUNC_ADD);
+  }
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBlendFunc(GL_ONE, GL_ZERO);
