@@ -11,29 +11,27 @@ namespace {
 using Unit = AdvectionProgram::Unit;
 using U = AdvectionProgram::Uniform;
 
-std::vector<std::string> resetDefines(bool third, bool reproject = false, bool silhouettes = false) {
+std::vector<std::string> resetDefines(bool reproject = false) {
   std::vector<std::string> d = programDefines<AdvectionProgram>();
   d.push_back("RESET");
-  if (third) d.push_back("THIRD");
   if (reproject) d.push_back("REPROJECT");
-  if (silhouettes) d.push_back("SILHOUETTES");
   return d;
 }
+
+// Bits of AdvectionPass::restart_'s variants.
+constexpr unsigned kThird = 1u, kSilhouettes = 2u;
 } // namespace
 
 AdvectionPass::AdvectionPass()
     : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"},
                  programDefines<AdvectionProgram>(), uniformNames<U>()),
-      reset_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false), uniformNames<U>()),
-      reset3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
-      reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false, true), uniformNames<U>()),
-      resetEdges_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(false, false, true),
-                  uniformNames<U>()),
-      resetEdges3_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true, false, true),
-                   uniformNames<U>()),
+      restart_("common/fullscreen.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
+               uniformNames<U>()),
+      reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
       vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
+  restart_.get(kSilhouettes); // the restart every frame of a moving camera runs compiles with the pass
 }
 
 void AdvectionPass::resize(glm::ivec2 target) {
@@ -91,13 +89,18 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
 
 void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fields, bool complementSecond) {
   resize({surface.width(), surface.height()});
-  glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetFbo3_ : resetFbo_).id());
+  bindTexture(Unit::Silhouette, edges.id());
+  const ShaderProgram& program = restart_.get(fields >= 3 ? kThird : 0u);
+  drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond);
+}
+
+void AdvectionPass::drawRestart(const ShaderProgram& program, const Framebuffer& fbo, const Texture& surface,
+                                bool complementSecond) {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
   glViewport(0, 0, size_.x, size_.y);
-  const ShaderProgram& program = fields >= 3 ? reset3_ : reset_;
   program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
   bindTexture(Unit::Surface, surface.id());
-  bindTexture(Unit::Silhouette, edges.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = 0;
@@ -115,17 +118,10 @@ void AdvectionPass::resetFindingSilhouettes(const Texture& surface, const Textur
                   nullptr);
     attachedEdges_ = edges.id();
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, (fields >= 3 ? resetEdgesFbo3_ : resetEdgesFbo_).id());
-  glViewport(0, 0, size_.x, size_.y);
-  const ShaderProgram& program = fields >= 3 ? resetEdges3_ : resetEdges_;
-  program.set(U::ComplementSecond, complementSecond ? 1 : 0);
+  const ShaderProgram& program = restart_.get(kSilhouettes | (fields >= 3 ? kThird : 0u));
   program.set(U::Threshold, thresholdMm);
   program.set(U::Background, backgroundMm);
-  program.use();
-  bindTexture(Unit::Surface, surface.id());
-  glBindVertexArray(vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  current_ = 0;
+  drawRestart(program, fields >= 3 ? resetEdgesFbo3_ : resetEdgesFbo_, surface, complementSecond);
 }
 
 void AdvectionPass::keepHistory(const Texture& surface) {

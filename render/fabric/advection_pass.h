@@ -76,8 +76,13 @@ public:
 
 private:
   void step(const AdvectionSettings& s, bool countChanges, bool covered, bool third);
+  // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into
+  // `fbo`.
+  void drawRestart(const ShaderProgram& program, const Framebuffer& fbo, const Texture& surface,
+                   bool complementSecond);
   ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
-  ShaderProgram reset_, reset3_, reproject_, resetEdges_, resetEdges3_;
+  ShaderVariants restart_; // RESET with THIRD, SILHOUETTES
+  ShaderProgram reproject_;
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_, resetEdgesFbo_, resetEdgesFbo3_;
