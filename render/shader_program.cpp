@@ -65,28 +65,27 @@ struct Expander {
   }
 };
 
-// Rewrites "0:12(3)" / "0:12:" style locations of Mesa and NVIDIA logs to "file:12"; appends the table.
-std::string mapLog(const std::string& log, const std::vector<std::string>& files) {
-  std::string text = log;
+} // namespace
+
+// Mesa writes "0:12(3): error", NVIDIA "0(12) : error": both become "file:12".
+std::string mapShaderLog(const std::string& log, const std::vector<std::string>& files) {
   std::string table = "\nfile indices:";
   for (std::size_t i = 0; i < files.size(); ++i) table += "\n  " + std::to_string(i) + " = " + files[i];
-  static const std::regex loc(R"((^|\n)(\d+):(\d+))");
+  static const std::regex loc(R"((^|\n)(\d+)(?::(\d+)|\((\d+)\)))");
   std::string mapped;
-  std::sregex_iterator it(text.begin(), text.end(), loc), end;
+  std::sregex_iterator it(log.begin(), log.end(), loc), end;
   std::size_t last = 0;
   for (; it != end; ++it) {
     const auto& m = *it;
-    mapped += text.substr(last, m.position() - last);
+    mapped += log.substr(last, m.position() - last);
     std::size_t idx = std::stoul(m[2]);
-    mapped += m[1].str() + (idx < files.size() ? files[idx] : m[2].str()) + ":" + m[3].str();
+    const std::string line = m[3].matched ? m[3].str() : m[4].str();
+    mapped += m[1].str() + (idx < files.size() ? files[idx] : m[2].str()) + ":" + line;
     last = m.position() + m.length();
   }
-  mapped += text.substr(last);
+  mapped += log.substr(last);
   return mapped + table;
 }
-
-
-} // namespace
 
 ShaderSource preprocessShader(const std::string& file, const std::vector<std::string>& defines) {
   Expander e;
@@ -172,16 +171,21 @@ GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vect
     glGetShaderInfoLog(s, len, nullptr, log.data());
     log.resize(std::strlen(log.c_str())); // drop the terminating NUL(s)
     glDeleteShader(s);
-    throw GlError("compiling " + file + " failed:\n" + mapLog(log, src.files));
+    throw GlError("compiling " + file + " failed:\n" + mapShaderLog(log, src.files));
   }
   return s;
 }
 
 ShaderVariants::ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
                                std::vector<std::string> always, std::vector<const char*> uniforms)
-    : vertex_(std::move(vertexFile)), fragment_(std::move(fragmentFile)), defines_(std::move(defines)),
-      always_(std::move(always)), uniforms_(std::move(uniforms)) {
-  if (defines_.size() > kMaxDefines) throw GlError("ShaderVariants: too many defines for " + fragment_);
+    : ShaderVariants({{GL_VERTEX_SHADER, std::move(vertexFile)}, {GL_FRAGMENT_SHADER, std::move(fragmentFile)}},
+                     std::move(defines), std::move(always), std::move(uniforms)) {}
+
+ShaderVariants::ShaderVariants(std::vector<std::pair<GLenum, std::string>> stages, std::vector<std::string> defines,
+                               std::vector<std::string> always, std::vector<const char*> uniforms)
+    : stages_(std::move(stages)), defines_(std::move(defines)), always_(std::move(always)),
+      uniforms_(std::move(uniforms)) {
+  if (defines_.size() > kMaxDefines) throw GlError("ShaderVariants: too many defines for " + stages_.back().second);
 }
 
 const ShaderProgram& ShaderVariants::get(unsigned mask) {
@@ -191,7 +195,7 @@ const ShaderProgram& ShaderVariants::get(unsigned mask) {
     std::vector<std::string> defines = always_;
     for (std::size_t i = 0; i < defines_.size(); ++i)
       if (mask & (1u << i)) defines.push_back(defines_[i]);
-    slot = std::make_unique<ShaderProgram>(vertex_, fragment_, defines, uniforms_);
+    slot = std::make_unique<ShaderProgram>(stages_, defines, uniforms_);
   }
   return *slot;
 }

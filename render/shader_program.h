@@ -27,6 +27,9 @@ struct ShaderSource {
 // Expands `file` (a name relative to shaders/, e.g. "fabric/advection.frag") with its includes and the
 // given defines ("NAME" or "NAME VALUE"). Throws GlError for a missing file or an include cycle.
 ShaderSource preprocessShader(const std::string& file, const std::vector<std::string>& defines = {});
+// A driver's compile log with its "index:line" (Mesa) and "index(line)" (NVIDIA) locations rewritten to
+// "file:line" through `files`, followed by the index table.
+std::string mapShaderLog(const std::string& log, const std::vector<std::string>& files);
 // Preprocesses and compiles one stage; returns the shader object (the caller links and deletes it).
 // Throws GlError with the file/line-mapped log.
 GLuint compileShaderStage(GLenum stage, const std::string& file, const std::vector<std::string>& defines = {});
@@ -122,7 +125,7 @@ private:
   std::vector<GLint> locations_;
 };
 
-// Compile-time variants of one vertex + fragment program: bit i of a variant mask defines the i-th name.
+// Compile-time variants of one program (vertex + fragment, or any list of stages): bit i of a variant mask defines the i-th name.
 // Features are switched by defines rather than uniform branches because a software rasteriser (llvmpipe)
 // executes both sides of a branch. A variant is compiled on first use and kept, so frames never compile
 // after the first use of a setting.
@@ -132,11 +135,14 @@ public:
   // `always`: defines of every variant (the program's bindings); `uniforms` as for ShaderProgram.
   ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
                  std::vector<std::string> always = {}, std::vector<const char*> uniforms = {});
+  // The same for any list of stages (e.g. one compute shader: {{GL_COMPUTE_SHADER, "a.comp"}}).
+  ShaderVariants(std::vector<std::pair<GLenum, std::string>> stages, std::vector<std::string> defines,
+                 std::vector<std::string> always = {}, std::vector<const char*> uniforms = {});
   // The program with the defines of `mask` (bit i = defines[i]). Throws GlError on a compile failure.
   const ShaderProgram& get(unsigned mask);
 
 private:
-  std::string vertex_, fragment_;
+  std::vector<std::pair<GLenum, std::string>> stages_;
   std::vector<std::string> defines_, always_;
   std::vector<const char*> uniforms_;
   std::array<std::unique_ptr<ShaderProgram>, 1u << kMaxDefines> programs_;

@@ -142,6 +142,15 @@ GlContext& GlContext::headless() {
 void GlContext::checkErrors(const std::string& where) { checkGl(where); }
 std::vector<std::string> GlContext::takeMessages() { return takeDebugMessages(); }
 
+bool softwareRasteriser() {
+  const char* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (!r) return true;
+  const std::string renderer(r);
+  for (const char* name : {"llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer"})
+    if (renderer.find(name) != std::string::npos) return true;
+  return false;
+}
+
 void enableDebugOutput() {
   glEnable(GL_DEBUG_OUTPUT);
   glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);

@@ -106,6 +106,27 @@ TEST_F(FibreRender, SingleBundleShowsOnePeak) {
   }
 }
 
+namespace {
+
+// True when interpolateSlots at ijk moved by up to `step` voxel along each axis gives the same populations
+// and directions (within the test's tolerance) as `at`.
+bool stableWithin(const FibreSet& slotted, const glm::dvec3& ijk, const std::vector<Fibre>& at, double step) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {-1.0, 1.0}) {
+      glm::dvec3 moved = ijk;
+      moved[axis] += sign * step;
+      const auto near = interpolateSlots(slotted, moved);
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        if ((near[k].amplitude > 0) != (at[k].amplitude > 0)) return false;
+        if (at[k].amplitude > 0 && glm::length(glm::abs(near[k].direction) - glm::abs(at[k].direction)) > 0.01f)
+          return false;
+      }
+    }
+  return true;
+}
+
+} // namespace
+
 TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
   // Per pixel, the projection stores each population's |d| (DEC colour) from the shader's interpolation of
   // the matched slots; the CPU reference must give the same directions at the same world points.
@@ -129,7 +150,7 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
   std::vector<GLuint> texels(static_cast<std::size_t>(t.width()) * t.height() * 4);
   glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(texels.size() * 4),
                     texels.data());
-  int compared = 0, two = 0;
+  int compared = 0, two = 0, unstable = 0;
   for (int y = 4; y < 124; y += 7)
     for (int x = 4; x < 124; x += 7) {
       // Pixel centre -> world through the inverse view-projection (orthographic), on the plane z = 0.25.
@@ -139,7 +160,15 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
       glm::dvec3 pw = glm::dvec3(wp) / double(wp.w);
       pw.z = 0.25;
       // The GPU gets the bundle-following slots; compare slot by slot.
-      auto cpu = interpolateSlots(slotted, slotted.grid.toVoxel(pw));
+      const glm::dvec3 ijk = slotted.grid.toVoxel(pw);
+      auto cpu = interpolateSlots(slotted, ijk);
+      // The rule switches to the nearest voxel's direction below a length ratio, and the nearest voxel at
+      // half-voxel boundaries; a GPU's trilinear weights are fixed point (1/256 on NVIDIA). Where the
+      // reference itself jumps within that precision the GPU may take either side: not compared.
+      if (!stableWithin(slotted, ijk, cpu, 1.0 / 256.0)) {
+        ++unstable;
+        continue;
+      }
       const GLuint* q = &texels[(static_cast<std::size_t>(y) * 128 + x) * 4];
       int cpuCount = 0, gpuCount = 0;
       for (const Fibre& c : cpu)
@@ -161,4 +190,5 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
     }
   EXPECT_GT(compared, 100);
   EXPECT_GT(two, 10);
+  EXPECT_LT(unstable, compared / 10); // the seams are thin: nearly every pixel is compared
 }

@@ -10,6 +10,7 @@ dtf_test(test_tract_lod SOURCES render/tract_lod_test.cpp LIBS dtf_render dtf_mo
 dtf_test(test_tract_layer SOURCES render/tract_layer_gl_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_passes SOURCES render/fabric_passes_gl_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_unit SOURCES render/camera_noise_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_shader_log SOURCES render/shader_log_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_fabric SOURCES render/fabric_render_gl_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_render_baseline SOURCES render/baseline_test.cpp LIBS dtf_render dtf_surfaces dtf_io dtf_model)
 dtf_test(test_gl_state SOURCES render/gl_state_gl_test.cpp LIBS dtf_render dtf_model)

@@ -8,6 +8,7 @@
 
 #include "io/model/image.h"
 #include "io/formats/png_io.h"
+#include "render/gl_context.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -19,10 +20,14 @@ namespace dtf::test {
 
 inline constexpr int kChannelTolerance = 8;     // 0..255
 inline constexpr double kMaxBadFraction = 0.01; // pixels with any channel beyond the tolerance
+// The baselines are llvmpipe images. A hardware GPU filters textures with fixed-point weights, which moves
+// a few percent of the thread pixels of the fabric's noise (1-2.4 % on an NVIDIA H200, mean difference
+// below 0.5); the mean difference still bounds the whole image.
+inline constexpr double kMaxBadFractionHardware = 0.05;
 inline constexpr double kMaxMeanDiff = 1.5;     // mean |difference| over all channels
 
 
-// Compares `actual` with tests/baseline/images/NAME.png.
+// Compares `actual` with tests/baseline/images/NAME.png (a GL context is current).
 inline void compareToBaseline(const std::string& name, const Image& actual) {
   const std::filesystem::path expectedPath = sourceDir() / "tests/baseline/images" / (name + ".png");
   if (envFlag("DTF_UPDATE_BASELINES")) {
@@ -50,7 +55,8 @@ inline void compareToBaseline(const std::string& name, const Image& actual) {
   }
   const double pixels = double(actual.width) * actual.height;
   const double badFraction = bad / pixels, meanDiff = sum / (pixels * 4);
-  if (badFraction > kMaxBadFraction || meanDiff > kMaxMeanDiff) {
+  const double maxBad = render::softwareRasteriser() ? kMaxBadFraction : kMaxBadFractionHardware;
+  if (badFraction > maxBad || meanDiff > kMaxMeanDiff) {
     const std::filesystem::path dir = binaryDir() / "baseline_failures";
     std::filesystem::create_directories(dir);
     io::writePng((dir / (name + "_actual.png")).string(), actual);
