@@ -143,4 +143,8 @@ int EmbeddedFabric::lastIterations() const {
   return impl_->lastIterations;
 }
 
+void EmbeddedFabric::setComputeAdvection(bool on) {
+  impl_->pipeline.advection().setCompute(on);
+}
+
 } // namespace dtf::render

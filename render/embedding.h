@@ -97,6 +97,8 @@ public:
   PassTimes lastTimes() const;
   // Advection iterations of the last drawStill.
   int lastIterations() const;
+  // The advection as a compute shader or as fullscreen draws (FabricRenderer::setComputeAdvection).
+  void setComputeAdvection(bool on);
 
 private:
   struct Impl;

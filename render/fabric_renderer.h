@@ -83,6 +83,9 @@ public:
   const ProjectionPass& projection() const { return pipeline_.projection(); }
   const SilhouettePass& silhouette() const { return pipeline_.silhouette(); }
   const AdvectionPass& advection() const { return pipeline_.advection(); }
+  // The advection iterations as a compute shader (default on a hardware GPU) or as fullscreen draws
+  // (default on a software rasteriser); the images are the same (AdvectionPass::setCompute).
+  void setComputeAdvection(bool on) { pipeline_.advection().setCompute(on); }
 
 private:
   void prepare(const Camera& camera, const FabricParams& params);

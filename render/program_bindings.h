@@ -32,6 +32,25 @@ struct AdvectionProgram {
   };
 };
 
+// fabric/advection.comp (AdvectionPass::setCompute): the iteration's texture units and counter, which it
+// shares with fabric/advection.frag through common/advection_step.glsl, and the image units it writes.
+struct AdvectionComputeProgram {
+  using Unit = AdvectionProgram::Unit;
+  using Counter = AdvectionProgram::Counter;
+  using Uniform = AdvectionProgram::Uniform;
+  enum class Image : GLuint { Next1 = 0, Next2 = 1, Next3 = 2 };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
+      {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
+      {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
+      {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
+      {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
+      {unit(Image::Next1), "IMAGE_NEXT1", "o_p1"},
+      {unit(Image::Next2), "IMAGE_NEXT2", "o_p2"},
+      {unit(Image::Next3), "IMAGE_NEXT3", "o_p3"},
+  };
+};
+
 // fabric/composite.frag (CompositePass).
 struct CompositeProgram {
   enum class Unit : GLuint {

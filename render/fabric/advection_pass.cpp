@@ -1,6 +1,7 @@
 #include "render/fabric/advection_pass.h"
 
 #include "io/model/error.h"
+#include "render/gl_context.h"
 
 #include <limits>
 #include <vector>
@@ -28,7 +29,9 @@ AdvectionPass::AdvectionPass()
       restart_("common/fullscreen.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
                uniformNames<U>()),
       reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
-      vao_(createVertexArray()), counter_(createBuffer()) {
+      iterationCompute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD"},
+                        programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
+      compute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
   restart_.get(kSilhouettes); // the restart every frame of a moving camera runs compiles with the pass
@@ -63,12 +66,8 @@ void AdvectionPass::resize(glm::ivec2 target) {
   current_ = 0;
 }
 
-void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
-  const int next = 1 - current_;
-  glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
-  glViewport(0, 0, size_.x, size_.y);
-  const ShaderProgram& program =
-      iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u));
+void AdvectionPass::setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s,
+                                         bool countChanges) {
   program.set(U::K, s.k);
   program.set(U::Step, s.stepPixels);
   program.set(U::ComplementSecond, s.complementSecond ? 1 : 0);
@@ -81,9 +80,33 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, unit(AdvectionProgram::Counter::Changed), counter_.id());
   bindTexture(Unit::Prev1, state_[current_][0].id());
   bindTexture(Unit::Prev2, state_[current_][1].id());
+}
+
+void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
+  const int next = 1 - current_;
+  glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
+  glViewport(0, 0, size_.x, size_.y);
+  setIterationUniforms(iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u)), s,
+                       countChanges);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  current_ = next;
+}
+
+void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, bool third) {
+  using Image = AdvectionComputeProgram::Image;
+  const int next = 1 - current_;
+  setIterationUniforms(iterationCompute_.get((countChanges ? 1u : 0u) | (third ? 2u : 0u)), s, countChanges);
+  const Image images[3] = {Image::Next1, Image::Next2, Image::Next3};
+  for (int c = 0; c < (third ? 3 : 2); ++c)
+    glBindImageTexture(unit(images[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
+  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
+  // Whatever reads the state next (the next iteration, the composite, a restart drawing into it, a copy or
+  // a readback) sees these writes.
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   current_ = next;
 }
 
@@ -173,6 +196,15 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
                             const Texture* depth, int fields) {
   if (count <= 0) return;
   counted_ = countChanges;
+  const bool third = fields >= 3;
+  bindTexture(Unit::Vectors, vectors.id());
+  if (compute_) {
+    // As for the fragment variants below: both compile before any frame needs them.
+    iterationCompute_.get(third ? 2u : 0u);
+    iterationCompute_.get((third ? 2u : 0u) | 1u);
+    for (int i = 0; i < count; ++i) dispatchStep(s, countChanges && i == count - 1, third);
+    return;
+  }
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   const GLuint depthId = covered ? depth->id() : 0;
   if (depthId != attachedDepth_) {
@@ -185,13 +217,12 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_FALSE);
   }
-  bindTexture(Unit::Vectors, vectors.id());
   // The counted variant (still frames) and the uncounted one (frames that restarted) compile together, so
   // no frame compiles a program (and allocates) when the camera starts or stops moving.
-  const unsigned variant = (covered ? 1u : 0u) | (fields >= 3 ? 4u : 0u);
+  const unsigned variant = (covered ? 1u : 0u) | (third ? 4u : 0u);
   iteration_.get(variant);
   iteration_.get(variant | 2u);
-  for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, fields >= 3);
+  for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, third);
   if (covered) {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);

@@ -93,6 +93,7 @@ public:
   const ProjectionPass& projection() const { return projection_; }
   const SilhouettePass& silhouette() const { return silhouette_; }
   const AdvectionPass& advection() const { return advection_; }
+  AdvectionPass& advection() { return advection_; }
   bool fibresEmpty() const { return fibres_.empty(); }
 
 private:

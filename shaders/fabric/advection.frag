@@ -1,6 +1,7 @@
 #version 450 core
 // Advection pass (paper §2.5, Eq. 12), both eigenvector fields at once:
-//   p_{i+1} = k beta + (1 - k) (p_i(x + v) + p_i(x - v)) / 2.
+//   p_{i+1} = k beta + (1 - k) (p_i(x + v) + p_i(x - v)) / 2
+// (one iteration: common/advection_step.glsl, also run as a compute shader by fabric/advection.comp).
 // The state is p1 and p2 in two single-channel textures; blocked pixels (silhouettes, off the surface, and
 // the outermost ring of the target, which clamp-to-edge repeats beyond the edge) hold BLOCKED (-1e20).
 // A bilinear sample whose footprint gives any weight to a blocked texel is therefore negative: such a
@@ -16,14 +17,9 @@
 // surface point was visible there: the pixel's world position (from the window depth) is projected into the
 // previous frame, whose kept state is sampled bilinearly when its linear depth there agrees within
 // u_depthTol mm and no blocked texel touches the sample; elsewhere (newly visible surface) p_0 = beta.
-layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
-layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
-layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
+#include "common/advection_step.glsl"
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r beta, .a coverage
 layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
-#ifdef THIRD
-layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
-#endif
 #ifdef REPROJECT
 layout(binding = UNIT_HISTORY_SURFACE) uniform sampler2D u_histSurface; // previous frame's surface (.b depth)
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;                // this frame's window depth
@@ -32,11 +28,6 @@ uniform mat4 u_worldToPrevWindow; // world -> previous frame's (pixel x, y)
 uniform mat4 u_worldToPrevEye;    // world -> previous frame's eye space
 uniform float u_depthTol;         // mm
 #endif
-
-const float BLOCKED = -1e20;
-// Fibre sets: the second field advects the complementary noise 1 - beta, so the threads of two crossing
-// populations interleave instead of brightening the same noise spots into crosses.
-uniform bool u_complementSecond = false;
 
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in;
@@ -105,52 +96,19 @@ void main() {
 #endif
 }
 #else
-#ifdef COUNT
-layout(binding = COUNTER_CHANGED, offset = 0) uniform atomic_uint u_changed;
-uniform float u_epsilon;
-#endif
-uniform float u_k;
-uniform float u_step; // pixels per unit of the max-norm scaled vectors
-
 layout(location = 0) out float o_p1;
 layout(location = 1) out float o_p2;
 #ifdef THIRD
 layout(location = 2) out float o_p3;
 #endif
 
-// The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
-float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
-  float a = texture(prev, (x + d) * inv).r, b = texture(prev, (x - d) * inv).r;
-  return 0.5 * ((a < 0.0 ? here : a) + (b < 0.0 ? here : b));
-}
-
 void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec2 s = vec2(texelFetch(u_prev1, p, 0).r, texelFetch(u_prev2, p, 0).r);
-  vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
-  vec2 x = gl_FragCoord.xy;
-  uvec4 q = texelFetch(u_vectors, p, 0);
-  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
-  float beta = uintBitsToFloat(q.z);
-  // A zero vector (no direction) averages p_i(x) with itself.
-  vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
-  vec2 next = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
-  bool blocked = s.r < 0.0;
+  vec3 next, here;
+  bool moving = advectionStep(ivec2(gl_FragCoord.xy), next, here);
+  o_p1 = moving ? next.x : here.x;
+  o_p2 = moving ? next.y : here.y;
 #ifdef THIRD
-  float s3 = texelFetch(u_prev3, p, 0).r;
-  float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
-  o_p3 = blocked ? s3 : next3;
+  o_p3 = moving ? next.z : here.z;
 #endif
-#ifdef COUNT
-#ifdef THIRD
-  bool changed3 = abs(next3 - s3) > u_epsilon;
-#else
-  bool changed3 = false;
-#endif
-  if (!blocked && (changed3 || any(greaterThan(abs(next - s), vec2(u_epsilon))))) atomicCounterIncrement(u_changed);
-#endif
-  vec2 out2 = blocked ? s : next;
-  o_p1 = out2.x;
-  o_p2 = out2.y;
 }
 #endif

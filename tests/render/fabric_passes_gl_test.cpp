@@ -379,7 +379,10 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   Texture tv = vectorTexture(vectors, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = edgeTexture(edges, surface);
   vectors = readVectors(tv); // the 16-bit values the GPU sees
+  for (bool compute : {false, true}) {
+  SCOPED_TRACE(compute ? "compute shader" : "fragment pass");
   AdvectionPass pass;
+  pass.setCompute(compute);
   pass.reset(ts, te);
   pass.setFields(start.data());
   AdvectionSettings as{0.2f, 1.7f, 0.05f};
@@ -416,6 +419,54 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   EXPECT_GE(changed, surely - static_cast<unsigned>(off));
   EXPECT_LE(changed, possibly + static_cast<unsigned>(off));
   EXPECT_GT(surely, 100u);
+  }
+}
+
+// The compute shader and the fullscreen pass (with and without the early depth test) run the same
+// iteration: the same three fields after counted and uncounted iterations, the same changed-pixel count.
+TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
+  auto beta = randomField(kW, kH, 1, 21);
+  std::vector<unsigned char> mask(beta.size(), 1);
+  for (int y = 10; y < 20; ++y)
+    for (int x = 0; x < kW; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0; // an uncovered band
+  auto surface = surfaceData(beta, &mask);
+  std::vector<float> edges(beta.size(), 0.0f);
+  for (int x = 0; x < kW; ++x) edges[static_cast<std::size_t>(40) * kW + x] = 1.0f; // a silhouette row
+  auto vectors = randomVectors(kW, kH, 22);
+  Texture tv = vectorTexture(vectors, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  Texture te = edgeTexture(edges, surface);
+  // The covered pixels' depth for the fragment pass's early test: covered 0.5 passes GL_GREATER at 1.
+  std::vector<float> depth(beta.size());
+  for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = mask[i] ? 0.5f : 1.0f;
+  Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
+  glTextureSubImage2D(td.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  struct Run {
+    std::vector<float> fields;
+    std::vector<float> third;
+    unsigned changed;
+  };
+  auto run = [&](bool compute, const Texture* covered) {
+    AdvectionPass pass;
+    pass.setCompute(compute);
+    pass.reset(ts, te, 3);
+    AdvectionSettings as{0.15f, 1.5f, 0.002f};
+    pass.iterate(tv, as, 4, false, covered, 3);
+    pass.iterate(tv, as, 3, true, covered, 3);
+    Run r{pass.readFields(), std::vector<float>(beta.size()), pass.changedPixels()};
+    glGetTextureImage(pass.field(2).id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(r.third.size() * sizeof(float)),
+                      r.third.data());
+    return r;
+  };
+  const Run fragment = run(false, nullptr), early = run(false, &td), compute = run(true, nullptr);
+  for (const Run* other : {&early, &compute}) {
+    EXPECT_EQ(other->fields, fragment.fields);
+    EXPECT_EQ(other->third, fragment.third);
+    EXPECT_EQ(other->changed, fragment.changed);
+  }
+  EXPECT_GT(fragment.changed, 100u);
+  std::size_t blocked = 0;
+  for (float v : fragment.third) blocked += v == kBlocked;
+  EXPECT_GT(blocked, static_cast<std::size_t>(11 * kW)); // the band, the silhouette row and the ring
 }
 
 TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {

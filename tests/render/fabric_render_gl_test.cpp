@@ -227,3 +227,46 @@ TEST_F(FabricRender, StillCameraFramesReuseTheProjectionAndMatchTheWholeFrame) {
   r.renderFrame(cam, engineering);
   EXPECT_NE(r.readback().rgba, fresh(cam, engineering, other).rgba) << "after a mesh change";
 }
+
+// The advection as a compute shader (the default on hardware GPUs) draws exactly the fragment pass's images:
+// a still of many iterations, then interactive frames that continue and restart.
+TEST_F(FabricRender, ComputeAdvectionDrawsTheFragmentPassesImages) {
+  AxialScene s;
+  const TensorField field = reference::constantField(s.grid, {1, 1, 0});
+  std::vector<Image> images[2];
+  for (int compute = 0; compute < 2; ++compute) {
+    FabricRenderer r;
+    r.setComputeAdvection(compute == 1);
+    EXPECT_EQ(r.advection().compute(), compute == 1);
+    r.setMesh(s.mesh);
+    r.setField(field);
+    r.resize(96, 96);
+    Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+    FabricParams p;
+    images[compute].push_back(r.renderStill(cam, p));
+    p.iterations = 3;
+    r.renderFrame(cam, p);
+    r.renderFrame(cam, p);
+    images[compute].push_back(r.readback());
+    cam.trackball({0, 0}, {0.05, 0});
+    r.renderFrame(cam, p);
+    images[compute].push_back(r.readback());
+  }
+  ASSERT_EQ(images[0].size(), images[1].size());
+  for (std::size_t i = 0; i < images[0].size(); ++i) {
+    // Not an empty frame: most pixels drawn, and threads (bright and dark) among them.
+    std::size_t drawn = 0, bright = 0, dark = 0;
+    const auto& px = images[0][i].rgba;
+    for (std::size_t k = 0; k < px.size(); k += 4) {
+      if (px[k + 3] == 0) continue;
+      ++drawn;
+      const int sum = px[k] + px[k + 1] + px[k + 2];
+      bright += sum > 300;
+      dark += sum < 150;
+    }
+    EXPECT_GT(drawn, px.size() / 4 / 2) << "frame " << i;
+    EXPECT_GT(bright, drawn / 20) << "frame " << i;
+    EXPECT_GT(dark, drawn / 20) << "frame " << i;
+    EXPECT_EQ(images[0][i].rgba, images[1][i].rgba) << "frame " << i;
+  }
+}

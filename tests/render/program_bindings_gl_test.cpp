@@ -24,10 +24,12 @@ struct ProgramCase {
   std::vector<const char*> uniforms;
   std::vector<std::vector<std::string>> variants; // each compiled with the bindings' defines added
   std::string geometry = {};                      // a geometry stage between them ("" none)
+  std::string compute = {};                       // a compute program's one stage (vertex, fragment unused)
 };
 
 // The program's stages as ShaderProgram takes them.
 std::vector<std::pair<GLenum, std::string>> stagesOf(const ProgramCase& c) {
+  if (!c.compute.empty()) return {{GL_COMPUTE_SHADER, c.compute}};
   std::vector<std::pair<GLenum, std::string>> stages = {{GL_VERTEX_SHADER, c.vertex}};
   if (!c.geometry.empty()) stages.emplace_back(GL_GEOMETRY_SHADER, c.geometry);
   stages.emplace_back(GL_FRAGMENT_SHADER, c.fragment);
@@ -46,12 +48,22 @@ ProgramCase makeCase(std::string name, std::string vertex, std::string fragment,
           std::move(uniforms), std::move(variants)};
 }
 
+template <class Program>
+ProgramCase computeCase(std::string name, std::string file, std::vector<std::vector<std::string>> variants,
+                        std::vector<const char*> uniforms) {
+  ProgramCase c = makeCase<Program>(std::move(name), "", "", std::move(variants), std::move(uniforms));
+  c.compute = std::move(file);
+  return c;
+}
+
 std::vector<ProgramCase> allPrograms() {
   return {
       makeCase<AdvectionProgram>("advection", "common/fullscreen.vert", "fabric/advection.frag",
                                  {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"},
                                   {"RESET", "REPROJECT"}, {"RESET", "SILHOUETTES"}, {"RESET", "THIRD", "SILHOUETTES"}},
                                  uniformNames<AdvectionProgram::Uniform>()),
+      computeCase<AdvectionComputeProgram>("advection (compute)", "fabric/advection.comp", {{}, {"COUNT", "THIRD"}},
+                                           {"u_k", "u_step", "u_complementSecond", "u_epsilon"}),
       makeCase<CompositeProgram>(
           "composite", "common/fullscreen.vert", "fabric/composite.frag",
           {{},
@@ -146,6 +158,6 @@ TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 6); // advection, composite, silhouette, projection, host import, tract layer
+  EXPECT_EQ(checked, 7); // advection (both), composite, silhouette, projection, host import, tract layer
   takeDebugMessages(); // the compiler's own debug messages about the failures are expected here
 }

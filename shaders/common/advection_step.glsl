@@ -1,0 +1,58 @@
+// The advection state and one Eq. 12 iteration at a pixel (paper §2.5), shared by the fragment pass
+// (fabric/advection.frag) and its compute twin (fabric/advection.comp), so both compute the same values.
+layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
+layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
+layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
+#ifdef THIRD
+layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
+#endif
+
+const float BLOCKED = -1e20;
+// Fibre sets: the second field advects the complementary noise 1 - beta, so the threads of two crossing
+// populations interleave instead of brightening the same noise spots into crosses.
+uniform bool u_complementSecond = false;
+
+#ifdef COUNT
+layout(binding = COUNTER_CHANGED, offset = 0) uniform atomic_uint u_changed;
+uniform float u_epsilon;
+#endif
+uniform float u_k;
+uniform float u_step; // pixels per unit of the max-norm scaled vectors
+
+// The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
+float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
+  float a = texture(prev, (x + d) * inv).r, b = texture(prev, (x - d) * inv).r;
+  return 0.5 * ((a < 0.0 ? here : a) + (b < 0.0 ? here : b));
+}
+
+// Pixel p's state `here` (p1, p2, p3; p3 0 without THIRD) and its next iterate `next`; false where p is
+// blocked (its state stays). With COUNT the pixel is counted when it changed by more than u_epsilon.
+bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
+  vec2 s = vec2(texelFetch(u_prev1, p, 0).r, texelFetch(u_prev2, p, 0).r);
+  vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
+  vec2 x = vec2(p) + 0.5;
+  uvec4 q = texelFetch(u_vectors, p, 0);
+  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
+  float beta = uintBitsToFloat(q.z);
+  // A zero vector (no direction) averages p_i(x) with itself.
+  vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
+  vec2 next2 = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
+  bool blocked = s.r < 0.0;
+#ifdef THIRD
+  float s3 = texelFetch(u_prev3, p, 0).r;
+  float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
+#else
+  float s3 = 0.0, next3 = 0.0;
+#endif
+#ifdef COUNT
+#ifdef THIRD
+  bool changed3 = abs(next3 - s3) > u_epsilon;
+#else
+  bool changed3 = false;
+#endif
+  if (!blocked && (changed3 || any(greaterThan(abs(next2 - s), vec2(u_epsilon))))) atomicCounterIncrement(u_changed);
+#endif
+  here = vec3(s, s3);
+  next = vec3(next2, next3);
+  return !blocked;
+}
