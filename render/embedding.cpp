@@ -143,8 +143,8 @@ int EmbeddedFabric::lastIterations() const {
   return impl_->lastIterations;
 }
 
-void EmbeddedFabric::setComputeAdvection(bool on) {
-  impl_->pipeline.advection().setCompute(on);
+void EmbeddedFabric::setComputePasses(bool on) {
+  impl_->pipeline.setComputePasses(on);
 }
 
 } // namespace dtf::render

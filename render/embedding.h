@@ -97,8 +97,9 @@ public:
   PassTimes lastTimes() const;
   // Advection iterations of the last drawStill.
   int lastIterations() const;
-  // The advection as a compute shader or as fullscreen draws (FabricRenderer::setComputeAdvection).
-  void setComputeAdvection(bool on);
+  // The tensor stage and the advection as compute shaders or as fullscreen draws
+  // (FabricRenderer::setComputePasses).
+  void setComputePasses(bool on);
 
 private:
   struct Impl;

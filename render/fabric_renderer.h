@@ -83,9 +83,11 @@ public:
   const ProjectionPass& projection() const { return pipeline_.projection(); }
   const SilhouettePass& silhouette() const { return pipeline_.silhouette(); }
   const AdvectionPass& advection() const { return pipeline_.advection(); }
-  // The advection iterations as a compute shader (default on a hardware GPU) or as fullscreen draws
-  // (default on a software rasteriser); the images are the same (AdvectionPass::setCompute).
-  void setComputeAdvection(bool on) { pipeline_.advection().setCompute(on); }
+  // The tensor stage and the advection iterations as compute shaders (default on a hardware GPU) or as
+  // fullscreen draws (default on a software rasteriser); the images are the same (TensorStage::setCompute,
+  // AdvectionPass::setCompute).
+  void setComputePasses(bool on) { pipeline_.setComputePasses(on); }
+  bool computePasses() const { return pipeline_.computePasses(); }
 
 private:
   void prepare(const Camera& camera, const FabricParams& params);

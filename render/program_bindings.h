@@ -7,7 +7,18 @@
 
 #include "render/shader_program.h"
 
+#include <array>
+
 namespace dtf::render {
+
+// The bindings of a compute twin: its fragment program's followed by its own.
+template <std::size_t A, std::size_t B>
+constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A], const BindingName (&b)[B]) {
+  std::array<BindingName, A + B> out{};
+  for (std::size_t i = 0; i < A; ++i) out[i] = a[i];
+  for (std::size_t i = 0; i < B; ++i) out[A + i] = b[i];
+  return out;
+}
 
 // fabric/advection.frag (AdvectionPass), every variant.
 struct AdvectionProgram {
@@ -104,6 +115,27 @@ struct ProjectionProgram {
     PixelMmPerDepth, NoiseOrigin, Lod, NoiseBlend, WorldToTex, LobeCount, FaFloor, BackgroundWorldToTex,
     UncertaintyWorldToTex, Fray, FrayCells, Count
   };
+};
+
+// fabric/projection.comp (TensorStage::setCompute): the fragment pass's texture units (the same
+// common/projection_pixel.glsl), the geometry stage's depth, the targets as images and the covered-pixel
+// count's buffer.
+struct ProjectionComputeProgram {
+  using Unit = ProjectionProgram::Unit;
+  using Uniform = ProjectionProgram::Uniform;
+  static constexpr GLuint kDepthUnit = 9;
+  enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4 };
+  enum class Buffer : GLuint { Covered = 0 };
+  static constexpr BindingName kOwn[] = {
+      {kDepthUnit, "UNIT_DEPTH", "u_depth"},
+      {unit(Image::Vectors), "IMAGE_VECTORS", "i_vectors"},
+      {unit(Image::Surface), "IMAGE_SURFACE", "i_surface"},
+      {unit(Image::Eigen), "IMAGE_EIGEN", "i_eigen"},
+      {unit(Image::Lambda), "IMAGE_LAMBDA", "i_lambda"},
+      {unit(Image::Fibres), "IMAGE_FIBRES", "i_fibres"},
+      {unit(Buffer::Covered), "BUFFER_COVERED", "CoveredPixels"},
+  };
+  static constexpr auto kBindings = joinBindings(ProjectionProgram::kBindings, kOwn);
 };
 
 // fabric/geometry.vert + geometry.frag (GeometryStage, own meshes).

@@ -317,12 +317,12 @@ private:
 };
 
 EmbeddedResult runEmbedded(const Case& c, const render::Camera& camera, int width, int height, int frames,
-                           render::ColourMode mode, bool computeAdvection) {
+                           render::ColourMode mode, bool computePasses) {
   EmbeddedResult res;
   res.ran = true;
   HostScene host(c.mesh, width, height);
   render::EmbeddedFabric fabric;
-  fabric.setComputeAdvection(computeAdvection);
+  fabric.setComputePasses(computePasses);
   fabric.setField(c.field);
   render::FabricParams p;
   p.iterations = 3;
@@ -472,9 +472,9 @@ const OptionTable& benchRenderOptions() {
         O::integer("peer-frames", "N", d.frames, closedRange(1, 1000), "timed frames per peer mode")
             .defaultSays("min(--frames, " + std::to_string(d.frames) + ")"),
         O::text("peer-png", "FILE", "save one of the peer's default LIC frames as PNG"),
-        O::choice("advection", "K", {"auto", "fragment", "compute"}, "auto",
-                  "the advection iterations as fullscreen draws or as a compute shader (auto: compute on a "
-                  "hardware GPU, fragment on a software rasteriser)"),
+        O::choice("passes", "K", {"auto", "fragment", "compute"}, "auto",
+                  "the tensor stage and the advection iterations as fullscreen draws or as compute shaders "
+                  "(auto: compute on a hardware GPU, fragment on a software rasteriser)"),
     };
     return t;
   }();
@@ -487,7 +487,7 @@ namespace {
 struct Report {
   std::string renderer;
   int width = 0, height = 0, frames = 0;
-  bool computeAdvection = false;
+  bool computePasses = false;
   std::vector<Result> results;
   EmbeddedResult embedded;
   RenderPeerResult peer;
@@ -504,7 +504,7 @@ void printJson(const Report& rep) {
   const auto& mine = rep.mine;
   using Json = nlohmann::ordered_json;
   Json j = {{"renderer", renderer}, {"width", width}, {"height", height}, {"frames", frames},
-            {"advection", rep.computeAdvection ? "compute" : "fragment"}};
+            {"passes", rep.computePasses ? "compute" : "fragment"}};
   Json cases = Json::array();
   for (const Result& r : results)
     cases.push_back({{"name", r.name},
@@ -568,7 +568,7 @@ void printTable(const Report& rep) {
   std::printf("dtfabric bench render: %dx%d, %d frames per figure, %s, load average %.1f on %u cores\n", width, height,
               frames, renderer.c_str(), load, std::thread::hardware_concurrency());
   std::printf("frame = projection + silhouette + 3 advection iterations + composite (paper Table 1); goal fabric <= 95 ms\n");
-  std::printf("advection iterations: %s\n\n", rep.computeAdvection ? "compute shader" : "fullscreen fragment pass");
+  std::printf("tensor stage and advection: %s\n\n", rep.computePasses ? "compute shaders" : "fullscreen fragment passes");
   std::printf("%-18s %9s %6s | %9s %9s %9s %9s %6s | GPU ms: %8s %8s %8s %8s %8s\n", "case", "triangles", "cover",
               "fabric", "moving", "mov 1/2", "phong", "ratio", "project", "silhou", "advect3", "compos", "phong");
   for (const Result& r : results)
@@ -684,13 +684,13 @@ int benchRender(const CommandArgs& argv) {
   const int peerFrames =
       args.given("peer-frames") ? args.integer("peer-frames") : std::min(frames, RenderPeerOptions{}.frames);
   const std::string peerPng = args.text("peer-png");
-  const std::string advection = args.text("advection");
+  const std::string passes = args.text("passes");
   args.finish();
 
   auto& ctx = render::GlContext::headless();
   render::FabricRenderer renderer;
-  const bool computeAdvection = advection == "auto" ? renderer.advection().compute() : advection == "compute";
-  renderer.setComputeAdvection(computeAdvection);
+  const bool computePasses = passes == "auto" ? renderer.computePasses() : passes == "compute";
+  renderer.setComputePasses(computePasses);
   std::vector<Case> cases;
   cases.push_back(sphereCase("sphere_41k", 145, 144));   // 2 * 144 * 144 = 41472 triangles (Table 1, Fig. 8)
   cases.push_back(fibreSphereCase(cases.back()));        // three fibre populations on the same sphere
@@ -703,7 +703,7 @@ int benchRender(const CommandArgs& argv) {
   // The host route on the same sphere and camera as the own front end's sphere_41k.
   EmbeddedResult embedded;
   if (!results.empty() && results[0].name == "sphere_41k")
-    embedded = runEmbedded(cases[0], results[0].camera, width, height, frames, mode, computeAdvection);
+    embedded = runEmbedded(cases[0], results[0].camera, width, height, frames, mode, computePasses);
   // The peer, ParaView's Surface LIC, on sphere_41k after ours (app/bench/bench_render_peer.cpp).
   const Result* ours = results.empty() || results[0].name != "sphere_41k" ? nullptr : &results[0];
   RenderPeerResult peer;
@@ -717,7 +717,7 @@ int benchRender(const CommandArgs& argv) {
   std::vector<LookResult> looks;
   if (!noBrain && (only.empty() || ("," + only + ",").find(",looks,") != std::string::npos))
     if (auto b = brainCase(dataDir)) looks = runLooks(renderer, b->field, width, height, frames);
-  const Report report{ctx.description(), width, height, frames, computeAdvection, std::move(results), embedded, peer,
+  const Report report{ctx.description(), width, height, frames, computePasses, std::move(results), embedded, peer,
                       mine, std::move(looks)};
   if (json)
     printJson(report);

@@ -94,6 +94,13 @@ public:
   const SilhouettePass& silhouette() const { return silhouette_; }
   const AdvectionPass& advection() const { return advection_; }
   AdvectionPass& advection() { return advection_; }
+  // The tensor stage and the advection as compute shaders, or as fullscreen draws (the same images; the
+  // default: compute on a hardware GPU, draws on a software rasteriser).
+  void setComputePasses(bool on) {
+    projection_.setCompute(on);
+    advection_.setCompute(on);
+  }
+  bool computePasses() const { return advection_.compute(); }
   bool fibresEmpty() const { return fibres_.empty(); }
 
 private:

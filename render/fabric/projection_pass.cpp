@@ -1,5 +1,7 @@
 #include "render/fabric/projection_pass.h"
 
+#include "render/gl_context.h"
+
 namespace dtf::render {
 
 namespace {
@@ -11,8 +13,15 @@ TensorStage::TensorStage()
     : program_("common/deferred.vert", "fabric/projection.frag",
                {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}, programDefines<ProjectionProgram>(),
                uniformNames<U>()),
-      vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)) {
-  program_.get(1); // the default variant compiles with the pass, so a broken shader fails early
+      computeProgram_({{GL_COMPUTE_SHADER, "fabric/projection.comp"}},
+                      {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"},
+                      programDefines<ProjectionComputeProgram>(), uniformNames<U>()),
+      compute_(!softwareRasteriser()), vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)),
+      covered_(createBuffer()) {
+  const GLuint zero = 0;
+  glNamedBufferStorage(covered_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
+  // The default variant compiles with the pass, so a broken shader fails early.
+  (compute_ ? computeProgram_ : program_).get(1);
 }
 
 void TensorStage::resize(glm::ivec2 target) {
@@ -45,6 +54,17 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   const bool useFibres = s.fibres && fibres && !fibres->empty();
   const bool haveData = s.fibres ? useFibres : !field.empty();
   resize(geometry.size());
+  const bool hasBackground = background && !background->empty();
+  const bool fray = s.uncertainty && !s.uncertainty->empty() && s.fray > 0.0f;
+  const unsigned variant = (s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
+                           (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u) | (fray ? 16u : 0u);
+  lastCompute_ = compute_;
+  if (compute_) {
+    prepare(computeProgram_.get(variant), field, noise, view, s, background, fibres, useFibres, hasBackground, fray);
+    bindTexture(Unit::Geometry, geometry.geometry().id());
+    dispatch(geometry, haveData, useFibres);
+    return;
+  }
   attachDepth(geometry.depth());
   const float zero[4] = {0, 0, 0, 0};
   glViewport(0, 0, size_.x, size_.y);
@@ -60,11 +80,20 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
-  const bool hasBackground = background && !background->empty();
-  const bool fray = s.uncertainty && !s.uncertainty->empty() && s.fray > 0.0f;
-  const ShaderProgram& p =
-      program_.get((s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
-                   (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u) | (fray ? 16u : 0u));
+  prepare(program_.get(variant), field, noise, view, s, background, fibres, useFibres, hasBackground, fray);
+  bindTexture(Unit::Geometry, geometry.geometry().id());
+  glBindVertexArray(vao_.id());
+  glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
+  if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEndQuery(GL_SAMPLES_PASSED);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+}
+
+void TensorStage::prepare(const ShaderProgram& p, const GpuTensorField& field, const Texture& noise,
+                          const FrameView& view, const ProjectionSettings& s, const GpuScalarVolume* background,
+                          const GpuFibreSet* fibres, bool useFibres, bool hasBackground, bool fray) const {
   p.set(U::ClipToEye, view.clipToEye);
   p.set(U::EyeToWorld, view.eyeToWorld);
   p.set(U::ViewProj, view.viewProj);
@@ -101,18 +130,36 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   else
     field.bind(unit(Unit::TensorA), unit(Unit::TensorB), unit(Unit::TensorEdge));
   bindTexture(Unit::Noise, noise.id());
-  bindTexture(Unit::Geometry, geometry.geometry().id());
-  glBindVertexArray(vao_.id());
-  glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
-  if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);
-  glEndQuery(GL_SAMPLES_PASSED);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
+}
+
+void TensorStage::dispatch(const GeometryStage& geometry, bool haveData, bool useFibres) {
+  using Image = ProjectionComputeProgram::Image;
+  const GLuint zero = 0;
+  glClearNamedBufferSubData(covered_.id(), GL_R32UI, 0, sizeof(GLuint), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (!haveData) { // nothing covered, as the fragment pass's cleared surface target says
+    const float none[4] = {0, 0, 0, 0};
+    glClearTexImage(surface_.id(), 0, GL_RGBA, GL_FLOAT, none);
+    return;
+  }
+  glBindTextureUnit(ProjectionComputeProgram::kDepthUnit, geometry.depth().id());
+  glBindImageTexture(unit(Image::Vectors), vectors_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  glBindImageTexture(unit(Image::Surface), surface_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(unit(Image::Eigen), eigen_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(unit(Image::Lambda), lambda_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  if (useFibres) glBindImageTexture(unit(Image::Fibres), fibres_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit(ProjectionComputeProgram::Buffer::Covered), covered_.id());
+  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
+  // The later passes sample the targets, may draw into them or read them back; coveredPixels() reads the count.
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 unsigned TensorStage::coveredPixels() const {
   GLuint n = 0;
+  if (lastCompute_) {
+    glGetNamedBufferSubData(covered_.id(), 0, sizeof(GLuint), &n);
+    return n;
+  }
   glGetQueryObjectuiv(samples_.id(), GL_QUERY_RESULT, &n);
   return n;
 }

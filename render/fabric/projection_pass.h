@@ -72,12 +72,26 @@ public:
   glm::ivec2 size() const { return size_; }
   // Pixels shaded by the last run (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const;
+  // The tensor stage as a compute shader (fabric/projection.comp) instead of a fullscreen draw: the same
+  // targets, many times faster where the fragment pipeline is a small part of the GPU. Default: compute on
+  // a hardware GPU, fragment on a software rasteriser (softwareRasteriser(), render/gl_context.h).
+  void setCompute(bool compute) { compute_ = compute; }
+  bool compute() const { return compute_; }
 
 private:
   void attachDepth(const Texture& depth);
-  ShaderVariants program_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES
+  // Uniforms and textures of both programs; returns whether there is data to project.
+  void prepare(const ShaderProgram& p, const GpuTensorField& field, const Texture& noise, const FrameView& view,
+               const ProjectionSettings& s, const GpuScalarVolume* background, const GpuFibreSet* fibres,
+               bool useFibres, bool hasBackground, bool fray) const;
+  void dispatch(const GeometryStage& geometry, bool haveData, bool useFibres);
+  ShaderVariants program_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES, UNCERTAINTY
+  ShaderVariants computeProgram_; // the same variants (compiled on first use)
+  bool compute_ = false;
+  bool lastCompute_ = false; // the last run was a dispatch: coveredPixels() reads covered_
   VertexArray vao_;
   Query samples_;
+  Buffer covered_;
   Framebuffer fbo_, fibreFbo_;
   GLuint attachedDepth_ = 0;
   Texture vectors_, surface_, eigen_, lambda_, fibres_;
@@ -112,6 +126,8 @@ public:
   glm::ivec2 size() const { return tensor_.size(); }
   // Pixels shaded by the last run's tensor stage (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const { return tensor_.coveredPixels(); }
+  void setCompute(bool compute) { tensor_.setCompute(compute); }
+  bool compute() const { return tensor_.compute(); }
 
 private:
   GeometryStage geometry_;

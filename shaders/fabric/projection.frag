@@ -14,47 +14,12 @@
 // common/fibre_field.glsl, each projected onto the surface (P d) and to image space like the eigenvectors;
 // vectors .x, .y, .w hold populations 1-3, and o_fibres per population its DEC colour |d| and weight
 // amplitude / strongest x in-surface fraction |P d|).
-#include "common/eigen.glsl"
-#ifdef FIBRES
-#include "common/fibre_field.glsl"
-#else
-#include "common/tensor_field.glsl"
-#endif
-#include "common/lighting.glsl"
-#include "common/octahedral.glsl"
-#ifdef UNCERTAINTY
-#include "common/fray.glsl"
-layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees per slot (rgb), trilinear
-uniform mat4 u_uncertaintyWorldToTex;
-uniform float u_fray = 1.0;       // strength: the turn is up to u_fray x the cone
-uniform float u_frayCells = 16.0; // noise cells per implicit voxel edge
-#endif
+#include "common/projection_pixel.glsl"
 
 layout(early_fragment_tests) in;
 
 noperspective in vec3 v_nearEye;
 noperspective in vec3 v_farEye;
-
-layout(binding = UNIT_GEOMETRY) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
-
-uniform mat4 u_eyeToWorld;
-uniform mat4 u_viewProj;
-uniform mat3 u_viewRot;      // world -> eye rotation (normals)
-uniform vec2 u_targetSize;   // guarded target size in pixels
-uniform float u_eps;         // mm; finite-difference step along the eigenvectors
-uniform float u_degenerateTol = 0.02; // relative in-plane eigenvalue gap below which there is no direction
-uniform bool u_orthographic;
-uniform float u_pixelMm;         // orthographic: pixel size in mm
-uniform float u_pixelMmPerDepth; // perspective: pixel size in mm per mm of depth
-uniform vec3 u_noiseOrigin;  // b_min of Eq. 7 (world mm)
-uniform float u_lod;         // l of Eq. 7: implicit voxel edge in mm
-uniform float u_noiseBlend = 0.5; // NOISE_BLEND: > 0 softens the switch between voxel faces
-layout(binding = UNIT_NOISE) uniform sampler2D u_noise;
-#ifdef BACKGROUND
-layout(binding = UNIT_BACKGROUND) uniform sampler3D u_background; // grey shown where there is no tensor data
-uniform mat4 u_backgroundWorldToTex;
-#endif
-uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
 // Image-space directions v1.xy, v2.xy (max-norm 1) as snorm16 pairs, and beta's bits: everything an advection
 // iteration reads of the projection in one integer fetch (a software rasteriser pays per channel).
@@ -66,148 +31,15 @@ layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, backgro
 layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k) for populations k = 1..3
 #endif
 
-// Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
-// and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
-// scaled (Eq. 4-5); zero when it degenerates (v along the view ray).
-vec2 imageDirection(vec4 c0, vec3 v) {
-  vec4 c1 = c0 + u_eps * (u_viewProj * vec4(v, 0.0));
-  vec2 d = (c1.xy / c1.w - c0.xy / c0.w) * 0.5 * u_targetSize;
-  float m = max(abs(d.x), abs(d.y));
-  return m > 1e-4 ? d / m : vec2(0.0);
-}
-
-// Mip level of the noise: texels per pixel on the voxel face, from the pixel size at this depth and the
-// obliquity of the surface to the view and to the face (no screen-space derivatives needed).
-float noiseLod(float depth, float cosView, float cosFace) {
-  float pixelMm = u_orthographic ? u_pixelMm : u_pixelMmPerDepth * depth;
-  float texelsPerPixel = float(textureSize(u_noise, 0).x) / u_lod * pixelMm / max(cosView * cosFace, 0.05);
-  return max(log2(texelsPerPixel), 0.0);
-}
-
-float sampleNoise(vec3 p, vec3 n, float lod) {
-  vec3 vox = (p - u_noiseOrigin) / u_lod; // Eq. 7
-  vec3 an = abs(n);
-#ifdef NOISE_BLEND // softened switch between voxel faces (not Eq. 9 exactly)
-  float bx = textureLod(u_noise, fract(vox.yz), lod).r;
-  float by = textureLod(u_noise, fract(vox.xz), lod).r;
-  float bz = textureLod(u_noise, fract(vox.xy), lod).r;
-  vec3 w = pow(an, vec3(1.0 / u_noiseBlend));
-  return dot(w, vec3(bx, by, bz)) / max(w.x + w.y + w.z, 1e-6);
-#endif
-  // Eq. 8-9: the two components of frac(vox) spanning the voxel face whose normal is closest to n.
-  vec2 t = an.x >= an.y && an.x >= an.z ? vox.yz : (an.y >= an.z ? vox.xz : vox.xy);
-  return textureLod(u_noise, fract(t), lod).r;
-}
-
 void main() {
-  uvec2 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0).xy;
-  float depth = uintBitsToFloat(g.y);
-  // The eye position on the pixel's ray at linear depth `depth` (eye z = -depth).
-  vec3 eye = mix(v_nearEye, v_farEye, (-depth - v_nearEye.z) / (v_farEye.z - v_nearEye.z));
-  vec3 world = (u_eyeToWorld * vec4(eye, 1.0)).xyz;
-  vec3 n = fromOctahedral(unpackSnorm2x16(g.x));
-  if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
-  vec3 nEye = normalize(u_viewRot * n);
-  vec3 toEye = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-eye);
-  if (dot(nEye, toEye) < 0.0) { // two-sided: back faces (e.g. a slice seen from below) face the camera
-    nEye = -nEye;
-  }
-  float light = blinnPhong(nEye, toEye);
-  vec3 an = abs(n);
-  float lod = noiseLod(depth, abs(dot(nEye, toEye)), max(an.x, max(an.y, an.z)));
-  float beta = sampleNoise(world, n, lod);
-
-  vec4 vectors = vec4(0.0);
-  vec4 eigen = vec4(0.0);
-#ifdef UNCERTAINTY
-  // Tensors: .r; fibre sets: slot k's cone in component k.
-  vec3 coneRad = radians(90.0) * u_fray *
-                 texture(u_uncertainty, (u_uncertaintyWorldToTex * vec4(world, 1.0)).xyz).rgb;
-#endif
-  vec4 lambda = vec4(0.0);
-  float fa;
+  float edge;
+  Projection p = projectPixel(ivec2(gl_FragCoord.xy), v_nearEye, v_farEye, edge);
+  p.lambda.w *= coverRamp(edge, fwidth(edge));
+  o_vectors = p.vectors;
+  o_surface = p.surface;
+  o_eigen = p.eigen;
+  o_lambda = p.lambda;
 #ifdef FIBRES
-  vec3 fdir[3];
-  float famp[3];
-  vec2 v3 = vec2(0.0);
-  uvec4 fibres = uvec4(0u);
-  // Decoded a little beyond the data's edge; the edge is the blurred occupancy's 0.5 contour, a coverage ramp
-  // one pixel wide as for tensors.
-  int count = sampleFibres(world, 0.02, fdir, famp, fa);
-  float edge = fibreEdge(world);
-  float cover = clamp((edge - 0.5) / max(fwidth(edge), 1e-4) + 0.5, 0.0, 1.0);
-  if (count > 0 && fa >= u_faFloor) {
-    vec4 c0 = u_viewProj * vec4(world, 1.0);
-    int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
-    float top = famp[strongest];
-    vec2 img[3];
-    for (int k = 0; k < 3; ++k) {
-      img[k] = vec2(0.0);
-      if (famp[k] <= 0.0) continue;
-      vec3 pd = fdir[k] - n * dot(n, fdir[k]); // P d
-      float inPlane = length(pd);
-#ifdef UNCERTAINTY
-      pd = frayRotate(pd, n, coneRad[k] * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, uint(k)));
+  o_fibres = p.fibres;
 #endif
-      if (inPlane > 0.05) img[k] = imageDirection(c0, pd / inPlane);
-      float weight = clamp(famp[k] / top, 0.0, 1.0) * inPlane;
-      fibres[k] = packUnorm4x8(vec4(abs(fdir[k]), weight));
-    }
-    vectors = vec4(img[0], img[1]);
-    v3 = img[2];
-    eigen.xyz = abs(fdir[strongest]);
-    lambda.y = abs(dot(fdir[strongest], n));
-    lambda.x = (famp[0] + famp[1] + famp[2] - top) / (2.0 * top);
-    lambda.w = cover;
-  }
-#else
-  mat3 t;
-  float valid;
-  // Tensors are decoded a little beyond the data's edge (the advection runs on across it); the edge itself is
-  // the 0.5 contour of the blurred mask sampled trilinearly, drawn as a coverage ramp one pixel wide (its
-  // change per pixel from the screen-space derivative): a smooth sub-voxel outline, never the voxel lattice.
-  bool decoded = sampleTensorValid(world, 0.02, t, fa, valid);
-  float edge = dataEdge(world);
-  float cover = clamp((edge - 0.5) / max(fwidth(edge), 1e-4) + 0.5, 0.0, 1.0);
-  if (decoded && fa >= u_faFloor) {
-    // Eq. 1-2: T' = P T P^T with P = I - n n^T. T' has n as an eigenvector with eigenvalue 0, so the
-    // closed-form solver's "separated eigenvector + 2x2 sub-problem" step reduces to the 2x2 problem in
-    // the tangent plane, where u^T T' w = u^T T w for u, w orthogonal to n: T' need not be formed.
-    vec3 e1p, e2p;
-    float l1, l2; // eigenvalues of T' in the plane, l1 >= l2
-    eigenPlaneValues(t, n, e1p, e2p, l1, l2);
-    float mag = max(abs(l1), abs(l2));
-    bool directional = mag > 0.0 && (l1 - l2) > u_degenerateTol * mag;
-    if (directional) {
-      vec4 c0 = u_viewProj * vec4(world, 1.0);
-#ifdef UNCERTAINTY
-      float turn = coneRad.x * frayDraw(world, u_noiseOrigin, u_lod, u_frayCells, 0u);
-      e1p = frayRotate(e1p, n, turn);
-      e2p = frayRotate(e2p, n, turn);
-#endif
-      vectors = vec4(imageDirection(c0, e1p), imageDirection(c0, e2p));
-    }
-#ifdef WITH_PRINCIPAL
-    vec3 e1 = principalEigenvector(t);
-    eigen.xyz = abs(e1);
-    lambda.y = abs(dot(e1, n));
-#endif
-    lambda.x = l1 > 0.0 ? clamp(l2 / l1, 0.0, 1.0) : 1.0;
-    lambda.w = cover;
-  }
-#endif
-#ifdef BACKGROUND
-  // The grey beneath the fabric (everywhere: the anatomy look shows it through isotropic tissue).
-  lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
-#endif
-#ifdef FIBRES
-  o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), packSnorm2x16(v3));
-  o_fibres = fibres;
-#else
-  o_vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), 0u);
-#endif
-  o_surface = vec4(beta, light, depth, 1.0);
-  eigen.w = fa;
-  o_eigen = eigen;
-  o_lambda = lambda;
 }

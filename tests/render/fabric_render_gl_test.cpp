@@ -228,22 +228,27 @@ TEST_F(FabricRender, StillCameraFramesReuseTheProjectionAndMatchTheWholeFrame) {
   EXPECT_NE(r.readback().rgba, fresh(cam, engineering, other).rgba) << "after a mesh change";
 }
 
-// The advection as a compute shader (the default on hardware GPUs) draws exactly the fragment pass's images:
-// a still of many iterations, then interactive frames that continue and restart.
-TEST_F(FabricRender, ComputeAdvectionDrawsTheFragmentPassesImages) {
+// The tensor stage and the advection as compute shaders (the default on hardware GPUs) draw the fragment
+// passes' images: a still of many iterations, then interactive frames that continue and restart. The
+// advection is the same arithmetic (bit for bit, FabricPass.AdvectionComputeShaderEqualsTheFragmentPass);
+// the compute tensor stage rebuilds each pixel's ray from the inverse projection where the fragment pass
+// interpolates it, which moves world positions in their last bits.
+TEST_F(FabricRender, ComputePassesDrawTheFragmentPassesImages) {
   AxialScene s;
   const TensorField field = reference::constantField(s.grid, {1, 1, 0});
   std::vector<Image> images[2];
+  unsigned covered[2] = {0, 0};
   for (int compute = 0; compute < 2; ++compute) {
     FabricRenderer r;
-    r.setComputeAdvection(compute == 1);
-    EXPECT_EQ(r.advection().compute(), compute == 1);
+    r.setComputePasses(compute == 1);
+    EXPECT_EQ(r.computePasses(), compute == 1);
     r.setMesh(s.mesh);
     r.setField(field);
     r.resize(96, 96);
     Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
     FabricParams p;
     images[compute].push_back(r.renderStill(cam, p));
+    covered[compute] = r.coveredPixels();
     p.iterations = 3;
     r.renderFrame(cam, p);
     r.renderFrame(cam, p);
@@ -252,12 +257,21 @@ TEST_F(FabricRender, ComputeAdvectionDrawsTheFragmentPassesImages) {
     r.renderFrame(cam, p);
     images[compute].push_back(r.readback());
   }
+  EXPECT_EQ(covered[0], covered[1]);
+  EXPECT_GT(covered[0], 96u * 96u / 2u);
   ASSERT_EQ(images[0].size(), images[1].size());
   for (std::size_t i = 0; i < images[0].size(); ++i) {
     // Not an empty frame: most pixels drawn, and threads (bright and dark) among them.
-    std::size_t drawn = 0, bright = 0, dark = 0;
+    std::size_t drawn = 0, bright = 0, dark = 0, off = 0;
+    int worst = 0;
     const auto& px = images[0][i].rgba;
+    const auto& cx = images[1][i].rgba;
+    ASSERT_EQ(px.size(), cx.size());
     for (std::size_t k = 0; k < px.size(); k += 4) {
+      int d = 0;
+      for (int c = 0; c < 4; ++c) d = std::max(d, std::abs(int(px[k + c]) - int(cx[k + c])));
+      worst = std::max(worst, d);
+      off += d > 2;
       if (px[k + 3] == 0) continue;
       ++drawn;
       const int sum = px[k] + px[k + 1] + px[k + 2];
@@ -267,6 +281,6 @@ TEST_F(FabricRender, ComputeAdvectionDrawsTheFragmentPassesImages) {
     EXPECT_GT(drawn, px.size() / 4 / 2) << "frame " << i;
     EXPECT_GT(bright, drawn / 20) << "frame " << i;
     EXPECT_GT(dark, drawn / 20) << "frame " << i;
-    EXPECT_EQ(images[0][i].rgba, images[1][i].rgba) << "frame " << i;
+    EXPECT_LE(off, px.size() / 4 / 200) << "frame " << i << ": pixels more than 2 levels apart; worst " << worst;
   }
 }

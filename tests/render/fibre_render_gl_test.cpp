@@ -192,3 +192,32 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
   EXPECT_GT(two, 10);
   EXPECT_LT(unstable, compared / 10); // the seams are thin: nearly every pixel is compared
 }
+
+TEST_F(FibreRender, ComputePassesDrawTheFragmentPassesImages) {
+  // The fibre variant of the tensor stage and its advection as compute shaders (the default on hardware
+  // GPUs) against the fullscreen passes: the same crossing fabric to within a few levels on a few pixels
+  // (the compute stage rebuilds each pixel's ray instead of interpolating it).
+  Scene s;
+  io::PhantomOptions o;
+  o.crossingDeg = 70;
+  const FibreSet f = io::makeFibrePhantom("crossing", o);
+  Image img[2];
+  for (int compute = 0; compute < 2; ++compute) {
+    FabricRenderer r;
+    r.setComputePasses(compute == 1);
+    img[compute] = renderFibres(r, f, s);
+  }
+  std::size_t off = 0, drawn = 0;
+  for (std::size_t k = 0; k < img[0].rgba.size(); k += 4) {
+    drawn += img[0].rgba[k + 3] > 0;
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(int(img[0].rgba[k + c]) - int(img[1].rgba[k + c])) > 2) {
+        ++off;
+        break;
+      }
+  }
+  EXPECT_GT(drawn, img[0].rgba.size() / 4 / 2);
+  EXPECT_LE(off, img[0].rgba.size() / 4 / 200);
+  // Both bundles in the compute image, as CrossingCentreShowsBothBundlesNotTheirTensorAverage asks.
+  EXPECT_EQ(peaks(orientationHistogram(img[1], 16, 16, 240, 240), 0.3).size(), 2u);
+}

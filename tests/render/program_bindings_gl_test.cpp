@@ -76,6 +76,10 @@ std::vector<ProgramCase> allPrograms() {
                                   {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "UNCERTAINTY"},
                                    {"NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}},
                                   uniformNames<ProjectionProgram::Uniform>()),
+      computeCase<ProjectionComputeProgram>("projection (compute)", "fabric/projection.comp",
+                                            {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "UNCERTAINTY"},
+                                             {"NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}},
+                                            uniformNames<ProjectionProgram::Uniform>()),
       makeCase<GeometryProgram>("geometry", "fabric/geometry.vert", "fabric/geometry.frag", {{}},
                                 uniformNames<GeometryProgram::Uniform>()),
       makeCase<HostImportProgram>("host import", "common/deferred.vert", "fabric/host_import.frag", {{}},
@@ -89,10 +93,18 @@ std::vector<ProgramCase> allPrograms() {
   };
 }
 
-// The binding the GL reports for an active sampler or atomic-counter uniform, or -1 when it is not active.
+// The binding the GL reports for an active sampler, image or atomic-counter uniform or a shader storage block,
+// or -1 when it is not active.
 GLint reportedBinding(GLuint program, const char* uniform) {
   const GLuint index = glGetProgramResourceIndex(program, GL_UNIFORM, uniform);
-  if (index == GL_INVALID_INDEX) return -1;
+  if (index == GL_INVALID_INDEX) { // a shader storage block, named by its block name
+    const GLuint block = glGetProgramResourceIndex(program, GL_SHADER_STORAGE_BLOCK, uniform);
+    if (block == GL_INVALID_INDEX) return -1;
+    const GLenum bindingProp = GL_BUFFER_BINDING;
+    GLint binding = -1;
+    glGetProgramResourceiv(program, GL_SHADER_STORAGE_BLOCK, block, 1, &bindingProp, 1, nullptr, &binding);
+    return binding;
+  }
   const GLenum typeProp = GL_TYPE;
   GLint type = 0;
   glGetProgramResourceiv(program, GL_UNIFORM, index, 1, &typeProp, 1, nullptr, &type);
@@ -158,6 +170,6 @@ TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 7); // advection (both), composite, silhouette, projection, host import, tract layer
+  EXPECT_EQ(checked, 8); // advection and projection (both), composite, silhouette, host import, tract layer
   takeDebugMessages(); // the compiler's own debug messages about the failures are expected here
 }
