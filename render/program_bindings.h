@@ -43,22 +43,30 @@ struct AdvectionProgram {
   };
 };
 
-// fabric/advection.comp (AdvectionPass::setCompute): the iteration's texture units and counter, which it
-// shares with fabric/advection.frag through common/advection_step.glsl, and the image units it writes.
+// fabric/advection.comp (AdvectionPass::setCompute): the texture units and counter it shares with
+// fabric/advection.frag (common/advection_step.glsl, common/advection_restart.glsl) and the image units it
+// writes.
 struct AdvectionComputeProgram {
   using Unit = AdvectionProgram::Unit;
   using Counter = AdvectionProgram::Counter;
   using Uniform = AdvectionProgram::Uniform;
-  enum class Image : GLuint { Next1 = 0, Next2 = 1, Next3 = 2 };
+  // Next: the iteration's target (the restart's first ping-pong texture); Other: the restart's second.
+  enum class Image : GLuint { Next1 = 0, Next2 = 1, Next3 = 2, Other1 = 3, Other2 = 4, Other3 = 5, Edge = 6 };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
       {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
+      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
       {unit(Image::Next1), "IMAGE_NEXT1", "o_p1"},
       {unit(Image::Next2), "IMAGE_NEXT2", "o_p2"},
       {unit(Image::Next3), "IMAGE_NEXT3", "o_p3"},
+      {unit(Image::Other1), "IMAGE_OTHER1", "o_p1b"},
+      {unit(Image::Other2), "IMAGE_OTHER2", "o_p2b"},
+      {unit(Image::Other3), "IMAGE_OTHER3", "o_p3b"},
+      {unit(Image::Edge), "IMAGE_EDGE", "o_edge"},
   };
 };
 

@@ -19,8 +19,16 @@ std::vector<std::string> resetDefines(bool reproject = false) {
   return d;
 }
 
-// Bits of AdvectionPass::restart_'s variants.
+// Bits of AdvectionPass::restart_'s variants and of compute_'s.
 constexpr unsigned kThird = 1u, kSilhouettes = 2u;
+constexpr unsigned kComputeCount = 1u, kComputeThird = 2u, kComputeReset = 4u, kComputeSilhouettes = 8u;
+
+// Whatever reads a compute pass's writes next (an iteration, the composite, a restart drawing into the
+// textures, a copy or a readback) sees them.
+void afterComputeWrites() {
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
 } // namespace
 
 AdvectionPass::AdvectionPass()
@@ -29,12 +37,16 @@ AdvectionPass::AdvectionPass()
       restart_("common/fullscreen.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
                uniformNames<U>()),
       reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
-      iterationCompute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD"},
-                        programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
-      compute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
+      compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES"},
+               programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
+      useCompute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
-  restart_.get(kSilhouettes); // the restart every frame of a moving camera runs compiles with the pass
+  // The restart every frame of a moving camera runs compiles with the pass.
+  if (useCompute_)
+    compute_.get(kComputeReset | kComputeSilhouettes);
+  else
+    restart_.get(kSilhouettes);
 }
 
 void AdvectionPass::resize(glm::ivec2 target) {
@@ -97,22 +109,43 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
 void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, bool third) {
   using Image = AdvectionComputeProgram::Image;
   const int next = 1 - current_;
-  setIterationUniforms(iterationCompute_.get((countChanges ? 1u : 0u) | (third ? 2u : 0u)), s, countChanges);
+  setIterationUniforms(compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u)), s,
+                       countChanges);
   const Image images[3] = {Image::Next1, Image::Next2, Image::Next3};
   for (int c = 0; c < (third ? 3 : 2); ++c)
     glBindImageTexture(unit(images[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
   glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
-  // Whatever reads the state next (the next iteration, the composite, a restart drawing into it, a copy or
-  // a readback) sees these writes.
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  afterComputeWrites();
   current_ = next;
+}
+
+void AdvectionPass::dispatchRestart(const ShaderProgram& program, const Texture& surface, const Texture* edges,
+                                    bool third, bool complementSecond) {
+  using Image = AdvectionComputeProgram::Image;
+  program.set(U::ComplementSecond, complementSecond ? 1 : 0);
+  program.use();
+  bindTexture(Unit::Surface, surface.id());
+  const Image first[3] = {Image::Next1, Image::Next2, Image::Next3};
+  const Image second[3] = {Image::Other1, Image::Other2, Image::Other3};
+  for (int c = 0; c < (third ? 3 : 2); ++c) {
+    glBindImageTexture(unit(first[c]), state_[0][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(unit(second[c]), state_[1][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  }
+  if (edges) glBindImageTexture(unit(Image::Edge), edges->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
+  afterComputeWrites();
+  current_ = 0;
 }
 
 void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fields, bool complementSecond) {
   resize({surface.width(), surface.height()});
   bindTexture(Unit::Silhouette, edges.id());
+  if (useCompute_) {
+    dispatchRestart(compute_.get(kComputeReset | (fields >= 3 ? kComputeThird : 0u)), surface, nullptr, fields >= 3,
+                    complementSecond);
+    return;
+  }
   const ShaderProgram& program = restart_.get(fields >= 3 ? kThird : 0u);
   drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond);
 }
@@ -134,6 +167,14 @@ void AdvectionPass::resetFindingSilhouettes(const Texture& surface, const Textur
   resize({surface.width(), surface.height()});
   if (edges.width() != size_.x || edges.height() != size_.y)
     throw GlError("AdvectionPass: the silhouette target's size differs from the surface's");
+  if (useCompute_) {
+    const ShaderProgram& program =
+        compute_.get(kComputeReset | kComputeSilhouettes | (fields >= 3 ? kComputeThird : 0u));
+    program.set(U::Threshold, thresholdMm);
+    program.set(U::Background, backgroundMm);
+    dispatchRestart(program, surface, &edges, fields >= 3, complementSecond);
+    return;
+  }
   if (edges.id() != attachedEdges_) {
     attachTargets(resetEdgesFbo_, {&state_[0][0], &state_[0][1], &state_[1][0], &state_[1][1], &edges}, nullptr);
     attachTargets(resetEdgesFbo3_,
@@ -198,10 +239,10 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   counted_ = countChanges;
   const bool third = fields >= 3;
   bindTexture(Unit::Vectors, vectors.id());
-  if (compute_) {
+  if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
-    iterationCompute_.get(third ? 2u : 0u);
-    iterationCompute_.get((third ? 2u : 0u) | 1u);
+    compute_.get(third ? kComputeThird : 0u);
+    compute_.get((third ? kComputeThird : 0u) | kComputeCount);
     for (int i = 0; i < count; ++i) dispatchStep(s, countChanges && i == count - 1, third);
     return;
   }

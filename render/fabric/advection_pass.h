@@ -63,11 +63,12 @@ public:
   // `fields` 2 (tensors: v1, v2) or 3 (fibre sets: also p3 along vectors .w).
   void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
                const Texture* depth = nullptr, int fields = 2);
-  // Iterations as a compute shader (fabric/advection.comp) instead of a fullscreen draw: the same values,
-  // many times faster where the fragment pipeline is a small part of the GPU. The default is compute on a
+  // Iterations and restarts from beta as a compute shader (fabric/advection.comp) instead of fullscreen
+  // draws: the same values, many times faster where the fragment pipeline is a small part of the GPU (the
+  // movie's reprojecting restart stays a draw). The default is compute on a
   // hardware GPU and fragment on a software rasteriser (softwareRasteriser(), render/gl_context.h).
-  void setCompute(bool compute) { compute_ = compute; }
-  bool compute() const { return compute_; }
+  void setCompute(bool compute) { useCompute_ = compute; }
+  bool compute() const { return useCompute_; }
   // The current p1 (c = 0), p2 (c = 1) or p3 (c = 2; three-field runs only).
   const Texture& field(int c) const { return state_[current_][c]; }
   // Replaces p1, p2 of the current state except at blocked pixels (tests: the "forgets its start"
@@ -82,6 +83,10 @@ public:
 private:
   void step(const AdvectionSettings& s, bool countChanges, bool covered, bool third);
   void dispatchStep(const AdvectionSettings& s, bool countChanges, bool third);
+  // The restart from beta into both ping-pong textures as a dispatch of `program` (its own uniforms set);
+  // `edges`: the silhouette target it writes (RESET SILHOUETTES), or nullptr.
+  void dispatchRestart(const ShaderProgram& program, const Texture& surface, const Texture* edges, bool third,
+                       bool complementSecond);
   void setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s, bool countChanges);
   // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into
   // `fbo`.
@@ -90,8 +95,8 @@ private:
   ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
   ShaderVariants restart_; // RESET with THIRD, SILHOUETTES
   ShaderProgram reproject_;
-  ShaderVariants iterationCompute_; // COUNT, THIRD (compiled on first use)
-  bool compute_ = false;
+  ShaderVariants compute_; // COUNT, THIRD, RESET, SILHOUETTES (compiled on first use)
+  bool useCompute_ = false;
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_, resetEdgesFbo_, resetEdgesFbo3_;

@@ -604,34 +604,62 @@ TEST_F(FabricPass, SilhouetteMatchesCpuLaplacianOfLinearDepth) {
 // A frame that restarts finds its silhouettes in the restart pass itself: the same edges as the silhouette
 // pass and the same start state as the silhouette pass followed by the reset, bit for bit.
 TEST_F(FabricPass, RestartFindingSilhouettesEqualsSilhouettePassThenReset) {
+  // Also as compute shaders (the default on hardware GPUs): the fused and the plain restart.
   const std::vector<float> surface = bowlSurface();
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   const float threshold = 0.5f, background = 1000.0f;
-  SilhouettePass twoPass, fused;
+  SilhouettePass twoPass;
   twoPass.run(ts, threshold, background);
-  AdvectionPass resetAfter, resetFinding;
-  resetAfter.reset(ts, twoPass.edges());
-  fused.resize({kW, kH});
-  fused.clear(); // the restart pass must write every pixel of the edges, not rely on what is there
-  resetFinding.resetFindingSilhouettes(ts, fused.edges(), threshold, background);
-  const auto e2 = readTexture(twoPass.edges(), 1), e1 = readTexture(fused.edges(), 1);
-  ASSERT_EQ(e1.size(), e2.size());
-  int edges = 0;
-  for (std::size_t i = 0; i < e1.size(); ++i) {
-    EXPECT_EQ(e1[i], e2[i]) << i;
-    edges += e1[i] > 0.5f;
+  for (bool compute : {false, true}) {
+    SCOPED_TRACE(compute ? "compute shaders" : "fragment passes");
+    SilhouettePass fused;
+    AdvectionPass resetAfter, resetFinding;
+    resetAfter.setCompute(compute);
+    resetFinding.setCompute(compute);
+    resetAfter.reset(ts, twoPass.edges());
+    fused.resize({kW, kH});
+    fused.clear(); // the restart pass must write every pixel of the edges, not rely on what is there
+    {
+      // An earlier frame's state in both ping-pong textures (a surface covering every pixel), which the
+      // restart must overwrite in both.
+      const auto earlier = surfaceData(randomField(kW, kH, 1, 31));
+      std::vector<float> none(static_cast<std::size_t>(kW) * kH, 0.0f), v(none.size() * 4, 0.0f);
+      Texture te = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, earlier), tn = edgeTexture(none, earlier);
+      Texture tv = vectorTexture(v, none);
+      resetFinding.reset(te, tn);
+      resetFinding.iterate(tv, {0.5f, 1.0f, 0.05f}, 1);
+    }
+    resetFinding.resetFindingSilhouettes(ts, fused.edges(), threshold, background);
+    const auto e2 = readTexture(twoPass.edges(), 1), e1 = readTexture(fused.edges(), 1);
+    ASSERT_EQ(e1.size(), e2.size());
+    int edges = 0;
+    for (std::size_t i = 0; i < e1.size(); ++i) {
+      EXPECT_EQ(e1[i], e2[i]) << i;
+      edges += e1[i] > 0.5f;
+    }
+    EXPECT_GT(edges, 40);
+    const auto s2 = resetAfter.readFields(), s1 = resetFinding.readFields();
+    ASSERT_EQ(s1.size(), s2.size());
+    int blocked = 0, started = 0;
+    for (std::size_t i = 0; i < s1.size(); ++i) {
+      EXPECT_EQ(s1[i], s2[i]) << i;
+      if (s1[i] == kBlocked) ++blocked;
+      else if (s1[i] == surface[i / 2 * 4]) ++started; // p1 = p2 = beta
+    }
+    EXPECT_GT(blocked, 2 * 40);
+    EXPECT_EQ(blocked + started, static_cast<int>(s1.size()));
+    // The second ping-pong texture holds the start too (an iteration leaves blocked pixels to it): one
+    // iteration with zero vectors and k = 0 changes nothing.
+    std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), beta(static_cast<std::size_t>(kW) * kH);
+    Texture tv = vectorTexture(zero, beta);
+    resetFinding.iterate(tv, {0.0f, 1.0f, 1e-4f}, 1);
+    const auto after = resetFinding.readFields();
+    for (std::size_t i = 0; i < s1.size(); ++i) {
+      if (s1[i] == kBlocked) EXPECT_EQ(after[i], kBlocked) << i;
+      else EXPECT_NEAR(after[i], s1[i], 1e-5f) << i;
+    }
+    EXPECT_EQ(resetFinding.changedPixels(), 0u);
   }
-  EXPECT_GT(edges, 40);
-  const auto s2 = resetAfter.readFields(), s1 = resetFinding.readFields();
-  ASSERT_EQ(s1.size(), s2.size());
-  int blocked = 0, started = 0;
-  for (std::size_t i = 0; i < s1.size(); ++i) {
-    EXPECT_EQ(s1[i], s2[i]) << i;
-    if (s1[i] == kBlocked) ++blocked;
-    else if (s1[i] == surface[i / 2 * 4]) ++started; // p1 = p2 = beta
-  }
-  EXPECT_GT(blocked, 2 * 40);
-  EXPECT_EQ(blocked + started, static_cast<int>(s1.size()));
 }
 
 TEST_F(FabricPass, CompositeMatchesEquation13) {

@@ -62,8 +62,10 @@ std::vector<ProgramCase> allPrograms() {
                                  {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"},
                                   {"RESET", "REPROJECT"}, {"RESET", "SILHOUETTES"}, {"RESET", "THIRD", "SILHOUETTES"}},
                                  uniformNames<AdvectionProgram::Uniform>()),
-      computeCase<AdvectionComputeProgram>("advection (compute)", "fabric/advection.comp", {{}, {"COUNT", "THIRD"}},
-                                           {"u_k", "u_step", "u_complementSecond", "u_epsilon"}),
+      computeCase<AdvectionComputeProgram>(
+          "advection (compute)", "fabric/advection.comp",
+          {{}, {"COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD", "SILHOUETTES"}},
+          {"u_k", "u_step", "u_complementSecond", "u_epsilon", "u_threshold", "u_background"}),
       makeCase<CompositeProgram>(
           "composite", "common/fullscreen.vert", "fabric/composite.frag",
           {{},

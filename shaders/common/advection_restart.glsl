@@ -1,0 +1,59 @@
+// The restart of the advection (RESET of fabric/advection.frag, and of its compute twin fabric/advection.comp):
+// p_0 = beta on covered pixels, BLOCKED on silhouettes, off the surface and on the target's outer ring;
+// see fabric/advection.frag.
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r beta, .a coverage
+layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
+#ifdef REPROJECT
+layout(binding = UNIT_HISTORY_SURFACE) uniform sampler2D u_histSurface; // previous frame's surface (.b depth)
+layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;                // this frame's window depth
+uniform mat4 u_windowToWorld;     // (pixel x, y, window depth, 1) of this frame -> world
+uniform mat4 u_worldToPrevWindow; // world -> previous frame's (pixel x, y)
+uniform mat4 u_worldToPrevEye;    // world -> previous frame's eye space
+uniform float u_depthTol;         // mm
+#endif
+
+#ifdef RESET
+#ifdef SILHOUETTES
+// The restart of a frame whose projection changed finds the silhouettes itself (the silhouette pass's test,
+// common/silhouette.glsl) and writes them for the composite and later frames: one fullscreen pass fewer.
+#include "common/silhouette.glsl"
+uniform float u_threshold;  // mm of |Laplacian| above which a pixel is a silhouette
+uniform float u_background; // linear depth assigned to empty pixels
+#endif
+#endif
+
+// p_0 at pixel p (p1, p2, p3 = beta, or BLOCKED) and, with SILHOUETTES, the silhouette found there.
+void restartPixel(ivec2 p, out vec3 state, out float edge) {
+  vec2 fragCoord = vec2(p) + 0.5;
+  vec4 s = texelFetch(u_surface, p, 0);
+  ivec2 size = textureSize(u_surface, 0);
+  bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
+#ifdef SILHOUETTES
+  edge = silhouetteEdge(u_surface, floor(fragCoord), u_threshold, u_background);
+  bool blocked = s.a < 0.5 || ring || edge > 0.5;
+#else
+  edge = 0.0;
+  bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
+#endif
+  float p1 = s.r, p2 = u_complementSecond ? 1.0 - s.r : s.r;
+#ifdef REPROJECT
+  if (!blocked) {
+    vec4 w = u_windowToWorld * vec4(fragCoord, texelFetch(u_depth, p, 0).r, 1.0);
+    w /= w.w;
+    vec4 q = u_worldToPrevWindow * w;
+    vec2 x = q.xy / q.w;
+    if (all(greaterThanEqual(x, vec2(1.0))) && all(lessThan(x, vec2(size - 1)))) {
+      vec4 h = texelFetch(u_histSurface, ivec2(x), 0);
+      if (h.a > 0.5 && abs(h.b + (u_worldToPrevEye * w).z) < u_depthTol) {
+        vec2 uv = x / vec2(size);
+        float a = texture(u_prev1, uv).r, b = texture(u_prev2, uv).r;
+        if (a >= 0.0 && b >= 0.0) {
+          p1 = a;
+          p2 = b;
+        }
+      }
+    }
+  }
+#endif
+  state = blocked ? vec3(BLOCKED) : vec3(p1, p2, s.r);
+}
