@@ -11,7 +11,7 @@
 
 namespace dtf::render {
 
-// The bindings of a compute twin: its fragment program's followed by its own.
+// Two binding tables as one (a program's shared bindings followed by its own).
 template <std::size_t A, std::size_t B>
 constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A], const BindingName (&b)[B]) {
   std::array<BindingName, A + B> out{};
@@ -20,54 +20,53 @@ constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A],
   return out;
 }
 
-// fabric/advection.frag (AdvectionPass), every variant.
-struct AdvectionProgram {
+// The texture units and counter of the advection (AdvectionPass), used by both its programs.
+struct AdvectionBindings {
   enum class Unit : GLuint {
     Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
   };
   enum class Counter : GLuint { Changed = 0 };
-  static constexpr BindingName kBindings[] = {
+  static constexpr BindingName kShared[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
       {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
       {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
       {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
-      {unit(Unit::HistorySurface), "UNIT_HISTORY_SURFACE", "u_histSurface"},
-      {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
+};
+
+// fabric/advection.frag (AdvectionPass), every variant: the shared bindings and the movie's reprojection.
+struct AdvectionProgram {
+  using Unit = AdvectionBindings::Unit;
+  using Counter = AdvectionBindings::Counter;
+  static constexpr BindingName kOwn[] = {
+      {unit(Unit::HistorySurface), "UNIT_HISTORY_SURFACE", "u_histSurface"},
+      {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
+  };
+  static constexpr auto kBindings = joinBindings(AdvectionBindings::kShared, kOwn);
   enum class Uniform {
     K, Step, ComplementSecond, Epsilon, WindowToWorld, WorldToPrevWindow, WorldToPrevEye, DepthTol, Threshold,
     Background, Count
   };
 };
 
-// fabric/advection.comp (AdvectionPass::setCompute): the texture units and counter it shares with
-// fabric/advection.frag (common/advection_step.glsl, common/advection_restart.glsl) and the image units it
-// writes.
+// fabric/advection.comp (AdvectionPass::setCompute): the shared bindings (common/advection_step.glsl,
+// common/advection_restart.glsl) and the image units it writes.
 struct AdvectionComputeProgram {
-  using Unit = AdvectionProgram::Unit;
-  using Counter = AdvectionProgram::Counter;
+  using Unit = AdvectionBindings::Unit;
+  using Counter = AdvectionBindings::Counter;
   using Uniform = AdvectionProgram::Uniform;
   // Next: the iteration's target (the restart's first ping-pong texture); Other: the restart's second.
   enum class Image : GLuint { Next1 = 0, Next2 = 1, Next3 = 2, Other1 = 3, Other2 = 4, Other3 = 5, Edge = 6 };
-  static constexpr BindingName kBindings[] = {
-      {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
-      {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
-      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
-      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
-      {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
-      {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
-      {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
-      {unit(Image::Next1), "IMAGE_NEXT1", "o_p1"},
-      {unit(Image::Next2), "IMAGE_NEXT2", "o_p2"},
-      {unit(Image::Next3), "IMAGE_NEXT3", "o_p3"},
-      {unit(Image::Other1), "IMAGE_OTHER1", "o_p1b"},
-      {unit(Image::Other2), "IMAGE_OTHER2", "o_p2b"},
-      {unit(Image::Other3), "IMAGE_OTHER3", "o_p3b"},
+  static constexpr BindingName kOwn[] = {
+      {unit(Image::Next1), "IMAGE_NEXT1", "o_p1"},   {unit(Image::Next2), "IMAGE_NEXT2", "o_p2"},
+      {unit(Image::Next3), "IMAGE_NEXT3", "o_p3"},   {unit(Image::Other1), "IMAGE_OTHER1", "o_p1b"},
+      {unit(Image::Other2), "IMAGE_OTHER2", "o_p2b"}, {unit(Image::Other3), "IMAGE_OTHER3", "o_p3b"},
       {unit(Image::Edge), "IMAGE_EDGE", "o_edge"},
   };
+  static constexpr auto kBindings = joinBindings(AdvectionBindings::kShared, kOwn);
 };
 
 // fabric/composite.frag (CompositePass).
