@@ -80,7 +80,7 @@ public:
 
 private:
   void attachDepth(const Texture& depth);
-  // Uniforms and textures of both programs; returns whether there is data to project.
+  // The uniforms and textures both programs take (`p` is made current).
   void prepare(const ShaderProgram& p, const GpuTensorField& field, const Texture& noise, const FrameView& view,
                const ProjectionSettings& s, const GpuScalarVolume* background, const GpuFibreSet* fibres,
                bool useFibres, bool hasBackground, bool fray) const;
