@@ -35,8 +35,8 @@ private:
 // True when the current context's renderer rasterises in software (Mesa's llvmpipe or softpipe,
 // SwiftShader): there a pass's cost is its shaded pixels, and the early depth test of a fullscreen draw
 // skips the background, so the fabric runs its passes as fragment shaders; on a hardware GPU it runs its
-// advection as a compute shader instead (the fragment pipeline of a datacenter GPU is a few of its
-// multiprocessors).
+// tensor stage and advection as compute shaders instead (the fragment pipeline of a datacenter GPU is a
+// few of its multiprocessors).
 bool softwareRasteriser();
 // Installs the KHR_debug callback on the current context (done by headless(); the GUI calls it on its
 // GLFW context).
