@@ -236,8 +236,20 @@ TEST_F(FabricRender, StillCameraFramesReuseTheProjectionAndMatchTheWholeFrame) {
 TEST_F(FabricRender, ComputePassesDrawTheFragmentPassesImages) {
   AxialScene s;
   const TensorField field = reference::constantField(s.grid, {1, 1, 0});
+  // A hole of missing voxels in the middle: the data's smooth edge in view.
+  TensorField holed = field;
+  if (holed.valid.empty()) holed.valid.assign(holed.tensors.size(), 1);
+  const glm::ivec3 d = holed.grid.dims;
+  for (int k = 0; k < d.z; ++k)
+    for (int j = 0; j < d.y; ++j)
+      for (int i = 0; i < d.x; ++i)
+        if (glm::length(glm::vec2(i - d.x / 2, j - d.y / 2)) < 6.0f) {
+          holed.at(i, j, k) = SymTensor{};
+          holed.valid[holed.grid.index(i, j, k)] = 0;
+        }
   std::vector<Image> images[2];
   unsigned covered[2] = {0, 0};
+  int ramp[2] = {0, 0}; // pixels of the cover ramp (0 < cover < 1)
   for (int compute = 0; compute < 2; ++compute) {
     FabricRenderer r;
     r.setComputePasses(compute == 1);
@@ -256,9 +268,18 @@ TEST_F(FabricRender, ComputePassesDrawTheFragmentPassesImages) {
     cam.trackball({0, 0}, {0.05, 0});
     r.renderFrame(cam, p);
     images[compute].push_back(r.readback());
+    // The cover ramp across the hole's edge, one pixel wide from the edge field's screen-space change.
+    r.setField(holed);
+    images[compute].push_back(r.renderStill(cam, FabricParams{}));
+    const Texture& t = r.projection().lambda();
+    std::vector<std::uint8_t> lam(static_cast<std::size_t>(t.width()) * t.height() * 4);
+    glGetTextureImage(t.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(lam.size()), lam.data());
+    for (std::size_t k = 3; k < lam.size(); k += 4) ramp[compute] += lam[k] > 0 && lam[k] < 255;
   }
   EXPECT_EQ(covered[0], covered[1]);
   EXPECT_GT(covered[0], 96u * 96u / 2u);
+  EXPECT_GT(ramp[0], 30);
+  EXPECT_NEAR(ramp[1], ramp[0], ramp[0] / 10 + 2);
   ASSERT_EQ(images[0].size(), images[1].size());
   for (std::size_t i = 0; i < images[0].size(); ++i) {
     // Not an empty frame: most pixels drawn, and threads (bright and dark) among them.
