@@ -65,4 +65,10 @@ void attachTargets(const Framebuffer& fbo, std::initializer_list<const Texture*>
     throw GlError("framebuffer incomplete (status 0x" + std::to_string(status) + ")");
 }
 
+void dispatchPerPixel(int width, int height) {
+  glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
 } // namespace dtf::render

@@ -100,4 +100,9 @@ inline Query createQuery(GLenum target) {
 // GlError when the framebuffer is incomplete.
 void attachTargets(const Framebuffer& fbo, std::initializer_list<const Texture*> colour, const Texture* depth);
 
+// Dispatches the current compute program over a width x height target in 8x8 work groups (the size the
+// per-pixel compute shaders declare), then a barrier after which whatever reads its writes next sees them:
+// texture fetches, draws into the targets, copies and readbacks, image loads, buffer reads.
+void dispatchPerPixel(int width, int height);
+
 } // namespace dtf::render

@@ -22,13 +22,12 @@ std::vector<std::string> resetDefines(bool reproject = false) {
 // Bits of AdvectionPass::restart_'s variants and of compute_'s.
 constexpr unsigned kThird = 1u, kSilhouettes = 2u;
 constexpr unsigned kComputeCount = 1u, kComputeThird = 2u, kComputeReset = 4u, kComputeSilhouettes = 8u;
+// The compute program's image units per field: an iteration's target (the restart's first ping-pong
+// texture) and the restart's second.
+using Image = AdvectionComputeProgram::Image;
+constexpr Image kNext[3] = {Image::Next1, Image::Next2, Image::Next3};
+constexpr Image kOther[3] = {Image::Other1, Image::Other2, Image::Other3};
 
-// Whatever reads a compute pass's writes next (an iteration, the composite, a restart drawing into the
-// textures, a copy or a readback) sees them.
-void afterComputeWrites() {
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-}
 } // namespace
 
 AdvectionPass::AdvectionPass()
@@ -107,34 +106,27 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
 }
 
 void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, bool third) {
-  using Image = AdvectionComputeProgram::Image;
   const int next = 1 - current_;
   setIterationUniforms(compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u)), s,
                        countChanges);
-  const Image images[3] = {Image::Next1, Image::Next2, Image::Next3};
   for (int c = 0; c < (third ? 3 : 2); ++c)
-    glBindImageTexture(unit(images[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(unit(kNext[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
-  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
-  afterComputeWrites();
+  dispatchPerPixel(size_.x, size_.y);
   current_ = next;
 }
 
 void AdvectionPass::dispatchRestart(const ShaderProgram& program, const Texture& surface, const Texture* edges,
                                     bool third, bool complementSecond) {
-  using Image = AdvectionComputeProgram::Image;
   program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
   bindTexture(Unit::Surface, surface.id());
-  const Image first[3] = {Image::Next1, Image::Next2, Image::Next3};
-  const Image second[3] = {Image::Other1, Image::Other2, Image::Other3};
   for (int c = 0; c < (third ? 3 : 2); ++c) {
-    glBindImageTexture(unit(first[c]), state_[0][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glBindImageTexture(unit(second[c]), state_[1][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(unit(kNext[c]), state_[0][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(unit(kOther[c]), state_[1][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   }
   if (edges) glBindImageTexture(unit(Image::Edge), edges->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
-  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
-  afterComputeWrites();
+  dispatchPerPixel(size_.x, size_.y);
   current_ = 0;
 }
 

@@ -148,10 +148,7 @@ void TensorStage::dispatch(const GeometryStage& geometry, bool haveData, bool us
   glBindImageTexture(unit(Image::Lambda), lambda_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   if (useFibres) glBindImageTexture(unit(Image::Fibres), fibres_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit(ProjectionComputeProgram::Buffer::Covered), covered_.id());
-  glDispatchCompute(static_cast<GLuint>((size_.x + 7) / 8), static_cast<GLuint>((size_.y + 7) / 8), 1);
-  // The later passes sample the targets, may draw into them or read them back; coveredPixels() reads the count.
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  dispatchPerPixel(size_.x, size_.y); // coveredPixels() reads the count after its barrier
 }
 
 unsigned TensorStage::coveredPixels() const {
