@@ -268,6 +268,12 @@ TEST_F(FabricRender, ComputePassesDrawTheFragmentPassesImages) {
     cam.trackball({0, 0}, {0.05, 0});
     r.renderFrame(cam, p);
     images[compute].push_back(r.readback());
+    // Moving at half the internal resolution (FabricParams::movingScale): the targets' own size.
+    FabricParams half = p;
+    half.movingScale = 0.5;
+    cam.trackball({0, 0}, {0.05, 0});
+    r.renderFrame(cam, half);
+    images[compute].push_back(r.readback());
     // The cover ramp across the hole's edge, one pixel wide from the edge field's screen-space change.
     r.setField(holed);
     images[compute].push_back(r.renderStill(cam, FabricParams{}));
