@@ -40,6 +40,7 @@ void main() {
   uvec2 l = gl_LocalInvocationID.xy;
   if (gl_LocalInvocationIndex == 0u) s_covered = 0u;
   s_edge[l.y * 8u + l.x] = edge;
+  memoryBarrierShared(); // the writes to shared memory visible to the work group (with the barrier)
   barrier();
   float dx = s_edge[l.y * 8u + (l.x | 1u)] - s_edge[l.y * 8u + (l.x & ~1u)];
   float dy = s_edge[(l.y | 1u) * 8u + l.x] - s_edge[(l.y & ~1u) * 8u + l.x];
@@ -56,6 +57,7 @@ void main() {
   } else if (inside) {
     imageStore(i_surface, px, vec4(0.0));
   }
+  memoryBarrierShared();
   barrier();
   if (gl_LocalInvocationIndex == 0u && s_covered > 0u) atomicAdd(u_coveredPixels, s_covered);
 }
