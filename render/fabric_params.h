@@ -2,6 +2,8 @@
 // (FabricRenderer, EmbeddedFabric) and the option table; no GL types, so a host's code can include it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 
@@ -51,6 +53,18 @@ struct FabricParams {
   double frayCells = 16.0; // noise cells per noise tile edge (each cell one hash-drawn turn)
   float fibreThreshold = 0.15f; // ColourMode::Fibres: lobes below this fraction of their voxel's strongest
                                 // are dropped (between mrview's usual 0.1 and 0.2)
+
+  // The fewest iterations after a restart from beta before a still may stop on its count of changed pixels:
+  // until the start image's weight (1 - k)^n falls below epsilon the fabric is not converged, however little
+  // the pixels change per iteration (within [1, stillMaxIterations]).
+  int stillMinIterations() const {
+    int n = stillMaxIterations;
+    if (k > 0 && k < 1 && epsilon > 0 && epsilon < 1)
+      n = static_cast<int>(std::ceil(std::log(epsilon) / std::log(1.0 - k)));
+    else if (k >= 1)
+      n = 1;
+    return std::clamp(n, 1, std::max(stillMaxIterations, 1));
+  }
 };
 
 // GPU times of the passes of the last timed frame, ms (GL_TIME_ELAPSED).

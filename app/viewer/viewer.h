@@ -84,6 +84,8 @@ public:
   bool settled() const { return session_.settled() && !recording_; }
   // Every pane reached still quality, its tracts included.
   bool converged() const;
+  // Advection iterations pane p's fabric ran since it last restarted from beta (the still refinement).
+  int refinedIterations(int p) const { return iterationsSinceRestart_[p]; }
   // Pane p draws the tracts: some are loaded and visible, and p is not the plain left pane of the split
   // mode "fabric | fabric + tracts".
   bool paneShowsTracts(int p) const;

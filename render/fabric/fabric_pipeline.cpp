@@ -229,12 +229,7 @@ int FabricPipeline::converge(const FabricParams& p) {
   const unsigned covered = projection_.coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
   // then until (almost) no pixel changes by more than epsilon per iteration.
-  int minIterations = p.stillMaxIterations;
-  if (p.k > 0 && p.k < 1 && p.epsilon > 0 && p.epsilon < 1)
-    minIterations = static_cast<int>(std::ceil(std::log(p.epsilon) / std::log(1.0 - p.k)));
-  else if (p.k >= 1)
-    minIterations = 1;
-  minIterations = std::clamp(minIterations, 1, std::max(p.stillMaxIterations, 1));
+  const int minIterations = p.stillMinIterations();
   const int chunk = std::max(p.iterations, 1);
   restarted_ = false; // converged below: the next frame's count is meaningful
   int done = 0;

@@ -16,3 +16,4 @@ dtf_test(test_view_fibres_scene SOURCES app/viewer/view_fibres_scene_gl_test.cpp
 dtf_test(test_view_ortho SOURCES app/viewer/view_ortho_gl_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_ortho_window SOURCES app/viewer/ortho_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_view_figure SOURCES app/viewer/view_figure_gl_test.cpp LIBS dtf_viewer dtf_io)
+dtf_test(test_view_refine SOURCES app/viewer/view_refine_gl_test.cpp LIBS dtf_viewer)
