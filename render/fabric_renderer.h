@@ -68,7 +68,8 @@ public:
   void setTiming(bool on) { pipeline_.setTiming(on); }
   PassTimes lastTimes() const;
   // Advection iterations of the last renderStill / pixels changed by the last frame's last iteration (the
-  // largest unsigned after a frame that restarted from beta: such frames do not count, see advect()).
+  // largest unsigned after a frame that restarted from beta, and before FabricParams::stillMinIterations
+  // since the restart: such frames cannot be converged and do not count, see FabricPipeline::advect()).
   int lastIterations() const { return lastIterations_; }
   unsigned changedPixels() const { return pipeline_.advection().changedPixels(); }
   // Covered pixels of the last projection, guard border included (occlusion query; waits).

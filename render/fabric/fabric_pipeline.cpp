@@ -199,6 +199,7 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   dataChanged_ = false;
   projected_ = true;
   restarted_ = restart;
+  if (restart) sinceRestart_ = 0;
   lastViewProj_ = view.viewProj;
   lastTarget_ = view.target;
   lastPixelMm_ = view.pixelMm;
@@ -216,9 +217,12 @@ void FabricPipeline::advect(const FabricParams& p) {
   AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
                        static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
   beginTimer(kAdvection);
-  // A frame that restarted from beta is not converged whatever its count would say, and counting costs
-  // an atomic increment per changed pixel (all of them after a restart): only continued frames count.
-  advection_.iterate(projection_.vectors(), as, p.iterations, !restarted_, &projection_.depth(), fields(p));
+  // Counting costs an atomic increment per changed pixel (most of them in the first iterations after a
+  // restart), and a still cannot stop before the start image has faded (FabricParams::stillMinIterations):
+  // only frames that continue their state and reach that many iterations count.
+  const bool count = !restarted_ && sinceRestart_ + p.iterations >= p.stillMinIterations();
+  advection_.iterate(projection_.vectors(), as, p.iterations, count, &projection_.depth(), fields(p));
+  sinceRestart_ += p.iterations;
   restarted_ = false;
   endTimer();
 }
@@ -240,6 +244,7 @@ int FabricPipeline::converge(const FabricParams& p) {
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }
+  sinceRestart_ += done;
   return done;
 }
 

@@ -134,6 +134,7 @@ private:
   glm::vec2 lastDepthRange_{0.0f};
   bool projected_ = false; // project() ran since the last invalidation
   bool restarted_ = false; // the last project() restarted the advection and advect() has not run since
+  int sinceRestart_ = 0;   // advection iterations since the last restart
   FabricParams lastParams_;
 };
 

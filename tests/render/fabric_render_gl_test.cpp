@@ -5,6 +5,8 @@
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
 
+#include <limits>
+
 using namespace dtf;
 using namespace dtf::render;
 
@@ -103,6 +105,38 @@ TEST_F(FabricRender, IsotropicRegionsRenderCalmlyAndStillsAreDeterministic) {
   for (int y = 20; y < 108; ++y)
     for (int x = 20; x < 108; ++x) lit += a.pixel(x, y)[0] + a.pixel(x, y)[1] + a.pixel(x, y)[2] > 0;
   EXPECT_GT(lit, 88 * 88 * 9 / 10); // drawn, not black
+}
+
+// Counting changed pixels costs an atomic increment per changed pixel: frames count only once a still could
+// stop on them, from FabricParams::stillMinIterations iterations after the restart (29 for k 0.1, epsilon
+// 0.05); before that changedPixels() says "not known".
+TEST_F(FabricRender, FramesCountChangedPixelsOnlyOnceAStillCouldStop) {
+  AxialScene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.setField(reference::constantField(s.grid, {1, 0, 0}));
+  r.resize(96, 96);
+  const Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  const int least = p.stillMinIterations();
+  ASSERT_EQ(least, 29);
+  int iterations = 0;
+  for (int f = 0; f < 14; ++f) {
+    r.renderFrame(cam, p); // the first restarts from beta
+    iterations += p.iterations;
+    const unsigned changed = r.changedPixels();
+    if (iterations < least)
+      EXPECT_EQ(changed, std::numeric_limits<unsigned>::max()) << "frame " << f;
+    else
+      EXPECT_LE(changed, r.coveredPixels()) << "frame " << f;
+  }
+  // A camera turn restarts the count.
+  Camera turned = cam;
+  turned.trackball({0, 0}, {0.05, 0});
+  r.renderFrame(turned, p);
+  EXPECT_EQ(r.changedPixels(), std::numeric_limits<unsigned>::max());
+  r.renderFrame(turned, p);
+  EXPECT_EQ(r.changedPixels(), std::numeric_limits<unsigned>::max());
 }
 
 TEST_F(FabricRender, InteractiveFramesContinueAndRestartOnCameraMotion) {
