@@ -20,6 +20,14 @@ struct AxialScene {
   glm::dvec3 lo{-30, -30, -1}, hi{30, 30, 1};
 };
 
+// r draws the axial plane of s with a field along x, 96 x 96, and the camera that sees it from superior.
+Camera horizontalThreads(FabricRenderer& r, const AxialScene& s) {
+  r.setMesh(s.mesh);
+  r.setField(reference::constantField(s.grid, {1, 0, 0}));
+  r.resize(96, 96);
+  return Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+}
+
 Image channelImage(const std::vector<float>& rg, int w, int h, int c, int x0, int y0) {
   // GL rows (bottom first) of the guarded target -> an image of the viewport (top first).
   Image img(w, h);
@@ -113,10 +121,7 @@ TEST_F(FabricRender, IsotropicRegionsRenderCalmlyAndStillsAreDeterministic) {
 TEST_F(FabricRender, FramesCountChangedPixelsOnlyOnceAStillCouldStop) {
   AxialScene s;
   FabricRenderer r;
-  r.setMesh(s.mesh);
-  r.setField(reference::constantField(s.grid, {1, 0, 0}));
-  r.resize(96, 96);
-  const Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  const Camera cam = horizontalThreads(r, s);
   FabricParams p;
   const int least = p.stillMinIterations();
   ASSERT_EQ(least, 29);
@@ -142,10 +147,7 @@ TEST_F(FabricRender, FramesCountChangedPixelsOnlyOnceAStillCouldStop) {
 TEST_F(FabricRender, InteractiveFramesContinueAndRestartOnCameraMotion) {
   AxialScene s;
   FabricRenderer r;
-  r.setMesh(s.mesh);
-  r.setField(reference::constantField(s.grid, {1, 0, 0}));
-  r.resize(96, 96);
-  Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  Camera cam = horizontalThreads(r, s);
   FabricParams p;
   for (int i = 0; i < 20; ++i) r.renderFrame(cam, p);
   // With a still camera the state converges: few pixels change by more than epsilon.
