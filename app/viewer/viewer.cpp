@@ -318,9 +318,8 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
     r.renderFrame(orthoCameras_[s], params);
     orthoIterations_[s] += params.iterations;
     if (orthoCovered_[s] == 0) orthoCovered_[s] = std::max(r.coveredPixels(), 1u);
-    // The rule of renderStill; the count (which waits for the GPU) is read only once it can stop.
-    if ((orthoIterations_[s] >= params.stillMinIterations() &&
-         r.changedPixels() <= params.stillChangedFraction * orthoCovered_[s]) ||
+    // The rule of renderStill (no count before FabricParams::stillMinIterations since the restart).
+    if (r.changedPixels() <= params.stillChangedFraction * orthoCovered_[s] ||
         orthoIterations_[s] >= std::max(params.stillMaxIterations, kStillIterations))
       orthoDirty_[s] = false;
   }
@@ -554,11 +553,10 @@ void ViewerScene::render(int width, int height) {
         continue;
       }
       iterationsSinceRestart_[p] += params.iterations;
-      // Still: refine until almost no covered pixel changes by more than epsilon, but not before the start
-      // image has faded (the renderStill rule); the count (which waits for the GPU) is read only then.
+      // Still: refine until almost no covered pixel changes by more than epsilon (the renderStill rule: the
+      // renderer counts no frame before the start image has faded, FabricParams::stillMinIterations).
       if (covered_[p] == 0) covered_[p] = std::max(r.coveredPixels(), 1u);
-      if ((iterationsSinceRestart_[p] >= params.stillMinIterations() &&
-           r.changedPixels() <= params.stillChangedFraction * covered_[p]) ||
+      if (r.changedPixels() <= params.stillChangedFraction * covered_[p] ||
           iterationsSinceRestart_[p] >= std::max(params.stillMaxIterations, kStillIterations))
         dirty_[p] = false;
     }
