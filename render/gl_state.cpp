@@ -62,6 +62,8 @@ GlState GlState::capture() {
   glGetIntegerv(GL_VIEWPORT, s.viewport.data());
   for (int i = 0; i < kViewports; ++i)
     glGetFloati_v(GL_VIEWPORT, static_cast<GLuint>(i), s.viewports[i].data());
+  for (int i = 0; i < kViewports; ++i)
+    glGetIntegeri_v(GL_SCISSOR_BOX, static_cast<GLuint>(i), s.scissorBoxes[i].data());
   glGetDoublev(GL_DEPTH_RANGE, s.depthRange.data());
   glGetIntegerv(GL_CLIP_ORIGIN, &s.clipOrigin);
   glGetIntegerv(GL_CLIP_DEPTH_MODE, &s.clipDepthMode);
@@ -115,6 +117,7 @@ void GlState::restore() const {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(drawFramebuffer));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
   glViewportArrayv(0, kViewports, viewports[0].data());
+  glScissorArrayv(0, kViewports, scissorBoxes[0].data());
   glDepthRange(depthRange[0], depthRange[1]);
   glClipControl(static_cast<GLenum>(clipOrigin), static_cast<GLenum>(clipDepthMode));
   for (const Switch& w : kSwitches)
@@ -167,6 +170,7 @@ std::string GlState::differences(const GlState& o) const {
   DTF_DIFF(readFramebuffer);
   DTF_DIFF(viewport);
   DTF_DIFF(viewports);
+  DTF_DIFF(scissorBoxes);
   DTF_DIFF(depthRange);
   DTF_DIFF(clipOrigin);
   DTF_DIFF(clipDepthMode);

@@ -5,9 +5,9 @@
 // writes, clip distances), depth mask and function, colour masks, cull face and front face, polygon mode,
 // program, vertex array, the active texture unit, the 2D and 3D textures and sampler objects bound to the
 // first units, the atomic counter buffer bindings, the pixel pack/unpack buffers and pixel store
-// parameters, the blend functions and equations (of draw buffer 0; restored for all). Clear values, stencil
-// functions and the scissor box are not touched by the passes (they clear with glClearNamedFramebuffer*
-// and never enable the scissor or stencil test).
+// parameters, the blend functions and equations (of draw buffer 0; restored for all), the scissor boxes
+// (the composite scissors the pixels the scene can cover). Clear values and stencil functions are not
+// touched by the passes (they clear with glClearNamedFramebuffer* and never enable the stencil test).
 #pragma once
 
 #include <array>
@@ -28,6 +28,7 @@ struct GlState {
   GLint drawFramebuffer = 0, readFramebuffer = 0;
   std::array<GLint, 4> viewport{};                            // viewport 0
   std::array<std::array<GLfloat, 4>, kViewports> viewports{}; // all viewports (glViewport sets every one)
+  std::array<std::array<GLint, 4>, kViewports> scissorBoxes{}; // per viewport (glScissor sets every one)
   std::array<GLdouble, 2> depthRange{0.0, 1.0};
   GLint clipOrigin = GL_LOWER_LEFT, clipDepthMode = GL_NEGATIVE_ONE_TO_ONE;
   GLboolean depthTest = GL_FALSE, blend = GL_FALSE, cullFace = GL_FALSE, scissorTest = GL_FALSE;

@@ -53,6 +53,12 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   }
   if (s.windowDepth && in.depth) bindTexture(Unit::Depth, in.depth->id());
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
+  // Only the pixels the scene can cover: a software rasteriser would run the whole shader on the rest.
+  const bool scissor = view.coverRect.z >= 0 && view.coverRect.w >= 0;
+  if (scissor) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(s.origin.x + view.coverRect.x, s.origin.y + view.coverRect.y, view.coverRect.z, view.coverRect.w);
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);
   glDepthMask(GL_TRUE);
@@ -69,6 +75,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   }
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (scissor) glDisable(GL_SCISSOR_TEST);
   glBlendFunc(GL_ONE, GL_ZERO);
   glDisable(GL_BLEND);
   glDepthFunc(GL_LESS);

@@ -27,6 +27,12 @@ struct FrameView {
   float pixelMmPerDepth = 0.0f; // perspective: pixel size in mm per mm of eye depth
   glm::vec2 depthRange{0.0f, 1.0f}; // linear eye depth of the scene bounds, mm
   bool boundsInFront = false; // every corner of the scene bounds lies beyond the near plane
+  // The viewport pixels (x, y, width, height from the lower left) the scene bounds can cover: their eight
+  // corners' projection with a margin for rounding and the nearest upsampling of a lower internal
+  // resolution; the whole viewport unless the bounds lie in front of the near plane. The composite shades
+  // only these (a software rasteriser runs a fragment shader's every instruction even where it discards).
+  // A negative width: not known, the whole viewport.
+  glm::ivec4 coverRect{0, 0, -1, -1};
 
   // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range;
   // the fabric targets are computed at `scale` times the viewport resolution.

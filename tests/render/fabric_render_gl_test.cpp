@@ -214,6 +214,75 @@ TEST_F(FabricRender, OutputDepthIsTheRasterisedDepthOfTheSurface) {
   }
 }
 
+// The composite shades only FrameView::coverRect: every viewport pixel that shows a covered internal texel
+// (the rasteriser's depth of the surface, nearest-upsampled as the composite reads it) lies inside it, at
+// full and at half resolution while moving, in both projections and obliquely; a sphere small in the view
+// leaves most of the viewport outside it, and the frame's image has no surface pixel outside it.
+TEST_F(FabricRender, CompositeRectHoldsEveryPixelTheSurfaceCovers) {
+  Mesh sphere = reference::uvSphere({0, 0, 0}, 20.0, 24, 32);
+  FabricRenderer r;
+  r.setMesh(sphere);
+  r.setField(reference::constantField(reference::centredGrid(24, 2.0), {1, 0, 0}));
+  const int w = 128, h = 96;
+  r.resize(w, h);
+  int cases = 0;
+  for (bool ortho : {true, false})
+    for (double scale : {1.0, 0.5})
+      for (bool oblique : {false, true}) {
+        SCOPED_TRACE(std::string(ortho ? "orthographic" : "perspective") + (oblique ? " oblique" : "") +
+                     " scale " + std::to_string(scale));
+        Camera cam = Camera::standard(StandardView::Anterior, {-20, -20, -20}, {20, 20, 20}, double(w) / h);
+        cam.orthographic = ortho;
+        cam.fit({-20, -20, -20}, {20, 20, 20}, double(w) / h);
+        cam.zoom(2.2); // the sphere small, off centre
+        cam.farPlane *= 4.0; // a perspective zoom moves the eye back
+        const glm::dvec3 shift = -25.0 * cam.right() + 15.0 * glm::normalize(cam.up);
+        cam.lookAt(cam.eye + shift, cam.target + shift, cam.up);
+        if (oblique) cam.trackball({0.0, 0.0}, {0.4, 0.3});
+        FabricParams p;
+        p.movingScale = scale;
+        r.renderFrame(cam, p);
+        cam.trackball({0.0, 0.0}, {0.01, 0.0}); // a moving frame: at movingScale
+        r.renderFrame(cam, p);
+        const FrameView& v = r.frameView();
+        ASSERT_NEAR(v.scale, scale, 1e-6);
+        const glm::ivec4 rect = v.coverRect;
+        ASSERT_GE(rect.z, 0);
+        const Texture& depth = r.projection().depth();
+        std::vector<float> raster(static_cast<std::size_t>(depth.width()) * depth.height());
+        glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(raster.size() * 4),
+                          raster.data());
+        glm::ivec2 lo(w, h), hi(-1, -1);
+        int covered = 0;
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            const glm::ivec2 t = glm::ivec2((glm::vec2(x, y) + 0.5f) * v.scale) + v.guard;
+            if (raster[static_cast<std::size_t>(t.y) * depth.width() + t.x] >= 1.0f) continue;
+            ++covered;
+            lo = glm::min(lo, glm::ivec2(x, y));
+            hi = glm::max(hi, glm::ivec2(x, y));
+            ASSERT_TRUE(x >= rect.x && x < rect.x + rect.z && y >= rect.y && y < rect.y + rect.w)
+                << "covered pixel " << x << "," << y << " outside " << rect.x << "," << rect.y << " " << rect.z
+                << "x" << rect.w;
+          }
+        ASSERT_GT(covered, 100);
+        // Tight enough to matter: the bounds box's corners lie up to sqrt(3) radii from the sphere's centre
+        // (3x the area of the sphere's own box when seen along a diagonal), plus the margin.
+        const double box = double(hi.x - lo.x + 1 + 8) * (hi.y - lo.y + 1 + 8);
+        EXPECT_LT(double(rect.z) * rect.w, 3.0 * box);
+        EXPECT_LT(double(rect.z) * rect.w, 0.6 * w * h);
+        const Image img = r.readback(); // row 0 at the top
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            const auto* px = img.pixel(x, h - 1 - y);
+            if ((px[0] | px[1] | px[2]) == 0) continue;
+            ASSERT_TRUE(x >= rect.x && x < rect.x + rect.z && y >= rect.y && y < rect.y + rect.w);
+          }
+        ++cases;
+      }
+  EXPECT_EQ(cases, 8);
+}
+
 // A still camera reuses the previous frame's projection and silhouettes: three frames of 3 iterations give
 // the image of one frame of 9, and the projection is not run again (no projection time). A camera, data or
 // parameter change projects again: the frame equals a fresh renderer's.

@@ -62,6 +62,7 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   glEnable(GL_BLEND);
   glEnable(GL_CULL_FACE);
   glEnable(GL_SCISSOR_TEST);
+  glScissor(5, 6, 7, 8);
   glDepthMask(GL_FALSE);
   glDepthFunc(GL_GREATER);
   glBindVertexArray(hostVao.id());
@@ -74,6 +75,7 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   const GlState before = GlState::capture();
   ASSERT_EQ(before.drawFramebuffer, static_cast<GLint>(hostFbo.id()));
   ASSERT_EQ(before.textures2d[7], static_cast<GLint>(hostTexture.id()));
+  ASSERT_EQ(before.scissorBoxes[0], (std::array<GLint, 4>{5, 6, 7, 8}));
 
   FabricParams p;
   p.stillMaxIterations = 5;
@@ -101,6 +103,7 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
+  glScissor(0, 0, 32, 32);
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glBindVertexArray(0);
