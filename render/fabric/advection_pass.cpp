@@ -139,18 +139,32 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fiel
     return;
   }
   const ShaderProgram& program = restart_.get(fields >= 3 ? kThird : 0u);
-  drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond);
+  drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond, fields >= 3 ? 6 : 4, false);
+}
+
+bool AdvectionPass::scissorCover(const Framebuffer& fbo, int states, bool edge) {
+  if (cover_.z < 0 || cover_.w < 0 || (cover_.x <= 0 && cover_.y <= 0 && cover_.x + cover_.z >= size_.x &&
+                                       cover_.y + cover_.w >= size_.y))
+    return false;
+  const float blocked[4] = {kBlocked, 0, 0, 0}, one[4] = {1, 0, 0, 0};
+  for (int i = 0; i < states; ++i) glClearNamedFramebufferfv(fbo.id(), GL_COLOR, i, blocked);
+  if (edge) glClearNamedFramebufferfv(fbo.id(), GL_COLOR, states, one);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(cover_.x, cover_.y, cover_.z, cover_.w);
+  return true;
 }
 
 void AdvectionPass::drawRestart(const ShaderProgram& program, const Framebuffer& fbo, const Texture& surface,
-                                bool complementSecond) {
+                                bool complementSecond, int states, bool edge) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
   glViewport(0, 0, size_.x, size_.y);
   program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
   bindTexture(Unit::Surface, surface.id());
   glBindVertexArray(vao_.id());
+  const bool scissor = scissorCover(fbo, states, edge);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (scissor) glDisable(GL_SCISSOR_TEST);
   current_ = 0;
 }
 
@@ -177,7 +191,8 @@ void AdvectionPass::resetFindingSilhouettes(const Texture& surface, const Textur
   const ShaderProgram& program = restart_.get(kSilhouettes | (fields >= 3 ? kThird : 0u));
   program.set(U::Threshold, thresholdMm);
   program.set(U::Background, backgroundMm);
-  drawRestart(program, fields >= 3 ? resetEdgesFbo3_ : resetEdgesFbo_, surface, complementSecond);
+  drawRestart(program, fields >= 3 ? resetEdgesFbo3_ : resetEdgesFbo_, surface, complementSecond,
+              fields >= 3 ? 6 : 4, true);
 }
 
 void AdvectionPass::keepHistory(const Texture& surface) {
@@ -221,7 +236,9 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
   bindTexture(Unit::HistorySurface, historySurface_.id());
   bindTexture(Unit::Depth, depth.id());
   glBindVertexArray(vao_.id());
+  const bool scissor = scissorCover(resetFbo_, 4, false);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (scissor) glDisable(GL_SCISSOR_TEST);
   current_ = 0;
 }
 

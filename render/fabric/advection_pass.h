@@ -38,6 +38,10 @@ class AdvectionPass {
 public:
   AdvectionPass();
   void resize(glm::ivec2 target);
+  // The target pixels the surface can cover (x, y, width, height; FrameView::targetCoverRect; a negative
+  // width: all). The restarts shade only these and clear the rest to the state of uncovered pixels (blocked,
+  // edge 1): a software rasteriser would run their whole shader there. Compute restarts run everywhere.
+  void setCover(const glm::ivec4& rect) { cover_ = rect; }
   // p_0 = beta on covered pixels, kBlocked elsewhere. Writes both ping-pong textures, so pixels the
   // iterations skip (see iterate) hold the blocked state in either.
   void reset(const Texture& surface, const Texture& edges, int fields = 2, bool complementSecond = false);
@@ -91,7 +95,10 @@ private:
   // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into
   // `fbo`.
   void drawRestart(const ShaderProgram& program, const Framebuffer& fbo, const Texture& surface,
-                   bool complementSecond);
+                   bool complementSecond, int states, bool edge);
+  // Clears `states` state attachments (then the edge attachment) of fbo outside cover_ and scissors to it;
+  // false (nothing done) when cover_ is the whole target.
+  bool scissorCover(const Framebuffer& fbo, int states, bool edge);
   ShaderVariants iteration_; // FAR_PLANE, COUNT, THIRD
   ShaderVariants restart_; // RESET with THIRD, SILHOUETTES
   ShaderProgram reproject_;
@@ -105,6 +112,7 @@ private:
   int current_ = 0;
   bool counted_ = false; // the last iterate() counted its changed pixels
   glm::ivec2 size_{0};
+  glm::ivec4 cover_{0, 0, -1, -1};
   Texture history_[2], historySurface_; // keepHistory()
   glm::ivec2 historySize_{0};
 };

@@ -168,6 +168,7 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
                          historyView_->target == view.target && stateKey(p) == stateKey(lastParams_) &&
                          fields(p) == 2 && advection_.hasHistory();
   reprojectNext_ = false;
+  advection_.setCover(view.targetCoverRect);
   beginTimer(kSilhouette);
   if (restart && !reproject) { // the restart from beta finds the silhouettes in the same pass
     silhouette_.resize(projection_.size());

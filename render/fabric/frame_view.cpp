@@ -21,26 +21,24 @@ float boundsDepthRange(FrameView& f, const glm::vec3& lo, const glm::vec3& hi) {
   return dmin;
 }
 
-// The viewport pixels the bounds box [lo, hi] can cover (see FrameView::coverRect).
-glm::ivec4 boundsRect(const FrameView& f, const glm::vec3& lo, const glm::vec3& hi) {
-  const glm::ivec4 whole(0, 0, f.viewport.x, f.viewport.y);
-  if (!f.boundsInFront) return whole;
+// The pixels of an image of `size` pixels under worldToClip that the bounds box [lo, hi] can cover (see
+// FrameView::coverRect), with `margin` pixels around; the whole image unless every corner is in front.
+glm::ivec4 boundsRect(const glm::mat4& worldToClip, glm::ivec2 size, bool inFront, const glm::vec3& lo,
+                      const glm::vec3& hi, float margin) {
+  const glm::ivec4 whole(0, 0, size.x, size.y);
+  if (!inFront) return whole;
   glm::vec2 a(1e30f), b(-1e30f);
   for (int i = 0; i < 8; ++i) {
-    glm::vec4 c = f.viewProjViewport * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y,
-                                                 (i & 4) ? hi.z : lo.z, 1.0f);
+    glm::vec4 c = worldToClip * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
     if (!(c.w > 0.0f)) return whole;
-    glm::vec2 px = (glm::vec2(c) / c.w * 0.5f + 0.5f) * glm::vec2(f.viewport);
+    glm::vec2 px = (glm::vec2(c) / c.w * 0.5f + 0.5f) * glm::vec2(size);
     a = glm::min(a, px);
     b = glm::max(b, px);
   }
   if (!(glm::all(glm::lessThan(glm::abs(a), glm::vec2(1e7f))) && glm::all(glm::lessThan(glm::abs(b), glm::vec2(1e7f)))))
     return whole;
-  // Two pixels for rounding, plus the span of one internal pixel in viewport pixels: the composite shows
-  // an internal texel, whose centre the rasteriser covered, over every viewport pixel mapped to it.
-  const float margin = 2.0f + std::ceil(1.0f / f.scale);
-  const glm::ivec2 p0 = glm::clamp(glm::ivec2(glm::floor(a - margin)), glm::ivec2(0), f.viewport);
-  const glm::ivec2 p1 = glm::clamp(glm::ivec2(glm::ceil(b + margin)), glm::ivec2(0), f.viewport);
+  const glm::ivec2 p0 = glm::clamp(glm::ivec2(glm::floor(a - margin)), glm::ivec2(0), size);
+  const glm::ivec2 p1 = glm::clamp(glm::ivec2(glm::ceil(b + margin)), glm::ivec2(0), size);
   return {p0.x, p0.y, p1.x - p0.x, p1.y - p0.y};
 }
 
@@ -77,7 +75,10 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(f.internal.y, 1));
   const float dmin = boundsDepthRange(f, lo, hi);
   f.boundsInFront = dmin > camera.nearPlane;
-  f.coverRect = boundsRect(f, lo, hi);
+  // Two pixels for rounding; the viewport's also the span of one internal pixel in viewport pixels (the
+  // composite shows an internal texel, whose centre the rasteriser covered, over every pixel mapped to it).
+  f.coverRect = boundsRect(f.viewProjViewport, f.viewport, f.boundsInFront, lo, hi, 2.0f + std::ceil(1.0f / f.scale));
+  f.targetCoverRect = boundsRect(f.viewProj, f.target, f.boundsInFront, lo, hi, 2.0f);
   return f;
 }
 

@@ -33,6 +33,9 @@ struct FrameView {
   // only these (a software rasteriser runs a fragment shader's every instruction even where it discards).
   // A negative width: not known, the whole viewport.
   glm::ivec4 coverRect{0, 0, -1, -1};
+  // The same in the pixels of the guarded internal targets (2 pixels margin): the restarts of the advection
+  // shade only these and clear the rest (a negative width: the whole target).
+  glm::ivec4 targetCoverRect{0, 0, -1, -1};
 
   // Builds the view of `camera` for a viewport, with the scene bounds [lo, hi] for the depth range;
   // the fabric targets are computed at `scale` times the viewport resolution.

@@ -662,6 +662,74 @@ TEST_F(FabricPass, RestartFindingSilhouettesEqualsSilhouettePassThenReset) {
   }
 }
 
+// The fragment restarts shade only the cover rect (FrameView::targetCoverRect) and clear the rest: every
+// field in both ping-pong textures and the edges equal those of a restart over the whole target, bit for
+// bit, for the plain and the silhouette-finding restart with two and three fields, over an earlier state.
+TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
+  std::vector<float> surface = bowlSurface();
+  const glm::ivec4 rect(11, 7, 42, 34); // the surface below lies in [12, 52) x [8, 40)
+  std::vector<float> depthData(static_cast<std::size_t>(kW) * kH, 1.0f);
+  int outside = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * kW + x;
+      if (x < 12 || x >= 52 || y < 8 || y >= 40) {
+        for (int c = 0; c < 4; ++c) surface[i * 4 + c] = 0.0f;
+        ++outside;
+      }
+      if (surface[i * 4 + 3] > 0.5f) depthData[i] = 0.5f;
+    }
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  // The iterations' early depth test (uncovered pixels keep what the restart wrote in the other texture).
+  Texture depth = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
+  glTextureSubImage2D(depth.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depthData.data());
+  const float threshold = 0.5f, background = 1000.0f;
+  SilhouettePass given;
+  given.run(ts, threshold, background);
+  std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), beta(static_cast<std::size_t>(kW) * kH);
+  Texture still = vectorTexture(zero, beta);
+  const auto earlier = surfaceData(randomField(kW, kH, 1, 57));
+  std::vector<float> none(static_cast<std::size_t>(kW) * kH, 0.0f);
+  Texture te = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, earlier), tn = edgeTexture(none, earlier);
+  Texture tv = vectorTexture(randomField(kW, kH, 4, 58), none);
+  for (int fields : {2, 3})
+    for (bool finding : {false, true}) {
+      SCOPED_TRACE(std::to_string(fields) + " fields" + (finding ? ", finding silhouettes" : ""));
+      AdvectionPass whole, part;
+      SilhouettePass edgesWhole, edgesPart;
+      for (AdvectionPass* a : {&whole, &part}) {
+        a->reset(te, tn, fields); // an earlier frame's state everywhere, in both textures
+        a->iterate(tv, {0.5f, 1.0f, 0.05f}, 1, false, nullptr, fields);
+      }
+      for (SilhouettePass* e : {&edgesWhole, &edgesPart}) {
+        e->resize({kW, kH});
+        e->clear();
+      }
+      part.setCover(rect);
+      if (finding) {
+        whole.resetFindingSilhouettes(ts, edgesWhole.edges(), threshold, background, fields);
+        part.resetFindingSilhouettes(ts, edgesPart.edges(), threshold, background, fields);
+        EXPECT_EQ(readTexture(edgesPart.edges(), 1), readTexture(edgesWhole.edges(), 1));
+      } else {
+        whole.reset(ts, given.edges(), fields);
+        part.reset(ts, given.edges(), fields);
+      }
+      for (int round = 0; round < 2; ++round) {
+        SCOPED_TRACE(round == 0 ? "the restart's texture" : "the other texture");
+        for (int c = 0; c < fields; ++c) {
+          const auto a = readTexture(whole.field(c), 1), b = readTexture(part.field(c), 1);
+          EXPECT_EQ(a, b) << "field " << c;
+          int blocked = 0;
+          for (float v : b) blocked += v == kBlocked;
+          EXPECT_GE(blocked, outside);
+        }
+        // One iteration that leaves beta unchanged writes the covered pixels only.
+        for (AdvectionPass* a : {&whole, &part}) a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields);
+      }
+    }
+  EXPECT_GT(outside, kW * kH / 3);
+}
+
 TEST_F(FabricPass, CompositeMatchesEquation13) {
   auto p = randomField(kW, kH, 2, 9);
   auto beta = randomField(kW, kH, 1, 10);
