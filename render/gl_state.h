@@ -6,7 +6,7 @@
 // program, vertex array, the active texture unit, the 2D and 3D textures and sampler objects bound to the
 // first units, the atomic counter buffer bindings, the pixel pack/unpack buffers and pixel store
 // parameters, the blend functions and equations (of draw buffer 0; restored for all), the scissor boxes
-// (the composite scissors the pixels the scene can cover). Clear values and stencil functions are not
+// (the composite and the advection's restarts scissor). Clear values and stencil functions are not
 // touched by the passes (they clear with glClearNamedFramebuffer* and never enable the stencil test).
 #pragma once
 

@@ -139,7 +139,8 @@ void AdvectionPass::reset(const Texture& surface, const Texture& edges, int fiel
     return;
   }
   const ShaderProgram& program = restart_.get(fields >= 3 ? kThird : 0u);
-  drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond, fields >= 3 ? 6 : 4, false);
+  drawRestart(program, fields >= 3 ? resetFbo3_ : resetFbo_, surface, complementSecond, fields >= 3 ? 6 : 4,
+              false);
 }
 
 bool AdvectionPass::scissorCover(const Framebuffer& fbo, int states, bool edge) {

@@ -54,10 +54,11 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   if (s.windowDepth && in.depth) bindTexture(Unit::Depth, in.depth->id());
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
   // Only the pixels the scene can cover: a software rasteriser would run the whole shader on the rest.
-  const bool scissor = view.coverRect.z >= 0 && view.coverRect.w >= 0;
+  const glm::ivec4 rect = view.coverRect;
+  const bool scissor = rect.z >= 0 && rect.w >= 0;
   if (scissor) {
     glEnable(GL_SCISSOR_TEST);
-    glScissor(s.origin.x + view.coverRect.x, s.origin.y + view.coverRect.y, view.coverRect.z, view.coverRect.w);
+    glScissor(s.origin.x + rect.x, s.origin.y + rect.y, rect.z, rect.w);
   }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);

@@ -29,14 +29,15 @@ glm::ivec4 boundsRect(const glm::mat4& worldToClip, glm::ivec2 size, bool inFron
   if (!inFront) return whole;
   glm::vec2 a(1e30f), b(-1e30f);
   for (int i = 0; i < 8; ++i) {
-    glm::vec4 c = worldToClip * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
+    const glm::vec3 corner((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    const glm::vec4 c = worldToClip * glm::vec4(corner, 1.0f);
     if (!(c.w > 0.0f)) return whole;
     glm::vec2 px = (glm::vec2(c) / c.w * 0.5f + 0.5f) * glm::vec2(size);
     a = glm::min(a, px);
     b = glm::max(b, px);
   }
-  if (!(glm::all(glm::lessThan(glm::abs(a), glm::vec2(1e7f))) && glm::all(glm::lessThan(glm::abs(b), glm::vec2(1e7f)))))
-    return whole;
+  const glm::vec2 far(1e7f); // also false for NaN
+  if (!(glm::all(glm::lessThan(glm::abs(a), far)) && glm::all(glm::lessThan(glm::abs(b), far)))) return whole;
   const glm::ivec2 p0 = glm::clamp(glm::ivec2(glm::floor(a - margin)), glm::ivec2(0), size);
   const glm::ivec2 p1 = glm::clamp(glm::ivec2(glm::ceil(b + margin)), glm::ivec2(0), size);
   return {p0.x, p0.y, p1.x - p0.x, p1.y - p0.y};
@@ -75,9 +76,10 @@ FrameView FrameView::make(const Camera& camera, glm::ivec2 viewport, int guard, 
   f.pixelMmPerDepth = static_cast<float>(2.0 * std::tan(0.5 * glm::radians(camera.fovYDeg)) / std::max(f.internal.y, 1));
   const float dmin = boundsDepthRange(f, lo, hi);
   f.boundsInFront = dmin > camera.nearPlane;
-  // Two pixels for rounding; the viewport's also the span of one internal pixel in viewport pixels (the
-  // composite shows an internal texel, whose centre the rasteriser covered, over every pixel mapped to it).
-  f.coverRect = boundsRect(f.viewProjViewport, f.viewport, f.boundsInFront, lo, hi, 2.0f + std::ceil(1.0f / f.scale));
+  // Two pixels for rounding; in the viewport also the span of one internal pixel (the composite shows an
+  // internal texel, whose centre the rasteriser covered, over every viewport pixel mapped to it).
+  const float upsampling = std::ceil(1.0f / f.scale);
+  f.coverRect = boundsRect(f.viewProjViewport, f.viewport, f.boundsInFront, lo, hi, 2.0f + upsampling);
   f.targetCoverRect = boundsRect(f.viewProj, f.target, f.boundsInFront, lo, hi, 2.0f);
   return f;
 }

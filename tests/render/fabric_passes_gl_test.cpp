@@ -686,7 +686,8 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
   const float threshold = 0.5f, background = 1000.0f;
   SilhouettePass given;
   given.run(ts, threshold, background);
-  std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), beta(static_cast<std::size_t>(kW) * kH);
+  const std::size_t n = static_cast<std::size_t>(kW) * kH;
+  std::vector<float> zero(n * 4, 0.0f), beta(n);
   Texture still = vectorTexture(zero, beta);
   const auto earlier = surfaceData(randomField(kW, kH, 1, 57));
   std::vector<float> none(static_cast<std::size_t>(kW) * kH, 0.0f);
@@ -724,7 +725,8 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
           EXPECT_GE(blocked, outside);
         }
         // One iteration that leaves beta unchanged writes the covered pixels only.
-        for (AdvectionPass* a : {&whole, &part}) a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields);
+        for (AdvectionPass* a : {&whole, &part})
+          a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields);
       }
     }
   EXPECT_GT(outside, kW * kH / 3);

@@ -250,8 +250,8 @@ TEST_F(FabricRender, CompositeRectHoldsEveryPixelTheSurfaceCovers) {
         ASSERT_GE(rect.z, 0);
         const Texture& depth = r.projection().depth();
         std::vector<float> raster(static_cast<std::size_t>(depth.width()) * depth.height());
-        glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(raster.size() * 4),
-                          raster.data());
+        glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                          static_cast<GLsizei>(raster.size() * 4), raster.data());
         glm::ivec2 lo(w, h), hi(-1, -1);
         int covered = 0;
         for (int y = 0; y < h; ++y)
@@ -262,8 +262,8 @@ TEST_F(FabricRender, CompositeRectHoldsEveryPixelTheSurfaceCovers) {
             lo = glm::min(lo, glm::ivec2(x, y));
             hi = glm::max(hi, glm::ivec2(x, y));
             ASSERT_TRUE(x >= rect.x && x < rect.x + rect.z && y >= rect.y && y < rect.y + rect.w)
-                << "covered pixel " << x << "," << y << " outside " << rect.x << "," << rect.y << " " << rect.z
-                << "x" << rect.w;
+                << "covered pixel " << x << "," << y << " outside " << rect.x << "," << rect.y << " "
+                << rect.z << "x" << rect.w;
           }
         ASSERT_GT(covered, 100);
         // Tight enough to matter: the bounds box's corners lie up to sqrt(3) radii from the sphere's centre
