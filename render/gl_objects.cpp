@@ -50,6 +50,18 @@ void Texture::setWrap(GLenum wrap) {
   glTextureParameteri(id(), GL_TEXTURE_WRAP_R, static_cast<GLint>(wrap));
 }
 
+Sampler createTexelSampler() {
+  GLuint id = 0;
+  glCreateSamplers(1, &id);
+  Sampler sampler(id);
+  glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return sampler;
+}
+
 void attachTargets(const Framebuffer& fbo, std::initializer_list<const Texture*> colour, const Texture* depth) {
   std::vector<GLenum> buffers;
   GLenum n = 0;

@@ -1,4 +1,4 @@
-// Move-only owners of GL object names (textures, framebuffers, buffers, vertex arrays, queries), so every
+// Move-only owners of GL object names (textures, samplers, framebuffers, buffers, vertex arrays, queries), so every
 // pass releases what it created and nothing leaks on an exception. All need a current context; creation
 // uses GL 4.5 direct state access (glCreate*).
 #pragma once
@@ -43,6 +43,7 @@ inline void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
 inline void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
 inline void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
 inline void deleteProgram(GLuint id) { glDeleteProgram(id); }
+inline void deleteSampler(GLuint id) { glDeleteSamplers(1, &id); }
 } // namespace detail
 
 using Framebuffer = GlHandle<detail::deleteFramebuffer>;
@@ -50,6 +51,7 @@ using Buffer = GlHandle<detail::deleteBuffer>;
 using VertexArray = GlHandle<detail::deleteVertexArray>;
 using Query = GlHandle<detail::deleteQuery>;
 using ProgramHandle = GlHandle<detail::deleteProgram>;
+using Sampler = GlHandle<detail::deleteSampler>;
 
 // A texture with its size and internal format.
 class Texture {
@@ -95,6 +97,9 @@ inline Query createQuery(GLenum target) {
   glCreateQueries(target, 1, &id);
   return Query(id);
 }
+// A sampler that reads single texels whatever the texture's own parameters: nearest, clamp to edge, no depth
+// comparison. Bound to a unit, it lets a shader read a texel as a sample at its centre (common/texel.glsl).
+Sampler createTexelSampler();
 
 // Attaches colour textures 0..n-1 (and an optional depth texture), sets the draw buffers and throws
 // GlError when the framebuffer is incomplete.

@@ -23,7 +23,8 @@ constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A],
 // The texture units and counter of the advection (AdvectionPass), used by both its programs.
 struct AdvectionBindings {
   enum class Unit : GLuint {
-    Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
+    Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7,
+    Here1 = 8, Here2 = 9, Here3 = 10 // the state again, with a nearest sampler: p_i at the pixel itself
   };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kShared[] = {
@@ -33,6 +34,9 @@ struct AdvectionBindings {
       {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
+      {unit(Unit::Here1), "UNIT_HERE1", "u_here1"},
+      {unit(Unit::Here2), "UNIT_HERE2", "u_here2"},
+      {unit(Unit::Here3), "UNIT_HERE3", "u_here3"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
 };

@@ -38,7 +38,8 @@ AdvectionPass::AdvectionPass()
       reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
       compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES"},
                programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
-      useCompute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
+      useCompute_(!softwareRasteriser()), vao_(createVertexArray()), texelSampler_(createTexelSampler()),
+      counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
   // The restart every frame of a moving camera runs compiles with the pass.
@@ -93,6 +94,14 @@ void AdvectionPass::setIterationUniforms(const ShaderProgram& program, const Adv
   bindTexture(Unit::Prev2, state_[current_][1].id());
 }
 
+void AdvectionPass::bindHere(bool bind, bool third) {
+  constexpr Unit kHere[3] = {Unit::Here1, Unit::Here2, Unit::Here3};
+  for (int c = 0; c < (third ? 3 : 2); ++c) {
+    if (bind) bindTexture(kHere[c], state_[current_][c].id());
+    glBindSampler(unit(kHere[c]), bind ? texelSampler_.id() : 0);
+  }
+}
+
 void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
@@ -100,8 +109,10 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   setIterationUniforms(iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u)), s,
                        countChanges);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
+  bindHere(true, third);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  bindHere(false, third);
   current_ = next;
 }
 
@@ -112,7 +123,9 @@ void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, 
   for (int c = 0; c < (third ? 3 : 2); ++c)
     glBindImageTexture(unit(kNext[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
+  bindHere(true, third);
   dispatchPerPixel(size_.x, size_.y);
+  bindHere(false, third);
   current_ = next;
 }
 
@@ -205,6 +218,7 @@ void AdvectionPass::keepHistory(const Texture& surface) {
       t.setWrap(GL_CLAMP_TO_EDGE);
     }
     historySurface_ = Texture::create2D(GL_RGBA32F, size_.x, size_.y);
+    historySurface_.setFilter(GL_NEAREST, GL_NEAREST); // read by texel
     historySize_ = size_;
   }
   for (int c = 0; c < 2; ++c)

@@ -11,7 +11,7 @@ CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
-      vao_(createVertexArray()) {
+      vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
 
@@ -52,6 +52,10 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
     bindTexture(Unit::Fibres, in.fibres->id());
   }
   if (s.windowDepth && in.depth) bindTexture(Unit::Depth, in.depth->id());
+  // The fields are bilinear for the advection; here every texture is read texel by texel.
+  constexpr Unit kUnits[] = {Unit::P1, Unit::P2, Unit::Surface, Unit::Eigen, Unit::Lambda, Unit::P3, Unit::Fibres,
+                             Unit::Depth};
+  for (Unit u : kUnits) glBindSampler(unit(u), texelSampler_.id());
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
   // Only the pixels the scene can cover: a software rasteriser would run the whole shader on the rest.
   const glm::ivec4 rect = view.coverRect;
@@ -76,6 +80,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   }
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  for (Unit u : kUnits) glBindSampler(unit(u), 0);
   if (scissor) glDisable(GL_SCISSOR_TEST);
   glBlendFunc(GL_ONE, GL_ZERO);
   glDisable(GL_BLEND);

@@ -59,6 +59,7 @@ public:
 private:
   ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH
   VertexArray vao_;
+  Sampler texelSampler_; // on every unit read: the shader reads texels as samples (common/texel.glsl)
 };
 
 } // namespace dtf::render

@@ -7,18 +7,7 @@ GeometryStage::GeometryStage()
                    uniformNames<GeometryProgram::Uniform>()),
       importProgram_("common/deferred.vert", "fabric/host_import.frag", programDefines<HostImportProgram>(),
                      uniformNames<HostImportProgram::Uniform>()),
-      vao_(createVertexArray()) {
-  glCreateSamplers(1, &sampler_);
-  glSamplerParameteri(sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glSamplerParameteri(sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glSamplerParameteri(sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-  glSamplerParameteri(sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
-GeometryStage::~GeometryStage() {
-  if (sampler_) glDeleteSamplers(1, &sampler_);
-}
+      vao_(createVertexArray()), sampler_(createTexelSampler()) {}
 
 void GeometryStage::resize(glm::ivec2 target) {
   if (target == size_) return;
@@ -79,8 +68,8 @@ void GeometryStage::import(const HostSurface& host, const FrameView& view) {
   p.use();
   bindTexture(Unit::HostDepth, host.depth);
   bindTexture(Unit::HostNormal, host.normal);
-  glBindSampler(unit(Unit::HostDepth), sampler_);
-  glBindSampler(unit(Unit::HostNormal), sampler_);
+  glBindSampler(unit(Unit::HostDepth), sampler_.id());
+  glBindSampler(unit(Unit::HostNormal), sampler_.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindSampler(unit(Unit::HostDepth), 0);

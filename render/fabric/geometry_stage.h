@@ -31,7 +31,6 @@ struct HostSurface {
 class GeometryStage {
 public:
   GeometryStage();
-  ~GeometryStage();
   GeometryStage(const GeometryStage&) = delete;
   GeometryStage& operator=(const GeometryStage&) = delete;
   // (Re)creates the buffers when the size changes; no-op otherwise.
@@ -50,7 +49,7 @@ private:
   void clear();
   ShaderProgram meshProgram_, importProgram_;
   VertexArray vao_;
-  GLuint sampler_ = 0; // nearest, no depth comparison: the host's texture parameters do not matter
+  Sampler sampler_; // nearest, no depth comparison: the host's texture parameters do not matter
   Framebuffer fbo_;
   Texture geometry_, depth_;
   glm::ivec2 size_{0};

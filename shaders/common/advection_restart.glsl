@@ -1,6 +1,7 @@
 // The restart of the advection (RESET of fabric/advection.frag, and of its compute twin fabric/advection.comp):
 // p_0 = beta on covered pixels, BLOCKED on silhouettes, off the surface and on the target's outer ring;
 // see fabric/advection.frag.
+#include "common/texel.glsl"
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r beta, .a coverage
 layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
 #ifdef REPROJECT
@@ -25,7 +26,7 @@ uniform float u_background; // linear depth assigned to empty pixels
 // p_0 at pixel p (p1, p2, p3 = beta, or BLOCKED) and, with SILHOUETTES, the silhouette found there.
 void restartPixel(ivec2 p, out vec3 state, out float edge) {
   vec2 fragCoord = vec2(p) + 0.5;
-  vec4 s = texelFetch(u_surface, p, 0);
+  vec4 s = texel(u_surface, p);
   ivec2 size = textureSize(u_surface, 0);
   bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
 #ifdef SILHOUETTES
@@ -33,17 +34,17 @@ void restartPixel(ivec2 p, out vec3 state, out float edge) {
   bool blocked = s.a < 0.5 || ring || edge > 0.5;
 #else
   edge = 0.0;
-  bool blocked = s.a < 0.5 || ring || texelFetch(u_silhouette, p, 0).r > 0.5;
+  bool blocked = s.a < 0.5 || ring || texel(u_silhouette, p).r > 0.5;
 #endif
   float p1 = s.r, p2 = u_complementSecond ? 1.0 - s.r : s.r;
 #ifdef REPROJECT
   if (!blocked) {
-    vec4 w = u_windowToWorld * vec4(fragCoord, texelFetch(u_depth, p, 0).r, 1.0);
+    vec4 w = u_windowToWorld * vec4(fragCoord, texel(u_depth, p).r, 1.0);
     w /= w.w;
     vec4 q = u_worldToPrevWindow * w;
     vec2 x = q.xy / q.w;
     if (all(greaterThanEqual(x, vec2(1.0))) && all(lessThan(x, vec2(size - 1)))) {
-      vec4 h = texelFetch(u_histSurface, ivec2(x), 0);
+      vec4 h = texel(u_histSurface, ivec2(x));
       if (h.a > 0.5 && abs(h.b + (u_worldToPrevEye * w).z) < u_depthTol) {
         vec2 uv = x / vec2(size);
         float a = texture(u_prev1, uv).r, b = texture(u_prev2, uv).r;

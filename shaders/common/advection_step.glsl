@@ -1,10 +1,15 @@
 // The advection state and one Eq. 12 iteration at a pixel (paper §2.5), shared by the fragment pass
 // (fabric/advection.frag) and its compute twin (fabric/advection.comp), so both compute the same values.
+#include "common/texel.glsl"
+
 layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
 layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
+layout(binding = UNIT_HERE1) uniform sampler2D u_here1;          // p1 again, nearest (its texels)
+layout(binding = UNIT_HERE2) uniform sampler2D u_here2;          // p2, nearest
 layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
 #ifdef THIRD
 layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
+layout(binding = UNIT_HERE3) uniform sampler2D u_here3;          // p3, nearest
 #endif
 
 const float BLOCKED = -1e20;
@@ -28,10 +33,10 @@ float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
 // Pixel p's state `here` (p1, p2, p3; p3 0 without THIRD) and its next iterate `next`; false where p is
 // blocked (its state stays). With COUNT the pixel is counted when it changed by more than u_epsilon.
 bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
-  vec2 s = vec2(texelFetch(u_prev1, p, 0).r, texelFetch(u_prev2, p, 0).r);
+  vec2 s = vec2(texel(u_here1, p).r, texel(u_here2, p).r);
   vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
   vec2 x = vec2(p) + 0.5;
-  uvec4 q = texelFetch(u_vectors, p, 0);
+  uvec4 q = texel(u_vectors, p);
   vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
   float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
@@ -39,7 +44,7 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   vec2 next2 = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef THIRD
-  float s3 = texelFetch(u_prev3, p, 0).r;
+  float s3 = texel(u_here3, p).r;
   float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
 #else
   float s3 = 0.0, next3 = 0.0;

@@ -21,6 +21,8 @@
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (a grey volume beneath the fabric), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed).
+#include "common/texel.glsl"
+
 layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
 layout(binding = UNIT_P2) uniform sampler2D u_p2;
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;       // beta, L, linear depth, coverage
@@ -88,7 +90,7 @@ float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.
 
 vec4 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec4(0.0);
-  vec2 p = vec2(texelFetch(u_p1, t, 0).r, texelFetch(u_p2, t, 0).r);
+  vec2 p = vec2(texel(u_p1, t).r, texel(u_p2, t).r);
 #ifdef SILHOUETTES
   // The advection blocks exactly the silhouettes, the uncovered pixels and the target's outermost ring, so a
   // covered pixel off the ring is a silhouette where its state is blocked: no fetch of the edge target.
@@ -102,16 +104,16 @@ vec4 compose(ivec2 t, vec4 s) {
   vec3 c;
   float alpha = 1.0;
 #ifdef FIBRES
-  vec4 lam = texelFetch(u_lambda, t, 0);
-  float fa = texelFetch(u_eigen, t, 0).w;
-  float p3 = texelFetch(u_p3, t, 0).r;
+  vec4 lam = texel(u_lambda, t);
+  float fa = texel(u_eigen, t).w;
+  float p3 = texel(u_p3, t).r;
   p3 = p3 < 0.0 ? s.r : p3;
   float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
   float dataCover = lam.w;
   if (dataCover <= 0.0) {
     c = vec3(0.0);
   } else {
-    uvec4 q = texelFetch(u_fibres, t, 0);
+    uvec4 q = texel(u_fibres, t);
     vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
     // Populations by weight, strongest first (the slots follow bundles, not strength); explicit selects
     // instead of dynamically indexed local arrays.
@@ -139,8 +141,8 @@ vec4 compose(ivec2 t, vec4 s) {
   c = mix(c, vec3(0.0), e);
   alpha = under.a;
 #elif defined(MEDICAL)
-  vec4 eig = texelFetch(u_eigen, t, 0);
-  vec4 lam = texelFetch(u_lambda, t, 0);
+  vec4 eig = texel(u_eigen, t);
+  vec4 lam = texel(u_lambda, t);
   float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
   float cover = lam.w;
@@ -172,8 +174,8 @@ vec4 compose(ivec2 t, vec4 s) {
   c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
   c.b = e + light;
   {
-    vec4 lam = texelFetch(u_lambda, t, 0);
-    float fa = texelFetch(u_eigen, t, 0).w;
+    vec4 lam = texel(u_lambda, t);
+    float fa = texel(u_eigen, t).w;
     vec4 under = beneath(lam, fa, c, lam.w, stretch(p.r));
     c = mix(under.rgb + e, c, lam.w * opacity(fa));
     alpha = under.a;
@@ -188,7 +190,7 @@ vec4 compose(ivec2 t, vec4 s) {
 
 void main() {
   ivec2 t = ivec2((gl_FragCoord.xy - vec2(u_origin)) * u_scale) + u_guard;
-  vec4 s = texelFetch(u_surface, t, 0);
+  vec4 s = texel(u_surface, t);
   if (s.a < 0.5) discard;
   vec4 composed = compose(t, s);
   if (composed.a <= 0.0) discard; // outside the data's edge, no background volume
@@ -199,8 +201,8 @@ void main() {
     float n = 0.0;
     for (int i = 0; i < 4; ++i) {
       ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
-      if (texelFetch(u_surface, q, 0).a > 0.5) {
-        sum += compose(q, texelFetch(u_surface, q, 0)).rgb;
+      if (texel(u_surface, q).a > 0.5) {
+        sum += compose(q, texel(u_surface, q)).rgb;
         n += 1.0;
       }
     }
@@ -211,7 +213,7 @@ void main() {
 #ifdef WINDOW_DEPTH
   // Two units of a 24-bit depth buffer nearer (1.2e-7): the conversion of the written float back to the
   // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.
-  gl_FragDepth = max(texelFetch(u_depth, t, 0).r - 2.0 / 16777215.0, 0.0);
+  gl_FragDepth = max(texel(u_depth, t).r - 2.0 / 16777215.0, 0.0);
 #else
   float z = -s.b; // eye z of the surface
   gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;

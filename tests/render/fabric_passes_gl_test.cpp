@@ -423,6 +423,45 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   }
 }
 
+// Each pixel reads its own state exactly, however its neighbours are blocked: at a size that is no power of
+// two (a texel's centre scaled to texture coordinates and back is not exact there) every other column is a
+// silhouette, and both samples of every pixel between them land on one, so p_{i+1} = k beta + (1 - k) p_i(x).
+// The state textures are bilinear for the samples; p_i(x) must still be the texel's own value.
+TEST_F(FabricPass, AdvectionReadsEachPixelsOwnStateBesideBlockedTexels) {
+  constexpr int w = 97, h = 61;
+  auto beta = randomField(w, h, 1, 41);
+  auto surface = surfaceData(beta);
+  std::vector<float> edges(beta.size(), 0.0f);
+  for (std::size_t i = 0; i < edges.size(); ++i) edges[i] = i % w % 2 == 1 ? 1.0f : 0.0f;
+  std::vector<float> directions(beta.size() * 4);
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    directions[i * 4] = 1.0f; // v1 along +x, v2 along -x: one pixel at a step of 1
+    directions[i * 4 + 2] = -1.0f;
+  }
+  Texture tv = vectorTexture(directions, beta, w, h), ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
+  Texture te = textureFrom(GL_R16F, GL_RED, w, h, edges);
+  auto start = randomField(w, h, 2, 42);
+  for (bool compute : {false, true}) {
+  SCOPED_TRACE(compute ? "compute shader" : "fragment pass");
+  AdvectionPass pass;
+  pass.setCompute(compute);
+  pass.reset(ts, te);
+  pass.setFields(start.data());
+  const AdvectionSettings as{0.2f, 1.0f, 0.05f};
+  pass.iterate(tv, as, 1);
+  auto state = pass.readFields();
+  int checked = 0;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 2; x < w - 2; x += 2) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      for (int c = 0; c < 2; ++c)
+        ASSERT_NEAR(state[i * 2 + c], as.k * beta[i] + (1 - as.k) * start[i * 2 + c], 1e-6) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_EQ(checked, (h - 2) * (w / 2 - 1));
+  }
+}
+
 // The compute shader and the fullscreen pass (with and without the early depth test) run the same
 // iteration: the same three fields after counted and uncounted iterations, the same changed-pixel count.
 TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
@@ -733,10 +772,15 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
 }
 
 TEST_F(FabricPass, CompositeMatchesEquation13) {
-  auto p = randomField(kW, kH, 2, 9);
-  auto beta = randomField(kW, kH, 1, 10);
+  // Also at a size that is no power of two, where a texel's centre scaled to texture coordinates and back is
+  // not exact: each pixel must read its own fields even beside blocked texels (common/texel.glsl).
+  for (const glm::ivec2 size : {glm::ivec2(kW, kH), glm::ivec2(97, 61)}) {
+  SCOPED_TRACE(size.x);
+  const int w = size.x, h = size.y;
+  auto p = randomField(w, h, 2, 9);
+  auto beta = randomField(w, h, 1, 10);
   auto surface = surfaceData(beta);
-  auto light = randomField(kW, kH, 1, 11);
+  auto light = randomField(w, h, 1, 11);
   for (std::size_t i = 0; i < beta.size(); ++i) surface[i * 4 + 1] = light[i];
   // Silhouettes reach the composite as the advection's blocked pixels: every 7th pixel is blocked, and is a
   // silhouette (e = 1, Eq. 13 on the noise beta itself) unless it lies on the target's outermost ring, which
@@ -744,9 +788,9 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   std::vector<float> edges(beta.size(), 0.0f);
   std::vector<bool> blocked(beta.size(), false);
   for (std::size_t i = 0; i < blocked.size(); i += 7) {
-    const int x = static_cast<int>(i % kW), y = static_cast<int>(i / kW);
+    const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
     blocked[i] = true;
-    edges[i] = x > 0 && y > 0 && x < kW - 1 && y < kH - 1 ? 1.0f : 0.0f;
+    edges[i] = x > 0 && y > 0 && x < w - 1 && y < h - 1 ? 1.0f : 0.0f;
   }
   std::vector<float> zeros(beta.size() * 4, 0.0f), depth(beta.size(), 0.5f);
   std::vector<float> p1(beta.size()), p2(beta.size());
@@ -754,16 +798,18 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
     p1[i] = blocked[i] ? kBlocked : p[i * 2];
     p2[i] = blocked[i] ? kBlocked : p[i * 2 + 1];
   }
-  Texture ta = textureFrom(GL_R32F, GL_RED, kW, kH, p1), tb = textureFrom(GL_R32F, GL_RED, kW, kH, p2);
-  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
-  Texture tz = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, zeros);
+  Texture ta = textureFrom(GL_R32F, GL_RED, w, h, p1), tb = textureFrom(GL_R32F, GL_RED, w, h, p2);
+  ta.setFilter(GL_LINEAR, GL_LINEAR); // bilinear, as the advection's state for its samples
+  tb.setFilter(GL_LINEAR, GL_LINEAR);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
+  Texture tz = textureFrom(GL_RGBA16F, GL_RGBA, w, h, zeros);
   // The projection's lambda: .w is the data's cover (1: inside the data's edge).
   std::vector<float> covered(beta.size() * 4, 0.0f);
   for (std::size_t i = 0; i < beta.size(); ++i) covered[i * 4 + 3] = 1.0f;
-  Texture tl = textureFrom(GL_RGBA16F, GL_RGBA, kW, kH, covered);
-  Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, kW, kH);
-  glTextureSubImage2D(td.id(), 0, 0, 0, kW, kH, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  Texture out = Texture::create2D(GL_RGBA32F, kW, kH);
+  Texture tl = textureFrom(GL_RGBA16F, GL_RGBA, w, h, covered);
+  Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, w, h);
+  glTextureSubImage2D(td.id(), 0, 0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  Texture out = Texture::create2D(GL_RGBA32F, w, h);
   Framebuffer fbo = createFramebuffer();
   attachTargets(fbo, {&out}, nullptr);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
@@ -774,9 +820,9 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   cs.contrast = 1.0f;
   cs.lightWeight = 0.4f;
   FrameView view;
-  view.viewport = {kW, kH};
-  view.internal = {kW, kH};
-  view.target = {kW, kH};
+  view.viewport = {w, h};
+  view.internal = {w, h};
+  view.target = {w, h};
   pass.run({&ta, &tb, &ts, &tz, &tl}, view, cs);
   auto c = readTexture(out, 4);
   int silhouettes = 0, ring = 0;
@@ -795,6 +841,7 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   }
   EXPECT_GT(silhouettes, 100);
   EXPECT_GT(ring, 5);
+  }
 }
 
 TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary) {
