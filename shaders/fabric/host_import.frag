@@ -9,6 +9,7 @@
 // threads do not fray and no silhouette appears at the viewport's edge. No surface: the host's depth at the
 // far plane (window depth 1) or a zero normal.
 #include "common/octahedral.glsl"
+#include "common/texel.glsl"
 
 noperspective in vec3 v_nearEye; // the pixel's ray in eye space (common/deferred.vert)
 noperspective in vec3 v_farEye;
@@ -35,9 +36,9 @@ vec3 eyeAt(ivec2 q, float d) {
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy) - u_guard; // pixel in the viewport
   ivec2 q = clamp(p, ivec2(0), u_extent - 1) + u_origin;
-  float d = texelFetch(u_hostDepth, q, 0).r;
+  float d = texel(u_hostDepth, q).r;
   if (d >= 1.0) discard; // the background costs one fetch
-  vec3 n = texelFetch(u_hostNormal, q, 0).xyz;
+  vec3 n = texel(u_hostNormal, q).xyz;
   if (u_biasedNormals) n = n * 2.0 - 1.0;
   if (dot(n, n) < 1e-12) discard;
   n = normalize(n);
