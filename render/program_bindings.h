@@ -90,7 +90,7 @@ struct CompositeProgram {
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, Anatomy, OpacityFa, DecFa, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Count
   };
 };
 
@@ -228,8 +228,6 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::SecondaryRatio: return "u_secondaryRatio";
   case U::SecondaryFa: return "u_secondaryFa";
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
-  case U::Anatomy: return "u_anatomy";
-  case U::DecFa: return "u_decFa";
   case U::OpacityFa: return "u_opacityFa";
   case U::Count: break;
   }

@@ -9,7 +9,8 @@ using U = CompositeProgram::Uniform;
 
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
-                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH"},
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH", "ANATOMY",
+                 "DEC_FA", "FADE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
@@ -19,7 +20,9 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
                         (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
                         (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
-                        (s.windowDepth && in.depth ? 64u : 0u);
+                        (s.windowDepth && in.depth ? 64u : 0u) | (s.anatomy ? 128u : 0u) |
+                        (s.mode == ColourMode::Medical && s.decFa ? 256u : 0u) |
+                        (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u);
   const ShaderProgram& p = programs_.get(mask);
   p.set(U::Guard, glm::ivec2(view.guard));
   p.set(U::Origin, s.origin);
@@ -37,10 +40,8 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   if (s.sharpen > 0.0f) p.set(U::Sharpen, s.sharpen);
   p.set(U::SecondaryRatio, s.secondaryRatio);
   p.set(U::SecondaryFa, s.secondaryFa);
-  p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
-  p.set(U::Anatomy, s.anatomy ? 1 : 0);
-  p.set(U::DecFa, s.decFa ? 1 : 0);
-  p.set(U::OpacityFa, s.opacityFa);
+  if (s.fadeOutOfPlane > 0.0f) p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
+  if (s.anatomy) p.set(U::OpacityFa, s.opacityFa);
   p.use();
   bindTexture(Unit::P1, in.p1->id());
   bindTexture(Unit::P2, in.p2->id());

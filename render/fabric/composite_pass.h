@@ -57,7 +57,8 @@ public:
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
 
 private:
-  ShaderVariants programs_; // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH
+  // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE
+  ShaderVariants programs_;
   VertexArray vao_;
   Sampler texelSampler_; // on every unit read: the shader reads texels as samples (common/texel.glsl)
 };

@@ -13,14 +13,15 @@
 // one is drawn over it where its threads are bright (strongest on top); a population's weight (amplitude
 // relative to the strongest x its in-surface fraction) dims it and thins its cover, so weak and out-of-plane
 // populations fade.
-// Looks: plain (the paper's: the fabric wherever there is tensor data) and anatomy (u_anatomy: the fabric's
+// Looks: plain (the paper's: the fabric wherever there is tensor data) and anatomy (ANATOMY: the fabric's
 // opacity is smoothstep(u_opacityFa.x, u_opacityFa.y, FA) over the grey beneath, so isotropic tissue shows
 // the anatomy and white matter its full colours). The grey beneath is the background volume (BACKGROUND),
 // else FA. The data's edge is the projection's cover ramp (lambda.w, 0..1 over about a pixel): outside it the
 // background volume shows, or without one the framebuffer beneath (the output alpha is the cover; blended).
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (a grey volume beneath the fabric), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
-// depth written is the projection's window depth texel, a host's surface depth, not recomputed).
+// depth written is the projection's window depth texel, a host's surface depth, not recomputed), ANATOMY,
+// DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: u_fadeOutOfPlane > 0).
 #include "common/texel.glsl"
 
 layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
@@ -51,9 +52,12 @@ uniform vec4 u_eyeDepth;           // projection terms of eye z: clip z = x z + 
 uniform float u_sharpen = 0.5;     // SHARPEN: unsharp mask weight on the composed colour
 uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
-uniform float u_fadeOutOfPlane = 0.0; // medical: 0..1 fade where |e1.n| is large
-uniform bool u_anatomy = false;        // the anatomy look
-uniform bool u_decFa = false;          // MEDICAL: no fabric, the DEC-FA map |e1| x FA (for comparison)
+uniform float u_fadeOutOfPlane = 0.0; // FADE: 0..1 fade where |e1.n| is large
+#ifdef ANATOMY
+const bool kAnatomy = true;
+#else
+const bool kAnatomy = false;
+#endif
 uniform vec2 u_opacityFa = vec2(0.15, 0.4); // anatomy: FA at which the fabric starts to show, and is opaque
 
 out vec4 o_colour;
@@ -62,7 +66,7 @@ float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 
 // The fabric's opacity where there is data: 1 (plain), or the anatomy look's ramp on FA.
 float opacity(float fa) {
-  return u_anatomy ? smoothstep(u_opacityFa.x, max(u_opacityFa.y, u_opacityFa.x + 1e-3), fa) : 1.0;
+  return kAnatomy ? smoothstep(u_opacityFa.x, max(u_opacityFa.y, u_opacityFa.x + 1e-3), fa) : 1.0;
 }
 
 // What lies beneath the fabric (rgb) and the pixel's alpha: the background volume's grey (alpha 1: it covers
@@ -73,9 +77,9 @@ vec4 beneath(vec4 lam, float fa, vec3 fabric, float cover, float noiseP) {
   return vec4(vec3(lam.z), 1.0);
 #elif defined(WINDOW_DEPTH)
   // A host's surface is drawn whole: outside the data, the grey noise of "no tensor here".
-  return cover > 0.0 ? vec4(u_anatomy ? vec3(fa) : fabric, 1.0) : vec4(vec3(0.45) * (0.6 + 0.4 * noiseP), 1.0);
+  return cover > 0.0 ? vec4(kAnatomy ? vec3(fa) : fabric, 1.0) : vec4(vec3(0.45) * (0.6 + 0.4 * noiseP), 1.0);
 #else
-  return vec4(u_anatomy ? vec3(fa) : fabric, cover);
+  return vec4(kAnatomy ? vec3(fa) : fabric, cover);
 #endif
 }
 
@@ -159,8 +163,12 @@ vec4 compose(ivec2 t, vec4 s) {
     vec3 secondary = vec3(0.2 + 0.6 * p2) * (0.45 + 0.55 * clamp(fa * 2.0, 0.0, 1.0));
     float onTop = smoothstep(0.45, 0.6, p1); // primary threads cover the secondary
     c = mix(primary, mix(secondary, primary, onTop), w2);
+#ifdef FADE
     c = mix(c, c * 0.35, u_fadeOutOfPlane * smoothstep(0.6, 0.95, lam.y));
-    if (u_decFa) c = abs(eig.xyz) * fa;
+#endif
+#ifdef DEC_FA
+    c = abs(eig.xyz) * fa;
+#endif
   }
   vec4 under = beneath(lam, fa, c, cover, p1);
   c = mix(under.rgb, c, cover * opacity(fa));
