@@ -115,7 +115,7 @@ void EmbeddedFabric::draw(const HostView& v, const FabricParams& p) {
   if (!impl_->prepare(v, p, false)) return;
   impl_->pipeline.advect(p);
   glBindFramebuffer(GL_FRAMEBUFFER, v.framebuffer);
-  impl_->pipeline.composite(impl_->view, p, {v.viewport.x, v.viewport.y}, true);
+  impl_->pipeline.composite(impl_->view, p, {v.viewport.x, v.viewport.y}, CompositeDepth::Window);
 }
 
 void EmbeddedFabric::drawStill(const HostView& v, const FabricParams& p) {
@@ -123,7 +123,7 @@ void EmbeddedFabric::drawStill(const HostView& v, const FabricParams& p) {
   if (!impl_->prepare(v, p, true)) return;
   impl_->lastIterations = impl_->pipeline.converge(p);
   glBindFramebuffer(GL_FRAMEBUFFER, v.framebuffer);
-  impl_->pipeline.composite(impl_->view, p, {v.viewport.x, v.viewport.y}, true);
+  impl_->pipeline.composite(impl_->view, p, {v.viewport.x, v.viewport.y}, CompositeDepth::Window);
 }
 
 void EmbeddedFabric::restart() {

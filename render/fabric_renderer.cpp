@@ -44,6 +44,10 @@ void FabricRenderer::resize(int width, int height) {
   outDepth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, width, height);
   output_ = createFramebuffer();
   attachTargets(output_, {&outColour_}, &outDepth_);
+  compositeDepth_ = Texture::create2D(GL_DEPTH_COMPONENT32F, width, height);
+  depthFbo_ = createFramebuffer();
+  attachTargets(depthFbo_, {}, &compositeDepth_);
+  depthProjection_ = 0;
   pipeline_.invalidate();
 }
 
@@ -82,8 +86,24 @@ void FabricRenderer::composite(const FabricParams& p) {
   const float bg[4] = {p.background.x, p.background.y, p.background.z, 1.0f};
   glClearNamedFramebufferfv(output_.id(), GL_COLOR, 0, bg);
   const float one = 1.0f;
-  glClearNamedFramebufferfv(output_.id(), GL_DEPTH, 0, &one);
-  pipeline_.composite(view_, p);
+  if (view_.internal != size_) { // lower resolution while moving
+    glClearNamedFramebufferfv(output_.id(), GL_DEPTH, 0, &one);
+    pipeline_.composite(view_, p);
+    return;
+  }
+  // The depth the composite would write, drawn once per projection: with it in place the composite shades
+  // only the pixels it draws (the early depth test), where the other blocks of pixels would cost a software
+  // rasteriser the whole shader.
+  if (depthProjection_ != pipeline_.projections()) {
+    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
+    glClearNamedFramebufferfv(depthFbo_.id(), GL_DEPTH, 0, &one);
+    pipeline_.compositeDepth(view_);
+    depthProjection_ = pipeline_.projections();
+    glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
+  }
+  glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                     size_.x, size_.y, 1);
+  pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Present);
 }
 
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {

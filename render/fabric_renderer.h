@@ -17,6 +17,8 @@
 #include "render/fabric/phong_pass.h"
 #include "render/gpu_scene.h"
 
+#include <cstdint>
+
 namespace dtf::render {
 
 class FabricRenderer {
@@ -99,6 +101,11 @@ private:
   GpuMesh mesh_;
   Framebuffer output_;
   Texture outColour_, outDepth_;
+  // The composite's depth at full resolution (FabricPipeline::compositeDepth), drawn once per projection
+  // (depthProjection_: FabricPipeline::projections() then; 0: none) and copied into outDepth_ every frame.
+  Framebuffer depthFbo_;
+  Texture compositeDepth_;
+  std::uint64_t depthProjection_ = 0;
   glm::ivec2 size_{0};
   FrameView view_;
   glm::mat4 lastCameraViewProj_{0.0f}; // viewport matrix of the last frame: tells a moving camera

@@ -131,7 +131,7 @@ private:
 // after the first use of a setting.
 class ShaderVariants {
 public:
-  static constexpr int kMaxDefines = 10;
+  static constexpr int kMaxDefines = 11;
   // `always`: defines of every variant (the program's bindings); `uniforms` as for ShaderProgram.
   ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
                  std::vector<std::string> always = {}, std::vector<const char*> uniforms = {});

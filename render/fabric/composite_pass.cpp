@@ -10,17 +10,21 @@ using U = CompositeProgram::Uniform;
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH", "ANATOMY",
-                 "DEC_FA", "FADE"},
+                 "DEC_FA", "FADE", "FAR_PLANE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
+      depthPrograms_("common/fullscreen.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
+                     programDefines<CompositeProgram>(), uniformNames<U>()),
       vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
 
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
+  const bool windowDepth = s.depth == CompositeDepth::Window && in.depth;
+  const bool present = s.depth == CompositeDepth::Present;
   const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
                         (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
                         (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
-                        (s.windowDepth && in.depth ? 64u : 0u) | (s.anatomy ? 128u : 0u) |
+                        (windowDepth ? 64u : 0u) | (s.anatomy ? 128u : 0u) | (present ? 1024u : 0u) |
                         (s.mode == ColourMode::Medical && s.decFa ? 256u : 0u) |
                         (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u);
   const ShaderProgram& p = programs_.get(mask);
@@ -52,7 +56,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
     bindTexture(Unit::P3, in.p3->id());
     bindTexture(Unit::Fibres, in.fibres->id());
   }
-  if (s.windowDepth && in.depth) bindTexture(Unit::Depth, in.depth->id());
+  if (windowDepth) bindTexture(Unit::Depth, in.depth->id());
   // The fields are bilinear for the advection; here every texture is read texel by texel.
   constexpr Unit kUnits[] = {Unit::P1, Unit::P2, Unit::Surface, Unit::Eigen, Unit::Lambda, Unit::P3, Unit::Fibres,
                              Unit::Depth};
@@ -66,12 +70,13 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
     glScissor(s.origin.x + rect.x, s.origin.y + rect.y, rect.z, rect.w);
   }
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(s.windowDepth && in.depth ? GL_LEQUAL : GL_ALWAYS);
-  glDepthMask(GL_TRUE);
+  // Present: the triangle lies at the far plane, so GL_GREATER passes exactly where the surface is.
+  glDepthFunc(present ? GL_GREATER : windowDepth ? GL_LEQUAL : GL_ALWAYS);
+  glDepthMask(present ? GL_FALSE : GL_TRUE);
   // The data's anti-aliased edge: straight alpha over what is beneath (the clear colour, a host's image).
   // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1, and blending
   // would give the source unchanged at the cost of reading the framebuffer: it is off.
-  const bool opaque = s.background || (s.windowDepth && in.depth);
+  const bool opaque = s.background || windowDepth;
   if (opaque) {
     glDisable(GL_BLEND);
   } else {
@@ -85,6 +90,35 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   if (scissor) glDisable(GL_SCISSOR_TEST);
   glBlendFunc(GL_ONE, GL_ZERO);
   glDisable(GL_BLEND);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE); // clears honour the mask
+  glDisable(GL_DEPTH_TEST);
+}
+
+void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, bool background) {
+  const ShaderProgram& p = depthPrograms_.get(background ? 1u : 0u);
+  p.set(U::Guard, glm::ivec2(view.guard));
+  p.set(U::EyeDepth, view.eyeDepth);
+  p.use();
+  bindTexture(Unit::Surface, in.surface->id());
+  bindTexture(Unit::Lambda, in.lambda->id());
+  glBindSampler(unit(Unit::Surface), texelSampler_.id());
+  glBindSampler(unit(Unit::Lambda), texelSampler_.id());
+  glViewport(0, 0, view.viewport.x, view.viewport.y);
+  const glm::ivec4 rect = view.coverRect;
+  const bool scissor = rect.z >= 0 && rect.w >= 0;
+  if (scissor) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(rect.x, rect.y, rect.z, rect.w);
+  }
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindSampler(unit(Unit::Surface), 0);
+  glBindSampler(unit(Unit::Lambda), 0);
+  if (scissor) glDisable(GL_SCISSOR_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);
 }

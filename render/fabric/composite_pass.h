@@ -15,6 +15,15 @@
 
 namespace dtf::render {
 
+// Where the depth of the composited surface comes from.
+enum class CompositeDepth {
+  Computed, // written from the projection's linear depth, untested (the renderer's cleared output)
+  Window,   // the projection's window depth texel (a host's surface depth), written and tested with GL_LEQUAL
+  // Already in the framebuffer: the caller copied the projection's window depth there (the renderer's output
+  // at full resolution). Nothing is written, and the early depth test shades only the covered pixels.
+  Present,
+};
+
 struct CompositeSettings {
   ColourMode mode = ColourMode::Medical;
   float r = 0.5f;            // Eq. 13 blend between the two directions
@@ -33,10 +42,7 @@ struct CompositeSettings {
   glm::vec2 opacityFa{0.15f, 0.4f}; // anatomy: smoothstep(x, y, FA)
   bool decFa = false;          // medical: no fabric, the DEC-FA map |e1| x FA
   glm::ivec2 origin{0};        // the viewport's lower-left pixel in the framebuffer drawn into
-  // The depth written is the projection's window depth (CompositeInputs::depth) as it is, depth-tested with
-  // GL_LEQUAL against the framebuffer's depth (a host's framebuffer holding the same surface passes); else
-  // it is computed from the linear depth and written without a test (the renderer's cleared output).
-  bool windowDepth = false;
+  CompositeDepth depth = CompositeDepth::Computed;
 };
 
 struct CompositeInputs {
@@ -47,7 +53,7 @@ struct CompositeInputs {
   const Texture* lambda;
   const Texture* p3 = nullptr;     // Fibres: third population's field
   const Texture* fibres = nullptr; // Fibres: projection's per-population colour and weight
-  const Texture* depth = nullptr;  // CompositeSettings::windowDepth: the projection's depth
+  const Texture* depth = nullptr;  // CompositeDepth::Window: the projection's depth
 };
 
 class CompositePass {
@@ -55,10 +61,16 @@ public:
   CompositePass();
   // Draws the viewport (guard offset applied) into the bound framebuffer at settings.origin.
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
+  // Only the depth that run() with CompositeDepth::Computed writes at full resolution and origin 0 (the
+  // pixels it discards are left as they are: the caller clears to 1), into the bound framebuffer, for later
+  // runs with CompositeDepth::Present. Reads in.surface and in.lambda; `background` as the settings' field.
+  void runDepth(const CompositeInputs& in, const FrameView& view, bool background);
 
 private:
-  // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE
+  // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE,
+  // FAR_PLANE (CompositeDepth::Present)
   ShaderVariants programs_;
+  ShaderVariants depthPrograms_; // fabric/composite_depth.frag: BACKGROUND
   VertexArray vao_;
   Sampler texelSampler_; // on every unit read: the shader reads texels as samples (common/texel.glsl)
 };

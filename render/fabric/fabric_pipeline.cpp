@@ -199,6 +199,7 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   }
   dataChanged_ = false;
   projected_ = true;
+  ++projections_;
   restarted_ = restart;
   if (restart) sinceRestart_ = 0;
   lastViewProj_ = view.viewProj;
@@ -250,7 +251,7 @@ int FabricPipeline::converge(const FabricParams& p) {
 }
 
 void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
-                               bool windowDepth) {
+                               CompositeDepth depth) {
   CompositeSettings cs;
   cs.mode = p.colour;
   cs.r = static_cast<float>(p.r);
@@ -265,7 +266,7 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.decFa = p.look == Look::DecFa;
   cs.opacityFa = {p.opacityFaLow, p.opacityFaHigh};
   cs.origin = origin;
-  cs.windowDepth = windowDepth;
+  cs.depth = depth;
   CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &projection_.eigen(),
                      &projection_.lambda()};
   if (p.colour == ColourMode::Fibres) {
@@ -276,6 +277,11 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   beginTimer(kComposite);
   composite_.run(in, view, cs);
   endTimer();
+}
+
+void FabricPipeline::compositeDepth(const FrameView& view) {
+  composite_.runDepth({nullptr, nullptr, &projection_.surface(), nullptr, &projection_.lambda()}, view,
+                      !background_.empty());
 }
 
 PassTimes FabricPipeline::lastTimes() const {

@@ -21,6 +21,7 @@
 #include "render/gpu_scene.h"
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -77,10 +78,14 @@ public:
   void advect(const FabricParams& params);
   // Iterates to convergence (see FabricRenderer::renderStill); returns the iterations run.
   int converge(const FabricParams& params);
-  // Composites the viewport into the bound framebuffer at `origin`; with `windowDepth` the depth written is
-  // the geometry stage's window depth, tested with GL_LEQUAL (a host's framebuffer).
+  // Composites the viewport into the bound framebuffer at `origin`, its depth as `depth` says.
   void composite(const FrameView& view, const FabricParams& params, glm::ivec2 origin = glm::ivec2(0),
-                 bool windowDepth = false);
+                 CompositeDepth depth = CompositeDepth::Computed);
+  // The depth composite() writes with CompositeDepth::Computed at full resolution, alone, into the bound
+  // framebuffer's cleared depth (CompositePass::runDepth); it changes only when project() runs.
+  void compositeDepth(const FrameView& view);
+  // Counts project() calls: what was derived from the projection is current while this stays the same.
+  std::uint64_t projections() const { return projections_; }
 
   void beginTimer(Pass pass);
   void endTimer();
@@ -127,6 +132,7 @@ private:
   bool timing_ = false;
   bool dataChanged_ = true;
   bool reprojectNext_ = false;
+  std::uint64_t projections_ = 0;
   std::optional<FrameView> historyView_;
   glm::mat4 lastViewProj_{0.0f};
   glm::ivec2 lastTarget_{0};

@@ -21,8 +21,14 @@
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (a grey volume beneath the fabric), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed), ANATOMY,
-// DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: u_fadeOutOfPlane > 0).
+// DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: u_fadeOutOfPlane > 0),
+// FAR_PLANE (the framebuffer already holds the surface's depth: the triangle at the far plane is drawn with
+// GL_GREATER and the early depth test, so only covered pixels are shaded, and no depth is written).
 #include "common/texel.glsl"
+
+#ifdef FAR_PLANE
+layout(early_fragment_tests) in;
+#endif
 
 layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
 layout(binding = UNIT_P2) uniform sampler2D u_p2;
@@ -222,7 +228,7 @@ void main() {
   // Two units of a 24-bit depth buffer nearer (1.2e-7): the conversion of the written float back to the
   // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.
   gl_FragDepth = max(texel(u_depth, t).r - 2.0 / 16777215.0, 0.0);
-#else
+#elif !defined(FAR_PLANE)
   float z = -s.b; // eye z of the surface
   gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
 #endif

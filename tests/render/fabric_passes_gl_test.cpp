@@ -844,6 +844,95 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   }
 }
 
+// CompositeDepth::Present (the renderer's full-resolution frames): the composite's depth drawn alone by
+// runDepth, copied into the framebuffer, then the composite behind the early depth test, gives the colour and
+// the depth of the composite that computes and writes its depth, bit for bit: the same pixels drawn (off the
+// surface and, without a background volume, outside the data's cover nothing) and the same depth values.
+TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
+  constexpr int w = 97, h = 61, guard = 3;
+  const glm::ivec2 vp(w - 2 * guard, h - 2 * guard);
+  auto beta = randomField(w, h, 1, 51), rnd = randomField(w, h, 4, 52), p = randomField(w, h, 2, 53);
+  std::vector<unsigned char> mask(beta.size(), 1);
+  std::vector<float> lambda(beta.size() * 4), eigen(beta.size() * 4), p1(beta.size()), p2(beta.size());
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+    mask[i] = (x - 48) * (x - 48) + (y - 30) * (y - 30) < 27 * 27; // a disc of surface
+    lambda[i * 4] = rnd[i * 4];
+    lambda[i * 4 + 1] = rnd[i * 4 + 1];
+    lambda[i * 4 + 2] = rnd[i * 4 + 2];
+    lambda[i * 4 + 3] = std::clamp((x - 30) / 4.0f, 0.0f, 1.0f); // the data's edge: cover 0, a ramp, then 1
+    for (int c = 0; c < 4; ++c) eigen[i * 4 + c] = rnd[(i * 4 + c + 1) % rnd.size()];
+    p1[i] = i % 11 == 0 ? kBlocked : p[i * 2];
+    p2[i] = i % 11 == 0 ? kBlocked : p[i * 2 + 1];
+  }
+  auto surface = surfaceData(beta, &mask);
+  for (std::size_t i = 0; i < beta.size(); ++i)
+    surface[i * 4 + 2] = 40.0f + 0.37f * static_cast<float>(i % w) + 0.21f * static_cast<float>(i / w);
+  Texture ta = textureFrom(GL_R32F, GL_RED, w, h, p1), tb = textureFrom(GL_R32F, GL_RED, w, h, p2);
+  ta.setFilter(GL_LINEAR, GL_LINEAR);
+  tb.setFilter(GL_LINEAR, GL_LINEAR);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
+  Texture te = textureFrom(GL_RGBA16F, GL_RGBA, w, h, eigen), tl = textureFrom(GL_RGBA16F, GL_RGBA, w, h, lambda);
+  const glm::mat4 proj = glm::perspective(glm::radians(40.0f), float(vp.x) / float(vp.y), 10.0f, 400.0f);
+  FrameView view;
+  view.viewport = vp;
+  view.internal = vp;
+  view.guard = guard;
+  view.target = {w, h};
+  view.eyeDepth = {proj[2][2], proj[3][2], proj[2][3], proj[3][3]};
+  auto target = [&](Texture& colour, Texture& depth) {
+    colour = Texture::create2D(GL_RGBA32F, vp.x, vp.y);
+    depth = Texture::create2D(GL_DEPTH_COMPONENT32F, vp.x, vp.y);
+    Framebuffer fbo = createFramebuffer();
+    attachTargets(fbo, {&colour}, &depth);
+    const float clear[4] = {0.1f, 0.2f, 0.3f, 0.0f}, one = 1.0f;
+    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, clear);
+    glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    return fbo;
+  };
+  auto readDepth = [](const Texture& t) {
+    std::vector<float> d(static_cast<std::size_t>(t.width()) * t.height());
+    glGetTextureImage(t.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(d.size() * 4), d.data());
+    return d;
+  };
+  CompositePass pass;
+  for (const bool background : {false, true})
+    for (const ColourMode mode : {ColourMode::Medical, ColourMode::Engineering}) {
+      SCOPED_TRACE(std::string(background ? "background " : "") + (mode == ColourMode::Medical ? "medical" : "engineering"));
+      CompositeSettings cs;
+      cs.mode = mode;
+      cs.background = background;
+      Texture colourA, depthA, colourB, depthB, depthOnly, unused;
+      {
+        Framebuffer fbo = target(colourA, depthA);
+        pass.run({&ta, &tb, &ts, &te, &tl}, view, cs);
+      }
+      {
+        Framebuffer fbo = target(unused, depthOnly);
+        pass.runDepth({nullptr, nullptr, &ts, nullptr, &tl}, view, background);
+      }
+      {
+        Framebuffer fbo = target(colourB, depthB);
+        glCopyImageSubData(depthOnly.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthB.id(), GL_TEXTURE_2D, 0, 0, 0, 0, vp.x, vp.y, 1);
+        cs.depth = CompositeDepth::Present;
+        pass.run({&ta, &tb, &ts, &te, &tl}, view, cs);
+      }
+      const auto a = readTexture(colourA, 4), b = readTexture(colourB, 4);
+      const auto da = readDepth(depthA), db = readDepth(depthB);
+      ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+      ASSERT_EQ(std::memcmp(da.data(), db.data(), da.size() * sizeof(float)), 0);
+      const auto drawn = std::count_if(da.begin(), da.end(), [](float d) { return d < 1.0f; });
+      EXPECT_GT(drawn, 1000);                            // the disc, at least where there is data
+      EXPECT_LT(drawn, static_cast<long>(da.size()) - 500); // around the disc nothing
+      if (!background) {
+        const auto depthOf = [&](int x, int y) { return da[static_cast<std::size_t>(y - guard) * vp.x + x - guard]; };
+        EXPECT_EQ(depthOf(28, 30), 1.0f); // on the surface, outside the data's cover: discarded
+        EXPECT_LT(depthOf(40, 30), 1.0f);
+      }
+    }
+}
+
 TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary) {
   // Four pixels, principal direction x (red), FA 0.7, no light, no silhouettes:
   //   0: one dominant direction (lambda2'/lambda1' = 0.1), p1 low  -> still red (no secondary shown)

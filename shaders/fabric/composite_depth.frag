@@ -1,0 +1,24 @@
+#version 450 core
+// The composite's depth alone, for CompositeDepth::Present: the window depth of the surface on every pixel
+// the composite draws (fabric/composite.frag, without WINDOW_DEPTH at full resolution), and nothing where it
+// discards: off the surface, and without a background volume where the data's cover is 0. Drawn once per
+// projection into a cleared depth target that each frame copies into its own; the composite then shades
+// exactly these pixels behind the early depth test, and the frame's depth is the one it would have written.
+#include "common/texel.glsl"
+
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (mm), .a coverage
+layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;   // .w the data's cover
+
+uniform ivec2 u_guard;  // offset of the viewport inside the guarded targets
+uniform vec4 u_eyeDepth; // projection terms of eye z: clip z = x z + y, clip w = z z + w
+
+void main() {
+  ivec2 t = ivec2(gl_FragCoord.xy) + u_guard;
+  vec4 s = texel(u_surface, t);
+  if (s.a < 0.5) discard;
+#ifndef BACKGROUND
+  if (texel(u_lambda, t).w <= 0.0) discard; // the composite's alpha is the cover: it discards these
+#endif
+  float z = -s.b; // eye z of the surface, as fabric/composite.frag writes it
+  gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
+}
