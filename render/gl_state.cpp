@@ -110,6 +110,11 @@ GlState GlState::capture() {
     glGetIntegerv(GL_SAMPLER_BINDING, &s.samplers[u]);
   }
   glActiveTexture(static_cast<GLenum>(s.activeTexture));
+  constexpr GLenum kImageParams[6] = {GL_IMAGE_BINDING_NAME,  GL_IMAGE_BINDING_LEVEL,  GL_IMAGE_BINDING_LAYERED,
+                                      GL_IMAGE_BINDING_LAYER, GL_IMAGE_BINDING_ACCESS, GL_IMAGE_BINDING_FORMAT};
+  for (int u = 0; u < kImageUnits; ++u)
+    for (int i = 0; i < 6; ++i)
+      glGetIntegeri_v(kImageParams[i], static_cast<GLuint>(u), &s.images[u][i]);
   return s;
 }
 
@@ -161,6 +166,11 @@ void GlState::restore() const {
     glBindSampler(static_cast<GLuint>(u), static_cast<GLuint>(samplers[u]));
   }
   glActiveTexture(static_cast<GLenum>(activeTexture));
+  for (int u = 0; u < kImageUnits; ++u) {
+    const auto& i = images[u];
+    glBindImageTexture(static_cast<GLuint>(u), static_cast<GLuint>(i[0]), i[1], static_cast<GLboolean>(i[2]), i[3],
+                       static_cast<GLenum>(i[4]), static_cast<GLenum>(i[5]));
+  }
 }
 
 std::string GlState::differences(const GlState& o) const {
@@ -208,6 +218,7 @@ std::string GlState::differences(const GlState& o) const {
   DTF_DIFF(textures2d);
   DTF_DIFF(textures3d);
   DTF_DIFF(samplers);
+  DTF_DIFF(images);
 #undef DTF_DIFF
   return out;
 }

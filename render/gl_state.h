@@ -4,7 +4,8 @@
 // (depth/blend/cull/scissor/stencil test, polygon offset, depth clamp, rasterizer discard, logic op, sRGB
 // writes, clip distances), depth mask and function, colour masks, cull face and front face, polygon mode,
 // program, vertex array, the active texture unit, the 2D and 3D textures and sampler objects bound to the
-// first units, the atomic counter buffer bindings, the pixel pack/unpack buffers and pixel store
+// first units, the image units GL 4.5 guarantees (the passes read and write images), the atomic counter
+// buffer bindings, the pixel pack/unpack buffers and pixel store
 // parameters, the blend functions and equations (of draw buffer 0; restored for all), the scissor boxes
 // (the composite and the advection's restarts scissor). Clear values and stencil functions are not
 // touched by the passes (they clear with glClearNamedFramebuffer* and never enable the stencil test).
@@ -18,6 +19,7 @@ namespace dtf::render {
 
 struct GlState {
   static constexpr int kTextureUnits = 16;
+  static constexpr int kImageUnits = 8; // GL_MAX_IMAGE_UNITS is at least 8; the passes use units 0..7
   static constexpr int kViewports = 16;  // GL 4.5 guarantees at least 16 viewports
   static constexpr int kDrawBuffers = 8; // and at least 8 draw buffers
   static constexpr int kClipDistances = 8;
@@ -55,6 +57,12 @@ struct GlState {
   std::array<GLint, kTextureUnits> textures2d{};
   std::array<GLint, kTextureUnits> textures3d{};
   std::array<GLint, kTextureUnits> samplers{};
+  // Per image unit: texture, level, layered, layer, access, format (the GL's initial values by default).
+  std::array<std::array<GLint, 6>, kImageUnits> images = [] {
+    std::array<std::array<GLint, 6>, kImageUnits> a{};
+    for (auto& i : a) i = {0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8};
+    return a;
+  }();
 
   // Reads the current context's state.
   static GlState capture();

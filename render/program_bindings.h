@@ -20,23 +20,27 @@ constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A],
   return out;
 }
 
-// The texture units and counter of the advection (AdvectionPass), used by both its programs.
+// The texture units, the image units an iteration reads and the counter of the advection (AdvectionPass),
+// used by both its programs. Image units stay below 8, the number GL 4.5 guarantees; an iteration's reads
+// share units 3 to 6 with the compute restart's second targets and its edges, which no program uses together.
 struct AdvectionBindings {
   enum class Unit : GLuint {
-    Prev1 = 0, Vectors = 1, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7,
-    Here1 = 8, Here2 = 9, Here3 = 10 // the state again, with a nearest sampler: p_i at the pixel itself
+    Prev1 = 0, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
   };
+  // An iteration's texel reads (imageLoad: on llvmpipe inlined, where a texelFetch calls a function): p_i at
+  // the pixel itself and the projection's vectors.
+  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6 };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kShared[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
-      {unit(Unit::Vectors), "UNIT_VECTORS", "u_vectors"},
       {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
       {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
-      {unit(Unit::Here1), "UNIT_HERE1", "u_here1"},
-      {unit(Unit::Here2), "UNIT_HERE2", "u_here2"},
-      {unit(Unit::Here3), "UNIT_HERE3", "u_here3"},
+      {unit(ReadImage::Here1), "IMAGE_HERE1", "u_here1"},
+      {unit(ReadImage::Here2), "IMAGE_HERE2", "u_here2"},
+      {unit(ReadImage::Here3), "IMAGE_HERE3", "u_here3"},
+      {unit(ReadImage::Vectors), "IMAGE_VECTORS", "u_vectors"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
 };
@@ -73,25 +77,35 @@ struct AdvectionComputeProgram {
   static constexpr auto kBindings = joinBindings(AdvectionBindings::kShared, kOwn);
 };
 
-// fabric/composite.frag (CompositePass).
+// fabric/composite.frag (CompositePass). It reads its inputs as images (imageLoad, inlined on llvmpipe), and
+// a host's window depth as a texture (WINDOW_DEPTH: a depth format, which no image unit takes).
 struct CompositeProgram {
-  enum class Unit : GLuint {
-    P1 = 0, Surface = 1, P2 = 3, Eigen = 4, Lambda = 5, P3 = 6, Fibres = 7, Depth = 8
-  };
+  enum class Unit : GLuint { Depth = 0 };
+  enum class Image : GLuint { P1 = 0, P2 = 1, Surface = 2, Eigen = 3, Lambda = 4, P3 = 5, Fibres = 6 };
   static constexpr BindingName kBindings[] = {
-      {unit(Unit::P1), "UNIT_P1", "u_p1"},
-      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
-      {unit(Unit::P2), "UNIT_P2", "u_p2"},
-      {unit(Unit::Eigen), "UNIT_EIGEN", "u_eigen"},
-      {unit(Unit::Lambda), "UNIT_LAMBDA", "u_lambda"},
-      {unit(Unit::P3), "UNIT_P3", "u_p3"},
-      {unit(Unit::Fibres), "UNIT_FIBRES", "u_fibres"},
+      {unit(Image::P1), "IMAGE_P1", "u_p1"},
+      {unit(Image::P2), "IMAGE_P2", "u_p2"},
+      {unit(Image::Surface), "IMAGE_SURFACE", "u_surface"},
+      {unit(Image::Eigen), "IMAGE_EIGEN", "u_eigen"},
+      {unit(Image::Lambda), "IMAGE_LAMBDA", "u_lambda"},
+      {unit(Image::P3), "IMAGE_P3", "u_p3"},
+      {unit(Image::Fibres), "IMAGE_FIBRES", "u_fibres"},
       {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
     Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Count
   };
+};
+
+// fabric/composite_depth.frag (CompositePass::runDepth).
+struct CompositeDepthProgram {
+  enum class Unit : GLuint { Surface = 0, Lambda = 1 };
+  static constexpr BindingName kBindings[] = {
+      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+      {unit(Unit::Lambda), "UNIT_LAMBDA", "u_lambda"},
+  };
+  enum class Uniform { Guard, EyeDepth, Count };
 };
 
 // fabric/silhouette.frag (SilhouettePass).
@@ -229,6 +243,16 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::SecondaryFa: return "u_secondaryFa";
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
   case U::OpacityFa: return "u_opacityFa";
+  case U::Count: break;
+  }
+  return "";
+}
+
+constexpr const char* uniformName(CompositeDepthProgram::Uniform u) {
+  using U = CompositeDepthProgram::Uniform;
+  switch (u) {
+  case U::Guard: return "u_guard";
+  case U::EyeDepth: return "u_eyeDepth";
   case U::Count: break;
   }
   return "";

@@ -38,8 +38,7 @@ AdvectionPass::AdvectionPass()
       reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
       compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES"},
                programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
-      useCompute_(!softwareRasteriser()), vao_(createVertexArray()), texelSampler_(createTexelSampler()),
-      counter_(createBuffer()) {
+      useCompute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
   glNamedBufferStorage(counter_.id(), sizeof(GLuint), &zero, GL_DYNAMIC_STORAGE_BIT);
   // The restart every frame of a moving camera runs compiles with the pass.
@@ -94,12 +93,11 @@ void AdvectionPass::setIterationUniforms(const ShaderProgram& program, const Adv
   bindTexture(Unit::Prev2, state_[current_][1].id());
 }
 
-void AdvectionPass::bindHere(bool bind, bool third) {
-  constexpr Unit kHere[3] = {Unit::Here1, Unit::Here2, Unit::Here3};
-  for (int c = 0; c < (third ? 3 : 2); ++c) {
-    if (bind) bindTexture(kHere[c], state_[current_][c].id());
-    glBindSampler(unit(kHere[c]), bind ? texelSampler_.id() : 0);
-  }
+void AdvectionPass::bindHere(bool third) {
+  using ReadImage = AdvectionBindings::ReadImage;
+  constexpr ReadImage kHere[3] = {ReadImage::Here1, ReadImage::Here2, ReadImage::Here3};
+  for (int c = 0; c < (third ? 3 : 2); ++c)
+    glBindImageTexture(unit(kHere[c]), state_[current_][c].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
 }
 
 void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
@@ -109,10 +107,9 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   setIterationUniforms(iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u)), s,
                        countChanges);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
-  bindHere(true, third);
+  bindHere(third);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  bindHere(false, third);
   current_ = next;
 }
 
@@ -123,9 +120,8 @@ void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, 
   for (int c = 0; c < (third ? 3 : 2); ++c)
     glBindImageTexture(unit(kNext[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
-  bindHere(true, third);
+  bindHere(third);
   dispatchPerPixel(size_.x, size_.y);
-  bindHere(false, third);
   current_ = next;
 }
 
@@ -262,7 +258,9 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   if (count <= 0) return;
   counted_ = countChanges;
   const bool third = fields >= 3;
-  bindTexture(Unit::Vectors, vectors.id());
+  if (vectors.format() != GL_RGBA32UI) throw GlError("AdvectionPass: the vectors texture is not GL_RGBA32UI");
+  glBindImageTexture(unit(AdvectionBindings::ReadImage::Vectors), vectors.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                     GL_RGBA32UI);
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
     compute_.get(third ? kComputeThird : 0u);

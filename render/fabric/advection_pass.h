@@ -92,9 +92,8 @@ private:
   void dispatchRestart(const ShaderProgram& program, const Texture& surface, const Texture* edges, bool third,
                        bool complementSecond);
   void setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s, bool countChanges);
-  // Binds the current state to the Here units with texelSampler_ (nearest), or (false) unbinds the sampler
-  // so that the units' next users sample with their textures' own filters.
-  void bindHere(bool bind, bool third);
+  // Binds the current state to the iteration's read image units (p_i at each pixel itself).
+  void bindHere(bool third);
   // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into
   // `fbo`.
   void drawRestart(const ShaderProgram& program, const Framebuffer& fbo, const Texture& surface,
@@ -108,7 +107,6 @@ private:
   ShaderVariants compute_; // COUNT, THIRD, RESET, SILHOUETTES (compiled on first use)
   bool useCompute_ = false;
   VertexArray vao_;
-  Sampler texelSampler_;
   Buffer counter_;
   Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_, resetEdgesFbo_, resetEdgesFbo3_;
   GLuint attachedDepth_ = 0, attachedEdges_ = 0;

@@ -1,10 +1,21 @@
 #include "render/fabric/composite_pass.h"
 
+#include "io/model/error.h"
+
+#include <string>
+
 namespace dtf::render {
 
 namespace {
 using Unit = CompositeProgram::Unit;
+using Image = CompositeProgram::Image;
 using U = CompositeProgram::Uniform;
+
+// Binds `t` to image unit `image` for reading; the shader declares the format, which the texture must have.
+void bindReadImage(Image image, const Texture& t, GLenum format, const char* what) {
+  if (t.format() != format) throw GlError(std::string("CompositePass: the ") + what + " texture has another format");
+  glBindImageTexture(unit(image), t.id(), 0, GL_FALSE, 0, GL_READ_ONLY, format);
+}
 } // namespace
 
 CompositePass::CompositePass()
@@ -13,7 +24,7 @@ CompositePass::CompositePass()
                  "DEC_FA", "FADE", "FAR_PLANE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       depthPrograms_("common/fullscreen.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
-                     programDefines<CompositeProgram>(), uniformNames<U>()),
+                     programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),
       vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass
 }
@@ -47,20 +58,19 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   if (s.fadeOutOfPlane > 0.0f) p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   if (s.anatomy) p.set(U::OpacityFa, s.opacityFa);
   p.use();
-  bindTexture(Unit::P1, in.p1->id());
-  bindTexture(Unit::P2, in.p2->id());
-  bindTexture(Unit::Surface, in.surface->id());
-  bindTexture(Unit::Eigen, in.eigen->id());
-  bindTexture(Unit::Lambda, in.lambda->id());
+  bindReadImage(Image::P1, *in.p1, GL_R32F, "p1");
+  bindReadImage(Image::P2, *in.p2, GL_R32F, "p2");
+  bindReadImage(Image::Surface, *in.surface, GL_RGBA32F, "surface");
+  bindReadImage(Image::Eigen, *in.eigen, GL_RGBA8, "eigen");
+  bindReadImage(Image::Lambda, *in.lambda, GL_RGBA8, "lambda");
   if (s.mode == ColourMode::Fibres && in.fibres) {
-    bindTexture(Unit::P3, in.p3->id());
-    bindTexture(Unit::Fibres, in.fibres->id());
+    bindReadImage(Image::P3, *in.p3, GL_R32F, "p3");
+    bindReadImage(Image::Fibres, *in.fibres, GL_RGBA32UI, "fibres");
   }
-  if (windowDepth) bindTexture(Unit::Depth, in.depth->id());
-  // The fields are bilinear for the advection; here every texture is read texel by texel.
-  constexpr Unit kUnits[] = {Unit::P1, Unit::P2, Unit::Surface, Unit::Eigen, Unit::Lambda, Unit::P3, Unit::Fibres,
-                             Unit::Depth};
-  for (Unit u : kUnits) glBindSampler(unit(u), texelSampler_.id());
+  if (windowDepth) {
+    bindTexture(Unit::Depth, in.depth->id());
+    glBindSampler(unit(Unit::Depth), texelSampler_.id()); // read texel by texel, no depth comparison
+  }
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
   // Only the pixels the scene can cover: a software rasteriser would run the whole shader on the rest.
   const glm::ivec4 rect = view.coverRect;
@@ -86,7 +96,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   }
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  for (Unit u : kUnits) glBindSampler(unit(u), 0);
+  if (windowDepth) glBindSampler(unit(Unit::Depth), 0);
   if (scissor) glDisable(GL_SCISSOR_TEST);
   glBlendFunc(GL_ONE, GL_ZERO);
   glDisable(GL_BLEND);
@@ -96,14 +106,16 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
 }
 
 void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, bool background) {
+  using DepthUnit = CompositeDepthProgram::Unit;
+  using DepthU = CompositeDepthProgram::Uniform;
   const ShaderProgram& p = depthPrograms_.get(background ? 1u : 0u);
-  p.set(U::Guard, glm::ivec2(view.guard));
-  p.set(U::EyeDepth, view.eyeDepth);
+  p.set(DepthU::Guard, glm::ivec2(view.guard));
+  p.set(DepthU::EyeDepth, view.eyeDepth);
   p.use();
-  bindTexture(Unit::Surface, in.surface->id());
-  bindTexture(Unit::Lambda, in.lambda->id());
-  glBindSampler(unit(Unit::Surface), texelSampler_.id());
-  glBindSampler(unit(Unit::Lambda), texelSampler_.id());
+  bindTexture(DepthUnit::Surface, in.surface->id());
+  bindTexture(DepthUnit::Lambda, in.lambda->id());
+  glBindSampler(unit(DepthUnit::Surface), texelSampler_.id());
+  glBindSampler(unit(DepthUnit::Lambda), texelSampler_.id());
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   const glm::ivec4 rect = view.coverRect;
   const bool scissor = rect.z >= 0 && rect.w >= 0;
@@ -116,8 +128,8 @@ void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, b
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindSampler(unit(Unit::Surface), 0);
-  glBindSampler(unit(Unit::Lambda), 0);
+  glBindSampler(unit(DepthUnit::Surface), 0);
+  glBindSampler(unit(DepthUnit::Lambda), 0);
   if (scissor) glDisable(GL_SCISSOR_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);

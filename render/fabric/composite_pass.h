@@ -72,7 +72,7 @@ private:
   ShaderVariants programs_;
   ShaderVariants depthPrograms_; // fabric/composite_depth.frag: BACKGROUND
   VertexArray vao_;
-  Sampler texelSampler_; // on every unit read: the shader reads texels as samples (common/texel.glsl)
+  Sampler texelSampler_; // on the texture units read texel by texel (common/texel.glsl)
 };
 
 } // namespace dtf::render

@@ -1,15 +1,12 @@
 // The advection state and one Eq. 12 iteration at a pixel (paper §2.5), shared by the fragment pass
 // (fabric/advection.frag) and its compute twin (fabric/advection.comp), so both compute the same values.
-#include "common/texel.glsl"
+// The iteration reads single texels as images: on llvmpipe an image load is inlined, where a texelFetch or
+// a sample calls a generated function (about three times the instructions).
 
 layout(binding = UNIT_PREV1) uniform sampler2D u_prev1;          // p1, bilinear, clamp to edge
 layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;          // p2
-layout(binding = UNIT_HERE1) uniform sampler2D u_here1;          // p1 again, nearest (its texels)
-layout(binding = UNIT_HERE2) uniform sampler2D u_here2;          // p2, nearest
-layout(binding = UNIT_VECTORS) uniform usampler2D u_vectors;     // snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits
 #ifdef THIRD
 layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
-layout(binding = UNIT_HERE3) uniform sampler2D u_here3;          // p3, nearest
 #endif
 
 const float BLOCKED = -1e20;
@@ -24,6 +21,15 @@ uniform float u_epsilon;
 uniform float u_k;
 uniform float u_step; // pixels per unit of the max-norm scaled vectors
 
+#ifndef RESET // the iteration (a restart's programs use these image units for other targets)
+layout(binding = IMAGE_HERE1, r32f) uniform readonly image2D u_here1; // p1 again: its texel at the pixel
+layout(binding = IMAGE_HERE2, r32f) uniform readonly image2D u_here2; // p2
+#ifdef THIRD
+layout(binding = IMAGE_HERE3, r32f) uniform readonly image2D u_here3; // p3
+#endif
+// snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits, (THIRD) snorm16 v3.xy
+layout(binding = IMAGE_VECTORS, rgba32ui) uniform readonly uimage2D u_vectors;
+
 // The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
 float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
   float a = texture(prev, (x + d) * inv).r, b = texture(prev, (x - d) * inv).r;
@@ -33,10 +39,10 @@ float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
 // Pixel p's state `here` (p1, p2, p3; p3 0 without THIRD) and its next iterate `next`; false where p is
 // blocked (its state stays). With COUNT the pixel is counted when it changed by more than u_epsilon.
 bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
-  vec2 s = vec2(texel(u_here1, p).r, texel(u_here2, p).r);
+  vec2 s = vec2(imageLoad(u_here1, p).r, imageLoad(u_here2, p).r);
   vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
   vec2 x = vec2(p) + 0.5;
-  uvec4 q = texel(u_vectors, p);
+  uvec4 q = imageLoad(u_vectors, p);
   vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
   float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
@@ -44,7 +50,7 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   vec2 next2 = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef THIRD
-  float s3 = texel(u_here3, p).r;
+  float s3 = imageLoad(u_here3, p).r;
   float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
 #else
   float s3 = 0.0, next3 = 0.0;
@@ -61,3 +67,4 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   next = vec3(next2, next3);
   return !blocked;
 }
+#endif

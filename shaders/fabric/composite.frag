@@ -30,14 +30,16 @@
 layout(early_fragment_tests) in;
 #endif
 
-layout(binding = UNIT_P1) uniform sampler2D u_p1;                 // advected fields (negative where blocked)
-layout(binding = UNIT_P2) uniform sampler2D u_p2;
-layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;       // beta, L, linear depth, coverage
-layout(binding = UNIT_EIGEN) uniform sampler2D u_eigen;           // |e1| (world), FA
-layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;         // lambda2'/lambda1', |e1.n|, background grey, cover
+// The inputs are read texel by texel as images: on llvmpipe an image load is inlined, where a texelFetch or
+// a sample of a float texture calls a generated function.
+layout(binding = IMAGE_P1, r32f) uniform readonly image2D u_p1;          // advected fields (negative where blocked)
+layout(binding = IMAGE_P2, r32f) uniform readonly image2D u_p2;
+layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface; // beta, L, linear depth, coverage
+layout(binding = IMAGE_EIGEN, rgba8) uniform readonly image2D u_eigen;   // |e1| (world), FA
+layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda; // lambda2'/lambda1', |e1.n|, grey, cover
 #ifdef FIBRES
-layout(binding = UNIT_P3) uniform sampler2D u_p3;                 // third population's advected field
-layout(binding = UNIT_FIBRES) uniform usampler2D u_fibres;        // packUnorm4x8(|d_k|, weight_k), k = 1..3
+layout(binding = IMAGE_P3, r32f) uniform readonly image2D u_p3;         // third population's advected field
+layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3
 #endif
 
 #ifdef WINDOW_DEPTH
@@ -100,11 +102,11 @@ float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.
 
 vec4 compose(ivec2 t, vec4 s) {
   if (s.a < 0.5) return vec4(0.0);
-  vec2 p = vec2(texel(u_p1, t).r, texel(u_p2, t).r);
+  vec2 p = vec2(imageLoad(u_p1, t).r, imageLoad(u_p2, t).r);
 #ifdef SILHOUETTES
   // The advection blocks exactly the silhouettes, the uncovered pixels and the target's outermost ring, so a
   // covered pixel off the ring is a silhouette where its state is blocked: no fetch of the edge target.
-  ivec2 last = textureSize(u_p1, 0) - 1;
+  ivec2 last = imageSize(u_p1) - 1;
   float e = p.x < 0.0 && all(greaterThan(t, ivec2(0))) && all(lessThan(t, last)) ? 1.0 : 0.0;
 #else
   float e = 0.0;
@@ -114,16 +116,16 @@ vec4 compose(ivec2 t, vec4 s) {
   vec3 c;
   float alpha = 1.0;
 #ifdef FIBRES
-  vec4 lam = texel(u_lambda, t);
-  float fa = texel(u_eigen, t).w;
-  float p3 = texel(u_p3, t).r;
+  vec4 lam = imageLoad(u_lambda, t);
+  float fa = imageLoad(u_eigen, t).w;
+  float p3 = imageLoad(u_p3, t).r;
   p3 = p3 < 0.0 ? s.r : p3;
   float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
   float dataCover = lam.w;
   if (dataCover <= 0.0) {
     c = vec3(0.0);
   } else {
-    uvec4 q = texel(u_fibres, t);
+    uvec4 q = imageLoad(u_fibres, t);
     vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
     // Populations by weight, strongest first (the slots follow bundles, not strength); explicit selects
     // instead of dynamically indexed local arrays.
@@ -151,8 +153,8 @@ vec4 compose(ivec2 t, vec4 s) {
   c = mix(c, vec3(0.0), e);
   alpha = under.a;
 #elif defined(MEDICAL)
-  vec4 eig = texel(u_eigen, t);
-  vec4 lam = texel(u_lambda, t);
+  vec4 eig = imageLoad(u_eigen, t);
+  vec4 lam = imageLoad(u_lambda, t);
   float fa = eig.w;
   float p1 = stretch(p.r), p2 = stretch(p.g);
   float cover = lam.w;
@@ -188,8 +190,8 @@ vec4 compose(ivec2 t, vec4 s) {
   c.g = (1.0 - u_r) * f1 / (8.0 * f2 * f2) + e + light;
   c.b = e + light;
   {
-    vec4 lam = texel(u_lambda, t);
-    float fa = texel(u_eigen, t).w;
+    vec4 lam = imageLoad(u_lambda, t);
+    float fa = imageLoad(u_eigen, t).w;
     vec4 under = beneath(lam, fa, c, lam.w, stretch(p.r));
     c = mix(under.rgb + e, c, lam.w * opacity(fa));
     alpha = under.a;
@@ -204,7 +206,7 @@ vec4 compose(ivec2 t, vec4 s) {
 
 void main() {
   ivec2 t = ivec2((gl_FragCoord.xy - vec2(u_origin)) * u_scale) + u_guard;
-  vec4 s = texel(u_surface, t);
+  vec4 s = imageLoad(u_surface, t);
   if (s.a < 0.5) discard;
   vec4 composed = compose(t, s);
   if (composed.a <= 0.0) discard; // outside the data's edge, no background volume
@@ -215,8 +217,8 @@ void main() {
     float n = 0.0;
     for (int i = 0; i < 4; ++i) {
       ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
-      if (texel(u_surface, q).a > 0.5) {
-        sum += compose(q, texel(u_surface, q)).rgb;
+      if (imageLoad(u_surface, q).a > 0.5) {
+        sum += compose(q, imageLoad(u_surface, q)).rgb;
         n += 1.0;
       }
     }

@@ -802,11 +802,11 @@ TEST_F(FabricPass, CompositeMatchesEquation13) {
   ta.setFilter(GL_LINEAR, GL_LINEAR); // bilinear, as the advection's state for its samples
   tb.setFilter(GL_LINEAR, GL_LINEAR);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
-  Texture tz = textureFrom(GL_RGBA16F, GL_RGBA, w, h, zeros);
+  Texture tz = textureFrom(GL_RGBA8, GL_RGBA, w, h, zeros);
   // The projection's lambda: .w is the data's cover (1: inside the data's edge).
   std::vector<float> covered(beta.size() * 4, 0.0f);
   for (std::size_t i = 0; i < beta.size(); ++i) covered[i * 4 + 3] = 1.0f;
-  Texture tl = textureFrom(GL_RGBA16F, GL_RGBA, w, h, covered);
+  Texture tl = textureFrom(GL_RGBA8, GL_RGBA, w, h, covered);
   Texture td = Texture::create2D(GL_DEPTH_COMPONENT32F, w, h);
   glTextureSubImage2D(td.id(), 0, 0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
   Texture out = Texture::create2D(GL_RGBA32F, w, h);
@@ -872,7 +872,7 @@ TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
   ta.setFilter(GL_LINEAR, GL_LINEAR);
   tb.setFilter(GL_LINEAR, GL_LINEAR);
   Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
-  Texture te = textureFrom(GL_RGBA16F, GL_RGBA, w, h, eigen), tl = textureFrom(GL_RGBA16F, GL_RGBA, w, h, lambda);
+  Texture te = textureFrom(GL_RGBA8, GL_RGBA, w, h, eigen), tl = textureFrom(GL_RGBA8, GL_RGBA, w, h, lambda);
   const glm::mat4 proj = glm::perspective(glm::radians(40.0f), float(vp.x) / float(vp.y), 10.0f, 400.0f);
   FrameView view;
   view.viewport = vp;

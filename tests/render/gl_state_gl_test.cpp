@@ -50,7 +50,7 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   TractLayer layer;
 
   // A host's state, nothing like GL's defaults: its own framebuffer, a viewport, every switch on, a vertex
-  // array, textures on units 0, 3 and 7 and unit 3 active.
+  // array, textures on units 0, 3 and 7 and unit 3 active, images on units 0 and 4 (which the passes use).
   Texture hostTexture = Texture::create2D(GL_RGBA8, 8, 8);
   Texture hostColour = Texture::create2D(GL_RGBA8, 32, 32);
   Framebuffer hostFbo = createFramebuffer();
@@ -72,7 +72,11 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   }
   glActiveTexture(GL_TEXTURE3);
   glPixelStorei(GL_PACK_ALIGNMENT, 8);
+  glBindImageTexture(0, hostTexture.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(4, hostTexture.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   const GlState before = GlState::capture();
+  ASSERT_EQ(before.images[4], (std::array<GLint, 6>{static_cast<GLint>(hostTexture.id()), 0, GL_FALSE, 0,
+                                                     GL_READ_WRITE, GL_R32UI}));
   ASSERT_EQ(before.drawFramebuffer, static_cast<GLint>(hostFbo.id()));
   ASSERT_EQ(before.textures2d[7], static_cast<GLint>(hostTexture.id()));
   ASSERT_EQ(before.scissorBoxes[0], (std::array<GLint, 4>{5, 6, 7, 8}));
@@ -109,6 +113,7 @@ TEST_F(GlStateTest, FramesLeaveTheHostStateAsTheyFoundIt) {
   glBindVertexArray(0);
   glActiveTexture(GL_TEXTURE0);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  for (GLuint unit : {0u, 4u}) glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8);
   EXPECT_EQ(fabric.renderStill(camera, p).rgba, still.rgba);
 }
 
