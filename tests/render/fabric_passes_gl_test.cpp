@@ -95,6 +95,17 @@ std::vector<float> advectReference(const std::vector<float>& prev, const std::ve
   return out;
 }
 
+// One Eq. 12 iteration by `pass` (the compute shader or the fragment pass) from a restart on `surface` and
+// `edges` with the fields set to `start`: the (p1, p2) pairs after it.
+std::vector<float> iterateOnce(AdvectionPass& pass, bool compute, const Texture& surface, const Texture& edges,
+                               const std::vector<float>& start, const Texture& vectors, const AdvectionSettings& as) {
+  pass.setCompute(compute);
+  pass.reset(surface, edges);
+  pass.setFields(start.data());
+  pass.iterate(vectors, as, 1);
+  return pass.readFields();
+}
+
 // The silhouette texture as the silhouette pass leaves it: 1 on edges and off the surface, border 1.
 Texture edgeTexture(std::vector<float> edges, const std::vector<float>& surface) {
   for (std::size_t i = 0; i < edges.size(); ++i)
@@ -383,12 +394,8 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   for (bool compute : {false, true}) {
   SCOPED_TRACE(compute ? "compute shader" : "fragment pass");
   AdvectionPass pass;
-  pass.setCompute(compute);
-  pass.reset(ts, te);
-  pass.setFields(start.data());
-  AdvectionSettings as{0.2f, 1.7f, 0.05f};
-  pass.iterate(tv, as, 1);
-  auto state = pass.readFields();
+  const AdvectionSettings as{0.2f, 1.7f, 0.05f};
+  const auto state = iterateOnce(pass, compute, ts, te, start, tv, as);
   auto cpu = advectReference(start, vectors, surface, edges, kW, kH, as.k, as.stepPixels);
   auto blocked = [&](std::size_t i) {
     int x = static_cast<int>(i % kW), y = static_cast<int>(i / kW);
@@ -444,12 +451,8 @@ TEST_F(FabricPass, AdvectionReadsEachPixelsOwnStateBesideBlockedTexels) {
   for (bool compute : {false, true}) {
   SCOPED_TRACE(compute ? "compute shader" : "fragment pass");
   AdvectionPass pass;
-  pass.setCompute(compute);
-  pass.reset(ts, te);
-  pass.setFields(start.data());
   const AdvectionSettings as{0.2f, 1.0f, 0.05f};
-  pass.iterate(tv, as, 1);
-  auto state = pass.readFields();
+  const auto state = iterateOnce(pass, compute, ts, te, start, tv, as);
   int checked = 0;
   for (int y = 1; y < h - 1; ++y)
     for (int x = 2; x < w - 2; x += 2) {
