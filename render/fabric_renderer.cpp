@@ -101,8 +101,8 @@ void FabricRenderer::composite(const FabricParams& p) {
     depthProjection_ = pipeline_.projections();
     glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
   }
-  glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                     size_.x, size_.y, 1);
+  glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0,
+                     0, size_.x, size_.y, 1);
   pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Present);
 }
 

@@ -110,8 +110,9 @@ GlState GlState::capture() {
     glGetIntegerv(GL_SAMPLER_BINDING, &s.samplers[u]);
   }
   glActiveTexture(static_cast<GLenum>(s.activeTexture));
-  constexpr GLenum kImageParams[6] = {GL_IMAGE_BINDING_NAME,  GL_IMAGE_BINDING_LEVEL,  GL_IMAGE_BINDING_LAYERED,
-                                      GL_IMAGE_BINDING_LAYER, GL_IMAGE_BINDING_ACCESS, GL_IMAGE_BINDING_FORMAT};
+  constexpr GLenum kImageParams[6] = {GL_IMAGE_BINDING_NAME,    GL_IMAGE_BINDING_LEVEL,
+                                      GL_IMAGE_BINDING_LAYERED, GL_IMAGE_BINDING_LAYER,
+                                      GL_IMAGE_BINDING_ACCESS,  GL_IMAGE_BINDING_FORMAT};
   for (int u = 0; u < kImageUnits; ++u)
     for (int i = 0; i < 6; ++i)
       glGetIntegeri_v(kImageParams[i], static_cast<GLuint>(u), &s.images[u][i]);
@@ -168,8 +169,8 @@ void GlState::restore() const {
   glActiveTexture(static_cast<GLenum>(activeTexture));
   for (int u = 0; u < kImageUnits; ++u) {
     const auto& i = images[u];
-    glBindImageTexture(static_cast<GLuint>(u), static_cast<GLuint>(i[0]), i[1], static_cast<GLboolean>(i[2]), i[3],
-                       static_cast<GLenum>(i[4]), static_cast<GLenum>(i[5]));
+    glBindImageTexture(static_cast<GLuint>(u), static_cast<GLuint>(i[0]), i[1], static_cast<GLboolean>(i[2]),
+                       i[3], static_cast<GLenum>(i[4]), static_cast<GLenum>(i[5]));
   }
 }
 

@@ -13,15 +13,16 @@ using U = CompositeProgram::Uniform;
 
 // Binds `t` to image unit `image` for reading; the shader declares the format, which the texture must have.
 void bindReadImage(Image image, const Texture& t, GLenum format, const char* what) {
-  if (t.format() != format) throw GlError(std::string("CompositePass: the ") + what + " texture has another format");
+  if (t.format() != format)
+    throw GlError(std::string("CompositePass: the ") + what + " texture has another format");
   glBindImageTexture(unit(image), t.id(), 0, GL_FALSE, 0, GL_READ_ONLY, format);
 }
 } // namespace
 
 CompositePass::CompositePass()
     : programs_("common/fullscreen.vert", "fabric/composite.frag",
-                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH", "ANATOMY",
-                 "DEC_FA", "FADE", "FAR_PLANE"},
+                {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
+                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       depthPrograms_("common/fullscreen.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
                      programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),

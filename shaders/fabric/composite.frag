@@ -21,7 +21,7 @@
 // Variants (compile-time: a software rasteriser pays for untaken branches): MEDICAL, SILHOUETTES,
 // BACKGROUND (a grey volume beneath the fabric), DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH (the
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed), ANATOMY,
-// DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: u_fadeOutOfPlane > 0),
+// DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: fadeOutOfPlane > 0),
 // FAR_PLANE (the framebuffer already holds the surface's depth: the triangle at the far plane is drawn with
 // GL_GREATER and the early depth test, so only covered pixels are shaded, and no depth is written).
 #include "common/texel.glsl"
@@ -32,14 +32,17 @@ layout(early_fragment_tests) in;
 
 // The inputs are read texel by texel as images: on llvmpipe an image load is inlined, where a texelFetch or
 // a sample of a float texture calls a generated function.
-layout(binding = IMAGE_P1, r32f) uniform readonly image2D u_p1;          // advected fields (negative where blocked)
+// p1, p2 (p3): the advected fields (negative where blocked); surface: beta, L, linear depth, coverage; eigen:
+// |e1| (world), FA; lambda: lambda2'/lambda1', |e1.n|, background grey, cover; fibres: packUnorm4x8(|d_k|,
+// weight_k), k = 1..3.
+layout(binding = IMAGE_P1, r32f) uniform readonly image2D u_p1;
 layout(binding = IMAGE_P2, r32f) uniform readonly image2D u_p2;
-layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface; // beta, L, linear depth, coverage
-layout(binding = IMAGE_EIGEN, rgba8) uniform readonly image2D u_eigen;   // |e1| (world), FA
-layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda; // lambda2'/lambda1', |e1.n|, grey, cover
+layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface;
+layout(binding = IMAGE_EIGEN, rgba8) uniform readonly image2D u_eigen;
+layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda;
 #ifdef FIBRES
-layout(binding = IMAGE_P3, r32f) uniform readonly image2D u_p3;         // third population's advected field
-layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3
+layout(binding = IMAGE_P3, r32f) uniform readonly image2D u_p3;
+layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres;
 #endif
 
 #ifdef WINDOW_DEPTH

@@ -97,8 +97,9 @@ std::vector<float> advectReference(const std::vector<float>& prev, const std::ve
 
 // One Eq. 12 iteration by `pass` (the compute shader or the fragment pass) from a restart on `surface` and
 // `edges` with the fields set to `start`: the (p1, p2) pairs after it.
-std::vector<float> iterateOnce(AdvectionPass& pass, bool compute, const Texture& surface, const Texture& edges,
-                               const std::vector<float>& start, const Texture& vectors, const AdvectionSettings& as) {
+std::vector<float> iterateOnce(AdvectionPass& pass, bool compute, const Texture& surface,
+                               const Texture& edges, const std::vector<float>& start, const Texture& vectors,
+                               const AdvectionSettings& as) {
   pass.setCompute(compute);
   pass.reset(surface, edges);
   pass.setFields(start.data());
@@ -902,7 +903,8 @@ TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
   CompositePass pass;
   for (const bool background : {false, true})
     for (const ColourMode mode : {ColourMode::Medical, ColourMode::Engineering}) {
-      SCOPED_TRACE(std::string(background ? "background " : "") + (mode == ColourMode::Medical ? "medical" : "engineering"));
+      SCOPED_TRACE(std::string(background ? "background " : "") +
+                   (mode == ColourMode::Medical ? "medical" : "engineering"));
       CompositeSettings cs;
       cs.mode = mode;
       cs.background = background;
@@ -917,7 +919,8 @@ TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
       }
       {
         Framebuffer fbo = target(colourB, depthB);
-        glCopyImageSubData(depthOnly.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthB.id(), GL_TEXTURE_2D, 0, 0, 0, 0, vp.x, vp.y, 1);
+        glCopyImageSubData(depthOnly.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthB.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                           vp.x, vp.y, 1);
         cs.depth = CompositeDepth::Present;
         pass.run({&ta, &tb, &ts, &te, &tl}, view, cs);
       }
@@ -929,7 +932,9 @@ TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
       EXPECT_GT(drawn, 1000);                            // the disc, at least where there is data
       EXPECT_LT(drawn, static_cast<long>(da.size()) - 500); // around the disc nothing
       if (!background) {
-        const auto depthOf = [&](int x, int y) { return da[static_cast<std::size_t>(y - guard) * vp.x + x - guard]; };
+        const auto depthOf = [&](int x, int y) {
+          return da[static_cast<std::size_t>(y - guard) * vp.x + x - guard];
+        };
         EXPECT_EQ(depthOf(28, 30), 1.0f); // on the surface, outside the data's cover: discarded
         EXPECT_LT(depthOf(40, 30), 1.0f);
       }
