@@ -95,6 +95,16 @@ ShaderSource preprocessShader(const std::string& file, const std::vector<std::st
   return std::move(e.out);
 }
 
+void bindReadImage(GLuint unit, const Texture& texture, GLenum format) {
+  if (texture.format() != format) {
+    std::ostringstream msg;
+    msg << "image unit " << unit << ": the texture's format 0x" << std::hex << texture.format()
+        << " is not the shader's 0x" << format;
+    throw GlError(msg.str());
+  }
+  glBindImageTexture(unit, texture.id(), 0, GL_FALSE, 0, GL_READ_ONLY, format);
+}
+
 std::vector<std::string> bindingDefines(std::initializer_list<std::span<const BindingName>> tables) {
   std::vector<std::string> defines;
   for (const auto& table : tables)

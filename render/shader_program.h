@@ -56,6 +56,14 @@ template <class E>
 void bindTexture(E u, GLuint texture) {
   glBindTextureUnit(unit(u), texture);
 }
+// Binds `texture` to image unit `unit` for reading. The shader declares the image's format, which the texture
+// must have (other formats read undefined values): throws GlError otherwise.
+void bindReadImage(GLuint unit, const Texture& texture, GLenum format);
+template <class E>
+  requires std::is_enum_v<E>
+void bindReadImage(E u, const Texture& texture, GLenum format) {
+  bindReadImage(unit(u), texture, format);
+}
 
 // The uniform names of an enum E with enumerators 0 .. E::Count - 1, in order, from uniformName(E) (found
 // by argument-dependent lookup; a switch over E, so a missing name is a -Wswitch error).

@@ -97,7 +97,7 @@ void AdvectionPass::bindHere(bool third) {
   using ReadImage = AdvectionBindings::ReadImage;
   constexpr ReadImage kHere[3] = {ReadImage::Here1, ReadImage::Here2, ReadImage::Here3};
   for (int c = 0; c < (third ? 3 : 2); ++c)
-    glBindImageTexture(unit(kHere[c]), state_[current_][c].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    bindReadImage(kHere[c], state_[current_][c], GL_R32F);
 }
 
 void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool covered, bool third) {
@@ -258,9 +258,7 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   if (count <= 0) return;
   counted_ = countChanges;
   const bool third = fields >= 3;
-  if (vectors.format() != GL_RGBA32UI) throw GlError("AdvectionPass: the vectors texture is not GL_RGBA32UI");
-  glBindImageTexture(unit(AdvectionBindings::ReadImage::Vectors), vectors.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                     GL_RGBA32UI);
+  bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, GL_RGBA32UI);
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
     compute_.get(third ? kComputeThird : 0u);

@@ -1,9 +1,5 @@
 #include "render/fabric/composite_pass.h"
 
-#include "io/model/error.h"
-
-#include <string>
-
 namespace dtf::render {
 
 namespace {
@@ -11,11 +7,14 @@ using Unit = CompositeProgram::Unit;
 using Image = CompositeProgram::Image;
 using U = CompositeProgram::Uniform;
 
-// Binds `t` to image unit `image` for reading; the shader declares the format, which the texture must have.
-void bindReadImage(Image image, const Texture& t, GLenum format, const char* what) {
-  if (t.format() != format)
-    throw GlError(std::string("CompositePass: the ") + what + " texture has another format");
-  glBindImageTexture(unit(image), t.id(), 0, GL_FALSE, 0, GL_READ_ONLY, format);
+// Scissors to the viewport pixels the scene can cover (FrameView::coverRect), the viewport's lower left at
+// `origin`: a software rasteriser would run the whole shader on the rest. False where that is not known.
+bool scissorToCover(const FrameView& view, glm::ivec2 origin) {
+  const glm::ivec4 rect = view.coverRect;
+  if (rect.z < 0 || rect.w < 0) return false;
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(origin.x + rect.x, origin.y + rect.y, rect.z, rect.w);
+  return true;
 }
 } // namespace
 
@@ -59,27 +58,21 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   if (s.fadeOutOfPlane > 0.0f) p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   if (s.anatomy) p.set(U::OpacityFa, s.opacityFa);
   p.use();
-  bindReadImage(Image::P1, *in.p1, GL_R32F, "p1");
-  bindReadImage(Image::P2, *in.p2, GL_R32F, "p2");
-  bindReadImage(Image::Surface, *in.surface, GL_RGBA32F, "surface");
-  bindReadImage(Image::Eigen, *in.eigen, GL_RGBA8, "eigen");
-  bindReadImage(Image::Lambda, *in.lambda, GL_RGBA8, "lambda");
+  bindReadImage(Image::P1, *in.p1, GL_R32F);
+  bindReadImage(Image::P2, *in.p2, GL_R32F);
+  bindReadImage(Image::Surface, *in.surface, GL_RGBA32F);
+  bindReadImage(Image::Eigen, *in.eigen, GL_RGBA8);
+  bindReadImage(Image::Lambda, *in.lambda, GL_RGBA8);
   if (s.mode == ColourMode::Fibres && in.fibres) {
-    bindReadImage(Image::P3, *in.p3, GL_R32F, "p3");
-    bindReadImage(Image::Fibres, *in.fibres, GL_RGBA32UI, "fibres");
+    bindReadImage(Image::P3, *in.p3, GL_R32F);
+    bindReadImage(Image::Fibres, *in.fibres, GL_RGBA32UI);
   }
   if (windowDepth) {
     bindTexture(Unit::Depth, in.depth->id());
     glBindSampler(unit(Unit::Depth), texelSampler_.id()); // read texel by texel, no depth comparison
   }
   glViewport(s.origin.x, s.origin.y, view.viewport.x, view.viewport.y);
-  // Only the pixels the scene can cover: a software rasteriser would run the whole shader on the rest.
-  const glm::ivec4 rect = view.coverRect;
-  const bool scissor = rect.z >= 0 && rect.w >= 0;
-  if (scissor) {
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(s.origin.x + rect.x, s.origin.y + rect.y, rect.z, rect.w);
-  }
+  const bool scissor = scissorToCover(view, s.origin);
   glEnable(GL_DEPTH_TEST);
   // Present: the triangle lies at the far plane, so GL_GREATER passes exactly where the surface is.
   glDepthFunc(present ? GL_GREATER : windowDepth ? GL_LEQUAL : GL_ALWAYS);
@@ -118,12 +111,7 @@ void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, b
   glBindSampler(unit(DepthUnit::Surface), texelSampler_.id());
   glBindSampler(unit(DepthUnit::Lambda), texelSampler_.id());
   glViewport(0, 0, view.viewport.x, view.viewport.y);
-  const glm::ivec4 rect = view.coverRect;
-  const bool scissor = rect.z >= 0 && rect.w >= 0;
-  if (scissor) {
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(rect.x, rect.y, rect.z, rect.w);
-  }
+  const bool scissor = scissorToCover(view, glm::ivec2(0));
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);
   glDepthMask(GL_TRUE);

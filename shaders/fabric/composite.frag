@@ -25,6 +25,7 @@
 // FAR_PLANE (the framebuffer already holds the surface's depth: the triangle at the far plane is drawn with
 // GL_GREATER and the early depth test, so only covered pixels are shaded, and no depth is written).
 #include "common/texel.glsl"
+#include "common/window_depth.glsl"
 
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in;
@@ -234,7 +235,6 @@ void main() {
   // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.
   gl_FragDepth = max(texel(u_depth, t).r - 2.0 / 16777215.0, 0.0);
 #elif !defined(FAR_PLANE)
-  float z = -s.b; // eye z of the surface
-  gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
+  gl_FragDepth = windowDepth(u_eyeDepth, s.b);
 #endif
 }

@@ -5,6 +5,7 @@
 // projection into a cleared depth target that each frame copies into its own; the composite then shades
 // exactly these pixels behind the early depth test, and the frame's depth is the one it would have written.
 #include "common/texel.glsl"
+#include "common/window_depth.glsl"
 
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (mm), .a coverage
 layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;   // .w the data's cover
@@ -19,6 +20,5 @@ void main() {
 #ifndef BACKGROUND
   if (texel(u_lambda, t).w <= 0.0) discard; // the composite's alpha is the cover: it discards these
 #endif
-  float z = -s.b; // eye z of the surface, as fabric/composite.frag writes it
-  gl_FragDepth = 0.5 * (u_eyeDepth.x * z + u_eyeDepth.y) / (u_eyeDepth.z * z + u_eyeDepth.w) + 0.5;
+  gl_FragDepth = windowDepth(u_eyeDepth, s.b); // as fabric/composite.frag writes it
 }
