@@ -31,11 +31,11 @@ constexpr Image kOther[3] = {Image::Other1, Image::Other2, Image::Other3};
 } // namespace
 
 AdvectionPass::AdvectionPass()
-    : iteration_("common/fullscreen.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"},
+    : iteration_("fabric/advection.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"},
                  programDefines<AdvectionProgram>(), uniformNames<U>()),
-      restart_("common/fullscreen.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
+      restart_("fabric/advection.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
                uniformNames<U>()),
-      reproject_("common/fullscreen.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
+      reproject_("fabric/advection.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
       compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES"},
                programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
       useCompute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {

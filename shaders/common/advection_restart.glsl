@@ -36,7 +36,7 @@ void restartPixel(ivec2 p, out vec3 state, out float edge) {
   edge = 0.0;
   bool blocked = s.a < 0.5 || ring || texel(u_silhouette, p).r > 0.5;
 #endif
-  float p1 = s.r, p2 = u_complementSecond ? 1.0 - s.r : s.r;
+  float p1 = s.r, p2 = complementSecond() ? 1.0 - s.r : s.r;
 #ifdef REPROJECT
   if (!blocked) {
     vec4 w = u_windowToWorld * vec4(fragCoord, texel(u_depth, p).r, 1.0);

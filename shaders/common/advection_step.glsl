@@ -10,16 +10,30 @@ layout(binding = UNIT_PREV3) uniform sampler2D u_prev3;          // p3
 #endif
 
 const float BLOCKED = -1e20;
-// Fibre sets: the second field advects the complementary noise 1 - beta, so the threads of two crossing
-// populations interleave instead of brightening the same noise spots into crosses.
+
+// The iteration's parameters: k (Eq. 12), the step (pixels per unit of the max-norm scaled vectors), the
+// complement flag (fibre sets: the second field advects the complementary noise 1 - beta, so the threads of
+// two crossing populations interleave instead of brightening the same noise spots into crosses) and epsilon
+// (COUNT). The fragment pass receives them as flat inputs from fabric/advection.vert, which reads the
+// uniforms; the compute twin (COMPUTE) reads the uniforms.
+#ifdef COMPUTE
+uniform float u_k;
+uniform float u_step;
 uniform bool u_complementSecond = false;
+uniform float u_epsilon;
+vec4 iteration() { return vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon); }
+vec2 invSize() { return 1.0 / vec2(textureSize(u_prev1, 0)); }
+#else
+flat in vec4 v_iteration;
+flat in vec2 v_invSize;
+vec4 iteration() { return v_iteration; }
+vec2 invSize() { return v_invSize; }
+#endif
+bool complementSecond() { return iteration().z > 0.5; }
 
 #ifdef COUNT
 layout(binding = COUNTER_CHANGED, offset = 0) uniform atomic_uint u_changed;
-uniform float u_epsilon;
 #endif
-uniform float u_k;
-uniform float u_step; // pixels per unit of the max-norm scaled vectors
 
 #ifndef RESET // the iteration (a restart's programs use these image units for other targets)
 layout(binding = IMAGE_HERE1, r32f) uniform readonly image2D u_here1; // p1 again: its texel at the pixel
@@ -37,31 +51,33 @@ float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
 }
 
 // Pixel p's state `here` (p1, p2, p3; p3 0 without THIRD) and its next iterate `next`; false where p is
-// blocked (its state stays). With COUNT the pixel is counted when it changed by more than u_epsilon.
+// blocked (its state stays). With COUNT the pixel is counted when it changed by more than epsilon.
 bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   vec2 s = vec2(imageLoad(u_here1, p).r, imageLoad(u_here2, p).r);
-  vec2 inv = 1.0 / vec2(textureSize(u_prev1, 0));
+  vec4 it = iteration();
+  float k = it.x, stepPixels = it.y;
+  vec2 inv = invSize();
   vec2 x = vec2(p) + 0.5;
   uvec4 q = imageLoad(u_vectors, p);
-  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * u_step;
+  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * stepPixels;
   float beta = uintBitsToFloat(q.z);
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
-  vec2 next2 = u_k * vec2(beta, u_complementSecond ? 1.0 - beta : beta) + (1.0 - u_k) * avg;
+  vec2 next2 = k * vec2(beta, complementSecond() ? 1.0 - beta : beta) + (1.0 - k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef THIRD
   float s3 = imageLoad(u_here3, p).r;
-  float next3 = u_k * beta + (1.0 - u_k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * u_step, inv, s3);
+  float next3 = k * beta + (1.0 - k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * stepPixels, inv, s3);
 #else
   float s3 = 0.0, next3 = 0.0;
 #endif
 #ifdef COUNT
 #ifdef THIRD
-  bool changed3 = abs(next3 - s3) > u_epsilon;
+  bool changed3 = abs(next3 - s3) > it.w;
 #else
   bool changed3 = false;
 #endif
-  if (!blocked && (changed3 || any(greaterThan(abs(next2 - s), vec2(u_epsilon))))) atomicCounterIncrement(u_changed);
+  if (!blocked && (changed3 || any(greaterThan(abs(next2 - s), vec2(it.w))))) atomicCounterIncrement(u_changed);
 #endif
   here = vec3(s, s3);
   next = vec3(next2, next3);

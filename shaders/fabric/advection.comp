@@ -6,6 +6,7 @@
 // An iteration does not write blocked pixels: the restart gave them the blocked state in both ping-pong
 // textures, as the fragment pass's early depth test leaves the background.
 layout(local_size_x = 8, local_size_y = 8) in;
+#define COMPUTE
 #include "common/advection_step.glsl"
 #include "common/advection_restart.glsl"
 layout(binding = IMAGE_NEXT1, r32f) uniform writeonly image2D o_p1; // RESET: the first ping-pong texture

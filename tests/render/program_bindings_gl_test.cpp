@@ -58,7 +58,7 @@ ProgramCase computeCase(std::string name, std::string file, std::vector<std::vec
 
 std::vector<ProgramCase> allPrograms() {
   return {
-      makeCase<AdvectionProgram>("advection", "common/fullscreen.vert", "fabric/advection.frag",
+      makeCase<AdvectionProgram>("advection", "fabric/advection.vert", "fabric/advection.frag",
                                  {{}, {"FAR_PLANE", "COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD"},
                                   {"RESET", "REPROJECT"}, {"RESET", "SILHOUETTES"}, {"RESET", "THIRD", "SILHOUETTES"}},
                                  uniformNames<AdvectionProgram::Uniform>()),
