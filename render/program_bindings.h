@@ -94,7 +94,7 @@ struct CompositeProgram {
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Target, Count
   };
 };
 
@@ -243,6 +243,7 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::SecondaryFa: return "u_secondaryFa";
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
   case U::OpacityFa: return "u_opacityFa";
+  case U::Target: return "u_target";
   case U::Count: break;
   }
   return "";

@@ -19,7 +19,7 @@ bool scissorToCover(const FrameView& view, glm::ivec2 origin) {
 } // namespace
 
 CompositePass::CompositePass()
-    : programs_("common/fullscreen.vert", "fabric/composite.frag",
+    : programs_("fabric/composite.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
                  "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
@@ -40,6 +40,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
                         (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u);
   const ShaderProgram& p = programs_.get(mask);
   p.set(U::Guard, glm::ivec2(view.guard));
+  p.set(U::Target, glm::ivec2(in.p1->width(), in.p1->height()));
   p.set(U::Origin, s.origin);
   p.set(U::Scale, glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
   p.set(U::EyeDepth, view.eyeDepth);

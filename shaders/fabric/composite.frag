@@ -50,27 +50,38 @@ layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres;
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;           // window depth of the surface
 #endif
 
-uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
-uniform ivec2 u_origin = ivec2(0); // the viewport's lower-left pixel in the framebuffer drawn into
-uniform vec2 u_scale = vec2(1.0); // internal / viewport resolution (nearest upsampling when < 1)
-uniform float u_r = 0.5;      // blend between the two directions (Eq. 13)
-uniform float u_contrast = 1.0; // f(p) = clamp(0.5 + contrast (p - 0.5)); 1 = Eq. 13 on the raw fields
-uniform float u_lightWeight = 0.5; // engineering: light(L) = weight * L
-uniform float u_lightMix = 0.8;    // medical: intensity factor mix(1, L, lightMix)
-uniform bool u_lighting = true;
-uniform float u_depthColour = 0.5; // DEPTH_COLOUR: 0..1 blend of far surfaces towards a cool grey
-uniform vec2 u_depthRange;         // linear depth of the nearest and farthest scene points (mm)
-uniform vec4 u_eyeDepth;           // projection terms of eye z: clip z = x z + y, clip w = z z + w
-uniform float u_sharpen = 0.5;     // SHARPEN: unsharp mask weight on the composed colour
-uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which the secondary appears
-uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
-uniform float u_fadeOutOfPlane = 0.0; // FADE: 0..1 fade where |e1.n| is large
+// The pass's parameters: the uniforms of fabric/composite.vert (described there), received as its flat
+// outputs under the uniforms' names.
+flat in ivec4 v_place;
+flat in ivec2 v_target;
+flat in vec2 v_scale;
+flat in vec4 v_colourA;
+flat in vec4 v_colourB;
+flat in vec4 v_colourC;
+flat in vec2 v_depthRange;
+flat in vec4 v_eyeDepth;
+#define u_guard (v_place.xy)
+#define u_origin (v_place.zw)
+#define u_target v_target
+#define u_scale v_scale
+#define u_r (v_colourA.x)
+#define u_contrast (v_colourA.y)
+#define u_lightWeight (v_colourA.z)
+#define u_lightMix (v_colourA.w)
+#define u_lighting (v_colourB.x > 0.5)
+#define u_secondaryRatio (v_colourB.y)
+#define u_secondaryFa (v_colourB.z)
+#define u_fadeOutOfPlane (v_colourB.w)
+#define u_opacityFa (v_colourC.xy)
+#define u_depthColour (v_colourC.z)
+#define u_sharpen (v_colourC.w)
+#define u_depthRange v_depthRange
+#define u_eyeDepth v_eyeDepth
 #ifdef ANATOMY
 const bool kAnatomy = true;
 #else
 const bool kAnatomy = false;
 #endif
-uniform vec2 u_opacityFa = vec2(0.15, 0.4); // anatomy: FA at which the fabric starts to show, and is opaque
 
 out vec4 o_colour;
 
@@ -110,7 +121,7 @@ vec4 compose(ivec2 t, vec4 s) {
 #ifdef SILHOUETTES
   // The advection blocks exactly the silhouettes, the uncovered pixels and the target's outermost ring, so a
   // covered pixel off the ring is a silhouette where its state is blocked: no fetch of the edge target.
-  ivec2 last = imageSize(u_p1) - 1;
+  ivec2 last = u_target - 1;
   float e = p.x < 0.0 && all(greaterThan(t, ivec2(0))) && all(lessThan(t, last)) ? 1.0 : 0.0;
 #else
   float e = 0.0;

@@ -67,7 +67,7 @@ std::vector<ProgramCase> allPrograms() {
           {{}, {"COUNT", "THIRD"}, {"RESET"}, {"RESET", "THIRD", "SILHOUETTES"}},
           {"u_k", "u_step", "u_complementSecond", "u_epsilon", "u_threshold", "u_background"}),
       makeCase<CompositeProgram>(
-          "composite", "common/fullscreen.vert", "fabric/composite.frag",
+          "composite", "fabric/composite.vert", "fabric/composite.frag",
           {{},
            {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "WINDOW_DEPTH", "FADE"},
            {"SILHOUETTES", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH", "ANATOMY"},
