@@ -10,7 +10,7 @@ using U = ProjectionProgram::Uniform;
 } // namespace
 
 TensorStage::TensorStage()
-    : program_("common/deferred.vert", "fabric/projection.frag",
+    : program_("fabric/projection.vert", "fabric/projection.frag",
                {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}, programDefines<ProjectionProgram>(),
                uniformNames<U>()),
       computeProgram_({{GL_COMPUTE_SHADER, "fabric/projection.comp"}},

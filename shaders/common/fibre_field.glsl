@@ -14,8 +14,7 @@ layout(binding = UNIT_LOBE0) uniform sampler3D u_lobe0;
 layout(binding = UNIT_LOBE1) uniform sampler3D u_lobe1;
 layout(binding = UNIT_LOBE2) uniform sampler3D u_lobe2;
 layout(binding = UNIT_FIBRE_FA) uniform sampler3D u_fibreFa; // FA (or 1), 1 where the voxel has fibres, blurred
-uniform mat4 u_worldToTex;
-uniform int u_lobeCount = 1; // 1..3 slots uploaded
+// u_worldToTex, u_lobeCount (1..3 slots uploaded): common/projection_params.glsl
 
 // One slot at texture coordinate tc: its direction and amplitude (amp 0 = none) by the rule above. A
 // function of the sampler, called once per slot: a slot chosen by a runtime index would make a software

@@ -1,5 +1,6 @@
 // The tensor stage of the projection for one pixel, shared by the fragment pass (fabric/projection.frag)
 // and its compute twin (fabric/projection.comp); the comments of fabric/projection.frag describe it.
+#include "common/projection_params.glsl"
 #include "common/eigen.glsl"
 #ifdef FIBRES
 #include "common/fibre_field.glsl"
@@ -12,31 +13,14 @@
 #ifdef UNCERTAINTY
 #include "common/fray.glsl"
 layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees per slot (rgb), trilinear
-uniform mat4 u_uncertaintyWorldToTex;
-uniform float u_fray = 1.0;       // strength: the turn is up to u_fray x the cone
-uniform float u_frayCells = 16.0; // noise cells per implicit voxel edge
 #endif
 
 layout(binding = UNIT_GEOMETRY) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
 
-uniform mat4 u_eyeToWorld;
-uniform mat4 u_viewProj;
-uniform mat3 u_viewRot;      // world -> eye rotation (normals)
-uniform vec2 u_targetSize;   // guarded target size in pixels
-uniform float u_eps;         // mm; finite-difference step along the eigenvectors
-uniform float u_degenerateTol = 0.02; // relative in-plane eigenvalue gap below which there is no direction
-uniform bool u_orthographic;
-uniform float u_pixelMm;         // orthographic: pixel size in mm
-uniform float u_pixelMmPerDepth; // perspective: pixel size in mm per mm of depth
-uniform vec3 u_noiseOrigin;  // b_min of Eq. 7 (world mm)
-uniform float u_lod;         // l of Eq. 7: implicit voxel edge in mm
-uniform float u_noiseBlend = 0.5; // NOISE_BLEND: > 0 softens the switch between voxel faces
 layout(binding = UNIT_NOISE) uniform sampler2D u_noise;
 #ifdef BACKGROUND
 layout(binding = UNIT_BACKGROUND) uniform sampler3D u_background; // grey shown where there is no tensor data
-uniform mat4 u_backgroundWorldToTex;
 #endif
-uniform float u_faFloor = 0.0; // the fabric only where FA >= u_faFloor
 
 // Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
 // and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
@@ -96,7 +80,7 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
   if (dot(nEye, toEye) < 0.0) { // two-sided: back faces (e.g. a slice seen from below) face the camera
     nEye = -nEye;
   }
-  float light = blinnPhong(nEye, toEye);
+  float light = blinnPhong(nEye, toEye, vec3(u_ambient, u_diffuse, u_specular));
   vec3 an = abs(n);
   float lod = noiseLod(depth, abs(dot(nEye, toEye)), max(an.x, max(an.y, an.z)));
   float beta = sampleNoise(world, n, lod);

@@ -6,7 +6,7 @@
 layout(binding = UNIT_TENSOR_A) uniform sampler3D u_tensorA;
 layout(binding = UNIT_TENSOR_B) uniform sampler3D u_tensorB;
 layout(binding = UNIT_TENSOR_EDGE) uniform sampler3D u_tensorEdge; // the mask, blurred (GpuTensorField)
-uniform mat4 u_worldToTex;
+// u_worldToTex: common/projection_params.glsl
 
 // The interpolated validity `valid` (the trilinear data mask, 0..1) and, where it is at least minValid, the
 // tensor renormalised by it. False where valid < minValid (outside the data: t = 0, fa = 0).

@@ -11,6 +11,7 @@
 //   memory), as a fragment shader's fwidth does, so every pixel computes its edge value first;
 // - the covered pixels are counted (per work group, then one atomic add), for coveredPixels().
 layout(local_size_x = 8, local_size_y = 8) in;
+#define COMPUTE
 #include "common/projection_pixel.glsl"
 
 uniform mat4 u_clipToEye; // inverse projection of the guarded target

@@ -187,7 +187,8 @@ TEST_F(FabricPass, ShaderPreprocessorInjectsDefinesAndLineDirectives) {
   ASSERT_GE(s.files.size(), 5u);
   EXPECT_EQ(s.files[0], "fabric/projection.frag");
   EXPECT_EQ(s.files[1], "common/projection_pixel.glsl"); // which includes the rest
-  EXPECT_EQ(s.files[2], "common/eigen.glsl");
+  EXPECT_EQ(s.files[2], "common/projection_params.glsl");
+  EXPECT_EQ(s.files[3], "common/eigen.glsl");
   EXPECT_NE(s.text.find("#line 1 1\n"), std::string::npos);
   EXPECT_NE(s.text.find("void eigenDecompose("), std::string::npos);
   EXPECT_EQ(s.text.find("#include"), std::string::npos);

@@ -78,7 +78,7 @@ std::vector<ProgramCase> allPrograms() {
                                       uniformNames<CompositeDepthProgram::Uniform>()),
       makeCase<SilhouetteProgram>("silhouette", "common/fullscreen.vert", "fabric/silhouette.frag",
                                   {{}, {"FAR_PLANE"}}, uniformNames<SilhouetteProgram::Uniform>()),
-      makeCase<ProjectionProgram>("projection", "common/deferred.vert", "fabric/projection.frag",
+      makeCase<ProjectionProgram>("projection", "fabric/projection.vert", "fabric/projection.frag",
                                   {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "UNCERTAINTY"},
                                    {"NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}},
                                   uniformNames<ProjectionProgram::Uniform>()),
