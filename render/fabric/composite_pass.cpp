@@ -23,7 +23,7 @@ CompositePass::CompositePass()
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
                  "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
-      depthPrograms_("common/fullscreen.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
+      depthPrograms_("fabric/composite.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
                      programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),
       vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
   programs_.get(3); // medical with silhouettes, the default, compiles with the pass

@@ -5,7 +5,7 @@ namespace dtf::render {
 GeometryStage::GeometryStage()
     : meshProgram_("fabric/geometry.vert", "fabric/geometry.frag", programDefines<GeometryProgram>(),
                    uniformNames<GeometryProgram::Uniform>()),
-      importProgram_("common/deferred.vert", "fabric/host_import.frag", programDefines<HostImportProgram>(),
+      importProgram_("fabric/host_import.vert", "fabric/host_import.frag", programDefines<HostImportProgram>(),
                      uniformNames<HostImportProgram::Uniform>()),
       vao_(createVertexArray()), sampler_(createTexelSampler()) {}
 

@@ -18,8 +18,14 @@ uniform float u_depthTol;         // mm
 // The restart of a frame whose projection changed finds the silhouettes itself (the silhouette pass's test,
 // common/silhouette.glsl) and writes them for the composite and later frames: one fullscreen pass fewer.
 #include "common/silhouette.glsl"
+#ifdef COMPUTE
 uniform float u_threshold;  // mm of |Laplacian| above which a pixel is a silhouette
 uniform float u_background; // linear depth assigned to empty pixels
+#else // the same uniforms of fabric/advection.vert, as its flat output
+flat in vec2 v_silhouette;
+#define u_threshold (v_silhouette.x)
+#define u_background (v_silhouette.y)
+#endif
 #endif
 #endif
 

@@ -10,12 +10,16 @@ uniform float u_k;
 uniform float u_step;
 uniform bool u_complementSecond = false;
 uniform float u_epsilon;
+uniform float u_threshold;  // RESET SILHOUETTES: mm of |Laplacian| above which a pixel is a silhouette
+uniform float u_background; // RESET SILHOUETTES: linear depth assigned to empty pixels
 
 flat out vec4 v_iteration; // k, step, complement (1 or 0), epsilon (common/advection_step.glsl)
 flat out vec2 v_invSize;   // 1 / the state targets' size in texels
+flat out vec2 v_silhouette; // threshold, background (common/advection_restart.glsl)
 
 void main() {
   fullscreenTriangle();
   v_iteration = vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon);
   v_invSize = 1.0 / vec2(textureSize(u_prev1, 0));
+  v_silhouette = vec2(u_threshold, u_background);
 }

@@ -10,8 +10,12 @@
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (mm), .a coverage
 layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;   // .w the data's cover
 
-uniform ivec2 u_guard;  // offset of the viewport inside the guarded targets
-uniform vec4 u_eyeDepth; // projection terms of eye z: clip z = x z + y, clip w = z z + w
+// u_guard (the viewport's offset inside the guarded targets) and u_eyeDepth (projection terms of eye z): the
+// uniforms of fabric/composite.vert, received as its flat outputs.
+flat in ivec4 v_place;
+flat in vec4 v_eyeDepth;
+#define u_guard (v_place.xy)
+#define u_eyeDepth v_eyeDepth
 
 void main() {
   ivec2 t = ivec2(gl_FragCoord.xy) + u_guard;

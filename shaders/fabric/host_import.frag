@@ -11,18 +11,25 @@
 #include "common/octahedral.glsl"
 #include "common/texel.glsl"
 
-noperspective in vec3 v_nearEye; // the pixel's ray in eye space (common/deferred.vert)
+noperspective in vec3 v_nearEye; // the pixel's ray in eye space (common/deferred_triangle.glsl)
 noperspective in vec3 v_farEye;
 
 layout(binding = UNIT_HOST_DEPTH) uniform sampler2D u_hostDepth; // window depth in [0, 1]
 layout(binding = UNIT_HOST_NORMAL) uniform sampler2D u_hostNormal; // world normal (any length), see u_biasedNormals
-uniform bool u_biasedNormals;  // the texture holds 0.5 n + 0.5 (unsigned normalised formats)
-uniform ivec2 u_origin;        // the viewport's lower-left pixel in the host textures
-uniform ivec2 u_extent;        // the viewport's size in pixels
-uniform int u_guard;           // guard border of the target, pixels
-uniform mat4 u_hostClipToEye;  // inverse of the host's projection
-uniform mat3 u_viewRot;        // world -> eye rotation (normals)
-uniform mat4 u_projection;     // the host's projection (window depth of guard pixels)
+// The import's parameters: the uniforms of fabric/host_import.vert (described there), received as its flat
+// outputs under the uniforms' names.
+flat in ivec4 v_viewport;
+flat in ivec2 v_guardBiased;
+flat in mat4 v_hostClipToEye;
+flat in mat3 v_viewRot;
+flat in mat4 v_projection;
+#define u_origin (v_viewport.xy)
+#define u_extent (v_viewport.zw)
+#define u_guard (v_guardBiased.x)
+#define u_biasedNormals (v_guardBiased.y != 0)
+#define u_hostClipToEye v_hostClipToEye
+#define u_viewRot v_viewRot
+#define u_projection v_projection
 
 layout(location = 0) out uvec2 o_geometry;
 
