@@ -13,8 +13,8 @@ std::vector<std::string> silhouetteDefines(bool farPlane) {
 } // namespace
 
 SilhouettePass::SilhouettePass()
-    : program_("common/fullscreen.vert", "fabric/silhouette.frag", silhouetteDefines(false), uniformNames<U>()),
-      covered_("common/fullscreen.vert", "fabric/silhouette.frag", silhouetteDefines(true), uniformNames<U>()),
+    : program_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(false), uniformNames<U>()),
+      covered_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(true), uniformNames<U>()),
       vao_(createVertexArray()) {}
 
 void SilhouettePass::resize(glm::ivec2 target) {

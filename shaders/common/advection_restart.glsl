@@ -7,10 +7,16 @@ layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1
 #ifdef REPROJECT
 layout(binding = UNIT_HISTORY_SURFACE) uniform sampler2D u_histSurface; // previous frame's surface (.b depth)
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;                // this frame's window depth
-uniform mat4 u_windowToWorld;     // (pixel x, y, window depth, 1) of this frame -> world
-uniform mat4 u_worldToPrevWindow; // world -> previous frame's (pixel x, y)
-uniform mat4 u_worldToPrevEye;    // world -> previous frame's eye space
-uniform float u_depthTol;         // mm
+// u_windowToWorld, u_worldToPrevWindow, u_worldToPrevEye, u_depthTol: the uniforms of fabric/advection.vert
+// (described there), received as its flat outputs (the fragment pass only: REPROJECT has no compute twin).
+flat in mat4 v_windowToWorld;
+flat in mat4 v_worldToPrevWindow;
+flat in mat4 v_worldToPrevEye;
+flat in float v_depthTol;
+#define u_windowToWorld v_windowToWorld
+#define u_worldToPrevWindow v_worldToPrevWindow
+#define u_worldToPrevEye v_worldToPrevEye
+#define u_depthTol v_depthTol
 #endif
 
 #ifdef RESET

@@ -12,6 +12,16 @@ uniform bool u_complementSecond = false;
 uniform float u_epsilon;
 uniform float u_threshold;  // RESET SILHOUETTES: mm of |Laplacian| above which a pixel is a silhouette
 uniform float u_background; // RESET SILHOUETTES: linear depth assigned to empty pixels
+#ifdef REPROJECT
+uniform mat4 u_windowToWorld;     // (pixel x, y, window depth, 1) of this frame -> world
+uniform mat4 u_worldToPrevWindow; // world -> previous frame's (pixel x, y)
+uniform mat4 u_worldToPrevEye;    // world -> previous frame's eye space
+uniform float u_depthTol;         // mm
+flat out mat4 v_windowToWorld;
+flat out mat4 v_worldToPrevWindow;
+flat out mat4 v_worldToPrevEye;
+flat out float v_depthTol;
+#endif
 
 flat out vec4 v_iteration; // k, step, complement (1 or 0), epsilon (common/advection_step.glsl)
 flat out vec2 v_invSize;   // 1 / the state targets' size in texels
@@ -22,4 +32,10 @@ void main() {
   v_iteration = vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon);
   v_invSize = 1.0 / vec2(textureSize(u_prev1, 0));
   v_silhouette = vec2(u_threshold, u_background);
+#ifdef REPROJECT
+  v_windowToWorld = u_windowToWorld;
+  v_worldToPrevWindow = u_worldToPrevWindow;
+  v_worldToPrevEye = u_worldToPrevEye;
+  v_depthTol = u_depthTol;
+#endif
 }

@@ -8,9 +8,8 @@ layout(early_fragment_tests) in; // only covered pixels are shaded
 #endif
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (0 = no surface)
 
-uniform float u_threshold;   // mm of |Laplacian| above which a pixel is a silhouette
-uniform float u_background;  // linear depth assigned to empty pixels (beyond the far side of the scene)
+flat in vec2 v_silhouette; // threshold, background: the uniforms of fabric/silhouette.vert
 
 out float o_edge;
 
-void main() { o_edge = silhouetteEdge(u_surface, floor(gl_FragCoord.xy), u_threshold, u_background); }
+void main() { o_edge = silhouetteEdge(u_surface, floor(gl_FragCoord.xy), v_silhouette.x, v_silhouette.y); }

@@ -76,7 +76,7 @@ std::vector<ProgramCase> allPrograms() {
       makeCase<CompositeDepthProgram>("composite depth", "fabric/composite.vert",
                                       "fabric/composite_depth.frag", {{}, {"BACKGROUND"}},
                                       uniformNames<CompositeDepthProgram::Uniform>()),
-      makeCase<SilhouetteProgram>("silhouette", "common/fullscreen.vert", "fabric/silhouette.frag",
+      makeCase<SilhouetteProgram>("silhouette", "fabric/silhouette.vert", "fabric/silhouette.frag",
                                   {{}, {"FAR_PLANE"}}, uniformNames<SilhouetteProgram::Uniform>()),
       makeCase<ProjectionProgram>("projection", "fabric/projection.vert", "fabric/projection.frag",
                                   {{"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "UNCERTAINTY"},
@@ -183,4 +183,41 @@ TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
   EXPECT_EQ(checked, 9); // advection and projection (both), composite and its depth, silhouette, host import,
                          // tract layer
   takeDebugMessages(); // the compiler's own debug messages about the failures are expected here
+}
+
+// A software rasteriser pays for each read of a uniform component in a fragment shader on every block of
+// pixels (about four times a flat input's read), so the fullscreen passes hand their parameters on from
+// their vertex shaders (three invocations a draw). A plain uniform read by one of their fragment shaders
+// would bring that cost back; samplers, images and atomic counters are bindings, not values.
+TEST_F(ProgramBindings, TheFullscreenPassesFragmentShadersReadNoPlainUniforms) {
+  const std::set<std::string> fullscreen = {"advection", "composite", "composite depth", "projection",
+                                            "host import", "silhouette"};
+  const std::set<GLint> opaque = {GL_SAMPLER_2D,       GL_SAMPLER_3D,          GL_UNSIGNED_INT_SAMPLER_2D,
+                                  GL_IMAGE_2D,         GL_UNSIGNED_INT_IMAGE_2D, GL_UNSIGNED_INT_ATOMIC_COUNTER,
+                                  GL_INT_SAMPLER_2D,   GL_INT_IMAGE_2D};
+  std::set<std::string> checked;
+  for (const ProgramCase& c : allPrograms()) {
+    if (!fullscreen.count(c.name)) continue;
+    for (const auto& variant : c.variants) {
+      std::vector<std::string> defines = bindingDefines({c.bindings});
+      defines.insert(defines.end(), variant.begin(), variant.end());
+      ShaderProgram p(stagesOf(c), defines, c.uniforms);
+      GLint count = 0;
+      glGetProgramInterfaceiv(p.id(), GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+      ASSERT_GT(count, 0) << c.name; // its vertex shader's uniforms at least
+      for (GLint i = 0; i < count; ++i) {
+        const GLenum props[2] = {GL_TYPE, GL_REFERENCED_BY_FRAGMENT_SHADER};
+        GLint v[2] = {0, 0};
+        glGetProgramResourceiv(p.id(), GL_UNIFORM, static_cast<GLuint>(i), 2, props, 2, nullptr, v);
+        if (!v[1] || opaque.count(v[0])) continue;
+        char name[256] = {};
+        glGetProgramResourceName(p.id(), GL_UNIFORM, static_cast<GLuint>(i), sizeof name, nullptr, name);
+        std::string defs;
+        for (const std::string& d : variant) defs += " " + d;
+        ADD_FAILURE() << c.name << " [" << defs << " ]: the fragment shader reads the uniform " << name;
+      }
+      checked.insert(c.name);
+    }
+  }
+  EXPECT_EQ(checked, fullscreen);
 }
