@@ -5,8 +5,8 @@ namespace dtf::render {
 GeometryStage::GeometryStage()
     : meshProgram_("fabric/geometry.vert", "fabric/geometry.frag", programDefines<GeometryProgram>(),
                    uniformNames<GeometryProgram::Uniform>()),
-      importProgram_("fabric/host_import.vert", "fabric/host_import.frag", programDefines<HostImportProgram>(),
-                     uniformNames<HostImportProgram::Uniform>()),
+      importProgram_("fabric/host_import.vert", "fabric/host_import.frag",
+                     programDefines<HostImportProgram>(), uniformNames<HostImportProgram::Uniform>()),
       vao_(createVertexArray()), sampler_(createTexelSampler()) {}
 
 void GeometryStage::resize(glm::ivec2 target) {

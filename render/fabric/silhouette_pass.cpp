@@ -13,8 +13,10 @@ std::vector<std::string> silhouetteDefines(bool farPlane) {
 } // namespace
 
 SilhouettePass::SilhouettePass()
-    : program_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(false), uniformNames<U>()),
-      covered_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(true), uniformNames<U>()),
+    : program_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(false),
+               uniformNames<U>()),
+      covered_("fabric/silhouette.vert", "fabric/silhouette.frag", silhouetteDefines(true),
+               uniformNames<U>()),
       vao_(createVertexArray()) {}
 
 void SilhouettePass::resize(glm::ivec2 target) {
@@ -30,7 +32,8 @@ void SilhouettePass::resize(glm::ivec2 target) {
   attachedDepth_ = 0;
 }
 
-void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgroundMm, const Texture* depth) {
+void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgroundMm,
+                         const Texture* depth) {
   resize({surface.width(), surface.height()});
   const GLuint depthId = depth ? depth->id() : 0;
   if (depthId != attachedDepth_) {

@@ -77,7 +77,8 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
 #else
   bool changed3 = false;
 #endif
-  if (!blocked && (changed3 || any(greaterThan(abs(next2 - s), vec2(it.w))))) atomicCounterIncrement(u_changed);
+  bool changed = changed3 || any(greaterThan(abs(next2 - s), vec2(it.w)));
+  if (!blocked && changed) atomicCounterIncrement(u_changed);
 #endif
   here = vec3(s, s3);
   next = vec3(next2, next3);

@@ -1,8 +1,10 @@
-// The tensor stage's parameters (common/projection_pixel.glsl and the field samplers it includes). The compute
-// pass (COMPUTE) reads them as uniforms. The fragment pass receives them as flat inputs from
+// The tensor stage's parameters (common/projection_pixel.glsl and the field samplers it includes). The
+// compute pass (COMPUTE) reads them as uniforms. The fragment pass receives them as flat inputs from
 // fabric/projection.vert, which reads the uniforms (FORWARD_PARAMS) three times a draw: on llvmpipe a
 // fragment shader pays for each read of a uniform component on every block of pixels, about four times
-// what a flat input costs. Either way the code below them uses the uniforms' names.
+// what a flat input costs. Either way the code below them uses the uniforms' names. The largest variant
+// (FIBRES BACKGROUND UNCERTAINTY) hands on 108 components, 114 with the ray's: within the 128 that desktop
+// GL 4.5 drivers offer (the specification's minimum for a vertex shader's outputs is 64).
 #if defined(COMPUTE) || defined(FORWARD_PARAMS)
 uniform mat4 u_eyeToWorld;
 uniform mat4 u_viewProj;

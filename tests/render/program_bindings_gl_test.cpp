@@ -192,9 +192,9 @@ TEST_F(ProgramBindings, AProgramWithoutItsBindingsDoesNotCompile) {
 TEST_F(ProgramBindings, TheFullscreenPassesFragmentShadersReadNoPlainUniforms) {
   const std::set<std::string> fullscreen = {"advection", "composite", "composite depth", "projection",
                                             "host import", "silhouette"};
-  const std::set<GLint> opaque = {GL_SAMPLER_2D,       GL_SAMPLER_3D,          GL_UNSIGNED_INT_SAMPLER_2D,
-                                  GL_IMAGE_2D,         GL_UNSIGNED_INT_IMAGE_2D, GL_UNSIGNED_INT_ATOMIC_COUNTER,
-                                  GL_INT_SAMPLER_2D,   GL_INT_IMAGE_2D};
+  const std::set<GLint> opaque = {GL_SAMPLER_2D,      GL_SAMPLER_3D,   GL_UNSIGNED_INT_SAMPLER_2D,
+                                  GL_INT_SAMPLER_2D,  GL_IMAGE_2D,     GL_UNSIGNED_INT_IMAGE_2D,
+                                  GL_INT_IMAGE_2D,    GL_UNSIGNED_INT_ATOMIC_COUNTER};
   std::set<std::string> checked;
   for (const ProgramCase& c : allPrograms()) {
     if (!fullscreen.count(c.name)) continue;
