@@ -23,13 +23,14 @@ constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A],
 // The texture units, the image units an iteration reads and the counter of the advection (AdvectionPass),
 // used by both its programs. Image units stay below 8, the number GL 4.5 guarantees; an iteration's reads
 // share units 3 to 6 with the compute restart's second targets and its edges, which no program uses together.
+// A restart reads the surface target as an image (its texel and the silhouette test's neighbours) at unit 7.
 struct AdvectionBindings {
   enum class Unit : GLuint {
     Prev1 = 0, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
   };
   // An iteration's texel reads (imageLoad: on llvmpipe inlined, where a texelFetch calls a function): p_i at
   // the pixel itself and the projection's vectors.
-  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6 };
+  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7 };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kShared[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
@@ -41,6 +42,7 @@ struct AdvectionBindings {
       {unit(ReadImage::Here2), "IMAGE_HERE2", "u_here2"},
       {unit(ReadImage::Here3), "IMAGE_HERE3", "u_here3"},
       {unit(ReadImage::Vectors), "IMAGE_VECTORS", "u_vectors"},
+      {unit(ReadImage::Surface), "IMAGE_SURFACE", "u_surfaceImage"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
 };
@@ -110,8 +112,10 @@ struct CompositeDepthProgram {
 
 // fabric/silhouette.frag (SilhouettePass).
 struct SilhouetteProgram {
-  enum class Unit : GLuint { Surface = 0 };
-  static constexpr BindingName kBindings[] = {{unit(Unit::Surface), "UNIT_SURFACE", "u_surface"}};
+  enum class Unit : GLuint { Surface = 0 };   // its size (fabric/silhouette.vert)
+  enum class Image : GLuint { Surface = 0 };  // its texels
+  static constexpr BindingName kBindings[] = {{unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+                                              {unit(Image::Surface), "IMAGE_SURFACE", "u_surfaceImage"}};
   enum class Uniform { Threshold, Background, Count };
 };
 

@@ -130,6 +130,7 @@ void AdvectionPass::dispatchRestart(const ShaderProgram& program, const Texture&
   program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
   bindTexture(Unit::Surface, surface.id());
+  bindReadImage(AdvectionBindings::ReadImage::Surface, surface, GL_RGBA32F);
   for (int c = 0; c < (third ? 3 : 2); ++c) {
     glBindImageTexture(unit(kNext[c]), state_[0][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindImageTexture(unit(kOther[c]), state_[1][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -171,6 +172,7 @@ void AdvectionPass::drawRestart(const ShaderProgram& program, const Framebuffer&
   program.set(U::ComplementSecond, complementSecond ? 1 : 0);
   program.use();
   bindTexture(Unit::Surface, surface.id());
+  bindReadImage(AdvectionBindings::ReadImage::Surface, surface, GL_RGBA32F);
   glBindVertexArray(vao_.id());
   const bool scissor = scissorCover(fbo, states, edge);
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -241,6 +243,7 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
   reproject_.set(U::DepthTol, depthTolMm);
   reproject_.use();
   bindTexture(Unit::Surface, surface.id());
+  bindReadImage(AdvectionBindings::ReadImage::Surface, surface, GL_RGBA32F);
   bindTexture(Unit::Silhouette, edges.id());
   bindTexture(Unit::Prev1, history_[0].id());
   bindTexture(Unit::Prev2, history_[1].id());

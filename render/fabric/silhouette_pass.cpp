@@ -47,6 +47,7 @@ void SilhouettePass::run(const Texture& surface, float thresholdMm, float backgr
   p.set(U::Background, backgroundMm);
   p.use();
   bindTexture(SilhouetteProgram::Unit::Surface, surface.id());
+  bindReadImage(SilhouetteProgram::Image::Surface, surface, GL_RGBA32F);
   glBindVertexArray(vao_.id());
   if (depth) {
     const float one[4] = {1, 1, 1, 1};

@@ -2,7 +2,14 @@
 // p_0 = beta on covered pixels, BLOCKED on silhouettes, off the surface and on the target's outer ring;
 // see fabric/advection.frag.
 #include "common/texel.glsl"
-layout(binding = UNIT_SURFACE) uniform sampler2D u_surface;      // RESET: .r beta, .a coverage
+layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surfaceImage; // .r beta, .b depth, .a coverage
+#ifdef COMPUTE
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // the same target: its size
+ivec2 surfaceLast() { return textureSize(u_surface, 0) - 1; }
+#else
+flat in ivec2 v_surfaceLast; // the surface target's last pixel, from fabric/advection.vert
+ivec2 surfaceLast() { return v_surfaceLast; }
+#endif
 layout(binding = UNIT_SILHOUETTE) uniform sampler2D u_silhouette; // RESET: .r 1 on silhouettes and off the surface
 #ifdef REPROJECT
 layout(binding = UNIT_HISTORY_SURFACE) uniform sampler2D u_histSurface; // previous frame's surface (.b depth)
@@ -38,11 +45,11 @@ flat in vec2 v_silhouette;
 // p_0 at pixel p (p1, p2, p3 = beta, or BLOCKED) and, with SILHOUETTES, the silhouette found there.
 void restartPixel(ivec2 p, out vec3 state, out float edge) {
   vec2 fragCoord = vec2(p) + 0.5;
-  vec4 s = texel(u_surface, p);
-  ivec2 size = textureSize(u_surface, 0);
-  bool ring = p.x == 0 || p.y == 0 || p.x == size.x - 1 || p.y == size.y - 1;
+  vec4 s = imageLoad(u_surfaceImage, p);
+  ivec2 last = surfaceLast();
+  bool ring = p.x == 0 || p.y == 0 || p.x == last.x || p.y == last.y;
 #ifdef SILHOUETTES
-  edge = silhouetteEdge(u_surface, floor(fragCoord), u_threshold, u_background);
+  edge = silhouetteEdge(p, last, s.b, u_threshold, u_background);
   bool blocked = s.a < 0.5 || ring || edge > 0.5;
 #else
   edge = 0.0;
@@ -55,10 +62,10 @@ void restartPixel(ivec2 p, out vec3 state, out float edge) {
     w /= w.w;
     vec4 q = u_worldToPrevWindow * w;
     vec2 x = q.xy / q.w;
-    if (all(greaterThanEqual(x, vec2(1.0))) && all(lessThan(x, vec2(size - 1)))) {
+    if (all(greaterThanEqual(x, vec2(1.0))) && all(lessThan(x, vec2(last)))) {
       vec4 h = texel(u_histSurface, ivec2(x));
       if (h.a > 0.5 && abs(h.b + (u_worldToPrevEye * w).z) < u_depthTol) {
-        vec2 uv = x / vec2(size);
+        vec2 uv = x / vec2(last + 1);
         float a = texture(u_prev1, uv).r, b = texture(u_prev2, uv).r;
         if (a >= 0.0 && b >= 0.0) {
           p1 = a;

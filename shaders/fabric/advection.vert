@@ -6,6 +6,7 @@
 #include "common/fullscreen_triangle.glsl"
 
 layout(binding = UNIT_PREV1) uniform sampler2D u_prev1; // an iteration's p1: the state targets' size
+layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // a restart's surface target: its size
 uniform float u_k;
 uniform float u_step;
 uniform bool u_complementSecond = false;
@@ -26,12 +27,14 @@ flat out float v_depthTol;
 flat out vec4 v_iteration; // k, step, complement (1 or 0), epsilon (common/advection_step.glsl)
 flat out vec2 v_invSize;   // 1 / the state targets' size in texels
 flat out vec2 v_silhouette; // threshold, background (common/advection_restart.glsl)
+flat out ivec2 v_surfaceLast; // the surface target's last pixel (common/advection_restart.glsl)
 
 void main() {
   fullscreenTriangle();
   v_iteration = vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon);
   v_invSize = 1.0 / vec2(textureSize(u_prev1, 0));
   v_silhouette = vec2(u_threshold, u_background);
+  v_surfaceLast = textureSize(u_surface, 0) - 1;
 #ifdef REPROJECT
   v_windowToWorld = u_windowToWorld;
   v_worldToPrevWindow = u_worldToPrevWindow;
