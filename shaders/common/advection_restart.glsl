@@ -2,7 +2,8 @@
 // p_0 = beta on covered pixels, BLOCKED on silhouettes, off the surface and on the target's outer ring;
 // see fabric/advection.frag.
 #include "common/texel.glsl"
-layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surfaceImage; // .r beta, .b depth, .a coverage
+// The surface target: .r beta, .b linear depth, .a coverage.
+layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surfaceImage;
 #ifdef COMPUTE
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // the same target: its size
 ivec2 surfaceLast() { return textureSize(u_surface, 0) - 1; }
