@@ -102,10 +102,10 @@ struct CompositeProgram {
 
 // fabric/composite_depth.frag (CompositePass::runDepth).
 struct CompositeDepthProgram {
-  enum class Unit : GLuint { Surface = 0, Lambda = 1 };
+  using Image = CompositeProgram::Image; // the composite's units for the same targets
   static constexpr BindingName kBindings[] = {
-      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
-      {unit(Unit::Lambda), "UNIT_LAMBDA", "u_lambda"},
+      {unit(Image::Surface), "IMAGE_SURFACE", "u_surface"},
+      {unit(Image::Lambda), "IMAGE_LAMBDA", "u_lambda"},
   };
   enum class Uniform { Guard, EyeDepth, Count };
 };

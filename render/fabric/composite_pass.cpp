@@ -101,16 +101,13 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
 }
 
 void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, bool background) {
-  using DepthUnit = CompositeDepthProgram::Unit;
   using DepthU = CompositeDepthProgram::Uniform;
   const ShaderProgram& p = depthPrograms_.get(background ? 1u : 0u);
   p.set(DepthU::Guard, glm::ivec2(view.guard));
   p.set(DepthU::EyeDepth, view.eyeDepth);
   p.use();
-  bindTexture(DepthUnit::Surface, in.surface->id());
-  bindTexture(DepthUnit::Lambda, in.lambda->id());
-  glBindSampler(unit(DepthUnit::Surface), texelSampler_.id());
-  glBindSampler(unit(DepthUnit::Lambda), texelSampler_.id());
+  bindReadImage(Image::Surface, *in.surface, GL_RGBA32F);
+  bindReadImage(Image::Lambda, *in.lambda, GL_RGBA8);
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   const bool scissor = scissorToCover(view, glm::ivec2(0));
   glEnable(GL_DEPTH_TEST);
@@ -118,8 +115,6 @@ void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, b
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindSampler(unit(DepthUnit::Surface), 0);
-  glBindSampler(unit(DepthUnit::Lambda), 0);
   if (scissor) glDisable(GL_SCISSOR_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);

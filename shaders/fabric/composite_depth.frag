@@ -4,11 +4,11 @@
 // discards: off the surface, and without a background volume where the data's cover is 0. Drawn once per
 // projection into a cleared depth target that each frame copies into its own; the composite then shades
 // exactly these pixels behind the early depth test, and the frame's depth is the one it would have written.
-#include "common/texel.glsl"
 #include "common/window_depth.glsl"
 
-layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // .b linear depth (mm), .a coverage
-layout(binding = UNIT_LAMBDA) uniform sampler2D u_lambda;   // .w the data's cover
+// Read as images, as the composite reads them (on llvmpipe an image load is inlined).
+layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface; // .b linear depth (mm), .a coverage
+layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda;     // .w the data's cover
 
 // u_guard (the viewport's offset inside the guarded targets) and u_eyeDepth (projection terms of eye z): the
 // uniforms of fabric/composite.vert, received as its flat outputs.
@@ -19,10 +19,10 @@ flat in vec4 v_eyeDepth;
 
 void main() {
   ivec2 t = ivec2(gl_FragCoord.xy) + u_guard;
-  vec4 s = texel(u_surface, t);
+  vec4 s = imageLoad(u_surface, t);
   if (s.a < 0.5) discard;
 #ifndef BACKGROUND
-  if (texel(u_lambda, t).w <= 0.0) discard; // the composite's alpha is the cover: it discards these
+  if (imageLoad(u_lambda, t).w <= 0.0) discard; // the composite's alpha is the cover: it discards these
 #endif
   gl_FragDepth = windowDepth(u_eyeDepth, s.b); // as fabric/composite.frag writes it
 }
