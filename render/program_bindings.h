@@ -123,9 +123,12 @@ struct SilhouetteProgram {
 // the two includes are exclusive, so the tensor and lobe textures share units 0 and 1.
 struct ProjectionProgram {
   enum class Unit : GLuint {
-    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Geometry = 4, Lobe2 = 5,
-    FibreFa = 6, TensorEdge = 7, Uncertainty = 8
+    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Lobe2 = 5, FibreFa = 6,
+    TensorEdge = 7, Uncertainty = 8
   };
+  // The geometry stage's target, texel by texel (an image load: inlined on llvmpipe); above the compute
+  // pass's five written images.
+  enum class ReadImage : GLuint { Geometry = 5 };
   static constexpr BindingName kBindings[] = {
       {unit(Unit::TensorA), "UNIT_TENSOR_A", "u_tensorA"},
       {unit(Unit::TensorB), "UNIT_TENSOR_B", "u_tensorB"},
@@ -136,7 +139,7 @@ struct ProjectionProgram {
       {unit(Unit::FibreFa), "UNIT_FIBRE_FA", "u_fibreFa"},
       {unit(Unit::Noise), "UNIT_NOISE", "u_noise"},
       {unit(Unit::Background), "UNIT_BACKGROUND", "u_background"},
-      {unit(Unit::Geometry), "UNIT_GEOMETRY", "u_geometry"},
+      {unit(ReadImage::Geometry), "IMAGE_GEOMETRY", "u_geometry"},
       {unit(Unit::Uncertainty), "UNIT_UNCERTAINTY", "u_uncertainty"},
   };
   enum class Uniform {

@@ -61,7 +61,7 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   lastCompute_ = compute_;
   if (compute_) {
     prepare(computeProgram_.get(variant), field, noise, view, s, background, fibres, useFibres, hasBackground, fray);
-    bindTexture(Unit::Geometry, geometry.geometry().id());
+    bindReadImage(ProjectionProgram::ReadImage::Geometry, geometry.geometry(), GL_RG32UI);
     dispatch(geometry, haveData, useFibres);
     return;
   }
@@ -81,7 +81,7 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
   prepare(program_.get(variant), field, noise, view, s, background, fibres, useFibres, hasBackground, fray);
-  bindTexture(Unit::Geometry, geometry.geometry().id());
+  bindReadImage(ProjectionProgram::ReadImage::Geometry, geometry.geometry(), GL_RG32UI);
   glBindVertexArray(vao_.id());
   glBeginQuery(GL_SAMPLES_PASSED, samples_.id());
   if (haveData) glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -9,13 +9,13 @@
 #endif
 #include "common/lighting.glsl"
 #include "common/octahedral.glsl"
-#include "common/texel.glsl"
 #ifdef UNCERTAINTY
 #include "common/fray.glsl"
 layout(binding = UNIT_UNCERTAINTY) uniform sampler3D u_uncertainty; // cone / 90 degrees per slot (rgb), trilinear
 #endif
 
-layout(binding = UNIT_GEOMETRY) uniform usampler2D u_geometry; // octahedral normal (snorm16 x2), linear depth bits
+// The geometry stage's target: octahedral normal (snorm16 x2), linear depth bits.
+layout(binding = IMAGE_GEOMETRY, rg32ui) uniform readonly uimage2D u_geometry;
 
 layout(binding = UNIT_NOISE) uniform sampler2D u_noise;
 #ifdef BACKGROUND
@@ -68,7 +68,7 @@ struct Projection {
 // space). `edge`: the data's edge field here; the cover ramp needs its screen-space width, which the
 // caller takes (fwidth in a fragment shader, the 2x2 quads of a compute shader's work group).
 Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
-  uvec2 g = texel(u_geometry, px).xy;
+  uvec2 g = imageLoad(u_geometry, px).xy;
   float depth = uintBitsToFloat(g.y);
   // The eye position on the pixel's ray at linear depth `depth` (eye z = -depth).
   vec3 eye = mix(nearEye, farEye, (-depth - nearEye.z) / (farEye.z - nearEye.z));
