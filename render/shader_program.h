@@ -6,7 +6,6 @@
 
 #include "render/gl_objects.h"
 
-#include <array>
 #include <cstddef>
 #include <glm/glm.hpp>
 #include <initializer_list>
@@ -14,6 +13,7 @@
 #include <span>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -139,7 +139,7 @@ private:
 // after the first use of a setting.
 class ShaderVariants {
 public:
-  static constexpr int kMaxDefines = 11;
+  static constexpr int kMaxDefines = 16;
   // `always`: defines of every variant (the program's bindings); `uniforms` as for ShaderProgram.
   ShaderVariants(std::string vertexFile, std::string fragmentFile, std::vector<std::string> defines,
                  std::vector<std::string> always = {}, std::vector<const char*> uniforms = {});
@@ -153,7 +153,7 @@ private:
   std::vector<std::pair<GLenum, std::string>> stages_;
   std::vector<std::string> defines_, always_;
   std::vector<const char*> uniforms_;
-  std::array<std::unique_ptr<ShaderProgram>, 1u << kMaxDefines> programs_;
+  std::unordered_map<unsigned, std::unique_ptr<ShaderProgram>> programs_; // by mask, as compiled
 };
 
 } // namespace dtf::render
