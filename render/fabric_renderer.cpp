@@ -82,13 +82,15 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p) {
 }
 
 void FabricRenderer::composite(const FabricParams& p) {
+  // The output is cleared to the background here, so the composite lays the data's edge over that colour
+  // in the shader (CompositeSettings::overClear) instead of blending.
   glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
   const float bg[4] = {p.background.x, p.background.y, p.background.z, 1.0f};
   glClearNamedFramebufferfv(output_.id(), GL_COLOR, 0, bg);
   const float one = 1.0f;
   if (view_.internal != size_) { // lower resolution while moving
     glClearNamedFramebufferfv(output_.id(), GL_DEPTH, 0, &one);
-    pipeline_.composite(view_, p);
+    pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Computed, true);
     return;
   }
   // The depth the composite would write, drawn once per projection: with it in place the composite shades
@@ -103,7 +105,7 @@ void FabricRenderer::composite(const FabricParams& p) {
   }
   glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0,
                      0, size_.x, size_.y, 1);
-  pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Present);
+  pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Present, true);
 }
 
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {

@@ -96,7 +96,7 @@ struct CompositeProgram {
   };
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Target, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Target, ClearColour, Count
   };
 };
 
@@ -251,6 +251,7 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::FadeOutOfPlane: return "u_fadeOutOfPlane";
   case U::OpacityFa: return "u_opacityFa";
   case U::Target: return "u_target";
+  case U::ClearColour: return "u_clearColour";
   case U::Count: break;
   }
   return "";

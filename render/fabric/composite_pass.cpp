@@ -21,7 +21,7 @@ bool scissorToCover(const FrameView& view, glm::ivec2 origin) {
 CompositePass::CompositePass()
     : programs_("fabric/composite.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
-                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE"},
+                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE", "OVER_CLEAR"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       depthPrograms_("fabric/composite.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
                      programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),
@@ -32,12 +32,17 @@ CompositePass::CompositePass()
 void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
   const bool windowDepth = s.depth == CompositeDepth::Window && in.depth;
   const bool present = s.depth == CompositeDepth::Present;
+  // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1: nothing to lay
+  // over what is beneath.
+  const bool opaque = s.background || windowDepth;
+  const bool overClear = s.overClear && !opaque;
   const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
                         (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
                         (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
                         (windowDepth ? 64u : 0u) | (s.anatomy ? 128u : 0u) | (present ? 1024u : 0u) |
                         (s.mode == ColourMode::Medical && s.decFa ? 256u : 0u) |
-                        (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u);
+                        (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u) |
+                        (overClear ? 2048u : 0u);
   const ShaderProgram& p = programs_.get(mask);
   p.set(U::Guard, glm::ivec2(view.guard));
   p.set(U::Target, glm::ivec2(in.p1->width(), in.p1->height()));
@@ -58,6 +63,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set(U::SecondaryFa, s.secondaryFa);
   if (s.fadeOutOfPlane > 0.0f) p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   if (s.anatomy) p.set(U::OpacityFa, s.opacityFa);
+  if (overClear) p.set(U::ClearColour, s.clearColour);
   p.use();
   bindReadImage(Image::P1, *in.p1, GL_R32F);
   bindReadImage(Image::P2, *in.p2, GL_R32F);
@@ -78,11 +84,10 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   // Present: the triangle lies at the far plane, so GL_GREATER passes exactly where the surface is.
   glDepthFunc(present ? GL_GREATER : windowDepth ? GL_LEQUAL : GL_ALWAYS);
   glDepthMask(present ? GL_FALSE : GL_TRUE);
-  // The data's anti-aliased edge: straight alpha over what is beneath (the clear colour, a host's image).
-  // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1, and blending
-  // would give the source unchanged at the cost of reading the framebuffer: it is off.
-  const bool opaque = s.background || windowDepth;
-  if (opaque) {
+  // The data's anti-aliased edge: straight alpha over what is beneath (the clear colour, a host's image),
+  // blended, or in the shader over a known clear colour (OVER_CLEAR). Opaque pixels need neither: blending
+  // would give the source unchanged at the cost of reading the framebuffer.
+  if (opaque || overClear) {
     glDisable(GL_BLEND);
   } else {
     glEnable(GL_BLEND);

@@ -2,7 +2,8 @@
 // fields, silhouettes and light into the final colour of the viewport, and writes gl_FragDepth from the
 // projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at
 // the viewport size; empty pixels are discarded (the caller's clear colour stays); at the data's edge
-// without a background volume the colour is blended over the framebuffer by the data's cover (alpha).
+// without a background volume the colour is blended over the framebuffer by the data's cover (alpha), or
+// laid over a known clear colour in the shader (CompositeSettings::overClear).
 //   inputs: advected p1, p2 (their blocked pixels off the target's outer ring are the silhouettes),
 //           projection surface/eigen/lambda
 #pragma once
@@ -43,6 +44,11 @@ struct CompositeSettings {
   bool decFa = false;          // medical: no fabric, the DEC-FA map |e1| x FA
   glm::ivec2 origin{0};        // the viewport's lower-left pixel in the framebuffer drawn into
   CompositeDepth depth = CompositeDepth::Computed;
+  // The framebuffer holds clearColour with alpha 1 wherever the pass may draw (the renderer's output, just
+  // cleared): the data's edge is laid over it in the shader instead of blended over the framebuffer, which a
+  // software rasteriser pays for with a read of every pixel drawn. The same colour, to within one level.
+  bool overClear = false;
+  glm::vec3 clearColour{0.0f};
 };
 
 struct CompositeInputs {
@@ -68,7 +74,7 @@ public:
 
 private:
   // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE,
-  // FAR_PLANE (CompositeDepth::Present)
+  // FAR_PLANE (CompositeDepth::Present), OVER_CLEAR
   ShaderVariants programs_;
   ShaderVariants depthPrograms_; // fabric/composite_depth.frag: BACKGROUND
   VertexArray vao_;

@@ -251,7 +251,7 @@ int FabricPipeline::converge(const FabricParams& p) {
 }
 
 void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
-                               CompositeDepth depth) {
+                               CompositeDepth depth, bool overBackground) {
   CompositeSettings cs;
   cs.mode = p.colour;
   cs.r = static_cast<float>(p.r);
@@ -267,6 +267,8 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.opacityFa = {p.opacityFaLow, p.opacityFaHigh};
   cs.origin = origin;
   cs.depth = depth;
+  cs.overClear = overBackground;
+  cs.clearColour = glm::clamp(p.background, 0.0f, 1.0f); // as the RGBA8 output holds it
   CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &projection_.eigen(),
                      &projection_.lambda()};
   if (p.colour == ColourMode::Fibres) {

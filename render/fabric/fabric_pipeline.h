@@ -79,8 +79,10 @@ public:
   // Iterates to convergence (see FabricRenderer::renderStill); returns the iterations run.
   int converge(const FabricParams& params);
   // Composites the viewport into the bound framebuffer at `origin`, its depth as `depth` says.
+  // overBackground: the bound framebuffer holds params.background (alpha 1) wherever the pass may draw
+  // (CompositeSettings::overClear).
   void composite(const FrameView& view, const FabricParams& params, glm::ivec2 origin = glm::ivec2(0),
-                 CompositeDepth depth = CompositeDepth::Computed);
+                 CompositeDepth depth = CompositeDepth::Computed, bool overBackground = false);
   // The depth composite() writes with CompositeDepth::Computed at full resolution, alone, into the bound
   // framebuffer's cleared depth (CompositePass::runDepth); it changes only when project() runs.
   void compositeDepth(const FrameView& view);

@@ -23,7 +23,10 @@
 // depth written is the projection's window depth texel, a host's surface depth, not recomputed), ANATOMY,
 // DEC_FA (MEDICAL: no fabric, the DEC-FA map |e1| x FA, for comparison), FADE (MEDICAL: fadeOutOfPlane > 0),
 // FAR_PLANE (the framebuffer already holds the surface's depth: the triangle at the far plane is drawn with
-// GL_GREATER and the early depth test, so only covered pixels are shaded, and no depth is written).
+// GL_GREATER and the early depth test, so only covered pixels are shaded, and no depth is written),
+// OVER_CLEAR (the framebuffer holds u_clearColour with alpha 1 wherever the pass draws, the renderer's
+// freshly cleared output: the colour is laid over it here, with blending off; that gives what blending
+// would, to within one level of rounding, without reading the framebuffer).
 #include "common/texel.glsl"
 #include "common/window_depth.glsl"
 
@@ -60,6 +63,7 @@ flat in vec4 v_colourB;
 flat in vec4 v_colourC;
 flat in vec2 v_depthRange;
 flat in vec4 v_eyeDepth;
+flat in vec3 v_clearColour;
 #define u_guard (v_place.xy)
 #define u_origin (v_place.zw)
 #define u_target v_target
@@ -77,6 +81,7 @@ flat in vec4 v_eyeDepth;
 #define u_sharpen (v_colourC.w)
 #define u_depthRange v_depthRange
 #define u_eyeDepth v_eyeDepth
+#define u_clearColour v_clearColour
 #ifdef ANATOMY
 const bool kAnatomy = true;
 #else
@@ -240,7 +245,11 @@ void main() {
     if (n > 0.0) c += u_sharpen * (c - sum / n);
   }
 #endif
+#ifdef OVER_CLEAR
+  o_colour = vec4(mix(u_clearColour, clamp(c, 0.0, 1.0), composed.a), 1.0); // straight alpha over the clear
+#else
   o_colour = vec4(clamp(c, 0.0, 1.0), composed.a);
+#endif
 #ifdef WINDOW_DEPTH
   // Two units of a 24-bit depth buffer nearer (1.2e-7): the conversion of the written float back to the
   // host's fixed-point buffer may round up by one unit, which would fail GL_LEQUAL on the host's own surface.

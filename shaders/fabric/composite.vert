@@ -21,6 +21,7 @@ uniform float u_secondaryRatio = 0.5; // medical: lambda2'/lambda1' above which 
 uniform float u_secondaryFa = 0.2;    // medical: FA below which the secondary appears
 uniform float u_fadeOutOfPlane = 0.0; // FADE: 0..1 fade where |e1.n| is large
 uniform vec2 u_opacityFa = vec2(0.15, 0.4); // anatomy: FA at which the fabric starts to show, and is opaque
+uniform vec3 u_clearColour = vec3(0.0); // OVER_CLEAR: the colour the framebuffer holds where the pass draws
 
 flat out ivec4 v_place;  // guard, origin
 flat out ivec2 v_target;
@@ -30,6 +31,7 @@ flat out vec4 v_colourB; // lighting (1 or 0), secondary ratio, secondary FA, fa
 flat out vec4 v_colourC; // opacity FA (low, high), depth colour, sharpen
 flat out vec2 v_depthRange;
 flat out vec4 v_eyeDepth;
+flat out vec3 v_clearColour;
 
 void main() {
   fullscreenTriangle();
@@ -41,4 +43,5 @@ void main() {
   v_colourC = vec4(u_opacityFa, u_depthColour, u_sharpen);
   v_depthRange = u_depthRange;
   v_eyeDepth = u_eyeDepth;
+  v_clearColour = u_clearColour;
 }

@@ -942,6 +942,107 @@ TEST_F(FabricPass, CompositeBehindItsPresentDepthEqualsTheCompositeWritingIt) {
     }
 }
 
+// CompositeSettings::overClear (the renderer's output, cleared just before): the data's edge laid over the
+// known clear colour in the shader gives the blended composite's RGBA8 colour to within one level, the same
+// colour wherever the data covers the pixel whole, and alpha 1, at full resolution (behind the present
+// depth) and computing its depth, in the medical, anatomy and engineering looks.
+TEST_F(FabricPass, CompositeOverTheClearColourEqualsBlendingOverIt) {
+  constexpr int w = 97, h = 61, guard = 3;
+  const glm::ivec2 vp(w - 2 * guard, h - 2 * guard);
+  auto beta = randomField(w, h, 1, 61), rnd = randomField(w, h, 4, 62), p = randomField(w, h, 2, 63);
+  std::vector<unsigned char> mask(beta.size(), 1);
+  std::vector<float> lambda(beta.size() * 4), eigen(beta.size() * 4), p1(beta.size()), p2(beta.size());
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+    mask[i] = (x - 48) * (x - 48) + (y - 30) * (y - 30) < 27 * 27; // a disc of surface
+    for (int c = 0; c < 3; ++c) lambda[i * 4 + c] = rnd[i * 4 + c];
+    lambda[i * 4 + 3] = std::clamp((x - 30) / 12.0f, 0.0f, 1.0f); // the data's edge: cover 0, a ramp, then 1
+    for (int c = 0; c < 4; ++c) eigen[i * 4 + c] = rnd[(i * 4 + c + 1) % rnd.size()];
+    p1[i] = i % 11 == 0 ? kBlocked : p[i * 2];
+    p2[i] = i % 11 == 0 ? kBlocked : p[i * 2 + 1];
+  }
+  auto surface = surfaceData(beta, &mask);
+  Texture ta = textureFrom(GL_R32F, GL_RED, w, h, p1), tb = textureFrom(GL_R32F, GL_RED, w, h, p2);
+  Texture ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
+  Texture te = textureFrom(GL_RGBA8, GL_RGBA, w, h, eigen), tl = textureFrom(GL_RGBA8, GL_RGBA, w, h, lambda);
+  FrameView view;
+  view.viewport = vp;
+  view.internal = vp;
+  view.guard = guard;
+  view.target = {w, h};
+  const glm::mat4 proj = glm::ortho(-50.0f, 50.0f, -30.0f, 30.0f, 1.0f, 400.0f);
+  view.eyeDepth = {proj[2][2], proj[3][2], proj[2][3], proj[3][3]};
+  const glm::vec3 clear(0.15f, 0.55f, 0.8f);
+  CompositePass pass;
+  // The composite into an RGBA8 target cleared to `clear` (alpha 1); present: runDepth's depth, drawn into
+  // a depth-only framebuffer as the renderer does, copied there first.
+  const float one = 1.0f;
+  Texture presentDepth = Texture::create2D(GL_DEPTH_COMPONENT32F, vp.x, vp.y);
+  {
+    Framebuffer fbo = createFramebuffer();
+    attachTargets(fbo, {}, &presentDepth);
+    glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    pass.runDepth({nullptr, nullptr, &ts, nullptr, &tl}, view, false);
+  }
+  auto draw = [&](const CompositeSettings& cs) {
+    Texture colour = Texture::create2D(GL_RGBA8, vp.x, vp.y);
+    Texture depth = Texture::create2D(GL_DEPTH_COMPONENT32F, vp.x, vp.y);
+    Framebuffer fbo = createFramebuffer();
+    attachTargets(fbo, {&colour}, &depth);
+    const float c[4] = {clear.x, clear.y, clear.z, 1.0f};
+    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, c);
+    glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+    if (cs.depth == CompositeDepth::Present)
+      glCopyImageSubData(presentDepth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                         vp.x, vp.y, 1);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    pass.run({&ta, &tb, &ts, &te, &tl}, view, cs);
+    return readTexture(colour, 4);
+  };
+  for (const CompositeDepth depth : {CompositeDepth::Present, CompositeDepth::Computed})
+    for (const int look : {0, 1, 2}) {
+      SCOPED_TRACE(std::string(depth == CompositeDepth::Present ? "present " : "computed ") +
+                   (look == 0 ? "medical" : look == 1 ? "anatomy" : "engineering"));
+      CompositeSettings cs;
+      cs.mode = look == 2 ? ColourMode::Engineering : ColourMode::Medical;
+      cs.anatomy = look == 1;
+      cs.depth = depth;
+      const auto blended = draw(cs);
+      cs.overClear = true;
+      cs.clearColour = clear;
+      const auto over = draw(cs);
+      // The colour laid under the edge is the one given, not the framebuffer's (no blending left on).
+      cs.clearColour = glm::vec3(1.0f) - clear;
+      const auto otherClear = draw(cs);
+      int edge = 0, mixed = 0, fromGiven = 0;
+      for (std::size_t i = 0; i < over.size(); i += 4) {
+        const int x = static_cast<int>(i / 4) % vp.x + guard, y = static_cast<int>(i / 4) / vp.x + guard;
+        const float cover = lambda[(static_cast<std::size_t>(y) * w + x) * 4 + 3];
+        const bool onSurface = mask[static_cast<std::size_t>(y) * w + x] != 0;
+        ASSERT_EQ(over[i + 3], 1.0f) << x << "," << y;
+        ASSERT_EQ(blended[i + 3], 1.0f) << x << "," << y;
+        for (int c = 0; c < 3; ++c) {
+          if (cover >= 1.0f || !onSurface || cover <= 0.0f)
+            ASSERT_EQ(over[i + c], blended[i + c]) << x << "," << y << " channel " << c;
+          else
+            ASSERT_NEAR(over[i + c], blended[i + c], 1.01f / 255.0f) << x << "," << y << " channel " << c;
+        }
+        if (onSurface && cover > 0.0f && cover < 1.0f) {
+          ++edge;
+          // The ramp mixes: neither the clear colour nor the colour alone.
+          const float fromClear =
+              std::abs(over[i] - clear.x) + std::abs(over[i + 1] - clear.y) + std::abs(over[i + 2] - clear.z);
+          mixed += fromClear > 4.0f / 255.0f;
+          fromGiven += std::abs(otherClear[i + 1] - over[i + 1]) > 2.0f / 255.0f;
+        }
+      }
+      EXPECT_GT(edge, 300);
+      EXPECT_GT(mixed, edge / 2);
+      EXPECT_GT(fromGiven, edge / 2);
+    }
+}
+
 TEST_F(FabricPass, MedicalModeDrawsTheSecondaryDirectionInGreyBeneathThePrimary) {
   // Four pixels, principal direction x (red), FA 0.7, no light, no silhouettes:
   //   0: one dominant direction (lambda2'/lambda1' = 0.1), p1 low  -> still red (no secondary shown)
