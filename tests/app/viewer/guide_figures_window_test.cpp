@@ -36,7 +36,9 @@ TEST(GuideFigures, EveryLinkedFigureIsCommittedAndNotBlank) {
 TEST(GuideFigures, MakeFiguresRegeneratesEveryLinkedFigure) {
   DTF_XVFB_SETUP();
   const fs::path scratch = dtf::test::scratchDir(), out = scratch / "figures";
-  const std::string cmd = "DTF_FIGURES_QUICK=1 DTFABRIC='" + std::string(DTF_EXE) + "' timeout 300 bash '" +
+  // 800 s: under ASan every figure's fit and render take about 14 s, about 350 s in all (ctest's own limit,
+  // 300 s in the plain build, 900 s under the sanitizers, stays the outer bound).
+  const std::string cmd = "DTF_FIGURES_QUICK=1 DTFABRIC='" + std::string(DTF_EXE) + "' timeout 800 bash '" +
                           (kGuideDir / "make_figures.sh").string() + "' '" + out.string() + "' >'" +
                           (scratch / "out.txt").string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
