@@ -125,9 +125,9 @@ struct Bundle {
     x.y -= std::clamp(x.y, -sheetHalfY, sheetHalfY); // inside the sheet only the x-z distance counts
     double best = std::numeric_limits<double>::max();
     std::size_t bi = 0;
-    for (std::size_t s = 0; s < points.size(); ++s) {
-      glm::dvec3 d = x - points[s];
-      double d2 = glm::dot(d, d);
+    for (std::size_t s = 0; s < points.size(); ++s) { // dot(x - p, x - p), written out: a phantom's hot loop
+      const double dx = x.x - points[s].x, dy = x.y - points[s].y, dz = x.z - points[s].z;
+      const double d2 = dx * dx + dy * dy + dz * dz;
       if (d2 < best) best = d2, bi = s;
     }
     std::size_t a = bi > 0 ? bi - 1 : bi, b = bi + 1 < points.size() ? bi + 1 : bi;
@@ -190,9 +190,10 @@ Phantom brain(const PhantomOptions& o) {
     glm::dmat3 m = md * glm::dmat3(1.0);
     double bestScore = 1; // distance / radius of the nearest bundle containing the voxel
     for (const Bundle& b : bundles) {
+      if (r > 0.88) break; // no bundle in the rim
       glm::dvec3 tangent;
       double score = std::sqrt(b.distance2(u, tangent)) / b.radius;
-      if (score < bestScore && r <= 0.88) {
+      if (score < bestScore) {
         bestScore = score;
         m = prolate(tangent);
       }
