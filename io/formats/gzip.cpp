@@ -1,6 +1,7 @@
 #include "io/formats/gzip.h"
 
 #include "io/model/error.h"
+#include "io/model/huge_pages.h"
 
 #include <libdeflate.h>
 
@@ -67,7 +68,7 @@ InflateResult inflateGzipTo(const std::uint8_t* p, std::size_t n, std::size_t ex
   std::size_t hint = expect;
   if (hint == 0 && gz && n >= 18) hint = le32(p + n - 4);
   if (hint == 0) hint = std::min<std::size_t>(n, std::size_t(1) << 28) * 4;
-  out.assign(std::max<std::size_t>(std::min(hint, res.limit), 1), 0);
+  assignAdvised(out, std::max<std::size_t>(std::min(hint, res.limit), 1), std::uint8_t(0));
   Decompressor d(libdeflate_alloc_decompressor());
   if (!d) throw std::bad_alloc();
   std::size_t in = 0, done = 0;

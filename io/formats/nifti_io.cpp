@@ -5,6 +5,7 @@
 #include "io/formats/gzip.h"
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
+#include "io/model/huge_pages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -450,7 +451,8 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   }
   if (nim->byteorder != nifti_short_order() && nim->swapsize > 1)
     nifti_swap_Nbytes(static_cast<int64_t>(n), nim->swapsize, raw);
-  std::vector<float> out(n);
+  std::vector<float> out;
+  assignAdvised(out, n, 0.0f);
   const SampleTypeInfo* type = sampleTypeOf(nim->datatype);
   if (!type) fail(path, "unsupported datatype"); // openHeader already refused these
   type->toFloat(raw, n, out.data());

@@ -1,5 +1,7 @@
 #include "io/model/tensor_field.h"
 
+#include "io/model/huge_pages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <thread>
@@ -9,8 +11,8 @@ namespace dtf {
 TensorField makeTensorField(const Grid& grid) {
   TensorField f;
   f.grid = grid;
-  f.tensors.assign(grid.voxelCount(), SymTensor{});
-  f.valid.assign(grid.voxelCount(), 0);
+  assignAdvised(f.tensors, grid.voxelCount(), SymTensor{});
+  assignAdvised(f.valid, grid.voxelCount(), static_cast<unsigned char>(0));
   return f;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "io/model/grid.h"
+#include "io/model/huge_pages.h"
 
 #include <cstddef>
 #include <vector>
@@ -15,8 +16,9 @@ template <typename T> struct Volume {
   std::vector<T> data;
 
   Volume() = default;
-  Volume(const Grid& g, int comps, T fill = T{})
-      : grid(g), components(comps), data(g.voxelCount() * static_cast<std::size_t>(comps), fill) {}
+  Volume(const Grid& g, int comps, T fill = T{}) : grid(g), components(comps) {
+    assignAdvised(data, g.voxelCount() * static_cast<std::size_t>(comps), fill);
+  }
 
   T& at(int i, int j, int k, int c = 0) { return data[grid.index(i, j, k) * components + c]; }
   const T& at(int i, int j, int k, int c = 0) const { return data[grid.index(i, j, k) * components + c]; }
