@@ -186,18 +186,18 @@ Phantom brain(const PhantomOptions& o) {
     glm::dvec3 q = u / head;
     double r = glm::length(q);
     if (r > 1) return;
-    double md = r > 0.88 ? 3e-3 : 1e-3; // CSF rim, then tissue
-    glm::dmat3 m = md * glm::dmat3(1.0);
+    const bool rim = r > 0.88; // CSF rim (no bundle), then tissue
+    glm::dmat3 m = (rim ? 3e-3 : 1e-3) * glm::dmat3(1.0);
     double bestScore = 1; // distance / radius of the nearest bundle containing the voxel
-    for (const Bundle& b : bundles) {
-      if (r > 0.88) break; // no bundle in the rim
-      glm::dvec3 tangent;
-      double score = std::sqrt(b.distance2(u, tangent)) / b.radius;
-      if (score < bestScore) {
-        bestScore = score;
-        m = prolate(tangent);
+    if (!rim)
+      for (const Bundle& b : bundles) {
+        glm::dvec3 tangent;
+        double score = std::sqrt(b.distance2(u, tangent)) / b.radius;
+        if (score < bestScore) {
+          bestScore = score;
+          m = prolate(tangent);
+        }
       }
-    }
     setTensor(p.tensors, i, m);
   });
   p.scalar = faOf(p.tensors);
