@@ -46,8 +46,8 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
   auto r = dtf::test::runDtfabric(
       "bench render --size 96x72 --frames 2 --only sphere_41k,sphere_41k_fibres3 --no-brain --no-peer", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const std::regex ratio(R"(sphere_41k +still [0-9.]+ wall, [0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall, [0-9.]+ )"
-                         R"((CPU|GPU) time)");
+  const std::regex ratio(R"(sphere_41k +still [0-9.]+ wall, [0-9.]+ (CPU|GPU) time( \([0-9.]+-[0-9.]+ over 1 )"
+                         R"(blocks\))? \| moving [0-9.]+ wall, [0-9.]+ (CPU|GPU) time)");
   EXPECT_TRUE(std::regex_search(r.out, ratio)) << r.out;
   const std::regex three(R"(three fibre populations vs the two-direction tensor fabric[^\n]*\n +still [0-9.]+ wall, )"
                          R"([0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall)");
@@ -57,4 +57,13 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
   EXPECT_GT(jsonNumber(r.out, "moving_cpu_ms"), 0) << r.out;
   EXPECT_GT(jsonNumber(r.out, "cpu_ratio"), 0) << r.out;
   EXPECT_GT(jsonNumber(r.out, "moving_cpu_ratio"), 0) << r.out;
+  // One block of two still frames and two Phong frames: its ratio is the ratio of the per-frame means.
+  EXPECT_EQ(jsonNumber(r.out, "interleaved_blocks"), 1) << r.out;
+  EXPECT_NEAR(jsonNumber(r.out, "cpu_ratio"), jsonNumber(r.out, "fabric_cpu_ms") / jsonNumber(r.out, "phong_cpu_ms"),
+              1e-6 * jsonNumber(r.out, "cpu_ratio"))
+      << r.out;
+  // Five frames: blocks of two, two and one.
+  r = dtf::test::runDtfabric("bench render --size 96x72 --frames 5 --only sphere_41k --no-brain --no-peer --json", dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(r.out, "interleaved_blocks"), 3) << r.out;
 }
