@@ -73,13 +73,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 double cpuMsSince(std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // Anisotropic sphere field (Hessian of |x|^2 + c xyz) on a grid just enclosing a sphere of radius r.
 void accumulate(render::PassTimes& sum, const render::PassTimes& t) {
   sum.projection += t.projection;
@@ -203,7 +196,6 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
     wallRatios.push_back(fabricWall / std::max(phongWall, 1e-9));
     cpuRatios.push_back(fabricCpu / std::max(phongCpu, 1e-9));
   }
-  r.setTiming(false);
   phong.setTiming(false);
   res.fabricMs /= frames;
   res.fabricCpuMs /= frames;
@@ -216,7 +208,6 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   res.stillCpuRatio = median(cpuRatios);
   res.stillCpuRatioLo = *std::min_element(cpuRatios.begin(), cpuRatios.end());
   res.stillCpuRatioHi = *std::max_element(cpuRatios.begin(), cpuRatios.end());
-  r.setTiming(true);
   // Moving camera: a small trackball step every frame; the projection and silhouettes run every frame and
   // the advection restarts from beta each frame.
   render::PassTimes movingSum;
