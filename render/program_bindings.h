@@ -30,7 +30,9 @@ struct AdvectionBindings {
   };
   // An iteration's texel reads (imageLoad: on llvmpipe inlined, where a texelFetch calls a function): p_i at
   // the pixel itself and the projection's vectors.
-  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7 };
+  // ThirdVector: the projection's fibre target, whose .w is the third population's direction (three-field
+  // iterations); it shares unit 7 with the restart's surface.
+  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7, ThirdVector = 7 };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kShared[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
@@ -43,6 +45,7 @@ struct AdvectionBindings {
       {unit(ReadImage::Here3), "IMAGE_HERE3", "u_here3"},
       {unit(ReadImage::Vectors), "IMAGE_VECTORS", "u_vectors"},
       {unit(ReadImage::Surface), "IMAGE_SURFACE", "u_surfaceImage"},
+      {unit(ReadImage::ThirdVector), "IMAGE_THIRD_VECTOR", "u_thirdVector"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
 };

@@ -257,11 +257,13 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
 }
 
 void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
-                            const Texture* depth, int fields) {
+                            const Texture* depth, int fields, const Texture* thirdVector) {
   if (count <= 0) return;
-  counted_ = countChanges;
   const bool third = fields >= 3;
-  bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, GL_RGBA32UI);
+  if (third && !thirdVector) throw GlError("AdvectionPass: a third field needs the third population's vectors");
+  counted_ = countChanges;
+  bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, GL_RG32UI);
+  if (third) bindReadImage(AdvectionBindings::ReadImage::ThirdVector, *thirdVector, GL_RGBA32UI);
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
     compute_.get(third ? kComputeThird : 0u);

@@ -223,7 +223,8 @@ void FabricPipeline::advect(const FabricParams& p) {
   // restart), and a still cannot stop before the start image has faded (FabricParams::stillMinIterations):
   // only frames that continue their state and reach that many iterations count.
   const bool count = !restarted_ && sinceRestart_ + p.iterations >= p.stillMinIterations();
-  advection_.iterate(projection_.vectors(), as, p.iterations, count, &projection_.depth(), fields(p));
+  advection_.iterate(projection_.vectors(), as, p.iterations, count, &projection_.depth(), fields(p),
+                     &projection_.fibres());
   sinceRestart_ += p.iterations;
   restarted_ = false;
   endTimer();
@@ -242,7 +243,8 @@ int FabricPipeline::converge(const FabricParams& p) {
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p));
+    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p),
+                       &projection_.fibres());
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

@@ -27,7 +27,7 @@ TensorStage::TensorStage()
 void TensorStage::resize(glm::ivec2 target) {
   if (target == size_) return;
   size_ = target;
-  vectors_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
+  vectors_ = Texture::create2D(GL_RG32UI, target.x, target.y);
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
@@ -142,7 +142,7 @@ void TensorStage::dispatch(const GeometryStage& geometry, bool haveData, bool us
     return;
   }
   glBindTextureUnit(ProjectionComputeProgram::kDepthUnit, geometry.depth().id());
-  glBindImageTexture(unit(Image::Vectors), vectors_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  glBindImageTexture(unit(Image::Vectors), vectors_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32UI);
   glBindImageTexture(unit(Image::Surface), surface_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(unit(Image::Eigen), eigen_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindImageTexture(unit(Image::Lambda), lambda_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);

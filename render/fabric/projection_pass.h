@@ -7,8 +7,8 @@
 // shading cost follows pixels, not triangles, and no pixel is shaded twice (the paper's §3.3 depth
 // pre-pass, without drawing the mesh twice).
 //   inputs : geometry buffers, GpuTensorField (or GpuFibreSet), noise texture, FrameView
-//   outputs: vectors RGBA32UI (packSnorm2x16(v1.xy), packSnorm2x16(v2.xy): image-space directions,
-//                    max-norm 1, 0 = no direction; floatBitsToUint(beta); 0)
+//   outputs: vectors RG32UI (packSnorm2x16(v1.xy); v2.xy as snorm10 and beta as unorm12: image-space
+//                    directions, max-norm 1, 0 = no direction; packVectors in common/projection_pixel.glsl)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
 //            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
 //                    FA)
@@ -19,8 +19,8 @@
 //                    early depth test of the later fullscreen passes)
 //            geometry RG32UI (the geometry stage's buffer)
 //            fibres  RGBA32UI (fibre sets only: per population k = 1..3 packUnorm4x8(|d_k| world DEC colour,
-//                    weight = amplitude / strongest x in-surface fraction); vectors then hold population
-//                    3's image direction in .w)
+//                    weight = amplitude / strongest x in-surface fraction); .w population 3's image
+//                    direction, packSnorm2x16)
 // The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where
 // surface.a = 1. A zero vector there means "no direction".
 #pragma once

@@ -41,8 +41,12 @@ layout(binding = IMAGE_HERE2, r32f) uniform readonly image2D u_here2; // p2
 #ifdef THIRD
 layout(binding = IMAGE_HERE3, r32f) uniform readonly image2D u_here3; // p3
 #endif
-// snorm16 v1.xy, snorm16 v2.xy (max-norm 1), beta bits, (THIRD) snorm16 v3.xy
-layout(binding = IMAGE_VECTORS, rgba32ui) uniform readonly uimage2D u_vectors;
+// v1.xy, v2.xy (max-norm 1) and beta, packed by packVectors (common/projection_pixel.glsl)
+layout(binding = IMAGE_VECTORS, rg32ui) uniform readonly uimage2D u_vectors;
+#ifdef THIRD
+// The projection's fibre target: .w is the third population's direction, snorm16 v3.xy.
+layout(binding = IMAGE_THIRD_VECTOR, rgba32ui) uniform readonly uimage2D u_thirdVector;
+#endif
 
 // The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
 float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
@@ -58,16 +62,19 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   float k = it.x, stepPixels = it.y;
   vec2 inv = invSize();
   vec2 x = vec2(p) + 0.5;
-  uvec4 q = imageLoad(u_vectors, p);
-  vec4 v = vec4(unpackSnorm2x16(q.x), unpackSnorm2x16(q.y)) * stepPixels;
-  float beta = uintBitsToFloat(q.z);
+  uvec2 q = imageLoad(u_vectors, p).xy;
+  int packed2 = int(q.y);
+  vec2 v2 = vec2(bitfieldExtract(packed2, 0, 10), bitfieldExtract(packed2, 10, 10)) / 511.0;
+  vec4 v = vec4(unpackSnorm2x16(q.x), v2) * stepPixels;
+  float beta = float(q.y >> 20) / 4095.0;
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
   vec2 next2 = k * vec2(beta, complementSecond() ? 1.0 - beta : beta) + (1.0 - k) * avg;
   bool blocked = s.r < 0.0;
 #ifdef THIRD
   float s3 = imageLoad(u_here3, p).r;
-  float next3 = k * beta + (1.0 - k) * advect(u_prev3, x, unpackSnorm2x16(q.w) * stepPixels, inv, s3);
+  vec2 v3 = unpackSnorm2x16(imageLoad(u_thirdVector, p).w) * stepPixels;
+  float next3 = k * beta + (1.0 - k) * advect(u_prev3, x, v3, inv, s3);
 #else
   float s3 = 0.0, next3 = 0.0;
 #endif

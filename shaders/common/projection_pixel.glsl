@@ -55,9 +55,19 @@ float sampleNoise(vec3 p, vec3 n, float lod) {
   return textureLod(u_noise, fract(t), lod).r;
 }
 
+// The advection's whole input in 8 bytes (a software rasteriser's iterations pay for the bytes they read):
+// .x v1.xy as snorm16, .y v2.xy as snorm10 (bits 0-9, 10-19) and beta as unorm12 (bits 20-31). v1, v2 have
+// max-norm 1, so each keeps its largest component exactly; v2 is within 1/1022, beta within 1/8190.
+// common/advection_step.glsl unpacks it.
+uvec2 packVectors(vec4 v, float beta) {
+  uvec2 v2 = uvec2(ivec2(round(clamp(v.zw, -1.0, 1.0) * 511.0))) & 0x3FFu;
+  uint b = uint(round(clamp(beta, 0.0, 1.0) * 4095.0));
+  return uvec2(packSnorm2x16(v.xy), v2.x | (v2.y << 10) | (b << 20));
+}
+
 // What the tensor stage writes for one pixel (see fabric/projection.frag's outputs).
 struct Projection {
-  uvec4 vectors;
+  uvec2 vectors;
   vec4 surface;
   vec4 eigen;
   vec4 lambda; // .w: 1 where the data's cover ramp applies, multiplied by it by the caller
@@ -167,11 +177,11 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
   lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
 #endif
   Projection r;
+  r.vectors = packVectors(vectors, beta);
 #ifdef FIBRES
-  r.vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), packSnorm2x16(v3));
+  fibres.w = packSnorm2x16(v3); // the third population's direction (three-field advection)
   r.fibres = fibres;
 #else
-  r.vectors = uvec4(packSnorm2x16(vectors.xy), packSnorm2x16(vectors.zw), floatBitsToUint(beta), 0u);
   r.fibres = uvec4(0u);
 #endif
   r.surface = vec4(beta, light, depth, 1.0);

@@ -11,8 +11,8 @@
 // ping-pong textures at once: p1 = p2 = beta, or BLOCKED; RESET SILHOUETTES also finds the silhouettes
 // (instead of reading the silhouette pass's target) and writes them there. With FAR_PLANE, only covered
 // pixels are shaded (early depth test against the surface's depth; see common/fullscreen.vert). With THIRD,
-// a third field p3 (fibre sets' third population) advects along the vectors' .w direction; RESET THIRD also
-// writes p3.
+// a third field p3 (fibre sets' third population) advects along the fibre target's .w direction; RESET
+// THIRD also writes p3.
 // RESET REPROJECT (movies, two fields) starts from the previous frame's state instead of beta where the same
 // surface point was visible there: the pixel's world position (from the window depth) is projected into the
 // previous frame, whose kept state is sampled bilinearly when its linear depth there agrees within

@@ -16,7 +16,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 uniform mat4 u_clipToEye; // inverse projection of the guarded target
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth; // the geometry stage's window depth (1: no surface)
-layout(binding = IMAGE_VECTORS, rgba32ui) uniform writeonly uimage2D i_vectors;
+layout(binding = IMAGE_VECTORS, rg32ui) uniform writeonly uimage2D i_vectors;
 layout(binding = IMAGE_SURFACE, rgba32f) uniform writeonly image2D i_surface;
 layout(binding = IMAGE_EIGEN, rgba8) uniform writeonly image2D i_eigen;
 layout(binding = IMAGE_LAMBDA, rgba8) uniform writeonly image2D i_lambda;
@@ -47,7 +47,7 @@ void main() {
   float dy = s_edge[(l.y | 1u) * 8u + l.x] - s_edge[(l.y & ~1u) * 8u + l.x];
   if (inside && texelFetch(u_depth, q, 0).r < 1.0) {
     p.lambda.w *= coverRamp(edge, abs(dx) + abs(dy));
-    imageStore(i_vectors, px, p.vectors);
+    imageStore(i_vectors, px, uvec4(p.vectors, 0u, 0u));
     imageStore(i_surface, px, p.surface);
     imageStore(i_eigen, px, p.eigen);
     imageStore(i_lambda, px, p.lambda);

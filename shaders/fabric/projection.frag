@@ -12,8 +12,8 @@
 // eigenvector for the medical colours), NOISE_BLEND (softened face switch), BACKGROUND (grey volume where
 // there is no tensor data), FIBRES (a fibre set instead of the tensor: up to three matched lobes, see
 // common/fibre_field.glsl, each projected onto the surface (P d) and to image space like the eigenvectors;
-// vectors .x, .y, .w hold populations 1-3, and o_fibres per population its DEC colour |d| and weight
-// amplitude / strongest x in-surface fraction |P d|).
+// the vectors hold populations 1 and 2, o_fibres per population its DEC colour |d| and weight
+// amplitude / strongest x in-surface fraction |P d|, and in .w population 3's direction).
 #include "common/projection_pixel.glsl"
 
 layout(early_fragment_tests) in;
@@ -21,14 +21,14 @@ layout(early_fragment_tests) in;
 noperspective in vec3 v_nearEye;
 noperspective in vec3 v_farEye;
 
-// Image-space directions v1.xy, v2.xy (max-norm 1) as snorm16 pairs, and beta's bits: everything an advection
-// iteration reads of the projection in one integer fetch (a software rasteriser pays per channel).
-layout(location = 0) out uvec4 o_vectors;
+// Image-space directions v1.xy, v2.xy (max-norm 1) and beta, packed in 8 bytes (packVectors in
+// common/projection_pixel.glsl): everything an advection iteration reads of the projection in one fetch.
+layout(location = 0) out uvec2 o_vectors;
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, data cover (0..1)
 #ifdef FIBRES
-layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k) for populations k = 1..3
+layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3; .w snorm16 v3.xy
 #endif
 
 void main() {

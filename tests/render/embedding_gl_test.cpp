@@ -12,6 +12,7 @@
 #include "render/gpu_scene.h"
 #include "render/reference/scenes.h"
 #include "support/gl_test.h"
+#include "support/vector_texels.h"
 
 #include <cmath>
 #include <cstdio>
@@ -839,11 +840,7 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
           wl = std::max(wl, double(std::abs(sa[i + 1] - sb[i + 1])));
         }
         {
-          std::vector<std::uint32_t> va(sa.size()), vb(sa.size());
-          glGetTextureImage(t1.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                            static_cast<GLsizei>(va.size() * 4), va.data());
-          glGetTextureImage(t2.vectors().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                            static_cast<GLsizei>(vb.size() * 4), vb.data());
+          const auto va = dtf::test::readVectors(t1.vectors()), vb = dtf::test::readVectors(t2.vectors());
           double wv = 0;
           std::size_t nz = 0;
           for (std::size_t i = 0; i < va.size(); i += 4) {
@@ -851,10 +848,8 @@ TEST_F(Embedding, ImportedGeometryBuffersMatchTheMeshStage) {
             if (px < 16 || py < 16 || px >= 16 + kSize || py >= 16 + kSize) continue;
             if (sa[i + 3] < 0.5f || sb[i + 3] < 0.5f) continue;
             for (int c = 0; c < 2; ++c) {
-              auto un = [](std::uint32_t v) {
-                return glm::vec2(float(std::int16_t(v & 0xffff)), float(std::int16_t(v >> 16))) / 32767.0f;
-              };
-              double d = glm::length(un(va[i + c]) - un(vb[i + c]));
+              const double d = glm::length(glm::vec2(va[i + 2 * c], va[i + 2 * c + 1]) -
+                                           glm::vec2(vb[i + 2 * c], vb[i + 2 * c + 1]));
               wv = std::max(wv, d);
               nz += d > 0.05;
             }

@@ -1,5 +1,6 @@
 // Each fabric pass in isolation against a small CPU reference on synthetic input.
 #include "support/gl_test.h"
+#include "support/vector_texels.h"
 
 #include "io/model/tensor.h"
 #include "render/fabric/advection_pass.h"
@@ -17,6 +18,7 @@
 using namespace dtf;
 using namespace dtf::render;
 using dtf::test::readTexture;
+using dtf::test::readVectors;
 using dtf::test::textureFrom;
 
 namespace {
@@ -118,43 +120,15 @@ Texture edgeTexture(std::vector<float> edges, const std::vector<float>& surface)
   return t;
 }
 
-// packSnorm2x16 / unpackSnorm2x16 of GLSL.
-std::uint32_t packSnorm2x16(float x, float y) {
-  auto q = [](float v) { return static_cast<std::uint32_t>(static_cast<std::uint16_t>(
-                             static_cast<std::int16_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)))); };
-  return q(x) | (q(y) << 16);
-}
-float unpackSnorm16(std::uint32_t bits) {
-  return std::max(static_cast<float>(static_cast<std::int16_t>(static_cast<std::uint16_t>(bits))) / 32767.0f, -1.0f);
-}
-
-// The projection's vectors target as an advection iteration reads it: (v1.xy, v2.xy) max-norm scaled, four
-// per pixel, packed as snorm16 pairs, with beta's bits.
+// The projection's vectors target as an advection iteration reads it (support/vector_texels.h), at the
+// fixture's size unless told.
 Texture vectorTexture(const std::vector<float>& v, const std::vector<float>& beta, int w = kW, int h = kH) {
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(w) * h * 4, 0u);
-  for (std::size_t i = 0; i < raw.size() / 4; ++i) {
-    raw[i * 4] = packSnorm2x16(v[i * 4], v[i * 4 + 1]);
-    raw[i * 4 + 1] = packSnorm2x16(v[i * 4 + 2], v[i * 4 + 3]);
-    std::memcpy(&raw[i * 4 + 2], &beta[i], sizeof(float));
-  }
-  Texture t = Texture::create2D(GL_RGBA32UI, w, h);
-  t.setFilter(GL_NEAREST, GL_NEAREST);
-  glTextureSubImage2D(t.id(), 0, 0, 0, w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT, raw.data());
-  return t;
+  return dtf::test::vectorTexture(v, beta, w, h);
 }
 
-// The directions of a vectors texture as floats (v1.x, v1.y, v2.x, v2.y per pixel).
-std::vector<float> readVectors(const Texture& t) {
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4), raw.data());
-  std::vector<float> v(raw.size());
-  for (std::size_t i = 0; i < raw.size() / 4; ++i)
-    for (int c = 0; c < 2; ++c) {
-      v[i * 4 + 2 * c] = unpackSnorm16(raw[i * 4 + c]);
-      v[i * 4 + 2 * c + 1] = unpackSnorm16(raw[i * 4 + c] >> 16);
-    }
-  return v;
+// A third direction of zero everywhere, for the three-field iterations.
+Texture noThirdVector(int w = kW, int h = kH) {
+  return dtf::test::thirdVectorTexture(std::vector<float>(static_cast<std::size_t>(w) * h * 2, 0.0f), w, h);
 }
 
 // A constant noise tile (beta = 0.5): the projection tests look at directions, not at the noise.
@@ -306,6 +280,7 @@ TEST_F(FabricPass, ProjectedEigenvectorsLieInTheTangentPlaneAndAreMaxNormScaled)
     pass.run(mesh, gpuField, noise, view, ps);
     auto vec = readVectors(pass.vectors());
     auto surf = readTexture(pass.surface(), 4);
+    const auto beta = dtf::test::readVectorBeta(pass.vectors()); // 12 bits of the surface target's beta
 
     // CPU reference directions in the plane.
     glm::dmat3 P = glm::dmat3(1.0) - glm::outerProduct(n, n);
@@ -329,6 +304,7 @@ TEST_F(FabricPass, ProjectedEigenvectorsLieInTheTangentPlaneAndAreMaxNormScaled)
       for (int x = 0; x < view.target.x; x += 3) {
         std::size_t i = static_cast<std::size_t>(y) * view.target.x + x;
         if (surf[i * 4 + 3] < 0.5f) continue;
+        EXPECT_NEAR(beta[i], surf[i * 4], 0.5 / 4095 + 1e-6);
         for (int c = 0; c < 2; ++c) {
           glm::dvec2 iv(vec[i * 4 + 2 * c], vec[i * 4 + 2 * c + 1]);
           EXPECT_NEAR(std::max(std::abs(iv.x), std::abs(iv.y)), 1.0, 2e-3);
@@ -449,6 +425,7 @@ TEST_F(FabricPass, AdvectionReadsEachPixelsOwnStateBesideBlockedTexels) {
   }
   Texture tv = vectorTexture(directions, beta, w, h), ts = textureFrom(GL_RGBA32F, GL_RGBA, w, h, surface);
   Texture te = textureFrom(GL_R16F, GL_RED, w, h, edges);
+  const auto iterated = dtf::test::readVectorBeta(tv); // beta as the iterations read it (12 bits)
   auto start = randomField(w, h, 2, 42);
   for (bool compute : {false, true}) {
   SCOPED_TRACE(compute ? "compute shader" : "fragment pass");
@@ -460,7 +437,7 @@ TEST_F(FabricPass, AdvectionReadsEachPixelsOwnStateBesideBlockedTexels) {
     for (int x = 2; x < w - 2; x += 2) {
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       for (int c = 0; c < 2; ++c)
-        ASSERT_NEAR(state[i * 2 + c], as.k * beta[i] + (1 - as.k) * start[i * 2 + c], 1e-6) << x << "," << y;
+        ASSERT_NEAR(state[i * 2 + c], as.k * iterated[i] + (1 - as.k) * start[i * 2 + c], 1e-6) << x << "," << y;
       ++checked;
     }
   EXPECT_EQ(checked, (h - 2) * (w / 2 - 1));
@@ -480,6 +457,14 @@ TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
   auto vectors = randomVectors(kW, kH, 22);
   Texture tv = vectorTexture(vectors, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = edgeTexture(edges, surface);
+  // The third field's direction: another random field's v1, in the fibre target's .w.
+  const auto other = randomVectors(kW, kH, 23);
+  std::vector<float> v3(beta.size() * 2);
+  for (std::size_t i = 0; i < beta.size(); ++i) {
+    v3[i * 2] = other[i * 4];
+    v3[i * 2 + 1] = other[i * 4 + 1];
+  }
+  Texture third = dtf::test::thirdVectorTexture(v3, kW, kH);
   // The covered pixels' depth for the fragment pass's early test: covered 0.5 passes GL_GREATER at 1.
   std::vector<float> depth(beta.size());
   for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = mask[i] ? 0.5f : 1.0f;
@@ -495,8 +480,8 @@ TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
     pass.setCompute(compute);
     pass.reset(ts, te, 3);
     AdvectionSettings as{0.15f, 1.5f, 0.002f};
-    pass.iterate(tv, as, 4, false, covered, 3);
-    pass.iterate(tv, as, 3, true, covered, 3);
+    pass.iterate(tv, as, 4, false, covered, 3, &third);
+    pass.iterate(tv, as, 3, true, covered, 3, &third);
     Run r{pass.readFields(), std::vector<float>(beta.size()), pass.changedPixels()};
     glGetTextureImage(pass.field(2).id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(r.third.size() * sizeof(float)),
                       r.third.data());
@@ -520,6 +505,7 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
   std::vector<float> zero(static_cast<std::size_t>(kW) * kH * 4, 0.0f), edges(beta.size(), 0.0f);
   Texture tv = vectorTexture(zero, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = edgeTexture(edges, surface);
+  const auto b = dtf::test::readVectorBeta(tv); // beta as the iterations read it (12 bits)
   AdvectionPass pass;
   pass.reset(ts, te);
   std::vector<float> start(beta.size() * 2, 1.0f);
@@ -534,10 +520,10 @@ TEST_F(FabricPass, AdvectionWithZeroVectorsConvergesToBeta) {
   // p_n = beta + (1 - k)^n (p_0 - beta) exactly when v = 0; the target's outer ring stays blocked.
   for (std::size_t i = 0; i < beta.size(); ++i)
     for (int c = 0; c < 2; ++c)
-      EXPECT_NEAR(p[i * 2 + c], ring(i) ? kBlocked : beta[i] + std::pow(1 - k, 20) * (1 - beta[i]), 1e-5);
+      EXPECT_NEAR(p[i * 2 + c], ring(i) ? kBlocked : b[i] + std::pow(1 - k, 20) * (1 - b[i]), 1e-5);
   pass.iterate(tv, {k, 2.0f, 0.05f}, 40);
   p = pass.readFields();
-  for (std::size_t i = 0; i < beta.size(); ++i) EXPECT_NEAR(p[i * 2], ring(i) ? kBlocked : beta[i], 1e-5);
+  for (std::size_t i = 0; i < beta.size(); ++i) EXPECT_NEAR(p[i * 2], ring(i) ? kBlocked : b[i], 1e-5);
   EXPECT_EQ(pass.changedPixels(), 0u);
 }
 
@@ -732,7 +718,7 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
   given.run(ts, threshold, background);
   const std::size_t n = static_cast<std::size_t>(kW) * kH;
   std::vector<float> zero(n * 4, 0.0f), beta(n);
-  Texture still = vectorTexture(zero, beta);
+  Texture still = vectorTexture(zero, beta), third = noThirdVector();
   const auto earlier = surfaceData(randomField(kW, kH, 1, 57));
   std::vector<float> none(static_cast<std::size_t>(kW) * kH, 0.0f);
   Texture te = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, earlier), tn = edgeTexture(none, earlier);
@@ -744,7 +730,7 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
       SilhouettePass edgesWhole, edgesPart;
       for (AdvectionPass* a : {&whole, &part}) {
         a->reset(te, tn, fields); // an earlier frame's state everywhere, in both textures
-        a->iterate(tv, {0.5f, 1.0f, 0.05f}, 1, false, nullptr, fields);
+        a->iterate(tv, {0.5f, 1.0f, 0.05f}, 1, false, nullptr, fields, &third);
       }
       for (SilhouettePass* e : {&edgesWhole, &edgesPart}) {
         e->resize({kW, kH});
@@ -770,7 +756,7 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
         }
         // One iteration that leaves beta unchanged writes the covered pixels only.
         for (AdvectionPass* a : {&whole, &part})
-          a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields);
+          a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields, &third);
       }
     }
   EXPECT_GT(outside, kW * kH / 3);

@@ -9,6 +9,7 @@
 #include "render/reference/scenes.h"
 #include "support/gl_test.h"
 #include "support/orientation_histogram.h"
+#include "support/vector_texels.h"
 
 #include <algorithm>
 #include <cstring>
@@ -21,24 +22,7 @@ namespace {
 
 class Uncertainty : public GlTest {};
 
-// The directions of a vectors texture as floats (v1.x, v1.y, v2.x, v2.y per pixel).
-std::vector<float> readVectors(const Texture& t) {
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4),
-                    raw.data());
-  std::vector<float> v(raw.size());
-  auto unpack = [](std::uint32_t bits) {
-    return std::max(
-        static_cast<float>(static_cast<std::int16_t>(static_cast<std::uint16_t>(bits))) / 32767.0f, -1.0f);
-  };
-  for (std::size_t i = 0; i < raw.size() / 4; ++i)
-    for (int c = 0; c < 2; ++c) {
-      v[i * 4 + 2 * c] = unpack(raw[i * 4 + c]);
-      v[i * 4 + 2 * c + 1] = unpack(raw[i * 4 + c] >> 16);
-    }
-  return v;
-}
+using dtf::test::readVectors;
 
 Texture flatNoise() {
   NoiseTile tile;
