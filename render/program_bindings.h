@@ -29,10 +29,8 @@ struct AdvectionBindings {
     Prev1 = 0, Surface = 2, Silhouette = 3, Prev2 = 4, Prev3 = 5, HistorySurface = 6, Depth = 7
   };
   // An iteration's texel reads (imageLoad: on llvmpipe inlined, where a texelFetch calls a function): p_i at
-  // the pixel itself and the projection's vectors.
-  // ThirdVector: the projection's fibre target, whose .w is the third population's direction (three-field
-  // iterations); it shares unit 7 with the restart's surface.
-  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7, ThirdVector = 7 };
+  // the pixel itself and the projection's vectors (three-field iterations: its vectors3 target).
+  enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7 };
   enum class Counter : GLuint { Changed = 0 };
   static constexpr BindingName kShared[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
@@ -45,7 +43,6 @@ struct AdvectionBindings {
       {unit(ReadImage::Here3), "IMAGE_HERE3", "u_here3"},
       {unit(ReadImage::Vectors), "IMAGE_VECTORS", "u_vectors"},
       {unit(ReadImage::Surface), "IMAGE_SURFACE", "u_surfaceImage"},
-      {unit(ReadImage::ThirdVector), "IMAGE_THIRD_VECTOR", "u_thirdVector"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
 };
@@ -159,7 +156,8 @@ struct ProjectionComputeProgram {
   using Unit = ProjectionProgram::Unit;
   using Uniform = ProjectionProgram::Uniform;
   static constexpr GLuint kDepthUnit = 9;
-  enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4 };
+  // Above the geometry stage's read image (5).
+  enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4, Vectors3 = 6 };
   enum class Buffer : GLuint { Covered = 0 };
   static constexpr BindingName kOwn[] = {
       {kDepthUnit, "UNIT_DEPTH", "u_depth"},
@@ -168,6 +166,7 @@ struct ProjectionComputeProgram {
       {unit(Image::Eigen), "IMAGE_EIGEN", "i_eigen"},
       {unit(Image::Lambda), "IMAGE_LAMBDA", "i_lambda"},
       {unit(Image::Fibres), "IMAGE_FIBRES", "i_fibres"},
+      {unit(Image::Vectors3), "IMAGE_VECTORS3", "i_vectors3"},
       {unit(Buffer::Covered), "BUFFER_COVERED", "CoveredPixels"},
   };
   static constexpr auto kBindings = joinBindings(ProjectionProgram::kBindings, kOwn);

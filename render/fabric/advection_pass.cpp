@@ -257,13 +257,15 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
 }
 
 void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
-                            const Texture* depth, int fields, const Texture* thirdVector) {
+                            const Texture* depth, int fields) {
   if (count <= 0) return;
   const bool third = fields >= 3;
-  if (third && !thirdVector) throw GlError("AdvectionPass: a third field needs the third population's vectors");
+  const GLenum layout = third ? GL_RGBA32UI : GL_RG32UI;
+  if (vectors.format() != layout)
+    throw GlError(third ? "AdvectionPass: three fields need the RGBA32UI vectors with the third direction"
+                        : "AdvectionPass: two fields need the RG32UI vectors");
   counted_ = countChanges;
-  bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, GL_RG32UI);
-  if (third) bindReadImage(AdvectionBindings::ReadImage::ThirdVector, *thirdVector, GL_RGBA32UI);
+  bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, layout);
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
     compute_.get(third ? kComputeThird : 0u);

@@ -6,10 +6,10 @@
 // reset() restarts from beta and takes beta and the blocked pixels (silhouettes, background) from the
 // projection and silhouette passes.
 //   inputs : reset: projection surface (beta, coverage), silhouette edges; iterate: projection vectors
-//            (RG32UI: directions and beta, 8 bytes), and for a third field the projection's fibre target
-//            (its .w: the third direction)
+//            (RG32UI: directions and beta, 8 bytes; with a third field the vectors3 target, RGBA32UI: the
+//            same and the third direction, one fetch)
 //   output : field(0), field(1) R32F (p1, p2, or kBlocked), the size of the guarded target
-// With three populations (fibre sets) a third field p3 runs along the fibre target's .w direction in the same
+// With three populations (fibre sets) a third field p3 runs along the third direction in the same
 // iteration (the THIRD variant, its own framebuffers: the two-field fabric never pays for it).
 // The number of pixels that changed by more than epsilon in the last counted iteration is kept in an
 // atomic counter (the stopping criterion); reading it with changedPixels() waits for the GPU.
@@ -65,10 +65,11 @@ public:
   // `count` Eq. 12 iterations; the last one counts the changed pixels when countChanges is set. With the
   // projection's depth buffer given, only covered pixels are shaded (background pixels are blocked and
   // would keep their state anyway), which skips the background on a software rasteriser.
-  // `fields` 2 (tensors: v1, v2) or 3 (fibre sets: also p3 along `thirdVector`'s .w, snorm16 x2 in an
-  // RGBA32UI texture of the state's size: the projection's fibre target).
+  // `fields` 2 (tensors: v1, v2; `vectors` RG32UI) or 3 (fibre sets: also p3 along v3; `vectors` RGBA32UI,
+  // .xy the two-field texel and .z v3 as snorm16 x2: the projection's vectors3 target). Throws GlError for
+  // a vectors texture of the other layout.
   void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
-               const Texture* depth = nullptr, int fields = 2, const Texture* thirdVector = nullptr);
+               const Texture* depth = nullptr, int fields = 2);
   // Iterations and restarts from beta as a compute shader (fabric/advection.comp) instead of fullscreen
   // draws: the same values, many times faster where the fragment pipeline is a small part of the GPU (the
   // movie's reprojecting restart stays a draw). The default is compute on a

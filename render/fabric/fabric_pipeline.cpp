@@ -223,8 +223,9 @@ void FabricPipeline::advect(const FabricParams& p) {
   // restart), and a still cannot stop before the start image has faded (FabricParams::stillMinIterations):
   // only frames that continue their state and reach that many iterations count.
   const bool count = !restarted_ && sinceRestart_ + p.iterations >= p.stillMinIterations();
-  advection_.iterate(projection_.vectors(), as, p.iterations, count, &projection_.depth(), fields(p),
-                     &projection_.fibres());
+  const int n = fields(p);
+  advection_.iterate(n == 3 ? projection_.vectors3() : projection_.vectors(), as, p.iterations, count,
+                     &projection_.depth(), n);
   sinceRestart_ += p.iterations;
   restarted_ = false;
   endTimer();
@@ -238,13 +239,14 @@ int FabricPipeline::converge(const FabricParams& p) {
   // then until (almost) no pixel changes by more than epsilon per iteration.
   const int minIterations = p.stillMinIterations();
   const int chunk = std::max(p.iterations, 1);
+  const bool three = fields(p) == 3;
   restarted_ = false; // converged below: the next frame's count is meaningful
   int done = 0;
   while (done < p.stillMaxIterations) {
     int n = std::min(chunk, p.stillMaxIterations - done);
     bool check = done + n >= minIterations;
-    advection_.iterate(projection_.vectors(), as, n, check, &projection_.depth(), fields(p),
-                       &projection_.fibres());
+    advection_.iterate(three ? projection_.vectors3() : projection_.vectors(), as, n, check,
+                       &projection_.depth(), three ? 3 : 2);
     done += n;
     if (check && advection_.changedPixels() <= p.stillChangedFraction * covered) break;
   }

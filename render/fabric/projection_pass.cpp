@@ -32,12 +32,13 @@ void TensorStage::resize(glm::ivec2 target) {
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   fibres_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
-  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &fibres_})
+  vectors3_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
+  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &fibres_, &vectors3_})
     t->setFilter(GL_NEAREST, GL_NEAREST);
   fbo_ = createFramebuffer();
   attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, nullptr);
   fibreFbo_ = createFramebuffer();
-  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_}, nullptr);
+  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_, &vectors3_}, nullptr);
   attachedDepth_ = 0;
 }
 
@@ -146,7 +147,10 @@ void TensorStage::dispatch(const GeometryStage& geometry, bool haveData, bool us
   glBindImageTexture(unit(Image::Surface), surface_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(unit(Image::Eigen), eigen_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindImageTexture(unit(Image::Lambda), lambda_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  if (useFibres) glBindImageTexture(unit(Image::Fibres), fibres_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  if (useFibres) {
+    glBindImageTexture(unit(Image::Fibres), fibres_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+    glBindImageTexture(unit(Image::Vectors3), vectors3_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit(ProjectionComputeProgram::Buffer::Covered), covered_.id());
   dispatchPerPixel(size_.x, size_.y); // coveredPixels() reads the count after its barrier
 }

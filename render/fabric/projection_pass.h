@@ -19,8 +19,9 @@
 //                    early depth test of the later fullscreen passes)
 //            geometry RG32UI (the geometry stage's buffer)
 //            fibres  RGBA32UI (fibre sets only: per population k = 1..3 packUnorm4x8(|d_k| world DEC colour,
-//                    weight = amplitude / strongest x in-surface fraction); .w population 3's image
-//                    direction, packSnorm2x16)
+//                    weight = amplitude / strongest x in-surface fraction); .w 0)
+//            vectors3 RGBA32UI (fibre sets only: .xy the vectors texel, .z population 3's image direction,
+//                    packSnorm2x16, max-norm 1, .w 0: a three-field iteration's one fetch)
 // The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where
 // surface.a = 1. A zero vector there means "no direction".
 #pragma once
@@ -69,6 +70,7 @@ public:
   const Texture& eigen() const { return eigen_; }
   const Texture& lambda() const { return lambda_; }
   const Texture& fibres() const { return fibres_; }
+  const Texture& vectors3() const { return vectors3_; }
   glm::ivec2 size() const { return size_; }
   // Pixels shaded by the last run (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const;
@@ -94,7 +96,7 @@ private:
   Buffer covered_;
   Framebuffer fbo_, fibreFbo_;
   GLuint attachedDepth_ = 0;
-  Texture vectors_, surface_, eigen_, lambda_, fibres_;
+  Texture vectors_, surface_, eigen_, lambda_, fibres_, vectors3_;
   glm::ivec2 size_{0};
 };
 
@@ -123,6 +125,7 @@ public:
   const Texture& depth() const { return geometry_.depth(); }
   const Texture& geometry() const { return geometry_.geometry(); }
   const Texture& fibres() const { return tensor_.fibres(); }
+  const Texture& vectors3() const { return tensor_.vectors3(); }
   glm::ivec2 size() const { return tensor_.size(); }
   // Pixels shaded by the last run's tensor stage (= covered pixels). Waits for the GPU.
   unsigned coveredPixels() const { return tensor_.coveredPixels(); }

@@ -41,11 +41,12 @@ layout(binding = IMAGE_HERE2, r32f) uniform readonly image2D u_here2; // p2
 #ifdef THIRD
 layout(binding = IMAGE_HERE3, r32f) uniform readonly image2D u_here3; // p3
 #endif
+#ifdef THIRD
+// .xy as u_vectors below, .z the third population's direction (snorm16 v3.xy): one fetch for all three.
+layout(binding = IMAGE_VECTORS, rgba32ui) uniform readonly uimage2D u_vectors;
+#else
 // v1.xy, v2.xy (max-norm 1) and beta, packed by packVectors (common/projection_pixel.glsl)
 layout(binding = IMAGE_VECTORS, rg32ui) uniform readonly uimage2D u_vectors;
-#ifdef THIRD
-// The projection's fibre target: .w is the third population's direction, snorm16 v3.xy.
-layout(binding = IMAGE_THIRD_VECTOR, rgba32ui) uniform readonly uimage2D u_thirdVector;
 #endif
 
 // The mean of p at x + d and x - d, with p_i(x) standing in for a blocked sample.
@@ -62,7 +63,12 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   float k = it.x, stepPixels = it.y;
   vec2 inv = invSize();
   vec2 x = vec2(p) + 0.5;
+#ifdef THIRD
+  uvec4 q4 = imageLoad(u_vectors, p);
+  uvec2 q = q4.xy;
+#else
   uvec2 q = imageLoad(u_vectors, p).xy;
+#endif
   int packed2 = int(q.y);
   vec2 v2 = vec2(bitfieldExtract(packed2, 0, 10), bitfieldExtract(packed2, 10, 10)) / 511.0;
   vec4 v = vec4(unpackSnorm2x16(q.x), v2) * stepPixels;
@@ -73,7 +79,7 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   bool blocked = s.r < 0.0;
 #ifdef THIRD
   float s3 = imageLoad(u_here3, p).r;
-  vec2 v3 = unpackSnorm2x16(imageLoad(u_thirdVector, p).w) * stepPixels;
+  vec2 v3 = unpackSnorm2x16(q4.z) * stepPixels;
   float next3 = k * beta + (1.0 - k) * advect(u_prev3, x, v3, inv, s3);
 #else
   float s3 = 0.0, next3 = 0.0;

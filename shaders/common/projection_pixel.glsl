@@ -71,7 +71,8 @@ struct Projection {
   vec4 surface;
   vec4 eigen;
   vec4 lambda; // .w: 1 where the data's cover ramp applies, multiplied by it by the caller
-  uvec4 fibres;
+  uvec4 fibres; // .xyz: per population packUnorm4x8(|d_k|, weight_k); .w unused (0)
+  uvec4 vectors3; // fibre sets: .xy `vectors`, .z population 3's direction (packSnorm2x16), .w 0
 };
 
 // The tensor stage at pixel px, whose ray meets the near and far clip planes at nearEye and farEye (eye
@@ -179,10 +180,11 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
   Projection r;
   r.vectors = packVectors(vectors, beta);
 #ifdef FIBRES
-  fibres.w = packSnorm2x16(v3); // the third population's direction (three-field advection)
   r.fibres = fibres;
+  r.vectors3 = uvec4(r.vectors, packSnorm2x16(v3), 0u);
 #else
   r.fibres = uvec4(0u);
+  r.vectors3 = uvec4(0u);
 #endif
   r.surface = vec4(beta, light, depth, 1.0);
   eigen.w = fa;

@@ -22,6 +22,7 @@ layout(binding = IMAGE_EIGEN, rgba8) uniform writeonly image2D i_eigen;
 layout(binding = IMAGE_LAMBDA, rgba8) uniform writeonly image2D i_lambda;
 #ifdef FIBRES
 layout(binding = IMAGE_FIBRES, rgba32ui) uniform writeonly uimage2D i_fibres;
+layout(binding = IMAGE_VECTORS3, rgba32ui) uniform writeonly uimage2D i_vectors3;
 #endif
 layout(std430, binding = BUFFER_COVERED) buffer CoveredPixels { uint u_coveredPixels; };
 
@@ -53,6 +54,7 @@ void main() {
     imageStore(i_lambda, px, p.lambda);
 #ifdef FIBRES
     imageStore(i_fibres, px, p.fibres);
+    imageStore(i_vectors3, px, p.vectors3);
 #endif
     atomicAdd(s_covered, 1u);
   } else if (inside) {

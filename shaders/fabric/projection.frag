@@ -13,7 +13,7 @@
 // there is no tensor data), FIBRES (a fibre set instead of the tensor: up to three matched lobes, see
 // common/fibre_field.glsl, each projected onto the surface (P d) and to image space like the eigenvectors;
 // the vectors hold populations 1 and 2, o_fibres per population its DEC colour |d| and weight
-// amplitude / strongest x in-surface fraction |P d|, and in .w population 3's direction).
+// amplitude / strongest x in-surface fraction |P d|, o_vectors3 the vectors and population 3's direction).
 #include "common/projection_pixel.glsl"
 
 layout(early_fragment_tests) in;
@@ -28,7 +28,10 @@ layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, data cover (0..1)
 #ifdef FIBRES
-layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3; .w snorm16 v3.xy
+layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3 (.w 0)
+// The vectors texel (.xy) and population 3's image direction (.z, snorm16 v3.xy): a three-field iteration's
+// one fetch of the projection.
+layout(location = 5) out uvec4 o_vectors3;
 #endif
 
 void main() {
@@ -41,5 +44,6 @@ void main() {
   o_lambda = p.lambda;
 #ifdef FIBRES
   o_fibres = p.fibres;
+  o_vectors3 = p.vectors3;
 #endif
 }

@@ -126,9 +126,9 @@ Texture vectorTexture(const std::vector<float>& v, const std::vector<float>& bet
   return dtf::test::vectorTexture(v, beta, w, h);
 }
 
-// A third direction of zero everywhere, for the three-field iterations.
-Texture noThirdVector(int w = kW, int h = kH) {
-  return dtf::test::thirdVectorTexture(std::vector<float>(static_cast<std::size_t>(w) * h * 2, 0.0f), w, h);
+// The three-field layout of the same vectors, with a third direction of zero everywhere.
+Texture vectors3Texture(const std::vector<float>& v, const std::vector<float>& beta, int w = kW, int h = kH) {
+  return dtf::test::vectors3Texture(v, beta, std::vector<float>(static_cast<std::size_t>(w) * h * 2, 0.0f), w, h);
 }
 
 // A constant noise tile (beta = 0.5): the projection tests look at directions, not at the noise.
@@ -457,14 +457,14 @@ TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
   auto vectors = randomVectors(kW, kH, 22);
   Texture tv = vectorTexture(vectors, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
   Texture te = edgeTexture(edges, surface);
-  // The third field's direction: another random field's v1, in the fibre target's .w.
+  // The third field's direction: another random field's v1, beside the same vectors in the three-field layout.
   const auto other = randomVectors(kW, kH, 23);
   std::vector<float> v3(beta.size() * 2);
   for (std::size_t i = 0; i < beta.size(); ++i) {
     v3[i * 2] = other[i * 4];
     v3[i * 2 + 1] = other[i * 4 + 1];
   }
-  Texture third = dtf::test::thirdVectorTexture(v3, kW, kH);
+  Texture tv3 = dtf::test::vectors3Texture(vectors, beta, v3, kW, kH);
   // The covered pixels' depth for the fragment pass's early test: covered 0.5 passes GL_GREATER at 1.
   std::vector<float> depth(beta.size());
   for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = mask[i] ? 0.5f : 1.0f;
@@ -480,8 +480,8 @@ TEST_F(FabricPass, AdvectionComputeShaderEqualsTheFragmentPass) {
     pass.setCompute(compute);
     pass.reset(ts, te, 3);
     AdvectionSettings as{0.15f, 1.5f, 0.002f};
-    pass.iterate(tv, as, 4, false, covered, 3, &third);
-    pass.iterate(tv, as, 3, true, covered, 3, &third);
+    pass.iterate(tv3, as, 4, false, covered, 3);
+    pass.iterate(tv3, as, 3, true, covered, 3);
     Run r{pass.readFields(), std::vector<float>(beta.size()), pass.changedPixels()};
     glGetTextureImage(pass.field(2).id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(r.third.size() * sizeof(float)),
                       r.third.data());
@@ -718,11 +718,12 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
   given.run(ts, threshold, background);
   const std::size_t n = static_cast<std::size_t>(kW) * kH;
   std::vector<float> zero(n * 4, 0.0f), beta(n);
-  Texture still = vectorTexture(zero, beta), third = noThirdVector();
+  Texture still = vectorTexture(zero, beta), still3 = vectors3Texture(zero, beta);
   const auto earlier = surfaceData(randomField(kW, kH, 1, 57));
   std::vector<float> none(static_cast<std::size_t>(kW) * kH, 0.0f);
   Texture te = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, earlier), tn = edgeTexture(none, earlier);
-  Texture tv = vectorTexture(randomField(kW, kH, 4, 58), none);
+  const auto moving = randomField(kW, kH, 4, 58);
+  Texture tv = vectorTexture(moving, none), tv3 = vectors3Texture(moving, none);
   for (int fields : {2, 3})
     for (bool finding : {false, true}) {
       SCOPED_TRACE(std::to_string(fields) + " fields" + (finding ? ", finding silhouettes" : ""));
@@ -730,7 +731,7 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
       SilhouettePass edgesWhole, edgesPart;
       for (AdvectionPass* a : {&whole, &part}) {
         a->reset(te, tn, fields); // an earlier frame's state everywhere, in both textures
-        a->iterate(tv, {0.5f, 1.0f, 0.05f}, 1, false, nullptr, fields, &third);
+        a->iterate(fields == 3 ? tv3 : tv, {0.5f, 1.0f, 0.05f}, 1, false, nullptr, fields);
       }
       for (SilhouettePass* e : {&edgesWhole, &edgesPart}) {
         e->resize({kW, kH});
@@ -756,7 +757,7 @@ TEST_F(FabricPass, RestartsInsideTheCoverRectEqualRestartsOfTheWholeTarget) {
         }
         // One iteration that leaves beta unchanged writes the covered pixels only.
         for (AdvectionPass* a : {&whole, &part})
-          a->iterate(still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields, &third);
+          a->iterate(fields == 3 ? still3 : still, {0.0f, 1.0f, 1e-4f}, 1, false, &depth, fields);
       }
     }
   EXPECT_GT(outside, kW * kH / 3);

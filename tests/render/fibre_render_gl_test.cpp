@@ -2,13 +2,14 @@
 // rendered centre of the crossing has a peak at each bundle and none at the tensor-average direction, where
 // the tensor fabric of the same crossing puts its threads; a single bundle shows one peak. The projection's
 // per-population colours agree with the CPU reference of its interpolation (interpolateSlots).
+#include "io/formats/png_io.h"
 #include "io/model/fibre_set.h"
 #include "io/phantoms.h"
-#include "io/formats/png_io.h"
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
 #include "support/gl_test.h"
 #include "support/orientation_histogram.h"
+#include "support/vector_texels.h"
 
 #include <array>
 #include <cmath>
@@ -118,7 +119,8 @@ bool stableWithin(const FibreSet& slotted, const glm::dvec3& ijk, const std::vec
       const auto near = interpolateSlots(slotted, moved);
       for (std::size_t k = 0; k < at.size(); ++k) {
         if ((near[k].amplitude > 0) != (at[k].amplitude > 0)) return false;
-        if (at[k].amplitude > 0 && glm::length(glm::abs(near[k].direction) - glm::abs(at[k].direction)) > 0.01f)
+        if (at[k].amplitude > 0 &&
+            glm::length(glm::abs(near[k].direction) - glm::abs(at[k].direction)) > 0.01f)
           return false;
       }
     }
@@ -220,4 +222,73 @@ TEST_F(FibreRender, ComputePassesDrawTheFragmentPassesImages) {
   EXPECT_LE(off, img[0].rgba.size() / 4 / 200);
   // Both bundles in the compute image, as CrossingCentreShowsBothBundlesNotTheirTensorAverage asks.
   EXPECT_EQ(peaks(orientationHistogram(img[1], 16, 16, 240, 240), 0.3).size(), 2u);
+}
+
+TEST_F(FibreRender, Vectors3TargetHoldsTheThirdPopulationsImageDirection) {
+  // Three populations in the plane of the surface, 0, 60 and 120 degrees from +x: the vectors' v1 and v2
+  // and the vectors3 target's v3 are, at every covered pixel, the image directions of the three (each once),
+  // the directions the three-field iterations advect along; vectors3 holds the vectors texel beside v3.
+  io::PhantomOptions o;
+  o.size = 32;
+  const FibreSet base = io::makeFibrePhantom("constant", o);
+  FibreSet f = makeFibreSet(base.grid, 3);
+  const double deg[3] = {0.0, 60.0, 120.0};
+  const float amp[3] = {1.0f, 0.8f, 0.6f};
+  for (std::size_t v = 0; v < f.grid.voxelCount(); ++v)
+    for (int k = 0; k < 3; ++k) {
+      const double a = glm::radians(deg[k]);
+      f.fibres[v * 3 + k] = {glm::vec3(std::cos(a), std::sin(a), 0.0), amp[k]};
+    }
+  for (int compute = 0; compute < 2; ++compute) { // the fragment pass and its compute twin
+    SCOPED_TRACE(compute ? "compute" : "fragment");
+    FabricRenderer r;
+    r.setComputePasses(compute == 1);
+    r.setMesh(reference::planeMesh({0.3, 0.2, 0.25}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
+    r.setFibres(f);
+    r.resize(128, 128);
+    FabricParams p;
+    p.colour = ColourMode::Fibres;
+    p.guard = 0;
+    r.renderStill(Camera::standard(StandardView::Superior, {-16, -16, -1}, {16, 16, 1}, 1.0), p);
+    const glm::mat4 vp = r.frameView().viewProj;
+    double expected[3]; // image angles (orthographic, square target), mod 180
+    for (int k = 0; k < 3; ++k) {
+      const double a = glm::radians(deg[k]);
+      const glm::vec4 d = vp * glm::vec4(std::cos(a), std::sin(a), 0.0, 0.0);
+      expected[k] = std::fmod(glm::degrees(std::atan2(double(d.y), double(d.x))) + 360.0, 180.0);
+    }
+    const auto v = readVectors(r.projection().vectors());
+    const auto two = readVectorTexels(r.projection().vectors());
+    const auto three = readVectors3Texels(r.projection().vectors3());
+    ASSERT_EQ(three.size(), std::size_t(128 * 128 * 4));
+    auto axialDiff = [](double a, double b) {
+      const double d = std::fmod(std::abs(a - b), 180.0);
+      return std::min(d, 180.0 - d);
+    };
+    int checked = 0;
+    for (int y = 8; y < 120; y += 5)
+      for (int x = 8; x < 120; x += 5) {
+        const std::size_t i = static_cast<std::size_t>(y) * 128 + x;
+        const glm::vec2 dirs[3] = {{v[i * 4], v[i * 4 + 1]},
+                                   {v[i * 4 + 2], v[i * 4 + 3]},
+                                   {unpackSnorm16(three[i * 4 + 2]), unpackSnorm16(three[i * 4 + 2] >> 16)}};
+        if (glm::length(dirs[0]) == 0.0f) continue; // not covered
+        EXPECT_EQ(three[i * 4], two[i * 2]) << "pixel " << x << "," << y;
+        EXPECT_EQ(three[i * 4 + 1], two[i * 2 + 1]) << "pixel " << x << "," << y;
+        bool seen[3] = {false, false, false};
+        for (const glm::vec2& d : dirs) {
+          // Max-norm 1: the largest component is +-1.
+          EXPECT_NEAR(std::max(std::abs(d.x), std::abs(d.y)), 1.0f, 2e-3f) << "pixel " << x << "," << y;
+          const double angle = glm::degrees(std::atan2(double(d.y), double(d.x)));
+          int best = 0;
+          for (int k = 1; k < 3; ++k)
+            if (axialDiff(angle, expected[k]) < axialDiff(angle, expected[best])) best = k;
+          EXPECT_LT(axialDiff(angle, expected[best]), 1.0) << "pixel " << x << "," << y;
+          seen[best] = true;
+        }
+        EXPECT_TRUE(seen[0] && seen[1] && seen[2]) << "pixel " << x << "," << y;
+        ++checked;
+      }
+    EXPECT_GT(checked, 300);
+  }
 }
