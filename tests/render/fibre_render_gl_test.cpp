@@ -109,6 +109,17 @@ TEST_F(FibreRender, SingleBundleShowsOnePeak) {
 
 namespace {
 
+// A still of `f` on the plane z = 0.25, 128x128 without guard, seen from above (orthographic, 32 mm wide).
+void renderPlane128(FabricRenderer& r, const FibreSet& f) {
+  r.setMesh(reference::planeMesh({0.3, 0.2, 0.25}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
+  r.setFibres(f);
+  r.resize(128, 128);
+  FabricParams p;
+  p.colour = ColourMode::Fibres;
+  p.guard = 0;
+  r.renderStill(Camera::standard(StandardView::Superior, {-16, -16, -1}, {16, 16, 1}, 1.0), p);
+}
+
 // True when interpolateSlots at ijk moved by up to `step` voxel along each axis gives the same populations
 // and directions (within the test's tolerance) as `at`.
 bool stableWithin(const FibreSet& slotted, const glm::dvec3& ijk, const std::vector<Fibre>& at, double step) {
@@ -139,19 +150,8 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
   o.size = 32;
   FibreSet f = io::makeFibrePhantom("crossing", o);
   const FibreSet slotted = continuousSlots(f, FabricParams{}.fibreThreshold);
-  r.setMesh(reference::planeMesh({0.3, 0.2, 0.25}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
-  r.setFibres(f);
-  r.resize(128, 128);
-  FabricParams p;
-  p.colour = ColourMode::Fibres;
-  p.guard = 0;
-  const glm::dvec3 lo(-16, -16, -1), hi(16, 16, 1);
-  Camera cam = Camera::standard(StandardView::Superior, lo, hi, 1.0);
-  r.renderStill(cam, p);
-  const Texture& t = r.projection().fibres();
-  std::vector<GLuint> texels(static_cast<std::size_t>(t.width()) * t.height() * 4);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(texels.size() * 4),
-                    texels.data());
+  renderPlane128(r, f);
+  const std::vector<std::uint32_t> texels = readUintTexels(r.projection().fibres(), 4);
   int compared = 0, two = 0, unstable = 0;
   for (int y = 4; y < 124; y += 7)
     for (int x = 4; x < 124; x += 7) {
@@ -243,13 +243,7 @@ TEST_F(FibreRender, Vectors3TargetHoldsTheThirdPopulationsImageDirection) {
     SCOPED_TRACE(compute ? "compute" : "fragment");
     FabricRenderer r;
     r.setComputePasses(compute == 1);
-    r.setMesh(reference::planeMesh({0.3, 0.2, 0.25}, {1, 0, 0}, {0, 1, 0}, 40, 40, 8));
-    r.setFibres(f);
-    r.resize(128, 128);
-    FabricParams p;
-    p.colour = ColourMode::Fibres;
-    p.guard = 0;
-    r.renderStill(Camera::standard(StandardView::Superior, {-16, -16, -1}, {16, 16, 1}, 1.0), p);
+    renderPlane128(r, f);
     const glm::mat4 vp = r.frameView().viewProj;
     double expected[3]; // image angles (orthographic, square target), mod 180
     for (int k = 0; k < 3; ++k) {
@@ -258,8 +252,8 @@ TEST_F(FibreRender, Vectors3TargetHoldsTheThirdPopulationsImageDirection) {
       expected[k] = std::fmod(glm::degrees(std::atan2(double(d.y), double(d.x))) + 360.0, 180.0);
     }
     const auto v = readVectors(r.projection().vectors());
-    const auto two = readVectorTexels(r.projection().vectors());
-    const auto three = readVectors3Texels(r.projection().vectors3());
+    const auto two = readUintTexels(r.projection().vectors(), 2);
+    const auto three = readUintTexels(r.projection().vectors3(), 4);
     ASSERT_EQ(three.size(), std::size_t(128 * 128 * 4));
     auto axialDiff = [](double a, double b) {
       const double d = std::fmod(std::abs(a - b), 180.0);

@@ -45,18 +45,19 @@ inline std::array<float, 5> unpackVectorTexel(std::uint32_t x, std::uint32_t y) 
           static_cast<float>(y >> 20) / 4095.0f};
 }
 
-// The texels of an RG32UI vectors texture, two per pixel.
-inline std::vector<std::uint32_t> readVectorTexels(const render::Texture& t) {
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * 2);
+// The texels of an integer texture of 2 (RG32UI: the vectors) or 4 (RGBA32UI: vectors3, the fibre target)
+// components, `components` per pixel.
+inline std::vector<std::uint32_t> readUintTexels(const render::Texture& t, int components) {
+  std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * components);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4),
-                    raw.data());
+  glGetTextureImage(t.id(), 0, components == 2 ? GL_RG_INTEGER : GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                    static_cast<GLsizei>(raw.size() * 4), raw.data());
   return raw;
 }
 
 // The directions as floats, v1.x, v1.y, v2.x, v2.y per pixel.
 inline std::vector<float> readVectors(const render::Texture& t) {
-  const auto raw = readVectorTexels(t);
+  const auto raw = readUintTexels(t, 2);
   std::vector<float> v(raw.size() * 2);
   for (std::size_t i = 0; i < raw.size() / 2; ++i) {
     const auto u = unpackVectorTexel(raw[i * 2], raw[i * 2 + 1]);
@@ -67,7 +68,7 @@ inline std::vector<float> readVectors(const render::Texture& t) {
 
 // Beta as the iterations read it, per pixel.
 inline std::vector<float> readVectorBeta(const render::Texture& t) {
-  const auto raw = readVectorTexels(t);
+  const auto raw = readUintTexels(t, 2);
   std::vector<float> b(raw.size() / 2);
   for (std::size_t i = 0; i < b.size(); ++i)
     b[i] = unpackVectorTexel(raw[i * 2], raw[i * 2 + 1])[4];
@@ -104,15 +105,6 @@ inline render::Texture vectors3Texture(const std::vector<float>& v, const std::v
   t.setFilter(GL_NEAREST, GL_NEAREST);
   glTextureSubImage2D(t.id(), 0, 0, 0, w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT, raw.data());
   return t;
-}
-
-// The texels of a vectors3 texture, four per pixel.
-inline std::vector<std::uint32_t> readVectors3Texels(const render::Texture& t) {
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(t.width()) * t.height() * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(t.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(raw.size() * 4),
-                    raw.data());
-  return raw;
 }
 
 } // namespace dtf::test
