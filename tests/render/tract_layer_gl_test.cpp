@@ -132,11 +132,13 @@ TEST_F(TractLayerTest, MovingFramesFollowTheBudgetAndReportTheirTime) {
     }
   }
   EXPECT_GE(timings, 4);
-  // The learnt cost of the drawn level predicts a draw within the 5 ms target (within a factor of 3: the
-  // machine may be shared).
+  // The learnt cost of the drawn level predicts a draw within the 5 ms target, unless that cost is so high
+  // (a loaded or sanitized build's machine) that the choice is the floor of kMinSegments segments.
   const TractBudget::Choice c = budget.choose(s.tracts);
-  EXPECT_LT(double(std::min(c.segments, s.tracts.segmentCount(c.level))) * budget.msPerSegment(c.level),
-            5.0 * 1.01);
+  const double predicted =
+      double(std::min(c.segments, s.tracts.segmentCount(c.level))) * budget.msPerSegment(c.level);
+  EXPECT_TRUE(predicted < 5.0 * 1.01 || c.segments == TractBudget::kMinSegments)
+      << predicted << " ms for " << c.segments << " segments of level " << c.level;
   // A moving frame without a camera change draws nothing new.
   EXPECT_FALSE(layer.frame(s.tracts, s.frame(false, true, c, budget.chunk())));
   // Once still, the full set follows.
