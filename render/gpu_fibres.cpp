@@ -29,6 +29,8 @@ void blurredOccupancy(std::vector<float>& f, const glm::ivec3& d) {
 void GpuFibreSet::clear() {
   for (Texture& t : lobe_)
     t = Texture();
+  for (Texture& t : lobeB_)
+    t = Texture();
   fa_ = Texture();
   lobes_ = 0;
 }
@@ -44,18 +46,28 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   // Slots that follow bundles from voxel to voxel: one advection field per slot.
   const FibreSet slotted = continuousSlots(set, relativeThreshold);
   lobes_ = slotted.maxFibres;
-  std::vector<float> texel(n * 4);
+  // Per slot the amplitude-weighted dyadic a d d^T, interpolated per component by the hardware: it does not
+  // depend on the sign of d, so seams of the slots' sign alignment (where voxels disagree) interpolate as
+  // tensors do, without a voxel-shaped jump.
+  std::vector<float> texel(n * 4), texelB(n * 4);
   for (int l = 0; l < lobes_; ++l) {
     for (std::size_t v = 0; v < n; ++v) {
       const Fibre& f = slotted.fibres[v * static_cast<std::size_t>(lobes_) + static_cast<std::size_t>(l)];
-      const bool ok = f.amplitude > 0.0f;
-      texel[v * 4 + 0] = ok ? f.amplitude * f.direction.x : 0.0f;
-      texel[v * 4 + 1] = ok ? f.amplitude * f.direction.y : 0.0f;
-      texel[v * 4 + 2] = ok ? f.amplitude * f.direction.z : 0.0f;
-      texel[v * 4 + 3] = ok ? f.amplitude : 0.0f;
+      const float a = f.amplitude > 0.0f ? f.amplitude : 0.0f;
+      const glm::vec3 e = f.direction;
+      texel[v * 4 + 0] = a * e.x * e.x;
+      texel[v * 4 + 1] = a * e.x * e.y;
+      texel[v * 4 + 2] = a * e.x * e.z;
+      texel[v * 4 + 3] = a * e.y * e.y;
+      texelB[v * 4 + 0] = a * e.y * e.z;
+      texelB[v * 4 + 1] = a * e.z * e.z;
+      texelB[v * 4 + 2] = a;
+      texelB[v * 4 + 3] = 0.0f;
     }
     lobe_[l] = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
     glTextureSubImage3D(lobe_[l].id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texel.data());
+    lobeB_[l] = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
+    glTextureSubImage3D(lobeB_[l].id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texelB.data());
   }
   // FA (or 1) and occupancy, both zero where the voxel has no fibre: FA / occupancy after interpolation; the
   // occupancy blurred along each axis by [1 2 1] / 4, whose 0.5 contour is the data's smooth edge (as the
@@ -80,7 +92,7 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   fa_ = Texture::create3D(GL_RGBA32F, d.x, d.y, d.z);
   glTextureSubImage3D(fa_.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, f.data());
   try {
-    checkUploaded(d, n * (static_cast<std::size_t>(lobes_) * 4 + 4) * sizeof(float), "fibre set's");
+    checkUploaded(d, n * (static_cast<std::size_t>(lobes_) * 8 + 4) * sizeof(float), "fibre set's");
   } catch (const GlError&) {
     clear();
     throw;
@@ -88,9 +100,13 @@ void GpuFibreSet::upload(const FibreSet& set, const ScalarVolume* fa, float rela
   worldToTex_ = worldToTexture(set.grid);
 }
 
-void GpuFibreSet::bind(const std::array<GLuint, kMaxLobes>& lobeUnits, GLuint faUnit) const {
-  for (int l = 0; l < kMaxLobes; ++l)
-    glBindTextureUnit(lobeUnits[static_cast<std::size_t>(l)], l < lobes_ ? lobe_[l].id() : lobe_[0].id());
+void GpuFibreSet::bind(const std::array<GLuint, kMaxLobes>& lobeUnits,
+                       const std::array<GLuint, kMaxLobes>& lobeUnitsB, GLuint faUnit) const {
+  for (int l = 0; l < kMaxLobes; ++l) {
+    const auto i = static_cast<std::size_t>(l);
+    glBindTextureUnit(lobeUnits[i], l < lobes_ ? lobe_[l].id() : lobe_[0].id());
+    glBindTextureUnit(lobeUnitsB[i], l < lobes_ ? lobeB_[l].id() : lobeB_[0].id());
+  }
   glBindTextureUnit(faUnit, fa_.id());
 }
 

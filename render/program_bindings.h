@@ -120,11 +120,12 @@ struct SilhouetteProgram {
 };
 
 // fabric/projection.frag (TensorStage) with common/tensor_field.glsl or common/fibre_field.glsl (FIBRES):
-// the two includes are exclusive, so the tensor and lobe textures share units 0 and 1.
+// the two includes are exclusive, so the tensor and lobe textures share units 0 and 1. Each slot's lobe is
+// two textures (LobeK and LobeKB: its amplitude-weighted dyadic; common/fibre_field.glsl).
 struct ProjectionProgram {
   enum class Unit : GLuint {
-    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Lobe2 = 5, FibreFa = 6,
-    TensorEdge = 7, Uncertainty = 8
+    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Lobe0B = 4, Lobe2 = 5,
+    FibreFa = 6, TensorEdge = 7, Uncertainty = 8, Lobe1B = 10, Lobe2B = 11
   };
   // The geometry stage's target, texel by texel (an image load: inlined on llvmpipe); above the compute
   // pass's five written images.
@@ -136,6 +137,9 @@ struct ProjectionProgram {
       {unit(Unit::Lobe0), "UNIT_LOBE0", "u_lobe0"},
       {unit(Unit::Lobe1), "UNIT_LOBE1", "u_lobe1"},
       {unit(Unit::Lobe2), "UNIT_LOBE2", "u_lobe2"},
+      {unit(Unit::Lobe0B), "UNIT_LOBE0B", "u_lobe0b"},
+      {unit(Unit::Lobe1B), "UNIT_LOBE1B", "u_lobe1b"},
+      {unit(Unit::Lobe2B), "UNIT_LOBE2B", "u_lobe2b"},
       {unit(Unit::FibreFa), "UNIT_FIBRE_FA", "u_fibreFa"},
       {unit(Unit::Noise), "UNIT_NOISE", "u_noise"},
       {unit(Unit::Background), "UNIT_BACKGROUND", "u_background"},
@@ -155,7 +159,7 @@ struct ProjectionProgram {
 struct ProjectionComputeProgram {
   using Unit = ProjectionProgram::Unit;
   using Uniform = ProjectionProgram::Uniform;
-  static constexpr GLuint kDepthUnit = 9;
+  static constexpr GLuint kDepthUnit = 9; // below the lobe textures' 10 and 11
   // Above the geometry stage's read image (5).
   enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4, Vectors3 = 6 };
   enum class Buffer : GLuint { Covered = 0 };

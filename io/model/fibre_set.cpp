@@ -1,6 +1,7 @@
 #include "io/model/fibre_set.h"
 
 #include "io/model/error.h"
+#include "io/model/tensor.h"
 
 #include <algorithm>
 #include <array>
@@ -235,6 +236,7 @@ std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& i
   std::vector<Fibre> out(static_cast<std::size_t>(k));
   const glm::dvec3 base = glm::floor(ijk), frac = ijk - base;
   double occupied = 0;
+  glm::dmat3 dyadic[3] = {glm::dmat3(0.0), glm::dmat3(0.0), glm::dmat3(0.0)};
   glm::dvec3 vec[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
   double amp[3] = {0, 0, 0};
   for (int c = 0; c < 8; ++c) {
@@ -245,21 +247,23 @@ std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& i
     const Fibre* f = slotted.at(v.x, v.y, v.z);
     bool any = false;
     for (int j = 0; j < k; ++j) {
-      vec[j] += w * static_cast<double>(f[j].amplitude) * glm::dvec3(f[j].direction);
-      amp[j] += w * static_cast<double>(f[j].amplitude);
-      any = any || f[j].amplitude > 0.0f;
+      if (!(f[j].amplitude > 0.0f)) continue;
+      const glm::dvec3 d(f[j].direction);
+      const double a = w * static_cast<double>(f[j].amplitude);
+      dyadic[j] += a * glm::outerProduct(d, d);
+      vec[j] += a * d;
+      amp[j] += a;
+      any = true;
     }
     occupied += any ? w : 0.0;
   }
   if (occupied < 0.5) return out;
-  const glm::ivec3 near = glm::clamp(glm::ivec3(glm::round(ijk)), glm::ivec3(0), slotted.grid.dims - 1);
-  const Fibre* nearest = slotted.at(near.x, near.y, near.z);
   for (int j = 0; j < k; ++j) {
     if (!(amp[j] > 0)) continue;
-    const double len = glm::length(vec[j]);
-    glm::dvec3 d = len > 0 ? vec[j] / len : glm::dvec3(0.0);
-    if (len < 0.9 * amp[j] && nearest[j].amplitude > 0.0f) d = glm::dvec3(nearest[j].direction);
-    if (glm::length(d) == 0.0) continue;
+    // The principal eigenvector of the interpolated dyadic (sign-free: continuous across sign seams), signed
+    // along the interpolated vector where that is not zero, for a stable orientation.
+    glm::dvec3 d = eigenDecompose(dyadic[j]).vectors[0];
+    if (glm::dot(d, vec[j]) < 0) d = -d;
     out[static_cast<std::size_t>(j)] = {glm::vec3(d), static_cast<float>(amp[j] / occupied)};
   }
   return out;

@@ -82,11 +82,12 @@ std::vector<Fibre> interpolateFibres(const FibreSet& set, const glm::dvec3& ijk,
 FibreSet continuousSlots(const FibreSet& set, float relativeThreshold = 0.0f);
 
 // The renderer's interpolation of continuousSlots output at a fractional voxel index (its CPU reference):
-// per slot, the trilinear interpolation of amplitude x direction and of amplitude over the 8 surrounding
-// voxels; amplitude = interpolated amplitude / the weight of voxels with fibres; direction = the normalised
-// interpolated vector, or the nearest voxel's direction where the vector is shorter than 0.9 x the
-// interpolated amplitude (a sign seam or a disagreement between voxels). Exactly min(K, 3) entries in slot
-// order (amplitude 0 = none); all absent where less than half the weight lies on voxels with fibres.
+// per slot, the trilinear interpolation of the dyadic amplitude x d d^T and of amplitude over the 8
+// surrounding voxels; amplitude = interpolated amplitude / the weight of voxels with fibres; direction = the
+// principal eigenvector of the interpolated dyadic (sign-free: where voxels disagree, a sign seam or noisy
+// directions, it turns continuously as an interpolated tensor's does), signed along the interpolated
+// amplitude x direction. Exactly min(K, 3) entries in slot order (amplitude 0 = none); all absent where less
+// than half the weight lies on voxels with fibres.
 std::vector<Fibre> interpolateSlots(const FibreSet& slotted, const glm::dvec3& ijk);
 
 // Fibre coherence of the first fibres: over neighbouring voxel pairs (13 neighbour directions) of

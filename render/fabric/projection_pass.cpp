@@ -127,7 +127,8 @@ void TensorStage::prepare(const ShaderProgram& p, const GpuTensorField& field, c
   }
   p.use();
   if (useFibres)
-    fibres->bind({unit(Unit::Lobe0), unit(Unit::Lobe1), unit(Unit::Lobe2)}, unit(Unit::FibreFa));
+    fibres->bind({unit(Unit::Lobe0), unit(Unit::Lobe1), unit(Unit::Lobe2)},
+                 {unit(Unit::Lobe0B), unit(Unit::Lobe1B), unit(Unit::Lobe2B)}, unit(Unit::FibreFa));
   else
     field.bind(unit(Unit::TensorA), unit(Unit::TensorB), unit(Unit::TensorEdge));
   bindTexture(Unit::Noise, noise.id());

@@ -1,38 +1,38 @@
-// Sampling the fibre set uploaded by GpuFibreSet: up to three RGBA32F 3D textures, one per slot of
-// continuousSlots (io/model/fibre_set.h): amplitude x unit world direction and the amplitude, with the
-// lobes already matched between neighbouring voxels by |cos| and sign-aligned on the CPU, so the hardware
-// interpolates them per component; an RGBA32F texture holds the paired tensor's FA (or 1), 1 where a voxel
-// has fibres and that occupancy blurred by [1 2 1] / 4 per axis (the data's smooth edge: fibreEdge). The
-// rule, interpolateSlots in io/model/fibre_set.h being its CPU reference:
+// Sampling the fibre set uploaded by GpuFibreSet: per slot of continuousSlots (io/model/fibre_set.h) two
+// RGBA32F 3D textures holding the amplitude-weighted dyadic a d d^T of its unit world direction d, (xx, xy,
+// xz, yy) and (yz, zz, a, 0), interpolated per component by the hardware; an RGBA32F texture holds the paired
+// tensor's FA (or 1), 1 where a voxel has fibres and that occupancy blurred by [1 2 1] / 4 per axis (the
+// data's smooth edge: fibreEdge). The rule, interpolateSlots in io/model/fibre_set.h being its CPU reference:
 //   * nothing where less than half of the trilinear weight lies on voxels with fibres (sampleFibres'
 //     minWeight 0.5; the renderer decodes a little beyond, 0.02, and draws the edge from fibreEdge);
-//   * per slot: amplitude = interpolated amplitude / that weight; direction = the normalised interpolated
-//     vector, or the nearest voxel's direction where the vector is shorter than 0.9 x the interpolated
-//     amplitude (a sign seam or a disagreement between voxels).
+//   * per slot: amplitude = interpolated amplitude / that weight; direction = the principal eigenvector of the
+//     interpolated dyadic. The dyadic does not change with the sign of d, so where neighbouring voxels
+//     disagree (a seam of the slots' sign alignment, noisy directions in grey matter) the direction turns
+//     continuously, as an interpolated tensor's does, instead of jumping at a voxel boundary.
 
 layout(binding = UNIT_LOBE0) uniform sampler3D u_lobe0;
 layout(binding = UNIT_LOBE1) uniform sampler3D u_lobe1;
 layout(binding = UNIT_LOBE2) uniform sampler3D u_lobe2;
+layout(binding = UNIT_LOBE0B) uniform sampler3D u_lobe0b;
+layout(binding = UNIT_LOBE1B) uniform sampler3D u_lobe1b;
+layout(binding = UNIT_LOBE2B) uniform sampler3D u_lobe2b;
 layout(binding = UNIT_FIBRE_FA) uniform sampler3D u_fibreFa; // FA (or 1), 1 where the voxel has fibres, blurred
 // u_worldToTex, u_lobeCount (1..3 slots uploaded): common/projection_params.glsl
 
 // One slot at texture coordinate tc: its direction and amplitude (amp 0 = none) by the rule above. A
-// function of the sampler, called once per slot: a slot chosen by a runtime index would make a software
+// function of the samplers, called once per slot: a slot chosen by a runtime index would make a software
 // rasteriser sample every slot's texture for each slot (its branches run masked, not skipped).
-void sampleSlot(sampler3D lobe, vec3 tc, ivec3 nearest, float occupancy, inout int n, out vec3 dir, out float amp) {
+void sampleSlot(sampler3D lobe, sampler3D lobeB, vec3 tc, float occupancy, inout int n, out vec3 dir,
+                out float amp) {
   dir = vec3(0.0);
   amp = 0.0;
+  vec4 b = texture(lobeB, tc);
+  if (b.z <= 0.0) return;
   vec4 a = texture(lobe, tc);
-  if (a.w <= 0.0) return;
-  float len = length(a.xyz);
-  vec3 d = len > 0.0 ? a.xyz / len : vec3(0.0);
-  if (len < 0.9 * a.w) {
-    vec4 q = texelFetch(lobe, nearest, 0);
-    if (q.w > 0.0) d = q.xyz / q.w;
-  }
-  if (dot(d, d) == 0.0) return;
-  dir = normalize(d);
-  amp = a.w / occupancy;
+  dir = principalEigenvector(mat3(a.x, a.y, a.z,
+                                  a.y, a.w, b.x,
+                                  a.z, b.x, b.y));
+  amp = b.z / occupancy;
   ++n;
 }
 
@@ -49,12 +49,10 @@ int sampleFibres(vec3 worldPos, float minWeight, out vec3 dir[3], out float amp[
   fa = 0.0;
   if (!(fo.g >= minWeight)) return 0;
   fa = fo.r / fo.g;
-  ivec3 dims = textureSize(u_lobe0, 0);
-  ivec3 nearest = clamp(ivec3(floor(tc * vec3(dims))), ivec3(0), dims - 1);
   int n = 0;
-  if (u_lobeCount > 0) sampleSlot(u_lobe0, tc, nearest, fo.g, n, dir[0], amp[0]);
-  if (u_lobeCount > 1) sampleSlot(u_lobe1, tc, nearest, fo.g, n, dir[1], amp[1]);
-  if (u_lobeCount > 2) sampleSlot(u_lobe2, tc, nearest, fo.g, n, dir[2], amp[2]);
+  if (u_lobeCount > 0) sampleSlot(u_lobe0, u_lobe0b, tc, fo.g, n, dir[0], amp[0]);
+  if (u_lobeCount > 1) sampleSlot(u_lobe1, u_lobe1b, tc, fo.g, n, dir[1], amp[1]);
+  if (u_lobeCount > 2) sampleSlot(u_lobe2, u_lobe2b, tc, fo.g, n, dir[2], amp[2]);
   return n;
 }
 

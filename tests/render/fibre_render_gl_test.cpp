@@ -164,9 +164,9 @@ TEST_F(FibreRender, ProjectionColoursMatchTheCpuReference) {
       // The GPU gets the bundle-following slots; compare slot by slot.
       const glm::dvec3 ijk = slotted.grid.toVoxel(pw);
       auto cpu = interpolateSlots(slotted, ijk);
-      // The rule switches to the nearest voxel's direction below a length ratio, and the nearest voxel at
-      // half-voxel boundaries; a GPU's trilinear weights are fixed point (1/256 on NVIDIA). Where the
-      // reference itself jumps within that precision the GPU may take either side: not compared.
+      // Where a slot seam mixes two bundles in one slot, the interpolated dyadic's principal direction
+      // swings sharply between them; a GPU's trilinear weights are fixed point (1/256 on NVIDIA). Where the
+      // reference itself turns that fast within that precision the GPU may lie on either side: not compared.
       if (!stableWithin(slotted, ijk, cpu, 1.0 / 256.0)) {
         ++unstable;
         continue;

@@ -161,9 +161,38 @@ TEST(FibreSlots, SlotInterpolationAgreesWithPerPointLobeMatching) {
         }
     EXPECT_GT(points, 1000u);
     // The rest lie along slot seams (where bundles entered the scan separately and meet): there slot
-    // interpolation mixes two bundles and falls back to the nearest voxel's direction.
+    // interpolation mixes two bundles, turning from one to the other.
     EXPECT_GT(double(agree), 0.9 * double(points)) << crossing;
   }
+}
+
+TEST(FibreSlots, InterpolationTurnsContinuouslyWhereVoxelsDisagree) {
+  // One slot; along x the voxels hold directions 80 degrees apart with opposite signs (grey matter's noisy
+  // directions, a seam of the sign alignment). The slot's direction must turn smoothly from one to the other
+  // and keep the axis exactly between voxels that agree up to sign: no jump at the half-voxel boundary.
+  Grid g = Grid::fromAffine({4, 1, 1}, glm::dmat4(1.0));
+  FibreSet s = makeFibreSet(g, 1);
+  const glm::vec3 axes[4] = {dir(0), -dir(80), dir(80), -dir(80)};
+  for (int i = 0; i < 4; ++i)
+    s.at(i, 0, 0)[0] = {axes[i], 1.0f};
+  double prev = -1, largestStep = 0, first = 0, last = 0;
+  for (double x = 0.0; x <= 1.0 + 1e-9; x += 0.01) {
+    const auto f = interpolateSlots(s, {x, 0, 0});
+    ASSERT_EQ(f.size(), 1u);
+    ASSERT_GT(f[0].amplitude, 0.0f);
+    EXPECT_NEAR(f[0].amplitude, 1.0f, 1e-5f);
+    const double a = angleDeg(f[0].direction, dir(0));
+    if (prev >= 0) largestStep = std::max(largestStep, std::abs(a - prev));
+    if (x == 0.0) first = a;
+    last = a;
+    prev = a;
+  }
+  EXPECT_NEAR(first, 0.0, 1e-3);
+  EXPECT_NEAR(last, 80.0, 1e-3);
+  EXPECT_LT(largestStep, 6.0); // 80 degrees over 100 steps, faster in the middle (3.2 at most): never a jump
+  // Between voxels 1 and 2 (the same axis, opposite signs) the axis holds throughout.
+  for (double x = 1.0; x <= 2.0 + 1e-9; x += 0.05)
+    EXPECT_LT(angleDeg(interpolateSlots(s, {x, 0, 0})[0].direction, dir(80)), 1e-3) << x;
 }
 
 TEST(FibreSlots, SignsAreAlignedBetweenNeighbours) {
