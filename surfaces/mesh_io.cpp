@@ -15,6 +15,7 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 #include <unistd.h>
@@ -48,6 +49,7 @@ Mesh readMesh(const std::string& path) {
     auto r = vtkSmartPointer<vtkPolyDataReader>::New();
     r->SetFileName(path.c_str());
     if (!r->IsFilePolyData()) throw InputError("cannot read mesh " + path + ": not a legacy VTK POLYDATA file");
+    detail::checkLegacyVtkPolyData(path);
     r->Update();
     poly = r->GetOutput();
   } else {
@@ -56,7 +58,12 @@ Mesh readMesh(const std::string& path) {
   Mesh m = detail::fromVtk(poly);
   if (m.empty()) throw InputError("cannot read mesh " + path + ": the file holds no triangles");
   for (auto i : m.indices)
-    if (i >= m.positions.size()) throw InputError("cannot read mesh " + path + ": triangle index out of range");
+    if (i >= m.positions.size())
+      throw InputError("cannot read mesh " + path + ": a triangle's vertex index is out of range (negative, or " +
+                       "not below the " + std::to_string(m.positions.size()) + " vertices)");
+  for (const auto& p : m.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError("cannot read mesh " + path + ": a vertex position is not finite (NaN or Inf)");
   return m;
 }
 
@@ -90,6 +97,11 @@ void writeMesh(const std::string& path, const Mesh& mesh) {
   if (!ok || !fs::exists(temp, ec)) {
     fs::remove(temp, ec);
     throw InputError("cannot write mesh " + path);
+  }
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
+    fs::remove(temp, ec);
+    throw InputError("cannot write mesh " + path + ": it exists and is not a regular file (a folder, device or pipe): "
+                     "refusing to replace it");
   }
   fs::rename(temp, path, ec);
   if (ec) {

@@ -2,6 +2,7 @@
 
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "surfaces/detail/vtk_convert.h"
 
 #include <algorithm>
 #include <cctype>
@@ -92,6 +93,7 @@ Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
     vtkNew<vtkPolyDataReader> reader;
     reader->SetFileName(path.c_str());
     if (!reader->IsFilePolyData()) throw InputError(path + ": not a legacy VTK POLYDATA file");
+    detail::checkLegacyVtkPolyData(path);
     reader->Update();
     poly = reader->GetOutput();
   }
@@ -220,6 +222,11 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   if (!ok || !fs::exists(temp, ec)) {
     fs::remove(temp, ec);
     throw InputError("cannot write " + path);
+  }
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
+    fs::remove(temp, ec);
+    throw InputError("cannot write " + path + ": it exists and is not a regular file (a folder, device or pipe): "
+                     "refusing to replace it");
   }
   fs::rename(temp, path, ec);
   if (ec) {
