@@ -17,6 +17,7 @@ AtomicOutput::AtomicOutput(const std::string& target) : target_(target) {
   fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw InputError("cannot write " + target + ": directory does not exist");
+  refuseReplacingNonFile(target);
   temp_ = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
                   std::to_string(counter++)))
               .string();
@@ -33,10 +34,18 @@ AtomicOutput::~AtomicOutput() {
 }
 
 void AtomicOutput::commit() {
+  refuseReplacingNonFile(target_);
   std::error_code ec;
   fs::rename(temp_, target_, ec);
   if (ec) throw InputError("cannot write " + target_ + ": " + ec.message());
   committed_ = true;
+}
+
+void refuseReplacingNonFile(const std::string& target) {
+  std::error_code ec;
+  if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
+    throw InputError("cannot write " + target + ": it exists and is not a regular file (a folder, device or pipe): "
+                     "refusing to replace it");
 }
 
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {

@@ -25,6 +25,10 @@ private:
   bool committed_ = false;
 };
 
+// Throws InputError if `target` exists and is not a regular file (a folder, a device, a pipe): an output
+// replaces only a file. AtomicOutput checks it before writing and again before the rename.
+void refuseReplacingNonFile(const std::string& target);
+
 // Throws InputError if `output` names the same file as any of `inputs`.
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 

@@ -15,6 +15,8 @@
 #include <limits>
 #include <nifti1.h>
 #include <optional>
+#include <sys/stat.h>
+#include <tuple>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -688,6 +690,26 @@ std::vector<Case> catalogue() {
                         {"no 'file:' entry"}));
   c.push_back(tractCase("TckMissingDatatype", "nodt.tck", [] { return tck("count: 1\n", kTckPoints); },
                         {"no datatype"}));
+  // Legacy VTK cell sections whose counts disagree with their data: vtkPolyDataReader trusted them (a cell
+  // claiming 10^8 points read past its buffer and crashed; a negative count or missing cells were accepted).
+  const std::string vtkHead = "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+                              "0 0 0\n1 0 0\n2 0 0\n";
+  c.push_back(tractCase("VtkLineClaimsHugePointCount", "huge.vtk",
+                        [vtkHead] { return vtkHead + "LINES 1 4\n100000000 0 1 2\n"; },
+                        {"LINES cell 0 claims 100000000 points"}));
+  c.push_back(tractCase("VtkLineNegativePointCount", "neg.vtk",
+                        [vtkHead] { return vtkHead + "LINES 1 4\n-3 0 1 2\n"; }, {"a negative count"}));
+  c.push_back(tractCase("VtkLinesFewerCellsThanSaid", "few.vtk",
+                        [vtkHead] { return vtkHead + "LINES 2 4\n3 0 1 2\n"; }, {"LINES says 2 cells"}));
+  c.push_back(tractCase("VtkLinePointIdOutOfRange", "id.vtk",
+                        [vtkHead] { return vtkHead + "LINES 1 4\n3 0 1 7\n"; },
+                        {"refers to point 7", "POINTS holds 3"}));
+  c.push_back(tractCase("VtkPointsMoreThanTheFileHolds", "points.vtk",
+                        [] {
+                          return std::string("# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\n"
+                                             "POINTS 999999999 float\n0 0 0\n1 0 0\nLINES 1 3\n2 0 1\n");
+                        },
+                        {"POINTS says 999999999 points"}));
   c.push_back(tractCase("TckUnsupportedDatatype", "int.tck",
                         [] { return tck("datatype: Int32LE\n", kTckPoints); },
                         {"unsupported .tck datatype 'Int32LE'"}));
@@ -1374,6 +1396,28 @@ std::vector<Case> catalogue() {
                1,
                {"slice index 1e300 is absurd"},
                "s.ply"});
+  // A mesh's negative (or, in OBJ, zero) vertex index crashed the normals' computation.
+  for (const auto& [name, file, text] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"MeshObjNegativeIndex", "neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n"},
+           {"MeshObjZeroIndex", "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"},
+           {"MeshPlyNegativeIndex", "neg.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -5\n"},
+           {"MeshVtkNegativeIndex", "neg.vtk",
+            "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
+            "POLYGONS 1 4\n3 0 1 -5\n"}}) {
+    const std::string f = file, t = text;
+    c.push_back({name,
+                 [f, t](const fs::path& dir) {
+                   writeBytes(dir / f, t);
+                   return "surface " + q(kSample) + " --surface mesh=" + q(dir / f) + " -o " + q(dir / "s.ply");
+                 },
+                 2,
+                 {f, "point -5"},
+                 "s.ply"});
+    c.back().errHas = name == "MeshVtkNegativeIndex" ? std::vector<std::string>{f, "refers to point -5"}
+                                                     : std::vector<std::string>{f, "vertex index is out of range"};
+  }
   c.push_back({"ScriptMissingFile",
                [](const fs::path& dir) { return "view --script " + q(dir / "none.dtfs"); },
                2,
@@ -1563,6 +1607,39 @@ TEST(OutputProtection, AnInputIsNeverOverwritten) {
 
 // No GL context (EGL finds no vendor library) or no GL 4.5 (Mesa told to offer 3.3): a clear message and
 // exit code 3, no output file.
+// --force replaces only what the command writes: a regular file, or a movie's folder of frames; never a
+// pipe or device (renamed over, it was lost) nor a folder holding other files (a movie removed them).
+TEST(OutputProtection, ForceReplacesOnlyFilesAndFrameFolders) {
+  const fs::path dir = dtf::test::scratchDir();
+  ASSERT_EQ(runDtfabric("phantom constant --size 8 -o " + q(dir / "t.nii"), dir).exitCode, 0);
+  const std::string t = q(dir / "t.nii");
+  for (const std::string name : {"fifo.png", "fifo.ply", "fifo.nii"}) {
+    ASSERT_EQ(::mkfifo((dir / name).c_str(), 0600), 0) << name;
+    const std::string args = name == "fifo.png"   ? "render " + t + " --size 32x32"
+                             : name == "fifo.ply" ? "surface " + t + " --slice axial"
+                                                  : "phantom constant --size 8";
+    const CliResult r = runDtfabric(args + " --force -o " + q(dir / name), dir);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("is not a regular file"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_fifo(dir / name)) << name;
+  }
+  const fs::path project = dir / "project";
+  fs::create_directories(project / "sub");
+  writeBytes(project / "notes.txt", "precious");
+  CliResult r = runDtfabric("movie " + t + " --size 32x32 --frames 1 --sweep axial --force -o " + q(project) + "/", dir);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("not only the frame_NNNN.png"), std::string::npos) << r.err;
+  EXPECT_EQ(readBytes(project / "notes.txt"), "precious");
+  EXPECT_TRUE(fs::is_directory(project / "sub"));
+  // A folder of frames a movie wrote is replaced.
+  const fs::path frames = dir / "frames";
+  ASSERT_EQ(runDtfabric("movie " + t + " --size 32x32 --frames 2 --sweep axial -o " + q(frames) + "/", dir).exitCode, 0);
+  r = runDtfabric("movie " + t + " --size 32x32 --frames 1 --sweep axial --force -o " + q(frames) + "/", dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::exists(frames / "frame_0000.png"));
+  EXPECT_FALSE(fs::exists(frames / "frame_0001.png"));
+}
+
 TEST(Environment, RenderWithoutGl45ContextExitsWith3) {
   const fs::path dir = dtf::test::scratchDir();
   struct Env {

@@ -138,7 +138,14 @@ TEST(MovieCli, NeverOverwritesWithoutForceAndNeverAnInput) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
   EXPECT_EQ(entries(frames), std::vector<std::string>{"keep.txt"});
-  // With --force the directory is replaced as a whole.
+  // --force replaces a folder of frames only: one holding anything else is refused and kept.
+  r = dtfabric("movie " + common + "--force -o " + frames.string() + "/");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("keep.txt, not only the frame_NNNN.png"), std::string::npos) << r.output;
+  EXPECT_EQ(entries(frames), std::vector<std::string>{"keep.txt"});
+  fs::remove(frames / "keep.txt");
+  r = dtfabric("movie " + common + "-o " + frames.string() + "/"); // an empty folder needs --force too
+  EXPECT_EQ(r.code, 2) << r.output;
   r = dtfabric("movie " + common + "--force -o " + frames.string() + "/");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(entries(frames), (std::vector<std::string>{"frame_0000.png", "frame_0001.png"}));
