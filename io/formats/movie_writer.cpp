@@ -1,5 +1,7 @@
 #include "io/formats/movie_writer.h"
 
+#include "io/formats/atomic_file.h"
+
 #include "io/formats/png_io.h"
 #include "io/formats/process.h"
 #include "io/model/error.h"
@@ -139,8 +141,8 @@ MovieWriter::MovieWriter(const std::string& output, int width, int height, doubl
           throw InputError(target_ + " exists and holds " + name +
                            ", not only the frame_NNNN.png a movie writes: refusing to replace it");
       }
-    } else if (!fs::is_regular_file(target_, ec)) {
-      throw InputError(target_ + " exists and is not a regular file: refusing to replace it");
+    } else {
+      refuseReplacingNonFile(target_);
     }
   }
   if (format_ == MovieFormat::PngFrames) {
