@@ -109,6 +109,28 @@ void refuseMovieOverInputs(const std::string& output, const std::vector<std::str
   }
 }
 
+// An existing output is replaced only with --force, and then only what a movie writes: a folder holding
+// nothing but frame_NNNN.png (or nothing), or a regular file.
+static void refuseReplacing(const std::string& target, MovieFormat format, bool force) {
+  std::error_code ec;
+  if (!fs::exists(target, ec)) return;
+  if (!force) throw InputError(target + " exists (use --force to overwrite it)");
+  if (format != MovieFormat::PngFrames) {
+    refuseReplacingNonFile(target);
+    return;
+  }
+  if (!fs::is_directory(target, ec)) throw InputError(target + " exists and is not a folder: refusing to replace it");
+  for (const auto& e : fs::directory_iterator(target, ec)) {
+    const std::string name = e.path().filename().string();
+    const bool frame = e.is_regular_file(ec) && name.size() == 14 && name.rfind("frame_", 0) == 0 &&
+                       name.compare(10, 4, ".png") == 0 &&
+                       std::all_of(name.begin() + 6, name.begin() + 10, [](char c) { return c >= '0' && c <= '9'; });
+    if (!frame)
+      throw InputError(target + " exists and holds " + name +
+                       ", not only the frame_NNNN.png a movie writes: refusing to replace it");
+  }
+}
+
 MovieWriter::MovieWriter(const std::string& output, int width, int height, double fps, bool force)
     : output_(output), target_(stripSlash(output)), format_(movieFormatOf(output)), width_(width),
       height_(height) {
@@ -126,25 +148,7 @@ MovieWriter::MovieWriter(const std::string& output, int width, int height, doubl
                        " movies are encoded by it; install ffmpeg, or write numbered PNG frames with -o DIR/)");
   }
   std::error_code ec;
-  if (fs::exists(target_, ec)) {
-    if (!force) throw InputError(target_ + " exists (use --force to overwrite it)");
-    // --force replaces only what a movie writes: a folder of frame_NNNN.png (or an empty one), or a file.
-    if (format_ == MovieFormat::PngFrames) {
-      if (!fs::is_directory(target_, ec))
-        throw InputError(target_ + " exists and is not a folder: refusing to replace it");
-      for (const auto& e : fs::directory_iterator(target_, ec)) {
-        const std::string name = e.path().filename().string();
-        const bool frame = e.is_regular_file(ec) && name.size() == 14 && name.rfind("frame_", 0) == 0 &&
-                           name.compare(10, 4, ".png") == 0 &&
-                           std::all_of(name.begin() + 6, name.begin() + 10, [](char c) { return c >= '0' && c <= '9'; });
-        if (!frame)
-          throw InputError(target_ + " exists and holds " + name +
-                           ", not only the frame_NNNN.png a movie writes: refusing to replace it");
-      }
-    } else {
-      refuseReplacingNonFile(target_);
-    }
-  }
+  refuseReplacing(target_, format_, force);
   if (format_ == MovieFormat::PngFrames) {
     temp_ = tempSibling(target_, "");
     if (!fs::create_directory(temp_, ec) || ec)
