@@ -3,6 +3,10 @@
 #include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <system_error>
 #include <vtkAlgorithm.h>
 #include <vtkExecutive.h>
 #include <vtkNew.h>
@@ -14,12 +18,6 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <system_error>
-#include <unistd.h>
-
 namespace fs = std::filesystem;
 
 namespace dtf::surfaces {
@@ -27,7 +25,8 @@ namespace dtf::surfaces {
 namespace {
 std::string lowerExt(const std::string& path) {
   std::string e = fs::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(e.begin(), e.end(), e.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return e;
 }
 } // namespace
@@ -42,13 +41,18 @@ Mesh readMesh(const std::string& path) {
     reader->Update();
     poly = reader->GetOutput();
   };
-  if (ext == ".ply") run(vtkSmartPointer<vtkPLYReader>::New());
-  else if (ext == ".obj") run(vtkSmartPointer<vtkOBJReader>::New());
-  else if (ext == ".vtp") run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
+  if (ext == ".ply") {
+    detail::checkPly(path);
+    run(vtkSmartPointer<vtkPLYReader>::New());
+  } else if (ext == ".obj")
+    run(vtkSmartPointer<vtkOBJReader>::New());
+  else if (ext == ".vtp")
+    run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
   else if (ext == ".vtk") {
     auto r = vtkSmartPointer<vtkPolyDataReader>::New();
     r->SetFileName(path.c_str());
-    if (!r->IsFilePolyData()) throw InputError("cannot read mesh " + path + ": not a legacy VTK POLYDATA file");
+    if (!r->IsFilePolyData())
+      throw InputError("cannot read mesh " + path + ": not a legacy VTK POLYDATA file");
     detail::checkLegacyVtkPolyData(path);
     r->Update();
     poly = r->GetOutput();
@@ -59,8 +63,9 @@ Mesh readMesh(const std::string& path) {
   if (m.empty()) throw InputError("cannot read mesh " + path + ": the file holds no triangles");
   for (auto i : m.indices)
     if (i >= m.positions.size())
-      throw InputError("cannot read mesh " + path + ": a triangle's vertex index is out of range (negative, or " +
-                       "not below the " + std::to_string(m.positions.size()) + " vertices)");
+      throw InputError("cannot read mesh " + path +
+                       ": a triangle's vertex index is out of range (negative, or " + "not below the " +
+                       std::to_string(m.positions.size()) + " vertices)");
   for (const auto& p : m.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError("cannot read mesh " + path + ": a vertex position is not finite (NaN or Inf)");
@@ -68,46 +73,29 @@ Mesh readMesh(const std::string& path) {
 }
 
 void writeMesh(const std::string& path, const Mesh& mesh) {
-  std::string ext = lowerExt(path);
-  fs::path p(path);
-  fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  std::string temp = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
-  auto poly = detail::toVtk(mesh);
-  int ok = 0;
-  if (ext == ".ply") {
-    vtkNew<vtkPLYWriter> w;
-    w->SetFileName(temp.c_str());
-    w->SetInputData(poly);
-    w->SetFileTypeToBinary();
-    ok = w->Write();
-  } else if (ext == ".vtp") {
-    vtkNew<vtkXMLPolyDataWriter> w;
-    w->SetFileName(temp.c_str());
-    w->SetInputData(poly);
-    ok = w->Write();
-  } else if (ext == ".obj") {
-    vtkNew<vtkOBJWriter> w;
-    w->SetFileName(temp.c_str());
-    w->SetInputData(poly);
-    ok = w->Write();
-  } else {
+  const std::string ext = lowerExt(path);
+  if (ext != ".ply" && ext != ".vtp" && ext != ".obj")
     throw InputError("cannot write mesh " + path + ": unknown extension (use .ply, .vtp or .obj)");
-  }
-  std::error_code ec;
-  if (!ok || !fs::exists(temp, ec)) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write mesh " + path);
-  }
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write mesh " + path + ": it exists and is not a regular file (a folder, device or pipe): "
-                     "refusing to replace it");
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write mesh " + path + ": " + ec.message());
-  }
+  auto poly = detail::toVtk(mesh);
+  auto write = [&](const std::string& temp) {
+    auto run = [&](auto w) {
+      w->SetFileName(temp.c_str());
+      w->SetInputData(poly);
+      return w->Write() == 1 && w->GetErrorCode() == 0;
+    };
+    if (ext == ".ply") {
+      vtkNew<vtkPLYWriter> w;
+      w->SetFileTypeToBinary();
+      return run(w.Get());
+    }
+    if (ext == ".vtp") return run(vtkNew<vtkXMLPolyDataWriter>().Get());
+    return run(vtkNew<vtkOBJWriter>().Get());
+  };
+  // Every triangle reads back (each format writes its faces last).
+  auto whole = [&](const std::string& temp) {
+    return readMesh(temp).triangleCount() == mesh.triangleCount();
+  };
+  detail::writeVerified(path, ext, "cannot write mesh " + path, write, whole);
 }
 
 } // namespace dtf::surfaces

@@ -11,7 +11,6 @@
 #include <fstream>
 #include <limits>
 #include <system_error>
-#include <unistd.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -154,10 +153,6 @@ Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
 }
 
 void writeVtkPolylines(const std::string& path, const Polylines& lines) {
-  fs::path p(path);
-  fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError("cannot write " + path + ": directory does not exist");
   if (const std::string bad = lines.inconsistency(); !bad.empty())
     throw InputError("cannot write " + path + ": inconsistent tracts (" + bad + ")");
   for (const auto& q : lines.points)
@@ -200,39 +195,28 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   }
 
   const std::string ext = isVtp(path) ? ".vtp" : ".vtk";
-  const std::string temp =
-      (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
-  int ok = 0;
-  if (isVtp(path)) {
-    vtkNew<vtkXMLPolyDataWriter> w;
-    w->SetFileName(temp.c_str());
-    w->SetInputData(poly);
-    w->SetDataModeToAppended();
-    w->EncodeAppendedDataOff();
-    ok = w->Write();
-  } else {
+  auto write = [&](const std::string& temp) {
+    if (isVtp(path)) {
+      vtkNew<vtkXMLPolyDataWriter> w;
+      w->SetFileName(temp.c_str());
+      w->SetInputData(poly);
+      w->SetDataModeToAppended();
+      w->EncodeAppendedDataOff();
+      return w->Write() == 1 && w->GetErrorCode() == 0;
+    }
     vtkNew<vtkPolyDataWriter> w;
     w->SetFileName(temp.c_str());
     w->SetInputData(poly);
     w->SetFileTypeToBinary();
     w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
     w->SetHeader("dtfabric tracts (world RAS mm)");
-    ok = w->Write();
-  }
-  if (!ok || !fs::exists(temp, ec)) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write " + path);
-  }
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write " + path + ": it exists and is not a regular file (a folder, device or pipe): "
-                     "refusing to replace it");
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw InputError("cannot write " + path + ": " + ec.message());
-  }
+    return w->Write() == 1 && w->GetErrorCode() == 0;
+  };
+  auto whole = [&](const std::string& temp) {
+    const Polylines back = readVtkPolylines(temp);
+    return back.lineCount() == lines.lineCount() && back.points.size() == lines.points.size();
+  };
+  detail::writeVerified(path, ext, "cannot write " + path, write, whole);
 }
 
 } // namespace dtf::surfaces

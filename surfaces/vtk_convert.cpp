@@ -2,21 +2,24 @@
 
 #include "io/model/error.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+#include <vector>
 #include <vtkCellArray.h>
 #include <vtkDataArray.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkTriangleFilter.h>
-
-#include <algorithm>
-#include <cstdint>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
-#include <vector>
 
 namespace dtf::surfaces::detail {
 
@@ -26,14 +29,14 @@ namespace {
 // big-endian binary values of `type`, starting at the stream's position.
 class LegacyVtkData {
 public:
-  LegacyVtkData(std::ifstream& in, bool binary, const std::string& path) : in_(in), binary_(binary), path_(path) {}
+  LegacyVtkData(std::ifstream& in, bool binary, const std::string& path)
+      : in_(in), binary_(binary), path_(path) {}
 
   static int typeSize(const std::string& type) {
     static const std::pair<const char*, int> kSizes[] = {
-        {"bit", 0},          {"char", 1},         {"unsigned_char", 1}, {"short", 2},
-        {"unsigned_short", 2}, {"int", 4},        {"unsigned_int", 4},  {"long", 8},
-        {"unsigned_long", 8}, {"float", 4},       {"double", 8},        {"vtktypeint64", 8},
-        {"vtktypeuint64", 8}, {"vtkIdType", 8}};
+        {"bit", 0},    {"char", 1},         {"unsigned_char", 1}, {"short", 2},         {"unsigned_short", 2},
+        {"int", 4},    {"unsigned_int", 4}, {"long", 8},          {"unsigned_long", 8}, {"float", 4},
+        {"double", 8}, {"vtktypeint64", 8}, {"vtktypeuint64", 8}, {"vtkIdType", 8}};
     for (const auto& [name, size] : kSizes)
       if (type == name) return size;
     return -1;
@@ -48,7 +51,8 @@ public:
       return true;
     }
     const int size = typeSize(type);
-    if (size <= 0) throw dtf::InputError(path_ + ": a legacy VTK data type '" + type + "' the reader does not take");
+    if (size <= 0)
+      throw dtf::InputError(path_ + ": a legacy VTK data type '" + type + "' the reader does not take");
     const std::streamoff here = in_.tellg();
     in_.seekg(0, std::ios::end);
     const std::streamoff end = in_.tellg();
@@ -71,11 +75,13 @@ public:
     }
     const int size = typeSize(type);
     if (size != 4 && size != 8)
-      throw dtf::InputError(path_ + ": cell ids of type '" + type + "' (legacy VTK takes int or vtktypeint64)");
+      throw dtf::InputError(path_ + ": cell ids of type '" + type +
+                            "' (legacy VTK takes int or vtktypeint64)");
     unsigned char b[8];
     if (!in_.read(reinterpret_cast<char*>(b), size)) return false;
     std::uint64_t u = 0;
-    for (int i = 0; i < size; ++i) u = (u << 8) | b[i];
+    for (int i = 0; i < size; ++i)
+      u = (u << 8) | b[i];
     v = size == 4 ? static_cast<std::int64_t>(static_cast<std::int32_t>(static_cast<std::uint32_t>(u)))
                   : static_cast<std::int64_t>(u);
     return true;
@@ -84,7 +90,8 @@ public:
   // The next non-empty line (a section keyword); false at the end of the file.
   bool line(std::string& out) {
     while (std::getline(in_, out)) {
-      while (!out.empty() && (out.back() == '\r' || out.back() == ' ' || out.back() == '\t')) out.pop_back();
+      while (!out.empty() && (out.back() == '\r' || out.back() == ' ' || out.back() == '\t'))
+        out.pop_back();
       const auto first = out.find_first_not_of(" \t");
       if (first == std::string::npos) continue;
       out.erase(0, first);
@@ -97,7 +104,8 @@ public:
   void skipMetadata() {
     std::string l;
     while (std::getline(in_, l)) {
-      while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) l.pop_back();
+      while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t'))
+        l.pop_back();
       if (l.empty()) return;
     }
   }
@@ -117,10 +125,12 @@ void checkLegacyVtkPolyData(const std::string& path) {
   std::getline(in, magic);
   std::getline(in, title);
   std::getline(in, encoding);
-  while (!encoding.empty() && (encoding.back() == '\r' || encoding.back() == ' ')) encoding.pop_back();
+  while (!encoding.empty() && (encoding.back() == '\r' || encoding.back() == ' '))
+    encoding.pop_back();
   const bool binary = encoding == "BINARY";
   if (!binary && encoding != "ASCII")
-    throw InputError(path + ": the third line of a legacy VTK file must be ASCII or BINARY, not '" + encoding + "'");
+    throw InputError(path + ": the third line of a legacy VTK file must be ASCII or BINARY, not '" +
+                     encoding + "'");
   const double version = std::atof(magic.substr(std::min<std::size_t>(magic.size(), 23)).c_str());
   LegacyVtkData data(in, binary, path);
   if (!data.line(dataset) || dataset.rfind("DATASET POLYDATA", 0) != 0) return; // IsFilePolyData decides
@@ -139,16 +149,19 @@ void checkLegacyVtkPolyData(const std::string& path) {
       std::string type;
       if (!(head >> points >> type) || points < 0) fail("a malformed POINTS line '" + keyword + "'");
       if (!data.skip(3 * static_cast<std::uint64_t>(points), type))
-        fail("POINTS says " + std::to_string(points) + " points, but the file ends before their coordinates do");
+        fail("POINTS says " + std::to_string(points) +
+             " points, but the file ends before their coordinates do");
       continue;
     }
     if (name != "VERTICES" && name != "LINES" && name != "POLYGONS" && name != "TRIANGLE_STRIPS") return;
     std::int64_t cells = -1, size = -1;
-    if (!(head >> cells >> size) || cells < 0 || size < 0) fail("a malformed " + name + " line '" + keyword + "'");
+    if (!(head >> cells >> size) || cells < 0 || size < 0)
+      fail("a malformed " + name + " line '" + keyword + "'");
     if (points < 0) fail(name + " comes before POINTS");
     const auto checkId = [&](std::int64_t id) {
       if (id < 0 || id >= points)
-        fail(name + " refers to point " + std::to_string(id) + ", but POINTS holds " + std::to_string(points));
+        fail(name + " refers to point " + std::to_string(id) + ", but POINTS holds " +
+             std::to_string(points));
     };
     if (version < 5.0) {
       // Legacy layout: `size` integers, each cell its point count followed by its ids.
@@ -310,13 +323,55 @@ Mesh fromVtk(vtkPolyData* input) {
   return m;
 }
 
+void writeVerified(const std::string& path, const std::string& ext, const std::string& what,
+                   const std::function<bool(const std::string& temp)>& write,
+                   const std::function<bool(const std::string& temp)>& readsBackWhole) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(what + ": directory does not exist");
+  const std::string temp =
+      (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + ext)).string();
+  auto fail = [&](const std::string& why) {
+    fs::remove(temp, ec);
+    throw InputError(what + why);
+  };
+  // A failing VTK writer prints its pipeline's state to stderr; the message here says what happened.
+  const int display = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();
+  bool written = false;
+  try {
+    written = write(temp);
+  } catch (...) {
+    vtkObject::SetGlobalWarningDisplay(display);
+    fs::remove(temp, ec);
+    throw;
+  }
+  vtkObject::SetGlobalWarningDisplay(display);
+  if (!written || !fs::exists(temp, ec)) fail(": VTK's writer failed (disk full or file size limit?)");
+  bool whole = false;
+  try {
+    whole = readsBackWhole(temp);
+  } catch (const InputError&) {
+    whole = false; // a reader's complaint about our own file means the write fell short
+  }
+  if (!whole) fail(": the written file is incomplete (disk full or file size limit?)");
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+    fail(": it exists and is not a regular file (a folder, device or pipe): refusing to replace it");
+  fs::rename(temp, path, ec);
+  if (ec) fail(": " + ec.message());
+}
+
 void keepLargeComponents(Mesh& m, double fraction) {
   const std::size_t nt = m.triangleCount();
   if (nt == 0 || fraction <= 0) return;
   std::vector<std::uint32_t> parent(m.positions.size());
-  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < parent.size(); ++i)
+    parent[i] = static_cast<std::uint32_t>(i);
   auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    while (parent[x] != x)
+      x = parent[x] = parent[parent[x]];
     return x;
   };
   for (std::size_t t = 0; t < nt; ++t) {
@@ -328,7 +383,8 @@ void keepLargeComponents(Mesh& m, double fraction) {
   }
   std::vector<std::uint32_t> count(m.positions.size(), 0);
   std::uint32_t largest = 0;
-  for (std::size_t t = 0; t < nt; ++t) largest = std::max(largest, ++count[find(m.indices[3 * t])]);
+  for (std::size_t t = 0; t < nt; ++t)
+    largest = std::max(largest, ++count[find(m.indices[3 * t])]);
   const double keep = fraction * largest;
   std::vector<std::int64_t> remap(m.positions.size(), -1);
   std::vector<glm::vec3> pos, nrm;

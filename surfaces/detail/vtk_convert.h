@@ -4,10 +4,10 @@
 
 #include "io/model/geometry.h"
 
+#include <functional>
+#include <string>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
-
-#include <string>
 
 namespace dtf::surfaces::detail {
 
@@ -27,5 +27,20 @@ void keepLargeComponents(Mesh& mesh, double fraction);
 // its buffer). Stops at the first attribute section (POINT_DATA, CELL_DATA, FIELD, ...). Throws InputError
 // naming `path` and the inconsistency.
 void checkLegacyVtkPolyData(const std::string& path);
+
+// Checks a PLY file (ASCII, binary little- or big-endian) before vtkPLYReader sees it: a well-formed header
+// and every record its elements declare present, list lengths non-negative. vtkPLYReader reads past the end
+// of a short binary file (heap corruption). Throws InputError naming `path` and the problem.
+void checkPly(const std::string& path);
+
+// Writes an output atomically and checks it: `write` writes a temporary file beside `path` (its name ends in
+// `ext`, so a reader picks the format from it) and returns false on failure; `readsBackWhole` reads that file
+// and says whether it holds everything written. VTK's writers do not report a short write (a full disk, a
+// file size limit), so reading back is the check. Then the temporary file replaces `path` (only a regular
+// file: never a folder, device or pipe). Throws InputError starting with `what` ("cannot write mesh X");
+// no temporary file outlives a failure.
+void writeVerified(const std::string& path, const std::string& ext, const std::string& what,
+                   const std::function<bool(const std::string& temp)>& write,
+                   const std::function<bool(const std::string& temp)>& readsBackWhole);
 
 } // namespace dtf::surfaces::detail
