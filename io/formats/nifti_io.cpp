@@ -1,6 +1,5 @@
 // NIfTI-1/NIfTI-2 reading and writing through nifticlib's nifti2 API (which reads both versions, .nii and
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
-#include "io/formats/atomic_file.h"
 #include "io/formats/format_detail.h"
 #include "io/formats/gzip.h"
 #include "io/formats/tensor_io.h"
@@ -66,8 +65,8 @@ struct NimDeleter {
 using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
 
 using detail::ComponentEvidence;
-using detail::ComponentKind;
 using detail::componentEvidence;
+using detail::ComponentKind;
 using detail::fail;
 
 void quietNifti() {
@@ -423,16 +422,17 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
       // declares gigabytes fails on its short data, one that inflates far beyond its header as a bomb.
       const std::size_t declared = offset + bytes;
       const std::vector<std::uint8_t> packed = detail::readRawFile(file);
-      const detail::InflateResult r =
-          detail::inflateGzipTo(packed.data(), packed.size(), declared, detail::inflateLimit(declared), inflated);
-      if (r.status == detail::InflateStatus::TooLarge) detail::tooLarge(path, "the voxel data", declared, r.limit);
+      const detail::InflateResult r = detail::inflateGzipTo(packed.data(), packed.size(), declared,
+                                                            detail::inflateLimit(declared), inflated);
+      if (r.status == detail::InflateStatus::TooLarge)
+        detail::tooLarge(path, "the voxel data", declared, r.limit);
       if (r.status != detail::InflateStatus::Ok || inflated.size() < declared)
         fail(path, "cannot read the voxel data: the file is truncated or its gzip stream is corrupt (" +
                        (r.status == detail::InflateStatus::Ok
                             ? std::to_string(inflated.size()) + " bytes inflated, the header declares " +
                                   std::to_string(declared)
-                            : "gzip member " + std::to_string(r.members + 1) + " at byte " + std::to_string(r.at) +
-                                  " does not inflate or fails its CRC-32/size check") +
+                            : "gzip member " + std::to_string(r.members + 1) + " at byte " +
+                                  std::to_string(r.at) + " does not inflate or fails its CRC-32/size check") +
                        ")");
       raw = inflated.data() + offset;
     } else {
@@ -506,15 +506,7 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
   NimPtr nim(nifti_make_new_nim(dims, DT_FLOAT32, 0));
   if (!nim) throw InputError("cannot write " + path + ": nifticlib could not create the header");
 
-  AtomicOutput out(path);
-  // nifti_set_filenames picks the file names from the type (single .nii file) and then resets the type
-  // from the names to NIfTI-1, so the type is set before and after.
-  const int type = niftiVersion == 2 ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
-  nim->nifti_type = type;
-  if (nifti_set_filenames(nim.get(), out.tempPath().c_str(), 0, 1) != 0)
-    throw InputError("cannot write " + path + ": nifticlib rejected the file name");
-  nim->nifti_type = type;
-
+  nim->nifti_type = niftiVersion == 2 ? NIFTI_FTYPE_NIFTI2_1 : NIFTI_FTYPE_NIFTI1_1;
   nifti_dmat44 a = fromGlm(grid.voxelToWorld);
   nim->sform_code = NIFTI_XFORM_SCANNER_ANAT;
   nim->qform_code = NIFTI_XFORM_SCANNER_ANAT;
@@ -536,36 +528,35 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
   std::snprintf(nim->descrip, sizeof(nim->descrip), "%s", descrip.c_str());
   nim->scl_slope = 1;
   nim->scl_inter = 0;
+  // nifticlib builds the header; the bytes are written here, every write checked (nifti_image_write reports
+  // a short write only on stderr, and its NIfTI-2 single file gets a zero data offset in nifticlib 2.1).
+  std::vector<std::uint8_t> bytes;
+  auto put = [&bytes](const void* p, std::size_t n) {
+    const auto* b = static_cast<const std::uint8_t*>(p);
+    bytes.insert(bytes.end(), b, b + n);
+  };
+  const std::size_t dataBytes = disk.size() * sizeof(float);
   if (niftiVersion == 1) {
-    nim->data = const_cast<float*>(disk.data()); // nifticlib only reads it while writing
-    nifti_image_write(nim.get());
-    nim->data = nullptr;
+    nifti_1_header hdr;
+    if (nifti_convert_nim2n1hdr(nim.get(), &hdr) != 0)
+      throw InputError("cannot write " + path + ": nifticlib could not build the NIfTI-1 header");
+    hdr.vox_offset = sizeof(hdr) + 4;
+    std::memcpy(hdr.magic, "n+1\0", 4);
+    bytes.reserve(sizeof(hdr) + 4 + dataBytes);
+    put(&hdr, sizeof(hdr));
   } else {
-    // nifticlib 2.1's nifti_image_write computes a zero data offset for single-file NIfTI-2 and then
-    // overwrites the header with the data; write the converted header, extender and data ourselves.
     nifti_2_header hdr;
     if (nifti_convert_nim2n2hdr(nim.get(), &hdr) != 0)
       throw InputError("cannot write " + path + ": nifticlib could not build the NIfTI-2 header");
     hdr.vox_offset = sizeof(hdr) + 4;
     std::memcpy(hdr.magic, "n+2\0\r\n\032\n", 8);
-    znzFile fp = znzopen(out.tempPath().c_str(), "wb", gz ? 1 : 0);
-    if (znz_isnull(fp)) throw InputError("cannot write " + path + ": cannot open the file for writing");
-    const char extender[4] = {0, 0, 0, 0};
-    std::size_t bytes = disk.size() * sizeof(float);
-    bool ok = znzwrite(&hdr, sizeof(hdr), 1, fp) == 1 && znzwrite(extender, 1, 4, fp) == 4 &&
-              znzwrite(disk.data(), 1, bytes, fp) == bytes;
-    ok = (znzclose(fp) == 0) && ok;
-    if (!ok) throw InputError("cannot write " + path + ": write failed (disk full?)");
+    bytes.reserve(sizeof(hdr) + 4 + dataBytes);
+    put(&hdr, sizeof(hdr));
   }
-
-  // nifti_image_write reports failure only on stderr: check the result (a .gz may be smaller than a header).
-  std::error_code ec;
-  auto size = fs::file_size(out.tempPath(), ec);
-  NimPtr check(ec || size == 0 ? nullptr : nifti_image_read(out.tempPath().c_str(), 0));
-  if (!check) throw InputError("cannot write " + path + ": nifticlib failed to write the file");
-  if (nii && size < (niftiVersion == 2 ? 544 : 352) + disk.size() * sizeof(float))
-    throw InputError("cannot write " + path + ": the file is incomplete (disk full?)");
-  out.commit();
+  const char extender[4] = {0, 0, 0, 0};
+  put(extender, 4);
+  put(disk.data(), dataBytes);
+  detail::writeFileBytes(path, bytes, gz);
 }
 
 } // namespace
@@ -827,8 +818,9 @@ void detail::tensorsFromComponents(LoadedTensors& out, const ScalarVolume& raw, 
       fail(path, "is not a tensor volume: " + d.reason +
                      " (read it as a fibre set: --layout mrtrix-peaks or dipy-peaks)");
     if (d.ambiguous)
-      fail(path, "cannot tell what the file holds: " + d.reason +
-                     "; name it: --layout fsl or mrtrix for a tensor, mrtrix-peaks or dipy-peaks for fibre peaks");
+      fail(path,
+           "cannot tell what the file holds: " + d.reason +
+               "; name it: --layout fsl or mrtrix for a tensor, mrtrix-peaks or dipy-peaks for fibre peaks");
     out.layout = d.layout;
     out.layoutReason = d.reason;
     out.warnings.insert(out.warnings.end(), d.warnings.begin(), d.warnings.end());
