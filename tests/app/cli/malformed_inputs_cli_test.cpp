@@ -1418,6 +1418,38 @@ std::vector<Case> catalogue() {
     c.back().errHas = name == "MeshVtkNegativeIndex" ? std::vector<std::string>{f, "refers to point -5"}
                                                      : std::vector<std::string>{f, "vertex index is out of range"};
   }
+  // vtkPLYReader reads past the end of a short binary PLY (heap corruption: it aborted or segfaulted).
+  auto binaryPly = [](bool bigEndian, const std::string& faces, std::size_t keep) {
+    std::string h = std::string("ply\nformat binary_") + (bigEndian ? "big" : "little") +
+                    "_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face " +
+                    faces + "\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string body(3 * 12, '\0');
+    body += '\3';
+    body += std::string(12, '\0');
+    return h + body.substr(0, keep);
+  };
+  for (const auto& [name, text, err] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"MeshPlyBinaryCutInVertices", binaryPly(false, "1", 20), "ends at vertex 1 (truncated)"},
+           {"MeshPlyBinaryCutInFaces", binaryPly(true, "1", 36 + 5), "ends at face 0 (truncated)"},
+           {"MeshPlyBinaryBillionFaces", binaryPly(false, "1000000000", 49), "ends at face 1 (truncated)"},
+           {"MeshPlyAsciiCutInVertices",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n",
+            "ends at vertex 2 (truncated)"},
+           {"MeshPlyNoEndHeader", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n",
+            "no end_header line"}}) {
+    const std::string t = text;
+    c.push_back({name,
+                 [t](const fs::path& dir) {
+                   writeBytes(dir / "cut.ply", t);
+                   return "surface " + q(kSample) + " --surface mesh=" + q(dir / "cut.ply") + " -o " +
+                          q(dir / "s.obj");
+                 },
+                 2,
+                 {"cut.ply", err},
+                 "s.obj"});
+  }
   c.push_back({"ScriptMissingFile",
                [](const fs::path& dir) { return "view --script " + q(dir / "none.dtfs"); },
                2,
@@ -1605,8 +1637,53 @@ TEST(OutputProtection, AnInputIsNeverOverwritten) {
   }
 }
 
-// No GL context (EGL finds no vendor library) or no GL 4.5 (Mesa told to offer 3.3): a clear message and
-// exit code 3, no output file.
+// A write that falls short fails the command, names the output and leaves nothing behind: no output, no
+// temporary file. The shell's file size limit stands in for a full disk (SIGXFSZ ignored, a write beyond the
+// limit fails with EFBIG as one on a full disk fails with ENOSPC). Every output runs without the limit first,
+// so each one is known to be larger than the limit.
+TEST(OutputProtection, AShortWriteFailsAndLeavesNothing) {
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path whole = dir / "whole";
+  fs::create_directories(whole);
+  const std::string sample = q(kSample);
+  ASSERT_EQ(runDtfabric("track " + sample + " --select 300 -o " + q(dir / "in.tck"), dir).exitCode, 0);
+  struct Run {
+    std::string output, command; // the command writes `output` where it says {}
+  };
+  const std::vector<Run> runs = {
+      {"s.ply", "surface " + sample + " --surface slice=axial -o {}"},
+      {"s.obj", "surface " + sample + " --surface slice=axial -o {}"},
+      {"s.vtp", "surface " + sample + " --surface slice=axial -o {}"},
+      {"t.nii", "phantom sphere --size 24 -o {}"},
+      {"f.nii.gz", "fit " + q(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz") + " -o {}"},
+      {"t2.nii", "phantom sphere --size 24 --nifti2 -o {}"},
+      {"t.mif", "phantom sphere --size 24 -o {}"},
+      {"t.nrrd", "phantom sphere --size 24 -o {}"},
+      {"r.png", "render " + sample + " --size 256x256 -o {}"},
+      {"l.vtk", "convert " + q(dir / "in.tck") + " {}"},
+      {"l.vtp", "convert " + q(dir / "in.tck") + " {}"},
+      {"l.trk", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
+      {"l.tck", "convert " + q(dir / "in.tck") + " {}"},
+      {"l.trx", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
+  };
+  constexpr std::uintmax_t kLimitBytes = 16 * 512; // `ulimit -f 16`: blocks of 512 bytes in sh (dash)
+  for (const Run& run : runs) {
+    auto to = [&](const fs::path& out) {
+      std::string c = run.command;
+      return c.replace(c.find("{}"), 2, q(out));
+    };
+    const CliResult ok = runDtfabric(to(whole / run.output), dir);
+    ASSERT_EQ(ok.exitCode, 0) << run.command << "\n" << ok.err;
+    ASSERT_GT(fs::file_size(whole / run.output), 2 * kLimitBytes) << run.output << " is too small to test";
+    const CliResult r = runDtfabric(to(dir / run.output), dir, "trap '' XFSZ; ulimit -f 16; ");
+    EXPECT_EQ(r.exitCode, 2) << to(dir / run.output) << "\n" << r.err;
+    EXPECT_NE(r.err.find(run.output), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / run.output)) << run.output << " was left, incomplete";
+    for (const auto& e : fs::directory_iterator(dir))
+      EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+  }
+}
+
 // --force replaces only what the command writes: a regular file, or a movie's folder of frames; never a
 // pipe or device (renamed over, it was lost) nor a folder holding other files (a movie removed them).
 TEST(OutputProtection, ForceReplacesOnlyFilesAndFrameFolders) {
@@ -1640,6 +1717,8 @@ TEST(OutputProtection, ForceReplacesOnlyFilesAndFrameFolders) {
   EXPECT_FALSE(fs::exists(frames / "frame_0001.png"));
 }
 
+// No GL context (EGL finds no vendor library) or no GL 4.5 (Mesa told to offer 3.3): a clear message and
+// exit code 3, no output file.
 TEST(Environment, RenderWithoutGl45ContextExitsWith3) {
   const fs::path dir = dtf::test::scratchDir();
   struct Env {
