@@ -11,9 +11,11 @@
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
-
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
+#include <glm/geometric.hpp>
 #include <iterator>
 #include <vector>
 
@@ -31,7 +33,8 @@ using FaceIndex = SurfaceMesh::Face_index;
 SurfaceMesh toSurfaceMesh(const Mesh& mesh, bool orient) {
   std::vector<Point> points;
   points.reserve(mesh.positions.size());
-  for (const auto& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+  for (const auto& p : mesh.positions)
+    points.emplace_back(p.x, p.y, p.z);
   std::vector<std::array<std::size_t, 3>> polygons;
   polygons.reserve(mesh.triangleCount());
   for (std::size_t t = 0; t < mesh.indices.size(); t += 3)
@@ -51,7 +54,8 @@ Mesh fromSurfaceMesh(const SurfaceMesh& sm) {
     m.positions.emplace_back(p.x(), p.y(), p.z());
   }
   for (auto f : sm.faces()) {
-    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) m.indices.push_back(remap[v.idx()]);
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm))
+      m.indices.push_back(remap[v.idx()]);
   }
   m.computeNormals();
   return m;
@@ -69,7 +73,8 @@ SelfIntersectionReport findSelfIntersections(const Mesh& mesh) {
     sm = toSurfaceMesh(mesh, true);
   }
   if (sm.number_of_faces() != mesh.triangleCount())
-    throw InputError("mesh is not a valid polygon mesh (" + std::to_string(mesh.triangleCount() - sm.number_of_faces()) +
+    throw InputError("mesh is not a valid polygon mesh (" +
+                     std::to_string(mesh.triangleCount() - sm.number_of_faces()) +
                      " triangles could not be added)");
   std::vector<std::pair<FaceIndex, FaceIndex>> pairs;
   PMP::self_intersections(sm, std::back_inserter(pairs));
@@ -114,6 +119,25 @@ Mesh removeSelfIntersections(const Mesh& mesh, std::size_t* removed) {
 
 Mesh remeshIsotropic(const Mesh& mesh, double targetEdgeMm, int iterations) {
   if (!(targetEdgeMm > 0)) throw UsageError("remeshing edge length must be positive");
+  // The result has about area / (sqrt(3)/4 e^2) triangles; CGAL needs some 200 bytes each while remeshing.
+  constexpr double kMaxTriangles = 5e6;
+  double area = 0;
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const glm::dvec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                     c = mesh.positions[mesh.indices[t + 2]];
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  const double equilateral = std::sqrt(3.0) / 4.0;
+  if (area / (equilateral * targetEdgeMm * targetEdgeMm) > kMaxTriangles) {
+    char why[200];
+    std::snprintf(
+        why, sizeof why,
+        "remeshing to %g mm edges would make about %.3g triangles of this %.0f mm^2 surface (at most "
+        "5 million): give an edge of at least %.2g mm",
+        targetEdgeMm, area / (equilateral * targetEdgeMm * targetEdgeMm), area,
+        std::sqrt(area / (equilateral * kMaxTriangles)) * 1.01);
+    throw UsageError(why);
+  }
   SurfaceMesh sm = toSurfaceMesh(mesh, true);
   PMP::isotropic_remeshing(faces(sm), targetEdgeMm, sm,
                            PMP::parameters::number_of_iterations(iterations).protect_constraints(false));

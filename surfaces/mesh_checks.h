@@ -20,7 +20,9 @@ SelfIntersectionReport findSelfIntersections(const Mesh& mesh);
 // Removes the triangles involved in self-intersections (leaves small holes there; the fabric tolerates
 // holes, not overlaps) and unused vertices. Returns the repaired mesh; `removed` gets the triangle count.
 Mesh removeSelfIntersections(const Mesh& mesh, std::size_t* removed = nullptr);
-// Isotropic remeshing to the target edge length (mm), keeping borders; normals recomputed.
+// Isotropic remeshing to the target edge length (mm), keeping borders; normals recomputed. Throws UsageError
+// when the edge would make more than 5 million triangles of this surface (the message gives the shortest
+// edge).
 Mesh remeshIsotropic(const Mesh& mesh, double targetEdgeMm, int iterations = 3);
 
 // Closest-point queries against a fixed mesh (CGAL AABB tree and its search tree built once; const queries

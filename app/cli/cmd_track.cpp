@@ -1,10 +1,7 @@
-// `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file format.
+// `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file
+// format.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
-#include "ui/session/track_job.h"
-#include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/json.h"
 #include "io/model/error.h"
@@ -12,6 +9,10 @@
 #include "surfaces/slices.h"
 #include "surfaces/tracking/tracking.h"
 #include "surfaces/tracking/tracking_parameters.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_job.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,14 +41,15 @@ std::vector<CliOption> seedingRows(const session::TrackRequest& d) {
           .hidden(),
       O::text("seed-slice", "AXIS:I", "random points in the valid voxels of axial|coronal|sagittal slice I")
           .hidden(),
-      O::integer("select", "N", d.number, above(0),
+      O::integer("select", "N", d.number, aboveUpTo(0, session::kMaxSelect),
                  "keep seeding until N streamlines are accepted (at most 1000 x N seeds)")
           .hidden()
           .under("How many (one of; default --select " + std::to_string(d.number) + ")"),
-      O::integer("seeds", "N", 0, above(0), "track exactly N seeds and keep the streamlines that pass")
+      O::integer("seeds", "N", 0, aboveUpTo(0, session::kMaxSeeds),
+                 "track exactly N seeds and keep the streamlines that pass")
           .noDefault()
           .hidden(),
-      O::integer("seeds-per-voxel", "K", 0, atLeast(0),
+      O::integer("seeds-per-voxel", "K", 0, closedRange(0, session::kMaxSeedsPerVoxel),
                  "with --seeds-mask: K seeds in every mask voxel")
           .hidden(),
   };
@@ -153,8 +155,11 @@ void readSeeding(ParsedOptions& args, TrackCli& cli) {
   if (!!seedsMask + !!cli.seedSphere + !!cli.seedSurface + !!cli.seedSlice > 1)
     throw UsageError("give at most one of --seeds-mask, --seed-sphere, --seed-surface, --seed-slice");
   using K = session::SeedKind;
-  r.seeds = seedsMask ? K::Mask : cli.seedSphere ? K::Sphere : cli.seedSurface ? K::Surface
-            : cli.seedSlice ? K::Slice : K::Data;
+  r.seeds = seedsMask         ? K::Mask
+            : cli.seedSphere  ? K::Sphere
+            : cli.seedSurface ? K::Surface
+            : cli.seedSlice   ? K::Slice
+                              : K::Data;
   r.seedsMask = seedsMask.value_or("");
   cli.seedsGiven = args.given("seeds");
   if (args.given("select") && cli.seedsGiven) throw UsageError("give either --select or --seeds, not both");
@@ -169,7 +174,8 @@ void readSeeding(ParsedOptions& args, TrackCli& cli) {
 void readTracking(ParsedOptions& args, TrackCli& cli) {
   session::TrackRequest& r = cli.request;
   surfaces::TrackingOptions& to = r.options;
-  for (const auto& p : surfaces::trackingParameters()) p.set(to, args.number(p.name));
+  for (const auto& p : surfaces::trackingParameters())
+    p.set(to, args.number(p.name));
   const bool rk4 = args.flag("rk4"), euler = args.flag("euler");
   if (rk4 && euler) throw UsageError("give either --rk4 or --euler");
   to.rk4 = !euler;

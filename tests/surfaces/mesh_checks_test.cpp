@@ -1,10 +1,12 @@
 // CGAL-backed mesh checks: self-intersections, repair, remeshing and AABB distances.
+#include "io/model/error.h"
 #include "surfaces/isosurface.h"
 #include "surfaces/mesh_checks.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 using namespace dtf;
 
@@ -56,6 +58,23 @@ TEST(MeshChecks, RemeshingHitsTargetEdgeLength) {
     }
   EXPECT_NEAR(sum / count, 2.0, 0.4);
   for (const auto& p : r.positions) EXPECT_NEAR(glm::length(p), 10.0, 0.3);
+}
+
+// An edge that would make more than 5 million triangles is refused before CGAL allocates them; the message
+// gives the shortest edge allowed, which remeshes.
+TEST(MeshChecks, RemeshingRefusesAnEdgeTooShortForTheSurface) {
+  const Mesh m = sphere(10, 30); // about 1257 mm^2: 5 million triangles at an edge of about 0.024 mm
+  try {
+    surfaces::remeshIsotropic(m, 0.001);
+    FAIL() << "no error";
+  } catch (const UsageError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("at most 5 million"), std::string::npos) << what;
+    const auto at = what.find("at least ");
+    ASSERT_NE(at, std::string::npos) << what;
+    const double shortest = std::stod(what.substr(at + 9));
+    EXPECT_NEAR(shortest, std::sqrt(1257.0 / (std::sqrt(3.0) / 4 * 5e6)), 0.003);
+  }
 }
 
 TEST(MeshChecks, DistanceToAPlane) {

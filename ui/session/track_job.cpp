@@ -23,6 +23,15 @@ void validate(const TrackRequest& r) {
     throw UsageError(r.count == SeedCount::Select  ? "the number of streamlines to select must be positive"
                      : r.count == SeedCount::Seeds ? "the number of seeds must be positive"
                                                    : "seeds per voxel must be positive");
+  const int most = r.count == SeedCount::Select  ? kMaxSelect
+                   : r.count == SeedCount::Seeds ? kMaxSeeds
+                                                 : kMaxSeedsPerVoxel;
+  if (r.number > most)
+    throw UsageError(std::string(r.count == SeedCount::Select  ? "the number of streamlines to select"
+                                 : r.count == SeedCount::Seeds ? "the number of seeds"
+                                                               : "seeds per voxel") +
+                     " may be at most " + std::to_string(most) + " (asked for " + std::to_string(r.number) +
+                     ")");
   if (r.count == SeedCount::PerVoxel && r.seeds != SeedKind::Mask && r.seeds != SeedKind::FaMask)
     throw UsageError("seeds per voxel need mask seeds (a seed mask or an FA mask)");
   if (r.seeds == SeedKind::Mask && r.seedsMask.empty()) throw UsageError("mask seeds need a seed mask file");

@@ -56,8 +56,13 @@ struct TrackRequest {
   surfaces::TrackingOptions options; // the parameters, threads, progress; mask is set from stopMask
 };
 
-// Checks the request's values and combinations (UsageError): the parameters' ranges, a positive number,
-// per-voxel counts only with mask seeds, a positive radius, an FA threshold in (0, 1).
+// The largest counts a request may ask for: 10 million accepted streamlines (a whole-brain connectome; about
+// 12 GB of points at 100 points each), 100 million seeds, 1000 seeds in every mask voxel.
+inline constexpr int kMaxSelect = 10'000'000, kMaxSeeds = 100'000'000, kMaxSeedsPerVoxel = 1000;
+
+// Checks the request's values and combinations (UsageError): the parameters' ranges, a positive number
+// (at most the kMax... above), per-voxel counts only with mask seeds, a positive radius, an FA threshold in
+// (0, 1).
 void validate(const TrackRequest& r);
 
 // The seed generator of a request. `fa` is needed for FaMask seeds, `surfaceOnScreen` for Surface seeds

@@ -108,6 +108,13 @@ TEST(TractCli, BadTractFilesAndUsage) {
   EXPECT_EQ(r.exitCode, 1) << r.err;
   r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.txt"), dir);
   EXPECT_EQ(r.exitCode, 1) << r.err;
+  // Counts beyond what memory and time allow are refused before tracking starts.
+  for (const std::string count : {"--select 2e9", "--select 10000001", "--seeds 100000001"}) {
+    r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.tck") + " " + count, dir);
+    EXPECT_EQ(r.exitCode, 1) << count << "\n" << r.err;
+    EXPECT_NE(r.err.find("must be (0, 1"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.tck"));
+  }
   r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.tck") + " --angle 0", dir);
   EXPECT_EQ(r.exitCode, 1) << r.err;
   r = runDtfabric("track " + q(tensor) + " -o " + q(dir / "x.tck") + " --seed-sphere 1,2", dir);
