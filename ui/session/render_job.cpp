@@ -2,9 +2,9 @@
 // the panes and overlay the tracts.
 #include "ui/session/render_job.h"
 
+#include "io/diffusion/uncertainty.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/diffusion/uncertainty.h"
 #include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
@@ -206,8 +206,17 @@ struct SecondPane {
   io::LoadedTensors loaded;
   std::optional<FibreInput> fibreIn;
   const TensorField* field = nullptr;
+  const ScalarVolume* fibreFa = nullptr; // a fibre set pane's FA: its own, else the first pane's on its grid
   Mesh mesh;
 };
+
+// Voxel-to-world transforms within 1e-3 mm of each other.
+bool sameAffine(const Grid& a, const Grid& b) {
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(a.voxelToWorld[c][k] - b.voxelToWorld[c][k]) > 1e-3) return false;
+  return true;
+}
 
 void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams& p, SecondPane& out) {
   const SplitMode& split = r.split;
@@ -227,8 +236,19 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
     if (p.colour != render::ColourMode::Fibres)
       throw UsageError("--split input=" + split.value + " is a fibre set: it is shown with --color fibres");
     out.field = &out.fibreIn->carrier;
-    faOther = ScalarVolume(out.field->grid, 1);
-    fa2 = &faOther;
+    // A fibre set without FA of its own (MRtrix peaks) takes the first pane's FA on the same grid: the
+    // anatomy look and FA surfaces then read the same tissue in both panes.
+    const Grid& g = out.field->grid;
+    if (!out.fibreIn->fa.data.empty()) {
+      out.fibreFa = &out.fibreIn->fa;
+    } else if (g.dims == s.field->grid.dims && sameAffine(g, s.field->grid)) {
+      out.fibreFa = &s.fa;
+      logInfo(split.value + ": FA from " + r.input + " (the first pane's, on the same grid)");
+    } else {
+      logWarning(split.value + ": no FA (its grid differs from " + r.input + "'s): shown as FA 0");
+    }
+    faOther = ScalarVolume(g, 1);
+    fa2 = out.fibreFa ? out.fibreFa : &faOther;
   } else if (split.kind == SplitMode::Kind::Input) {
     if (s.fibreIn) throw UsageError("--split input=FILE beside a fibre-set INPUT must be a fibre set too");
     out.loaded = loadTensors(in, r.tensorOptions);
@@ -297,7 +317,6 @@ public:
     return renderer_.readback();
   }
 
-
 private:
   // The tracts drawn over the renderer's output (at the supersampled size), read back; none when no tract
   // lies near the surface.
@@ -354,7 +373,8 @@ private:
   std::pair<const FibreSet*, const ScalarVolume*> fibresOf(const TensorField& f) {
     if (s_.fibreIn && &f == &s_.fibreIn->carrier)
       return {&s_.fibreIn->fibres.set, s_.fibreIn->fa.data.empty() ? nullptr : &s_.fa};
-    if (second_.fibreIn && &f == &second_.fibreIn->carrier) return {&second_.fibreIn->fibres.set, nullptr};
+    if (second_.fibreIn && &f == &second_.fibreIn->carrier)
+      return {&second_.fibreIn->fibres.set, second_.fibreFa};
     principal_ = principalFibres(f);
     return {&*principal_, &f == s_.field ? &s_.fa : nullptr};
   }
@@ -415,8 +435,7 @@ RenderResult runRender(const RenderRequest& r) {
   const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
-  if (!scene.cone.data.empty())
-    render::drawFrayLegend(image, static_cast<float>(p.fray), frayLegendScale(r));
+  if (!scene.cone.data.empty()) render::drawFrayLegend(image, static_cast<float>(p.fray), frayLegendScale(r));
   render::checkGl("rendering " + r.output);
   RenderResult result;
   result.image = std::move(image);
@@ -443,7 +462,8 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   validate(m.request);
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);
-  m.panes.emplace(m.request, m.scene, m.none, m.request.view ? *m.request.view : defaultView(m.request.surface));
+  m.panes.emplace(m.request, m.scene, m.none,
+                  m.request.view ? *m.request.view : defaultView(m.request.surface));
   m.panes->setMovieMesh(m.scene.mesh);
 }
 

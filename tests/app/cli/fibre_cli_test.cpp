@@ -5,6 +5,7 @@
 #include "support/cli.h"
 #include "support/test_env.h"
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 
@@ -109,4 +110,43 @@ TEST(FibreCli, TensorCommandsRefuseAFibreSetByName) {
   EXPECT_EQ(t.exitCode, 2) << t.err;
   EXPECT_NE(t.err.find("a fibre set"), std::string::npos) << t.err;
   EXPECT_FALSE(fs::exists(dir / "t.ply"));
+}
+
+// DTI beside MRtrix peaks that carry no FA of their own: the peaks pane takes the tensor's FA (same grid),
+// so grey matter is grey in both panes (the anatomy look's FA ramp). Without it the peaks pane wove full
+// colour over every voxel. Measured on the pixels where the tensor pane shows grey matter (chroma, max - min
+// of RGB, below 0.08): the peaks pane is mostly grey there too.
+TEST(FibreCli, SplitPeaksPaneTakesTheTensorsFa) {
+  DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
+  DTF_SHARED_FILE(peaks, "iu_prisma_dwi/derived/fibres/peaks_mrtrix.nii.gz");
+  const fs::path dir = dtf::test::scratchDir();
+  auto r = runDtfabric("render " + q(tensor) + " --split input=" + q(peaks) +
+                           " --slice coronal:34 --size 256x256 -o " + q(dir / "split.png"),
+                       dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("FA from " + tensor.string()), std::string::npos) << r.err;
+  const dtf::Image img = dtf::io::readPng((dir / "split.png").string());
+  ASSERT_EQ(img.width, 512);
+  auto chroma = [&](int x, int y) {
+    const std::uint8_t* p = img.pixel(x, y);
+    return (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]})) / 255.0;
+  };
+  auto lit = [&](int x, int y) {
+    const std::uint8_t* p = img.pixel(x, y);
+    return p[0] + p[1] + p[2] > 60;
+  };
+  int grey = 0, greyInBoth = 0, colourful = 0;
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x) {
+      if (!lit(x, y) || !lit(x + 256, y)) continue;
+      const double left = chroma(x, y), right = chroma(x + 256, y);
+      if (left < 0.08) {
+        ++grey;
+        if (right < 0.15) ++greyInBoth;
+      }
+      if (left > 0.35) colourful += right > 0.2 ? 1 : 0;
+    }
+  ASSERT_GT(grey, 3000) << "too little grey matter in the tensor pane";
+  EXPECT_GT(greyInBoth, 0.6 * grey) << greyInBoth << " of " << grey;
+  EXPECT_GT(colourful, 1000); // white matter keeps its colours in the peaks pane
 }
