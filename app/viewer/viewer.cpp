@@ -424,7 +424,7 @@ void ViewerScene::startRecording(const session::RecordMovie& a) {
   if (a.kind == session::RecordMovie::Kind::FaSweep && data->fa.data.empty())
     throw UsageError("an FA sweep needs FA: pair a tensor with the fibre set");
   rec->start = camera(0);
-  rec->params = state().fabric;
+  rec->params = session_.fabricOnScreen();
   rec->frames = a.frames;
   recording_ = std::move(rec);
   session::ViewerState& st = session_.state();
@@ -536,7 +536,7 @@ void ViewerScene::render(int width, int height) {
         dirty_[p] = low;
         continue;
       }
-      render::FabricParams params = state.fabric;
+      render::FabricParams params = session_.fabricOnScreen();
       if (p == 1 && state.secondPane == session::SecondPane::OtherColourMode)
         params.colour = otherColour(params.colour);
       if (low) {

@@ -401,11 +401,13 @@ Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& seco
                   render::FabricParams p) {
   switch (r.split.kind) {
   case SplitMode::Kind::Tracts: {
+    p = paramsOnSurface(p, r.surface);
     Image plain = panes.pane(s.mesh, *s.field, p, false);
     return sideBySide(plain, panes.overlay(s.mesh, plain));
   }
   case SplitMode::Kind::Colour: {
     if (s.fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
+    p = paramsOnSurface(p, r.surface);
     render::FabricParams p2 = p;
     p.colour = render::ColourMode::Medical;
     p2.colour = render::ColourMode::Engineering;
@@ -414,16 +416,30 @@ Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& seco
   }
   case SplitMode::Kind::Surface:
   case SplitMode::Kind::Input: {
-    Image left = panes.pane(s.mesh, *s.field, p, true);
-    return sideBySide(left, panes.pane(second.mesh, *second.field, p, true));
+    Image left = panes.pane(s.mesh, *s.field, paramsOnSurface(p, r.surface), true);
+    const SurfaceSpec& spec2 =
+        r.split.kind == SplitMode::Kind::Surface ? parseSurfaceSpec(r.split.value) : r.surface;
+    return sideBySide(left, panes.pane(second.mesh, *second.field, paramsOnSurface(p, spec2), true));
   }
   case SplitMode::Kind::None:
     break;
   }
-  return panes.pane(s.mesh, *s.field, p, true);
+  return panes.pane(s.mesh, *s.field, paramsOnSurface(p, r.surface), true);
 }
 
 } // namespace
+
+render::FabricParams paramsOnSurface(render::FabricParams p, bool faIsosurface) {
+  if (p.look == render::Look::Anatomy && faIsosurface) {
+    p.opacityFaLow = 0; // opaque wherever FA > 0 (the shader's ramp is smoothstep(0, 1e-3, FA))
+    p.opacityFaHigh = 0;
+  }
+  return p;
+}
+
+render::FabricParams paramsOnSurface(const render::FabricParams& p, const SurfaceSpec& spec) {
+  return paramsOnSurface(p, spec.kind == SurfaceSpec::Kind::Fa);
+}
 
 RenderResult runRender(const RenderRequest& r) {
   validate(r);
@@ -462,6 +478,7 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   validate(m.request);
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);
+  m.params = paramsOnSurface(m.params, m.request.surface);
   m.panes.emplace(m.request, m.scene, m.none,
                   m.request.view ? *m.request.view : defaultView(m.request.surface));
   m.panes->setMovieMesh(m.scene.mesh);

@@ -57,7 +57,7 @@ struct RenderRequest {
                                      // advection step, silhouette and tract widths scale with N, so the
                                      // fabric is the same one, anti-aliased
   render::FigureFurniture furniture; // orientation letters, legend, scale bar (per pane)
-  std::string output = "the image"; // what GL errors name
+  std::string output = "the image";  // what GL errors name
 };
 
 struct RenderResult {
@@ -82,6 +82,12 @@ bool windowByPercentiles(Background& b);
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
                           const ScalarVolume& fa);
 
+// The fabric parameters on `spec`: an FA isosurface lies at one FA, its threshold, everywhere, where the
+// anatomy look's FA ramp would give one partial opacity over the grey beneath (0.35 at the default 0.25: a
+// dark surface). On an FA isosurface the anatomy look's fabric is opaque; elsewhere `p` is unchanged.
+render::FabricParams paramsOnSurface(render::FabricParams p, bool faIsosurface);
+render::FabricParams paramsOnSurface(const render::FabricParams& p, const SurfaceSpec& spec);
+
 // The view a surface is shown from by default: a slice's own view, else superior.
 render::StandardView defaultView(const SurfaceSpec& spec);
 
@@ -91,7 +97,8 @@ RenderResult runRender(const RenderRequest& request);
 
 // Many frames of one request (movies): the data, FA, background and the request's surface loaded once, then
 // frames of any surface of the same data from any camera, the advection state carried from frame to frame
-// (render::FabricRenderer::renderMovieFrame). Tensor, DWI and fibre-set inputs; no split panes, no tracts. The headless context is made current on the calling thread, as for runRender.
+// (render::FabricRenderer::renderMovieFrame). Tensor, DWI and fibre-set inputs; no split panes, no tracts.
+// The headless context is made current on the calling thread, as for runRender.
 class FrameSession {
 public:
   // Loads and builds; throws as runRender.

@@ -1,14 +1,15 @@
 #include "ui/session/viewer_session.h"
 
-#include "ui/session/tensor_input.h"
-#include "ui/session/track_request.h"
-#include "ui/session/tract_colouring.h"
-#include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
 #include "surfaces/slices.h"
+#include "ui/session/render_job.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_request.h"
+#include "ui/session/tract_colouring.h"
+#include "ui/session/tract_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -107,6 +108,10 @@ void ViewerSession::addRecent(const std::string& path) {
 bool ViewerSession::settled() const {
   return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy() &&
          !pendingAgreement_;
+}
+
+render::FabricParams ViewerSession::fabricOnScreen() const {
+  return paramsOnSurface(state_.fabric, state_.surface == SurfaceKind::FaIsosurface); // no allocation
 }
 
 SurfaceSpec ViewerSession::currentSpec() const {

@@ -94,6 +94,10 @@ public:
   // Counts changes of the tract width and the clip slab.
   std::uint64_t tractStyleSerial() const { return tractStyleSerial_; }
 
+  // The fabric parameters for the surface on screen (paramsOnSurface: on an FA isosurface the anatomy look's
+  // fabric is opaque).
+  render::FabricParams fabricOnScreen() const;
+
   // Fills state().probe for the surface point `world` (world RAS mm): the voxel, its tensor and its fibres,
   // and the status bar's text. clearProbe(): the cursor is not on the surface.
   void probeAt(const glm::dvec3& world);

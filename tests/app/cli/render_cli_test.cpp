@@ -56,6 +56,37 @@ TEST(RenderCli, WritesTheSamePngTwice) {
   EXPECT_NE(bytes(a), bytes(dir / "c.png"));
 }
 
+// An FA isosurface lies at one FA, so the anatomy look's FA ramp would make the whole surface equally
+// translucent over the grey beneath (0.35 at FA 0.25: a dark figure). There its fabric is opaque: the same
+// colours as the plain look on the same surface, and brighter than the ramp would give.
+TEST(RenderCli, AnatomyLookOnAnFaIsosurfaceIsOpaque) {
+  DTF_GL_TEST_SETUP();
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string common = kPhantom.string() + " --size 128x128 --surface fa=0.25 --seed 3";
+  auto mean = [&](const std::string& look, const std::string& name) {
+    const CliRun r = dtfabric("render " + common + " --look " + look + " -o " + (dir / name).string());
+    EXPECT_EQ(r.code, 0) << r.output;
+    const dtf::Image img = dtf::io::readPng((dir / name).string());
+    double sum = 0;
+    for (std::size_t i = 0; i < img.rgba.size(); i += 4)
+      sum += img.rgba[i] + img.rgba[i + 1] + img.rgba[i + 2];
+    return sum / (img.rgba.size() / 4);
+  };
+  const double anatomy = mean("anatomy", "anatomy.png"), plain = mean("plain", "plain.png");
+  EXPECT_NEAR(anatomy, plain, 0.03 * plain);
+  // The ramp asked for explicitly on a slice still applies there (the rule is the FA isosurface's only).
+  const CliRun slice =
+      dtfabric("render " + kPhantom.string() +
+               " --size 128x128 --slice axial --seed 3 --opacity-fa-low 0.9 --opacity-fa-high 0.95 -o " +
+               (dir / "slice.png").string());
+  ASSERT_EQ(slice.code, 0) << slice.output;
+  const CliRun slicePlain =
+      dtfabric("render " + kPhantom.string() + " --size 128x128 --slice axial --seed 3 --look plain -o " +
+               (dir / "slice_plain.png").string());
+  ASSERT_EQ(slicePlain.code, 0) << slicePlain.output;
+  EXPECT_NE(bytes(dir / "slice.png"), bytes(dir / "slice_plain.png"));
+}
+
 TEST(RenderCli, HelpStatesTheViewConventions) {
   CliRun r = dtfabric("render --help");
   EXPECT_EQ(r.code, 0);
