@@ -13,11 +13,12 @@ namespace dtf::render {
 namespace {
 
 // Text with a one-pixel dark outline, readable over any fabric colour.
-void outlinedText(Canvas& img, int x, int y, const std::string& text, int scale, std::uint8_t r, std::uint8_t g,
-                  std::uint8_t b) {
+void outlinedText(Canvas& img, int x, int y, const std::string& text, int scale, std::uint8_t r,
+                  std::uint8_t g, std::uint8_t b) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
-      if (dx || dy) drawText(img, x + dx * std::max(1, scale / 2), y + dy * std::max(1, scale / 2), text, scale, 0, 0, 0);
+      if (dx || dy)
+        drawText(img, x + dx * std::max(1, scale / 2), y + dy * std::max(1, scale / 2), text, scale, 0, 0, 0);
   drawText(img, x, y, text, scale, r, g, b);
 }
 
@@ -27,8 +28,8 @@ void line(Canvas& img, glm::dvec2 a, glm::dvec2 b, int width, const std::uint8_t
   const int steps = std::max(1, static_cast<int>(std::ceil(len * 2)));
   for (int s = 0; s <= steps; ++s) {
     const glm::dvec2 p = a + (b - a) * (static_cast<double>(s) / steps);
-    img.fill(static_cast<int>(std::lround(p.x)) - width / 2, static_cast<int>(std::lround(p.y)) - width / 2, width,
-             width, c[0], c[1], c[2]);
+    img.fill(static_cast<int>(std::lround(p.x)) - width / 2, static_cast<int>(std::lround(p.y)) - width / 2,
+             width, width, c[0], c[1], c[2]);
   }
 }
 
@@ -55,6 +56,12 @@ int furnitureScale(int width, int height) {
   return std::clamp(std::min(width, height) / 256, 1, 4);
 }
 
+int letterBand(int width, int height) {
+  const int scale = furnitureScale(width, height);
+  // drawFurniture's margin, the letter (2x glyphs) and a gap as wide as a glyph pixel.
+  return 4 * scale + std::max(textHeight(2 * scale), textWidth("M", 2 * scale)) + 2 * scale;
+}
+
 void drawFurniture(Image& image, const Camera& camera, double pixelMm, const FigureFurniture& what) {
   ImageCanvas canvas(image);
   drawFurniture(canvas, camera, pixelMm, what);
@@ -76,7 +83,8 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
   for (int y = 0; y < barH; ++y) {
     const glm::vec3 c = tractValueColour(1.0f - float(y) / float(std::max(barH - 1, 1)));
     img.fill(x0, y0 + y, barW, 1, static_cast<std::uint8_t>(std::lround(c.x * 255.0f)),
-             static_cast<std::uint8_t>(std::lround(c.y * 255.0f)), static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
+             static_cast<std::uint8_t>(std::lround(c.y * 255.0f)),
+             static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
   }
   char hi[32], lo[32];
   std::snprintf(hi, sizeof hi, "%.3g", bar.hi);
@@ -85,8 +93,8 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
   outlinedText(img, x0 - gap - textWidth(hi, scale), y0, hi, scale, 255, 255, 255);
   outlinedText(img, x0 - gap - textWidth(lo, scale), y0 + barH - th, lo, scale, 255, 255, 255);
   if (!bar.name.empty())
-    outlinedText(img, std::max(0, x0 + barW - textWidth(bar.name, scale)), y0 - gap - th, bar.name, scale, 255, 255,
-                 255);
+    outlinedText(img, std::max(0, x0 + barW - textWidth(bar.name, scale)), y0 - gap - th, bar.name, scale,
+                 255, 255, 255);
 }
 
 void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const FigureFurniture& what) {
@@ -96,8 +104,8 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
   const int margin = 4 * scale;
   const glm::dvec3 right = camera.right(), up = glm::normalize(glm::cross(right, camera.forward()));
   if (what.letters) {
-    const std::string r(1, anatomicalLetter(right)), l(1, anatomicalLetter(-right)), t(1, anatomicalLetter(up)),
-        b(1, anatomicalLetter(-up));
+    const std::string r(1, anatomicalLetter(right)), l(1, anatomicalLetter(-right)),
+        t(1, anatomicalLetter(up)), b(1, anatomicalLetter(-up));
     const int tw = textWidth("M", scale * 2), th = textHeight(scale * 2);
     outlinedText(img, margin, (h - th) / 2, l, scale * 2, 255, 255, 255);
     outlinedText(img, w - margin - tw, (h - th) / 2, r, scale * 2, 255, 255, 255);
@@ -109,7 +117,7 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
     const int px = static_cast<int>(std::lround(mm / pixelMm));
     if (mm > 0 && px >= 8) {
       char label[32];
-      std::snprintf(label, sizeof label, "%g MM", mm);
+      std::snprintf(label, sizeof label, "%g mm", mm);
       const int y = h - margin - 3 * scale - what.bottomLeftReserved;
       img.fill(margin - 1, y - 1, px + 2, 3 * scale + 2, 0, 0, 0);
       img.fill(margin, y, px, 3 * scale, 255, 255, 255);
@@ -120,7 +128,8 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
     // The world axes as the camera shows them (orthographic: the in-image part of each), in DEC colours,
     // each labelled with its positive side; axes pointing along the view are drawn short.
     const double radius = 14.0 * scale;
-    const glm::dvec2 centre(w - margin - radius - textWidth("M", scale) - 2, h - margin - radius - textHeight(scale));
+    const glm::dvec2 centre(w - margin - radius - textWidth("M", scale) - 2,
+                            h - margin - radius - textHeight(scale));
     const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     const std::uint8_t colours[3][3] = {{230, 40, 40}, {40, 210, 40}, {60, 90, 255}};
     const std::uint8_t black[3] = {0, 0, 0};
@@ -137,8 +146,8 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
       const std::string letter(1, anatomicalLetter(axes[i]));
       if (glm::length(d) > 0.3)
         outlinedText(img, static_cast<int>(tip.x + 3 * d.x * scale) - textWidth(letter, scale) / 2,
-                     static_cast<int>(tip.y + 3 * d.y * scale) - textHeight(scale) / 2, letter, scale, colours[i][0],
-                     colours[i][1], colours[i][2]);
+                     static_cast<int>(tip.y + 3 * d.y * scale) - textHeight(scale) / 2, letter, scale,
+                     colours[i][0], colours[i][1], colours[i][2]);
     }
   }
 }

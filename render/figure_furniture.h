@@ -14,16 +14,16 @@
 namespace dtf::render {
 
 struct FigureFurniture {
-  bool letters = true;  // L/R, A/P, S/I at the edges
-  bool legend = true;   // the RGB axes glyph, bottom right
-  bool scaleBar = true; // a bar of a round length in mm, bottom left (orthographic views only)
+  bool letters = true;   // L/R, A/P, S/I at the edges
+  bool legend = true;    // the RGB axes glyph, bottom right
+  bool scaleBar = true;  // a bar of a round length in mm, bottom left (orthographic views only)
   bool colourBar = true; // the tract value's colour bar, right edge (when tracts are coloured by a value)
   int bottomLeftReserved = 0; // pixels above the bottom edge kept free at the left (another legend there)
 };
 
 // The colour bar of tracts coloured by a value (drawColourBar).
 struct ValueColourBar {
-  std::string name; // the value's name
+  std::string name;      // the value's name
   double lo = 0, hi = 1; // the values at the colour map's ends
 };
 
@@ -34,6 +34,9 @@ char anatomicalLetter(const glm::dvec3& direction);
 double scaleBarMm(int widthPx, double pixelMm);
 // The furniture's font scale on a canvas of this size (1 = 5x7 pixel glyphs).
 int furnitureScale(int width, int height);
+// The band at each edge of a canvas this size that the orientation letters take, in pixels from the edge:
+// content framed inside it leaves the letters over the background.
+int letterBand(int width, int height);
 // Draws the furniture asked for. `pixelMm`: the pixel size in mm at the camera's target (orthographic).
 void drawFurniture(Canvas& canvas, const Camera& camera, double pixelMm, const FigureFurniture& what);
 void drawFurniture(Image& image, const Camera& camera, double pixelMm, const FigureFurniture& what);

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -261,6 +262,35 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
   out.mesh = buildNamedSurface(spec2, *out.field, *fa2, s.buildOptions, "the second pane's surface");
 }
 
+// Slices and oblique planes only (alone or joined): the surfaces built over the whole grid when a background
+// shows beneath them.
+bool planesOnly(const SurfaceSpec& spec) {
+  if (spec.kind == SurfaceSpec::Kind::Combined)
+    return std::all_of(spec.parts.begin(), spec.parts.end(),
+                       [](const SurfaceSpec& p) { return planesOnly(p); });
+  return spec.kind == SurfaceSpec::Kind::Slice || spec.kind == SurfaceSpec::Kind::Plane;
+}
+
+// The bounds a slice's camera frames: of its vertices in voxels with data, so a slice over the whole grid (a
+// background beneath) and one clipped to the data are framed alike; the whole mesh's when none is in the
+// data.
+void dataBounds(const Mesh& mesh, const TensorField& field, glm::vec3& lo, glm::vec3& hi) {
+  mesh.bounds(lo, hi);
+  glm::vec3 dlo(std::numeric_limits<float>::max()), dhi(-std::numeric_limits<float>::max());
+  bool any = false;
+  for (const glm::vec3& p : mesh.positions) {
+    const glm::ivec3 v = glm::ivec3(glm::round(field.grid.toVoxel(glm::dvec3(p))));
+    if (!field.grid.contains(v.x, v.y, v.z) || !field.valid[field.grid.index(v.x, v.y, v.z)]) continue;
+    dlo = glm::min(dlo, p);
+    dhi = glm::max(dhi, p);
+    any = true;
+  }
+  if (any) {
+    lo = dlo;
+    hi = dhi;
+  }
+}
+
 // The GL part: one renderer and camera for every pane (linked views), the tract overlay.
 class PaneRenderer {
 public:
@@ -270,9 +300,20 @@ public:
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
     if (!s.cone.data.empty()) renderer_.setUncertainty(&s.cone);
-    s.mesh.bounds(lo_, hi_);
+    if (planesOnly(r.surface))
+      dataBounds(s.mesh, *s.field, lo_, hi_);
+    else
+      s.mesh.bounds(lo_, hi_);
     camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
                                        r.neurological, !r.perspective);
+    // The orientation letters sit in a band at each edge: the data is framed inside it.
+    if (r.furniture.letters) {
+      const double half = 0.5 * std::min(r.width, r.height);
+      const double band = render::letterBand(r.width, r.height);
+      if (half > 2 * band)
+        camera_.fit(glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
+                    std::max(1.05, half / (half - band)));
+    }
     if (!r.tracts.empty()) tracts_.emplace();
   }
 

@@ -4,7 +4,9 @@
 #include "support/gl_test.h"
 
 #include "io/formats/png_io.h"
+#include "render/figure_furniture.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -85,6 +87,42 @@ TEST(RenderCli, AnatomyLookOnAnFaIsosurfaceIsOpaque) {
                (dir / "slice_plain.png").string());
   ASSERT_EQ(slicePlain.code, 0) << slicePlain.output;
   EXPECT_NE(bytes(dir / "slice.png"), bytes(dir / "slice_plain.png"));
+}
+
+// A slice is framed on its data: over the whole grid (a background beneath) as when clipped to the data, so
+// the fabric and the DEC-FA look of one slice frame alike (they differed by 15 %). The data stays inside the
+// band the orientation letters take at each edge.
+TEST(RenderCli, SlicesAreFramedOnTheirDataInsideTheLetters) {
+  DTF_GL_TEST_SETUP();
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string dwi = (dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz").string();
+  const std::string common = "render " + dwi + " --slice axial --size 256x256 --look dec-fa";
+  const CliRun clipped = dtfabric(common + " -o " + (dir / "clipped.png").string());
+  ASSERT_EQ(clipped.code, 0) << clipped.output;
+  const CliRun whole = dtfabric(common + " --background fa -o " + (dir / "whole.png").string());
+  ASSERT_EQ(whole.code, 0) << whole.output;
+  ASSERT_NE(whole.output.find("10082 triangles"), std::string::npos) << "not the whole grid:\n"
+                                                                     << whole.output;
+  const dtf::Image a = dtf::io::readPng((dir / "clipped.png").string());
+  const dtf::Image b = dtf::io::readPng((dir / "whole.png").string());
+  double diff = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); ++i)
+    diff += std::abs(int(a.rgba[i]) - int(b.rgba[i]));
+  EXPECT_LT(diff / a.rgba.size(), 2.0) << "the two framings differ";
+  // The DEC colours' extent (chroma above 0.15; letters and scale bar are white, the RGB legend in the corner
+  // is left out) lies inside the letters' band.
+  int x0 = a.width, x1 = -1, y0 = a.height, y1 = -1;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      if (x > a.width * 3 / 4 && y > a.height * 3 / 4) continue;
+      const std::uint8_t* p = a.pixel(x, y);
+      if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) < 38) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  const int band = dtf::render::letterBand(256, 256);
+  EXPECT_GE(std::min({x0, y0, a.width - 1 - x1, a.height - 1 - y1}), band - 2)
+      << "data at x " << x0 << ".." << x1 << ", y " << y0 << ".." << y1 << "; band " << band;
+  EXPECT_LT(std::min(x0, a.height - 1 - y1), band + 12) << "the data does not fill the frame";
 }
 
 TEST(RenderCli, HelpStatesTheViewConventions) {
