@@ -1,5 +1,6 @@
 // A small built-in 5x7 bitmap font for labelling rendered images on the CPU (contact sheets, panel
-// captions): no font files, no GL. Letters are drawn as capitals; characters without a glyph draw as '?'.
+// captions): no font files, no GL. Upper and lower case letters, digits and some punctuation; other characters
+// draw as their capital, else as '?'.
 #pragma once
 
 #include "io/model/image.h"

@@ -76,7 +76,7 @@ void drawFrayLegend(Image& image, float fray, int scale) {
 void drawFrayLegend(Canvas& image, float fray, int scale) {
   const float cones[] = {0, 10, 20, 40};
   const int box = 18 * scale, gap = 4 * scale, pad = 3 * scale;
-  const std::string caption = "95% CONE (DEG)";
+  const std::string caption = "95% cone (deg)";
   const int width = std::max(4 * box + 5 * gap, textWidth(caption, scale) + 2 * gap);
   const int height = box + 2 * textHeight(scale) + 4 * gap;
   const int x0 = pad, y0 = image.height() - height - pad;

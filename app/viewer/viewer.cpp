@@ -653,7 +653,10 @@ Image ViewerScene::layoutImage() const {
     const int scale = 2, th = render::textHeight(scale);
     const auto letter = [&](const glm::dvec3& d, int x, int y) {
       const std::string t = session::anatomicalLabel(d);
-      render::drawText(img, x - render::textWidth(t, scale) / 2, y - th / 2, t, scale, 255, 230, 90);
+      // On a black box: the crosshair through the pane's middle would run through the letter.
+      const int tw = render::textWidth(t, scale), x0 = x - tw / 2, y0 = y - th / 2;
+      render::fillRect(img, x0 - scale, y0 - scale, tw + scale, th + 2 * scale, 0, 0, 0);
+      render::drawText(img, x0, y0, t, scale, 255, 230, 90);
     };
     letter(right, r[0] + r[2] - 10, r[1] + r[3] / 2);
     letter(-right, r[0] + 10, r[1] + r[3] / 2);

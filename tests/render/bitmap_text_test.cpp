@@ -31,11 +31,23 @@ TEST(BitmapText, DrawsTheGlyphShapesAtScale) {
   EXPECT_EQ(render::textHeight(2), 16);
 }
 
-TEST(BitmapText, LowercaseDrawsAsCapitalsAndUnknownAsQuestionMark) {
+// Lower case has glyphs of its own (a scale bar says mm, not MM); unknown characters draw as '?'.
+TEST(BitmapText, LowercaseHasItsOwnGlyphsAndUnknownIsAQuestionMark) {
   Image a(12, 8), b(12, 8), c(12, 8), d(12, 8);
-  render::drawText(a, 0, 0, "x", 1, 255, 255, 255);
-  render::drawText(b, 0, 0, "X", 1, 255, 255, 255);
-  EXPECT_EQ(a.rgba, b.rgba);
+  render::drawText(a, 0, 0, "m", 1, 255, 255, 255);
+  render::drawText(b, 0, 0, "M", 1, 255, 255, 255);
+  EXPECT_NE(a.rgba, b.rgba);
+  // 'm' is x-height: its top two rows are empty, 'M' starts at the top row.
+  EXPECT_EQ(lit(a, 0, 0, 6, 2), 0);
+  EXPECT_GT(lit(a, 0, 2, 6, 5), 8);
+  EXPECT_GT(lit(b, 0, 0, 6, 1), 0);
+  for (char l = 'a'; l <= 'z'; ++l) {
+    Image low(6, 8), up(6, 8);
+    render::drawText(low, 0, 0, std::string(1, l), 1, 255, 255, 255);
+    render::drawText(up, 0, 0, std::string(1, static_cast<char>(l - 'a' + 'A')), 1, 255, 255, 255);
+    EXPECT_GT(lit(low, 0, 0, 6, 8), 0) << l;
+    EXPECT_NE(low.rgba, up.rgba) << l; // a shape of its own, not the capital drawn again
+  }
   render::drawText(c, 0, 0, "~", 1, 255, 255, 255);
   render::drawText(d, 0, 0, "?", 1, 255, 255, 255);
   EXPECT_EQ(c.rgba, d.rgba);

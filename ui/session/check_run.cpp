@@ -245,7 +245,7 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
   Image sheet(panelPx * 3, header + static_cast<int>(rows.size()) * (label + panelPx));
   render::fillRect(sheet, 0, 0, sheet.width, sheet.height, 0, 0, 0);
   char text[160];
-  std::snprintf(text, sizeof text, "VERDICT %s  MARGIN %.1f%%  WM %zu VOX",
+  std::snprintf(text, sizeof text, "verdict %s  margin %.1f%%  WM %zu vox",
                 surfaces::verdictName(rep.verdict), 100 * rep.margin, rep.whiteMatterVoxels);
   render::drawText(sheet, 4 * scale, 2 * scale, text, scale, 255, 255, 255);
   for (std::size_t c = 0; c < columns.size(); ++c) {
@@ -264,8 +264,8 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
     const TensorField field = surfaces::transformedField(run.field, run.tableToWorld, cand.transform);
     const int y0 = header + static_cast<int>(r) * (label + panelPx);
     const bool given = rows[r] == 0;
-    std::snprintf(text, sizeof text, "%s[%s]  SCORE %.3f%s", given ? "GIVEN " : "",
-                  cand.transform.name().c_str(), cand.score, rows[r] == rep.best ? "  BEST" : "");
+    std::snprintf(text, sizeof text, "%s[%s]  score %.3f%s", given ? "given " : "",
+                  cand.transform.name().c_str(), cand.score, rows[r] == rep.best ? "  best" : "");
     const bool highlight = rows[r] == rep.best;
     render::drawText(sheet, 4 * scale, y0 + 3 * scale, text, scale, 255, highlight ? 255 : 200,
                      highlight ? 120 : 200);
