@@ -33,7 +33,8 @@ std::string lowerExt(const std::string& path) {
 
 Mesh readMesh(const std::string& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw InputError("cannot read mesh " + path + ": " + why);
   std::string ext = lowerExt(path);
   vtkSmartPointer<vtkPolyData> poly;
   auto run = [&](auto reader) {
@@ -44,11 +45,12 @@ Mesh readMesh(const std::string& path) {
   if (ext == ".ply") {
     detail::checkPly(path);
     run(vtkSmartPointer<vtkPLYReader>::New());
-  } else if (ext == ".obj")
+  } else if (ext == ".obj") {
+    detail::checkObj(path);
     run(vtkSmartPointer<vtkOBJReader>::New());
-  else if (ext == ".vtp")
+  } else if (ext == ".vtp") {
     run(vtkSmartPointer<vtkXMLPolyDataReader>::New());
-  else if (ext == ".vtk") {
+  } else if (ext == ".vtk") {
     auto r = vtkSmartPointer<vtkPolyDataReader>::New();
     r->SetFileName(path.c_str());
     if (!r->IsFilePolyData())

@@ -60,7 +60,8 @@ void takeArrays(vtkFieldData* data, vtkIdType first, std::size_t items, std::vec
 
 Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read tract file: no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw InputError(path + ": cannot read tract file: " + why);
   VtkTractInfo info;
   vtkSmartPointer<vtkPolyData> poly;
   if (isVtp(path)) {

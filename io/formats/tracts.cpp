@@ -28,7 +28,8 @@ constexpr bool kHostLittle = std::endian::native == std::endian::little;
 // The whole file; InputError when it cannot be read.
 std::string readAll(const std::string& path, const char* what) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read " + what + ": no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw InputError(path + ": cannot read " + what + ": " + why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open " + what);
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -146,7 +146,8 @@ void openTrxContainer(const std::string& path, TrxInfo& info, Container& box) {
     if (ec) throw InputError(path + ": cannot list the TRX folder: " + ec.message());
     return;
   }
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": cannot read tract file: no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw InputError(path + ": cannot read tract file: " + why);
   box.zip = std::make_unique<ZipReader>(path);
   for (const auto& e : box.zip->entries()) {
     if (!safeEntryName(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' escapes the archive");

@@ -1,9 +1,20 @@
 #include "io/model/error.h"
 
 #include <exception>
+#include <filesystem>
 #include <new>
 
 namespace dtf {
+
+std::string notARegularFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_regular_file(st)) return "";
+  if (fs::is_directory(st)) return "it is a folder";
+  if (fs::exists(st)) return "it is not a regular file (a device, pipe or socket)";
+  return "no such file";
+}
 
 void rethrowWithContext(const std::string& context) {
   try {

@@ -35,6 +35,10 @@ public:
 // Rethrows the active exception with `context` prepended, keeping its type. Call inside a catch block.
 [[noreturn]] void rethrowWithContext(const std::string& context);
 
+// Why `path` cannot be read as a file: "no such file", "it is a folder" or "it is not a regular file (a
+// device, pipe or socket)"; empty when it is a regular file (or a link to one).
+std::string notARegularFile(const std::string& path);
+
 // The message of the exception being handled ("out of memory" for std::bad_alloc, "unknown error" for what
 // is not a std::exception). Call inside a catch block.
 std::string currentExceptionMessage();

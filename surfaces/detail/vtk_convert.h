@@ -33,6 +33,10 @@ void checkLegacyVtkPolyData(const std::string& path);
 // of a short binary file (heap corruption). Throws InputError naming `path` and the problem.
 void checkPly(const std::string& path);
 
+// Checks an OBJ file's vertex lines ("v X Y Z [W]") before vtkOBJReader, which reads a coordinate it cannot
+// parse ("nan", "inf", "1e400") as 0: three finite numbers each. Throws InputError naming the line.
+void checkObj(const std::string& path);
+
 // Writes an output atomically and checks it: `write` writes a temporary file beside `path` (its name ends in
 // `ext`, so a reader picks the format from it) and returns false on failure; `readsBackWhole` reads that file
 // and says whether it holds everything written. VTK's writers do not report a short write (a full disk, a

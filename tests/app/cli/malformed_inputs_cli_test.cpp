@@ -1402,7 +1402,8 @@ std::vector<Case> catalogue() {
            {"MeshObjZeroIndex", "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"},
            {"MeshPlyNegativeIndex", "neg.ply",
             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -5\n"},
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 "
+            "-5\n"},
            {"MeshVtkNegativeIndex", "neg.vtk",
             "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
             "POLYGONS 1 4\n3 0 1 -5\n"}}) {
@@ -1410,14 +1411,36 @@ std::vector<Case> catalogue() {
     c.push_back({name,
                  [f, t](const fs::path& dir) {
                    writeBytes(dir / f, t);
-                   return "surface " + q(kSample) + " --surface mesh=" + q(dir / f) + " -o " + q(dir / "s.ply");
+                   return "surface " + q(kSample) + " --surface mesh=" + q(dir / f) + " -o " +
+                          q(dir / "s.ply");
                  },
                  2,
                  {f, "point -5"},
                  "s.ply"});
-    c.back().errHas = name == "MeshVtkNegativeIndex" ? std::vector<std::string>{f, "refers to point -5"}
-                                                     : std::vector<std::string>{f, "vertex index is out of range"};
+    c.back().errHas = name == "MeshVtkNegativeIndex"
+                          ? std::vector<std::string>{f, "refers to point -5"}
+                          : std::vector<std::string>{f, "vertex index is out of range"};
   }
+  // vtkOBJReader read an unparsable coordinate as 0: the mesh landed with a vertex moved to the origin.
+  c.push_back({"MeshObjNanVertex",
+               [](const fs::path& dir) {
+                 writeBytes(dir / "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+                 return "surface " + q(kSample) + " --surface mesh=" + q(dir / "nan.obj") + " -o " +
+                        q(dir / "s.ply");
+               },
+               2,
+               {"nan.obj", "line 2", "'nan' is not a finite number"},
+               "s.ply"});
+  // A folder where a file is expected is named as one (it was "no such file").
+  c.push_back({"TractFileIsAFolder",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "tracts.tck");
+                 return "render " + q(kSample) + " --tracts " + q(dir / "tracts.tck") + " -o " +
+                        q(dir / "r.png");
+               },
+               2,
+               {"tracts.tck", "it is a folder"},
+               "r.png"});
   // vtkPLYReader reads past the end of a short binary PLY (heap corruption: it aborted or segfaulted).
   auto binaryPly = [](bool bigEndian, const std::string& faces, std::size_t keep) {
     std::string h = std::string("ply\nformat binary_") + (bigEndian ? "big" : "little") +
@@ -1456,12 +1479,18 @@ std::vector<Case> catalogue() {
                {"none.dtfs"}});
   // ---- crossing-fibre files (peaks: x y z per peak; bedpostx: dyadsN + mean_fNsamples)
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  c.push_back(infoCase("FibresPartlyNanPeak", "peaks.nii",
-                       [nan] { return peaksNifti(6, {{1, nan}}).bytes(); }, {"peak 1 is partly NaN"},
-                       " --layout mrtrix-peaks"));
-  c.push_back(infoCase("FibresInfPeak", "peaks.nii",
-                       [inf] { return peaksNifti(6, {{3 * 8 + 3, inf}}).bytes(); }, {"peak 2 holds Inf"},
-                       " --layout mrtrix-peaks"));
+  c.push_back(infoCase(
+      "FibresPartlyNanPeak", "peaks.nii",
+      [nan] {
+        return peaksNifti(6, {{1, nan}}).bytes();
+      },
+      {"peak 1 is partly NaN"}, " --layout mrtrix-peaks"));
+  c.push_back(infoCase(
+      "FibresInfPeak", "peaks.nii",
+      [inf] {
+        return peaksNifti(6, {{3 * 8 + 3, inf}}).bytes();
+      },
+      {"peak 2 holds Inf"}, " --layout mrtrix-peaks"));
   c.push_back(infoCase("FibresAllZeroLength", "peaks.nii",
                        [] { return peaksNifti(6, {}, 0.0f).bytes(); }, {"no fibre direction", "zero-length"},
                        " --layout dipy-peaks"));

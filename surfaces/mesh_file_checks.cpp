@@ -1,8 +1,10 @@
-// The PLY file check before vtkPLYReader sees a file: its reader trusts the header's element counts and
-// reads past the end of a short binary file (heap corruption, a crash).
+// The checks of PLY and OBJ files before VTK's readers see them: vtkPLYReader trusts the header's element
+// counts and reads past the end of a short binary file (heap corruption, a crash); vtkOBJReader reads a
+// vertex coordinate it cannot parse ("nan", "inf") as 0.
 #include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -203,6 +205,28 @@ private:
 
 void checkPly(const std::string& path) {
   PlyChecker(path).run();
+}
+
+void checkObj(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the file");
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.rfind("v ", 0) != 0 && line.rfind("v\t", 0) != 0) continue;
+    std::istringstream words(line.substr(2));
+    std::string word;
+    int coordinates = 0;
+    while (coordinates < 3 && words >> word) {
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
+        throw InputError(path + ": line " + std::to_string(n) + ": vertex coordinate '" + word +
+                         "' is not a finite number");
+      ++coordinates;
+    }
+    if (coordinates < 3)
+      throw InputError(path + ": line " + std::to_string(n) + ": a vertex needs three coordinates");
+  }
 }
 
 } // namespace dtf::surfaces::detail
