@@ -162,8 +162,6 @@ int cmdMovie(const CommandArgs& argv) {
   m.frames = args.integer("frames");
   const double fps = args.number("fps");
   parseSize(args.text("size"), r.width, r.height);
-  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
-    throw UsageError("--size must be between 16x16 and 8192x8192");
   const bool force = args.flag("force");
   if (const auto view = args.get("view")) r.view = render::parseView(*view);
   m.elevationDeg = args.number("elevation");

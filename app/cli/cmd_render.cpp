@@ -184,8 +184,6 @@ namespace {
 
 void readSurfaceAndView(ParsedOptions& args, session::RenderRequest& r) {
   parseSize(args.text("size"), r.width, r.height);
-  if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
-    throw UsageError("--size must be between 16x16 and 8192x8192");
   r.surface = session::parseSurfaceSpec(surfaceArgument(args).value_or("slice=axial"));
   r.neurological = args.flag("neurological");
   const auto view = args.get("view");

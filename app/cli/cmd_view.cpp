@@ -94,9 +94,7 @@ int cmdView(const CommandArgs& argv) {
   const std::vector<std::string> inputs = args.positionals();
   const auto scriptPath = args.get("script");
   ViewerWindowOptions o;
-  parseSize(args.text("size"), o.width, o.height);
-  if (o.width < 320 || o.height < 240 || o.width > 8192 || o.height > 8192)
-    throw UsageError("--size must lie between 320x240 and 8192x8192");
+  parseSize(args.text("size"), o.width, o.height, 320, 240);
   const std::string surface = args.text("surface");
   const std::string layout = args.text("layout");
   const std::string tensor = args.text("tensor");

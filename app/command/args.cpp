@@ -8,7 +8,7 @@
 
 namespace dtf::app {
 
-void parseSize(const std::string& text, int& w, int& h) {
+void parseSize(const std::string& text, int& w, int& h, int minW, int minH) {
   auto x = text.find('x');
   if (x == std::string::npos) throw UsageError("size must look like 1024x768, got '" + text + "'");
   try {
@@ -19,7 +19,10 @@ void parseSize(const std::string& text, int& w, int& h) {
   } catch (const std::exception&) {
     throw UsageError("size must look like 1024x768, got '" + text + "'");
   }
-  if (w < 16 || h < 16 || w > 16384 || h > 16384) throw UsageError("size out of range 16..16384: " + text);
+  constexpr int kMax = 8192;
+  if (w < minW || h < minH || w > kMax || h > kMax)
+    throw UsageError("--size must lie between " + std::to_string(minW) + "x" + std::to_string(minH) +
+                     " and " + std::to_string(kMax) + "x" + std::to_string(kMax) + ", got " + text);
 }
 
 void parseTriple(const std::string& text, int out[3]) {

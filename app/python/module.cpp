@@ -393,7 +393,7 @@ py::object makeMovie(const py::object& input, const py::object& output, bool tur
   r.background = background.is_none() ? "" : optionText(background);
   for (const auto& [key, value] : params) setFabricOption(r.params, py::str(key), value);
   if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
-    throw UsageError("size must be between 16x16 and 8192x8192");
+    throw UsageError("size must lie between 16x16 and 8192x8192");
 
   std::optional<io::MovieWriter> writer;
   std::string out;

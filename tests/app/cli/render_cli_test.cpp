@@ -139,6 +139,13 @@ TEST(RenderCli, BadUsageAndInputGiveTheirExitCodes) {
   EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --color purple").code, 1);      // bad option value
   EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --view oblique").code, 1);      // bad view
   EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --size 0x0").code, 1);
+  // The limit the help states (8192) is the one applied, and the message says it.
+  for (const std::string size : {"9000x100", "99999x10"}) {
+    const CliRun big = dtfabric("render " + kPhantom.string() + out + " --size " + size);
+    EXPECT_EQ(big.code, 1) << big.output;
+    EXPECT_NE(big.output.find("--size must lie between 16x16 and 8192x8192, got " + size), std::string::npos)
+        << big.output;
+  }
   EXPECT_EQ(dtfabric("render " + kPhantom.string() + out + " --frobnicate 1").code, 1);      // unknown option
   CliRun missing = dtfabric("render " + (dir / "missing.nii.gz").string() + out);
   EXPECT_EQ(missing.code, 2) << missing.output;
