@@ -536,22 +536,21 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
     bytes.insert(bytes.end(), b, b + n);
   };
   const std::size_t dataBytes = disk.size() * sizeof(float);
+  // The header of either version: nifticlib converts, the single-file data offset and magic are set here.
+  auto header = [&](auto& hdr, auto convert, const char* magic, std::size_t magicBytes, const char* version) {
+    if (convert(nim.get(), &hdr) != 0)
+      throw InputError("cannot write " + path + ": nifticlib could not build the " + version + " header");
+    hdr.vox_offset = sizeof(hdr) + 4;
+    std::memcpy(hdr.magic, magic, magicBytes);
+    bytes.reserve(sizeof(hdr) + 4 + dataBytes);
+    put(&hdr, sizeof(hdr));
+  };
   if (niftiVersion == 1) {
     nifti_1_header hdr;
-    if (nifti_convert_nim2n1hdr(nim.get(), &hdr) != 0)
-      throw InputError("cannot write " + path + ": nifticlib could not build the NIfTI-1 header");
-    hdr.vox_offset = sizeof(hdr) + 4;
-    std::memcpy(hdr.magic, "n+1\0", 4);
-    bytes.reserve(sizeof(hdr) + 4 + dataBytes);
-    put(&hdr, sizeof(hdr));
+    header(hdr, nifti_convert_nim2n1hdr, "n+1\0", 4, "NIfTI-1");
   } else {
     nifti_2_header hdr;
-    if (nifti_convert_nim2n2hdr(nim.get(), &hdr) != 0)
-      throw InputError("cannot write " + path + ": nifticlib could not build the NIfTI-2 header");
-    hdr.vox_offset = sizeof(hdr) + 4;
-    std::memcpy(hdr.magic, "n+2\0\r\n\032\n", 8);
-    bytes.reserve(sizeof(hdr) + 4 + dataBytes);
-    put(&hdr, sizeof(hdr));
+    header(hdr, nifti_convert_nim2n2hdr, "n+2\0\r\n\032\n", 8, "NIfTI-2");
   }
   const char extender[4] = {0, 0, 0, 0};
   put(extender, 4);
