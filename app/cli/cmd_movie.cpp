@@ -88,6 +88,8 @@ const OptionTable& movieOptions() {
         bvecOption().hidden(),
         fitMaskOption().hidden(),
     };
+    const std::vector<CliOption> furniture = furnitureOptions();
+    t.options.insert(t.options.end(), furniture.begin(), furniture.end());
     std::vector<CliOption> fabric = fabricCliOptions();
     fabric.front().group = "Fabric (paper §2; --frame-iterations per movie frame)";
     t.options.insert(t.options.end(), fabric.begin(), fabric.end());
@@ -175,6 +177,8 @@ int cmdMovie(const CommandArgs& argv) {
   r.tensorOptions.bval = args.text("bval");
   r.tensorOptions.bvec = args.text("bvec");
   r.tensorOptions.mask = args.text("mask");
+  r.furniture = furnitureFrom(args);
+  r.furniture.colourBar = false; // a movie draws no tracts
   readFabric(args, r.params);
   args.finish();
 

@@ -50,7 +50,7 @@ std::vector<CliOption> fabricRows() {
 
 std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d) {
   using O = CliOption;
-  return {
+  std::vector<CliOption> rows = {
       O::text("output", "OUT.png", "the RGBA PNG to write").required().under("Output"),
       O::flag("force", "overwrite an existing OUT.png (never an input)").hidden(),
       O::text("surface", "SPEC",
@@ -84,11 +84,10 @@ std::vector<CliOption> outputSurfaceAndViewRows(const session::RenderRequest& d)
                  "render at N times the size and box-filter down: anti-aliased thread edges, the same fabric "
                  "(noise cell, advection step, silhouette and tract widths scale with N)")
           .under("Figure"),
-      O::flag("no-letters", "no orientation letters (L/R, A/P, S/I) at the image edges").hidden(),
-      O::flag("no-legend", "no orientation legend (the world axes in DEC colours, bottom right)").hidden(),
-      O::flag("no-scale-bar", "no scale bar in mm (bottom left; orthographic views)").hidden(),
-      O::flag("no-colour-bar", "no colour bar of the tract value (right edge; with --tracts-color)").hidden(),
   };
+  const std::vector<CliOption> furniture = furnitureOptions();
+  rows.insert(rows.end(), furniture.begin(), furniture.end());
+  return rows;
 }
 
 std::vector<CliOption> backgroundAndTractRows(const session::RenderRequest& d) {
@@ -190,10 +189,7 @@ void readSurfaceAndView(ParsedOptions& args, session::RenderRequest& r) {
   r.view = view ? render::parseView(*view) : session::defaultView(r.surface);
   r.perspective = args.flag("perspective");
   r.supersample = args.integer("supersample");
-  r.furniture.letters = !args.flag("no-letters");
-  r.furniture.legend = !args.flag("no-legend");
-  r.furniture.scaleBar = !args.flag("no-scale-bar");
-  r.furniture.colourBar = !args.flag("no-colour-bar");
+  r.furniture = furnitureFrom(args);
 }
 
 // The fabric options: --NAME VALUE, and --no-NAME for the on/off ones. A fibre set's default colour mode is

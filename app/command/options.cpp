@@ -501,6 +501,25 @@ CliOption fitMaskOption() {
   return CliOption::text("mask", "M", "fit only where M is non-zero (same grid as the DWI)");
 }
 
+std::vector<CliOption> furnitureOptions() {
+  using O = CliOption;
+  return {
+      O::flag("no-letters", "no orientation letters (L/R, A/P, S/I) at the image edges").hidden(),
+      O::flag("no-legend", "no orientation legend (the world axes in DEC colours, bottom right)").hidden(),
+      O::flag("no-scale-bar", "no scale bar in mm (bottom left; orthographic views)").hidden(),
+      O::flag("no-colour-bar", "no colour bar of the tract value (right edge; with --tracts-color)").hidden(),
+  };
+}
+
+render::FigureFurniture furnitureFrom(ParsedOptions& args) {
+  render::FigureFurniture f;
+  f.letters = !args.flag("no-letters");
+  f.legend = !args.flag("no-legend");
+  f.scaleBar = !args.flag("no-scale-bar");
+  f.colourBar = !args.flag("no-colour-bar");
+  return f;
+}
+
 CliOption pairedTensorOption(const std::string& forWhat) {
   return CliOption::text("tensor", "F", "fibre sets: a tensor volume on the same grid for " + forWhat);
 }

@@ -10,6 +10,7 @@
 
 #include "app/command/command.h"
 #include "io/model/range.h"
+#include "render/figure_furniture.h"
 
 #include <limits>
 #include <optional>
@@ -156,5 +157,9 @@ CliOption bvalOption();                    // --bval F: INPUT is a DWI, its tens
 CliOption bvecOption();                    // --bvec F
 CliOption fitMaskOption();                 // --mask M: where the DWI fit runs
 CliOption pairedTensorOption(const std::string& forWhat); // --tensor F beside a fibre set
+// --no-letters, --no-legend, --no-scale-bar, --no-colour-bar (hidden): the figure furniture of render and
+// movie.
+std::vector<CliOption> furnitureOptions();
+render::FigureFurniture furnitureFrom(ParsedOptions& args);
 
 } // namespace dtf::app

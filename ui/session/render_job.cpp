@@ -355,7 +355,12 @@ public:
     movieField_ = true;
     renderer_.renderMovieFrame(camera, params, first);
     render::checkGl("rendering " + r_.output);
-    return renderer_.readback();
+    // The figure's furniture for this frame's camera (a turntable's letters follow its rotation).
+    Image img = renderer_.readback();
+    render::FigureFurniture furniture = r_.furniture;
+    furniture.scaleBar = furniture.scaleBar && camera.orthographic;
+    render::drawFurniture(img, camera, renderer_.frameView().pixelMm, furniture);
+    return img;
   }
 
 private:

@@ -99,10 +99,38 @@ TEST(MovieCli, PngFramesOfATurntable) {
   EXPECT_EQ(entries(dir), std::vector<std::string>{"frames"});
 }
 
+// Movie frames carry the figure's furniture as a still does: a turntable seen from the front has S at the top
+// edge's middle and I at the bottom's (white letters there), and --no-letters leaves the band without them.
+TEST(MovieCli, FramesCarryTheOrientationLetters) {
+  DTF_GL_TEST_SETUP();
+  const fs::path dir = dtf::test::scratchDir();
+  auto whiteAtTopMiddle = [](const dtf::Image& img) {
+    std::size_t n = 0;
+    for (int y = 0; y < img.height / 10; ++y)
+      for (int x = img.width * 2 / 5; x < img.width * 3 / 5; ++x) {
+        const std::uint8_t* p = img.pixel(x, y);
+        n += p[0] > 230 && p[1] > 230 && p[2] > 230;
+      }
+    return n;
+  };
+  for (const bool letters : {true, false}) {
+    const fs::path frames = dir / (letters ? "with" : "without");
+    const CliRun r = dtfabric("movie " + kPhantom.string() + " --turntable --frames 2 --size 256x256" +
+                              (letters ? "" : " --no-letters") + " -o " + frames.string() + "/");
+    ASSERT_EQ(r.code, 0) << r.output;
+    const dtf::Image img = dtf::io::readPng((frames / "frame_0000.png").string());
+    if (letters)
+      EXPECT_GT(whiteAtTopMiddle(img), 20u) << "no letter S at the top";
+    else
+      EXPECT_EQ(whiteAtTopMiddle(img), 0u);
+  }
+}
+
 TEST(MovieCli, Mp4AndGifDecodeToTheFrameCount) {
   DTF_GL_TEST_SETUP();
   if (!haveFfmpeg()) {
-    if (dtf::test::envFlag("DTF_REQUIRE_GL")) FAIL() << "ffmpeg/ffprobe not on PATH (.ci/setup installs ffmpeg)";
+    if (dtf::test::envFlag("DTF_REQUIRE_GL"))
+      FAIL() << "ffmpeg/ffprobe not on PATH (.ci/setup installs ffmpeg)";
     GTEST_SKIP() << "ffmpeg not installed";
   }
   const fs::path dir = dtf::test::scratchDir();
