@@ -271,6 +271,13 @@ void ViewerScene::updateOrtho() {
                                                   double(r[2]) / std::max(r[3], 1), st.neurological);
       orthoDirty_[s] = true;
     }
+    // One scale for the three slices (the largest that fits each pane), so a millimetre is as long in
+    // every pane and the crosshair's lines meet the same anatomy at the same size.
+    double halfHeight = 0;
+    for (const render::Camera& c : orthoCameras_)
+      halfHeight = std::max(halfHeight, c.orthoHalfHeight);
+    for (render::Camera& c : orthoCameras_)
+      c.orthoHalfHeight = halfHeight;
   }
   if (newField) {
     orthoField_ = session_.fieldSerial();

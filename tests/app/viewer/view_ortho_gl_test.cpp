@@ -122,3 +122,27 @@ TEST(ViewOrtho, EachSlicePaneHasItsOrientationLetters) {
   EXPECT_EQ(v.scene.paneRect(0), (std::array<int, 4>{0, 0, 256, 256}));
   EXPECT_EQ(v.scene.orthoPaneAt(10, 10), -1);
 }
+
+// The three slice panes share one scale: on the sample DWI (72 x 72 x 39 voxels of 3 mm: the axial slice is
+// larger than the coronal and sagittal ones) 10 mm along the world axes a pane shows is as many pixels in
+// every pane. Each pane fitting its own slice drew them at different scales (a "50 mm" bar beside "20 mm").
+TEST(ViewOrtho, TheSlicePanesShareOneScale) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz").string(), "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  // A wide window: panes of aspect 1.5, where a pane fitting its own slice would not match the others.
+  v.frame(384, 256);
+  v.frame(384, 256);
+  const glm::dvec3 c = v.state().crosshair;
+  // The world axis across each pane: x across the axial and coronal panes, y across the sagittal one.
+  const glm::dvec3 across[3] = {{10, 0, 0}, {10, 0, 0}, {0, 10, 0}};
+  double px[3];
+  for (int s = 0; s < 3; ++s)
+    px[s] = glm::length(v.scene.orthoPixel(s, c + across[s]) - v.scene.orthoPixel(s, c));
+  EXPECT_GT(px[0], 2.0);
+  EXPECT_NEAR(px[1], px[0], 0.02 * px[0]);
+  EXPECT_NEAR(px[2], px[0], 0.02 * px[0]);
+}
