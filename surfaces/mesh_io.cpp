@@ -81,6 +81,7 @@ void writeMesh(const std::string& path, const Mesh& mesh) {
   auto poly = detail::toVtk(mesh);
   auto write = [&](const std::string& temp) {
     auto run = [&](auto w) {
+      detail::silence(w);
       w->SetFileName(temp.c_str());
       w->SetInputData(poly);
       return w->Write() == 1 && w->GetErrorCode() == 0;

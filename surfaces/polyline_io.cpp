@@ -199,6 +199,7 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
   auto write = [&](const std::string& temp) {
     if (isVtp(path)) {
       vtkNew<vtkXMLPolyDataWriter> w;
+      detail::silence(w);
       w->SetFileName(temp.c_str());
       w->SetInputData(poly);
       w->SetDataModeToAppended();
@@ -206,6 +207,7 @@ void writeVtkPolylines(const std::string& path, const Polylines& lines) {
       return w->Write() == 1 && w->GetErrorCode() == 0;
     }
     vtkNew<vtkPolyDataWriter> w;
+    detail::silence(w);
     w->SetFileName(temp.c_str());
     w->SetInputData(poly);
     w->SetFileTypeToBinary();

@@ -11,12 +11,14 @@
 #include <system_error>
 #include <unistd.h>
 #include <vector>
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
+#include <vtkCommand.h>
 #include <vtkDataArray.h>
+#include <vtkExecutive.h>
 #include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
-#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkTriangleFilter.h>
@@ -323,6 +325,14 @@ Mesh fromVtk(vtkPolyData* input) {
   return m;
 }
 
+void silence(vtkAlgorithm* algorithm) {
+  vtkNew<vtkCallbackCommand> drop; // no callback: the event is handled, nothing printed
+  algorithm->AddObserver(vtkCommand::ErrorEvent, drop);
+  algorithm->AddObserver(vtkCommand::WarningEvent, drop);
+  algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, drop);
+  algorithm->GetExecutive()->AddObserver(vtkCommand::WarningEvent, drop);
+}
+
 void writeVerified(const std::string& path, const std::string& ext, const std::string& what,
                    const std::function<bool(const std::string& temp)>& write,
                    const std::function<bool(const std::string& temp)>& readsBackWhole) {
@@ -337,18 +347,13 @@ void writeVerified(const std::string& path, const std::string& ext, const std::s
     fs::remove(temp, ec);
     throw InputError(what + why);
   };
-  // A failing VTK writer prints its pipeline's state to stderr; the message here says what happened.
-  const int display = vtkObject::GetGlobalWarningDisplay();
-  vtkObject::GlobalWarningDisplayOff();
   bool written = false;
   try {
     written = write(temp);
   } catch (...) {
-    vtkObject::SetGlobalWarningDisplay(display);
     fs::remove(temp, ec);
     throw;
   }
-  vtkObject::SetGlobalWarningDisplay(display);
   if (!written || !fs::exists(temp, ec)) fail(": VTK's writer failed (disk full or file size limit?)");
   bool whole = false;
   try {

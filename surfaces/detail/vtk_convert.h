@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <string>
+#include <vtkAlgorithm.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
@@ -36,6 +37,11 @@ void checkPly(const std::string& path);
 // Checks an OBJ file's vertex lines ("v X Y Z [W]") before vtkOBJReader, which reads a coordinate it cannot
 // parse ("nan", "inf", "1e400") as 0: three finite numbers each. Throws InputError naming the line.
 void checkObj(const std::string& path);
+
+// Sends `algorithm`'s and its executive's error and warning messages to an observer that drops them instead
+// of stderr: a failing writer prints its pipeline's whole state, and writeVerified says what failed. No
+// global state (vtkObject::GlobalWarningDisplay is shared by every thread).
+void silence(vtkAlgorithm* algorithm);
 
 // Writes an output atomically and checks it: `write` writes a temporary file beside `path` (its name ends in
 // `ext`, so a reader picks the format from it) and returns false on failure; `readsBackWhole` reads that file

@@ -1707,6 +1707,7 @@ TEST(OutputProtection, AShortWriteFailsAndLeavesNothing) {
     const CliResult r = runDtfabric(to(dir / run.output), dir, "trap '' XFSZ; ulimit -f 16; ");
     EXPECT_EQ(r.exitCode, 2) << to(dir / run.output) << "\n" << r.err;
     EXPECT_NE(r.err.find(run.output), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("ERR|"), std::string::npos) << "VTK's own error dump leaked:\n" << r.err;
     EXPECT_FALSE(fs::exists(dir / run.output)) << run.output << " was left, incomplete";
     for (const auto& e : fs::directory_iterator(dir))
       EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
