@@ -66,7 +66,7 @@ BedpostxSamples readBedpostxSamples(const std::string& path, double percentile, 
     }
     for (const auto* f : {&vt, &vp, &vf}) {
       const std::string& name = f == &vt ? th : (f == &vp ? ph : fr);
-      if (!detail::sameGrid(f->grid, out.grid)) fail(name, "its grid differs from " + out.files[0]);
+      if (!f->grid.sameAs(out.grid)) fail(name, "its grid differs from " + out.files[0]);
       if (f->components != out.samples)
         fail(name, "has " + std::to_string(f->components) + " samples; " + out.files[0] + " has " +
                        std::to_string(out.samples));

@@ -120,7 +120,7 @@ std::vector<unsigned char> detail::fitVoxels(const Dwi& dwi, const MaskVolume* m
 
   std::vector<unsigned char> inside;
   if (mask) {
-    if (!sameGrid(mask->grid, grid) || mask->data.size() != count)
+    if (!mask->grid.sameAs(grid) || mask->data.size() != count)
       throw InputError("the mask grid (" + std::to_string(mask->grid.dims.x) + "x" +
                        std::to_string(mask->grid.dims.y) + "x" + std::to_string(mask->grid.dims.z) +
                        ") differs from the DWI grid (" + std::to_string(grid.dims.x) + "x" +

@@ -155,14 +155,6 @@ inline bool positiveDefinite(const double* t) { // t = xx xy xz yy yz zz
   return m1 > 0 && m2 > 0 && m3 > 0;
 }
 
-inline bool sameGrid(const Grid& a, const Grid& b) {
-  if (a.dims != b.dims) return false;
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 3; ++r)
-      if (std::abs(a.voxelToWorld[c][r] - b.voxelToWorld[c][r]) > 1e-3) return false;
-  return true;
-}
-
 // The checks every tensor fit makes of its input (volume count, gradient table, signal size, minimum signal)
 // and the voxels it fits: the mask's, on the DWI's grid, else the automatic mask. Throws InputError.
 std::vector<unsigned char> fitVoxels(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options);

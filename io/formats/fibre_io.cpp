@@ -23,8 +23,8 @@ namespace {
 constexpr const char* kMarker = "dtfabric fibres layout=";
 
 using detail::ComponentEvidence;
-using detail::ComponentKind;
 using detail::componentEvidence;
+using detail::ComponentKind;
 using detail::fail;
 
 std::string fmt(double v, int precision = 3) {
@@ -169,14 +169,6 @@ const std::regex& bedpostxName() {
   return r;
 }
 
-bool sameGrid(const Grid& a, const Grid& b) {
-  if (a.dims != b.dims) return false;
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (std::abs(a.voxelToWorld[c][r] - b.voxelToWorld[c][r]) > 1e-3) return false;
-  return true;
-}
-
 // The basename of the FSL dtifit set that `path` names, by its basename or its V1 file, when the set has V1
 // but none of L1-L3, else "". Its other members (FA, MD, ...) stay scalar volumes.
 std::string dtifitV1Base(const std::string& path) {
@@ -206,7 +198,7 @@ LoadedFibres readDtifitV1(const std::string& base) {
     ScalarVolume fa = readScalarVolume(faPath);
     if (fa.components != 1)
       fail(faPath, "has " + std::to_string(fa.components) + " volumes; a dtifit FA file holds 1");
-    if (!sameGrid(fa.grid, v.grid)) fail(faPath, "its grid differs from " + v1);
+    if (!fa.grid.sameAs(v.grid)) fail(faPath, "its grid differs from " + v1);
     out.files.push_back(faPath);
     out.fa = std::move(fa);
   }
@@ -286,11 +278,11 @@ LoadedFibres readBedpostx(const std::string& path) {
            "has " + std::to_string(d.components) + " volumes; a bedpostx dyads file holds 3 (x, y, z)");
     if (f.components != 1)
       fail(fpath, "has " + std::to_string(f.components) + " volumes; a bedpostx fractions file holds 1");
-    if (!sameGrid(d.grid, f.grid)) fail(fpath, "its grid differs from " + dyads[n]);
+    if (!d.grid.sameAs(f.grid)) fail(fpath, "its grid differs from " + dyads[n]);
     if (n == 0) {
       out.header = hd;
       set = makeFibreSet(d.grid, static_cast<int>(dyads.size()));
-    } else if (!sameGrid(d.grid, set.grid)) {
+    } else if (!d.grid.sameAs(set.grid)) {
       fail(dyads[n], "its grid differs from " + dyads[0]);
     }
     const glm::dmat3 m = frameToWorld(set.grid, FibreLayout::Bedpostx);

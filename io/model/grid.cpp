@@ -21,7 +21,8 @@ glm::dmat3 Grid::rotation() const {
   for (int it = 0; it < 30; ++it) {
     glm::dmat3 next = 0.5 * (m + glm::transpose(glm::inverse(m)));
     double diff = 0;
-    for (int c = 0; c < 3; ++c) diff += glm::length(next[c] - m[c]);
+    for (int c = 0; c < 3; ++c)
+      diff += glm::length(next[c] - m[c]);
     m = next;
     if (diff < 1e-14) break;
   }
@@ -42,6 +43,14 @@ std::string Grid::orientationCode() const {
   return code;
 }
 
+bool Grid::sameAs(const Grid& other, double toleranceMm) const {
+  if (dims != other.dims) return false;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (std::abs(voxelToWorld[c][r] - other.voxelToWorld[c][r]) > toleranceMm) return false;
+  return true;
+}
+
 void Grid::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
   lo = glm::dvec3(std::numeric_limits<double>::max());
   hi = glm::dvec3(std::numeric_limits<double>::lowest());
@@ -57,7 +66,8 @@ Grid Grid::fromAffine(const glm::ivec3& d, const glm::dmat4& a) {
   Grid g;
   g.dims = d;
   g.voxelToWorld = a;
-  for (int c = 0; c < 3; ++c) g.spacing[c] = glm::length(glm::dvec3(a[c]));
+  for (int c = 0; c < 3; ++c)
+    g.spacing[c] = glm::length(glm::dvec3(a[c]));
   return g;
 }
 

@@ -33,6 +33,8 @@ struct Grid {
   glm::dmat3 rotation() const;
   // Axis codes such as "LAS": the world direction each voxel axis i, j, k increases towards.
   std::string orientationCode() const;
+  // The same dims and a voxel-to-world affine within `toleranceMm` in every entry: two volumes on one grid.
+  bool sameAs(const Grid& other, double toleranceMm = 1e-3) const;
   // Axis-aligned world bounds of the voxel centres.
   void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
   // Builds a grid from dims, spacing and an affine; spacing is recomputed from the affine's columns.

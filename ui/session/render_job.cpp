@@ -208,16 +208,9 @@ struct SecondPane {
   std::optional<FibreInput> fibreIn;
   const TensorField* field = nullptr;
   const ScalarVolume* fibreFa = nullptr; // a fibre set pane's FA: its own, else the first pane's on its grid
+  SurfaceSpec spec;                      // the pane's surface
   Mesh mesh;
 };
-
-// Voxel-to-world transforms within 1e-3 mm of each other.
-bool sameAffine(const Grid& a, const Grid& b) {
-  for (int c = 0; c < 4; ++c)
-    for (int k = 0; k < 3; ++k)
-      if (std::abs(a.voxelToWorld[c][k] - b.voxelToWorld[c][k]) > 1e-3) return false;
-  return true;
-}
 
 void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams& p, SecondPane& out) {
   const SplitMode& split = r.split;
@@ -242,7 +235,7 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
     const Grid& g = out.field->grid;
     if (!out.fibreIn->fa.data.empty()) {
       out.fibreFa = &out.fibreIn->fa;
-    } else if (g.dims == s.field->grid.dims && sameAffine(g, s.field->grid)) {
+    } else if (g.sameAs(s.field->grid)) {
       out.fibreFa = &s.fa;
       logInfo(split.value + ": FA from " + r.input + " (the first pane's, on the same grid)");
     } else {
@@ -259,6 +252,7 @@ void loadSecondPane(const RenderRequest& r, const Scene& s, render::FabricParams
   } else {
     spec2 = parseSurfaceSpec(split.value);
   }
+  out.spec = spec2;
   out.mesh = buildNamedSurface(spec2, *out.field, *fa2, s.buildOptions, "the second pane's surface");
 }
 
@@ -444,16 +438,15 @@ private:
 
 // The image: one pane, or two side by side as the split asks.
 Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& second, PaneRenderer& panes,
-                  render::FabricParams p) {
+                  const render::FabricParams& params) {
+  render::FabricParams p = paramsOnSurface(params, r.surface); // the first pane's
   switch (r.split.kind) {
   case SplitMode::Kind::Tracts: {
-    p = paramsOnSurface(p, r.surface);
     Image plain = panes.pane(s.mesh, *s.field, p, false);
     return sideBySide(plain, panes.overlay(s.mesh, plain));
   }
   case SplitMode::Kind::Colour: {
     if (s.fibreIn) throw UsageError("--split colour compares the tensor colour modes; a fibre set has one");
-    p = paramsOnSurface(p, r.surface);
     render::FabricParams p2 = p;
     p.colour = render::ColourMode::Medical;
     p2.colour = render::ColourMode::Engineering;
@@ -462,15 +455,14 @@ Image renderPanes(const RenderRequest& r, const Scene& s, const SecondPane& seco
   }
   case SplitMode::Kind::Surface:
   case SplitMode::Kind::Input: {
-    Image left = panes.pane(s.mesh, *s.field, paramsOnSurface(p, r.surface), true);
-    const SurfaceSpec& spec2 =
-        r.split.kind == SplitMode::Kind::Surface ? parseSurfaceSpec(r.split.value) : r.surface;
-    return sideBySide(left, panes.pane(second.mesh, *second.field, paramsOnSurface(p, spec2), true));
+    Image left = panes.pane(s.mesh, *s.field, p, true);
+    return sideBySide(left,
+                      panes.pane(second.mesh, *second.field, paramsOnSurface(params, second.spec), true));
   }
   case SplitMode::Kind::None:
     break;
   }
-  return panes.pane(s.mesh, *s.field, paramsOnSurface(p, r.surface), true);
+  return panes.pane(s.mesh, *s.field, p, true);
 }
 
 } // namespace
