@@ -51,8 +51,9 @@ const std::vector<Command>& commands() {
        "render the fabric on a surface to PNG, headless",
        "the fabric, headless; for a fibre set (peaks) the multi-population fabric, each population in its own "
        "DEC colour, strongest on top (`--split input=PEAKS` beside a tensor INPUT: DTI beside the fibres on one "
-       "camera, the peaks pane with the tensor's FA); tracts over it in DEC colours or coloured by a per-point or per-streamline value "
-       "(viridis, a colour bar at the right edge, the range printed), only the streamlines of the named groups; "
+       "camera, the peaks pane with the tensor's FA); tracts over it in DEC colours or coloured by a "
+       "per-point or per-streamline value (viridis, a colour bar at the right edge, the range printed), only "
+       "the streamlines of the named groups; "
        "`--uncertainty CONE` (a cone map or a bedpostx folder): threads fray as the cone widens, with a legend",
        cmdRender, renderOptions},
       {"movie", nullptr,
