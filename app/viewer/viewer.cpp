@@ -228,11 +228,24 @@ void ViewerScene::update() {
   if (session_.loadSerial() != seenLoad_) {
     seenLoad_ = session_.loadSerial();
     if (const auto data = session_.dataset()) session_.state().crosshair = 0.5 * (data->lo + data->hi);
+    crosshairOnMesh_ = true;
     setView(session_.homeView());
   }
   resolveBackground();
   if (session_.meshSerial() != seenMesh_) {
     seenMesh_ = session_.meshSerial();
+    // The first surface of a load that is flat along a world axis (an axis-aligned slice) puts the
+    // crosshair on its plane, so `--surface slice=axial:22` opens the ortho layout on axial 22 too.
+    const auto mesh = session_.mesh();
+    if (crosshairOnMesh_ && mesh && !mesh->empty()) {
+      crosshairOnMesh_ = false;
+      glm::vec3 lo, hi;
+      mesh->bounds(lo, hi);
+      const auto data = session_.dataset();
+      for (int a = 0; a < 3 && data; ++a)
+        if (double(hi[a] - lo[a]) < 1e-3 * (data->hi[a] - data->lo[a]))
+          session_.state().crosshair[a] = 0.5 * double(lo[a] + hi[a]);
+    }
     cameraChanged(); // a new mesh while sweeping counts as motion: interactive frames, not still refinement
   }
   if (state().ortho) {

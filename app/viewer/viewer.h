@@ -191,6 +191,7 @@ private:
   mutable render::ValueColourBar colourBar_; // the tracts' value and range (kept: drawing it allocates nothing)
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;
+  bool crosshairOnMesh_ = false; // the next mesh is a load's first: a slice places the crosshair
   std::uint64_t seenLoad_ = 0, seenField_ = 0, seenMesh_ = 0, seenDisplay_ = 0; // the session's serials taken
   std::array<render::FabricRenderer*, 2> outputRenderer_{nullptr, nullptr};     // what outputFbo_ belongs to
   std::array<glm::ivec2, 2> outputSize_{};

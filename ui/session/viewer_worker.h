@@ -29,7 +29,10 @@ struct ViewerDataset {
   ScalarVolume fa; // empty for a fibre set without FA (no paired tensor, none in the file)
   std::shared_ptr<surfaces::IsosurfaceSweeper> sweeper; // FA isosurfaces with the CLI's build options (shared
                                                         // by a copy whose tensors were turned: the same FA)
-  SurfaceBuildOptions buildOptions{.dataEdgeCells = true}; // the renderer draws the smooth data edge
+  // Slices and planes over the whole grid, as `render` builds them under a background: the anatomy (a DWI's
+  // mean b=0, --background) shows around and inside the data; without one the renderer's smooth data edge
+  // outlines the fabric as on a clipped slice (outside it the composite writes nothing).
+  SurfaceBuildOptions buildOptions{.clipToData = false, .dataEdgeCells = true};
   glm::dvec3 lo{0.0}, hi{0.0}; // world bounds of the grid (voxel corners), mm
   // Fibre sets (ui/session/fibre_input.h): the fibres as read, whether a tensor is paired, where FA comes
   // from.

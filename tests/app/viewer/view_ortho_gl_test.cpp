@@ -3,9 +3,10 @@
 // follow to the crosshair's slices, and what they show changes); the crosshair is drawn where it lies; each
 // pane carries its orientation letters (radiological by default, neurological when chosen); the exported
 // layout has the scene's size.
-#include "ui/session/orientation_labels.h"
+#include "render/figure_furniture.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
+#include "ui/session/orientation_labels.h"
 
 namespace {
 
@@ -145,4 +146,64 @@ TEST(ViewOrtho, TheSlicePanesShareOneScale) {
   EXPECT_GT(px[0], 2.0);
   EXPECT_NEAR(px[1], px[0], 0.02 * px[0]);
   EXPECT_NEAR(px[2], px[0], 0.02 * px[0]);
+}
+
+// A slice opened with the DWI (`view dwi.nii.gz --surface slice=axial:22`): the ortho layout starts on that
+// slice, and the slices cover the whole grid as `render` draws them under a background, so the mean b=0
+// image shows around the tensor data (scalp, skull), not a staircase of b=0 squares ending at the data's
+// mask.
+TEST(ViewOrtho, AnOpenedSliceStartsTheLayoutAndTheAnatomyCoversTheGrid) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("slice=axial:22");
+  v.apply(dtf::session::LoadFile{(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz").string(), "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  EXPECT_EQ(v.state().orthoSlice[0], 22);
+  // Panes large enough for the scalp's voxels to be told from the furniture.
+  v.frame(512, 512);
+  for (int f = 0; f < 400 && !v.scene.converged(); ++f)
+    v.frame(512, 512);
+  ASSERT_TRUE(v.scene.converged());
+  const auto data = v.scene.dataset();
+  ASSERT_TRUE(data);
+  const dtf::Grid& grid = data->loaded.field.grid;
+  const dtf::ScalarVolume& b0 = data->loaded.meanB0;
+  ASSERT_FALSE(b0.data.empty());
+  ASSERT_EQ(b0.data.size(), grid.voxelCount());
+  const dtf::Image img = v.scene.layoutImage();
+  // Voxels of axial slice 22 without tensors, two voxels or more from any with them, where the b=0 image is
+  // bright (above half its mean over the data: scalp and skull): each must be drawn grey in the axial pane.
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < b0.data.size(); ++i)
+    if (data->loaded.field.valid[i]) sum += b0.data[i], ++n;
+  ASSERT_GT(n, 0u);
+  const float bright = float(0.5 * sum / double(n));
+  const int k = 22;
+  const auto pane = v.scene.orthoRect(0);
+  const glm::dvec2 cross = v.scene.orthoPixel(0, v.state().crosshair);
+  const int band = dtf::render::letterBand(pane[2], pane[3]);
+  int tested = 0, grey = 0;
+  for (int j = 0; j < grid.dims.y; ++j)
+    for (int i = 0; i < grid.dims.x; ++i) {
+      if (b0.data[grid.index(i, j, k)] < bright) continue;
+      bool nearData = false;
+      for (int dj = -2; dj <= 2 && !nearData; ++dj)
+        for (int di = -2; di <= 2 && !nearData; ++di)
+          nearData =
+              grid.contains(i + di, j + dj, k) && data->loaded.field.valid[grid.index(i + di, j + dj, k)];
+      if (nearData) continue;
+      const glm::dvec2 p = v.scene.orthoPixel(0, grid.toWorld(glm::dvec3(i, j, k)));
+      // Not under the crosshair's lines or the furniture at the pane's edges (letters on black boxes).
+      if (std::abs(p.x - cross.x) < 2 || std::abs(p.y - cross.y) < 2) continue;
+      if (p.x < pane[0] + band || p.x > pane[0] + pane[2] - band || p.y < pane[1] + band ||
+          p.y > pane[1] + pane[3] - band)
+        continue;
+      const std::uint8_t* c = img.pixel(int(std::floor(p.x)), int(std::floor(p.y)));
+      ++tested;
+      if (c[0] > 20 && std::abs(int(c[0]) - int(c[1])) < 8 && std::abs(int(c[1]) - int(c[2])) < 8) ++grey;
+    }
+  ASSERT_GT(tested, 20) << "the slice has bright b=0 voxels away from the tensor data";
+  EXPECT_GT(grey, 0.9 * tested) << grey << " of " << tested << " b=0 voxels outside the data drawn grey";
 }
