@@ -286,6 +286,9 @@ int cmdRender(const CommandArgs& argv) {
   readTractOptions(args, request);
   args.finish();
   checkOutput(request, force);
+  if (!request.uncertainty.empty() && request.params.look == render::Look::Anatomy)
+    logInfo("the anatomy look fades the fabric where FA is low, which is where the cone is widest: the "
+            "fraying shows in white matter; --look plain shows it everywhere");
 
   const auto t0 = std::chrono::steady_clock::now();
   const session::RenderResult result = session::runRender(request);

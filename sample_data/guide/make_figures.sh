@@ -44,7 +44,8 @@ render "$tensor" --surface slice=sagittal:36 -o "$out/render_sagittal_cc.png"
 # fit --bootstrap: the cone of uncertainty, shown as fraying threads.
 dtf fit sample_data/dwi.nii.gz --bootstrap 200 --cone "$work/cone.nii.gz" -o "$work/dti_boot.nii.gz" --force \
   >"$work/bootstrap.txt" 2>&1
-render "$tensor" --surface slice=axial:22 --uncertainty "$work/cone.nii.gz" -o "$out/render_uncertainty.png"
+render "$tensor" --surface slice=axial:22 --uncertainty "$work/cone.nii.gz" --look plain \
+  -o "$out/render_uncertainty.png"
 
 # surface: a fibre-following surface through the right corticospinal tract, seen from the front.
 dtf surface "$tensor" --fibre-surface-voxel 27,34,15:33,34,15 -o "$work/cst.ply" --force >"$work/surface.txt"

@@ -101,6 +101,14 @@ TEST(UncertaintyCli, RenderFraysWithAConeMapAndWithABedpostxFolder) {
   const auto frayed =
       test::runDtfabric(base + q(f.dir / "frayed.png") + " --uncertainty " + q(f.cone), f.dir);
   ASSERT_EQ(frayed.exitCode, 0) << frayed.err;
+  // The default anatomy look fades the fabric where the cone is widest (low FA): it says where the fraying
+  // shows; the plain look does not need the note.
+  EXPECT_NE(frayed.err.find("--look plain shows it everywhere"), std::string::npos) << frayed.err;
+  const auto plainLook = test::runDtfabric(base + q(f.dir / "frayed_plain.png") + " --look plain --uncertainty " +
+                                               q(f.cone),
+                                           f.dir);
+  ASSERT_EQ(plainLook.exitCode, 0) << plainLook.err;
+  EXPECT_EQ(plainLook.err.find("--look plain shows it everywhere"), std::string::npos) << plainLook.err;
   const Image a = io::readPng((f.dir / "plain.png").string()),
               b = io::readPng((f.dir / "frayed.png").string());
   ASSERT_EQ(a.rgba.size(), b.rgba.size());
