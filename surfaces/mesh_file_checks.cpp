@@ -1,9 +1,11 @@
 // The checks of PLY and OBJ files before VTK's readers see them: vtkPLYReader trusts the header's element
-// counts and reads past the end of a short binary file (heap corruption, a crash); vtkOBJReader reads a
-// vertex coordinate it cannot parse ("nan", "inf") as 0.
+// counts and reads past the end of a short binary file, and trusts the faces' vertex indices, their lengths
+// and the presence of x, y, z and vertex_indices (heap corruption, a crash); vtkOBJReader reads a vertex
+// coordinate it cannot parse ("nan", "inf") as 0.
 #include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -20,7 +22,9 @@ struct PlyProperty {
   int size = 0;      // bytes of a scalar, or of each list item
   int countSize = 0; // lists: bytes of the count (0: a scalar)
   bool countSigned = false;
+  bool itemSigned = false, itemInteger = false; // lists: the items' type
   std::string name;
+  bool isFaceIndices() const { return countSize && (name == "vertex_indices" || name == "vertex_index"); }
 };
 
 struct PlyElement {
@@ -67,6 +71,7 @@ public:
 
   void run() {
     readHeader();
+    checkStructure();
     for (const PlyElement& e : elements_)
       binary_ ? checkBinary(e) : checkAscii(e);
   }
@@ -111,6 +116,44 @@ private:
     fail("the PLY header has no end_header line");
   }
 
+  // What a surface needs: vertices with scalar x, y and z; faces (if any) with an integer list of vertex
+  // indices.
+  void checkStructure() {
+    bool vertexSeen = false;
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") {
+        vertexSeen = true;
+        vertices_ = e.count;
+        if (e.count == 0) fail("the PLY file has no vertices (element vertex 0)");
+        for (const char* axis : {"x", "y", "z"}) {
+          bool found = false;
+          for (const PlyProperty& p : e.properties)
+            found = found || (!p.countSize && p.name == axis);
+          if (!found) fail(std::string("the PLY vertices have no scalar property '") + axis + "'");
+        }
+      } else if (e.name == "face" && e.count > 0) {
+        bool found = false;
+        for (const PlyProperty& p : e.properties) {
+          if (!p.isFaceIndices()) continue;
+          if (!p.itemInteger) fail("the PLY faces' " + p.name + " are not integers");
+          found = true;
+        }
+        if (!found) fail("the PLY faces have no vertex_indices list");
+      }
+    }
+    if (!vertexSeen) fail("the PLY file has no vertex element");
+  }
+
+  // A face's list of n vertex indices: at least three, each naming a vertex.
+  void checkFace(std::uint64_t face, std::int64_t n, const std::vector<std::int64_t>& indices) const {
+    if (n < 3)
+      fail("face " + std::to_string(face) + " has " + std::to_string(n) + " vertices (a face needs 3)");
+    for (std::int64_t i : indices)
+      if (i < 0 || static_cast<std::uint64_t>(i) >= vertices_)
+        fail("vertex index is out of range in face " + std::to_string(face) + ": " + std::to_string(i) +
+             " (the file has " + std::to_string(vertices_) + " vertices)");
+  }
+
   PlyProperty property(std::istringstream& words, const std::string& line) const {
     PlyProperty p;
     std::string type;
@@ -119,7 +162,8 @@ private:
       std::string countType, itemType;
       words >> countType >> itemType;
       p.countSize = plyTypeSize(countType, &p.countSigned);
-      p.size = plyTypeSize(itemType);
+      p.size = plyTypeSize(itemType, &p.itemSigned);
+      p.itemInteger = itemType.rfind("float", 0) != 0 && itemType != "double";
       if (p.countSize == 0 || p.countSize == 8 || countType.rfind("float", 0) == 0 || countType == "double")
         fail("a PLY list count of type '" + countType + "' (an integer type)");
     } else {
@@ -165,9 +209,16 @@ private:
         const std::int64_t n = listCount(p0 + at_, p.countSize, p.countSigned, bigEndian_);
         if (n < 0)
           fail("a negative list length " + std::to_string(n) + " in " + e.name + " " + std::to_string(r));
-        at_ += static_cast<std::uint64_t>(p.countSize) +
-               static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(p.size);
+        const std::uint64_t items = at_ + static_cast<std::uint64_t>(p.countSize);
+        at_ = items + static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(p.size);
         if (at_ > body_.size()) shortBy(r);
+        if (e.name == "face" && p.isFaceIndices()) {
+          indices_.clear();
+          for (std::int64_t i = 0; i < n; ++i)
+            indices_.push_back(listCount(p0 + items + static_cast<std::uint64_t>(i * p.size), p.size,
+                                         p.itemSigned, bigEndian_));
+          checkFace(r, n, indices_);
+        }
       }
   }
 
@@ -185,9 +236,20 @@ private:
         if (!p.countSize) continue;
         if (v < 0 || v != static_cast<double>(static_cast<long long>(v)))
           fail("a list length " + std::to_string(v) + " in " + e.name + " " + std::to_string(r));
+        const bool face = e.name == "face" && p.isFaceIndices();
+        indices_.clear();
         std::string item;
-        for (long long i = 0; i < static_cast<long long>(v); ++i)
+        for (long long i = 0; i < static_cast<long long>(v); ++i) {
           if (!(words >> item)) fail("line of " + e.name + " " + std::to_string(r) + " ends inside its list");
+          if (!face) continue;
+          char* end = nullptr;
+          errno = 0;
+          const long long index = std::strtoll(item.c_str(), &end, 10);
+          if (end == item.c_str() || *end != '\0' || errno == ERANGE)
+            fail("face " + std::to_string(r) + ": vertex index '" + item + "' is not an integer");
+          indices_.push_back(index);
+        }
+        if (face) checkFace(r, static_cast<std::int64_t>(v), indices_);
       }
     }
   }
@@ -198,7 +260,9 @@ private:
   std::vector<PlyElement> elements_;
   std::string body_; // binary: the bytes after the header
   bool bodyRead_ = false;
-  std::uint64_t at_ = 0; // binary: the next record's offset in body_
+  std::uint64_t at_ = 0;              // binary: the next record's offset in body_
+  std::uint64_t vertices_ = 0;        // the vertex element's count
+  std::vector<std::int64_t> indices_; // the face being checked
 };
 
 } // namespace

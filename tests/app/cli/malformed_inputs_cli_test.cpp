@@ -1452,6 +1452,8 @@ std::vector<Case> catalogue() {
     body += std::string(12, '\0');
     return h + body.substr(0, keep);
   };
+  // The header's length, so a test can patch the body at a known offset.
+  auto plyHeaderSize = [&binaryPly](bool bigEndian) { return binaryPly(bigEndian, "1", 0).size(); };
   for (const auto& [name, text, err] : std::vector<std::tuple<std::string, std::string, std::string>>{
            {"MeshPlyBinaryCutInVertices", binaryPly(false, "1", 20), "ends at vertex 1 (truncated)"},
            {"MeshPlyBinaryCutInFaces", binaryPly(true, "1", 36 + 5), "ends at face 0 (truncated)"},
@@ -1461,7 +1463,32 @@ std::vector<Case> catalogue() {
             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n",
             "ends at vertex 2 (truncated)"},
            {"MeshPlyNoEndHeader", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n",
-            "no end_header line"}}) {
+            "no end_header line"},
+           // vtkPLYReader also trusts the faces' indices and lengths and the header's properties (a crash).
+           {"MeshPlyBinaryIndexOutOfRange",
+            binaryPly(false, "1", 36 + 13)
+                .replace(36 + 1 + plyHeaderSize(false) + 8, 4, std::string("\x3f\x42\x0f\x00", 4)),
+            "vertex index is out of range in face 0: 999999 (the file has 3 vertices)"},
+           {"MeshPlyLittleEndianBodyDeclaredBig",
+            binaryPly(true, "1", 36 + 13)
+                .replace(36 + 1 + plyHeaderSize(true), 4, std::string("\x01\x00\x00\x00", 4)),
+            "vertex index is out of range in face 0: 16777216"},
+           {"MeshPlyNoVertices",
+            "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 0\nproperty list uchar int vertex_indices\nend_header\n",
+            "no vertices (element vertex 0)"},
+           {"MeshPlyFaceOfNoVertices",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0\n",
+            "face 0 has 0 vertices (a face needs 3)"},
+           {"MeshPlyNoZ",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n",
+            "no scalar property 'z'"},
+           {"MeshPlyFacesWithoutIndices",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+            "no vertex_indices list"}}) {
     const std::string t = text;
     c.push_back({name,
                  [t](const fs::path& dir) {
