@@ -3,8 +3,13 @@
 #include "io/model/error.h"
 #include "surfaces/detail/vtk_convert.h"
 
-#include <vtkFlyingEdges3D.h>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 #include <vtkFloatArray.h>
+#include <vtkFlyingEdges3D.h>
 #include <vtkImageData.h>
 #include <vtkImageGaussianSmooth.h>
 #include <vtkNew.h>
@@ -13,11 +18,15 @@
 #include <vtkPolyDataNormals.h>
 #include <vtkWindowedSincPolyDataFilter.h>
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 namespace dtf::surfaces {
+
+namespace {
+std::string shortNumber(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+} // namespace
 
 struct IsosurfaceSweeper::Impl {
   vtkSmartPointer<vtkImageData> image; // prepared volume, index space (padded by one voxel when closing)
@@ -27,6 +36,15 @@ struct IsosurfaceSweeper::Impl {
 
 IsosurfaceSweeper::IsosurfaceSweeper(const ScalarVolume& volume, const IsosurfaceOptions& options)
     : impl_(std::make_unique<Impl>()) {
+  if (!(options.smoothSigmaVoxels >= 0 && options.smoothSigmaVoxels <= kMaxSmoothSigmaVoxels))
+    throw UsageError("the pre-smoothing sigma " + shortNumber(options.smoothSigmaVoxels) +
+                     " voxels is outside 0.." + std::to_string(int(kMaxSmoothSigmaVoxels)));
+  if (!(options.minComponentFraction >= 0 && options.minComponentFraction <= 1))
+    throw UsageError("the smallest component's fraction " + shortNumber(options.minComponentFraction) +
+                     " is outside 0..1");
+  if (!(options.maxShiftVoxels >= 0) || !std::isfinite(options.maxShiftVoxels))
+    throw UsageError("the largest smoothing shift " + shortNumber(options.maxShiftVoxels) +
+                     " voxels is not a finite number >= 0");
   impl_->options = options;
   impl_->options.mask = nullptr; // only used here
   impl_->voxelToWorld = volume.grid.voxelToWorld;

@@ -10,8 +10,13 @@
 
 namespace dtf::surfaces {
 
+// The largest pre-smoothing sigma in voxels: a Gaussian this wide already blurs a brain into a blob; VTK's
+// kernel of a huge one does not fit in memory.
+inline constexpr double kMaxSmoothSigmaVoxels = 20;
+
 struct IsosurfaceOptions {
-  double smoothSigmaVoxels = 0.0;  // Gaussian pre-smoothing of the volume (0 = none); done once per sweeper
+  double smoothSigmaVoxels = 0.0;  // Gaussian pre-smoothing of the volume (0 = none, at most
+                                   // kMaxSmoothSigmaVoxels); done once per sweeper
   int meshSmoothIterations = 0;    // windowed-sinc smoothing of the mesh (VTK, normalised coordinates, pass
                                    // band 0.1; volume preserving; 0 = none); normals recomputed after
   double maxShiftVoxels = 0.5;     // smoothing moves no vertex further than this (in voxels); larger shifts

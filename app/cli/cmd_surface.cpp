@@ -1,14 +1,15 @@
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/json.h"
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"
+#include "surfaces/isosurface.h"
 #include "surfaces/mesh_checks.h"
 #include "surfaces/mesh_io.h"
 #include "surfaces/slices.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
 
 #include <chrono>
 #include <cmath>
@@ -86,7 +87,7 @@ const OptionTable& surfaceOptions() {
         layoutOption(LayoutNames::Tensor).hidden(),
         bvalOption().hidden(),
         bvecOption().hidden(),
-        O::number("smooth", "SIGMA", bo.smoothSigmaVoxels, atLeast(0),
+        O::number("smooth", "SIGMA", bo.smoothSigmaVoxels, closedRange(0, surfaces::kMaxSmoothSigmaVoxels),
                   "FA isosurface pre-smoothing in voxels (0 = none)")
             .hidden(),
         O::integer("mesh-smooth", "N", bo.meshSmoothIterations, closedRange(0, 200),
