@@ -25,6 +25,7 @@ struct NumberRow {
 };
 
 std::vector<NumberRow> readNumberRows(const std::string& path, const char* what) {
+  detail::refuseSpecialFile(path);
   std::ifstream in(path);
   if (!in) throw InputError("cannot open " + std::string(what) + " file " + path);
   std::vector<NumberRow> rows;

@@ -170,6 +170,9 @@ void checkInflatable(const std::string& path, const std::string& what, const std
 // whole buffers; see io/formats/gzip.h).
 std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip = nullptr,
                                         std::size_t limit = std::size_t(1) << 33, std::size_t expect = 0);
+// Throws InputError naming `path` when it exists but is a device, pipe or socket: opening a pipe blocks
+// until something writes to it (nifticlib, stdio and zlib all would wait forever).
+void refuseSpecialFile(const std::string& path);
 // The file's bytes as stored (no inflation); at most `limit` bytes (throws InputError beyond, or when
 // the file is missing or unreadable).
 std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit = std::size_t(1) << 40);

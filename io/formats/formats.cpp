@@ -41,6 +41,7 @@ void checkInflatable(const std::string& path, const std::string& what, const std
   std::error_code ec;
   const auto stored = static_cast<std::size_t>(fs::file_size(file, ec));
   unsigned char magic[2] = {0, 0};
+  refuseSpecialFile(file);
   if (std::FILE* f = std::fopen(file.c_str(), "rb")) {
     if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
     std::fclose(f);
@@ -48,10 +49,18 @@ void checkInflatable(const std::string& path, const std::string& what, const std
   checkInflatable(path, what, ec ? 0 : stored, magic[0] == 0x1f && magic[1] == 0x8b, need, note);
 }
 
+void refuseSpecialFile(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st))
+    throw InputError(path + ": it is not a regular file (a device, pipe or socket)");
+}
+
 std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": file does not exist");
   if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory");
+  refuseSpecialFile(path);
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError(path + ": cannot open the file");
   const auto size = fs::file_size(path, ec);

@@ -179,6 +179,7 @@ std::string dataFile(const nifti_image* nim, const std::string& path) {
 // announces, nifti_read_header prints "** ERROR ... short header read" on stderr whatever its debug level.
 void checkHeaderLength(const std::string& path) {
   const std::string unreadable = "not a readable NIfTI-1/NIfTI-2 file";
+  detail::refuseSpecialFile(path);
   znzFile fp = znzopen(path.c_str(), "rb", nifti_is_gzfile(path.c_str()));
   if (znz_isnull(fp)) fail(path, "cannot open the file");
   unsigned char head[540];

@@ -1389,6 +1389,14 @@ std::vector<Case> catalogue() {
                          {"1:", "slice index 3355555555555555555 is absurd"}));
   c.push_back(scriptCase("ScriptHugeNegativeSliceIndex", "surface slice=axial:-2e114\n",
                          {"1:", "slice index -2e114 is absurd"}));
+  // VTK's Gaussian kernel of a huge sigma does not fit in memory (heap corruption: it aborted).
+  c.push_back({"SurfaceHugeSmoothing",
+               [](const fs::path& dir) {
+                 return "surface " + q(kSample) + " --fa 0.3 --smooth 1e9 -o " + q(dir / "s.ply");
+               },
+               1,
+               {"--smooth must be [0, 20], got 1e9"},
+               "s.ply"});
   c.push_back({"SurfaceHugeSliceIndex",
                [](const fs::path& dir) {
                  return "surface " + q(kSample) + " --surface slice=axial:1e300 -o " + q(dir / "s.ply");
@@ -1431,6 +1439,29 @@ std::vector<Case> catalogue() {
                2,
                {"nan.obj", "line 2", "'nan' is not a finite number"},
                "s.ply"});
+  // A pipe where a file is expected is refused: opening it blocked until something wrote to it (a hang).
+  const std::string sampleDwi = q(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz"),
+                    bvec = q(dtf::test::sourceDir() / "sample_data" / "dwi.bvec");
+  for (const auto& [name, file, command, out] :
+       std::vector<std::tuple<std::string, std::string, std::string, std::string>>{
+           {"NiftiIsAPipe", "p.nii.gz", "info {P}", ""},
+           {"MifIsAPipe", "p.mif", "info {P}", ""},
+           {"BvalIsAPipe", "p.bval", "fit " + sampleDwi + " --bval {P} --bvec " + bvec + " -o {OUT}", "t.nii.gz"},
+           {"BackgroundIsAPipe", "p.nii", "render " + q(kSample) + " --background {P} -o {OUT}", "r.png"}}) {
+    const std::string f = file, cmd = command, o = out;
+    c.push_back({name,
+                 [f, cmd, o](const fs::path& dir) {
+                   if (::mkfifo((dir / f).c_str(), 0600) != 0) throw std::runtime_error("mkfifo failed");
+                   std::string line = cmd;
+                   line.replace(line.find("{P}"), 3, q(dir / f));
+                   if (const auto at = line.find("{OUT}"); at != std::string::npos)
+                     line.replace(at, 5, q(dir / o));
+                   return line;
+                 },
+                 2,
+                 {f, "it is not a regular file (a device, pipe or socket)"},
+                 o});
+  }
   // A folder where a file is expected is named as one (it was "no such file").
   c.push_back({"TractFileIsAFolder",
                [](const fs::path& dir) {
