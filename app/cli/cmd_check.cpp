@@ -199,6 +199,7 @@ int cmdCheck(const CommandArgs& argv) {
 
   namespace fs = std::filesystem;
   const std::vector<std::string> inputs{req.input, req.bval, req.bvec, req.mask, req.tensor};
+  io::refuseSameOutputs({sheet, fix});
   for (const std::string& out : {sheet, fix}) {
     if (out.empty()) continue;
     io::refuseOverwritingInput(out, inputs);

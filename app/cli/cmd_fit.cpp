@@ -134,10 +134,9 @@ int cmdFit(const CommandArgs& argv) {
     if (p) {
       if (!io::isWritableVolumeName(*p))
         throw UsageError("the bootstrap maps are NIfTI (.nii or .nii.gz), got '" + *p + "'");
-      if (std::find(outputs.begin(), outputs.end(), *p) != outputs.end())
-        throw UsageError("two outputs are the same file: " + *p);
       outputs.push_back(*p);
     }
+  io::refuseSameOutputs(outputs);
 
   const bool embedded = !bval && !bvec && io::hasEmbeddedGradients(dwiPath);
   if (embedded) bval = bvec = std::string();

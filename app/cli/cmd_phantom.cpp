@@ -2,10 +2,11 @@
 // optionally its scalar field, so every later stage can be run on input with a known answer.
 #include "app/cli/commands.h"
 #include "app/command/options.h"
-#include "io/model/error.h"
+#include "io/formats/atomic_file.h"
 #include "io/formats/fibre_io.h"
-#include "io/phantoms.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/error.h"
+#include "io/phantoms.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -78,7 +79,7 @@ int cmdPhantom(const CommandArgs& argv) {
   int version = args.flag("nifti2") ? 2 : 1;
   const bool force = args.flag("force");
   args.finish();
-  if (scalarPath && *scalarPath == *output) throw UsageError("--scalar must name a different file than -o");
+  io::refuseSameOutputs({*output, scalarPath ? *scalarPath : std::string()});
   for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr})
     if (out && !force && std::filesystem::exists(*out))
       throw InputError(*out + " exists (use --force to overwrite it)");

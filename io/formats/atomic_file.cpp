@@ -57,4 +57,20 @@ void refuseOverwritingInput(const std::string& output, const std::vector<std::st
   }
 }
 
+void refuseSameOutputs(const std::vector<std::string>& outputs) {
+  std::error_code ec;
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+      const std::string &a = outputs[i], &b = outputs[j];
+      if (a.empty() || b.empty()) continue;
+      bool same = fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
+      if (!same) {
+        const fs::path pa = fs::weakly_canonical(fs::absolute(a, ec), ec);
+        const fs::path pb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+        same = !pa.empty() && pa == pb;
+      }
+      if (same) throw UsageError("two outputs are the same file: " + a + " and " + b);
+    }
+}
+
 } // namespace dtf::io

@@ -32,4 +32,8 @@ void refuseReplacingNonFile(const std::string& target);
 // Throws InputError if `output` names the same file as any of `inputs`.
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 
+// Throws UsageError if two of one command's outputs (empty: not asked for) name the same file, however
+// spelled (./x, a/../x, a symbolic link, a hard link): the second write would replace the first.
+void refuseSameOutputs(const std::vector<std::string>& outputs);
+
 } // namespace dtf::io

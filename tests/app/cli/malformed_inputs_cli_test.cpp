@@ -1439,6 +1439,24 @@ std::vector<Case> catalogue() {
                2,
                {"nan.obj", "line 2", "'nan' is not a finite number"},
                "s.ply"});
+  // Two outputs of one command spelled differently but naming one file: the second write replaced the first.
+  c.push_back({"PhantomScalarIsTheOutput",
+               [](const fs::path& dir) {
+                 return "phantom sphere --size 8 -o " + q(dir / "p.nii.gz") + " --scalar " +
+                        q(dir / "." / "p.nii.gz");
+               },
+               1,
+               {"two outputs are the same file", "p.nii.gz"},
+               "p.nii.gz"});
+  c.push_back({"CheckSheetIsTheFixedBvec",
+               [](const fs::path& dir) {
+                 fs::create_directories(dir / "sub");
+                 return "check " + q(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz") + " --fix-bvec " +
+                        q(dir / "s.png") + " --sheet " + q(dir / "sub" / ".." / "s.png");
+               },
+               1,
+               {"two outputs are the same file", "s.png"},
+               "s.png"});
   // A pipe where a file is expected is refused: opening it blocked until something wrote to it (a hang).
   const std::string sampleDwi = q(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz"),
                     bvec = q(dtf::test::sourceDir() / "sample_data" / "dwi.bvec");
