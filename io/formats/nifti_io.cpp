@@ -525,6 +525,7 @@ void writeFloatNifti(const std::string& path, const Grid& grid, const std::vecto
   nim->pixdim[0] = qfac;
   nim->xyz_units = NIFTI_UNITS_MM;
   nim->intent_code = intentCode;
+  if (intentCode == NIFTI_INTENT_SYMMATRIX) nim->intent_p1 = 3; // the standard's N of the N x N matrices
   if (intentName) std::snprintf(nim->intent_name, sizeof(nim->intent_name), "%s", intentName);
   std::snprintf(nim->descrip, sizeof(nim->descrip), "%s", descrip.c_str());
   nim->scl_slope = 1;

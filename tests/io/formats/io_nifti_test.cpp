@@ -191,6 +191,12 @@ TEST(IoRoundTrip, EveryLayoutFrameAndFileKind) {
           bool sym = layout == io::TensorLayout::Symmatrix || layout == io::TensorLayout::Dtitk;
           EXPECT_EQ(h.dims.size(), sym ? 5u : 4u);
           EXPECT_EQ(h.intentCode, sym ? 1005 : 0);
+          if (sym) { // the standard's intent_p1 of SYMMATRIX: N of the N x N matrices (read by nifticlib)
+            nifti_image* nim = nifti_image_read(path.string().c_str(), 0);
+            ASSERT_TRUE(nim);
+            EXPECT_EQ(nim->intent_p1, 3.0);
+            nifti_image_free(nim);
+          }
           for (auto asked : {layout, io::TensorLayout::Auto}) {
             io::LoadedTensors t = io::readTensorVolume(path.string(), asked);
             EXPECT_EQ(t.layout, layout);
