@@ -202,6 +202,7 @@ int cmdCheck(const CommandArgs& argv) {
   io::refuseSameOutputs({sheet, fix});
   for (const std::string& out : {sheet, fix}) {
     if (out.empty()) continue;
+    io::refuseUnwritableOutput(out);
     io::refuseOverwritingInput(out, inputs);
     if (!force && fs::exists(out)) throw InputError(out + " exists (use --force to replace it)");
   }
@@ -225,6 +226,8 @@ int cmdCheck(const CommandArgs& argv) {
     printText(run, req.input);
   std::fflush(stdout);
 
+  io::OutputBatch batch; // the corrected table and the sheet together, or neither
+  std::string fixNote;
   if (!fix.empty()) {
     if (run.report.verdict == surfaces::Verdict::Inconclusive && !force)
       throw InputError("the check is inconclusive (" + run.report.reason + "): not writing " + fix +
@@ -233,14 +236,17 @@ int cmdCheck(const CommandArgs& argv) {
                                           ? run.report.candidates[run.report.best].transform
                                           : run.report.correction;
     session::writeCorrectedBvec(fix, run.bvecs, m);
-    std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), m.name().c_str(),
-                 run.bvecPath.c_str());
+    fixNote = m.name();
   }
+  Image img;
   if (!sheet.empty()) {
-    const Image img = session::renderContactSheet(run, session::sheetRows(run.report), panelPx);
+    img = session::renderContactSheet(run, session::sheetRows(run.report), panelPx);
     io::writePng(sheet, img);
-    std::fprintf(stderr, "wrote %s (%dx%d)\n", sheet.c_str(), img.width, img.height);
   }
+  batch.commit();
+  if (!fix.empty())
+    std::fprintf(stderr, "wrote %s (%s applied to %s)\n", fix.c_str(), fixNote.c_str(), run.bvecPath.c_str());
+  if (!sheet.empty()) std::fprintf(stderr, "wrote %s (%dx%d)\n", sheet.c_str(), img.width, img.height);
   return 0;
 }
 

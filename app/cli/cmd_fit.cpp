@@ -149,6 +149,7 @@ int cmdFit(const CommandArgs& argv) {
   if (!embedded) inputs.insert(inputs.end(), {*bval, *bvec});
   if (maskPath) inputs.push_back(*maskPath);
   for (const auto& out : outputs) {
+    io::refuseUnwritableOutput(out); // before the fit, which can take minutes
     io::refuseOverwritingInput(out, inputs);
     if (!force && std::filesystem::exists(out))
       throw InputError(out + " exists (use --force to overwrite it)");
@@ -189,6 +190,7 @@ int cmdFit(const CommandArgs& argv) {
     if (printer.tty) std::fputc('\n', stderr);
     rethrowWithContext("while fitting " + dwiPath + (maskPath ? " with mask " + *maskPath : ""));
   }
+  io::OutputBatch batch; // the tensors and the bootstrap maps together, or none of them
   io::writeTensorVolume(*output, field, layout);
   if (conePath)
     io::writeScalarVolume(*conePath, maps.cone, 1,
@@ -196,6 +198,7 @@ int cmdFit(const CommandArgs& argv) {
   if (faSdPath)
     io::writeScalarVolume(*faSdPath, maps.faSd, 1,
                           "dtfabric FA sd, wild bootstrap N=" + std::to_string(bootstrap.resamples));
+  batch.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "fitted %zu voxels (%zu not positive definite, %zu invalid, %zu signals clamped)\n",
                stats.voxelsFitted, stats.nonPositiveTensors, stats.invalidVoxels, stats.clampedSignals);

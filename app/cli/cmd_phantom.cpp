@@ -80,9 +80,12 @@ int cmdPhantom(const CommandArgs& argv) {
   const bool force = args.flag("force");
   args.finish();
   io::refuseSameOutputs({*output, scalarPath ? *scalarPath : std::string()});
-  for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr})
-    if (out && !force && std::filesystem::exists(*out))
+  for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr}) {
+    if (!out) continue;
+    if (!fibres || layoutName != "bedpostx") io::refuseUnwritableOutput(*out);
+    if (!force && std::filesystem::exists(*out))
       throw InputError(*out + " exists (use --force to overwrite it)");
+  }
 
   if (fibres) {
     if (scalarPath) throw UsageError("--scalar is for tensor phantoms");
@@ -95,7 +98,10 @@ int cmdPhantom(const CommandArgs& argv) {
     return 0;
   }
   io::Phantom p = io::makePhantom(name, o);
+  io::OutputBatch batch; // the tensors and the scalar field together, or neither
   io::writeTensorVolume(*output, p.tensors, layout, version);
+  if (scalarPath) io::writeScalarVolume(*scalarPath, p.scalar, version);
+  batch.commit();
   std::size_t valid = 0;
   for (unsigned char v : p.tensors.valid)
     valid += v;
@@ -103,7 +109,6 @@ int cmdPhantom(const CommandArgs& argv) {
   std::printf("wrote %s phantom, %dx%dx%d voxels of %g mm, %zu valid, layout %s: %s\n", name.c_str(), d.x,
               d.y, d.z, o.spacing, valid, io::layoutName(layout), output->c_str());
   if (scalarPath) {
-    io::writeScalarVolume(*scalarPath, p.scalar, version);
     std::printf("wrote scalar field (isovalue %g): %s\n", p.isovalue, scalarPath->c_str());
   }
   return 0;

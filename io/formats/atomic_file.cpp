@@ -11,13 +11,27 @@ namespace fs = std::filesystem;
 
 namespace dtf::io {
 
+namespace {
+thread_local OutputBatch* activeBatch = nullptr;
+
+fs::path folderOf(const std::string& target) {
+  const fs::path p(target);
+  return p.has_parent_path() ? p.parent_path() : fs::path(".");
+}
+} // namespace
+
+void refuseUnwritableOutput(const std::string& target) {
+  std::error_code ec;
+  if (!fs::is_directory(folderOf(target), ec))
+    throw InputError("cannot write " + target + ": directory does not exist");
+  refuseReplacingNonFile(target);
+}
+
 AtomicOutput::AtomicOutput(const std::string& target) : target_(target) {
   static std::atomic<unsigned> counter{0};
-  fs::path p(target);
-  fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError("cannot write " + target + ": directory does not exist");
-  refuseReplacingNonFile(target);
+  refuseUnwritableOutput(target);
+  const fs::path p(target);
+  const fs::path dir = folderOf(target);
   temp_ = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
                   std::to_string(counter++)))
               .string();
@@ -35,10 +49,41 @@ AtomicOutput::~AtomicOutput() {
 
 void AtomicOutput::commit() {
   refuseReplacingNonFile(target_);
+  if (activeBatch) {
+    activeBatch->pending_.push_back({target_, temp_});
+    committed_ = true; // the batch owns the temporary file now
+    return;
+  }
   std::error_code ec;
   fs::rename(temp_, target_, ec);
   if (ec) throw InputError("cannot write " + target_ + ": " + ec.message());
   committed_ = true;
+}
+
+OutputBatch::OutputBatch() : outermost_(activeBatch == nullptr) {
+  if (outermost_) activeBatch = this;
+}
+
+OutputBatch::~OutputBatch() {
+  if (!outermost_) return;
+  if (activeBatch == this) activeBatch = nullptr;
+  std::error_code ec;
+  for (const Pending& p : pending_)
+    fs::remove(p.temp, ec);
+}
+
+void OutputBatch::commit() {
+  if (!outermost_ || done_) return;
+  activeBatch = nullptr; // renames below are final, not deferred again
+  done_ = true;
+  while (!pending_.empty()) {
+    const Pending p = pending_.front();
+    refuseReplacingNonFile(p.target);
+    std::error_code ec;
+    fs::rename(p.temp, p.target, ec);
+    if (ec) throw InputError("cannot write " + p.target + ": " + ec.message());
+    pending_.erase(pending_.begin());
+  }
 }
 
 void refuseReplacingNonFile(const std::string& target) {

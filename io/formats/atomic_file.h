@@ -25,6 +25,35 @@ private:
   bool committed_ = false;
 };
 
+// All or nothing for the several files of one result (a tensor volume and its scalar map, a bedpostx
+// folder, an .mih header and its data). While a batch lives on this thread, AtomicOutput::commit() hands
+// its finished temporary file to the batch instead of renaming it; the batch's commit() renames them all,
+// and a batch destroyed without commit() removes them, so a write that fails part-way leaves none of the
+// set. A batch opened inside another defers to the outer one. A rename that fails inside commit() (the
+// disk vanished) can still leave the files renamed before it.
+class OutputBatch {
+public:
+  OutputBatch();
+  ~OutputBatch();
+  OutputBatch(const OutputBatch&) = delete;
+  OutputBatch& operator=(const OutputBatch&) = delete;
+
+  void commit();
+
+private:
+  friend class AtomicOutput;
+  struct Pending {
+    std::string target, temp;
+  };
+  bool outermost_;
+  bool done_ = false;
+  std::vector<Pending> pending_;
+};
+
+// Throws InputError naming `target` if it cannot be written: its folder is missing or it exists and is not
+// a regular file. Commands call it for every output before long work, so a typo fails at once.
+void refuseUnwritableOutput(const std::string& target);
+
 // Throws InputError if `target` exists and is not a regular file (a folder, a device, a pipe): an output
 // replaces only a file. AtomicOutput checks it before writing and again before the rename.
 void refuseReplacingNonFile(const std::string& target);

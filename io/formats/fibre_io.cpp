@@ -1,6 +1,7 @@
 // Fibre-set readers and writers (see fibre_io.h).
 #include "io/formats/fibre_io.h"
 
+#include "io/formats/atomic_file.h"
 #include "io/formats/dsi_studio.h"
 #include "io/formats/format_detail.h"
 #include "io/formats/formats.h"
@@ -433,8 +434,18 @@ void writeFibres(const std::string& path, const FibreSet& set, FibreLayout layou
   const glm::dmat3 toDisk = glm::transpose(frameToWorld(set.grid, layout)); // orthonormal: inverse
   if (layout == FibreLayout::Bedpostx) {
     std::error_code ec;
+    const bool existed = fs::exists(path, ec);
     fs::create_directories(path, ec);
     if (ec) fail(path, "cannot create the bedpostx folder: " + ec.message());
+    struct RemoveNewFolder { // declared before the batch, so it runs after the batch removed its files
+      const std::string& path;
+      bool keep;
+      ~RemoveNewFolder() {
+        std::error_code e;
+        if (!keep) fs::remove(path, e); // only if empty: a folder this write made and filled with nothing
+      }
+    } cleanup{path, existed};
+    OutputBatch batch; // every dyads/mean_f pair or none
     for (std::size_t n = 0; n < k; ++n) {
       ScalarVolume d(set.grid, 3), f(set.grid, 1);
       for (std::size_t v = 0; v < nv; ++v) {
@@ -451,6 +462,8 @@ void writeFibres(const std::string& path, const FibreSet& set, FibreLayout layou
       writeScalarVolume((fs::path(path) / ("mean_f" + num + "samples.nii.gz")).string(), f, niftiVersion,
                         std::string(kMarker) + "bedpostx");
     }
+    batch.commit();
+    cleanup.keep = true;
     return;
   }
   const float absent = layout == FibreLayout::MrtrixPeaks ? std::numeric_limits<float>::quiet_NaN() : 0.0f;

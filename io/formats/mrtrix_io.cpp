@@ -10,6 +10,7 @@
 // transform with layout -0,+1,+2: the bytes are those of the NIfTI, the index order is flipped in i.
 // Values are offset + scale * stored (`scaling: offset,scale`). Bit images pack 8 voxels per byte, the
 // first voxel in the most significant bit (MRtrix's BITMASK >> (i % 8)).
+#include "io/formats/atomic_file.h"
 #include "io/formats/format_detail.h"
 #include "io/formats/gzip.h"
 #include "io/model/error.h"
@@ -535,8 +536,10 @@ void writeMrtrix(const std::string& path, const ScalarVolume& v, const std::vect
   if (mih) {
     const std::string dataName = fs::path(path).stem().string() + ".dat";
     head += "file: " + dataName + " 0\nEND\n";
+    OutputBatch batch; // the header never without its data, nor the data without its header
     writeFileBytes((fs::path(path).parent_path() / dataName).string(), dataBytes, false);
     writeFileBytes(path, std::vector<std::uint8_t>(head.begin(), head.end()), false);
+    batch.commit();
     return;
   }
   // "file: . OFFSET" with the offset past the END line, aligned to 16 bytes; the offset's digits change

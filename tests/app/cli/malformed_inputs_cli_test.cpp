@@ -1790,6 +1790,59 @@ TEST(OutputProtection, AShortWriteFailsAndLeavesNothing) {
   }
 }
 
+// The files of one result land together or not at all: when a later output of a command fails, the earlier
+// ones, already complete in their temporary files, are removed too, and a folder the write made is gone.
+// The file size limit fails the large second output (the constant phantom's gzip tensors and the corrected
+// table are small); a folder in place of bedpostx's last file fails its fourth write.
+TEST(OutputProtection, AFailedOutputLeavesNoneOfItsSet) {
+  const fs::path dir = dtf::test::scratchDir();
+  const std::string dwi = q(dtf::test::sourceDir() / "sample_data" / "dwi.nii.gz");
+  auto noTemporaries = [](const fs::path& d) {
+    for (const auto& e : fs::recursive_directory_iterator(d))
+      EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+  };
+  const std::string limit = "trap '' XFSZ; ulimit -f 16; ";
+  CliResult r = runDtfabric(
+      "phantom constant --size 32 -o " + q(dir / "t.nii.gz") + " --scalar " + q(dir / "s.nii"), dir, limit);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("s.nii"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "t.nii.gz")) << "the tensors were left without their scalar field";
+  ASSERT_EQ(runDtfabric(
+                "phantom constant --size 32 -o " + q(dir / "t.nii.gz") + " --scalar " + q(dir / "s.nii"), dir)
+                .exitCode,
+            0); // the same command without the limit writes both
+  EXPECT_TRUE(fs::exists(dir / "t.nii.gz") && fs::exists(dir / "s.nii"));
+
+  r = runDtfabric("check " + dwi + " --fix-bvec " + q(dir / "f.bvec") + " --sheet " + q(dir / "c.png"), dir,
+                  limit);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("c.png"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "f.bvec")) << "the corrected table was left without its sheet";
+  EXPECT_EQ(r.err.find("wrote "), std::string::npos) << "a write was reported that did not land:\n" << r.err;
+
+  fs::create_directories(dir / "bp" / "mean_f2samples.nii.gz");
+  r = runDtfabric("phantom crossing --size 24 --layout bedpostx --force -o " + q(dir / "bp"), dir);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("mean_f2samples.nii.gz"), std::string::npos) << r.err;
+  for (const char* f : {"dyads1.nii.gz", "mean_f1samples.nii.gz", "dyads2.nii.gz"})
+    EXPECT_FALSE(fs::exists(dir / "bp" / f)) << f << " was left in a bedpostx folder without the rest";
+  r = runDtfabric("phantom crossing --size 24 --layout bedpostx -o " + q(dir / "new_bp"), dir,
+                  "trap '' XFSZ; ulimit -f 2; ");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "new_bp")) << "an empty bedpostx folder was left";
+
+  // A missing folder fails before the fit, which can take minutes with --bootstrap, and writes nothing.
+  r = runDtfabric("fit " + dwi + " --bootstrap 5 --cone " + q(dir / "nope" / "c.nii.gz") + " -o " +
+                      q(dir / "fit.nii.gz"),
+                  dir);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("nope/c.nii.gz: directory does not exist"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("bootstrap: "), std::string::npos) << "the fit ran before the output was checked:\n"
+                                                          << r.err;
+  EXPECT_FALSE(fs::exists(dir / "fit.nii.gz"));
+  noTemporaries(dir);
+}
+
 // --force replaces only what the command writes: a regular file, or a movie's folder of frames; never a
 // pipe or device (renamed over, it was lost) nor a folder holding other files (a movie removed them).
 TEST(OutputProtection, ForceReplacesOnlyFilesAndFrameFolders) {
