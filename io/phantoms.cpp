@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 
@@ -227,6 +228,17 @@ Phantom bretzel5Phantom(const PhantomOptions& o) {
   return p;
 }
 
+void checkOptions(const PhantomOptions& o) {
+  if (o.size < 4 || o.size > 512)
+    throw UsageError("phantom size must be between 4 and 512 voxels (got " + std::to_string(o.size) + ")");
+  if (!(o.spacing >= kMinPhantomSpacingMm && o.spacing <= kMaxPhantomSpacingMm)) {
+    char msg[96];
+    std::snprintf(msg, sizeof msg, "phantom spacing must be between %g and %g mm (got %g)",
+                  kMinPhantomSpacingMm, kMaxPhantomSpacingMm, o.spacing);
+    throw UsageError(msg);
+  }
+}
+
 } // namespace
 
 std::vector<std::string> phantomNames() {
@@ -234,8 +246,7 @@ std::vector<std::string> phantomNames() {
 }
 
 FibreSet makeFibrePhantom(const std::string& name, const PhantomOptions& o) {
-  if (o.size < 4 || o.size > 512 || !(o.spacing > 0) || !std::isfinite(o.spacing))
-    throw UsageError("phantom size must be 4..512 voxels and spacing a positive number of mm");
+  checkOptions(o);
   if (name != "crossing" && name != "constant")
     throw UsageError("phantom '" + name + "' has no fibre set (crossing and constant do)");
   Grid g = centredGrid(glm::ivec3(o.size), o.spacing, o.las);
@@ -274,11 +285,7 @@ FibreSet makeFibrePhantom(const std::string& name, const PhantomOptions& o) {
 }
 
 Phantom makePhantom(const std::string& name, const PhantomOptions& options) {
-  if (options.size < 4 || options.size > 512)
-    throw UsageError("phantom size must be between 4 and 512 voxels (got " + std::to_string(options.size) +
-                     ")");
-  if (!(options.spacing > 0) || !std::isfinite(options.spacing))
-    throw UsageError("phantom spacing must be a positive number of mm");
+  checkOptions(options);
   if (name == "sphere") return sphere(options);
   if (name == "bretzel5") return bretzel5Phantom(options);
   if (name == "constant") return constant(options);

@@ -25,6 +25,10 @@
 
 namespace dtf::io {
 
+// Voxel sizes a phantom may have, in mm: from ex-vivo micro-MRI to coarse; outside them the written
+// affine is singular or not finite in float, and no reader (ours included) takes the file back.
+constexpr double kMinPhantomSpacingMm = 1e-3, kMaxPhantomSpacingMm = 100.0;
+
 struct PhantomOptions {
   int size = 64;           // voxels per side
   double spacing = 1.0;    // mm

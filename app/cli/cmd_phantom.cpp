@@ -39,9 +39,12 @@ const OptionTable& phantomOptions() {
                 "fsl"),
         O::choice("grid", "G", {"ras", "las"}, "ras",
                   "ras, or las (x index towards the patient's left, det(affine) < 0)"),
-        O::integer("size", "N", d.size, closedRange(4, 512), "voxels per side (bretzel5 uses fewer slices in z)")
+        O::integer("size", "N", d.size, closedRange(4, 512),
+                   "voxels per side (bretzel5 uses fewer slices in z)")
             .hidden(),
-        O::number("spacing", "MM", d.spacing, above(0), "voxel size in mm").hidden(),
+        O::number("spacing", "MM", d.spacing, closedRange(io::kMinPhantomSpacingMm, io::kMaxPhantomSpacingMm),
+                  "voxel size in mm")
+            .hidden(),
         O::number("angle", "DEG", d.angleDeg, anyNumber(), "constant: direction from +x towards +y").hidden(),
         O::number("elevation", "DEG", d.elevationDeg, anyNumber(),
                   "constant: direction out of the axial plane towards +z")

@@ -673,6 +673,17 @@ std::vector<Case> catalogue() {
                },
                2,
                {"keep.nii", "exists", "--force"}});
+  // A voxel size whose affine is singular or not finite in float: the file was written, then refused by
+  // every reader (ours among them).
+  for (const auto& [name, spacing] :
+       {std::pair{"PhantomSpacingTooLarge", "1e300"}, {"PhantomSpacingTooSmall", "1e-10"}})
+    c.push_back({name,
+                 [spacing = std::string(spacing)](const fs::path& dir) {
+                   return "phantom constant --size 8 --spacing " + spacing + " -o " + q(dir / "sp.nii");
+                 },
+                 1,
+                 {"--spacing must be [0.001, 100]", spacing},
+                 "sp.nii"});
   // ---- .tck
   c.push_back(
       tractCase("TckEmptyFile", "empty.tck", [] { return std::string(); }, {"not an MRtrix .tck file"}));
