@@ -144,7 +144,7 @@ int cmdCompare(const CommandArgs& argv) {
   if (json) {
     const nlohmann::ordered_json j = {
         {"points", r.anglesDeg.size()},
-        {"mean_deg", r.meanDeg}, // null when no point was compared
+        {"mean_deg", r.meanDeg}, // NaN, written as null, when no point was compared
         {"median_deg", r.medianDeg},
         {"frac_below_15", r.fracBelow15},
         {"histogram", r.histogram},

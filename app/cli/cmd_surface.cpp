@@ -178,7 +178,9 @@ int cmdSurface(const CommandArgs& argv) {
     checked = true;
     if (repair && intersections > 0) mesh = surfaces::removeSelfIntersections(mesh, &removed);
   }
-  const double score = surfaces::fibreCrossingScore(mesh, field);
+  double scoreWeight = 0;
+  const double score = surfaces::fibreCrossingScore(mesh, field, &scoreWeight);
+  const bool scored = scoreWeight > 0; // no triangle in valid, anisotropic data: nothing was measured
 
   // Fibre surfaces are compared with the flat slice through their seed line.
   std::string flatName;
@@ -193,7 +195,7 @@ int cmdSurface(const CommandArgs& argv) {
                                 {"vertices", mesh.positions.size()},
                                 {"area_mm2", meshArea(mesh)},
                                 {"build_ms", buildMs},
-                                {"e1_dot_n", score}};
+                                {"e1_dot_n", scored ? nlohmann::ordered_json(score) : nullptr}};
     if (flatScore >= 0) {
       j["flat_slice"] = flatName;
       j["flat_e1_dot_n"] = flatScore;
@@ -218,7 +220,11 @@ int cmdSurface(const CommandArgs& argv) {
                   "to %.2f voxel\n",
                   bo.meshSmoothIterations, smoothing.maxShiftVoxels, smoothing.clamped, smoothing.vertices,
                   bo.maxShiftVoxels);
-    std::printf("quality:   mean |e1 . n| = %.4f (FA- and area-weighted; 0 = fibres lie in the surface)\n", score);
+    if (scored)
+      std::printf("quality:   mean |e1 . n| = %.4f (FA- and area-weighted; 0 = fibres lie in the surface)\n",
+                  score);
+    else
+      std::printf("quality:   not measured: no triangle lies in the data's valid tensors\n");
     if (flatScore >= 0)
       std::printf("           the flat %s plane through the seed line: %.4f\n", flatName.c_str(), flatScore);
     if (checked)

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace dtf::surfaces {
 
@@ -28,7 +29,7 @@ void summarizeAngles(AgreementResult& r, int bins) {
   bins = std::max(1, bins);
   r.binDeg = 90.0 / bins;
   r.histogram.assign(static_cast<std::size_t>(bins), 0);
-  r.meanDeg = r.medianDeg = r.fracBelow15 = 0;
+  r.meanDeg = r.medianDeg = r.fracBelow15 = std::numeric_limits<double>::quiet_NaN();
   if (r.anglesDeg.empty()) return;
   double sum = 0;
   std::size_t below = 0;

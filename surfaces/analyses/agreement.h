@@ -43,7 +43,7 @@ struct AgreementResult {
   std::size_t skippedTangent = 0;    // ... skipped: projected tangent too short
   std::size_t skippedDegenerate = 0; // ... skipped: T' degenerate (fibre sets: no population in the
                                      // surface) or outside the data
-  double meanDeg = 0, medianDeg = 0, fracBelow15 = 0;
+  double meanDeg = 0, medianDeg = 0, fracBelow15 = 0; // NaN when no point was compared: nothing measured
   double binDeg = 10;
   std::vector<std::size_t> histogram; // counts per bin [b*binDeg, (b+1)*binDeg)
 };

@@ -520,11 +520,15 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
                            0.0f, FLT_MAX,
                            ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
       probe(b, "agreement histogram");
-      ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "
-                         "%zu skipped)",
-                         s.agreementPoints, s.agreementMedianDeg, s.agreementMeanDeg,
-                         100.0 * s.agreementFracBelow15, s.agreementNearPoints, s.agreementNearMm,
-                         s.agreementSkipped);
+      if (s.agreementPoints == 0)
+        ImGui::TextWrapped("no tract point could be compared (%zu within %.1f mm, %zu skipped)",
+                           s.agreementNearPoints, s.agreementNearMm, s.agreementSkipped);
+      else
+        ImGui::TextWrapped("%zu points: median %.1f, mean %.1f deg, %.1f%% below 15 deg (%zu within %.1f mm, "
+                           "%zu skipped)",
+                           s.agreementPoints, s.agreementMedianDeg, s.agreementMeanDeg,
+                           100.0 * s.agreementFracBelow15, s.agreementNearPoints, s.agreementNearMm,
+                           s.agreementSkipped);
       ImGui::TextDisabled("on the %s", s.agreementSurface.c_str());
     }
     ImGui::TreePop();

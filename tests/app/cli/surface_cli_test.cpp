@@ -2,6 +2,7 @@
 #include "support/cli.h"
 #include "support/test_env.h"
 
+#include <fstream>
 #include <regex>
 
 using dtf::test::jsonNumber;
@@ -77,4 +78,43 @@ TEST(SurfaceCli, RenderAcceptsTheSameSurfaceShorthands) {
   EXPECT_EQ(dtf::test::readText(dir / "a.png"), dtf::test::readText(dir / "b.png"));
   auto c = runDtfabric("render " + in + " --fa 0.3 --slice axial -o '" + (dir / "c.png").string() + "'", dir);
   EXPECT_EQ(c.exitCode, 1) << "two surfaces at once";
+}
+
+// A mesh that lies outside the data measures nothing: the score is absent (null, "not measured"), not
+// 0, which would read as a perfect fit for the surface and as perfect agreement for the tracts. The same
+// mesh moved into the data is scored, so the null comes from the position alone.
+TEST(SurfaceCli, AMeshOutsideTheDataHasNoScore) {
+  auto dir = dtf::test::scratchDir();
+  const std::string t = "'" + (dir / "t.nii.gz").string() + "'";
+  ASSERT_EQ(runDtfabric("phantom constant --size 48 -o " + t, dir).exitCode, 0);
+  ASSERT_EQ(runDtfabric("track " + t + " -o '" + (dir / "t.tck").string() + "'", dir).exitCode, 0);
+  auto writeObj = [&](const std::string& name, double at) {
+    std::ofstream(dir / name) << "v " << at << " " << at << " " << at << "\nv " << at + 4 << " " << at << " "
+                              << at << "\nv " << at << " " << at + 4 << " " << at + 2 << "\nf 1 2 3\n";
+  };
+  writeObj("far.obj", 1000);
+  writeObj("in.obj", -2);
+  for (const std::string mesh : {"far.obj", "in.obj"}) {
+    const bool far = mesh == "far.obj";
+    const std::string surf = " --surface mesh='" + (dir / mesh).string() + "'";
+    auto r =
+        runDtfabric("surface " + t + surf + " --force -o '" + (dir / "m.ply").string() + "' --json", dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    if (far) {
+      EXPECT_NE(r.out.find("\"e1_dot_n\": null"), std::string::npos) << r.out;
+    } else {
+      EXPECT_GT(jsonNumber(r.out, "e1_dot_n"), 0.0) << r.out; // the constant e1 is oblique to this triangle
+    }
+    r = runDtfabric("surface " + t + surf + " --force -o '" + (dir / "m.ply").string() + "'", dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out.find("not measured") != std::string::npos, far) << r.out;
+    EXPECT_EQ(r.out.find("mean |e1 . n|") == std::string::npos, far) << r.out;
+  }
+  auto r = runDtfabric("compare " + t + " --surface mesh='" + (dir / "far.obj").string() + "' --tracts '" +
+                           (dir / "t.tck").string() + "' --json",
+                       dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(jsonNumber(r.out, "points"), 0) << r.out;
+  for (const char* key : {"\"mean_deg\": null", "\"median_deg\": null", "\"frac_below_15\": null"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
 }
