@@ -73,17 +73,25 @@ std::vector<int> sweepIndices(const ScalarVolume& fa, const std::string& axis, i
   const surfaces::SliceAxis a = surfaces::parseSliceAxis(axis);
   const int va = surfaces::voxelAxisFor(fa.grid, a);
   const glm::ivec3 dims = fa.grid.dims;
-  int first = dims[va], last = -1;
+  std::vector<std::size_t> held(static_cast<std::size_t>(dims[va]), 0); // voxels with data per slice
   for (int k = 0; k < dims.z; ++k)
     for (int j = 0; j < dims.y; ++j)
       for (int i = 0; i < dims.x; ++i) {
         const std::size_t v = (static_cast<std::size_t>(k) * dims.y + j) * dims.x + i;
-        if (!(fa.data[v * static_cast<std::size_t>(fa.components)] > 0)) continue;
-        const int idx = glm::ivec3(i, j, k)[va];
-        first = std::min(first, idx);
-        last = std::max(last, idx);
+        if (fa.data[v * static_cast<std::size_t>(fa.components)] > 0)
+          ++held[static_cast<std::size_t>(glm::ivec3(i, j, k)[va])];
       }
-  if (last < 0) throw InputError("the data holds no voxel with FA > 0 to sweep through");
+  const std::size_t most = held.empty() ? 0 : *std::max_element(held.begin(), held.end());
+  if (most == 0) throw InputError("the data holds no voxel with FA > 0 to sweep through");
+  // The end slices of an automatic mask hold a few scattered noise voxels: a sweep that starts there
+  // shows an empty frame. A slice counts once it holds kSweepSliceFraction of the fullest slice's data.
+  const std::size_t enough =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(kSweepSliceFraction * most)));
+  int first = 0, last = dims[va] - 1;
+  while (held[static_cast<std::size_t>(first)] < enough)
+    ++first;
+  while (held[static_cast<std::size_t>(last)] < enough)
+    --last;
   std::vector<int> out;
   for (int f = 0; f < frames; ++f)
     out.push_back(frames > 1 ? first + static_cast<int>(std::lround(double(last - first) * f / (frames - 1)))

@@ -33,8 +33,10 @@ std::vector<render::Camera> turntableCameras(render::StandardView start, const g
 // `camera` turned by `degrees` about the unit `axis` through its target (eye and up; right-handed).
 render::Camera turnedAbout(const render::Camera& camera, const glm::dvec3& axis, double degrees);
 
-// Slice indices of a sweep: `frames` indices from the first to the last slice along `axis` whose slice holds
-// data (FA > 0), evenly spaced (repeating indices when frames exceed the slices).
+// Slice indices of a sweep: `frames` indices from the first to the last slice along `axis` holding data
+// (FA > 0) in at least kSweepSliceFraction of the voxels of the fullest slice, evenly spaced (repeating
+// indices when frames exceed the slices).
+constexpr double kSweepSliceFraction = 0.05;
 std::vector<int> sweepIndices(const ScalarVolume& fa, const std::string& axis, int frames);
 
 // The same through the slices holding data: FA > 0, or where there is no FA (a fibre set without a paired

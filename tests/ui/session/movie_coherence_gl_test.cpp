@@ -144,6 +144,28 @@ TEST(MovieCameras, SweepCoversTheSlicesWithData) {
   EXPECT_EQ(two, (std::vector<int>{3, 5, 7}));
 }
 
+// An automatic mask's end slices hold a few scattered noise voxels; the sweep starts and ends where the
+// slices hold a real share of the data (here 1 voxel of 400 against 5 % of the fullest slice).
+TEST(MovieCameras, SweepSkipsEndSlicesOfScatteredVoxels) {
+  dtf::Grid g;
+  g.dims = {20, 20, 12};
+  dtf::ScalarVolume fa(g, 1, 0.0f);
+  for (int k = 2; k <= 9; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i)
+        if (k > 2 && k < 9 ? (i - 10) * (i - 10) + (j - 10) * (j - 10) < 64 : i < 5 && j < 5)
+          fa.data[fa.grid.index(i, j, k)] = 0.4f; // slices 3..8 a disc of ~200; 2 and 9 a corner of 25
+  fa.data[fa.grid.index(3, 3, 0)] = fa.data[fa.grid.index(17, 2, 11)] = 0.3f; // noise
+  EXPECT_EQ(dtf::session::sweepIndices(fa, "axial", 4), (std::vector<int>{2, 4, 7, 9}));
+  fa.data[fa.grid.index(0, 0, 2)] = 0.0f; // slice 2 now 24 voxels, 9 keeps 25: both above 5 % of 197
+  EXPECT_EQ(dtf::session::sweepIndices(fa, "axial", 2), (std::vector<int>{2, 9}));
+  for (int k : {2, 9})
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i)
+        fa.data[fa.grid.index(i, j, k)] = (i + j) == 0 ? 0.4f : 0.0f; // one voxel left: below 5 %
+  EXPECT_EQ(dtf::session::sweepIndices(fa, "axial", 2), (std::vector<int>{3, 8}));
+}
+
 namespace {
 
 // Consecutive turntable frames 0.25 degrees apart: carried (as the movie runs) against re-seeded stills.
