@@ -72,6 +72,23 @@ void drawColourBar(Image& image, const ValueColourBar& bar) {
   drawColourBar(canvas, bar);
 }
 
+std::pair<std::string, std::string> colourBarLabels(double lo, double hi) {
+  const double span = std::abs(hi - lo), big = std::max(std::abs(lo), std::abs(hi));
+  int decimals = -1; // %.3g
+  if (span > 0 && std::isfinite(span) && big < 1e6)
+    decimals = std::max(0, 1 - static_cast<int>(std::floor(std::log10(span))));
+  if (decimals > 6) decimals = -1;
+  auto text = [decimals](double v) {
+    char buf[48];
+    if (decimals < 0)
+      std::snprintf(buf, sizeof buf, "%.3g", v);
+    else
+      std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    return std::string(buf);
+  };
+  return {text(lo), text(hi)};
+}
+
 void drawColourBar(Canvas& img, const ValueColourBar& bar) {
   const int w = img.width(), h = img.height();
   if (w < 64 || h < 64) return;
@@ -86,9 +103,8 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
              static_cast<std::uint8_t>(std::lround(c.y * 255.0f)),
              static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
   }
-  char hi[32], lo[32];
-  std::snprintf(hi, sizeof hi, "%.3g", bar.hi);
-  std::snprintf(lo, sizeof lo, "%.3g", bar.lo);
+  const auto labels = colourBarLabels(bar.lo, bar.hi);
+  const std::string &lo = labels.first, &hi = labels.second;
   const int th = textHeight(scale), gap = 3 * scale;
   outlinedText(img, x0 - gap - textWidth(hi, scale), y0, hi, scale, 255, 255, 255);
   outlinedText(img, x0 - gap - textWidth(lo, scale), y0 + barH - th, lo, scale, 255, 255, 255);

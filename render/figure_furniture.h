@@ -10,6 +10,7 @@
 #include "render/camera.h"
 
 #include <string>
+#include <utility>
 
 namespace dtf::render {
 
@@ -45,5 +46,9 @@ void drawFurniture(Image& image, const Camera& camera, double pixelMm, const Fig
 // name above it.
 void drawColourBar(Canvas& canvas, const ValueColourBar& bar);
 void drawColourBar(Image& image, const ValueColourBar& bar);
+// The colour bar's two labels (lo, hi), written alike: fixed point with the decimals that show two
+// significant digits of the range (0.10 and 0.85, 20 and 150, 0.0005 and 0.0030), or both in %.3g where
+// that would need more than six decimals or the values reach a million.
+std::pair<std::string, std::string> colourBarLabels(double lo, double hi);
 
 } // namespace dtf::render

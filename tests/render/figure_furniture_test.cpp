@@ -142,6 +142,20 @@ TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
   EXPECT_EQ(lit(img, kSize - 39, 0, kSize, kSize), 0); // the letter band stays free
 }
 
+// Both ends of the bar written alike, with the decimals the range needs: "0.2" against "0.85" read as
+// numbers of different precision, and %.3g gave a tract length 187.6 as "188" beside "10.3".
+TEST(FigureFurniture, TheColourBarLabelsShareTheirPrecision) {
+  using P = std::pair<std::string, std::string>;
+  EXPECT_EQ(colourBarLabels(0.2, 0.85), P("0.20", "0.85"));         // FA
+  EXPECT_EQ(colourBarLabels(10.3, 187.6), P("10", "188"));          // length, mm
+  EXPECT_EQ(colourBarLabels(0.0005, 0.003), P("0.0005", "0.0030")); // MD, mm^2/s
+  EXPECT_EQ(colourBarLabels(0.31, 0.34), P("0.310", "0.340"));      // a narrow range keeps two digits of it
+  EXPECT_EQ(colourBarLabels(-1, 1), P("-1.0", "1.0"));
+  EXPECT_EQ(colourBarLabels(0.5, 0.5), P("0.5", "0.5"));       // no range: %.3g
+  EXPECT_EQ(colourBarLabels(1e-9, 3e-9), P("1e-09", "3e-09")); // beyond six decimals: %.3g
+  EXPECT_EQ(colourBarLabels(0, 2.5e6), P("0", "2.5e+06"));
+}
+
 TEST(FigureFurniture, AReservedCornerLiftsTheScaleBar) {
   FigureFurniture bar{false, false, true};
   Image low = black(), lifted = black();
