@@ -102,7 +102,13 @@ Polylines readVtkPolylines(const std::string& path, VtkTractInfo* infoOut) {
   info.polygons = poly->GetNumberOfPolys();
   info.strips = poly->GetNumberOfStrips();
   vtkCellArray* cells = poly->GetLines();
-  if (!cells || cells->GetNumberOfCells() == 0) {
+  const bool noLines = !cells || cells->GetNumberOfCells() == 0;
+  if (noLines && poly->GetNumberOfPoints() == 0 && poly->GetNumberOfCells() == 0) {
+    // Nothing at all: an empty tractogram, as a .tck or .trk of count 0 is (a filter that kept nothing).
+    if (infoOut) *infoOut = info;
+    return Polylines{};
+  }
+  if (noLines) {
     std::string holds = std::to_string(poly->GetNumberOfPoints()) + " points";
     if (info.polygons) holds += ", " + std::to_string(info.polygons) + " polygons";
     if (info.strips) holds += ", " + std::to_string(info.strips) + " triangle strips";

@@ -43,7 +43,9 @@ Stats statsOf(std::vector<double> v) {
   return s;
 }
 
-Json statsJson(const Stats& s) {
+// Null when there was nothing to measure (no streamline), as a score of 0 would be read as a measurement.
+Json statsJson(const Stats& s, bool measured) {
+  if (!measured) return nullptr;
   return {{"min", s.min}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}};
 }
 
@@ -101,6 +103,12 @@ std::pair<double, double> valueRange(const TractValues& d) {
   return {a, b};
 }
 
+std::string fmtRange(double a, double b) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g .. %g", a, b);
+  return buf;
+}
+
 void gridJson(Json& o, const Grid& g) {
   o["dimensions"] = {g.dims.x, g.dims.y, g.dims.z};
   o["voxel_size"] = {g.spacing.x, g.spacing.y, g.spacing.z};
@@ -151,8 +159,8 @@ std::string tractsJson(const std::string& path, const session::TractFileFacts& f
     header[k] = v;
   o["header"] = header;
   if (facts.grid) gridJson(o, *facts.grid);
-  o["length_mm"] = statsJson(s.length);
-  o["points_per_streamline"] = statsJson(s.pointsPerLine);
+  o["length_mm"] = statsJson(s.length, lines.lineCount() > 0);
+  o["points_per_streamline"] = statsJson(s.pointsPerLine, lines.lineCount() > 0);
   if (!lines.points.empty())
     o["bounds_mm"] = {{s.lo.x, s.lo.y, s.lo.z}, {s.hi.x, s.hi.y, s.hi.z}};
   dataJson(o, lines);
@@ -186,12 +194,16 @@ std::string tractsText(const std::string& path, const session::TractFileFacts& f
                 lines.points.size());
   o << buf;
   const Stats& len = s.length;
-  std::snprintf(buf, sizeof buf, "  length (mm):   min %.2f  mean %.2f  median %.2f  max %.2f\n", len.min, len.mean,
-                len.median, len.max);
-  o << buf;
-  std::snprintf(buf, sizeof buf, "  points/line:   min %.0f  mean %.1f  max %.0f\n", s.pointsPerLine.min,
-                s.pointsPerLine.mean, s.pointsPerLine.max);
-  o << buf;
+  if (lines.lineCount() == 0) {
+    o << "  length (mm):   none (no streamline)\n";
+  } else {
+    std::snprintf(buf, sizeof buf, "  length (mm):   min %.2f  mean %.2f  median %.2f  max %.2f\n", len.min,
+                  len.mean, len.median, len.max);
+    o << buf;
+    std::snprintf(buf, sizeof buf, "  points/line:   min %.0f  mean %.1f  max %.0f\n", s.pointsPerLine.min,
+                  s.pointsPerLine.mean, s.pointsPerLine.max);
+    o << buf;
+  }
   if (!lines.points.empty()) {
     std::snprintf(buf, sizeof buf, "  bounds (mm):   [%.2f %.2f %.2f] .. [%.2f %.2f %.2f]\n", s.lo.x, s.lo.y, s.lo.z,
                   s.hi.x, s.hi.y, s.hi.z);
@@ -200,8 +212,9 @@ std::string tractsText(const std::string& path, const session::TractFileFacts& f
   for (int per = 0; per < 2; ++per)
     for (const auto& d : per ? lines.perPoint : lines.perLine) {
       const auto [a, b] = valueRange(d);
-      std::snprintf(buf, sizeof buf, "  %s '%s': %zu x %d, range %g .. %g\n", per ? "dpv" : "dps", d.name.c_str(),
-                    d.values.size() / static_cast<std::size_t>(d.components), d.components, a, b);
+      const std::string range = a <= b ? fmtRange(a, b) : std::string("none (no finite value)");
+      std::snprintf(buf, sizeof buf, "  %s '%s': %zu x %d, range %s\n", per ? "dpv" : "dps", d.name.c_str(),
+                    d.values.size() / static_cast<std::size_t>(d.components), d.components, range.c_str());
       o << buf;
     }
   for (const auto& g : lines.groups)

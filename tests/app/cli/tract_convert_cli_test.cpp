@@ -81,6 +81,41 @@ TEST(TractInfoCli, LengthStatistics) {
   EXPECT_TRUE(has(r.out, "\"length_mm\": {\"min\": 3.0, \"mean\": 5.0, \"median\": 5.0, \"max\": 7.0}")) << r.out;
 }
 
+// A tractogram with no streamline (a filter that kept nothing) converts to every format and reads back empty;
+// `info` reports no length rather than lengths of 0.
+TEST(TractConvertCli, AnEmptyTractogramRoundTripsThroughEveryFormat) {
+  DTF_SHARED_FILE(ref, "iu_prisma_dwi/derived/mask.nii.gz");
+  auto dir = dtf::test::scratchDir();
+  std::string head = "mrtrix tracks\ndatatype: Float32LE\ncount: 0\nfile: . 0000000000\nEND\n";
+  char off[16];
+  std::snprintf(off, sizeof off, "%010zu", head.size());
+  head.replace(head.find("0000000000"), 10, off);
+  const float inf = std::numeric_limits<float>::infinity();
+  const float end[3] = {inf, inf, inf};
+  std::ofstream(dir / "e.tck", std::ios::binary)
+      .write((head + std::string(reinterpret_cast<const char*>(end), sizeof end)).data(),
+             static_cast<std::streamsize>(head.size() + sizeof end));
+  for (const char* ext : {".tck", ".trk", ".trk.gz", ".trx", ".vtk", ".vtp"}) {
+    SCOPED_TRACE(ext);
+    const auto out = dir / (std::string("out") + ext);
+    auto r = runDtfabric("convert " + q(dir / "e.tck") + " " + q(out) + " --reference " + q(ref), dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto back = runDtfabric("info " + q(out) + " --json", dir);
+    ASSERT_EQ(back.exitCode, 0) << back.err;
+    EXPECT_EQ(jsonNumber(back.out, "streamlines"), 0);
+    EXPECT_EQ(jsonNumber(back.out, "points"), 0);
+    EXPECT_TRUE(has(back.out, "\"length_mm\": null")) << back.out;
+    auto text = runDtfabric("info " + q(out), dir);
+    EXPECT_TRUE(has(text.out, "length (mm):   none (no streamline)")) << text.out;
+  }
+  // A VTK file of points without lines is still refused as tracts: it is not an empty tractogram.
+  std::ofstream(dir / "pts.vtk") << "# vtk DataFile Version 4.2\npoints\nASCII\nDATASET POLYDATA\n"
+                                    "POINTS 2 float\n0 0 0 1 1 1\n";
+  auto pts = runDtfabric("info " + q(dir / "pts.vtk"), dir);
+  EXPECT_EQ(pts.exitCode, 2);
+  EXPECT_TRUE(has(pts.err, "holds no lines")) << pts.err;
+}
+
 // Every real file converts to every format; the result reads back with the same counts.
 TEST(TractConvertCli, EveryRealFileToEveryFormat) {
   DTF_SHARED_FILE(dir, "niivue_tracts");
