@@ -33,6 +33,13 @@ void line(Canvas& img, glm::dvec2 a, glm::dvec2 b, int width, const std::uint8_t
   }
 }
 
+// An opaque black panel with a grey one-pixel frame behind a legend, so that it reads over the fabric or
+// tracts it may cover as over the background.
+void backing(Canvas& img, int x, int y, int w, int h) {
+  img.fill(x, y, w, h, 90, 90, 90);
+  img.fill(x + 1, y + 1, w - 2, h - 2, 0, 0, 0);
+}
+
 } // namespace
 
 char anatomicalLetter(const glm::dvec3& d) {
@@ -94,8 +101,16 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
   if (w < 64 || h < 64) return;
   const int scale = furnitureScale(w, h);
   const int barW = std::max(8, w / 64), barH = std::max(16, h * 2 / 5);
-  // Inside the band of the orientation letter at the right edge's middle (drawFurniture's margin and size).
-  const int x0 = w - 4 * scale - textWidth("M", 2 * scale) - 4 * scale - barW, y0 = (h - barH) / 2;
+  const auto labels = colourBarLabels(bar.lo, bar.hi);
+  const std::string &lo = labels.first, &hi = labels.second;
+  const int th = textHeight(scale), gap = 3 * scale, pad = 2 * scale + 1;
+  // The panel ends inside the band of the orientation letter at the right edge's middle (drawFurniture's
+  // margin and size).
+  const int x0 = w - 4 * scale - textWidth("M", 2 * scale) - 4 * scale - barW - pad, y0 = (h - barH) / 2;
+  const int labelsLeft = x0 - gap - std::max(textWidth(hi, scale), textWidth(lo, scale));
+  const int panelLeft = std::max(0, std::min(labelsLeft, x0 + barW - textWidth(bar.name, scale)) - pad);
+  const int panelTop = y0 - (bar.name.empty() ? 1 : gap + th) - pad;
+  backing(img, panelLeft, panelTop, x0 + barW + 1 + pad - panelLeft, y0 + barH + 1 + pad - panelTop);
   img.fill(x0 - 1, y0 - 1, barW + 2, barH + 2, 255, 255, 255);
   for (int y = 0; y < barH; ++y) {
     const glm::vec3 c = tractValueColour(1.0f - float(y) / float(std::max(barH - 1, 1)));
@@ -103,9 +118,6 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
              static_cast<std::uint8_t>(std::lround(c.y * 255.0f)),
              static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
   }
-  const auto labels = colourBarLabels(bar.lo, bar.hi);
-  const std::string &lo = labels.first, &hi = labels.second;
-  const int th = textHeight(scale), gap = 3 * scale;
   outlinedText(img, x0 - gap - textWidth(hi, scale), y0, hi, scale, 255, 255, 255);
   outlinedText(img, x0 - gap - textWidth(lo, scale), y0 + barH - th, lo, scale, 255, 255, 255);
   if (!bar.name.empty())
@@ -146,6 +158,9 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
     const double radius = 14.0 * scale;
     const glm::dvec2 centre(w - margin - radius - textWidth("M", scale) - 2,
                             h - margin - radius - textHeight(scale));
+    const int half = static_cast<int>(radius) + 3 * scale + textWidth("M", scale) + scale;
+    backing(img, static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half, 2 * half + 1,
+            2 * half + 1);
     const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     const std::uint8_t colours[3][3] = {{230, 40, 40}, {40, 210, 40}, {60, 90, 255}};
     const std::uint8_t black[3] = {0, 0, 0};

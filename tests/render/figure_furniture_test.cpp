@@ -116,9 +116,9 @@ TEST(FigureFurniture, TheLegendShowsTheInPlaneAxesInTheirDecColours) {
 TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
   Image img = black();
   drawColourBar(img, {"FA", 0.2, 0.85});
-  // The bar: 8 px wide, 48 px from the right edge (beside the letter band), 204 px tall centred; top
-  // #fde725, bottom #440154.
-  const int x = kSize - 48 + 4, y0 = (kSize - 204) / 2;
+  // The bar: 8 px wide, 53 px from the right edge (its panel ends beside the letter band), 204 px tall
+  // centred; top #fde725, bottom #440154.
+  const int x = kSize - 53 + 4, y0 = (kSize - 204) / 2;
   const std::uint8_t* top = img.pixel(x, y0);
   const std::uint8_t* bottom = img.pixel(x, y0 + 203);
   EXPECT_EQ(int(top[0]), 0xfd);
@@ -135,11 +135,23 @@ TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
         n += img.pixel(xx, yy)[0] == 255 && img.pixel(xx, yy)[1] == 255 && img.pixel(xx, yy)[2] == 255;
     return n;
   };
-  EXPECT_GT(white(kSize - 110, y0, kSize - 57, y0 + 16), 10);              // "0.85"
-  EXPECT_GT(white(kSize - 110, y0 + 204 - 16, kSize - 57, y0 + 204), 10); // "0.2"
+  EXPECT_GT(white(kSize - 115, y0, kSize - 62, y0 + 16), 10);             // "0.85"
+  EXPECT_GT(white(kSize - 115, y0 + 204 - 16, kSize - 62, y0 + 204), 10); // "0.20"
   EXPECT_GT(white(kSize - 80, y0 - 20, kSize - 40, y0 - 2), 10);          // "FA"
   EXPECT_EQ(lit(img, 0, 0, kSize - 120, kSize), 0);                       // nothing else
   EXPECT_EQ(lit(img, kSize - 39, 0, kSize, kSize), 0); // the letter band stays free
+
+  // Over a white fabric the bar sits on its black panel with a grey frame: between the labels and the bar,
+  // and below the bar, the fabric is covered; outside the panel it is not.
+  Image fabric(kSize, kSize);
+  std::fill(fabric.rgba.begin(), fabric.rgba.end(), std::uint8_t(255));
+  drawColourBar(fabric, {"FA", 0.2, 0.85});
+  auto grey = [&](int xx, int yy) { return int(fabric.pixel(xx, yy)[0]); };
+  EXPECT_EQ(grey(x - 6, y0 + 100), 0);        // between the labels and the bar
+  EXPECT_EQ(grey(x, y0 + 204 + 2), 0);        // below the bar's frame
+  EXPECT_EQ(grey(x, y0 + 204 + 5), 90);       // the panel's frame
+  EXPECT_EQ(grey(x, y0 + 204 + 6), 255);      // the fabric beyond it
+  EXPECT_EQ(grey(kSize - 39, y0 + 100), 255); // the letter band is not covered
 }
 
 // Both ends of the bar written alike, with the decimals the range needs: "0.2" against "0.85" read as
