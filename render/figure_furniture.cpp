@@ -79,6 +79,16 @@ void drawColourBar(Image& image, const ValueColourBar& bar) {
   drawColourBar(canvas, bar);
 }
 
+void drawPaneDivider(Canvas& img, int x) {
+  const int width = 2 * std::max(1, furnitureScale(img.width(), img.height()) / 2);
+  img.fill(x - width / 2, 0, width, img.height(), 90, 90, 90);
+}
+
+void drawPaneDivider(Image& image, int x) {
+  ImageCanvas canvas(image);
+  drawPaneDivider(canvas, x);
+}
+
 std::pair<std::string, std::string> colourBarLabels(double lo, double hi) {
   const double span = std::abs(hi - lo), big = std::max(std::abs(lo), std::abs(hi));
   int decimals = -1; // %.3g

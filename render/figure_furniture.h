@@ -46,6 +46,10 @@ void drawFurniture(Image& image, const Camera& camera, double pixelMm, const Fig
 // name above it.
 void drawColourBar(Canvas& canvas, const ValueColourBar& bar);
 void drawColourBar(Image& image, const ValueColourBar& bar);
+// The seam between panes side by side in one image (a split view): a grey (90) line, 2 pixels wide (4 on a
+// canvas whose smaller side is 1024 pixels or more), centred on column `x`, over the panes' edge pixels.
+void drawPaneDivider(Canvas& canvas, int x);
+void drawPaneDivider(Image& image, int x);
 // The colour bar's two labels (lo, hi), written alike: fixed point with the decimals that show two
 // significant digits of the range (0.10 and 0.85, 20 and 150, 0.0005 and 0.0030), or both in %.3g where
 // that would need more than six decimals or the values reach a million.

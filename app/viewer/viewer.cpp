@@ -655,6 +655,7 @@ Image ViewerScene::layoutImage() const {
   if (!state().ortho) {
     render::ImageCanvas canvas(img);
     drawFurniture(canvas);
+    if (paneCount() == 2) render::drawPaneDivider(img, paneRect(1)[0]); // as the window draws it
     return img;
   }
   const glm::dvec3 cross = state().crosshair;

@@ -168,6 +168,22 @@ TEST(FigureFurniture, TheColourBarLabelsShareTheirPrecision) {
   EXPECT_EQ(colourBarLabels(0, 2.5e6), P("0", "2.5e+06"));
 }
 
+TEST(FigureFurniture, ThePaneDividerIsAGreyLineOnTheSeam) {
+  Image img = black();
+  drawPaneDivider(img, kSize / 2);
+  for (int y : {0, kSize / 2, kSize - 1}) {
+    EXPECT_EQ(int(img.pixel(kSize / 2 - 1, y)[1]), 90);
+    EXPECT_EQ(int(img.pixel(kSize / 2, y)[1]), 90);
+  }
+  EXPECT_EQ(lit(img, 0, 0, kSize / 2 - 1, kSize), 0);
+  EXPECT_EQ(lit(img, kSize / 2 + 1, 0, kSize, kSize), 0);
+  Image wide(2048, 1024);
+  drawPaneDivider(wide, 1024);
+  EXPECT_EQ(int(wide.pixel(1022, 10)[0]), 90); // 4 pixels when the smaller side is 1024 or more
+  EXPECT_EQ(int(wide.pixel(1025, 10)[0]), 90);
+  EXPECT_EQ(int(wide.pixel(1026, 10)[0]), 0);
+}
+
 TEST(FigureFurniture, AReservedCornerLiftsTheScaleBar) {
   FigureFurniture bar{false, false, true};
   Image low = black(), lifted = black();

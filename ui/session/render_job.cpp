@@ -5,6 +5,7 @@
 #include "io/diffusion/uncertainty.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "render/figure_furniture.h"
 #include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
@@ -489,6 +490,7 @@ RenderResult runRender(const RenderRequest& r) {
   const render::StandardView view = r.view ? *r.view : defaultView(r.surface);
   PaneRenderer panes(r, scene, second, view);
   Image image = renderPanes(r, scene, second, panes, p);
+  if (r.split.kind != SplitMode::Kind::None) render::drawPaneDivider(image, image.width / 2);
   if (!scene.cone.data.empty()) render::drawFrayLegend(image, static_cast<float>(p.fray), frayLegendScale(r));
   render::checkGl("rendering " + r.output);
   RenderResult result;
