@@ -173,6 +173,9 @@ std::vector<std::uint8_t> readFileBytes(const std::string& path, bool* wasGzip =
 // Throws InputError naming `path` when it exists but is a device, pipe or socket: opening a pipe blocks
 // until something writes to it (nifticlib, stdio and zlib all would wait forever).
 void refuseSpecialFile(const std::string& path);
+// Whether the file begins with the gzip magic (1f 8b): compression is told from the content, not the name.
+// False for a file that cannot be opened (the reader then names that).
+bool startsWithGzipMagic(const std::string& path);
 // The file's bytes as stored (no inflation); at most `limit` bytes (throws InputError beyond, or when
 // the file is missing or unreadable).
 std::vector<std::uint8_t> readRawFile(const std::string& path, std::size_t limit = std::size_t(1) << 40);

@@ -40,13 +40,17 @@ void checkInflatable(const std::string& path, const std::string& what, const std
                      unsigned long long need, const std::string& note) {
   std::error_code ec;
   const auto stored = static_cast<std::size_t>(fs::file_size(file, ec));
-  unsigned char magic[2] = {0, 0};
   refuseSpecialFile(file);
-  if (std::FILE* f = std::fopen(file.c_str(), "rb")) {
-    if (std::fread(magic, 1, 2, f) != 2) magic[0] = 0;
-    std::fclose(f);
-  }
-  checkInflatable(path, what, ec ? 0 : stored, magic[0] == 0x1f && magic[1] == 0x8b, need, note);
+  checkInflatable(path, what, ec ? 0 : stored, startsWithGzipMagic(file), need, note);
+}
+
+bool startsWithGzipMagic(const std::string& path) {
+  unsigned char magic[2] = {0, 0};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const bool two = std::fread(magic, 1, 2, f) == 2;
+  std::fclose(f);
+  return two && magic[0] == 0x1f && magic[1] == 0x8b;
 }
 
 void refuseSpecialFile(const std::string& path) {

@@ -153,12 +153,7 @@ std::vector<std::uint8_t> mrtrixHeaderBytes(const std::string& path, bool& gz) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) readFileBytes(path); // throws the reason
   std::vector<std::uint8_t> bytes = peekFileBytes(path, 1 << 20);
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  unsigned char m[2] = {0, 0};
-  if (f) {
-    gz = std::fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-    std::fclose(f);
-  }
+  gz = startsWithGzipMagic(path);
   // A corrupt gzip stream inflates to nothing here: the full read names the problem.
   if (bytes.empty() && gz) readFileBytes(path);
   return bytes;

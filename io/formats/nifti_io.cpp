@@ -68,6 +68,7 @@ using detail::ComponentEvidence;
 using detail::componentEvidence;
 using detail::ComponentKind;
 using detail::fail;
+using detail::startsWithGzipMagic;
 
 void quietNifti() {
   // nifticlib reports problems on stderr at debug level >= 1; our exceptions carry the message instead.
@@ -175,12 +176,32 @@ std::string dataFile(const nifti_image* nim, const std::string& path) {
   return (nim->iname_offset == 0 && nim->iname) ? std::string(nim->iname) : path;
 }
 
+// Whether the voxel data are gzip-compressed, told from the content: a .nii.gz holding plain bytes reads as
+// plain. A separate .img of exactly the raw data's size is plain whatever its first bytes are (voxel values
+// can begin 1f 8b).
+bool dataIsGzip(const nifti_image* nim, const std::string& file, long long rawBytes) {
+  if (!startsWithGzipMagic(file)) return false;
+  if (nim->iname_offset != 0) return true; // a single file starts with its header, never 1f 8b
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
+  return ec || static_cast<long long>(size) != rawBytes;
+}
+
+// nifticlib decompresses by the name: gzip data under a name without .gz would be read as raw bytes.
+void refuseGzipWithoutGzName(const std::string& path, const std::string& file) {
+  if (nifti_is_gzfile(file.c_str())) return;
+  fail(path, (file == path ? std::string("the file") : "its data file " + file) +
+                 " is gzip-compressed but its name does not end in .gz: rename it to " + file + ".gz");
+}
+
 // Reads the start of the file before nifticlib does: for a file shorter than the header its sizeof_hdr
 // announces, nifti_read_header prints "** ERROR ... short header read" on stderr whatever its debug level.
 void checkHeaderLength(const std::string& path) {
   const std::string unreadable = "not a readable NIfTI-1/NIfTI-2 file";
   detail::refuseSpecialFile(path);
-  znzFile fp = znzopen(path.c_str(), "rb", nifti_is_gzfile(path.c_str()));
+  const bool gz = startsWithGzipMagic(path);
+  if (gz) refuseGzipWithoutGzName(path, path);
+  znzFile fp = znzopen(path.c_str(), "rb", gz);
   if (znz_isnull(fp)) fail(path, "cannot open the file");
   unsigned char head[540];
   std::size_t got = 0, r = 0;
@@ -392,10 +413,13 @@ NimPtr openHeader(const std::string& path, VolumeHeader& h) {
     fail(path, "not a readable NIfTI-1/NIfTI-2 file (bad or truncated header, or corrupt gzip stream)");
   niftiHeaderFacts(path, nim.get(), raw, ndim, h);
   niftiGrid(path, nim.get(), ndim, h);
-  if (const std::string file = dataFile(nim.get(), path); !nifti_is_gzfile(file.c_str())) {
-    long long total = 1;
-    for (long long n : h.dims)
-      total *= n;
+  long long total = 1;
+  for (long long n : h.dims)
+    total *= n;
+  const std::string file = dataFile(nim.get(), path);
+  if (dataIsGzip(nim.get(), file, total * nim->nbyper)) {
+    refuseGzipWithoutGzName(path, file);
+  } else {
     long long need = static_cast<long long>(nim->iname_offset) + total * nim->nbyper;
     long long have = nifti_get_filesize(file.c_str());
     if (have < need)
@@ -417,7 +441,7 @@ std::vector<float> loadData(nifti_image* nim, const std::string& path) {
   std::vector<unsigned char> plain;
   unsigned char* raw = nullptr;
   try {
-    if (nifti_is_gzfile(file.c_str())) {
+    if (dataIsGzip(nim, file, static_cast<long long>(bytes))) {
       // The whole gzip file is inflated in one call (libdeflate; every member of a multi-member file), into
       // a buffer the size the header declares and never beyond a little more: a small file whose header
       // declares gigabytes fails on its short data, one that inflates far beyond its header as a bomb.

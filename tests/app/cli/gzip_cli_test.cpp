@@ -66,3 +66,29 @@ TEST(GzipCli, TruncatedAndBombFilesExitTwoNamingTheFile) {
     EXPECT_NE(r.err.find("deflate bomb"), std::string::npos) << r.err;
   }
 }
+
+// Compression is told from the bytes: plain NIfTI under a .nii.gz name reads as the original; gzip data
+// under a .nii name (which nifticlib would parse as raw bytes) is refused with the name to give it.
+TEST(GzipCli, CompressionIsToldFromTheContentNotTheName) {
+  const fs::path dir = test::scratchDir();
+  const fs::path p = writeTensors(dir, "t.nii.gz"), plainGz = dir / "plain.nii.gz",
+                 gzNii = dir / "packed.nii";
+  test::writeBytes(plainGz, test::gunzipFile(p));
+  fs::copy_file(p, gzNii);
+  const test::CliResult a = test::runDtfabric("info '" + p.string() + "' --json", dir);
+  const test::CliResult b = test::runDtfabric("info '" + plainGz.string() + "' --json", dir);
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  std::string expected = a.out;
+  for (auto at = expected.find(p.string()); at != std::string::npos; at = expected.find(p.string(), at + 1))
+    expected.replace(at, p.string().size(), plainGz.string());
+  EXPECT_EQ(b.out, expected);
+  const test::CliResult c = test::runDtfabric("info '" + gzNii.string() + "'", dir);
+  EXPECT_EQ(c.exitCode, 2) << c.out << c.err;
+  EXPECT_NE(c.err.find(gzNii.string() +
+                       ": the file is gzip-compressed but its name does not end in .gz: rename "
+                       "it to " +
+                       gzNii.string() + ".gz"),
+            std::string::npos)
+      << c.err;
+}
