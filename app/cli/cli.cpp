@@ -236,6 +236,10 @@ int runCli(int argc, char** argv) {
       std::cerr << "dtfabric " << name << ": out of memory\n";
       return 2;
     } catch (const std::exception& e) {
+      if (const std::string fs = filesystemErrorMessage(e); !fs.empty()) {
+        std::cerr << "dtfabric " << name << ": " << fs << "\n";
+        return 2;
+      }
       std::cerr << "dtfabric " << name << ": unexpected error: " << e.what() << "\n";
       return 2;
     }

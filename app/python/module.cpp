@@ -5,13 +5,6 @@
 // classes of dtfabric/_errors.py.
 #include "app/python/arrays.h"
 #include "app/python/gl_thread.h"
-#include "ui/session/check_run.h"
-#include "ui/session/fibre_input.h"
-#include "ui/session/movie_job.h"
-#include "ui/session/render_job.h"
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
-#include "ui/session/track_job.h"
 #include "io/diffusion/dwi.h"
 #include "io/diffusion/uncertainty.h"
 #include "io/formats/fibre_io.h"
@@ -25,8 +18,16 @@
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
 #include "surfaces/tracking/tracking_parameters.h"
+#include "ui/session/check_run.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/render_job.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_job.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -42,8 +43,15 @@ namespace dtf::python {
 
 namespace {
 
+// A path argument as the library takes it: str, bytes or os.PathLike (bytes decoded as os.fsdecode does, so
+// a name in the file system's encoding round-trips). A NUL character cannot be in a path: Python's open()
+// refuses it too.
 std::string pathText(const py::handle& p) {
-  return py::str(py::module_::import("os").attr("fspath")(p));
+  const py::object os = py::module_::import("os");
+  const std::string s = py::str(os.attr("fsdecode")(os.attr("fspath")(p)));
+  if (s.find('\0') != std::string::npos)
+    throw UsageError("the path " + std::string(py::str(py::repr(p))) + " contains a NUL character");
+  return s;
 }
 
 std::string optionalPath(const py::object& p) {
@@ -51,7 +59,7 @@ std::string optionalPath(const py::object& p) {
 }
 
 bool isPathLike(const py::handle& o) {
-  return py::isinstance<py::str>(o) || py::hasattr(o, "__fspath__");
+  return py::isinstance<py::str>(o) || py::isinstance<py::bytes>(o) || py::hasattr(o, "__fspath__");
 }
 
 // --- fields
@@ -290,7 +298,8 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
     r.field = &held->field;
   }
   r.surface = session::parseSurfaceSpec(surface);
-  if (!view.is_none()) r.view = render::parseView(view.cast<std::string>());
+  if (!view.is_none())
+    r.view = render::parseView(castOr<std::string>(view, "view must be a view name or 'azimuth,elevation'"));
   std::tie(r.width, r.height) = sizeOf(size);
   r.neurological = neurological;
   r.perspective = perspective;
@@ -329,20 +338,28 @@ py::array_t<std::uint8_t> renderImage(const py::object& input, const std::string
   }
   r.uncertainty = optionalPath(uncertainty);
   r.tracts = optionalPath(tracts);
-  if (!tractsColor.is_none()) r.colouring.value = tractsColor.cast<std::string>();
-  if (!tractsRange.is_none())
+  if (!tractsColor.is_none())
+    r.colouring.value = castOr<std::string>(tractsColor, "tracts_color must be a colouring name");
+  if (!tractsRange.is_none()) {
     r.colouring.range = castOr<std::pair<double, double>>(tractsRange, "tracts_range must be (lo, hi)");
+    const auto [lo, hi] = *r.colouring.range;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
+      throw UsageError("tracts_range must be (lo, hi) with lo < hi, got " +
+                       std::string(py::str(py::repr(tractsRange))));
+  }
   if (!tractsGroup.is_none()) {
     if (py::isinstance<py::str>(tractsGroup))
       r.colouring.groups = {tractsGroup.cast<std::string>()};
     else
-      r.colouring.groups = tractsGroup.cast<std::vector<std::string>>();
+      r.colouring.groups = castOr<std::vector<std::string>>(
+          tractsGroup, "tracts_group must be a group name or a list of them");
   }
   r.tractsNear = tractsNear;
   r.tractsSlab = tractsSlab;
   r.tractsSlabDepth = tractsSlabDepth;
   r.tractWidth = tractWidth;
-  if (!split.is_none()) r.split = session::parseSplitMode(split.cast<std::string>());
+  if (!split.is_none())
+    r.split = session::parseSplitMode(castOr<std::string>(split, "split must be a split mode name"));
   r.output = "the image of " + r.input;
 
   session::RenderResult result;
@@ -387,7 +404,8 @@ py::object makeMovie(const py::object& input, const py::object& output, bool tur
   m.frames = frames;
   m.elevationDeg = elevation;
   std::tie(r.width, r.height) = sizeOf(size);
-  if (!view.is_none()) r.view = render::parseView(view.cast<std::string>());
+  if (!view.is_none())
+    r.view = render::parseView(castOr<std::string>(view, "view must be a view name or 'azimuth,elevation'"));
   r.neurological = neurological;
   r.perspective = perspective;
   r.background = background.is_none() ? "" : optionText(background);
@@ -490,7 +508,8 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
   }
   if (!seedSurface.is_none()) {
     r.seeds = K::Surface;
-    r.seedSurface = session::parseSurfaceSpec(seedSurface.cast<std::string>());
+    r.seedSurface =
+        session::parseSurfaceSpec(castOr<std::string>(seedSurface, "seed_surface must be a surface spec"));
   }
   if (!seedSlice.is_none()) {
     std::pair<std::string, int> s;
@@ -513,10 +532,10 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
     r.sliceIndex = s.second;
   }
   if (!select.is_none() && !seeds.is_none()) throw UsageError("give either select or seeds, not both");
-  if (!select.is_none()) r.number = select.cast<int>();
+  if (!select.is_none()) r.number = castOr<int>(select, "select must be an integer");
   if (!seeds.is_none()) {
     r.count = session::SeedCount::Seeds;
-    r.number = seeds.cast<int>();
+    r.number = castOr<int>(seeds, "seeds must be an integer");
     if (r.number <= 0) throw UsageError("seeds must be positive");
   }
   if (seedsPerVoxel < 0 || (seedsPerVoxel > 0 && r.seedsMask.empty()))
@@ -675,6 +694,12 @@ void registerErrors() {
       raise("GlError", e.what());
     } catch (const Error& e) {
       raise("Error", e.what());
+    } catch (const std::exception& e) {
+      // A file system call's failure (a loop of links, a folder without access) is a file problem; anything
+      // else is left to pybind11's own translation.
+      const std::string fs = filesystemErrorMessage(e);
+      if (fs.empty()) throw;
+      raise("FileError", fs);
     }
   });
 }

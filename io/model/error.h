@@ -3,6 +3,7 @@
 // the whole chain (CLI) or shows it in a modal (GUI).
 #pragma once
 
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -38,6 +39,12 @@ public:
 // Why `path` cannot be read as a file: "no such file", "it is a folder" or "it is not a regular file (a
 // device, pipe or socket)"; empty when it is a regular file (or a link to one).
 std::string notARegularFile(const std::string& path);
+
+// A file system call's failure (std::filesystem::filesystem_error) as the product words it: "PATH: too many
+// levels of symbolic links"; empty for any other exception. Such a failure is an input problem (CLI exit
+// code 2, dtfabric.FileError in Python): rethrowWithContext turns it into an InputError,
+// currentExceptionMessage into this message.
+std::string filesystemErrorMessage(const std::exception& e);
 
 // The message of the exception being handled ("out of memory" for std::bad_alloc, "unknown error" for what
 // is not a std::exception). Call inside a catch block.

@@ -76,3 +76,35 @@ def test_wrong_layout_for_the_file(derived):
         dtfabric.load(derived("mask.nii.gz"))
     with pytest.raises(dtfabric.UsageError, match="layout"):
         dtfabric.load(derived("dti_tensor.nii.gz"), layout="sideways")
+
+
+def test_file_system_failures_are_file_errors(tmp_path, cli, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "b").symlink_to("a")
+    (tmp_path / "a").symlink_to("b")
+    with pytest.raises(dtfabric.FileError, match="a: too many levels of symbolic links"):
+        dtfabric.load("a")
+    r = cli("info", "a", check=False)
+    assert r.returncode == 2
+    assert "dtfabric info: a: too many levels of symbolic links" in r.stderr
+    assert "unexpected error" not in r.stderr
+
+
+def test_paths_as_bytes_and_with_nul(derived):
+    import os
+
+    path = derived("dti_tensor.nii.gz")
+    assert dtfabric.load(os.fsencode(path)).shape == dtfabric.load(path).shape
+    with pytest.raises(dtfabric.UsageError, match="NUL character"):
+        dtfabric.load(path + "\0.nii")
+
+
+def test_arguments_of_the_wrong_type_are_usage_errors(derived):
+    tensor, tracts = derived("dti_tensor.nii.gz"), derived("tracks_det.tck")
+    with pytest.raises(dtfabric.UsageError, match="view must be .*got 5"):
+        dtfabric.render(tensor, view=5, size=32)
+    for bad in ((5, 1), (2, 2), (0, float("nan")), (float("-inf"), 1)):
+        with pytest.raises(dtfabric.UsageError, match="tracts_range must be .*lo < hi"):
+            dtfabric.render(tensor, tracts=tracts, tracts_range=bad, size=32)
+    with pytest.raises(dtfabric.UsageError, match="seeds must be an integer"):
+        dtfabric.track(tensor, seeds="many")
