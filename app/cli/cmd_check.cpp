@@ -204,7 +204,7 @@ int cmdCheck(const CommandArgs& argv) {
     if (out.empty()) continue;
     io::refuseUnwritableOutput(out);
     io::refuseOverwritingInput(out, inputs);
-    if (!force && fs::exists(out)) throw InputError(out + " exists (use --force to replace it)");
+    if (!force && io::outputExists(out)) throw InputError(out + " exists (use --force to replace it)");
   }
   if (!sheet.empty() && !(sheet.size() > 4 && sheet.compare(sheet.size() - 4, 4, ".png") == 0))
     throw UsageError("--sheet must name a .png file, got '" + sheet + "'");

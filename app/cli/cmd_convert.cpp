@@ -59,9 +59,7 @@ int cmdConvert(const CommandArgs& argv) {
   if (!session::isTractFileName(out))
     throw UsageError("OUT '" + out + "' has no tract file extension (.tck, .trk, .trk.gz, .trx, .vtk, .vtp)");
   io::refuseOverwritingInput(out, {in, reference.value_or("")});
-  std::error_code ec;
-  if (!force && std::filesystem::exists(out, ec))
-    throw InputError(out + " exists (use --force to overwrite)");
+  if (!force && io::outputExists(out)) throw InputError(out + " exists (use --force to overwrite)");
 
   session::TractFileFacts facts;
   const Polylines lines = session::readTracts(in, &facts);

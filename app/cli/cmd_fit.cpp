@@ -151,8 +151,7 @@ int cmdFit(const CommandArgs& argv) {
   for (const auto& out : outputs) {
     io::refuseUnwritableOutput(out); // before the fit, which can take minutes
     io::refuseOverwritingInput(out, inputs);
-    if (!force && std::filesystem::exists(out))
-      throw InputError(out + " exists (use --force to overwrite it)");
+    if (!force && io::outputExists(out)) throw InputError(out + " exists (use --force to overwrite it)");
   }
 
   const auto start = std::chrono::steady_clock::now();

@@ -86,8 +86,7 @@ int cmdPhantom(const CommandArgs& argv) {
   for (const auto* out : {&*output, scalarPath ? &*scalarPath : nullptr}) {
     if (!out) continue;
     if (!fibres || layoutName != "bedpostx") io::refuseUnwritableOutput(*out);
-    if (!force && std::filesystem::exists(*out))
-      throw InputError(*out + " exists (use --force to overwrite it)");
+    if (!force && io::outputExists(*out)) throw InputError(*out + " exists (use --force to overwrite it)");
   }
 
   if (fibres) {

@@ -260,7 +260,8 @@ void checkOutput(const session::RenderRequest& r, bool force) {
   io::refuseOverwritingInput(
       r.output,
       {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor, r.uncertainty});
-  if (!force && fs::exists(r.output)) throw InputError(r.output + " exists (use --force to overwrite it)");
+  if (!force && io::outputExists(r.output))
+    throw InputError(r.output + " exists (use --force to overwrite it)");
 }
 
 void logRendered(const session::RenderRequest& r, const session::RenderResult& result, double seconds) {

@@ -155,8 +155,7 @@ int cmdSurface(const CommandArgs& argv) {
   args.finish();
 
   io::refuseOverwritingInput(output, {input, spec.file, in.bval, in.bvec});
-  if (!force && std::filesystem::exists(output))
-    throw InputError(output + " exists (use --force to overwrite)");
+  if (!force && io::outputExists(output)) throw InputError(output + " exists (use --force to overwrite)");
 
   in.quiet = json;
   io::LoadedTensors loaded = session::loadTensorInput(input, in);

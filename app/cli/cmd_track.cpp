@@ -300,7 +300,7 @@ int cmdTrack(const CommandArgs& argv) {
   io::refuseOverwritingInput(cli.output, {request.input, request.tensorOptions.bval,
                                           request.tensorOptions.bvec, request.stopMask, request.seedsMask,
                                           request.seedSurface ? request.seedSurface->file : ""});
-  if (!cli.force && std::filesystem::exists(cli.output))
+  if (!cli.force && io::outputExists(cli.output))
     throw InputError(cli.output + " exists (use --force to overwrite)");
   parseSeedPlaces(cli);
   request.tensorOptions.quiet = cli.json;

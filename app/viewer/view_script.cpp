@@ -750,8 +750,7 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
     } catch (const InputError& e) {
       throw InputError(where + e.what());
     }
-    std::error_code ec;
-    if (!force && !lineForce && std::filesystem::exists(path, ec))
+    if (!force && !lineForce && io::outputExists(path))
       throw InputError(where + path +
                        " exists (use --force to overwrite it: `view --force`, or --force before "
                        "the path on this line)");

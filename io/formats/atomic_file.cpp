@@ -32,7 +32,11 @@ AtomicOutput::AtomicOutput(const std::string& target) : target_(target) {
   refuseUnwritableOutput(target);
   const fs::path p(target);
   const fs::path dir = folderOf(target);
-  temp_ = (dir / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
+  // A file name has at most 255 bytes: a long output name is cut in its temporary twin, which only has to
+  // be unique in the folder (the process id and the counter make it so).
+  constexpr std::size_t kNameBytes = 160;
+  const std::string name = p.filename().string();
+  temp_ = (dir / ("." + name.substr(0, kNameBytes) + ".tmp" + std::to_string(::getpid()) + "_" +
                   std::to_string(counter++)))
               .string();
   // Keep the final extension so libraries that pick a format by name (nifti .gz) see the right one.
@@ -91,6 +95,11 @@ void refuseReplacingNonFile(const std::string& target) {
   if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
     throw InputError("cannot write " + target + ": it exists and is not a regular file (a folder, device or pipe): "
                      "refusing to replace it");
+}
+
+bool outputExists(const std::string& target) {
+  std::error_code ec;
+  return fs::exists(fs::symlink_status(target, ec));
 }
 
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {

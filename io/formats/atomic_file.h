@@ -58,6 +58,10 @@ void refuseUnwritableOutput(const std::string& target);
 // replaces only a file. AtomicOutput checks it before writing and again before the rename.
 void refuseReplacingNonFile(const std::string& target);
 
+// Whether an output would replace something at `target`: a file, a folder, or a symbolic link, even one
+// whose target is missing (writing would replace the link itself). The commands' --force checks ask this.
+bool outputExists(const std::string& target);
+
 // Throws InputError if `output` names the same file as any of `inputs`.
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 

@@ -113,7 +113,7 @@ void refuseMovieOverInputs(const std::string& output, const std::vector<std::str
 // nothing but frame_NNNN.png (or nothing), or a regular file.
 static void refuseReplacing(const std::string& target, MovieFormat format, bool force) {
   std::error_code ec;
-  if (!fs::exists(target, ec)) return;
+  if (!outputExists(target)) return;
   if (!force) throw InputError(target + " exists (use --force to overwrite it)");
   if (format != MovieFormat::PngFrames) {
     refuseReplacingNonFile(target);

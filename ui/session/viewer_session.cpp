@@ -74,8 +74,7 @@ void ViewerSession::addInput(const std::string& path) {
 bool ViewerSession::mayWrite(const std::string& path, bool force, const Action& action) {
   try {
     io::refuseOverwritingInput(path, inputs_);
-    std::error_code ec;
-    if (force || !std::filesystem::exists(path, ec)) return true;
+    if (force || !io::outputExists(path)) return true;
     if (!askBeforeOverwrite_)
       throw InputError(path + " exists (use --force to overwrite it: `view --force`, or a script line's "
                               "--force before the path)");

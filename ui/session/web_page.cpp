@@ -236,7 +236,7 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
                                         r.background == "fa" || r.background == "md" ? "" : r.background};
   refuseFolderHoldingInputs(output, inputs);
   std::error_code ec;
-  if (fs::exists(output, ec)) {
+  if (io::outputExists(r.output)) {
     if (!fs::is_directory(output, ec))
       throw InputError(r.output + " exists and is not a folder: refusing to replace it");
     if (!r.force) throw InputError(r.output + " exists (use --force to replace it)");

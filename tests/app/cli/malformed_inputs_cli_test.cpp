@@ -1687,6 +1687,29 @@ TEST(OutputProtection, ExistingOutputsNeedForce) {
   EXPECT_NE(readBytes(dir / "keep.nii"), "precious");
 }
 
+// A symbolic link whose target is missing is an existing output too: writing would replace the link.
+TEST(OutputProtection, ADanglingLinkNeedsForce) {
+  const fs::path dir = dtf::test::scratchDir();
+  fs::create_symlink(dir / "nowhere.png", dir / "link.png");
+  CliResult r = runDtfabric("render " + q(kSample) + " --size 32x32 -o " + q(dir / "link.png"), dir);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("link.png exists (use --force"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "link.png")));
+  r = runDtfabric("render " + q(kSample) + " --size 32x32 --force -o " + q(dir / "link.png"), dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir / "link.png")));
+}
+
+// An output name of up to 255 bytes (the file system's limit) is written: its temporary twin is cut short.
+TEST(OutputProtection, ALongOutputNameIsWritten) {
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path out = dir / (std::string(251, 'n') + ".png");
+  const CliResult r = runDtfabric("render " + q(kSample) + " --size 32x32 -o " + q(out), dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(out));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
 // `view --script`: screenshot and camera-save lines are checked before a window opens (so this runs without
 // a display): an existing file needs --force, an input is refused whatever --force says.
 TEST(OutputProtection, ViewScriptOutputsAreCheckedBeforeTheWindow) {
