@@ -81,6 +81,42 @@ void FabricRenderer::prepare(const Camera& camera, const FabricParams& p) {
   pipeline_.project(view_, p, mesh_.boundsLo());
 }
 
+void FabricRenderer::advectAndComposite(const FabricParams& p) {
+  lastFused_ = fuse_ && pipeline_.fusesComposite(view_, p);
+  if (!lastFused_) {
+    pipeline_.advect(p);
+    composite(p);
+    return;
+  }
+  if (fusedColour_.width() != view_.target.x || fusedColour_.height() != view_.target.y) {
+    fusedColour_ = Texture::create2D(GL_RGBA8, view_.target.x, view_.target.y);
+    fusedProjection_ = 0;
+  }
+  if (fusedProjection_ != pipeline_.projections() || fusedBackground_ != p.background) {
+    const float bg[4] = {p.background.x, p.background.y, p.background.z, 1.0f};
+    glClearTexImage(fusedColour_.id(), 0, GL_RGBA, GL_FLOAT, bg);
+    fusedProjection_ = pipeline_.projections();
+    fusedBackground_ = p.background;
+  }
+  pipeline_.advectComposing(view_, p, fusedColour_);
+  glCopyImageSubData(fusedColour_.id(), GL_TEXTURE_2D, 0, view_.guard, view_.guard, 0, outColour_.id(),
+                     GL_TEXTURE_2D, 0, 0, 0, 0, size_.x, size_.y, 1);
+  presentDepth();
+}
+
+void FabricRenderer::presentDepth() {
+  const float one = 1.0f;
+  if (depthProjection_ != pipeline_.projections()) {
+    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
+    glClearNamedFramebufferfv(depthFbo_.id(), GL_DEPTH, 0, &one);
+    pipeline_.compositeDepth(view_);
+    depthProjection_ = pipeline_.projections();
+  }
+  glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0,
+                     0, size_.x, size_.y, 1);
+  glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
+}
+
 void FabricRenderer::composite(const FabricParams& p) {
   // The output is cleared to the background here, so the composite lays the data's edge over that colour
   // in the shader (CompositeSettings::overClear) instead of blending.
@@ -96,23 +132,14 @@ void FabricRenderer::composite(const FabricParams& p) {
   // The depth the composite would write, drawn once per projection: with it in place the composite shades
   // only the pixels it draws (the early depth test), where the other blocks of pixels would cost a software
   // rasteriser the whole shader.
-  if (depthProjection_ != pipeline_.projections()) {
-    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
-    glClearNamedFramebufferfv(depthFbo_.id(), GL_DEPTH, 0, &one);
-    pipeline_.compositeDepth(view_);
-    depthProjection_ = pipeline_.projections();
-    glBindFramebuffer(GL_FRAMEBUFFER, output_.id());
-  }
-  glCopyImageSubData(compositeDepth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, outDepth_.id(), GL_TEXTURE_2D, 0, 0, 0,
-                     0, size_.x, size_.y, 1);
+  presentDepth();
   pipeline_.composite(view_, p, glm::ivec2(0), CompositeDepth::Present, true);
 }
 
 void FabricRenderer::renderFrame(const Camera& camera, const FabricParams& p) {
   const GlStateGuard guard;
   prepare(camera, p);
-  pipeline_.advect(p);
-  composite(p);
+  advectAndComposite(p);
 }
 
 Image FabricRenderer::renderStill(const Camera& camera, const FabricParams& p) {
@@ -148,12 +175,13 @@ void FabricRenderer::renderMovieFrame(const Camera& camera, const FabricParams& 
     throw;
   }
   still_ = false;
-  if (first)
+  if (first) {
     lastIterations_ = pipeline_.converge(p);
-  else
-    pipeline_.advect(p);
+    composite(p);
+  } else {
+    advectAndComposite(p);
+  }
   pipeline_.keepHistory(view_);
-  composite(p);
 }
 
 void FabricRenderer::renderPhong(const Camera& camera, const glm::vec3& colour) {

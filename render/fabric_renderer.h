@@ -91,10 +91,21 @@ public:
   // AdvectionPass::setCompute).
   void setComputePasses(bool on) { pipeline_.setComputePasses(on); }
   bool computePasses() const { return pipeline_.computePasses(); }
+  // renderFrame and renderMovieFrame run a frame's last advection iteration and the composite in one pass
+  // where they can (fragment passes at full resolution, no sharpening: FabricPipeline::advectComposing): the
+  // same image, one full-screen pass fewer. Off: separate passes (on by default; tests compare the two).
+  void setFusedComposite(bool on) { fuse_ = on; }
+  bool fusedComposite() const { return fuse_; }
+  // Whether the last renderFrame or renderMovieFrame ran its last iteration in the composite.
+  bool lastFrameFused() const { return lastFused_; }
 
 private:
   void prepare(const Camera& camera, const FabricParams& params);
+  // params.iterations iterations and the composite into the output, fused where they can be.
+  void advectAndComposite(const FabricParams& params);
   void composite(const FabricParams& params);
+  // The composite's depth at full resolution into outDepth_ (drawn once per projection).
+  void presentDepth();
 
   FabricPipeline pipeline_;
   PhongPass phong_;
@@ -106,6 +117,13 @@ private:
   Framebuffer depthFbo_;
   Texture compositeDepth_;
   std::uint64_t depthProjection_ = 0;
+  // The fused pass's colour target, the guarded targets' size; it holds fusedBackground_ wherever the
+  // projection of fusedProjection_ covers nothing (the pass rewrites every covered pixel each frame).
+  Texture fusedColour_;
+  std::uint64_t fusedProjection_ = 0;
+  glm::vec3 fusedBackground_{0.0f};
+  bool fuse_ = true;
+  bool lastFused_ = false;
   glm::ivec2 size_{0};
   FrameView view_;
   glm::mat4 lastCameraViewProj_{0.0f}; // viewport matrix of the last frame: tells a moving camera

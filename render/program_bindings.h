@@ -13,11 +13,21 @@ namespace dtf::render {
 
 // Two binding tables as one (a program's shared bindings followed by its own).
 template <std::size_t A, std::size_t B>
-constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A], const BindingName (&b)[B]) {
+constexpr std::array<BindingName, A + B> joinBindings(std::span<const BindingName, A> a,
+                                                      std::span<const BindingName, B> b) {
   std::array<BindingName, A + B> out{};
   for (std::size_t i = 0; i < A; ++i) out[i] = a[i];
   for (std::size_t i = 0; i < B; ++i) out[A + i] = b[i];
   return out;
+}
+template <std::size_t A, std::size_t B>
+constexpr std::array<BindingName, A + B> joinBindings(const BindingName (&a)[A], const BindingName (&b)[B]) {
+  return joinBindings(std::span<const BindingName, A>(a), std::span<const BindingName, B>(b));
+}
+template <std::size_t A, std::size_t B>
+constexpr std::array<BindingName, A + B> joinBindings(const std::array<BindingName, A>& a,
+                                                      const BindingName (&b)[B]) {
+  return joinBindings(std::span<const BindingName, A>(a), std::span<const BindingName, B>(b));
 }
 
 // The texture units, the image units an iteration reads and the counter of the advection (AdvectionPass),
@@ -32,19 +42,25 @@ struct AdvectionBindings {
   // the pixel itself and the projection's vectors (three-field iterations: its vectors3 target).
   enum class ReadImage : GLuint { Here1 = 3, Here2 = 4, Here3 = 5, Vectors = 6, Surface = 7 };
   enum class Counter : GLuint { Changed = 0 };
-  static constexpr BindingName kShared[] = {
+  // What an iteration binds (common/advection_step.glsl): also the composite's, which reads the state at its
+  // pixel on the same image units and runs a frame's last iteration itself (ADVECT).
+  static constexpr BindingName kIteration[] = {
       {unit(Unit::Prev1), "UNIT_PREV1", "u_prev1"},
-      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
-      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
       {unit(Unit::Prev2), "UNIT_PREV2", "u_prev2"},
       {unit(Unit::Prev3), "UNIT_PREV3", "u_prev3"},
       {unit(ReadImage::Here1), "IMAGE_HERE1", "u_here1"},
       {unit(ReadImage::Here2), "IMAGE_HERE2", "u_here2"},
       {unit(ReadImage::Here3), "IMAGE_HERE3", "u_here3"},
       {unit(ReadImage::Vectors), "IMAGE_VECTORS", "u_vectors"},
-      {unit(ReadImage::Surface), "IMAGE_SURFACE", "u_surfaceImage"},
       {unit(Counter::Changed), "COUNTER_CHANGED", "u_changed"},
   };
+  // A restart's inputs (common/advection_restart.glsl).
+  static constexpr BindingName kRestart[] = {
+      {unit(Unit::Surface), "UNIT_SURFACE", "u_surface"},
+      {unit(Unit::Silhouette), "UNIT_SILHOUETTE", "u_silhouette"},
+      {unit(ReadImage::Surface), "IMAGE_SURFACE", "u_surfaceImage"},
+  };
+  static constexpr auto kShared = joinBindings(kIteration, kRestart);
 };
 
 // fabric/advection.frag (AdvectionPass), every variant: the shared bindings and the movie's reprojection.
@@ -80,23 +96,29 @@ struct AdvectionComputeProgram {
 };
 
 // fabric/composite.frag (CompositePass). It reads its inputs as images (imageLoad, inlined on llvmpipe), and
-// a host's window depth as a texture (WINDOW_DEPTH: a depth format, which no image unit takes).
+// a host's window depth as a texture (WINDOW_DEPTH: a depth format, which no image unit takes). The advected
+// fields at its pixel are read on an iteration's units (AdvectionBindings::ReadImage Here1..3), with whose
+// bindings the ADVECT variant runs a frame's last iteration in the same pass (AdvectionPass::iterateDrawing
+// binds the state, the vectors and the counter); its own images take the other units.
 struct CompositeProgram {
-  enum class Unit : GLuint { Depth = 0 };
-  enum class Image : GLuint { P1 = 0, P2 = 1, Surface = 2, Eigen = 3, Lambda = 4, P3 = 5, Fibres = 6 };
-  static constexpr BindingName kBindings[] = {
-      {unit(Image::P1), "IMAGE_P1", "u_p1"},
-      {unit(Image::P2), "IMAGE_P2", "u_p2"},
+  enum class Unit : GLuint { Depth = 0 }; // WINDOW_DEPTH, never with ADVECT (whose p1 is on texture unit 0)
+  using ReadImage = AdvectionBindings::ReadImage;
+  // Light: ADVECT without DEPTH_COLOUR reads the projection's light target instead of the surface.
+  enum class Image : GLuint { Surface = 0, Light = 0, Eigen = 1, Lambda = 2, Fibres = 7 };
+  static constexpr BindingName kOwn[] = {
       {unit(Image::Surface), "IMAGE_SURFACE", "u_surface"},
+      {unit(Image::Light), "IMAGE_LIGHT", "u_light"},
       {unit(Image::Eigen), "IMAGE_EIGEN", "u_eigen"},
       {unit(Image::Lambda), "IMAGE_LAMBDA", "u_lambda"},
-      {unit(Image::P3), "IMAGE_P3", "u_p3"},
       {unit(Image::Fibres), "IMAGE_FIBRES", "u_fibres"},
       {unit(Unit::Depth), "UNIT_DEPTH", "u_depth"},
   };
+  static constexpr auto kBindings = joinBindings(AdvectionBindings::kIteration, kOwn);
   enum class Uniform {
     Guard, Origin, Scale, EyeDepth, R, Contrast, LightWeight, LightMix, Lighting, DepthColour, DepthRange,
-    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Target, ClearColour, Count
+    Sharpen, SecondaryRatio, SecondaryFa, FadeOutOfPlane, OpacityFa, Target, ClearColour,
+    K, Step, ComplementSecond, Epsilon, // ADVECT: the iteration's (AdvectionProgram's of the same names)
+    Count
   };
 };
 
@@ -160,8 +182,8 @@ struct ProjectionComputeProgram {
   using Unit = ProjectionProgram::Unit;
   using Uniform = ProjectionProgram::Uniform;
   static constexpr GLuint kDepthUnit = 9; // below the lobe textures' 10 and 11
-  // Above the geometry stage's read image (5).
-  enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4, Vectors3 = 6 };
+  // Around the geometry stage's read image (5).
+  enum class Image : GLuint { Vectors = 0, Surface = 1, Eigen = 2, Lambda = 3, Fibres = 4, Vectors3 = 6, Light = 7 };
   enum class Buffer : GLuint { Covered = 0 };
   static constexpr BindingName kOwn[] = {
       {kDepthUnit, "UNIT_DEPTH", "u_depth"},
@@ -171,6 +193,7 @@ struct ProjectionComputeProgram {
       {unit(Image::Lambda), "IMAGE_LAMBDA", "i_lambda"},
       {unit(Image::Fibres), "IMAGE_FIBRES", "i_fibres"},
       {unit(Image::Vectors3), "IMAGE_VECTORS3", "i_vectors3"},
+      {unit(Image::Light), "IMAGE_LIGHT", "i_light"},
       {unit(Buffer::Covered), "BUFFER_COVERED", "CoveredPixels"},
   };
   static constexpr auto kBindings = joinBindings(ProjectionProgram::kBindings, kOwn);
@@ -258,6 +281,10 @@ constexpr const char* uniformName(CompositeProgram::Uniform u) {
   case U::OpacityFa: return "u_opacityFa";
   case U::Target: return "u_target";
   case U::ClearColour: return "u_clearColour";
+  case U::K: return uniformName(AdvectionProgram::Uniform::K);
+  case U::Step: return uniformName(AdvectionProgram::Uniform::Step);
+  case U::ComplementSecond: return uniformName(AdvectionProgram::Uniform::ComplementSecond);
+  case U::Epsilon: return uniformName(AdvectionProgram::Uniform::Epsilon);
   case U::Count: break;
   }
   return "";

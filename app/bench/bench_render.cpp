@@ -56,6 +56,13 @@ struct Result {
   render::PassTimes passes;
   int frames = 0;
   render::Camera camera; // the camera of the static frames
+  // The still frames ran their last iteration in the composite's pass (FabricRenderer::setFusedComposite),
+  // and that pass's CPU time against the separate passes in the same run (compareFusion).
+  bool fused = false;
+  struct Fusion {
+    int pairs = 0;
+    double median = 0, lo = 0, hi = 0; // fused / separate, CPU time of the same still frames
+  } fusion;
 };
 
 // The host route on the same sphere and camera: the host's geometry pass plus EmbeddedFabric::draw.
@@ -127,11 +134,35 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
   return c;
 }
 
-Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode) {
+// Still frames with the last iteration fused into the composite against the same frames in separate passes
+// (the same images): `pairs` pairs of two-frame blocks, alternating, continuing one state; the CPU time
+// ratio's median and range over the pairs. Leaves the renderer fusing.
+Result::Fusion compareFusion(render::FabricRenderer& r, const render::Camera& cam, const render::FabricParams& p,
+                             int pairs) {
+  std::vector<double> ratios;
+  for (int i = 0; i < pairs; ++i) {
+    double cpu[2];
+    for (int fuse = 1; fuse >= 0; --fuse) {
+      r.setFusedComposite(fuse == 1);
+      const std::clock_t c0 = std::clock();
+      for (int f = 0; f < 2; ++f) r.renderFrame(cam, p);
+      glFinish();
+      cpu[fuse] = cpuMsSince(c0);
+    }
+    ratios.push_back(cpu[1] / std::max(cpu[0], 1e-9));
+  }
+  r.setFusedComposite(true);
+  return {pairs, median(ratios), *std::min_element(ratios.begin(), ratios.end()),
+          *std::max_element(ratios.begin(), ratios.end())};
+}
+
+Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode,
+               bool fuse) {
   Result res;
   res.name = c.name;
   res.triangles = c.mesh.triangleCount();
   res.frames = frames;
+  r.setFusedComposite(fuse);
   r.setMesh(c.mesh);
   r.setField(c.field);
   if (c.fibres) r.setFibres(*c.fibres);
@@ -208,6 +239,8 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   res.stillCpuRatio = median(cpuRatios);
   res.stillCpuRatioLo = *std::min_element(cpuRatios.begin(), cpuRatios.end());
   res.stillCpuRatioHi = *std::max_element(cpuRatios.begin(), cpuRatios.end());
+  res.fused = r.lastFrameFused();
+  if (res.fused) res.fusion = compareFusion(r, cam, p, std::max(frames, 20));
   // Moving camera: a small trackball step every frame; the projection and silhouettes run every frame and
   // the advection restarts from beta each frame.
   render::PassTimes movingSum;
@@ -503,6 +536,8 @@ const OptionTable& benchRenderOptions() {
         O::integer("peer-frames", "N", d.frames, closedRange(1, 1000), "timed frames per peer mode")
             .defaultSays("min(--frames, " + std::to_string(d.frames) + ")"),
         O::text("peer-png", "FILE", "save one of the peer's default LIC frames as PNG"),
+        O::flag("no-fuse", "the frames' last advection iteration in a pass of its own before the composite "
+                           "(by default fragment passes at full resolution run it in the composite's pass)"),
         O::choice("passes", "K", {"auto", "fragment", "compute"}, "auto",
                   "the tensor stage and the advection iterations as fullscreen draws or as compute shaders "
                   "(auto: compute on a hardware GPU, fragment on a software rasteriser)"),
@@ -553,6 +588,12 @@ void printJson(const Report& rep) {
                      {"interleaved_blocks", r.blocks},
                      {"moving_cpu_ratio", r.movingCpuMs / std::max(r.phongCpuMs, 1e-9)},
                      {"coverage", r.coverage},
+                     {"fused", r.fused},
+                     {"fused_over_separate_cpu",
+                      r.fused ? Json{{"median", r.fusion.median},
+                                     {"range", {r.fusion.lo, r.fusion.hi}},
+                                     {"pairs", r.fusion.pairs}}
+                              : Json(nullptr)},
                      {"passes_ms",
                       {{"projection", r.passes.projection},
                        {"silhouette", r.passes.silhouette},
@@ -601,7 +642,11 @@ void printTable(const Report& rep) {
   std::printf("dtfabric bench render: %dx%d, %d frames per figure, %s, load average %.1f on %u cores\n", width, height,
               frames, renderer.c_str(), load, std::thread::hardware_concurrency());
   std::printf("frame = projection + silhouette + 3 advection iterations + composite (paper Table 1); goal fabric <= 95 ms\n");
-  std::printf("tensor stage and advection: %s\n\n", rep.computePasses ? "compute shaders" : "fullscreen fragment passes");
+  std::printf("tensor stage and advection: %s\n", rep.computePasses ? "compute shaders" : "fullscreen fragment passes");
+  const bool anyFused = std::any_of(results.begin(), results.end(), [](const Result& r) { return r.fused; });
+  std::printf("%s\n\n", anyFused ? "the last iteration runs in the composite's pass (GPU ms: advect3 holds the first two "
+                                    "iterations, compos the third with the composite)"
+                                  : "every iteration in a pass of its own, then the composite");
   std::printf("%-18s %9s %6s | %9s %9s %9s %9s %6s | GPU ms: %8s %8s %8s %8s %8s\n", "case", "triangles", "cover",
               "fabric", "moving", "mov 1/2", "phong", "ratio", "project", "silhou", "advect3", "compos", "phong");
   for (const Result& r : results)
@@ -664,6 +709,14 @@ void printTable(const Report& rep) {
                 stillSecondRatio(*three) / std::max(stillSecondRatio(*two), 1e-9), second,
                 three->movingMs / std::max(two->movingMs, 1e-9),
                 movingSecond(*three) / std::max(movingSecond(*two), 1e-9), second);
+  if (std::any_of(results.begin(), results.end(), [](const Result& r) { return r.fused; })) {
+    std::printf("\nthe last iteration in the composite's pass against separate passes, the same still frames in\n"
+                "the same run (CPU time, fused / separate: median over pairs of 2-frame blocks, range):\n");
+    for (const Result& r : results)
+      if (r.fused)
+        std::printf("  %-18s %.3f (%.2f-%.2f over %d pairs)\n", r.name.c_str(), r.fusion.median, r.fusion.lo,
+                    r.fusion.hi, r.fusion.pairs);
+  }
   if (embedded.ran) {
     // The embedded route projects every frame (the host may redraw its buffers with the same camera), so
     // it compares with the own front end's moving frames, which project every frame too.
@@ -727,6 +780,7 @@ int benchRender(const CommandArgs& argv) {
       args.given("peer-frames") ? args.integer("peer-frames") : std::min(frames, RenderPeerOptions{}.frames);
   const std::string peerPng = args.text("peer-png");
   const std::string passes = args.text("passes");
+  const bool fuse = !args.flag("no-fuse");
   args.finish();
 
   auto& ctx = render::GlContext::headless();
@@ -741,7 +795,7 @@ int benchRender(const CommandArgs& argv) {
     if (auto b = brainCase(dataDir)) cases.push_back(std::move(*b));
   std::vector<Result> results;
   for (const auto& c : cases)
-    if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode));
+    if (only.empty() || ("," + only + ",").find("," + c.name + ",") != std::string::npos) results.push_back(runCase(renderer, c, width, height, frames, mode, fuse));
   // The host route on the same sphere and camera as the own front end's sphere_41k.
   EmbeddedResult embedded;
   if (!results.empty() && results[0].name == "sphere_41k")

@@ -74,16 +74,22 @@ void AdvectionPass::resize(glm::ivec2 target) {
   resetEdgesFbo3_ = createFramebuffer();
   attachedEdges_ = 0;
   attachedDepth_ = 0;
+  attachedColour_ = 0; // the draw framebuffers hold the old state textures
+  drawDepth_ = 0;
   current_ = 0;
 }
 
 void AdvectionPass::setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s,
-                                         bool countChanges) {
+                                         bool countChanges, bool third) {
   program.set(U::K, s.k);
   program.set(U::Step, s.stepPixels);
   program.set(U::ComplementSecond, s.complementSecond ? 1 : 0);
+  if (countChanges) program.set(U::Epsilon, s.epsilon);
+  bindIterationInputs(program, countChanges, third);
+}
+
+void AdvectionPass::bindIterationInputs(const ShaderProgram& program, bool countChanges, bool third) {
   if (countChanges) {
-    program.set(U::Epsilon, s.epsilon);
     const GLuint zero = 0;
     glClearNamedBufferSubData(counter_.id(), GL_R32UI, 0, sizeof(GLuint), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
@@ -91,6 +97,8 @@ void AdvectionPass::setIterationUniforms(const ShaderProgram& program, const Adv
   glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, unit(AdvectionProgram::Counter::Changed), counter_.id());
   bindTexture(Unit::Prev1, state_[current_][0].id());
   bindTexture(Unit::Prev2, state_[current_][1].id());
+  if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
+  bindHere(third);
 }
 
 void AdvectionPass::bindHere(bool third) {
@@ -105,9 +113,7 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
   glViewport(0, 0, size_.x, size_.y);
   setIterationUniforms(iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u)), s,
-                       countChanges);
-  if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
-  bindHere(third);
+                       countChanges, third);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
@@ -115,12 +121,11 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
 
 void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, bool third) {
   const int next = 1 - current_;
-  setIterationUniforms(compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u)), s,
-                       countChanges);
+  const ShaderProgram& program =
+      compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u));
   for (int c = 0; c < (third ? 3 : 2); ++c)
     glBindImageTexture(unit(kNext[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-  if (third) bindTexture(Unit::Prev3, state_[current_][2].id());
-  bindHere(third);
+  setIterationUniforms(program, s, countChanges, third);
   dispatchPerPixel(size_.x, size_.y);
   current_ = next;
 }
@@ -256,16 +261,28 @@ void AdvectionPass::reproject(const Texture& surface, const Texture& edges, cons
   current_ = 0;
 }
 
-void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
-                            const Texture* depth, int fields) {
-  if (count <= 0) return;
+void AdvectionPass::bindVectors(const Texture& vectors, int fields) {
   const bool third = fields >= 3;
   const GLenum layout = third ? GL_RGBA32UI : GL_RG32UI;
   if (vectors.format() != layout)
     throw GlError(third ? "AdvectionPass: three fields need the RGBA32UI vectors with the third direction"
                         : "AdvectionPass: two fields need the RG32UI vectors");
-  counted_ = countChanges;
   bindReadImage(AdvectionBindings::ReadImage::Vectors, vectors, layout);
+}
+
+void AdvectionPass::attachDepth(GLuint depth) {
+  if (depth == attachedDepth_) return;
+  for (auto& f : fbo_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depth, 0);
+  for (auto& f : fbo3_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depth, 0);
+  attachedDepth_ = depth;
+}
+
+void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, int count, bool countChanges,
+                            const Texture* depth, int fields) {
+  if (count <= 0) return;
+  const bool third = fields >= 3;
+  bindVectors(vectors, fields);
+  counted_ = countChanges;
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
     compute_.get(third ? kComputeThird : 0u);
@@ -274,12 +291,7 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     return;
   }
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
-  const GLuint depthId = covered ? depth->id() : 0;
-  if (depthId != attachedDepth_) {
-    for (auto& f : fbo_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
-    for (auto& f : fbo3_) glNamedFramebufferTexture(f.id(), GL_DEPTH_ATTACHMENT, depthId, 0);
-    attachedDepth_ = depthId;
-  }
+  attachDepth(covered ? depth->id() : 0);
   if (covered) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
@@ -296,6 +308,41 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
   }
+}
+
+void AdvectionPass::iterateDrawing(const ShaderProgram& program, const Texture& vectors, bool countChanges,
+                                   const Texture& depth, int fields, const Texture& colour) {
+  if (useCompute_) throw GlError("AdvectionPass: iterateDrawing draws fragment passes, not compute ones");
+  if (depth.width() != size_.x || depth.height() != size_.y || colour.width() != size_.x ||
+      colour.height() != size_.y)
+    throw GlError("AdvectionPass: iterateDrawing's depth and colour targets must have the state's size");
+  const bool third = fields >= 3;
+  bindVectors(vectors, fields);
+  counted_ = countChanges;
+  // The framebuffers are attached when the colour or depth target changes, not per frame.
+  if (colour.id() != attachedColour_ || depth.id() != drawDepth_) {
+    for (int i = 0; i < 2; ++i) {
+      drawFbo_[i] = createFramebuffer();
+      attachTargets(drawFbo_[i], {&colour, &state_[i][0], &state_[i][1]}, &depth);
+      drawFbo3_[i] = createFramebuffer();
+      attachTargets(drawFbo3_[i], {&colour, &state_[i][0], &state_[i][1], &state_[i][2]}, &depth);
+    }
+    attachedColour_ = colour.id();
+    drawDepth_ = depth.id();
+  }
+  const int next = 1 - current_;
+  glBindFramebuffer(GL_FRAMEBUFFER, (third ? drawFbo3_ : drawFbo_)[next].id());
+  glViewport(0, 0, size_.x, size_.y);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_FALSE);
+  bindIterationInputs(program, countChanges, third);
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+  current_ = next;
 }
 
 void AdvectionPass::setFields(const float* rg) {

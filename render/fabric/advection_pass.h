@@ -70,6 +70,14 @@ public:
   // a vectors texture of the other layout.
   void iterate(const Texture& vectors, const AdvectionSettings& settings, int count, bool countChanges = true,
                const Texture* depth = nullptr, int fields = 2);
+  // One iteration drawn by `program`, the caller's (the composite that runs a frame's last iteration,
+  // CompositePass::advecting: its uniforms set and its own inputs bound), which writes the next state at
+  // draw buffers 1, 2 (3: the third field) and a colour at draw buffer 0 into `colour` (RGBA8, the state's
+  // size). As iterate() with the projection's depth: only covered pixels are shaded, and the changed pixels
+  // are counted when countChanges is set. Fragment passes only (not with setCompute(true)); throws GlError
+  // for targets of another size or a vectors texture of the other layout.
+  void iterateDrawing(const ShaderProgram& program, const Texture& vectors, bool countChanges, const Texture& depth,
+                      int fields, const Texture& colour);
   // Iterations and restarts from beta as a compute shader (fabric/advection.comp) instead of fullscreen
   // draws: the same values, many times faster where the fragment pipeline is a small part of the GPU (the
   // movie's reprojecting restart stays a draw). The default is compute on a
@@ -94,7 +102,15 @@ private:
   // `edges`: the silhouette target it writes (RESET SILHOUETTES), or nullptr.
   void dispatchRestart(const ShaderProgram& program, const Texture& surface, const Texture* edges, bool third,
                        bool complementSecond);
-  void setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s, bool countChanges);
+  // The iteration's uniforms on `program`, then bindIterationInputs.
+  void setIterationUniforms(const ShaderProgram& program, const AdvectionSettings& s, bool countChanges, bool third);
+  // Binds what an iteration reads (the current state as textures and images, the counter, cleared when
+  // counting); `program` is made current first.
+  void bindIterationInputs(const ShaderProgram& program, bool countChanges, bool third);
+  // The vectors texture's layout checked and bound for `fields` fields.
+  void bindVectors(const Texture& vectors, int fields);
+  // Attaches `depth` to the iteration framebuffers (0: none) where another is attached.
+  void attachDepth(GLuint depth);
   // Binds the current state to the iteration's read image units (p_i at each pixel itself).
   void bindHere(bool third);
   // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into
@@ -112,7 +128,9 @@ private:
   VertexArray vao_;
   Buffer counter_;
   Framebuffer fbo_[2], fbo3_[2], resetFbo_, resetFbo3_, resetEdgesFbo_, resetEdgesFbo3_;
-  GLuint attachedDepth_ = 0, attachedEdges_ = 0;
+  // iterateDrawing's: the colour target, then the next state (two or three fields), and the depth.
+  Framebuffer drawFbo_[2], drawFbo3_[2];
+  GLuint attachedDepth_ = 0, attachedEdges_ = 0, attachedColour_ = 0, drawDepth_ = 0;
   Texture state_[2][3]; // [ping-pong][component]
   int current_ = 0;
   bool counted_ = false; // the last iterate() counted its changed pixels

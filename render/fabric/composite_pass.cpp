@@ -1,11 +1,18 @@
 #include "render/fabric/composite_pass.h"
 
+#include "io/model/error.h"
+
 namespace dtf::render {
 
 namespace {
 using Unit = CompositeProgram::Unit;
 using Image = CompositeProgram::Image;
 using U = CompositeProgram::Uniform;
+
+// Bits of CompositePass::programs_.
+constexpr unsigned kMedical = 1u, kSilhouettes = 2u, kBackground = 4u, kDepthColour = 8u, kSharpen = 16u,
+                   kFibres = 32u, kWindowDepth = 64u, kAnatomy = 128u, kDecFa = 256u, kFade = 512u,
+                   kFarPlane = 1024u, kOverClear = 2048u, kAdvect = 4096u, kThird = 8192u, kCount = 16384u;
 
 // Scissors to the viewport pixels the scene can cover (FrameView::coverRect), the viewport's lower left at
 // `origin`: a software rasteriser would run the whole shader on the rest. False where that is not known.
@@ -21,31 +28,26 @@ bool scissorToCover(const FrameView& view, glm::ivec2 origin) {
 CompositePass::CompositePass()
     : programs_("fabric/composite.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
-                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE", "OVER_CLEAR"},
+                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE", "OVER_CLEAR", "ADVECT", "THIRD", "COUNT"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       depthPrograms_("fabric/composite.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
                      programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),
       vao_(createVertexArray()), texelSampler_(createTexelSampler()) {
-  programs_.get(3); // medical with silhouettes, the default, compiles with the pass
+  programs_.get(kMedical | kSilhouettes); // the default compiles with the pass
 }
 
-void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
-  const bool windowDepth = s.depth == CompositeDepth::Window && in.depth;
-  const bool present = s.depth == CompositeDepth::Present;
-  // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1: nothing to lay
-  // over what is beneath.
-  const bool opaque = s.background || windowDepth;
-  const bool overClear = s.overClear && !opaque;
-  const unsigned mask = (s.mode == ColourMode::Medical ? 1u : 0u) | (s.silhouettes ? 2u : 0u) |
-                        (s.background ? 4u : 0u) | (s.depthColour > 0.0f ? 8u : 0u) | (s.sharpen > 0.0f ? 16u : 0u) |
-                        (s.mode == ColourMode::Fibres && in.fibres ? 32u : 0u) |
-                        (windowDepth ? 64u : 0u) | (s.anatomy ? 128u : 0u) | (present ? 1024u : 0u) |
-                        (s.mode == ColourMode::Medical && s.decFa ? 256u : 0u) |
-                        (s.mode == ColourMode::Medical && s.fadeOutOfPlane > 0.0f ? 512u : 0u) |
-                        (overClear ? 2048u : 0u);
-  const ShaderProgram& p = programs_.get(mask);
+unsigned CompositePass::lookMask(const CompositeSettings& s, bool fibres) {
+  const bool medical = s.mode == ColourMode::Medical;
+  return (medical ? kMedical : 0u) | (s.silhouettes ? kSilhouettes : 0u) | (s.background ? kBackground : 0u) |
+         (s.depthColour > 0.0f ? kDepthColour : 0u) | (s.mode == ColourMode::Fibres && fibres ? kFibres : 0u) |
+         (s.anatomy ? kAnatomy : 0u) | (medical && s.decFa ? kDecFa : 0u) |
+         (medical && s.fadeOutOfPlane > 0.0f ? kFade : 0u);
+}
+
+void CompositePass::setUniforms(const ShaderProgram& p, const FrameView& view, const CompositeSettings& s,
+                                glm::ivec2 target) const {
   p.set(U::Guard, glm::ivec2(view.guard));
-  p.set(U::Target, glm::ivec2(in.p1->width(), in.p1->height()));
+  p.set(U::Target, target);
   p.set(U::Origin, s.origin);
   p.set(U::Scale, glm::vec2(view.internal) / glm::vec2(glm::max(view.viewport, glm::ivec2(1))));
   p.set(U::EyeDepth, view.eyeDepth);
@@ -63,17 +65,37 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   p.set(U::SecondaryFa, s.secondaryFa);
   if (s.fadeOutOfPlane > 0.0f) p.set(U::FadeOutOfPlane, s.fadeOutOfPlane);
   if (s.anatomy) p.set(U::OpacityFa, s.opacityFa);
-  if (overClear) p.set(U::ClearColour, s.clearColour);
-  p.use();
-  bindReadImage(Image::P1, *in.p1, GL_R32F);
-  bindReadImage(Image::P2, *in.p2, GL_R32F);
-  bindReadImage(Image::Surface, *in.surface, GL_RGBA32F);
+  p.set(U::ClearColour, s.clearColour);
+}
+
+void CompositePass::bindInputs(const CompositeInputs& in, const CompositeSettings& s, const Texture* light) const {
+  if (light)
+    bindReadImage(Image::Light, *light, GL_R16);
+  else
+    bindReadImage(Image::Surface, *in.surface, GL_RGBA32F);
   bindReadImage(Image::Eigen, *in.eigen, GL_RGBA8);
   bindReadImage(Image::Lambda, *in.lambda, GL_RGBA8);
-  if (s.mode == ColourMode::Fibres && in.fibres) {
-    bindReadImage(Image::P3, *in.p3, GL_R32F);
-    bindReadImage(Image::Fibres, *in.fibres, GL_RGBA32UI);
-  }
+  if (s.mode == ColourMode::Fibres && in.fibres) bindReadImage(Image::Fibres, *in.fibres, GL_RGBA32UI);
+}
+
+void CompositePass::run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& s) {
+  const bool windowDepth = s.depth == CompositeDepth::Window && in.depth;
+  const bool present = s.depth == CompositeDepth::Present;
+  // With a background volume, or a host's surface drawn whole, every pixel drawn has alpha 1: nothing to lay
+  // over what is beneath.
+  const bool opaque = s.background || windowDepth;
+  const bool overClear = s.overClear && !opaque;
+  const unsigned mask = lookMask(s, in.fibres != nullptr) | (s.sharpen > 0.0f ? kSharpen : 0u) |
+                        (windowDepth ? kWindowDepth : 0u) | (present ? kFarPlane : 0u) |
+                        (overClear ? kOverClear : 0u);
+  const ShaderProgram& p = programs_.get(mask);
+  setUniforms(p, view, s, glm::ivec2(in.surface->width(), in.surface->height()));
+  p.use();
+  using ReadImage = CompositeProgram::ReadImage;
+  bindReadImage(ReadImage::Here1, *in.p1, GL_R32F);
+  bindReadImage(ReadImage::Here2, *in.p2, GL_R32F);
+  if (s.mode == ColourMode::Fibres && in.fibres) bindReadImage(ReadImage::Here3, *in.p3, GL_R32F);
+  bindInputs(in, s);
   if (windowDepth) {
     bindTexture(Unit::Depth, in.depth->id());
     glBindSampler(unit(Unit::Depth), texelSampler_.id()); // read texel by texel, no depth comparison
@@ -103,6 +125,25 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE); // clears honour the mask
   glDisable(GL_DEPTH_TEST);
+}
+
+const ShaderProgram& CompositePass::advecting(const CompositeInputs& in, const FrameView& view,
+                                              const CompositeSettings& s, const AdvectionSettings& iteration,
+                                              bool countChanges, int fields) {
+  const unsigned mask = lookMask(s, in.fibres != nullptr) | kFarPlane | kAdvect | (fields >= 3 ? kThird : 0u);
+  // The counted variant (still frames) and the uncounted one compile together, so no frame compiles a
+  // program (and allocates) when the camera starts or stops moving.
+  programs_.get(mask);
+  programs_.get(mask | kCount);
+  const ShaderProgram& p = programs_.get(mask | (countChanges ? kCount : 0u));
+  setUniforms(p, view, s, glm::ivec2(in.surface->width(), in.surface->height()));
+  p.set(U::K, iteration.k);
+  p.set(U::Step, iteration.stepPixels);
+  p.set(U::ComplementSecond, iteration.complementSecond ? 1 : 0);
+  if (countChanges) p.set(U::Epsilon, iteration.epsilon);
+  if (!in.light) throw GlError("CompositePass::advecting needs the projection's light target");
+  bindInputs(in, s, s.depthColour > 0.0f ? nullptr : in.light);
+  return p;
 }
 
 void CompositePass::runDepth(const CompositeInputs& in, const FrameView& view, bool background) {

@@ -8,6 +8,7 @@
 //           projection surface/eigen/lambda
 #pragma once
 
+#include "render/fabric/advection_pass.h"
 #include "render/fabric/frame_view.h"
 #include "render/fabric_params.h"
 #include "render/gl_objects.h"
@@ -60,6 +61,7 @@ struct CompositeInputs {
   const Texture* p3 = nullptr;     // Fibres: third population's field
   const Texture* fibres = nullptr; // Fibres: projection's per-population colour and weight
   const Texture* depth = nullptr;  // CompositeDepth::Window: the projection's depth
+  const Texture* light = nullptr;  // CompositePass::advecting: the projection's light target (R16)
 };
 
 class CompositePass {
@@ -67,14 +69,30 @@ public:
   CompositePass();
   // Draws the viewport (guard offset applied) into the bound framebuffer at settings.origin.
   void run(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings);
+  // The frame's last advection iteration and the composite in one pass (fabric/composite.frag ADVECT), for
+  // the renderer's own output at full resolution without sharpening (the unsharp mask needs the neighbours'
+  // new state): returns the program with its uniforms set (the composite's settings with overClear, and the
+  // iteration's `iteration`) and the composite's own inputs bound (surface, eigen, lambda, fibres; in.p1,
+  // in.p2, in.p3 are not read: the iteration computes them). AdvectionPass::iterateDrawing binds the state,
+  // draws it over the guarded targets into the next state and a colour target, and counts when
+  // `countChanges`. `fields` 2 or 3 as AdvectionPass::iterate.
+  const ShaderProgram& advecting(const CompositeInputs& in, const FrameView& view, const CompositeSettings& settings,
+                                 const AdvectionSettings& iteration, bool countChanges, int fields);
   // Only the depth that run() with CompositeDepth::Computed writes at full resolution and origin 0 (the
   // pixels it discards are left as they are: the caller clears to 1), into the bound framebuffer, for later
   // runs with CompositeDepth::Present. Reads in.surface and in.lambda; `background` as the settings' field.
   void runDepth(const CompositeInputs& in, const FrameView& view, bool background);
 
 private:
+  // The variant of the settings' look (the bits of programs_ below MEDICAL..FADE, without SHARPEN,
+  // WINDOW_DEPTH) and its uniforms on that program; `target` the guarded targets' size.
+  static unsigned lookMask(const CompositeSettings& s, bool fibres);
+  void setUniforms(const ShaderProgram& p, const FrameView& view, const CompositeSettings& s,
+                   glm::ivec2 target) const;
+  // Binds eigen, lambda, fibres and the surface, or in its place `light` (R16).
+  void bindInputs(const CompositeInputs& in, const CompositeSettings& s, const Texture* light = nullptr) const;
   // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE,
-  // FAR_PLANE (CompositeDepth::Present), OVER_CLEAR
+  // FAR_PLANE (CompositeDepth::Present), OVER_CLEAR, ADVECT, THIRD, COUNT
   ShaderVariants programs_;
   ShaderVariants depthPrograms_; // fabric/composite_depth.frag: BACKGROUND
   VertexArray vao_;

@@ -215,14 +215,22 @@ void FabricPipeline::keepHistory(const FrameView& view) {
   historyView_ = view;
 }
 
-void FabricPipeline::advect(const FabricParams& p) {
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
-                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
-  beginTimer(kAdvection);
+AdvectionSettings FabricPipeline::advectionSettings(const FabricParams& p) const {
+  return {static_cast<float>(p.k), static_cast<float>(p.stepPixels), static_cast<float>(p.epsilon),
+          p.colour == ColourMode::Fibres};
+}
+
+bool FabricPipeline::countsThisFrame(const FabricParams& p) const {
   // Counting costs an atomic increment per changed pixel (most of them in the first iterations after a
   // restart), and a still cannot stop before the start image has faded (FabricParams::stillMinIterations):
   // only frames that continue their state and reach that many iterations count.
-  const bool count = !restarted_ && sinceRestart_ + p.iterations >= p.stillMinIterations();
+  return !restarted_ && sinceRestart_ + p.iterations >= p.stillMinIterations();
+}
+
+void FabricPipeline::advect(const FabricParams& p) {
+  const AdvectionSettings as = advectionSettings(p);
+  beginTimer(kAdvection);
+  const bool count = countsThisFrame(p);
   const int n = fields(p);
   advection_.iterate(n == 3 ? projection_.vectors3() : projection_.vectors(), as, p.iterations, count,
                      &projection_.depth(), n);
@@ -231,9 +239,31 @@ void FabricPipeline::advect(const FabricParams& p) {
   endTimer();
 }
 
+bool FabricPipeline::fusesComposite(const FrameView& view, const FabricParams& p) const {
+  return !advection_.compute() && view.internal == view.viewport && p.iterations >= 1 && p.sharpen <= 0.0 &&
+         projection_.depth().width() == view.target.x && projection_.depth().height() == view.target.y;
+}
+
+void FabricPipeline::advectComposing(const FrameView& view, const FabricParams& p, const Texture& colour) {
+  if (!fusesComposite(view, p)) throw GlError("FabricPipeline: this frame cannot fuse its composite");
+  const AdvectionSettings as = advectionSettings(p);
+  const bool count = countsThisFrame(p);
+  const int n = fields(p);
+  const Texture& vectors = n == 3 ? projection_.vectors3() : projection_.vectors();
+  beginTimer(kAdvection);
+  advection_.iterate(vectors, as, p.iterations - 1, false, &projection_.depth(), n);
+  endTimer();
+  sinceRestart_ += p.iterations;
+  restarted_ = false;
+  beginTimer(kComposite);
+  const ShaderProgram& program = composite_.advecting(
+      compositeInputs(p), view, compositeSettings(p, glm::ivec2(0), CompositeDepth::Present, true), as, count, n);
+  advection_.iterateDrawing(program, vectors, count, projection_.depth(), n, colour);
+  endTimer();
+}
+
 int FabricPipeline::converge(const FabricParams& p) {
-  AdvectionSettings as{static_cast<float>(p.k), static_cast<float>(p.stepPixels),
-                       static_cast<float>(p.epsilon), p.colour == ColourMode::Fibres};
+  const AdvectionSettings as = advectionSettings(p);
   const unsigned covered = projection_.coveredPixels();
   // At least as many iterations as it takes the start image's weight (1 - k)^n to fall below epsilon,
   // then until (almost) no pixel changes by more than epsilon per iteration.
@@ -254,8 +284,8 @@ int FabricPipeline::converge(const FabricParams& p) {
   return done;
 }
 
-void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
-                               CompositeDepth depth, bool overBackground) {
+CompositeSettings FabricPipeline::compositeSettings(const FabricParams& p, glm::ivec2 origin, CompositeDepth depth,
+                                                    bool overBackground) const {
   CompositeSettings cs;
   cs.mode = p.colour;
   cs.r = static_cast<float>(p.r);
@@ -273,6 +303,10 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
   cs.depth = depth;
   cs.overClear = overBackground;
   cs.clearColour = glm::clamp(p.background, 0.0f, 1.0f); // as the RGBA8 output holds it
+  return cs;
+}
+
+CompositeInputs FabricPipeline::compositeInputs(const FabricParams& p) const {
   CompositeInputs in{&advection_.field(0), &advection_.field(1), &projection_.surface(), &projection_.eigen(),
                      &projection_.lambda()};
   if (p.colour == ColourMode::Fibres) {
@@ -280,6 +314,14 @@ void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm
     in.fibres = &projection_.fibres();
   }
   in.depth = &projection_.depth();
+  in.light = &projection_.light();
+  return in;
+}
+
+void FabricPipeline::composite(const FrameView& view, const FabricParams& p, glm::ivec2 origin,
+                               CompositeDepth depth, bool overBackground) {
+  const CompositeSettings cs = compositeSettings(p, origin, depth, overBackground);
+  const CompositeInputs in = compositeInputs(p);
   beginTimer(kComposite);
   composite_.run(in, view, cs);
   endTimer();

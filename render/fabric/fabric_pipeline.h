@@ -83,6 +83,14 @@ public:
   // (CompositeSettings::overClear).
   void composite(const FrameView& view, const FabricParams& params, glm::ivec2 origin = glm::ivec2(0),
                  CompositeDepth depth = CompositeDepth::Computed, bool overBackground = false);
+  // advect() and composite() with CompositeDepth::Present and overBackground in fewer passes: the first
+  // params.iterations - 1 iterations, then the last one and the composite in one pass over the guarded
+  // targets (CompositePass::advecting), its colour into `colour` (RGBA8, the guarded targets' size: the
+  // viewport's pixels at view.guard; it must hold params.background wherever the projection covers
+  // nothing). The same state, count and colours. For full resolution, fragment passes, params.iterations
+  // >= 1 and no sharpening (fusesComposite()).
+  void advectComposing(const FrameView& view, const FabricParams& params, const Texture& colour);
+  bool fusesComposite(const FrameView& view, const FabricParams& params) const;
   // The depth composite() writes with CompositeDepth::Computed at full resolution, alone, into the bound
   // framebuffer's cleared depth (CompositePass::runDepth); it changes only when project() runs.
   void compositeDepth(const FrameView& view);
@@ -112,6 +120,12 @@ public:
 
 private:
   int fields(const FabricParams& params) const; // advected fields: 3 for three-population fibre sets
+  AdvectionSettings advectionSettings(const FabricParams& params) const;
+  CompositeSettings compositeSettings(const FabricParams& params, glm::ivec2 origin, CompositeDepth depth,
+                                      bool overBackground) const;
+  CompositeInputs compositeInputs(const FabricParams& params) const;
+  // Whether this frame's advection counts its changed pixels (see advect()).
+  bool countsThisFrame(const FabricParams& params) const;
   ProjectionPass projection_;
   SilhouettePass silhouette_;
   AdvectionPass advection_;

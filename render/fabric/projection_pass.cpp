@@ -31,14 +31,15 @@ void TensorStage::resize(glm::ivec2 target) {
   surface_ = Texture::create2D(GL_RGBA32F, target.x, target.y);
   eigen_ = Texture::create2D(GL_RGBA8, target.x, target.y);
   lambda_ = Texture::create2D(GL_RGBA8, target.x, target.y);
+  light_ = Texture::create2D(GL_R16, target.x, target.y);
   fibres_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
   vectors3_ = Texture::create2D(GL_RGBA32UI, target.x, target.y);
-  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &fibres_, &vectors3_})
+  for (Texture* t : {&vectors_, &surface_, &eigen_, &lambda_, &light_, &fibres_, &vectors3_})
     t->setFilter(GL_NEAREST, GL_NEAREST);
   fbo_ = createFramebuffer();
-  attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_}, nullptr);
+  attachTargets(fbo_, {&vectors_, &surface_, &eigen_, &lambda_, &light_}, nullptr);
   fibreFbo_ = createFramebuffer();
-  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &fibres_, &vectors3_}, nullptr);
+  attachTargets(fibreFbo_, {&vectors_, &surface_, &eigen_, &lambda_, &light_, &fibres_, &vectors3_}, nullptr);
   attachedDepth_ = 0;
 }
 
@@ -148,6 +149,7 @@ void TensorStage::dispatch(const GeometryStage& geometry, bool haveData, bool us
   glBindImageTexture(unit(Image::Surface), surface_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(unit(Image::Eigen), eigen_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindImageTexture(unit(Image::Lambda), lambda_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(unit(Image::Light), light_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16);
   if (useFibres) {
     glBindImageTexture(unit(Image::Fibres), fibres_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
     glBindImageTexture(unit(Image::Vectors3), vectors3_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);

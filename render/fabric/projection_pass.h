@@ -10,6 +10,8 @@
 //   outputs: vectors RG32UI (packSnorm2x16(v1.xy); v2.xy as snorm10 and beta as unorm12: image-space
 //                    directions, max-norm 1, 0 = no direction; packVectors in common/projection_pixel.glsl)
 //            surface RGBA32F (beta, light L, linear depth mm, 1 = covered)
+//            light   R16 (L again, unorm16: all the composite reads of the surface per frame when the
+//                    frame's last iteration runs in it, a fetch of 2 bytes instead of 16)
 //            eigen   RGBA8 (|e1|: DEC colour of the world principal eigenvector of T (medical mode only),
 //                    FA)
 //            lambda  RGBA8 (lambda2'/lambda1' of the in-plane eigenvalues (1 without a positive lambda1'),
@@ -69,6 +71,7 @@ public:
   const Texture& surface() const { return surface_; }
   const Texture& eigen() const { return eigen_; }
   const Texture& lambda() const { return lambda_; }
+  const Texture& light() const { return light_; }
   const Texture& fibres() const { return fibres_; }
   const Texture& vectors3() const { return vectors3_; }
   glm::ivec2 size() const { return size_; }
@@ -96,7 +99,7 @@ private:
   Buffer covered_;
   Framebuffer fbo_, fibreFbo_;
   GLuint attachedDepth_ = 0;
-  Texture vectors_, surface_, eigen_, lambda_, fibres_, vectors3_;
+  Texture vectors_, surface_, eigen_, lambda_, light_, fibres_, vectors3_;
   glm::ivec2 size_{0};
 };
 
@@ -122,6 +125,7 @@ public:
   const Texture& surface() const { return tensor_.surface(); }
   const Texture& eigen() const { return tensor_.eigen(); }
   const Texture& lambda() const { return tensor_.lambda(); }
+  const Texture& light() const { return tensor_.light(); }
   const Texture& depth() const { return geometry_.depth(); }
   const Texture& geometry() const { return geometry_.geometry(); }
   const Texture& fibres() const { return tensor_.fibres(); }

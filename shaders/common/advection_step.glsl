@@ -56,8 +56,9 @@ float advect(sampler2D prev, vec2 x, vec2 d, vec2 inv, float here) {
 }
 
 // Pixel p's state `here` (p1, p2, p3; p3 0 without THIRD) and its next iterate `next`; false where p is
-// blocked (its state stays). With COUNT the pixel is counted when it changed by more than epsilon.
-bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
+// blocked (its state stays). With COUNT the pixel is counted when it changed by more than epsilon. `beta`:
+// the pixel's mapped noise as the vectors texel holds it (unorm12).
+bool advectionStep(ivec2 p, out vec3 next, out vec3 here, out float beta) {
   vec2 s = vec2(imageLoad(u_here1, p).r, imageLoad(u_here2, p).r);
   vec4 it = iteration();
   float k = it.x, stepPixels = it.y;
@@ -72,7 +73,7 @@ bool advectionStep(ivec2 p, out vec3 next, out vec3 here) {
   int packed2 = int(q.y);
   vec2 v2 = vec2(bitfieldExtract(packed2, 0, 10), bitfieldExtract(packed2, 10, 10)) / 511.0;
   vec4 v = vec4(unpackSnorm2x16(q.x), v2) * stepPixels;
-  float beta = float(q.y >> 20) / 4095.0;
+  beta = float(q.y >> 20) / 4095.0;
   // A zero vector (no direction) averages p_i(x) with itself.
   vec2 avg = vec2(advect(u_prev1, x, v.xy, inv, s.r), advect(u_prev2, x, v.zw, inv, s.g));
   vec2 next2 = k * vec2(beta, complementSecond() ? 1.0 - beta : beta) + (1.0 - k) * avg;

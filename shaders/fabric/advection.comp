@@ -47,7 +47,8 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, textureSize(u_prev1, 0)))) return;
   vec3 next, here;
-  if (!advectionStep(p, next, here)) return;
+  float beta;
+  if (!advectionStep(p, next, here, beta)) return;
   imageStore(o_p1, p, vec4(next.x));
   imageStore(o_p2, p, vec4(next.y));
 #ifdef THIRD

@@ -63,7 +63,8 @@ layout(location = 2) out float o_p3;
 
 void main() {
   vec3 next, here;
-  bool moving = advectionStep(ivec2(gl_FragCoord.xy), next, here);
+  float beta;
+  bool moving = advectionStep(ivec2(gl_FragCoord.xy), next, here, beta);
   o_p1 = moving ? next.x : here.x;
   o_p2 = moving ? next.y : here.y;
 #ifdef THIRD

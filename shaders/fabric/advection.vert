@@ -4,13 +4,9 @@
 // component on every block of pixels, about four times what a flat input costs; here they are read three
 // times a draw. The compute twin (fabric/advection.comp) reads the same uniforms itself.
 #include "common/fullscreen_triangle.glsl"
+#include "common/iteration_params.glsl"
 
-layout(binding = UNIT_PREV1) uniform sampler2D u_prev1; // an iteration's p1: the state targets' size
 layout(binding = UNIT_SURFACE) uniform sampler2D u_surface; // a restart's surface target: its size
-uniform float u_k;
-uniform float u_step;
-uniform bool u_complementSecond = false;
-uniform float u_epsilon;
 uniform float u_threshold;  // RESET SILHOUETTES: mm of |Laplacian| above which a pixel is a silhouette
 uniform float u_background; // RESET SILHOUETTES: linear depth assigned to empty pixels
 #ifdef REPROJECT
@@ -24,15 +20,12 @@ flat out mat4 v_worldToPrevEye;
 flat out float v_depthTol;
 #endif
 
-flat out vec4 v_iteration; // k, step, complement (1 or 0), epsilon (common/advection_step.glsl)
-flat out vec2 v_invSize;   // 1 / the state targets' size in texels
 flat out vec2 v_silhouette; // threshold, background (common/advection_restart.glsl)
 flat out ivec2 v_surfaceLast; // the surface target's last pixel (common/advection_restart.glsl)
 
 void main() {
   fullscreenTriangle();
-  v_iteration = vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon);
-  v_invSize = 1.0 / vec2(textureSize(u_prev1, 0));
+  handOnIteration();
   v_silhouette = vec2(u_threshold, u_background);
   v_surfaceLast = textureSize(u_surface, 0) - 1;
 #ifdef REPROJECT

@@ -27,8 +27,18 @@
 // OVER_CLEAR (the framebuffer holds u_clearColour with alpha 1 wherever the pass draws, the renderer's
 // freshly cleared output: the colour is laid over it here, with blending off; that gives what blending
 // would, to within one level of rounding, without reading the framebuffer).
+// ADVECT: the frame's last advection iteration and the composite in one pass (a software rasteriser pays
+// about a millisecond per full-screen pass at 1024x768 before it fetches anything, and the composite's two
+// loads of the state it has just computed). It is drawn over the guarded state targets, not the viewport:
+// the iteration's next state at draw buffers 1, 2 (3: THIRD, the third field) and the colour laid over
+// u_clearColour at draw buffer 0, for every pixel the iteration shades (FAR_PLANE: the covered ones), as
+// the composite with OVER_CLEAR would have drawn it over the cleared output from the state the separate
+// iteration writes (common/advection_step.glsl: the same arithmetic). COUNT counts the changed pixels.
 #include "common/texel.glsl"
 #include "common/window_depth.glsl"
+#ifdef ADVECT
+#include "common/advection_step.glsl"
+#endif
 
 #ifdef FAR_PLANE
 layout(early_fragment_tests) in;
@@ -36,16 +46,27 @@ layout(early_fragment_tests) in;
 
 // The inputs are read texel by texel as images: on llvmpipe an image load is inlined, where a texelFetch or
 // a sample of a float texture calls a generated function.
-// p1, p2 (p3): the advected fields (negative where blocked); surface: beta, L, linear depth, coverage; eigen:
-// |e1| (world), FA; lambda: lambda2'/lambda1', |e1.n|, background grey, cover; fibres: packUnorm4x8(|d_k|,
-// weight_k), k = 1..3.
-layout(binding = IMAGE_P1, r32f) uniform readonly image2D u_p1;
-layout(binding = IMAGE_P2, r32f) uniform readonly image2D u_p2;
+// p1, p2 (p3): the advected fields (negative where blocked), on the units where an iteration reads the
+// state at its pixel (with ADVECT, common/advection_step.glsl declares them); surface: beta, L, linear
+// depth, coverage; eigen: |e1| (world), FA; lambda: lambda2'/lambda1', |e1.n|, background grey, cover;
+// fibres: packUnorm4x8(|d_k|, weight_k), k = 1..3.
+#ifndef ADVECT
+layout(binding = IMAGE_HERE1, r32f) uniform readonly image2D u_here1;
+layout(binding = IMAGE_HERE2, r32f) uniform readonly image2D u_here2;
+#ifdef FIBRES
+layout(binding = IMAGE_HERE3, r32f) uniform readonly image2D u_here3;
+#endif
+#endif
+#if defined(ADVECT) && !defined(DEPTH_COLOUR)
+// The surface's L alone (the projection's light target, unorm16): the one value of the surface a covered
+// pixel's colour needs when the depth is not (beta, for blocked pixels, comes with the iteration's vectors).
+layout(binding = IMAGE_LIGHT, r16) uniform readonly image2D u_light;
+#else
 layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface;
+#endif
 layout(binding = IMAGE_EIGEN, rgba8) uniform readonly image2D u_eigen;
 layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda;
 #ifdef FIBRES
-layout(binding = IMAGE_P3, r32f) uniform readonly image2D u_p3;
 layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres;
 #endif
 
@@ -88,7 +109,16 @@ const bool kAnatomy = true;
 const bool kAnatomy = false;
 #endif
 
+#ifdef ADVECT
+layout(location = 0) out vec4 o_colour;
+layout(location = 1) out float o_p1;
+layout(location = 2) out float o_p2;
+#ifdef THIRD
+layout(location = 3) out float o_p3;
+#endif
+#else
 out vec4 o_colour;
+#endif
 
 float stretch(float p) { return clamp(0.5 + u_contrast * (p - 0.5), 0.0, 1.0); }
 
@@ -120,9 +150,11 @@ vec3 layerColour(vec4 pop, float f, float sat, float bright) {
 float cover(vec4 pop, float f) { return smoothstep(0.45, 0.6, f) * smoothstep(0.0, 0.3, pop.w); }
 #endif
 
-vec4 compose(ivec2 t, vec4 s) {
+// The colour and alpha of pixel t from its surface texel s and its advected fields (p1, p2, p3; p3 only
+// with FIBRES), as stored: negative where blocked.
+vec4 compose(ivec2 t, vec4 s, vec3 fields) {
   if (s.a < 0.5) return vec4(0.0);
-  vec2 p = vec2(imageLoad(u_p1, t).r, imageLoad(u_p2, t).r);
+  vec2 p = fields.xy;
 #ifdef SILHOUETTES
   // The advection blocks exactly the silhouettes, the uncovered pixels and the target's outermost ring, so a
   // covered pixel off the ring is a silhouette where its state is blocked: no fetch of the edge target.
@@ -138,8 +170,7 @@ vec4 compose(ivec2 t, vec4 s) {
 #ifdef FIBRES
   vec4 lam = imageLoad(u_lambda, t);
   float fa = imageLoad(u_eigen, t).w;
-  float p3 = imageLoad(u_p3, t).r;
-  p3 = p3 < 0.0 ? s.r : p3;
+  float p3 = fields.z < 0.0 ? s.r : fields.z;
   float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
   float dataCover = lam.w;
   if (dataCover <= 0.0) {
@@ -224,11 +255,47 @@ vec4 compose(ivec2 t, vec4 s) {
   return vec4(c, alpha);
 }
 
+#ifdef ADVECT
+void main() {
+  ivec2 t = ivec2(gl_FragCoord.xy); // a pixel of the guarded state targets
+  vec3 next, here;
+  float beta;
+  bool moving = advectionStep(t, next, here, beta);
+  vec3 fields = moving ? next : here;
+  o_p1 = fields.x;
+  o_p2 = fields.y;
+#ifdef THIRD
+  o_p3 = fields.z;
+#else
+  fields.z = BLOCKED; // a two-field fabric of a fibre set: no third thread field
+#endif
+#ifdef DEPTH_COLOUR
+  vec4 s = imageLoad(u_surface, t);
+#else
+  // Every pixel shaded here is covered (surface.a = 1: the early depth test passes where the tensor stage's
+  // did); the linear depth is read only for DEPTH_COLOUR.
+  vec4 s = vec4(beta, imageLoad(u_light, t).r, 0.0, 1.0);
+#endif
+  vec4 composed = compose(t, s, fields);
+  // Where the composite would discard, the cleared output's colour stays.
+  o_colour = vec4(composed.a > 0.0 ? mix(u_clearColour, clamp(composed.rgb, 0.0, 1.0), composed.a) : u_clearColour,
+                  1.0);
+}
+#else
+// The fields at pixel t as the state holds them.
+vec3 fieldsAt(ivec2 t) {
+#ifdef FIBRES
+  return vec3(imageLoad(u_here1, t).r, imageLoad(u_here2, t).r, imageLoad(u_here3, t).r);
+#else
+  return vec3(imageLoad(u_here1, t).r, imageLoad(u_here2, t).r, 0.0);
+#endif
+}
+
 void main() {
   ivec2 t = ivec2((gl_FragCoord.xy - vec2(u_origin)) * u_scale) + u_guard;
   vec4 s = imageLoad(u_surface, t);
   if (s.a < 0.5) discard;
-  vec4 composed = compose(t, s);
+  vec4 composed = compose(t, s, fieldsAt(t));
   if (composed.a <= 0.0) discard; // outside the data's edge, no background volume
   vec3 c = composed.rgb;
 #ifdef SHARPEN
@@ -238,7 +305,7 @@ void main() {
     for (int i = 0; i < 4; ++i) {
       ivec2 q = t + ivec2(i == 0 ? 1 : (i == 1 ? -1 : 0), i == 2 ? 1 : (i == 3 ? -1 : 0));
       if (imageLoad(u_surface, q).a > 0.5) {
-        sum += compose(q, imageLoad(u_surface, q)).rgb;
+        sum += compose(q, imageLoad(u_surface, q), fieldsAt(q)).rgb;
         n += 1.0;
       }
     }
@@ -258,3 +325,4 @@ void main() {
   gl_FragDepth = windowDepth(u_eyeDepth, s.b);
 #endif
 }
+#endif

@@ -3,6 +3,9 @@
 // handed on as flat outputs, read here three times a draw (on llvmpipe a fragment shader pays for each read
 // of a uniform component on every block of pixels, about four times what a flat input costs).
 #include "common/fullscreen_triangle.glsl"
+#ifdef ADVECT
+#include "common/iteration_params.glsl" // the frame's last iteration runs in the same pass
+#endif
 
 uniform ivec2 u_guard;        // offset of the viewport inside the guarded targets
 uniform ivec2 u_origin = ivec2(0); // the viewport's lower-left pixel in the framebuffer drawn into
@@ -35,6 +38,9 @@ flat out vec3 v_clearColour;
 
 void main() {
   fullscreenTriangle();
+#ifdef ADVECT
+  handOnIteration();
+#endif
   v_place = ivec4(u_guard, u_origin);
   v_target = u_target;
   v_scale = u_scale;

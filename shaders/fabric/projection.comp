@@ -20,6 +20,7 @@ layout(binding = IMAGE_VECTORS, rg32ui) uniform writeonly uimage2D i_vectors;
 layout(binding = IMAGE_SURFACE, rgba32f) uniform writeonly image2D i_surface;
 layout(binding = IMAGE_EIGEN, rgba8) uniform writeonly image2D i_eigen;
 layout(binding = IMAGE_LAMBDA, rgba8) uniform writeonly image2D i_lambda;
+layout(binding = IMAGE_LIGHT, r16) uniform writeonly image2D i_light;
 #ifdef FIBRES
 layout(binding = IMAGE_FIBRES, rgba32ui) uniform writeonly uimage2D i_fibres;
 layout(binding = IMAGE_VECTORS3, rgba32ui) uniform writeonly uimage2D i_vectors3;
@@ -52,6 +53,7 @@ void main() {
     imageStore(i_surface, px, p.surface);
     imageStore(i_eigen, px, p.eigen);
     imageStore(i_lambda, px, p.lambda);
+    imageStore(i_light, px, vec4(p.surface.g));
 #ifdef FIBRES
     imageStore(i_fibres, px, p.fibres);
     imageStore(i_vectors3, px, p.vectors3);

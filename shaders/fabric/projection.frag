@@ -27,11 +27,12 @@ layout(location = 0) out uvec2 o_vectors;
 layout(location = 1) out vec4 o_surface; // beta, light L, linear depth (mm from the eye), 1 = covered
 layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of T, DEC colour), FA
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, data cover (0..1)
+layout(location = 4) out float o_light;  // L again (R16: the composite's 2-byte read per frame)
 #ifdef FIBRES
-layout(location = 4) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3 (.w 0)
+layout(location = 5) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3 (.w 0)
 // The vectors texel (.xy) and population 3's image direction (.z, snorm16 v3.xy): a three-field iteration's
 // one fetch of the projection.
-layout(location = 5) out uvec4 o_vectors3;
+layout(location = 6) out uvec4 o_vectors3;
 #endif
 
 void main() {
@@ -42,6 +43,7 @@ void main() {
   o_surface = p.surface;
   o_eigen = p.eigen;
   o_lambda = p.lambda;
+  o_light = p.surface.g;
 #ifdef FIBRES
   o_fibres = p.fibres;
   o_vectors3 = p.vectors3;

@@ -416,3 +416,127 @@ TEST_F(FabricRender, ComputePassesDrawTheFragmentPassesImages) {
     EXPECT_LE(off, px.size() / 4 / 200) << "frame " << i << ": pixels more than 2 levels apart; worst " << worst;
   }
 }
+
+// renderFrame and renderMovieFrame run a frame's last iteration in the composite's pass where they can
+// (FabricRenderer::setFusedComposite): the images, the state and the count of changed pixels are those of
+// the separate passes, in every look and option the fused pass takes, and the frames it cannot fuse (lower
+// resolution while moving, the unsharp mask) take the separate passes.
+TEST_F(FabricRender, TheFusedLastIterationDrawsTheSeparatePassesImages) {
+  AxialScene s;
+  TensorField field = reference::crossingField(s.grid, {1, 0.3, 0}, {-0.2, 1, 0.4}, 0.7);
+  if (field.valid.empty()) field.valid.assign(field.tensors.size(), 1);
+  const glm::ivec3 d = field.grid.dims;
+  for (int k = 0; k < d.z; ++k) // a hole of missing voxels: the data's edge in view
+    for (int j = 0; j < d.y; ++j)
+      for (int i = 0; i < d.x; ++i)
+        if (glm::length(glm::vec2(i - d.x / 2 - 4, j - d.y / 2)) < 5.0f) {
+          field.at(i, j, k) = SymTensor{};
+          field.valid[field.grid.index(i, j, k)] = 0;
+        }
+  const ScalarVolume grey = reference::sampleFunction(s.grid, [](const glm::dvec3& x) { return 0.5 + 0.01 * x.x; });
+  struct Variant {
+    const char* name;
+    FabricParams p;
+    bool background = false;
+  };
+  std::vector<Variant> variants;
+  auto add = [&](const char* name, auto edit, bool background = false) {
+    Variant v{name, FabricParams{}, background};
+    v.p.iterations = 3;
+    edit(v.p);
+    variants.push_back(v);
+  };
+  add("anatomy", [](FabricParams&) {});
+  add("anatomy over a background volume", [](FabricParams&) {}, true);
+  add("plain", [](FabricParams& p) { p.look = Look::Plain; });
+  add("plain over a background volume", [](FabricParams& p) { p.look = Look::Plain; }, true);
+  add("dec-fa", [](FabricParams& p) { p.look = Look::DecFa; });
+  add("engineering", [](FabricParams& p) {
+    p.look = Look::Plain;
+    p.colour = ColourMode::Engineering;
+  });
+  add("depth colour, fade out of plane", [](FabricParams& p) {
+    p.depthColour = 0.6;
+    p.fadeOutOfPlane = 0.5f;
+  });
+  add("no silhouettes, no lighting, no guard", [](FabricParams& p) {
+    p.silhouette = false;
+    p.lighting = false;
+    p.guard = 0;
+  });
+  add("a coloured background, two iterations a frame", [](FabricParams& p) {
+    p.background = {0.2f, 0.45f, 0.7f};
+    p.iterations = 2;
+  });
+  add("one iteration a frame", [](FabricParams& p) { p.iterations = 1; });
+  for (const Variant& v : variants) {
+    SCOPED_TRACE(v.name);
+    std::vector<Image> images[2];
+    std::vector<unsigned> changed[2];
+    bool fusedFrames = true;
+    for (int fuse = 0; fuse < 2; ++fuse) {
+      FabricRenderer r;
+      r.setFusedComposite(fuse == 1);
+      r.setMesh(s.mesh);
+      r.setField(field);
+      if (v.background) r.setBackground(&grey, 0.0f, 1.0f);
+      r.resize(96, 80);
+      Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 96.0 / 80.0);
+      cam.zoom(1.1);
+      // A restart, then frames that continue it past the point where a still could stop (they count).
+      for (int f = 0; f < 14; ++f) {
+        r.renderFrame(cam, v.p);
+        if (fuse == 1) fusedFrames = fusedFrames && r.lastFrameFused();
+        if (f % 3 == 0 || f == 13) images[fuse].push_back(r.readback());
+        changed[fuse].push_back(r.changedPixels());
+      }
+      cam.trackball({0, 0}, {0.04, 0.02}); // moving: every pass again
+      r.renderFrame(cam, v.p);
+      images[fuse].push_back(r.readback());
+      // A movie: its first frame converges as a still, the next ones reproject and advect.
+      r.renderMovieFrame(cam, v.p, true);
+      images[fuse].push_back(r.readback());
+      for (int f = 0; f < 2; ++f) {
+        cam.trackball({0, 0}, {0.03, 0.0});
+        r.renderMovieFrame(cam, v.p, false);
+        if (fuse == 1) fusedFrames = fusedFrames && r.lastFrameFused();
+        images[fuse].push_back(r.readback());
+      }
+    }
+    EXPECT_TRUE(fusedFrames);
+    EXPECT_EQ(changed[0], changed[1]);
+    ASSERT_EQ(images[0].size(), images[1].size());
+    for (std::size_t i = 0; i < images[0].size(); ++i) {
+      SCOPED_TRACE("image " + std::to_string(i));
+      std::size_t lit = 0;
+      for (std::size_t k = 0; k < images[0][i].rgba.size(); k += 4)
+        lit += (images[0][i].rgba[k] | images[0][i].rgba[k + 1] | images[0][i].rgba[k + 2]) != 0;
+      EXPECT_GT(lit, images[0][i].rgba.size() / 4 / 3); // the fabric fills much of the view
+      EXPECT_EQ(images[0][i].rgba, images[1][i].rgba);
+    }
+  }
+}
+
+TEST_F(FabricRender, FramesTheFusedPassCannotDrawTakeTheSeparatePasses) {
+  AxialScene s;
+  FabricRenderer r;
+  Camera cam = horizontalThreads(r, s);
+  FabricParams p;
+  p.iterations = 3;
+  r.renderFrame(cam, p);
+  EXPECT_TRUE(r.lastFrameFused());
+  FabricParams half = p;
+  half.movingScale = 0.5;
+  cam.trackball({0, 0}, {0.05, 0});
+  r.renderFrame(cam, half); // moving at half resolution
+  EXPECT_FALSE(r.lastFrameFused());
+  r.renderFrame(cam, half); // still: full resolution again
+  EXPECT_TRUE(r.lastFrameFused());
+  FabricParams sharp = p;
+  sharp.sharpen = 0.5;
+  r.renderFrame(cam, sharp);
+  EXPECT_FALSE(r.lastFrameFused());
+  r.setFusedComposite(false);
+  r.renderFrame(cam, p);
+  EXPECT_FALSE(r.lastFrameFused());
+}

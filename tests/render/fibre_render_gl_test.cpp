@@ -286,3 +286,51 @@ TEST_F(FibreRender, Vectors3TargetHoldsTheThirdPopulationsImageDirection) {
     EXPECT_GT(checked, 300);
   }
 }
+
+TEST_F(FibreRender, TheFusedLastIterationDrawsTheSeparatePassesImages) {
+  // Interactive frames of a fibre set run their last iteration in the composite's pass
+  // (FabricRenderer::setFusedComposite): the images and counts of the separate passes, for three thread
+  // fields (a three-population set) and for two (a crossing of two bundles).
+  Scene s;
+  io::PhantomOptions o;
+  o.crossingDeg = 70;
+  const FibreSet two = io::makeFibrePhantom("crossing", o);
+  o.size = 32;
+  const FibreSet base = io::makeFibrePhantom("constant", o);
+  FibreSet three = makeFibreSet(base.grid, 3);
+  for (std::size_t v = 0; v < three.grid.voxelCount(); ++v)
+    for (int k = 0; k < 3; ++k) {
+      const double a = glm::radians(10.0 + 60.0 * k);
+      three.fibres[v * 3 + k] = {glm::vec3(std::cos(a), std::sin(a), 0.2 * k), 1.0f - 0.2f * k};
+    }
+  for (const FibreSet* f : std::array<const FibreSet*, 2>{&two, &three}) {
+    SCOPED_TRACE(f == &two ? "two populations" : "three populations");
+    std::vector<Image> images[2];
+    std::vector<unsigned> changed[2];
+    for (int fuse = 0; fuse < 2; ++fuse) {
+      FabricRenderer r;
+      r.setFusedComposite(fuse == 1);
+      r.setMesh(s.mesh);
+      r.setFibres(*f);
+      r.resize(128, 128);
+      Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+      FabricParams p;
+      p.colour = ColourMode::Fibres;
+      p.iterations = 3;
+      for (int frame = 0; frame < 12; ++frame) {
+        r.renderFrame(cam, p);
+        EXPECT_EQ(r.lastFrameFused(), fuse == 1);
+        changed[fuse].push_back(r.changedPixels());
+        if (frame % 4 == 3) images[fuse].push_back(r.readback());
+      }
+    }
+    EXPECT_EQ(changed[0], changed[1]);
+    ASSERT_EQ(images[0].size(), images[1].size());
+    for (std::size_t i = 0; i < images[0].size(); ++i) {
+      std::size_t drawn = 0;
+      for (std::size_t k = 0; k < images[0][i].rgba.size(); k += 4) drawn += images[0][i].rgba[k + 3] > 0;
+      EXPECT_GT(drawn, images[0][i].rgba.size() / 4 / 2);
+      EXPECT_EQ(images[0][i].rgba, images[1][i].rgba) << "image " << i;
+    }
+  }
+}
