@@ -21,7 +21,9 @@
 //                    early depth test of the later fullscreen passes)
 //            geometry RG32UI (the geometry stage's buffer)
 //            fibres  RGBA32UI (fibre sets only: per population k = 1..3 packUnorm4x8(|d_k| world DEC colour,
-//                    weight = amplitude / strongest x in-surface fraction); .w 0)
+//                    weight = amplitude / strongest x in-surface fraction); .w packUnorm4x8(FA, the data's
+//                    cover, the background grey, 0) as eigen and lambda hold them: a fibre set's composite
+//                    reads this texel alone)
 //            vectors3 RGBA32UI (fibre sets only: .xy the vectors texel, .z population 3's image direction,
 //                    packSnorm2x16, max-norm 1, .w 0: a three-field iteration's one fetch)
 // The surface target is cleared to 0 first (no coverage); vectors, eigen and lambda are defined only where

@@ -71,7 +71,9 @@ struct Projection {
   vec4 surface;
   vec4 eigen;
   vec4 lambda; // .w: 1 where the data's cover ramp applies, multiplied by it by the caller
-  uvec4 fibres; // .xyz: per population packUnorm4x8(|d_k|, weight_k); .w unused (0)
+  // .xyz: per population packUnorm4x8(|d_k|, weight_k); .w packUnorm4x8(FA, the data's cover, the background
+  // grey, 0), written by the caller once the cover ramp is applied (fibreAttributes)
+  uvec4 fibres;
   uvec4 vectors3; // fibre sets: .xy `vectors`, .z population 3's direction (packSnorm2x16), .w 0
 };
 
@@ -192,6 +194,10 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
   r.lambda = lambda;
   return r;
 }
+
+// The fibres texel's .w: what the composite of a fibre set needs of eigen and lambda (as their 8-bit targets
+// hold them), in the texel it reads anyway.
+uint fibreAttributes(Projection p) { return packUnorm4x8(vec4(p.eigen.w, p.lambda.w, p.lambda.z, 0.0)); }
 
 // The data's cover ramp, one pixel wide: 0..1 across the edge field's 0.5 contour, whose change per pixel is
 // edgeWidth (|d/dx| + |d/dy|).

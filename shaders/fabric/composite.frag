@@ -49,7 +49,8 @@ layout(early_fragment_tests) in;
 // p1, p2 (p3): the advected fields (negative where blocked), on the units where an iteration reads the
 // state at its pixel (with ADVECT, common/advection_step.glsl declares them); surface: beta, L, linear
 // depth, coverage; eigen: |e1| (world), FA; lambda: lambda2'/lambda1', |e1.n|, background grey, cover;
-// fibres: packUnorm4x8(|d_k|, weight_k), k = 1..3.
+// fibres: packUnorm4x8(|d_k|, weight_k), k = 1..3, and in .w packUnorm4x8(FA, cover, background grey, 0):
+// all a fibre set's colour needs of eigen and lambda, in the texel it reads anyway.
 #ifndef ADVECT
 layout(binding = IMAGE_HERE1, r32f) uniform readonly image2D u_here1;
 layout(binding = IMAGE_HERE2, r32f) uniform readonly image2D u_here2;
@@ -64,8 +65,10 @@ layout(binding = IMAGE_LIGHT, r16) uniform readonly image2D u_light;
 #else
 layout(binding = IMAGE_SURFACE, rgba32f) uniform readonly image2D u_surface;
 #endif
+#ifndef FIBRES
 layout(binding = IMAGE_EIGEN, rgba8) uniform readonly image2D u_eigen;
 layout(binding = IMAGE_LAMBDA, rgba8) uniform readonly image2D u_lambda;
+#endif
 #ifdef FIBRES
 layout(binding = IMAGE_FIBRES, rgba32ui) uniform readonly uimage2D u_fibres;
 #endif
@@ -168,15 +171,16 @@ vec4 compose(ivec2 t, vec4 s, vec3 fields) {
   vec3 c;
   float alpha = 1.0;
 #ifdef FIBRES
-  vec4 lam = imageLoad(u_lambda, t);
-  float fa = imageLoad(u_eigen, t).w;
+  uvec4 q = imageLoad(u_fibres, t);
+  vec4 attrs = unpackUnorm4x8(q.w); // FA, the data's cover, the background grey
+  vec4 lam = vec4(0.0, 0.0, attrs.z, attrs.y); // as lambda holds them (beneath)
+  float fa = attrs.x;
   float p3 = fields.z < 0.0 ? s.r : fields.z;
   float f0 = stretch(p.r), f1 = stretch(p.g), f2 = stretch(p3);
   float dataCover = lam.w;
   if (dataCover <= 0.0) {
     c = vec3(0.0);
   } else {
-    uvec4 q = imageLoad(u_fibres, t);
     vec4 pop0 = unpackUnorm4x8(q.x), pop1 = unpackUnorm4x8(q.y), pop2 = unpackUnorm4x8(q.z);
     // Populations by weight, strongest first (the slots follow bundles, not strength); explicit selects
     // instead of dynamically indexed local arrays.

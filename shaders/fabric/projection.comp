@@ -55,7 +55,7 @@ void main() {
     imageStore(i_lambda, px, p.lambda);
     imageStore(i_light, px, vec4(p.surface.g));
 #ifdef FIBRES
-    imageStore(i_fibres, px, p.fibres);
+    imageStore(i_fibres, px, uvec4(p.fibres.xyz, fibreAttributes(p)));
     imageStore(i_vectors3, px, p.vectors3);
 #endif
     atomicAdd(s_covered, 1u);

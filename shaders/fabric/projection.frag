@@ -29,7 +29,7 @@ layout(location = 2) out vec4 o_eigen;   // |e1| (world principal eigenvector of
 layout(location = 3) out vec4 o_lambda;  // lambda2'/lambda1', |e1 . n|, background grey, data cover (0..1)
 layout(location = 4) out float o_light;  // L again (R16: the composite's 2-byte read per frame)
 #ifdef FIBRES
-layout(location = 5) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3 (.w 0)
+layout(location = 5) out uvec4 o_fibres; // packUnorm4x8(|d_k|, weight_k), k = 1..3; .w fibreAttributes
 // The vectors texel (.xy) and population 3's image direction (.z, snorm16 v3.xy): a three-field iteration's
 // one fetch of the projection.
 layout(location = 6) out uvec4 o_vectors3;
@@ -45,7 +45,7 @@ void main() {
   o_lambda = p.lambda;
   o_light = p.surface.g;
 #ifdef FIBRES
-  o_fibres = p.fibres;
+  o_fibres = uvec4(p.fibres.xyz, fibreAttributes(p));
   o_vectors3 = p.vectors3;
 #endif
 }
