@@ -3,6 +3,7 @@
 #include "io/model/error.h"
 #include "render/gl_context.h"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -21,7 +22,10 @@ std::vector<std::string> resetDefines(bool reproject = false) {
 
 // Bits of AdvectionPass::restart_'s variants and of compute_'s.
 constexpr unsigned kThird = 1u, kSilhouettes = 2u;
-constexpr unsigned kComputeCount = 1u, kComputeThird = 2u, kComputeReset = 4u, kComputeSilhouettes = 8u;
+constexpr unsigned kComputeCount = 1u, kComputeThird = 2u, kComputeReset = 4u, kComputeSilhouettes = 8u,
+                   kComputeIntegerStep = 16u;
+// Bits of AdvectionPass::iteration_'s variants.
+constexpr unsigned kCovered = 1u, kCount = 2u, kThreeFields = 4u, kIntegerStep = 8u;
 // The compute program's image units per field: an iteration's target (the restart's first ping-pong
 // texture) and the restart's second.
 using Image = AdvectionComputeProgram::Image;
@@ -30,13 +34,17 @@ constexpr Image kOther[3] = {Image::Other1, Image::Other2, Image::Other3};
 
 } // namespace
 
+bool AdvectionSettings::integerStep() const {
+  return stepPixels >= 0.0f && stepPixels <= 64.0f && stepPixels == std::floor(stepPixels);
+}
+
 AdvectionPass::AdvectionPass()
-    : iteration_("fabric/advection.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD"},
+    : iteration_("fabric/advection.vert", "fabric/advection.frag", {"FAR_PLANE", "COUNT", "THIRD", "INTEGER_STEP"},
                  programDefines<AdvectionProgram>(), uniformNames<U>()),
       restart_("fabric/advection.vert", "fabric/advection.frag", {"THIRD", "SILHOUETTES"}, resetDefines(),
                uniformNames<U>()),
       reproject_("fabric/advection.vert", "fabric/advection.frag", resetDefines(true), uniformNames<U>()),
-      compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES"},
+      compute_({{GL_COMPUTE_SHADER, "fabric/advection.comp"}}, {"COUNT", "THIRD", "RESET", "SILHOUETTES", "INTEGER_STEP"},
                programDefines<AdvectionComputeProgram>(), uniformNames<U>()),
       useCompute_(!softwareRasteriser()), vao_(createVertexArray()), counter_(createBuffer()) {
   const GLuint zero = 0;
@@ -112,8 +120,9 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, (third ? fbo3_ : fbo_)[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  setIterationUniforms(iteration_.get((covered ? 1u : 0u) | (countChanges ? 2u : 0u) | (third ? 4u : 0u)), s,
-                       countChanges, third);
+  setIterationUniforms(iteration_.get((covered ? kCovered : 0u) | (countChanges ? kCount : 0u) |
+                                      (third ? kThreeFields : 0u) | (s.integerStep() ? kIntegerStep : 0u)),
+                       s, countChanges, third);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   current_ = next;
@@ -121,8 +130,8 @@ void AdvectionPass::step(const AdvectionSettings& s, bool countChanges, bool cov
 
 void AdvectionPass::dispatchStep(const AdvectionSettings& s, bool countChanges, bool third) {
   const int next = 1 - current_;
-  const ShaderProgram& program =
-      compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u));
+  const ShaderProgram& program = compute_.get((countChanges ? kComputeCount : 0u) | (third ? kComputeThird : 0u) |
+                                              (s.integerStep() ? kComputeIntegerStep : 0u));
   for (int c = 0; c < (third ? 3 : 2); ++c)
     glBindImageTexture(unit(kNext[c]), state_[next][c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   setIterationUniforms(program, s, countChanges, third);
@@ -285,8 +294,9 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   counted_ = countChanges;
   if (useCompute_) {
     // As for the fragment variants below: both compile before any frame needs them.
-    compute_.get(third ? kComputeThird : 0u);
-    compute_.get((third ? kComputeThird : 0u) | kComputeCount);
+    const unsigned variant = (third ? kComputeThird : 0u) | (s.integerStep() ? kComputeIntegerStep : 0u);
+    compute_.get(variant);
+    compute_.get(variant | kComputeCount);
     for (int i = 0; i < count; ++i) dispatchStep(s, countChanges && i == count - 1, third);
     return;
   }
@@ -299,9 +309,10 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   }
   // The counted variant (still frames) and the uncounted one (frames that restarted) compile together, so
   // no frame compiles a program (and allocates) when the camera starts or stops moving.
-  const unsigned variant = (covered ? 1u : 0u) | (third ? 4u : 0u);
+  const unsigned variant =
+      (covered ? kCovered : 0u) | (third ? kThreeFields : 0u) | (s.integerStep() ? kIntegerStep : 0u);
   iteration_.get(variant);
-  iteration_.get(variant | 2u);
+  iteration_.get(variant | kCount);
   for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, third);
   if (covered) {
     glDepthFunc(GL_LESS);

@@ -33,6 +33,9 @@ struct AdvectionSettings {
   float stepPixels = 1.0f; // length of one step in pixels along the max-norm scaled vectors
   float epsilon = 0.05f; // change below which a pixel counts as converged
   bool complementSecond = false; // p2 advects 1 - beta (fibre sets: interleaved populations)
+  // A whole number of pixels per step: every sample lies on a texel row or column and is read as two texels
+  // (INTEGER_STEP in common/advection_step.glsl) instead of a bilinear sample of four.
+  bool integerStep() const;
 };
 
 class AdvectionPass {

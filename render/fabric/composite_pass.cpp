@@ -12,7 +12,8 @@ using U = CompositeProgram::Uniform;
 // Bits of CompositePass::programs_.
 constexpr unsigned kMedical = 1u, kSilhouettes = 2u, kBackground = 4u, kDepthColour = 8u, kSharpen = 16u,
                    kFibres = 32u, kWindowDepth = 64u, kAnatomy = 128u, kDecFa = 256u, kFade = 512u,
-                   kFarPlane = 1024u, kOverClear = 2048u, kAdvect = 4096u, kThird = 8192u, kCount = 16384u;
+                   kFarPlane = 1024u, kOverClear = 2048u, kAdvect = 4096u, kThird = 8192u, kCount = 16384u,
+                   kIntegerStep = 32768u;
 
 // Scissors to the viewport pixels the scene can cover (FrameView::coverRect), the viewport's lower left at
 // `origin`: a software rasteriser would run the whole shader on the rest. False where that is not known.
@@ -28,7 +29,7 @@ bool scissorToCover(const FrameView& view, glm::ivec2 origin) {
 CompositePass::CompositePass()
     : programs_("fabric/composite.vert", "fabric/composite.frag",
                 {"MEDICAL", "SILHOUETTES", "BACKGROUND", "DEPTH_COLOUR", "SHARPEN", "FIBRES", "WINDOW_DEPTH",
-                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE", "OVER_CLEAR", "ADVECT", "THIRD", "COUNT"},
+                 "ANATOMY", "DEC_FA", "FADE", "FAR_PLANE", "OVER_CLEAR", "ADVECT", "THIRD", "COUNT", "INTEGER_STEP"},
                 programDefines<CompositeProgram>(), uniformNames<U>()),
       depthPrograms_("fabric/composite.vert", "fabric/composite_depth.frag", {"BACKGROUND"},
                      programDefines<CompositeDepthProgram>(), uniformNames<CompositeDepthProgram::Uniform>()),
@@ -130,7 +131,8 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
 const ShaderProgram& CompositePass::advecting(const CompositeInputs& in, const FrameView& view,
                                               const CompositeSettings& s, const AdvectionSettings& iteration,
                                               bool countChanges, int fields) {
-  const unsigned mask = lookMask(s, in.fibres != nullptr) | kFarPlane | kAdvect | (fields >= 3 ? kThird : 0u);
+  const unsigned mask = lookMask(s, in.fibres != nullptr) | kFarPlane | kAdvect | (fields >= 3 ? kThird : 0u) |
+                        (iteration.integerStep() ? kIntegerStep : 0u);
   // The counted variant (still frames) and the uncounted one compile together, so no frame compiles a
   // program (and allocates) when the camera starts or stops moving.
   programs_.get(mask);

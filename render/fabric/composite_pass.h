@@ -92,7 +92,7 @@ private:
   // Binds eigen, lambda, fibres and the surface, or in its place `light` (R16).
   void bindInputs(const CompositeInputs& in, const CompositeSettings& s, const Texture* light = nullptr) const;
   // MEDICAL, SILHOUETTES, BACKGROUND, DEPTH_COLOUR, SHARPEN, FIBRES, WINDOW_DEPTH, ANATOMY, DEC_FA, FADE,
-  // FAR_PLANE (CompositeDepth::Present), OVER_CLEAR, ADVECT, THIRD, COUNT
+  // FAR_PLANE (CompositeDepth::Present), OVER_CLEAR, ADVECT, THIRD, COUNT, INTEGER_STEP
   ShaderVariants programs_;
   ShaderVariants depthPrograms_; // fabric/composite_depth.frag: BACKGROUND
   VertexArray vao_;

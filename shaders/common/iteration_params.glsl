@@ -11,8 +11,10 @@ uniform float u_epsilon;
 
 flat out vec4 v_iteration; // k, step, complement (1 or 0), epsilon (common/advection_step.glsl)
 flat out vec2 v_invSize;   // 1 / the state targets' size in texels
+flat out ivec2 v_stateLast; // the state targets' last pixel
 
 void handOnIteration() {
   v_iteration = vec4(u_k, u_step, u_complementSecond ? 1.0 : 0.0, u_epsilon);
   v_invSize = 1.0 / vec2(textureSize(u_prev1, 0));
+  v_stateLast = textureSize(u_prev1, 0) - 1;
 }

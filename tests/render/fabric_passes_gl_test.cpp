@@ -408,6 +408,52 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   }
 }
 
+// With a whole number of pixels per step (the default 2, and 1 and 3) each sample lies on a texel row or
+// column: the iteration reads it as the two texels it falls between (INTEGER_STEP), which is the bilinear
+// sample with exact weights. Every value, and every decision that a footprint touches a blocked texel, is the
+// CPU reference's (against the beta the iterations read, 12 bits), in the fragment pass and the compute shader.
+TEST_F(FabricPass, AdvectionWithAWholePixelStepMatchesTheCpuReferenceExactly) {
+  auto beta = randomField(kW, kH, 1, 11);
+  std::vector<unsigned char> mask(beta.size(), 1);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < 6; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0; // uncovered strip
+  auto surface = surfaceData(beta, &mask);
+  auto vectors = randomVectors(kW, kH, 12);
+  for (std::size_t i = 0; i < vectors.size(); i += 16) vectors[i] = vectors[i + 1] = 0.0f; // no direction
+  std::vector<float> edges(beta.size(), 0.0f);
+  for (int y = 0; y < kH; ++y) edges[static_cast<std::size_t>(y) * kW + 30] = 1.0f; // a silhouette column
+  for (int x = 8; x < kW; ++x) edges[static_cast<std::size_t>(20) * kW + x] = 1.0f;  // and a row
+  auto start = randomField(kW, kH, 2, 13);
+  Texture tv = vectorTexture(vectors, beta), ts = textureFrom(GL_RGBA32F, GL_RGBA, kW, kH, surface);
+  Texture te = edgeTexture(edges, surface);
+  vectors = readVectors(tv); // the 16-bit values the GPU sees
+  const auto iterated = dtf::test::readVectorBeta(tv);
+  auto reference = surface;
+  for (std::size_t i = 0; i < iterated.size(); ++i) reference[i * 4] = iterated[i];
+  for (float step : {1.0f, 2.0f, 3.0f})
+    for (bool compute : {false, true}) {
+      SCOPED_TRACE(std::string(compute ? "compute shader" : "fragment pass") + ", step " + std::to_string(step));
+      AdvectionPass pass;
+      const AdvectionSettings as{0.2f, step, 0.05f};
+      ASSERT_TRUE(as.integerStep());
+      const auto state = iterateOnce(pass, compute, ts, te, start, tv, as);
+      const auto cpu = advectReference(start, vectors, reference, edges, kW, kH, as.k, as.stepPixels);
+      int compared = 0;
+      for (std::size_t i = 0; i < cpu.size(); ++i) {
+        const std::size_t px = i / 2;
+        const int x = static_cast<int>(px % kW), y = static_cast<int>(px / kW);
+        if (!mask[px] || edges[px] > 0.5f || x == 0 || y == 0 || x == kW - 1 || y == kH - 1) {
+          EXPECT_EQ(state[i], kBlocked) << "pixel " << px; // blocked pixels keep the blocked state
+          continue;
+        }
+        ASSERT_NEAR(state[i], cpu[i], 2e-6) << "pixel " << i / 2 << " field " << i % 2;
+        ++compared;
+      }
+      EXPECT_GT(compared, kW * kH);
+    }
+  EXPECT_FALSE((AdvectionSettings{0.2f, 1.7f, 0.05f}.integerStep()));
+}
+
 // Each pixel reads its own state exactly, however its neighbours are blocked: at a size that is no power of
 // two (a texel's centre scaled to texture coordinates and back is not exact there) every other column is a
 // silhouette, and both samples of every pixel between them land on one, so p_{i+1} = k beta + (1 - k) p_i(x).
