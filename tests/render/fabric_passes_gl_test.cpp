@@ -48,6 +48,14 @@ std::vector<float> surfaceData(const std::vector<float>& beta, const std::vector
   return s;
 }
 
+// Coverage of the fixture's target: 1, but for an uncovered strip of 6 columns at the left.
+std::vector<unsigned char> uncoveredStripMask() {
+  std::vector<unsigned char> mask(static_cast<std::size_t>(kW) * kH, 1);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < 6; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0;
+  return mask;
+}
+
 // CPU reference of one Eq. 12 iteration (advection.frag): bilinear sampling in pixel units; a sample whose
 // footprint touches a blocked texel (silhouette, off the surface, the target's outer ring, outside) is
 // replaced by p_i(x); blocked pixels keep their value.
@@ -358,9 +366,7 @@ TEST_F(FabricPass, DegenerateAndMissingTensorsGiveZeroVectorsAndNoNaN) {
 
 TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
   auto beta = randomField(kW, kH, 1, 1);
-  std::vector<unsigned char> mask(beta.size(), 1);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < 6; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0; // uncovered strip
+  const std::vector<unsigned char> mask = uncoveredStripMask();
   auto surface = surfaceData(beta, &mask);
   auto vectors = randomVectors(kW, kH, 2);
   std::vector<float> edges(beta.size(), 0.0f);
@@ -414,9 +420,7 @@ TEST_F(FabricPass, AdvectionMatchesCpuReferenceForOneIteration) {
 // CPU reference's (against the beta the iterations read, 12 bits), in the fragment pass and the compute shader.
 TEST_F(FabricPass, AdvectionWithAWholePixelStepMatchesTheCpuReferenceExactly) {
   auto beta = randomField(kW, kH, 1, 11);
-  std::vector<unsigned char> mask(beta.size(), 1);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < 6; ++x) mask[static_cast<std::size_t>(y) * kW + x] = 0; // uncovered strip
+  const std::vector<unsigned char> mask = uncoveredStripMask();
   auto surface = surfaceData(beta, &mask);
   auto vectors = randomVectors(kW, kH, 12);
   for (std::size_t i = 0; i < vectors.size(); i += 16) vectors[i] = vectors[i + 1] = 0.0f; // no direction
