@@ -302,11 +302,7 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   }
   const bool covered = depth && depth->width() == size_.x && depth->height() == size_.y;
   attachDepth(covered ? depth->id() : 0);
-  if (covered) {
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glDepthMask(GL_FALSE);
-  }
+  if (covered) coveredPixelsOnly(true);
   // The counted variant (still frames) and the uncounted one (frames that restarted) compile together, so
   // no frame compiles a program (and allocates) when the camera starts or stops moving.
   const unsigned variant =
@@ -314,7 +310,15 @@ void AdvectionPass::iterate(const Texture& vectors, const AdvectionSettings& s, 
   iteration_.get(variant);
   iteration_.get(variant | kCount);
   for (int i = 0; i < count; ++i) step(s, countChanges && i == count - 1, covered, third);
-  if (covered) {
+  if (covered) coveredPixelsOnly(false);
+}
+
+void AdvectionPass::coveredPixelsOnly(bool on) {
+  if (on) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER); // the triangle lies at the far plane: it passes where the surface is
+    glDepthMask(GL_FALSE);
+  } else {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
@@ -344,15 +348,11 @@ void AdvectionPass::iterateDrawing(const ShaderProgram& program, const Texture& 
   const int next = 1 - current_;
   glBindFramebuffer(GL_FRAMEBUFFER, (third ? drawFbo3_ : drawFbo_)[next].id());
   glViewport(0, 0, size_.x, size_.y);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_FALSE);
+  coveredPixelsOnly(true);
   bindIterationInputs(program, countChanges, third);
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
+  coveredPixelsOnly(false);
   current_ = next;
 }
 

@@ -114,6 +114,9 @@ private:
   void bindVectors(const Texture& vectors, int fields);
   // Attaches `depth` to the iteration framebuffers (0: none) where another is attached.
   void attachDepth(GLuint depth);
+  // The early depth test against the attached surface depth that shades only covered pixels (on), and the
+  // GL defaults again (off).
+  void coveredPixelsOnly(bool on);
   // Binds the current state to the iteration's read image units (p_i at each pixel itself).
   void bindHere(bool third);
   // The restart from beta of reset() and resetFindingSilhouettes(): `program` (its own uniforms set) into

@@ -131,6 +131,7 @@ void CompositePass::run(const CompositeInputs& in, const FrameView& view, const 
 const ShaderProgram& CompositePass::advecting(const CompositeInputs& in, const FrameView& view,
                                               const CompositeSettings& s, const AdvectionSettings& iteration,
                                               bool countChanges, int fields) {
+  if (!in.light) throw GlError("CompositePass::advecting needs the projection's light target");
   const unsigned mask = lookMask(s, in.fibres != nullptr) | kFarPlane | kAdvect | (fields >= 3 ? kThird : 0u) |
                         (iteration.integerStep() ? kIntegerStep : 0u);
   // The counted variant (still frames) and the uncounted one compile together, so no frame compiles a
@@ -143,7 +144,6 @@ const ShaderProgram& CompositePass::advecting(const CompositeInputs& in, const F
   p.set(U::Step, iteration.stepPixels);
   p.set(U::ComplementSecond, iteration.complementSecond ? 1 : 0);
   if (countChanges) p.set(U::Epsilon, iteration.epsilon);
-  if (!in.light) throw GlError("CompositePass::advecting needs the projection's light target");
   bindInputs(in, s, s.depthColour > 0.0f ? nullptr : in.light);
   return p;
 }

@@ -27,9 +27,8 @@
 // OVER_CLEAR (the framebuffer holds u_clearColour with alpha 1 wherever the pass draws, the renderer's
 // freshly cleared output: the colour is laid over it here, with blending off; that gives what blending
 // would, to within one level of rounding, without reading the framebuffer).
-// ADVECT: the frame's last advection iteration and the composite in one pass (a software rasteriser pays
-// about a millisecond per full-screen pass at 1024x768 before it fetches anything, and the composite's two
-// loads of the state it has just computed). It is drawn over the guarded state targets, not the viewport:
+// ADVECT: the frame's last advection iteration and the composite in one pass (one full-screen pass fewer,
+// and no loads of the state just computed, nor of the 16-byte surface texel). It is drawn over the guarded state targets, not the viewport:
 // the iteration's next state at draw buffers 1, 2 (3: THIRD, the third field) and the colour laid over
 // u_clearColour at draw buffer 0, for every pixel the iteration shades (FAR_PLANE: the covered ones), as
 // the composite with OVER_CLEAR would have drawn it over the cleared output from the state the separate
