@@ -91,6 +91,16 @@ void editTable(const fs::path& p, const std::function<void(int, std::vector<std:
   std::ofstream(p) << out;
 }
 
+// The workflow's log and each participant job's log under `out`/logs, for a failed workflow's message
+// (Snakemake's own log says only that a job failed).
+std::string workflowLogs(const fs::path& snakemakeLog, const fs::path& out) {
+  std::string all = readText(snakemakeLog);
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out / "logs", ec))
+    if (e.path().extension() == ".log") all += "\n--- " + e.path().string() + "\n" + readText(e.path());
+  return all;
+}
+
 // The dataset, built once per build tree (into a temporary folder, then renamed, so concurrent tests see
 // either nothing or all of it).
 fs::path cohortDataset() {
@@ -450,6 +460,51 @@ TEST_F(BidsCohort, BothLevelsRerunAndReportInChromium) {
   std::printf("screenshot: %s\n", shot.c_str());
 }
 
+// A crash prints the signal and the call stack on stderr and still ends the process by that signal (what
+// Snakemake and the worker pool see). The vehicle: a pool worker waiting for its next run label on stdin,
+// so the signal arrives inside the program at a known point.
+TEST_F(BidsCohort, AFatalSignalPrintsTheCallStackAndStaysTheExitStatus) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "sanitizer builds keep the sanitizer's own report";
+#else
+  const fs::path out = scratch_ / "out", errLog = scratch_ / "crash.log";
+  int toWorker[2], fromWorker[2];
+  ASSERT_EQ(::pipe(toWorker), 0);
+  ASSERT_EQ(::pipe(fromWorker), 0);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::dup2(toWorker[0], 0);
+    ::dup2(fromWorker[1], 1);
+    std::freopen(errLog.c_str(), "w", stderr);
+    ::close(toWorker[1]);
+    ::close(fromWorker[0]);
+    ::execl(DTF_EXE, DTF_EXE, "bids", bids_.c_str(), out.c_str(), "participant", "--worker",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(toWorker[0]);
+  ::close(fromWorker[1]);
+  // A label of no run: the worker answers "done" at once and waits for the next.
+  ASSERT_EQ(::write(toWorker[1], "sub-none\n", 9), 9);
+  char reply[5] = {};
+  ASSERT_EQ(::read(fromWorker[0], reply, 5), 5) << readText(errLog);
+  EXPECT_EQ(std::string(reply, 4), "done");
+  ::kill(pid, SIGSEGV);
+  int st = 0;
+  ::waitpid(pid, &st, 0);
+  ::close(toWorker[1]);
+  ::close(fromWorker[0]);
+  ASSERT_TRUE(WIFSIGNALED(st)) << readText(errLog);
+  EXPECT_EQ(WTERMSIG(st), SIGSEGV);
+  const std::string err = readText(errLog);
+  EXPECT_NE(err.find("dtfabric: fatal signal SEGV"), std::string::npos) << err;
+  // The stack names the program's own functions (the executable exports them).
+  EXPECT_TRUE(std::regex_search(err, std::regex(R"(\(_ZN3dtf3app\w*cmdBids\w*\+0x[0-9a-f]+\))"))) << err;
+  EXPECT_NE(err.find("(_ZN3dtf3app6runCliEiPPc+0x"), std::string::npos) << err;
+#endif
+}
+
 TEST_F(BidsCohort, KilledRunRestartsAndCompletesWithNothingPartial) {
   const fs::path out = scratch_ / "out";
   const std::string first = (out / "sub-01/ses-1/dwi/sub-01_ses-1_desc-fabricMetrics_dwi.json").string();
@@ -587,7 +642,7 @@ TEST_F(BidsCohort, SnakemakeWorkflowGivesTheSameGroupTable) {
                           q(scratch_ / "work") + " --cores 2 --config bids_dir=" + q(bids_) +
                           " output_dir=" + q(viaSnakemake) + " dtfabric=" + q(DTF_EXE) +
                           " figure_size=128 >" + q(scratch_ / "snakemake.log") + " 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(scratch_ / "snakemake.log");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << workflowLogs(scratch_ / "snakemake.log", viaSnakemake);
   const std::string log = readText(scratch_ / "snakemake.log");
   // One job per participant and session (sub-01 has two sessions), then the group job.
   EXPECT_TRUE(std::regex_search(log, std::regex("participant\\s+10\\s"))) << log;
@@ -619,7 +674,7 @@ TEST(BidsCli, SnakemakeWorkflowPassesHostileFolderNamesThrough) {
                           shellWord("bids_dir=" + bids.string()) + " " + shellWord("output_dir=" + out.string()) +
                           " " + shellWord(std::string("dtfabric=") + DTF_EXE) + " figure_size=64 >" +
                           shellWord((dir / "snakemake.log").string()) + " 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(dir / "snakemake.log");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << workflowLogs(dir / "snakemake.log", out);
   const std::string log = readText(dir / "snakemake.log");
   for (const auto& e : fs::recursive_directory_iterator(dir))
     EXPECT_NE(e.path().filename(), "PWNED") << e.path();
