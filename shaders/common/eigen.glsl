@@ -100,8 +100,10 @@ void eigenPlaneValues(mat3 m, vec3 axis, out vec3 big, out vec3 small, out float
 }
 
 // The unit eigenvector of the largest eigenvalue of symmetric A (any unit vector when A is isotropic), for
-// the DEC colour: eigenDecompose's first vector by the same branches, without its trigonometric 2x2 step
-// (a software rasteriser executes both branches, so each must be cheap).
+// the DEC colour: eigenDecompose's first vector by the same branches, with one null vector (that of the
+// better separated of l1 and l3) and without its trigonometric 2x2 step (a software rasteriser executes
+// every branch, so each must be cheap). cos(phi + 2 pi / 3) = -cos(phi) / 2 - sin(phi) sqrt(3) / 2 with
+// sin(phi) >= 0 for phi in [0, pi / 3]: one cosine and a square root instead of two cosines.
 vec3 principalEigenvector(mat3 a) {
   float xx = a[0][0], yy = a[1][1], zz = a[2][2];
   float xy = a[1][0], xz = a[2][0], yz = a[2][1];
@@ -114,15 +116,17 @@ vec3 principalEigenvector(mat3 a) {
   float p = sqrt(p2 / 6.0);
   if (p <= 1e-6) return vec3(1.0, 0.0, 0.0);
   float r = clamp(determinant((b - q * mat3(1.0)) / p) * 0.5, -1.0, 1.0);
-  float phi = acos(r) / 3.0;
-  float l1 = q + 2.0 * p * cos(phi);
-  float l3 = q + 2.0 * p * cos(phi + 2.0 * kEigenPi / 3.0);
+  float c = cos(acos(r) / 3.0);
+  float l1 = q + 2.0 * p * c;
+  float l3 = q + p * (-c - sqrt(3.0 * max(1.0 - c * c, 0.0)));
   float l2 = clamp(3.0 * q - l1 - l3, l3, l1);
-  vec3 v1, v3;
-  eigenNullVector(b, l1, v1);
-  if (!eigenNullVector(b, l3, v3)) v3 = vec3(0.0, 0.0, 1.0);
+  bool first = l1 - l2 >= l2 - l3;
+  vec3 v;
+  bool found = eigenNullVector(b, first ? l1 : l3, v);
+  if (first) return v;
+  if (!found) v = vec3(0.0, 0.0, 1.0);
   vec3 big, small;
   float m1, m2;
-  eigenPlaneValues(b, v3, big, small, m1, m2);
-  return l1 - l2 >= l2 - l3 ? v1 : big;
+  eigenPlaneValues(b, v, big, small, m1, m2);
+  return big;
 }

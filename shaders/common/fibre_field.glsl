@@ -2,9 +2,10 @@
 // RGBA32F 3D textures holding the amplitude-weighted dyadic a d d^T of its unit world direction d, (xx, xy,
 // xz, yy) and (yz, zz, a, 0), interpolated per component by the hardware; an RGBA32F texture holds the paired
 // tensor's FA (or 1), 1 where a voxel has fibres and that occupancy blurred by [1 2 1] / 4 per axis (the
-// data's smooth edge: fibreEdge). The rule, interpolateSlots in io/model/fibre_set.h being its CPU reference:
+// data's smooth edge, sampleFibres' `edge`). The rule, interpolateSlots in io/model/fibre_set.h being its CPU
+// reference:
 //   * nothing where less than half of the trilinear weight lies on voxels with fibres (sampleFibres'
-//     minWeight 0.5; the renderer decodes a little beyond, 0.02, and draws the edge from fibreEdge);
+//     minWeight 0.5; the renderer decodes a little beyond, 0.02, and draws the edge from that field);
 //   * per slot: amplitude = interpolated amplitude / that weight; direction = the principal eigenvector of the
 //     interpolated dyadic. The dyadic does not change with the sign of d, so where neighbouring voxels
 //     disagree (a seam of the slots' sign alignment, noisy directions in grey matter) the direction turns
@@ -38,14 +39,17 @@ void sampleSlot(sampler3D lobe, sampler3D lobeB, vec3 tc, float occupancy, inout
 
 // Up to three fibres at worldPos in slot order (amp 0 = none; a slot follows one bundle from voxel to voxel,
 // so slot j feeds advection field j) where at least minWeight of the trilinear weight lies on voxels with
-// fibres; returns their number. fa: the paired tensor's FA (trilinear) or 1.
-int sampleFibres(vec3 worldPos, float minWeight, out vec3 dir[3], out float amp[3], out float fa) {
+// fibres; returns their number. fa: the paired tensor's FA (trilinear) or 1; edge: the data's edge field
+// there (its 0.5 contour is the fibre set's smooth outline), from the same fetch.
+int sampleFibres(vec3 worldPos, float minWeight, out vec3 dir[3], out float amp[3], out float fa,
+                 out float edge) {
   vec3 tc = (u_worldToTex * vec4(worldPos, 1.0)).xyz;
   for (int j = 0; j < 3; ++j) {
     dir[j] = vec3(0.0);
     amp[j] = 0.0;
   }
-  vec2 fo = texture(u_fibreFa, tc).rg;
+  vec3 fo = texture(u_fibreFa, tc).rgb;
+  edge = fo.b;
   fa = 0.0;
   if (!(fo.g >= minWeight)) return 0;
   fa = fo.r / fo.g;
@@ -54,9 +58,4 @@ int sampleFibres(vec3 worldPos, float minWeight, out vec3 dir[3], out float amp[
   if (u_lobeCount > 1) sampleSlot(u_lobe1, u_lobe1b, tc, fo.g, n, dir[1], amp[1]);
   if (u_lobeCount > 2) sampleSlot(u_lobe2, u_lobe2b, tc, fo.g, n, dir[2], amp[2]);
   return n;
-}
-
-// The data's edge field at worldPos: its 0.5 contour is the fibre set's smooth outline.
-float fibreEdge(vec3 worldPos) {
-  return texture(u_fibreFa, (u_worldToTex * vec4(worldPos, 1.0)).xyz).b;
 }

@@ -114,8 +114,7 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
   uvec4 fibres = uvec4(0u);
   // Decoded a little beyond the data's edge; the edge is the blurred occupancy's 0.5 contour, a coverage ramp
   // one pixel wide as for tensors.
-  int count = sampleFibres(world, 0.02, fdir, famp, fa);
-  edge = fibreEdge(world);
+  int count = sampleFibres(world, 0.02, fdir, famp, fa, edge);
   if (count > 0 && fa >= u_faFloor) {
     vec4 c0 = u_viewProj * vec4(world, 1.0);
     int strongest = famp[1] > famp[0] ? (famp[2] > famp[1] ? 2 : 1) : (famp[2] > famp[0] ? 2 : 0);
