@@ -47,7 +47,7 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
       "bench render --size 96x72 --frames 2 --only sphere_41k,sphere_41k_fibres3 --no-brain --no-peer", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const std::regex ratio(R"(sphere_41k +still [0-9.]+ wall, [0-9.]+ (CPU|GPU) time( \([0-9.]+-[0-9.]+ over 1 )"
-                         R"(blocks\))? \| moving [0-9.]+ wall, [0-9.]+ (CPU|GPU) time)");
+                         R"(blocks\))? \| moving [0-9.]+ wall, [0-9.]+ (CPU|GPU) time( \([0-9.]+-[0-9.]+\))?\n)");
   EXPECT_TRUE(std::regex_search(r.out, ratio)) << r.out;
   const std::regex three(R"(three fibre populations vs the two-direction tensor fabric[^\n]*\n +still [0-9.]+ wall, )"
                          R"([0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall)");
@@ -61,6 +61,11 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
   EXPECT_EQ(jsonNumber(r.out, "interleaved_blocks"), 1) << r.out;
   EXPECT_NEAR(jsonNumber(r.out, "cpu_ratio"), jsonNumber(r.out, "fabric_cpu_ms") / jsonNumber(r.out, "phong_cpu_ms"),
               1e-6 * jsonNumber(r.out, "cpu_ratio"))
+      << r.out;
+  // The moving frames alternate with Phong frames the same way: one block, the ratio of its means.
+  EXPECT_NEAR(jsonNumber(r.out, "moving_cpu_ratio"),
+              jsonNumber(r.out, "moving_cpu_ms") / jsonNumber(r.out, "moving_phong_cpu_ms"),
+              1e-6 * jsonNumber(r.out, "moving_cpu_ratio"))
       << r.out;
   // Five frames: blocks of two, two and one.
   r = dtf::test::runDtfabric("bench render --size 96x72 --frames 5 --only sphere_41k --no-brain --no-peer --json", dir);
