@@ -83,7 +83,54 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 double cpuMsSince(std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; }
 
-// Anisotropic sphere field (Hessian of |x|^2 + c xyz) on a grid just enclosing a sphere of radius r.
+// Frames of two kinds timed against each other: `frames` frames of `fabric` in blocks of `block`, each
+// block followed by as many frames of `phong`, so a change in other processes' load falls on both alike.
+// Per frame means of each kind, and the fabric / Phong ratios per block as medians with the CPU range.
+struct Interleaved {
+  double fabricMs = 0, fabricCpuMs = 0, phongMs = 0, phongCpuMs = 0;
+  double wallRatio = 0, cpuRatio = 0, cpuRatioLo = 0, cpuRatioHi = 0;
+  int blocks = 0;
+};
+
+template <class FabricFrame, class PhongFrame>
+Interleaved interleave(int frames, int block, FabricFrame&& fabric, PhongFrame&& phong) {
+  Interleaved r;
+  std::vector<double> wallRatios, cpuRatios;
+  for (int done = 0; done < frames; done += block) {
+    const int n = std::min(block, frames - done);
+    double wall[2], cpu[2];
+    for (int kind = 0; kind < 2; ++kind) {
+      const std::clock_t c0 = std::clock();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int f = 0; f < n; ++f) {
+        if (kind == 0)
+          fabric();
+        else
+          phong();
+      }
+      glFinish();
+      wall[kind] = msSince(t0);
+      cpu[kind] = cpuMsSince(c0);
+    }
+    r.fabricMs += wall[0];
+    r.fabricCpuMs += cpu[0];
+    r.phongMs += wall[1];
+    r.phongCpuMs += cpu[1];
+    wallRatios.push_back(wall[0] / std::max(wall[1], 1e-9));
+    cpuRatios.push_back(cpu[0] / std::max(cpu[1], 1e-9));
+  }
+  r.fabricMs /= frames;
+  r.fabricCpuMs /= frames;
+  r.phongMs /= frames;
+  r.phongCpuMs /= frames;
+  r.blocks = static_cast<int>(cpuRatios.size());
+  r.wallRatio = median(wallRatios);
+  r.cpuRatio = median(cpuRatios);
+  r.cpuRatioLo = *std::min_element(cpuRatios.begin(), cpuRatios.end());
+  r.cpuRatioHi = *std::max_element(cpuRatios.begin(), cpuRatios.end());
+  return r;
+}
+
 void accumulate(render::PassTimes& sum, const render::PassTimes& t) {
   sum.projection += t.projection;
   sum.silhouette += t.silhouette;
@@ -204,44 +251,28 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   phong.setTiming(true);
   render::PassTimes sum;
   double phongGpu = 0;
-  std::vector<double> wallRatios, cpuRatios;
-  for (int done = 0; done < frames; done += kBlock) {
-    const int n = std::min(kBlock, frames - done);
-    std::clock_t c0 = std::clock();
-    auto t0 = std::chrono::steady_clock::now();
-    for (int f = 0; f < n; ++f) {
-      r.renderFrame(cam, p);
-      accumulate(sum, r.lastTimes()); // waits for the frame
-    }
-    glFinish();
-    const double fabricWall = msSince(t0), fabricCpu = cpuMsSince(c0);
-    c0 = std::clock();
-    t0 = std::chrono::steady_clock::now();
-    for (int f = 0; f < n; ++f) {
-      phong.renderPhong(cam);
-      phongGpu += phong.lastTimes().phong; // waits for the frame
-    }
-    glFinish();
-    const double phongWall = msSince(t0), phongCpu = cpuMsSince(c0);
-    res.fabricMs += fabricWall;
-    res.fabricCpuMs += fabricCpu;
-    res.phongMs += phongWall;
-    res.phongCpuMs += phongCpu;
-    wallRatios.push_back(fabricWall / std::max(phongWall, 1e-9));
-    cpuRatios.push_back(fabricCpu / std::max(phongCpu, 1e-9));
-  }
+  const Interleaved still = interleave(
+      frames, kBlock,
+      [&] {
+        r.renderFrame(cam, p);
+        accumulate(sum, r.lastTimes()); // waits for the frame
+      },
+      [&] {
+        phong.renderPhong(cam);
+        phongGpu += phong.lastTimes().phong; // waits for the frame
+      });
   phong.setTiming(false);
-  res.fabricMs /= frames;
-  res.fabricCpuMs /= frames;
-  res.phongMs /= frames;
-  res.phongCpuMs /= frames;
+  res.fabricMs = still.fabricMs;
+  res.fabricCpuMs = still.fabricCpuMs;
+  res.phongMs = still.phongMs;
+  res.phongCpuMs = still.phongCpuMs;
   res.passes = averaged(sum, frames);
   res.passes.phong = phongGpu / frames;
-  res.blocks = static_cast<int>(cpuRatios.size());
-  res.stillRatio = median(wallRatios);
-  res.stillCpuRatio = median(cpuRatios);
-  res.stillCpuRatioLo = *std::min_element(cpuRatios.begin(), cpuRatios.end());
-  res.stillCpuRatioHi = *std::max_element(cpuRatios.begin(), cpuRatios.end());
+  res.blocks = still.blocks;
+  res.stillRatio = still.wallRatio;
+  res.stillCpuRatio = still.cpuRatio;
+  res.stillCpuRatioLo = still.cpuRatioLo;
+  res.stillCpuRatioHi = still.cpuRatioHi;
   res.fused = r.lastFrameFused();
   if (res.fused) res.fusion = compareFusion(r, cam, p, std::max(frames, 20));
   // Moving camera: a small trackball step every frame; the projection and silhouettes run every frame and
@@ -249,39 +280,22 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   // the still ones do, so the moving ratio resists other processes' load as the still ratio does.
   render::PassTimes movingSum;
   render::Camera moving = cam;
-  wallRatios.clear();
-  cpuRatios.clear();
-  for (int done = 0; done < frames; done += kBlock) {
-    const int n = std::min(kBlock, frames - done);
-    std::clock_t c0 = std::clock();
-    auto t0 = std::chrono::steady_clock::now();
-    for (int f = 0; f < n; ++f) {
-      moving.trackball({0.0, 0.0}, {0.01, 0.0});
-      r.renderFrame(moving, p);
-      accumulate(movingSum, r.lastTimes()); // waits for the frame
-    }
-    glFinish();
-    const double fabricWall = msSince(t0), fabricCpu = cpuMsSince(c0);
-    c0 = std::clock();
-    t0 = std::chrono::steady_clock::now();
-    for (int f = 0; f < n; ++f)
-      phong.renderPhong(moving);
-    glFinish();
-    const double phongWall = msSince(t0), phongCpu = cpuMsSince(c0);
-    res.movingMs += fabricWall;
-    res.movingCpuMs += fabricCpu;
-    res.movingPhongCpuMs += phongCpu;
-    wallRatios.push_back(fabricWall / std::max(phongWall, 1e-9));
-    cpuRatios.push_back(fabricCpu / std::max(phongCpu, 1e-9));
-  }
-  res.movingMs /= frames;
-  res.movingCpuMs /= frames;
-  res.movingPhongCpuMs /= frames;
+  const Interleaved move = interleave(
+      frames, kBlock,
+      [&] {
+        moving.trackball({0.0, 0.0}, {0.01, 0.0});
+        r.renderFrame(moving, p);
+        accumulate(movingSum, r.lastTimes()); // waits for the frame
+      },
+      [&] { phong.renderPhong(moving); });
+  res.movingMs = move.fabricMs;
+  res.movingCpuMs = move.fabricCpuMs;
+  res.movingPhongCpuMs = move.phongCpuMs;
   res.movingPasses = averaged(movingSum, frames);
-  res.movingRatio = median(wallRatios);
-  res.movingCpuRatio = median(cpuRatios);
-  res.movingCpuRatioLo = *std::min_element(cpuRatios.begin(), cpuRatios.end());
-  res.movingCpuRatioHi = *std::max_element(cpuRatios.begin(), cpuRatios.end());
+  res.movingRatio = move.wallRatio;
+  res.movingCpuRatio = move.cpuRatio;
+  res.movingCpuRatioLo = move.cpuRatioLo;
+  res.movingCpuRatioHi = move.cpuRatioHi;
   r.setTiming(false);
   // The same at half internal resolution while moving (FabricParams::movingScale).
   render::FabricParams half = p;
