@@ -52,6 +52,9 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
   const std::regex three(R"(three fibre populations vs the two-direction tensor fabric[^\n]*\n +still [0-9.]+ wall, )"
                          R"([0-9.]+ (CPU|GPU) time \| moving [0-9.]+ wall)");
   EXPECT_TRUE(std::regex_search(r.out, three)) << r.out;
+  const std::regex half(R"(moving as the viewer draws it[^\n]*\n[^\n]*\n +sphere_41k +1/2 [0-9.]+ wall(, [0-9.]+ )"
+                        R"(CPU time \([0-9.]+-[0-9.]+\))?\n)");
+  EXPECT_TRUE(std::regex_search(r.out, half)) << r.out;
   r = dtf::test::runDtfabric("bench render --size 96x72 --frames 2 --only sphere_41k --no-brain --no-peer --json", dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_GT(jsonNumber(r.out, "moving_cpu_ms"), 0) << r.out;
@@ -66,6 +69,11 @@ TEST(BenchRenderCli, ReportsTheStillAndMovingRatiosAndTheThreePopulationRatio) {
   EXPECT_NEAR(jsonNumber(r.out, "moving_cpu_ratio"),
               jsonNumber(r.out, "moving_cpu_ms") / jsonNumber(r.out, "moving_phong_cpu_ms"),
               1e-6 * jsonNumber(r.out, "moving_cpu_ratio"))
+      << r.out;
+  // And the half-resolution moving frames against full-resolution Phong.
+  EXPECT_NEAR(jsonNumber(r.out, "moving_half_res_cpu_ratio"),
+              jsonNumber(r.out, "moving_half_res_cpu_ms") / jsonNumber(r.out, "moving_half_res_phong_cpu_ms"),
+              1e-6 * jsonNumber(r.out, "moving_half_res_cpu_ratio"))
       << r.out;
   // Five frames: blocks of two, two and one.
   r = dtf::test::runDtfabric("bench render --size 96x72 --frames 5 --only sphere_41k --no-brain --no-peer --json", dir);
