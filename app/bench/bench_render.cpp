@@ -42,22 +42,23 @@ struct Case {
   std::optional<FibreSet> fibres; // set: the multi-population fabric (ColourMode::Fibres) of these fibres
 };
 
+// Frames of two kinds timed against each other (interleave): the fabric's and Phong's, or the fabric's in
+// two variants. Per frame means of each kind, and the first / second ratios per block as medians with the
+// CPU range.
+struct Interleaved {
+  double fabricMs = 0, fabricCpuMs = 0, phongMs = 0, phongCpuMs = 0;
+  double wallRatio = 0, cpuRatio = 0, cpuRatioLo = 0, cpuRatioHi = 0;
+  int blocks = 0;
+};
+
 struct Result {
   std::string name;
   std::size_t triangles = 0;
   double coverage = 0;
-  double fabricMs = 0, movingMs = 0, movingHalfMs = 0, phongMs = 0;
-  double fabricCpuMs = 0, phongCpuMs = 0; // process CPU time (all llvmpipe threads) per frame
-  // Still fabric / Phong over the interleaved blocks (see runCase): medians, and the CPU ratio's range.
-  double stillRatio = 0, stillCpuRatio = 0, stillCpuRatioLo = 0, stillCpuRatioHi = 0;
-  int blocks = 0;
-  double movingCpuMs = 0;                 // the same for the moving camera's frames (full resolution)
-  // Moving fabric / Phong over blocks interleaved as the still ones: medians, and the CPU ratio's range.
-  double movingRatio = 0, movingCpuRatio = 0, movingCpuRatioLo = 0, movingCpuRatioHi = 0;
-  double movingPhongCpuMs = 0; // CPU time per frame of the Phong frames between the moving blocks
-  // The moving frames at half internal resolution against full-resolution Phong, interleaved the same way.
-  double movingHalfRatio = 0, movingHalfCpuRatio = 0, movingHalfCpuRatioLo = 0, movingHalfCpuRatioHi = 0;
-  double movingHalfCpuMs = 0, movingHalfPhongCpuMs = 0; // CPU time per frame of those frames
+  // Fabric frames against Phong frames of the same camera, interleaved (see interleave): the still camera,
+  // the moving one at full resolution, and the moving one at half internal resolution (as the viewer draws
+  // it) against full-resolution Phong.
+  Interleaved still, moving, half;
   render::PassTimes movingPasses;         // GPU: the moving camera's passes (the projection runs every frame)
   render::PassTimes passes;
   int frames = 0;
@@ -86,15 +87,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 double cpuMsSince(std::clock_t c0) { return 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC; }
 
-// Frames of two kinds timed against each other: `frames` frames of `fabric` in blocks of `block`, each
-// block followed by as many frames of `phong`, so a change in other processes' load falls on both alike.
-// Per frame means of each kind, and the fabric / Phong ratios per block as medians with the CPU range.
-struct Interleaved {
-  double fabricMs = 0, fabricCpuMs = 0, phongMs = 0, phongCpuMs = 0;
-  double wallRatio = 0, cpuRatio = 0, cpuRatioLo = 0, cpuRatioHi = 0;
-  int blocks = 0;
-};
-
+// `frames` frames of `fabric` in blocks of `block`, each block followed by as many frames of `phong`, so a
+// change in other processes' load falls on both alike.
 template <class FabricFrame, class PhongFrame>
 Interleaved interleave(int frames, int block, FabricFrame&& fabric, PhongFrame&& phong) {
   Interleaved r;
@@ -192,21 +186,14 @@ std::optional<Case> brainCase(const std::optional<std::string>& dataDir) {
 // ratio's median and range over the pairs. Leaves the renderer fusing.
 Result::Fusion compareFusion(render::FabricRenderer& r, const render::Camera& cam, const render::FabricParams& p,
                              int pairs) {
-  std::vector<double> ratios;
-  for (int i = 0; i < pairs; ++i) {
-    double cpu[2];
-    for (int fuse = 1; fuse >= 0; --fuse) {
-      r.setFusedComposite(fuse == 1);
-      const std::clock_t c0 = std::clock();
-      for (int f = 0; f < 2; ++f) r.renderFrame(cam, p);
-      glFinish();
-      cpu[fuse] = cpuMsSince(c0);
-    }
-    ratios.push_back(cpu[1] / std::max(cpu[0], 1e-9));
-  }
+  auto frame = [&](bool fused) {
+    r.setFusedComposite(fused);
+    r.renderFrame(cam, p);
+  };
+  const Interleaved t = interleave(
+      2 * pairs, 2, [&] { frame(true); }, [&] { frame(false); });
   r.setFusedComposite(true);
-  return {pairs, median(ratios), *std::min_element(ratios.begin(), ratios.end()),
-          *std::max_element(ratios.begin(), ratios.end())};
+  return {t.blocks, t.cpuRatio, t.cpuRatioLo, t.cpuRatioHi};
 }
 
 Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, int frames, render::ColourMode mode,
@@ -254,7 +241,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   phong.setTiming(true);
   render::PassTimes sum;
   double phongGpu = 0;
-  const Interleaved still = interleave(
+  res.still = interleave(
       frames, kBlock,
       [&] {
         r.renderFrame(cam, p);
@@ -265,17 +252,8 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
         phongGpu += phong.lastTimes().phong; // waits for the frame
       });
   phong.setTiming(false);
-  res.fabricMs = still.fabricMs;
-  res.fabricCpuMs = still.fabricCpuMs;
-  res.phongMs = still.phongMs;
-  res.phongCpuMs = still.phongCpuMs;
   res.passes = averaged(sum, frames);
   res.passes.phong = phongGpu / frames;
-  res.blocks = still.blocks;
-  res.stillRatio = still.wallRatio;
-  res.stillCpuRatio = still.cpuRatio;
-  res.stillCpuRatioLo = still.cpuRatioLo;
-  res.stillCpuRatioHi = still.cpuRatioHi;
   res.fused = r.lastFrameFused();
   if (res.fused) res.fusion = compareFusion(r, cam, p, std::max(frames, 20));
   // Moving camera: a small trackball step every frame; the projection and silhouettes run every frame and
@@ -283,7 +261,7 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
   // the still ones do, so the moving ratio resists other processes' load as the still ratio does.
   render::PassTimes movingSum;
   render::Camera moving = cam;
-  const Interleaved move = interleave(
+  res.moving = interleave(
       frames, kBlock,
       [&] {
         moving.trackball({0.0, 0.0}, {0.01, 0.0});
@@ -291,33 +269,19 @@ Result runCase(render::FabricRenderer& r, const Case& c, int width, int height, 
         accumulate(movingSum, r.lastTimes()); // waits for the frame
       },
       [&] { phong.renderPhong(moving); });
-  res.movingMs = move.fabricMs;
-  res.movingCpuMs = move.fabricCpuMs;
-  res.movingPhongCpuMs = move.phongCpuMs;
   res.movingPasses = averaged(movingSum, frames);
-  res.movingRatio = move.wallRatio;
-  res.movingCpuRatio = move.cpuRatio;
-  res.movingCpuRatioLo = move.cpuRatioLo;
-  res.movingCpuRatioHi = move.cpuRatioHi;
   r.setTiming(false);
   // The same at half internal resolution while moving (FabricParams::movingScale), as the viewer draws a
   // moving camera (its interactive scale is at most 1/2), against full-resolution Phong.
   render::FabricParams half = p;
   half.movingScale = 0.5;
-  const Interleaved halfMove = interleave(
+  res.half = interleave(
       frames, kBlock,
       [&] {
         moving.trackball({0.0, 0.0}, {0.01, 0.0});
         r.renderFrame(moving, half);
       },
       [&] { phong.renderPhong(moving); });
-  res.movingHalfMs = halfMove.fabricMs;
-  res.movingHalfCpuMs = halfMove.fabricCpuMs;
-  res.movingHalfPhongCpuMs = halfMove.phongCpuMs;
-  res.movingHalfRatio = halfMove.wallRatio;
-  res.movingHalfCpuRatio = halfMove.cpuRatio;
-  res.movingHalfCpuRatioLo = halfMove.cpuRatioLo;
-  res.movingHalfCpuRatioHi = halfMove.cpuRatioHi;
   render::checkGl("bench render " + c.name);
   return res;
 }
@@ -626,33 +590,32 @@ void printJson(const Report& rep) {
   for (const Result& r : results)
     cases.push_back({{"name", r.name},
                      {"triangles", r.triangles},
-                     {"fabric_ms", r.fabricMs},
-                     {"phong_ms", r.phongMs},
-                     {"moving_ms", r.movingMs},
-                     {"moving_half_res_ms", r.movingHalfMs},
-                     {"fabric_cpu_ms", r.fabricCpuMs},
-                     {"moving_cpu_ms", r.movingCpuMs},
-                     {"phong_cpu_ms", r.phongCpuMs},
-                     {"ratio", r.stillRatio},
-                     {"cpu_ratio", r.stillCpuRatio},
-                     {"cpu_ratio_range", {r.stillCpuRatioLo, r.stillCpuRatioHi}},
-                     {"interleaved_blocks", r.blocks},
-                     {"moving_phong_cpu_ms", r.movingPhongCpuMs},
-                     {"moving_ratio", r.movingRatio},
-                     {"moving_cpu_ratio", r.movingCpuRatio},
-                     {"moving_cpu_ratio_range", {r.movingCpuRatioLo, r.movingCpuRatioHi}},
-                     {"moving_half_res_cpu_ms", r.movingHalfCpuMs},
-                     {"moving_half_res_phong_cpu_ms", r.movingHalfPhongCpuMs},
-                     {"moving_half_res_ratio", r.movingHalfRatio},
-                     {"moving_half_res_cpu_ratio", r.movingHalfCpuRatio},
-                     {"moving_half_res_cpu_ratio_range", {r.movingHalfCpuRatioLo, r.movingHalfCpuRatioHi}},
+                     {"fabric_ms", r.still.fabricMs},
+                     {"phong_ms", r.still.phongMs},
+                     {"moving_ms", r.moving.fabricMs},
+                     {"moving_half_res_ms", r.half.fabricMs},
+                     {"fabric_cpu_ms", r.still.fabricCpuMs},
+                     {"moving_cpu_ms", r.moving.fabricCpuMs},
+                     {"phong_cpu_ms", r.still.phongCpuMs},
+                     {"ratio", r.still.wallRatio},
+                     {"cpu_ratio", r.still.cpuRatio},
+                     {"cpu_ratio_range", {r.still.cpuRatioLo, r.still.cpuRatioHi}},
+                     {"interleaved_blocks", r.still.blocks},
+                     {"moving_phong_cpu_ms", r.moving.phongCpuMs},
+                     {"moving_ratio", r.moving.wallRatio},
+                     {"moving_cpu_ratio", r.moving.cpuRatio},
+                     {"moving_cpu_ratio_range", {r.moving.cpuRatioLo, r.moving.cpuRatioHi}},
+                     {"moving_half_res_cpu_ms", r.half.fabricCpuMs},
+                     {"moving_half_res_phong_cpu_ms", r.half.phongCpuMs},
+                     {"moving_half_res_ratio", r.half.wallRatio},
+                     {"moving_half_res_cpu_ratio", r.half.cpuRatio},
+                     {"moving_half_res_cpu_ratio_range", {r.half.cpuRatioLo, r.half.cpuRatioHi}},
                      {"coverage", r.coverage},
                      {"fused", r.fused},
-                     {"fused_over_separate_cpu",
-                      r.fused ? Json{{"median", r.fusion.median},
-                                     {"range", {r.fusion.lo, r.fusion.hi}},
-                                     {"pairs", r.fusion.pairs}}
-                              : Json(nullptr)},
+                     {"fused_over_separate_cpu", r.fused ? Json{{"median", r.fusion.median},
+                                                                {"range", {r.fusion.lo, r.fusion.hi}},
+                                                                {"pairs", r.fusion.pairs}}
+                                                         : Json(nullptr)},
                      {"passes_ms",
                       {{"projection", r.passes.projection},
                        {"silhouette", r.passes.silhouette},
@@ -667,9 +630,9 @@ void printJson(const Report& rep) {
                      {"embedded_cpu_ms", embedded.cpuMs},
                      {"host_pass_ms", embedded.hostOnlyMs},
                      {"host_pass_cpu_ms", embedded.hostOnlyCpuMs},
-                     {"own_ms", results[0].fabricMs},
-                     {"own_cpu_ms", results[0].fabricCpuMs},
-                     {"own_moving_ms", results[0].movingMs},
+                     {"own_ms", results[0].still.fabricMs},
+                     {"own_cpu_ms", results[0].still.fabricCpuMs},
+                     {"own_moving_ms", results[0].moving.fabricMs},
                      {"passes_ms",
                       {{"host_geometry", embedded.hostPassMs},
                        {"projection", embedded.passes.projection},
@@ -709,10 +672,11 @@ void printTable(const Report& rep) {
   std::printf("%-18s %9s %6s | %9s %9s %9s %9s %6s | GPU ms: %8s %8s %8s %8s %8s\n", "case", "triangles", "cover",
               "fabric", "moving", "mov 1/2", "phong", "ratio", "project", "silhou", "advect3", "compos", "phong");
   for (const Result& r : results)
-    std::printf("%-18s %9zu %5.0f%% | %6.1f ms %6.1f ms %6.1f ms %6.1f ms %6.2f | %16.2f %8.2f %8.2f %8.2f %8.2f\n",
-                r.name.c_str(), r.triangles, 100 * r.coverage, r.fabricMs, r.movingMs, r.movingHalfMs, r.phongMs,
-                r.stillRatio,
-                r.passes.projection, r.passes.silhouette, r.passes.advection, r.passes.composite, r.passes.phong);
+    std::printf(
+        "%-18s %9zu %5.0f%% | %6.1f ms %6.1f ms %6.1f ms %6.1f ms %6.2f | %16.2f %8.2f %8.2f %8.2f %8.2f\n",
+        r.name.c_str(), r.triangles, 100 * r.coverage, r.still.fabricMs, r.moving.fabricMs, r.half.fabricMs,
+        r.still.phongMs, r.still.wallRatio, r.passes.projection, r.passes.silhouette, r.passes.advection,
+        r.passes.composite, r.passes.phong);
   // On a software rasteriser the process CPU time is the robust second figure (other processes' load inflates
   // wall times); on a GPU the CPU only submits, and the summed GPU pass times are.
   const std::string& rendererName = renderer;
@@ -723,7 +687,7 @@ void printTable(const Report& rep) {
   // The still fabric / Phong ratio by the second figure: on a software rasteriser the median over the
   // interleaved blocks.
   auto stillSecondRatio = [&](const Result& r) {
-    return software ? r.stillCpuRatio : fabricGpu(r.passes) / std::max(r.passes.phong, 1e-9);
+    return software ? r.still.cpuRatio : fabricGpu(r.passes) / std::max(r.passes.phong, 1e-9);
   };
   std::printf("\nmoving camera, GPU ms per pass (the projection and silhouettes run every frame; silhou: the\n"
               "silhouettes found by the restart from beta, one pass):\n");
@@ -734,17 +698,18 @@ void printTable(const Report& rep) {
   // The moving fabric / Phong ratio by the second figure: on a software rasteriser the median over the
   // interleaved blocks, on a GPU the passes' GPU times.
   auto movingSecondRatio = [&](const Result& r) {
-    return software ? r.movingCpuRatio : fabricGpu(r.movingPasses) / std::max(r.passes.phong, 1e-9);
+    return software ? r.moving.cpuRatio : fabricGpu(r.movingPasses) / std::max(r.passes.phong, 1e-9);
   };
   if (software) {
     std::printf("\nCPU time per frame (all llvmpipe threads; less sensitive to other processes' load):\n");
     for (const Result& r : results)
       std::printf("  %-18s still %7.1f ms  moving %7.1f ms  phong %6.1f ms  -> uncontended on %u cores about "
                   "%.0f / %.0f / %.0f ms\n",
-                  r.name.c_str(), r.fabricCpuMs, r.movingCpuMs, r.phongCpuMs, std::thread::hardware_concurrency(),
-                  r.fabricCpuMs / std::max(1u, std::thread::hardware_concurrency()),
-                  r.movingCpuMs / std::max(1u, std::thread::hardware_concurrency()),
-                  r.phongCpuMs / std::max(1u, std::thread::hardware_concurrency()));
+                  r.name.c_str(), r.still.fabricCpuMs, r.moving.fabricCpuMs, r.still.phongCpuMs,
+                  std::thread::hardware_concurrency(),
+                  r.still.fabricCpuMs / std::max(1u, std::thread::hardware_concurrency()),
+                  r.moving.fabricCpuMs / std::max(1u, std::thread::hardware_concurrency()),
+                  r.still.phongCpuMs / std::max(1u, std::thread::hardware_concurrency()));
   }
   std::printf("\nfabric/Phong ratio, paper Table 1 (GPU, 2010): 1.9 on the 41k sphere, 1.14 on the 572k sphere.\n"
               "still: the static camera's frames (the projection and silhouettes of the previous frame are reused,\n"
@@ -752,19 +717,20 @@ void printTable(const Report& rep) {
               "the blocks (range); moving: a trackball step per frame (the whole frame), its blocks alternating\n"
               "with Phong blocks of the same camera in the same way.\n");
   for (const Result& r : results) {
-    std::printf("  %-18s still %.2f wall, %.2f %s", r.name.c_str(), r.stillRatio, stillSecondRatio(r), second);
-    if (software) std::printf(" (%.2f-%.2f over %d blocks)", r.stillCpuRatioLo, r.stillCpuRatioHi, r.blocks);
-    std::printf(" | moving %.2f wall, %.2f %s", r.movingRatio, movingSecondRatio(r), second);
-    if (software) std::printf(" (%.2f-%.2f)", r.movingCpuRatioLo, r.movingCpuRatioHi);
+    std::printf("  %-18s still %.2f wall, %.2f %s", r.name.c_str(), r.still.wallRatio, stillSecondRatio(r),
+                second);
+    if (software)
+      std::printf(" (%.2f-%.2f over %d blocks)", r.still.cpuRatioLo, r.still.cpuRatioHi, r.still.blocks);
+    std::printf(" | moving %.2f wall, %.2f %s", r.moving.wallRatio, movingSecondRatio(r), second);
+    if (software) std::printf(" (%.2f-%.2f)", r.moving.cpuRatioLo, r.moving.cpuRatioHi);
     std::printf("\n");
   }
   std::printf("\nmoving as the viewer draws it: the fabric at 1/2 internal resolution (the viewer's largest\n"
               "interactive scale), upscaled, against full-resolution Phong, interleaved the same way:\n");
   for (const Result& r : results) {
-    std::printf("  %-18s 1/2 %.2f wall", r.name.c_str(), r.movingHalfRatio);
+    std::printf("  %-18s 1/2 %.2f wall", r.name.c_str(), r.half.wallRatio);
     if (software)
-      std::printf(", %.2f CPU time (%.2f-%.2f)", r.movingHalfCpuRatio, r.movingHalfCpuRatioLo,
-                  r.movingHalfCpuRatioHi);
+      std::printf(", %.2f CPU time (%.2f-%.2f)", r.half.cpuRatio, r.half.cpuRatioLo, r.half.cpuRatioHi);
     std::printf("\n");
   }
   const Result* two = nullptr;
@@ -776,12 +742,13 @@ void printTable(const Report& rep) {
   // The quotient of the two cases' fabric/Phong ratios, each over the Phong frames it alternated with (the
   // same sphere's Phong), so a load change between the two cases cancels.
   if (two && three)
-    std::printf("\nthree fibre populations vs the two-direction tensor fabric on the 41k sphere (goal <= 1.5):\n"
-                "  still %.2f wall, %.2f %s | moving %.2f wall, %.2f %s\n",
-                three->stillRatio / std::max(two->stillRatio, 1e-9),
-                stillSecondRatio(*three) / std::max(stillSecondRatio(*two), 1e-9), second,
-                three->movingRatio / std::max(two->movingRatio, 1e-9),
-                movingSecondRatio(*three) / std::max(movingSecondRatio(*two), 1e-9), second);
+    std::printf(
+        "\nthree fibre populations vs the two-direction tensor fabric on the 41k sphere (goal <= 1.5):\n"
+        "  still %.2f wall, %.2f %s | moving %.2f wall, %.2f %s\n",
+        three->still.wallRatio / std::max(two->still.wallRatio, 1e-9),
+        stillSecondRatio(*three) / std::max(stillSecondRatio(*two), 1e-9), second,
+        three->moving.wallRatio / std::max(two->moving.wallRatio, 1e-9),
+        movingSecondRatio(*three) / std::max(movingSecondRatio(*two), 1e-9), second);
   if (std::any_of(results.begin(), results.end(), [](const Result& r) { return r.fused; })) {
     std::printf("\nthe last iteration in the composite's pass against separate passes, the same still frames in\n"
                 "the same run (CPU time, fused / separate: median over pairs of 2-frame blocks, range):\n");
@@ -799,9 +766,9 @@ void printTable(const Report& rep) {
                 "(FabricRenderer::renderFrame, projecting every frame):\n");
     std::printf("  %-9s %8s %8s %8s | GPU ms: %8s %8s %8s %8s %8s\n", "route", "static", "moving", "CPU", "geometry",
                 "project", "silhou", "advect3", "compos");
-    std::printf("  %-9s %8s %5.1f ms %5.1f ms | %16s %8.2f %8.2f %8.2f %8.2f\n", "own", "", own.movingMs,
-                own.movingCpuMs, "(in project)", own.movingPasses.projection, own.movingPasses.silhouette,
-                own.movingPasses.advection, own.movingPasses.composite);
+    std::printf("  %-9s %8s %5.1f ms %5.1f ms | %16s %8.2f %8.2f %8.2f %8.2f\n", "own", "",
+                own.moving.fabricMs, own.moving.fabricCpuMs, "(in project)", own.movingPasses.projection,
+                own.movingPasses.silhouette, own.movingPasses.advection, own.movingPasses.composite);
     std::printf("  %-9s %5.1f ms %5.1f ms %5.1f ms | %16.2f %8.2f %8.2f %8.2f %8.2f\n", "embedded", embedded.ms,
                 embedded.movingMs, embedded.cpuMs, embedded.hostPassMs, embedded.passes.projection,
                 embedded.passes.silhouette, embedded.passes.advection, embedded.passes.composite);
@@ -809,15 +776,17 @@ void printTable(const Report& rep) {
                 embedded.hostOnlyMs, "", embedded.hostOnlyCpuMs);
     // GPU: the host's pass is `geometry`; EmbeddedFabric::draw alone is the passes after it.
     const double embeddedDraw = fabricGpu(embedded.passes), ownGpu = fabricGpu(own.movingPasses);
-    const double withHost = software ? embedded.cpuMs / std::max(own.movingCpuMs, 1e-9)
+    const double withHost = software ? embedded.cpuMs / std::max(own.moving.fabricCpuMs, 1e-9)
                                      : (embedded.hostPassMs + embeddedDraw) / std::max(ownGpu, 1e-9);
-    const double drawAlone = software ? (embedded.cpuMs - embedded.hostOnlyCpuMs) / std::max(own.movingCpuMs, 1e-9)
-                                      : embeddedDraw / std::max(ownGpu, 1e-9);
-    std::printf("  embedded / own: %.2f wall, %.2f %s, the host's pass included; without it (EmbeddedFabric::draw\n"
-                "  alone) %.2f wall, %.2f %s (goal <= 1). The embedded project = import of the host's textures +\n"
-                "  tensor stage, the own one = the mesh's geometry stage + tensor stage.\n",
-                embedded.ms / std::max(own.movingMs, 1e-9), withHost, second,
-                (embedded.ms - embedded.hostOnlyMs) / std::max(own.movingMs, 1e-9), drawAlone, second);
+    const double drawAlone =
+        software ? (embedded.cpuMs - embedded.hostOnlyCpuMs) / std::max(own.moving.fabricCpuMs, 1e-9)
+                 : embeddedDraw / std::max(ownGpu, 1e-9);
+    std::printf(
+        "  embedded / own: %.2f wall, %.2f %s, the host's pass included; without it (EmbeddedFabric::draw\n"
+        "  alone) %.2f wall, %.2f %s (goal <= 1). The embedded project = import of the host's textures +\n"
+        "  tensor stage, the own one = the mesh's geometry stage + tensor stage.\n",
+        embedded.ms / std::max(own.moving.fabricMs, 1e-9), withHost, second,
+        (embedded.ms - embedded.hostOnlyMs) / std::max(own.moving.fabricMs, 1e-9), drawAlone, second);
   }
   std::printf("\nfabric: static camera, advection state carried between frames, the projection and silhouettes of\n"
               "the previous frame reused (unchanged camera, data and parameters); moving: a trackball step per frame,\n"
@@ -879,9 +848,10 @@ int benchRender(const CommandArgs& argv) {
   peer.note = noPeer ? "skipped (--no-peer)" : "ParaView Surface LIC runs on sphere_41k only";
   if (!noPeer && ours)
     peer = runRenderPeer(cases[0].mesh, cases[0].field, {width, height, peerFrames, peerPng});
-  const RenderPeerOurs mine = ours ? RenderPeerOurs{ours->fabricMs, ours->movingMs, ours->phongMs,
-                                                    ours->fabricCpuMs, ours->phongCpuMs, ours->movingCpuMs}
-                                   : RenderPeerOurs{};
+  const RenderPeerOurs mine =
+      ours ? RenderPeerOurs{ours->still.fabricMs,    ours->moving.fabricMs,  ours->still.phongMs,
+                            ours->still.fabricCpuMs, ours->still.phongCpuMs, ours->moving.fabricCpuMs}
+           : RenderPeerOurs{};
 
   std::vector<LookResult> looks;
   if (!noBrain && (only.empty() || ("," + only + ",").find(",looks,") != std::string::npos))
