@@ -29,6 +29,9 @@ pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
 find_package(nlohmann_json 3 REQUIRED)
 
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
+# 2D figures with real text (profile plots, figure text): Cairo draws PNG and SVG, Pango lays out the text.
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
+pkg_check_modules(PANGOCAIRO REQUIRED IMPORTED_TARGET pangocairo)
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 
 # The window, the panels and the executable only (DTF_BUILD_APPS).

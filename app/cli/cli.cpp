@@ -72,6 +72,14 @@ const std::vector<Command>& commands() {
        "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "
        "name what is dropped); atomic, never over an input",
        cmdConvert, convertOptions},
+      {"profile", nullptr,
+       "tract profiles (tractometry): FA or any scalar along bundles, as DIPY afq_profile and pyAFQ",
+       "tract profiles as DIPY `afq_profile` and pyAFQ: each file (or TRX group) a bundle, oriented alike, "
+       "resampled to N nodes by arc length, scalars (fa/md/ad/rd of `--tensor`, or `NAME=IMAGE`) sampled "
+       "trilinearly; per node the gauss-weighted (or mean, median) value, sd, a seeded bootstrap 95 % interval, "
+       "the core position and the streamline count, as one tidy TSV (`--json`: the same rows); `--plot` a "
+       "figure (PNG or SVG) with a panel per scalar and a band per bundle",
+       cmdProfile, profileOptions},
       {"compare", nullptr,
        "angle between tracts and the fabric direction (or nearest fibre population) on a surface",
        "angle between tracts near a surface and the fabric's principal direction there; for a fibre set (peaks), "

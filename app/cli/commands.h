@@ -25,6 +25,7 @@ int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
 int cmdCheck(const CommandArgs& args);
 int cmdConvert(const CommandArgs& args);
+int cmdProfile(const CommandArgs& args);
 // `info` for tract files (cmdInfo hands over when FILE is a tractogram).
 int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
@@ -41,6 +42,7 @@ const OptionTable& renderOptions();
 const OptionTable& movieOptions();
 const OptionTable& trackOptions();
 const OptionTable& convertOptions();
+const OptionTable& profileOptions();
 const OptionTable& compareOptions();
 const OptionTable& checkOptions();
 const OptionTable& bidsOptions();
