@@ -96,10 +96,10 @@ int cmdProfile(const CommandArgs& argv) {
   args.finish();
   r.tensorOptions.quiet = json;
 
-  if (r.tracts.empty()) throw UsageError("missing TRACTS (one or more tract files)");
   for (const auto& s : r.scalars)
     if (s.find('=') == std::string::npos && session::isTractFileName(s))
       throw UsageError("--scalar '" + s + "' is a tract file: put TRACTS before --scalar, or end its list with -o");
+  if (r.tracts.empty()) throw UsageError("missing TRACTS (one or more tract files)");
   if (!output && !json) throw UsageError("missing -o OUT.tsv");
   if (!r.start.empty()) (void)session::startPointOf(r.start); // a typo fails before any reading
   render::PlotFormat format = render::PlotFormat::Png;

@@ -76,7 +76,7 @@ ScalarVolume readScalarImage(const ScalarSpec& spec) {
   try {
     v = io::readScalarVolume(spec.image);
   } catch (const Error&) {
-    rethrowWithContext("--scalar " + spec.name + "=" + spec.image + ": ");
+    rethrowWithContext("--scalar " + spec.name + "=" + spec.image);
   }
   if (v.components != 1)
     throw InputError(spec.image + ": has " + std::to_string(v.components) +
@@ -129,7 +129,7 @@ std::vector<std::string> profileInputs(const ProfileRequest& r) {
   std::vector<std::string> in = r.tracts;
   for (const auto& s : r.scalars) {
     const std::size_t eq = s.find('=');
-    if (eq != std::string::npos) in.push_back(s.substr(eq + 1));
+    if (eq != std::string::npos && eq + 1 < s.size()) in.push_back(s.substr(eq + 1));
   }
   for (const std::string* p :
        {&r.tensor, &r.tensorOptions.bval, &r.tensorOptions.bvec, &r.tensorOptions.mask})
@@ -219,7 +219,7 @@ ProfileResult runProfile(const ProfileRequest& r) {
       try {
         b.profile = surfaces::profileBundle(lines, which, scalars, out.options);
       } catch (const Error&) {
-        rethrowWithContext(file + (group.empty() ? "" : " (group '" + group + "')") + ": ");
+        rethrowWithContext(file + (group.empty() ? "" : " (group '" + group + "')"));
       }
       b.axis = surfaces::nodeAxisLabel(b.profile.core.front(), b.profile.core.back());
       out.bundles.push_back(std::move(b));
