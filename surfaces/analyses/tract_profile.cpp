@@ -202,10 +202,19 @@ std::string nodeAxisLabel(const glm::dvec3& first, const glm::dvec3& last) {
   const glm::dvec3 d = last - first;
   const glm::dvec3 a = glm::abs(d);
   static const char* names[3][2] = {{"right", "left"}, {"anterior", "posterior"}, {"superior", "inferior"}};
-  const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
-  if (!(a[axis] > 0)) return "start → end";
-  const bool increasing = d[axis] > 0; // towards R, A or S
-  return std::string(names[axis][increasing ? 1 : 0]) + " → " + names[axis][increasing ? 0 : 1];
+  const double largest = std::max({a.x, a.y, a.z});
+  if (!(largest > 0)) return "start → end";
+  // The axes the core travels along, largest first: the dominant one, and any other at least half as long.
+  std::vector<int> axes = {0, 1, 2};
+  std::stable_sort(axes.begin(), axes.end(), [&](int p, int q) { return a[p] > a[q]; });
+  std::string from, to;
+  for (int axis : axes) {
+    if (a[axis] < 0.5 * largest) break;
+    const bool increasing = d[axis] > 0; // towards R, A or S
+    from += (from.empty() ? "" : " ") + std::string(names[axis][increasing ? 1 : 0]);
+    to += (to.empty() ? "" : " ") + std::string(names[axis][increasing ? 0 : 1]);
+  }
+  return from + " → " + to;
 }
 
 BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint32_t>* which,

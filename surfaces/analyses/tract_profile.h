@@ -88,7 +88,8 @@ double sampleZeroPadded(const ScalarVolume& volume, const glm::dvec3& world);
 // the whole weight (the limit of 1/d). Mean and Median: equal weights.
 std::vector<double> nodeWeights(const std::vector<glm::dvec3>& positions, ProfileWeights weights);
 // "inferior → superior" and the like: where a node axis from `first` to `last` starts and ends, by the
-// dominant world axis of last - first (x: right/left, y: anterior/posterior, z: superior/inferior).
+// dominant world axis of last - first (x: right/left, y: anterior/posterior, z: superior/inferior), with any
+// other axis at least half as long named after it ("inferior right → superior left").
 std::string nodeAxisLabel(const glm::dvec3& first, const glm::dvec3& last);
 
 } // namespace dtf::surfaces

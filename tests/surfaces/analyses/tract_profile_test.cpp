@@ -192,6 +192,8 @@ TEST(TractProfile, StreamlinesStoredBackwardsAreFlippedToAgreeWithTheFirst) {
   EXPECT_EQ(sf::nodeAxisLabel(straight.core.front(), straight.core.back()), "left → right");
   EXPECT_EQ(sf::nodeAxisLabel({0, 0, -40}, {3, -2, 30}), "inferior → superior");
   EXPECT_EQ(sf::nodeAxisLabel({0, 40, 0}, {3, -30, 2}), "anterior → posterior");
+  EXPECT_EQ(sf::nodeAxisLabel({13, 19, 64}, {-5, 22, 83}), "inferior right → superior left");
+  EXPECT_EQ(sf::nodeAxisLabel({1, 1, 1}, {1, 1, 1}), "start → end");
 }
 
 // The orientation test on 12-point resamplings: a U-shaped streamline and its reverse.
