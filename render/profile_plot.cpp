@@ -293,8 +293,10 @@ bool plotFormatOf(const std::string& path, PlotFormat& format) {
   return false;
 }
 
-void writeProfilePlot(const ProfileFigure& fig, const std::string& path, PlotFormat format) {
-  if (fig.panels.empty()) throw InputError(path + ": a profile plot needs at least one scalar");
+void writeProfilePlot(const ProfileFigure& fig, const std::string& path, PlotFormat format,
+                      const std::string& name) {
+  const std::string shown = name.empty() ? path : name;
+  if (fig.panels.empty()) throw InputError(shown + ": a profile plot needs at least one scalar");
   const int columns = fig.panels.size() > 1 ? 2 : 1;
   const int rows = static_cast<int>((fig.panels.size() + columns - 1) / columns);
   const double width = 2 * kPad + columns * kPanelW;
@@ -326,7 +328,7 @@ void writeProfilePlot(const ProfileFigure& fig, const std::string& path, PlotFor
   if (status == CAIRO_STATUS_SUCCESS) status = cairo_surface_status(surface);
   cairo_surface_destroy(surface);
   if (status != CAIRO_STATUS_SUCCESS)
-    throw InputError(path + ": cannot write the plot (" + cairo_status_to_string(status) + ")");
+    throw InputError(shown + ": cannot write the plot (" + cairo_status_to_string(status) + ")");
 }
 
 } // namespace dtf::render

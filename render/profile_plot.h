@@ -30,9 +30,10 @@ enum class PlotFormat { Png, Svg };
 // The format a file name asks for: .png or .svg (case-insensitive); false for anything else.
 bool plotFormatOf(const std::string& path, PlotFormat& format);
 
-// Draws the figure into `path` (written directly: callers wanting an atomic file pass a temporary path).
-// PNG at 3 pixels per point (216 dpi), SVG in points. Throws InputError when Cairo cannot write the file, and
-// for a figure without panels.
-void writeProfilePlot(const ProfileFigure& figure, const std::string& path, PlotFormat format);
+// Draws the figure into `path` (written directly: callers wanting an atomic file pass a temporary path and
+// the target as `name`, which errors name instead). PNG at 3 pixels per point (216 dpi), SVG in points.
+// Throws InputError when Cairo cannot write the file, and for a figure without panels.
+void writeProfilePlot(const ProfileFigure& figure, const std::string& path, PlotFormat format,
+                      const std::string& name = "");
 
 } // namespace dtf::render

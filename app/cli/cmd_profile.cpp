@@ -130,7 +130,7 @@ int cmdProfile(const CommandArgs& argv) {
     }
     if (plot) {
       figure.emplace(*plot);
-      render::writeProfilePlot(session::profileFigure(result), figure->tempPath(), format);
+      render::writeProfilePlot(session::profileFigure(result), figure->tempPath(), format, *plot);
       figure->commit();
     }
     batch.commit();

@@ -651,7 +651,7 @@ py::dict profile(const py::object& tracts, const py::object& scalars, const py::
     result = session::runProfile(r);
     if (!plotPath.empty()) {
       io::AtomicOutput out(plotPath);
-      render::writeProfilePlot(session::profileFigure(result), out.tempPath(), format);
+      render::writeProfilePlot(session::profileFigure(result), out.tempPath(), format, plotPath);
       out.commit();
     }
   }

@@ -1613,6 +1613,32 @@ std::vector<Case> catalogue() {
                2,
                {"two_peaks.nii", "two fibre peaks", "not a tensor"},
                "s.ply"});
+  // `profile`: a bundle whose streamlines have no length (a single point, one repeated point), a scalar image
+  // whose affine is singular, a bundle cut short.
+  auto profileCase = [](std::string name, std::string tracts, std::string tractBytes, std::string image,
+                        std::string imageBytes, std::vector<std::string> errHas) {
+    return Case{name,
+                [=](const fs::path& dir) {
+                  writeBytes(dir / tracts, tractBytes);
+                  writeBytes(dir / image, imageBytes);
+                  return "profile " + q(dir / tracts) + " --scalar v=" + q(dir / image) + " -o " +
+                         q(dir / "p.tsv") + " --plot " + q(dir / "p.png");
+                },
+                2, errHas, "p.tsv"};
+  };
+  Nifti scalar;
+  c.push_back(profileCase("ProfileStreamlinesWithoutLength", "nolength.tck",
+                          tck("count: 2\ndatatype: Float32LE\n",
+                              {0, 0, 0, kNaN, kNaN, kNaN, 2, 2, 2, 2, 2, 2, kNaN, kNaN, kNaN, kInf, kInf, kInf}),
+                          "v.nii", scalar.bytes(), {"nolength.tck", "none of the bundle's 2 streamlines"}));
+  Nifti singular;
+  std::memset(singular.srow, 0, sizeof singular.srow);
+  singular.pixdim[0] = singular.pixdim[1] = singular.pixdim[2] = 0;
+  c.push_back(profileCase("ProfileScalarWithSingularAffine", "ok.tck", tck("count: 1\ndatatype: Float32LE\n", kTckPoints),
+                          "singular.nii", singular.bytes(), {"singular.nii", "singular"}));
+  c.push_back(profileCase("ProfileTruncatedTracts", "cut.tck",
+                          tck("count: 1\ndatatype: Float32LE\n", {0, 0, 0, 1, 1}), "v.nii", scalar.bytes(),
+                          {"cut.tck"}));
   return c;
 }
 
@@ -1804,6 +1830,11 @@ TEST(OutputProtection, AShortWriteFailsAndLeavesNothing) {
       {"l.trk", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
       {"l.tck", "convert " + q(dir / "in.tck") + " {}"},
       {"l.trx", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
+      {"p.tsv", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --nodes 400 -o {}"},
+      {"p.png", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --force -o " +
+                    q(dir / "p_table.tsv") + " --plot {}"},
+      {"p.svg", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --force -o " +
+                    q(dir / "p_table.tsv") + " --plot {}"},
   };
   constexpr std::uintmax_t kLimitBytes = 16 * 512; // `ulimit -f 16`: blocks of 512 bytes in sh (dash)
   for (const Run& run : runs) {
