@@ -3,33 +3,34 @@
 
 #include "io/model/error.h"
 
+#include <algorithm>
 #include <cairo-svg.h>
 #include <cairo.h>
-#include <pango/pangocairo.h>
-
-#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <pango/pangocairo.h>
 
 namespace dtf::render {
 
 namespace {
 
 // Sizes in points.
-constexpr double kPad = 10;                      // around the figure
-constexpr double kPanelW = 300, kPanelH = 205;   // one panel with its axes and labels
+constexpr double kPad = 10;                                        // around the figure
+constexpr double kPanelW = 300, kPanelH = 205;                     // one panel with its axes and labels
 constexpr double kLeft = 56, kRight = 14, kTop = 10, kBottom = 42; // the plot area inside a panel
-constexpr double kPngScale = 3;                  // pixels per point (216 dpi)
+constexpr double kPngScale = 3;                                    // pixels per point (216 dpi)
 constexpr const char* kFont = "DejaVu Sans";
 
 // Okabe & Ito's colour-blind-safe palette, yellow (weak on white) last.
 constexpr double kColours[][3] = {{0.000, 0.447, 0.698}, {0.835, 0.369, 0.000}, {0.000, 0.620, 0.451},
                                   {0.800, 0.475, 0.655}, {0.902, 0.624, 0.000}, {0.337, 0.706, 0.914},
                                   {0.000, 0.000, 0.000}, {0.941, 0.894, 0.259}};
-const double* colourOf(std::size_t i) { return kColours[i % (sizeof(kColours) / sizeof(kColours[0]))]; }
+const double* colourOf(std::size_t i) {
+  return kColours[i % (sizeof(kColours) / sizeof(kColours[0]))];
+}
 
 struct Size {
   double w = 0, h = 0;
@@ -62,7 +63,8 @@ public:
   Size size() const {
     PangoRectangle ink, logical;
     pango_layout_get_extents(layout_, &ink, &logical);
-    return {static_cast<double>(logical.width) / PANGO_SCALE, static_cast<double>(logical.height) / PANGO_SCALE};
+    return {static_cast<double>(logical.width) / PANGO_SCALE,
+            static_cast<double>(logical.height) / PANGO_SCALE};
   }
   // Draws with the anchor (ax, ay) of its box (0 left/top, 1 right/bottom) at (x, y), turned by `angle`.
   void draw(double x, double y, double ax, double ay, double angle = 0) const {
@@ -98,7 +100,8 @@ std::vector<double> niceTicks(double lo, double hi, int target, double& step) {
 
 std::string tickText(double v, double step) {
   int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-  if (std::abs(step * std::pow(10.0, decimals) - std::round(step * std::pow(10.0, decimals))) > 1e-6) ++decimals;
+  if (std::abs(step * std::pow(10.0, decimals) - std::round(step * std::pow(10.0, decimals))) > 1e-6)
+    ++decimals;
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   std::string s = buf;
@@ -109,7 +112,8 @@ std::string tickText(double v, double step) {
 std::string superscript(int n) {
   static const char* digits[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
   std::string s = n < 0 ? "⁻" : "";
-  for (char c : std::to_string(std::abs(n))) s += digits[c - '0'];
+  for (char c : std::to_string(std::abs(n)))
+    s += digits[c - '0'];
   return s;
 }
 
@@ -133,10 +137,13 @@ struct Frame {
   double py(double v) const { return y1 - (v * scale - ylo) / (yhi - ylo) * (y1 - y0); }
 };
 
-void setColour(cairo_t* cr, const double* c, double alpha = 1) { cairo_set_source_rgba(cr, c[0], c[1], c[2], alpha); }
+void setColour(cairo_t* cr, const double* c, double alpha = 1) {
+  cairo_set_source_rgba(cr, c[0], c[1], c[2], alpha);
+}
 
 // Runs of consecutive nodes where every given array is finite.
-template <typename Fn> void forEachRun(std::size_t n, const std::vector<const std::vector<double>*>& arrays, Fn fn) {
+template <typename Fn>
+void forEachRun(std::size_t n, const std::vector<const std::vector<double>*>& arrays, Fn fn) {
   std::size_t k = 0;
   auto ok = [&](std::size_t i) {
     for (const auto* a : arrays)
@@ -144,19 +151,29 @@ template <typename Fn> void forEachRun(std::size_t n, const std::vector<const st
     return true;
   };
   while (k < n) {
-    while (k < n && !ok(k)) ++k;
+    while (k < n && !ok(k))
+      ++k;
     const std::size_t b = k;
-    while (k < n && ok(k)) ++k;
+    while (k < n && ok(k))
+      ++k;
     if (k > b) fn(b, k);
   }
 }
 
 void drawPanel(cairo_t* cr, const ProfilePanel& panel, const std::string& xLabel, double ox, double oy) {
   std::size_t nodes = 0;
-  for (const auto& s : panel.series) nodes = std::max(nodes, s.mean.size());
+  for (const auto& s : panel.series)
+    nodes = std::max(nodes, s.mean.size());
   const int exponent = panelExponent(panel);
-  Frame f{ox + kLeft, oy + kTop, ox + kPanelW - kRight, oy + kPanelH - kBottom,
-          0, std::max(1.0, static_cast<double>(nodes) - 1), 0, 1, std::pow(10.0, -exponent)};
+  Frame f{ox + kLeft,
+          oy + kTop,
+          ox + kPanelW - kRight,
+          oy + kPanelH - kBottom,
+          0,
+          std::max(1.0, static_cast<double>(nodes) - 1),
+          0,
+          1,
+          std::pow(10.0, -exponent)};
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& s : panel.series)
     for (const auto* v : {&s.mean, &s.low, &s.high})
@@ -204,8 +221,10 @@ void drawPanel(cairo_t* cr, const ProfilePanel& panel, const std::string& xLabel
     const auto& s = panel.series[i];
     forEachRun(s.mean.size(), {&s.low, &s.high}, [&](std::size_t b, std::size_t e) {
       cairo_move_to(cr, f.px(double(b)), f.py(s.high[b]));
-      for (std::size_t k = b + 1; k < e; ++k) cairo_line_to(cr, f.px(double(k)), f.py(s.high[k]));
-      for (std::size_t k = e; k-- > b;) cairo_line_to(cr, f.px(double(k)), f.py(s.low[k]));
+      for (std::size_t k = b + 1; k < e; ++k)
+        cairo_line_to(cr, f.px(double(k)), f.py(s.high[k]));
+      for (std::size_t k = e; k-- > b;)
+        cairo_line_to(cr, f.px(double(k)), f.py(s.low[k]));
       cairo_close_path(cr);
       setColour(cr, colourOf(i), 0.2);
       cairo_fill(cr);
@@ -218,7 +237,8 @@ void drawPanel(cairo_t* cr, const ProfilePanel& panel, const std::string& xLabel
     const auto& s = panel.series[i];
     forEachRun(s.mean.size(), {&s.mean}, [&](std::size_t b, std::size_t e) {
       cairo_move_to(cr, f.px(double(b)), f.py(s.mean[b]));
-      for (std::size_t k = b + 1; k < e; ++k) cairo_line_to(cr, f.px(double(k)), f.py(s.mean[k]));
+      for (std::size_t k = b + 1; k < e; ++k)
+        cairo_line_to(cr, f.px(double(k)), f.py(s.mean[k]));
       if (e - b == 1) cairo_line_to(cr, f.px(double(b)) + 0.01, f.py(s.mean[b])); // a lone node as a dot
       setColour(cr, colourOf(i));
       cairo_stroke(cr);
@@ -236,11 +256,13 @@ void drawPanel(cairo_t* cr, const ProfilePanel& panel, const std::string& xLabel
   cairo_stroke(cr);
   TextLayout(cr, xLabel, 10).draw(0.5 * (f.x0 + f.x1), oy + kPanelH - 3, 0.5, 1);
   const std::string yLabel = panel.yLabel + (exponent ? " (×10" + superscript(exponent) + ")" : "");
-  TextLayout(cr, yLabel, 10).draw(std::max(ox + 2, f.x0 - 12 - tickW), 0.5 * (f.y0 + f.y1), 0.5, 1, -M_PI / 2);
+  TextLayout(cr, yLabel, 10)
+      .draw(std::max(ox + 2, f.x0 - 12 - tickW), 0.5 * (f.y0 + f.y1), 0.5, 1, -M_PI / 2);
 }
 
 // The legend's entries laid out in rows within `width`: returns the height and draws when `draw`.
-double legend(cairo_t* cr, const std::vector<ProfileSeries>& series, double x, double y, double width, bool draw) {
+double legend(cairo_t* cr, const std::vector<ProfileSeries>& series, double x, double y, double width,
+              bool draw) {
   constexpr double swatch = 18, gap = 5, spacing = 16, rowH = 16;
   double cx = x, cy = y;
   for (std::size_t i = 0; i < series.size(); ++i) {

@@ -11,7 +11,7 @@
 namespace dtf::render {
 
 struct ProfileSeries {
-  std::string label;                 // the legend's text (a bundle's name)
+  std::string label;                   // the legend's text (a bundle's name)
   std::vector<double> mean, low, high; // per node; NaN leaves a gap
 };
 

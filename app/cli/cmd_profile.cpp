@@ -24,34 +24,49 @@ const OptionTable& profileOptions() {
     t.positionals = "TRACTS...";
     t.maxPositionals = OptionTable::kAnyNumber;
     t.intro =
-        "Tract profiles (tractometry), as DIPY's afq_profile and pyAFQ compute them. Each tract file (.tck, .trk,\n"
-        "trk.gz, .trx, .vtk, .vtp), or each of its groups with --groups, is a bundle, named by the file's stem or\n"
-        "the group. Its streamlines are oriented alike (flipped to agree with the bundle's first streamline, as\n"
-        "DIPY orient_by_streamline; with --start, to start at the end nearer the region's centre), resampled to N\n"
-        "nodes equally spaced by arc length, and every scalar is sampled at each node in world space (trilinear\n"
-        "in the image's own voxel grid, the voxels outside it counting as 0, as DIPY values_from_volume). Per node:\n"
-        "the mean over the streamlines weighted by --weights (gauss: DIPY gaussian_weights, each streamline's\n"
-        "weight 1 / its Mahalanobis distance from the node's mean position, normalised per node; mean: equal\n"
+        "Tract profiles (tractometry), as DIPY's afq_profile and pyAFQ compute them. Each tract file (.tck, "
+        ".trk,\n"
+        "trk.gz, .trx, .vtk, .vtp), or each of its groups with --groups, is a bundle, named by the file's "
+        "stem or\n"
+        "the group. Its streamlines are oriented alike (flipped to agree with the bundle's first streamline, "
+        "as\n"
+        "DIPY orient_by_streamline; with --start, to start at the end nearer the region's centre), resampled "
+        "to N\n"
+        "nodes equally spaced by arc length, and every scalar is sampled at each node in world space "
+        "(trilinear\n"
+        "in the image's own voxel grid, the voxels outside it counting as 0, as DIPY values_from_volume). "
+        "Per node:\n"
+        "the mean over the streamlines weighted by --weights (gauss: DIPY gaussian_weights, each "
+        "streamline's\n"
+        "weight 1 / its Mahalanobis distance from the node's mean position, normalised per node; mean: "
+        "equal\n"
         "weights; median: the plain median), the weighted standard deviation, a 95% interval from a seeded\n"
-        "bootstrap over the streamlines, the core's position (the weighted mean of the node positions) and the\n"
+        "bootstrap over the streamlines, the core's position (the weighted mean of the node positions) and "
+        "the\n"
         "streamline count.\n"
         "\n"
-        "OUT.tsv is one tidy table, the header first: bundle scalar node x y z mean sd ci_low ci_high streamlines\n"
+        "OUT.tsv is one tidy table, the header first: bundle scalar node x y z mean sd ci_low ci_high "
+        "streamlines\n"
         "(tab-separated, NaN where a node has no value), read as it is by pandas and R.";
     t.options = {
         O::list("scalar", "S",
-                "fa, md, ad or rd (of --tensor), or NAME=IMAGE: any scalar image on any grid, NAME written as it is "
+                "fa, md, ad or rd (of --tensor), or NAME=IMAGE: any scalar image on any grid, NAME written "
+                "as it is "
                 "(repeat the option or list several)")
             .required(),
         O::text("output", "OUT.tsv", "the tidy table (atomic; never over an input)").required(),
-        O::text("groups", "all|G[,G...]", "profile the groups of each file (TRX groups) as bundles: all of them, or those named"),
+        O::text("groups", "all|G[,G...]",
+                "profile the groups of each file (TRX groups) as bundles: all of them, or those named"),
         O::text("tensor", "T", "the tensor file, or a DWI fitted on the fly, of fa, md, ad and rd"),
         O::integer("nodes", "N", po.nodes, closedRange(2, 100000), "nodes along each bundle"),
-        O::choice("weights", "W", {"gauss", "mean", "median"}, "gauss", "how the streamlines are averaged at a node"),
-        O::text("start", "SPEC",
-                "start every streamline at its end nearer this region's centre: X,Y,Z or a sphere X,Y,Z,R (world "
-                "RAS mm); default: agree with the bundle's first streamline"),
-        O::text("plot", "OUT.png|OUT.svg", "a figure: a panel per scalar, each bundle a line with its 95% band"),
+        O::choice("weights", "W", {"gauss", "mean", "median"}, "gauss",
+                  "how the streamlines are averaged at a node"),
+        O::text(
+            "start", "SPEC",
+            "start every streamline at its end nearer this region's centre: X,Y,Z or a sphere X,Y,Z,R (world "
+            "RAS mm); default: agree with the bundle's first streamline"),
+        O::text("plot", "OUT.png|OUT.svg",
+                "a figure: a panel per scalar, each bundle a line with its 95% band"),
         O::integer("bootstrap", "B", po.bootstrap, closedRange(0, 100000),
                    "bootstrap resamples for the interval (0: none, the interval is NaN)")
             .hidden(),
@@ -98,7 +113,8 @@ int cmdProfile(const CommandArgs& argv) {
 
   for (const auto& s : r.scalars)
     if (s.find('=') == std::string::npos && session::isTractFileName(s))
-      throw UsageError("--scalar '" + s + "' is a tract file: put TRACTS before --scalar, or end its list with -o");
+      throw UsageError("--scalar '" + s +
+                       "' is a tract file: put TRACTS before --scalar, or end its list with -o");
   if (r.tracts.empty()) throw UsageError("missing TRACTS (one or more tract files)");
   if (!output && !json) throw UsageError("missing -o OUT.tsv");
   if (!r.start.empty()) (void)session::startPointOf(r.start); // a typo fails before any reading
@@ -142,8 +158,9 @@ int cmdProfile(const CommandArgs& argv) {
   for (const auto& b : result.bundles)
     std::printf("%s: %zu streamlines (%zu flipped%s), %d nodes, %s\n", b.name.c_str(), b.profile.streamlines,
                 b.profile.flipped,
-                b.profile.skipped ? (", " + std::to_string(b.profile.skipped) + " without length left out").c_str()
-                                  : "",
+                b.profile.skipped
+                    ? (", " + std::to_string(b.profile.skipped) + " without length left out").c_str()
+                    : "",
                 r.options.nodes, b.axis.c_str());
   if (output) std::printf("table: %s\n", output->c_str());
   if (plot) std::printf("plot: %s\n", plot->c_str());

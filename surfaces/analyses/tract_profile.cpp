@@ -30,18 +30,21 @@ void weightsInto(const glm::dvec3* p, std::size_t n, ProfileWeights mode, std::v
   w.assign(n, n ? 1.0 / static_cast<double>(n) : 0.0);
   if (mode != ProfileWeights::Gauss || n < 2) return;
   glm::dvec3 m(0.0);
-  for (std::size_t s = 0; s < n; ++s) m += p[s];
+  for (std::size_t s = 0; s < n; ++s)
+    m += p[s];
   m /= static_cast<double>(n);
   glm::dmat3 c(0.0);
   for (std::size_t s = 0; s < n; ++s) {
     const glm::dvec3 d = p[s] - m;
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) c[a][b] += d[a] * d[b];
+      for (int b = 0; b < 3; ++b)
+        c[a][b] += d[a] * d[b];
   }
   c /= static_cast<double>(n);
   bool zero = true;
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) zero = zero && std::abs(c[a][b]) <= 1e-8;
+    for (int b = 0; b < 3; ++b)
+      zero = zero && std::abs(c[a][b]) <= 1e-8;
   if (zero) return;
   const EigenSystem e = eigenDecompose(c);
   const double largest = e.values[0];
@@ -61,27 +64,33 @@ void weightsInto(const glm::dvec3* p, std::size_t n, ProfileWeights mode, std::v
     if (w[s] <= 1e-12) ++onMean;
   }
   if (onMean) {
-    for (double& x : w) x = x <= 1e-12 ? 1.0 / static_cast<double>(onMean) : 0.0;
+    for (double& x : w)
+      x = x <= 1e-12 ? 1.0 / static_cast<double>(onMean) : 0.0;
     return;
   }
   double sum = 0;
-  for (double& x : w) sum += (x = 1.0 / x);
-  for (double& x : w) x /= sum;
+  for (double& x : w)
+    sum += (x = 1.0 / x);
+  for (double& x : w)
+    x /= sum;
 }
 
 // The node's centre (weighted mean, or median) of the finite values, with their count; NaN when none.
 double centreOf(const std::vector<double>& v, const std::vector<double>& w, ProfileWeights mode,
                 std::vector<double>& scratch, std::size_t* count = nullptr) {
   scratch.clear();
-  double sum = 0, wsum = 0;
+  double sum = 0, wsum = 0, plain = 0;
+  std::size_t finite = 0;
   for (std::size_t j = 0; j < v.size(); ++j) {
     if (!std::isfinite(v[j])) continue;
-    scratch.push_back(v[j]);
+    if (mode == ProfileWeights::Median) scratch.push_back(v[j]);
+    ++finite;
     sum += w[j] * v[j];
     wsum += w[j];
+    plain += v[j];
   }
-  if (count) *count = scratch.size();
-  if (scratch.empty()) return kNaN;
+  if (count) *count = finite;
+  if (finite == 0) return kNaN;
   if (mode == ProfileWeights::Median) {
     const std::size_t h = scratch.size() / 2;
     std::nth_element(scratch.begin(), scratch.begin() + h, scratch.end());
@@ -91,14 +100,15 @@ double centreOf(const std::vector<double>& v, const std::vector<double>& w, Prof
   }
   if (wsum > 0) return sum / wsum;
   // The whole weight went to streamlines without a value here: the finite values count alike.
-  return std::accumulate(scratch.begin(), scratch.end(), 0.0) / static_cast<double>(scratch.size());
+  return plain / static_cast<double>(finite);
 }
 
 // The spread of the finite values about `centre`: the weighted standard deviation with the reliability
 // weights' correction, sqrt(sum w (v - c)^2 / (1 - sum w^2)) for weights normalised over the finite values
 // (equal weights: the sample standard deviation, n - 1); the median's is the sample standard deviation
 // about the mean. NaN for fewer than two values or weights all on one.
-double spreadOf(const std::vector<double>& v, const std::vector<double>& w, ProfileWeights mode, double centre) {
+double spreadOf(const std::vector<double>& v, const std::vector<double>& w, ProfileWeights mode,
+                double centre) {
   std::size_t n = 0;
   double wsum = 0;
   for (std::size_t j = 0; j < v.size(); ++j)
@@ -137,7 +147,8 @@ double quantileSorted(const std::vector<double>& sorted, double q) {
 
 double polylineLength(const glm::vec3* points, std::size_t count) {
   double length = 0;
-  for (std::size_t i = 1; i < count; ++i) length += glm::distance(glm::dvec3(points[i - 1]), glm::dvec3(points[i]));
+  for (std::size_t i = 1; i < count; ++i)
+    length += glm::distance(glm::dvec3(points[i - 1]), glm::dvec3(points[i]));
   return length;
 }
 
@@ -152,7 +163,8 @@ std::vector<glm::dvec3> resampleByArcLength(const glm::vec3* points, std::size_t
   std::size_t seg = 1;
   for (int k = 0; k < n; ++k) {
     const double s = length * static_cast<double>(k) / static_cast<double>(n - 1);
-    while (seg < count - 1 && along[seg] < s) ++seg;
+    while (seg < count - 1 && along[seg] < s)
+      ++seg;
     const double span = along[seg] - along[seg - 1];
     const double t = span > 0 ? std::clamp((s - along[seg - 1]) / span, 0.0, 1.0) : 0.0;
     out.push_back(glm::mix(glm::dvec3(points[seg - 1]), glm::dvec3(points[seg]), t));
@@ -184,8 +196,7 @@ double sampleZeroPadded(const ScalarVolume& volume, const glm::dvec3& world) {
     const glm::ivec3 o(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
     const glm::ivec3 v = base + o;
     if (!volume.grid.contains(v.x, v.y, v.z)) continue;
-    const double weight =
-        (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
+    const double weight = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
     if (weight == 0) continue; // a NaN neighbour of weight 0 does not reach the value
     sum += weight * static_cast<double>(volume.at(v.x, v.y, v.z, 0));
   }
@@ -270,10 +281,17 @@ BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint3
                                     : "none of the bundle's " + std::to_string(which->size()) +
                                           " streamlines has two distinct points");
 
-  // values[s][j * N + k]
+  // Node-major from here: byNode[k * n + j] and values[s][k * n + j], so that a node's positions and values
+  // (gathered again for every bootstrap draw) lie together in memory.
+  std::vector<glm::dvec3> byNode(n * Nz);
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t k = 0; k < Nz; ++k)
+      byNode[k * n + j] = nodes[j * Nz + k];
+  nodes = {};
   std::vector<std::vector<double>> values(scalars.size(), std::vector<double>(n * Nz));
   for (std::size_t s = 0; s < scalars.size(); ++s)
-    for (std::size_t i = 0; i < n * Nz; ++i) values[s][i] = sampleZeroPadded(*scalars[s].volume, nodes[i]);
+    for (std::size_t i = 0; i < n * Nz; ++i)
+      values[s][i] = sampleZeroPadded(*scalars[s].volume, byNode[i]);
 
   r.core.resize(Nz);
   r.scalars.resize(scalars.size());
@@ -287,16 +305,17 @@ BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint3
     sp.streamlines.assign(Nz, 0);
   }
   {
-    std::vector<glm::dvec3> pos(n);
     std::vector<double> w, v(n), scratch;
     for (std::size_t k = 0; k < Nz; ++k) {
-      for (std::size_t j = 0; j < n; ++j) pos[j] = nodes[j * Nz + k];
-      weightsInto(pos.data(), n, o.weights, w);
+      const glm::dvec3* pos = byNode.data() + k * n;
+      weightsInto(pos, n, o.weights, w);
       glm::dvec3 core(0.0);
-      for (std::size_t j = 0; j < n; ++j) core += w[j] * pos[j];
+      for (std::size_t j = 0; j < n; ++j)
+        core += w[j] * pos[j];
       r.core[k] = core;
       for (std::size_t s = 0; s < scalars.size(); ++s) {
-        for (std::size_t j = 0; j < n; ++j) v[j] = values[s][j * Nz + k];
+        v.assign(values[s].begin() + static_cast<std::ptrdiff_t>(k * n),
+                 values[s].begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
         ScalarProfile& sp = r.scalars[s];
         sp.mean[k] = centreOf(v, w, o.weights, scratch, &sp.streamlines[k]);
         sp.sd[k] = spreadOf(v, w, o.weights, sp.mean[k]);
@@ -309,31 +328,37 @@ BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint3
   // the draws do not depend on the thread that runs it; weights and centres are recomputed on each draw.
   const auto B = static_cast<std::size_t>(o.bootstrap);
   std::vector<std::vector<double>> boot(scalars.size(), std::vector<double>(Nz * B)); // [s][k * B + b]
-  const unsigned threads = static_cast<unsigned>(
-      std::clamp<std::size_t>(o.threads > 0 ? static_cast<std::size_t>(o.threads)
-                                            : std::max(1u, std::thread::hardware_concurrency()),
-                              1, B));
+  const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
+      o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency()),
+      1, B));
   auto work = [&](unsigned t) {
     std::vector<std::size_t> draw(n);
     std::vector<glm::dvec3> pos(n);
     std::vector<double> w, v(n), scratch;
     for (std::size_t b = t; b < B; b += threads) {
       std::uint64_t state = o.seed ^ (0xD1B54A32D192ED03ull * (b + 1));
-      for (auto& d : draw) d = static_cast<std::size_t>(splitMix(state) % n);
+      for (auto& d : draw)
+        d = static_cast<std::size_t>(splitMix(state) % n);
       for (std::size_t k = 0; k < Nz; ++k) {
-        for (std::size_t j = 0; j < n; ++j) pos[j] = nodes[draw[j] * Nz + k];
+        const glm::dvec3* node = byNode.data() + k * n;
+        for (std::size_t j = 0; j < n; ++j)
+          pos[j] = node[draw[j]];
         weightsInto(pos.data(), n, o.weights, w);
         for (std::size_t s = 0; s < scalars.size(); ++s) {
-          for (std::size_t j = 0; j < n; ++j) v[j] = values[s][draw[j] * Nz + k];
+          const double* value = values[s].data() + k * n;
+          for (std::size_t j = 0; j < n; ++j)
+            v[j] = value[draw[j]];
           boot[s][k * B + b] = centreOf(v, w, o.weights, scratch);
         }
       }
     }
   };
   std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  for (unsigned t = 1; t < threads; ++t)
+    pool.emplace_back(work, t);
   work(0);
-  for (auto& th : pool) th.join();
+  for (auto& th : pool)
+    th.join();
 
   const double tail = (1.0 - o.confidence) / 2;
   std::vector<double> sorted;

@@ -23,7 +23,8 @@ namespace dtf::session {
 namespace {
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -46,7 +47,8 @@ std::vector<std::string> splitList(const std::string& text) {
 // The file's name without its tract extension: cst_left.trk.gz -> cst_left, a TRX folder -> its name.
 std::string stemOf(const std::string& path) {
   std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  while (p.size() > 1 && p.back() == '/')
+    p.pop_back();
   std::string name = fs::path(p).filename().string();
   const std::string l = lower(name);
   for (const char* ext : {".trk.gz", ".tck", ".trk", ".trx", ".vtk", ".vtp"}) {
@@ -59,7 +61,8 @@ std::string stemOf(const std::string& path) {
 
 std::string parentOf(const std::string& path) {
   std::string p = path;
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  while (p.size() > 1 && p.back() == '/')
+    p.pop_back();
   const std::string parent = fs::path(p).parent_path().filename().string();
   return parent.empty() ? "." : parent;
 }
@@ -98,9 +101,12 @@ nlohmann::ordered_json jsonNumber(double v) {
 
 const char* weightsName(surfaces::ProfileWeights w) {
   switch (w) {
-  case surfaces::ProfileWeights::Gauss: return "gauss";
-  case surfaces::ProfileWeights::Mean: return "mean";
-  case surfaces::ProfileWeights::Median: return "median";
+  case surfaces::ProfileWeights::Gauss:
+    return "gauss";
+  case surfaces::ProfileWeights::Mean:
+    return "mean";
+  case surfaces::ProfileWeights::Median:
+    return "median";
   }
   return "?";
 }
@@ -112,7 +118,8 @@ ScalarSpec parseScalarSpec(const std::string& text) {
   const std::size_t eq = text.find('=');
   if (eq == std::string::npos) {
     if (!builtIn(text))
-      throw InputError("--scalar '" + text + "': not fa, md, ad or rd, nor NAME=IMAGE (an image file as NAME)");
+      throw InputError("--scalar '" + text +
+                       "': not fa, md, ad or rd, nor NAME=IMAGE (an image file as NAME)");
     s.name = text;
     return s;
   }
@@ -139,8 +146,10 @@ std::vector<std::string> profileInputs(const ProfileRequest& r) {
     const std::size_t colon = r.start.rfind(':');
     const std::string file = colon == std::string::npos ? r.start : r.start.substr(0, colon);
     std::error_code ec;
-    if (fs::exists(r.start, ec)) in.push_back(r.start);
-    else if (fs::exists(file, ec)) in.push_back(file);
+    if (fs::exists(r.start, ec))
+      in.push_back(r.start);
+    else if (fs::exists(file, ec))
+      in.push_back(file);
   }
   return in;
 }
@@ -183,8 +192,9 @@ ProfileResult runProfile(const ProfileRequest& r) {
   MetricMaps maps;
   if (needTensor) {
     if (r.tensor.empty())
-      throw UsageError("--scalar fa, md, ad and rd are the tensor's: give --tensor T (a tensor file or a DWI), "
-                       "or the map as NAME=IMAGE");
+      throw UsageError(
+          "--scalar fa, md, ad and rd are the tensor's: give --tensor T (a tensor file or a DWI), "
+          "or the map as NAME=IMAGE");
     TensorInputOptions in = r.tensorOptions;
     in.layout = io::parseLayout(r.layout);
     const io::LoadedTensors loaded = loadTensorInput(r.tensor, in);
@@ -206,7 +216,8 @@ ProfileResult runProfile(const ProfileRequest& r) {
     out.scalars.push_back(s.name);
   }
 
-  const std::vector<std::string> wanted = r.groups == "all" ? std::vector<std::string>{} : splitList(r.groups);
+  const std::vector<std::string> wanted =
+      r.groups == "all" ? std::vector<std::string>{} : splitList(r.groups);
   if (!r.groups.empty() && r.groups != "all" && wanted.empty())
     throw UsageError("--groups '" + r.groups + "': no group named (all, or G[,G...])");
   for (const auto& file : r.tracts) {
@@ -230,24 +241,29 @@ ProfileResult runProfile(const ProfileRequest& r) {
     }
     if (lines.groups.empty()) throw InputError(file + ": has no groups (--groups " + r.groups + ")");
     std::string available;
-    for (const auto& g : lines.groups) available += (available.empty() ? "" : ", ") + g.name;
+    for (const auto& g : lines.groups)
+      available += (available.empty() ? "" : ", ") + g.name;
     if (wanted.empty()) {
-      for (const auto& g : lines.groups) profile(&g.lines, g.name);
+      for (const auto& g : lines.groups)
+        profile(&g.lines, g.name);
       continue;
     }
     for (const auto& name : wanted) {
       const auto g = std::find_if(lines.groups.begin(), lines.groups.end(),
                                   [&](const TractGroup& t) { return t.name == name; });
-      if (g == lines.groups.end()) throw InputError(file + ": no group '" + name + "' (groups: " + available + ")");
+      if (g == lines.groups.end())
+        throw InputError(file + ": no group '" + name + "' (groups: " + available + ")");
       profile(&g->lines, g->name);
     }
   }
 
   // Names two bundles share are qualified: a file's by its folder, a group's by its file.
   std::map<std::string, int> uses;
-  for (const auto& b : out.bundles) ++uses[b.name];
+  for (const auto& b : out.bundles)
+    ++uses[b.name];
   for (auto& b : out.bundles)
-    if (uses[b.name] > 1) b.name = b.group.empty() ? parentOf(b.file) + "/" + b.name : stemOf(b.file) + "/" + b.name;
+    if (uses[b.name] > 1)
+      b.name = b.group.empty() ? parentOf(b.file) + "/" + b.name : stemOf(b.file) + "/" + b.name;
   return out;
 }
 
@@ -258,10 +274,10 @@ std::string profileTable(const ProfileResult& r) {
     for (const auto& s : b.profile.scalars)
       for (std::size_t k = 0; k < b.profile.core.size(); ++k) {
         const glm::dvec3 c = b.profile.core[k];
-        t += bundle + "\t" + tableSafe(s.name) + "\t" + std::to_string(k) + "\t" + number(c.x, "%.3f") + "\t" +
-             number(c.y, "%.3f") + "\t" + number(c.z, "%.3f") + "\t" + number(s.mean[k], "%.7g") + "\t" +
-             number(s.sd[k], "%.7g") + "\t" + number(s.ciLow[k], "%.7g") + "\t" + number(s.ciHigh[k], "%.7g") +
-             "\t" + std::to_string(s.streamlines[k]) + "\n";
+        t += bundle + "\t" + tableSafe(s.name) + "\t" + std::to_string(k) + "\t" + number(c.x, "%.3f") +
+             "\t" + number(c.y, "%.3f") + "\t" + number(c.z, "%.3f") + "\t" + number(s.mean[k], "%.7g") +
+             "\t" + number(s.sd[k], "%.7g") + "\t" + number(s.ciLow[k], "%.7g") + "\t" +
+             number(s.ciHigh[k], "%.7g") + "\t" + std::to_string(s.streamlines[k]) + "\n";
       }
   }
   return t;
@@ -321,7 +337,8 @@ render::ProfileFigure profileFigure(const ProfileResult& r) {
                                      : r.scalars[s];
     for (const auto& b : r.bundles) {
       const auto& sp = b.profile.scalars[s];
-      p.series.push_back({common.empty() ? b.name + " (" + b.axis + ")" : b.name, sp.mean, sp.ciLow, sp.ciHigh});
+      p.series.push_back(
+          {common.empty() ? b.name + " (" + b.axis + ")" : b.name, sp.mean, sp.ciLow, sp.ciHigh});
     }
     f.panels.push_back(std::move(p));
   }

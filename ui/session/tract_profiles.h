@@ -27,11 +27,11 @@ ScalarSpec parseScalarSpec(const std::string& text);
 struct ProfileRequest {
   std::vector<std::string> tracts;
   std::string groups; // "": each file is one bundle; "all": each group of each file; "A,B": those groups
-  std::vector<std::string> scalars;    // ScalarSpec texts
-  std::string tensor;                  // the tensor file or DWI of fa/md/ad/rd
-  std::string layout = "auto";         // its tensor layout
-  TensorInputOptions tensorOptions;    // a DWI's gradients and fit mask
-  std::string start;                   // a region whose centre the streamlines start near ("" none)
+  std::vector<std::string> scalars; // ScalarSpec texts
+  std::string tensor;               // the tensor file or DWI of fa/md/ad/rd
+  std::string layout = "auto";      // its tensor layout
+  TensorInputOptions tensorOptions; // a DWI's gradients and fit mask
+  std::string start;                // a region whose centre the streamlines start near ("" none)
   surfaces::ProfileOptions options;
 };
 

@@ -10,12 +10,11 @@
 #include "support/cli.h"
 #include "support/test_env.h"
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -34,7 +33,8 @@ std::vector<std::string> splitTabs(const std::string& line) {
   std::vector<std::string> out;
   std::stringstream ss(line);
   std::string cell;
-  while (std::getline(ss, cell, '\t')) out.push_back(cell);
+  while (std::getline(ss, cell, '\t'))
+    out.push_back(cell);
   return out;
 }
 
@@ -68,7 +68,8 @@ std::vector<Row> readTable(const fs::path& path) {
 
 void addLine(dtf::Polylines& l, const glm::vec3& a, const glm::vec3& b, int points) {
   if (l.offsets.empty()) l.offsets.push_back(0);
-  for (int i = 0; i < points; ++i) l.points.push_back(glm::mix(a, b, std::pow(float(i) / (points - 1), 1.5f)));
+  for (int i = 0; i < points; ++i)
+    l.points.push_back(glm::mix(a, b, std::pow(float(i) / (points - 1), 1.5f)));
   l.offsets.push_back(static_cast<std::uint32_t>(l.points.size()));
 }
 
@@ -104,12 +105,15 @@ fs::path writeParallelLines(const fs::path& dir, const std::string& name, const 
   return p;
 }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
 
 // A python3 that imports DIPY and nibabel, or "".
 std::string dipyPython() {
   for (const char* py : {"/usr/bin/python3", "python3"})
-    if (std::system((std::string(py) + " -c 'import dipy.stats.analysis, nibabel' >/dev/null 2>&1").c_str()) == 0)
+    if (std::system(
+            (std::string(py) + " -c 'import dipy.stats.analysis, nibabel' >/dev/null 2>&1").c_str()) == 0)
       return py;
   return "";
 }
@@ -122,9 +126,10 @@ TEST(ProfileCli, LinearFieldAlongLinesThroughRealFiles) {
   const std::vector<float> ys = {-4, -1, 0, 2, 8};
   const fs::path lines = writeParallelLines(dir, "along_x.tck", ys);
   for (const char* weights : {"gauss", "mean", "median"}) {
-    const auto r = runDtfabric("profile " + q(lines) + " --scalar lin=" + q(field) + " --nodes 11 --weights " +
-                                   weights + " -o " + q(dir / "p.tsv") + " --force",
-                               dir);
+    const auto r =
+        runDtfabric("profile " + q(lines) + " --scalar lin=" + q(field) + " --nodes 11 --weights " + weights +
+                        " -o " + q(dir / "p.tsv") + " --force",
+                    dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto rows = readTable(dir / "p.tsv");
     ASSERT_EQ(rows.size(), 11u);
@@ -137,9 +142,15 @@ TEST(ProfileCli, LinearFieldAlongLinesThroughRealFiles) {
       EXPECT_NEAR(row.x, x, 1e-3);
       // The lines differ in y alone: the mean y 1, the median 0, and the gauss weights 1 / |y - 1| (the node
       // covariance has rank 1: the Mahalanobis distance is |y - 1| / sd(y)), normalised.
-      const double gaussY = (-4 / 5.0 - 1 / 2.0 + 0 + 2 / 1.0 + 8 / 7.0) / (1 / 5.0 + 1 / 2.0 + 1 + 1 + 1 / 7.0);
+      const double gaussY =
+          (-4 / 5.0 - 1 / 2.0 + 0 + 2 / 1.0 + 8 / 7.0) / (1 / 5.0 + 1 / 2.0 + 1 + 1 + 1 / 7.0);
       const std::string w = weights;
-      EXPECT_NEAR(row.mean, 0.2 + 0.01 * x + 0.003 * (w == "mean" ? 1.0 : w == "median" ? 0.0 : gaussY), 1e-5);
+      EXPECT_NEAR(row.mean,
+                  0.2 + 0.01 * x +
+                      0.003 * (w == "mean"     ? 1.0
+                               : w == "median" ? 0.0
+                                               : gaussY),
+                  1e-5);
       if (w != "gauss") {
         EXPECT_NEAR(row.sd, 0.003 * std::sqrt(20.0), 1e-5); // the sample sd of ys
       }
@@ -176,7 +187,8 @@ TEST(ProfileCli, SeveralBundlesGroupsTablePlotsAndJson) {
   const auto rows = readTable(dir / "t.tsv");
   ASSERT_EQ(rows.size(), 2u * 2u * 20u);
   std::map<std::string, int> perBundle;
-  for (const auto& row : rows) ++perBundle[row.bundle + "/" + row.scalar];
+  for (const auto& row : rows)
+    ++perBundle[row.bundle + "/" + row.scalar];
   EXPECT_EQ(perBundle["left/lin"], 20);
   EXPECT_EQ(perBundle["right/again"], 20);
   // The PNG: 3 pixels per point, two panels side by side.
@@ -201,7 +213,8 @@ TEST(ProfileCli, SeveralBundlesGroupsTablePlotsAndJson) {
 
   // TRX groups: each a bundle named by the group, a constant field gives its value everywhere.
   dtf::Polylines g;
-  for (int i = 0; i < 6; ++i) addLine(g, {-20, float(i), 0}, {20, float(i), 0}, 9);
+  for (int i = 0; i < 6; ++i)
+    addLine(g, {-20, float(i), 0}, {20, float(i), 0}, 9);
   g.groups = {{"first", {0, 1, 2}}, {"second", {3, 4, 5}}};
   const fs::path trx = dir / "groups.trx";
   dtf::Grid grid = dtf::Grid::fromAffine(glm::ivec3(40), glm::dmat4(1.0));
@@ -219,13 +232,17 @@ TEST(ProfileCli, SeveralBundlesGroupsTablePlotsAndJson) {
     const double y = row["bundle"] == "first" ? 1.0 : 4.0;
     EXPECT_NEAR(row["mean"].get<double>(), 0.2 + 0.01 * row["x"].get<double>() + 0.003 * y, 1e-5);
   }
-  const auto one = runDtfabric("profile " + q(trx) + " --groups second --scalar lin=" + q(field) + " --json", dir);
+  const auto one =
+      runDtfabric("profile " + q(trx) + " --groups second --scalar lin=" + q(field) + " --json", dir);
   ASSERT_EQ(one.exitCode, 0) << one.err;
   EXPECT_EQ(nlohmann::json::parse(one.out)["bundles"].size(), 1u);
-  const auto missing = runDtfabric("profile " + q(trx) + " --groups third --scalar lin=" + q(field) + " --json", dir);
+  const auto missing =
+      runDtfabric("profile " + q(trx) + " --groups third --scalar lin=" + q(field) + " --json", dir);
   EXPECT_EQ(missing.exitCode, 2);
-  EXPECT_NE(missing.err.find("groups.trx: no group 'third' (groups: first, second)"), std::string::npos) << missing.err;
-  const auto none = runDtfabric("profile " + q(a) + " --groups all --scalar lin=" + q(field) + " --json", dir);
+  EXPECT_NE(missing.err.find("groups.trx: no group 'third' (groups: first, second)"), std::string::npos)
+      << missing.err;
+  const auto none =
+      runDtfabric("profile " + q(a) + " --groups all --scalar lin=" + q(field) + " --json", dir);
   EXPECT_EQ(none.exitCode, 2);
   EXPECT_NE(none.err.find("left.tck: has no groups"), std::string::npos) << none.err;
 }
@@ -259,7 +276,8 @@ TEST(ProfileCli, BadInputsExitTwoNamingTheFileAndOutputsAreProtected) {
       {"--scalar f=" + q(field) + " " + q(lines) + out, 1, "is a tract file"},
       {q(lines) + " --scalar f=" + q(field) + " -o " + q(lines), 2, "lines.tck"},
       {q(lines) + " --scalar f=" + q(field) + " -o " + q(field) + " --force", 2, "linear.nii.gz"},
-      {q(lines) + " --scalar f=" + q(field) + out + " --plot " + q(dir / "o.tsv.png") + " --nodes 1", 1, "--nodes"},
+      {q(lines) + " --scalar f=" + q(field) + out + " --plot " + q(dir / "o.tsv.png") + " --nodes 1", 1,
+       "--nodes"},
   };
   const std::string before = dtf::test::readText(lines);
   for (const auto& c : cases) {
@@ -280,7 +298,8 @@ TEST(ProfileCli, BadInputsExitTwoNamingTheFileAndOutputsAreProtected) {
   const auto kept = runDtfabric("profile " + q(lines) + " --scalar f=" + q(field) + out, dir);
   EXPECT_EQ(kept.exitCode, 2);
   EXPECT_EQ(dtf::test::readText(dir / "o.tsv"), "keep");
-  EXPECT_EQ(runDtfabric("profile " + q(lines) + " --scalar f=" + q(field) + out + " --force", dir).exitCode, 0);
+  EXPECT_EQ(runDtfabric("profile " + q(lines) + " --scalar f=" + q(field) + out + " --force", dir).exitCode,
+            0);
   EXPECT_NE(dtf::test::readText(dir / "o.tsv"), "keep");
 }
 
@@ -290,12 +309,14 @@ TEST(ProfileCli, TensorFaMatchesTheFaMap) {
   DTF_SHARED_FILE(tensor, "iu_prisma_dwi/derived/dti_tensor.nii.gz");
   DTF_SHARED_FILE(faMap, "iu_prisma_dwi/derived/dti_FA.nii.gz");
   const fs::path dir = dtf::test::scratchDir();
-  const auto r = runDtfabric("profile " + q(tracts) + " --scalar fa --scalar md --scalar dipy_fa=" + q(faMap) +
-                                 " --tensor " + q(tensor) + " --bootstrap 50 -o " + q(dir / "fa.tsv"),
-                             dir);
+  const auto r =
+      runDtfabric("profile " + q(tracts) + " --scalar fa --scalar md --scalar dipy_fa=" + q(faMap) +
+                      " --tensor " + q(tensor) + " --bootstrap 50 -o " + q(dir / "fa.tsv"),
+                  dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   std::map<std::string, std::vector<Row>> by;
-  for (const auto& row : readTable(dir / "fa.tsv")) by[row.scalar].push_back(row);
+  for (const auto& row : readTable(dir / "fa.tsv"))
+    by[row.scalar].push_back(row);
   ASSERT_EQ(by["fa"].size(), 100u);
   for (std::size_t k = 0; k < 100; ++k) {
     EXPECT_NEAR(by["fa"][k].mean, by["dipy_fa"][k].mean, 2e-3) << k;
@@ -313,12 +334,14 @@ TEST(ProfileCli, AgreesWithDipyAfqProfile) {
   DTF_SHARED_FILE(faMap, "iu_prisma_dwi/derived/dti_FA.nii.gz");
   const std::string python = dipyPython();
   if (python.empty()) {
-    if (dtf::test::envFlag("DTF_REQUIRE_TOOLS")) FAIL() << "python3 with DIPY is missing (.ci/setup installs python3-dipy)";
+    if (dtf::test::envFlag("DTF_REQUIRE_TOOLS"))
+      FAIL() << "python3 with DIPY is missing (.ci/setup installs python3-dipy)";
     GTEST_SKIP() << "python3 with DIPY is missing (Debian package python3-dipy; CI requires it)";
   }
   const fs::path dir = dtf::test::scratchDir();
-  const std::vector<std::pair<std::string, std::string>> bundles = {
-      {"cst_right", "18,3.721,21.604,5"}, {"cst_left", "-19.5,5.221,21.604,5"}, {"cc_body", "0,21.721,42.604,4"}};
+  const std::vector<std::pair<std::string, std::string>> bundles = {{"cst_right", "18,3.721,21.604,5"},
+                                                                    {"cst_left", "-19.5,5.221,21.604,5"},
+                                                                    {"cc_body", "0,21.721,42.604,4"}};
   for (const auto& [name, spheres] : bundles) {
     const fs::path bundle = dir / (name + ".tck"), ref = dir / (name + "_dipy.tsv");
     const std::string cmd = python + " " + q(dtf::test::sourceDir() / "tests/support/dipy_profile.py") + " " +
@@ -341,8 +364,8 @@ TEST(ProfileCli, AgreesWithDipyAfqProfile) {
     double maxGauss = 0, maxMean = 0, maxFull = 0;
     for (const char* weights : {"gauss", "mean"}) {
       const fs::path table = dir / (name + "_" + weights + ".tsv");
-      const auto r = runDtfabric("profile " + q(bundle) + " --scalar fa=" + q(faMap) + " --weights " + weights +
-                                     " -o " + q(table) + " --json",
+      const auto r = runDtfabric("profile " + q(bundle) + " --scalar fa=" + q(faMap) + " --weights " +
+                                     weights + " -o " + q(table) + " --json",
                                  dir);
       ASSERT_EQ(r.exitCode, 0) << r.err;
       const auto j = nlohmann::json::parse(r.out);

@@ -6,10 +6,9 @@
 #include "io/model/error.h"
 #include "surfaces/analyses/tract_profile.h"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cmath>
+#include <gtest/gtest.h>
 #include <random>
 
 using dtf::Polylines;
@@ -67,7 +66,9 @@ Polylines parallelLines(const std::vector<double>& ys, const std::vector<bool>& 
   return l;
 }
 
-double nodeX(int k, int n) { return -20.0 + 40.0 * k / (n - 1); }
+double nodeX(int k, int n) {
+  return -20.0 + 40.0 * k / (n - 1);
+}
 
 // The inverse of a symmetric 3x3 matrix by cofactors (independent of the engine's glm/eigen path).
 std::array<std::array<double, 3>, 3> cofactorInverse(const std::array<std::array<double, 3>, 3>& a) {
@@ -79,7 +80,8 @@ std::array<std::array<double, 3>, 3> cofactorInverse(const std::array<std::array
     }
   const double det = a[0][0] * c[0][0] + a[0][1] * c[1][0] + a[0][2] * c[2][0];
   for (auto& row : c)
-    for (double& x : row) x /= det;
+    for (double& x : row)
+      x /= det;
   return c;
 }
 
@@ -97,7 +99,8 @@ TEST(TractProfile, ResamplesByArcLengthNotByVertex) {
   const std::vector<glm::vec3> ell = {{0, 0, 0}, {1, 0, 0}, {4, 0, 0}, {4, 4, 0}};
   const auto c = sf::resampleByArcLength(ell.data(), ell.size(), 5);
   const std::vector<glm::dvec3> want = {{0, 0, 0}, {2, 0, 0}, {4, 0, 0}, {4, 2, 0}, {4, 4, 0}};
-  for (int k = 0; k < 5; ++k) EXPECT_LT(glm::distance(c[k], want[k]), 1e-6) << k;
+  for (int k = 0; k < 5; ++k)
+    EXPECT_LT(glm::distance(c[k], want[k]), 1e-6) << k;
   EXPECT_NEAR(sf::polylineLength(ell.data(), ell.size()), 8.0, 1e-12);
 }
 
@@ -107,9 +110,11 @@ TEST(TractProfile, LinearFieldAlongStraightLinesIsExact) {
   const std::vector<double> ys = {-6, -3, -1, 0, 2, 5, 9};
   const Polylines lines = parallelLines(ys);
   double meanY = 0;
-  for (double y : ys) meanY += y / ys.size();
+  for (double y : ys)
+    meanY += y / ys.size();
   double varY = 0;
-  for (double y : ys) varY += (y - meanY) * (y - meanY) / (ys.size() - 1);
+  for (double y : ys)
+    varY += (y - meanY) * (y - meanY) / (ys.size() - 1);
   for (auto w : {sf::ProfileWeights::Gauss, sf::ProfileWeights::Mean, sf::ProfileWeights::Median}) {
     sf::ProfileOptions o;
     o.nodes = 21;
@@ -168,23 +173,23 @@ TEST(TractProfile, StreamlinesStoredBackwardsAreFlippedToAgreeWithTheFirst) {
   o.nodes = 15;
   o.bootstrap = 100;
   const auto straight = sf::profileBundle(parallelLines(ys), nullptr, {{"f", &field}}, o);
-  const auto mixed =
-      sf::profileBundle(parallelLines(ys, {false, true, true, false, true, false}), nullptr, {{"f", &field}}, o);
+  const auto mixed = sf::profileBundle(parallelLines(ys, {false, true, true, false, true, false}), nullptr,
+                                       {{"f", &field}}, o);
   EXPECT_EQ(mixed.flipped, 3u);
   for (int k = 0; k < o.nodes; ++k) {
     EXPECT_NEAR(mixed.scalars[0].mean[k], straight.scalars[0].mean[k], 1e-9);
     EXPECT_NEAR(mixed.scalars[0].ciLow[k], straight.scalars[0].ciLow[k], 1e-9);
   }
   // The first streamline sets the direction: with it reversed, the whole profile runs from x = 20.
-  const auto reversedFirst =
-      sf::profileBundle(parallelLines(ys, {true, false, false, false, false, false}), nullptr, {{"f", &field}}, o);
+  const auto reversedFirst = sf::profileBundle(parallelLines(ys, {true, false, false, false, false, false}),
+                                               nullptr, {{"f", &field}}, o);
   EXPECT_EQ(reversedFirst.flipped, 5u);
   for (int k = 0; k < o.nodes; ++k)
     EXPECT_NEAR(reversedFirst.scalars[0].mean[k], straight.scalars[0].mean[o.nodes - 1 - k], 1e-9);
   // A start point near x = 20 turns every streamline to start there.
   o.start = glm::dvec3(25, 0, 5);
-  const auto fromStart = sf::profileBundle(parallelLines(ys, {false, true, true, false, true, false}), nullptr,
-                                           {{"f", &field}}, o);
+  const auto fromStart = sf::profileBundle(parallelLines(ys, {false, true, true, false, true, false}),
+                                           nullptr, {{"f", &field}}, o);
   EXPECT_EQ(fromStart.flipped, 3u);
   for (int k = 0; k < o.nodes; ++k)
     EXPECT_NEAR(fromStart.scalars[0].mean[k], straight.scalars[0].mean[o.nodes - 1 - k], 1e-9);
@@ -199,14 +204,17 @@ TEST(TractProfile, StreamlinesStoredBackwardsAreFlippedToAgreeWithTheFirst) {
 // The orientation test on 12-point resamplings: a U-shaped streamline and its reverse.
 TEST(TractProfile, OrientationComparesSummedDistances) {
   std::vector<glm::dvec3> ref, line;
-  for (int i = 0; i < 12; ++i) ref.push_back({double(i), 0, 0});
-  for (int i = 0; i < 12; ++i) line.push_back({11.0 - i, 1, 0});
+  for (int i = 0; i < 12; ++i)
+    ref.push_back({double(i), 0, 0});
+  for (int i = 0; i < 12; ++i)
+    line.push_back({11.0 - i, 1, 0});
   EXPECT_TRUE(sf::fitsBetterReversed(line, ref));
   std::reverse(line.begin(), line.end());
   EXPECT_FALSE(sf::fitsBetterReversed(line, ref));
   // A symmetric line (the same either way) is kept as it is.
   std::vector<glm::dvec3> sym;
-  for (int i = 0; i < 12; ++i) sym.push_back({5.5, double(i < 6 ? i : 11 - i), 0});
+  for (int i = 0; i < 12; ++i)
+    sym.push_back({5.5, double(i < 6 ? i : 11 - i), 0});
   EXPECT_FALSE(sf::fitsBetterReversed(sym, ref));
 }
 
@@ -215,16 +223,18 @@ TEST(TractProfile, OrientationComparesSummedDistances) {
 TEST(TractProfile, SamplesWithZeroPaddingAsDipy) {
   ScalarVolume ones(dtf::Grid::fromAffine(glm::ivec3(4), glm::dmat4(1.0)), 1, 1.0f);
   const std::vector<std::pair<glm::dvec3, double>> cases = {
-      {{-0.5, 1, 1}, 0.5}, {{3.5, 1, 1}, 0.5}, {{-1.0, 1, 1}, 0.0},  {{3, 1, 1}, 1.0},
+      {{-0.5, 1, 1}, 0.5},   {{3.5, 1, 1}, 0.5},       {{-1.0, 1, 1}, 0.0},     {{3, 1, 1}, 1.0},
       {{-0.99, 1, 1}, 0.01}, {{3.2, 3.2, 3.2}, 0.512}, {{1.5, 2.5, 0.25}, 1.0}, {{4.0, 1, 1}, 0.0}};
-  for (const auto& [p, want] : cases) EXPECT_NEAR(sf::sampleZeroPadded(ones, p), want, 1e-9) << p.x;
+  for (const auto& [p, want] : cases)
+    EXPECT_NEAR(sf::sampleZeroPadded(ones, p), want, 1e-9) << p.x;
   // The affine is applied: 2 mm voxels shifted by 10 mm.
   glm::dmat4 m(2.0);
   m[3] = glm::dvec4(10, 0, 0, 1);
   ScalarVolume ramp(dtf::Grid::fromAffine(glm::ivec3(4), m), 1);
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
-      for (int k = 0; k < 4; ++k) ramp.at(i, j, k) = float(i);
+      for (int k = 0; k < 4; ++k)
+        ramp.at(i, j, k) = float(i);
   EXPECT_NEAR(sf::sampleZeroPadded(ramp, {13, 2, 2}), 1.5, 1e-9);
   EXPECT_NEAR(sf::sampleZeroPadded(ramp, {8, 2, 2}), 0.0, 1e-9);
 }
@@ -233,22 +243,26 @@ TEST(TractProfile, GaussWeightsMatchAnIndependentMahalanobisReference) {
   std::mt19937 rng(7);
   std::normal_distribution<double> g(0, 1);
   std::vector<glm::dvec3> pos;
-  for (int s = 0; s < 12; ++s) pos.push_back({3 * g(rng) + 10, 1.5 * g(rng) + 0.8 * g(rng), 0.5 * g(rng) - 4});
+  for (int s = 0; s < 12; ++s)
+    pos.push_back({3 * g(rng) + 10, 1.5 * g(rng) + 0.8 * g(rng), 0.5 * g(rng) - 4});
   const auto w = sf::nodeWeights(pos, sf::ProfileWeights::Gauss);
   // Reference: mean, covariance / n, cofactor inverse, 1 / sqrt(d^T C^-1 d), normalised.
   glm::dvec3 m(0.0);
-  for (const auto& p : pos) m += p / double(pos.size());
+  for (const auto& p : pos)
+    m += p / double(pos.size());
   std::array<std::array<double, 3>, 3> c{};
   for (const auto& p : pos)
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) c[a][b] += (p[a] - m[a]) * (p[b] - m[b]) / double(pos.size());
+      for (int b = 0; b < 3; ++b)
+        c[a][b] += (p[a] - m[a]) * (p[b] - m[b]) / double(pos.size());
   const auto ci = cofactorInverse(c);
   std::vector<double> ref;
   double sum = 0;
   for (const auto& p : pos) {
     double q = 0;
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) q += (p[a] - m[a]) * ci[a][b] * (p[b] - m[b]);
+      for (int b = 0; b < 3; ++b)
+        q += (p[a] - m[a]) * ci[a][b] * (p[b] - m[b]);
     ref.push_back(1 / std::sqrt(q));
     sum += ref.back();
   }
@@ -266,7 +280,8 @@ TEST(TractProfile, GaussWeightsInDegenerateCases) {
   EXPECT_EQ(sf::nodeWeights({{1, 2, 3}}, ProfileWeights::Gauss), std::vector<double>{1.0});
   // Every streamline at one place: equal weights (DIPY: all covariance entries within 1e-8 of 0).
   const auto same = sf::nodeWeights({{1, 2, 3}, {1, 2, 3}, {1, 2, 3}}, ProfileWeights::Gauss);
-  for (double x : same) EXPECT_NEAR(x, 1.0 / 3, 1e-12);
+  for (double x : same)
+    EXPECT_NEAR(x, 1.0 / 3, 1e-12);
   // Two streamlines (a rank-1 covariance): each is one unit from the mean along their line.
   const auto two = sf::nodeWeights({{0, 0, 0}, {4, 2, 1}}, ProfileWeights::Gauss);
   EXPECT_NEAR(two[0], 0.5, 1e-9);
@@ -275,26 +290,32 @@ TEST(TractProfile, GaussWeightsInDegenerateCases) {
   // centre lies on the mean and takes the whole weight.
   const auto square =
       sf::nodeWeights({{-1, -1, 7}, {1, -1, 7}, {1, 1, 7}, {-1, 1, 7}, {0, 0, 7}}, ProfileWeights::Gauss);
-  for (int s = 0; s < 4; ++s) EXPECT_NEAR(square[s], 0, 1e-12);
+  for (int s = 0; s < 4; ++s)
+    EXPECT_NEAR(square[s], 0, 1e-12);
   EXPECT_NEAR(square[4], 1, 1e-12);
   // Without the centre: four corners, equal distances.
-  const auto corners = sf::nodeWeights({{-1, -1, 7}, {1, -1, 7}, {1, 1, 7}, {-1, 1, 7}}, ProfileWeights::Gauss);
-  for (double x : corners) EXPECT_NEAR(x, 0.25, 1e-9);
+  const auto corners =
+      sf::nodeWeights({{-1, -1, 7}, {1, -1, 7}, {1, 1, 7}, {-1, 1, 7}}, ProfileWeights::Gauss);
+  for (double x : corners)
+    EXPECT_NEAR(x, 0.25, 1e-9);
   // A rectangle 6 x 2 with a fifth point at (1, 0): in the plane, x is scaled by its spread.
   const std::vector<glm::dvec3> rect = {{-3, -1, 0}, {3, -1, 0}, {3, 1, 0}, {-3, 1, 0}, {1, 0, 0}};
   const auto rw = sf::nodeWeights(rect, ProfileWeights::Gauss);
   // Reference in 2D: mean (0.2, 0), covariance diag(var x, var y), both by closed form.
   const double mx = 0.2;
   double vx = 0, vy = 0;
-  for (const auto& p : rect) vx += (p.x - mx) * (p.x - mx) / 5, vy += p.y * p.y / 5;
+  for (const auto& p : rect)
+    vx += (p.x - mx) * (p.x - mx) / 5, vy += p.y * p.y / 5;
   std::vector<double> ref;
   double sum = 0;
   for (const auto& p : rect) {
     ref.push_back(1 / std::sqrt((p.x - mx) * (p.x - mx) / vx + p.y * p.y / vy));
     sum += ref.back();
   }
-  for (int s = 0; s < 5; ++s) EXPECT_NEAR(rw[s], ref[s] / sum, 1e-9) << s;
-  for (double x : sf::nodeWeights(rect, ProfileWeights::Mean)) EXPECT_NEAR(x, 0.2, 1e-15);
+  for (int s = 0; s < 5; ++s)
+    EXPECT_NEAR(rw[s], ref[s] / sum, 1e-9) << s;
+  for (double x : sf::nodeWeights(rect, ProfileWeights::Mean))
+    EXPECT_NEAR(x, 0.2, 1e-15);
 }
 
 // Gauss weighting on a bundle: lines at y = y_s on a field that varies with y alone; the profile at every
@@ -324,7 +345,8 @@ TEST(TractProfile, GaussProfileIsTheWeightedMeanOfTheNodes) {
       w2 += w[s] * w[s];
       core += w[s] * pos[s];
     }
-    for (std::size_t s = 0; s < ys.size(); ++s) ss += w[s] * std::pow(0.4 + 0.01 * pos[s].y - mean, 2);
+    for (std::size_t s = 0; s < ys.size(); ++s)
+      ss += w[s] * std::pow(0.4 + 0.01 * pos[s].y - mean, 2);
     EXPECT_NEAR(p.scalars[0].mean[k], mean, 1e-5) << k;
     EXPECT_NEAR(p.scalars[0].sd[k], std::sqrt(ss / (1 - w2)), 1e-5) << k;
     EXPECT_LT(glm::distance(p.core[k], core), 1e-6) << k;
@@ -362,8 +384,8 @@ TEST(TractProfile, BootstrapIsSeededAndIndependentOfThreads) {
     EXPECT_EQ(a.scalars[0].ciLow[k], b.scalars[0].ciLow[k]);
     EXPECT_EQ(a.scalars[0].ciHigh[k], b.scalars[0].ciHigh[k]);
     differs = differs || a.scalars[0].ciLow[k] != c.scalars[0].ciLow[k];
-    // The bootstrap interval of a mean of 8 values with sample sd s: about mean +- 1.96 s sqrt(7 / 8) / sqrt(8)
-    // (the resamples' spread is the population's), here within a quarter of that.
+    // The bootstrap interval of a mean of 8 values with sample sd s: about mean +- 1.96 s sqrt(7 / 8) /
+    // sqrt(8) (the resamples' spread is the population's), here within a quarter of that.
     const double half = 1.96 * a.scalars[0].sd[k] * std::sqrt(7.0 / 8.0) / std::sqrt(8.0);
     EXPECT_NEAR(a.scalars[0].ciHigh[k] - a.scalars[0].ciLow[k], 2 * half, 0.25 * 2 * half) << k;
   }
