@@ -325,52 +325,57 @@ BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint3
   if (o.bootstrap <= 0 || scalars.empty()) return r;
 
   // The bootstrap: resample b draws n streamlines with replacement from a generator seeded by (seed, b), so
-  // the draws do not depend on the thread that runs it; weights and centres are recomputed on each draw.
+  // the draws do not depend on the thread that runs it; weights and centres are recomputed on each draw. The
+  // nodes go in chunks whose draws' statistics stay within about 64 MB (each chunk makes the same draws).
   const auto B = static_cast<std::size_t>(o.bootstrap);
-  std::vector<std::vector<double>> boot(scalars.size(), std::vector<double>(Nz * B)); // [s][k * B + b]
+  const std::size_t chunk = std::clamp<std::size_t>((std::size_t{8} << 20) / (scalars.size() * B), 1, Nz);
+  std::vector<std::vector<double>> boot(scalars.size(),
+                                        std::vector<double>(chunk * B)); // [s][(k - k0) * B + b]
   const unsigned threads = static_cast<unsigned>(std::clamp<std::size_t>(
       o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency()),
       1, B));
-  auto work = [&](unsigned t) {
-    std::vector<std::size_t> draw(n);
-    std::vector<glm::dvec3> pos(n);
-    std::vector<double> w, v(n), scratch;
-    for (std::size_t b = t; b < B; b += threads) {
-      std::uint64_t state = o.seed ^ (0xD1B54A32D192ED03ull * (b + 1));
-      for (auto& d : draw)
-        d = static_cast<std::size_t>(splitMix(state) % n);
-      for (std::size_t k = 0; k < Nz; ++k) {
-        const glm::dvec3* node = byNode.data() + k * n;
-        for (std::size_t j = 0; j < n; ++j)
-          pos[j] = node[draw[j]];
-        weightsInto(pos.data(), n, o.weights, w);
-        for (std::size_t s = 0; s < scalars.size(); ++s) {
-          const double* value = values[s].data() + k * n;
-          for (std::size_t j = 0; j < n; ++j)
-            v[j] = value[draw[j]];
-          boot[s][k * B + b] = centreOf(v, w, o.weights, scratch);
-        }
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t)
-    pool.emplace_back(work, t);
-  work(0);
-  for (auto& th : pool)
-    th.join();
-
   const double tail = (1.0 - o.confidence) / 2;
   std::vector<double> sorted;
-  for (std::size_t s = 0; s < scalars.size(); ++s)
-    for (std::size_t k = 0; k < Nz; ++k) {
-      sorted.clear();
-      for (std::size_t b = 0; b < B; ++b)
-        if (const double x = boot[s][k * B + b]; std::isfinite(x)) sorted.push_back(x);
-      std::sort(sorted.begin(), sorted.end());
-      r.scalars[s].ciLow[k] = quantileSorted(sorted, tail);
-      r.scalars[s].ciHigh[k] = quantileSorted(sorted, 1 - tail);
-    }
+  for (std::size_t k0 = 0; k0 < Nz; k0 += chunk) {
+    const std::size_t k1 = std::min(Nz, k0 + chunk);
+    auto work = [&](unsigned t) {
+      std::vector<std::size_t> draw(n);
+      std::vector<glm::dvec3> pos(n);
+      std::vector<double> w, v(n), scratch;
+      for (std::size_t b = t; b < B; b += threads) {
+        std::uint64_t state = o.seed ^ (0xD1B54A32D192ED03ull * (b + 1));
+        for (auto& d : draw)
+          d = static_cast<std::size_t>(splitMix(state) % n);
+        for (std::size_t k = k0; k < k1; ++k) {
+          const glm::dvec3* node = byNode.data() + k * n;
+          for (std::size_t j = 0; j < n; ++j)
+            pos[j] = node[draw[j]];
+          weightsInto(pos.data(), n, o.weights, w);
+          for (std::size_t s = 0; s < scalars.size(); ++s) {
+            const double* value = values[s].data() + k * n;
+            for (std::size_t j = 0; j < n; ++j)
+              v[j] = value[draw[j]];
+            boot[s][(k - k0) * B + b] = centreOf(v, w, o.weights, scratch);
+          }
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t)
+      pool.emplace_back(work, t);
+    work(0);
+    for (auto& th : pool)
+      th.join();
+    for (std::size_t s = 0; s < scalars.size(); ++s)
+      for (std::size_t k = k0; k < k1; ++k) {
+        sorted.clear();
+        for (std::size_t b = 0; b < B; ++b)
+          if (const double x = boot[s][(k - k0) * B + b]; std::isfinite(x)) sorted.push_back(x);
+        std::sort(sorted.begin(), sorted.end());
+        r.scalars[s].ciLow[k] = quantileSorted(sorted, tail);
+        r.scalars[s].ciHigh[k] = quantileSorted(sorted, 1 - tail);
+      }
+  }
   return r;
 }
 
