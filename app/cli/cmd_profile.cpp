@@ -24,30 +24,21 @@ const OptionTable& profileOptions() {
     t.positionals = "TRACTS...";
     t.maxPositionals = OptionTable::kAnyNumber;
     t.intro =
-        "Tract profiles (tractometry), as DIPY's afq_profile and pyAFQ compute them. Each tract file (.tck, "
-        ".trk,\n"
-        "trk.gz, .trx, .vtk, .vtp), or each of its groups with --groups, is a bundle, named by the file's "
-        "stem or\n"
-        "the group. Its streamlines are oriented alike (flipped to agree with the bundle's first streamline, "
-        "as\n"
-        "DIPY orient_by_streamline; with --start, to start at the end nearer the region's centre), resampled "
-        "to N\n"
-        "nodes equally spaced by arc length, and every scalar is sampled at each node in world space "
-        "(trilinear\n"
-        "in the image's own voxel grid, the voxels outside it counting as 0, as DIPY values_from_volume). "
-        "Per node:\n"
-        "the mean over the streamlines weighted by --weights (gauss: DIPY gaussian_weights, each "
-        "streamline's\n"
-        "weight 1 / its Mahalanobis distance from the node's mean position, normalised per node; mean: "
-        "equal\n"
-        "weights; median: the plain median), the weighted standard deviation, a 95% interval from a seeded\n"
-        "bootstrap over the streamlines, the core's position (the weighted mean of the node positions) and "
-        "the\n"
-        "streamline count.\n"
+        "Tract profiles (tractometry), as DIPY's afq_profile and pyAFQ compute them. Each tract file\n"
+        "(.tck, .trk, .trk.gz, .trx, .vtk, .vtp), or each of its groups with --groups, is a bundle,\n"
+        "named by the file's stem or the group. Its streamlines are oriented alike (flipped to agree\n"
+        "with the bundle's first streamline, as DIPY orient_by_streamline; with --start, to start at the\n"
+        "end nearer the region's centre), resampled to N nodes equally spaced by arc length, and every\n"
+        "scalar is sampled at each node in world space (trilinear in the image's own voxel grid, the\n"
+        "voxels outside it counting as 0, as DIPY values_from_volume). Per node: the mean over the\n"
+        "streamlines weighted by --weights (gauss: DIPY gaussian_weights, each streamline's weight 1 /\n"
+        "its Mahalanobis distance from the node's mean position, normalised per node; mean: equal\n"
+        "weights; median: the plain median), the weighted standard deviation, a 95% interval from a\n"
+        "seeded bootstrap over the streamlines, the core's position (the weighted mean of the node\n"
+        "positions) and the streamline count.\n"
         "\n"
-        "OUT.tsv is one tidy table, the header first: bundle scalar node x y z mean sd ci_low ci_high "
-        "streamlines\n"
-        "(tab-separated, NaN where a node has no value), read as it is by pandas and R.";
+        "OUT.tsv is one tidy table, the header first: bundle scalar node x y z mean sd ci_low ci_high\n"
+        "streamlines (tab-separated, NaN where a node has no value), read as it is by pandas and R.";
     t.options = {
         O::list("scalar", "S",
                 "fa, md, ad or rd (of --tensor), or NAME=IMAGE: any scalar image on any grid, NAME written "
@@ -72,10 +63,12 @@ const OptionTable& profileOptions() {
             .hidden(),
         O::integer("seed", "S", static_cast<int>(po.seed), closedRange(0, 2147483647), "the bootstrap's seed")
             .hidden(),
-        layoutOption(LayoutNames::Tensor).alsoSays("(of --tensor)").hidden(),
-        bvalOption().alsoSays("(--tensor is then a DWI)").hidden(),
-        bvecOption().hidden(),
-        fitMaskOption().hidden(),
+        layoutOption(LayoutNames::Tensor).alsoSays(" of --tensor").hidden(),
+        O::text("bval", "F", "--tensor is a DWI: fit its tensors with this FSL b-value table (with --bvec)")
+            .hidden(),
+        O::text("bvec", "F", "the DWI's gradient directions (with --bval)").hidden(),
+        O::text("mask", "M", "fit the DWI's tensors only where M is non-zero (same grid as the DWI)")
+            .hidden(),
         O::flag("force", "overwrite existing outputs"),
         O::flag("json", "print the table's rows and the bundles' facts as JSON (-o is then optional)"),
     };
