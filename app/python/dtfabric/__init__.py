@@ -6,7 +6,8 @@
 
 Everything runs the command-line tool's own code: load() reads what `dtfabric info` and `dtfabric render`
 read, render() gives the pixels `dtfabric render` writes for the same arguments, track() and check() are
-`dtfabric track` and `dtfabric check --json`. Rendering is headless (EGL) and needs no display; all GL work
+`dtfabric track` and `dtfabric check --json`, and profile() returns the table of `dtfabric profile` as numpy
+columns (pandas.DataFrame(dtfabric.profile("cst.tck", "fa", tensor="dti_tensor.nii.gz")) is the table). Rendering is headless (EGL) and needs no display; all GL work
 runs on one thread of the module, so render() may be called from any Python thread (calls run one at a
 time). Long work releases the GIL.
 """

@@ -241,6 +241,27 @@ TEST(ProfileCli, SeveralBundlesGroupsTablePlotsAndJson) {
   EXPECT_EQ(missing.exitCode, 2);
   EXPECT_NE(missing.err.find("groups.trx: no group 'third' (groups: first, second)"), std::string::npos)
       << missing.err;
+  // Names two bundles would share are qualified: files by their folder, groups by their file.
+  fs::create_directories(dir / "patient");
+  fs::create_directories(dir / "control");
+  writeParallelLines(dir / "patient", "cst.tck", {0, 1, 2});
+  writeParallelLines(dir / "control", "cst.tck", {0, 1, 3});
+  fs::copy_file(trx, dir / "again.trx");
+  const auto files =
+      runDtfabric("profile " + q(dir / "patient" / "cst.tck") + " " + q(dir / "control" / "cst.tck") +
+                      " --scalar lin=" + q(field) + " --nodes 3 --json",
+                  dir);
+  ASSERT_EQ(files.exitCode, 0) << files.err;
+  const auto fj = nlohmann::json::parse(files.out);
+  EXPECT_EQ(fj["bundles"][0]["name"], "patient/cst");
+  EXPECT_EQ(fj["bundles"][1]["name"], "control/cst");
+  const auto groups = runDtfabric("profile " + q(trx) + " " + q(dir / "again.trx") +
+                                      " --groups first --scalar lin=" + q(field) + " --nodes 3 --json",
+                                  dir);
+  ASSERT_EQ(groups.exitCode, 0) << groups.err;
+  const auto gj = nlohmann::json::parse(groups.out);
+  EXPECT_EQ(gj["bundles"][0]["name"], "groups/first");
+  EXPECT_EQ(gj["bundles"][1]["name"], "again/first");
   const auto none =
       runDtfabric("profile " + q(a) + " --groups all --scalar lin=" + q(field) + " --json", dir);
   EXPECT_EQ(none.exitCode, 2);
