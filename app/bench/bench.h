@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmarks behind `dtfabric bench NAME`. Each prints a human-readable table, or one JSON object with
 // --json, and returns the exit code.
 #pragma once

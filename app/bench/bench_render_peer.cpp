@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The peer of `dtfabric bench render`: ParaView's Surface LIC (vtkSurfaceLICInterface, Debian package
 // paraview), the nearest tool that draws a LIC texture on a surface. It weaves one vector direction, so it
 // gets the principal in-surface eigenvector of our tensor field per vertex. The mesh goes out as a legacy

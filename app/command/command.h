@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What the command line and the benchmarks share: a command's arguments and its entry in a command list
 // (name, help texts, entry point, option table). Each command returns the process exit code: 0 ok, 1 usage,
 // 2 bad input, 3 GL/render failure; errors are thrown as dtf::Error subclasses and mapped to exit codes by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Each command's options declared once: name, value kind, default, range or choices, help. One table per
 // command (and per benchmark) drives the parser (unknown options, missing values, kinds, ranges and choices
 // are usage errors, exit code 1), `dtfabric CMD --help`, the synopsis of `dtfabric help --markdown` (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // dtfabric._core: the Python bindings over the session library (app/scene). Loading, surfaces, tracking,
 // the orientation check and the render job are the ones the command-line tool runs; this file only turns
 // Python arguments into their requests and results into numpy arrays. Long work runs without the GIL; GL

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Viewer scripts (`dtfabric view --script FILE`): one command per line, replayed by the viewer as if the
 // user had done it, so every figure can be reproduced. Parsing is pure (text in, steps out) and checks
 // everything it can before a window opens; a bad line is a UsageError "FILE:LINE: ...".

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric: fabric-like tensor LIC (Eichelbaum et al.) for diffusion MRI, from Python.
 
     import dtfabric

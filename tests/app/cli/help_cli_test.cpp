@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Help and README follow the declarations: every command, benchmark, script command and fabric option is
 // in the help that lists it; each command's option table is what its parser accepts, what its --help and
 // usage line list, and what its code reads; README.md's tables are exactly `dtfabric help --markdown`.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of app/cli/ (dtf_test(...) lines; the label follows from each file's suffix).
 dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_check_cli SOURCES app/cli/check_cli_test.cpp LIBS dtf_io dtf_model)
