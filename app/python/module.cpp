@@ -1003,6 +1003,7 @@ voxel -> world RAS affine.)");
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "dtfabric's C++ core (use the package dtfabric)";
+  m.attr("__version__") = DTF_VERSION; // project(dtfabric VERSION ...) in CMakeLists.txt
   // Warnings and errors of the libraries go to stderr, as the command-line tool prints them; notes are
   // dropped (the fields carry their layout reasons and warnings).
   setLogSink([](LogLevel level, const std::string& message) {
