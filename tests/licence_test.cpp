@@ -40,8 +40,8 @@ std::string spdxProblem(const std::string& text, const std::string& comment) {
   for (int i = 0; i < 5 && std::getline(in, line); ++i) {
     if (line.find("SPDX-License-Identifier") == std::string::npos) continue;
     if (line == comment + " " + kIdentifier) return "";
-    return "names another licence or form on line " + std::to_string(i + 1) + ": \"" + line + "\" (expected \"" +
-           comment + " " + kIdentifier + "\")";
+    return "names another licence or form on line " + std::to_string(i + 1) + ": \"" + line +
+           "\" (expected \"" + comment + " " + kIdentifier + "\")";
   }
   return "has no \"" + comment + " " + kIdentifier + "\" line within its first 5 lines";
 }
@@ -153,10 +153,9 @@ TEST(Licence, TheCheckerNamesEachFileWithoutTheLine) {
   writeFile(root, "io/too_late.h", "//\n//\n//\n//\n//\n" + cpp);
   writeFile(root, "tools/x.py", "# SPDX-License-Identifier: MIT\n");
   writeFile(root, "cmake/y.cmake", cpp); // the C++ marker in a CMake file
-  const std::vector<std::string> files = {"io/a.cpp",        "io/late.h",       "shaders/x.frag",
-                                          ".ci/run",         "notes.md",        "io/missing.cpp",
-                                          "io/too_late.h",   "tools/x.py",      "cmake/y.cmake",
-                                          "io/not_there.cpp"};
+  const std::vector<std::string> files = {"io/a.cpp",      "io/late.h",       "shaders/x.frag", ".ci/run",
+                                          "notes.md",      "io/missing.cpp",  "io/too_late.h",  "tools/x.py",
+                                          "cmake/y.cmake", "io/not_there.cpp"};
   int checked = 0;
   const auto errors = filesWithoutSpdx(root, files, &checked);
   EXPECT_EQ(checked, 8);

@@ -4,7 +4,7 @@
 // everything it can before a window opens; a bad line is a UsageError "FILE:LINE: ...".
 //
 // The commands, their arguments and help are the table scriptCommands() (`dtfabric view --help` prints it,
-// `dtfabric help --markdown` the README's table). Outputs (screenshots, camera and tract files) never
+// `dtfabric help --markdown` the reference's table). Outputs (screenshots, camera and tract files) never
 // replace an input; an existing file only with --force on the line or `view --force`.
 // `#` starts a comment; blank lines are skipped.
 #pragma once
@@ -47,7 +47,7 @@ struct ViewScript {
 };
 
 struct ScriptLine; // one line split into words (view_script.cpp)
-// One script command: its name, arguments and one-line help (as `view --help` and the README show them) and
+// One script command: its name, arguments and one-line help (as `view --help` and the reference show them) and
 // its parser. A new command is one entry in scriptCommands().
 struct ScriptCommand {
   const char* name;

@@ -6,7 +6,6 @@
 #include "support/test_env.h"
 
 #include <gtest/gtest.h>
-
 #include <regex>
 
 namespace {
