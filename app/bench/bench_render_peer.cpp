@@ -46,7 +46,8 @@ try:
     from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 except Exception as e:
     out('error', 'cannot import paraview.simple (%s): unpack python3-paraview and set '
-        'DTF_PARAVIEW_PYTHONPATH to its dist-packages (see README; installing it removes libvtk9-dev)'
+        'DTF_PARAVIEW_PYTHONPATH to its dist-packages (see sample_data/guide/reference.md; installing it '
+        'removes libvtk9-dev)'
         % str(e).replace('\n', ' '))
     sys.exit(3)
 
