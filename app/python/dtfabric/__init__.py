@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric: fabric-like tensor LIC (Eichelbaum et al.) for diffusion MRI, from Python.
 
     import dtfabric
@@ -7,14 +8,15 @@
 Everything runs the command-line tool's own code: load() reads what `dtfabric info` and `dtfabric render`
 read, render() gives the pixels `dtfabric render` writes for the same arguments, track() and check() are
 `dtfabric track` and `dtfabric check --json`, and profile() returns the table of `dtfabric profile` as numpy
-columns (pandas.DataFrame(dtfabric.profile("cst.tck", "fa", tensor="dti_tensor.nii.gz")) is the table). Rendering is headless (EGL) and needs no display; all GL work
-runs on one thread of the module, so render() may be called from any Python thread (calls run one at a
-time). Long work releases the GIL.
+columns (pandas.DataFrame(dtfabric.profile("cst.tck", "fa", tensor="dti_tensor.nii.gz")) is the table).
+Rendering is headless (EGL) and needs no display; all GL work runs on one thread of the module, so render()
+may be called from any Python thread (calls run one at a time). Long work releases the GIL.
 """
 
 from ._errors import Error, FileError, FormatError, GlError, UsageError
 from ._core import (FibreSet, Surface, TensorField, bootstrap, check, fabric_options, load, movie, profile,
                     read_png, render, surface, track, uncertainty)
+from ._core import __version__  # the project's version (CMakeLists.txt), as `dtfabric --version` prints it
 
 __all__ = [
     "Error", "FileError", "FormatError", "GlError", "UsageError",
