@@ -176,10 +176,11 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
   if (what.legend) {
     // The world axes as the camera shows them (orthographic: the in-image part of each), in DEC colours,
     // each labelled with its positive side; axes pointing along the view are drawn short.
+    // On a square panel `margin` pixels from the bottom and right edges, wide enough for the axes and the
+    // letters at their tips.
     const double radius = 14.0 * scale;
-    const glm::dvec2 centre(w - margin - radius - textWidth("M", font) - 2,
-                            h - margin - radius - textHeight(font));
-    const int half = static_cast<int>(radius) + 3 * scale + textWidth("M", font) + scale;
+    const int half = static_cast<int>(radius) + 3 * scale + std::max(textWidth("M", font), textHeight(font)) + scale;
+    const glm::dvec2 centre(w - margin - 1 - half, h - margin - 1 - half);
     backing(img, static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half, 2 * half + 1,
             2 * half + 1);
     const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
