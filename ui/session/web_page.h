@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The self-contained web page of `dtfabric web`: the fabric of every axial, coronal and sagittal slice that
 // holds data in the render's default look (one headless session, one camera per axis framing the whole grid),
 // a 3D view of an FA isosurface as frames around it (the movie's carried advection state, one image per

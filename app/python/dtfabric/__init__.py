@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric: fabric-like tensor LIC (Eichelbaum et al.) for diffusion MRI, from Python.
 
     import dtfabric
@@ -15,6 +16,7 @@ time). Long work releases the GIL.
 from ._errors import Error, FileError, FormatError, GlError, UsageError
 from ._core import (FibreSet, Surface, TensorField, bootstrap, check, fabric_options, load, movie, read_png,
                     surface, track, uncertainty)
+from ._core import __version__  # the project's version (CMakeLists.txt), as `dtfabric --version` prints it
 from . import _core
 from ._notebook import Image, WebPage, show
 
