@@ -100,11 +100,13 @@ const std::vector<Command>& commands() {
        "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
        cmdBids, bidsOptions},
       {"web", nullptr,
-       "write a self-contained web page (folder) to browse every slice's fabric in any browser",
+       "write a self-contained web page (folder) to browse every slice's fabric, a 3D view and an FA sweep",
        "a folder that opens from the file system in any current browser (no server, no network): the fabric "
-       "of every axial, coronal and sagittal slice, a slider per axis, the viewer's keys, zoom and pan, "
-       "orientation letters, the radiological/neurological choice, a probe (world mm, voxel, FA, principal "
-       "direction) and, with `--tracts`, a tract overlay toggle",
+       "of every axial, coronal and sagittal slice in the `render` look, a slider per axis, the viewer's keys, "
+       "zoom and pan, orientation letters, the radiological/neurological choice, a probe (world mm, voxel, FA, "
+       "principal direction) and, with `--tracts`, a tract overlay toggle; a 3D view of an FA isosurface "
+       "turned by dragging (frames rendered with the movie's carried threads) and an FA-threshold sweep with "
+       "a slider; `--slices-only` for the slices alone",
        cmdWeb, webOptions},
       {"view", nullptr, "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, Fibres for fibre sets, View, Tracts), "

@@ -29,6 +29,7 @@
 #include "ui/session/tract_profiles.h"
 #include "io/formats/atomic_file.h"
 #include "render/profile_plot.h"
+#include "ui/session/web_page.h"
 
 #include <algorithm>
 #include <cmath>
@@ -446,6 +447,47 @@ py::object makeMovie(const py::object& input, const py::object& output, bool tur
   auto* dst = all.mutable_data();
   for (const auto& img : kept) dst = std::copy(img.rgba.begin(), img.rgba.end(), dst);
   return all;
+}
+
+// --- web
+
+py::dict makeWeb(const py::object& input, const py::object& output, int size, const std::string& surface,
+                 bool slicesOnly, int azimuths, int faSteps, const py::object& background, const py::object& tracts,
+                 const py::object& title, bool force, const std::string& layout, const py::object& bval,
+                 const py::object& bvec, const py::object& mask) {
+  session::WebPageRequest w;
+  std::shared_ptr<const io::LoadedTensors> held;
+  if (isPathLike(input)) {
+    w.input = pathText(input);
+    w.tensorOptions = tensorOptions(layout, bval, bvec, mask);
+  } else {
+    held = tensorsOf(input, layout, bval, bvec, mask, w.input);
+    w.field = &held->field;
+  }
+  w.output = pathText(output);
+  w.size = size;
+  w.surface = surface;
+  w.slicesOnly = slicesOnly;
+  w.azimuths = azimuths;
+  w.faSteps = faSteps;
+  w.background = background.is_none() ? "" : optionText(background);
+  w.tracts = tracts.is_none() ? "" : pathText(tracts);
+  w.title = title.is_none() ? "" : py::str(title).cast<std::string>();
+  w.force = force;
+  session::WebPageResult res;
+  {
+    py::gil_scoped_release release;
+    runOnGlThread([&] { res = session::writeWebPage(w); });
+  }
+  py::dict d;
+  d["path"] = w.output;
+  d["slices"] = py::make_tuple(res.slices[0], res.slices[1], res.slices[2]);
+  d["frames_3d"] = res.frames3d;
+  d["fa_frames"] = res.faFrames;
+  d["images"] = res.images;
+  d["bytes"] = res.bytes;
+  d["seconds"] = res.seconds;
+  return d;
 }
 
 // --- surface, track
@@ -1004,6 +1046,16 @@ written atomically, an existing output replaced only with force=True; returns it
 the frames as an (N, H, W, 4) uint8 array. surface (the turntable's), frames, fps, size=(W, H), view,
 elevation, neurological, perspective, background, layout, bval, bvec, mask: as the command's flags; further
 keyword arguments are the fabric options (frame_iterations=3, blend_k=0.1, ...).)");
+
+  m.def("web", &makeWeb, py::arg("input"), py::arg("output"), py::arg("size") = session::WebPageRequest{}.size,
+        py::arg("surface") = "fa=0.25", py::arg("slices_only") = false,
+        py::arg("azimuths") = session::WebPageRequest{}.azimuths, py::arg("fa_steps") = session::WebPageRequest{}.faSteps,
+        py::arg("background") = py::none(), py::arg("tracts") = py::none(), py::arg("title") = py::none(),
+        py::arg("force") = false, py::arg("layout") = "auto", py::arg("bval") = py::none(),
+        py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
+        R"(Writes the folder of `dtfabric web` (index.html, the slices, the 3D view and the FA sweep) and returns
+a dict: path, slices (axial, coronal, sagittal), frames_3d, fa_frames, images, bytes, seconds. dtfabric.web()
+wraps it in a WebPage that shows the page inline in Jupyter.)");
 
   m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
         py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,
