@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <csignal>
 #include <cstring>
 #include <epoxy/gl.h>
 #include <filesystem>
@@ -111,6 +112,13 @@ Image readFramebuffer(int x, int y, int w, int h) {
   for (std::size_t i = 3; i < img.rgba.size(); i += 4)
     img.rgba[i] = 255;
   return img;
+}
+
+// SIGINT or SIGTERM asked the window to close: it ends its loop (within the idle wait's 0.25 s) and the
+// remembered settings are written as on a normal close.
+volatile std::sig_atomic_t closeSignal = 0;
+void onCloseSignal(int signal) {
+  closeSignal = signal;
 }
 
 std::string glfwErrorText;
@@ -210,7 +218,7 @@ public:
 
   // Runs until the window closes or `quit`; returns the exit code.
   int run() {
-    while (!glfwWindowShouldClose(window_) && !quit_) {
+    while (!glfwWindowShouldClose(window_) && !quit_ && !closeSignal) {
       const bool idle = scene_->converged() && scene_->settled() && !dragging_ && !runningScript();
       if (idle)
         glfwWaitEventsTimeout(0.25);
@@ -222,6 +230,7 @@ public:
       scene_->setFrameMs(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
+    if (closeSignal) return 128 + closeSignal; // as a shell reports a process ended by the signal
     return scriptFailed_ ? (scene_->glFailed() ? 3 : 2) : 0;
   }
 
@@ -705,8 +714,14 @@ int runViewerWindow(const ViewerWindowOptions& o) {
   const session::StartSettings start = session::mergeConfig(
       remembered, o.sizeGiven || o.configPath.empty() ? std::optional<int>(o.width) : std::nullopt,
       o.sizeGiven || o.configPath.empty() ? std::optional<int>(o.height) : std::nullopt, o.uiScale);
+  if (!o.configPath.empty())
+    std::cerr << "settings: " << o.configPath << " (window " << start.width << "x" << start.height << ", UI scale "
+              << (start.uiScale ? std::to_string(*start.uiScale).substr(0, 4) : std::string("of the monitor"))
+              << ")\n";
   GlfwSession glfw;
   ViewerWindow window(start.width, start.height, o.surface, o.script, start.uiScale);
+  closeSignal = 0;
+  const auto previousInt = std::signal(SIGINT, onCloseSignal), previousTerm = std::signal(SIGTERM, onCloseSignal);
   window.buffers().browser.lastFolder = remembered.lastFolder;
   window.buffers().browser.recentFolders = remembered.recentFolders;
   window.buffers().panelsOpen = remembered.panelsOpen;
@@ -724,6 +739,8 @@ int runViewerWindow(const ViewerWindowOptions& o) {
     window.scene().apply(session::LoadFile{o.inputs.front(), o.layout, o.tensor});
   }
   const int code = window.run();
+  std::signal(SIGINT, previousInt);
+  std::signal(SIGTERM, previousTerm);
   if (!o.configPath.empty()) {
     try {
       session::writeViewerConfig(o.configPath, window.config());

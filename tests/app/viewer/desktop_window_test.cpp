@@ -296,3 +296,41 @@ TEST(DesktopWindow, UiScale2DrawsPanelsTwiceAsWideWithSharpText) {
   const Image help = dtf::io::readPng((dir / "scale2_help.png").string());
   EXPECT_GT(dtf::test::differingFraction(s2, help), 0.02);
 }
+
+// The remembered settings: a run without a script writes them when it closes (here by SIGTERM, which closes
+// the window as its close button does), the next run starts from them, and a flag given wins over them.
+TEST(DesktopWindow, SettingsAreRememberedBetweenRunsAndFlagsWin) {
+  DTF_XVFB_SETUP();
+  const auto dir = dtf::test::scratchDir();
+  const fs::path config = dir / "config", conf = config / "dtfabric" / "viewer.conf";
+  // Runs the viewer without a script for a few seconds under Xvfb, then closes it with SIGTERM.
+  auto run = [&](const std::string& args, const std::string& name) {
+    const fs::path err = dir / (name + ".txt");
+    const std::string cmd = "XDG_CONFIG_HOME='" + config.string() +
+                            "' timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' sh -c \"'" + DTF_EXE +
+                            "' view '" + kPhantom.string() + "' " + args + " 2>'" + err.string() +
+                            "' & pid=\\$!; sleep 6; kill -TERM \\$pid; wait \\$pid; echo rc=\\$? >>'" + err.string() +
+                            "'\" >/dev/null 2>&1";
+    std::system(cmd.c_str());
+    return readFile(err);
+  };
+  const std::string first = run("--size 700x500 --ui-scale 1.5", "first");
+  if (has(first, "GLFW") && !dtf::test::envFlag("DTF_REQUIRE_GL")) GTEST_SKIP() << "no GL window: " << first;
+  EXPECT_TRUE(has(first, "settings: " + conf.string() + " (window 700x500, UI scale 1.50)")) << first;
+  EXPECT_TRUE(has(first, "rc=143")) << "closed by SIGTERM\n" << first;
+  const std::string text = readFile(conf);
+  EXPECT_TRUE(has(text, "\nsize 700 500\n")) << text;
+  EXPECT_TRUE(has(text, "\nui-scale 1.5\n")) << text;
+  EXPECT_TRUE(has(text, "\nrecent-file " + kPhantom.string() + "\n")) << text;
+  EXPECT_TRUE(has(text, "\npanel open Data\n")) << text;
+
+  const std::string second = run("", "second");
+  EXPECT_TRUE(has(second, "(window 700x500, UI scale 1.50)")) << "remembered\n" << second;
+  const std::string third = run("--size 800x600", "third");
+  EXPECT_TRUE(has(third, "(window 800x600, UI scale 1.50)")) << "--size wins\n" << third;
+  // --no-config: neither read nor written.
+  fs::remove(conf);
+  const std::string clean = run("--no-config", "clean");
+  EXPECT_FALSE(has(clean, "settings:")) << clean;
+  EXPECT_FALSE(fs::exists(conf));
+}
