@@ -30,8 +30,11 @@ const char* kIntro =
     "panels (load or track streamlines, draw them over the fabric near the surface, save them, and\n"
     "measure their agreement with the fabric). Further INPUTs are listed under recent files.\n"
     "\n"
-    "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.\n"
-    "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.";
+    "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom. Files dropped on the window\n"
+    "open by kind (a volume as data, a tractogram as tracts, a mesh as the surface); each path field has a\n"
+    "file dialog (the desktop's through the XDG portal, else the viewer's own).\n"
+    "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view,\n"
+    "F1 or ? the bindings over the scene. Save session (View panel) writes a script that `--script` replays.";
 
 const char* kOutputs =
     "Screenshots, camera and tract files are written atomically. An input file is never replaced; in the\n"
