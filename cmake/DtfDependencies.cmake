@@ -47,6 +47,8 @@ if(DTF_BUILD_APPS)
   find_package(glfw3 REQUIRED)
   # Debian's imgui ships the core as libimgui.a and the backends as sources in its examples folder.
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+  # The desktop's file dialog through the XDG desktop portal (the viewer falls back to its own without one).
+  pkg_check_modules(LIBPORTAL REQUIRED IMPORTED_TARGET libportal)
   set(DTF_IMGUI_BACKENDS_DIR /usr/share/doc/libimgui-dev/examples/backends CACHE PATH "imgui backend sources")
   if(NOT EXISTS ${DTF_IMGUI_BACKENDS_DIR}/imgui_impl_glfw.cpp)
     message(FATAL_ERROR "imgui backend sources not found in ${DTF_IMGUI_BACKENDS_DIR} (package libimgui-dev)")

@@ -5,12 +5,13 @@
 #include "app/command/options.h"
 #include "app/viewer/view_script.h"
 #include "app/viewer/window.h"
-#include "io/formats/fibre_io.h"
-#include "io/model/error.h"
-#include "io/formats/tensor_io.h"
 #include "io/diffusion/uncertainty.h"
+#include "io/formats/fibre_io.h"
+#include "io/formats/tensor_io.h"
+#include "io/model/error.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/surface_spec.h"
+#include "ui/session/viewer_config.h"
 
 #include <cstdio>
 #include <optional>
@@ -29,8 +30,11 @@ const char* kIntro =
     "panels (load or track streamlines, draw them over the fabric near the surface, save them, and\n"
     "measure their agreement with the fabric). Further INPUTs are listed under recent files.\n"
     "\n"
-    "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom.\n"
-    "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view.";
+    "Mouse: left-drag rotate, middle-drag or shift-left-drag pan, wheel zoom. Files dropped on the window\n"
+    "open by kind (a volume as data, a tractogram as tracts, a mesh as the surface); each path field has a\n"
+    "file dialog (the desktop's through the XDG portal, else the viewer's own).\n"
+    "Keys: Up/Down and PgUp/PgDn step the slice, A/C/S axial/coronal/sagittal slice, R reset the view,\n"
+    "F1 or ? the bindings over the scene. Save session (View panel) writes a script that `--script` replays.";
 
 const char* kOutputs =
     "Screenshots, camera and tract files are written atomically. An input file is never replaced; in the\n"
@@ -60,17 +64,28 @@ const OptionTable& viewOptions() {
                 std::to_string(d.width) + "x" + std::to_string(d.height))
             .checkedBy(checkSize)
             .hidden(),
-        O::text("uncertainty", "CONE",
-                "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE) or a bedpostx folder "
-                "with samples: the threads fray as the cone widens (Fabric panel: fray)"),
-        O::text("background", "FILE|fa|md",
-                "the grey beneath the fabric: a scalar volume on any grid (a T1, say; resampled in world space), "
-                "or the data's FA or MD (default: a DWI's mean b=0 image; View panel: background)"),
-        O::text("background-window", "LO,HI", "the background's grey ramp (default: a FILE's 1st..99th percentile)")
+        O::text(
+            "uncertainty", "CONE",
+            "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE) or a bedpostx folder "
+            "with samples: the threads fray as the cone widens (Fabric panel: fray)"),
+        O::text(
+            "background", "FILE|fa|md",
+            "the grey beneath the fabric: a scalar volume on any grid (a T1, say; resampled in world space), "
+            "or the data's FA or MD (default: a DWI's mean b=0 image; View panel: background)"),
+        O::text("background-window", "LO,HI",
+                "the background's grey ramp (default: a FILE's 1st..99th percentile)")
             .hidden(),
         O::flag("no-legend", "no orientation legend over the panes (View panel: legend)").hidden(),
         O::flag("no-scale-bar", "no scale bar over the panes (View panel: scale bar)").hidden(),
         O::flag("no-colour-bar", "no colour bar of the tract value (View panel: colour bar)").hidden(),
+        O::number("ui-scale", "F", 0, Range::closed(0, 4),
+                  "the panels', fonts' and furniture's scale, 0.5 to 4 (default 0: the monitor's content "
+                  "scale; View panel: UI scale)")
+            .hidden(),
+        O::flag("no-config",
+                "start with the default settings: the window size, panels and last folder remembered in "
+                "$XDG_CONFIG_HOME/dtfabric (default ~/.config) are neither read nor written")
+            .hidden(),
         O::flag("ortho",
                 "open in the ortho layout: axial, coronal and sagittal slices through a crosshair (click a "
                 "slice pane to move it) beside the 3D pane"),
@@ -102,6 +117,12 @@ int cmdView(const CommandArgs& argv) {
   const bool force = args.flag("force");
   const std::string uncertainty = args.text("uncertainty");
   o.ortho = args.flag("ortho");
+  o.sizeGiven = args.given("size");
+  const double uiScale = args.number("ui-scale");
+  if (uiScale != 0 && !(uiScale >= 0.5 && uiScale <= 4))
+    throw UsageError("--ui-scale must lie in [0.5, 4] (or 0: the monitor's)");
+  if (uiScale != 0) o.uiScale = uiScale;
+  const bool noConfig = args.flag("no-config");
   o.background = {args.text("background"), args.text("background-window")};
   o.furniture = {!args.flag("no-legend"), !args.flag("no-scale-bar"), !args.flag("no-colour-bar")};
   args.finish();
@@ -121,6 +142,7 @@ int cmdView(const CommandArgs& argv) {
       throw InputError(e.what()); // a bad script is bad input (exit code 2), not bad usage
     }
     checkScriptOutputs(*script, inputs, force);
+    checkSessionInputs(*script); // a session naming a missing file: exit code 2, no window
     if (force)
       for (ScriptStep& step : script->steps)
         if (auto* a = std::get_if<session::Action>(&step.command)) {
@@ -142,6 +164,8 @@ int cmdView(const CommandArgs& argv) {
   o.layout = layout;
   o.tensor = tensor;
   o.script = script ? &*script : nullptr;
+  // Runs with a script neither read nor write the remembered settings (they must replay the same anywhere).
+  if (!script && !noConfig) o.configPath = session::viewerConfigPath();
   return runViewerWindow(o);
 }
 

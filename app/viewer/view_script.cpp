@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/view_script.h"
 
-#include "ui/session/surface_spec.h"
-#include "ui/session/tensor_input.h"
-#include "ui/session/track_request.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/fibre_io.h"
+#include "io/formats/formats.h"
 #include "io/formats/movie_writer.h"
+#include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "render/fabric_options.h"
 #include "surfaces/slices.h"
 #include "surfaces/tracking/tracking_parameters.h"
+#include "ui/session/file_kinds.h"
+#include "ui/session/surface_spec.h"
+#include "ui/session/tensor_input.h"
+#include "ui/session/track_request.h"
 
 #include <algorithm>
 #include <cctype>
@@ -212,8 +215,28 @@ struct ScriptLine {
 
 namespace {
 
+// load [layout=L] PATH: a tensor layout (fsl, mrtrix, symmatrix, dtitk) instead of the detected one.
 void parseLoad(const ScriptLine& line, ScriptStep& step) {
-  step.command = session::Action(session::LoadFile{line.path("load PATH"), "auto"});
+  std::string path = line.path("load [layout=L] PATH"), layout = "auto";
+  if (path.starts_with("layout=")) {
+    const std::size_t end = path.find_first_of(" \t");
+    if (end == std::string::npos) throw LineError{"usage: load [layout=L] PATH"};
+    layout = path.substr(7, end - 7);
+    try {
+      io::parseLayout(layout);
+    } catch (const UsageError& e) {
+      throw LineError{std::string("load: ") + e.what()};
+    }
+    path = trim(path.substr(end));
+  }
+  step.command = session::Action(session::LoadFile{path, layout});
+}
+
+void parseSessionHeader(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "session 1");
+  if (w[1] != "1") throw LineError{"session " + w[1] + ": this dtfabric reads session version 1"};
+  step.command = ScriptWait{0};
 }
 
 // fibres [layout=L] [tensor=FILE] PATH: the options come first, the path is the rest of the line.
@@ -278,9 +301,9 @@ void parseSlice(const ScriptLine& line, ScriptStep& step) {
 
 void parseKey(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
-  expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R");
+  expectArgs(w, 1, "key Up|Down|PgUp|PgDn|A|C|S|R|F1");
   auto key = session::parseKey(w[1]);
-  if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R)"};
+  if (!key) throw LineError{"unknown key '" + w[1] + "' (Up, Down, PgUp, PgDn, A, C, S, R, F1)"};
   step.command = *key;
 }
 
@@ -568,6 +591,134 @@ void parseAgreement(const ScriptLine& line, ScriptStep& step) {
   step.command = session::Action(a);
 }
 
+// "X,Y,Z" of a camera line's key.
+glm::dvec3 triple(const std::string& text, const std::string& what) {
+  glm::dvec3 v{0.0};
+  std::size_t at = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t comma = text.find(',', at);
+    if ((k < 2) == (comma == std::string::npos))
+      throw LineError{"camera " + what + "=X,Y,Z, got '" + text + "'"};
+    v[k] = number(text.substr(at, comma == std::string::npos ? std::string::npos : comma - at),
+                  "camera " + what);
+    at = comma + 1;
+  }
+  if (std::abs(v.x) > 1e7 || std::abs(v.y) > 1e7 || std::abs(v.z) > 1e7)
+    throw LineError{"camera " + what + ": beyond 10^7 mm"};
+  return v;
+}
+
+// camera [pane=N] eye=X,Y,Z target=X,Y,Z up=X,Y,Z ortho=HALF_HEIGHT|fov=DEG near=N far=F
+void parseCamera(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  session::SetCamera c;
+  bool eye = false, target = false, up = false, projection = false;
+  for (std::size_t i = 1; i < w.size(); ++i) {
+    const auto eq = w[i].find('=');
+    if (eq == std::string::npos || eq + 1 == w[i].size())
+      throw LineError{"camera: expected KEY=VALUE, got '" + w[i] + "'"};
+    const std::string key = w[i].substr(0, eq), value = w[i].substr(eq + 1);
+    if (key == "pane") {
+      c.pane = integer(value, "camera pane");
+      if (c.pane < 0 || c.pane > 1) throw LineError{"camera pane must be 0 or 1"};
+    } else if (key == "eye") {
+      c.camera.eye = triple(value, key), eye = true;
+    } else if (key == "target") {
+      c.camera.target = triple(value, key), target = true;
+    } else if (key == "up") {
+      c.camera.up = triple(value, key), up = true;
+    } else if (key == "ortho") {
+      c.camera.orthographic = true;
+      c.camera.orthoHalfHeight = number(value, "camera ortho");
+      if (!(c.camera.orthoHalfHeight > 0 && c.camera.orthoHalfHeight < 1e7))
+        throw LineError{"camera ortho: the half height must lie in (0, 10^7) mm"};
+      projection = true;
+    } else if (key == "fov") {
+      c.camera.orthographic = false;
+      c.camera.fovYDeg = number(value, "camera fov");
+      if (!(c.camera.fovYDeg > 0 && c.camera.fovYDeg < 180))
+        throw LineError{"camera fov must lie in (0, 180) degrees"};
+      projection = true;
+    } else if (key == "near") {
+      c.camera.nearPlane = number(value, "camera near");
+    } else if (key == "far") {
+      c.camera.farPlane = number(value, "camera far");
+    } else {
+      throw LineError{"camera: unknown key '" + key + "' (pane, eye, target, up, ortho, fov, near, far)"};
+    }
+  }
+  if (!eye || !target || !up || !projection)
+    throw LineError{"usage: camera [pane=N] eye=X,Y,Z target=X,Y,Z up=X,Y,Z ortho=H|fov=DEG [near=N far=F]"};
+  if (glm::length(c.camera.target - c.camera.eye) <= 0 || glm::length(c.camera.up) <= 0 ||
+      glm::length(glm::cross(c.camera.target - c.camera.eye, c.camera.up)) <= 0)
+    throw LineError{"camera: the eye, target and up make no view (eye on the target, or up along the view)"};
+  if (!(c.camera.nearPlane > 0 && c.camera.farPlane > c.camera.nearPlane))
+    throw LineError{"camera: needs 0 < near < far"};
+  step.command = session::Action(c);
+}
+
+void parseSessionSave(const ScriptLine& line, ScriptStep& step) {
+  const auto [p, force] = outputArg(line.path("session-save [--force] PATH"), "session-save [--force] PATH");
+  step.command = session::Action(session::SaveSession{p, force});
+}
+
+void parseUiScale(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "ui-scale F|auto");
+  const double f = w[1] == "auto" ? 0.0 : number(w[1], "ui-scale");
+  if (w[1] != "auto" && !(f >= 0.5 && f <= 4)) throw LineError{"ui-scale must lie in [0.5, 4], got " + w[1]};
+  step.command = session::Action(session::SetUiScale{f});
+}
+
+void parseHelp(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  expectArgs(w, 1, "help on|off");
+  step.command = session::Action(session::ShowHelp{onOff(w[1], "help")});
+}
+
+void parseBrowse(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  if (w.size() < 2) throw LineError{"usage: browse TARGET [FOLDER]"};
+  const auto target = session::parseFileTarget(w[1]);
+  if (!target)
+    throw LineError{"browse: unknown target '" + w[1] +
+                    "' (data, tensor, background, tracts, mesh, screenshot, camera, movie, tracts-save, "
+                    "session-save)"};
+  step.command =
+      session::Action(session::Browse{*target, w.size() > 2 ? restOf(restOf(line.text, w[0]), w[1]) : ""});
+}
+
+void parseBrowserPick(const ScriptLine& line, ScriptStep& step) {
+  step.command = ScriptBrowserPick{line.path("browser-pick NAME")};
+}
+
+// The paths of a drop line: separated by spaces, a path holding spaces in single or double quotes.
+void parseDrop(const ScriptLine& line, ScriptStep& step) {
+  const std::string rest = restOf(line.text, line.words[0]);
+  ScriptDrop drop;
+  for (std::size_t i = 0; i < rest.size();) {
+    if (std::isspace(static_cast<unsigned char>(rest[i]))) {
+      ++i;
+      continue;
+    }
+    std::size_t end;
+    if (rest[i] == '\'' || rest[i] == '"') {
+      end = rest.find(rest[i], i + 1);
+      if (end == std::string::npos) throw LineError{"drop: unmatched quote"};
+      drop.paths.push_back(rest.substr(i + 1, end - i - 1));
+      ++end;
+    } else {
+      end = i;
+      while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end])))
+        ++end;
+      drop.paths.push_back(rest.substr(i, end - i));
+    }
+    i = end;
+  }
+  if (drop.paths.empty()) throw LineError{"usage: drop PATH [PATH ...]"};
+  step.command = std::move(drop);
+}
+
 void parseQuit(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 0, "quit");
@@ -576,7 +727,13 @@ void parseQuit(const ScriptLine& line, ScriptStep& step) {
 
 // The script's commands, in the order help lists them.
 const std::vector<ScriptCommand> kCommands = {
-    {"load", "PATH", "open a tensor volume (or a DWI with sibling .bval/.bvec, or a fibre set it detects)",
+    {"session", "1",
+     "first line of a saved session (session-save): every file the script names is checked before the window "
+     "opens, and a missing one fails the run (exit code 2) with nothing shown",
+     parseSessionHeader},
+    {"load", "[layout=L] PATH",
+     "open a tensor volume (or a DWI with sibling .bval/.bvec, or a fibre set it detects); L: a tensor "
+     "layout instead of the detected one",
      parseLoad},
     {"fibres", "[layout=L] [tensor=FILE] PATH",
      "open a fibre set (peaks, bedpostx, ...) as `dtfabric render` does: L mrtrix-peaks|dipy-peaks|bedpostx "
@@ -587,8 +744,8 @@ const std::vector<ScriptCommand> kCommands = {
      "any surface of `dtfabric render --surface` (fa=0.3, slice=axial:20, fibre-voxel=...)", parseSurface},
     {"fa", "T", "FA isosurface at T (0 < T < 1)", parseFa},
     {"slice", "AXIS INDEX", "axial, coronal or sagittal slice INDEX", parseSlice},
-    {"key", "NAME", "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view)",
-     parseKey},
+    {"key", "NAME",
+     "a key: Up, Down, PgUp, PgDn (slice), A, C, S (slice axis), R (reset the view), F1 (help)", parseKey},
     {"rotate", "DX DY", "trackball drag by DX, DY window pixels (y down)", parseRotate},
     {"pan", "DX DY", "pan by DX, DY window pixels", parseRotate},
     {"zoom", "F", "magnify by F (2 = twice as large)", parseZoom},
@@ -635,20 +792,58 @@ const std::vector<ScriptCommand> kCommands = {
      "compare`'s numbers",
      parseAgreement},
     {"screenshot", "[--force] PATH", "PNG of the whole window, panels included", parseScreenshot},
-    {"screenshot-scene", "[--force] PATH", "PNG of the fabric panes only with their furniture (legend, scale bar, colour bar; no panels, no edge letters; in the ortho layout the whole layout with its crosshair and orientation letters)", parseScreenshot},
-    {"layout", "single|ortho", "ortho: axial, coronal and sagittal slices through the crosshair beside the 3D pane; single: the 3D view alone (or split)", parseLayout},
-    {"crosshair", "X Y Z", "move the ortho layout's crosshair to world RAS X, Y, Z mm (the slice panes follow); prints it with its slices to stderr", parseCrosshair},
-    {"click", "X Y", "a click at scene pixel (X, Y) (y down): in an ortho slice pane it moves the crosshair there; prints it to stderr", parseClick},
-    {"movie", "turntable|sweep AXIS|fa-sweep LO:HI FRAMES [--force] PATH", "record what the 3D pane shows (its surface, fabric and camera): a full turn about its vertical axis, a sweep of AXIS slices through the data, or the FA isosurface from LO to HI; FRAMES frames to PATH .mp4 or .gif (ffmpeg on PATH) or DIR/ (PNG frames), the advection state carried from frame to frame", parseMovie},
+    {"screenshot-scene", "[--force] PATH",
+     "PNG of the fabric panes only with their furniture (legend, scale bar, colour bar; no panels, no edge "
+     "letters; in the ortho layout the whole layout with its crosshair and orientation letters)",
+     parseScreenshot},
+    {"layout", "single|ortho",
+     "ortho: axial, coronal and sagittal slices through the crosshair beside the 3D pane; single: the 3D "
+     "view alone (or split)",
+     parseLayout},
+    {"crosshair", "X Y Z",
+     "move the ortho layout's crosshair to world RAS X, Y, Z mm (the slice panes follow); prints it with its "
+     "slices to stderr",
+     parseCrosshair},
+    {"click", "X Y",
+     "a click at scene pixel (X, Y) (y down): in an ortho slice pane it moves the crosshair there; prints it "
+     "to stderr",
+     parseClick},
+    {"movie", "turntable|sweep AXIS|fa-sweep LO:HI FRAMES [--force] PATH",
+     "record what the 3D pane shows (its surface, fabric and camera): a full turn about its vertical axis, a "
+     "sweep of AXIS slices through the data, or the FA isosurface from LO to HI; FRAMES frames to PATH .mp4 "
+     "or .gif (ffmpeg on PATH) or DIR/ (PNG frames), the advection state carried from frame to frame",
+     parseMovie},
     {"background", "FILE|fa|md|none|default [LO,HI]",
-     "the grey beneath the fabric: a scalar volume on any grid (resampled in world space), the data's FA or MD, "
+     "the grey beneath the fabric: a scalar volume on any grid (resampled in world space), the data's FA or "
+     "MD, "
      "none (FA within the data), default (a DWI's mean b=0 image); LO,HI: its grey ramp",
      parseBackground},
     {"furniture", "legend|scale-bar|colour-bar|all on|off",
-     "the figure furniture over the panes (and in screenshot-scene): the DEC orientation legend, the scale bar, "
+     "the figure furniture over the panes (and in screenshot-scene): the DEC orientation legend, the scale "
+     "bar, "
      "the tract value's colour bar",
      parseFurniture},
     {"camera-save", "[--force] PATH", "write the camera (eye, target, up, projection)", parseCameraSave},
+    {"camera", "[pane=N] eye=X,Y,Z target=X,Y,Z up=X,Y,Z ortho=H|fov=DEG [near=N far=F]",
+     "set the camera as it is (a saved session's): world RAS mm, the orthographic half height or the "
+     "perspective field of view; pane 0 or 1 of an unlinked split (default: the active pane)",
+     parseCamera},
+    {"session-save", "[--force] PATH",
+     "write a view script that brings the viewer back to what is on screen (`view --script PATH`)",
+     parseSessionSave},
+    {"drop", "PATH [PATH ...]",
+     "files dropped on the window, each opened by its kind (a volume as data, a tractogram as tracts, a "
+     "mesh as the surface); quotes around a path with spaces",
+     parseDrop},
+    {"browse", "TARGET [FOLDER]",
+     "the file dialog for TARGET (data, tensor, background, tracts, mesh, screenshot, camera, movie, "
+     "tracts-save, session-save): the desktop's, or the in-window browser where no portal runs",
+     parseBrowse},
+    {"browser-pick", "NAME",
+     "in the in-window browser: enter folder NAME (.. the parent) or choose file NAME, as a double click",
+     parseBrowserPick},
+    {"ui-scale", "F|auto", "the panels', fonts' and furniture's scale (auto: the monitor's)", parseUiScale},
+    {"help", "on|off", "the mouse and keyboard bindings over the scene (F1 or ?)", parseHelp},
     {"camera-load", "PATH", "read a camera file", parseCameraLoad},
     {"probe", "X Y", "print the voxel under scene pixel (X, Y) (y down) to stderr", parseProbe},
     {"wait", "FRAMES", "render FRAMES more frames", parseWait},
@@ -699,6 +894,10 @@ ViewScript parseViewScript(const std::string& text, const std::string& file) {
     if (line.empty()) continue;
     try {
       script.steps.push_back(parseLine(line, n));
+      if (words(line)[0] == "session") {
+        if (script.steps.size() != 1) throw LineError{"session must be the script's first command"};
+        script.session = true;
+      }
     } catch (const LineError& e) {
       throw UsageError(file + ":" + std::to_string(n) + ": " + e.message);
     }
@@ -718,6 +917,8 @@ ViewScript loadViewScript(const std::string& path) {
 void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force) {
   inputs.push_back(script.file);
   for (const ScriptStep& step : script.steps) {
+    if (const auto* drop = std::get_if<ScriptDrop>(&step.command))
+      inputs.insert(inputs.end(), drop->paths.begin(), drop->paths.end());
     const auto* a = std::get_if<session::Action>(&step.command);
     if (!a) continue;
     if (const auto* load = std::get_if<session::LoadFile>(a)) {
@@ -726,6 +927,8 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
       inputs.push_back(io::gradientSibling(load->path, ".bvec"));
     } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
       inputs.push_back(tracts->path);
+    } else if (const auto* camera = std::get_if<session::LoadCamera>(a)) {
+      inputs.push_back(camera->path);
     } else if (const auto* bg = std::get_if<session::SetBackground>(a)) {
       inputs.push_back(bg->what);
     } else if (const auto* surface = std::get_if<session::SetSurfaceSpec>(a)) {
@@ -741,9 +944,18 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
     const auto* camera = a ? std::get_if<session::SaveCamera>(a) : nullptr;
     const auto* tracts = a ? std::get_if<session::SaveTracts>(a) : nullptr;
     const auto* movie = a ? std::get_if<session::RecordMovie>(a) : nullptr;
-    if (!shot && !camera && !tracts && !movie) continue;
-    const std::string& path = shot ? shot->path : camera ? camera->path : tracts ? tracts->path : movie->path;
-    const bool lineForce = shot ? shot->force : camera ? camera->force : tracts ? tracts->force : movie->force;
+    const auto* saved = a ? std::get_if<session::SaveSession>(a) : nullptr;
+    if (!shot && !camera && !tracts && !movie && !saved) continue;
+    const std::string& path = shot     ? shot->path
+                              : camera ? camera->path
+                              : tracts ? tracts->path
+                              : movie  ? movie->path
+                                       : saved->path;
+    const bool lineForce = shot     ? shot->force
+                           : camera ? camera->force
+                           : tracts ? tracts->force
+                           : movie  ? movie->force
+                                    : saved->force;
     const std::string where = script.file + ":" + std::to_string(step.line) + ": ";
     try {
       io::refuseOverwritingInput(path, inputs);
@@ -755,6 +967,35 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
       throw InputError(where + path +
                        " exists (use --force to overwrite it: `view --force`, or --force before "
                        "the path on this line)");
+  }
+}
+
+void checkSessionInputs(const ViewScript& script) {
+  if (!script.session) return;
+  for (const ScriptStep& step : script.steps) {
+    const auto* a = std::get_if<session::Action>(&step.command);
+    if (!a) continue;
+    std::vector<std::string> files;
+    if (const auto* load = std::get_if<session::LoadFile>(a)) {
+      files = {load->path, load->tensor};
+    } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
+      files = {tracts->path};
+    } else if (const auto* camera = std::get_if<session::LoadCamera>(a)) {
+      files = {camera->path};
+    } else if (const auto* bg = std::get_if<session::SetBackground>(a)) {
+      if (bg->what != "fa" && bg->what != "md" && bg->what != "none") files = {bg->what};
+    } else if (const auto* surface = std::get_if<session::SetSurfaceSpec>(a)) {
+      const session::SurfaceSpec spec = session::parseSurfaceSpec(surface->text);
+      files.push_back(spec.file);
+      for (const auto& part : spec.parts)
+        files.push_back(part.file);
+    }
+    for (const std::string& f : files) {
+      std::error_code ec;
+      if (!f.empty() && !std::filesystem::exists(f, ec) && io::dtifitSetOf(f).empty())
+        throw InputError(script.file + ":" + std::to_string(step.line) + ": " + f +
+                         ": no such file (the session names it; nothing was opened)");
+    }
   }
 }
 

@@ -31,6 +31,14 @@ struct ScriptClick {
 struct ScriptResize {
   int width, height; // window pixels
 };
+// In the in-window file browser: what a double click on entry `name` does (ui/panels/panels.h pickInBrowser).
+struct ScriptBrowserPick {
+  std::string name;
+};
+// Files dropped on the window together: the window's drop handler, as the GLFW drop callback calls it.
+struct ScriptDrop {
+  std::vector<std::string> paths;
+};
 struct ScriptSetParam {
   std::string name; // the option's name in render/fabric_options.h
   double value;     // on/off -> 1/0, medical/engineering -> 0/1
@@ -38,12 +46,15 @@ struct ScriptSetParam {
 
 struct ScriptStep {
   int line = 0; // 1-based line in the file
-  std::variant<session::Action, session::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize, ScriptClick> command;
+  std::variant<session::Action, session::Key, ScriptWait, ScriptSetParam, ScriptProbe, ScriptResize,
+               ScriptClick, ScriptBrowserPick, ScriptDrop>
+      command;
 };
 
 struct ViewScript {
   std::string file;
   std::vector<ScriptStep> steps;
+  bool session = false; // starts with `session 1` (a saved session: checkSessionInputs)
 };
 
 struct ScriptLine; // one line split into words (view_script.cpp)
@@ -69,6 +80,10 @@ ViewScript loadViewScript(const std::string& path);
 // refused whatever --force says; an existing file is refused unless its line or `force` says --force.
 // Throws InputError "FILE:LINE: ...". The viewer checks again when it writes (files may appear meanwhile).
 void checkScriptOutputs(const ViewScript& script, std::vector<std::string> inputs, bool force);
+// A saved session (its first line `session 1`) names files that must all exist: throws InputError
+// "FILE:LINE: PATH: no such file ..." for the first that does not. Other scripts pass (their loads fail,
+// when they do, in the window, line by line).
+void checkSessionInputs(const ViewScript& script);
 // Applies a `set` line to fabric parameters (values already validated by the parser).
 void applyScriptParam(render::FabricParams& params, const ScriptSetParam& param);
 

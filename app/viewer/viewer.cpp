@@ -386,13 +386,18 @@ void ViewerScene::resolveBackground() {
 namespace {
 
 // A pane of the scene as a canvas: offset to its rectangle and clipped to it.
+// A pane of the scene canvas, magnified `scale` times: the furniture is laid out on a canvas 1/scale the
+// pane's size and each of its pixels covers scale x scale scene pixels (the UI scale).
 class PaneCanvas final : public render::Canvas {
 public:
-  PaneCanvas(render::Canvas& scene, const std::array<int, 4>& rect) : scene_(scene), r_(rect) {}
-  int width() const override { return r_[2]; }
-  int height() const override { return r_[3]; }
+  PaneCanvas(render::Canvas& scene, const std::array<int, 4>& rect, double scale)
+      : scene_(scene), r_(rect), s_(scale) {}
+  int width() const override { return static_cast<int>(r_[2] / s_); }
+  int height() const override { return static_cast<int>(r_[3] / s_); }
   void fill(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) override {
-    const int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, r_[2]), y1 = std::min(y + h, r_[3]);
+    const auto at = [&](int v) { return static_cast<int>(std::floor(v * s_)); };
+    const int x0 = std::max(at(x), 0), y0 = std::max(at(y), 0), x1 = std::min(at(x + w), r_[2]),
+              y1 = std::min(at(y + h), r_[3]);
     if (x0 < x1 && y0 < y1) scene_.fill(r_[0] + x0, r_[1] + y0, x1 - x0, y1 - y0, r, g, b);
   }
   void blend(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b,
@@ -404,11 +409,12 @@ public:
 private:
   render::Canvas& scene_;
   std::array<int, 4> r_;
+  double s_;
 };
 
 } // namespace
 
-void ViewerScene::drawFurniture(render::Canvas& scene) const {
+void ViewerScene::drawFurniture(render::Canvas& scene, double scale) const {
   const session::ViewerState& st = state();
   if (!session_.mesh() || !st.hasData) return;
   if (colourBar_.name != st.tractColourBy) colourBar_.name = st.tractColourBy;
@@ -416,13 +422,13 @@ void ViewerScene::drawFurniture(render::Canvas& scene) const {
   colourBar_.hi = st.tractColourHi;
   constexpr int kFrayScale = 1;
   auto pane = [&](const std::array<int, 4>& rect, const render::Camera& cam, bool tracts, bool fray) {
-    PaneCanvas c(scene, rect);
+    PaneCanvas c(scene, rect, scale);
     render::FigureFurniture what;
     what.letters = false; // the window labels every pane's edges itself
     what.legend = st.legend;
     what.scaleBar = st.scaleBar && cam.orthographic;
     if (fray) what.bottomLeftReserved = render::frayLegendHeight(kFrayScale);
-    render::drawFurniture(c, cam, mmPerPixel(cam, rect[3]), what);
+    render::drawFurniture(c, cam, mmPerPixel(cam, rect[3]) * scale, what);
     if (tracts && st.colourBar && !st.tractColourBy.empty()) render::drawColourBar(c, colourBar_);
     if (fray) render::drawFrayLegend(c, static_cast<float>(st.fabric.fray), kFrayScale);
   };
@@ -875,6 +881,10 @@ bool ViewerScene::applyView(const session::Action& action) {
           if (auto forced = session_.answerOverwrite(a.overwrite);
               forced && !std::holds_alternative<session::Screenshot>(*forced))
             apply(*forced);
+        } else if constexpr (std::is_same_v<T, session::SetCamera>) {
+          cameraFor(a.pane) = a.camera;
+          if (state.linked) cameras_[1] = cameras_[0];
+          cameraChanged();
         } else if constexpr (std::is_same_v<T, session::LoadCamera>) {
           cameraFor(-1) = readCameraFile(a.path);
           if (state.linked) cameras_[1] = cameras_[0];

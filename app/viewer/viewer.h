@@ -70,8 +70,9 @@ public:
   // The figure furniture over the panes as `render` draws it on a still (session::SetFurniture: the DEC
   // orientation legend, the scale bar, the tract value's colour bar where tracts are coloured by a value)
   // and the uncertainty legend, on a canvas of the scene area (scene pixels, y down). The window draws it
-  // over the panes; screenshot-scene and layoutImage() carry it.
-  void drawFurniture(render::Canvas& scene) const;
+  // over the panes, `scale` times larger (the UI scale); screenshot-scene and layoutImage() carry it at
+  // scale 1.
+  void drawFurniture(render::Canvas& scene, double scale = 1) const;
   // The background on screen (session::SetBackground resolved for the data; null: none).
   const session::Background* background() const { return background_ ? &*background_ : nullptr; }
   // Renders every pane again on the next render() as if the camera had moved (benchmarks).
@@ -80,6 +81,9 @@ public:
   render::FabricRenderer& paneRenderer(int p) { return upToDate(renderers_[p], p); }
 
   session::ViewerSession& session() { return session_; }
+  const session::ViewerSession& session() const { return session_; }
+  // The background asked for (session::SetBackground as given; empty what: the default).
+  const session::SetBackground& backgroundAsked() const { return backgroundAsked_; }
   const session::ViewerState& state() const { return session_.state(); }
   // No load, extraction, tract loading, selection, tracking, agreement, save or recording queued or running.
   bool settled() const { return session_.settled() && !recording_; }

@@ -4,22 +4,28 @@
 // blitted under the panels each frame.
 #include "app/viewer/window.h"
 
+#include "app/viewer/portal_dialog.h"
+#include "app/viewer/session_file.h"
 #include "app/viewer/viewer.h"
 #include "app/viewer/viewer_orientation.h"
-#include "io/model/error.h"
 #include "io/formats/png_io.h"
+#include "io/model/error.h"
 #include "render/gl_context.h"
 #include "ui/panels/panels.h"
+#include "ui/session/file_kinds.h"
 #include "ui/session/orientation_labels.h"
 #include "ui/session/surface_spec.h"
+#include "ui/session/viewer_config.h"
 
 #include <GLFW/glfw3.h>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <csignal>
 #include <cstring>
 #include <epoxy/gl.h>
+#include <filesystem>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
@@ -39,7 +45,23 @@ struct InputQueue {
   std::array<int, kMaxKeys> mods{};
   std::size_t keyCount = 0;
   double scroll = 0;
+  int helpChars = 0;                // '?' typed
+  std::vector<std::string> dropped; // files dropped on the window since the last frame
 };
+
+// The text font of the panels (the figures' font too), from Debian's fonts-dejavu-core.
+constexpr const char* kFontFile = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+void onChar(GLFWwindow* w, unsigned int codepoint) {
+  if (auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w)); q && codepoint == '?') ++q->helpChars;
+}
+
+void onDrop(GLFWwindow* w, int count, const char** paths) {
+  auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w));
+  if (!q) return;
+  for (int i = 0; i < count; ++i)
+    if (paths[i]) q->dropped.emplace_back(paths[i]);
+}
 
 void onKey(GLFWwindow* w, int key, int, int action, int mods) {
   auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w));
@@ -71,6 +93,8 @@ std::optional<session::Key> mapKey(int key) {
     return session::Key::S;
   case GLFW_KEY_R:
     return session::Key::R;
+  case GLFW_KEY_F1:
+    return session::Key::Help;
   default:
     return std::nullopt;
   }
@@ -91,6 +115,13 @@ Image readFramebuffer(int x, int y, int w, int h) {
   return img;
 }
 
+// SIGINT or SIGTERM asked the window to close: it ends its loop (within the idle wait's 0.25 s) and the
+// remembered settings are written as on a normal close.
+volatile std::sig_atomic_t closeSignal = 0;
+void onCloseSignal(int signal) {
+  closeSignal = signal;
+}
+
 std::string glfwErrorText;
 void onGlfwError(int code, const char* text) {
   glfwErrorText = "GLFW error " + std::to_string(code) + ": " + text;
@@ -106,8 +137,10 @@ struct GlfwSession {
 
 class ViewerWindow {
 public:
-  ViewerWindow(int width, int height, const std::string& surface, const ViewScript* script)
+  ViewerWindow(int width, int height, const std::string& surface, const ViewScript* script,
+               std::optional<double> uiScale)
       : script_(script) {
+    explicitScale_ = uiScale;
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -121,15 +154,24 @@ public:
     // Installed before ImGui's, which chain to them.
     glfwSetKeyCallback(window_, onKey);
     glfwSetScrollCallback(window_, onScroll);
+    glfwSetCharCallback(window_, onChar);
+    glfwSetDropCallback(window_, onDrop); // ImGui's backend installs none: nothing to chain
+    input_.dropped.reserve(16);
     render::enableDebugOutput();
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr; // the layout is fixed; no imgui.ini next to the user's files
     ImGui::StyleColorsDark();
+    baseStyle_ = ImGui::GetStyle();
     ImGui_ImplGlfw_InitForOpenGL(window_, true);
     ImGui_ImplOpenGL3_Init("#version 450 core");
+    ImGui_ImplOpenGL3_CreateDeviceObjects(); // now, so a new font atlas replaces its texture (applyUiScale)
     scene_ = std::make_unique<ViewerScene>(surface);
+    applyUiScale(wantedScale());
+    // A script's dialogs are the in-window browser (the same on every machine); a person gets the
+    // desktop's own where a portal runs.
+    if (!script) portal_ = PortalDialog::connect();
     // A script cannot answer the overwrite prompt: its outputs fail instead unless they say --force.
     scene_->setAskBeforeOverwrite(script == nullptr);
     if (script) scene_->addInput(script->file);
@@ -150,6 +192,24 @@ public:
   }
 
   ViewerScene& scene() { return *scene_; }
+  ui::PanelBuffers& buffers() { return buffers_; }
+
+  // The remembered settings as they are now (ui/session/viewer_config.h).
+  session::ViewerConfig config() const {
+    session::ViewerConfig c;
+    int w = 0, h = 0;
+    glfwGetWindowSize(window_, &w, &h);
+    if (w >= 320 && h >= 240) {
+      c.width = w;
+      c.height = h;
+    }
+    c.uiScale = explicitScale_;
+    c.lastFolder = buffers_.browser.lastFolder;
+    c.recentFolders = buffers_.browser.recentFolders;
+    c.recentFiles = scene_->state().recent;
+    c.panelsOpen = buffers_.panelsOpen;
+    return c;
+  }
   void setOpenPath(const std::string& p) {
     std::snprintf(buffers_.openPath.data(), buffers_.openPath.size(), "%s", p.c_str());
   }
@@ -159,7 +219,7 @@ public:
 
   // Runs until the window closes or `quit`; returns the exit code.
   int run() {
-    while (!glfwWindowShouldClose(window_) && !quit_) {
+    while (!glfwWindowShouldClose(window_) && !quit_ && !closeSignal) {
       const bool idle = scene_->converged() && scene_->settled() && !dragging_ && !runningScript();
       if (idle)
         glfwWaitEventsTimeout(0.25);
@@ -171,6 +231,7 @@ public:
       scene_->setFrameMs(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
+    if (closeSignal) return 128 + closeSignal; // as a shell reports a process ended by the signal
     return scriptFailed_ ? (scene_->glFailed() ? 3 : 2) : 0;
   }
 
@@ -178,6 +239,7 @@ private:
   bool runningScript() const { return script_ && next_ < script_->steps.size(); }
 
   void frame() {
+    if (const double want = wantedScale(); want != uiScale_) applyUiScale(want); // before the layout is used
     int fw = 1, fh = 1, ww = 1, wh = 1;
     glfwGetFramebufferSize(window_, &fw, &fh);
     glfwGetWindowSize(window_, &ww, &wh);
@@ -200,6 +262,7 @@ private:
     ImGui::NewFrame();
     actions_.clear();
     ui::drawPanels(scene_->state(), buffers_, layout_, actions_);
+    takePortalAnswer();
     orientationCheck_.frame(*scene_, rect);
     drawOrientationLabels();
     ImGui::Render();
@@ -248,10 +311,113 @@ private:
       if (scene_->mayWrite(s->path, s->force, a)) pendingShot_ = *s;
     } else if (const auto* c = std::get_if<session::ConfirmOverwrite>(&a)) {
       if (auto forced = scene_->answerOverwrite(c->overwrite)) perform(*forced);
-    } else if (std::holds_alternative<session::Quit>(a))
+    } else if (const auto* b = std::get_if<session::Browse>(&a)) {
+      browse(*b);
+    } else if (const auto* save = std::get_if<session::SaveSession>(&a)) {
+      if (scene_->mayWrite(save->path, save->force, a)) saveSession(save->path);
+    } else if (const auto* ui = std::get_if<session::SetUiScale>(&a)) {
+      explicitScale_ = ui->scale > 0 ? std::optional<double>(std::clamp(ui->scale, 0.5, 4.0)) : std::nullopt;
+    } else if (std::holds_alternative<session::Quit>(a)) {
       quit_ = true;
-    else
+    } else {
       scene_->apply(a);
+    }
+  }
+
+  // The panels' scale: the one chosen (--ui-scale, View panel, script), else the monitor's content scale.
+  double wantedScale() const {
+    if (explicitScale_) return *explicitScale_;
+    float x = 1, y = 1;
+    glfwGetWindowContentScale(window_, &x, &y);
+    return std::clamp(std::isfinite(x) && x > 0 ? static_cast<double>(x) : 1.0, 0.5, 4.0);
+  }
+
+  // Sizes the panels for `scale`: DejaVu Sans rasterised at the scaled size in a new font atlas (its texture
+  // replaced in the OpenGL3 backend), the style's sizes scaled from the unscaled style, and the side and
+  // status bars. Runs between frames, only when the scale changes.
+  void applyUiScale(double scale) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.Fonts->Clear();
+    const float pixels = std::round(ui::kBaseFontPixels * static_cast<float>(scale));
+    std::error_code ec;
+    if (std::filesystem::exists(kFontFile, ec)) {
+      ImFontConfig font;
+      font.OversampleH = 2;
+      font.OversampleV = 1;
+      io.Fonts->AddFontFromFileTTF(kFontFile, pixels, &font);
+    } else { // without fonts-dejavu-core: ImGui's own bitmap font, at its size times the scale
+      ImFontConfig font;
+      font.SizePixels = std::round(13.0f * static_cast<float>(scale));
+      io.Fonts->AddFontDefault(&font);
+    }
+    ImGui_ImplOpenGL3_DestroyFontsTexture();
+    ImGui_ImplOpenGL3_CreateFontsTexture();
+    ImGui::GetStyle() = baseStyle_;
+    ImGui::GetStyle().ScaleAllSizes(static_cast<float>(scale));
+    layout_.setScale(static_cast<float>(scale));
+    uiScale_ = scale;
+    session::ViewerState& state = scene_->session().state();
+    state.uiScale = scale;
+    state.uiScaleAuto = !explicitScale_;
+  }
+
+  // A file dialog: the desktop portal's where one runs (its answer arrives in takePortalAnswer), else the
+  // in-window browser.
+  void browse(const session::Browse& b) {
+    const std::string folder = b.folder.empty() ? buffers_.browser.lastFolder : b.folder;
+    if (portal_ && portal_->ask(b.target, folder)) return;
+    ui::openFileBrowser(buffers_.browser, b.target, folder);
+  }
+
+  void takePortalAnswer() {
+    if (!portal_) return;
+    portal_->iterate();
+    auto answer = portal_->take();
+    if (!answer) return;
+    if (!answer->error.empty()) { // the portal failed: the in-window browser instead
+      std::cerr << "warning: the desktop's file dialog failed (" << answer->error
+                << "); using the viewer's\n";
+      ui::openFileBrowser(buffers_.browser, answer->target, buffers_.browser.lastFolder);
+    } else if (!answer->path.empty()) {
+      ui::rememberFolder(buffers_.browser, answer->path);
+      ui::choosePath(buffers_, answer->target, answer->path, actions_);
+    }
+  }
+
+  // Files dropped on the window (the GLFW drop callback's list, or a script's drop line): each opens by its
+  // kind; a file that cannot be opened opens none of them (the error modal names it).
+  void drop(const std::vector<std::string>& paths) {
+    try {
+      const session::ActionList actions = session::dropActions(paths);
+      for (const auto& a : actions) {
+        if (const auto* load = std::get_if<session::LoadFile>(&a)) {
+          setOpenPath(load->path);
+          std::cerr << "drop: " << load->path << " opens as data\n";
+        } else if (const auto* tracts = std::get_if<session::LoadTracts>(&a)) {
+          std::snprintf(buffers_.tractPath.data(), buffers_.tractPath.size(), "%s", tracts->path.c_str());
+          std::cerr << "drop: " << tracts->path << " opens as tracts\n";
+        } else if (const auto* mesh = std::get_if<session::SetSurfaceSpec>(&a)) {
+          std::cerr << "drop: " << mesh->text.substr(5) << " opens as the surface\n";
+        }
+        perform(a);
+      }
+    } catch (...) {
+      scene_->setError("while opening the dropped files: " + currentExceptionMessage());
+    }
+  }
+
+  void saveSession(const std::string& path) {
+    try {
+      int w = 0, h = 0;
+      glfwGetWindowSize(window_, &w, &h);
+      std::vector<std::string> notes;
+      writeSessionFile(path, sessionScript(*scene_, w, h, explicitScale_, &notes));
+      std::cerr << "wrote " << path << " (session)\n";
+      for (const auto& n : notes)
+        std::cerr << "note: the session does not restore " << n << "\n";
+    } catch (...) {
+      scene_->setError("while saving the session " + path + ": " + currentExceptionMessage());
+    }
   }
 
   bool inScene(double x, double y) const {
@@ -308,6 +474,12 @@ private:
         scene_->applyKey(*k);
     }
     input_.keyCount = 0;
+    for (; input_.helpChars > 0; --input_.helpChars)
+      if (!io.WantCaptureKeyboard) scene_->applyKey(session::Key::Help);
+    if (!input_.dropped.empty()) {
+      drop(input_.dropped);
+      input_.dropped.clear();
+    }
     if ((x != probeX_ || y != probeY_) && inScene(x, y)) {
       scene_->probe(x * scale_ - sceneX_, y * scale_);
       probeX_ = x;
@@ -345,10 +517,10 @@ private:
     const struct {
       const char* text;
       ImVec2 at;
-    } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - 16, my - 7)},
-                   {session::anatomicalLabel(-right), ImVec2(x0 + 8, my - 7)},
-                   {session::anatomicalLabel(up), ImVec2(mx - 4, y0 + 6)},
-                   {session::anatomicalLabel(-up), ImVec2(mx - 4, y1 - 20)}};
+    } labels[4] = {{session::anatomicalLabel(right), ImVec2(x1 - ui::em(16), my - ui::em(7))},
+                   {session::anatomicalLabel(-right), ImVec2(x0 + ui::em(8), my - ui::em(7))},
+                   {session::anatomicalLabel(up), ImVec2(mx - ui::em(4), y0 + ui::em(6))},
+                   {session::anatomicalLabel(-up), ImVec2(mx - ui::em(4), y1 - ui::em(20))}};
     for (const auto& l : labels) {
       dl->AddText(ImVec2(l.at.x + 1, l.at.y + 1), IM_COL32(0, 0, 0, 255), l.text);
       dl->AddText(l.at, IM_COL32(255, 230, 90, 255), l.text);
@@ -359,7 +531,7 @@ private:
     if (!scene_->state().hasData) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
     ImGuiCanvas canvas(dl, sceneX_, sceneW_, sceneH_, scale_);
-    scene_->drawFurniture(canvas);
+    scene_->drawFurniture(canvas, uiScale_); // the furniture over the window follows the UI scale
     const float inv = static_cast<float>(1.0 / scale_);
     for (int p = 0; p < scene_->paneCount(); ++p) {
       const auto r = scene_->paneRect(p);
@@ -485,6 +657,18 @@ private:
         else
           std::fprintf(stderr, "surface at %.2f %.2f %.2f mm, %s\n", p.world.x, p.world.y, p.world.z,
                        p.text.c_str());
+      } else if (const auto* pick = std::get_if<ScriptBrowserPick>(&step.command)) {
+        const bool open = buffers_.browser.open;
+        if (!ui::pickInBrowser(buffers_, pick->name, actions_))
+          scene_->setError("browser-pick " + pick->name + ": " +
+                           (open ? buffers_.browser.pickError : std::string("the file browser is not open")));
+        for (const auto& a : actions_)
+          perform(a);
+        actions_.clear();
+        return; // the browser's new folder or the chosen file's work shows next frame
+      } else if (const auto* dropped = std::get_if<ScriptDrop>(&step.command)) {
+        drop(dropped->paths);
+        return;
       } else if (const auto* param = std::get_if<ScriptSetParam>(&step.command)) {
         render::FabricParams p = scene_->state().fabric;
         applyScriptParam(p, *param);
@@ -501,6 +685,10 @@ private:
   ViewerOrientation orientationCheck_; // the check's banner over the scene
   ui::PanelBuffers buffers_;
   ui::PanelLayout layout_;
+  ImGuiStyle baseStyle_;                 // the style at scale 1
+  std::optional<double> explicitScale_;  // --ui-scale, the View panel or a script; none: the monitor's
+  double uiScale_ = 0;                   // the scale the fonts and style were built for
+  std::unique_ptr<PortalDialog> portal_; // the desktop's file dialog; null: none runs (or a script)
   session::ActionList actions_;
   std::optional<session::Screenshot> pendingShot_;
   bool quit_ = false;
@@ -521,8 +709,30 @@ private:
 } // namespace
 
 int runViewerWindow(const ViewerWindowOptions& o) {
+  // The remembered settings: a flag given wins over them.
+  session::ViewerConfig remembered;
+  if (!o.configPath.empty()) {
+    std::vector<std::string> warnings;
+    remembered = session::readViewerConfig(o.configPath, &warnings);
+    for (const auto& w : warnings)
+      std::cerr << "warning: viewer settings: " << w << "\n";
+  }
+  const session::StartSettings start = session::mergeConfig(
+      remembered, o.sizeGiven || o.configPath.empty() ? std::optional<int>(o.width) : std::nullopt,
+      o.sizeGiven || o.configPath.empty() ? std::optional<int>(o.height) : std::nullopt, o.uiScale);
+  if (!o.configPath.empty())
+    std::cerr << "settings: " << o.configPath << " (window " << start.width << "x" << start.height << ", UI scale "
+              << (start.uiScale ? std::to_string(*start.uiScale).substr(0, 4) : std::string("of the monitor"))
+              << ")\n";
   GlfwSession glfw;
-  ViewerWindow window(o.width, o.height, o.surface, o.script);
+  ViewerWindow window(start.width, start.height, o.surface, o.script, start.uiScale);
+  closeSignal = 0;
+  const auto previousInt = std::signal(SIGINT, onCloseSignal), previousTerm = std::signal(SIGTERM, onCloseSignal);
+  window.buffers().browser.lastFolder = remembered.lastFolder;
+  window.buffers().browser.recentFolders = remembered.recentFolders;
+  window.buffers().panelsOpen = remembered.panelsOpen;
+  for (auto it = remembered.recentFiles.rbegin(); it != remembered.recentFiles.rend(); ++it)
+    window.scene().addRecent(*it);
   for (auto it = o.inputs.rbegin(); it != o.inputs.rend(); ++it)
     window.scene().addRecent(*it);
   if (o.uncertainty) window.scene().setUncertainty(*o.uncertainty);
@@ -534,7 +744,17 @@ int runViewerWindow(const ViewerWindowOptions& o) {
     window.setTensorPath(o.tensor);
     window.scene().apply(session::LoadFile{o.inputs.front(), o.layout, o.tensor});
   }
-  return window.run();
+  const int code = window.run();
+  std::signal(SIGINT, previousInt);
+  std::signal(SIGTERM, previousTerm);
+  if (!o.configPath.empty()) {
+    try {
+      session::writeViewerConfig(o.configPath, window.config());
+    } catch (const std::exception& e) {
+      std::cerr << "warning: the viewer settings were not saved: " << e.what() << "\n";
+    }
+  }
+  return code;
 }
 
 } // namespace dtf::app

@@ -24,6 +24,11 @@ struct ViewerWindowOptions {
   std::optional<session::UncertaintyMap> uncertainty; // a cone map that frays the threads; read by the caller
   session::SetBackground background;                  // --background, --background-window
   session::SetFurniture furniture;                    // --no-legend, --no-scale-bar, --no-colour-bar
+  bool sizeGiven = false;                             // --size (wins over the remembered size)
+  std::optional<double> uiScale;                      // --ui-scale; none: remembered, else the monitor's
+  // The remembered settings (ui/session/viewer_config.h): read at the start and written at the end when
+  // set; runs with a script and --no-config leave it empty.
+  std::string configPath;
 };
 
 // Opens the window and runs until it closes or the script quits; returns the exit code. Throws GlError when

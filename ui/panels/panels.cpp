@@ -4,12 +4,15 @@
 #include "render/fabric_options.h"
 #include "render/tract_renderer.h"
 #include "surfaces/tracking/tracking_parameters.h"
+#include "ui/session/file_kinds.h"
+#include "ui/session/keymap.h"
 
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <imgui.h>
 
 namespace dtf::ui {
@@ -39,6 +42,34 @@ bool sliderDouble(const char* label, double& v, float lo, float hi, const char* 
 
 void copyPath(std::array<char, 1024>& dst, const std::string& src) {
   std::snprintf(dst.data(), dst.size(), "%s", src.c_str());
+}
+
+// A collapsing header whose open state is kept in PanelBuffers::panelsOpen (and restored from it once).
+bool header(PanelBuffers& b, const char* name, bool defaultOpen) {
+  if (!b.panelsRestored) {
+    if (const auto it = b.panelsOpen.find(name); it != b.panelsOpen.end()) ImGui::SetNextItemOpen(it->second);
+  }
+  const bool open = ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+  if (const auto it = b.panelsOpen.find(name); it != b.panelsOpen.end())
+    it->second = open;
+  else
+    b.panelsOpen.emplace(name, open); // once per header: later frames find it
+  return open;
+}
+
+// The "..." button after a path field: the file dialog for `target`.
+void browseButton(PanelBuffers& b, const char* id, session::FileTarget target, session::ActionList& out) {
+  ImGui::SameLine();
+  ImGui::PushID(id);
+  if (ImGui::Button("...")) out.push_back(session::Browse{target, {}});
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", session::fileTargetTitle(target));
+  ImGui::PopID();
+  probe(b, id);
+}
+
+// The Data panel's Open: the typed (or chosen) path with the panel's layout and tensor.
+void openData(PanelBuffers& b, session::ActionList& out) {
+  out.push_back(session::LoadFile{b.openPath.data(), kLayoutNames[b.layout], b.tensorPath.data()});
 }
 
 constexpr ImGuiWindowFlags kFixed =
@@ -103,6 +134,58 @@ void tractColouringWidgets(const session::ViewerState& s, PanelBuffers& b, sessi
 
 } // namespace
 
+float em(float pixelsAtScale1) {
+  return pixelsAtScale1 * ImGui::GetFontSize() / kBaseFontPixels;
+}
+
+void probeItem(PanelBuffers& b, const char* label) {
+  probe(b, label);
+}
+
+void choosePath(PanelBuffers& b, session::FileTarget target, const std::string& path,
+                session::ActionList& out) {
+  using T = session::FileTarget;
+  switch (target) {
+  case T::Data:
+    copyPath(b.openPath, path);
+    openData(b, out);
+    break;
+  case T::Tensor:
+    copyPath(b.tensorPath, path);
+    break;
+  case T::Background:
+    copyPath(b.backgroundPath, path);
+    out.push_back(session::SetBackground{path, ""});
+    break;
+  case T::Tracts:
+    copyPath(b.tractPath, path);
+    out.push_back(session::LoadTracts{path});
+    break;
+  case T::Mesh:
+    out.push_back(session::SetSurfaceSpec{"mesh=" + path});
+    break;
+  case T::Regions:
+  case T::Session:
+    break; // not opened from the panels
+  case T::Screenshot:
+    copyPath(b.screenshotPath, path);
+    break;
+  case T::Camera:
+    copyPath(b.cameraPath, path);
+    break;
+  case T::Movie:
+    copyPath(b.moviePath, path);
+    break;
+  case T::TractsSave:
+    copyPath(b.tractSavePath, path);
+    break;
+  case T::SessionSave:
+    copyPath(b.sessionPath, path);
+    out.push_back(session::SaveSession{path});
+    break;
+  }
+}
+
 void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]) {
   rect[0] = std::min(layout.sideWidth, width - 1);
   rect[1] = 0;
@@ -111,20 +194,23 @@ void sceneRect(const PanelLayout& layout, float width, float height, float rect[
 }
 
 void dataPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
-  if (!ImGui::CollapsingHeader("Data", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!header(b, "Data", true)) return;
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(80));
   const bool enter =
       ImGui::InputText("##path", b.openPath.data(), b.openPath.size(), ImGuiInputTextFlags_EnterReturnsTrue);
   probe(b, "path");
   ImGui::SameLine();
   const bool open = ImGui::Button("Open");
   probe(b, "Open");
+  browseButton(b, "browse data", session::FileTarget::Data, out);
   ImGui::Combo("layout", &b.layout, kLayoutNames.data(), static_cast<int>(kLayoutNames.size()));
   probe(b, "layout");
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(s.hasData ? 175 : 110));
   ImGui::InputText("tensor", b.tensorPath.data(), b.tensorPath.size());
   probe(b, "tensor");
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("fibre sets: a tensor volume on the same grid (FA)");
-  if ((enter || open) && b.openPath[0] != '\0')
-    out.push_back(session::LoadFile{b.openPath.data(), kLayoutNames[b.layout], b.tensorPath.data()});
+  browseButton(b, "browse tensor", session::FileTarget::Tensor, out);
+  if ((enter || open) && b.openPath[0] != '\0') openData(b, out);
   if (s.hasData) {
     ImGui::SameLine();
     if (ImGui::Button("Reload"))
@@ -158,7 +244,7 @@ void dataPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
 }
 
 void surfacePanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
-  if (!ImGui::CollapsingHeader("Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!header(b, "Surface", true)) return;
   ImGui::BeginDisabled(!s.hasData);
   static const char* const kinds[] = {"FA isosurface",  "axial slice",   "coronal slice",
                                       "sagittal slice", "fibre surface", "other (from a spec)"};
@@ -166,6 +252,9 @@ void surfacePanel(const session::ViewerState& s, PanelBuffers& b, session::Actio
   if (ImGui::Combo("type", &kind, kinds, 6) && kind != static_cast<int>(session::SurfaceKind::Other))
     out.push_back(session::SetSurfaceKind{static_cast<session::SurfaceKind>(kind)});
   probe(b, "type");
+  if (ImGui::Button("Open a mesh...")) out.push_back(session::Browse{session::FileTarget::Mesh, {}});
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", session::fileTargetTitle(session::FileTarget::Mesh));
+  probe(b, "browse mesh");
 
   ImGui::BeginDisabled(s.surface != session::SurfaceKind::FaIsosurface);
   double fa = s.faThreshold;
@@ -209,8 +298,8 @@ void surfacePanel(const session::ViewerState& s, PanelBuffers& b, session::Actio
                        s.surfacePending ? " (updating)" : "");
 }
 
-void fabricPanel(const session::ViewerState& s, session::ActionList& out) {
-  if (!ImGui::CollapsingHeader("Fabric", ImGuiTreeNodeFlags_DefaultOpen)) return;
+void fabricPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (!header(b, "Fabric", true)) return;
   render::FabricParams p = s.fabric;
   bool changed = false;
   // The options of render/fabric_options.h that have a control on the panel, with the table's slider ranges.
@@ -250,7 +339,7 @@ void fabricPanel(const session::ViewerState& s, session::ActionList& out) {
 
 void fibresPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
   const session::FibreInfo& f = s.fibres;
-  if (!f.present || !ImGui::CollapsingHeader("Fibres", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!f.present || !header(b, "Fibres", true)) return;
   ImGui::TextWrapped("%s", f.path.c_str());
   ImGui::Text("layout %s, up to %d fibres per voxel", f.layout.c_str(), f.slots);
   if (!f.layoutReason.empty()) ImGui::TextWrapped("(%s)", f.layoutReason.c_str());
@@ -277,14 +366,14 @@ void fibresPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
 }
 
 void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
-  if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!header(b, "View", true)) return;
   using V = render::StandardView;
   static const V views[] = {V::Superior, V::Inferior, V::Anterior, V::Posterior, V::Left,
                             V::Right,    V::Axial,    V::Coronal,  V::Sagittal};
   for (int i = 0; i < 9; ++i) {
     if (i % 3) ImGui::SameLine();
     const char* name = render::viewName(views[i]);
-    if (ImGui::Button(name, ImVec2(88, 0))) out.push_back(session::SetView{views[i]});
+    if (ImGui::Button(name, ImVec2(em(88), 0))) out.push_back(session::SetView{views[i]});
     probe(b, name);
   }
   if (ImGui::RadioButton("radiological", !s.neurological) && s.neurological)
@@ -313,9 +402,11 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   probe(b, "Reset view");
 
   // The grey beneath the fabric and the figure furniture over the panes (as `render` draws them).
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(150));
   ImGui::InputText("##background", b.backgroundPath.data(), b.backgroundPath.size());
   probe(b, "background path");
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("a scalar volume on any grid (a T1, say), fa or md");
+  browseButton(b, "browse background", session::FileTarget::Background, out);
   ImGui::SameLine();
   if (ImGui::Button("Background") && b.backgroundPath[0] != '\0')
     out.push_back(session::SetBackground{b.backgroundPath.data(), ""});
@@ -335,23 +426,26 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   probe(b, "colour bar");
 
   ImGui::InputText("##shot", b.screenshotPath.data(), b.screenshotPath.size());
+  browseButton(b, "browse screenshot", session::FileTarget::Screenshot, out);
   if (ImGui::Button("Screenshot window")) out.push_back(session::Screenshot{b.screenshotPath.data(), false});
   probe(b, "Screenshot window");
   ImGui::SameLine();
   if (ImGui::Button("scene only")) out.push_back(session::Screenshot{b.screenshotPath.data(), true});
   ImGui::InputText("##camera", b.cameraPath.data(), b.cameraPath.size());
+  browseButton(b, "browse camera", session::FileTarget::Camera, out);
   if (ImGui::Button("Save camera")) out.push_back(session::SaveCamera{b.cameraPath.data()});
   ImGui::SameLine();
   if (ImGui::Button("Load camera")) out.push_back(session::LoadCamera{b.cameraPath.data()});
 
   // A movie of the 3D pane as shown (surface, fabric, camera): a turntable, a slice sweep, an FA sweep.
   ImGui::InputText("##movie", b.moviePath.data(), b.moviePath.size());
+  browseButton(b, "browse movie", session::FileTarget::Movie, out);
   static const char* const kinds[] = {"turntable", "axial sweep", "coronal sweep", "sagittal sweep", "FA sweep"};
-  ImGui::SetNextItemWidth(130);
+  ImGui::SetNextItemWidth(em(130));
   ImGui::Combo("##moviekind", &b.movieKind, kinds, 5);
   probe(b, "movie kind");
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(90);
+  ImGui::SetNextItemWidth(em(90));
   ImGui::InputInt("frames", &b.movieFrames);
   b.movieFrames = std::clamp(b.movieFrames, 1, 10000);
   if (b.movieKind == 4) {
@@ -382,17 +476,38 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
     probe(b, "Record");
   }
   if (!s.recordStatus.empty() && !s.recording) ImGui::TextWrapped("%s", s.recordStatus.c_str());
+
+  // The whole view as a view script (`view --script FILE` brings it back).
+  ImGui::InputText("##session", b.sessionPath.data(), b.sessionPath.size());
+  probe(b, "session path");
+  browseButton(b, "browse session", session::FileTarget::SessionSave, out);
+  if (ImGui::Button("Save session") && b.sessionPath[0] != '\0')
+    out.push_back(session::SaveSession{b.sessionPath.data()});
+  probe(b, "Save session");
+
+  // The panels' and fonts' scale: the monitor's, or one chosen here (applied when the slider is let go).
+  bool automatic = s.uiScaleAuto;
+  if (ImGui::Checkbox("UI scale from the monitor", &automatic) && automatic)
+    out.push_back(session::SetUiScale{0});
+  probe(b, "UI scale auto");
+  float scale = static_cast<float>(s.uiScale);
+  ImGui::SliderFloat("UI scale", &scale, 0.5f, 3.0f, "%.2f");
+  probe(b, "UI scale");
+  if (ImGui::IsItemDeactivatedAfterEdit()) out.push_back(session::SetUiScale{scale});
+  ImGui::TextDisabled("F1 or ?: mouse and keys");
 }
 
 void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
-  const bool open = ImGui::CollapsingHeader("Tracts");
+  const bool open = header(b, "Tracts", false);
   probe(b, "Tracts");
   if (!open) return;
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(120));
   const bool enter = ImGui::InputText("##tracts", b.tractPath.data(), b.tractPath.size(),
                                       ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
   const bool load = ImGui::Button("Load tracts");
   probe(b, "Load tracts");
+  browseButton(b, "browse tracts", session::FileTarget::Tracts, out);
   if ((enter || load) && b.tractPath[0] != '\0') out.push_back(session::LoadTracts{b.tractPath.data()});
   if (s.tractsLoading) ImGui::TextDisabled("loading...");
   if (s.tractPath.empty()) {
@@ -433,7 +548,9 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
       ImGui::TextDisabled("drawing level %d (every %d-th point), %.0f%% of the lines", s.tractsLevel,
                           1 << s.tractsLevel, 100.0 * s.tractsLevelFraction);
     tractColouringWidgets(s, b, out);
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(80));
     ImGui::InputText("##savetracts", b.tractSavePath.data(), b.tractSavePath.size());
+    browseButton(b, "browse tracts save", session::FileTarget::TractsSave, out);
     ImGui::SameLine();
     if (ImGui::Button("Save") && b.tractSavePath[0] != '\0')
       out.push_back(session::SaveTracts{b.tractSavePath.data()});
@@ -516,10 +633,10 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
       ImGui::TextDisabled("computing...");
     }
     if (s.hasAgreement) {
-      ImGui::PlotHistogram("##angles", s.agreementHistogram.data(),
-                           static_cast<int>(s.agreementHistogram.size()), 0, "tract-fabric angle, 0-90 deg",
-                           0.0f, FLT_MAX,
-                           ImVec2(ImGui::GetContentRegionAvail().x, 80)); // a negative width draws nothing
+      ImGui::PlotHistogram(
+          "##angles", s.agreementHistogram.data(), static_cast<int>(s.agreementHistogram.size()), 0,
+          "tract-fabric angle, 0-90 deg", 0.0f, FLT_MAX,
+          ImVec2(ImGui::GetContentRegionAvail().x, em(80))); // a negative width draws nothing
       probe(b, "agreement histogram");
       if (s.agreementPoints == 0)
         ImGui::TextWrapped("no tract point could be compared (%zu within %.1f mm, %zu skipped)",
@@ -544,13 +661,13 @@ void statusBar(const session::ViewerState& s, const PanelLayout& layout) {
   if (s.busy) {
     // Indeterminate progress: the loader reports stages, not fractions.
     const float phase = static_cast<float>(std::fmod(s.busySeconds, 1.5) / 1.5);
-    ImGui::ProgressBar(phase, ImVec2(120, 0), "");
+    ImGui::ProgressBar(phase, ImVec2(em(120), 0), "");
     ImGui::SameLine();
     ImGui::Text("%s (%.0f s)", s.busyStage.c_str(), s.busySeconds);
     ImGui::SameLine();
   }
   if (s.tracking) { // long work on the tract worker: progress with its own bar
-    ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(120, 0), "");
+    ImGui::ProgressBar(static_cast<float>(s.trackProgress), ImVec2(em(120), 0), "");
     ImGui::SameLine();
     ImGui::Text("tracking: %zu seeds", s.trackSeedsDone);
     ImGui::SameLine();
@@ -565,7 +682,7 @@ void statusBar(const session::ViewerState& s, const PanelLayout& layout) {
       ImGui::SameLine();
       // Tensor and fibres of the voxel (ui/session/viewer_session.h), clipped before the frame time.
       const ImVec2 at = ImGui::GetCursorScreenPos();
-      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - 210.0f), at.y + layout.statusHeight),
+      ImGui::PushClipRect(at, ImVec2(std::max(at.x, io.DisplaySize.x - em(210)), at.y + layout.statusHeight),
                           true);
       ImGui::TextUnformatted(p.text.c_str());
       ImGui::PopClipRect();
@@ -573,7 +690,7 @@ void statusBar(const session::ViewerState& s, const PanelLayout& layout) {
   } else {
     ImGui::TextDisabled("cursor not on the surface");
   }
-  ImGui::SameLine(std::max(ImGui::GetWindowWidth() - 200.0f, ImGui::GetCursorPosX() + 10));
+  ImGui::SameLine(std::max(ImGui::GetWindowWidth() - em(200), ImGui::GetCursorPosX() + em(10)));
   ImGui::Text("%5.1f ms %s", s.frameMs, s.converged ? "still" : "refining");
   ImGui::End();
 }
@@ -584,15 +701,15 @@ void errorModal(const session::ViewerState& s, PanelBuffers& b, session::ActionL
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always,
                           ImVec2(0.5f, 0.5f));
-  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 0),
-                                      ImVec2(std::max(io.DisplaySize.x * 0.9f, 300.0f), FLT_MAX));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(em(300), 0),
+                                      ImVec2(std::max(io.DisplaySize.x * 0.9f, em(300)), FLT_MAX));
   if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     for (std::size_t i = 0; i < s.errorChain.size(); ++i) {
-      if (i) ImGui::Indent(12);
+      if (i) ImGui::Indent(em(12));
       ImGui::TextWrapped("%s", s.errorChain[i].c_str());
     }
-    if (s.errorChain.size() > 1) ImGui::Unindent(12.0f * static_cast<float>(s.errorChain.size() - 1));
-    if (ImGui::Button("OK", ImVec2(120, 0))) {
+    if (s.errorChain.size() > 1) ImGui::Unindent(em(12) * static_cast<float>(s.errorChain.size() - 1));
+    if (ImGui::Button("OK", ImVec2(em(120), 0))) {
       out.push_back(session::DismissError{});
       ImGui::CloseCurrentPopup();
     }
@@ -610,13 +727,13 @@ void overwriteModal(const session::ViewerState& s, PanelBuffers& b, session::Act
                           ImVec2(0.5f, 0.5f));
   if (ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::TextWrapped("%s exists. Replace it?", s.overwritePath.c_str());
-    if (ImGui::Button("Overwrite", ImVec2(120, 0))) {
+    if (ImGui::Button("Overwrite", ImVec2(em(120), 0))) {
       out.push_back(session::ConfirmOverwrite{true});
       ImGui::CloseCurrentPopup();
     }
     probe(b, "Overwrite");
     ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(120, 0))) {
+    if (ImGui::Button("Cancel", ImVec2(em(120), 0))) {
       out.push_back(session::ConfirmOverwrite{false});
       ImGui::CloseCurrentPopup();
     }
@@ -631,18 +748,56 @@ void drawPanels(const session::ViewerState& s, PanelBuffers& b, const PanelLayou
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(layout.sideWidth, std::max(io.DisplaySize.y - layout.statusHeight, 1.0f)));
   ImGui::Begin("dtfabric", nullptr, kFixed);
-  ImGui::PushItemWidth(-120);
+  ImGui::PushItemWidth(-em(120));
   dataPanel(s, b, out);
   surfacePanel(s, b, out);
-  fabricPanel(s, out);
+  fabricPanel(s, b, out);
   fibresPanel(s, b, out);
   viewPanel(s, b, out);
   tractsPanel(s, b, out);
   ImGui::PopItemWidth();
   ImGui::End();
   statusBar(s, layout);
+  b.panelsRestored = true;
+  helpOverlay(s, layout, out);
+  fileBrowserPanel(s, b, out);
   errorModal(s, b, out);
   overwriteModal(s, b, out);
+}
+
+void helpOverlay(const session::ViewerState& s, const PanelLayout& layout, session::ActionList& out) {
+  if (!s.helpShown) return;
+  const ImGuiIO& io = ImGui::GetIO();
+  // Centred over the scene, not the side bar.
+  const float sceneX = std::min(layout.sideWidth, io.DisplaySize.x - 1);
+  ImGui::SetNextWindowPos(
+      ImVec2(sceneX + 0.5f * (io.DisplaySize.x - sceneX), 0.5f * (io.DisplaySize.y - layout.statusHeight)),
+      ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  // As wide as the scene allows (its text wraps), as tall as its rows.
+  ImGui::SetNextWindowSize(
+      ImVec2(std::min(em(620), std::max(io.DisplaySize.x - sceneX - em(20), em(200))), 0), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  bool open = true;
+  if (ImGui::Begin("Mouse and keys (F1 or ? to close)", &open,
+                   ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                       ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing)) {
+    if (ImGui::BeginTable("##bindings", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+      ImGui::TableSetupColumn("input", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+      ImGui::TableSetupColumn("does", ImGuiTableColumnFlags_WidthStretch, 1.2f);
+      for (const session::Binding& binding : session::bindings()) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.9f, 0.35f, 1.0f));
+        ImGui::TextWrapped("%s", binding.input);
+        ImGui::PopStyleColor();
+        ImGui::TableNextColumn();
+        ImGui::TextWrapped("%s", binding.does);
+      }
+      ImGui::EndTable();
+    }
+  }
+  ImGui::End();
+  if (!open) out.push_back(session::ShowHelp{false});
 }
 
 } // namespace dtf::ui

@@ -7,6 +7,7 @@
 // run headless in tests.
 #pragma once
 
+#include "ui/panels/file_browser.h"
 #include "ui/session/actions.h"
 #include "ui/session/viewer_state.h"
 
@@ -40,22 +41,37 @@ struct PanelBuffers {
   int agreementBins = 9;
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
   unsigned fibreSeedSerial = 0; // ViewerState::fibreSeedSerial last copied into fibreFrom/To
+  std::array<char, 1024> sessionPath{}; // Save session: a view script (.dtfview)
+  FileBrowserState browser;             // the in-window file browser
+  // Panel header -> open, as last drawn; set before the first frame to restore them (remembered settings).
+  std::map<std::string, bool> panelsOpen;
+  bool panelsRestored = false; // panelsOpen was applied to the headers
   // Tests set this to learn where widgets are: label -> rectangle centre (window pixels).
   std::map<std::string, std::array<float, 2>>* itemCentres = nullptr;
 };
 
-// Layout of the window: the side bar on the left, the status bar at the bottom, the scene in between.
+// Layout of the window: the side bar on the left, the status bar at the bottom, the scene in between. The
+// sizes are window pixels at the UI scale (kSideWidth, kStatusHeight times the scale).
+inline constexpr float kSideWidth = 300, kStatusHeight = 26;
+// The panels' font size at scale 1, pixels; widget sizes are given for it and scale with the font (em()).
+inline constexpr float kBaseFontPixels = 14;
 struct PanelLayout {
-  float sideWidth = 300;
-  float statusHeight = 26;
+  float sideWidth = kSideWidth;
+  float statusHeight = kStatusHeight;
+  void setScale(float scale) {
+    sideWidth = kSideWidth * scale;
+    statusHeight = kStatusHeight * scale;
+  }
 };
+// A size given for scale 1 at the current font's scale.
+float em(float pixelsAtScale1);
 
 // Scene rectangle (window pixels, y down) left free by the panels for a window of the given size.
 void sceneRect(const PanelLayout& layout, float width, float height, float rect[4]);
 
 void dataPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
 void surfacePanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
-void fabricPanel(const session::ViewerState& state, session::ActionList& out);
+void fabricPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
 // Shown for a fibre set: its file, layout and FA source, the fibre threshold, the populations drawn.
 void fibresPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
 void viewPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
@@ -65,6 +81,23 @@ void errorModal(const session::ViewerState& state, PanelBuffers& buffers, sessio
 // Asks whether to replace the existing file state.overwritePath (a screenshot, camera or tract file the
 // user asked for): ConfirmOverwrite{true} or {false}.
 void overwriteModal(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+
+// The mouse and keyboard bindings (ui/session/keymap.h) over the scene, when state.helpShown.
+void helpOverlay(const session::ViewerState& state, const PanelLayout& layout, session::ActionList& out);
+// The in-window file browser when open (ui/panels/file_browser.h).
+void fileBrowserPanel(const session::ViewerState& state, PanelBuffers& buffers, session::ActionList& out);
+// In the open browser, does what a double click on the entry `name` does: enters a folder ("..": the parent),
+// chooses a file; for an output a new name is chosen in the folder shown. False (with the reason shown in
+// the browser) when there is no such entry or the browser is closed.
+bool pickInBrowser(PanelBuffers& buffers, const std::string& name, session::ActionList& out);
+// The panels' open path for a path chosen in a dialog (the desktop's or the browser): it goes into the
+// target's field and, for an input, appends what the panel's button appends for a typed path (LoadFile with
+// the Data panel's layout and tensor, LoadTracts, SetBackground, a mesh=PATH surface); an output's path is
+// put in its field (Save session also saves).
+void choosePath(PanelBuffers& buffers, session::FileTarget target, const std::string& path,
+                session::ActionList& out);
+// Records the last widget's centre under `label` for tests (PanelBuffers::itemCentres).
+void probeItem(PanelBuffers& buffers, const char* label);
 
 // All of the above for one frame.
 void drawPanels(const session::ViewerState& state, PanelBuffers& buffers, const PanelLayout& layout,

@@ -165,6 +165,21 @@ std::string describe(const Action& action) {
         else if constexpr (std::is_same_v<T, ComputeAgreement>) {
           std::snprintf(buf, sizeof buf, "ComputeAgreement near=%g bins=%d", a.nearMm, a.bins);
           return buf;
+        } else if constexpr (std::is_same_v<T, Browse>)
+          return std::string("Browse ") + std::to_string(static_cast<int>(a.target)) +
+                 (a.folder.empty() ? "" : " " + a.folder);
+        else if constexpr (std::is_same_v<T, SetCamera>) {
+          std::snprintf(buf, sizeof buf, "SetCamera eye %g %g %g target %g %g %g pane %d", a.camera.eye.x,
+                        a.camera.eye.y, a.camera.eye.z, a.camera.target.x, a.camera.target.y,
+                        a.camera.target.z, a.pane);
+          return buf;
+        } else if constexpr (std::is_same_v<T, SaveSession>)
+          return "SaveSession " + a.path + (a.force ? " (force)" : "");
+        else if constexpr (std::is_same_v<T, ShowHelp>)
+          return std::string("ShowHelp ") + (a.on ? (*a.on ? "on" : "off") : "toggle");
+        else if constexpr (std::is_same_v<T, SetUiScale>) {
+          std::snprintf(buf, sizeof buf, "SetUiScale %g", a.scale);
+          return buf;
         } else if constexpr (std::is_same_v<T, DismissError>)
           return "DismissError";
         else if constexpr (std::is_same_v<T, ConfirmOverwrite>)

@@ -189,6 +189,48 @@ struct ComputeAgreement {
   double nearMm = 2.0;
   int bins = 9;
 };
+// What a file dialog picks a path for (ui/session/file_kinds.h): the panels' inputs and outputs.
+enum class FileTarget {
+  // inputs
+  Data,
+  Tensor,
+  Background,
+  Tracts,
+  Mesh,
+  Regions,
+  Session,
+  // outputs
+  Screenshot,
+  Camera,
+  Movie,
+  TractsSave,
+  SessionSave
+};
+// Opens a file dialog for `target`: the desktop's own (the XDG desktop portal) where one runs, else the
+// in-window browser, starting in `folder` (empty: the last folder). The chosen path goes where a typed one
+// goes (ui/panels/panels.h choosePath).
+struct Browse {
+  FileTarget target;
+  std::string folder;
+};
+// Sets pane `pane`'s camera (-1: the active pane; both when linked) as it is: a session's camera.
+struct SetCamera {
+  render::Camera camera;
+  int pane = -1;
+};
+// Writes a view script that brings the viewer back to what is on screen (app/viewer/session_file.h).
+struct SaveSession {
+  std::string path;
+  bool force = false;
+};
+// The mouse and keyboard bindings over the scene (F1 or ?): shown, hidden, or toggled (nullopt).
+struct ShowHelp {
+  std::optional<bool> on;
+};
+// The panels', fonts' and furniture's scale; 0: the monitor's content scale.
+struct SetUiScale {
+  double scale;
+};
 struct DismissError {};
 // The answer to the overwrite prompt (ViewerState::overwritePath): write the pending output or drop it.
 struct ConfirmOverwrite {
@@ -198,10 +240,12 @@ struct Quit {};
 
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
-                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair, RecordMovie, SetBackground, SetFurniture, ResetView, Rotate, Pan, Zoom,
-                 Screenshot, SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear,
-                 SetTractWidth, SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking,
-                 SaveTracts, ComputeAgreement, DismissError, ConfirmOverwrite, Quit>;
+                 SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair,
+                 RecordMovie, SetBackground, SetFurniture, ResetView, Rotate, Pan, Zoom, Screenshot,
+                 SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear, SetTractWidth,
+                 SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking, SaveTracts,
+                 ComputeAgreement, Browse, SetCamera, SaveSession, ShowHelp, SetUiScale, DismissError,
+                 ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -18,6 +18,7 @@ std::optional<Key> parseKey(const std::string& name) {
   if (n == "c") return Key::C;
   if (n == "s") return Key::S;
   if (n == "r") return Key::R;
+  if (n == "f1" || n == "?" || n == "help") return Key::Help;
   return std::nullopt;
 }
 
@@ -39,6 +40,8 @@ const char* keyName(Key key) {
     return "S";
   case Key::R:
     return "R";
+  case Key::Help:
+    return "F1";
   }
   return "?";
 }
@@ -74,12 +77,32 @@ void keyActions(Key key, const ViewerState& state, ActionList& out) {
   case Key::R:
     out.push_back(ResetView{});
     return;
+  case Key::Help:
+    out.push_back(ShowHelp{});
+    return;
   }
   const int axis = sliceAxisOf(state.surface);
   if (axis < 0 || !state.hasData) return;
   const int count = std::max(state.sliceCount[axis], 1);
   const int next = std::clamp(state.slice[axis] + step, 0, count - 1);
   if (next != state.slice[axis]) out.push_back(SetSlice{axis, next});
+}
+
+const std::vector<Binding>& bindings() {
+  static const std::vector<Binding> b = {
+      {"left drag", "rotate (trackball)"},
+      {"middle drag, shift + left drag", "pan"},
+      {"wheel", "zoom"},
+      {"left click (ortho slice pane)", "move the crosshair"},
+      {"files dropped on the window", "open by kind: data, tracts, surface mesh"},
+      {"Up / Down", "next / previous slice"},
+      {"PgUp / PgDn", "10 slices on / back"},
+      {"A, C, S", "axial, coronal, sagittal slice and view"},
+      {"R", "reset the view"},
+      {"Esc", "close the error message"},
+      {"F1 or ?", "show or hide this help"},
+  };
+  return b;
 }
 
 } // namespace dtf::session

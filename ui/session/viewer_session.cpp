@@ -95,6 +95,7 @@ std::optional<Action> ViewerSession::answerOverwrite(bool overwrite) {
   if (auto* shot = std::get_if<Screenshot>(&*a)) shot->force = true;
   if (auto* cam = std::get_if<SaveCamera>(&*a)) cam->force = true;
   if (auto* tracts = std::get_if<SaveTracts>(&*a)) tracts->force = true;
+  if (auto* saved = std::get_if<SaveSession>(&*a)) saved->force = true;
   return a;
 }
 
@@ -207,6 +208,8 @@ void ViewerSession::loadFile(const LoadFile& a) {
   addInput(a.tensor);
   latestLoad_ = nextId_++;
   latestSurface_ = latestLoad_;
+  requested_ = a;
+  requested_.layout = layout;
   state_.busy = true;
   state_.busyStage = "reading " + a.path;
   busySince_ = std::chrono::steady_clock::now();
@@ -247,6 +250,7 @@ void ViewerSession::onResult(WorkerResult& r) {
   if (r.id < latestLoad_) return; // belongs to data already replaced
   if (r.kind == K::Loaded) {
     data_ = r.data;
+    loaded_ = requested_;
     const ViewerDataset& d = *data_;
     const TensorField& f = d.loaded.field;
     state_.busy = false;
@@ -333,6 +337,7 @@ void ViewerSession::update() {
     state_.tractsLoading = false;
     try {
       setTracts(std::make_shared<const Polylines>(tractsLoading_.get()), pendingTractPath_);
+      tractsFile_ = pendingTractPath_;
       logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
               std::to_string(state_.tractPoints) + " points");
     } catch (...) {
@@ -530,7 +535,10 @@ void ViewerSession::onTractResult(TractResult& r) {
     state_.tracking = false;
     state_.trackStatus = r.report;
     logInfo(r.report);
-    if (!r.cancelled) setTracts(std::move(r.tracts), "tracked in the viewer");
+    if (!r.cancelled) {
+      setTracts(std::move(r.tracts), "tracked in the viewer");
+      tractsFile_.clear();
+    }
   } else if (r.kind == K::Agreement) {
     if (r.id != latestAgreement_) return;
     const surfaces::AgreementResult& a = r.agreement;
@@ -707,6 +715,8 @@ void ViewerSession::apply(const Action& action) {
             saveTracts(a);
           } else if constexpr (std::is_same_v<T, ComputeAgreement>) {
             startAgreement(a);
+          } else if constexpr (std::is_same_v<T, ShowHelp>) {
+            state_.helpShown = a.on ? *a.on : !state_.helpShown;
           } else if constexpr (std::is_same_v<T, DismissError>) {
             state_.errorChain.clear();
           }

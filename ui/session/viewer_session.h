@@ -69,6 +69,14 @@ public:
   // Replaces the tensors on screen by `field` (same grid; the orientation check's correction, in memory):
   // FA and its isosurface sweeper are kept, the fabric restarts and the surface is extracted again.
   void replaceField(TensorField field);
+  // What a saved session needs: the request of the data on screen (path, layout, paired tensor), the surface
+  // on screen as a spec (a slice with its index), the tract file on screen (empty: none, or tracked in the
+  // viewer) and the tract choice in effect.
+  const LoadFile& loadedRequest() const { return loaded_; }
+  SurfaceSpec surfaceSpec() const { return currentSpec(); }
+  const std::string& tractsFile() const { return tractsFile_; }
+  const SetTractGroups& tractGroups() const { return tractGroups_; }
+  const SetTractColour& tractColour() const { return tractColour_; }
   // The view a new load starts from (the standard view of its surface).
   render::StandardView homeView() const { return homeView_; }
 
@@ -133,6 +141,8 @@ private:
   glm::vec3 meshCentre_{0.0f};
   render::StandardView homeView_ = render::StandardView::Superior;
   std::chrono::steady_clock::time_point busySince_{};
+  LoadFile requested_, loaded_; // the latest load asked for, and the one on screen
+  std::string tractsFile_;      // the file of the tracts on screen; empty: none, or tracked
 
   std::future<Polylines> tractsLoading_; // loading on its own thread
   std::string pendingTractPath_;

@@ -104,6 +104,10 @@ struct ViewerState {
   std::vector<std::string> errorChain; // non-empty: the error modal is open (outermost context first)
   std::string overwritePath; // non-empty: an output the user asked for exists; the prompt asks to replace it
 
+  bool helpShown = false;  // the mouse and keyboard bindings over the scene (ShowHelp)
+  double uiScale = 1;      // the panels', fonts' and furniture's scale on screen (SetUiScale)
+  bool uiScaleAuto = true; // ... taken from the monitor (false: --ui-scale or the View panel)
+
   double frameMs = 0;
   bool converged = false; // the fabric reached still quality; rendering idles
   // Tracts (Tracts panel): the set on screen, loaded or tracked; analysis uses all its points.

@@ -18,3 +18,4 @@ dtf_test(test_view_ortho SOURCES app/viewer/view_ortho_gl_test.cpp LIBS dtf_view
 dtf_test(test_view_ortho_window SOURCES app/viewer/ortho_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_view_figure SOURCES app/viewer/view_figure_gl_test.cpp LIBS dtf_viewer dtf_io)
 dtf_test(test_view_refine SOURCES app/viewer/view_refine_gl_test.cpp LIBS dtf_viewer)
+dtf_test(test_desktop_window SOURCES app/viewer/desktop_window_test.cpp LIBS dtf_io dtf_model)

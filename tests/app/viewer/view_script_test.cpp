@@ -150,7 +150,7 @@ TEST(ViewScript, BadLinesNameFileAndLine) {
   EXPECT_NE(parseError("screenshot").find("usage: screenshot [--force] PATH"), std::string::npos);
   EXPECT_NE(parseError("screenshot --force").find("usage: screenshot [--force] PATH"), std::string::npos);
   EXPECT_NE(parseError("camera-save --force  ").find("usage: camera-save [--force] PATH"), std::string::npos);
-  EXPECT_NE(parseError("load").find("usage: load PATH"), std::string::npos);
+  EXPECT_NE(parseError("load").find("usage: load [layout=L] PATH"), std::string::npos);
   EXPECT_NE(parseError("quit now").find("usage: quit"), std::string::npos);
   EXPECT_NE(parseError("surface fa=2").find("demo.txt:1: fa threshold must lie in (0, 1)"),
             std::string::npos);
@@ -454,4 +454,81 @@ TEST(ViewScript, TrackLineTakesEveryTrackingParameter) {
     const std::string error = parseError("track " + key + "=" + dtf::shortestNumber(outside));
     EXPECT_NE(error.find("track: " + key + " must lie in " + p.range.text()), std::string::npos) << error;
   }
+}
+
+TEST(ViewScript, DesktopLinesParse) {
+  const ViewScript s =
+      parseViewScript("session 1\n"
+                      "load layout=mrtrix /data/my dti.nii.gz\n"
+                      "camera eye=1,2,300.5 target=0,0,0 up=0,1,0 ortho=95.25 near=1 far=900\n"
+                      "camera pane=1 eye=0,-400,0 target=0,0,0 up=0,0,1 fov=30 near=2 far=800\n"
+                      "drop /a/dti.nii.gz '/b/my tracts.tck' \"/c/mesh.ply\"\n"
+                      "browse tracts /data/tracts folder\n"
+                      "browser-pick my file.tck\n"
+                      "session-save --force /out/view.dtfview\n"
+                      "ui-scale 2\n"
+                      "ui-scale auto\n"
+                      "help on\n"
+                      "key F1\n",
+                      "s.dtfview");
+  EXPECT_TRUE(s.session);
+  ASSERT_EQ(s.steps.size(), 12u);
+  EXPECT_EQ(actionAt<session::LoadFile>(s, 1).path, "/data/my dti.nii.gz");
+  EXPECT_EQ(actionAt<session::LoadFile>(s, 1).layout, "mrtrix");
+  const auto& cam = actionAt<session::SetCamera>(s, 2);
+  EXPECT_EQ(cam.pane, -1);
+  EXPECT_DOUBLE_EQ(cam.camera.eye.z, 300.5);
+  EXPECT_TRUE(cam.camera.orthographic);
+  EXPECT_DOUBLE_EQ(cam.camera.orthoHalfHeight, 95.25);
+  EXPECT_DOUBLE_EQ(cam.camera.farPlane, 900);
+  const auto& persp = actionAt<session::SetCamera>(s, 3);
+  EXPECT_EQ(persp.pane, 1);
+  EXPECT_FALSE(persp.camera.orthographic);
+  EXPECT_DOUBLE_EQ(persp.camera.fovYDeg, 30);
+  EXPECT_EQ(std::get<ScriptDrop>(s.steps[4].command).paths,
+            (std::vector<std::string>{"/a/dti.nii.gz", "/b/my tracts.tck", "/c/mesh.ply"}));
+  EXPECT_EQ(actionAt<session::Browse>(s, 5).target, session::FileTarget::Tracts);
+  EXPECT_EQ(actionAt<session::Browse>(s, 5).folder, "/data/tracts folder");
+  EXPECT_EQ(std::get<ScriptBrowserPick>(s.steps[6].command).name, "my file.tck");
+  EXPECT_TRUE(actionAt<session::SaveSession>(s, 7).force);
+  EXPECT_EQ(actionAt<session::SaveSession>(s, 7).path, "/out/view.dtfview");
+  EXPECT_DOUBLE_EQ(actionAt<session::SetUiScale>(s, 8).scale, 2);
+  EXPECT_DOUBLE_EQ(actionAt<session::SetUiScale>(s, 9).scale, 0);
+  EXPECT_TRUE(*actionAt<session::ShowHelp>(s, 10).on);
+  EXPECT_EQ(std::get<session::Key>(s.steps[11].command), session::Key::Help);
+
+  EXPECT_NE(parseError("fa 0.3\nsession 1\n").find("demo.txt:2: session must be the script's first command"),
+            std::string::npos);
+  EXPECT_NE(parseError("session 2").find("session version 1"), std::string::npos);
+  EXPECT_NE(parseError("camera eye=1,2 target=0,0,0 up=0,1,0 ortho=1").find("camera eye=X,Y,Z"),
+            std::string::npos);
+  EXPECT_NE(parseError("camera eye=0,0,1 target=0,0,0 up=0,0,1 ortho=1").find("make no view"),
+            std::string::npos);
+  EXPECT_NE(parseError("camera eye=0,0,1 target=0,0,0 up=0,1,0").find("usage: camera"), std::string::npos);
+  EXPECT_NE(parseError("drop 'a b").find("unmatched quote"), std::string::npos);
+  EXPECT_NE(parseError("browse everything").find("unknown target 'everything'"), std::string::npos);
+  EXPECT_NE(parseError("ui-scale 9").find("[0.5, 4]"), std::string::npos);
+  EXPECT_NE(parseError("load layout=diagonal x.nii").find("demo.txt:1: load:"), std::string::npos);
+  EXPECT_FALSE(parseViewScript("fa 0.3\n", "x").session);
+}
+
+// A session names files that must exist: the first missing one is named with its line, before any window.
+TEST(ViewScript, SessionInputsAreCheckedBeforeTheWindowOpens) {
+  const std::string phantom = (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string();
+  EXPECT_NO_THROW(
+      checkSessionInputs(parseViewScript("session 1\nload " + phantom + "\nbackground fa\n", "s")));
+  // Not a session: the window reports a missing file at its line.
+  EXPECT_NO_THROW(checkSessionInputs(parseViewScript("tracts /nowhere/t.tck\n", "s")));
+  try {
+    checkSessionInputs(
+        parseViewScript("session 1\nload " + phantom + "\nfa 0.3\ntracts /nowhere/t.tck\n", "s.dtfview"));
+    ADD_FAILURE() << "a missing tract file passed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.dtfview:4: /nowhere/t.tck: no such file"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(checkSessionInputs(parseViewScript("session 1\nsurface mesh=/nowhere/m.ply\n", "s")),
+               InputError);
+  EXPECT_THROW(checkSessionInputs(parseViewScript("session 1\nbackground /nowhere/t1.nii.gz\n", "s")),
+               InputError);
 }

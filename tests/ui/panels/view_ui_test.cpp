@@ -4,10 +4,14 @@
 #include "ui/panels/panels.h"
 #include "ui/session/keymap.h"
 
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 #include <map>
 #include <optional>
+#include <unistd.h>
 
 using namespace dtf;
 using namespace dtf::ui;
@@ -366,4 +370,98 @@ TEST_F(ViewHeadlessUi, OpenSendsThePairedTensorAndAFibreLayout) {
   EXPECT_EQ(l->path, "/data/peaks.nii.gz");
   EXPECT_EQ(l->layout, "mrtrix-peaks");
   EXPECT_EQ(l->tensor, "/data/dti.nii.gz");
+}
+
+// The in-window browser: a folder listed (its subfolder and the volume, not the text file), a click on the
+// volume opens it as the Data panel's Open button opens a typed path (the same LoadFile), the folder is
+// remembered, and a click on the subfolder enters it.
+TEST_F(ViewHeadlessUi, FileBrowserListsAFolderAndOpensAFileAsTheOpenButtonDoes) {
+  const auto dir = std::filesystem::temp_directory_path() / ("dtf_browser_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "sub");
+  std::ofstream(dir / "dti.nii.gz") << "x";
+  std::ofstream(dir / "notes.txt") << "x";
+  std::ofstream(dir / "sub" / "inner.mif") << "x";
+  buffers.layout = 2;
+  std::snprintf(buffers.tensorPath.data(), buffers.tensorPath.size(), "/data/pair.nii.gz");
+
+  const auto browse = find<Browse>(click("browse data"));
+  ASSERT_TRUE(browse) << "the Data panel's ... button asks for a dialog";
+  EXPECT_EQ(browse->target, FileTarget::Data);
+  openFileBrowser(buffers.browser, browse->target, dir.string()); // the window's fallback
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  EXPECT_TRUE(centres.count("browser dti.nii.gz"));
+  EXPECT_TRUE(centres.count("browser sub"));
+  EXPECT_FALSE(centres.count("browser notes.txt")) << "the browser lists only what the target reads";
+
+  const auto chosen = find<LoadFile>(click("browser dti.nii.gz"));
+  ASSERT_TRUE(chosen);
+  EXPECT_FALSE(buffers.browser.open);
+  EXPECT_EQ(buffers.browser.lastFolder, dir.string());
+  EXPECT_EQ(std::string(buffers.openPath.data()), (dir / "dti.nii.gz").string());
+  // The Open button with that path in the field asks for exactly the same.
+  const auto typed = find<LoadFile>(click("Open"));
+  ASSERT_TRUE(typed);
+  EXPECT_EQ(chosen->path, typed->path);
+  EXPECT_EQ(chosen->layout, "mrtrix");
+  EXPECT_EQ(chosen->layout, typed->layout);
+  EXPECT_EQ(chosen->tensor, typed->tensor);
+
+  openFileBrowser(buffers.browser, FileTarget::Data, {}); // the last folder
+  EXPECT_EQ(buffers.browser.listing.folder, dir.string());
+  frame(-1, -1, false);
+  EXPECT_FALSE(find<LoadFile>(click("browser sub")));
+  EXPECT_EQ(buffers.browser.listing.folder, (dir / "sub").string());
+  ASSERT_EQ(buffers.browser.listing.entries.size(), 1u);
+  EXPECT_EQ(buffers.browser.listing.entries[0].name, "inner.mif");
+  std::filesystem::remove_all(dir);
+}
+
+TEST_F(ViewHeadlessUi, BrowserChoiceOfAnOutputFillsItsFieldAndSaveSessionSaves) {
+  ActionList out;
+  choosePath(buffers, FileTarget::Screenshot, "/figures/a.png", out);
+  EXPECT_TRUE(out.empty()) << "a screenshot path waits for its button";
+  EXPECT_EQ(std::string(buffers.screenshotPath.data()), "/figures/a.png");
+  choosePath(buffers, FileTarget::SessionSave, "/figures/view.dtfview", out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(std::get<SaveSession>(out[0]).path, "/figures/view.dtfview");
+  out.clear();
+  choosePath(buffers, FileTarget::Tracts, "/data/t.tck", out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(std::get<LoadTracts>(out[0]).path, "/data/t.tck");
+}
+
+TEST_F(ViewHeadlessUi, HelpOverlayListsTheBindingsAndF1TogglesIt) {
+  ActionList out;
+  keyActions(Key::Help, state, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(std::get<ShowHelp>(out[0]).on.has_value()) << "F1 toggles";
+  EXPECT_EQ(parseKey("?"), Key::Help);
+  EXPECT_EQ(parseKey("F1"), Key::Help);
+  state.helpShown = true;
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  ImGuiWindow* w = ImGui::FindWindowByName("Mouse and keys (F1 or ? to close)");
+  ASSERT_NE(w, nullptr) << "the overlay is drawn";
+  EXPECT_GE(w->Size.y, static_cast<float>(bindings().size()) * ImGui::GetTextLineHeight())
+      << "one row per binding";
+  EXPECT_GE(w->Pos.x, layout.sideWidth) << "over the scene, not the side bar";
+}
+
+TEST_F(ViewHeadlessUi, PanelOpenStatesAreKeptAndRestored) {
+  frame(-1, -1, false);
+  EXPECT_TRUE(buffers.panelsOpen.at("Data"));
+  EXPECT_FALSE(buffers.panelsOpen.at("Tracts"));
+  ImGui::DestroyContext(); // a new run: ImGui remembers nothing, the buffers hold the remembered states
+  SetUp();
+  buffers.panelsOpen = {{"Data", false}, {"Tracts", true}};
+  buffers.panelsRestored = false;
+  centres.clear();
+  frame(-1, -1, false);
+  frame(-1, -1, false);
+  EXPECT_FALSE(buffers.panelsOpen.at("Data"));
+  EXPECT_TRUE(buffers.panelsOpen.at("Tracts"));
+  EXPECT_FALSE(centres.count("Open")) << "the Data panel is closed";
+  EXPECT_TRUE(centres.count("Load tracts")) << "the Tracts panel is open";
 }
