@@ -13,10 +13,10 @@ time). Long work releases the GIL.
 
 from ._errors import Error, FileError, FormatError, GlError, UsageError
 from ._core import (FibreSet, Surface, TensorField, bootstrap, check, fabric_options, load, movie, read_png,
-                    render, surface, track, uncertainty)
+                    render, select, surface, track, uncertainty)
 
 __all__ = [
     "Error", "FileError", "FormatError", "GlError", "UsageError",
     "FibreSet", "Surface", "TensorField",
-    "load", "render", "movie", "surface", "track", "check", "read_png", "fabric_options", "bootstrap", "uncertainty",
+    "load", "render", "movie", "surface", "track", "select", "check", "read_png", "fabric_options", "bootstrap", "uncertainty",
 ]
