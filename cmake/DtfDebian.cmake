@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Debian package: what `cmake --install` adds for it (the bundled brain, the copyright file and the
 # changelog) and CPack's DEB settings. `.ci/package` configures the Debian layout (lib/<multiarch>,
 # lib/python3/dist-packages) and runs cpack, which writes build/package/dtfabric_VERSION_ARCH.deb with

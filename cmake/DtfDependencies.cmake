@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Finds every third-party dependency from Debian 12 packages and defines imported targets for the ones
 # whose packaging is incomplete (nifticlib, imgui backends, epoxy/egl). GLFW and ImGui only for the apps.
 find_package(PkgConfig REQUIRED)

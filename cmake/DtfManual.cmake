@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The man pages (dtfabric(1), dtfabric-COMMAND(1)) and the bash completion, written at build time by the
 # dtfabric executable from its command list and option tables (app/cli/manual.h), so they cannot drift
 # from the parser. They land in ${PROJECT_BINARY_DIR}/manual/{man1/*.1.gz,completions/dtfabric} and are

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The installable package. libdtfabric.so (target dtfabric::dtfabric) is the component libraries io/model,
 # io, shaders, surfaces and render linked whole into one shared library: their objects are compiled once
 # (position-independent) for both the in-tree static libraries and this one, and VTK, CGAL, nifticlib,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # cmake -DEXE=path/to/dtfabric -DOUT=dir -P dtf_write_manual.cmake: OUT/man1/NAME.1.gz for every page the
 # executable names (`dtfabric help --man-pages`), compressed with gzip -9n (no name or time stamp, as
 # Debian wants), and OUT/completions/dtfabric. Replaces what an earlier run wrote.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Generates a C++ source holding every shader file as a raw string literal, keyed by its path relative to
 # shaders/. Run as: cmake -DOUT=file.cpp -DROOT=dir -DFILES="a|b" -P embed_shaders.cmake
 string(REPLACE "|" ";" FILES "${FILES}")

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What an INPUT file is, decided once: a tensor volume, a fibre set, a DWI to fit or a tractogram, with the
 // reason, the file format (detected once; the readers below take it rather than detecting it again) and,
 // for a DWI, where its gradient table is. Every front end opens its INPUT here, then reads it with the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Analytic phantoms. Every grid is RAS, axis-aligned, centred at the world origin with isotropic spacing.
 #include "io/phantoms.h"
 

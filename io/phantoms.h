@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Analytic tensor fields for tests and demos (paper section 3.1): synthetic input
 // for every stage after the readers. Each phantom is a canonical TensorField (world RAS) on an RAS grid
 // centred at the origin, plus a scalar field whose isosurface is the natural surface to render it on.

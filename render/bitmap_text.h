@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A small built-in 5x7 bitmap font for labelling rendered images on the CPU (contact sheets, panel
 // captions): no font files, no GL. Upper and lower case letters, digits and some punctuation; other characters
 // draw as their capital, else as '?'.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's camera: view and projection matrices in world RAS mm, look-at, trackball rotation, fitting
 // to a bounding box, and the standard anatomical views. Every pass takes its matrices from here.
 //

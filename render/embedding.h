@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The embedding API: the fabric drawn into a host application's own GL scene. The host keeps its context,
 // camera and geometry; it renders the surfaces to texture into a depth texture and a world-normal texture
 // (its own geometry pass) and hands them over with its view and projection matrices, the viewport and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The fabric's parameters, each declared once: its name (the CLI flag `--NAME` of `dtfabric render`, the
 // script's `set NAME VALUE`), older script names, help, value kind, the range the CLI and scripts accept,
 // the panel slider's narrower range, its default and the FabricParams field it sets. The CLI's flags, their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The fabric's parameters and the GPU pass times of a frame: plain values shared by the renderers
 // (FabricRenderer, EmbeddedFabric) and the option table; no GL types, so a host's code can include it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The fabric renderer of dtfabric's own front ends: a mesh's geometry stage, then the passes of paper §2
 // shared with the embedding route (render/fabric/fabric_pipeline.h: tensor stage, silhouette, advection,
 // composite), and the offscreen output framebuffer every frame ends in (the GUI blits it, batch mode reads

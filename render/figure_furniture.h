@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What a figure carries besides the fabric, drawn on the CPU into a rendered still (row 0 at the top):
 // orientation letters at the four edges (the anatomical side the camera puts there, so radiological and
 // neurological views are labelled as shown), a medical-colour orientation legend (the world axes through the

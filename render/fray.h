@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // CPU side of the uncertainty display (shaders/common/fray.glsl): the per-cell turn of the advection
 // directions as a reference for the GLSL, and the legend that says what the look means in degrees.
 #pragma once

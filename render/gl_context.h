@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The OpenGL 4.5 core context every render path draws with. Batch mode, tests and benchmarks use the
 // headless context created here (EGL, no window, no display server); the GUI makes its own GLFW context
 // current instead. KHR_debug output is enabled: high and medium severity messages are collected and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Move-only owners of GL object names (textures, samplers, framebuffers, buffers, vertex arrays, queries), so
 // every pass releases what it created and nothing leaks on an exception. All need a current context; creation
 // uses GL 4.5 direct state access (glCreate*).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The GL state the renderers change or depend on, saved and restored around their public entry points, so
 // that a frame leaves the state as it found it (a host application's state survives it) and a host's state
 // cannot change what the passes draw: framebuffers, viewports, depth range and clip control, the switches

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GPU copy of a FibreSet for the multi-population fabric: continuousSlots of the set (lobes below the
 // relative threshold dropped, the rest matched between neighbouring voxels) as two RGBA32F 3D textures per
 // slot (the amplitude-weighted dyadic a d d^T: a (xx, xy, xz, yy) and a (yz, zz), a; trilinear, 0 outside),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/gpu_scene.h"
 
 #include "render/detail/volume_upload.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GPU copies of the scene's value types: a Mesh as vertex/index buffers, a TensorField as two RGBA32F 3D
 // textures with its world -> texture transform, and the reaction-diffusion noise as a mipmapped, repeating
 // 2D texture. Uploaded once per change of the data, never per frame.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The input noise of the fabric (paper §2.2, Eq. 6): a Turing/Turk reaction-diffusion pattern of smooth
 // spots on a periodic (seamless) square tile, computed once on the CPU from a fixed seed and cached. The
 // projection pass maps it onto the surface (Eq. 7-9); advection smears it along the tensor directions.

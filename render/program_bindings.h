@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The texture units, atomic-counter bindings and uniforms of every pass program, named once here. The
 // bindings reach the GLSL as defines (bindingDefines(Program::kBindings), injected when the program is
 // compiled): `layout(binding = UNIT_PREV2) uniform sampler2D u_prev2;`, and a shader naming a binding that

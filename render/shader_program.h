@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GLSL programs built from the files embedded in dtf_shaders. Before compiling, `#include "common/x.glsl"`
 // lines are expanded recursively (each file once), variant `#define`s are injected after `#version`, and
 // `#line N fileIndex` directives are inserted so a compile error names the original file and line: the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's tract overlay under a frame budget (issue "Fibre tracts": >= 1M points stay interactive).
 // A TractLayer keeps the tracts of one pane in their own colour + depth target and composites it over the
 // fabric output every frame the fabric changes, so the tracts are not redrawn while the fabric refines.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre tracts drawn over the fabric (issue "Fibre tracts: overlays and side-by-side comparison"): after
 // FabricRenderer::renderStill/renderFrame, draw() renders the polylines (world RAS mm) into the same
 // output framebuffer with depth test against the depth the composite wrote (gl_FragDepth), without

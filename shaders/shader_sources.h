@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GLSL sources embedded into the binary at build time (cmake/embed_shaders.cmake). Files are looked up
 // by their path relative to shaders/, e.g. "fabric/advection.frag". `#include "x.glsl"` directives and
 // variant defines are resolved by render's ShaderProgram, which also maps compile errors back to the file

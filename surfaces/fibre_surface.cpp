@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "surfaces/fibre_surface.h"
 
 #include "io/model/error.h"

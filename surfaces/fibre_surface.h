@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre-following surfaces (the paper's brain figures use Anwander et al.'s dissection-like surfaces):
 // surfaces to which the principal diffusion direction e1 is tangent, so that projecting the tensor onto
 // them (paper Eq. 1) throws little of the fibre direction away.

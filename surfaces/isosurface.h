@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scalar isosurfaces (FA, the phantoms' implicit functions) as triangle meshes in world RAS mm, through
 // VTK's flying edges (multithreaded) with optional masking, pre-smoothing, closing at the volume border,
 // small-component removal and volume-preserving mesh smoothing.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Geometric checks and queries on meshes, backed by CGAL (this module's only CGAL translation unit):
 // self-intersection detection and repair (the fabric needs non-self-intersecting surfaces), isotropic
 // remeshing, and an AABB-tree distance query used to pick tract points near a surface.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The checks of PLY and OBJ files before VTK's readers see them: vtkPLYReader trusts the header's element
 // counts and reads past the end of a short binary file, and trusts the faces' vertex indices, their lengths
 // and the presence of x, y, z and vertex_indices (heap corruption, a crash); vtkOBJReader reads a vertex

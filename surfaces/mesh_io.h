@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Triangle meshes from and to files (PLY, OBJ, legacy VTK, VTP) through VTK's readers and writers.
 // Coordinates are taken as world RAS mm.
 #pragma once

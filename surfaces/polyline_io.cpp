@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "surfaces/polyline_io.h"
 
 #include "io/model/error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // VTK polylines in and out through VTK's own readers and writers: legacy .vtk (4.x and 5.1 POLYDATA) and
 // XML .vtp, beside .tck/.trk/.trx (io/formats/tracts.h, io/formats/trx.h). It lives in surfaces because io does not link
 // VTK. Coordinates are world RAS mm, as written by MRtrix `tckconvert`, DIPY and ParaView. Point data

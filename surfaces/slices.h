@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Planar surfaces for browsing: axial/coronal/sagittal slices through voxel centres and oblique planes,
 // triangulated on the voxel lattice in world RAS mm, optionally clipped to the brain.
 #pragma once

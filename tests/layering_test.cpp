@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Dependencies point down only. The modules stand in an ordered table, lowest first; a module may include its
 // own headers and those of the lower modules it names, nothing above or beside. No two files include each
 // other through any chain, and inside each of io/, ui/ and app/ no two folders do. The rules are functions

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmarks behind `dtfabric bench NAME`. Each prints a human-readable table, or one JSON object with
 // --json, and returns the exit code.
 #pragma once
@@ -17,7 +18,7 @@ namespace dtf::app {
 
 // One benchmark of `dtfabric bench NAME`. A new benchmark is one entry in benchmarks()
 // (app/bench/benchmarks.cpp) and its file app/bench/bench_NAME.cpp; `dtfabric --help`, `bench --help` and the
-// README's table follow.
+// command tables of the README and the reference follow.
 struct Benchmark {
   const char* name;
   const char* summary; // one line

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench bids`: seconds per run of the participant level on the real DWI (fit, orientation check and
 // the four figures, in this process with every core), and the group level's time for a cohort of a few
 // hundred runs (the measured rows replicated), with the report's load time in headless Chromium when it is

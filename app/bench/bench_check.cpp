@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench check`: the orientation check on the real DWI (load, WLS fit, 24 candidate scores) against
 // MRtrix's dwigradcheck (Debian mrtrix3; a peer run in the same invocation when on the PATH, never a
 // dependency) on the same DWI, table and mask. dwigradcheck tracks streamlines for every candidate table;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench io`: load time of an HCP-sized tensor volume, FA-map time, and tensor-fit times of the
 // real DWI and of a 1.5 mm upsampled copy, each the median of a few runs, beside their goals.
 #include "app/bench/bench.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench io`, per-format part: load times of the real tensor (iu_prisma_dwi, 72x72x39) through
 // every tensor format dtfabric reads, from files written once into a temporary folder (the MRtrix .mif.gz
 // is MRtrix's own file). Medians of a few loads, wall and process CPU.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tractogram load figures of `bench io`: the 36,763-streamline stroke.trk.gz (gzip TrackVis, LAS) against
 // nibabel's load of the same file in the same run, and a TRX zip of 1 M streamlines (12 points each,
 // float32 positions stored uncompressed, one per-streamline and one per-point array) written here.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench overlay`: the tract overlay (render/tract_renderer.h, render/tract_layer.h) over a finished
 // fabric, and the near-surface selection (surfaces/analyses/near_surface.h).
 //   draw:      ms of one full draw (every display point): the real brain's axial slice 22 with 2000 tracts of

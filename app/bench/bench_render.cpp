@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench render`: GPU time per fabric pass and ms/frame of the fabric against plain Phong of the
 // same mesh and camera, in the paper's Table 1 setting (1024x768, about 3/4 of the pixels covered, one
 // frame = projection + silhouette + 3 advection iterations + composite), on UV spheres of about 41k and

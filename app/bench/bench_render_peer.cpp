@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The peer of `dtfabric bench render`: ParaView's Surface LIC (vtkSurfaceLICInterface, Debian package
 // paraview), the nearest tool that draws a LIC texture on a surface. It weaves one vector direction, so it
 // gets the principal in-surface eigenvector of our tensor field per vertex. The mesh goes out as a legacy
@@ -45,7 +46,8 @@ try:
     from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 except Exception as e:
     out('error', 'cannot import paraview.simple (%s): unpack python3-paraview and set '
-        'DTF_PARAVIEW_PYTHONPATH to its dist-packages (see README; installing it removes libvtk9-dev)'
+        'DTF_PARAVIEW_PYTHONPATH to its dist-packages (see sample_data/guide/reference.md; installing it '
+        'removes libvtk9-dev)'
         % str(e).replace('\n', ' '))
     sys.exit(3)
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench surfaces`: how fast the FA isosurface follows the threshold slider on an HCP-sized
 // volume (145 x 174 x 145). The FA map is the real brain's resampled onto that grid when the shared data
 // is there (realistic surface complexity), else the brain phantom's.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench tracts`: throughput of deterministic tensor tracking on the real brain with the settings
 // of the reference tracks (MRtrix tckgen -algorithm Tensor_Det: seeds and mask from mask.nii.gz, step 1 mm,
 // FA cutoff 0.15, 60 deg, min length 30 mm). When MRtrix's tckgen is on the PATH (Debian package mrtrix3)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench view`: frame times of the viewer's scene (app/viewer/viewer.h, the code the window runs) while
 // the FA threshold is swept and while the camera rotates, on the real brain's FA isosurface. Runs in the
 // headless context: the window adds only ImGui and a blit.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The benchmark list of `dtfabric bench` and the helpers the benchmarks share.
 #include "app/bench/bench.h"
 #include "app/command/options.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/bench/bench.h"
 #include "app/cli/commands.h"
 #include "app/cli/manual.h"
@@ -111,8 +112,9 @@ const std::vector<Command>& commands() {
        "screenshots, camera and tract files may replace existing files)",
        cmdView, viewOptions},
       {"bench", nullptr, nullptr, nullptr, cmdBench}, // synopsis and summaries from app/bench/bench.h
-      {"help", nullptr, "this list; --markdown: the README's command and script tables",
-       "this list; `--markdown`: the README's command and script tables", cmdHelp, helpOptions},
+      {"help", nullptr, "this list; --markdown: the command and script tables of the README and the reference",
+       "this list; `--markdown`: the command and script tables of the README and the reference", cmdHelp,
+       helpOptions},
   };
   return list;
 }
@@ -166,9 +168,18 @@ void printUsage() {
 } // namespace
 
 std::string markdownTables() {
-  std::string out = "| command | what it does |\n|---|---|\n";
+  // README.md's short table: each command's one line and where its whole help is.
+  std::string out = "| command | what it does | all its options |\n|---|---|---|\n";
+  for (const auto& c : commands()) {
+    const std::string name = c.name;
+    out += "| `dtfabric " + name + "` | " + cell(summaryOf(c)) + " | `dtfabric " + name +
+           " --help`, `man dtfabric-" + name + "` |\n";
+  }
+  // The reference's table: the synopsis and the whole description.
+  out += "\n| command | what it does |\n|---|---|\n";
   for (const auto& c : commands())
-    out += "| `dtfabric " + std::string(c.name) + " " + cell(synopsisOf(c)) + "` | " + cell(descriptionOf(c)) + " |\n";
+    out += "| `dtfabric " + std::string(c.name) + " " + cell(synopsisOf(c)) + "` | " + cell(descriptionOf(c)) +
+           " |\n";
   out += "\n| line | does |\n|---|---|\n";
   for (const auto& c : scriptCommands())
     out += "| `" + std::string(c.name) + (*c.args ? " " : "") + cell(c.args) + "` | " + cell(c.help) + " |\n";
@@ -180,7 +191,8 @@ const OptionTable& helpOptions() {
     OptionTable t;
     t.command = "help";
     t.intro = "Lists the commands; `dtfabric COMMAND --help` describes each.";
-    t.options = {CliOption::flag("markdown", "the README's command and script tables (markdown)"),
+    t.options = {CliOption::flag("markdown",
+                                 "the command and script tables of the README and the reference (markdown)"),
                  // What the build installs (app/cli/manual.h).
                  CliOption::text("man", "NAME", "the roff source of man page NAME (dtfabric, dtfabric-render, ...)")
                      .internalOnly(),

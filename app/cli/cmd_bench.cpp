@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench NAME`: runs one benchmark of the list (app/bench/benchmarks.cpp).
 #include "app/bench/bench.h"
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bids`: the BIDS-App front end (participant and group levels) over io/bids/bids.h, io/bids/bids_report.h and
 // app/bids_participant.h.
 //

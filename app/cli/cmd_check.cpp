@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric check`: the orientation check of a DWI's gradient table or a tensor file's frame (see
 // surfaces/analyses/orientation_check.h and app/check_run.h).
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric compare`: does the fabric on a surface point where the tracts go? (surfaces/analyses/agreement.h)
 #include "app/cli/commands.h"
 #include "app/command/options.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric convert IN OUT`: any supported tractogram to any other (.tck, .trk, .trk.gz, .trx, .vtk, .vtp),
 // keeping per-streamline/per-point data and groups where the target can hold them (warnings say what is
 // dropped). .trk and .trx need a reference space: the source's own header when it has one, else

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric fit`: DWI + bval/bvec -> tensor volume on disk, through io/diffusion/dwi.h and io/formats/tensor_io.h.
 #include "app/cli/commands.h"
 #include "app/command/options.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info`: describes a NIfTI volume the way the readers see it (header facts, chosen affine,
 // detected tensor layout and why, value ranges, NaN/non-positive counts, FA statistics) or one voxel's
 // world tensor and eigen-system. Text for people, --json for scripts (the voxel keys are a fixed interface).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric movie`: a turntable, a slice sweep or an FA-threshold sweep of the fabric, headless, to an MP4,
 // a GIF or numbered PNG frames, the advection state carried from frame to frame.
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric phantom`: writes an analytic tensor field (io/phantoms.h) in a chosen on-disk layout, and
 // optionally its scalar field, so every later stage can be run on input with a known answer.
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric render`: the fabric of paper §2 on a surface of a tensor volume, rendered headless to PNG.
 #include "app/command/args.h"
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric track`: deterministic tensor tractography (surfaces/tracking/tracking.h) to any tract file
 // format.
 #include "app/cli/commands.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info TRACTS`: a tractogram's format, header facts (space, voxel order, dimensions, affine),
 // streamline and point counts, length statistics, per-streamline/per-point data with their shapes and
 // ranges, and groups. Text for people, --json for scripts.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric view`: checks the arguments and the script before a window opens, then runs the viewer.
 #include "app/cli/commands.h"
 #include "app/command/args.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric web INPUT -o DIR`: a self-contained folder (index.html, scripts, slice images) to browse the
 // fabric of every slice in any browser from the file system (ui/session/web_page.h).
 #include "app/cli/commands.h"

@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The dtfabric subcommands. Each takes the arguments after its name and returns the process exit code
 // (app/command/command.h).
 //
 // A new command is one entry in commands() (cli.cpp) and its file app/cli/cmd_NAME.cpp with
-// `int cmdName(const CommandArgs&)` declared here; `dtfabric --help`, `dtfabric help --markdown` (the
-// README's command table) and the test that checks them follow from the entry.
+// `int cmdName(const CommandArgs&)` declared here; `dtfabric --help`, `dtfabric help --markdown` (the command
+// tables of README.md and sample_data/guide/reference.md) and the test that checks them follow from the entry.
 #pragma once
 
 #include "app/command/command.h"
@@ -59,12 +60,14 @@ std::vector<surfaces::Region> regionsFrom(ParsedOptions& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();
-// A command's one-line summary (`dtfabric --help`), its arguments after the name (usage line, README) and
-// its description (README, man page).
+// A command's one-line summary (`dtfabric --help`, README.md's table), its arguments after the name (usage
+// line, the reference's table) and its description (the reference's table, man page).
 std::string summaryOf(const Command& c);
 std::string synopsisOf(const Command& c);
 std::string descriptionOf(const Command& c);
-// The README's tables: commands, then the viewer's script commands (markdown).
+// The documentation's tables (markdown), blank-line separated: README.md's short command table (name, summary,
+// where the whole help is), the reference's command table (synopsis, description) and the viewer's script
+// commands (sample_data/guide/reference.md holds the last two).
 std::string markdownTables();
 // Entry point shared by main() and the CLI tests.
 int runCli(int argc, char** argv);

@@ -1,5 +1,6 @@
-// The man pages and the bash completion, generated from commands() and the option tables (as the README's
-// tables are), so they cannot drift from the parser. The build writes them with the hidden
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The man pages and the bash completion, generated from commands() and the option tables (as the
+// documentation's tables are), so they cannot drift from the parser. The build writes them with the hidden
 // `dtfabric help --man NAME`, `--man-pages` and `--bash-completion` (cmake/DtfManual.cmake).
 #pragma once
 

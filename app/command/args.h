@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Value parsers the option tables (app/command/options.h) share: sizes and index triples.
 #pragma once
 

@@ -1,7 +1,8 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Each command's options declared once: name, value kind, default, range or choices, help. One table per
 // command (and per benchmark) drives the parser (unknown options, missing values, kinds, ranges and choices
 // are usage errors, exit code 1), `dtfabric CMD --help`, the synopsis of `dtfabric help --markdown` (the
-// README's command table) and the help test.
+// command tables of README.md and sample_data/guide/reference.md) and the help test.
 //
 // A command reads its options through ParsedOptions: reading a name its table lacks is a programming error
 // (std::logic_error), and so is a table row the command never reads (finish()), so the code, the help and
@@ -95,7 +96,8 @@ struct OptionTable {
   std::string synopsisTail; // appended to the synopsis ("[OPTIONS]" is added when options are hidden)
 
   const CliOption* find(const std::string& name) const;
-  // "INPUT --tracts FILE --surface SPEC [--near MM] [--json]" (the README's table and the usage line).
+  // "INPUT --tracts FILE --surface SPEC [--near MM] [--json]" (the reference's command table and the usage
+  // line).
   std::string synopsis() const;
   // The text of `dtfabric CMD --help`.
   std::string help() const;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/python/arrays.h"
 
 #include "io/formats/format_detail.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // numpy in and out for the Python module: the canonical tensor field as a (X, Y, Z, 6) float32 array (world
 // RAS, xx xy xz yy yz zz, mm^2/s, NaN where invalid), affines as 4x4 float64 arrays, and tensor fields made
 // from arrays in any on-disk layout through the readers' own conversion (io::detail::tensorsFromComponents),

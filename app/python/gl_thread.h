@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one thread that draws. The headless EGL context (render::GlContext::headless()) is current on the
 // thread that created it, and Python may call dtfabric.render from any thread: every GL job of the module
 // runs here, one at a time, in the order called; the caller waits (without the GIL) for its result or

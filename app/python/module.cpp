@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // dtfabric._core: the Python bindings over the session library (app/scene). Loading, surfaces, tracking,
 // the orientation check and the render job are the ones the command-line tool runs; this file only turns
 // Python arguments into their requests and results into numpy arrays. Long work runs without the GIL; GL
@@ -987,6 +988,7 @@ voxel -> world RAS affine.)");
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "dtfabric's C++ core (use the package dtfabric)";
+  m.attr("__version__") = DTF_VERSION; // project(dtfabric VERSION ...) in CMakeLists.txt
   // Warnings and errors of the libraries go to stderr, as the command-line tool prints them; notes are
   // dropped (the fields carry their layout reasons and warnings).
   setLogSink([](LogLevel level, const std::string& message) {

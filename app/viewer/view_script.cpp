@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/view_script.h"
 
 #include "ui/session/surface_spec.h"

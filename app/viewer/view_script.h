@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Viewer scripts (`dtfabric view --script FILE`): one command per line, replayed by the viewer as if the
 // user had done it, so every figure can be reproduced. Parsing is pure (text in, steps out) and checks
 // everything it can before a window opens; a bad line is a UsageError "FILE:LINE: ...".
 //
 // The commands, their arguments and help are the table scriptCommands() (`dtfabric view --help` prints it,
-// `dtfabric help --markdown` the README's table). Outputs (screenshots, camera and tract files) never
+// `dtfabric help --markdown` the reference's table). Outputs (screenshots, camera and tract files) never
 // replace an input; an existing file only with --force on the line or `view --force`.
 // `#` starts a comment; blank lines are skipped.
 #pragma once
@@ -46,7 +47,7 @@ struct ViewScript {
 };
 
 struct ScriptLine; // one line split into words (view_script.cpp)
-// One script command: its name, arguments and one-line help (as `view --help` and the README show them) and
+// One script command: its name, arguments and one-line help (as `view --help` and the reference show them) and
 // its parser. A new command is one entry in scriptCommands().
 struct ScriptCommand {
   const char* name;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/viewer.h"
 
 #include "ui/session/fibre_input.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's panes over a session (ui/session/viewer_session.h, which holds the data, the surface, the
 // tracts, the workers, the write policy and the error modal): one or two fabric panes (FabricRenderer each,
 // the batch renderer's path), their cameras, and the tracts the session selected drawn over them

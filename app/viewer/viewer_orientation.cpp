@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/viewer_orientation.h"
 
 #include "io/diffusion/dwi.h"

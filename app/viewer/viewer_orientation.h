@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's orientation check: when the scene's dataset changes (a DWI, tensor file or a new load), the
 // check (surfaces/analyses/orientation_check.h) runs on its own thread; its verdict is shown by
 // ui/orientation_banner.h over the scene; on request the contact sheet is rendered (on the GUI thread, with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The desktop viewer's window, the only GLFW user: a GL 4.5 core window, Dear ImGui (GLFW + OpenGL3
 // backends), mouse and keys turned into ui actions, script replay, and the scene of app/viewer/viewer.h
 // blitted under the panels each frame.

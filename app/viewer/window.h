@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The desktop viewer: a GLFW window with ImGui panels over the scene of app/viewer/viewer.h.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "io/bids/bids.h"
 
 #include "io/formats/atomic_file.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BIDS datasets as `dtfabric bids` reads and writes them: finding the diffusion runs of a raw dataset
 // (`sub-*/[ses-*/]dwi/*_dwi.nii[.gz]` with their `.bval`/`.bvec`), naming derivatives (every entity of the
 // source name kept, `desc-…` added before the suffix) and the derivative's `dataset_description.json`. Pure

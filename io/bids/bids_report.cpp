@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "io/bids/bids_report.h"
 
 #include "io/bids/bids.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The group level of `dtfabric bids`: one row per diffusion run from the participant level's metrics
 // documents, the outlier flags, `group.tsv` and the self-contained `group_report.html` (inline CSS and
 // JavaScript, figures referenced by relative path, so it works opened from the file system: no server).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // FSL bedpostx direction samples as cones of uncertainty, and cone maps for display (io/uncertainty.h).
 #include "io/diffusion/fit_detail.h"
 #include "io/diffusion/uncertainty.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Wild bootstrap of the tensor fit and the cone of uncertainty (io/uncertainty.h).
 #include "io/diffusion/fit_detail.h"
 #include "io/diffusion/uncertainty.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Raw diffusion-weighted images with their b-values and gradient directions, and the tensor fit: the
 // "DWI + bval/bvec -> fit -> TensorField" branch of the data flow. The fit's output
 // is the canonical TensorField (world RAS, xx xy xz yy yz zz, mm^2/s), like every tensor reader's.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "io/diffusion/dwi.h"
 #include "io/diffusion/fit_detail.h"
 #include "io/model/error.h"

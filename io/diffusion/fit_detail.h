@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internals of the tensor fit shared by fitTensors (fit.cpp) and the bootstrap (bootstrap.cpp): the
 // log-linear design of a gradient scheme, its pseudo-inverse and the small dense solvers. Not installed.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Uncertainty of the principal diffusion direction, beside the tensor fit of io/diffusion/dwi.h: the wild
 // bootstrap of the fit (Whitcher et al., HBM 2008) and FSL bedpostx direction samples, each summarised per
 // voxel as the 95 % cone of uncertainty (Jones 2003): the 95th percentile of the angle between every sample's

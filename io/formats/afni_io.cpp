@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // AFNI datasets (+orig/+tlrc/+acpc .HEAD with .BRIK or .BRIK.gz): scalar and vector bricks. The HEAD file
 // is a list of attributes ("type = ...", "name = ...", "count = N", then the values). Geometry:
 // IJK_TO_DICOM_REAL (else IJK_TO_DICOM, else ORIGIN/DELTA with ORIENT_SPECIFIC) maps (i, j, k) to AFNI's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Output files are written to a temporary sibling and renamed into place, so a failed or interrupted
 // write never leaves a partial file and never truncates an existing one.
 #pragma once

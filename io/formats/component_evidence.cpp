@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tensor or fibre peaks: what the values of a volume with 3K components per voxel can be, judged from a
 // sample of its voxels rather than from the signs of its values (sign-normalised peaks have none).
 #include "io/formats/format_detail.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // DSI Studio SRC and FIB files: MATLAB v4 matrices one after another, each with a 20-byte header
 // (type = 1000*M + 100*O + 10*P + T, rows, cols, imaginary flag, name length), the name and the values
 // column by column. M = 0 little-endian (1 big-endian); P = 0 double, 1 float, 2 int32, 3 int16, 4 uint16,

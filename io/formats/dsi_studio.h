@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // DSI Studio's files (MATLAB v4 matrices, usually gzipped): the SRC file (raw DWI + b-table) is read as a
 // DWI through readDwi / readScalarVolume (io/formats/formats.h dispatches to it); the FIB file's DTI maps and up to
 // three fibre populations per voxel are read here into plain volumes, to become a fibre set later.

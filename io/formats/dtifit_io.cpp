@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // FSL dtifit outputs without --save_tensor: <base>_V1.._V3 (eigenvectors, 3 volumes each), <base>_L1.._L3
 // (eigenvalues, mm^2/s), plus _FA, _MD, _MO, _S0. The tensor is D = sum_i L_i V_i V_i^T in FSL's frame (the
 // voxel axes, with x negated when det(affine) > 0, as bvec files), then rotated to world RAS like the FSL

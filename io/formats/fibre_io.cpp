@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre-set readers and writers (see fibre_io.h).
 #include "io/formats/fibre_io.h"
 

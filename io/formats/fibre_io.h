@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Crossing-fibre files in and out: readers convert into the canonical FibreSet (io/model/fibre_set.h: unit
 // world-RAS directions, strongest first), writers convert out of it. Layouts on disk:
 //   mrtrix-peaks  MRtrix sh2peaks: 4D, 3K volumes (x y z per peak), WORLD frame, amplitude = vector length,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internal to dtf_io: the per-format readers and writers behind the dispatch in io/formats/formats.cpp, and
 // the pieces they share. Other modules use io/formats/tensor_io.h and io/formats/formats.h. Every reader
 // throws InputError whose message starts with the file name.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The file formats a volume path can hold and the detector's answer (format and reason): the vocabulary
 // that format detection (io/formats/formats.h) returns and the readers (io/formats/tensor_io.h) take, in a
 // header of its own below both.

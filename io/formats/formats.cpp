@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Format detection and the one dispatch behind readHeader / readScalarVolume / readTensorVolume / the
 // writers: every command opens every format through here.
 #include "io/formats/formats.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Which file format a volume path holds, found from its content first and its name second. The readers in
 // io/formats/tensor_io.h (readHeader, readScalarVolume, readTensorVolume) and readDwi dispatch through this, so
 // every command opens NIfTI, MRtrix images, NRRD, FSL dtifit eigen-systems and DSI Studio SRC files the

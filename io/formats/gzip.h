@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internal to dtf_io: whole-buffer gzip, zlib and raw-deflate inflation through libdeflate for the readers
 // (.nii.gz, .mif.gz, .trk.gz, NRRD gzip encoding, zip entries) and gzip compression for the writers.
 // libdeflate has no streaming interface, so a stream is inflated whole into a buffer sized from what the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // JSON for every document dtfabric reads or writes (TRX headers, BIDS sidecars and derivative documents,
 // the `--json` reports, the pages' embedded data), through nlohmann::json. This header declares only the
 // forward types, so it stays cheap to include; a .cpp that builds or reads documents includes

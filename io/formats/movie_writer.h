@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Movies written frame by frame: H.264 MP4 (yuv420p) or GIF through the `ffmpeg` program found on PATH at
 // run time (raw RGB frames piped to its standard input), or numbered PNG frames into a directory. The output
 // appears only when finish() succeeds: a file is written to a temporary sibling and renamed into place, a

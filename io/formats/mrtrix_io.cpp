@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // MRtrix image format (.mif, .mif.gz, .mih + data file), as MRtrix3 writes it: a text header
 //   mrtrix image / dim / vox / layout / datatype / transform (3 rows) / [scaling] / [dw_scheme ...] / file
 // ended by "END", then the data at the `file` offset (the same file when the name is ".").

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // NIfTI-1/NIfTI-2 reading and writing through nifticlib's nifti2 API (which reads both versions, .nii and
 // .nii.gz). Everything nifticlib-specific stays in this file; callers see Grid, Volume and TensorField.
 #include "io/formats/format_detail.h"

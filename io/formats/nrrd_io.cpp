@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // NRRD (teem's format, NRRD0001-0005): attached (.nrrd) and detached (.nhdr + data file) headers; raw,
 // gzip and ascii encodings; either endianness. Axes are read in the order the header lists them (axis 0
 // fastest); the axes with a space direction (or, without `space directions`, those whose kind is not a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "io/formats/png_io.h"
 
 #include "io/formats/atomic_file.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Runs another program without a shell: every argument reaches it as it is (a path holding spaces, quotes,
 // `$(...)` or markup is one argument, never a command). Movies find ffmpeg with it; the benchmarks' peers
 // (MRtrix, nibabel, Chromium, ParaView, a worker dtfabric) start through it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The stored number types the volume readers meet (NIfTI datatypes, MRtrix datatypes, NRRD types, AFNI
 // brick types, MATLAB v4 precisions) and the one table that converts them: each reader maps its own codes
 // onto SampleType and reads through this table. Internal to dtf_io.

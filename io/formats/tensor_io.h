@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tensor, scalar and DWI volumes in and out (NIfTI and the formats of io/formats/formats.h): the first stage of the
 // pipeline.
 // Readers convert into the canonical TensorField form (world RAS, xx xy xz yy yz zz, mm^2/s; see

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Streamline files in and out: MRtrix .tck and TrackVis .trk. Tracts enter and leave
 // the pipeline here as dtf::Polylines in world RAS millimetres, the same frame as TensorField and Mesh, so
 // tracking output, comparison and rendering never see a file's own convention. Legacy VTK polylines are

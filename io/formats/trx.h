@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // TRX tractograms (the tee-ar-ex format): a zip archive, or an unzipped folder, of little-endian typed
 // arrays named `<name>[.<components>].<dtype>`:
 //   header.json            VOXEL_TO_RASMM (4x4, row-major), DIMENSIONS, NB_STREAMLINES, NB_VERTICES

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A small ZIP reader and writer over zlib, enough for TRX tractograms: entries stored or deflated, ZIP64
 // sizes and offsets, no encryption, no multi-disk archives. The reader memory-maps the archive, so a stored
 // entry is a view into the mapping (no copy); a deflated entry is inflated into memory. The writer stores

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Error types shared by every module. User, data and environment problems throw a type derived from
 // dtf::Error; callers add context on the way up ("while reading tensor volume X: ...") and the app prints
 // the whole chain (CLI) or shows it in a modal (GUI).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The canonical in-memory crossing-fibre volume ("fibre set"): per voxel up to `maxFibres` fibre
 // populations, each a unit direction in WORLD RAS (already rotated out of any voxel/bvec frame) with an
 // amplitude (FOD peak amplitude, volume fraction, or 1 where the file carries no amplitude), sorted

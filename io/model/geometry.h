@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Geometry passed between surfaces, tracts and render: triangle meshes and polylines in world RAS mm.
 #pragma once
 

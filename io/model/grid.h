@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The sampling grid of every volume: dimensions, voxel size and the voxel-index -> world RAS mm affine.
 // Voxel indices are 0-based (i, j, k) with i fastest in memory; world space is RAS millimetres.
 #pragma once

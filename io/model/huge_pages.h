@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Large buffers on transparent huge pages where the kernel grants them on request (THP "madvise" mode, as
 // on Debian 12). A buffer of hundreds of MB otherwise takes a page fault per 4 KiB on first touch, which on
 // some virtual machines costs more than the work done in it: an HCP-sized tensor .nii.gz took 1.3 s to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // 8-bit RGBA images, row 0 at the top. The product of a render, the input of PNG writing and baseline
 // comparison.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Implicit functions whose Hessians are the analytic tensor fields of the phantoms and reference scenes
 // (paper §3.1), in closed form.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one logger. Libraries never print; they call dtf::log(), and the app decides where messages go
 // (stderr for the CLI, the status panel for the GUI).
 #pragma once

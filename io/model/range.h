@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // An interval of real numbers, closed, open or half-open; an infinite bound is no bound. The one range type
 // of the option tables (command flags, fabric parameters, tracking parameters) and the panels' sliders.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Symmetric 3x3 diffusion tensors and their metrics. Canonical component order is xx, xy, xz, yy, yz, zz
 // in world RAS, units mm^2/s (see TensorField). The closed-form eigen-solver here is the CPU reference
 // for the GLSL solver in shaders/common/eigen.glsl and handles repeated eigenvalues, diagonal and zero

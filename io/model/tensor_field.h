@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The canonical in-memory tensor volume. Every reader converts into this form and every writer out of it:
 //   * tensors are in WORLD RAS coordinates (already rotated out of any voxel/bvec frame),
 //   * components ordered xx, xy, xz, yy, yz, zz (SymTensor),

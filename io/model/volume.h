@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A scalar or vector volume on a Grid. Components are interleaved per voxel:
 // data[grid.index(i,j,k) * components + c]. Used for FA/MD maps, masks, T1 backgrounds and V1 maps.
 #pragma once

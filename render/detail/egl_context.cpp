@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The only file that talks to EGL. Headless GL 4.5 core: eglGetPlatformDisplayEXT (through libepoxy; the
 // EGL 1.5 entry point fails before a display exists) on EGL_PLATFORM_DEVICE_EXT first, then Mesa's
 // surfaceless platform; a context without config (EGL_KHR_no_config_context) made current without a

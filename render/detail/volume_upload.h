@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internal to dtf_render: the checks and the texture-coordinate map shared by the 3D-texture uploads of
 // tensor fields, scalar volumes and fibre sets (render/gpu_scene.cpp, render/gpu_fibres.cpp).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/fabric/advection_pass.h"
 
 #include "io/model/error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pass 3 of the fabric (paper §2.5, Eq. 12): iterative advection of the mapped noise beta along both
 // image-space eigenvector fields at once, ping-ponging two pairs of R32F state textures (p1 and p2, one
 // channel each: a software rasteriser's bilinear fetch costs per channel of the texture); blocked pixels

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pass 4 of the fabric (paper §2.6, Eq. 13, and the medical colouring of §3.2): combines the advected
 // fields, silhouettes and light into the final colour of the viewport, and writes gl_FragDepth from the
 // projection depth. Draws into the framebuffer bound by the caller (the renderer's output target), at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The fabric after the geometry stage, shared by both routes: dtfabric's own front ends (FabricRenderer
 // fills the geometry buffers from a mesh) and a host application (EmbeddedFabric imports them from the
 // host's depth and normal textures). Owns the data on the GPU (tensor field, fibre set, background volume),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What every fabric pass needs to know about the current view: matrices of the guarded target (the
 // viewport plus a border of `guard` pixels on each side, so advected threads do not fray at the screen
 // edge), sizes, the pixel size in mm and the depth range of the scene.

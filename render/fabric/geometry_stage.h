@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Geometry stage of the projection pass (paper §2.1): the geometry buffers the tensor stage reads, for every
 // pixel of the guarded target: the world normal and linear eye depth of the nearest surface (RG32UI) and
 // its window depth (DEPTH32F, for the early depth test of the later passes and the composite's depth).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Plain Blinn-Phong rendering of a mesh into the bound framebuffer: the baseline the fabric is
 // benchmarked against (paper Table 1) and the look of surfaces without tensor data.
 #pragma once

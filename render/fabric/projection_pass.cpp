@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/fabric/projection_pass.h"
 
 #include "render/gl_context.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pass 1 of the fabric (paper §2.1, §2.3), in two stages that run one after the other on the guarded target:
 // the geometry stage (render/fabric/geometry_stage.h) writes the geometry buffers, world normal and linear
 // depth per pixel plus the window depth, from a mesh (dtfabric's own front ends) or from a host's depth and

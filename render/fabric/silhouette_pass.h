@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pass 2 of the fabric (paper §2.4, Eq. 10): silhouettes from the 3x3 Laplacian of the linear depth.
 //   input : projection surface texture (.b linear depth mm, .a coverage)
 //   output: edge R8 (1 on silhouettes and off the surface, else 0; border 1), the guarded target's size

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Synthetic inputs for the render tests and benchmarks: analytic tensor fields (constant direction,
 // crossing, the Hessians of the sphere and Bretzel5 implicit functions of paper §3.1) and simple meshes
 // (planes, UV spheres, marching-tetrahedra isosurfaces). All in world RAS mm, canonical tensor form.

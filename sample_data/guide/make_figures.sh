@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Makes every figure of the user guide (sample_data/guide/README.md) from the bundled real brain,
 # sample_data/dwi.nii.gz, with the dtfabric command line and the viewer's --script under xvfb-run.
 #

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The restart of the advection (RESET of fabric/advection.frag, and of its compute twin fabric/advection.comp):
 // p_0 = beta on covered pixels, BLOCKED on silhouettes, off the surface and on the target's outer ring;
 // see fabric/advection.frag.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The advection state and one Eq. 12 iteration at a pixel (paper §2.5), shared by the fragment pass
 // (fabric/advection.frag) and its compute twin (fabric/advection.comp), so both compute the same values.
 // The iteration reads single texels as images: on llvmpipe an image load is inlined, where a texelFetch or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One triangle covering the target at the far plane (window depth 1), for passes that run once per
 // covered pixel: with the surface's depth buffer attached and GL_GREATER, the early depth test rejects
 // the background, and blocks of pixels without surface are skipped before shading. Also hands the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Closed-form eigen-decomposition of a symmetric 3x3 matrix: the GLSL port of eigenDecompose in
 // io/model/tensor.cpp (the CPU reference). Eigenvalues from the trigonometric solution of the
 // characteristic polynomial; the best-separated eigenvector as the largest cross product of two rows of

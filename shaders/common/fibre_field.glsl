@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sampling the fibre set uploaded by GpuFibreSet: per slot of continuousSlots (io/model/fibre_set.h) two
 // RGBA32F 3D textures holding the amplitude-weighted dyadic a d d^T of its unit world direction d, (xx, xy,
 // xz, yy) and (yz, zz, a, 0), interpolated per component by the hardware; an RGBA32F texture holds the paired

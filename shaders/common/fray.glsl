@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Uncertainty as fraying threads: every noise cell (a cube of edge u_lod / u_frayCells mm on the implicit
 // voxel grid of Eq. 7) turns the in-surface directions by its own angle, drawn from a hash of the cell
 // uniformly in [-1, 1] times u_fray times the cone of uncertainty. Where the cone is 0 nothing turns;

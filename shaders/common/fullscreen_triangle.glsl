@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One triangle covering the viewport; the image passes address their inputs with gl_FragCoord. With
 // FAR_PLANE it lies at window depth 1: drawn with the surface's depth buffer attached and GL_GREATER, the
 // early depth test then rejects the background, so blocks of pixels without surface are never shaded.

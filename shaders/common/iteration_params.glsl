@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The vertex side of an advection iteration's parameters (common/advection_step.glsl): the uniforms read
 // once per vertex and handed on flat (on llvmpipe a fragment shader pays for each read of a uniform
 // component on every block of pixels, about four times what a flat input costs). Used by the iteration's

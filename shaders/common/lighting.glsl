@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Blinn-Phong intensity with a headlight (light at the camera), in eye space, shininess 32 (five
 // squarings: pow() is slow on software rasterisers). Returns an intensity in
 // [0, 1] that the composite adds or multiplies without changing the hue.

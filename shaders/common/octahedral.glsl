@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Octahedral encoding of unit vectors into [-1, 1]^2 (packed as two snorm16: about 1e-4 rad), the normal
 // format of the fabric's geometry buffers.
 vec2 octahedral(vec3 n) {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tensor stage's parameters (common/projection_pixel.glsl and the field samplers it includes). The
 // compute pass (COMPUTE) reads them as uniforms. The fragment pass receives them as flat inputs from
 // fabric/projection.vert, which reads the uniforms (FORWARD_PARAMS) three times a draw: on llvmpipe a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tensor stage of the projection for one pixel, shared by the fragment pass (fabric/projection.frag)
 // and its compute twin (fabric/projection.comp); the comments of fabric/projection.frag describe it.
 #include "common/projection_params.glsl"

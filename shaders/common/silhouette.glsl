@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Silhouettes (paper §2.4, Eq. 10): the 3x3 Laplacian of the linear depth (.b of the projection's surface
 // target, mm from the eye), thresholded. Pixels without a surface (depth 0) count as depth `background`, so
 // the outline of the surface is found too, and get 1 as well: "do not sample here" for the advection.

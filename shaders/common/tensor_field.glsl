@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sampling the tensor field uploaded by GpuTensorField: two RGBA32F 3D textures holding
 // (xx, xy, xz, yy) and (yz, zz, FA, valid) per voxel, world RAS mm -> texture coordinates by
 // u_worldToTex. The tensor is interpolated component-wise by the hardware (never its eigenvectors), and

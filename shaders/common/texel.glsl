@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The texel at integer coordinates p, read as a sample at its centre. The unit must have a nearest sampler
 // (the texture's own filter, or createTexelSampler bound over it); then the result is texelFetch's:
 // (p + 0.5) / size * size stays well inside texel p. On llvmpipe a texelFetch costs about twice a nearest

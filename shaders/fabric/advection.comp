@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The advection of fabric/advection.frag as a compute shader (the same common/advection_step.glsl and
 // common/advection_restart.glsl), for GPUs whose fragment pipeline is the narrow part of the chip
 // (AdvectionPass::setCompute): the Eq. 12 iteration, or with RESET the restart from beta into both

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Advection pass (paper §2.5, Eq. 12), both eigenvector fields at once:
 //   p_{i+1} = k beta + (1 - k) (p_i(x + v) + p_i(x - v)) / 2
 // (one iteration: common/advection_step.glsl, also run as a compute shader by fabric/advection.comp).

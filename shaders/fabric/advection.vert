@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The advection pass's vertex shader (fabric/advection.frag): the fullscreen triangle, and the iteration's
 // parameters handed on as flat outputs. On llvmpipe a fragment shader pays for each read of a uniform
 // component on every block of pixels, about four times what a flat input costs; here they are read three

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Composite pass (paper §2.6, Eq. 13, and §3.2). Engineering mode, with f = contrast-stretched p_k:
 //   R = r f(p2) / (8 f(p1)^2) + e + light(L)
 //   G = (1 - r) f(p1) / (8 f(p2)^2) + e + light(L)

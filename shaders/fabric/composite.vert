@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The composite's vertex shader (fabric/composite.frag): the fullscreen triangle, and the pass's parameters
 // handed on as flat outputs, read here three times a draw (on llvmpipe a fragment shader pays for each read
 // of a uniform component on every block of pixels, about four times what a flat input costs).

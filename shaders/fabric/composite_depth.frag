@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The composite's depth alone, for CompositeDepth::Present: the window depth of the surface on every pixel
 // the composite draws (fabric/composite.frag, without WINDOW_DEPTH at full resolution), and nothing where it
 // discards: off the surface, and without a background volume where the data's cover is 0. Drawn once per

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Geometry stage of the projection, from a mesh: one RG32UI texel per covered pixel: the interpolated world
 // normal, octahedral-encoded as two snorm16 (about 1e-4 rad), and the linear eye depth in mm as float bits.
 // The target is cleared to 0, so depth 0 means "no surface here". The shader is trivial on purpose: on a software rasteriser each small triangle costs a full block of fragment

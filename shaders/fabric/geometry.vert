@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Projection pass, geometry stage: rasterises the surface into the guarded target and hands the
 // fragment stage the world normal and the linear eye depth (the only per-pixel surface data the
 // fullscreen stage needs; it rebuilds the position from the depth).

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Geometry stage of the projection, from a host: writes the same geometry buffers as fabric/geometry.*
 // (octahedral world normal and linear eye depth per pixel, window depth) from the host's depth texture and
 // world-normal texture, once per pixel of the guarded target. A pixel inside the host's viewport takes the

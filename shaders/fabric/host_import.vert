@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The host import's vertex shader (fabric/host_import.frag): the deferred triangle
 // (common/deferred_triangle.glsl) and the import's parameters handed on as flat outputs, read here three
 // times a draw (on llvmpipe a fragment shader pays for each read of a uniform component on every block of

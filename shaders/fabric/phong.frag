@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "common/lighting.glsl"
 in vec3 v_normalEye;
 in vec3 v_eye;

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Plain Blinn-Phong rendering of a mesh: the reference the fabric is benchmarked against.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tensor stage of fabric/projection.frag as a compute shader (the same common/projection_pixel.glsl), for
 // GPUs whose fragment pipeline is the narrow part of the chip (TensorStage::setCompute). One invocation per
 // pixel of the target, in 8x8 work groups:

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tensor stage of the projection (paper §2.1 and §2.3, Eq. 1-5 and 7-9): once per covered pixel of the
 // geometry buffers, written from a mesh (fabric/geometry.*) or imported from a host's depth and normal
 // textures (fabric/host_import.frag); the early depth test against their depth skips the rest (see

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Silhouette pass (paper §2.4, Eq. 10; common/silhouette.glsl): e in {0, 1}, 1 on silhouettes and off the
 // surface, so the advection finds "do not sample here" with a single fetch. A frame that restarts the
 // advection computes the same edges in its restart pass instead (fabric/advection.frag, RESET SILHOUETTES).

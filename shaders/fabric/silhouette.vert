@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The silhouette pass's vertex shader (fabric/silhouette.frag): the fullscreen triangle, and the threshold
 // and background depth handed on as a flat output (see fabric/advection.vert for why).
 #include "common/fullscreen_triangle.glsl"

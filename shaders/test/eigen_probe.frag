@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Test probe for common/eigen.glsl: decomposes the tensor stored in texels of two RGBA32F textures
 // (xx xy xz yy / yz zz - -) and writes eigenvalues and eigenvectors, and the principal eigenvector alone,
 // for comparison with the CPU solver.

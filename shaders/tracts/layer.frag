@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tract layer over the fabric (render/tract_layer.h): the layer's colour where a tract was drawn (alpha
 // 1), else the fabric's. Same size as the output; depth is left as the fabric wrote it.
 layout(binding = UNIT_FABRIC) uniform sampler2D u_fabric;

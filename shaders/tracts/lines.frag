@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract overlay colour: DEC of the world tangent (|t.x| red, |t.y| green, |t.z| blue), lit with the
 // tangent-based line lighting of Zöckler, Stalling and Hege with a headlight along the eye-space view
 // axis (L = V = +z, exact for orthographic views): diffuse = sqrt(1 - (L.t)^2), specular =

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Widens each line segment into a screen-aligned quad (tube impostor) u_widthPx pixels wide, extended by
 // half the width at both ends so consecutive segments overlap at the joints. Passes the segment's world
 // tangent for DEC colour and line lighting, and the across-line coordinate for the tube shading.

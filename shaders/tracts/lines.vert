@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract overlay: world RAS positions of the (display-decimated) polyline points, drawn as line strips.
 layout(location = 0) in vec3 a_position;
 uniform vec4 u_plane; // slab plane (unit normal, offset): signed distance = dot(n, p) + w, mm

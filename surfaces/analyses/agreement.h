@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // How well the fabric agrees with tractography on a surface: the fabric's threads follow the principal
 // eigenvector of the tensor projected onto the surface (paper Eq. 1, T' = P T P^T with P = I - n n^T), so
 // comparing that direction with the tangent of tracts that run along the surface says whether the

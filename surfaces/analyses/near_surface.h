@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Which tracts lie on a surface: the segments near it (through the distance query of surfaces/mesh_checks.h)
 // and the plane of a planar surface (slices and oblique planes), around which tracts are drawn in a slab.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check: is a gradient table (or a tensor file's frame) right, or is an axis negated or
 // swapped? A wrong table leaves DEC colours unchanged (they use |e1|) but turns every direction. The check
 // scores each of the 24 signed axis permutations by fibre coherence over the white matter (Schilling et

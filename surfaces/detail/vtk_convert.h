@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Conversions between dtf::Mesh and vtkPolyData. Private to the surfaces module (VTK stays out of public
 // headers): include only from surfaces/*.cpp.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "surfaces/tracking/tracking.h"
 
 #include "surfaces/tracking/tracking_parameters.h"

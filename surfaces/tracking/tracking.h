@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Deterministic tensor tractography: streamlines along the principal eigenvector e1 of the trilinearly
 // interpolated tensor (components interpolated, never eigenvectors), the comparison layer beside the
 // fabric. Input is a canonical TensorField (world RAS); output Polylines in world

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tracking parameters, each declared once: its name (the flag `--NAME` of `dtfabric track`, the key of
 // the viewer script's `track NAME=VALUE`, the Python keyword with '-' as '_'), help, the range every front
 // end accepts, the Tracking panel's slider and the TrackingParams field it sets. `track`, the script

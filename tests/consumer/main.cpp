@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A program outside dtfabric's source tree, built against the installed package (find_package(dtfabric)),
 // that uses it the way a host application with its own GL context does:
 //   1. makes its own headless EGL context (GL 4.5 core, no surface),

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The package_consumer test: installs the build into a fresh prefix, configures tests/consumer against it
 # (find_package(dtfabric) through CMAKE_PREFIX_PATH only, same compiler, Release), builds it with every
 # installed header compiled on its own, and runs the consumer on the real data.

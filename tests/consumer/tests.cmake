@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The installable package. package_consumer installs this build into a fresh prefix and builds and runs
 # tests/consumer against it (its own EGL context, real data, a baseline image, the host's GL state).
 # package_subdirectory configures a host project that adds dtfabric with add_subdirectory().

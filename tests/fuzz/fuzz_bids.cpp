@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: the BIDS layout scanner (io/bids/bids.h) on a folder tree built from the input, then the
 // gradient tables of the runs it finds (io/diffusion/dwi.h). Each input line "PATH" makes a folder (when it
 // ends in '/') or an empty file; "PATH=TEXT" makes a file holding TEXT ("\n" in TEXT is a line break). Paths

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fuzz-target helper: the readers take file names, so each input is written to a per-process scratch file
 // (in /dev/shm when there is one) with the extension the reader dispatches on.
 #pragma once

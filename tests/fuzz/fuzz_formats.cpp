@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: the readers of other tools' formats behind io/formats/formats.h (MRtrix images, NRRD, DSI
 // Studio SRC/FIB, AFNI .HEAD/.BRIK). DTF_FUZZ_FAMILY picks the extensions a target tries (0: all, 1: MRtrix,
 // 2: NRRD, 3: AFNI, 4: DSI Studio); the first input byte picks one of them (the readers detect by content

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: bval/bvec parsing and the gradient table checks (io/diffusion/dwi.h). The input is read both as
 // a bval and as a bvec file; when both parse to the same count, makeDwi checks them against a 2x2x2
 // volume with that many components (directions normalised and rotated into world RAS).

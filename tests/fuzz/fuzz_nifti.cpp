@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: NIfTI header, scalar, tensor (io/formats/tensor_io.h) and fibre-peaks (io/formats/fibre_io.h) readers. Inputs that start with the
 // gzip magic are read as .nii.gz, the others as .nii. Any dtf::Error is an accepted outcome; a crash, a
 // sanitizer report, a leak or an allocation beyond -rss_limit_mb is a finding.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: MRtrix .tck, TrackVis .trk / .trk.gz (io/formats/tracts.h) or TRX zip (io/formats/trx.h) reader,
 // chosen at build time by DTF_FUZZ_TRACT_EXT (".tck", ".trk", ".trk.gz" or ".trx"). Any dtf::Error is an
 // accepted outcome.

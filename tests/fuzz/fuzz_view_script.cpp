@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target: the viewer script parser (app/viewer/view_script.h), pure text in, steps or a UsageError out;
 // then the output check that runs before a window opens (reads the file system only: exists/equivalent).
 #include "app/viewer/view_script.h"

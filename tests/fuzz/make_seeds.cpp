@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Writes the fuzzers' seed corpora with dtfabric's own writers: small phantoms in every tensor layout
 // (.nii and .nii.gz, NIfTI-1 and -2), a DWI-shaped 4D volume, gradient tables, .tck/.trk tracts and viewer
 // scripts. Usage: dtf_fuzz_seeds DIR (creates DIR/nifti, DIR/gradients, DIR/tck, DIR/trk, DIR/trkgz, DIR/trx,

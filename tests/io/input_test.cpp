@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The input opener (io/input.h): what each kind of file is opened as, with its reason, and that the readers
 // of each kind read what the opener found (compared with the plain readers, which detect the format
 // themselves).

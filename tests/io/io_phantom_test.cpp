@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Analytic phantoms against closed forms: the Bretzel5 derivatives against finite differences, the
 // sphere's curvature tensor, the constant and crossing directions, and the brain phantom's bundle colours.
 #include "io/model/error.h"

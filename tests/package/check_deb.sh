@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Debian package made by .ci/package, checked as a user gets it:
 #   check_deb.sh BUILD_DIR SOURCE_DIR VERSION PYTHON (the interpreter the module was built for)
 # its file list (dpkg-deb -c), its control fields, `apt-get install --simulate` of it, the binary, the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Debian package (.ci/package builds it from this build; .ci/test does so before ctest): its files,
 # fields, dependencies, the binary and the Python module run from the extracted package, lintian. Skipped
 # when the package was not built, unless DTF_REQUIRE_TOOLS=1.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Fixtures of the dtfabric Python tests: the shared real data (skip when missing, fail under
 DTF_REQUIRE_SHARED_DATA=1), the built command-line tool (DTF_EXE) and readers of its outputs that do not use
 dtfabric (PNG through zlib, MRtrix .tck)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ctest's entry to the pytest suite: fails rather than skips when pytest or numpy is missing under
 DTF_REQUIRE_TOOLS=1 (CI); otherwise exits 77 (ctest's skip) in that case."""
 import os

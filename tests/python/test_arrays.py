@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """TensorField from numpy and nibabel: an array in each layout, built with numpy from the loaded field, gives
 the same field as the file; nibabel images are taken directly; DIPY's lower-triangular order in the voxel
 frame is accepted as "dipy"."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bad files and arrays raise dtfabric's exceptions (ValueError or OSError subclasses) naming the file or
 array and the problem; nothing crashes."""
 

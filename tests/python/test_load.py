@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric.load agrees with `dtfabric info --json` on the real data, in every tensor format and layout, and
 the fields carry the brain's anatomy (corpus callosum left-right, corticospinal tract superior-inferior)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric.movie makes the frames `dtfabric movie` makes (the same pixels, read back from the command's PNG
 frames), writes MP4/PNG outputs atomically, refuses to overwrite without force=True, and refuses bad motions."""
 

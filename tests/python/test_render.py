@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric.render gives the pixels `dtfabric render` writes with the same arguments (read back with a PNG
 decoder that does not use dtfabric), from a path, a loaded field, a fibre set and a numpy array; from several
 Python threads at once; and refuses bad options as the command does."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric.surface, track and check on known anatomy, and track/check against the command-line tool."""
 
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric.bootstrap and dtfabric.uncertainty: the cone of uncertainty as numpy arrays, equal to what
 `dtfabric fit --bootstrap N --cone FILE` writes (read back with nibabel when present), and render(uncertainty=)
 giving the pixels of `dtfabric render --uncertainty`."""

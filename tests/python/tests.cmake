@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Python module's pytest suite (tests/python), run by the interpreter the module was built for, with the
 # build tree's package on PYTHONPATH and the built command-line tool to compare with. Without the module
 # (no pybind11) the test fails under DTF_REQUIRE_TOOLS=1 and is skipped otherwise.

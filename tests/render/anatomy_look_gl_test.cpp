@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The anatomy look and the data's smooth edge, measured in pixels: a background volume on another grid
 // (rotated, coarser, shifted) shows through isotropic tissue at its world-space value, white matter keeps
 // its DEC colour, the plain look covers isotropic tissue with the fabric, and the data's edge is drawn with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Baseline images (256x256, llvmpipe) of the whole fabric: the paper's analytic data sets (Fig. 6: sphere
 // and Bretzel5 Hessian fields on their isosurfaces) and the real brain (axial slice, FA 0.25 isosurface) in
 // both colour modes. Compared with a per-channel tolerance, a bad-pixel fraction and a mean difference;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The built-in 5x7 bitmap font that labels contact sheets: glyph shapes, size, colour and clipping.
 #include "render/bitmap_text.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pure C++ parts of render: view conventions of the camera, trackball maths, and the reaction-diffusion
 // noise (seamless, deterministic per seed).
 #include "support/test_env.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GL debug output: misuse is collected (checkGl turns it into an error), driver hints are not.
 #include "render/gl_context.h"
 #include "support/gl_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // EmbeddedFabric::draw does not allocate in a host's frame loop: frames with a fixed camera (the advection
 // continues) and frames with a turning camera (it restarts), after a warm-up. Counts every operator new of
 // this process during the frames (headless GL).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The embedding API (render/embedding.h) as a host uses it: the host draws a sphere's depth and world
 // normals with its own raw GL program into its own textures, then EmbeddedFabric draws the fabric into a
 // viewport offset inside the host's larger framebuffer. Checked: the image agrees with FabricRenderer's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Each fabric pass in isolation against a small CPU reference on synthetic input.
 #include "support/gl_test.h"
 #include "support/vector_texels.h"
@@ -183,7 +184,7 @@ TEST_F(FabricPass, CompileErrorsNameTheFileAndLine) {
     FAIL() << "the broken shader compiled";
   } catch (const GlError& e) {
     std::string msg = e.what();
-    EXPECT_NE(msg.find("test/broken.frag:6"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("test/broken.frag:7"), std::string::npos) << msg;
     EXPECT_NE(msg.find("1 = common/eigen.glsl"), std::string::npos) << msg;
   }
   takeDebugMessages(); // the compiler's own debug message about the failure is expected here

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The whole fabric pipeline on synthetic fields: threads follow the data, crossings show both directions,
 // degenerate regions render calmly, same input gives the same image.
 #include "support/gl_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The multi-population fabric on the real brain's crossing-fibre files (../shared/data): the MRtrix (world
 // frame) and DIPY (voxel frame) peaks render the same thread orientations, and the DIPY file read in the
 // wrong frame does not; a coronal slice through the corticospinal tracts shows them (blue) woven with the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The multi-population fabric on fibre sets: on crossing phantoms the local orientation histogram of the
 // rendered centre of the crossing has a peak at each bundle and none at the tensor-average direction, where
 // the tensor fabric of the same crossing puts its threads; a single bundle shows one peak. The projection's

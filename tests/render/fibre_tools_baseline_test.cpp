@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre sets from other tools' native files (../shared/data): a DSI Studio FIB (three GQI populations, its
 // dti_fa paired) and an FSL dtifit set with V1 and FA but no eigenvalues (one population), both detected by
 // readFibres(Auto), rendered on an axial slice through the corpus callosum: the callosum is red with threads

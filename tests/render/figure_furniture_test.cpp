@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The figure's furniture on the CPU: letters name the side the camera puts at each edge (radiological and
 // neurological), the scale bar is as long as its label says, the legend is drawn in DEC colours, and each
 // piece appears only where asked.

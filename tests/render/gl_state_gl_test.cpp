@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The renderers leave the GL state as they found it: a host's framebuffer, viewport, switches, program,
 // vertex array and texture bindings are the same after a fabric frame, a still, a Phong frame, a tract draw
 // and a tract layer frame as before them.

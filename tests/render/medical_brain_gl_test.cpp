@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Medical mode on the real brain (paper Fig. 7): on axial slices the corpus callosum is red with threads
 // running left-right, the corticospinal tract blue, the cingulum green, and low-FA tissue grayscale with
 // texture (the secondary direction). Also texture coherence under an isovalue change (paper section 1):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The texture units, atomic-counter bindings and uniforms of the pass programs are named once in C++
 // (render/program_bindings.h) and injected into the GLSL as defines. These tests compile every program in
 // variants that together use all of its bindings and uniforms, and check that the binding the GL reports for

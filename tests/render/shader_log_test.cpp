@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Compile logs name the embedded file and line whichever driver wrote them (no GL context needed).
 #include "render/shader_program.h"
 

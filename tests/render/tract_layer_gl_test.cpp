@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tract layer under a frame budget (render/tract_layer.h): moving frames draw a coarse level within the
 // budget, still frames build the full set in chunks and end with exactly the image of one full draw.
 #include "render/fabric_renderer.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Levels of detail and the frame budget of the tract overlay (render/tract_renderer.h,
 // render/tract_layer.h): CPU side, no GL.
 #include "render/tract_layer.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tract overlay (render/tract_renderer.h) over the fabric: depth-correct against the opaque surface
 // (the composite's gl_FragDepth), DEC colour by tangent, and the slab clip.
 #include "support/gl_test.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Uncertainty as fraying threads (shaders/common/fray.glsl): the projection's turned directions against the
 // CPU reference (render/fray.h), and the whole pipeline on a constant field whose cone widens across the
 // slice: the threads' coherence falls with the cone while their orientation stays the data's; without a

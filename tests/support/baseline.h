@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Baseline image comparison shared by the baseline tests: a per-channel tolerance, a bad-pixel fraction
 // and a mean difference. On failure the actual, expected and diff images go to
 // build/baseline_failures/; DTF_UPDATE_BASELINES=1 rewrites the baseline instead (on purpose only, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Headless Chromium for tests of the static pages (the BIDS group report, the web page): a page's self-check
 // read from --dump-dom, and screenshots.
 #pragma once

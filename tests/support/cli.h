@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Runs the real dtfabric executable for CLI tests and captures exit code, stdout and stderr.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Counts heap allocations: replaces the global operator new/delete with malloc-based ones that count while
 // dtf::test::counting is set. Include it in exactly one source file of a test executable.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Checks on the pictures the user guide and the demo show: made, decodable, not blank, and the colour
 // and thread direction of a region.
 #pragma once

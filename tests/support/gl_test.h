@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GL test support: one headless EGL context per test process. DTF_GL_TEST_SETUP() at the start of a test
 // makes the context current, or skips the test when none can be made (fails instead when
 // DTF_REQUIRE_GL=1, as CI sets). GlTest fixtures check the GL debug output after each test: misuse

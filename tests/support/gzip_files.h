@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // gzip streams made with zlib (an inflater independent of the readers' libdeflate) for the gzip tests:
 // inflate a file, re-compress it as several members, build a small stream that inflates far beyond what
 // its header declares.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The include graph of a source tree and the layering rules read from it: modules in an ordered table (each
 // may include only itself and the lower modules it names), no include cycle between files, and no cycle
 // between the folders of one top-level folder. Functions of a root path, so a test can run them on the real

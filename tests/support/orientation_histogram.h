@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Orientation histograms of rendered fabric images: the checks the fibre renders and the viewer's fibre
 // mode share (the threads of each bundle make a peak at its direction, the tensor average none).
 #pragma once

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Independent reference reader for the tract-format tests: writes the streamlines of IN as
 OUT.points (float32 little-endian, N x 3, world RAS mm), OUT.offsets (int64, lines + 1) and, per data
 array, OUT.<dps|dpv>.<index> (float32) with OUT.names listing "<dps|dpv> <name> <components>".

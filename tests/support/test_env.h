@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Test helpers: where the shared real data lives, and skip-or-fail rules. A test that needs a resource
 // skips when it is missing, unless the matching DTF_REQUIRE_* variable is set (CI sets both), then fails.
 #pragma once

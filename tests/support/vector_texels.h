@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The projection's vectors target as the advection reads it, on the CPU: v1.xy as snorm16 (.x), v2.xy as
 // snorm10 and beta as unorm12 (.y), the layout of packVectors in shaders/common/projection_pixel.glsl; and
 // the three-field layout (the projection's vectors3 target, RGBA32UI): the same texel in .xy, the third

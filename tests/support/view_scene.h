@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer scene (app/viewer/viewer.h) headless with the window's frame loop minus ImGui: frames until the
 // session is settled and every pane is still, and the panes as the window would show them. Needs the GL test
 // context (support/gl_test.h).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Synthetic re-orderings of real volumes for tests.
 #pragma once
 

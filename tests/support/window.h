@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer in a real window under Xvfb, driven by a script, and the image measures its tests share.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Builds ZIP archives byte by byte for tests (independent of io/zip_archive): entries stored or raw-deflated
 // with zlib, with the central directory and end record, so tests can make TRX files, and break them.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre-following stream surfaces and the |e1 . n| quality figure on an analytic arch field.
 #include "io/model/error.h"
 #include "surfaces/fibre_surface.h"

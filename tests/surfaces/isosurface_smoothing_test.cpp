@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Windowed-sinc smoothing of isosurfaces: the lumps of a coarse, hard-edged volume go, the surface stays
 // where it was (no vertex moves further than the bound, clamped and reported), normals point out.
 #include "surfaces/isosurface.h"

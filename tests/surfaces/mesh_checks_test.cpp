@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // CGAL-backed mesh checks: self-intersections, repair, remeshing and AABB distances.
 #include "io/model/error.h"
 #include "surfaces/isosurface.h"

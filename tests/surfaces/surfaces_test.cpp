@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Isosurfaces, slices and mesh files against closed forms.
 #include "io/model/error.h"
 #include "support/test_env.h"

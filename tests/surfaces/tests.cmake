@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of surfaces/ itself (dtf_test(...) lines; the label follows from each file's suffix). The subfolders
 # have their own lists: surfaces/tracking, surfaces/analyses.
 dtf_test(test_surfaces SOURCES surfaces/surfaces_test.cpp LIBS dtf_surfaces dtf_model)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check's banner in the viewer: after a DWI or tensor file is loaded the check runs on the
 // worker (surfaces/analyses/orientation_check.h); this panel warns when it is not ok: a two-line coloured strip across
 // the top of the scene with the verdict (the reason as a tooltip), the contact sheet and, when another table

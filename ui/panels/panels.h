@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's Dear ImGui panels: Data, Surface, Fabric, Fibres (fibre sets), View and Tracts in a side bar,
 // a status bar with the voxel under the cursor, a progress line for work on the worker thread, the error
 // modal and the overwrite prompt. Each panel reads the ViewerState by const reference and appends what the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // What the viewer's user asked for. Panels (ui/panels.h), the key map (ui/keymap.h), mouse handling and
 // viewer scripts all produce these values; the session (ui/session/viewer_session.h) and the viewer's panes
 // perform them. Plain values, below ui/ (namespace ui: the vocabulary of the panels), so the panels can be

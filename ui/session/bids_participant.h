@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The participant level of `dtfabric bids` for one diffusion run: fit, orientation check, figure set and
 // metrics document under OUTPUT/<relDir>/, with BIDS-derivative names. Idempotent and atomic: every file is
 // written to a temporary sibling and renamed; the metrics document is written last and records the input

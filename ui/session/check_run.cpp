@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "ui/session/check_run.h"
 
 #include "ui/session/fibre_input.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check as the front ends run it (`dtfabric check`, `bench check`, the viewer): loads a DWI
 // with its table (validated strictly: the check's answer is a table, so a malformed one is refused rather
 // than repaired) or a tensor file, fits once, scores the 24 candidate tables with surfaces::checkOrientation,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One background thread that performs a front end's requests off its UI thread, latest request first. Jobs
 // wait in lanes: in a coalescing lane a request replaces the job waiting there (dragging a slider costs one
 // job per result the user can see) and may cancel the running job of its lane (it is out of date); in a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Crossing-fibre INPUT for `info` and `render`: a file io::openInput (io/input.h) found to be a fibre set,
 // loaded with an optional paired tensor (--tensor: FA for isosurfaces, FA modulation and the grey
 // background).

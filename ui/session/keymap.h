@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's keyboard conventions as a pure function from a key and the current
 // state to actions: Up/Down and PgUp/PgDn step the slice, A/C/S pick the axial/coronal/sagittal slice and
 // its view, R resets the view. The app maps GLFW keys and script `key NAME` lines onto Key.

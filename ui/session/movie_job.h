@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Movies of the fabric, as `dtfabric movie` and dtfabric.movie (Python) make them: a turntable around the
 // surface, a sweep of slices through the volume, or an FA-threshold sweep (the isosurface extracted again per
 // frame). The camera and the surface change from frame to frame while the advection state is carried over

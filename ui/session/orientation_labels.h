@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The letters a pane shows at its edges: the anatomical side the camera puts there.
 #pragma once
 

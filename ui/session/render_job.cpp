@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The render session behind `dtfabric render` and dtfabric.render (Python): load, build the surfaces, render
 // the panes and overlay the tracts.
 #include "ui/session/render_job.h"

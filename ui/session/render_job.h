@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One headless render of the fabric, as `dtfabric render` and the Python module's dtfabric.render run it: a
 // request (input file or an in-memory tensor field, surface, view, size, fabric parameters, background,
 // tracts, split panes) in, an RGBA image out. The caller has validated the flag values it parsed; the job

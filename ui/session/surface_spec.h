@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The surface to show, as written on the command line and in viewer scripts, shared by `dtfabric surface`
 // and `dtfabric render --surface`:
 //   fa=T                        FA isosurface at T

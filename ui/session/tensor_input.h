@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Turns a command's INPUT, opened by io::openInput (io/input.h), into a tensor field: any tensor file the io
 // layer reads, or a DWI with its bval/bvec (fitted with WLS inside an automatic or given mask). Shared by
 // render, surface and the viewer.

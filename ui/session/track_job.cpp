@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tracking session behind `dtfabric track`, dtfabric.track (Python) and the viewer's tract worker.
 #include "ui/session/track_job.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One tractography run, as `dtfabric track` and the Python module's dtfabric.track run it: a TrackRequest
 // (track_request.h) in; the streamlines (world RAS mm) and the counts out. Seeding is deterministic: the
 // result depends on the request only.

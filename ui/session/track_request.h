@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One tractography request, as `dtfabric track`, dtfabric.track (Python), the viewer's Tracking panel and
 // its script's `track` line make it: the tensors, where to seed, how many, and the tracking parameters
 // (surfaces/tracking/tracking_parameters.h). runTrack (track_job.h) runs it on a file or field; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract display choices shared by `render --tracts` (and meant for the viewer): show only some groups, and
 // colour by a per-point or per-streamline value through the tract colour map instead of DEC.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract files by name: .tck, .trk, .trk.gz through io/formats/tracts.h, .trx (zip or folder) through io/formats/trx.h,
 // .vtk/.vtp through surfaces/polyline_io.h. The dispatcher sits in app because it needs both io and
 // surfaces (surfaces may not include io headers, and io does not link VTK). Shared by `track`, `compare`,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "ui/session/tract_overlay.h"
 
 #include "surfaces/analyses/near_surface.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Which tracts a surface shows and where they are clipped: one rule for `dtfabric render --tracts` and the
 // viewer.
 //   planar surface (slice, plane): every tract, clipped to a slab around the surface's plane of half-width

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The session's tract work off the GUI thread (long work never blocks the window), on two CoalescingWorkers
 // (ui/session/coalescing_worker.h): the selection of what is drawn for the surface on screen (the
 // tract-overlay rule of ui/session/tract_overlay.h) and its display preparation, the agreement measure and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's session without a window or GL: the loaded data with its layout diagnosis (tensors, a DWI
 // fitted on load, or a fibre set with an optional paired tensor), the surface spec and its extraction, the
 // tracts and their selection for the surface, the workers doing the long work (ui/session/viewer_worker.h,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's state as the panels see it: a plain snapshot the session (ui/session/viewer_session.h) and the
 // viewer keep up to date and hand to ui/panels.h by const reference each frame. Strings here change only when
 // the data or the surface change, so drawing the panels from it does not allocate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "ui/session/viewer_worker.h"
 
 #include "io/model/error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The session's surface work on a CoalescingWorker (ui/session/coalescing_worker.h): loading (and fitting)
 // tensor data and extracting surfaces, so the window never blocks. A new surface request replaces one that
 // has not started, so dragging the FA slider costs one extraction per result the user can see; a load drops

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric web`: renders every slice's fabric with one headless renderer and writes the page's folder.
 #include "ui/session/web_page.h"
 

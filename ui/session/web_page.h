@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The self-contained web page of `dtfabric web`: the fabric of every axial, coronal and sagittal slice that
 // holds data, rendered headless once per slice (one renderer, one camera per axis framing the whole grid), as
 // PNG files, plus a per-voxel table (FA and principal direction as bytes) and the grid's affine for the hover

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The static text of the web page: index.html and viewer.js. The page reads window.DTF_WEB (data.js) and
 // window.DTF_WEB_VOXELS (voxels.js) and loads each slice's PNG through an <img>, so it works from file://.
 //

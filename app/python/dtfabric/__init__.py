@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """dtfabric: fabric-like tensor LIC (Eichelbaum et al.) for diffusion MRI, from Python.
 
     import dtfabric
@@ -14,6 +15,7 @@ time). Long work releases the GIL.
 from ._errors import Error, FileError, FormatError, GlError, UsageError
 from ._core import (FibreSet, Surface, TensorField, bootstrap, check, fabric_options, load, movie, read_png,
                     render, select, surface, track, uncertainty)
+from ._core import __version__  # the project's version (CMakeLists.txt), as `dtfabric --version` prints it
 
 __all__ = [
     "Error", "FileError", "FormatError", "GlError", "UsageError",

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The exceptions dtfabric raises. Each message names the file (or array) and the problem, in the words of
 the command-line tool."""
 

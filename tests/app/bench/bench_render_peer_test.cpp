@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The ParaView peer of `bench render` without ParaView: the generated pvbatch script carries the settings
 // (paths quoted for Python), its output is parsed into figures or a failure note, and the vector it is fed
 // is the principal in-surface eigenvector of the tensor.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bench render` end to end on a tiny viewport: the fabric and Phong figures for sphere_41k, and
 // the ParaView Surface LIC peer attempted exactly when pvbatch (or pvpython) is on the PATH, as bench tracts
 // does with tckgen. Either case passes: CI does not install ParaView.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric bids` end to end on a small BIDS dataset made from ../shared/data in the build's scratch folder:
 // sessions and entities, the real DWI as given, re-strided to RAS, with its x gradients negated and with its
 // b-values doubled (diffusivities halve: an MD outlier), three noisy copies, a corrupt file, a missing bvec,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric check` end to end on the real data: the JSON keys, corrupted tables corrected back through
 // --fix-bvec, tensor files in the wrong layout, the DIPY crops, and bad input (exit 2 naming the file).
 #include "io/diffusion/dwi.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `.ci/demo` without a display: it fits the bundled real brain and writes its four figures, and they show
 // the anatomy they are captioned with.
 #include "io/formats/png_io.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info` on files that used to fool it: any file of a real FSL dtifit set describes the set's
 // tensor (metrics, eigenvalues) like the tensor file; sign-normalised real peaks are fibre sets; data that
 // fit a tensor and peaks alike, and a NRRD with a singular measurement frame, exit 2 naming the file.

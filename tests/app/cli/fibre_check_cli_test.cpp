@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric check` on fibre sets, end to end on the real Prisma peaks: each file in its own layout is ok,
 // a file read in the other frame is corrected with the x flip, the JSON keys are those of the tensor check,
 // and what a fibre set cannot do (--sheet, --fix-bvec) is refused as usage.

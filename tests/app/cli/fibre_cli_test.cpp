@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The crossing-fibre commands through the real executable: `phantom crossing` in every fibre layout on RAS
 // and LAS grids read back by `info --voxel --json` as the same world directions; `render` of a fibre set
 // (FA surfaces refused without --tensor) and DTI beside the fibres with --split input=PEAKS.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric compare` with a fibre set: the crossing phantom written by `dtfabric phantom crossing` as tensors
 // and as peak files in every layout, tracts along either bundle (written here) compared on the axial slice
 // through the crossing. Against the fibre set every point agrees (the nearest population is the tract's own

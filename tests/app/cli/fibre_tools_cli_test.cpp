@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Other tools' fibre files through the real executable: a DSI Studio FIB and an FSL dtifit set with V1 but no
 // eigenvalues are fibre sets for `info --voxel --json` (directions in world RAS, the file's own FA) and for
 // `render` (an FA surface without --tensor).

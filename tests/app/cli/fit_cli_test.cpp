@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric fit` end to end through the real executable: the IU Prisma DWI fitted and read back, output
 // overwrite rules, and bad input (exit 2, file named) or bad usage (exit 1).
 #include "io/formats/tensor_io.h"

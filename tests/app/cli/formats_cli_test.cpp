@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Other tools' formats through the real executable: `info` names the format and why, `fit` takes an MRtrix
 // DWI with its dw_scheme and a DSI Studio SRC without bval/bvec files, and writes .mif and .nrrd outputs
 // that read back as the same world tensors as a NIfTI fit.

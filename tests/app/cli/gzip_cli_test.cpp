@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info` on gzip files as users meet them: several gzip members read as one, a truncated file and
 // a deflate bomb (a small file inflating far beyond its header) give exit code 2 and a message naming the file.
 #include "io/formats/tensor_io.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Help and README follow the declarations: every command, benchmark, script command and fabric option is
 // in the help that lists it; each command's option table is what its parser accepts, what its --help and
 // usage line list, and what its code reads; README.md's tables are exactly `dtfabric help --markdown`.
@@ -242,28 +243,46 @@ TEST(Help, EveryCommandReadsExactlyItsTable) {
   }
 }
 
-// README.md holds the tables of `dtfabric help --markdown` verbatim, so the README cannot drift from the
-// code.
-TEST(Help, ReadmeTablesAreHelpMarkdown) {
+// The documentation holds the tables of `dtfabric help --markdown` verbatim, so it cannot drift from the
+// code: README.md the short command table, sample_data/guide/reference.md the whole command table and the
+// viewer's script table.
+TEST(Help, DocumentationTablesAreHelpMarkdown) {
   const auto md = run("help --markdown");
   ASSERT_EQ(md.exitCode, 0) << md.err;
   EXPECT_EQ(md.out, dtf::app::markdownTables());
   const std::string readme = dtf::test::readText(dtf::test::sourceDir() / "README.md");
-  const auto split = md.out.find("\n\n");
-  ASSERT_NE(split, std::string::npos);
-  const std::string commandsTable = md.out.substr(0, split + 1), scriptTable = md.out.substr(split + 2);
-  EXPECT_NE(readme.find(commandsTable), std::string::npos)
+  const std::string reference = dtf::test::readText(dtf::test::sourceDir() / "sample_data/guide/reference.md");
+  const auto first = md.out.find("\n\n");
+  ASSERT_NE(first, std::string::npos);
+  const auto second = md.out.find("\n\n", first + 2);
+  ASSERT_NE(second, std::string::npos);
+  const std::string shortTable = md.out.substr(0, first + 1),
+                    commandsTable = md.out.substr(first + 2, second + 1 - (first + 2)),
+                    scriptTable = md.out.substr(second + 2);
+  EXPECT_NE(readme.find(shortTable), std::string::npos)
       << "README.md's command table differs from `dtfabric help --markdown`:\n"
+      << shortTable;
+  EXPECT_NE(reference.find(commandsTable), std::string::npos)
+      << "sample_data/guide/reference.md's command table differs from `dtfabric help --markdown`:\n"
       << commandsTable;
-  EXPECT_NE(readme.find(scriptTable), std::string::npos)
-      << "README.md's script table differs from `dtfabric help --markdown`:\n"
+  EXPECT_NE(reference.find(scriptTable), std::string::npos)
+      << "sample_data/guide/reference.md's script table differs from `dtfabric help --markdown`:\n"
       << scriptTable;
-  for (const auto& c : dtf::app::commands())
-    EXPECT_NE(commandsTable.find("`dtfabric " + std::string(c.name)), std::string::npos) << c.name;
+  for (const auto& c : dtf::app::commands()) {
+    const std::string name = c.name;
+    EXPECT_NE(shortTable.find("| `dtfabric " + name + "` | "), std::string::npos) << name;
+    EXPECT_NE(shortTable.find("`dtfabric " + name + " --help`, `man dtfabric-" + name + "`"), std::string::npos)
+        << name;
+    EXPECT_NE(commandsTable.find("`dtfabric " + name), std::string::npos) << name;
+  }
   for (const auto& c : dtf::app::scriptCommands())
     EXPECT_NE(scriptTable.find("| `" + std::string(c.name)), std::string::npos) << c.name;
   for (const auto& b : dtf::app::benchmarks())
     EXPECT_NE(commandsTable.find("`" + std::string(b.name) + "`"), std::string::npos) << b.name;
+  // The short table is short: one line of at most 200 characters a command.
+  std::istringstream lines(shortTable);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_LE(line.size(), 200u) << line;
 }
 
 // The parser's rules, on a small table.

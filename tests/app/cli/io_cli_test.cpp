@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info` and `dtfabric phantom` as a user runs them: exit codes, messages naming the file, text
 // and JSON output (parsed back), on the real brain tensors and on malformed files made here.
 #include "io/model/tensor_field.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // JSON through the real executable: every `--json` report is one valid JSON document that carries file
 // names exactly (quotes, backslashes, newlines, non-ASCII), and TRX headers are read as any valid JSON and
 // refused (exit code 2, the file named) when they are not.

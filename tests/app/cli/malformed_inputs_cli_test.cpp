@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A catalogue of malformed inputs, each generated here from bytes (nothing binary is committed), run
 // through the real dtfabric executable: NIfTI volumes (`info`, `fit`), bval/bvec tables (`fit`), .tck/.trk
 // tracts (`compare --tracts`, the only command that reads tracts) and viewer scripts (`view --script`,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The man pages and the bash completion follow the option tables: every command has a page naming every
 // listed option of its tables, man formats each page without a warning, the pages and the completion the
 // build installs (build/manual) are what the tables give now, and bash completes commands, benchmarks,

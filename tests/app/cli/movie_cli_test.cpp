@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric movie` end to end: frame counts of PNG directories and of MP4/GIF files (decoded by ffprobe), the
 // frame size, atomic output (nothing left behind, nothing overwritten without --force, never an input), the
 // error without ffmpeg on PATH, and usage errors.

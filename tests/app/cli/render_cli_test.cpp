@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric render` end to end: writes a PNG, the same arguments give the same bytes, bad input and
 // usage give the documented exit codes (1 usage, 2 bad input).
 #include "support/cli.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric surface` end to end on the real brain and on bad input.
 #include "support/cli.h"
 #include "support/test_env.h"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of app/cli/ (dtf_test(...) lines; the label follows from each file's suffix).
 dtf_test(test_bids_cli SOURCES app/cli/bids_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)
 dtf_test(test_check_cli SOURCES app/cli/check_cli_test.cpp LIBS dtf_io dtf_model)
@@ -18,6 +19,7 @@ dtf_test(test_tract_convert_cli SOURCES app/cli/tract_convert_cli_test.cpp LIBS 
 dtf_test(test_tract_colour_cli SOURCES app/cli/tract_colour_cli_test.cpp LIBS dtf_render dtf_io dtf_model)
 dtf_test(test_tract_cli SOURCES app/cli/tract_cli_test.cpp LIBS dtf_model)
 dtf_test(test_help_cli SOURCES app/cli/help_cli_test.cpp LIBS dtf_cli)
+dtf_test(test_version_cli SOURCES app/cli/version_cli_test.cpp)
 dtf_test(test_tract_overlay_baseline SOURCES app/cli/tract_baseline_test.cpp LIBS dtf_render dtf_io dtf_model)
 dtf_test(test_manual_cli SOURCES app/cli/manual_cli_test.cpp LIBS dtf_cli)
 add_dependencies(test_manual_cli dtf_manual)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Baseline images of the tract overlay, rendered by the real `dtfabric render`: the real brain's axial
 // slice 22 with its deterministic tractogram overlaid (tracts within 3 mm of the slice), and the
 // `--split tracts` view of the same (two 256x256 panes: 512x256). Compared exactly like

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric track`, `dtfabric compare` and `dtfabric bench tracts` end to end: real brain and phantom input,
 // thread-count independent output files, and bad input mapped to exit codes 1 (usage) and 2 (bad input).
 #include "support/cli.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric render --tracts-color/--tracts-range/--tracts-group` end to end on the sample phantom with a TRX
 // made here: tracts take the colour map's colours (low end purple, high end yellow) instead of DEC, the
 // colour bar at the right edge holds the map's end colours, and a group shows only its streamlines.

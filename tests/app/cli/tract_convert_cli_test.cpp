@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric info TRACTS` and `dtfabric convert` end to end on the real tractograms of other tools: header
 // facts and counts in JSON, conversions between every format keeping what the target holds, atomic output
 // that never replaces an input, and the exit codes for bad input (2) and usage errors (1).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric render --tracts/--split` end to end: the PNG has the right size (2W x H for a split), the same
 // arguments give the same bytes, and a bad tract file is exit 2 naming the file.
 #include "io/formats/png_io.h"

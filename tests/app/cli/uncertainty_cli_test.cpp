@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Uncertainty through the real executable: `fit --bootstrap N --cone --fa-sd` on the bundled brain (cone in
 // degrees where the mask is, NaN outside, narrow in the corpus callosum and wide at the ventricles), `info
 // --voxel --uncertainty`, `render --uncertainty` (a legend, frayed pixels, the plain image unchanged without

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric web`: the folder written from a small LAS input with data on one side only (so a mirrored or
 // shifted image is caught), its per-voxel table against the tensors, the exported pixel -> world mapping
 // against the rendered images, refusals; then the page in headless Chromium from file:// (no console error,

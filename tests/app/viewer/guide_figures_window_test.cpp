@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The user guide's figures: every picture the guide and the README link is committed and not blank, and
 // sample_data/guide/make_figures.sh (the CLI and the viewer under Xvfb) makes each of them again.
 #include "support/figures.h"

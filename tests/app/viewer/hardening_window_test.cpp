@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Hardening of `dtfabric view` in a real window under Xvfb: a malformed file and a field beyond the GL's 3D
 // texture limit open the error modal while the viewer goes on (a good file loads afterwards); a script's
 // screenshot and camera-save lines do not replace files they did not write unless they say --force.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric view --ortho` in a real window under Xvfb, driven by a script: the crosshair and click lines move
 // the crosshair (printed with its slices), the scene screenshot exports the whole layout at the scene's size,
 // and `movie turntable` records the 3D pane to PNG frames and an MP4 with the frame count asked for.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of app/viewer/ (dtf_test(...) lines; the label follows from each file's suffix).
 dtf_test(test_viewer_orientation SOURCES app/viewer/viewer_orientation_gl_test.cpp LIBS dtf_viewer)
 dtf_test(test_guide_figures SOURCES app/viewer/guide_figures_window_test.cpp LIBS dtf_io dtf_model)

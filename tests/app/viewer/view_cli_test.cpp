@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric view` behaviour that needs no display: registration, help, script errors before a window
 // opens, and a clear GL error (exit code 3) when no display is available.
 #include "support/cli.h"

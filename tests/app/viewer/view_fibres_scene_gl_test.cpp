@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Fibre sets in the viewer scene (app/viewer/viewer.h), headless: a crossing fibre set weaves both bundles at
 // the centre of the crossing; the same crossing as one tensor per voxel in the fibres colour mode (its
 // principal direction, as `render --color fibres` shows a tensor) and in the medical mode weaves their

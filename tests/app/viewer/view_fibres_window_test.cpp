@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Crossing fibres in the viewer under Xvfb: a fibre set written by `dtfabric phantom crossing` (MRtrix peaks
 // on an LAS grid, so the frame handling is part of it) opens from a script line or as the view's INPUT with a
 // paired tensor; the probe at the centre of the crossing lists both populations with their world directions,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's figure, headless: the anatomy beneath the fabric (a DWI's mean b=0 image by default, any scalar
 // volume on another grid with SetBackground, resampled in world space, none on request) and the furniture
 // `render` draws (DEC orientation legend, scale bar, uncertainty legend), each switchable, in the exported

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer opens in the selected display convention, as `dtfabric render --view axial`: radiological by
 // default (the patient's right on the image's left), neurological when chosen, whatever the first surface;
 // the pane's edge letters name the side the camera puts there.

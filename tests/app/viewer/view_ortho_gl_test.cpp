@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's ortho layout headless: three slice panes through one crosshair beside the 3D pane. A click in
 // a slice pane moves the crosshair within that slice's plane (the pane's own slice stays, the other two
 // follow to the crosshair's slices, and what they show changes); the crosshair is drawn where it lies; each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's still refinement follows the rule of `dtfabric render` (FabricRenderer::renderStill): once
 // the camera stops, the fabric refines until almost no covered pixel changes by more than epsilon, but not
 // before the start image's weight (1 - k)^n has fallen below epsilon (paper §2.5), so the settled pane is as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer scene's steady state does not allocate: frames of a still, converged scene, and interactive
 // frames while the camera rotates, run without a heap allocation in the viewer's own code. Counts every
 // operator new of this process between frames (headless GL; skips without a context).

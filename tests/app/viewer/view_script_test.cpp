@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer script parser (app/viewer/view_script.h): every command, comments, and FILE:LINE errors.
 #include "app/viewer/view_script.h"
 #include "io/model/error.h"

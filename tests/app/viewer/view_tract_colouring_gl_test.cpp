@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract colouring and groups in the viewer scene (app/viewer/viewer.h), headless: the AFQ .trx's two
 // arcuate bundles shown or hidden by group, and the dpsv.trx tracts coloured by a per-point value through
 // the tract colour map, checked against the library (Polylines::subset, tractValueColour). No volume is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric view` under Xvfb with the tract colouring script commands: the AFQ .trx's arcuate bundles shown
 // by group (ARC_L alone draws less than both) and the dpsv.trx tracts coloured by their per-point 'z'
 // through the colour map instead of DEC, on the real iu_prisma brain; the whole window is kept for a look

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tracts in the viewer scene (app/viewer/viewer.h), headless: drawn over the fabric and hidden on request, the
 // selection redone for each surface, the split mode "fabric | fabric + tracts", tracking, saving and the
 // agreement measure on the worker threads, each checked against the command line that does the same

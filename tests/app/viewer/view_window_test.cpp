@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric view` in a real GLFW window under Xvfb, driven by scripts: panels drawn, screenshots written,
 // the FA slider, slice keys and split view change what is on screen. Skips without xvfb-run unless
 // DTF_REQUIRE_GL=1. Each test runs the viewer once at 640x480 on the bundled brain phantom.

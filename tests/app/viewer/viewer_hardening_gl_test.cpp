@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer scene's outputs and GL limits without a window (headless GL): camera files and screenshots
 // never replace an input, replace an existing file only when forced (the GUI's overwrite prompt, a script's
 // --force), and a tensor field beyond GL_MAX_3D_TEXTURE_SIZE ends in the error modal and a GL failure while

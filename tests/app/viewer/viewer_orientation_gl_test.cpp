@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's orientation check (app/viewer_orientation.h) on a headless scene: a DWI whose table has its x
 // row negated is loaded, the banner reports the correction, "Apply correction" turns the scene's tensors
 // into those of the true table, and "Show evidence" renders the contact sheet into a texture. ImGui runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BIDS dataset scanning, derivative naming, the JSON documents (io/formats/json.h) and the group report's outlier rule
 // (io/bids/bids.h, io/bids/bids_report.h), on small trees of empty files and hand-made rows.
 #include "io/bids/bids.h"

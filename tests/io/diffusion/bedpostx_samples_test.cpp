@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // FSL bedpostx samples as cones: synthetic merged_th/ph/fNsamples files (4D, one volume per sample) with a
 // known spread about a known direction, on an RAS grid (det > 0: FSL's frame negates x) and an LAS grid; the
 // dyadic mean agrees with what the dyads reader makes of the same direction, and malformed folders fail

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The cone of uncertainty: directionSpread on samples with a known spread, the wild bootstrap's fit equal to
 // fitTensors, and its calibration on a simulated phantom (known directions, Rician noise at three SNRs, a
 // 6 x b=0 + 60-direction b=1000 scheme): the true direction lies inside the 95 % cone in about 95 % of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // bval/bvec parsing and the gradient table checks of makeDwi: layouts, NaN rows, counts, bad text,
 // zero vectors, normalisation and the rotation of bvec-frame directions into world RAS.
 #include "io/diffusion/dwi.h"

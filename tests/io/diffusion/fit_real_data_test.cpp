@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fitTensors on real DWIs from ../shared/data: the IU Prisma brain against its DIPY WLS and MRtrix
 // reference tensors (which also checks the bvec-frame rotation on a LAS image), reference voxels in the
 // corpus callosum and corticospinal tract, DIPY's small crops (N x 3 bvec with NaN row; no exact b=0),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fitTensors on synthetic signals from known tensors: exact recovery (OLS and WLS, several gradient
 // schemes, LAS/RAS/oblique affines, so the bvec-frame rotation is exercised), the WLS weighting against a
 // dense reference, clamping, threading, progress/cancellation, input checks and automaticMask.

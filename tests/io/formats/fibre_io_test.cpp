@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // FibreSet (io/model/fibre_set.h) and the fibre readers/writers (io/formats/fibre_io.h): the lobe-matching
 // interpolation against closed-form cases, phantom round trips through every layout on RAS and LAS grids,
 // and the real brain's MRtrix, DIPY and bedpostx files against the reference voxels of the data README.

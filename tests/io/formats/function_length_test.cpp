@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Every function of the readers and writers in io/formats is at most 80 lines long (from the line of its
 // opening brace to that of its closing one), so that each reads as a header step or a data step. The
 // lengths come from a small brace matcher over the source text, itself checked on hand-made snippets.

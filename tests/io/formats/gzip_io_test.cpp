@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // gzip through the readers' whole-buffer inflater: round trips of every gzip format (.nii.gz, .mif.gz,
 // NRRD gzip encoding, .trk.gz), the same files re-compressed as several gzip members, truncated files and
 // deflate bombs (small files that inflate far beyond what their header declares), each refused with an

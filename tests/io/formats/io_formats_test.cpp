@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Other tools' formats read into the canonical TensorField: MRtrix images (the real MRtrix-written tensor,
 // hand-built files of known layout, files written with several stride layouts, the niivue oblique / uint8 /
 // 1-bit images), FSL dtifit eigen-systems, NRRD tensors in RAS and LPS with measurement frames and axis

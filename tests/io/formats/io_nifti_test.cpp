@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // NIfTI readers and writers: layout round trips in LAS/RAS/oblique frames, NIfTI-1/2, .nii/.nii.gz;
 // the on-disk frame conventions against hand-built files; layout detection; datatypes and scaling;
 // malformed files; and the real brain tensors in FSL, SYMMATRIX and MRtrix layouts (shared data).

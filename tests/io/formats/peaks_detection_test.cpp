@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tensor or fibre peaks, decided by what the values can be: real MRtrix and DIPY peaks whose vectors were
 // sign-normalised (the case that counting negative values got wrong), as 9 volumes and cut to 6 (two
 // peaks), are fibre sets; real tensors in every layout are still tensors; a file that fits both is refused

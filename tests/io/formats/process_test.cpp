@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Running another program without a shell: hostile arguments arrive unchanged and run nothing, exit codes
 // and signals come back, stdout and stderr go where asked, the environment is extended, a missing program
 // is 127, and findOnPath finds executables only.

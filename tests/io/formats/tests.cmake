@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of io/formats/ (dtf_test(...) lines; the label follows from each file's suffix).
 dtf_test(test_io_nifti SOURCES io/formats/io_nifti_test.cpp LIBS dtf_io dtf_nifti)
 dtf_test(test_io_formats SOURCES io/formats/io_formats_test.cpp LIBS dtf_io dtf_model ZLIB::ZLIB)

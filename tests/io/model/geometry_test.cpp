@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Mesh::isClosedOutward: the closed-surface test behind back-face culling in the renderer.
 #include "io/model/geometry.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Eigen-solver and metrics against closed forms.
 #include "io/model/grid.h"
 #include "io/model/tensor.h"

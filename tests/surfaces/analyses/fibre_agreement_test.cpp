@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract agreement against a fibre set: each tract point is measured against the nearest fibre population in
 // the surface. Closed-form angles, the threshold, and the crossing phantom, where tracts along either bundle
 // agree with the fibre set but not with the tensor's average direction inside the crossing.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check on fibre sets (surfaces::checkFibreOrientation): synthetic tubes whose frame is
 // known in closed form, then the real Prisma peaks in each layout, right and wrong.
 #include "io/formats/fibre_io.h"

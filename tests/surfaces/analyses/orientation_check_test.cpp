@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check (surfaces/analyses/orientation_check.h) on the real DWI and its corrupted tables, a
 // re-strided (RAS) copy, the tensor files in their layouts, the DIPY crops and a small crop: the verdicts,
 // the corrections, and the exactness of D' = G D G^T against a refit.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract/fabric agreement on a surface: the projected principal direction in closed form, agreement near
 // 0 degrees on a constant-direction phantom (and the known angle when tracts and field differ), and the
 // two populations of a crossing phantom.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tracking-parameter table: every default inside its range, every slider inside it, parsing and the
 // range errors, and validate() refusing each parameter just outside its range.
 #include "io/model/error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Deterministic tensor tracking: exact behaviour on closed-form fields (constant direction, FA boundary,
 // a 90-degree turn, length limits), seed generators, determinism across thread counts, progress and
 // cancellation, and reproduction of MRtrix's reference tracks on the real brain.

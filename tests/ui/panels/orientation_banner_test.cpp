@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation banner (ui/orientation_banner.h) headless: what it offers for each verdict and the action
 // each button returns.
 #include "ui/panels/orientation_banner.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The ui panels and key map without a window: pure state -> action functions, and the ImGui panels run
 // headless (a context, a font atlas, no renderer backend) with simulated mouse clicks.
 #include "ui/panels/panels.h"

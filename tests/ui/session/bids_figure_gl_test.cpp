@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The BIDS participant figures show the anatomy a DWI gives: its mean b=0 image beneath the fabric. On the
 // real DWI the axial figure's grey pixels (isotropic tissue and the grid outside the data) follow the b=0
 // image computed here independently from the DWI file, sampled at each pixel's world point.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The orientation check's contact sheet (192-pixel panels, two rows) on the real DWI with its x axis negated
 // in the table: the given row (threads cutting across the callosum and the corticospinal tracts) above the
 // corrected one (threads running with them). The corrected row must reproduce the true table's row pixel for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one coalescing worker under the session's surface and tract work: latest request wins, a newer
 // request cancels the running job of a cancelling lane, queue lanes keep every request, superseded lanes
 // are dropped, lower lanes run first, progress is seen from the caller's thread, and the destructor cancels

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-population cones over a fibre set: each fibre takes the cone of the bedpostx population whose mean
 // direction is nearest, whatever order the set holds its fibres in.
 #include "ui/session/fibre_input.h"

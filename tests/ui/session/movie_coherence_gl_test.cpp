@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Movie frames stay coherent: with the advection state carried from frame to frame (reprojected into the new
 // view), consecutive turntable frames a quarter degree apart differ far less than frames re-seeded per frame,
 // and each carried frame stays close to the converged still of its view, unlike frames restarted from the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The session library stands below the panels: dtf_session links neither dtf_ui, ImGui nor GLFW, directly or
 // through any library it links, while dtf_ui links dtf_session (the actions and state it draws). Read from
 // the build's own declarations (every CMakeLists.txt's add_library and target_link_libraries), so a new

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The data's outline on a real slice follows a smooth sub-voxel contour, not the voxel lattice. Measure: the
 // outline is the set of pixel edges between covered and uncovered pixels (coverage > 1/2); a staircase of
 // 3 mm voxels makes long straight horizontal and vertical runs of such edges, one per voxel face, while a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Supersampled stills: the right size, and the same fabric as the plain render (noise cell, step and
 // silhouette scale with N), where asking for a larger image and shrinking it gives finer threads. Measure:
 // the correlation of the luminance with the 1x render's, inside the data.

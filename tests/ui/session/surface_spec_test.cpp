@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Surface specs as written on the command line: parsing, errors, and joined surfaces.
 #include "io/model/error.h"
 #include "surfaces/slices.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The stage a DWI load reports while it fits (the viewer's status bar shows it): the file and the share done.
 #include "support/test_env.h"
 #include "ui/session/tensor_input.h"

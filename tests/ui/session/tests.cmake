@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of ui/session/ (dtf_test(...) lines; the label follows from each file's suffix).
 dtf_test(test_session_layering SOURCES ui/session/session_layering_test.cpp LIBS dtf_model)
 dtf_test(test_check_sheet SOURCES ui/session/check_sheet_baseline_test.cpp LIBS dtf_session)

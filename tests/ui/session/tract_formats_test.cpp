@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tractograms from every tool: each real file in ../shared/data/niivue_tracts against an independent reader
 // (nibabel for TrackVis/MRtrix, Python's zipfile + numpy for TRX, a direct parse for legacy VTK), facts
 // hard-coded from nibabel 5.0, the TrackVis LPS/no-affine rules, stale .tck counts and TRX offset and dtype

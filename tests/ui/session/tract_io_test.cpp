@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tract files: round trips through .tck, .trk (LAS and RAS reference grids) and .vtk, the TrackVis
 // half-voxel convention in closed form, byte orders and datatypes, the real MRtrix/nibabel files against
 // each other and the brain mask, and bad files refused with InputError naming the file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one tract-overlay rule of ui/session/tract_overlay.h that the viewer's worker uses (and `render
 // --tracts` applies through the same pickTracts/tractClip): which tracts a surface shows, and what is
 // uploaded of them (the display decimation to render::kTractDisplayPointCap with its levels of detail).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // CPU side of the tract overlay: display decimation (render/tract_renderer.h) and the near-surface
 // selection (surfaces/analyses/near_surface.h) on a plane, where the distance to the surface is |z|.
 #include "io/formats/tensor_io.h"

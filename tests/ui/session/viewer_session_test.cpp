@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's session without a window and without a GL context (this test links dtf_session only: no ImGui,
 // no GLFW): loading with the layout diagnosis, surface specs and their extraction on the worker, the
 // write/overwrite policy, errors into the modal's chain, fibre sets with their Fibres panel state and the
