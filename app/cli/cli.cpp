@@ -73,6 +73,14 @@ const std::vector<Command>& commands() {
        "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "
        "name what is dropped); atomic, never over an input",
        cmdConvert, convertOptions},
+      {"select", nullptr,
+       "ROI selection of streamlines: keep those through include regions and no exclude region (as tckedit)",
+       "keeps the streamlines through every include region (spheres, boxes, masks or atlas labels on any grid; "
+       "ordered includes entered in order) and no exclude region, on the stored vertices as MRtrix's `tckedit` "
+       "(`--ends-only`, `--precise` for the segments between vertices, `--min-length`/`--max-length`); regions "
+       "from flags and a region set file (`--roi`, as the viewer saves it); every value and group kept; "
+       "`--as-group NAME` adds the selection as a TRX group; .tck to .tck in place; atomic, never over an input",
+       cmdSelect, selectOptions},
       {"profile", nullptr,
        "tract profiles (tractometry): FA or any scalar along bundles, as DIPY afq_profile and pyAFQ",
        "tract profiles as DIPY `afq_profile` and pyAFQ: each file (or TRX group) a bundle, oriented alike, "

@@ -48,21 +48,6 @@ namespace dtf::python {
 
 namespace {
 
-// A path argument as the library takes it: str, bytes or os.PathLike (bytes decoded as os.fsdecode does, so
-// a name in the file system's encoding round-trips). A NUL character cannot be in a path: Python's open()
-// refuses it too.
-std::string pathText(const py::handle& p) {
-  const py::object os = py::module_::import("os");
-  const std::string s = py::str(os.attr("fsdecode")(os.attr("fspath")(p)));
-  if (s.find('\0') != std::string::npos)
-    throw UsageError("the path " + std::string(py::str(py::repr(p))) + " contains a NUL character");
-  return s;
-}
-
-std::string optionalPath(const py::object& p) {
-  return p.is_none() ? std::string() : pathText(p);
-}
-
 bool isPathLike(const py::handle& o) {
   return py::isinstance<py::str>(o) || py::isinstance<py::bytes>(o) || py::hasattr(o, "__fspath__");
 }
@@ -1204,4 +1189,5 @@ PYBIND11_MODULE(_core, m) {
   bindTensorField(m);
   bindFibreSet(m);
   bindSessions(m);
+  bindTracts(m);
 }

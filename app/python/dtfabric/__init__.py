@@ -16,7 +16,7 @@ may be called from any Python thread (calls run one at a time). Long work releas
 
 from ._errors import Error, FileError, FormatError, GlError, UsageError
 from ._core import (FibreSet, Surface, TensorField, bootstrap, check, fabric_options, load, movie, profile,
-                    read_png, surface, track, uncertainty)
+                    read_png, select, surface, track, uncertainty)
 from ._core import __version__  # the project's version (CMakeLists.txt), as `dtfabric --version` prints it
 from . import _core
 from ._notebook import Image, WebPage, show
@@ -24,8 +24,8 @@ from ._notebook import Image, WebPage, show
 __all__ = [
     "Error", "FileError", "FormatError", "GlError", "UsageError",
     "FibreSet", "Surface", "TensorField",
-    "load", "render", "movie", "surface", "track", "profile", "check", "read_png", "fabric_options", "bootstrap", "uncertainty",
-    "Image", "WebPage", "show", "web",
+    "load", "render", "movie", "surface", "track", "select", "profile", "check", "read_png", "fabric_options",
+    "bootstrap", "uncertainty", "Image", "WebPage", "show", "web",
 ]
 
 
