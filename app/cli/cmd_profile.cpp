@@ -54,8 +54,9 @@ const OptionTable& profileOptions() {
                   "how the streamlines are averaged at a node"),
         O::text(
             "start", "SPEC",
-            "start every streamline at its end nearer this region's centre: X,Y,Z or a sphere X,Y,Z,R (world "
-            "RAS mm); default: agree with the bundle's first streamline"),
+            "start every streamline at its end nearer this point or region's centre: X,Y,Z, or a region as "
+            "`select` takes it (a sphere X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, a mask IMAGE or IMAGE:L[,L...], its "
+            "voxels' mean); default: agree with the bundle's first streamline"),
         O::text("plot", "OUT.png|OUT.svg",
                 "a figure: a panel per scalar, each bundle a line with its 95% band"),
         O::integer("bootstrap", "B", po.bootstrap, closedRange(0, 100000),

@@ -5,6 +5,7 @@
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "io/model/tensor_field.h"
+#include "ui/session/region_spec.h"
 #include "ui/session/tract_files.h"
 
 #include <algorithm>
@@ -155,20 +156,24 @@ std::vector<std::string> profileInputs(const ProfileRequest& r) {
 }
 
 glm::dvec3 startPointOf(const std::string& spec) {
+  // X,Y,Z: a point (a sphere without its radius); anything else is a region (ui/session/region_spec.h).
   const auto parts = splitList(spec);
-  std::vector<double> v;
-  for (const auto& p : parts) {
-    char* end = nullptr;
-    const double x = std::strtod(p.c_str(), &end);
-    if (end == p.c_str() || *end || !std::isfinite(x)) {
-      v.clear();
-      break;
+  if (parts.size() == 3 && spec.find(':') == std::string::npos) {
+    glm::dvec3 p;
+    for (int i = 0; i < 3; ++i) {
+      char* end = nullptr;
+      p[i] = std::strtod(parts[i].c_str(), &end);
+      if (end == parts[i].c_str() || *end || !std::isfinite(p[i]))
+        throw InputError("--start '" + spec + "': X,Y,Z must be three finite numbers (world RAS mm)");
     }
-    v.push_back(x);
+    return p;
   }
-  if ((v.size() != 3 && v.size() != 4) || parts.size() != v.size() || (v.size() == 4 && v[3] < 0))
-    throw UsageError("--start '" + spec + "': expected X,Y,Z or a sphere X,Y,Z,R (world RAS mm, R >= 0)");
-  return {v[0], v[1], v[2]};
+  try {
+    return parseRegionSpec(spec).centreOf();
+  } catch (const Error&) {
+    rethrowWithContext("--start");
+  }
+  return {};
 }
 
 ProfileResult runProfile(const ProfileRequest& r) {

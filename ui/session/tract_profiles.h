@@ -31,7 +31,7 @@ struct ProfileRequest {
   std::string tensor;               // the tensor file or DWI of fa/md/ad/rd
   std::string layout = "auto";      // its tensor layout
   TensorInputOptions tensorOptions; // a DWI's gradients and fit mask
-  std::string start;                // a region whose centre the streamlines start near ("" none)
+  std::string start;                // X,Y,Z or a region SPEC the streamlines start near ("" none)
   surfaces::ProfileOptions options;
 };
 
@@ -54,7 +54,9 @@ struct ProfileResult {
 // replace them.
 std::vector<std::string> profileInputs(const ProfileRequest& request);
 
-// The world RAS mm point a --start SPEC names (a region's centre). Throws UsageError for a malformed spec.
+// The world RAS mm point a --start SPEC names: X,Y,Z itself, or the centre of a region as
+// ui/session/region_spec.h reads it (a sphere's or box's centre, the mean of a mask's voxels). Throws
+// InputError naming the spec for a malformed one or an unreadable image.
 glm::dvec3 startPointOf(const std::string& spec);
 
 // Reads everything and profiles every bundle. Throws InputError naming the file (an unreadable or empty

@@ -172,6 +172,35 @@ TEST(ProfileCli, LinearFieldAlongLinesThroughRealFiles) {
     EXPECT_NEAR(row["x"].get<double>(), x, 1e-3);
     EXPECT_NEAR(row["mean"].get<double>(), 0.2 + 0.01 * x + 0.003, 1e-5);
   }
+  // The same from a region as `select` takes it: a sphere, a box and a mask image near x = 25 (their
+  // centres), and a labelled parcellation.
+  dtf::ScalarVolume labels(dtf::Grid::fromAffine(glm::ivec3(61, 61, 41), glm::dmat4(1.0)), 1);
+  labels.grid = dtf::io::readScalarVolume(field.string()).grid;
+  labels.data.assign(labels.grid.voxelCount(), 0.0f);
+  for (int k = 0; k < 41; ++k)
+    for (int j2 = 0; j2 < 61; ++j2)
+      for (int i = 0; i < 61; ++i) {
+        const glm::dvec3 w = labels.grid.toWorld(glm::dvec3(i, j2, k));
+        if (glm::distance(w, glm::dvec3(28, 0, 4)) < 5) labels.at(i, j2, k) = 7;
+        if (glm::distance(w, glm::dvec3(-28, 0, 4)) < 5) labels.at(i, j2, k) = 3;
+      }
+  dtf::io::writeScalarVolume((dir / "labels.nii.gz").string(), labels);
+  for (const std::string& spec :
+       std::vector<std::string>{"'30,0,4,2'", "box:26,-5,0,34,5,8", q(dir / "labels.nii.gz") + ":7"}) {
+    const auto s = runDtfabric("profile " + q(lines) + " --scalar lin=" + q(field) +
+                                   " --nodes 11 --weights mean --json --start " + spec,
+                               dir);
+    ASSERT_EQ(s.exitCode, 0) << spec << "\n" << s.err;
+    const auto sj = nlohmann::json::parse(s.out);
+    EXPECT_EQ(sj["bundles"][0]["flipped"], 3) << spec;
+    EXPECT_NEAR(sj["rows"][0]["x"].get<double>(), 25, 1e-3) << spec;
+  }
+  // Label 3 sits near x = -25: the profile as stored by the first line.
+  const auto l3 = runDtfabric("profile " + q(lines) + " --scalar lin=" + q(field) +
+                                  " --nodes 11 --json --start " + q(dir / "labels.nii.gz") + ":3",
+                              dir);
+  ASSERT_EQ(l3.exitCode, 0) << l3.err;
+  EXPECT_EQ(nlohmann::json::parse(l3.out)["bundles"][0]["flipped"], 2);
 }
 
 TEST(ProfileCli, SeveralBundlesGroupsTablePlotsAndJson) {
@@ -292,7 +321,10 @@ TEST(ProfileCli, BadInputsExitTwoNamingTheFileAndOutputsAreProtected) {
       {q(lines) + " --scalar fa" + out, 1, "give --tensor T"},
       {q(lines) + " --scalar f=" + q(field) + " --scalar f=" + q(field) + out, 1, "'f' is given twice"},
       {q(lines) + " --scalar f=" + q(field) + out + " --plot " + q(dir / "p.jpg"), 1, ".png or .svg"},
-      {q(lines) + " --scalar f=" + q(field) + out + " --start 1,2", 1, "--start '1,2'"},
+      {q(lines) + " --scalar f=" + q(field) + out + " --start 1,2", 2, "--start: region '1,2'"},
+      {q(lines) + " --scalar f=" + q(field) + out + " --start box:1,2,3", 2, "--start: region 'box:1,2,3'"},
+      {q(lines) + " --scalar f=" + q(field) + out + " --start " + q(dir / "nomask.nii.gz"), 2,
+       "nomask.nii.gz"},
       {q(lines) + " --scalar f=" + q(field), 1, "missing -o"},
       {"--scalar f=" + q(field) + " " + q(lines) + out, 1, "is a tract file"},
       {q(lines) + " --scalar f=" + q(field) + " -o " + q(lines), 2, "lines.tck"},
