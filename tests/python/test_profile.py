@@ -66,6 +66,10 @@ def test_linear_field_and_plot(tmp_path):
     # Started near x = 20 (a point, as a tuple): the same profile from the other end.
     r = dtfabric.profile(str(tmp_path / "b.tck"), [f"lin={tmp_path / 'lin.nii.gz'}"], nodes=9, start=(25, 0, 0))
     np.testing.assert_allclose(r["mean"], p["mean"][::-1], atol=1e-6)
+    # A region as `select` takes it: a box around x = 25.
+    b = dtfabric.profile(str(tmp_path / "b.tck"), [f"lin={tmp_path / 'lin.nii.gz'}"], nodes=9,
+                         start="box:22,-6,-2,30,6,2")
+    np.testing.assert_allclose(b["mean"], p["mean"][::-1], atol=1e-6)
 
 
 def test_profile_errors(derived, tmp_path):
