@@ -60,7 +60,8 @@ set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/cmake/debian/triggers)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 # What the binaries do not say: libepoxy opens libEGL at run time, headless rendering needs a GL driver
-# (Mesa's llvmpipe without a GPU), the viewer's panels read DejaVu Sans, the Python module needs the interpreter it was built for and numpy.
+# (Mesa's llvmpipe without a GPU), the figures' text and the viewer's panels are DejaVu Sans (fontconfig finds
+# it for the profile figures), the Python module needs the interpreter it was built for and numpy.
 set(_depends "libegl1, libgl1-mesa-dri, fonts-dejavu-core")
 if(DTF_PYTHON_MODULE)
   string(REPLACE "." ";" _pv "${DTF_PYTHON_VERSION}")

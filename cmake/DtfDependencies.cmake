@@ -30,7 +30,17 @@ pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
 find_package(nlohmann_json 3 REQUIRED)
 
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
+# 2D figures with real text (profile plots, figure text): Cairo draws PNG and SVG, Pango lays out the text.
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
+pkg_check_modules(PANGOCAIRO REQUIRED IMPORTED_TARGET pangocairo)
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
+# The figures' text: DejaVu Sans rasterised by FreeType (private to dtf_render).
+pkg_check_modules(FREETYPE REQUIRED IMPORTED_TARGET freetype2)
+find_file(DTF_FONT_FILE DejaVuSans.ttf PATHS /usr/share/fonts/truetype/dejavu NO_DEFAULT_PATH)
+if(NOT DTF_FONT_FILE)
+  message(FATAL_ERROR "DejaVuSans.ttf not found in /usr/share/fonts/truetype/dejavu (package fonts-dejavu-core); "
+    "set DTF_FONT_FILE to another copy")
+endif()
 
 # The window, the panels and the executable only (DTF_BUILD_APPS).
 if(DTF_BUILD_APPS)

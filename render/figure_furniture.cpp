@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/figure_furniture.h"
 
-#include "render/bitmap_text.h"
+#include "render/text.h"
 #include "render/tract_renderer.h"
 
 #include <algorithm>
@@ -13,14 +13,10 @@ namespace dtf::render {
 
 namespace {
 
-// Text with a one-pixel dark outline, readable over any fabric colour.
-void outlinedText(Canvas& img, int x, int y, const std::string& text, int scale, std::uint8_t r,
+// Text with a dark outline, readable over any fabric colour.
+void outlinedText(Canvas& img, int x, int y, const std::string& text, FontSize size, std::uint8_t r,
                   std::uint8_t g, std::uint8_t b) {
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx)
-      if (dx || dy)
-        drawText(img, x + dx * std::max(1, scale / 2), y + dy * std::max(1, scale / 2), text, scale, 0, 0, 0);
-  drawText(img, x, y, text, scale, r, g, b);
+  drawOutlinedText(img, x, y, text, size, std::max(1, static_cast<int>(std::lround(size.px / 12.0))), r, g, b);
 }
 
 // A line of `width` pixels from a to b (pixel centres), opaque.
@@ -61,13 +57,22 @@ double scaleBarMm(int widthPx, double pixelMm) {
 }
 
 int furnitureScale(int width, int height) {
-  return std::clamp(std::min(width, height) / 256, 1, 4);
+  return std::max(std::min(width, height) / 256, 1);
+}
+
+FontSize furnitureFont(int width, int height) {
+  return FontSize(11.0 * std::max(std::min(width, height) / 256.0, 1.0));
+}
+
+FontSize letterFont(int width, int height) {
+  return FontSize(2.0 * furnitureFont(width, height).px);
 }
 
 int letterBand(int width, int height) {
   const int scale = furnitureScale(width, height);
-  // drawFurniture's margin, the letter (2x glyphs) and a gap as wide as a glyph pixel.
-  return 4 * scale + std::max(textHeight(2 * scale), textWidth("M", 2 * scale)) + 2 * scale;
+  const FontSize letter = letterFont(width, height);
+  // drawFurniture's margin, the letter and a gap.
+  return 4 * scale + std::max(textHeight(letter), textWidth("M", letter)) + 2 * scale;
 }
 
 void drawFurniture(Image& image, const Camera& camera, double pixelMm, const FigureFurniture& what) {
@@ -114,12 +119,13 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
   const int barW = std::max(8, w / 64), barH = std::max(16, h * 2 / 5);
   const auto labels = colourBarLabels(bar.lo, bar.hi);
   const std::string &lo = labels.first, &hi = labels.second;
-  const int th = textHeight(scale), gap = 3 * scale, pad = 2 * scale + 1;
+  const FontSize font = furnitureFont(w, h);
+  const int th = textHeight(font), gap = 3 * scale, pad = 2 * scale + 1;
   // The panel ends inside the band of the orientation letter at the right edge's middle (drawFurniture's
   // margin and size).
-  const int x0 = w - 4 * scale - textWidth("M", 2 * scale) - 4 * scale - barW - pad, y0 = (h - barH) / 2;
-  const int labelsLeft = x0 - gap - std::max(textWidth(hi, scale), textWidth(lo, scale));
-  const int panelLeft = std::max(0, std::min(labelsLeft, x0 + barW - textWidth(bar.name, scale)) - pad);
+  const int x0 = w - 4 * scale - textWidth("M", letterFont(w, h)) - 4 * scale - barW - pad, y0 = (h - barH) / 2;
+  const int labelsLeft = x0 - gap - std::max(textWidth(hi, font), textWidth(lo, font));
+  const int panelLeft = std::max(0, std::min(labelsLeft, x0 + barW - textWidth(bar.name, font)) - pad);
   const int panelTop = y0 - (bar.name.empty() ? 1 : gap + th) - pad;
   backing(img, panelLeft, panelTop, x0 + barW + 1 + pad - panelLeft, y0 + barH + 1 + pad - panelTop);
   img.fill(x0 - 1, y0 - 1, barW + 2, barH + 2, 255, 255, 255);
@@ -129,27 +135,32 @@ void drawColourBar(Canvas& img, const ValueColourBar& bar) {
              static_cast<std::uint8_t>(std::lround(c.y * 255.0f)),
              static_cast<std::uint8_t>(std::lround(c.z * 255.0f)));
   }
-  outlinedText(img, x0 - gap - textWidth(hi, scale), y0, hi, scale, 255, 255, 255);
-  outlinedText(img, x0 - gap - textWidth(lo, scale), y0 + barH - th, lo, scale, 255, 255, 255);
+  outlinedText(img, x0 - gap - textWidth(hi, font), y0, hi, font, 255, 255, 255);
+  outlinedText(img, x0 - gap - textWidth(lo, font), y0 + barH - th, lo, font, 255, 255, 255);
   if (!bar.name.empty())
-    outlinedText(img, std::max(0, x0 + barW - textWidth(bar.name, scale)), y0 - gap - th, bar.name, scale,
-                 255, 255, 255);
+    outlinedText(img, std::max(0, x0 + barW - textWidth(bar.name, font)), y0 - gap - th, bar.name, font, 255,
+                 255, 255);
 }
 
 void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const FigureFurniture& what) {
   const int w = img.width(), h = img.height();
   if (w < 32 || h < 32) return;
   const int scale = furnitureScale(w, h);
+  const FontSize font = furnitureFont(w, h), big = letterFont(w, h);
   const int margin = 4 * scale;
   const glm::dvec3 right = camera.right(), up = glm::normalize(glm::cross(right, camera.forward()));
   if (what.letters) {
     const std::string r(1, anatomicalLetter(right)), l(1, anatomicalLetter(-right)),
         t(1, anatomicalLetter(up)), b(1, anatomicalLetter(-up));
-    const int tw = textWidth("M", scale * 2), th = textHeight(scale * 2);
-    outlinedText(img, margin, (h - th) / 2, l, scale * 2, 255, 255, 255);
-    outlinedText(img, w - margin - tw, (h - th) / 2, r, scale * 2, 255, 255, 255);
-    outlinedText(img, (w - tw) / 2, margin, t, scale * 2, 255, 255, 255);
-    outlinedText(img, (w - tw) / 2, h - margin - th, b, scale * 2, 255, 255, 255);
+    // Each letter centred in a box as wide as an M (the widest letter), the capitals' height tall.
+    const int tw = textWidth("M", big), th = textHeight(big);
+    const auto at = [&](const std::string& letter, int x, int y) {
+      outlinedText(img, x + (tw - textWidth(letter, big)) / 2, y, letter, big, 255, 255, 255);
+    };
+    at(l, margin, (h - th) / 2);
+    at(r, w - margin - tw, (h - th) / 2);
+    at(t, (w - tw) / 2, margin);
+    at(b, (w - tw) / 2, h - margin - th);
   }
   if (what.scaleBar && pixelMm > 0) {
     const double mm = scaleBarMm(w, pixelMm);
@@ -160,16 +171,17 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
       const int y = h - margin - 3 * scale - what.bottomLeftReserved;
       img.fill(margin - 1, y - 1, px + 2, 3 * scale + 2, 0, 0, 0);
       img.fill(margin, y, px, 3 * scale, 255, 255, 255);
-      outlinedText(img, margin, y - textHeight(scale) - 2 * scale, label, scale, 255, 255, 255);
+      outlinedText(img, margin, y - textHeight(font) - 3 * scale, label, font, 255, 255, 255);
     }
   }
   if (what.legend) {
     // The world axes as the camera shows them (orthographic: the in-image part of each), in DEC colours,
     // each labelled with its positive side; axes pointing along the view are drawn short.
+    // On a square panel `margin` pixels from the bottom and right edges, wide enough for the axes and the
+    // letters at their tips.
     const double radius = 14.0 * scale;
-    const glm::dvec2 centre(w - margin - radius - textWidth("M", scale) - 2,
-                            h - margin - radius - textHeight(scale));
-    const int half = static_cast<int>(radius) + 3 * scale + textWidth("M", scale) + scale;
+    const int half = static_cast<int>(radius) + 3 * scale + std::max(textWidth("M", font), textHeight(font)) + scale;
+    const glm::dvec2 centre(w - margin - 1 - half, h - margin - 1 - half);
     backing(img, static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half, 2 * half + 1,
             2 * half + 1);
     const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -187,8 +199,8 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
       line(img, centre, tip, scale, colours[i]);
       const std::string letter(1, anatomicalLetter(axes[i]));
       if (glm::length(d) > 0.3)
-        outlinedText(img, static_cast<int>(tip.x + 3 * d.x * scale) - textWidth(letter, scale) / 2,
-                     static_cast<int>(tip.y + 3 * d.y * scale) - textHeight(scale) / 2, letter, scale,
+        outlinedText(img, static_cast<int>(tip.x + 3 * d.x * scale) - textWidth(letter, font) / 2,
+                     static_cast<int>(tip.y + 3 * d.y * scale) - textHeight(font) / 2, letter, font,
                      colours[i][0], colours[i][1], colours[i][2]);
     }
   }

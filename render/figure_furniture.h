@@ -3,11 +3,11 @@
 // orientation letters at the four edges (the anatomical side the camera puts there, so radiological and
 // neurological views are labelled as shown), a medical-colour orientation legend (the world axes through the
 // camera: R/L red, A/P green, S/I blue, as the DEC colours), a scale bar in mm and the colour bar of a tract
-// value. Drawn on a Canvas (render/bitmap_text.h): an image, or the viewer's overlay over its panes. No GL.
+// value. Drawn on a Canvas (render/text.h): an image, or the viewer's overlay over its panes. No GL.
 #pragma once
 
 #include "io/model/image.h"
-#include "render/bitmap_text.h"
+#include "render/text.h"
 #include "render/camera.h"
 
 #include <string>
@@ -34,8 +34,14 @@ char anatomicalLetter(const glm::dvec3& direction);
 // The scale bar's length in mm for an image `widthPx` wide at `pixelMm`: 1, 2 or 5 x 10^k, about a fifth of
 // the width.
 double scaleBarMm(int widthPx, double pixelMm);
-// The furniture's font scale on a canvas of this size (1 = 5x7 pixel glyphs).
+// The furniture's layout unit in pixels (margins, line widths) on a canvas of this size: 1 up to 511 pixels,
+// then one more per 256 pixels of the smaller side.
 int furnitureScale(int width, int height);
+// The size of the furniture's labels on a canvas of this size: 11 pixels to the em up to 256 pixels, then in
+// proportion to the smaller side, so a figure's layout is the same at any size. The orientation letters are
+// twice that (letterFont).
+FontSize furnitureFont(int width, int height);
+FontSize letterFont(int width, int height);
 // The band at each edge of a canvas this size that the orientation letters take, in pixels from the edge:
 // content framed inside it leaves the letters over the background.
 int letterBand(int width, int height);

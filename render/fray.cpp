@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/fray.h"
 
-#include "render/bitmap_text.h"
+#include "render/text.h"
 
 #include <cmath>
 #include <string>
@@ -65,8 +65,16 @@ ScalarVolume slotCones(const FibreSet& set, const FibreSet& slotted, const Scala
   return out;
 }
 
+namespace {
+
+FontSize legendFont(int scale) {
+  return FontSize(11.0 * scale);
+}
+
+} // namespace
+
 int frayLegendHeight(int scale) {
-  return 18 * scale + 2 * textHeight(scale) + 4 * 4 * scale + 3 * scale;
+  return 18 * scale + 2 * textHeight(legendFont(scale)) + 4 * 4 * scale + 3 * scale;
 }
 
 void drawFrayLegend(Image& image, float fray, int scale) {
@@ -78,13 +86,14 @@ void drawFrayLegend(Canvas& image, float fray, int scale) {
   const float cones[] = {0, 10, 20, 40};
   const int box = 18 * scale, gap = 4 * scale, pad = 3 * scale;
   const std::string caption = "95% cone (deg)";
-  const int width = std::max(4 * box + 5 * gap, textWidth(caption, scale) + 2 * gap);
-  const int height = box + 2 * textHeight(scale) + 4 * gap;
+  const FontSize font = legendFont(scale);
+  const int width = std::max(4 * box + 5 * gap, textWidth(caption, font) + 2 * gap);
+  const int height = box + 2 * textHeight(font) + 4 * gap;
   const int x0 = pad, y0 = image.height() - height - pad;
   if (x0 + width > image.width() || y0 < 0) return; // too small an image for a legend
   image.fill(x0, y0, width, height, 0, 0, 0);
-  drawText(image, x0 + gap, y0 + gap, caption, scale, 255, 255, 255);
-  const int by = y0 + 2 * gap + textHeight(scale);
+  drawText(image, x0 + gap, y0 + gap, caption, font, 255, 255, 255);
+  const int by = y0 + 2 * gap + textHeight(font);
   for (int c = 0; c < 4; ++c) {
     const int bx = x0 + gap + c * (box + gap);
     image.fill(bx, by, box, box, 40, 40, 40);
@@ -97,7 +106,7 @@ void drawFrayLegend(Canvas& image, float fray, int scale) {
         stroke(image, centre - d, centre + d, std::max(1, scale), 230, 230, 230);
       }
     const std::string label = std::to_string(static_cast<int>(cones[c]));
-    drawText(image, bx + (box - textWidth(label, scale)) / 2, by + box + gap, label, scale, 255, 255, 255);
+    drawText(image, bx + (box - textWidth(label, font)) / 2, by + box + gap, label, font, 255, 255, 255);
   }
 }
 

@@ -5,7 +5,7 @@
 
 #include "io/model/fibre_set.h"
 #include "io/model/image.h"
-#include "render/bitmap_text.h"
+#include "render/text.h"
 
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -27,7 +27,7 @@ ScalarVolume slotCones(const FibreSet& set, const FibreSet& slotted, const Scala
 
 // Draws the legend of the uncertainty display at the image's bottom-left corner: swatches of short
 // strokes turned as the renderer turns them for cones of 0, 10, 20 and 40 degrees at strength `fray`,
-// with their labels and a caption. `scale` is the font scale (1 = 5x7 pixel glyphs).
+// with their labels and a caption. `scale` is the legend's size unit (1: 18-pixel swatches, 11-pixel text).
 void drawFrayLegend(Image& image, float fray, int scale);
 void drawFrayLegend(Canvas& canvas, float fray, int scale);
 // The legend's height from the bottom edge in pixels (its margin included).

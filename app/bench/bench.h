@@ -36,6 +36,7 @@ int benchTracts(const CommandArgs& args);
 int benchOverlay(const CommandArgs& args);
 int benchCheck(const CommandArgs& args);
 int benchBids(const CommandArgs& args);
+int benchSelect(const CommandArgs& args);
 // Their option tables, each in its benchmark's file.
 const OptionTable& benchIoOptions();
 const OptionTable& benchRenderOptions();
@@ -45,6 +46,7 @@ const OptionTable& benchOverlayOptions();
 const OptionTable& benchViewOptions();
 const OptionTable& benchCheckOptions();
 const OptionTable& benchBidsOptions();
+const OptionTable& benchSelectOptions();
 
 // The `--data DIR` row every benchmark that reads the shared data has.
 CliOption sharedDataOption();

@@ -57,6 +57,10 @@ const std::vector<Benchmark>& benchmarks() {
        benchSurfaces, benchSurfacesOptions},
       {"tracts", "streamlines/s of deterministic tensor tracking on the real brain", benchTracts,
        benchTractsOptions},
+      {"select",
+       "ROI selection at whole-brain scale: index build and sphere queries on 10 M synthetic streamlines, the "
+       "real tracts, `select` against MRtrix tckedit on 1 M streamlines (when on the PATH)",
+       benchSelect, benchSelectOptions},
       {"overlay",
        "the tract overlay over the fabric (full, budgeted moving/still) and near-surface selection",
        benchOverlay, benchOverlayOptions},

@@ -73,6 +73,22 @@ const std::vector<Command>& commands() {
        "any supported tractogram to any other, keeping data and groups where the target holds them (warnings "
        "name what is dropped); atomic, never over an input",
        cmdConvert, convertOptions},
+      {"select", nullptr,
+       "ROI selection of streamlines: keep those through include regions and no exclude region (as tckedit)",
+       "keeps the streamlines through every include region (spheres, boxes, masks or atlas labels on any grid; "
+       "ordered includes entered in order) and no exclude region, on the stored vertices as MRtrix's `tckedit` "
+       "(`--ends-only`, `--precise` for the segments between vertices, `--min-length`/`--max-length`); regions "
+       "from flags and a region set file (`--roi`, as the viewer saves it); every value and group kept; "
+       "`--as-group NAME` adds the selection as a TRX group; .tck to .tck in place; atomic, never over an input",
+       cmdSelect, selectOptions},
+      {"profile", nullptr,
+       "tract profiles (tractometry): FA or any scalar along bundles, as DIPY afq_profile and pyAFQ",
+       "tract profiles as DIPY `afq_profile` and pyAFQ: each file (or TRX group) a bundle, oriented alike, "
+       "resampled to N nodes by arc length, scalars (fa/md/ad/rd of `--tensor`, or `NAME=IMAGE`) sampled "
+       "trilinearly; per node the gauss-weighted (or mean, median) value, sd, a seeded bootstrap 95 % interval, "
+       "the core position and the streamline count, as one tidy TSV (`--json`: the same rows); `--plot` a "
+       "figure (PNG or SVG) with a panel per scalar and a band per bundle",
+       cmdProfile, profileOptions},
       {"compare", nullptr,
        "angle between tracts and the fabric direction (or nearest fibre population) on a surface",
        "angle between tracts near a surface and the fabric's principal direction there; for a fibre set (peaks), "
@@ -92,11 +108,13 @@ const std::vector<Command>& commands() {
        "writes `group.tsv` and `group_report.html` (see [Cohorts](#cohorts-bids))",
        cmdBids, bidsOptions},
       {"web", nullptr,
-       "write a self-contained web page (folder) to browse every slice's fabric in any browser",
+       "write a self-contained web page (folder) to browse every slice's fabric, a 3D view and an FA sweep",
        "a folder that opens from the file system in any current browser (no server, no network): the fabric "
-       "of every axial, coronal and sagittal slice, a slider per axis, the viewer's keys, zoom and pan, "
-       "orientation letters, the radiological/neurological choice, a probe (world mm, voxel, FA, principal "
-       "direction) and, with `--tracts`, a tract overlay toggle",
+       "of every axial, coronal and sagittal slice in the `render` look, a slider per axis, the viewer's keys, "
+       "zoom and pan, orientation letters, the radiological/neurological choice, a probe (world mm, voxel, FA, "
+       "principal direction) and, with `--tracts`, a tract overlay toggle; a 3D view of an FA isosurface "
+       "turned by dragging (frames rendered with the movie's carried threads) and an FA-threshold sweep with "
+       "a slider; `--slices-only` for the slices alone",
        cmdWeb, webOptions},
       {"view", nullptr, "open the viewer (GLFW window with ImGui panels)",
        "the viewer: GLFW window, Dear ImGui panels (Data, Surface, Fabric, Fibres for fibre sets, View, Tracts), "

@@ -8,7 +8,6 @@
 #include "ui/session/tract_files.h"
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
-#include "io/formats/tensor_io.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -38,17 +37,6 @@ const OptionTable& convertOptions() {
   return table;
 }
 
-Grid referenceGridOf(const std::string& path) {
-  if (session::isTractFileName(path)) {
-    session::TractFileFacts facts;
-    session::readTracts(path, &facts);
-    if (!facts.grid)
-      throw InputError(path + ": this tract file records no reference space (use a NIfTI image)");
-    return *facts.grid;
-  }
-  return io::readHeader(path).grid;
-}
-
 int cmdConvert(const CommandArgs& argv) {
   ParsedOptions args(convertOptions(), argv);
   if (args.printHelpIfAsked()) return 0;
@@ -64,7 +52,7 @@ int cmdConvert(const CommandArgs& argv) {
 
   session::TractFileFacts facts;
   const Polylines lines = session::readTracts(in, &facts);
-  std::optional<Grid> grid = reference ? std::optional<Grid>(referenceGridOf(*reference)) : facts.grid;
+  std::optional<Grid> grid = reference ? std::optional<Grid>(session::referenceGridOf(*reference)) : facts.grid;
   session::writeTracts(out, lines, grid ? &*grid : nullptr);
   std::printf(
       "%s: %zu streamlines, %zu points, %zu per-streamline and %zu per-point arrays, %zu groups -> %s\n",

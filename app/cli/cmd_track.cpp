@@ -108,6 +108,12 @@ const OptionTable& trackOptions() {
     t.options = seedingRows(d);
     const std::vector<CliOption> tracking = trackingRows(d);
     t.options.insert(t.options.end(), tracking.begin(), tracking.end());
+    // Targeted tracking: the same region rows as `select`, applied to each streamline as it is tracked.
+    std::vector<CliOption> regions = regionOptions();
+    for (auto& o : regions)
+      o = std::move(o).hidden();
+    regions.front().group = "Targeted tracking (keep only streamlines that pass these regions, as `select`)";
+    t.options.insert(t.options.end(), regions.begin(), regions.end());
     return t;
   }();
   return table;
@@ -230,7 +236,9 @@ void checkResult(const TrackCli& cli, const surfaces::TrackingResult& r) {
     std::ostringstream msg;
     msg << "no streamline passed from " << r.seedsTried << " seeds (" << r.seedsBelowFa << " below FA "
         << q.options.faStop << " or outside the data, " << r.tooShort << " shorter than "
-        << q.options.minLengthMm << " mm)";
+        << q.options.minLengthMm << " mm"
+        << (q.regions.hasRegions() ? ", " + std::to_string(r.rejectedByRegions) + " outside the regions" : "")
+        << ")";
     throw InputError(msg.str());
   }
   if (q.count == session::SeedCount::Select && r.lines.lineCount() < static_cast<std::size_t>(q.number))
@@ -254,6 +262,7 @@ void printReport(const TrackCli& cli, const session::TrackRun& run) {
                                       {"seeds_tried", r.seedsTried},
                                       {"seeds_below_fa", r.seedsBelowFa},
                                       {"too_short", r.tooShort},
+                                      {"rejected_by_regions", r.rejectedByRegions},
                                       {"length_min_mm", lengths.front()},
                                       {"length_median_mm", medLen},
                                       {"length_max_mm", lengths.back()},
@@ -275,8 +284,12 @@ void printReport(const TrackCli& cli, const session::TrackRun& run) {
               stopMask.empty() ? "" : (", stop mask " + stopMask).c_str());
   std::printf("wrote %zu streamlines (%zu points; length %.1f / %.1f / %.1f mm min/median/max) to %s\n",
               r.lines.lineCount(), r.lines.points.size(), lengths.front(), medLen, lengths.back(), output);
-  std::printf("from %zu seeds (%zu below FA or outside the data, %zu too short) in %.2f s on %d threads\n",
-              r.seedsTried, r.seedsBelowFa, r.tooShort, run.seconds, r.threads);
+  std::printf("from %zu seeds (%zu below FA or outside the data, %zu too short%s) in %.2f s on %d threads\n",
+              r.seedsTried, r.seedsBelowFa, r.tooShort,
+              cli.request.regions.hasRegions()
+                  ? (", " + std::to_string(r.rejectedByRegions) + " outside the regions").c_str()
+                  : "",
+              run.seconds, r.threads);
 }
 
 } // namespace
@@ -292,6 +305,7 @@ int cmdTrack(const CommandArgs& argv) {
     throw UsageError("output " + cli.output + " must end in .tck, .trk, .trk.gz, .trx, .vtk or .vtp");
   readSeeding(args, cli);
   readTracking(args, cli);
+  request.regions.regions = regionsFrom(args);
   cli.json = args.flag("json");
   cli.force = args.flag("force");
   args.finish();

@@ -4,10 +4,13 @@
 #include "app/cli/commands.h"
 #include "app/command/options.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/error.h"
 #include "io/model/log.h"
 #include "ui/session/web_page.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 namespace dtf::app {
 
@@ -22,17 +25,17 @@ const OptionTable& webOptions() {
     t.intro =
         "Writes a folder DIR that shows INPUT's fabric in any current browser, opened from the file system\n"
         "(DIR/index.html; no server, no network): every axial, coronal and sagittal slice that holds data,\n"
-        "rendered headless once (the `render` fabric, radiological; the page mirrors it for the "
-        "neurological\n"
-        "convention), a slider per axis, Up/Down/PgUp/PgDn and A/C/S keys, zoom and pan, orientation letters "
-        "and\n"
-        "a probe (world mm, voxel, FA, principal direction) from a per-voxel table. INPUT is a tensor volume "
-        "or\n"
-        "a DWI (fitted first). The folder is written beside DIR and renamed into place.";
+        "rendered headless once in the `render` look (radiological; the page mirrors it for the neurological\n"
+        "convention), a slider per axis, Up/Down/PgUp/PgDn and A/C/S keys, zoom and pan, orientation letters\n"
+        "and a probe (world mm, voxel, FA, principal direction) from a per-voxel table; then a 3D view of an\n"
+        "FA isosurface (frames round it, the threads carried from frame to frame as in a movie: drag to turn)\n"
+        "and an FA-threshold sweep of the isosurface with a slider. INPUT is a tensor volume or a DWI (fitted\n"
+        "first). The folder is written beside DIR and renamed into place.";
     t.options = {
         O::text("output", "DIR", "the folder to write").required().under("Output"),
         O::flag("force", "replace an existing DIR that holds a page this command wrote (an empty one too)"),
-        O::integer("size", "N", d.size, closedRange(16, 4096), "pixels of each slice image's longer side")
+        O::integer("size", "N", d.size, closedRange(16, 4096),
+                   "pixels of each image's longer side (1024 for a sharp page on a high-density screen)")
             .measuredIn("pixels"),
         O::text("title", "TEXT", "the page's title").defaultSays("INPUT's file name"),
         O::text("background", "B",
@@ -46,6 +49,15 @@ const OptionTable& webOptions() {
         O::number("tracts-near", "MM", d.tractsNearMm, closedRange(0.1, 100),
                   "tract segments within MM of the slice's plane are drawn")
             .measuredIn("mm"),
+        O::text("surface", "SPEC", "the 3D view's surface (as render --surface)", "fa=0.25").under("3D view"),
+        O::integer("azimuths", "N", d.azimuths, closedRange(4, 360), "frames of the 3D view per turn"),
+        O::text("elevations", "DEG[,DEG...]",
+                "the 3D view's camera heights above the horizontal plane, degrees in [-89, 89] (a vertical drag "
+                "moves between them)",
+                "-15,20,55"),
+        O::integer("fa-steps", "N", d.faSteps, closedRange(2, 64),
+                   "thresholds of the FA sweep, evenly from 0.15 to 0.6"),
+        O::flag("slices-only", "the slices alone: no 3D view, no FA sweep"),
         layoutOption(LayoutNames::Tensor).under("Input"),
         bvalOption(),
         bvecOption(),
@@ -69,6 +81,22 @@ int cmdWeb(const CommandArgs& argv) {
   r.background = args.text("background");
   r.tracts = args.text("tracts");
   r.tractsNearMm = args.number("tracts-near");
+  r.surface = args.text("surface");
+  r.azimuths = args.integer("azimuths");
+  r.faSteps = args.integer("fa-steps");
+  r.slicesOnly = args.flag("slices-only");
+  r.elevationsDeg.clear();
+  const std::string elevations = args.text("elevations");
+  for (std::size_t start = 0; start <= elevations.size();) {
+    const std::size_t comma = std::min(elevations.find(',', start), elevations.size());
+    const std::string item = elevations.substr(start, comma - start);
+    char* end = nullptr;
+    const double e = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size())
+      throw UsageError("--elevations must be degrees separated by commas, e.g. -15,20,55; got '" + elevations + "'");
+    r.elevationsDeg.push_back(e);
+    start = comma + 1;
+  }
   r.tensorOptions.layout = io::parseLayout(args.text("layout"));
   r.tensorOptions.bval = args.text("bval");
   r.tensorOptions.bvec = args.text("bvec");
@@ -76,10 +104,10 @@ int cmdWeb(const CommandArgs& argv) {
   args.finish();
   r.onProgress = [](const std::string& s) { logInfo("web: " + s); };
   const session::WebPageResult w = session::writeWebPage(r);
-  std::printf(
-      "%s: %d axial, %d coronal, %d sagittal slices, %zu images, %.1f MB in %.1f s -> %s/index.html\n",
-      r.input.c_str(), w.slices[0], w.slices[1], w.slices[2], w.images, double(w.bytes) / 1e6, w.seconds,
-      r.output.c_str());
+  std::printf("%s: %d axial, %d coronal, %d sagittal slices, %d 3D frames, %d FA thresholds, %zu images, "
+              "%.1f MB in %.1f s -> %s/index.html\n",
+              r.input.c_str(), w.slices[0], w.slices[1], w.slices[2], w.frames3d, w.faFrames, w.images,
+              double(w.bytes) / 1e6, w.seconds, r.output.c_str());
   return 0;
 }
 

@@ -8,6 +8,8 @@
 #pragma once
 
 #include "app/command/command.h"
+#include "app/command/options.h"
+#include "surfaces/selection/regions.h"
 
 #include <string>
 #include <vector>
@@ -26,6 +28,8 @@ int cmdTrack(const CommandArgs& args);
 int cmdCompare(const CommandArgs& args);
 int cmdCheck(const CommandArgs& args);
 int cmdConvert(const CommandArgs& args);
+int cmdSelect(const CommandArgs& args);
+int cmdProfile(const CommandArgs& args);
 // `info` for tract files (cmdInfo hands over when FILE is a tractogram).
 int cmdTractInfo(const CommandArgs& args);
 int cmdHelp(const CommandArgs& args);
@@ -42,12 +46,19 @@ const OptionTable& renderOptions();
 const OptionTable& movieOptions();
 const OptionTable& trackOptions();
 const OptionTable& convertOptions();
+const OptionTable& selectOptions();
+const OptionTable& profileOptions();
 const OptionTable& compareOptions();
 const OptionTable& checkOptions();
 const OptionTable& bidsOptions();
 const OptionTable& webOptions();
 const OptionTable& viewOptions();
 const OptionTable& helpOptions();
+
+// The region rows (--include, --exclude, --include-ordered) that `select` and `track` share, and the regions
+// they give (ui/session/region_spec.h; InputError for a bad SPEC).
+std::vector<CliOption> regionOptions();
+std::vector<surfaces::Region> regionsFrom(ParsedOptions& args);
 
 // All commands, in the order `dtfabric --help` lists them.
 const std::vector<Command>& commands();

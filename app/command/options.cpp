@@ -156,6 +156,11 @@ CliOption CliOption::alsoSays(const std::string& more) && {
   return std::move(*this);
 }
 
+CliOption CliOption::repeats() && {
+  repeatable = true;
+  return std::move(*this);
+}
+
 std::string CliOption::rangeText(bool inRange) const {
   const std::string r = range.text();
   if (unit.empty() || r.empty()) return r;
@@ -215,6 +220,7 @@ std::string CliOption::fullHelp() const {
     facts += (facts.empty() ? "" : "; ") + rangeText();
   if (kind == Kind::Choice && help.find(choices.front()) == std::string::npos)
     facts = joined(choices, ", ", " or ") + (facts.empty() ? "" : "; " + facts);
+  if (repeatable) facts += std::string(facts.empty() ? "" : "; ") + "may be given several times";
   return facts.empty() ? help : help + " (" + facts + ")";
 }
 
@@ -397,6 +403,14 @@ double ParsedOptions::number(const std::string& name) {
 int ParsedOptions::integer(const std::string& name) {
   if (row(name).kind != CliOption::Kind::Integer) throw std::logic_error("--" + name + " is not an integer");
   return static_cast<int>(number(name));
+}
+
+std::vector<std::string> ParsedOptions::all(const std::string& name) {
+  if (!row(name).repeatable) throw std::logic_error("--" + name + " is not repeatable");
+  std::vector<std::string> out;
+  for (const auto& [k, v] : values_)
+    if (k == name) out.push_back(v);
+  return out;
 }
 
 std::vector<std::string> ParsedOptions::list(const std::string& name) {

@@ -44,6 +44,7 @@ struct CliOption {
   Synopsis synopsis = Synopsis::Optional;
   std::string group;     // a heading printed before this option in --help (empty: none)
   bool internal = false; // accepted but not listed (a worker process's option)
+  bool repeatable = false; // Text: may be given several times, read with ParsedOptions::all
   void (*check)(const std::string& value) = nullptr; // extra validation; throws UsageError
 
   // Builders for the rows of a table.
@@ -64,6 +65,7 @@ struct CliOption {
   CliOption noDefault() &&;
   CliOption measuredIn(std::string unit) &&;
   CliOption alsoSays(const std::string& more) &&; // appended to the help: what a command adds to a shared row
+  CliOption repeats() &&;                         // a Text row that may be given several times
 
   std::string written() const;    // "--near MM", "-o FILE", "--json"
   std::string switchName() const; // "--near", "-o"
@@ -123,6 +125,8 @@ public:
   double number(const std::string& name);
   int integer(const std::string& name);
   std::vector<std::string> list(const std::string& name);
+  // Every value of a repeatable Text row, in the order given (empty when not given).
+  std::vector<std::string> all(const std::string& name);
   // Throws std::logic_error when a table row was never read: the table would offer an option the
   // command ignores.
   void finish() const;

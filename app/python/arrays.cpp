@@ -193,4 +193,16 @@ py::array_t<std::uint8_t> imageArray(const Image& image) {
   return a;
 }
 
+std::string pathText(const py::handle& p) {
+  const py::object os = py::module_::import("os");
+  const std::string s = py::str(os.attr("fsdecode")(os.attr("fspath")(p)));
+  if (s.find('\0') != std::string::npos)
+    throw UsageError("the path " + std::string(py::str(py::repr(p))) + " contains a NUL character");
+  return s;
+}
+
+std::string optionalPath(const py::object& p) {
+  return p.is_none() ? std::string() : pathText(p);
+}
+
 } // namespace dtf::python

@@ -42,4 +42,13 @@ py::array_t<float> fibreDirections(const FibreSet& set);
 py::array_t<float> fibreAmplitudes(const FibreSet& set);
 py::array_t<std::uint8_t> imageArray(const Image& image); // (H, W, 4)
 
+// A path argument as the library takes it: str, bytes or os.PathLike (bytes decoded as os.fsdecode does, so
+// a name in the file system's encoding round-trips). A NUL character cannot be in a path (UsageError), as
+// Python's open() refuses it too. optionalPath: "" for None.
+std::string pathText(const py::handle& p);
+std::string optionalPath(const py::object& p);
+
+// The tract functions (app/python/tracts.cpp): select.
+void bindTracts(py::module_& m);
+
 } // namespace dtf::python

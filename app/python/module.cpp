@@ -26,6 +26,10 @@
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_job.h"
+#include "ui/session/tract_profiles.h"
+#include "io/formats/atomic_file.h"
+#include "render/profile_plot.h"
+#include "ui/session/web_page.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,21 +47,6 @@ namespace py = pybind11;
 namespace dtf::python {
 
 namespace {
-
-// A path argument as the library takes it: str, bytes or os.PathLike (bytes decoded as os.fsdecode does, so
-// a name in the file system's encoding round-trips). A NUL character cannot be in a path: Python's open()
-// refuses it too.
-std::string pathText(const py::handle& p) {
-  const py::object os = py::module_::import("os");
-  const std::string s = py::str(os.attr("fsdecode")(os.attr("fspath")(p)));
-  if (s.find('\0') != std::string::npos)
-    throw UsageError("the path " + std::string(py::str(py::repr(p))) + " contains a NUL character");
-  return s;
-}
-
-std::string optionalPath(const py::object& p) {
-  return p.is_none() ? std::string() : pathText(p);
-}
 
 bool isPathLike(const py::handle& o) {
   return py::isinstance<py::str>(o) || py::isinstance<py::bytes>(o) || py::hasattr(o, "__fspath__");
@@ -445,6 +434,47 @@ py::object makeMovie(const py::object& input, const py::object& output, bool tur
   return all;
 }
 
+// --- web
+
+py::dict makeWeb(const py::object& input, const py::object& output, int size, const std::string& surface,
+                 bool slicesOnly, int azimuths, int faSteps, const py::object& background, const py::object& tracts,
+                 const py::object& title, bool force, const std::string& layout, const py::object& bval,
+                 const py::object& bvec, const py::object& mask) {
+  session::WebPageRequest w;
+  std::shared_ptr<const io::LoadedTensors> held;
+  if (isPathLike(input)) {
+    w.input = pathText(input);
+    w.tensorOptions = tensorOptions(layout, bval, bvec, mask);
+  } else {
+    held = tensorsOf(input, layout, bval, bvec, mask, w.input);
+    w.field = &held->field;
+  }
+  w.output = pathText(output);
+  w.size = size;
+  w.surface = surface;
+  w.slicesOnly = slicesOnly;
+  w.azimuths = azimuths;
+  w.faSteps = faSteps;
+  w.background = background.is_none() ? "" : optionText(background);
+  w.tracts = tracts.is_none() ? "" : pathText(tracts);
+  w.title = title.is_none() ? "" : py::str(title).cast<std::string>();
+  w.force = force;
+  session::WebPageResult res;
+  {
+    py::gil_scoped_release release;
+    runOnGlThread([&] { res = session::writeWebPage(w); });
+  }
+  py::dict d;
+  d["path"] = w.output;
+  d["slices"] = py::make_tuple(res.slices[0], res.slices[1], res.slices[2]);
+  d["frames_3d"] = res.frames3d;
+  d["fa_frames"] = res.faFrames;
+  d["images"] = res.images;
+  d["bytes"] = res.bytes;
+  d["seconds"] = res.seconds;
+  return d;
+}
+
 // --- surface, track
 
 PySurface makeSurface(const py::object& input, const std::string& spec, double smooth, double minComponent,
@@ -570,6 +600,125 @@ py::list track(const py::object& input, const py::object& seedsMask, const py::o
     out.append(std::move(a));
   }
   return out;
+}
+
+// --- profile: the rows of `dtfabric profile`'s table as numpy columns
+
+// One path or several (str, bytes, os.PathLike, or a sequence of them).
+std::vector<std::string> pathList(const py::object& o, const char* what) {
+  if (isPathLike(o)) return {pathText(o)};
+  std::vector<std::string> out;
+  if (!py::isinstance<py::sequence>(o)) throw UsageError(std::string(what) + " must be a path or a list of paths");
+  for (const auto& item : o) out.push_back(pathText(item));
+  return out;
+}
+
+// scalars as `--scalar` takes them: "fa", ["fa", "md"], ["fa", "t1=T1.nii.gz"] or {"t1": "T1.nii.gz"}.
+std::vector<std::string> scalarTexts(const py::object& o) {
+  std::vector<std::string> out;
+  if (py::isinstance<py::str>(o)) return {o.cast<std::string>()};
+  if (py::isinstance<py::dict>(o)) {
+    for (const auto& [k, v] : o.cast<py::dict>())
+      out.push_back(castOr<std::string>(k, "scalars' names must be strings") + "=" + pathText(v));
+    return out;
+  }
+  if (!py::isinstance<py::sequence>(o))
+    throw UsageError("scalars must be a name, a list of names and NAME=IMAGE texts, or a dict {NAME: IMAGE}");
+  for (const auto& item : o) out.push_back(castOr<std::string>(item, "scalars must be strings"));
+  return out;
+}
+
+py::dict profile(const py::object& tracts, const py::object& scalars, const py::object& tensor,
+                 const py::object& groups, int nodes, const std::string& weights, const py::object& start,
+                 int bootstrap, long long seed, const py::object& plot, const std::string& layout,
+                 const py::object& bval, const py::object& bvec, const py::object& mask) {
+  session::ProfileRequest r;
+  r.tracts = pathList(tracts, "tracts");
+  r.scalars = scalarTexts(scalars);
+  r.tensor = optionalPath(tensor);
+  if (!groups.is_none()) {
+    if (py::isinstance<py::str>(groups)) {
+      r.groups = groups.cast<std::string>();
+    } else {
+      for (const auto& g : groups) r.groups += (r.groups.empty() ? "" : ",") + castOr<std::string>(g, "groups must be strings");
+    }
+    if (r.groups.empty()) throw UsageError("groups must be 'all' or name at least one group");
+  }
+  if (nodes < 2) throw UsageError("nodes must be at least 2");
+  r.options.nodes = nodes;
+  if (weights == "gauss") r.options.weights = surfaces::ProfileWeights::Gauss;
+  else if (weights == "mean") r.options.weights = surfaces::ProfileWeights::Mean;
+  else if (weights == "median") r.options.weights = surfaces::ProfileWeights::Median;
+  else throw UsageError("weights must be 'gauss', 'mean' or 'median', not '" + weights + "'");
+  if (!start.is_none()) {
+    if (py::isinstance<py::str>(start)) {
+      r.start = start.cast<std::string>();
+    } else {
+      const auto p = castOr<std::vector<double>>(start, "start must be a region spec or (x, y, z)");
+      if (p.size() != 3) throw UsageError("start must be a region spec or (x, y, z)");
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", p[0], p[1], p[2]);
+      r.start = buf;
+    }
+  }
+  if (bootstrap < 0) throw UsageError("bootstrap must be >= 0");
+  if (seed < 0) throw UsageError("seed must be >= 0");
+  r.options.bootstrap = bootstrap;
+  r.options.seed = static_cast<std::uint64_t>(seed);
+  r.layout = layout;
+  r.tensorOptions = tensorOptions("auto", bval, bvec, mask);
+  const std::string plotPath = optionalPath(plot);
+  render::PlotFormat format = render::PlotFormat::Png;
+  if (!plotPath.empty()) {
+    if (!render::plotFormatOf(plotPath, format)) throw UsageError("plot must name a .png or .svg file");
+    io::refuseOverwritingInput(plotPath, session::profileInputs(r));
+  }
+  session::ProfileResult result;
+  {
+    py::gil_scoped_release release;
+    result = session::runProfile(r);
+    if (!plotPath.empty()) {
+      io::AtomicOutput out(plotPath);
+      render::writeProfilePlot(session::profileFigure(result), out.tempPath(), format, plotPath);
+      out.commit();
+    }
+  }
+  std::size_t rows = 0;
+  for (const auto& b : result.bundles) rows += b.profile.scalars.size() * b.profile.core.size();
+  const auto n = static_cast<py::ssize_t>(rows);
+  py::list bundle, scalar;
+  py::array_t<std::int64_t> node(n), count(n);
+  py::array_t<double> x(n), y(n), z(n), mean(n), sd(n), lo(n), hi(n);
+  std::size_t i = 0;
+  for (const auto& b : result.bundles)
+    for (const auto& s : b.profile.scalars)
+      for (std::size_t k = 0; k < b.profile.core.size(); ++k, ++i) {
+        bundle.append(b.name);
+        scalar.append(s.name);
+        node.mutable_data()[i] = static_cast<std::int64_t>(k);
+        x.mutable_data()[i] = b.profile.core[k].x;
+        y.mutable_data()[i] = b.profile.core[k].y;
+        z.mutable_data()[i] = b.profile.core[k].z;
+        mean.mutable_data()[i] = s.mean[k];
+        sd.mutable_data()[i] = s.sd[k];
+        lo.mutable_data()[i] = s.ciLow[k];
+        hi.mutable_data()[i] = s.ciHigh[k];
+        count.mutable_data()[i] = static_cast<std::int64_t>(s.streamlines[k]);
+      }
+  const py::object array = py::module_::import("numpy").attr("array");
+  py::dict d;
+  d["bundle"] = array(bundle, "str");
+  d["scalar"] = array(scalar, "str");
+  d["node"] = node;
+  d["x"] = x;
+  d["y"] = y;
+  d["z"] = z;
+  d["mean"] = mean;
+  d["sd"] = sd;
+  d["ci_low"] = lo;
+  d["ci_high"] = hi;
+  d["streamlines"] = count;
+  return d;
 }
 
 // --- check: the keys of `dtfabric check --json`
@@ -883,6 +1032,16 @@ the frames as an (N, H, W, 4) uint8 array. surface (the turntable's), frames, fp
 elevation, neurological, perspective, background, layout, bval, bvec, mask: as the command's flags; further
 keyword arguments are the fabric options (frame_iterations=3, blend_k=0.1, ...).)");
 
+  m.def("web", &makeWeb, py::arg("input"), py::arg("output"), py::arg("size") = session::WebPageRequest{}.size,
+        py::arg("surface") = "fa=0.25", py::arg("slices_only") = false,
+        py::arg("azimuths") = session::WebPageRequest{}.azimuths, py::arg("fa_steps") = session::WebPageRequest{}.faSteps,
+        py::arg("background") = py::none(), py::arg("tracts") = py::none(), py::arg("title") = py::none(),
+        py::arg("force") = false, py::arg("layout") = "auto", py::arg("bval") = py::none(),
+        py::arg("bvec") = py::none(), py::arg("mask") = py::none(),
+        R"(Writes the folder of `dtfabric web` (index.html, the slices, the 3D view and the FA sweep) and returns
+a dict: path, slices (axial, coronal, sagittal), frames_3d, fa_frames, images, bytes, seconds. dtfabric.web()
+wraps it in a WebPage that shows the page inline in Jupyter.)");
+
   m.def("surface", &makeSurface, py::arg("field"), py::arg("spec"), py::arg("smooth") = 0.6,
         py::arg("min_component") = 0.02, py::arg("step") = 0.5, py::arg("length") = 40.0,
         py::arg("fa_stop") = 0.15, py::arg("seed_spacing") = 0.75, py::arg("clip_to_data") = true,
@@ -898,6 +1057,20 @@ keyword arguments are the fabric options (frame_iterations=3, blend_k=0.1, ...).
       py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
       R"(Deterministic tensor tractography as `dtfabric track`: a list of (N, 3) float32 streamlines, world RAS mm.
 Default: select=1000 streamlines seeded where the field holds a tensor.)");
+
+  m.def("profile", &profile, py::arg("tracts"), py::arg("scalars"), py::arg("tensor") = py::none(),
+        py::arg("groups") = py::none(), py::arg("nodes") = surfaces::ProfileOptions{}.nodes,
+        py::arg("weights") = "gauss", py::arg("start") = py::none(),
+        py::arg("bootstrap") = surfaces::ProfileOptions{}.bootstrap,
+        py::arg("seed") = static_cast<long long>(surfaces::ProfileOptions{}.seed), py::arg("plot") = py::none(),
+        py::arg("layout") = "auto", py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
+        py::arg("mask") = py::none(),
+        R"(Tract profiles as `dtfabric profile`: each tract file (or each group, with groups='all' or a list of
+names) a bundle; scalars "fa", "md", "ad", "rd" (of `tensor`, a tensor file or a DWI) or "NAME=IMAGE" texts
+(or a dict {NAME: IMAGE}); weights 'gauss' (DIPY gaussian_weights), 'mean' or 'median'; start a region spec
+or an (x, y, z) point the streamlines start near. Returns the table's columns as a dict of numpy arrays
+(bundle, scalar, node, x, y, z, mean, sd, ci_low, ci_high, streamlines), one entry per bundle, scalar and node:
+pandas.DataFrame(result) is the table. plot: also write the figure (.png or .svg).)");
 
   m.def("check", &check, py::arg("input"), py::arg("bval") = py::none(), py::arg("bvec") = py::none(),
         py::arg("mask") = py::none(), py::arg("layout") = "auto", py::arg("tensor") = py::none(),
@@ -1016,4 +1189,5 @@ PYBIND11_MODULE(_core, m) {
   bindTensorField(m);
   bindFibreSet(m);
   bindSessions(m);
+  bindTracts(m);
 }

@@ -9,9 +9,9 @@
 #include "io/formats/atomic_file.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
-#include "render/bitmap_text.h"
 #include "render/fray.h"
 #include "render/gl_context.h"
+#include "render/text.h"
 #include "surfaces/slices.h"
 
 #include <algorithm>
@@ -400,6 +400,11 @@ public:
               y1 = std::min(at(y + h), r_[3]);
     if (x0 < x1 && y0 < y1) scene_.fill(r_[0] + x0, r_[1] + y0, x1 - x0, y1 - y0, r, g, b);
   }
+  void blend(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b,
+             std::uint8_t alpha) override {
+    const int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, r_[2]), y1 = std::min(y + h, r_[3]);
+    if (x0 < x1 && y0 < y1) scene_.blend(r_[0] + x0, r_[1] + y0, x1 - x0, y1 - y0, r, g, b, alpha);
+  }
 
 private:
   render::Canvas& scene_;
@@ -678,13 +683,14 @@ Image ViewerScene::layoutImage() const {
     // Orientation letters at the middle of each edge.
     const render::Camera& cam = orthoCameras_[s];
     const glm::dvec3 right = cam.right(), up = glm::normalize(glm::cross(right, cam.forward()));
-    const int scale = 2, th = render::textHeight(scale);
+    const render::FontSize font = render::letterFont(r[2], r[3]);
+    const int scale = 2, th = render::textHeight(font);
     const auto letter = [&](const glm::dvec3& d, int x, int y) {
       const std::string t = session::anatomicalLabel(d);
       // On a black box: the crosshair through the pane's middle would run through the letter.
-      const int tw = render::textWidth(t, scale), x0 = x - tw / 2, y0 = y - th / 2;
-      render::fillRect(img, x0 - scale, y0 - scale, tw + scale, th + 2 * scale, 0, 0, 0);
-      render::drawText(img, x0, y0, t, scale, 255, 230, 90);
+      const int tw = render::textWidth(t, font), x0 = x - tw / 2, y0 = y - th / 2;
+      render::fillRect(img, x0 - scale, y0 - scale, tw + 2 * scale, th + 2 * scale, 0, 0, 0);
+      render::drawText(img, x0, y0, t, font, 255, 230, 90);
     };
     letter(right, r[0] + r[2] - 10, r[1] + r[3] / 2);
     letter(-right, r[0] + 10, r[1] + r[3] / 2);

@@ -498,6 +498,11 @@ private:
       const auto px = [&](int v) { return static_cast<float>(v * inv_); };
       dl_->AddRectFilled(ImVec2(px(x0_ + x), px(y)), ImVec2(px(x0_ + x + w), px(y + h)), IM_COL32(r, g, b, 255));
     }
+    void blend(int x, int y, int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b,
+               std::uint8_t alpha) override {
+      const auto px = [&](int v) { return static_cast<float>(v * inv_); };
+      dl_->AddRectFilled(ImVec2(px(x0_ + x), px(y)), ImVec2(px(x0_ + x + w), px(y + h)), IM_COL32(r, g, b, alpha));
+    }
 
   private:
     ImDrawList* dl_;

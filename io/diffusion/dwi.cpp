@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -239,16 +240,15 @@ double otsuThreshold(const std::vector<float>& v) {
   return lo + (bestBin + 1) / scale; // values in bins above bestBin are foreground
 }
 
-} // namespace
-
-MaskVolume automaticMask(const Dwi& dwi, double b0Threshold) {
+// The b=0 volumes (the lowest-b ones when none is at most b0Threshold) and the others.
+void splitVolumes(const Dwi& dwi, double b0Threshold, std::vector<int>& b0, std::vector<int>& dw) {
   const Grid& grid = dwi.signal.grid;
   const int volumes = dwi.signal.components;
-  const std::size_t count = grid.voxelCount();
   if (volumes < 1 || dwi.bvals.size() != static_cast<std::size_t>(volumes) ||
-      dwi.signal.data.size() != count * static_cast<std::size_t>(volumes))
+      dwi.signal.data.size() != grid.voxelCount() * static_cast<std::size_t>(volumes))
     throw InputError("automatic mask: DWI signal and b-values do not match");
-  std::vector<int> b0;
+  b0.clear();
+  dw.clear();
   for (int v = 0; v < volumes; ++v)
     if (dwi.bvals[v] <= b0Threshold) b0.push_back(v);
   if (b0.empty()) {
@@ -256,24 +256,96 @@ MaskVolume automaticMask(const Dwi& dwi, double b0Threshold) {
     for (int v = 0; v < volumes; ++v)
       if (dwi.bvals[v] == minB) b0.push_back(v);
   }
-  std::vector<int> dw;
   for (int v = 0; v < volumes; ++v)
     if (std::find(b0.begin(), b0.end(), v) == b0.end()) dw.push_back(v);
-  auto meanOf = [&](const std::vector<int>& vols) {
-    std::vector<float> mean(count, 0.0f);
-    if (vols.empty()) return mean;
-    for (std::size_t i = 0; i < count; ++i) {
-      double s = 0;
-      for (int v : vols)
-        s += dwi.signal.data[i * volumes + v];
-      mean[i] = static_cast<float>(s / static_cast<double>(vols.size()));
+}
+
+// The mean over `vols` per voxel (zeros when `vols` is empty).
+std::vector<float> meanOf(const Dwi& dwi, const std::vector<int>& vols) {
+  const std::size_t count = dwi.signal.grid.voxelCount();
+  const int volumes = dwi.signal.components;
+  std::vector<float> mean(count, 0.0f);
+  if (vols.empty()) return mean;
+  for (std::size_t i = 0; i < count; ++i) {
+    double s = 0;
+    for (int v : vols)
+      s += dwi.signal.data[i * volumes + v];
+    mean[i] = static_cast<float>(s / static_cast<double>(vols.size()));
+  }
+  return mean;
+}
+
+// Marks in `mask` the voxels whose finite `mean` is at least kSignalFraction of its 99th percentile.
+void markSignal(const std::vector<float>& mean, MaskVolume& mask) {
+  std::vector<float> finite;
+  finite.reserve(mean.size());
+  for (float v : mean)
+    if (std::isfinite(v)) finite.push_back(v);
+  if (finite.empty()) return;
+  const std::size_t k = std::min(finite.size() - 1, static_cast<std::size_t>(0.99 * (finite.size() - 1) + 0.5));
+  std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(k), finite.end());
+  const double p99 = finite[k];
+  if (!(p99 > 0)) return;
+  for (std::size_t i = 0; i < mean.size(); ++i)
+    if (std::isfinite(mean[i]) && mean[i] > 0 && mean[i] >= kSignalFraction * p99) mask.data[i] = 1;
+}
+
+MaskVolume signalMaskOf(const Grid& grid, const std::vector<float>& b0Mean, const std::vector<float>& dwMean,
+                        bool hasDw) {
+  MaskVolume signal(grid, 1, 0);
+  markSignal(b0Mean, signal);
+  if (hasDw) markSignal(dwMean, signal);
+  return signal;
+}
+
+} // namespace
+
+MaskVolume signalMask(const Dwi& dwi, double b0Threshold) {
+  std::vector<int> b0, dw;
+  splitVolumes(dwi, b0Threshold, b0, dw);
+  return signalMaskOf(dwi.signal.grid, meanOf(dwi, b0), meanOf(dwi, dw), !dw.empty());
+}
+
+std::string automaticMaskWarning(const AutomaticMaskReport& r) {
+  if (r.signalVoxels == 0 || 2 * r.keptSignal >= r.signalVoxels) return {};
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "the automatic mask keeps %zu of the %zu voxels holding signal (%.0f%%): if the data has no "
+                "background to remove (a phantom, a crop of tissue), give a mask with --mask FILE",
+                r.keptSignal, r.signalVoxels, 100.0 * double(r.keptSignal) / double(r.signalVoxels));
+  return buf;
+}
+
+MaskVolume automaticMask(const Dwi& dwi, double b0Threshold, AutomaticMaskReport* report) {
+  const Grid& grid = dwi.signal.grid;
+  const std::size_t count = grid.voxelCount();
+  std::vector<int> b0, dw;
+  splitVolumes(dwi, b0Threshold, b0, dw);
+  const std::vector<float> b0Mean = meanOf(dwi, b0), dwMean = meanOf(dwi, dw);
+  const MaskVolume signal = signalMaskOf(grid, b0Mean, dwMean, !dw.empty());
+  std::size_t signalVoxels = 0;
+  for (auto v : signal.data) signalVoxels += v;
+  const auto finish = [&](MaskVolume mask, bool noBackground) {
+    if (report) {
+      *report = AutomaticMaskReport{};
+      report->voxels = count;
+      report->signalVoxels = signalVoxels;
+      report->noBackground = noBackground;
+      for (std::size_t i = 0; i < count; ++i) {
+        report->kept += mask.data[i];
+        report->keptSignal += mask.data[i] && signal.data[i];
+      }
     }
-    return mean;
+    return mask;
   };
+  // No background to split off: Otsu would split the tissue (or the noise of a uniform phantom) in two.
+  if (count > 0 && static_cast<double>(signalVoxels) >= kNoBackgroundFraction * static_cast<double>(count))
+    return finish(signal, true);
+
   MaskVolume mask(grid, 1, 0);
-  for (const auto& vols : {b0, dw}) {
-    if (vols.empty()) continue;
-    const std::vector<float> mean = meanOf(vols);
+  for (const std::vector<float>* means : {&b0Mean, &dwMean}) {
+    if (means == &dwMean && dw.empty()) continue;
+    const std::vector<float>& mean = *means;
     const double threshold = otsuThreshold(mean);
     for (std::size_t i = 0; i < count; ++i)
       if (mean[i] >= threshold && mean[i] > 0) mask.data[i] = 1;
@@ -345,7 +417,7 @@ MaskVolume automaticMask(const Dwi& dwi, double b0Threshold) {
       for (int i = 0; i < d.x; ++i)
         if (!outside[static_cast<std::size_t>(i) + static_cast<std::size_t>(d.x) * j]) mask.at(i, j, k) = 1;
   }
-  return mask;
+  return finish(std::move(mask), false);
 }
 
 } // namespace dtf::io

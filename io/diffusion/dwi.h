@@ -93,10 +93,34 @@ using ProgressFn = std::function<void(double fraction)>;
 TensorField fitTensors(const Dwi& dwi, const MaskVolume* mask, const FitOptions& options,
                        const ProgressFn& progress = {}, FitStats* stats = nullptr);
 
-// Approximate brain mask, meant for quick looks, not for analysis: the union of Otsu thresholds of the
-// mean b=0 image (the lowest-b volumes when no b <= b0Threshold) and of the mean diffusion-weighted image,
-// then the largest 6-connected component, then holes filled slice by slice (axial). Scalp and eyes can
-// survive on data that is not skull-stripped (Dice 0.94 against MRtrix dwi2mask on the IU Prisma brain).
-MaskVolume automaticMask(const Dwi& dwi, double b0Threshold);
+// What automaticMask found: the voxels holding signal (signalMask), how many of them the mask keeps, and
+// whether the data was taken to have no background.
+struct AutomaticMaskReport {
+  std::size_t voxels = 0;       // of the grid
+  std::size_t signalVoxels = 0; // holding signal
+  std::size_t keptSignal = 0;   // holding signal and in the mask
+  std::size_t kept = 0;         // in the mask
+  bool noBackground = false;    // at least kNoBackgroundFraction of the voxels hold signal: all kept
+};
+constexpr double kSignalFraction = 0.1;       // of the 99th percentile: a voxel holding signal
+constexpr double kNoBackgroundFraction = 0.9; // of the grid holding signal: data without background
+
+// The voxels holding signal: a finite mean b=0 signal (the lowest-b volumes when no b <= b0Threshold) of at
+// least kSignalFraction of its 99th percentile, or a mean diffusion-weighted signal of at least that fraction
+// of its own. Air around a head holds noise of a few percent of the tissue's signal; every voxel of a
+// phantom or of a crop of tissue holds signal.
+MaskVolume signalMask(const Dwi& dwi, double b0Threshold);
+
+// Approximate brain mask, meant for quick looks, not for analysis. Data without background (at least
+// kNoBackgroundFraction of the voxels hold signal: a phantom, a crop of tissue) keeps every voxel holding
+// signal. Otherwise: the union of Otsu thresholds of the mean b=0 image and of the mean diffusion-weighted
+// image, then the largest 6-connected component, then holes filled slice by slice (axial). Scalp and eyes
+// can survive on data that is not skull-stripped (Dice 0.94 against MRtrix dwi2mask on the IU Prisma brain).
+// `report`, when given, receives the counts.
+MaskVolume automaticMask(const Dwi& dwi, double b0Threshold, AutomaticMaskReport* report = nullptr);
+
+// The warning that a fit with the automatic mask prints when the mask drops more than half of the voxels
+// holding signal (naming --mask); empty when it does not.
+std::string automaticMaskWarning(const AutomaticMaskReport& report);
 
 } // namespace dtf::io

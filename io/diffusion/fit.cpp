@@ -2,6 +2,7 @@
 #include "io/diffusion/dwi.h"
 #include "io/diffusion/fit_detail.h"
 #include "io/model/error.h"
+#include "io/model/log.h"
 
 #include <algorithm>
 #include <atomic>
@@ -130,7 +131,12 @@ std::vector<unsigned char> detail::fitVoxels(const Dwi& dwi, const MaskVolume* m
     for (std::size_t i = 0; i < count; ++i)
       inside[i] = mask->data[i] ? 1 : 0;
   } else {
-    inside = automaticMask(dwi, options.b0Threshold).data;
+    AutomaticMaskReport report;
+    inside = automaticMask(dwi, options.b0Threshold, &report).data;
+    if (report.noBackground)
+      logInfo("automatic mask: " + std::to_string(report.signalVoxels) + " of " + std::to_string(report.voxels) +
+              " voxels hold signal (no background): all of them are fitted");
+    if (const std::string warning = automaticMaskWarning(report); !warning.empty()) logWarning(warning);
   }
   return inside;
 }

@@ -122,13 +122,13 @@ namespace {
 
 // The .tck header lines up to END into info.fields; returns the byte after the END line. Its size is
 // bounded by the data offset; runaway headers are refused.
-std::size_t parseTckHeader(const std::string& path, const std::string& data, TckInfo& info) {
+std::size_t parseTckHeader(const std::string& path, std::string_view data, TckInfo& info) {
   std::size_t pos = 0;
   bool first = true, ended = false;
   while (pos < data.size() && pos < (1u << 24)) {
     std::size_t nl = data.find('\n', pos);
     if (nl == std::string::npos) break;
-    std::string line = trim(data.substr(pos, nl - pos));
+    std::string line = trim(std::string(data.substr(pos, nl - pos)));
     pos = nl + 1;
     if (first) {
       if (line != "mrtrix tracks")
@@ -229,6 +229,15 @@ bool readTckPoints(const std::string& path, const char* base, std::size_t triple
 }
 
 } // namespace
+
+TckInfo readTckHeader(const std::string& path, std::string_view bytes, bool& bigEndian, int& width) {
+  TckInfo info;
+  const std::size_t headerEnd = parseTckHeader(path, bytes, info);
+  const std::string file = tckFields(path, info);
+  width = tckWidth(path, info.datatype, bigEndian);
+  info.dataOffset = tckDataOffset(path, file, headerEnd, bytes.size());
+  return info;
+}
 
 Polylines readTck(const std::string& path, TckInfo* infoOut) {
   const std::string data = readAll(path, "tract file");

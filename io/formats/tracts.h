@@ -18,6 +18,7 @@
 #include "io/model/grid.h"
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dtf::io {
@@ -36,6 +37,9 @@ struct TckInfo {
 // interrupted, MATLAB writers leave stale counts), as is data that ends after a NaN triplet without the Inf
 // end marker: the file is read to the end of its data, as nibabel does.
 Polylines readTck(const std::string& path, TckInfo* info = nullptr);
+// The header of a .tck file whose bytes (the whole file, e.g. a mapping) are `bytes`: its fields, datatype
+// and data offset, with the byte order and bytes per coordinate. Throws InputError as readTck.
+TckInfo readTckHeader(const std::string& path, std::string_view bytes, bool& bigEndian, int& width);
 // Writes Float32LE .tck atomically (per-streamline/per-point data and groups are dropped with a warning).
 // Throws InputError when the file cannot be written or a point is not finite.
 void writeTck(const std::string& path, const Polylines& lines);

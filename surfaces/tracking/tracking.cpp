@@ -163,7 +163,7 @@ void follow(const Sampler& s, const TrackingOptions& o, glm::dvec3 p, glm::dvec3
   }
 }
 
-enum class Outcome : unsigned char { Pending, Accepted, BelowFa, TooShort };
+enum class Outcome : unsigned char { Pending, Accepted, BelowFa, TooShort, Refused };
 
 Outcome trackFrom(const Sampler& s, const TrackingOptions& o, const glm::dvec3& seed,
                   std::vector<glm::vec3>& line) {
@@ -181,6 +181,10 @@ Outcome trackFrom(const Sampler& s, const TrackingOptions& o, const glm::dvec3& 
   if (length + 1e-9 < o.minLengthMm) {
     line.clear();
     return Outcome::TooShort;
+  }
+  if (o.accept && !o.accept(line.data(), line.size())) {
+    line.clear();
+    return Outcome::Refused;
   }
   return Outcome::Accepted;
 }
@@ -255,6 +259,7 @@ void collect(TrackingResult& r, std::uint64_t first, const std::vector<std::vect
     ++r.seedsTried;
     if (outcome[i] == Outcome::BelowFa) ++r.seedsBelowFa;
     if (outcome[i] == Outcome::TooShort) ++r.tooShort;
+    if (outcome[i] == Outcome::Refused) ++r.rejectedByRegions;
     if (outcome[i] != Outcome::Accepted) continue;
     r.lines.points.insert(r.lines.points.end(), lines[i].begin(), lines[i].end());
     r.lines.offsets.push_back(static_cast<std::uint32_t>(r.lines.points.size()));

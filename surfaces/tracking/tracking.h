@@ -48,6 +48,9 @@ struct TrackingOptions : TrackingParams {
   // Called on the calling thread about every 100 ms with (seeds done, seeds planned so far).
   std::function<void(std::size_t, std::size_t)> progress;
   const std::atomic<bool>* cancel = nullptr; // set to stop early; the result then has cancelled = true
+  // Targeted tracking: a streamline this refuses (called from worker threads, after the length check) is not
+  // kept and counts as rejectedByRegions, as tckgen's -include/-exclude; --select keeps seeding past them.
+  std::function<bool(const glm::vec3* points, std::size_t n)> accept;
 };
 
 // A deterministic seed generator: position (world RAS mm) of seed i. `count` is the natural number of
@@ -78,6 +81,7 @@ struct TrackingResult {
   std::size_t seedsTried = 0;
   std::size_t seedsBelowFa = 0; // seed rejected: outside the data or FA < faStop
   std::size_t tooShort = 0;     // rejected by minLengthMm
+  std::size_t rejectedByRegions = 0; // refused by options.accept
   bool cancelled = false;
   int threads = 1;
 };

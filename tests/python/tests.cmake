@@ -23,6 +23,14 @@ if(DTF_PYTHON_MODULE)
     SKIP_RETURN_CODE 77
     TIMEOUT 600
     ENVIRONMENT "${_python_env}")
+  # A notebook executed headless (jupyter nbconvert --execute): render() and show() display PNGs, web() an
+  # iframe onto its page.
+  add_test(NAME python_notebook COMMAND ${DTF_PYTHON_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/python/run_notebook.py)
+  set_tests_properties(python_notebook PROPERTIES
+    LABELS python
+    SKIP_RETURN_CODE 77
+    TIMEOUT 600
+    ENVIRONMENT "${_python_env};DTF_SCRATCH=${CMAKE_BINARY_DIR}/test_scratch")
   # `cmake --install` of the module (component python) into a scratch prefix, then a render from there
   # with nothing of the build tree on the path.
   set(_prefix ${CMAKE_BINARY_DIR}/test_scratch/python_install)

@@ -117,9 +117,18 @@ TEST(FigureFurniture, TheLegendShowsTheInPlaneAxesInTheirDecColours) {
 TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
   Image img = black();
   drawColourBar(img, {"FA", 0.2, 0.85});
-  // The bar: 8 px wide, 53 px from the right edge (its panel ends beside the letter band), 204 px tall
-  // centred; top #fde725, bottom #440154.
-  const int x = kSize - 53 + 4, y0 = (kSize - 204) / 2;
+  // The bar: 8 px wide, 204 px tall centred, its panel ending beside the band of the orientation letter at
+  // the right edge (nothing drawn in that band); top #fde725, bottom #440154.
+  const int y0 = (kSize - 204) / 2, band = letterBand(kSize, kSize);
+  int right = -1; // the bar's rightmost column: the first coloured pixel from the right on its middle row
+  for (int xx = kSize - 1; xx >= 0 && right < 0; --xx) {
+    const std::uint8_t* c = img.pixel(xx, y0 + 102);
+    if (c[0] != c[1] || c[1] != c[2]) right = xx;
+  }
+  ASSERT_GT(right, kSize - 2 * band);
+  EXPECT_LT(right, kSize - band);
+  EXPECT_EQ(lit(img, kSize - band, 0, kSize, kSize), 0); // the letter band stays free
+  const int x = right - 4;
   const std::uint8_t* top = img.pixel(x, y0);
   const std::uint8_t* bottom = img.pixel(x, y0 + 203);
   EXPECT_EQ(int(top[0]), 0xfd);
@@ -128,7 +137,8 @@ TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
   EXPECT_EQ(int(bottom[0]), 0x44);
   EXPECT_EQ(int(bottom[1]), 0x01);
   EXPECT_EQ(int(bottom[2]), 0x54);
-  // Labels: the high value beside the top, the low one beside the bottom, the name above; white text.
+  // Labels: the high value beside the top, the low one beside the bottom, the name above; white text (the
+  // glyphs' insides fully covered).
   auto white = [&](int x0, int y0, int x1, int y1) {
     int n = 0;
     for (int yy = y0; yy < y1; ++yy)
@@ -136,11 +146,12 @@ TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
         n += img.pixel(xx, yy)[0] == 255 && img.pixel(xx, yy)[1] == 255 && img.pixel(xx, yy)[2] == 255;
     return n;
   };
-  EXPECT_GT(white(kSize - 115, y0, kSize - 62, y0 + 16), 10);             // "0.85"
-  EXPECT_GT(white(kSize - 115, y0 + 204 - 16, kSize - 62, y0 + 204), 10); // "0.20"
-  EXPECT_GT(white(kSize - 80, y0 - 20, kSize - 40, y0 - 2), 10);          // "FA"
-  EXPECT_EQ(lit(img, 0, 0, kSize - 120, kSize), 0);                       // nothing else
-  EXPECT_EQ(lit(img, kSize - 39, 0, kSize, kSize), 0); // the letter band stays free
+  const int th = textHeight(furnitureFont(kSize, kSize));
+  EXPECT_GT(white(x - 90, y0, x - 6, y0 + th), 10);                   // "0.85"
+  EXPECT_GT(white(x - 90, y0 + 204 - th, x - 6, y0 + 204), 10);       // "0.20"
+  EXPECT_GT(white(x - 60, y0 - 2 * th - 6, x + 10, y0 - 2), 10);      // "FA"
+  EXPECT_EQ(white(x - 90, y0 + th + 8, x - 6, y0 + 204 - th - 8), 0); // no label between them
+  EXPECT_EQ(lit(img, 0, 0, x - 100, kSize), 0);                       // nothing else
 
   // Over a white fabric the bar sits on its black panel with a grey frame: between the labels and the bar,
   // and below the bar, the fabric is covered; outside the panel it is not.
@@ -152,7 +163,7 @@ TEST(FigureFurniture, TheColourBarShowsTheMapWithItsRangeAndName) {
   EXPECT_EQ(grey(x, y0 + 204 + 2), 0);        // below the bar's frame
   EXPECT_EQ(grey(x, y0 + 204 + 5), 90);       // the panel's frame
   EXPECT_EQ(grey(x, y0 + 204 + 6), 255);      // the fabric beyond it
-  EXPECT_EQ(grey(kSize - 39, y0 + 100), 255); // the letter band is not covered
+  EXPECT_EQ(grey(kSize - band, y0 + 100), 255); // the letter band is not covered
 }
 
 // Both ends of the bar written alike, with the decimals the range needs: "0.2" against "0.85" read as

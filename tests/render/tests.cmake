@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Tests of render/ (dtf_test(...) lines; the label follows from each file's suffix).
-dtf_test(test_bitmap_text SOURCES render/bitmap_text_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_text SOURCES render/text_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_embedding SOURCES render/embedding_gl_test.cpp LIBS dtf_render dtf_io dtf_model)
 dtf_test(test_embedding_alloc SOURCES render/embedding_alloc_gl_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_fibres_render SOURCES render/fibre_render_gl_test.cpp LIBS dtf_render dtf_io dtf_model)

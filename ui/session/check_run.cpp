@@ -7,7 +7,7 @@
 #include "io/formats/atomic_file.h"
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
-#include "render/bitmap_text.h"
+#include "render/text.h"
 #include "render/camera.h"
 #include "render/fabric_renderer.h"
 #include "render/gl_context.h"
@@ -206,12 +206,23 @@ std::vector<std::size_t> sheetRows(const surfaces::OrientationReport& report, st
   return rows;
 }
 
+namespace {
+
+// The contact sheet's text: 10 pixels to the em per font scale.
+render::FontSize sheetFont(int fontScale) {
+  return render::FontSize(10.0 * fontScale);
+}
+
+} // namespace
+
 SheetLayout sheetLayout(int panelPx) {
   SheetLayout l;
   l.panel = panelPx;
   l.fontScale = panelPx >= 180 ? 2 : 1;
-  l.header = render::textHeight(l.fontScale) * 2 + 6 * l.fontScale;
-  l.label = render::textHeight(l.fontScale) + 6 * l.fontScale;
+  const render::FontSize font = sheetFont(l.fontScale);
+  const int line = render::textHeight(font) + render::textDescent(font);
+  l.header = line * 2 + 6 * l.fontScale;
+  l.label = line + 6 * l.fontScale;
   return l;
 }
 
@@ -248,11 +259,13 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
   char text[160];
   std::snprintf(text, sizeof text, "verdict %s  margin %.1f%%  WM %zu vox",
                 surfaces::verdictName(rep.verdict), 100 * rep.margin, rep.whiteMatterVoxels);
-  render::drawText(sheet, 4 * scale, 2 * scale, text, scale, 255, 255, 255);
+  const render::FontSize font = sheetFont(scale);
+  const int line = render::textHeight(font) + render::textDescent(font);
+  render::drawText(sheet, 4 * scale, 2 * scale, text, font, 255, 255, 255);
   for (std::size_t c = 0; c < columns.size(); ++c) {
     std::snprintf(text, sizeof text, "%s %d", columns[c].axis, columns[c].index);
-    render::drawText(sheet, static_cast<int>(c) * panelPx + 4 * scale, 4 * scale + render::textHeight(scale),
-                     text, scale, 200, 200, 200);
+    render::drawText(sheet, static_cast<int>(c) * panelPx + 4 * scale, 4 * scale + line, text, font, 200, 200,
+                     200);
   }
 
   if (headlessContext) render::GlContext::headless();
@@ -268,7 +281,7 @@ Image renderContactSheet(const CheckRun& run, const std::vector<std::size_t>& ro
     std::snprintf(text, sizeof text, "%s[%s]  score %.3f%s", given ? "given " : "",
                   cand.transform.name().c_str(), cand.score, rows[r] == rep.best ? "  best" : "");
     const bool highlight = rows[r] == rep.best;
-    render::drawText(sheet, 4 * scale, y0 + 3 * scale, text, scale, 255, highlight ? 255 : 200,
+    render::drawText(sheet, 4 * scale, y0 + 3 * scale, text, font, 255, highlight ? 255 : 200,
                      highlight ? 120 : 200);
     renderer.setField(field);
     for (std::size_t c = 0; c < columns.size(); ++c) {

@@ -291,7 +291,8 @@ void dataBounds(const Mesh& mesh, const TensorField& field, glm::vec3& lo, glm::
 class PaneRenderer {
 public:
   PaneRenderer(const RenderRequest& r, const Scene& s, const SecondPane& second, render::StandardView view)
-      : r_(r), s_(s), second_(second), n_(r.supersample) {
+      : r_(r), s_(s), second_(second), n_(r.supersample), width_(r.width), height_(r.height),
+        furniture_(r.furniture) {
     renderer_.resize(r.width * n_, r.height * n_);
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
@@ -302,8 +303,10 @@ public:
       s.mesh.bounds(lo_, hi_);
     camera_ = render::Camera::standard(view, glm::dvec3(lo_), glm::dvec3(hi_), double(r.width) / r.height,
                                        r.neurological, !r.perspective);
-    // The orientation letters sit in a band at each edge: the data is framed inside it.
-    if (r.furniture.letters) {
+    if (r.camera) {
+      camera_ = *r.camera;
+    } else if (r.furniture.letters) {
+      // The orientation letters sit in a band at each edge: the data is framed inside it.
       const double half = 0.5 * std::min(r.width, r.height);
       const double band = render::letterBand(r.width, r.height);
       if (half > 2 * band)
@@ -326,6 +329,32 @@ public:
     if (withTracts && tracts_)
       if (auto over = tractsOver(m)) return finish(*over);
     return finish(img);
+  }
+
+  // A still of `m` woven from the scene's field as pane() renders it, seen by `camera` at width x height with
+  // `furniture` (the request's size, camera and furniture are restored after).
+  Image still(const Mesh& m, const render::FabricParams& params, const render::Camera& camera, int width,
+              int height, const render::FigureFurniture& furniture, Image* withTracts) {
+    const render::Camera keepCamera = camera_;
+    const render::FigureFurniture keepFurniture = furniture_;
+    const int keepW = width_, keepH = height_;
+    camera_ = camera;
+    furniture_ = furniture;
+    width_ = width;
+    height_ = height;
+    renderer_.resize(width * n_, height * n_);
+    movieField_ = false;
+    Image img = pane(m, *s_.field, params, false);
+    if (withTracts) {
+      std::optional<Image> over = tracts_ ? tractsOver(m, false) : std::nullopt;
+      *withTracts = over ? finish(*over) : img;
+    }
+    camera_ = keepCamera;
+    furniture_ = keepFurniture;
+    width_ = keepW;
+    height_ = keepH;
+    renderer_.resize(keepW * n_, keepH * n_);
+    return img;
   }
 
   // The tracts shown on `m` (the one overlay rule, ui/session/tract_overlay.h) over the last pane rendered
@@ -353,7 +382,7 @@ public:
     render::checkGl("rendering " + r_.output);
     // The figure's furniture for this frame's camera (a turntable's letters follow its rotation).
     Image img = renderer_.readback();
-    render::FigureFurniture furniture = r_.furniture;
+    render::FigureFurniture furniture = furniture_;
     furniture.scaleBar = furniture.scaleBar && camera.orthographic;
     render::drawFurniture(img, camera, renderer_.frameView().pixelMm, furniture);
     return img;
@@ -362,7 +391,7 @@ public:
 private:
   // The tracts drawn over the renderer's output (at the supersampled size), read back; none when no tract
   // lies near the surface.
-  std::optional<Image> tractsOver(const Mesh& m) {
+  std::optional<Image> tractsOver(const Mesh& m, bool warnWhenNone = true) {
     TractOverlayOptions options;
     options.nearMm = r_.tractsNear;
     options.clipMm = r_.tractsSlab;
@@ -376,7 +405,7 @@ private:
     style.slabMm = clip.slabMm;
     tracts_->upload(tractOverlayDisplay(selection.all ? s_.tracts : selection.near));
     if (tracts_->lineCount() == 0) {
-      logWarning("no tract of " + r_.tracts + " lies near the surface");
+      if (warnWhenNone) logWarning("no tract of " + r_.tracts + " lies near the surface");
       return std::nullopt;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, renderer_.output().id());
@@ -389,7 +418,7 @@ private:
   // Above kFabricReferencePx the fabric keeps the threads of an image that size (the noise cell and the
   // advection step scale with the image), so a larger image shows the same fabric sharper, not a finer one.
   render::FabricParams scaled(render::FabricParams p) const {
-    const double size = std::max(r_.width, r_.height);
+    const double size = std::max(width_, height_);
     const double k = n_ * std::max(1.0, size / kFabricReferencePx);
     p.stepPixels *= k;
     p.autoLodPixels *= k;
@@ -401,7 +430,7 @@ private:
   // Filtered down to the requested size, then the figure's furniture at that size.
   Image finish(const Image& full) const {
     Image img = downsample(full, n_);
-    render::FigureFurniture furniture = r_.furniture;
+    render::FigureFurniture furniture = furniture_;
     furniture.scaleBar = furniture.scaleBar && !r_.perspective; // one pixel size only without perspective
     if (!s_.cone.data.empty()) furniture.bottomLeftReserved = render::frayLegendHeight(frayLegendScale(r_));
     render::drawFurniture(img, camera_, renderer_.frameView().pixelMm * n_, furniture);
@@ -425,6 +454,8 @@ private:
   const Scene& s_;
   const SecondPane& second_;
   int n_; // supersampling factor
+  int width_, height_;                  // the image's size (the request's, or a still's)
+  render::FigureFurniture furniture_;   // the request's, or a still's
   // Makes the process's headless context current before the renderer compiles its programs.
   struct CurrentContext {
     CurrentContext() { render::GlContext::headless(); }
@@ -515,7 +546,6 @@ FrameSession::FrameSession(const RenderRequest& request) : impl_(std::make_uniqu
   Impl& m = *impl_;
   m.request = request;
   m.request.split = {};
-  m.request.tracts.clear();
   validate(m.request);
   m.params = m.request.params;
   loadScene(m.request, m.params, m.scene);
@@ -554,6 +584,22 @@ void FrameSession::setMesh(const Mesh& mesh) {
 
 Image FrameSession::frame(const render::Camera& camera, bool first) {
   return impl_->panes->movieFrame(camera, impl_->params, first);
+}
+
+Image FrameSession::still(const Mesh& mesh, const SurfaceSpec& spec, const render::Camera& camera, int width,
+                          int height, const render::FigureFurniture& furniture, Image* withTracts) {
+  render::FabricParams p = impl_->request.params;
+  if (impl_->scene.fibreIn && !impl_->request.colourGiven) p.colour = render::ColourMode::Fibres;
+  return impl_->panes->still(mesh, paramsOnSurface(p, spec), camera, width, height, furniture,
+                             withTracts && impl_->scene.tracts.lineCount() > 0 ? withTracts : nullptr);
+}
+
+bool FrameSession::hasTracts() const {
+  return impl_->scene.tracts.lineCount() > 0;
+}
+
+bool FrameSession::hasBackground() const {
+  return !impl_->scene.background.volume.data.empty();
 }
 
 } // namespace dtf::session

@@ -58,6 +58,8 @@ struct RenderRequest {
                                      // advection step, silhouette and tract widths scale with N, so the
                                      // fabric is the same one, anti-aliased
   render::FigureFurniture furniture; // orientation letters, legend, scale bar (per pane)
+  std::optional<render::Camera> camera; // when set: this camera instead of the view's framing of the surface
+                                        // (the web page's slices share one camera per axis)
   std::string output = "the image";  // what GL errors name
 };
 
@@ -98,7 +100,8 @@ RenderResult runRender(const RenderRequest& request);
 
 // Many frames of one request (movies): the data, FA, background and the request's surface loaded once, then
 // frames of any surface of the same data from any camera, the advection state carried from frame to frame
-// (render::FabricRenderer::renderMovieFrame). Tensor, DWI and fibre-set inputs; no split panes, no tracts.
+// (render::FabricRenderer::renderMovieFrame). Tensor, DWI and fibre-set inputs; no split panes; the request's
+// tracts are drawn only over stills that ask for them.
 // The headless context is made current on the calling thread, as for runRender.
 class FrameSession {
 public:
@@ -120,6 +123,16 @@ public:
   // One frame seen by `camera`: `first` starts from the noise and converges, the others continue the
   // previous frame's state, reprojected into this view and onto the current mesh.
   Image frame(const render::Camera& camera, bool first);
+  // A still of `mesh` (the surface `spec` built by build()) as runRender renders it: seen by `camera` at
+  // width x height, from the noise, with `furniture`. Equal to runRender's image of a request with the same
+  // surface, camera, size and furniture. `withTracts`, when given and the request has tracts: the same with
+  // the tracts near the surface over it (the still itself when none is near).
+  Image still(const Mesh& mesh, const SurfaceSpec& spec, const render::Camera& camera, int width, int height,
+              const render::FigureFurniture& furniture, Image* withTracts = nullptr);
+  // Whether the request's tracts hold a streamline.
+  bool hasTracts() const;
+  // Whether a grey background shows beneath (the surfaces are then built over the whole grid).
+  bool hasBackground() const;
 
 private:
   struct Impl;

@@ -2,11 +2,14 @@
 // The tracking session behind `dtfabric track`, dtfabric.track (Python) and the viewer's tract worker.
 #include "ui/session/track_job.h"
 
+#include "surfaces/selection/tract_selection.h"
+
 #include "io/model/error.h"
 #include "surfaces/slices.h"
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 
 namespace dtf::session {
 
@@ -107,6 +110,10 @@ TrackRun runTrack(const TrackRequest& r) {
     to.mask = &stop;
   }
   const surfaces::SeedSource source = seedsFor(r, field, nullptr, nullptr, to.mask);
+  if (r.regions.hasRegions() || r.regions.hasLengthRange()) {
+    auto tester = std::make_shared<const surfaces::RegionTester>(r.regions);
+    to.accept = [tester](const glm::vec3* p, std::size_t n) { return tester->accepts(p, n); };
+  }
 
   TrackRun run;
   run.grid = field.grid;

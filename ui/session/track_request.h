@@ -7,6 +7,7 @@
 
 #include "io/model/tensor_field.h"
 #include "io/model/volume.h"
+#include "surfaces/selection/regions.h"
 #include "surfaces/tracking/tracking.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tensor_input.h"
@@ -54,6 +55,7 @@ struct TrackRequest {
   std::uint64_t rngSeed = 1;
 
   std::string stopMask;              // stop where this NIfTI mask is zero ("" none)
+  surfaces::RegionSet regions;       // targeted tracking: keep only the streamlines this set selects
   surfaces::TrackingOptions options; // the parameters, threads, progress; mask is set from stopMask
 };
 

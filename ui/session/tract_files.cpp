@@ -4,6 +4,7 @@
 #include "io/model/error.h"
 #include "io/formats/tracts.h"
 #include "io/formats/trx.h"
+#include "io/formats/tensor_io.h"
 #include "surfaces/polyline_io.h"
 
 #include <algorithm>
@@ -143,6 +144,16 @@ void writeTracts(const std::string& path, const Polylines& lines, const Grid* re
   }
   throw InputError("cannot write " + path +
                    ": unknown tract file extension (use .tck, .trk, .trk.gz, .trx, .vtk or .vtp)");
+}
+
+Grid referenceGridOf(const std::string& path) {
+  if (isTractFileName(path)) {
+    TractFileFacts facts;
+    readTracts(path, &facts);
+    if (!facts.grid) throw InputError(path + ": this tract file records no reference space (use a NIfTI image)");
+    return *facts.grid;
+  }
+  return io::readHeader(path).grid;
 }
 
 } // namespace dtf::session

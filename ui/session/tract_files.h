@@ -30,6 +30,9 @@ Polylines readTracts(const std::string& path, TractFileFacts* facts = nullptr);
 // there, ignored otherwise). Data the format cannot hold are dropped with a warning. Throws InputError;
 // UsageError for .trk/.trx without a reference.
 void writeTracts(const std::string& path, const Polylines& lines, const Grid* reference);
+// The reference space in `path`: a tract file's recorded grid (.trk, .trx), else an image header. Throws
+// InputError naming the file (also for a tract file that records none).
+Grid referenceGridOf(const std::string& path);
 // True when the name ends in .tck, .trk, .trk.gz, .trx, .vtk or .vtp (case-insensitive), or names a
 // TRX folder.
 bool isTractFileName(const std::string& path);

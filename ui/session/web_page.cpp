@@ -1,19 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// `dtfabric web`: renders every slice's fabric with one headless renderer and writes the page's folder.
+// `dtfabric web`: renders every slice's fabric, the 3D view's frames and the FA sweep with one headless
+// session and writes the page's folder.
 #include "ui/session/web_page.h"
 
+#include "ui/session/movie_job.h"
 #include "ui/session/render_job.h"
-#include "ui/session/tract_files.h"
-#include "ui/session/tract_overlay.h"
 #include "io/formats/atomic_file.h"
+#include "io/formats/json.h"
+#include "io/formats/png_io.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
-#include "io/formats/png_io.h"
-#include "render/fabric_renderer.h"
-#include "render/gl_context.h"
-#include "render/tract_renderer.h"
 #include "surfaces/slices.h"
-#include "io/formats/json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -84,7 +81,7 @@ constexpr render::StandardView kViews[3] = {render::StandardView::Axial, render:
 // The folder is built in a hidden sibling and renamed into place; a failure removes it.
 class FolderTransaction {
 public:
-  explicit FolderTransaction(const fs::path& target) : target_(target) {
+  FolderTransaction(const fs::path& target, const std::vector<const char*>& subfolders) : target_(target) {
     const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(parent, ec))
@@ -94,8 +91,9 @@ public:
     temp_ = parent / stem;
     old_ = parent / (stem + ".old");
     fs::remove_all(temp_, ec);
-    if (!fs::create_directories(temp_ / "slices", ec) || ec)
-      throw InputError("cannot write " + target.string() + ": " + ec.message());
+    for (const char* sub : subfolders)
+      if (!fs::create_directories(temp_ / sub, ec) || ec)
+        throw InputError("cannot write " + target.string() + ": " + ec.message());
   }
   ~FolderTransaction() {
     std::error_code ec;
@@ -152,14 +150,14 @@ void refuseFolderHoldingInputs(const fs::path& output, const std::vector<std::st
   }
 }
 
-// A folder this command wrote: index.html, data.js holding window.DTF_WEB, the slices folder, and nothing
-// else. --force replaces only such a folder (or an empty one), never a folder of other files.
+// A folder this command wrote: index.html, data.js holding window.DTF_WEB, the slices folder (and the 3d
+// and fa folders), and nothing else. --force replaces only such a folder (or an empty one), never a folder of other files.
 bool isWebPageFolder(const fs::path& dir) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (name != "index.html" && name != "viewer.js" && name != "data.js" && name != "voxels.js" &&
-        name != "slices")
+        name != "slices" && name != "3d" && name != "fa")
       return false;
   }
   std::ifstream data(dir / "data.js");
@@ -176,8 +174,7 @@ nlohmann::json vec(const glm::dvec3& v) {
 // One axis of the page: camera, image size, the slices rendered.
 struct AxisPlan {
   int voxelAxis = 0, count = 0;
-  int width = 0, height = 0;
-  render::Camera camera;
+  WebSliceView view;
   std::vector<int> slices;
 };
 
@@ -186,16 +183,7 @@ AxisPlan planAxis(const TensorField& field, int a, int size, bool wholeSlices) {
   AxisPlan p;
   p.voxelAxis = surfaces::voxelAxisFor(g, kAxes[a]);
   p.count = surfaces::sliceCount(g, kAxes[a]);
-  // Every slice of an axis is framed by the same camera: the world box of the grid's voxel centres.
-  glm::dvec3 lo, hi;
-  g.worldBounds(lo, hi);
-  const render::Camera probe = render::Camera::standard(kViews[a], lo, hi, 1.0);
-  const glm::dvec3 r = probe.right(), u = glm::cross(r, probe.forward());
-  const double ex = std::abs(glm::dot(hi - lo, glm::abs(r))), ey = std::abs(glm::dot(hi - lo, glm::abs(u)));
-  const double aspect = std::clamp(ex / std::max(ey, 1e-9), 1.0 / 16, 16.0);
-  p.width = aspect >= 1 ? size : std::max(16, static_cast<int>(std::lround(size * aspect)));
-  p.height = aspect >= 1 ? std::max(16, static_cast<int>(std::lround(size / aspect))) : size;
-  p.camera = render::Camera::standard(kViews[a], lo, hi, double(p.width) / p.height);
+  p.view = webSliceView(g, a, size);
   std::vector<char> has(static_cast<std::size_t>(p.count), wholeSlices ? 1 : 0);
   if (!wholeSlices) {
     for (int k = 0; k < g.dims.z; ++k)
@@ -222,12 +210,52 @@ std::uintmax_t folderBytes(const fs::path& dir) {
   return total;
 }
 
+std::string numbered(const char* pattern, int a, int b = 0) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, pattern, a, b);
+  return buf;
+}
+
 } // namespace
+
+WebSliceView webSliceView(const Grid& g, int a, int size) {
+  if (a < 0 || a > 2) throw UsageError("web: axis " + std::to_string(a) + " is not 0, 1 or 2");
+  // Every slice of an axis is framed by the same camera: the world box of the grid's voxel centres.
+  glm::dvec3 lo, hi;
+  g.worldBounds(lo, hi);
+  const render::Camera probe = render::Camera::standard(kViews[a], lo, hi, 1.0);
+  const glm::dvec3 r = probe.right(), u = glm::cross(r, probe.forward());
+  const double ex = std::abs(glm::dot(hi - lo, glm::abs(r))), ey = std::abs(glm::dot(hi - lo, glm::abs(u)));
+  const double aspect = std::clamp(ex / std::max(ey, 1e-9), 1.0 / 16, 16.0);
+  WebSliceView v;
+  v.width = aspect >= 1 ? size : std::max(16, static_cast<int>(std::lround(size * aspect)));
+  v.height = aspect >= 1 ? std::max(16, static_cast<int>(std::lround(size / aspect))) : size;
+  v.camera = render::Camera::standard(kViews[a], lo, hi, double(v.width) / v.height);
+  return v;
+}
+
+std::vector<double> webFaThresholds(double lo, double hi, int steps) {
+  std::vector<double> t;
+  for (int i = 0; i < steps; ++i)
+    t.push_back(std::round(1000.0 * (steps > 1 ? lo + (hi - lo) * i / (steps - 1) : lo)) / 1000.0);
+  return t;
+}
 
 WebPageResult writeWebPage(const WebPageRequest& r) {
   const auto t0 = std::chrono::steady_clock::now();
   if (r.size < 16 || r.size > 4096) throw UsageError("--size must be in [16, 4096] pixels");
   if (r.output.empty()) throw UsageError("missing -o DIR");
+  if (!r.slicesOnly) {
+    if (r.azimuths < 4 || r.azimuths > 360) throw UsageError("--azimuths must be in [4, 360]");
+    if (r.elevationsDeg.empty() || r.elevationsDeg.size() > 9)
+      throw UsageError("the 3D view needs 1 to 9 elevations");
+    for (double e : r.elevationsDeg)
+      if (!(std::abs(e) <= 89)) throw UsageError("the 3D view's elevations must be in [-89, 89] degrees");
+    if (r.faSteps < 2 || r.faSteps > 64) throw UsageError("--fa-steps must be in [2, 64]");
+    if (!(r.faLo > 0 && r.faHi < 1 && r.faLo < r.faHi))
+      throw UsageError("the FA sweep needs thresholds 0 < LO < HI < 1");
+  }
+  const SurfaceSpec surface = parseSurfaceSpec(r.slicesOnly ? "slice=axial" : r.surface);
   const fs::path output(r.output);
   const std::vector<std::string> inputs{r.input,
                                         r.tensorOptions.bval,
@@ -248,94 +276,137 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
     if (r.onProgress) r.onProgress(s);
   };
 
-  io::LoadedTensors loaded;
-  if (!r.field) {
-    progress("loading " + r.input);
-    loaded = loadTensorInput(r.input, r.tensorOptions);
-  }
-  const TensorField& field = r.field ? *r.field : loaded.field;
+  // One session: the data, its FA, the background and the tracts loaded once; the render's default look.
+  RenderRequest rr;
+  rr.input = r.input;
+  rr.field = r.field;
+  rr.tensorOptions = r.tensorOptions;
+  rr.background = r.background;
+  rr.surface = surface;
+  rr.width = rr.height = r.size;
+  rr.furniture = {false, false, false, false, 0}; // the page draws the slices' letters itself
+  rr.tracts = r.tracts;
+  rr.tractsNear = r.tractsNearMm;
+  rr.tractWidth = 1.5;
+  rr.output = r.output;
+  if (!r.field) progress("loading " + r.input);
+  FrameSession session(rr);
+  const TensorField& field = session.field();
   if (std::none_of(field.valid.begin(), field.valid.end(), [](unsigned char v) { return v != 0; }))
     throw InputError(r.input + " holds no valid tensor");
-  const ScalarVolume fa = computeFaMap(field);
-  const Background background = loadBackground(r.background, "", field, fa);
-  Polylines tracts;
-  if (!r.tracts.empty()) tracts = readTracts(r.tracts);
-
-  FolderTransaction folder(output);
-  render::GlContext::headless();
-  render::FabricRenderer renderer;
-  renderer.setField(field);
-  if (!background.volume.data.empty())
-    renderer.setBackground(&background.volume, background.lo, background.hi);
-  std::optional<render::TractRenderer> tractLayer;
-  if (tracts.lineCount() > 0) {
-    tractLayer.emplace();
-    tractLayer->upload(tractOverlayDisplay(tracts));
-  } else if (!r.tracts.empty()) {
+  if (!r.tracts.empty() && !session.hasTracts())
     logWarning(r.tracts + " holds no streamline: the page has no tract overlay");
-  }
-  ScalarVolume clip(field.grid, 1);
-  for (std::size_t i = 0; i < field.grid.voxelCount(); ++i)
-    clip.data[i] = field.valid[i] ? 1.0f : 0.0f;
-  surfaces::SliceOptions sliceOptions;
-  if (background.volume.data.empty()) sliceOptions.clip = &clip;
-  // The paper's look: every data voxel drawn (the page's probe carries FA; the anatomy look is not applied).
-  render::FabricParams params;
-  params.look = render::Look::Plain;
+  const bool withTracts = session.hasTracts();
+
+  FolderTransaction folder(output, r.slicesOnly ? std::vector<const char*>{"slices"}
+                                                : std::vector<const char*>{"slices", "3d", "fa"});
+  auto writeImage = [&](const std::string& relative, const Image& image, WebPageResult& result) {
+    io::writePng((folder.dir() / relative).string(), image);
+    ++result.images;
+  };
 
   WebPageResult result;
   nlohmann::json axes = nlohmann::json::array();
   for (int a = 0; a < 3; ++a) {
     const char* name = surfaces::sliceAxisName(kAxes[a]);
-    AxisPlan plan = planAxis(field, a, r.size, !background.volume.data.empty());
-    renderer.resize(plan.width, plan.height);
+    const AxisPlan plan = planAxis(field, a, r.size, session.hasBackground());
+    const render::Camera& cam = plan.view.camera;
     std::vector<int> written;
     const std::size_t step = std::max<std::size_t>(1, plan.slices.size() / 8);
     for (std::size_t n = 0; n < plan.slices.size(); ++n) {
       const int s = plan.slices[n];
-      const Mesh mesh = surfaces::makeSlice(field.grid, kAxes[a], s, sliceOptions);
+      const SurfaceSpec spec = sliceSweepSpec(name, s);
+      Mesh mesh;
+      try {
+        mesh = session.build(spec);
+      } catch (const InputError&) {
+        // A slice whose few voxels with data make no cell: nothing to show.
+      }
       if (!mesh.empty()) {
-        renderer.setMesh(mesh);
-        const Image fabric = renderer.renderStill(plan.camera, params);
-        io::writePng((folder.dir() / sliceFile(name, false, s)).string(), fabric);
-        ++result.images;
-        if (tractLayer) {
-          TractOverlayOptions o;
-          o.nearMm = r.tractsNearMm;
-          glm::vec3 lo, hi;
-          mesh.bounds(lo, hi);
-          const TractClip c =
-              tractClip(pickTracts(mesh, o.nearMm), o, glm::vec3(plan.camera.forward()), 0.5f * (lo + hi));
-          render::TractStyle style;
-          style.widthPx = 1.5f;
-          style.plane = c.plane;
-          style.slabMm = c.slabMm;
-          glBindFramebuffer(GL_FRAMEBUFFER, renderer.output().id());
-          tractLayer->draw(renderer.frameView(), style);
-          io::writePng((folder.dir() / sliceFile(name, true, s)).string(), renderer.readback());
-          ++result.images;
-        }
-        render::checkGl("rendering " + std::string(name) + " slice " + std::to_string(s) + " of " + r.output);
+        Image overlay;
+        const Image fabric = session.still(mesh, spec, cam, plan.view.width, plan.view.height, rr.furniture,
+                                           withTracts ? &overlay : nullptr);
+        writeImage(sliceFile(name, false, s), fabric, result);
+        if (withTracts) writeImage(sliceFile(name, true, s), overlay, result);
         written.push_back(s);
       }
       if ((n + 1) % step == 0 || n + 1 == plan.slices.size())
         progress(std::string(name) + " " + std::to_string(n + 1) + "/" + std::to_string(plan.slices.size()));
     }
     result.slices[a] = static_cast<int>(written.size());
-    const render::Camera& cam = plan.camera;
     axes.push_back({{"name", name},
                     {"voxelAxis", plan.voxelAxis},
                     {"count", plan.count},
                     {"slices", written},
-                    {"width", plan.width},
-                    {"height", plan.height},
+                    {"width", plan.view.width},
+                    {"height", plan.view.height},
                     {"centre", vec(cam.target)},
                     {"right", vec(cam.right())},
                     {"up", vec(glm::normalize(glm::cross(cam.right(), cam.forward())))},
                     {"forward", vec(cam.forward())},
-                    {"mmPerPixel", 2.0 * cam.orthoHalfHeight / plan.height},
+                    {"mmPerPixel", 2.0 * cam.orthoHalfHeight / plan.view.height},
                     {"image", std::string("slices/") + name + "_"},
-                    {"tractImage", tractLayer ? std::string("slices/") + name + "_tracts_" : std::string()}});
+                    {"tractImage", withTracts ? std::string("slices/") + name + "_tracts_" : std::string()}});
+  }
+
+  nlohmann::json view3d = nullptr, faSweep = nullptr;
+  if (!r.slicesOnly) {
+    // The 3D view: turntables of the surface (one per elevation) from the front, the advection state
+    // carried from frame to frame as a movie's, with the orientation legend (from 256 pixels: below, it
+    // would cover a large part of the image).
+    render::FigureFurniture legend;
+    legend.letters = legend.scaleBar = legend.colourBar = false;
+    legend.legend = r.size >= 256;
+    session.setMesh(session.surface());
+    glm::vec3 lo, hi;
+    session.surface().bounds(lo, hi);
+    std::vector<render::Camera> sweepCameras; // the FA sweep's: the elevation nearest 20 degrees
+    double sweepElevation = 0;
+    for (std::size_t e = 0; e < r.elevationsDeg.size(); ++e) {
+      const auto cams = turntableCameras(render::StandardView::Anterior, glm::dvec3(lo), glm::dvec3(hi), 1.0,
+                                         r.azimuths, r.elevationsDeg[e], false, true);
+      if (sweepCameras.empty() || std::abs(r.elevationsDeg[e] - 20) < std::abs(sweepElevation - 20)) {
+        sweepCameras = cams;
+        sweepElevation = r.elevationsDeg[e];
+      }
+      for (int i = 0; i < r.azimuths; ++i) {
+        Image frame = session.frame(cams[static_cast<std::size_t>(i)], i == 0);
+        render::drawFurniture(frame, cams[static_cast<std::size_t>(i)], 0, legend);
+        writeImage(numbered("3d/view_%02d_%03d.png", static_cast<int>(e), i), frame, result);
+        ++result.frames3d;
+      }
+      progress("3D view, elevation " + std::to_string(static_cast<int>(std::lround(r.elevationsDeg[e]))) +
+               ": " + std::to_string(r.azimuths) + " frames");
+    }
+    view3d = {{"surface", describeSurface(surface)},
+              {"azimuths", r.azimuths},
+              {"elevations", r.elevationsDeg},
+              {"width", r.size},
+              {"height", r.size},
+              {"image", "3d/view_"}};
+
+    // The FA sweep: the isosurface at each threshold from one oblique camera (45 degrees round from the
+    // front, the elevation nearest 20 degrees), the state carried from one threshold to the next.
+    const std::vector<double> thresholds = webFaThresholds(r.faLo, r.faHi, r.faSteps);
+    const render::Camera& sweepCamera = sweepCameras[static_cast<std::size_t>(r.azimuths / 8)];
+    std::vector<double> shown;
+    for (std::size_t i = 0; i < thresholds.size(); ++i) {
+      Mesh mesh;
+      try {
+        mesh = session.build(faSweepSpec(thresholds[i], thresholds[i], 0, 1));
+      } catch (const InputError&) {
+        logWarning("web: no voxel reaches FA " + std::to_string(thresholds[i]) + ": the sweep ends before it");
+        break;
+      }
+      session.setMesh(mesh);
+      Image frame = session.frame(sweepCamera, i == 0);
+      render::drawFurniture(frame, sweepCamera, 0, legend);
+      writeImage(numbered("fa/fa_%02d.png", static_cast<int>(i)), frame, result);
+      shown.push_back(thresholds[i]);
+      ++result.faFrames;
+    }
+    progress("FA sweep: " + std::to_string(shown.size()) + " thresholds");
+    faSweep = {{"thresholds", shown}, {"width", r.size}, {"height", r.size}, {"image", "fa/fa_"}};
   }
 
   progress("writing the probe table and the page");
@@ -352,8 +423,10 @@ WebPageResult writeWebPage(const WebPageRequest& r) {
       {"affine", affine},
       {"orientation", g.orientationCode()},
       {"background", r.background},
-      {"tracts", tractLayer ? fs::path(r.tracts).filename().string() : std::string()},
-      {"axes", axes}};
+      {"tracts", withTracts ? fs::path(r.tracts).filename().string() : std::string()},
+      {"axes", axes},
+      {"view3d", view3d},
+      {"faSweep", faSweep}};
   writeText(folder.dir() / "data.js", "window.DTF_WEB = " + io::jsonText(data) + ";\n");
   writeText(folder.dir() / "voxels.js",
             "window.DTF_WEB_VOXELS = \"" + base64Encode(webVoxelTable(field)) + "\";\n");

@@ -7,6 +7,11 @@
 //   centre + right * (px - W/2) * mmPerPixel + up * (H/2 - py) * mmPerPixel
 // and the ray from it along `forward` meets the slice's voxel plane (voxel index `voxelAxis` = slice) at the
 // probed point. Images are rendered in the radiological convention; the neurological one mirrors them.
+//
+// The 3D view (id="view3d") shows one frame of window.DTF_WEB.view3d at a time: a drag across the image's
+// width turns the surface once round (one frame per azimuth), a vertical drag moves between elevations; the
+// FA sweep (id="viewfa") shows the frame of the threshold its slider picks and prints the threshold. Every
+// frame is preloaded through an <img>, so turning needs no file access and works from file://.
 #include "ui/session/web_page.h"
 #include "io/bids/bids_report.h"
 
@@ -31,6 +36,13 @@ html,body{margin:0;height:100%;background:#111;color:#ddd;font:13px/1.4 system-u
 #lt{left:50%;top:6px;transform:translateX(-50%)} #lb{left:50%;bottom:6px;transform:translateX(-50%)}
 #ll{left:8px;top:50%;transform:translateY(-50%)} #lr{right:8px;top:50%;transform:translateY(-50%)}
 #note{position:absolute;left:8px;top:6px;color:#999;pointer-events:none}
+.pane{position:relative;flex:1;min-width:0;overflow:hidden;display:flex;flex-direction:column;align-items:center;justify-content:center;background:#000}
+.pane[hidden]{display:none}
+.pane img{flex:1;min-height:0;max-width:100%;object-fit:contain;user-select:none;-webkit-user-drag:none}
+#view3d img{cursor:grab} #view3d.dragging img{cursor:grabbing}
+.caption{padding:6px 10px;color:#ccc;display:flex;gap:10px;align-items:center;width:calc(100% - 20px);justify-content:center}
+#faslider{flex:1;max-width:420px}
+#fathreshold{font-weight:bold;color:#ffd54a;min-width:80px}
 #side{width:290px;padding:10px 12px;background:#1b1b1b;border-left:1px solid #333;overflow:auto}
 h1{font-size:15px;margin:0 0 8px;word-break:break-all}
 .row{margin:8px 0}
@@ -49,16 +61,21 @@ button.on{background:#4a4020;border-color:#ffd54a}
 <div id="view"><canvas id="canvas"></canvas>
 <div class="letter" id="lt"></div><div class="letter" id="lb"></div><div class="letter" id="ll"></div><div class="letter" id="lr"></div>
 <div id="note"></div></div>
+<div id="view3d" class="pane" hidden><img id="img3d" alt="3D view" draggable="false"><div class="caption" id="cap3d"></div></div>
+<div id="viewfa" class="pane" hidden><img id="imgfa" alt="FA sweep" draggable="false"><div class="caption"><label for="faslider">FA threshold</label><input type="range" id="faslider" min="0" max="0" step="1"><span id="fathreshold"></span></div></div>
 <div id="side">
 <h1>)HTML" +
          t +
          R"HTML(</h1>
+<div class="row" id="tabs"><button id="tab-slices" class="on" title="1">slices</button> <button id="tab-3d" title="2">3D</button> <button id="tab-fa" title="3">FA sweep</button></div>
 <div class="row" id="axes"></div>
-<div class="row"><button id="conv" title="N">radiological</button> <button id="tracts" title="T">tracts</button> <button id="reset" title="R">reset view</button></div>
-<div class="row">Probe <span id="swatch"></span><div id="probe">move the pointer over the slice</div></div>
+<div class="row" id="slicebuttons"><button id="conv" title="N">radiological</button> <button id="tracts" title="T">tracts</button> <button id="reset" title="R">reset view</button></div>
+<div class="row" id="proberow">Probe <span id="swatch"></span><div id="probe">move the pointer over the slice</div></div>
 <div class="row help">Up/Down: next/previous slice; PgUp/PgDn: 5 slices; A, C, S: axial, coronal, sagittal;
 wheel: zoom; drag: pan; click: move the other slices to the point; N: radiological/neurological; T: tracts;
-R: reset the view. Colour: red left-right, green anterior-posterior, blue superior-inferior.</div>
+R: reset the view. Colour: red left-right, green anterior-posterior, blue superior-inferior.
+1, 2, 3: slices, 3D view, FA sweep; in the 3D view drag (or Left/Right, Up/Down) to turn; in the FA sweep
+Left/Right move the threshold.</div>
 <div class="row help" id="info"></div>
 </div>
 </div>
@@ -267,6 +284,17 @@ const char* webViewerJs() {
   window.addEventListener('keydown', e => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     const a = state.axis, k = e.key;
+    if (k === '1' || k === '2' || k === '3') { showTab(['slices', '3d', 'fa'][Number(k) - 1]); e.preventDefault(); return; }
+    if (turn.tab === '3d') {
+      const d = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] }[k];
+      if (d) { setTurn(turn.az + d[0], turn.el + d[1]); e.preventDefault(); }
+      return;
+    }
+    if (turn.tab === 'fa') {
+      const d = { ArrowLeft: -1, ArrowRight: 1, ArrowDown: -1, ArrowUp: 1 }[k];
+      if (d) { setFa(turn.fa + d); e.preventDefault(); }
+      return;
+    }
     const steps = { ArrowUp: 1, ArrowDown: -1, PageUp: 5, PageDown: -5 };
     if (k in steps) setSlice(a, state.slice[a] + steps[k]);
     else if (k === 'a' || k === 'A') setAxis(0);
@@ -315,7 +343,93 @@ const char* webViewerJs() {
   });
   window.addEventListener('resize', draw);
 
-  // The URL's hash sets the start: #axis=coronal&slice=30&neuro=1&tracts=1 (and selfcheck for tests).
+  // The 3D view and the FA sweep: one preloaded <img> per frame, the shown one's src copied to the pane's.
+  const V = D.view3d, F = D.faSweep;
+  const pad2 = x => String(x).padStart(2, '0');
+  const frames = new Map();
+  function frame(src) {
+    let img = frames.get(src);
+    if (!img) {
+      img = new Image();
+      img.onerror = () => console.error('dtfabric web: cannot load ' + src);
+      img.src = src;
+      frames.set(src, img);
+    }
+    return img;
+  }
+  const turn = { az: 0, el: 0, fa: 0, tab: 'slices' };
+  const src3d = (e, a) => V.image + pad2(e) + '_' + pad(a) + '.png';
+  const srcFa = i => F.image + pad2(i) + '.png';
+  const img3d = document.getElementById('img3d'), imgFa = document.getElementById('imgfa');
+  const faSlider = document.getElementById('faslider');
+  function show3d() {
+    if (!V) return;
+    const src = src3d(turn.el, turn.az);
+    frame(src);
+    if (img3d.getAttribute('src') !== src) img3d.src = src;
+    document.getElementById('cap3d').textContent = V.surface + ' - azimuth ' + Math.round(turn.az * 360 / V.azimuths) +
+        '\u00b0, elevation ' + V.elevations[turn.el] + '\u00b0 - drag to turn';
+  }
+  function showFa() {
+    if (!F || !F.thresholds.length) return;
+    const src = srcFa(turn.fa);
+    frame(src);
+    if (imgFa.getAttribute('src') !== src) imgFa.src = src;
+    faSlider.value = turn.fa;
+    document.getElementById('fathreshold').textContent = 'FA \u2265 ' + F.thresholds[turn.fa].toFixed(2);
+  }
+  function setTurn(az, el) {
+    turn.az = ((Math.round(az) % V.azimuths) + V.azimuths) % V.azimuths;
+    turn.el = Math.max(0, Math.min(V.elevations.length - 1, Math.round(el)));
+    show3d();
+  }
+  function setFa(i) { turn.fa = Math.max(0, Math.min(F.thresholds.length - 1, Math.round(i))); showFa(); }
+  function showTab(name) {
+    if ((name === '3d' && !V) || (name === 'fa' && !F)) name = 'slices';
+    turn.tab = name;
+    view.hidden = name !== 'slices';
+    view.style.display = name === 'slices' ? '' : 'none';
+    document.getElementById('view3d').hidden = name !== '3d';
+    document.getElementById('viewfa').hidden = name !== 'fa';
+    ['slices', '3d', 'fa'].forEach(t => document.getElementById('tab-' + t).classList.toggle('on', t === name));
+    for (const el of [axesEl, document.getElementById('slicebuttons'), document.getElementById('proberow')])
+      el.style.display = name === 'slices' ? '' : 'none';
+    if (name === '3d') show3d();
+    else if (name === 'fa') showFa();
+    else draw();
+  }
+  ['slices', '3d', 'fa'].forEach(t => document.getElementById('tab-' + t).addEventListener('click', () => showTab(t)));
+  if (!V) document.getElementById('tab-3d').style.display = 'none';
+  if (!F) document.getElementById('tab-fa').style.display = 'none';
+  if (V) {
+    V.elevations.forEach((e, i) => { if (Math.abs(e - 20) < Math.abs(V.elevations[turn.el] - 20)) turn.el = i; });
+    for (let e = 0; e < V.elevations.length; ++e) for (let a = 0; a < V.azimuths; ++a) frame(src3d(e, a));
+    // A drag across the image's width turns the surface once round; 40 px up or down is one elevation.
+    const pane = document.getElementById('view3d');
+    let turning = null;
+    pane.addEventListener('mousedown', e => {
+      e.preventDefault();
+      turning = { x: e.clientX, y: e.clientY, az: turn.az, el: turn.el };
+      pane.classList.add('dragging');
+    });
+    window.addEventListener('mousemove', e => {
+      if (!turning) return;
+      const width = Math.max(1, img3d.clientWidth || pane.clientWidth);
+      setTurn(turning.az - (e.clientX - turning.x) * V.azimuths / width, turning.el + (e.clientY - turning.y) / 40);
+    });
+    window.addEventListener('mouseup', () => { turning = null; pane.classList.remove('dragging'); });
+  }
+  if (F && F.thresholds.length) {
+    F.thresholds.forEach((t, i) => frame(srcFa(i)));
+    faSlider.max = F.thresholds.length - 1;
+    let nearest = 0;
+    F.thresholds.forEach((t, i) => { if (Math.abs(t - 0.25) < Math.abs(F.thresholds[nearest] - 0.25)) nearest = i; });
+    turn.fa = nearest;
+    faSlider.addEventListener('input', () => setFa(Number(faSlider.value)));
+  }
+
+  // The URL's hash sets the start: #axis=coronal&slice=30&neuro=1&tracts=1, #tab=3d&az=9&el=0,
+  // #tab=fa&fa=3 (frame indices), and selfcheck or selfcheck3d for tests.
   const params = new Map(location.hash.slice(1).split('&').filter(x => x).map(x => {
     const i = x.indexOf('=');
     return i < 0 ? [x, ''] : [x.slice(0, i), decodeURIComponent(x.slice(i + 1))];
@@ -326,8 +440,69 @@ const char* webViewerJs() {
   state.neuro = params.get('neuro') === '1';
   state.tracts = params.get('tracts') === '1' && !!D.tracts;
   draw();
+  if (V && params.has('az')) setTurn(Number(params.get('az')), turn.el);
+  if (V && params.has('el')) setTurn(turn.az, Number(params.get('el')));
+  if (F && params.has('fa')) setFa(Number(params.get('fa')));
+  if (params.has('tab')) showTab(params.get('tab'));
 
-  window.dtfWeb = { state: state, setSlice: setSlice, setAxis: setAxis, probe: probe, placement: placement, draw: draw };
+  window.dtfWeb = { state: state, setSlice: setSlice, setAxis: setAxis, probe: probe, placement: placement, draw: draw,
+                    turn: turn, showTab: showTab, setTurn: setTurn, setFa: setFa };
+
+  // Self-check of the 3D view and the FA sweep for headless tests: a drag on the 3D view and a slider move,
+  // each with the frame shown and loaded before and after, in <pre id="dtf-selfcheck">.
+  function whenLoaded(img, then) {
+    const t0 = Date.now();
+    (function poll() {
+      if ((img.complete && img.naturalWidth > 0) || Date.now() - t0 > 5000) then();
+      else setTimeout(poll, 20);
+    })();
+  }
+  const shown = img => ({ src: img.getAttribute('src'), loaded: img.complete && img.naturalWidth > 0,
+                          width: img.naturalWidth, visible: img.offsetWidth > 0 && img.offsetHeight > 0 });
+  if (params.has('selfcheck3d')) {
+    const out = { view3d: !!document.getElementById('view3d'), frames3d: V ? V.azimuths * V.elevations.length : 0,
+                  thresholds: F ? F.thresholds.length : 0 };
+    showTab('3d');
+    whenLoaded(img3d, () => {
+      out.before3d = shown(img3d);
+      out.before3d.azimuth = turn.az;
+      const pane = document.getElementById('view3d'), rect = img3d.getBoundingClientRect();
+      const x = Math.round(rect.left + rect.width / 2), y = Math.round(rect.top + rect.height / 2);
+      pane.dispatchEvent(new MouseEvent('mousedown', { clientX: x, clientY: y, bubbles: true, cancelable: true }));
+      window.dispatchEvent(new MouseEvent('mousemove', { clientX: x + Math.round(rect.width / 4), clientY: y, bubbles: true }));
+      window.dispatchEvent(new MouseEvent('mouseup', { clientX: x + Math.round(rect.width / 4), clientY: y, bubbles: true }));
+      whenLoaded(img3d, () => {
+        out.after3d = shown(img3d);
+        out.after3d.azimuth = turn.az;
+        showTab('fa');
+        whenLoaded(imgFa, () => {
+          out.beforeFa = shown(imgFa);
+          out.beforeFa.text = document.getElementById('fathreshold').textContent;
+          faSlider.value = F.thresholds.length - 1;
+          faSlider.dispatchEvent(new Event('input'));
+          whenLoaded(imgFa, () => {
+            out.afterFa = shown(imgFa);
+            out.afterFa.text = document.getElementById('fathreshold').textContent;
+            // Every frame preloaded: loaded, or an error reported below.
+            const t0 = Date.now();
+            (function all() {
+              const list = Array.from(frames.values());
+              if (list.some(i => !i.complete) && Date.now() - t0 < 10000) { setTimeout(all, 20); return; }
+              out.framesLoaded = list.filter(i => i.complete && i.naturalWidth > 0).length;
+              out.framesTotal = list.length;
+              const base = location.href.replace(/[#?].*$/, '').replace(/[^/]*$/, '');
+              out.outside = list.map(i => i.src).filter(n => n.indexOf(base) !== 0);
+              out.errors = caught;
+              const pre = document.createElement('pre');
+              pre.id = 'dtf-selfcheck';
+              pre.textContent = JSON.stringify(out);
+              document.body.appendChild(pre);
+            })();
+          });
+        });
+      });
+    });
+  }
 
   // Self-check for headless tests: waits for the slice shown, probes it, moves the slider and reports JSON
   // in <pre id="dtf-selfcheck">.

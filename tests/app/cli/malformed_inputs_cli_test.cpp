@@ -357,6 +357,32 @@ Case scriptCase(std::string name, std::string text, std::vector<std::string> err
           }()};
 }
 
+// `select` of a two-streamline .tck with the region arguments `regions` (the region set file roi.json holds
+// `roiText` when given); output out.tck.
+Case selectCase(std::string name, std::string regions, std::vector<std::string> errHas, std::string roiText = "",
+                int exitCode = 2, std::function<void(const fs::path&)> extra = nullptr) {
+  return {name,
+          [regions, roiText, extra](const fs::path& dir) {
+            if (extra) extra(dir);
+            std::string tck = "mrtrix tracks\ndatatype: Float32LE\ncount: 2\nfile: . 64\nEND\n";
+            tck.resize(64, ' ');
+            auto put = [&](float x, float y, float z) {
+              for (float v : {x, y, z})
+                tck.append(reinterpret_cast<const char*>(&v), 4);
+            };
+            const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+            put(0, 0, 0), put(10, 0, 0), put(nan, nan, nan), put(0, 5, 0), put(10, 5, 0), put(nan, nan, nan);
+            put(inf, inf, inf);
+            writeBytes(dir / "in.tck", tck);
+            if (!roiText.empty()) writeBytes(dir / "roi.json", roiText);
+            std::string r = regions;
+            for (std::string::size_type at; (at = r.find("DIR/")) != std::string::npos;)
+              r.replace(at, 4, dir.string() + "/");
+            return "select " + q(dir / "in.tck") + " -o " + q(dir / "out.tck") + " " + r;
+          },
+          exitCode, errHas, "out.tck"};
+}
+
 std::vector<Case> catalogue() {
   std::vector<Case> c;
   const std::string notNifti = "not a readable NIfTI";
@@ -1614,6 +1640,65 @@ std::vector<Case> catalogue() {
                2,
                {"two_peaks.nii", "two fibre peaks", "not a tensor"},
                "s.ply"});
+  // `profile`: a bundle whose streamlines have no length (a single point, one repeated point), a scalar image
+  // whose affine is singular, a bundle cut short.
+  auto profileCase = [](std::string name, std::string tracts, std::string tractBytes, std::string image,
+                        std::string imageBytes, std::vector<std::string> errHas) {
+    return Case{name,
+                [=](const fs::path& dir) {
+                  writeBytes(dir / tracts, tractBytes);
+                  writeBytes(dir / image, imageBytes);
+                  return "profile " + q(dir / tracts) + " --scalar v=" + q(dir / image) + " -o " +
+                         q(dir / "p.tsv") + " --plot " + q(dir / "p.png");
+                },
+                2, errHas, "p.tsv"};
+  };
+  Nifti scalar;
+  c.push_back(profileCase("ProfileStreamlinesWithoutLength", "nolength.tck",
+                          tck("count: 2\ndatatype: Float32LE\n",
+                              {0, 0, 0, kNaN, kNaN, kNaN, 2, 2, 2, 2, 2, 2, kNaN, kNaN, kNaN, kInf, kInf, kInf}),
+                          "v.nii", scalar.bytes(), {"nolength.tck", "none of the bundle's 2 streamlines"}));
+  Nifti singular;
+  std::memset(singular.srow, 0, sizeof singular.srow);
+  singular.pixdim[0] = singular.pixdim[1] = singular.pixdim[2] = 0;
+  c.push_back(profileCase("ProfileScalarWithSingularAffine", "ok.tck", tck("count: 1\ndatatype: Float32LE\n", kTckPoints),
+                          "singular.nii", singular.bytes(), {"singular.nii", "singular"}));
+  c.push_back(profileCase("ProfileTruncatedTracts", "cut.tck",
+                          tck("count: 1\ndatatype: Float32LE\n", {0, 0, 0, 1, 1}), "v.nii", scalar.bytes(),
+                          {"cut.tck"}));
+  // ROI selection: bad regions and region set files exit 2 naming the spec or the file; nothing is written.
+  c.push_back(selectCase("SelectNanRadius", "--include 0,0,0,nan", {"0,0,0,nan", "radius"}));
+  c.push_back(selectCase("SelectNegativeRadius", "--include 0,0,0,-3", {"0,0,0,-3", "radius"}));
+  c.push_back(selectCase("SelectInvertedBox", "--exclude box:5,5,5,0,0,0", {"box:5,5,5,0,0,0", "inverted"}));
+  c.push_back(selectCase("SelectBoxOfFiveNumbers", "--include box:1,2,3,4,5", {"box:1,2,3,4,5", "six numbers"}));
+  c.push_back(selectCase("SelectSphereOfThreeNumbers", "--include 1,2,3", {"'1,2,3'", "four numbers"}));
+  c.push_back(selectCase("SelectMissingMask", "--include DIR/nothing.nii.gz", {"nothing.nii.gz", "no such file"}));
+  c.push_back(selectCase("SelectSingularMaskAffine", "--include DIR/flat.nii", {"flat.nii"}, "", 2,
+                         [](const fs::path& dir) {
+                           Nifti n;
+                           std::memset(n.srow, 0, sizeof n.srow);
+                           n.data = floats(std::vector<float>(64, 1.0f));
+                           writeBytes(dir / "flat.nii", n.bytes());
+                         }));
+  c.push_back(selectCase("SelectLabelNotInImage", "--include DIR/labels.nii:4", {"labels.nii", "label 4 is not in"},
+                         "", 2, [](const fs::path& dir) {
+                           Nifti n;
+                           std::vector<float> v(64, 0.0f);
+                           v[5] = 3;
+                           n.data = floats(v);
+                           writeBytes(dir / "labels.nii", n.bytes());
+                         }));
+  c.push_back(selectCase("SelectMalformedRoiJson", "--roi DIR/roi.json", {"roi.json", "not valid JSON"}, "{\"format\": "));
+  c.push_back(selectCase("SelectRoiOfAnotherVersion", "--roi DIR/roi.json", {"roi.json", "version 7"},
+                         R"({"format": "dtfabric-regions", "version": 7, "regions": []})"));
+  c.push_back(selectCase("SelectRoiUnknownMember", "--roi DIR/roi.json", {"roi.json", "unknown member \"colour\""},
+                         R"({"format": "dtfabric-regions", "version": 1, "regions": [{"kind": "include", "shape": "sphere", "centre": [0, 0, 0], "radius": 2, "colour": "red"}]})"));
+  c.push_back(selectCase("SelectRoiSphereWithoutRadius", "--roi DIR/roi.json", {"roi.json", "region 0", "radius"},
+                         R"({"format": "dtfabric-regions", "version": 1, "regions": [{"kind": "include", "shape": "sphere", "centre": [0, 0, 0]}]})"));
+  c.push_back(selectCase("SelectRoiBadKind", "--roi DIR/roi.json", {"roi.json", "region 0", "kind"},
+                         R"({"format": "dtfabric-regions", "version": 1, "regions": [{"kind": "maybe", "shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}]})"));
+  c.push_back(selectCase("SelectRoiNotASet", "--roi DIR/roi.json", {"roi.json", "not a region set"}, "[1, 2, 3]"));
+  c.push_back(selectCase("SelectAsGroupIntoTck", "--include 0,0,0,1 --as-group g", {"--as-group", ".trx"}, "", 1));
   return c;
 }
 
@@ -1805,6 +1890,11 @@ TEST(OutputProtection, AShortWriteFailsAndLeavesNothing) {
       {"l.trk", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
       {"l.tck", "convert " + q(dir / "in.tck") + " {}"},
       {"l.trx", "convert " + q(dir / "in.tck") + " {} --reference " + sample},
+      {"p.tsv", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --nodes 400 -o {}"},
+      {"p.png", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --force -o " +
+                    q(dir / "p_table.tsv") + " --plot {}"},
+      {"p.svg", "profile " + q(dir / "in.tck") + " --scalar fa --tensor " + sample + " --force -o " +
+                    q(dir / "p_table.tsv") + " --plot {}"},
   };
   constexpr std::uintmax_t kLimitBytes = 16 * 512; // `ulimit -f 16`: blocks of 512 bytes in sh (dash)
   for (const Run& run : runs) {

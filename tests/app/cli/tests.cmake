@@ -29,3 +29,5 @@ dtf_test(test_web_cli SOURCES app/cli/web_cli_test.cpp LIBS dtf_io dtf_model nlo
 dtf_test(test_gzip_cli SOURCES app/cli/gzip_cli_test.cpp LIBS dtf_io dtf_model ZLIB::ZLIB)
 dtf_test(test_detection_cli SOURCES app/cli/detection_cli_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_json_cli SOURCES app/cli/json_cli_test.cpp LIBS dtf_io nlohmann_json::nlohmann_json ZLIB::ZLIB)
+dtf_test(test_select_cli SOURCES app/cli/select_cli_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_profile_cli SOURCES app/cli/profile_cli_test.cpp LIBS dtf_io dtf_model nlohmann_json::nlohmann_json)

@@ -192,7 +192,8 @@ TEST_F(WebPage, WritesTheFolderWithTableAndMappingThatMatchTheImages) {
         const glm::dvec3 p = centre + right * ((x + 0.5 - w / 2.0) * mm) + up * ((h / 2.0 - y - 0.5) * mm);
         const glm::dvec3 v0 = g.toVoxel(p), v1 = g.toVoxel(p + forward);
         const glm::dvec3 v = v0 + (v1 - v0) * ((s - v0[k]) / (v1[k] - v0[k]));
-        // Data all around (the slice's cells are drawn where all four corners hold data) or none near.
+        // Anisotropic data all around (the render's anatomy look draws the fabric where FA is high, FA's grey
+        // beneath elsewhere: black where FA is 0) or no data near.
         bool all = true, none = true;
         for (int du = -1; du <= 1; ++du)
           for (int dv = -1; dv <= 1; ++dv) {
@@ -200,7 +201,7 @@ TEST_F(WebPage, WritesTheFolderWithTableAndMappingThatMatchTheImages) {
             q[(k + 1) % 3] += du;
             q[(k + 2) % 3] += dv;
             const bool in = g.contains(q.x, q.y, q.z) && field_.valid[g.index(q.x, q.y, q.z)];
-            all = all && in;
+            all = all && in && fractionalAnisotropy(field_.tensors[g.index(q.x, q.y, q.z)]) > 0.35;
             none = none && !in;
           }
         const std::uint8_t* px = img.pixel(x, y); // the background is opaque black
@@ -208,9 +209,9 @@ TEST_F(WebPage, WritesTheFolderWithTableAndMappingThatMatchTheImages) {
         if (all) ++inside, insideCovered += covered;
         if (none) ++outside, outsideCovered += covered;
       }
-    std::printf("%s slice %d: %d pixels inside the data (%d drawn), %d outside (%d drawn)\n", names[a], s,
-                inside, insideCovered, outside, outsideCovered);
-    EXPECT_GT(inside, w * h / 20);
+    std::printf("%s slice %d: %d pixels inside anisotropic data (%d drawn), %d outside (%d drawn)\n", names[a],
+                s, inside, insideCovered, outside, outsideCovered);
+    EXPECT_GT(inside, w * h / 200);
     EXPECT_GT(outside, w * h / 20);
     EXPECT_GE(insideCovered, inside * 0.97);
     EXPECT_LE(outsideCovered, outside * 0.01);
@@ -392,6 +393,114 @@ TEST_F(WebPage, LoadsInChromiumFromFileDrawsProbesAndFollowsTheSlider) {
     }
   EXPECT_GT(differ, 2000) << "another slice shows the same picture";
   EXPECT_GT(differT, 200) << "the tract overlay changes nothing";
+}
+
+// The 3D view and the FA sweep: the frames data.js names are in 3d/ and fa/ (36 azimuths at each elevation;
+// thresholds 0.15 to 0.6), index.html has the element id="view3d"; in headless Chromium a drag on the 3D
+// view shows another azimuth's frame and the sweep's slider another threshold's frame with its threshold
+// printed, every frame loads, with no console error and no request; screenshots of both; --slices-only
+// --force replaces the folder with one of slices only.
+TEST_F(WebPage, TheThreeDViewTurnsWhenDraggedAndTheSweepFollowsItsSlider) {
+  DTF_REQUIRE_TOOL("chromium");
+  const fs::path page = scratch_ / "page";
+  auto r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(page) + " --size 96 --elevations 0,20",
+                       scratch_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("72 3D frames, 10 FA thresholds"), std::string::npos) << r.out;
+  const json d = assignedJson(page / "data.js");
+  ASSERT_TRUE(d["view3d"].is_object()) << d.dump();
+  EXPECT_EQ(d["view3d"]["azimuths"], 36);
+  EXPECT_EQ(d["view3d"]["elevations"], json({0.0, 20.0}));
+  EXPECT_EQ(d["view3d"]["surface"], "FA isosurface at 0.25");
+  const std::vector<double> thresholds = d["faSweep"]["thresholds"];
+  ASSERT_EQ(thresholds.size(), 10u);
+  EXPECT_DOUBLE_EQ(thresholds.front(), 0.15);
+  EXPECT_DOUBLE_EQ(thresholds.back(), 0.6);
+  std::size_t frames = 0, sweep = 0;
+  for (const auto& e : fs::directory_iterator(page / "3d")) frames += e.path().extension() == ".png";
+  for (const auto& e : fs::directory_iterator(page / "fa")) sweep += e.path().extension() == ".png";
+  EXPECT_EQ(frames, 72u);
+  EXPECT_EQ(sweep, 10u);
+  const Image f0 = io::readPng((page / "3d/view_01_000.png").string()),
+              f9 = io::readPng((page / "3d/view_01_009.png").string());
+  ASSERT_EQ(f0.width, 96);
+  int differ = 0;
+  for (int y = 0; y < f0.height; ++y)
+    for (int x = 0; x < f0.width; ++x) differ += std::memcmp(f0.pixel(x, y), f9.pixel(x, y), 3) != 0;
+  EXPECT_GT(differ, 500) << "a quarter turn shows the same picture";
+  EXPECT_NE(readText(page / "index.html").find("id=\"view3d\""), std::string::npos);
+
+  std::string log;
+  const fs::path netLog = scratch_ / "net3d.json";
+  const std::string text = test::chromiumSelfCheck(page / "index.html", scratch_, log, "selfcheck3d", netLog);
+  ASSERT_FALSE(text.empty()) << "the page wrote no self-check; chromium log:\n" << log;
+  std::printf("self-check: %s\n", text.c_str());
+  const json c = json::parse(text);
+  EXPECT_EQ(c["errors"], json::array()) << text;
+  EXPECT_EQ(c["outside"], json::array()) << text;
+  EXPECT_EQ(pageNetworkRequests(netLog), std::vector<std::string>{});
+  EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
+  EXPECT_TRUE(c["view3d"].get<bool>());
+  EXPECT_EQ(c["framesTotal"], 82) << text; // 72 turning, 10 sweeping
+  EXPECT_EQ(c["framesLoaded"], 82) << text;
+  const json &b3 = c["before3d"], &a3 = c["after3d"];
+  EXPECT_TRUE(b3["loaded"].get<bool>() && b3["visible"].get<bool>()) << text;
+  EXPECT_EQ(b3["src"], "3d/view_01_000.png"); // opens at 20 degrees, from the front
+  EXPECT_TRUE(a3["loaded"].get<bool>()) << text;
+  EXPECT_NE(a3["src"], b3["src"]) << text; // a drag of a quarter of the width: 9 frames round
+  EXPECT_EQ(b3["azimuth"], 0) << text;
+  EXPECT_EQ(a3["azimuth"], 27) << text; // dragged right by a quarter turn: 9 frames back round
+  const json &bf = c["beforeFa"], &af = c["afterFa"];
+  EXPECT_TRUE(bf["loaded"].get<bool>() && bf["visible"].get<bool>()) << text;
+  EXPECT_EQ(bf["src"], "fa/fa_02.png"); // opens at 0.25
+  EXPECT_EQ(bf["text"], "FA \u2265 0.25");
+  EXPECT_EQ(af["src"], "fa/fa_09.png");
+  EXPECT_EQ(af["text"], "FA \u2265 0.60");
+  EXPECT_TRUE(af["loaded"].get<bool>()) << text;
+
+  // Screenshots: the 3D view and the sweep drawn, another azimuth and another threshold look different.
+  const std::string url = "file://" + (page / "index.html").string();
+  const fs::path a = scratch_ / "view3d_a.png", b = scratch_ / "view3d_b.png", s0 = scratch_ / "sweep_0.png",
+                 s9 = scratch_ / "sweep_9.png";
+  ASSERT_TRUE(test::chromiumScreenshot(url + "#tab=3d", a, 900, 600));
+  ASSERT_TRUE(test::chromiumScreenshot(url + "#tab=3d&az=9", b, 900, 600));
+  ASSERT_TRUE(test::chromiumScreenshot(url + "#tab=fa&fa=0", s0, 900, 600));
+  ASSERT_TRUE(test::chromiumScreenshot(url + "#tab=fa&fa=9", s9, 900, 600));
+  std::printf("screenshots: %s %s %s %s\n", a.c_str(), b.c_str(), s0.c_str(), s9.c_str());
+  const Image A = io::readPng(a.string()), B = io::readPng(b.string()), S0 = io::readPng(s0.string()),
+              S9 = io::readPng(s9.string());
+  const int viewWidth = 900 - 300;
+  EXPECT_GT(colouredPixels(A, viewWidth), 2000) << "the 3D view is not drawn";
+  EXPECT_GT(colouredPixels(S0, viewWidth), 2000) << "the sweep is not drawn";
+  const auto litPixels = [&](const Image& img) {
+    int n = 0;
+    for (int y = 0; y < img.height - 40; ++y) // above the slider
+      for (int x = 0; x < viewWidth; ++x) n += (img.pixel(x, y)[0] | img.pixel(x, y)[1] | img.pixel(x, y)[2]) > 20;
+    return n;
+  };
+  EXPECT_GT(litPixels(S0), litPixels(S9) * 5 / 4) << "the surface at FA 0.15 is not larger than at 0.6";
+  int turned = 0;
+  for (int y = 0; y < A.height; ++y)
+    for (int x = 0; x < viewWidth; ++x) turned += std::memcmp(A.pixel(x, y), B.pixel(x, y), 3) != 0;
+  EXPECT_GT(turned, 2000) << "another azimuth shows the same picture";
+
+  // --slices-only --force: the folder replaced by one without the 3D view and the sweep.
+  r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(page) + " --size 64 --slices-only --force",
+                  scratch_);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(assignedJson(page / "data.js")["view3d"].is_null());
+  EXPECT_TRUE(assignedJson(page / "data.js")["faSweep"].is_null());
+  EXPECT_FALSE(fs::exists(page / "3d"));
+  EXPECT_FALSE(fs::exists(page / "fa"));
+  // Bad values: exit 1, nothing written.
+  r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(scratch_ / "p3") + " --elevations 20,x",
+                  scratch_);
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  EXPECT_NE(r.err.find("--elevations"), std::string::npos) << r.err;
+  r = runDtfabric("web " + shellQuoted(input_) + " -o " + shellQuoted(scratch_ / "p3") + " --surface fa=2",
+                  scratch_);
+  EXPECT_NE(r.exitCode, 0) << r.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "p3"));
 }
 
 // Known anatomy on the real brain: on the page's axial slice 22 the body of the corpus callosum (voxel

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // fitTensors on synthetic signals from known tensors: exact recovery (OLS and WLS, several gradient
 // schemes, LAS/RAS/oblique affines, so the bvec-frame rotation is exercised), the WLS weighting against a
-// dense reference, clamping, threading, progress/cancellation, input checks and automaticMask.
+// dense reference, clamping, threading, progress/cancellation, input checks and automaticMask (phantoms with
+// and without background, the warning that names --mask).
 #include "io/diffusion/dwi.h"
 #include "io/model/error.h"
+#include "io/model/log.h"
 
+#include <algorithm>
 #include <cmath>
 #include <gtest/gtest.h>
 #include <random>
@@ -423,4 +426,103 @@ TEST(AutomaticMask, KeepsLargestComponentAndFillsHoles) {
   EXPECT_EQ(m.at(21, 21, 3), 0) << "the separate blob is not the largest component";
   EXPECT_EQ(m.at(0, 0, 0), 0);
   EXPECT_EQ(inMask, ballVoxels);
+}
+
+namespace {
+
+// The twoShell scheme's signal of one prolate tensor, S0 per voxel from `s0At(i, j, k)`, plus Gaussian noise
+// of `sigma` (magnitude taken, as a scanner's).
+template <class S0>
+Dwi noisyPhantom(const Grid& grid, double sigma, S0 s0At, std::uint32_t seed) {
+  const Scheme s = schemes()[1];
+  const glm::dmat3 d(glm::dvec3(1.7e-3, 0, 0), glm::dvec3(0, 0.3e-3, 0), glm::dvec3(0, 0, 0.3e-3));
+  const int n = static_cast<int>(s.bvals.size());
+  Volume<float> v(grid, n);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (int k = 0; k < grid.dims.z; ++k)
+    for (int j = 0; j < grid.dims.y; ++j)
+      for (int i = 0; i < grid.dims.x; ++i) {
+        const double s0 = s0At(i, j, k);
+        for (int m = 0; m < n; ++m) {
+          const glm::dvec3 g = glm::length(s.bvecs[m]) > 0 ? glm::normalize(s.bvecs[m]) : glm::dvec3(0);
+          const double clean = s0 * std::exp(-s.bvals[m] * glm::dot(g, d * g));
+          v.data[grid.index(i, j, k) * n + m] = static_cast<float>(std::abs(clean + noise(rng)));
+        }
+      }
+  return makeDwi(v, s.bvals, s.bvecs);
+}
+
+// Captures the log's warnings while alive.
+struct WarningLog {
+  std::vector<std::string> warnings;
+  WarningLog() {
+    setLogSink([this](LogLevel l, const std::string& m) {
+      if (l == LogLevel::Warning) warnings.push_back(m);
+    });
+  }
+  ~WarningLog() { setLogSink({}); }
+};
+
+} // namespace
+
+TEST(AutomaticMask, APhantomWithoutBackgroundKeepsEveryVoxel) {
+  // A uniform phantom filling the grid (S0 1000, noise 2 %): Otsu alone splits its noise in two halves.
+  const Grid grid = Grid::fromAffine({12, 12, 10}, glm::dmat4(1.0));
+  const Dwi dwi = noisyPhantom(grid, 20.0, [](int, int, int) { return 1000.0; }, 3);
+  AutomaticMaskReport report;
+  const MaskVolume m = automaticMask(dwi, 50.0, &report);
+  EXPECT_TRUE(report.noBackground);
+  EXPECT_EQ(report.voxels, grid.voxelCount());
+  EXPECT_EQ(report.signalVoxels, grid.voxelCount());
+  EXPECT_EQ(report.kept, grid.voxelCount());
+  EXPECT_EQ(std::count(m.data.begin(), m.data.end(), 1), static_cast<std::ptrdiff_t>(grid.voxelCount()));
+  EXPECT_EQ(automaticMaskWarning(report), "");
+  // The fit without --mask fits every voxel, and says nothing alarming.
+  WarningLog log;
+  FitStats stats;
+  const TensorField f = fitTensors(dwi, nullptr, FitOptions{}, {}, &stats);
+  EXPECT_EQ(stats.voxelsFitted, grid.voxelCount());
+  EXPECT_EQ(std::count(f.valid.begin(), f.valid.end(), 1), static_cast<std::ptrdiff_t>(grid.voxelCount()));
+  EXPECT_TRUE(log.warnings.empty());
+}
+
+TEST(AutomaticMask, APhantomInAirIsMaskedToItsBall) {
+  // The same phantom as a ball of radius 5 in air (noise only): the air is background and goes.
+  const Grid grid = Grid::fromAffine({16, 16, 16}, glm::dmat4(1.0));
+  const auto inBall = [](int i, int j, int k) { return glm::length(glm::dvec3(i - 7.5, j - 7.5, k - 7.5)) <= 5; };
+  const Dwi dwi = noisyPhantom(grid, 20.0, [&](int i, int j, int k) { return inBall(i, j, k) ? 1000.0 : 0.0; }, 4);
+  AutomaticMaskReport report;
+  const MaskVolume m = automaticMask(dwi, 50.0, &report);
+  EXPECT_FALSE(report.noBackground);
+  std::size_t ball = 0, wrong = 0;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i) {
+        ball += inBall(i, j, k);
+        wrong += (m.at(i, j, k) != 0) != inBall(i, j, k);
+      }
+  EXPECT_EQ(report.signalVoxels, ball);
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(automaticMaskWarning(report), "");
+}
+
+TEST(AutomaticMask, WarnsNamingTheMaskOptionWhenMostSignalIsDropped) {
+  // Air in 3 of 16 columns, tissue of S0 300 in 9 and of S0 1000 in 4: 81 % of the voxels hold signal, too
+  // few for "no background", and Otsu splits the bright tissue from the rest, keeping 4 of 13 columns.
+  const Grid grid = Grid::fromAffine({16, 12, 10}, glm::dmat4(1.0));
+  const Dwi dwi = noisyPhantom(grid, 5.0, [](int i, int, int) { return i < 3 ? 0.0 : i < 12 ? 300.0 : 1000.0; }, 5);
+  AutomaticMaskReport report;
+  automaticMask(dwi, 50.0, &report);
+  EXPECT_FALSE(report.noBackground);
+  EXPECT_EQ(report.signalVoxels, 13u * 12 * 10);
+  EXPECT_EQ(report.keptSignal, 4u * 12 * 10);
+  const std::string warning = automaticMaskWarning(report);
+  EXPECT_NE(warning.find("keeps 480 of the 1560 voxels holding signal (31%)"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("--mask"), std::string::npos) << warning;
+  // The fit logs it.
+  WarningLog log;
+  fitTensors(dwi, nullptr, FitOptions{});
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_EQ(log.warnings[0], warning);
 }

@@ -15,4 +15,5 @@ dtf_test(test_supersample SOURCES ui/session/supersample_gl_test.cpp LIBS dtf_se
 dtf_test(test_movie_coherence SOURCES ui/session/movie_coherence_gl_test.cpp LIBS dtf_session)
 dtf_test(test_bids_figure SOURCES ui/session/bids_figure_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_fibre_cones SOURCES ui/session/fibre_cones_test.cpp LIBS dtf_session)
+dtf_test(test_web_page_slices SOURCES ui/session/web_page_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_desktop_files SOURCES ui/session/desktop_files_test.cpp LIBS dtf_session)

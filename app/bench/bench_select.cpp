@@ -1,0 +1,368 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `dtfabric bench select`: ROI selection at whole-brain scale. A synthetic tractogram (default 10 M
+// streamlines of 50 points 2 mm apart, smooth random walks inside a brain-sized ellipsoid) is indexed
+// (surfaces/selection) and queried with spheres of 5-15 mm; the real tracts of the shared data are selected
+// with the spheres of their corticospinal tracts; and, with MRtrix's tckedit on the PATH, the same sphere
+// selection of a 1 M-streamline .tck runs as `dtfabric select` and as `tckedit` in the same run (whole
+// commands, read to written, alternating), as the peer.
+#include "app/bench/bench.h"
+#include "io/formats/json.h"
+#include "io/formats/process.h"
+#include "io/formats/tracts.h"
+#include "io/model/error.h"
+#include "surfaces/selection/tract_selection.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+#include <thread>
+#include <unistd.h>
+
+namespace dtf::app {
+
+const OptionTable& benchSelectOptions() {
+  using O = CliOption;
+  static const OptionTable table = [] {
+    OptionTable t;
+    t.command = "bench select";
+    t.intro =
+        "ROI selection at whole-brain scale: builds the spatial index of a synthetic tractogram (N streamlines\n"
+        "of P points 2 mm apart in a brain-sized ellipsoid), times sphere queries of 5-15 mm (index, then the\n"
+        "walk of the survivors), selects the real tracts of the shared data, and, with MRtrix's tckedit on the\n"
+        "PATH (Debian package mrtrix3), times `dtfabric select` against `tckedit` on the same sphere of a .tck\n"
+        "of the first --peer-streamlines synthetic streamlines (whole commands, alternating).";
+    t.options = {
+        O::integer("streamlines", "N", 10000000, closedRange(1000, 100000000), "synthetic streamlines"),
+        O::integer("points", "P", 50, closedRange(2, 1000), "points per synthetic streamline"),
+        O::integer("queries", "Q", 21, closedRange(1, 1000), "sphere queries (the median is reported)"),
+        O::integer("peer-streamlines", "M", 1000000, closedRange(0, 100000000),
+                   "streamlines of the .tck both commands select from (0: no peer run)"),
+        O::integer("repeat", "R", 3, closedRange(1, 100), "runs of each whole command (medians)"),
+        O::integer("threads", "T", 0, atLeast(0), "worker threads").defaultSays("all cores"),
+        O::flag("json", "one JSON object"),
+        sharedDataOption(),
+    };
+    return t;
+  }();
+  return table;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+double peakRssGb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / (1024.0 * 1024.0); // kB -> GB
+}
+
+double childCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_CHILDREN, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Counter-based random numbers: the value depends only on (line, k), so generation is parallel and
+// reproducible.
+float hashUnit(std::uint64_t a, std::uint64_t b) {
+  std::uint64_t x = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull);
+  x ^= x >> 31;
+  x *= 0xBF58476D1CE4E5B9ull;
+  x ^= x >> 29;
+  x *= 0x94D049BB133111EBull;
+  x ^= x >> 32;
+  return static_cast<float>(x & 0xFFFFFF) / static_cast<float>(0x1000000);
+}
+
+const glm::vec3 kHalfAxes(70.0f, 85.0f, 60.0f); // a brain-sized ellipsoid, mm
+
+bool insideBrain(const glm::vec3& p) {
+  const glm::vec3 q = p / kHalfAxes;
+  return glm::dot(q, q) <= 1.0f;
+}
+
+// N streamlines of P points, 2 mm apart: smooth random walks that turn back at the ellipsoid's surface.
+Polylines syntheticTractogram(std::size_t n, int points, int threads) {
+  Polylines lines;
+  lines.points.resize(n * static_cast<std::size_t>(points));
+  lines.offsets.resize(n + 1);
+  const int T = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  auto work = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      glm::vec3 p;
+      int tries = 0;
+      do {
+        p = (glm::vec3(hashUnit(i, 1000 + tries), hashUnit(i, 2000 + tries), hashUnit(i, 3000 + tries)) * 2.0f -
+             1.0f) * kHalfAxes;
+        ++tries;
+      } while (!insideBrain(p) && tries < 64);
+      glm::vec3 d = glm::normalize(glm::vec3(hashUnit(i, 1), hashUnit(i, 2), hashUnit(i, 3)) - 0.5f + 1e-3f);
+      glm::vec3* out = lines.points.data() + i * static_cast<std::size_t>(points);
+      for (int k = 0; k < points; ++k) {
+        out[k] = p;
+        const glm::vec3 bend(hashUnit(i, 10 + 3 * static_cast<std::uint64_t>(k)) - 0.5f,
+                             hashUnit(i, 11 + 3 * static_cast<std::uint64_t>(k)) - 0.5f,
+                             hashUnit(i, 12 + 3 * static_cast<std::uint64_t>(k)) - 0.5f);
+        d = glm::normalize(d + 0.35f * bend);
+        if (!insideBrain(p + 2.0f * d)) d = -d;
+        p += 2.0f * d;
+      }
+      lines.offsets[i] = static_cast<std::uint32_t>(i * static_cast<std::size_t>(points));
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < T; ++t)
+    pool.emplace_back(work, n * static_cast<std::size_t>(t) / static_cast<std::size_t>(T),
+                      n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T));
+  work(0, n / static_cast<std::size_t>(T));
+  for (auto& th : pool)
+    th.join();
+  lines.offsets[n] = static_cast<std::uint32_t>(n * static_cast<std::size_t>(points));
+  return lines;
+}
+
+surfaces::RegionSet sphereSet(const glm::dvec3& c, double r) {
+  surfaces::Region s;
+  s.shape = surfaces::RegionShape::Sphere;
+  s.centre = c;
+  s.radius = r;
+  s.name = "sphere";
+  surfaces::RegionSet set;
+  set.regions = {s};
+  return set;
+}
+
+struct Query {
+  double ms = 0;
+  std::size_t selected = 0, candidates = 0;
+};
+
+// A whole command run `repeat` times; wall and CPU seconds (medians).
+struct CommandTime {
+  bool ran = false;
+  double wall = 0, cpu = 0;
+  int exitCode = 0;
+};
+
+CommandTime timeCommand(const std::vector<std::string>& argv) {
+  CommandTime t;
+  const double c0 = childCpuSeconds();
+  const auto t0 = Clock::now();
+  t.exitCode = io::runProgram(argv);
+  t.wall = since(t0);
+  t.cpu = childCpuSeconds() - c0;
+  t.ran = t.exitCode == 0;
+  return t;
+}
+
+// The streamline count a .tck header declares (-1 when unreadable).
+long long tckCount(const std::string& path) {
+  try {
+    io::TckInfo info;
+    io::readTck(path, &info);
+    return info.declaredCount;
+  } catch (const Error&) {
+    return -1;
+  }
+}
+
+} // namespace
+
+int benchSelect(const CommandArgs& argv) {
+  ParsedOptions args(benchSelectOptions(), argv);
+  if (args.printHelpIfAsked()) return 0;
+  const auto n = static_cast<std::size_t>(args.integer("streamlines"));
+  const int points = args.integer("points");
+  const int queries = args.integer("queries");
+  const auto peerN = static_cast<std::size_t>(args.integer("peer-streamlines"));
+  const int repeat = args.integer("repeat");
+  const int threads = args.integer("threads");
+  const bool json = args.flag("json");
+  const auto dataArg = args.get("data");
+  args.finish();
+  std::vector<std::string> notes;
+
+  // The synthetic whole-brain tractogram, its index and the sphere queries.
+  auto t0 = Clock::now();
+  Polylines lines = syntheticTractogram(n, points, threads);
+  const double generateS = since(t0);
+  const double positionsGb = static_cast<double>(lines.points.size() * sizeof(glm::vec3)) / (1024.0 * 1024 * 1024);
+  const surfaces::TractView view = surfaces::viewOf(lines);
+  t0 = Clock::now();
+  const surfaces::TractIndex index(view, 0.0, threads);
+  const double buildS = since(t0);
+  std::vector<Query> qs;
+  std::vector<double> ms;
+  for (int q = 0; q < queries; ++q) {
+    // Centres inside the inner part of the ellipsoid, radii 5..15 mm.
+    glm::dvec3 c;
+    int tries = 0;
+    do {
+      c = glm::dvec3((glm::vec3(hashUnit(7777 + q, tries), hashUnit(8888 + q, tries), hashUnit(9999 + q, tries)) *
+                          2.0f - 1.0f) * kHalfAxes * 0.8f);
+      ++tries;
+    } while (!insideBrain(glm::vec3(c)) && tries < 64);
+    const double r = 5.0 + 10.0 * static_cast<double>(q) / std::max(1, queries - 1);
+    const surfaces::RegionTester tester(sphereSet(c, r));
+    surfaces::SelectionStats st;
+    const auto tq = Clock::now();
+    const auto kept = surfaces::selectLines(view, tester, &index, threads, &st);
+    Query x;
+    x.ms = 1000.0 * since(tq);
+    x.selected = kept.size();
+    x.candidates = st.candidates;
+    qs.push_back(x);
+    ms.push_back(x.ms);
+  }
+  const double queryMs = median(ms);
+  // One walk without the index, for scale.
+  t0 = Clock::now();
+  const surfaces::RegionTester middle(sphereSet(glm::dvec3(0.0), 10.0));
+  const auto walked = surfaces::selectLines(view, middle, nullptr, threads);
+  const double walkMs = 1000.0 * since(t0);
+  const double peakGb = peakRssGb();
+
+  // The peer: the same sphere on a .tck of the first peerN streamlines, whole commands.
+  CommandTime ours, peer;
+  std::vector<double> oursWall, oursCpu, peerWall, peerCpu;
+  long long oursCount = -1, peerCount = -1;
+  std::string peerNote;
+  const std::string tckedit = io::findOnPath("tckedit");
+  if (peerN == 0)
+    peerNote = "no peer run (--peer-streamlines 0)";
+  else if (tckedit.empty())
+    peerNote = "MRtrix tckedit is not on the PATH (Debian package mrtrix3); no comparison";
+  else {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("dtf_bench_select_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string in = (dir / "whole_brain.tck").string(), a = (dir / "ours.tck").string(),
+                      b = (dir / "tckedit.tck").string();
+    std::vector<std::uint32_t> first(std::min(peerN, n));
+    for (std::size_t i = 0; i < first.size(); ++i)
+      first[i] = static_cast<std::uint32_t>(i);
+    io::writeTck(in, lines.subset(first));
+    const std::string exe = fs::read_symlink("/proc/self/exe").string();
+    const std::string sphere = "0,0,0,10";
+    for (int r = 0; r < repeat; ++r) {
+      ours = timeCommand({exe, "select", in, "-o", a, "--include", sphere, "--force"});
+      peer = timeCommand({tckedit, in, b, "-include", sphere, "-force", "-quiet"});
+      if (!ours.ran || !peer.ran) break;
+      oursWall.push_back(ours.wall);
+      oursCpu.push_back(ours.cpu);
+      peerWall.push_back(peer.wall);
+      peerCpu.push_back(peer.cpu);
+    }
+    if (ours.ran && peer.ran) {
+      oursCount = tckCount(a);
+      peerCount = tckCount(b);
+    } else {
+      peerNote = ours.ran ? "tckedit failed (exit status " + std::to_string(peer.exitCode) + ")"
+                          : "dtfabric select failed (exit status " + std::to_string(ours.exitCode) + ")";
+    }
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  const bool peerRan = !oursWall.empty();
+
+  // The real tracts: the corticospinal tracts' spheres on the deterministic tracks of the bundled brain.
+  double realIndexMs = -1, realQueryMs = -1;
+  std::size_t realLines = 0, realSelected = 0;
+  const auto data = findSharedDataDir(dataArg);
+  const auto realPath = data ? *data / "iu_prisma_dwi/derived/tracks_det.tck" : std::filesystem::path();
+  if (data && std::filesystem::exists(realPath)) {
+    const Polylines real = io::readTck(realPath.string());
+    realLines = real.lineCount();
+    const surfaces::TractView rv = surfaces::viewOf(real);
+    t0 = Clock::now();
+    const surfaces::TractIndex ri(rv, 0.0, threads);
+    realIndexMs = 1000.0 * since(t0);
+    // Two spheres along the right corticospinal tract: at voxel (30, 34, 15) and in the corona radiata.
+    surfaces::RegionSet set = sphereSet(glm::dvec3(18, 3.7, 21.6), 6);
+    set.regions.push_back(sphereSet(glm::dvec3(20, 0, 45), 10).regions.front());
+    const surfaces::RegionTester rt(set);
+    std::vector<double> rms;
+    for (int q = 0; q < 5; ++q) {
+      t0 = Clock::now();
+      realSelected = surfaces::selectLines(rv, rt, &ri, threads).size();
+      rms.push_back(1000.0 * since(t0));
+    }
+    realQueryMs = median(rms);
+  } else {
+    notes.push_back("the shared data's tracks_det.tck is missing: no real-tract figures");
+  }
+
+  const double ratio = peerRan ? median(peerWall) / median(oursWall) : -1;
+  if (json) {
+    nlohmann::ordered_json j = {{"streamlines", n},
+                                {"points", lines.points.size()},
+                                {"index_build_s", buildS},
+                                {"sphere_query_ms", queryMs},
+                                {"sphere_query_ms_max", *std::max_element(ms.begin(), ms.end())},
+                                {"queries", queries},
+                                {"query_selected_median", qs[qs.size() / 2].selected},
+                                {"walk_without_index_ms", walkMs},
+                                {"walk_selected", walked.size()},
+                                {"generate_s", generateS},
+                                {"index_bytes", index.bytes()},
+                                {"positions_gb", positionsGb},
+                                {"peak_rss_gb", peakGb},
+                                {"peak_over_positions", peakGb / positionsGb},
+                                {"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
+                                {"real_streamlines", realLines},
+                                {"real_index_ms", realIndexMs},
+                                {"real_query_ms", realQueryMs},
+                                {"real_selected", realSelected},
+                                {"peer", "MRtrix tckedit -include (sphere)"},
+                                {"peer_ran", peerRan},
+                                {"peer_streamlines", peerRan ? std::min(peerN, n) : 0},
+                                {"peer_s", peerRan ? median(peerWall) : -1},
+                                {"peer_cpu_s", peerRan ? median(peerCpu) : -1},
+                                {"peer_select_s", peerRan ? median(oursWall) : -1},
+                                {"peer_select_cpu_s", peerRan ? median(oursCpu) : -1},
+                                {"peer_speedup", ratio},
+                                {"peer_selected", peerCount},
+                                {"peer_select_selected", oursCount},
+                                {"load_average", loadAverage()}};
+    if (!peerNote.empty()) j["peer_note"] = peerNote;
+    if (!notes.empty()) j["notes"] = notes;
+    std::printf("%s\n", io::jsonText(j).c_str());
+    return 0;
+  }
+  std::printf("ROI selection on a synthetic whole-brain tractogram: %zu streamlines, %zu points (%.2f GB of "
+              "positions), generated in %.1f s\n",
+              n, lines.points.size(), positionsGb, generateS);
+  std::printf("  index: built in %.2f s, %.2f GB (cell %.1f mm, %zu chunks)\n", buildS,
+              static_cast<double>(index.bytes()) / (1024.0 * 1024 * 1024), index.cellMm(), index.chunkCount());
+  std::printf("  sphere query (5-15 mm, index + walk of the survivors): median %.1f ms, max %.1f ms over %d "
+              "(median %zu selected)\n",
+              queryMs, *std::max_element(ms.begin(), ms.end()), queries, qs[qs.size() / 2].selected);
+  std::printf("  the same query walking every streamline: %.0f ms (%zu selected)\n", walkMs, walked.size());
+  std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
+  if (realLines)
+    std::printf("  real tracts (tracks_det.tck, %zu streamlines): index %.2f ms, two CST spheres %.3f ms, %zu "
+                "selected\n",
+                realLines, realIndexMs, realQueryMs, realSelected);
+  if (peerRan)
+    std::printf("  peer on %zu streamlines, sphere 0,0,0,10, whole commands (median of %d): dtfabric select %.2f s "
+                "(CPU %.2f s), tckedit %.2f s (CPU %.2f s) -> %.2fx; selected %lld and %lld\n",
+                std::min(peerN, n), repeat, median(oursWall), median(oursCpu), median(peerWall), median(peerCpu),
+                ratio, oursCount, peerCount);
+  else
+    std::printf("  peer: %s\n", peerNote.c_str());
+  for (const auto& note : notes)
+    std::printf("  note: %s\n", note.c_str());
+  return 0;
+}
+
+} // namespace dtf::app
