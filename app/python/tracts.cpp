@@ -6,6 +6,7 @@
 #include "io/model/error.h"
 #include "surfaces/selection/tract_selection.h"
 #include "ui/session/region_spec.h"
+#include "ui/session/tract_files.h"
 #include "ui/session/tract_select.h"
 
 #include <cmath>

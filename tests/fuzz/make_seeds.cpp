@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const fs::path dir = argv[1];
-  for (const char* sub : {"nifti", "gradients", "tck", "trk", "trkgz", "trx", "view_script", "formats", "mrtrix",
+  for (const char* sub : {"nifti", "gradients", "tck", "trk", "trkgz", "trx", "view_script", "regions", "formats", "mrtrix",
                           "nrrd", "afni", "dsi", "bids"})
     fs::create_directories(dir / sub);
 
@@ -240,6 +240,11 @@ int main(int argc, char** argv) {
   io::writeTrx((dir / "trx" / "three.trx").string(), rich, grid);
   io::writeTrx((dir / "trx" / "none.trx").string(), Polylines{{}, {0}}, grid);
 
+  text(dir / "regions" / "cst.json",
+       R"({"format": "dtfabric-regions", "version": 1, "ends_only": false, "precise": true, "regions": [
+  {"name": "internal capsule", "kind": "include", "shape": "sphere", "centre": [18, 3.7, 21.6], "radius": 6},
+  {"kind": "include-ordered", "shape": "box", "min": [10, -5, 30], "max": [30, 10, 60], "visible": false},
+  {"kind": "exclude", "shape": "mask", "image": "aparc.nii.gz", "labels": [1024, 2024]}]})");
   text(dir / "view_script" / "tour.dtfs",
        "# a tour\nload brain.nii.gz\nsurface fa=0.3\nfa 0.25\nslice axial 20\nkey PgUp\nrotate 10 -5\npan 3 "
        "4\n"

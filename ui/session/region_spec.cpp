@@ -201,7 +201,7 @@ bool flagOf(const nlohmann::ordered_json& doc, const char* key, const std::strin
 
 RegionSet parseRegionSet(const std::string& text, const std::string& origin, const std::string& folder) {
   const nlohmann::ordered_json doc = io::parseJson(text, origin);
-  if (!doc.is_object()) bad(origin, "a region set file holds one JSON object");
+  if (!doc.is_object()) bad(origin, "not a region set (a region set file holds one JSON object)");
   for (const auto& [key, value] : doc.items())
     if (key != "format" && key != "version" && key != "ends_only" && key != "precise" && key != "regions")
       bad(origin, "unknown member \"" + key + "\" (a region set has format, version, ends_only, precise, regions)");

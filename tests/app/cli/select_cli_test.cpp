@@ -171,13 +171,27 @@ TEST(SelectCli, RegionSetFileGivesTheSameSelectionAsTheFlags) {
 TEST(SelectCli, PreciseKeepsASupersetAndLengthsBound) {
   DTF_SHARED_FILE(tracks, "iu_prisma_dwi/derived/tracks_det.tck");
   const fs::path dir = dtf::test::scratchDir();
-  // A sphere of 0.4 mm radius is smaller than the 1 mm steps: vertices miss it more often than segments.
-  auto a = runDtfabric("select " + q(tracks) + " -o " + q(dir / "v.tck") + " --include 18,3.7,21.6,0.4 --json", dir);
-  auto b = runDtfabric("select " + q(tracks) + " -o " + q(dir / "p.tck") + " --include 18,3.7,21.6,0.4 --precise --json",
-                       dir);
+  // A slab 0.2 mm thick across x = 18 mm: most streamlines that cross it step over it between two vertices
+  // 1 mm apart, and only --precise sees those.
+  const std::string slab = " --include box:17.9,-200,-200,18.1,200,200 --json";
+  auto a = runDtfabric("select " + q(tracks) + " -o " + q(dir / "v.tck") + slab, dir);
+  auto b = runDtfabric("select " + q(tracks) + " -o " + q(dir / "p.tck") + slab + " --precise", dir);
   ASSERT_EQ(a.exitCode, 0) << a.err;
   ASSERT_EQ(b.exitCode, 0) << b.err;
-  EXPECT_GT(dtf::test::jsonNumber(b.out, "selected"), dtf::test::jsonNumber(a.out, "selected"));
+  EXPECT_GT(dtf::test::jsonNumber(b.out, "selected"), 1.5 * dtf::test::jsonNumber(a.out, "selected"));
+  // Every streamline with a vertex in the slab is among the precise ones; the precise ones cross x = 18.
+  const dtf::Polylines v = dtf::io::readTck((dir / "v.tck").string()), p = dtf::io::readTck((dir / "p.tck").string());
+  std::size_t crossing = 0;
+  for (std::size_t i = 0; i < p.lineCount(); ++i) {
+    float lo = 1e9f, hi = -1e9f;
+    for (std::uint32_t k = p.offsets[i]; k < p.offsets[i + 1]; ++k) {
+      lo = std::min(lo, p.points[k].x);
+      hi = std::max(hi, p.points[k].x);
+    }
+    crossing += lo <= 18.1f && hi >= 17.9f;
+  }
+  EXPECT_EQ(crossing, p.lineCount());
+  EXPECT_GE(p.lineCount(), v.lineCount());
   auto c = runDtfabric("select " + q(tracks) + " -o " + q(dir / "l.tck") + " --min-length 100 --max-length 150", dir);
   ASSERT_EQ(c.exitCode, 0) << c.err;
   const dtf::Polylines l = dtf::io::readTck((dir / "l.tck").string());
