@@ -42,16 +42,31 @@ void choose(PanelBuffers& pb, const std::string& path, session::ActionList& out)
 
 } // namespace
 
+// The part of `path` after its last '/' (the whole path when it has none), without allocating.
+static const char* baseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos || slash + 1 == path.size() ? path.c_str() : path.c_str() + slash + 1;
+}
+
 void enterFolder(FileBrowserState& b, const std::string& folder) {
   b.listing = session::listFolder(folder, b.target);
   copyText(b.folderText.data(), b.folderText.size(), b.listing.folder);
   b.pickError.clear();
+  b.labels.clear();
+  b.sizes.clear();
+  for (const auto& e : b.listing.entries) {
+    b.labels.push_back(e.folder ? e.name + "/" : e.name);
+    b.sizes.push_back(e.folder ? std::string() : sizeText(e.bytes));
+  }
 }
 
 void openFileBrowser(FileBrowserState& b, session::FileTarget target, const std::string& folder) {
   b.open = true;
   b.target = target;
   b.name[0] = '\0';
+  b.patterns.clear();
+  for (const auto& p : session::fileTargetPatterns(target))
+    b.patterns += (b.patterns.empty() ? "" : " ") + p;
   std::error_code ec;
   const std::string start = !folder.empty()         ? folder
                             : !b.lastFolder.empty() ? b.lastFolder
@@ -111,11 +126,8 @@ void fileBrowserPanel(const session::ViewerState& s, PanelBuffers& pb, session::
     return;
   }
   ImGui::TextUnformatted(session::fileTargetTitle(b.target));
-  std::string patterns;
-  for (const auto& p : session::fileTargetPatterns(b.target))
-    patterns += (patterns.empty() ? "" : " ") + p;
   ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextDisabled("%s", patterns.c_str());
+  ImGui::TextDisabled("%s", b.patterns.c_str());
   ImGui::PopTextWrapPos();
 
   if (ImGui::Button("Up")) enterFolder(b, fs::path(b.listing.folder).parent_path().string());
@@ -134,9 +146,7 @@ void fileBrowserPanel(const session::ViewerState& s, PanelBuffers& pb, session::
   for (std::size_t i = 0; i < b.recentFolders.size(); ++i) {
     ImGui::PushID(static_cast<int>(i));
     const std::string& f = b.recentFolders[i];
-    const std::string label = fs::path(f).filename().string();
-    if (ImGui::Selectable(label.empty() ? f.c_str() : label.c_str(), f == b.listing.folder))
-      enterFolder(b, f);
+    if (ImGui::Selectable(baseName(f), f == b.listing.folder)) enterFolder(b, f);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.c_str());
     ImGui::PopID();
   }
@@ -147,7 +157,7 @@ void fileBrowserPanel(const session::ViewerState& s, PanelBuffers& pb, session::
       const std::string& f = s.recent[i];
       if (!session::fileTargetAccepts(b.target, f)) continue;
       ImGui::PushID(1000 + static_cast<int>(i));
-      if (ImGui::Selectable(fs::path(f).filename().string().c_str())) choose(pb, f, out);
+      if (ImGui::Selectable(baseName(f))) choose(pb, f, out);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.c_str());
       ImGui::PopID();
     }
@@ -157,14 +167,13 @@ void fileBrowserPanel(const session::ViewerState& s, PanelBuffers& pb, session::
   ImGui::BeginChild("##entries", ImVec2(0, -footer), true);
   if (!b.listing.error.empty())
     ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", b.listing.error.c_str());
-  std::string enter;
+  int enter = -1;
   for (std::size_t i = 0; i < b.listing.entries.size() && b.open; ++i) {
     const auto& e = b.listing.entries[i];
     ImGui::PushID(static_cast<int>(i));
-    const std::string label = e.folder ? e.name + "/" : e.name;
-    if (ImGui::Selectable(label.c_str(), false, ImGuiSelectableFlags_AllowDoubleClick)) {
+    if (ImGui::Selectable(b.labels[i].c_str(), false, ImGuiSelectableFlags_AllowDoubleClick)) {
       if (e.folder)
-        enter = e.name; // entered after the loop: the listing is being drawn
+        enter = static_cast<int>(i); // entered after the loop: the listing is being drawn
       else if (session::isSaveTarget(b.target))
         copyText(b.name.data(), b.name.size(), e.name);
       else
@@ -173,14 +182,16 @@ void fileBrowserPanel(const session::ViewerState& s, PanelBuffers& pb, session::
     if (pb.itemCentres) probeItem(pb, ("browser " + e.name).c_str());
     if (!e.folder) {
       ImGui::SameLine(ImGui::GetContentRegionAvail().x + ImGui::GetCursorPosX() - 6 * ImGui::GetFontSize());
-      ImGui::TextDisabled("%s", sizeText(e.bytes).c_str());
+      ImGui::TextDisabled("%s", b.sizes[i].c_str());
     }
     ImGui::PopID();
   }
   if (b.listing.entries.empty() && b.listing.error.empty())
     ImGui::TextDisabled("no folder or matching file here");
   ImGui::EndChild();
-  if (!enter.empty()) enterFolder(b, (fs::path(b.listing.folder) / enter).string());
+  if (enter >= 0)
+    enterFolder(
+        b, (fs::path(b.listing.folder) / b.listing.entries[static_cast<std::size_t>(enter)].name).string());
 
   if (!b.pickError.empty()) ImGui::TextColored(ImVec4(1.0f, 0.5f, 0.4f, 1.0f), "%s", b.pickError.c_str());
   if (b.open && session::isSaveTarget(b.target)) {

@@ -25,6 +25,10 @@ struct FileBrowserState {
   std::string lastFolder;                 // the folder the last file was chosen in
   std::vector<std::string> recentFolders; // most recent first
   std::string pickError;                  // why the last pick failed (a missing entry), shown in the browser
+  // Made when a folder is entered, so drawing allocates nothing: each entry's label ("name/" for a folder)
+  // and size text, and the target's patterns.
+  std::vector<std::string> labels, sizes;
+  std::string patterns;
 };
 
 // Opens the browser for `target` in `folder` (empty: the last folder, else the working folder).

@@ -490,10 +490,12 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   if (ImGui::Checkbox("UI scale from the monitor", &automatic) && automatic)
     out.push_back(session::SetUiScale{0});
   probe(b, "UI scale auto");
-  float scale = static_cast<float>(s.uiScale);
-  ImGui::SliderFloat("UI scale", &scale, 0.5f, 3.0f, "%.2f");
+  // The value being dragged lives in the buffers until the slider is let go.
+  if (!b.uiScaleDragging) b.uiScaleEdit = static_cast<float>(s.uiScale);
+  ImGui::SliderFloat("UI scale", &b.uiScaleEdit, 0.5f, 3.0f, "%.2f");
   probe(b, "UI scale");
-  if (ImGui::IsItemDeactivatedAfterEdit()) out.push_back(session::SetUiScale{scale});
+  b.uiScaleDragging = ImGui::IsItemActive();
+  if (ImGui::IsItemDeactivatedAfterEdit()) out.push_back(session::SetUiScale{b.uiScaleEdit});
   ImGui::TextDisabled("F1 or ?: mouse and keys");
 }
 

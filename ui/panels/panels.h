@@ -42,6 +42,8 @@ struct PanelBuffers {
   std::array<int, 3> fibreFrom{0, 0, 0}, fibreTo{0, 0, 0}; // fibre surface seed line, voxel indices
   unsigned fibreSeedSerial = 0; // ViewerState::fibreSeedSerial last copied into fibreFrom/To
   std::array<char, 1024> sessionPath{}; // Save session: a view script (.dtfview)
+  float uiScaleEdit = 1;                 // the View panel's UI scale while its slider is held
+  bool uiScaleDragging = false;
   FileBrowserState browser;             // the in-window file browser
   // Panel header -> open, as last drawn; set before the first frame to restore them (remembered settings).
   std::map<std::string, bool> panelsOpen;

@@ -3,6 +3,7 @@
 
 #include "io/input.h"
 #include "io/model/error.h"
+#include "ui/session/region_spec.h"
 #include "ui/session/tract_files.h"
 
 #include <algorithm>
@@ -229,8 +230,14 @@ ActionList dropActions(const std::vector<std::string>& paths, const std::string&
     case DropKind::Mesh:
       once(mesh, path, "meshes");
       break;
-    case DropKind::Regions:
-      throw InputError(path + ": a region set; regions are not supported yet");
+    case DropKind::Regions: {
+      // Read and checked (a bad file says why), but the viewer has no regions to show it in yet.
+      const surfaces::RegionSet set = readRegionSetFile(path);
+      throw InputError(path + ": a region set of " + std::to_string(set.regions.size()) +
+                       " regions; the viewer does not show regions yet (select with them: `dtfabric select "
+                       "--roi " +
+                       path + "`)");
+    }
     }
   }
   ActionList out;

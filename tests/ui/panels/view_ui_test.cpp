@@ -465,3 +465,17 @@ TEST_F(ViewHeadlessUi, PanelOpenStatesAreKeptAndRestored) {
   EXPECT_FALSE(centres.count("Open")) << "the Data panel is closed";
   EXPECT_TRUE(centres.count("Load tracts")) << "the Tracts panel is open";
 }
+
+// The View panel's UI scale: the slider sends its value when let go (the font atlas is rebuilt once, not
+// per drag step); the checkbox goes back to the monitor's scale.
+TEST_F(ViewHeadlessUi, UiScaleSliderSendsTheScaleWhenLetGo) {
+  state.uiScale = 1;
+  state.uiScaleAuto = true;
+  const auto scale = find<SetUiScale>(click("UI scale"));
+  ASSERT_TRUE(scale);
+  EXPECT_NEAR(scale->scale, 1.75, 0.15) << "the middle of 0.5..3";
+  state.uiScaleAuto = false;
+  const auto automatic = find<SetUiScale>(click("UI scale auto"));
+  ASSERT_TRUE(automatic);
+  EXPECT_EQ(automatic->scale, 0);
+}

@@ -6,6 +6,7 @@
 #include "io/model/error.h"
 #include "support/test_env.h"
 #include "ui/session/file_kinds.h"
+#include "ui/session/region_spec.h"
 #include "ui/session/viewer_config.h"
 
 #include <fstream>
@@ -125,8 +126,21 @@ TEST(DesktopFiles, ABadDropOpensNothingAndNamesTheFile) {
   EXPECT_NE(missing.find((dir / "missing.nii.gz").string() + ": no such file"), std::string::npos) << missing;
   const std::string two = message({(dir / "lines.vtk").string(), (dir / "lines.vtk").string()});
   EXPECT_NE(two.find("two tractograms"), std::string::npos) << two;
-  const std::string regions = message({(dir / "regions.json").string()});
-  EXPECT_NE(regions.find("regions are not supported yet"), std::string::npos) << regions;
+  // A region set is read (a bad one says why), then refused: the viewer shows no regions yet.
+  const std::string badRegions = message({(dir / "regions.json").string()});
+  EXPECT_NE(badRegions.find("regions.json"), std::string::npos) << badRegions;
+  EXPECT_EQ(badRegions.find("does not show regions yet"), std::string::npos) << badRegions;
+  const fs::path set = dir / "set.json";
+  surfaces::RegionSet regionSet;
+  surfaces::Region sphere;
+  sphere.centre = glm::dvec3(10, -20, 5);
+  sphere.radius = 5;
+  regionSet.regions.push_back(sphere);
+  writeRegionSetFile(set.string(), regionSet); // as `dtfabric select` reads it
+  const std::string regions = message({set.string()});
+  EXPECT_NE(regions.find("set.json: a region set of 1 regions; the viewer does not show regions yet"),
+            std::string::npos)
+      << regions;
   const std::string notData = message({(dir / "lines.vtk").string(), (dir / "regions.json").string()});
   EXPECT_NE(notData.find("regions.json"), std::string::npos) << notData;
 }
