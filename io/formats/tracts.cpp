@@ -280,11 +280,13 @@ void writeTck(const std::string& path, const Polylines& lines) {
   warnDropped(path, "a .tck file", lines.perLine, lines.perPoint, lines.groups);
   std::string head = "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(lines.lineCount()) +
                      "\ntotal_count: " + std::to_string(lines.lineCount()) + "\nfile: . ";
-  // The offset is written with a fixed width so its own length is known.
-  const std::size_t offset = head.size() + 10 + 5; // digits + "\nEND\n"
-  char digits[16];
+  // The offset is written with a fixed width so its own length is known; spaces after END align the data to
+  // 4 bytes, so readers can use it in place (io/formats/mapped_tck.h).
+  const std::size_t offset = (head.size() + 10 + 5 + 3) / 4 * 4; // digits + "\nEND\n" + padding
+  char digits[24];
   std::snprintf(digits, sizeof digits, "%-10zu", offset);
   std::string bytes = head + std::string(digits, 10) + "\nEND\n";
+  bytes.resize(offset, ' ');
   bytes.reserve(offset + 12 * (lines.points.size() + lines.lineCount() + 1));
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   for (std::size_t l = 0; l < lines.lineCount(); ++l) {

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <iterator>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -220,6 +222,43 @@ bool RegionTester::segmentTouches(std::size_t r, const glm::vec3& a, const glm::
   return impl_->entry(impl_->regions[r], a, b) >= 0;
 }
 
+int RegionTester::classifyBox(std::size_t r, const glm::dvec3& lo, const glm::dvec3& hi) const {
+  const Impl::Compiled& c = impl_->regions[r];
+  const Region& region = impl_->set.regions[r];
+  // Margins keep the answer on the safe side of contains()'s single-precision tests.
+  switch (c.shape) {
+  case RegionShape::Sphere: {
+    const glm::dvec3 nearest = glm::clamp(c.cd, lo, hi);
+    const glm::dvec3 far = glm::max(glm::abs(lo - c.cd), glm::abs(hi - c.cd));
+    const double r2 = c.rd * c.rd, eps = 1e-5 * r2 + 1e-4;
+    if (glm::dot(nearest - c.cd, nearest - c.cd) > r2 + eps) return 0;
+    if (glm::dot(far, far) < r2 - eps) return 1;
+    return 2;
+  }
+  case RegionShape::Box: {
+    const glm::dvec3 rlo(c.lo), rhi(c.hi);
+    const double eps = 1e-4;
+    if (hi.x < rlo.x - eps || hi.y < rlo.y - eps || hi.z < rlo.z - eps || lo.x > rhi.x + eps ||
+        lo.y > rhi.y + eps || lo.z > rhi.z + eps)
+      return 0;
+    if (lo.x > rlo.x + eps && lo.y > rlo.y + eps && lo.z > rlo.z + eps && hi.x < rhi.x - eps &&
+        hi.y < rhi.y - eps && hi.z < rhi.z - eps)
+      return 1;
+    return 2;
+  }
+  case RegionShape::Mask: {
+    glm::dvec3 mlo, mhi;
+    region.bounds(mlo, mhi);
+    const double eps = 1e-3;
+    if (hi.x < mlo.x - eps || hi.y < mlo.y - eps || hi.z < mlo.z - eps || lo.x > mhi.x + eps ||
+        lo.y > mhi.y + eps || lo.z > mhi.z + eps)
+      return 0;
+    return 2;
+  }
+  }
+  return 2;
+}
+
 bool RegionTester::touches(std::size_t r, const glm::vec3* p, std::size_t n) const {
   const Impl::Compiled& c = impl_->regions[r];
   for (std::size_t k = 0; k < n; ++k)
@@ -327,17 +366,10 @@ TractIndex::TractIndex(const TractView& view, double cellMm, int threads) : view
   const std::size_t L = view.lineCount;
   if (L >= std::numeric_limits<std::uint32_t>::max())
     throw InputError("a tractogram of " + std::to_string(L) + " streamlines is more than the index holds");
-  chunkStart_.resize(L + 1);
-  std::uint64_t chunks = 0;
-  for (std::size_t i = 0; i < L; ++i) {
-    chunkStart_[i] = chunks;
+  auto chunksOf = [&](std::size_t i) -> std::uint64_t {
     const std::uint64_t n = view.size(i);
-    chunks += n == 0 ? 0 : n == 1 ? 1 : (n - 2) / kChunkPoints + 1;
-  }
-  chunkStart_[L] = chunks;
-  if (chunks >= std::numeric_limits<std::uint32_t>::max())
-    throw InputError("a tractogram of " + std::to_string(chunks * kChunkPoints) +
-                     " points is more than the index holds");
+    return n == 0 ? 0 : n == 1 ? 1 : (n - 2) / kChunkPoints + 1;
+  };
 
   // The data's extent, per worker then merged.
   const int T = threadCount(threads);
@@ -358,9 +390,7 @@ TractIndex::TractIndex(const TractView& view, double cellMm, int threads) : view
     lo = glm::min(lo, los[static_cast<std::size_t>(w)]);
     hi = glm::max(hi, his[static_cast<std::size_t>(w)]);
   }
-  if (chunks == 0 || !(lo.x <= hi.x)) {
-    lo = hi = glm::vec3(0.0f);
-  }
+  if (!(lo.x <= hi.x)) lo = hi = glm::vec3(0.0f);
   const glm::dvec3 extent = glm::dvec3(hi) - glm::dvec3(lo);
   const double longest = std::max({extent.x, extent.y, extent.z, 1.0});
   cell_ = cellMm > 0 ? cellMm : std::max(8.0, longest / 256.0);
@@ -369,52 +399,46 @@ TractIndex::TractIndex(const TractView& view, double cellMm, int threads) : view
   const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
   const float cellF = static_cast<float>(cell_);
 
-  // A chunk's centre cell, or -1 when it is longer than a cell (kept aside and tested by every query).
-  auto chunkCell = [&](std::size_t line, std::uint64_t j, glm::vec3& half) -> std::int64_t {
+  // A chunk's centre cell and its box, or -1 when it is longer than a cell or its part does not fit 16 bits
+  // (kept aside and tested by every query).
+  auto chunkCell = [&](std::size_t line, std::uint64_t j, glm::vec3& a, glm::vec3& b) -> std::int64_t {
     const std::uint64_t first = view.begin(line) + j * kChunkPoints;
     const std::uint64_t last = std::min<std::uint64_t>(first + kChunkPoints, view.end(line) - 1);
-    glm::vec3 a = view.points[first], b = a;
+    a = b = view.points[first];
     for (std::uint64_t p = first + 1; p <= last; ++p) {
       a = glm::min(a, view.points[p]);
       b = glm::max(b, view.points[p]);
     }
-    half = 0.5f * (b - a);
-    if (half.x > cellF || half.y > cellF || half.z > cellF) return -1;
+    const glm::vec3 half = 0.5f * (b - a);
+    if (half.x > cellF || half.y > cellF || half.z > cellF || j > 0xFFFF) return -1;
     const glm::dvec3 c = (0.5 * (glm::dvec3(a) + glm::dvec3(b)) - origin_) / cell_;
     const glm::ivec3 q = glm::clamp(glm::ivec3(glm::floor(c)), glm::ivec3(0), dims_ - 1);
-    return static_cast<std::int64_t>(q.x) + static_cast<std::int64_t>(dims_.x) * (q.y + static_cast<std::int64_t>(dims_.y) * q.z);
+    return static_cast<std::int64_t>(q.x) +
+           static_cast<std::int64_t>(dims_.x) * (q.y + static_cast<std::int64_t>(dims_.y) * q.z);
   };
 
   // Counting sort of the chunks by cell: count per worker, then place.
   std::vector<std::vector<std::uint64_t>> counts(static_cast<std::size_t>(T));
-  std::vector<glm::vec3> reach(static_cast<std::size_t>(T), glm::vec3(0.0f));
-  std::vector<std::vector<std::uint64_t>> big(static_cast<std::size_t>(T));
+  std::vector<std::vector<Oversized>> big(static_cast<std::size_t>(T));
   parallelBlocks(L, T, [&](std::size_t b, std::size_t e, int w) {
     auto& cnt = counts[static_cast<std::size_t>(w)];
     cnt.assign(cells, 0);
-    glm::vec3 r(0.0f), half;
+    glm::vec3 lo3, hi3;
     for (std::size_t i = b; i < e; ++i)
-      for (std::uint64_t j = 0; j < chunkStart_[i + 1] - chunkStart_[i]; ++j) {
-        const std::int64_t c = chunkCell(i, j, half);
-        if (c < 0) {
-          big[static_cast<std::size_t>(w)].push_back(chunkStart_[i] + j);
-          continue;
-        }
-        r = glm::max(r, half);
-        ++cnt[static_cast<std::size_t>(c)];
+      for (std::uint64_t j = 0; j < chunksOf(i); ++j) {
+        const std::int64_t c = chunkCell(i, j, lo3, hi3);
+        if (c < 0)
+          big[static_cast<std::size_t>(w)].push_back({static_cast<std::uint32_t>(i), view.begin(i) + j * kChunkPoints});
+        else
+          ++cnt[static_cast<std::size_t>(c)];
       }
-    reach[static_cast<std::size_t>(w)] = r;
   });
-  for (std::size_t w = 0; w < static_cast<std::size_t>(T); ++w) {
-    reach_ = glm::max(reach_, reach[w]);
-    oversized_.insert(oversized_.end(), big[w].begin(), big[w].end());
-  }
-  // Workers that ran (parallelBlocks may use fewer than T) have counts; their blocks are in worker order.
+  for (const auto& v : big)
+    oversized_.insert(oversized_.end(), v.begin(), v.end());
   std::vector<std::size_t> ran;
   for (std::size_t w = 0; w < static_cast<std::size_t>(T); ++w)
     if (!counts[w].empty()) ran.push_back(w);
   cellStart_.assign(cells + 1, 0);
-  // Per cell, each worker's slice begins after the earlier workers' slices of that cell.
   std::uint64_t total = 0;
   for (std::size_t c = 0; c < cells; ++c) {
     cellStart_[c] = total;
@@ -425,40 +449,57 @@ TractIndex::TractIndex(const TractView& view, double cellMm, int threads) : view
     }
   }
   cellStart_[cells] = total;
-  chunkOf_.resize(total);
-  chunkLine_.resize(chunks);
+  if (total >= std::numeric_limits<std::uint32_t>::max())
+    throw InputError("a tractogram of " + std::to_string(total * kChunkPoints) + " points is more than the index holds");
+  chunks_.resize(total);
   parallelBlocks(L, T, [&](std::size_t b, std::size_t e, int w) {
     auto& at = counts[static_cast<std::size_t>(w)];
-    glm::vec3 half;
+    glm::vec3 a, bb;
     for (std::size_t i = b; i < e; ++i)
-      for (std::uint64_t j = 0; j < chunkStart_[i + 1] - chunkStart_[i]; ++j) {
-        const std::uint64_t id = chunkStart_[i] + j;
-        chunkLine_[id] = static_cast<std::uint32_t>(i);
-        const std::int64_t c = chunkCell(i, j, half);
-        if (c >= 0) chunkOf_[at[static_cast<std::size_t>(c)]++] = static_cast<std::uint32_t>(id);
+      for (std::uint64_t j = 0; j < chunksOf(i); ++j) {
+        const std::int64_t c = chunkCell(i, j, a, bb);
+        if (c < 0) continue;
+        const auto cu = static_cast<std::uint64_t>(c);
+        const glm::ivec3 q(static_cast<int>(cu % static_cast<std::uint64_t>(dims_.x)),
+                           static_cast<int>((cu / static_cast<std::uint64_t>(dims_.x)) % static_cast<std::uint64_t>(dims_.y)),
+                           static_cast<int>(cu / (static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y))));
+        // The box in 1/255 of three cells from the cell's corner minus one cell, rounded outwards.
+        const glm::dvec3 base = origin_ + (glm::dvec3(q) - 1.0) * cell_;
+        const double unit = 3.0 * cell_ / 255.0;
+        Chunk& k = chunks_[at[cu]++];
+        k.line = static_cast<std::uint32_t>(i);
+        k.part = static_cast<std::uint16_t>(j);
+        for (int ax = 0; ax < 3; ++ax) {
+          k.box[ax] = static_cast<std::uint8_t>(std::clamp(std::floor((a[ax] - base[ax]) / unit), 0.0, 255.0));
+          k.box[3 + ax] = static_cast<std::uint8_t>(std::clamp(std::ceil((bb[ax] - base[ax]) / unit), 0.0, 255.0));
+        }
       }
   });
 }
 
 std::size_t TractIndex::bytes() const {
-  return chunkStart_.capacity() * 8 + cellStart_.capacity() * 8 + chunkOf_.capacity() * 4 +
-         chunkLine_.capacity() * 4 + oversized_.capacity() * 8;
+  return cellStart_.capacity() * sizeof(std::uint64_t) + chunks_.capacity() * sizeof(Chunk) +
+         oversized_.capacity() * sizeof(Oversized);
 }
 
 std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester, std::size_t r,
                                                      int threads) const {
   glm::dvec3 lo, hi;
   tester.set().regions[r].bounds(lo, hi);
-  lo -= glm::dvec3(reach_);
-  hi += glm::dvec3(reach_);
+  // A chunk's centre lies within a cell of its box, so the cells a region can touch reach one cell further.
+  lo -= glm::dvec3(cell_);
+  hi += glm::dvec3(cell_);
   const glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor((lo - origin_) / cell_)), glm::ivec3(0), dims_ - 1);
   const glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor((hi - origin_) / cell_)), glm::ivec3(0), dims_ - 1);
-  std::vector<std::uint32_t> found;
   const glm::dvec3 gridHi = origin_ + glm::dvec3(dims_) * cell_;
   const bool overlaps = !(lo.x > gridHi.x || lo.y > gridHi.y || lo.z > gridHi.z || hi.x < origin_.x ||
                           hi.y < origin_.y || hi.z < origin_.z);
-  // The chunk ids to test, gathered cell row by cell row (contiguous runs of chunkOf_).
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> runs;
+  // The cells to read, one run of chunks_ per row.
+  struct Run {
+    std::uint64_t s, e;
+    glm::ivec3 cell; // the run's first cell
+  };
+  std::vector<Run> runs;
   std::uint64_t work = 0;
   if (overlaps)
     for (int z = a.z; z <= b.z; ++z)
@@ -466,14 +507,12 @@ std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester,
         const std::size_t row = static_cast<std::size_t>(dims_.x) * (y + static_cast<std::size_t>(dims_.y) * z);
         const std::uint64_t s = cellStart_[row + a.x], e = cellStart_[row + b.x + 1];
         if (e > s) {
-          runs.emplace_back(s, e);
+          runs.push_back({s, e, glm::ivec3(a.x, y, z)});
           work += e - s;
         }
       }
   const bool precise = tester.set().precise;
-  auto testChunk = [&](std::uint64_t id) {
-    const std::uint32_t line = chunkLine_[id];
-    const std::uint64_t first = view_.begin(line) + (id - chunkStart_[line]) * kChunkPoints;
+  auto testPoints = [&](std::uint32_t line, std::uint64_t first) {
     const std::uint64_t last = std::min<std::uint64_t>(first + kChunkPoints, view_.end(line) - 1);
     for (std::uint64_t p = first; p <= last; ++p)
       if (tester.containsPoint(r, view_.points[p])) return true;
@@ -482,31 +521,58 @@ std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester,
         if (tester.segmentTouches(r, view_.points[p], view_.points[p + 1])) return true;
     return false;
   };
+  // Lines found so far, shared by the workers as a hint (a stale read only costs a second test).
+  const std::size_t words = (view_.lineCount + 63) / 64;
+  std::unique_ptr<std::atomic<std::uint64_t>[]> seen(new std::atomic<std::uint64_t>[std::max<std::size_t>(words, 1)]);
+  for (std::size_t i = 0; i < words; ++i)
+    seen[i].store(0, std::memory_order_relaxed);
+  auto known = [&](std::uint32_t line) {
+    return (seen[line >> 6].load(std::memory_order_relaxed) >> (line & 63)) & 1u;
+  };
+  auto mark = [&](std::uint32_t line) { seen[line >> 6].fetch_or(std::uint64_t{1} << (line & 63), std::memory_order_relaxed); };
+
   const int T = threadCount(threads);
   std::vector<std::vector<std::uint32_t>> local(static_cast<std::size_t>(T));
-  // Split the runs' total work into equal shares; a worker walks the runs that overlap its share.
-  parallelBlocks(static_cast<std::size_t>(work), work < 65536 ? 1 : T, [&](std::size_t b, std::size_t e, int w) {
+  const double unit = 3.0 * cell_ / 255.0;
+  // Each worker takes an equal share of the chunks; a run's cell is found from the chunk's place in it.
+  parallelBlocks(static_cast<std::size_t>(work), work < 65536 ? 1 : T, [&](std::size_t wb, std::size_t we, int w) {
     auto& out = local[static_cast<std::size_t>(w)];
     std::uint64_t before = 0;
-    std::uint32_t lastLine = std::numeric_limits<std::uint32_t>::max();
-    for (const auto& [s, t] : runs) {
-      const std::uint64_t len = t - s;
-      const std::uint64_t from = std::max<std::uint64_t>(b, before), to = std::min<std::uint64_t>(e, before + len);
-      for (std::uint64_t k = from; k < to; ++k) {
-        const std::uint32_t id = chunkOf_[s + (k - before)];
-        const std::uint32_t line = chunkLine_[id];
-        if (line == lastLine) continue;
-        if (testChunk(id)) {
-          out.push_back(line);
-          lastLine = line;
+    for (const Run& run : runs) {
+      const std::uint64_t len = run.e - run.s;
+      const std::uint64_t from = std::max<std::uint64_t>(wb, before), to = std::min<std::uint64_t>(we, before + len);
+      if (from < to) {
+        std::uint64_t k = run.s + (from - before);
+        const std::uint64_t kEnd = run.s + (to - before);
+        // The cells of this row, in order: cellStart_ tells where each begins.
+        const std::size_t row = static_cast<std::size_t>(dims_.x) *
+                                (run.cell.y + static_cast<std::size_t>(dims_.y) * run.cell.z);
+        int x = run.cell.x;
+        while (cellStart_[row + x + 1] <= k)
+          ++x;
+        for (; k < kEnd; ++k) {
+          while (cellStart_[row + x + 1] <= k)
+            ++x;
+          const Chunk& c = chunks_[k];
+          if (known(c.line)) continue;
+          const glm::dvec3 base = origin_ + (glm::dvec3(x, run.cell.y, run.cell.z) - 1.0) * cell_;
+          const glm::dvec3 blo = base + glm::dvec3(c.box[0], c.box[1], c.box[2]) * unit;
+          const glm::dvec3 bhi = base + glm::dvec3(c.box[3], c.box[4], c.box[5]) * unit;
+          const int where = tester.classifyBox(r, blo, bhi);
+          if (where == 0) continue;
+          if (where == 1 || testPoints(c.line, view_.begin(c.line) + static_cast<std::uint64_t>(c.part) * kChunkPoints)) {
+            mark(c.line);
+            out.push_back(c.line);
+          }
         }
       }
       before += len;
-      if (before >= e) break;
+      if (before >= we) break;
     }
   });
-  for (std::uint64_t id : oversized_)
-    if (testChunk(id)) found.push_back(chunkLine_[id]);
+  std::vector<std::uint32_t> found;
+  for (const Oversized& o : oversized_)
+    if (testPoints(o.line, o.first)) found.push_back(o.line);
   for (const auto& l : local)
     found.insert(found.end(), l.begin(), l.end());
   std::sort(found.begin(), found.end());
@@ -538,48 +604,52 @@ std::vector<std::uint32_t> selectLines(const TractView& view, const RegionTester
     return kept;
   };
 
-  std::size_t includeCount = 0;
-  for (const Region& r : set.regions)
+  std::size_t includeCount = 0, orderedCount = 0;
+  for (const Region& r : set.regions) {
     includeCount += r.kind != RegionKind::Exclude;
+    orderedCount += r.kind == RegionKind::IncludeOrdered;
+  }
   std::vector<std::uint32_t> kept;
   if (!index || set.endsOnly || set.regions.empty()) {
     st.candidates = view.lineCount;
     kept = walk(view.lineCount, [](std::size_t k) { return static_cast<std::uint32_t>(k); });
-  } else if (includeCount == 0) {
-    // Excludes only: a streamline is kept when it touches none of them (the index answers exactly).
-    st.indexed = true;
-    std::vector<char> hit(view.lineCount, 0);
-    for (std::size_t r = 0; r < set.regions.size(); ++r)
-      for (std::uint32_t i : index->linesTouching(tester, r, threads))
-        hit[i] = 1;
-    std::vector<std::uint32_t> rest;
-    for (std::size_t i = 0; i < view.lineCount; ++i)
-      if (!hit[i]) rest.push_back(static_cast<std::uint32_t>(i));
-    st.candidates = rest.size();
-    if (set.hasLengthRange())
-      kept = walk(rest.size(), [&](std::size_t k) { return rest[k]; });
-    else
-      kept = std::move(rest);
   } else {
-    // Streamlines must touch every include region: intersect the index's answers, then walk the survivors.
+    // Each region's lines from the index (exact): includes intersected, excludes removed. Only the order of
+    // ordered includes and the length range need the survivors' vertices.
     st.indexed = true;
     std::vector<std::uint32_t> cand;
-    bool first = true;
-    for (std::size_t r = 0; r < set.regions.size(); ++r) {
-      if (set.regions[r].kind == RegionKind::Exclude) continue;
-      std::vector<std::uint32_t> hits = index->linesTouching(tester, r, threads);
-      if (first) {
-        cand = std::move(hits);
-        first = false;
-      } else {
-        std::vector<std::uint32_t> both;
-        std::set_intersection(cand.begin(), cand.end(), hits.begin(), hits.end(), std::back_inserter(both));
-        cand = std::move(both);
+    if (includeCount == 0) {
+      cand.resize(view.lineCount);
+      for (std::size_t i = 0; i < view.lineCount; ++i)
+        cand[i] = static_cast<std::uint32_t>(i);
+    } else {
+      bool first = true;
+      for (std::size_t r = 0; r < set.regions.size(); ++r) {
+        if (set.regions[r].kind == RegionKind::Exclude) continue;
+        std::vector<std::uint32_t> hits = index->linesTouching(tester, r, threads);
+        if (first) {
+          cand = std::move(hits);
+          first = false;
+        } else {
+          std::vector<std::uint32_t> both;
+          std::set_intersection(cand.begin(), cand.end(), hits.begin(), hits.end(), std::back_inserter(both));
+          cand = std::move(both);
+        }
+        if (cand.empty()) break;
       }
-      if (cand.empty()) break;
+    }
+    for (std::size_t r = 0; r < set.regions.size() && !cand.empty(); ++r) {
+      if (set.regions[r].kind != RegionKind::Exclude) continue;
+      const std::vector<std::uint32_t> hits = index->linesTouching(tester, r, threads);
+      std::vector<std::uint32_t> rest;
+      std::set_difference(cand.begin(), cand.end(), hits.begin(), hits.end(), std::back_inserter(rest));
+      cand = std::move(rest);
     }
     st.candidates = cand.size();
-    kept = walk(cand.size(), [&](std::size_t k) { return cand[k]; });
+    if (orderedCount > 0 || set.hasLengthRange())
+      kept = walk(cand.size(), [&](std::size_t k) { return cand[k]; });
+    else
+      kept = std::move(cand);
   }
   if (stats) *stats = st;
   return kept;

@@ -58,6 +58,9 @@ public:
   bool touches(std::size_t r, const glm::vec3* points, std::size_t n) const;
   bool containsPoint(std::size_t r, const glm::vec3& p) const;
   bool segmentTouches(std::size_t r, const glm::vec3& a, const glm::vec3& b) const;
+  // Where a box (world mm) lies against region r: 0 none of it can hold a point in the region, 1 every point
+  // in it is in the region (spheres and boxes only), 2 undecided. Conservative against contains().
+  int classifyBox(std::size_t r, const glm::dvec3& lo, const glm::dvec3& hi) const;
 
   struct Impl;
 
@@ -65,32 +68,42 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-// A spatial index of one tractogram. Built once (all cores), then queried many times; holds 8 bytes per
-// chunk of kChunkPoints vertices and 8 per streamline, beside the positions it views (which must outlive
-// it). Throws InputError past 2^32 streamlines or chunks.
+// A spatial index of one tractogram. Built once (all cores), then queried many times. Chunks of kChunkPoints
+// consecutive vertices (plus the next chunk's first, so each segment lies in one chunk) are sorted by the
+// grid cell of their centre; each holds its line, its place on the line and its bounding box quantized to
+// 1/255 of three cells, 12 bytes in all, so a query reads the chunks near a region in order and touches the
+// positions only for chunks its box leaves undecided (the positions, which must outlive the index, are
+// viewed, not copied). Throws InputError past 2^32 streamlines or chunks.
 class TractIndex {
 public:
   // `cellMm` 0 picks the grid cell from the data's extent; `threads` 0 = all cores.
   explicit TractIndex(const TractView& view, double cellMm = 0.0, int threads = 0);
   const TractView& view() const { return view_; }
-  std::size_t chunkCount() const { return chunkLine_.size(); }
+  std::size_t chunkCount() const { return chunks_.size() + oversized_.size(); }
   double cellMm() const { return cell_; }
   std::size_t bytes() const; // memory held by the index itself
 
   // The lines with a vertex (with `precise`, also a segment) in region r of `tester`, ascending and exact.
   std::vector<std::uint32_t> linesTouching(const RegionTester& tester, std::size_t r, int threads = 0) const;
 
+  struct Chunk {
+    std::uint32_t line;
+    std::uint16_t part;   // the chunk's first vertex is begin(line) + part * kChunkPoints
+    std::uint8_t box[6];  // lo x, y, z, hi x, y, z in 1/255 of three cells from the cell's corner minus one cell
+  };
+  struct Oversized {
+    std::uint32_t line;
+    std::uint64_t first; // the chunk's first vertex
+  };
+
 private:
   TractView view_;
   double cell_ = 8.0;
   glm::dvec3 origin_{0.0};
   glm::ivec3 dims_{1};
-  glm::vec3 reach_{0.0f};                // the largest half-extent of a chunk along each axis
-  std::vector<std::uint64_t> chunkStart_; // per line + 1: its first chunk
-  std::vector<std::uint64_t> cellStart_;  // per cell + 1: where its chunks begin in chunkOf_
-  std::vector<std::uint32_t> chunkOf_;    // chunk ids grouped by the cell of their centre
-  std::vector<std::uint32_t> chunkLine_;  // per chunk, its line
-  std::vector<std::uint64_t> oversized_;  // chunks longer than a cell: tested by every query
+  std::vector<std::uint64_t> cellStart_; // per cell + 1: where its chunks begin in chunks_
+  std::vector<Chunk> chunks_;            // grouped by the cell of their centre
+  std::vector<Oversized> oversized_;     // chunks longer than a cell, or far along very long lines
 };
 
 inline constexpr int kChunkPoints = 4; // vertices a chunk starts; it also holds the next chunk's first vertex
@@ -102,9 +115,10 @@ struct SelectionStats {
   bool indexed = false;
 };
 
-// The streamlines of `view` that `tester` accepts, ascending. With an index (built on the same view) the
-// regions are queried first and only streamlines that touch every include region are walked; without one
-// every streamline is walked (all cores either way).
+// The streamlines of `view` that `tester` accepts, ascending. With an index (built on the same view) each
+// region is queried and the answers combined (includes intersected, excludes removed); only ordered
+// includes and a length range need the survivors' vertices walked. Without one every streamline is walked
+// (all cores either way).
 std::vector<std::uint32_t> selectLines(const TractView& view, const RegionTester& tester,
                                        const TractIndex* index = nullptr, int threads = 0,
                                        SelectionStats* stats = nullptr);
