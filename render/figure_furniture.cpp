@@ -181,6 +181,9 @@ void drawFurniture(Canvas& img, const Camera& camera, double pixelMm, const Figu
     // letters at their tips.
     const double radius = 14.0 * scale;
     const int half = static_cast<int>(radius) + 3 * scale + std::max(textWidth("M", font), textHeight(font)) + scale;
+    // An image too small to hold the panel without hiding much of the data (a third of its smaller side)
+    // goes without it.
+    if (3 * (2 * half + 1) > std::min(w, h)) return;
     const glm::dvec2 centre(w - margin - 1 - half, h - margin - 1 - half);
     backing(img, static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half, 2 * half + 1,
             2 * half + 1);

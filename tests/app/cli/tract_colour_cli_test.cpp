@@ -95,11 +95,17 @@ TEST(TractColourCli, ValueColoursBarAndGroups) {
   EXPECT_GT(h.mean.y, 1.5 * h.mean.z) << "yellow expected";
   EXPECT_GT(l.mean.z, 1.5 * l.mean.y) << "purple expected";
   EXPECT_GT(l.mean.x, 1.5 * l.mean.y) << "purple expected";
-  // The bar: 8 px wide, 20 px from the right edge (beside the orientation letter), 51 px tall centred; top
-  // #fde725, bottom #440154.
-  const std::uint8_t* top = withBar.pixel(104, 38);
-  const std::uint8_t* bottom = withBar.pixel(104, 88);
-  EXPECT_NE(int(high.pixel(104, 38)[0]), 0xfd); // --no-colour-bar: none
+  // The bar: 8 px wide at the right edge, beside the orientation letter's band (its width follows the
+  // font), 51 px tall centred; top #fde725, bottom #440154. Its column is the rightmost top-colour pixel of
+  // the top row in the right half.
+  int barX = -1;
+  for (int x = 127; x >= 64 && barX < 0; --x)
+    if (withBar.pixel(x, 38)[0] == 0xfd && withBar.pixel(x, 38)[1] == 0xe7 && withBar.pixel(x, 38)[2] == 0x25)
+      barX = x - 3;
+  ASSERT_GE(barX, 64) << "no colour bar on row 38";
+  const std::uint8_t* top = withBar.pixel(barX, 38);
+  const std::uint8_t* bottom = withBar.pixel(barX, 88);
+  EXPECT_NE(int(high.pixel(barX, 38)[0]), 0xfd); // --no-colour-bar: none
   EXPECT_EQ(int(top[0]), 0xfd);
   EXPECT_EQ(int(top[1]), 0xe7);
   EXPECT_EQ(int(top[2]), 0x25);
