@@ -75,6 +75,10 @@ std::vector<FormatLoadFigure> benchFormatLoads(const std::optional<std::filesyst
 // The 1-minute load average, to tell figures taken on a contended machine apart (-1 when unknown).
 double loadAverage();
 
+// CPU seconds (user + system) of this process's finished children so far: a peer's CPU time is the
+// difference around its run.
+double childCpuSeconds();
+
 // Median of a non-empty sample (the vector is reordered).
 double median(std::vector<double> v);
 

@@ -43,6 +43,8 @@ const OptionTable& benchSelectOptions() {
         O::integer("peer-streamlines", "M", 1000000, closedRange(0, 100000000),
                    "streamlines of the .tck both commands select from (0: no peer run)"),
         O::integer("repeat", "R", 3, closedRange(1, 100), "runs of each whole command (medians)"),
+        O::number("cell", "MM", 0, atLeast(0), "the index's grid cell (0: from the data's extent, at least 8 mm)")
+            .measuredIn("mm"),
         O::integer("threads", "T", 0, atLeast(0), "worker threads").defaultSays("all cores"),
         O::flag("json", "one JSON object"),
         sharedDataOption(),
@@ -64,13 +66,6 @@ double peakRssGb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_maxrss) / (1024.0 * 1024.0); // kB -> GB
-}
-
-double childCpuSeconds() {
-  rusage u{};
-  getrusage(RUSAGE_CHILDREN, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 // Counter-based random numbers: the value depends only on (line, k), so generation is parallel and
@@ -191,6 +186,7 @@ int benchSelect(const CommandArgs& argv) {
   const auto peerN = static_cast<std::size_t>(args.integer("peer-streamlines"));
   const int repeat = args.integer("repeat");
   const int threads = args.integer("threads");
+  const double cellMm = args.number("cell");
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
   args.finish();
@@ -244,7 +240,7 @@ int benchSelect(const CommandArgs& argv) {
   const double positionsGb = static_cast<double>(lines.points.size() * sizeof(glm::vec3)) / (1024.0 * 1024 * 1024);
   const surfaces::TractView view = surfaces::viewOf(lines);
   t0 = Clock::now();
-  const surfaces::TractIndex index(view, 0.0, threads);
+  const surfaces::TractIndex index(view, cellMm, threads);
   const double buildS = since(t0);
   std::vector<Query> qs;
   std::vector<double> ms;
@@ -317,6 +313,7 @@ int benchSelect(const CommandArgs& argv) {
                                 {"walk_selected", walked.size()},
                                 {"generate_s", generateS},
                                 {"index_bytes", index.bytes()},
+                                {"cell_mm", index.cellMm()},
                                 {"positions_gb", positionsGb},
                                 {"peak_rss_gb", peakGb},
                                 {"peak_over_positions", peakGb / positionsGb},
