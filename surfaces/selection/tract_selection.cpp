@@ -537,6 +537,7 @@ std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester,
   // Each worker takes an equal share of the chunks; a run's cell is found from the chunk's place in it.
   parallelBlocks(static_cast<std::size_t>(work), work < 65536 ? 1 : T, [&](std::size_t wb, std::size_t we, int w) {
     auto& out = local[static_cast<std::size_t>(w)];
+    std::vector<std::uint64_t> undecided; // line << 16 | part
     std::uint64_t before = 0;
     for (const Run& run : runs) {
       const std::uint64_t len = run.e - run.s;
@@ -559,15 +560,27 @@ std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester,
           const glm::dvec3 blo = base + glm::dvec3(c.box[0], c.box[1], c.box[2]) * unit;
           const glm::dvec3 bhi = base + glm::dvec3(c.box[3], c.box[4], c.box[5]) * unit;
           const int where = tester.classifyBox(r, blo, bhi);
-          if (where == 0) continue;
-          if (where == 1 || testPoints(c.line, view_.begin(c.line) + static_cast<std::uint64_t>(c.part) * kChunkPoints)) {
+          if (where == 1) {
             mark(c.line);
             out.push_back(c.line);
+          } else if (where == 2) {
+            undecided.push_back((static_cast<std::uint64_t>(c.line) << 16) | c.part);
           }
         }
       }
       before += len;
       if (before >= we) break;
+    }
+    // The chunks their boxes left undecided, in the order of their positions in memory (the lines' order),
+    // skipping lines already found: the point tests read the positions forwards instead of at random.
+    std::sort(undecided.begin(), undecided.end());
+    for (const std::uint64_t u : undecided) {
+      const auto line = static_cast<std::uint32_t>(u >> 16);
+      if (known(line)) continue;
+      if (testPoints(line, view_.begin(line) + (u & 0xFFFF) * kChunkPoints)) {
+        mark(line);
+        out.push_back(line);
+      }
     }
   });
   std::vector<std::uint32_t> found;
