@@ -43,7 +43,7 @@ const OptionTable& benchSelectOptions() {
         O::integer("peer-streamlines", "M", 1000000, closedRange(0, 100000000),
                    "streamlines of the .tck both commands select from (0: no peer run)"),
         O::integer("repeat", "R", 3, closedRange(1, 100), "runs of each whole command (medians)"),
-        O::number("cell", "MM", 0, atLeast(0), "the index's grid cell (0: from the data's extent, at least 8 mm)")
+        O::number("cell", "MM", 0, atLeast(0), "the index's grid cell (0: from the streamlines' step, at least 4 mm)")
             .measuredIn("mm"),
         O::integer("threads", "T", 0, atLeast(0), "worker threads").defaultSays("all cores"),
         O::flag("json", "one JSON object"),

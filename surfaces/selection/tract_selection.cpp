@@ -393,7 +393,18 @@ TractIndex::TractIndex(const TractView& view, double cellMm, int threads) : view
   if (!(lo.x <= hi.x)) lo = hi = glm::vec3(0.0f);
   const glm::dvec3 extent = glm::dvec3(hi) - glm::dvec3(lo);
   const double longest = std::max({extent.x, extent.y, extent.z, 1.0});
-  cell_ = cellMm > 0 ? cellMm : std::max(8.0, longest / 256.0);
+  // The cell: about the length of a chunk (its half-extent must fit a cell, or it is tested by every query),
+  // from the median step of up to 4096 streamlines; at least 4 mm, and at most 256 cells along the data.
+  std::vector<double> steps;
+  for (std::size_t i = 0; i < L && steps.size() < 65536; i += std::max<std::size_t>(1, L / 4096))
+    for (std::uint64_t p = view.begin(i) + 1; p < view.end(i); ++p)
+      steps.push_back(glm::length(glm::dvec3(view.points[p]) - glm::dvec3(view.points[p - 1])));
+  double step = 2.0;
+  if (!steps.empty()) {
+    std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+    step = steps[steps.size() / 2];
+  }
+  cell_ = cellMm > 0 ? cellMm : std::max({4.0, 0.6 * kChunkPoints * step, longest / 256.0});
   origin_ = glm::dvec3(lo);
   dims_ = glm::ivec3(glm::floor(extent / cell_)) + 1;
   const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
