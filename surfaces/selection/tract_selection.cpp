@@ -72,6 +72,7 @@ struct RegionTester::Impl {
     glm::dvec3 cd{0.0}; // sphere, for segments
     double rd = 0;
     glm::vec3 lo{0.0f}, hi{0.0f}; // box
+    glm::dvec3 boundsLo{0.0}, boundsHi{0.0}; // world bounds of everything inside (a mask's, found once)
     glm::dmat4 toVoxel{1.0};      // mask
     glm::ivec3 dims{0};
     const unsigned char* data = nullptr;
@@ -192,6 +193,7 @@ RegionTester::RegionTester(const RegionSet& set) : impl_(std::make_unique<Impl>(
     c.rd = r.radius;
     c.lo = glm::vec3(r.lo);
     c.hi = glm::vec3(r.hi);
+    r.bounds(c.boundsLo, c.boundsHi);
     if (r.shape == RegionShape::Mask) {
       c.toVoxel = glm::inverse(r.mask->grid.voxelToWorld);
       c.dims = r.mask->grid.dims;
@@ -222,9 +224,13 @@ bool RegionTester::segmentTouches(std::size_t r, const glm::vec3& a, const glm::
   return impl_->entry(impl_->regions[r], a, b) >= 0;
 }
 
+void RegionTester::bounds(std::size_t r, glm::dvec3& lo, glm::dvec3& hi) const {
+  lo = impl_->regions[r].boundsLo;
+  hi = impl_->regions[r].boundsHi;
+}
+
 int RegionTester::classifyBox(std::size_t r, const glm::dvec3& lo, const glm::dvec3& hi) const {
   const Impl::Compiled& c = impl_->regions[r];
-  const Region& region = impl_->set.regions[r];
   // Margins keep the answer on the safe side of contains()'s single-precision tests.
   switch (c.shape) {
   case RegionShape::Sphere: {
@@ -247,8 +253,7 @@ int RegionTester::classifyBox(std::size_t r, const glm::dvec3& lo, const glm::dv
     return 2;
   }
   case RegionShape::Mask: {
-    glm::dvec3 mlo, mhi;
-    region.bounds(mlo, mhi);
+    const glm::dvec3 &mlo = c.boundsLo, &mhi = c.boundsHi;
     const double eps = 1e-3;
     if (hi.x < mlo.x - eps || hi.y < mlo.y - eps || hi.z < mlo.z - eps || lo.x > mhi.x + eps ||
         lo.y > mhi.y + eps || lo.z > mhi.z + eps)
@@ -496,7 +501,7 @@ std::size_t TractIndex::bytes() const {
 std::vector<std::uint32_t> TractIndex::linesTouching(const RegionTester& tester, std::size_t r,
                                                      int threads) const {
   glm::dvec3 lo, hi;
-  tester.set().regions[r].bounds(lo, hi);
+  tester.bounds(r, lo, hi);
   // A chunk's centre lies within a cell of its box, so the cells a region can touch reach one cell further.
   lo -= glm::dvec3(cell_);
   hi += glm::dvec3(cell_);

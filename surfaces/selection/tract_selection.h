@@ -61,6 +61,8 @@ public:
   // Where a box (world mm) lies against region r: 0 none of it can hold a point in the region, 1 every point
   // in it is in the region (spheres and boxes only), 2 undecided. Conservative against contains().
   int classifyBox(std::size_t r, const glm::dvec3& lo, const glm::dvec3& hi) const;
+  // Region r's world bounds (Region::bounds, found once when the tester is made).
+  void bounds(std::size_t r, glm::dvec3& lo, glm::dvec3& hi) const;
 
   struct Impl;
 
