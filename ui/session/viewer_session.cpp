@@ -454,6 +454,10 @@ void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std:
   state_.tractGroupNames.clear();
   for (const auto& g : l.groups)
     state_.tractGroupNames.push_back(g.name);
+  roi_.tracts = tracts_; // no region applies yet: every streamline is selected
+  roi_.lines.reset();
+  roi_.active = false;
+  ++roi_.generation;
   applyTractChoice({}, {}); // names belong to a file: new tracts start in DEC with every streamline
   requestSelection();
 }

@@ -11,6 +11,7 @@
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/roi_selection.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_worker.h"
 #include "ui/session/viewer_state.h"
@@ -100,6 +101,8 @@ public:
   std::uint64_t displaySerial() const { return displaySerial_; }
   bool tractsSlab() const { return tractsSlab_; }
   glm::vec4 tractsPlane() const { return tractsPlane_; }
+  // The ROI selection of the tracts (ui/session/roi_selection.h, which says how to read it): UI thread only.
+  const RoiSelection& roiSelection() const { return roi_; }
   // Counts changes of the tract width and the clip slab.
   std::uint64_t tractStyleSerial() const { return tractStyleSerial_; }
 
@@ -155,6 +158,7 @@ private:
   std::uint64_t displaySerial_ = 0, tractStyleSerial_ = 0;
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
+  RoiSelection roi_; // the ROI selection on screen (roiSelection())
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
   std::vector<std::string> inputs_;        // files read so far: never written (mayWrite)
