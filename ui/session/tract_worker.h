@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 #include <variant>
 
 namespace dtf::session {
@@ -73,6 +74,10 @@ struct SaveJob {
   std::string path;
   std::optional<Grid> reference; // .trk
   bool overwrite = false;
+  // Set: only these streamlines of `tracts` (ascending) with every value and group, or with `asGroup` (a
+  // .trx output) every streamline with them added as that group.
+  std::shared_ptr<const std::vector<std::uint32_t>> keep;
+  std::string asGroup;
 };
 
 class TractWorker {

@@ -12,6 +12,7 @@
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
 #include "ui/session/roi_selection.h"
+#include "ui/session/roi_worker.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_worker.h"
 #include "ui/session/viewer_state.h"
@@ -133,6 +134,10 @@ private:
   void startTracking(const TrackRequest& request);
   void startAgreement(const ComputeAgreement& a);
   void saveTracts(const SaveTracts& a);
+  // The ROI selection: a job for the region set in state_.roiSet, its result, the region set's actions.
+  void requestRoi();
+  void onRoiResult(RoiResult& r);
+  void applyRoi(const Action& action);
 
   ViewerState state_;
   std::shared_ptr<const ViewerDataset> data_;
@@ -159,6 +164,7 @@ private:
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
   RoiSelection roi_; // the ROI selection on screen (roiSelection())
+  std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
   std::vector<std::string> inputs_;        // files read so far: never written (mayWrite)
@@ -168,6 +174,7 @@ private:
   // Last: their threads are joined before the members their jobs refer to go.
   ViewerWorker worker_;
   TractWorker tractWorker_;
+  RoiWorker roiWorker_;
 };
 
 // The status bar's and the script's text for a probed voxel: "voxel I J K, FA F, e1 X Y Z, lambda L1 L2 L3"
