@@ -105,11 +105,12 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
   TractSelection s =
       job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag()) : TractSelection{};
   if (context.cancelled()) return failed(job.id, "selection", "cancelled");
+  if (!all_ || allSerial_ != job.tractsSerial) {
+    all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));
+    allSerial_ = job.tractsSerial;
+  }
+  r.allDisplay = all_;
   if (s.all) {
-    if (!all_ || allSerial_ != job.tractsSerial) {
-      all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));
-      allSerial_ = job.tractsSerial;
-    }
     r.display = all_;
     r.lines = all.lineCount();
     r.points = all.points.size();

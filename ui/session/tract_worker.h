@@ -31,6 +31,9 @@ struct TractResult {
   std::string what; // Failed: the job, e.g. "tracking"
   // Selection: what to draw for the surface (shared while the tracts and the choice stay the same).
   std::shared_ptr<const render::DisplayTracts> display;
+  // Selection: the display of every tract (the ortho layout's slice panes draw it in a slab around their
+  // planes), shared while the tracts and the choice stay the same.
+  std::shared_ptr<const render::DisplayTracts> allDisplay;
   bool slab = false;                 // planar surface: every tract, clipped to a slab around `plane`
                                      // (ui/session/tract_overlay.h)
   glm::vec4 plane{0, 0, 1, 0};       // unit normal, offset (world mm)

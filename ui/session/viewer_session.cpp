@@ -590,6 +590,7 @@ void ViewerSession::onTractResult(TractResult& r) {
     if (r.id != latestSelection_) return; // a newer selection is on its way
     state_.tractsSelecting = false;
     display_ = r.display;
+    allDisplay_ = r.allDisplay;
     ++displaySerial_;
     tractsSlab_ = r.slab;
     tractsPlane_ = r.plane;

@@ -100,6 +100,9 @@ public:
   const Polylines* shownTracts() const { return shownTracts_ ? shownTracts_.get() : tracts_.get(); }
   const std::shared_ptr<const render::DisplayTracts>& tractDisplay() const { return display_; }
   std::uint64_t displaySerial() const { return displaySerial_; }
+  // The display of every tract drawn (after the ROI selection and the group choice), whatever the surface:
+  // what the ortho layout's slice panes draw in a slab around their planes. Changes with displaySerial.
+  const std::shared_ptr<const render::DisplayTracts>& tractDisplayAll() const { return allDisplay_; }
   bool tractsSlab() const { return tractsSlab_; }
   glm::vec4 tractsPlane() const { return tractsPlane_; }
   // The ROI selection of the tracts (ui/session/roi_selection.h, which says how to read it): UI thread only.
@@ -160,6 +163,7 @@ private:
   SetTractGroups tractGroups_;
   std::uint64_t tractsSerial_ = 0, latestSelection_ = 0, latestTracking_ = 0, latestAgreement_ = 0;
   std::shared_ptr<const render::DisplayTracts> display_; // the latest selection's display
+  std::shared_ptr<const render::DisplayTracts> allDisplay_; // ... and of every tract
   std::uint64_t displaySerial_ = 0, tractStyleSerial_ = 0;
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
