@@ -14,6 +14,7 @@
 #include "ui/panels/panels.h"
 #include "ui/session/file_kinds.h"
 #include "ui/session/orientation_labels.h"
+#include "ui/session/roi_outline.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/viewer_config.h"
 
@@ -433,8 +434,60 @@ private:
     const bool middle = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
     const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                        glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    // Ortho layout: regions. A press in a slice pane places one (the panel's place mode) or grabs the one
+    // under the cursor, which follows the cursor within the slice's plane until released.
+    const double sx = x * scale_ - sceneX_, sy = y * scale_;
+    if (!left) {
+      regionDrag_ = -1;
+      regionPress_ = false;
+    }
+    if (left && !dragging_ && !crossDragging_ && regionDrag_ < 0 && !regionPress_ && !io.WantCaptureMouse &&
+        inScene(x, y)) {
+      const int pane = scene_->orthoPaneAt(sx, sy);
+      if (pane >= 0 && buffers_.roiPlace != 0) {
+        const glm::dvec3 at = scene_->orthoWorld(pane, sx, sy);
+        session::RoiAdd add;
+        add.kind = add.region.kind = static_cast<surfaces::RegionKind>(std::clamp(buffers_.roiKind, 0, 2));
+        const double size = buffers_.roiSizeMm;
+        if (buffers_.roiPlace == 1) {
+          add.region.shape = surfaces::RegionShape::Sphere;
+          add.region.centre = at;
+          add.region.radius = size;
+        } else {
+          add.region.shape = surfaces::RegionShape::Box;
+          add.region.lo = at - glm::dvec3(size);
+          add.region.hi = at + glm::dvec3(size);
+        }
+        buffers_.roiPlace = 0;
+        regionPress_ = true;
+        perform(add);
+      } else if (pane >= 0) {
+        const int i = scene_->regionAt(sx, sy);
+        if (i >= 0) {
+          regionDrag_ = i;
+          regionPane_ = pane;
+          regionFrom_ = scene_->orthoWorld(pane, sx, sy);
+          regionStart_ = scene_->state().roiSet.regions[std::size_t(i)];
+          lastX_ = x;
+          lastY_ = y;
+        }
+      }
+    }
+    if (regionDrag_ >= 0 && (x != lastX_ || y != lastY_) &&
+        std::size_t(regionDrag_) < scene_->state().roiSet.regions.size()) {
+      const glm::dvec3 d = scene_->orthoWorld(regionPane_, sx, sy) - regionFrom_;
+      session::RoiSet set{std::size_t(regionDrag_), regionStart_};
+      set.region.centre += d;
+      set.region.lo += d;
+      set.region.hi += d;
+      perform(set);
+      lastX_ = x;
+      lastY_ = y;
+    }
     // Ortho layout: a left press (and drag) in a slice pane moves the crosshair.
-    if (left && !dragging_ && !io.WantCaptureMouse && inScene(x, y) &&
+    if (regionDrag_ >= 0 || regionPress_) {
+      // the press belongs to a region
+    } else if (left && !dragging_ && !io.WantCaptureMouse && inScene(x, y) &&
         (crossDragging_ || scene_->orthoPaneAt(x * scale_ - sceneX_, y * scale_) >= 0)) {
       if (x != lastX_ || y != lastY_ || !crossDragging_) scene_->clickAt(x * scale_ - sceneX_, y * scale_);
       crossDragging_ = true;
@@ -463,8 +516,21 @@ private:
       lastX_ = x;
       lastY_ = y;
     }
-    if (input_.scroll != 0 && !io.WantCaptureMouse && inScene(x, y))
-      scene_->apply(session::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
+    if (input_.scroll != 0 && !io.WantCaptureMouse && inScene(x, y)) {
+      // Over a region in a slice pane the wheel grows or shrinks it about its centre; elsewhere it zooms.
+      const int i = scene_->regionAt(sx, sy);
+      if (i >= 0) {
+        session::RoiSet set{std::size_t(i), scene_->state().roiSet.regions[std::size_t(i)]};
+        const double f = std::pow(1.1, input_.scroll);
+        surfaces::Region& r = set.region;
+        r.radius = std::clamp(r.radius * f, 0.5, 200.0);
+        const glm::dvec3 c = 0.5 * (r.lo + r.hi), h = 0.5 * (r.hi - r.lo) * f;
+        if (r.shape == surfaces::RegionShape::Box) r.lo = c - h, r.hi = c + h;
+        perform(set);
+      } else {
+        scene_->apply(session::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
+      }
+    }
     input_.scroll = 0;
     for (std::size_t i = 0; i < input_.keyCount; ++i) {
       if (io.WantCaptureKeyboard) break;
@@ -527,6 +593,52 @@ private:
     }
   }
 
+  // The regions as translucent shapes over a 3D pane (window pixels x0..x1, y0..y1): a sphere as its
+  // silhouette's disc, a box as its faces and edges, in their kind's colour. Drawn over the scene, not
+  // depth-tested against the surface.
+  void drawRegions3d(ImDrawList* dl, int p, float x0, float y0, float x1, float y1) {
+    const session::ViewerState& st = scene_->state();
+    if (st.roiSet.regions.empty()) return;
+    const render::Camera& cam = scene_->camera(p);
+    const double w = x1 - x0, h = y1 - y0;
+    const glm::dmat4 m = cam.projection(w / std::max(h, 1.0)) * cam.view();
+    auto project = [&](const glm::dvec3& world, ImVec2& out) {
+      const glm::dvec4 c = m * glm::dvec4(world, 1.0);
+      if (c.w <= 1e-9) return false;
+      out = ImVec2(static_cast<float>(x0 + (c.x / c.w * 0.5 + 0.5) * w),
+                   static_cast<float>(y0 + (0.5 - c.y / c.w * 0.5) * h));
+      return true;
+    };
+    dl->PushClipRect(ImVec2(x0, y0), ImVec2(x1, y1), true);
+    const glm::dvec3 up = glm::normalize(glm::cross(cam.right(), cam.forward()));
+    for (std::size_t i = 0; i < st.roiSet.regions.size(); ++i) {
+      if (i < st.roiVisible.size() && !st.roiVisible[i]) continue;
+      const surfaces::Region& r = st.roiSet.regions[i];
+      const glm::u8vec3 k = session::regionKindColour(r.kind);
+      const ImU32 fill = IM_COL32(k.x, k.y, k.z, 60), line = IM_COL32(k.x, k.y, k.z, 220);
+      if (r.shape == surfaces::RegionShape::Sphere) {
+        ImVec2 c, top;
+        if (!project(r.centre, c) || !project(r.centre + r.radius * up, top)) continue;
+        const float radius = std::hypot(top.x - c.x, top.y - c.y);
+        dl->AddCircleFilled(c, radius, fill, 48);
+        dl->AddCircle(c, radius, line, 48, 1.5f);
+      } else if (r.shape == surfaces::RegionShape::Box) {
+        ImVec2 q[8];
+        bool ok = true;
+        for (int j = 0; j < 8; ++j)
+          ok &= project({j & 1 ? r.hi.x : r.lo.x, j & 2 ? r.hi.y : r.lo.y, j & 4 ? r.hi.z : r.lo.z}, q[j]);
+        if (!ok) continue;
+        static const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                        {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+        for (const auto& f : faces) {
+          dl->AddQuadFilled(q[f[0]], q[f[1]], q[f[2]], q[f[3]], IM_COL32(k.x, k.y, k.z, 25));
+          dl->AddQuad(q[f[0]], q[f[1]], q[f[2]], q[f[3]], line, 1.5f);
+        }
+      }
+    }
+    dl->PopClipRect();
+  }
+
   void drawOrientationLabels() {
     if (!scene_->state().hasData) return;
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
@@ -538,6 +650,7 @@ private:
       const float x0 = (sceneX_ + r[0]) * inv, y0 = r[1] * inv, x1 = x0 + r[2] * inv, y1 = y0 + r[3] * inv;
       drawPaneLetters(dl, scene_->camera(p), x0, y0, x1, y1);
       if (p == 1) dl->AddLine(ImVec2(x0, y0), ImVec2(x0, y1), IM_COL32(90, 90, 90, 255), 2.0f);
+      drawRegions3d(dl, p, x0, y0, x1, y1);
     }
     if (!scene_->state().ortho) return;
     for (int s = 0; s < 3; ++s) {
@@ -548,6 +661,17 @@ private:
       dl->PushClipRect(ImVec2(x0, y0), ImVec2(x1, y1), true);
       dl->AddLine(ImVec2(x0, cy), ImVec2(x1, cy), IM_COL32(255, 230, 90, 200), 1.0f);
       dl->AddLine(ImVec2(cx, y0), ImVec2(cx, y1), IM_COL32(255, 230, 90, 200), 1.0f);
+      // The regions' outlines where they cut this slice.
+      const auto& regions = scene_->state().roiSet.regions;
+      for (std::size_t i = 0; i < regions.size(); ++i) {
+        if (!scene_->regionOutlinePixels(s, i, outlinePx_)) continue;
+        outlineIm_.clear();
+        for (const glm::dvec2& p : outlinePx_)
+          outlineIm_.push_back(ImVec2(static_cast<float>((sceneX_ + p.x) * inv), static_cast<float>(p.y * inv)));
+        const glm::u8vec3 c = session::regionKindColour(regions[i].kind);
+        dl->AddPolyline(outlineIm_.data(), static_cast<int>(outlineIm_.size()), IM_COL32(c.x, c.y, c.z, 255),
+                        ImDrawFlags_Closed, 2.0f);
+      }
       dl->PopClipRect();
       drawPaneLetters(dl, scene_->orthoCamera(s), x0, y0, x1, y1);
     }
@@ -696,6 +820,13 @@ private:
   int sceneX_ = 0, sceneY_ = 0, sceneW_ = 1, sceneH_ = 1;
   bool dragging_ = false, panning_ = false, crossDragging_ = false;
   int dragPane_ = 0;
+  // A region dragged in a slice pane: its index, pane, the world point grabbed and the region as it was.
+  int regionDrag_ = -1, regionPane_ = -1;
+  bool regionPress_ = false; // the left press placed a region: ignored until released
+  glm::dvec3 regionFrom_{0.0};
+  surfaces::Region regionStart_;
+  std::vector<glm::dvec2> outlinePx_; // scratch for the outlines drawn each frame
+  std::vector<ImVec2> outlineIm_;
   double lastX_ = 0, lastY_ = 0, probeX_ = -1, probeY_ = -1;
   const ViewScript* script_ = nullptr;
   std::size_t next_ = 0;

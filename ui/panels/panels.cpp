@@ -6,6 +6,7 @@
 #include "surfaces/tracking/tracking_parameters.h"
 #include "ui/session/file_kinds.h"
 #include "ui/session/keymap.h"
+#include "ui/session/roi_outline.h"
 
 #include <algorithm>
 #include <climits>
@@ -165,6 +166,20 @@ void choosePath(PanelBuffers& b, session::FileTarget target, const std::string& 
     out.push_back(session::SetSurfaceSpec{"mesh=" + path});
     break;
   case T::Regions:
+    copyPath(b.roiPath, path);
+    out.push_back(session::LoadRegions{path});
+    break;
+  case T::RegionsSave:
+    copyPath(b.roiPath, path);
+    out.push_back(session::SaveRegions{path});
+    break;
+  case T::SelectedSave: {
+    copyPath(b.roiSelectedPath, path);
+    session::SaveTracts save{path, false, true};
+    save.asGroup = b.roiGroup.data();
+    out.push_back(save);
+    break;
+  }
   case T::Session:
     break; // not opened from the panels
   case T::Screenshot:
@@ -499,6 +514,152 @@ void viewPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionLi
   ImGui::TextDisabled("F1 or ?: mouse and keys");
 }
 
+// The regions of the ROI selection: adding at the crosshair or by a click in a slice pane, the list with
+// visibility, kind, size, rename and delete, the rules for the set, saving and loading.
+void regionsWidgets(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  const bool open = ImGui::TreeNodeEx("Regions", ImGuiTreeNodeFlags_DefaultOpen);
+  probe(b, "Regions");
+  if (!open) return;
+  using surfaces::RegionKind;
+  static const char* const kinds[] = {"include", "exclude", "include-ordered"};
+  if (s.roiActive)
+    ImGui::Text("selected: %zu of %zu streamlines%s", s.roiSelected, s.tractCount,
+                s.roiSelecting ? " (selecting...)" : "");
+  else
+    ImGui::TextDisabled("no region: every streamline is selected%s", s.roiSelecting ? " (indexing...)" : "");
+  if (s.roiSelecting && !s.roiStage.empty()) ImGui::TextDisabled("%s", s.roiStage.c_str());
+  ImGui::SetNextItemWidth(em(130));
+  ImGui::Combo("kind##new", &b.roiKind, kinds, 3);
+  probe(b, "kind##new");
+  ImGui::SetNextItemWidth(em(130));
+  ImGui::SliderFloat("size (mm)##new", &b.roiSizeMm, 1.0f, 40.0f, "%.1f");
+  const auto kind = static_cast<RegionKind>(std::clamp(b.roiKind, 0, 2));
+  auto addAt = [&](bool sphere, const glm::dvec3& at) {
+    session::RoiAdd add;
+    add.kind = kind;
+    add.region.kind = kind;
+    if (sphere) {
+      add.region.shape = surfaces::RegionShape::Sphere;
+      add.region.centre = at;
+      add.region.radius = b.roiSizeMm;
+    } else {
+      add.region.shape = surfaces::RegionShape::Box;
+      add.region.lo = at - glm::dvec3(b.roiSizeMm);
+      add.region.hi = at + glm::dvec3(b.roiSizeMm);
+    }
+    out.push_back(add);
+  };
+  if (ImGui::Button("sphere at crosshair")) addAt(true, s.crosshair);
+  probe(b, "sphere at crosshair");
+  ImGui::SameLine();
+  if (ImGui::Button("box at crosshair")) addAt(false, s.crosshair);
+  probe(b, "box at crosshair");
+  const char* placing = b.roiPlace == 1 ? "click a slice pane: sphere" : "click a slice pane: box";
+  if (b.roiPlace != 0) {
+    if (ImGui::Button("cancel")) b.roiPlace = 0;
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", placing);
+  } else {
+    if (ImGui::Button("place sphere")) b.roiPlace = 1;
+    probe(b, "place sphere");
+    ImGui::SameLine();
+    if (ImGui::Button("place box")) b.roiPlace = 2;
+    probe(b, "place box");
+  }
+  bool endsOnly = s.roiSet.endsOnly;
+  if (ImGui::Checkbox("end points only", &endsOnly)) out.push_back(session::RoiEndsOnly{endsOnly});
+  probe(b, "end points only");
+  bool hide = s.roiHideOthers;
+  if (ImGui::Checkbox("hide the others (else dimmed)", &hide)) out.push_back(session::RoiHideOthers{hide});
+  probe(b, "hide the others (else dimmed)");
+  ImGui::TextDisabled("include green, exclude red, ordered include blue; drag in a slice pane, wheel: size");
+  for (std::size_t i = 0; i < s.roiSet.regions.size(); ++i) {
+    const surfaces::Region& r = s.roiSet.regions[i];
+    ImGui::PushID(static_cast<int>(i));
+    bool visible = i < s.roiVisible.size() ? s.roiVisible[i] != 0 : true;
+    if (ImGui::Checkbox("##visible", &visible)) out.push_back(session::RoiVisible{i, visible});
+    ImGui::SameLine();
+    const glm::u8vec3 c = session::regionKindColour(r.kind);
+    ImGui::TextColored(ImVec4(c.x / 255.0f, c.y / 255.0f, c.z / 255.0f, 1.0f), "%zu", i + 1);
+    ImGui::SameLine();
+    if (b.roiRenaming == static_cast<int>(i)) {
+      ImGui::SetNextItemWidth(em(120));
+      if (ImGui::InputText("##name", b.roiName.data(), b.roiName.size(), ImGuiInputTextFlags_EnterReturnsTrue)) {
+        session::RoiSet set{i, r};
+        set.region.name = b.roiName.data();
+        out.push_back(set);
+        b.roiRenaming = -1;
+      }
+    } else {
+      ImGui::TextUnformatted(r.name.c_str());
+      if (ImGui::IsItemClicked()) {
+        b.roiRenaming = static_cast<int>(i);
+        std::snprintf(b.roiName.data(), b.roiName.size(), "%s", r.name.c_str());
+      }
+    }
+    ImGui::SameLine();
+    if (ImGui::SmallButton("x")) out.push_back(session::RoiRemove{i});
+    int k = static_cast<int>(r.kind);
+    ImGui::SetNextItemWidth(em(110));
+    if (ImGui::Combo("##kind", &k, kinds, 3)) {
+      session::RoiSet set{i, r};
+      set.region.kind = static_cast<RegionKind>(k);
+      out.push_back(set);
+    }
+    if (r.shape == surfaces::RegionShape::Sphere) {
+      ImGui::SameLine();
+      double radius = r.radius;
+      ImGui::SetNextItemWidth(em(90));
+      if (sliderDouble("mm##radius", radius, 0.5f, 60.0f, "%.1f") && radius > 0) {
+        session::RoiSet set{i, r};
+        set.region.radius = radius;
+        out.push_back(set);
+      }
+    } else if (r.shape == surfaces::RegionShape::Box) {
+      ImGui::SameLine();
+      const glm::dvec3 centre = 0.5 * (r.lo + r.hi), half = 0.5 * (r.hi - r.lo);
+      double size = std::max({half.x, half.y, half.z});
+      ImGui::SetNextItemWidth(em(90));
+      if (sliderDouble("mm##half", size, 0.5f, 60.0f, "%.1f") && size > 0) {
+        session::RoiSet set{i, r};
+        const glm::dvec3 h = half * (size / std::max(std::max({half.x, half.y, half.z}), 1e-9));
+        set.region.lo = centre - h;
+        set.region.hi = centre + h;
+        out.push_back(set);
+      }
+    } else {
+      ImGui::SameLine();
+      ImGui::TextDisabled("mask");
+    }
+    ImGui::PopID();
+  }
+  if (!s.roiSet.regions.empty() && ImGui::Button("remove every region")) out.push_back(session::RoiClear{});
+  // The region set file (`select --roi`).
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(120));
+  ImGui::InputText("##roipath", b.roiPath.data(), b.roiPath.size());
+  browseButton(b, "browse regions", session::FileTarget::Regions, out);
+  browseButton(b, "browse regions save", session::FileTarget::RegionsSave, out);
+  if (ImGui::Button("load regions") && b.roiPath[0] != '\0') out.push_back(session::LoadRegions{b.roiPath.data()});
+  probe(b, "load regions");
+  ImGui::SameLine();
+  if (ImGui::Button("save regions") && b.roiPath[0] != '\0') out.push_back(session::SaveRegions{b.roiPath.data()});
+  probe(b, "save regions");
+  // The selected streamlines, in any tract format; a .trx may hold them as a group of every streamline.
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(80));
+  ImGui::InputText("##roisel", b.roiSelectedPath.data(), b.roiSelectedPath.size());
+  browseButton(b, "browse selected save", session::FileTarget::SelectedSave, out);
+  ImGui::SetNextItemWidth(em(120));
+  ImGui::InputText("as group (.trx)", b.roiGroup.data(), b.roiGroup.size());
+  if (ImGui::Button("save selected") && b.roiSelectedPath[0] != '\0') {
+    session::SaveTracts save{b.roiSelectedPath.data(), false, true};
+    save.asGroup = b.roiGroup.data();
+    out.push_back(save);
+  }
+  probe(b, "save selected");
+  if (!s.roiStatus.empty()) ImGui::TextDisabled("%s", s.roiStatus.c_str());
+  ImGui::TreePop();
+}
+
 void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
   const bool open = header(b, "Tracts", false);
   probe(b, "Tracts");
@@ -558,6 +719,7 @@ void tractsPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
       out.push_back(session::SaveTracts{b.tractSavePath.data()});
     probe(b, "Save");
     if (!s.saveStatus.empty()) ImGui::TextDisabled("%s", s.saveStatus.c_str());
+    regionsWidgets(s, b, out);
   }
 
   const bool tracking = ImGui::TreeNode("Tracking");

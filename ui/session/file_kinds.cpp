@@ -216,7 +216,7 @@ DropKind classifyDrop(const std::string& path) {
 ActionList dropActions(const std::vector<std::string>& paths, const std::string& layout,
                        const std::string& tensor) {
   if (paths.empty()) throw InputError("nothing was dropped");
-  std::optional<std::string> data, tracts, mesh;
+  std::optional<std::string> data, tracts, mesh, regions;
   auto once = [](std::optional<std::string>& slot, const std::string& path, const char* what) {
     if (slot)
       throw InputError("two " + std::string(what) + " dropped at once (" + *slot + " and " + path +
@@ -235,20 +235,17 @@ ActionList dropActions(const std::vector<std::string>& paths, const std::string&
     case DropKind::Mesh:
       once(mesh, path, "meshes");
       break;
-    case DropKind::Regions: {
-      // Read and checked (a bad file says why), but the viewer has no regions to show it in yet.
-      const surfaces::RegionSet set = readRegionSetFile(path);
-      throw InputError(path + ": a region set of " + std::to_string(set.regions.size()) +
-                       " regions; the viewer does not show regions yet (select with them: `dtfabric select "
-                       "--roi " +
-                       path + "`)");
-    }
+    case DropKind::Regions:
+      readRegionSetFile(path); // checked now: a bad file is refused with the rest of the drop, saying why
+      once(regions, path, "region sets");
+      break;
     }
   }
   ActionList out;
   if (mesh) out.push_back(SetSurfaceSpec{"mesh=" + *mesh});
   if (data) out.push_back(LoadFile{*data, layout.empty() ? "auto" : layout, tensor});
   if (tracts) out.push_back(LoadTracts{*tracts});
+  if (regions) out.push_back(LoadRegions{*regions});
   return out;
 }
 

@@ -57,7 +57,7 @@ DropKind classifyDrop(const std::string& path);
 
 // The actions a drop of `paths` (several at once) stands for: each file checked first, and on any failure
 // nothing at all (InputError naming the file and why). A region set (ui/session/region_spec.h) is read and
-// checked, then refused: the viewer has no regions to show it in yet.
+// checked, then loaded as the ROI selection's regions (LoadRegions).
 // The mesh comes before the data so the data's first surface is the mesh; tracts after the data. Two volumes
 // or two tractograms in one drop are refused (which one to show is not for the viewer to guess). `layout`
 // and `tensor` are the Data panel's choice for the volume, as its Open button takes them.

@@ -126,10 +126,9 @@ TEST(DesktopFiles, ABadDropOpensNothingAndNamesTheFile) {
   EXPECT_NE(missing.find((dir / "missing.nii.gz").string() + ": no such file"), std::string::npos) << missing;
   const std::string two = message({(dir / "lines.vtk").string(), (dir / "lines.vtk").string()});
   EXPECT_NE(two.find("two tractograms"), std::string::npos) << two;
-  // A region set is read (a bad one says why), then refused: the viewer shows no regions yet.
+  // A region set is read first: a bad one says why and nothing opens.
   const std::string badRegions = message({(dir / "regions.json").string()});
   EXPECT_NE(badRegions.find("regions.json"), std::string::npos) << badRegions;
-  EXPECT_EQ(badRegions.find("does not show regions yet"), std::string::npos) << badRegions;
   const fs::path set = dir / "set.json";
   surfaces::RegionSet regionSet;
   surfaces::Region sphere;
@@ -137,10 +136,12 @@ TEST(DesktopFiles, ABadDropOpensNothingAndNamesTheFile) {
   sphere.radius = 5;
   regionSet.regions.push_back(sphere);
   writeRegionSetFile(set.string(), regionSet); // as `dtfabric select` reads it
-  const std::string regions = message({set.string()});
-  EXPECT_NE(regions.find("set.json: a region set of 1 regions; the viewer does not show regions yet"),
-            std::string::npos)
-      << regions;
+  // A good one becomes the ROI selection's regions, after the tracts.
+  const ActionList regions = dropActions({set.string(), (dir / "lines.vtk").string()});
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_TRUE(std::holds_alternative<LoadTracts>(regions[0]));
+  ASSERT_TRUE(std::holds_alternative<LoadRegions>(regions[1]));
+  EXPECT_EQ(std::get<LoadRegions>(regions[1]).path, set.string());
   const std::string notData = message({(dir / "lines.vtk").string(), (dir / "regions.json").string()});
   EXPECT_NE(notData.find("regions.json"), std::string::npos) << notData;
 }
