@@ -479,3 +479,51 @@ TEST_F(ViewHeadlessUi, UiScaleSliderSendsTheScaleWhenLetGo) {
   ASSERT_TRUE(automatic);
   EXPECT_EQ(automatic->scale, 0);
 }
+
+TEST_F(ViewTractsPanel, RegionsAreAddedAtTheCrosshairListedSavedAndTheCountShown) {
+  state.crosshair = glm::dvec3(18, 3.7, 21.6);
+  buffers.roiKind = 1; // exclude
+  buffers.roiSizeMm = 7;
+  open();
+  const auto sphere = find<RoiAdd>(click("sphere at crosshair"));
+  ASSERT_TRUE(sphere);
+  EXPECT_EQ(sphere->kind, surfaces::RegionKind::Exclude);
+  EXPECT_TRUE(sphere->spec.empty());
+  EXPECT_EQ(sphere->region.shape, surfaces::RegionShape::Sphere);
+  EXPECT_EQ(sphere->region.centre, state.crosshair);
+  EXPECT_DOUBLE_EQ(sphere->region.radius, 7.0);
+  const auto box = find<RoiAdd>(click("box at crosshair"));
+  ASSERT_TRUE(box);
+  EXPECT_EQ(box->region.shape, surfaces::RegionShape::Box);
+  EXPECT_EQ(box->region.lo, state.crosshair - glm::dvec3(7));
+  EXPECT_EQ(box->region.hi, state.crosshair + glm::dvec3(7));
+  // The place mode waits for a click in a slice pane (the window's).
+  click("place sphere");
+  EXPECT_EQ(buffers.roiPlace, 1);
+  // With a region: the rules for the set, its file and the selected streamlines.
+  surfaces::Region r;
+  r.centre = state.crosshair;
+  r.radius = 6;
+  r.name = "CST low";
+  state.roiSet.regions.push_back(r);
+  state.roiVisible = {1};
+  state.roiActive = true;
+  state.roiSelected = 40;
+  const auto ends = find<RoiEndsOnly>(click("end points only"));
+  ASSERT_TRUE(ends);
+  EXPECT_TRUE(ends->on);
+  const auto dim = find<RoiHideOthers>(click("hide the others (else dimmed)"));
+  ASSERT_TRUE(dim);
+  EXPECT_FALSE(dim->on);
+  std::snprintf(buffers.roiPath.data(), buffers.roiPath.size(), "out/set.json");
+  const auto save = find<SaveRegions>(click("save regions"));
+  ASSERT_TRUE(save);
+  EXPECT_EQ(save->path, "out/set.json");
+  std::snprintf(buffers.roiSelectedPath.data(), buffers.roiSelectedPath.size(), "out/all.trx");
+  std::snprintf(buffers.roiGroup.data(), buffers.roiGroup.size(), "cst");
+  const auto selected = find<SaveTracts>(click("save selected"));
+  ASSERT_TRUE(selected);
+  EXPECT_TRUE(selected->selected);
+  EXPECT_EQ(selected->asGroup, "cst");
+  EXPECT_EQ(selected->path, "out/all.trx");
+}
