@@ -4,15 +4,26 @@
 // (surfaces/selection) and queried with spheres of 5-15 mm; the real tracts of the shared data are selected
 // with the spheres of their corticospinal tracts; and, with MRtrix's tckedit on the PATH, the same sphere
 // selection of a 1 M-streamline .tck runs as `dtfabric select` and as `tckedit` in the same run (whole
-// commands, read to written, alternating), as the peer.
+// commands, read to written, alternating), as the peer. The viewer's region move is timed on the synthetic
+// set as `selection_update_ms`: a sphere moved, the selection recomputed with the index (the ROI worker's
+// call), the drawn subset and its display prepared, uploaded and drawn once in a headless GL context.
 #include "app/bench/bench.h"
 #include "io/formats/json.h"
 #include "io/formats/process.h"
 #include "io/formats/tracts.h"
 #include "io/model/error.h"
 #include "io/model/huge_pages.h"
+#include "render/camera.h"
+#include "render/gl_context.h"
+#include "render/gl_objects.h"
+#include "render/tract_renderer.h"
 #include "surfaces/selection/tract_selection.h"
+#include "ui/session/roi_worker.h"
+#include "ui/session/tract_overlay.h"
 
+#include <epoxy/gl.h>
+
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -273,6 +284,64 @@ int benchSelect(const CommandArgs& argv) {
   const double walkMs = 1000.0 * since(t0);
   const double peakGb = peakRssGb();
 
+  // The viewer's region move, as the viewer runs it from a drag to the redrawn overlay (there on the ROI
+  // worker, the tract worker and the UI thread; here one after the other): a 10 mm sphere moved 2 mm at a
+  // time, the selection recomputed with the index, the selected streamlines drawn (the others hidden) on an
+  // axial slice with a 3 mm slab: their subset, its display decimation and levels of detail, the upload and
+  // one draw of 512x512 pixels, finished (glFinish).
+  double updateMs = -1, updateMsMax = -1;
+  std::array<double, 3> updateParts{-1, -1, -1}; // select, subset + display, upload + draw
+  std::size_t updateSelected = 0;
+  try {
+    render::GlContext::headless();
+    render::TractRenderer tr;
+    const int size = 512;
+    render::Texture colour = render::Texture::create2D(GL_RGBA8, size, size);
+    render::Texture depth = render::Texture::create2D(GL_DEPTH_COMPONENT32F, size, size);
+    render::Framebuffer fbo = render::createFramebuffer();
+    render::attachTargets(fbo, {&colour}, &depth);
+    const glm::vec3 lo = -kHalfAxes, hi = kHalfAxes;
+    const render::Camera cam = render::Camera::standard(render::StandardView::Axial, lo, hi, 1.0);
+    const render::FrameView fv = render::FrameView::make(cam, {size, size}, 0, lo, hi);
+    render::TractStyle style;
+    style.plane = glm::vec4(0, 0, 1, 0);
+    style.slabMm = 3.0f;
+    const std::shared_ptr<const Polylines> shared(std::shared_ptr<const Polylines>(), &lines); // not owned
+    std::vector<double> ums, selectMs, prepareMs, drawMs;
+    for (int k = 0; k <= 10; ++k) {
+      session::RoiJob job;
+      job.tracts = shared;
+      job.set = sphereSet(glm::dvec3(-10.0 + 2.0 * k, 0, 0), 10.0);
+      const auto tu = Clock::now();
+      const session::RoiResult r = session::RoiWorker::run(job, &index);
+      const auto tp = Clock::now();
+      const Polylines shown = surfaces::subsetWithGroups(lines, *r.lines);
+      const render::DisplayTracts display = session::tractOverlayDisplay(shown);
+      const auto td = Clock::now();
+      tr.upload(display);
+      const float clearColour[4] = {0, 0, 0, 1}, one = 1.0f;
+      glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, clearColour);
+      glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+      tr.draw(fv, style);
+      glFinish();
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      if (k > 0) { // the first move warms the caches and the GL objects
+        ums.push_back(1000.0 * since(tu));
+        selectMs.push_back(1000.0 * std::chrono::duration<double>(tp - tu).count());
+        prepareMs.push_back(1000.0 * std::chrono::duration<double>(td - tp).count());
+        drawMs.push_back(1000.0 * since(td));
+      }
+      updateSelected = r.lines->size();
+    }
+    render::checkGl("bench select: the overlay update");
+    updateMs = median(ums);
+    updateParts = {median(selectMs), median(prepareMs), median(drawMs)};
+    updateMsMax = *std::max_element(ums.begin(), ums.end());
+  } catch (...) {
+    notes.push_back("no selection_update_ms: " + currentExceptionMessage());
+  }
+
   // The real tracts: the corticospinal tracts' spheres on the deterministic tracks of the bundled brain.
   double realIndexMs = -1, realQueryMs = -1;
   std::size_t realLines = 0, realSelected = 0;
@@ -307,6 +376,12 @@ int benchSelect(const CommandArgs& argv) {
                                 {"index_build_s", buildS},
                                 {"sphere_query_ms", queryMs},
                                 {"sphere_query_ms_max", *std::max_element(ms.begin(), ms.end())},
+                                {"selection_update_ms", updateMs},
+                                {"selection_update_ms_max", updateMsMax},
+                                {"selection_update_selected", updateSelected},
+                                {"selection_update_parts_ms",
+                                 {{"select", updateParts[0]}, {"subset_display", updateParts[1]},
+                                  {"upload_draw", updateParts[2]}}},
                                 {"queries", queries},
                                 {"query_selected_median", qs[qs.size() / 2].selected},
                                 {"walk_without_index_ms", walkMs},
@@ -347,6 +422,9 @@ int benchSelect(const CommandArgs& argv) {
               "(median %zu selected)\n",
               queryMs, *std::max_element(ms.begin(), ms.end()), queries, qs[qs.size() / 2].selected);
   std::printf("  the same query walking every streamline: %.0f ms (%zu selected)\n", walkMs, walked.size());
+  std::printf("  viewer update (10 mm sphere moved 2 mm: selection, subset, display, upload, one draw): median "
+              "%.1f ms, max %.1f ms (%zu selected; select %.1f, subset and display %.1f, upload and draw %.1f ms)\n",
+              updateMs, updateMsMax, updateSelected, updateParts[0], updateParts[1], updateParts[2]);
   std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
   if (realLines)
     std::printf("  real tracts (tracks_det.tck, %zu streamlines): index %.2f ms, two CST spheres %.3f ms, %zu "
