@@ -54,6 +54,7 @@ bool drawn(int n, float amplitude, float strongest, float threshold) {
 // dimUnselected.
 constexpr const char* kRoiMarker = "\x01roi selected";
 constexpr float kDimGrey = 0.3f; // the colour of the streamlines the selection leaves out (lit)
+constexpr std::size_t kMaxDimmedPoints = 50'000'000;
 
 void markRoiSelection(Polylines& lines, const std::vector<std::uint32_t>& selected) {
   TractValues m;
@@ -526,7 +527,10 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   // The ROI selection first: the streamlines it leaves out are dropped (hidden) or marked to be dimmed
   // once the colouring is done.
   const bool roi = roi_.active && roi_.lines && roi_.tracts == tracts_;
-  const bool dim = roi && !state_.roiHideOthers;
+  // Dimming copies every point with a colour (28 bytes a point): past kMaxDimmedPoints the others are hidden.
+  const bool dim = roi && !state_.roiHideOthers && tracts_->points.size() <= kMaxDimmedPoints;
+  if (roi && !state_.roiHideOthers && !dim)
+    state_.roiStatus = "too many points to dim the streamlines left out: they are hidden";
   std::shared_ptr<const Polylines> shown = tracts_;
   if (roi && !dim) shown = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
   TractColouringApplied applied;
