@@ -29,12 +29,14 @@ struct RoiJob {
   std::shared_ptr<const Polylines> tracts;
   std::uint64_t tractsSerial = 0; // a new serial: the index is rebuilt
   surfaces::RegionSet set;        // no region and no length range: every streamline (the index is built)
+  bool subset = false;            // also make the selected streamlines' subset (what the viewer draws)
 };
 
 struct RoiResult {
   std::uint64_t id = 0;
   bool active = false; // the set had a region or a length range
   std::shared_ptr<const std::vector<std::uint32_t>> lines; // active: the kept streamlines, ascending
+  std::shared_ptr<const Polylines> subset; // job.subset and active: those streamlines with their values
   std::string error;   // non-empty: the selection failed (nothing else is set)
   double indexMs = 0;  // time spent building the index in this job (0: reused)
   double selectMs = 0;

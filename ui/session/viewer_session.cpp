@@ -512,6 +512,7 @@ void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std:
   roi_.active = false;
   ++roi_.generation;
   ++roiTractsSerial_;
+  roiSubset_.reset();
   state_.roiActive = false;
   state_.roiSelected = l.lineCount();
   applyTractChoice({}, {}); // names belong to a file: new tracts start in DEC with every streamline
@@ -532,7 +533,9 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   if (roi && !state_.roiHideOthers && !dim)
     state_.roiStatus = "too many points to dim the streamlines left out: they are hidden";
   std::shared_ptr<const Polylines> shown = tracts_;
-  if (roi && !dim) shown = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
+  if (roi && !dim)
+    shown = roiSubset_ ? roiSubset_ // made off the UI thread
+                       : std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
   TractColouringApplied applied;
   if (!colour.value.empty() || !groups.all || dim) {
     // A copy once per choice (not per frame); the near-surface selection carries the display colours
@@ -693,6 +696,7 @@ void ViewerSession::requestRoi() {
   job.tracts = tracts_;
   job.tractsSerial = roiTractsSerial_;
   job.set = state_.roiSet;
+  job.subset = state_.roiHideOthers;
   roi_.pending = true;
   state_.roiSelecting = true;
   roiWorker_.request(std::move(job));
@@ -710,6 +714,7 @@ void ViewerSession::onRoiResult(RoiResult& r) {
   roi_.tracts = tracts_;
   roi_.active = r.active;
   roi_.lines = r.active ? std::move(r.lines) : nullptr;
+  roiSubset_ = r.active ? std::move(r.subset) : nullptr;
   ++roi_.generation;
   state_.roiActive = roi_.active;
   state_.roiSelected = roi_.count();
@@ -759,8 +764,8 @@ void ViewerSession::applyRoi(const Action& action) {
     set.endsOnly = a->on;
   } else if (const auto* a = std::get_if<RoiHideOthers>(&action)) {
     state_.roiHideOthers = a->on;
-    reselect = false;
-    if (roi_.active) {
+    reselect = a->on && roi_.active && !roiSubset_; // the subset is made on the worker
+    if (roi_.active && !reselect) {
       applyTractChoice(tractColour_, tractGroups_);
       requestSelection();
     }

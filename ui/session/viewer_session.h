@@ -168,6 +168,7 @@ private:
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
   RoiSelection roi_; // the ROI selection on screen (roiSelection())
+  std::shared_ptr<const Polylines> roiSubset_; // its streamlines, made by the ROI worker (hidden others)
   std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
