@@ -4,6 +4,7 @@
 #include "io/formats/atomic_file.h"
 #include "io/model/error.h"
 #include "render/fabric_options.h"
+#include "ui/session/region_spec.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -146,6 +147,17 @@ std::string sessionScript(const ViewerScene& scene, int width, int height, std::
   } else if (!s.tractPath.empty()) {
     note("the tracts tracked in the viewer (save them with Save in the Tracts panel, then load that file)");
   }
+  // The regions of the ROI selection, in order, with the set's rules (names and visibility are not lines).
+  bool renamed = false;
+  for (std::size_t i = 0; i < s.roiSet.regions.size(); ++i) {
+    const surfaces::Region& r = s.roiSet.regions[i];
+    const std::string spec = session::regionSpecOf(r);
+    out << "roi add " << surfaces::kindName(r.kind) << " " << spec << "\n";
+    renamed |= r.name != spec || (i < s.roiVisible.size() && !s.roiVisible[i]);
+  }
+  if (s.roiSet.endsOnly) out << "roi ends-only on\n";
+  if (!s.roiHideOthers) out << "roi others dim\n";
+  if (renamed) note("the regions' names and visibility (save the region set with `roi save` to keep the names)");
   if (scene.hasUncertainty()) note("the uncertainty map (give `view --uncertainty` again)");
 
   // The cameras last: loading, the view and the layout above each place them anew.

@@ -61,15 +61,10 @@ bool parseLabels(const std::string& text, std::vector<int>& out) {
 }
 
 std::string number(double v) {
+  // The shortest text that reads back to v, in plain notation where that is shorter (20, not 2e+01).
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  // The shortest text that reads back to v.
-  for (int p = 1; p <= 17; ++p) {
-    char s[64];
-    std::snprintf(s, sizeof s, "%.*g", p, v);
-    if (std::strtod(s, nullptr) == v) return s;
-  }
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 bool isFile(const std::string& path) {
