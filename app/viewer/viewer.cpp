@@ -756,11 +756,66 @@ void ViewerScene::readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 
   }
 }
 
+void ViewerScene::drawRegions3d(Image& img, int p) const {
+  // As the window draws them over a 3D pane: a sphere as its silhouette's translucent disc with an outline, a
+  // box as the outlines of its faces; over the scene, not depth-tested.
+  const session::ViewerState& st = state();
+  if (st.roiSet.regions.empty()) return;
+  const auto rect = paneRect(p);
+  const render::Camera& cam = camera(p);
+  const double w = rect[2], h = rect[3];
+  const glm::dmat4 m = cam.projection(w / std::max(h, 1.0)) * cam.view();
+  auto project = [&](const glm::dvec3& world, glm::dvec2& out) {
+    const glm::dvec4 c = m * glm::dvec4(world, 1.0);
+    if (c.w <= 1e-9) return false;
+    out = {rect[0] + (c.x / c.w * 0.5 + 0.5) * w, rect[1] + (0.5 - c.y / c.w * 0.5) * h};
+    return true;
+  };
+  render::ImageCanvas canvas(img);
+  const glm::dvec3 up = glm::normalize(glm::cross(cam.right(), cam.forward()));
+  std::vector<glm::dvec2> poly;
+  for (std::size_t i = 0; i < st.roiSet.regions.size(); ++i) {
+    if (i < st.roiVisible.size() && !st.roiVisible[i]) continue;
+    const surfaces::Region& r = st.roiSet.regions[i];
+    const glm::u8vec3 k = session::regionKindColour(r.kind);
+    if (r.shape == surfaces::RegionShape::Sphere) {
+      glm::dvec2 c, top;
+      if (!project(r.centre, c) || !project(r.centre + r.radius * up, top)) continue;
+      const double radius = glm::length(top - c);
+      for (int y = std::max(rect[1], int(std::ceil(c.y - radius))); y < std::min(rect[1] + rect[3], int(c.y + radius));
+           ++y) {
+        const double dy = y + 0.5 - c.y, half = std::sqrt(std::max(radius * radius - dy * dy, 0.0));
+        const int x0 = std::max(rect[0], int(std::lround(c.x - half))),
+                  x1 = std::min(rect[0] + rect[2], int(std::lround(c.x + half)));
+        if (x1 > x0) canvas.blend(x0, y, x1 - x0, 1, k.x, k.y, k.z, 60);
+      }
+      poly.clear();
+      for (int j = 0; j < 48; ++j)
+        poly.push_back(c + radius * glm::dvec2(std::cos(2 * M_PI * j / 48), std::sin(2 * M_PI * j / 48)));
+      drawOutline(img, poly, rect, k);
+    } else if (r.shape == surfaces::RegionShape::Box) {
+      glm::dvec2 q[8];
+      bool ok = true;
+      for (int j = 0; j < 8; ++j)
+        ok &= project({j & 1 ? r.hi.x : r.lo.x, j & 2 ? r.hi.y : r.lo.y, j & 4 ? r.hi.z : r.lo.z}, q[j]);
+      if (!ok) continue;
+      static const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+      for (const auto& f : faces) {
+        poly.assign({q[f[0]], q[f[1]], q[f[2]], q[f[3]]});
+        drawOutline(img, poly, rect, k);
+      }
+    }
+  }
+}
+
 Image ViewerScene::layoutImage() const {
   Image img(width_, height_);
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
   if (!session_.mesh()) return img;
-  for (int p = 0; p < paneCount(); ++p) readPane(outputFbo_[p], outputSize_[p], paneRect(p), img);
+  for (int p = 0; p < paneCount(); ++p) {
+    readPane(outputFbo_[p], outputSize_[p], paneRect(p), img);
+    drawRegions3d(img, p);
+  }
   if (!state().ortho) {
     render::ImageCanvas canvas(img);
     drawFurniture(canvas);

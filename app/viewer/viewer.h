@@ -133,6 +133,8 @@ public:
   // The scene as a figure, width x height of the last render(), row 0 at the top: every pane as rendered, and
   // in the ortho layout the crosshair and each slice pane's orientation letters.
   Image layoutImage() const;
+  // The regions of the ROI set over 3D pane p of `img` (a layoutImage), as the window draws them.
+  void drawRegions3d(Image& img, int p) const;
   // Shows an error (outermost context first) in the modal; errorSerial() counts the errors shown so far.
   void setError(const std::string& message) { session_.setError(message); }
   std::uint64_t errorSerial() const { return session_.errorSerial(); }
