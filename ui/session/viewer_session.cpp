@@ -822,6 +822,8 @@ void ViewerSession::saveTracts(const SaveTracts& a) {
     job.reference = data_->loaded.field.grid;
   else if (a.path.size() >= 4 && (a.path.ends_with(".trk") || a.path.ends_with(".TRK")))
     throw UsageError("a .trk file needs a loaded tensor volume for its voxel grid");
+  else if (isTrx(a.path))
+    throw UsageError(a.path + ": a .trx file needs a loaded tensor volume for its reference grid");
   state_.saveStatus = "saving " + a.path;
   tractWorker_.requestSave(std::move(job));
 }

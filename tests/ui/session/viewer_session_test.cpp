@@ -468,6 +468,28 @@ TEST(ViewerSession, RegionsSelectOffTheUiThreadAndTheSelectionIsDrawnSavedAndPub
   const Polylines saved = session::readTracts(out);
   ASSERT_EQ(saved.lineCount(), 1u);
   EXPECT_EQ(saved.points.front(), glm::vec3(-12, 0, -6));
+  // As a group of a .trx holding every streamline (`select --as-group`), on the grid of the data on screen
+  // (none yet: refused, naming the file); a .tck cannot hold a group.
+  const std::string trx = (dir / "grouped.trx").string();
+  session::SaveTracts grouped{trx, false, true};
+  grouped.asGroup = "picked";
+  s.apply(grouped);
+  EXPECT_TRUE(mentions(st.errorChain, trx + ": a .trx file needs a loaded tensor volume"));
+  s.apply(session::DismissError{});
+  s.apply(session::LoadFile{constantTensors(dir)});
+  settle(s);
+  s.apply(grouped);
+  settle(s);
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.back();
+  const Polylines all = session::readTracts(trx);
+  EXPECT_EQ(all.lineCount(), 8u);
+  ASSERT_EQ(all.groups.size(), 1u);
+  EXPECT_EQ(all.groups[0].name, "picked");
+  EXPECT_EQ(all.groups[0].lines, (std::vector<std::uint32_t>{2}));
+  grouped.path = (dir / "grouped.tck").string();
+  s.apply(grouped);
+  EXPECT_TRUE(mentions(st.errorChain, "needs a .trx output"));
+  s.apply(session::DismissError{});
   s.apply(session::RoiClear{});
   settle(s);
   EXPECT_FALSE(s.roiSelection().active);
