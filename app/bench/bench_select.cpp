@@ -22,12 +22,11 @@
 #include "ui/session/roi_worker.h"
 #include "ui/session/tract_overlay.h"
 
-#include <epoxy/gl.h>
-
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <epoxy/gl.h>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -343,7 +342,7 @@ int benchSelect(const CommandArgs& argv) {
       glFinish();
       const double fullMs = 1000.0 * since(tl);
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      if (k > 0) { // the first move warms the caches and the GL objects
+      if (k > 0) {                                    // the first move warms the caches and the GL objects
         ums.push_back(firstFrame - frameMs + fullMs); // selection to the full overlay drawn once
         firstMs.push_back(firstFrame);
         selectMs.push_back(1000.0 * std::chrono::duration<double>(tp - tu).count());
@@ -390,44 +389,44 @@ int benchSelect(const CommandArgs& argv) {
 
   const double ratio = peerRan ? median(peerWall) / median(oursWall) : -1;
   if (json) {
-    nlohmann::ordered_json j = {{"streamlines", n},
-                                {"points", lines.points.size()},
-                                {"index_build_s", buildS},
-                                {"sphere_query_ms", queryMs},
-                                {"sphere_query_ms_max", *std::max_element(ms.begin(), ms.end())},
-                                {"selection_update_ms", updateMs},
-                                {"selection_update_ms_max", updateMsMax},
-                                {"selection_update_selected", updateSelected},
-                                {"selection_update_first_frame_ms", updateFirstMs},
-                                {"selection_update_parts_ms",
-                                 {{"select_subset", updateParts[0]}, {"display", updateParts[1]},
-                                  {"upload_draw", updateParts[2]}}},
-                                {"queries", queries},
-                                {"query_selected_median", qs[qs.size() / 2].selected},
-                                {"walk_without_index_ms", walkMs},
-                                {"walk_selected", walked.size()},
-                                {"generate_s", generateS},
-                                {"index_bytes", index.bytes()},
-                                {"cell_mm", index.cellMm()},
-                                {"positions_gb", positionsGb},
-                                {"peak_rss_gb", peakGb},
-                                {"peak_over_positions", peakGb / positionsGb},
-                                {"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
-                                {"real_streamlines", realLines},
-                                {"real_index_ms", realIndexMs},
-                                {"real_query_ms", realQueryMs},
-                                {"real_selected", realSelected},
-                                {"peer", "MRtrix tckedit -include (sphere)"},
-                                {"peer_ran", peerRan},
-                                {"peer_streamlines", peerRan ? peerN : 0},
-                                {"peer_s", peerRan ? median(peerWall) : -1},
-                                {"peer_cpu_s", peerRan ? median(peerCpu) : -1},
-                                {"peer_select_s", peerRan ? median(oursWall) : -1},
-                                {"peer_select_cpu_s", peerRan ? median(oursCpu) : -1},
-                                {"peer_speedup", ratio},
-                                {"peer_selected", peerCount},
-                                {"peer_select_selected", oursCount},
-                                {"load_average", loadAverage()}};
+    nlohmann::ordered_json j = {
+        {"streamlines", n},
+        {"points", lines.points.size()},
+        {"index_build_s", buildS},
+        {"sphere_query_ms", queryMs},
+        {"sphere_query_ms_max", *std::max_element(ms.begin(), ms.end())},
+        {"selection_update_ms", updateMs},
+        {"selection_update_ms_max", updateMsMax},
+        {"selection_update_selected", updateSelected},
+        {"selection_update_first_frame_ms", updateFirstMs},
+        {"selection_update_parts_ms",
+         {{"select_subset", updateParts[0]}, {"display", updateParts[1]}, {"upload_draw", updateParts[2]}}},
+        {"queries", queries},
+        {"query_selected_median", qs[qs.size() / 2].selected},
+        {"walk_without_index_ms", walkMs},
+        {"walk_selected", walked.size()},
+        {"generate_s", generateS},
+        {"index_bytes", index.bytes()},
+        {"cell_mm", index.cellMm()},
+        {"positions_gb", positionsGb},
+        {"peak_rss_gb", peakGb},
+        {"peak_over_positions", peakGb / positionsGb},
+        {"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
+        {"real_streamlines", realLines},
+        {"real_index_ms", realIndexMs},
+        {"real_query_ms", realQueryMs},
+        {"real_selected", realSelected},
+        {"peer", "MRtrix tckedit -include (sphere)"},
+        {"peer_ran", peerRan},
+        {"peer_streamlines", peerRan ? peerN : 0},
+        {"peer_s", peerRan ? median(peerWall) : -1},
+        {"peer_cpu_s", peerRan ? median(peerCpu) : -1},
+        {"peer_select_s", peerRan ? median(oursWall) : -1},
+        {"peer_select_cpu_s", peerRan ? median(oursCpu) : -1},
+        {"peer_speedup", ratio},
+        {"peer_selected", peerCount},
+        {"peer_select_selected", oursCount},
+        {"load_average", loadAverage()}};
     if (!peerNote.empty()) j["peer_note"] = peerNote;
     if (!notes.empty()) j["notes"] = notes;
     std::printf("%s\n", io::jsonText(j).c_str());
@@ -443,9 +442,11 @@ int benchSelect(const CommandArgs& argv) {
               queryMs, *std::max_element(ms.begin(), ms.end()), queries, qs[qs.size() / 2].selected);
   std::printf("  the same query walking every streamline: %.0f ms (%zu selected)\n", walkMs, walked.size());
   std::printf("  viewer update, to the first (budgeted) frame: median %.1f ms\n", updateFirstMs);
-  std::printf("  viewer update (10 mm sphere moved 2 mm: selection, subset, display, upload, one draw): median "
-              "%.1f ms, max %.1f ms (%zu selected; selection and subset %.1f, display %.1f, upload and draw %.1f ms)\n",
-              updateMs, updateMsMax, updateSelected, updateParts[0], updateParts[1], updateParts[2]);
+  std::printf(
+      "  viewer update (10 mm sphere moved 2 mm: selection, subset, display, upload, one draw): median "
+      "%.1f ms, max %.1f ms (%zu selected; selection and subset %.1f, display %.1f, upload and draw %.1f "
+      "ms)\n",
+      updateMs, updateMsMax, updateSelected, updateParts[0], updateParts[1], updateParts[2]);
   std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
   if (realLines)
     std::printf("  real tracts (tracks_det.tck, %zu streamlines): index %.2f ms, two CST spheres %.3f ms, %zu "

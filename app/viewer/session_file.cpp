@@ -157,7 +157,8 @@ std::string sessionScript(const ViewerScene& scene, int width, int height, std::
   }
   if (s.roiSet.endsOnly) out << "roi ends-only on\n";
   if (!s.roiHideOthers) out << "roi others dim\n";
-  if (renamed) note("the regions' names and visibility (save the region set with `roi save` to keep the names)");
+  if (renamed)
+    note("the regions' names and visibility (save the region set with `roi save` to keep the names)");
   if (scene.hasUncertainty()) note("the uncertainty map (give `view --uncertainty` again)");
 
   // The cameras last: loading, the view and the layout above each place them anew.

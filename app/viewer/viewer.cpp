@@ -782,8 +782,8 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
       glm::dvec2 c, top;
       if (!project(r.centre, c) || !project(r.centre + r.radius * up, top)) continue;
       const double radius = glm::length(top - c);
-      for (int y = std::max(rect[1], int(std::ceil(c.y - radius))); y < std::min(rect[1] + rect[3], int(c.y + radius));
-           ++y) {
+      for (int y = std::max(rect[1], int(std::ceil(c.y - radius)));
+           y < std::min(rect[1] + rect[3], int(c.y + radius)); ++y) {
         const double dy = y + 0.5 - c.y, half = std::sqrt(std::max(radius * radius - dy * dy, 0.0));
         const int x0 = std::max(rect[0], int(std::lround(c.x - half))),
                   x1 = std::min(rect[0] + rect[2], int(std::lround(c.x + half)));
@@ -799,7 +799,8 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
       for (int j = 0; j < 8; ++j)
         ok &= project({j & 1 ? r.hi.x : r.lo.x, j & 2 ? r.hi.y : r.lo.y, j & 4 ? r.hi.z : r.lo.z}, q[j]);
       if (!ok) continue;
-      static const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+      static const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                      {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
       for (const auto& f : faces) {
         poly.assign({q[f[0]], q[f[1]], q[f[2]], q[f[3]]});
         drawOutline(img, poly, rect, k);

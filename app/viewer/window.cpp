@@ -22,8 +22,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <epoxy/gl.h>
 #include <filesystem>
@@ -488,7 +488,7 @@ private:
     if (regionDrag_ >= 0 || regionPress_) {
       // the press belongs to a region
     } else if (left && !dragging_ && !io.WantCaptureMouse && inScene(x, y) &&
-        (crossDragging_ || scene_->orthoPaneAt(x * scale_ - sceneX_, y * scale_) >= 0)) {
+               (crossDragging_ || scene_->orthoPaneAt(x * scale_ - sceneX_, y * scale_) >= 0)) {
       if (x != lastX_ || y != lastY_ || !crossDragging_) scene_->clickAt(x * scale_ - sceneX_, y * scale_);
       crossDragging_ = true;
       lastX_ = x;
@@ -667,7 +667,8 @@ private:
         if (!scene_->regionOutlinePixels(s, i, outlinePx_)) continue;
         outlineIm_.clear();
         for (const glm::dvec2& p : outlinePx_)
-          outlineIm_.push_back(ImVec2(static_cast<float>((sceneX_ + p.x) * inv), static_cast<float>(p.y * inv)));
+          outlineIm_.push_back(
+              ImVec2(static_cast<float>((sceneX_ + p.x) * inv), static_cast<float>(p.y * inv)));
         const glm::u8vec3 c = session::regionKindColour(regions[i].kind);
         dl->AddPolyline(outlineIm_.data(), static_cast<int>(outlineIm_.size()), IM_COL32(c.x, c.y, c.z, 255),
                         ImDrawFlags_Closed, 2.0f);

@@ -584,7 +584,8 @@ void regionsWidgets(const session::ViewerState& s, PanelBuffers& b, session::Act
     ImGui::SameLine();
     if (b.roiRenaming == static_cast<int>(i)) {
       ImGui::SetNextItemWidth(em(120));
-      if (ImGui::InputText("##name", b.roiName.data(), b.roiName.size(), ImGuiInputTextFlags_EnterReturnsTrue)) {
+      if (ImGui::InputText("##name", b.roiName.data(), b.roiName.size(),
+                           ImGuiInputTextFlags_EnterReturnsTrue)) {
         session::RoiSet set{i, r};
         set.region.name = b.roiName.data();
         out.push_back(set);
@@ -639,10 +640,12 @@ void regionsWidgets(const session::ViewerState& s, PanelBuffers& b, session::Act
   ImGui::InputText("##roipath", b.roiPath.data(), b.roiPath.size());
   browseButton(b, "browse regions", session::FileTarget::Regions, out);
   browseButton(b, "browse regions save", session::FileTarget::RegionsSave, out);
-  if (ImGui::Button("load regions") && b.roiPath[0] != '\0') out.push_back(session::LoadRegions{b.roiPath.data()});
+  if (ImGui::Button("load regions") && b.roiPath[0] != '\0')
+    out.push_back(session::LoadRegions{b.roiPath.data()});
   probe(b, "load regions");
   ImGui::SameLine();
-  if (ImGui::Button("save regions") && b.roiPath[0] != '\0') out.push_back(session::SaveRegions{b.roiPath.data()});
+  if (ImGui::Button("save regions") && b.roiPath[0] != '\0')
+    out.push_back(session::SaveRegions{b.roiPath.data()});
   probe(b, "save regions");
   // The selected streamlines, in any tract format; a .trx may hold them as a group of every streamline.
   ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - em(80));

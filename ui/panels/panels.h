@@ -33,10 +33,10 @@ struct PanelBuffers {
   std::array<char, 1024> tractPath{};
   std::array<char, 1024> tractSavePath{};
   // Regions of the ROI selection (Tracts panel).
-  int roiPlace = 0;      // the next left click in a slice pane adds: 0 nothing, 1 a sphere, 2 a box
-  int roiKind = 0;       // the kind of the regions added: include, exclude, include-ordered
-  float roiSizeMm = 5;   // their radius (sphere) or half-size (box)
-  int roiRenaming = -1;  // the region whose name roiName edits (-1: none)
+  int roiPlace = 0;     // the next left click in a slice pane adds: 0 nothing, 1 a sphere, 2 a box
+  int roiKind = 0;      // the kind of the regions added: include, exclude, include-ordered
+  float roiSizeMm = 5;  // their radius (sphere) or half-size (box)
+  int roiRenaming = -1; // the region whose name roiName edits (-1: none)
   std::array<char, 128> roiName{};
   std::array<char, 1024> roiPath{};         // a region set file to load or save
   std::array<char, 1024> roiSelectedPath{}; // where the selected streamlines are saved

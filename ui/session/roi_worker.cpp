@@ -34,7 +34,8 @@ RoiResult RoiWorker::run(const RoiJob& job, const surfaces::TractIndex* index) {
   const surfaces::TractView view = surfaces::viewOf(*job.tracts);
   r.lines = std::make_shared<const std::vector<std::uint32_t>>(surfaces::selectLines(view, tester, index));
   r.selectMs = msSince(t0);
-  if (job.subset) r.subset = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*job.tracts, *r.lines));
+  if (job.subset)
+    r.subset = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*job.tracts, *r.lines));
   return r;
 }
 

@@ -43,15 +43,16 @@ TEST(ViewRoiWindow, ScriptRegionsSelectWhatSelectKeepsAndTheSavedSetReplays) {
       "tracts " + tracks.string() + "\nroi add include " + kCstLow + "\nroi add include " + kCstHigh +
           "\ntracts-save --selected " + (dir / "viewer.tck").string() + "\nroi save " +
           (dir / "set.json").string() + "\nroi others dim\nsession-save " + (dir / "s.dtfview").string() +
-          "\nlayout ortho\ncrosshair 18 3.7 21.6\nscreenshot-scene " +
-          (dir / "ortho.png").string() + "\nquit\n",
+          "\nlayout ortho\ncrosshair 18 3.7 21.6\nscreenshot-scene " + (dir / "ortho.png").string() +
+          "\nquit\n",
       q(tensor));
   DTF_SKIP_WITHOUT_WINDOW_GL(r);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find("ROI selection: 40 of 2000 streamlines"), std::string::npos) << r.err;
   // A saved session brings the regions back as roi lines.
   const std::string saved = dtf::test::readText(dir / "s.dtfview");
-  EXPECT_NE(saved.find("\nroi add include " + kCstLow + "\nroi add include " + kCstHigh + "\n"), std::string::npos)
+  EXPECT_NE(saved.find("\nroi add include " + kCstLow + "\nroi add include " + kCstHigh + "\n"),
+            std::string::npos)
       << saved;
   EXPECT_NE(saved.find("\nroi others dim\n"), std::string::npos) << saved;
 
