@@ -357,7 +357,7 @@ void fabricPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
 // The Profile panel: the profile of the tracts on screen (as `dtfabric profile` computes it) with its 95 %
 // confidence band; hovering a node moves the crosshair to its core position, a click pins it.
 void profilePanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
-  if (!header(b, "Profile", false)) return;
+  if (!header(b, "Profile", true)) return;
   const session::ViewerState::Profile& pr = s.profile;
   bool on = pr.on;
   if (ImGui::Checkbox("profile the tracts", &on)) out.push_back(session::SetProfile{on, {}});
@@ -401,7 +401,7 @@ void profilePanel(const session::ViewerState& s, PanelBuffers& b, session::Actio
       draw->AddLine(ImVec2(X(i), Y(pr.mean[i])), ImVec2(X(i + 1), Y(pr.mean[i + 1])),
                     IM_COL32(120, 180, 255, 255), 2.0f);
   }
-  int node = -1;
+  int node = -1; // under the mouse; else the node hovered by a script line shows
   if (inside) {
     const float t = (ImGui::GetIO().MousePos.x - p.x) / w;
     node =
@@ -410,16 +410,28 @@ void profilePanel(const session::ViewerState& s, PanelBuffers& b, session::Actio
   if (pr.pinned >= 0 && pr.pinned < static_cast<int>(n))
     draw->AddLine(ImVec2(X(std::size_t(pr.pinned)), p.y), ImVec2(X(std::size_t(pr.pinned)), p.y + h),
                   IM_COL32(255, 200, 40, 255), 2.0f);
+  const int shown = inside ? node : pr.hovered;
+  if (shown >= 0 && shown < static_cast<int>(n)) {
+    const auto k = static_cast<std::size_t>(shown);
+    draw->AddLine(ImVec2(X(k), p.y), ImVec2(X(k), p.y + h), IM_COL32(255, 255, 255, 200), 1.0f);
+  }
   if (node >= 0) {
     const auto k = static_cast<std::size_t>(node);
-    draw->AddLine(ImVec2(X(k), p.y), ImVec2(X(k), p.y + h), IM_COL32(255, 255, 255, 200), 1.0f);
     ImGui::SetTooltip("node %d: %s %.4g (95 %% CI %.4g .. %.4g)\ncore %.1f, %.1f, %.1f mm%s", node,
                       pr.scalar.c_str(), pr.mean[k], pr.ciLow[k], pr.ciHigh[k], pr.core[k].x, pr.core[k].y,
                       pr.core[k].z, node == pr.pinned ? " (pinned: click to unpin)" : " (click to pin)");
   }
-  if (node != pr.hovered) out.push_back(session::HoverProfileNode{node, false});
+  // The mouse entering, moving over or leaving the plot sets the hover; a script's hover stays otherwise.
+  if ((inside || b.profileHovering) && node != pr.hovered) out.push_back(session::HoverProfileNode{node, false});
+  b.profileHovering = inside;
   if (inside && ImGui::IsItemClicked()) out.push_back(session::HoverProfileNode{node, true});
   ImGui::TextDisabled("%s %.3g .. %.3g; node 0 .. %zu", pr.scalar.c_str(), lo, hi, n - 1);
+  const int at = shown >= 0 ? shown : pr.pinned;
+  if (at >= 0 && at < static_cast<int>(n)) {
+    const auto k = static_cast<std::size_t>(at);
+    ImGui::Text("node %d%s: %s %.3g, core %.1f, %.1f, %.1f mm", at, at == pr.pinned ? " (pinned)" : "",
+                pr.scalar.c_str(), pr.mean[k], pr.core[k].x, pr.core[k].y, pr.core[k].z);
+  }
 }
 
 void fibresPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
