@@ -623,8 +623,77 @@ void parseTrackCancel(const ScriptLine& line, ScriptStep& step) {
 }
 
 void parseTractsSave(const ScriptLine& line, ScriptStep& step) {
-  const auto [p, force] = outputArg(line.path("tracts-save [--force] PATH"), "tracts-save [--force] PATH");
-  step.command = session::Action(session::SaveTracts{p, force});
+  constexpr const char* usage = "tracts-save [--force] [--selected [--as-group NAME]] PATH";
+  session::SaveTracts save;
+  std::string rest = line.path(usage);
+  while (rest.starts_with("--")) { // options before the path, which may hold spaces
+    const std::size_t end = rest.find_first_of(" \t");
+    if (end == std::string::npos) throw LineError{std::string("usage: ") + usage};
+    const std::string option = rest.substr(0, end);
+    rest = trim(rest.substr(end));
+    if (option == "--force") {
+      save.force = true;
+    } else if (option == "--selected") {
+      save.selected = true;
+    } else if (option == "--as-group") {
+      const std::size_t name = rest.find_first_of(" \t");
+      if (name == std::string::npos) throw LineError{std::string("usage: ") + usage};
+      save.asGroup = rest.substr(0, name);
+      rest = trim(rest.substr(name));
+    } else {
+      throw LineError{"tracts-save: unknown option '" + option + "' (--force, --selected, --as-group NAME)"};
+    }
+  }
+  if (rest.empty()) throw LineError{std::string("usage: ") + usage};
+  if (!save.asGroup.empty() && !save.selected) throw LineError{"tracts-save: --as-group needs --selected"};
+  save.path = rest;
+  step.command = session::Action(save);
+}
+
+// roi add include|exclude|include-ordered SPEC | ends-only on|off | others hide|dim | clear | save [--force]
+// FILE | load FILE
+void parseRoi(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  constexpr const char* usage =
+      "roi add include|exclude|include-ordered SPEC | ends-only on|off | others hide|dim | clear | save "
+      "[--force] FILE.json | load FILE.json";
+  if (w.size() < 2) throw LineError{std::string("usage: ") + usage};
+  const std::string& what = w[1];
+  if (what == "add") {
+    if (w.size() < 4) throw LineError{"usage: roi add include|exclude|include-ordered SPEC"};
+    session::RoiAdd add;
+    if (w[2] == "include")
+      add.kind = surfaces::RegionKind::Include;
+    else if (w[2] == "exclude")
+      add.kind = surfaces::RegionKind::Exclude;
+    else if (w[2] == "include-ordered")
+      add.kind = surfaces::RegionKind::IncludeOrdered;
+    else
+      throw LineError{"roi add: the kind is include, exclude or include-ordered, got '" + w[2] + "'"};
+    add.spec = restOf(restOf(restOf(line.text, w[0]), w[1]), w[2]);
+    step.command = session::Action(add);
+  } else if (what == "ends-only") {
+    expectArgs(w, 2, "roi ends-only on|off");
+    step.command = session::Action(session::RoiEndsOnly{onOff(w[2], "roi ends-only")});
+  } else if (what == "others") {
+    expectArgs(w, 2, "roi others hide|dim");
+    if (w[2] != "hide" && w[2] != "dim") throw LineError{"roi others takes hide or dim, got '" + w[2] + "'"};
+    step.command = session::Action(session::RoiHideOthers{w[2] == "hide"});
+  } else if (what == "clear") {
+    expectArgs(w, 1, "roi clear");
+    step.command = session::Action(session::RoiClear{});
+  } else if (what == "save") {
+    const std::string rest = restOf(restOf(line.text, w[0]), w[1]);
+    if (rest.empty()) throw LineError{"usage: roi save [--force] FILE.json"};
+    const auto [p, force] = outputArg(rest, "roi save [--force] FILE.json");
+    step.command = session::Action(session::SaveRegions{p, force});
+  } else if (what == "load") {
+    const std::string rest = restOf(restOf(line.text, w[0]), w[1]);
+    if (rest.empty()) throw LineError{"usage: roi load FILE.json"};
+    step.command = session::Action(session::LoadRegions{rest});
+  } else {
+    throw LineError{"roi: unknown '" + what + "' (add, ends-only, others, clear, save, load)"};
+  }
 }
 
 void parseAgreement(const ScriptLine& line, ScriptStep& step) {
@@ -729,8 +798,8 @@ void parseBrowse(const ScriptLine& line, ScriptStep& step) {
   const auto target = session::parseFileTarget(w[1]);
   if (!target)
     throw LineError{"browse: unknown target '" + w[1] +
-                    "' (data, tensor, background, tracts, mesh, screenshot, camera, movie, tracts-save, "
-                    "session-save)"};
+                    "' (data, tensor, background, tracts, mesh, regions, screenshot, camera, movie, "
+                    "tracts-save, session-save, regions-save, selected-save)"};
   step.command =
       session::Action(session::Browse{*target, w.size() > 2 ? restOf(restOf(line.text, w[0]), w[1]) : ""});
 }
@@ -834,7 +903,18 @@ const std::vector<ScriptCommand> kCommands = {
      "select=N|seeds=N|per-voxel=K, fa-stop=F angle=DEG step=MM min-length=MM max-length=MM seed=S rk4|euler",
      parseTrackLine},
     {"track-cancel", "", "cancel a running `track`", parseTrackCancel},
-    {"tracts-save", "[--force] PATH", "write every point of the tracts to .tck/.trk/.vtk", parseTractsSave},
+    {"tracts-save", "[--force] [--selected [--as-group NAME]] PATH",
+     "write every point of the tracts to .tck/.trk/.trx/.vtk; --selected: only the streamlines the regions "
+     "select (every value and group kept, as `dtfabric select`); --as-group NAME: every streamline, the "
+     "selection added as group NAME of a .trx",
+     parseTractsSave},
+    {"roi", "add KIND SPEC | ends-only on|off | others hide|dim | clear | save [--force] FILE | load FILE",
+     "the regions that select streamlines, as `dtfabric select`: add a region (KIND include, exclude or "
+     "include-ordered; SPEC X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, IMAGE or IMAGE:L[,L...]), test the end points "
+     "only, "
+     "hide or dim the streamlines left out, remove every region, save or load the region set (`select --roi` "
+     "JSON); a later line waits for the selection",
+     parseRoi},
     {"agreement", "[MM [BINS]]",
      "tract/fabric angles within MM (default 2) of the surface in BINS bins (default 9); prints `dtfabric "
      "compare`'s numbers",
@@ -985,6 +1065,8 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
       inputs.push_back(io::gradientSibling(load->path, ".bvec"));
     } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
       inputs.push_back(tracts->path);
+    } else if (const auto* regions = std::get_if<session::LoadRegions>(a)) {
+      inputs.push_back(regions->path);
     } else if (const auto* camera = std::get_if<session::LoadCamera>(a)) {
       inputs.push_back(camera->path);
     } else if (const auto* bg = std::get_if<session::SetBackground>(a)) {
@@ -1003,17 +1085,20 @@ void checkScriptOutputs(const ViewScript& script, std::vector<std::string> input
     const auto* tracts = a ? std::get_if<session::SaveTracts>(a) : nullptr;
     const auto* movie = a ? std::get_if<session::RecordMovie>(a) : nullptr;
     const auto* saved = a ? std::get_if<session::SaveSession>(a) : nullptr;
-    if (!shot && !camera && !tracts && !movie && !saved) continue;
-    const std::string& path = shot     ? shot->path
-                              : camera ? camera->path
-                              : tracts ? tracts->path
-                              : movie  ? movie->path
-                                       : saved->path;
-    const bool lineForce = shot     ? shot->force
-                           : camera ? camera->force
-                           : tracts ? tracts->force
-                           : movie  ? movie->force
-                                    : saved->force;
+    const auto* regions = a ? std::get_if<session::SaveRegions>(a) : nullptr;
+    if (!shot && !camera && !tracts && !movie && !saved && !regions) continue;
+    const std::string& path = shot      ? shot->path
+                              : camera  ? camera->path
+                              : tracts  ? tracts->path
+                              : movie   ? movie->path
+                              : regions ? regions->path
+                                        : saved->path;
+    const bool lineForce = shot      ? shot->force
+                           : camera  ? camera->force
+                           : tracts  ? tracts->force
+                           : movie   ? movie->force
+                           : regions ? regions->force
+                                     : saved->force;
     const std::string where = script.file + ":" + std::to_string(step.line) + ": ";
     try {
       io::refuseOverwritingInput(path, inputs);
@@ -1038,6 +1123,8 @@ void checkSessionInputs(const ViewScript& script) {
       files = {load->path, load->tensor};
     } else if (const auto* tracts = std::get_if<session::LoadTracts>(a)) {
       files = {tracts->path};
+    } else if (const auto* regions = std::get_if<session::LoadRegions>(a)) {
+      files = {regions->path};
     } else if (const auto* camera = std::get_if<session::LoadCamera>(a)) {
       files = {camera->path};
     } else if (const auto* bg = std::get_if<session::SetBackground>(a)) {

@@ -12,6 +12,7 @@
 #include "ui/session/fibre_input.h"
 #include "ui/session/movie_job.h"
 #include "ui/session/orientation_labels.h"
+#include "ui/session/roi_outline.h"
 #include "ui/session/tract_overlay.h"
 #include "ui/session/viewer_worker.h"
 
@@ -32,6 +33,30 @@ constexpr double kTargetFrameMs = 66;   // interactive frame time the resolution
 const char* const kOrthoAxis[3] = {"axial", "coronal", "sagittal"};
 constexpr render::StandardView kOrthoView[3] = {render::StandardView::Axial, render::StandardView::Coronal,
                                                 render::StandardView::Sagittal};
+
+// A closed polygon of scene pixels drawn 2 pixels wide into `img`, clipped to `rect` (x, y, w, h).
+void drawOutline(Image& img, const std::vector<glm::dvec2>& poly, const std::array<int, 4>& rect,
+                 glm::u8vec3 colour) {
+  auto plot = [&](int x, int y) {
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const int px = x + dx, py = y + dy;
+        if (px < rect[0] || py < rect[1] || px >= rect[0] + rect[2] || py >= rect[1] + rect[3]) continue;
+        std::uint8_t* d = img.pixel(px, py);
+        d[0] = colour.x, d[1] = colour.y, d[2] = colour.z, d[3] = 255;
+      }
+  };
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    // The 2-pixel pen's top-left pixel half a pixel up and left of the line.
+    const glm::dvec2 a = poly[k] - 0.5, b = poly[(k + 1) % poly.size()] - 0.5;
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil(std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)))));
+    for (int t = 0; t <= steps; ++t) {
+      const glm::dvec2 p = a + (b - a) * (double(t) / steps);
+      plot(static_cast<int>(std::floor(p.x + 0.5)), static_cast<int>(std::floor(p.y + 0.5)));
+    }
+  }
+}
 
 } // namespace
 
@@ -121,9 +146,7 @@ glm::dvec2 ViewerScene::orthoPixel(int s, const glm::dvec3& world) const {
   return {r[0] + 0.5 * r[2] + glm::dot(d, right) / mm, r[1] + 0.5 * r[3] - glm::dot(d, up) / mm};
 }
 
-bool ViewerScene::clickAt(double x, double y) {
-  const int s = orthoPaneAt(x, y);
-  if (s < 0 || !session_.dataset()) return false;
+glm::dvec3 ViewerScene::orthoWorld(int s, double x, double y) const {
   const render::Camera& c = orthoCameras_[s];
   const auto r = orthoRect(s);
   const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
@@ -131,8 +154,43 @@ bool ViewerScene::clickAt(double x, double y) {
   const glm::dvec3 at = c.target + right * ((x - r[0] - 0.5 * r[2]) * mm) - up * ((y - r[1] - 0.5 * r[3]) * mm);
   // The point of this pane's slice plane: the crosshair's depth along the view is kept.
   const glm::dvec3 fwd = c.forward(), cross = state().crosshair;
-  apply(session::SetCrosshair{at - glm::dot(at - cross, fwd) * fwd});
+  return at - glm::dot(at - cross, fwd) * fwd;
+}
+
+bool ViewerScene::clickAt(double x, double y) {
+  const int s = orthoPaneAt(x, y);
+  if (s < 0 || !session_.dataset()) return false;
+  apply(session::SetCrosshair{orthoWorld(s, x, y)});
   return true;
+}
+
+bool ViewerScene::regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out) const {
+  out.clear();
+  const session::ViewerState& st = state();
+  if (!st.ortho || i >= st.roiSet.regions.size() || !orthoPlanes_[s]) return false;
+  if (i < st.roiVisible.size() && !st.roiVisible[i]) return false;
+  const glm::dvec4 plane(*orthoPlanes_[s]);
+  const glm::dvec3 n(plane);
+  if (!session::regionOutline(st.roiSet.regions[i], -plane.w * n, n, outlineWorld_)) return false;
+  for (const glm::dvec3& p : outlineWorld_)
+    out.push_back(orthoPixel(s, p));
+  return true;
+}
+
+int ViewerScene::regionAt(double x, double y) const {
+  const int s = orthoPaneAt(x, y);
+  const session::ViewerState& st = state();
+  if (s < 0 || !orthoPlanes_[s]) return -1;
+  // The slice plane's point under the pixel (the slice itself, not the crosshair's depth).
+  const glm::dvec4 plane(*orthoPlanes_[s]);
+  const glm::dvec3 n(plane), at = orthoWorld(s, x, y);
+  const glm::dvec3 p = at - (glm::dot(at, n) + plane.w) * n;
+  for (std::size_t i = st.roiSet.regions.size(); i-- > 0;) {
+    const surfaces::Region& r = st.roiSet.regions[i];
+    if (r.shape == surfaces::RegionShape::Mask || (i < st.roiVisible.size() && !st.roiVisible[i])) continue;
+    if (r.contains(glm::vec3(p))) return static_cast<int>(i);
+  }
+  return -1;
 }
 
 double ViewerScene::paneAspect(int p) const {
@@ -154,6 +212,11 @@ void ViewerScene::dataChanged() {
   dirty_.fill(true);
   iterationsSinceRestart_.fill(0);
   covered_.fill(0);
+  // The slice panes of the ortho layout weave the same data: they start again too (a new background, the
+  // fabric along the tracts, new parameters).
+  orthoDirty_.fill(true);
+  orthoIterations_.fill(0);
+  orthoCovered_.fill(0);
   session_.state().converged = false;
 }
 
@@ -275,6 +338,21 @@ void ViewerScene::update() {
       session_.setError("while uploading the tracts: " + currentExceptionMessage());
     }
   }
+  if (state().ortho && session_.tractDisplayAll() != orthoUploaded_) {
+    // The slice panes draw every tract in a slab around their planes (uploaded only in the ortho layout).
+    try {
+      if (!orthoTracts_) orthoTracts_ = std::make_unique<render::TractRenderer>();
+      if (session_.tractDisplayAll())
+        orthoTracts_->upload(*session_.tractDisplayAll());
+      else
+        orthoTracts_->upload(render::DisplayTracts{});
+      orthoUploaded_ = session_.tractDisplayAll();
+      orthoDirty_.fill(true);
+    } catch (...) {
+      orthoUploaded_ = session_.tractDisplayAll(); // do not repeat a failing upload every frame
+      session_.setError("while uploading the tracts for the slice panes: " + currentExceptionMessage());
+    }
+  }
 }
 
 void ViewerScene::updateOrtho() {
@@ -318,6 +396,8 @@ void ViewerScene::updateOrtho() {
     } catch (const InputError&) {
       orthoMeshes_[s] = Mesh{}; // no data in this slice: the pane stays empty
     }
+    orthoPlanes_[s] =
+        orthoMeshes_[s].empty() ? std::nullopt : session::pickTracts(orthoMeshes_[s], 0.0).plane;
     orthoMeshNew_[s] = true;
     orthoDirty_[s] = true;
     orthoIterations_[s] = 0;
@@ -326,6 +406,18 @@ void ViewerScene::updateOrtho() {
 }
 
 void ViewerScene::renderOrtho(const render::FabricParams& base) {
+  // The tracts of the slice panes: every tract drawn within a slab around each pane's plane, the clip slab's
+  // half-width when set, else the near-surface distance (0: every tract), as on a planar surface.
+  const session::ViewerState& st = state();
+  const bool tracts = st.tractsVisible && orthoTracts_ && orthoTracts_->segmentCount(0) > 0;
+  const double slabMm = st.tractsClipMm > 0 ? st.tractsClipMm : st.tractsNearMm;
+  std::uint64_t key = tracts ? 1 : 0;
+  for (double v : {st.tractWidthPx, slabMm})
+    key = key * 1000003u + static_cast<std::uint64_t>(std::llround(v * 1000.0));
+  if (key != orthoTractKey_) {
+    orthoTractKey_ = key;
+    orthoDirty_.fill(true);
+  }
   for (int s = 0; s < 3; ++s) {
     if (!orthoDirty_[s]) continue;
     if (orthoMeshes_[s].empty()) {
@@ -344,6 +436,17 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
     render::FabricParams params = base;
     params.iterations = std::max(params.iterations, kStillIterations);
     r.renderFrame(orthoCameras_[s], params);
+    if (tracts && orthoPlanes_[s]) {
+      render::TractStyle style;
+      style.widthPx = static_cast<float>(st.tractWidthPx);
+      style.plane = *orthoPlanes_[s];
+      style.slabMm = static_cast<float>(slabMm);
+      // The slab's far half lies behind the slice: drawn in front of it all the same.
+      style.depthBiasMm = static_cast<float>(slabMm > 0 ? slabMm + 0.05 : 0.05);
+      glBindFramebuffer(GL_FRAMEBUFFER, r.output().id());
+      orthoTracts_->draw(r.frameView(), style);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
     orthoIterations_[s] += params.iterations;
     if (orthoCovered_[s] == 0) orthoCovered_[s] = std::max(r.coveredPixels(), 1u);
     // The rule of renderStill (no count before FabricParams::stillMinIterations since the restart).
@@ -355,13 +458,13 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
 
 void ViewerScene::updateAlong() {
   session::ViewerState& st = session_.state();
-  std::shared_ptr<const Polylines> lines = st.fabricAlong ? alongSource() : nullptr;
-  if (lines && lines->points.empty()) lines.reset();
-  if (lines != alongLines_ || (lines && st.fabricAlongMm != alongMm_)) {
+  TractSubset lines = st.fabricAlong ? selectedTracts() : TractSubset{};
+  if (lines.lines && lines.lines->points.empty()) lines = {};
+  if (lines != alongLines_ || (lines.lines && st.fabricAlongMm != alongMm_)) {
     alongLines_ = lines;
     alongMm_ = st.fabricAlongMm;
     ++alongSerial_;
-    if (lines) {
+    if (lines.lines) {
       if (!alongWorker_)
         alongWorker_ = std::make_unique<session::CoalescingWorker<AlongJob, AlongResult>>(
             [](AlongJob& job, session::WorkContext& context) -> std::optional<AlongResult> {
@@ -371,15 +474,19 @@ void ViewerScene::updateAlong() {
                 context.setStage("the fabric along the tracts");
                 surfaces::TractProximityOptions o;
                 o.mm = job.mm;
-                r.weight =
-                    std::make_shared<const ScalarVolume>(surfaces::tractProximity(*job.lines, o).weight);
+                surfaces::TractProximity near = surfaces::tractProximity(*job.lines, o, job.which.get());
+                // No streamline selected: the fabric nowhere (a weight of 0; an empty volume would mean
+                // everywhere).
+                if (near.points == 0)
+                  near.weight = ScalarVolume(Grid::fromAffine({1, 1, 1}, glm::dmat4(1.0)), 1);
+                r.weight = std::make_shared<const ScalarVolume>(std::move(near.weight));
               } catch (...) {
                 r.error = currentExceptionMessage();
               }
               return r;
             },
             std::vector<session::WorkLane>{{true, true}});
-      alongWorker_->request(AlongJob{lines, st.fabricAlongMm, alongSerial_});
+      alongWorker_->request(AlongJob{lines.lines, lines.which, st.fabricAlongMm, alongSerial_});
     } else if (alongWeight_) {
       alongWeight_.reset();
       ++alongVersion_;
@@ -403,7 +510,7 @@ void ViewerScene::updateAlong() {
 void ViewerScene::updateProfile() {
   session::ViewerState::Profile& pr = session_.state().profile;
   const auto data = session_.dataset();
-  ProfileSource src = pr.on ? profileSource() : ProfileSource{};
+  ProfileSource src = pr.on ? selectedTracts() : ProfileSource{};
   if (src.lines && src.lines->points.empty()) src = {};
   if (data && data != profiledData_) pr.scalars = session::viewerProfileScalars(*data);
   if (src.lines != profiled_.lines || src.which != profiled_.which || data != profiledData_ ||
@@ -441,6 +548,9 @@ void ViewerScene::updateProfile() {
     pr.error = r.error;
     pr.axis = r.axis;
     pr.streamlines = r.profile.streamlines;
+    // The panel's font has no arrow: "inferior -> superior".
+    for (std::size_t at; (at = pr.axis.find("\u2192")) != std::string::npos;)
+      pr.axis.replace(at, 3, "->");
     pr.core = std::move(r.profile.core);
     if (r.profile.scalars.empty()) {
       pr.mean.clear();
@@ -801,6 +911,11 @@ Image ViewerScene::layoutImage() const {
     const auto r = orthoRect(s);
     if (orthoRenderers_[s] && !orthoMeshes_[s].empty())
       readPane(orthoRenderers_[s]->output().id(), {r[2], r[3]}, r, img);
+    // The regions' outlines where they cut the slice, in their kind's colour.
+    std::vector<glm::dvec2> outline;
+    for (std::size_t i = 0; i < state().roiSet.regions.size(); ++i)
+      if (regionOutlinePixels(s, i, outline))
+        drawOutline(img, outline, r, session::regionKindColour(state().roiSet.regions[i].kind));
     // The crosshair: a horizontal and a vertical line through its point, clipped to the pane.
     const glm::dvec2 c = orthoPixel(s, cross);
     const int cx = static_cast<int>(std::floor(c.x)), cy = static_cast<int>(std::floor(c.y));

@@ -125,6 +125,17 @@ public:
   // In the ortho layout, a click at scene pixel (x, y down) in a slice pane moves the crosshair to that point
   // of the pane's slice plane (the other panes follow to its slices); returns whether it was in one.
   bool clickAt(double x, double y);
+  // The world point of slice pane s's plane under scene pixel (x, y down).
+  glm::dvec3 orthoWorld(int s, double x, double y) const;
+  // Slice pane s's plane (unit normal, offset: dot(n, p) + w = 0, world mm); nullopt while it has no slice.
+  const std::optional<glm::vec4>& orthoPlane(int s) const { return orthoPlanes_[s]; }
+  // The outline of region i of the ROI set where it cuts slice pane s, as scene pixels (x, y down) of a
+  // closed polygon in `out` (its capacity is reused); false when the region is hidden, a mask, or misses the
+  // slice.
+  bool regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out) const;
+  // The visible sphere or box region whose section holds scene pixel (x, y down) of a slice pane (the last
+  // in the list first), or -1.
+  int regionAt(double x, double y) const;
   // The scene as a figure, width x height of the last render(), row 0 at the top: every pane as rendered, and
   // in the ortho layout the crosshair and each slice pane's orientation letters.
   Image layoutImage() const;
@@ -168,17 +179,25 @@ private:
   // The fabric along the tracts (session::SetFabricAlong): the proximity weight of alongSource() requested
   // from alongWorker_ when the lines or the distance change, taken when it is done.
   void updateAlong();
-  // The streamlines the fabric is drawn along: the tracts on screen (their groups).
-  std::shared_ptr<const Polylines> alongSource() const { return session_.shownTractsShared(); }
+  // The streamlines the fabric follows and the profile measures: the ROI selection's
+  // (session::RoiSelection: its indices into every loaded streamline) when a region applies, else the tracts
+  // on screen (their groups), every one.
+  struct TractSubset {
+    std::shared_ptr<const Polylines> lines;
+    std::shared_ptr<const std::vector<std::uint32_t>> which; // null: all of `lines`
+    bool operator==(const TractSubset&) const = default;
+  };
+  TractSubset selectedTracts() const {
+    const session::RoiSelection& sel = session_.roiSelection();
+    if (sel.active && sel.tracts) return {sel.tracts, sel.lines ? sel.lines : kNoLines};
+    return {session_.shownTractsShared(), nullptr};
+  }
+  static inline const std::shared_ptr<const std::vector<std::uint32_t>> kNoLines =
+      std::make_shared<const std::vector<std::uint32_t>>();
   // The Profile panel (session::SetProfile): the profile of profileSource() along the chosen scalar requested
   // from profileWorker_ when the streamlines, the data or the scalar change, taken when it is done.
   void updateProfile();
-  // The streamlines profiled: the tracts on screen (their groups), every one of them.
-  struct ProfileSource {
-    std::shared_ptr<const Polylines> lines;
-    std::shared_ptr<const std::vector<std::uint32_t>> which; // null: all
-  };
-  ProfileSource profileSource() const { return {session_.shownTractsShared(), nullptr}; }
+  using ProfileSource = TractSubset;
   // The crosshair to the hovered node's core, else the pinned one's (nothing when neither).
   void profileCrosshair();
   void startRecording(const session::RecordMovie& request);
@@ -216,6 +235,7 @@ private:
   std::array<std::uint64_t, 8> backgroundUploaded_{};
   struct AlongJob {
     std::shared_ptr<const Polylines> lines;
+    std::shared_ptr<const std::vector<std::uint32_t>> which; // null: all of `lines`
     double mm = 2.0;
     std::uint64_t serial = 0;
   };
@@ -224,7 +244,7 @@ private:
     std::string error;
     std::uint64_t serial = 0;
   };
-  std::shared_ptr<const Polylines> alongLines_;     // of the last request (null: the fabric everywhere)
+  TractSubset alongLines_;                          // of the last request (null lines: the fabric everywhere)
   double alongMm_ = 0.0;                            // of the last request
   std::uint64_t alongSerial_ = 0;                   // requests made
   std::shared_ptr<const ScalarVolume> alongWeight_; // on screen (null: the fabric everywhere)
@@ -272,6 +292,11 @@ private:
   std::array<Mesh, 3> orthoMeshes_;
   std::array<render::Camera, 3> orthoCameras_;
   std::array<int, 3> orthoBuilt_{-1, -1, -1}; // slice index of each mesh (-1: none)
+  std::array<std::optional<glm::vec4>, 3> orthoPlanes_;        // each mesh's plane
+  std::unique_ptr<render::TractRenderer> orthoTracts_;         // every tract drawn, for the slice panes
+  std::shared_ptr<const render::DisplayTracts> orthoUploaded_; // what orthoTracts_ holds
+  std::uint64_t orthoTractKey_ = 0;                            // the tract style the slice panes drew with
+  mutable std::vector<glm::dvec3> outlineWorld_;               // regionOutlinePixels' scratch
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};
   std::array<int, 3> orthoIterations_{0, 0, 0};
   std::array<unsigned, 3> orthoCovered_{0, 0, 0};

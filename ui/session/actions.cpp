@@ -169,7 +169,28 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, CancelTracking>)
           return "CancelTracking";
         else if constexpr (std::is_same_v<T, SaveTracts>)
-          return "SaveTracts " + a.path + (a.force ? " (force)" : "");
+          return "SaveTracts " + a.path + (a.selected ? " selected" : "") +
+                 (a.asGroup.empty() ? "" : " as-group " + a.asGroup) + (a.force ? " (force)" : "");
+        else if constexpr (std::is_same_v<T, RoiAdd>)
+          return std::string("RoiAdd ") + surfaces::kindName(a.kind) + " " +
+                 (a.spec.empty() ? std::string(surfaces::shapeName(a.region.shape)) : a.spec);
+        else if constexpr (std::is_same_v<T, RoiSet>)
+          return "RoiSet " + std::to_string(a.index) + " " + surfaces::kindName(a.region.kind) + " " +
+                 surfaces::shapeName(a.region.shape);
+        else if constexpr (std::is_same_v<T, RoiVisible>)
+          return "RoiVisible " + std::to_string(a.index) + (a.on ? " on" : " off");
+        else if constexpr (std::is_same_v<T, RoiRemove>)
+          return "RoiRemove " + std::to_string(a.index);
+        else if constexpr (std::is_same_v<T, RoiClear>)
+          return "RoiClear";
+        else if constexpr (std::is_same_v<T, RoiEndsOnly>)
+          return std::string("RoiEndsOnly ") + (a.on ? "on" : "off");
+        else if constexpr (std::is_same_v<T, RoiHideOthers>)
+          return std::string("RoiHideOthers ") + (a.on ? "on" : "off");
+        else if constexpr (std::is_same_v<T, SaveRegions>)
+          return "SaveRegions " + a.path + (a.force ? " (force)" : "");
+        else if constexpr (std::is_same_v<T, LoadRegions>)
+          return "LoadRegions " + a.path;
         else if constexpr (std::is_same_v<T, ComputeAgreement>) {
           std::snprintf(buf, sizeof buf, "ComputeAgreement near=%g bins=%d", a.nearMm, a.bins);
           return buf;

@@ -7,6 +7,7 @@
 
 #include "render/camera.h"
 #include "render/fabric_params.h"
+#include "surfaces/selection/regions.h"
 #include "ui/session/track_request.h"
 
 #include <glm/glm.hpp>
@@ -197,9 +198,53 @@ struct CancelTracking {};
 // script fails.
 // Writes the tracts on screen (.tck, .trk, .vtk); an existing file is replaced only with `force` (the
 // overwrite prompt sets it), an input never.
+// `selected`: only the streamlines the ROI selection keeps (every value and group kept, as `dtfabric select`
+// writes them); with `asGroup` (a .trx output) every streamline, the selection added as that group.
 struct SaveTracts {
   std::string path;
   bool force = false;
+  bool selected = false;
+  std::string asGroup;
+};
+// The region set of the ROI selection (ui/session/roi_selection.h): the Tracts panel's regions and the
+// script's roi lines. A region is added from its SPEC (ui/session/region_spec.h; a mask image is read then)
+// or as given (`spec` empty).
+struct RoiAdd {
+  surfaces::RegionKind kind = surfaces::RegionKind::Include;
+  std::string spec;
+  surfaces::Region region;
+};
+// Replaces region `index` (moved, resized, renamed, another kind).
+struct RoiSet {
+  std::size_t index = 0;
+  surfaces::Region region;
+};
+// Shows or hides region `index`'s outline and shape (it applies either way).
+struct RoiVisible {
+  std::size_t index = 0;
+  bool on = true;
+};
+struct RoiRemove {
+  std::size_t index = 0;
+};
+struct RoiClear {};
+// Tests includes and excludes on the two end points only, for the whole set (`select --ends-only`).
+struct RoiEndsOnly {
+  bool on = false;
+};
+// The streamlines the selection leaves out are hidden (true) or drawn dimmed in grey (false).
+struct RoiHideOthers {
+  bool on = true;
+};
+// Writes the region set (the `select --roi` JSON, ui/session/region_spec.h), atomically; an existing file
+// only with `force`, an input never.
+struct SaveRegions {
+  std::string path;
+  bool force = false;
+};
+// Replaces the region set by a region set file's.
+struct LoadRegions {
+  std::string path;
 };
 // Angle between the tracts near the surface and the fabric's direction (surfaces/analyses/agreement.h, all points).
 struct ComputeAgreement {
@@ -221,7 +266,9 @@ enum class FileTarget {
   Camera,
   Movie,
   TractsSave,
-  SessionSave
+  SessionSave,
+  RegionsSave,
+  SelectedSave
 };
 // Opens a file dialog for `target`: the desktop's own (the XDG desktop portal) where one runs, else the
 // in-window browser, starting in `folder` (empty: the last folder). The chosen path goes where a typed one
@@ -261,8 +308,9 @@ using Action =
                  RecordMovie, SetBackground, SetFabricAlong, SetProfile, HoverProfileNode, SetFurniture,
                  ResetView, Rotate, Pan, Zoom, Screenshot, SaveCamera, LoadCamera, LoadTracts,
                  SetTractsVisible, SetTractsNear, SetTractWidth, SetTractsClip, SetTractColour,
-                 SetTractGroups, TrackTracts, CancelTracking, SaveTracts, ComputeAgreement, Browse, SetCamera,
-                 SaveSession, ShowHelp, SetUiScale, DismissError, ConfirmOverwrite, Quit>;
+                 SetTractGroups, TrackTracts, CancelTracking, SaveTracts, RoiAdd, RoiSet, RoiVisible,
+                 RoiRemove, RoiClear, RoiEndsOnly, RoiHideOthers, SaveRegions, LoadRegions, ComputeAgreement,
+                 Browse, SetCamera, SaveSession, ShowHelp, SetUiScale, DismissError, ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -31,8 +31,8 @@ const std::vector<std::string> kVolumes = {"*.nii",  "*.nii.gz", "*.mif",    "*.
 const std::vector<std::string> kTracts = {"*.tck", "*.trk", "*.trk.gz", "*.trx", "*.vtk", "*.vtp"};
 const std::vector<std::string> kMeshes = {"*.ply", "*.obj", "*.vtk", "*.vtp"};
 
-const std::array<TargetInfo, 12>& targets() {
-  static const std::array<TargetInfo, 12> t = {{
+const std::array<TargetInfo, 14>& targets() {
+  static const std::array<TargetInfo, 14> t = {{
       {FileTarget::Data, "data", "Open a tensor volume, DWI or fibre set", kVolumes},
       {FileTarget::Tensor, "tensor", "Pair a tensor volume with the fibre set", kVolumes},
       {FileTarget::Background, "background", "Open a scalar volume for the background", kVolumes},
@@ -45,6 +45,11 @@ const std::array<TargetInfo, 12>& targets() {
       {FileTarget::Movie, "movie", "Record the movie to", {"*.mp4", "*.gif"}},
       {FileTarget::TractsSave, "tracts-save", "Save the tracts as", {"*.tck", "*.trk", "*.vtk"}},
       {FileTarget::SessionSave, "session-save", "Save the session as", {"*.dtfview"}},
+      {FileTarget::RegionsSave, "regions-save", "Save the region set as", {"*.json"}},
+      {FileTarget::SelectedSave,
+       "selected-save",
+       "Save the selected streamlines as",
+       {"*.tck", "*.trk", "*.trx", "*.vtk"}},
   }};
   return t;
 }
@@ -104,6 +109,8 @@ bool isSaveTarget(FileTarget target) {
   case FileTarget::Movie:
   case FileTarget::TractsSave:
   case FileTarget::SessionSave:
+  case FileTarget::RegionsSave:
+  case FileTarget::SelectedSave:
     return true;
   default:
     return false;

@@ -2,8 +2,9 @@
 #include "ui/session/tract_worker.h"
 
 #include "io/model/error.h"
-#include "surfaces/mesh_checks.h"
 #include "surfaces/analyses/near_surface.h"
+#include "surfaces/mesh_checks.h"
+#include "surfaces/selection/tract_selection.h"
 #include "surfaces/slices.h"
 #include "ui/session/tract_files.h"
 #include "ui/session/tract_overlay.h"
@@ -104,11 +105,12 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
   TractSelection s =
       job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag()) : TractSelection{};
   if (context.cancelled()) return failed(job.id, "selection", "cancelled");
+  if (!all_ || allSerial_ != job.tractsSerial) {
+    all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));
+    allSerial_ = job.tractsSerial;
+  }
+  r.allDisplay = all_;
   if (s.all) {
-    if (!all_ || allSerial_ != job.tractsSerial) {
-      all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));
-      allSerial_ = job.tractsSerial;
-    }
     r.display = all_;
     r.lines = all.lineCount();
     r.points = all.points.size();
@@ -137,7 +139,19 @@ std::optional<TractResult> TractWorker::analyse(AnalysisJob& job, WorkContext& c
     try {
       if (!save->overwrite && std::filesystem::exists(save->path))
         throw InputError(save->path + " exists: refusing to overwrite it");
-      writeTracts(save->path, *save->tracts, save->reference ? &*save->reference : nullptr);
+      const Grid* reference = save->reference ? &*save->reference : nullptr;
+      if (!save->keep) {
+        writeTracts(save->path, *save->tracts, reference);
+      } else if (save->asGroup.empty()) {
+        writeTracts(save->path, surfaces::subsetWithGroups(*save->tracts, *save->keep), reference);
+      } else {
+        Polylines all = *save->tracts; // the group is added to a copy: the tracts on screen stay as loaded
+        if (std::any_of(all.groups.begin(), all.groups.end(),
+                        [&](const TractGroup& g) { return g.name == save->asGroup; }))
+          throw InputError("the tracts already hold a group '" + save->asGroup + "' (choose another name)");
+        all.groups.push_back({save->asGroup, *save->keep});
+        writeTracts(save->path, all, reference);
+      }
       r.kind = TractResult::Kind::Saved;
       r.id = save->id;
       r.path = save->path;

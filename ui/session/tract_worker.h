@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace dtf::session {
 
@@ -30,6 +31,9 @@ struct TractResult {
   std::string what; // Failed: the job, e.g. "tracking"
   // Selection: what to draw for the surface (shared while the tracts and the choice stay the same).
   std::shared_ptr<const render::DisplayTracts> display;
+  // Selection: the display of every tract (the ortho layout's slice panes draw it in a slab around their
+  // planes), shared while the tracts and the choice stay the same.
+  std::shared_ptr<const render::DisplayTracts> allDisplay;
   bool slab = false;                 // planar surface: every tract, clipped to a slab around `plane`
                                      // (ui/session/tract_overlay.h)
   glm::vec4 plane{0, 0, 1, 0};       // unit normal, offset (world mm)
@@ -73,6 +77,10 @@ struct SaveJob {
   std::string path;
   std::optional<Grid> reference; // .trk
   bool overwrite = false;
+  // Set: only these streamlines of `tracts` (ascending) with every value and group, or with `asGroup` (a
+  // .trx output) every streamline with them added as that group.
+  std::shared_ptr<const std::vector<std::uint32_t>> keep;
+  std::string asGroup;
 };
 
 class TractWorker {

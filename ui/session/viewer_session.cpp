@@ -5,7 +5,9 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
+#include "surfaces/selection/tract_selection.h"
 #include "surfaces/slices.h"
+#include "ui/session/region_spec.h"
 #include "ui/session/render_job.h"
 #include "ui/session/tensor_input.h"
 #include "ui/session/track_request.h"
@@ -46,6 +48,46 @@ render::StandardView homeViewFor(SurfaceKind k) {
 // `threshold` times the voxel's strongest.
 bool drawn(int n, float amplitude, float strongest, float threshold) {
   return n < kDrawnPopulations && amplitude > 0 && amplitude >= threshold * strongest;
+}
+
+// A per-streamline marker of the ROI selection, carried through the group choice's subset and removed by
+// dimUnselected.
+constexpr const char* kRoiMarker = "\x01roi selected";
+constexpr float kDimGrey = 0.3f; // the colour of the streamlines the selection leaves out (lit)
+
+void markRoiSelection(Polylines& lines, const std::vector<std::uint32_t>& selected) {
+  TractValues m;
+  m.name = kRoiMarker;
+  m.values.assign(lines.lineCount(), 0.0f);
+  for (std::uint32_t i : selected)
+    if (i < m.values.size()) m.values[i] = 1.0f;
+  lines.perLine.push_back(std::move(m));
+}
+
+// Gives the marked-out streamlines the dim grey as display colour (alpha 1: lit grey); the others keep
+// theirs (DEC where none was given).
+void dimUnselected(Polylines& lines) {
+  auto m = std::find_if(lines.perLine.begin(), lines.perLine.end(),
+                        [](const TractValues& v) { return v.name == kRoiMarker; });
+  if (m == lines.perLine.end()) return;
+  auto c = std::find_if(lines.perPoint.begin(), lines.perPoint.end(),
+                        [](const TractValues& v) { return v.name == render::kTractDisplayColours; });
+  if (c == lines.perPoint.end()) {
+    lines.perPoint.push_back(
+        {render::kTractDisplayColours, 4, std::vector<float>(lines.points.size() * 4, 0.0f)});
+    c = std::prev(lines.perPoint.end());
+    m = std::find_if(lines.perLine.begin(), lines.perLine.end(),
+                     [](const TractValues& v) { return v.name == kRoiMarker; });
+  }
+  for (std::size_t i = 0; i < lines.lineCount(); ++i) {
+    if (m->values[i] != 0.0f) continue;
+    for (std::uint32_t k = lines.offsets[i]; k < lines.offsets[i + 1]; ++k) {
+      float* rgba = &c->values[static_cast<std::size_t>(k) * 4];
+      rgba[0] = rgba[1] = rgba[2] = kDimGrey;
+      rgba[3] = 1.0f;
+    }
+  }
+  lines.perLine.erase(m);
 }
 
 } // namespace
@@ -108,7 +150,7 @@ void ViewerSession::addRecent(const std::string& path) {
 
 bool ViewerSession::settled() const {
   return !worker_.busy() && !state_.busy && !state_.tractsLoading && !tractWorker_.busy() &&
-         !pendingAgreement_;
+         !roiWorker_.busy() && !pendingAgreement_;
 }
 
 render::FabricParams ViewerSession::fabricOnScreen() const {
@@ -352,6 +394,15 @@ void ViewerSession::update() {
       setError(currentExceptionMessage());
     }
   }
+  RoiResult rr;
+  while (roiWorker_.poll(rr)) {
+    try {
+      onRoiResult(rr);
+    } catch (...) {
+      setError(currentExceptionMessage());
+    }
+  }
+  if (state_.roiSelecting) roiWorker_.progress(&state_.roiStage);
   if (state_.tracking) tractWorker_.tracking(&state_.trackSeedsDone, &state_.trackProgress);
   if (pendingAgreement_ && !state_.busy && !state_.surfacePending && !state_.tractsLoading) {
     const ComputeAgreement a = *pendingAgreement_;
@@ -454,8 +505,18 @@ void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std:
   state_.tractGroupNames.clear();
   for (const auto& g : l.groups)
     state_.tractGroupNames.push_back(g.name);
+  // The regions stay; until the worker answers for the new tracts (building their index first), every
+  // streamline counts as selected.
+  roi_.tracts = tracts_;
+  roi_.lines.reset();
+  roi_.active = false;
+  ++roi_.generation;
+  ++roiTractsSerial_;
+  state_.roiActive = false;
+  state_.roiSelected = l.lineCount();
   applyTractChoice({}, {}); // names belong to a file: new tracts start in DEC with every streamline
   requestSelection();
+  requestRoi();
 }
 
 void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTractGroups& groups) {
@@ -463,12 +524,19 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
     if (!colour.value.empty() || !groups.all) throw UsageError("load or track tracts before colouring them");
     return;
   }
+  // The ROI selection first: the streamlines it leaves out are dropped (hidden) or marked to be dimmed
+  // once the colouring is done.
+  const bool roi = roi_.active && roi_.lines && roi_.tracts == tracts_;
+  const bool dim = roi && !state_.roiHideOthers;
   std::shared_ptr<const Polylines> shown = tracts_;
+  if (roi && !dim)
+    shown = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
   TractColouringApplied applied;
-  if (!colour.value.empty() || !groups.all) {
+  if (!colour.value.empty() || !groups.all || dim) {
     // A copy once per choice (not per frame); the near-surface selection carries the display colours
     // of the kept points.
-    Polylines lines = *tracts_;
+    Polylines lines = *shown;
+    if (dim) markRoiSelection(lines, *roi_.lines);
     TractColouring c;
     c.value = colour.value;
     c.range = colour.range;
@@ -478,7 +546,8 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
       else
         c.groups = groups.shown;
     }
-    applied = applyTractColouring(lines, c, state_.tractPath);
+    if (!colour.value.empty() || !groups.all) applied = applyTractColouring(lines, c, state_.tractPath);
+    if (dim) dimUnselected(lines);
     shown = std::make_shared<const Polylines>(std::move(lines));
   }
   shownTracts_ = std::move(shown);
@@ -522,6 +591,7 @@ void ViewerSession::onTractResult(TractResult& r) {
     if (r.id != latestSelection_) return; // a newer selection is on its way
     state_.tractsSelecting = false;
     display_ = r.display;
+    allDisplay_ = r.allDisplay;
     ++displaySerial_;
     tractsSlab_ = r.slab;
     tractsPlane_ = r.plane;
@@ -613,16 +683,135 @@ void ViewerSession::startAgreement(const ComputeAgreement& a) {
   tractWorker_.requestAgreement(std::move(job));
 }
 
+void ViewerSession::requestRoi() {
+  if (!tracts_) return;
+  RoiJob job;
+  job.id = latestRoi_ = nextId_++;
+  job.tracts = tracts_;
+  job.tractsSerial = roiTractsSerial_;
+  job.set = state_.roiSet;
+  roi_.pending = true;
+  state_.roiSelecting = true;
+  roiWorker_.request(std::move(job));
+}
+
+void ViewerSession::onRoiResult(RoiResult& r) {
+  if (r.id != latestRoi_) return; // a newer selection is on its way
+  roi_.pending = false;
+  state_.roiSelecting = false;
+  if (!r.error.empty()) {
+    setError("while selecting streamlines with the regions: " + r.error);
+    return;
+  }
+  const bool redraw = r.active || roi_.active;
+  roi_.tracts = tracts_;
+  roi_.active = r.active;
+  roi_.lines = r.active ? std::move(r.lines) : nullptr;
+  ++roi_.generation;
+  state_.roiActive = roi_.active;
+  state_.roiSelected = roi_.count();
+  state_.roiSelectMs = r.selectMs;
+  if (r.indexMs > 0)
+    logInfo("streamline index built in " + std::to_string(static_cast<long>(r.indexMs)) + " ms");
+  if (r.active)
+    logInfo("ROI selection: " + std::to_string(state_.roiSelected) + " of " +
+            std::to_string(state_.tractCount) + " streamlines");
+  if (redraw) {
+    applyTractChoice(tractColour_, tractGroups_);
+    requestSelection();
+  }
+}
+
+void ViewerSession::applyRoi(const Action& action) {
+  surfaces::RegionSet& set = state_.roiSet;
+  std::vector<char>& visible = state_.roiVisible;
+  auto at = [&](std::size_t i) {
+    if (i >= set.regions.size())
+      throw UsageError("no region " + std::to_string(i + 1) + " (the set holds " +
+                       std::to_string(set.regions.size()) + ")");
+    return i;
+  };
+  bool reselect = true;
+  if (const auto* a = std::get_if<RoiAdd>(&action)) {
+    surfaces::Region r = a->spec.empty() ? a->region : parseRegionSpec(a->spec, a->kind);
+    r.kind = a->kind;
+    surfaces::validate(r);
+    if (r.name.empty()) r.name = regionSpecOf(r);
+    if (!r.image.empty()) addInput(r.image);
+    set.regions.push_back(std::move(r));
+    visible.push_back(1);
+  } else if (const auto* a = std::get_if<RoiSet>(&action)) {
+    surfaces::validate(a->region);
+    set.regions[at(a->index)] = a->region;
+  } else if (const auto* a = std::get_if<RoiVisible>(&action)) {
+    visible[at(a->index)] = a->on ? 1 : 0;
+    reselect = false;
+  } else if (const auto* a = std::get_if<RoiRemove>(&action)) {
+    set.regions.erase(set.regions.begin() + static_cast<std::ptrdiff_t>(at(a->index)));
+    visible.erase(visible.begin() + static_cast<std::ptrdiff_t>(a->index));
+  } else if (std::holds_alternative<RoiClear>(action)) {
+    set.regions.clear();
+    visible.clear();
+  } else if (const auto* a = std::get_if<RoiEndsOnly>(&action)) {
+    set.endsOnly = a->on;
+  } else if (const auto* a = std::get_if<RoiHideOthers>(&action)) {
+    state_.roiHideOthers = a->on;
+    reselect = false;
+    if (roi_.active) {
+      applyTractChoice(tractColour_, tractGroups_);
+      requestSelection();
+    }
+  } else if (const auto* a = std::get_if<SaveRegions>(&action)) {
+    reselect = false;
+    if (a->path.empty()) throw UsageError("saving the regions: no path given");
+    if (!mayWrite(a->path, a->force, action)) return;
+    writeRegionSetFile(a->path, set);
+    state_.roiStatus = "wrote " + a->path;
+    logInfo("regions: " + state_.roiStatus);
+  } else if (const auto* a = std::get_if<LoadRegions>(&action)) {
+    surfaces::RegionSet loaded = readRegionSetFile(a->path); // throws naming the file
+    addInput(a->path);
+    for (const auto& r : loaded.regions)
+      if (!r.image.empty()) addInput(r.image);
+    set = std::move(loaded);
+    visible.assign(set.regions.size(), 1);
+    state_.roiStatus = "read " + a->path;
+  }
+  if (reselect) requestRoi();
+}
+
 void ViewerSession::saveTracts(const SaveTracts& a) {
   if (!tracts_) throw UsageError("no tracts to save");
   if (a.path.empty()) throw UsageError("saving tracts: no path given");
-  if (!isTractFileName(a.path)) throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
+  if (a.selected && !isTractFileName(a.path))
+    throw UsageError(a.path + ": tract files end in .tck, .trk, .trx or .vtk");
+  auto isTrx = [](std::string p) {
+    std::transform(p.begin(), p.end(), p.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return p.ends_with(".trx");
+  };
+  if (!a.asGroup.empty() && !isTrx(a.path))
+    throw UsageError(a.path + ": saving the selection as a group needs a .trx output");
+  if (a.selected && roi_.pending)
+    throw UsageError("the selection is still being computed (wait for it before saving it)");
+  if (!a.selected && !isTractFileName(a.path))
+    throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
   if (!mayWrite(a.path, a.force, Action(a))) return; // an input, or the overwrite prompt
   SaveJob job;
   job.id = nextId_++;
   job.tracts = tracts_;
   job.path = a.path;
   job.overwrite = a.force;
+  if (a.selected) {
+    job.keep = roi_.active && roi_.lines ? roi_.lines : nullptr;
+    if (!job.keep) { // no region: every streamline is selected
+      auto all = std::make_shared<std::vector<std::uint32_t>>(tracts_->lineCount());
+      for (std::uint32_t i = 0; i < all->size(); ++i)
+        (*all)[i] = i;
+      job.keep = std::move(all);
+    }
+    job.asGroup = a.asGroup;
+  }
   if (data_)
     job.reference = data_->loaded.field.grid;
   else if (a.path.size() >= 4 && (a.path.ends_with(".trk") || a.path.ends_with(".TRK")))
@@ -713,6 +902,12 @@ void ViewerSession::apply(const Action& action) {
             tractWorker_.cancelTracking();
           } else if constexpr (std::is_same_v<T, SaveTracts>) {
             saveTracts(a);
+          } else if constexpr (std::is_same_v<T, RoiAdd> || std::is_same_v<T, RoiSet> ||
+                               std::is_same_v<T, RoiVisible> || std::is_same_v<T, RoiRemove> ||
+                               std::is_same_v<T, RoiClear> || std::is_same_v<T, RoiEndsOnly> ||
+                               std::is_same_v<T, RoiHideOthers> || std::is_same_v<T, SaveRegions> ||
+                               std::is_same_v<T, LoadRegions>) {
+            applyRoi(action);
           } else if constexpr (std::is_same_v<T, ComputeAgreement>) {
             startAgreement(a);
           } else if constexpr (std::is_same_v<T, ShowHelp>) {

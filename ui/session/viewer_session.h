@@ -11,6 +11,8 @@
 #include "io/model/geometry.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/roi_selection.h"
+#include "ui/session/roi_worker.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_worker.h"
 #include "ui/session/viewer_state.h"
@@ -100,8 +102,13 @@ public:
   std::shared_ptr<const Polylines> shownTractsShared() const { return shownTracts_ ? shownTracts_ : tracts_; }
   const std::shared_ptr<const render::DisplayTracts>& tractDisplay() const { return display_; }
   std::uint64_t displaySerial() const { return displaySerial_; }
+  // The display of every tract drawn (after the ROI selection and the group choice), whatever the surface:
+  // what the ortho layout's slice panes draw in a slab around their planes. Changes with displaySerial.
+  const std::shared_ptr<const render::DisplayTracts>& tractDisplayAll() const { return allDisplay_; }
   bool tractsSlab() const { return tractsSlab_; }
   glm::vec4 tractsPlane() const { return tractsPlane_; }
+  // The ROI selection of the tracts (ui/session/roi_selection.h, which says how to read it): UI thread only.
+  const RoiSelection& roiSelection() const { return roi_; }
   // Counts changes of the tract width and the clip slab.
   std::uint64_t tractStyleSerial() const { return tractStyleSerial_; }
 
@@ -132,6 +139,10 @@ private:
   void startTracking(const TrackRequest& request);
   void startAgreement(const ComputeAgreement& a);
   void saveTracts(const SaveTracts& a);
+  // The ROI selection: a job for the region set in state_.roiSet, its result, the region set's actions.
+  void requestRoi();
+  void onRoiResult(RoiResult& r);
+  void applyRoi(const Action& action);
 
   ViewerState state_;
   std::shared_ptr<const ViewerDataset> data_;
@@ -154,9 +165,12 @@ private:
   SetTractGroups tractGroups_;
   std::uint64_t tractsSerial_ = 0, latestSelection_ = 0, latestTracking_ = 0, latestAgreement_ = 0;
   std::shared_ptr<const render::DisplayTracts> display_; // the latest selection's display
+  std::shared_ptr<const render::DisplayTracts> allDisplay_; // ... and of every tract
   std::uint64_t displaySerial_ = 0, tractStyleSerial_ = 0;
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
+  RoiSelection roi_;                                  // the ROI selection on screen (roiSelection())
+  std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
   std::vector<std::string> inputs_;        // files read so far: never written (mayWrite)
@@ -166,6 +180,7 @@ private:
   // Last: their threads are joined before the members their jobs refer to go.
   ViewerWorker worker_;
   TractWorker tractWorker_;
+  RoiWorker roiWorker_;
 };
 
 // The status bar's and the script's text for a probed voxel: "voxel I J K, FA F, e1 X Y Z, lambda L1 L2 L3"

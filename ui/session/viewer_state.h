@@ -7,6 +7,7 @@
 #include "io/model/fibre_set.h"
 #include "render/camera.h"
 #include "render/fabric_params.h"
+#include "surfaces/selection/regions.h"
 #include "ui/session/actions.h"
 
 #include <array>
@@ -152,6 +153,16 @@ struct ViewerState {
   std::size_t tractsShownLines = 0, tractsShownPoints = 0; // after selection and display decimation
   int tractsLevel = 0;            // level of detail on screen (0 = every display point)
   double tractsLevelFraction = 1; // share of that level's segments drawn
+  // The ROI selection (Tracts panel's regions; ui/session/roi_selection.h).
+  surfaces::RegionSet roiSet;   // the regions applied, in order (ends-only for the whole set)
+  std::vector<char> roiVisible; // per region: its outline and shape are drawn
+  bool roiHideOthers = true;    // the streamlines left out are hidden (else dimmed)
+  bool roiActive = false;       // a region applies to the tracts on screen
+  std::size_t roiSelected = 0;  // streamlines selected (every streamline when not active)
+  bool roiSelecting = false;    // a selection (or the tracts' index) is being computed
+  std::string roiStage;         // its stage, e.g. "indexing streamlines"
+  double roiSelectMs = 0;       // the last selection's time on the worker
+  std::string roiStatus;        // the last region file or selection save: what it wrote, or why not
   // Tracking on the worker thread.
   bool tracking = false;
   double trackProgress = 0; // 0..1 (seeds done / planned)

@@ -11,7 +11,8 @@ dtf_test(test_view_scene SOURCES app/viewer/view_scene_alloc_gl_test.cpp LIBS dt
 dtf_test(test_view_tracts SOURCES app/viewer/view_tracts_gl_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_initial_view SOURCES app/viewer/view_initial_view_gl_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_tract_colouring SOURCES app/viewer/view_tract_colouring_gl_test.cpp LIBS dtf_viewer)
-dtf_test(test_view_tract_colouring_window SOURCES app/viewer/view_tract_colouring_window_test.cpp LIBS dtf_io dtf_model)
+dtf_test(test_view_tract_colouring_window SOURCES app/viewer/view_tract_colouring_window_test.cpp
+  app/viewer/view_roi_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_view_fibres_window SOURCES app/viewer/view_fibres_window_test.cpp LIBS dtf_io dtf_model)
 dtf_test(test_view_fibres_scene SOURCES app/viewer/view_fibres_scene_gl_test.cpp LIBS dtf_viewer)
 dtf_test(test_view_ortho SOURCES app/viewer/view_ortho_gl_test.cpp LIBS dtf_viewer)

@@ -8,6 +8,7 @@
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 #include "ui/session/orientation_labels.h"
+#include "ui/session/roi_outline.h"
 
 namespace {
 
@@ -207,4 +208,83 @@ TEST(ViewOrtho, AnOpenedSliceStartsTheLayoutAndTheAnatomyCoversTheGrid) {
     }
   ASSERT_GT(tested, 20) << "the slice has bright b=0 voxels away from the tensor data";
   EXPECT_GT(grey, 0.9 * tested) << grey << " of " << tested << " b=0 voxels outside the data drawn grey";
+}
+
+// A sphere region is outlined in the slice panes where it cuts their slices, in the include colour: the
+// circle is computed here from the sphere and each pane's slice plane (a CPU reference), and the pixels on
+// it carry the colour while pixels well inside and outside do not. The region under a pixel is found for
+// dragging.
+TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  auto& scene = v.scene;
+  const glm::dvec3 cross = v.state().crosshair;
+  const glm::u8vec3 green = dtf::session::regionKindColour(dtf::surfaces::RegionKind::Include);
+  auto isGreen = [&](const dtf::Image& img, int x, int y) {
+    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return false;
+    const std::uint8_t* p = img.pixel(x, y);
+    return p[0] == green.x && p[1] == green.y && p[2] == green.z;
+  };
+  const dtf::Image plain = scene.layoutImage();
+  for (int y = 0; y < plain.height; ++y)
+    for (int x = 0; x < plain.width; ++x)
+      ASSERT_FALSE(isGreen(plain, x, y)) << "the include colour is already on screen at " << x << "," << y;
+
+  dtf::session::RoiAdd add;
+  add.spec = std::to_string(cross.x + 3) + "," + std::to_string(cross.y - 2) + "," +
+             std::to_string(cross.z + 1.5) + ",24";
+  v.apply(add);
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  const glm::dvec3 c(cross.x + 3, cross.y - 2, cross.z + 1.5);
+  const double radius = 24;
+  const dtf::Image img = scene.layoutImage();
+  for (int s = 0; s < 3; ++s) {
+    ASSERT_TRUE(scene.orthoPlane(s)) << s;
+    const glm::dvec4 plane(*scene.orthoPlane(s));
+    const glm::dvec3 n(plane);
+    const double d = glm::dot(n, c) + plane.w; // the centre's distance from the slice
+    ASSERT_LT(std::abs(d), radius) << s;
+    const glm::dvec3 onPlane = c - d * n;
+    const double rho = std::sqrt(radius * radius - d * d);
+    const glm::dvec2 centre = scene.orthoPixel(s, onPlane);
+    const double rPx =
+        glm::length(scene.orthoPixel(s, onPlane + rho * scene.orthoCamera(s).right()) - centre);
+    ASSERT_GT(rPx, 10) << s;
+    int on = 0, inside = 0, outside = 0;
+    const int samples = 72;
+    for (int k = 0; k < samples; ++k) {
+      const double t = 2 * M_PI * k / samples;
+      const glm::dvec2 dir(std::cos(t), std::sin(t));
+      auto near = [&](glm::dvec2 p) { // the pixel holding p or a neighbour
+        const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (isGreen(img, x + dx, y + dy)) return true;
+        return false;
+      };
+      on += near(centre + rPx * dir);
+      inside += near(centre + 0.6 * rPx * dir);
+      outside += near(centre + 1.4 * rPx * dir);
+    }
+    EXPECT_GE(on, samples * 95 / 100) << "pane " << s << ": the circle of radius " << rPx << " px";
+    EXPECT_EQ(inside, 0) << "pane " << s;
+    EXPECT_EQ(outside, 0) << "pane " << s;
+    // The region under the centre is region 0; nothing well outside.
+    EXPECT_EQ(scene.regionAt(centre.x, centre.y), 0) << s;
+    EXPECT_EQ(scene.regionAt(centre.x + 1.4 * rPx, centre.y), -1) << s;
+  }
+  // Hidden, it is not drawn.
+  v.apply(dtf::session::RoiVisible{0, false});
+  v.converge();
+  const dtf::Image hidden = scene.layoutImage();
+  std::size_t greens = 0;
+  for (int y = 0; y < hidden.height; ++y)
+    for (int x = 0; x < hidden.width; ++x)
+      greens += isGreen(hidden, x, y);
+  EXPECT_EQ(greens, 0u);
 }

@@ -267,7 +267,9 @@ TEST(ViewScript, BadTractLinesNameTheProblem) {
             std::string::npos);
   EXPECT_NE(parseError("tract-width 0").find("tract-width must lie in (0, 32]"), std::string::npos);
   EXPECT_NE(parseError("tracts-visible maybe").find("tracts-visible takes on or off"), std::string::npos);
-  EXPECT_NE(parseError("tracts-save").find("usage: tracts-save [--force] PATH"), std::string::npos);
+  EXPECT_NE(
+      parseError("tracts-save").find("usage: tracts-save [--force] [--selected [--as-group NAME]] PATH"),
+      std::string::npos);
   EXPECT_NE(parseError("agreement 2 0").find("agreement bins must lie in 1..90"), std::string::npos);
   EXPECT_NE(parseError("agreement 1 2 3").find("usage: agreement"), std::string::npos);
   EXPECT_NE(parseError("track-cancel now").find("usage: track-cancel"), std::string::npos);
@@ -543,4 +545,50 @@ TEST(ViewScript, SessionInputsAreCheckedBeforeTheWindowOpens) {
                InputError);
   EXPECT_THROW(checkSessionInputs(parseViewScript("session 1\nbackground /nowhere/t1.nii.gz\n", "s")),
                InputError);
+}
+
+TEST(ViewScript, RoiLinesAndSavingTheSelection) {
+  const ViewScript s = parseViewScript("roi add include 18,3.7,21.6,6\n"
+                                       "roi add exclude box:-5,-100,-100,5,100,100\n"
+                                       "roi add include-ordered /data/my atlas.nii.gz:7,8\n"
+                                       "roi ends-only on\n"
+                                       "roi others dim\n"
+                                       "roi clear\n"
+                                       "roi save --force /out/set.json\n"
+                                       "roi load /in/my set.json\n"
+                                       "tracts-save --selected /out/cst.tck\n"
+                                       "tracts-save --force --selected --as-group cst /out/all.trx\n",
+                                       "roi.txt");
+  ASSERT_EQ(s.steps.size(), 10u);
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 0).kind, surfaces::RegionKind::Include);
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 0).spec, "18,3.7,21.6,6");
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 1).kind, surfaces::RegionKind::Exclude);
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 1).spec, "box:-5,-100,-100,5,100,100");
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 2).kind, surfaces::RegionKind::IncludeOrdered);
+  EXPECT_EQ(actionAt<session::RoiAdd>(s, 2).spec, "/data/my atlas.nii.gz:7,8");
+  EXPECT_TRUE(actionAt<session::RoiEndsOnly>(s, 3).on);
+  EXPECT_FALSE(actionAt<session::RoiHideOthers>(s, 4).on);
+  actionAt<session::RoiClear>(s, 5);
+  EXPECT_EQ(actionAt<session::SaveRegions>(s, 6).path, "/out/set.json");
+  EXPECT_TRUE(actionAt<session::SaveRegions>(s, 6).force);
+  EXPECT_EQ(actionAt<session::LoadRegions>(s, 7).path, "/in/my set.json");
+  const auto& cst = actionAt<session::SaveTracts>(s, 8);
+  EXPECT_TRUE(cst.selected);
+  EXPECT_FALSE(cst.force);
+  EXPECT_EQ(cst.path, "/out/cst.tck");
+  const auto& all = actionAt<session::SaveTracts>(s, 9);
+  EXPECT_TRUE(all.selected && all.force);
+  EXPECT_EQ(all.asGroup, "cst");
+  EXPECT_EQ(all.path, "/out/all.trx");
+  EXPECT_NE(parseError("roi add maybe 1,2,3,4")
+                .find("demo.txt:1: roi add: the kind is include, exclude or "
+                      "include-ordered, got 'maybe'"),
+            std::string::npos);
+  EXPECT_NE(parseError("roi add include").find("usage: roi add"), std::string::npos);
+  EXPECT_NE(parseError("roi spin").find("roi: unknown 'spin'"), std::string::npos);
+  EXPECT_NE(parseError("roi ends-only maybe").find("roi ends-only takes on or off"), std::string::npos);
+  EXPECT_NE(parseError("tracts-save --as-group g x.trx").find("--as-group needs --selected"),
+            std::string::npos);
+  EXPECT_NE(parseError("tracts-save --frobnicate x.tck").find("unknown option '--frobnicate'"),
+            std::string::npos);
 }

@@ -471,3 +471,51 @@ TEST(ViewTracts, HoveringAProfileNodePutsTheCrosshairAtItsCore) {
   s.apply(session::HoverProfileNode{100, false});
   EXPECT_NE(s.lastError().find("100 nodes"), std::string::npos) << s.lastError();
 }
+
+// With regions, the fabric follows the selected streamlines: the whole tractogram with the two spheres that
+// cut the right corticospinal tract shows exactly the image of that tract loaded alone; the profile too
+// measures the selection (40 streamlines). A selection of nothing leaves no fabric.
+TEST(ViewTracts, TheFabricAlongAndTheProfileFollowTheRoiSelection) {
+  BRAIN_FILES();
+  const fs::path cst = cutCst(tck, test::scratchDir() / "cst");
+  Scene alone("slice=coronal:33");
+  alone.apply(session::LoadFile{tensor.string(), "auto"});
+  alone.apply(session::LoadTracts{cst.string()});
+  alone.apply(session::SetTractsVisible{false});
+  alone.apply(session::SetFabricAlong{true, 2.0});
+  alone.converge();
+  ASSERT_EQ(alone.lastError(), "");
+  const Image want = alone.image();
+
+  Scene s("slice=coronal:33");
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{tck.string()});
+  s.apply(session::SetTractsVisible{false});
+  s.apply(session::SetFabricAlong{true, 2.0});
+  s.apply(session::SetProfile{true, {}});
+  for (const char* spec : {"18,3.7,21.6,6", "20,0,45,10"}) {
+    session::RoiAdd add;
+    add.spec = spec;
+    s.apply(add);
+  }
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  ASSERT_EQ(s.scene.session().roiSelection().count(), 40u);
+  EXPECT_EQ(s.state().profile.streamlines, 40u);
+  EXPECT_EQ(differing(s.image(), want), 0u) << "the selection's fabric is the CST's";
+  // A region that keeps nothing: no fabric anywhere, FA alone.
+  session::RoiAdd none;
+  none.spec = "box:200,200,200,201,201,201";
+  s.apply(none);
+  s.converge();
+  ASSERT_EQ(s.scene.session().roiSelection().count(), 0u);
+  const Image empty = s.image();
+  std::size_t coloured = 0;
+  for (int y = 0; y < empty.height; ++y)
+    for (int x = 0; x < empty.width; ++x) {
+      const auto* p = empty.pixel(x, y);
+      coloured += std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 8;
+    }
+  EXPECT_LT(coloured, 20u) << "grey alone (the furniture's few coloured pixels aside)";
+  EXPECT_NE(s.state().profile.error, "");
+}

@@ -390,3 +390,102 @@ TEST(ViewerSession, AnFaSurfaceNamedForAFibreSetWithoutFaIsRefusedWithTheReason)
   EXPECT_TRUE(mentions(s.state().errorChain, "needs FA"))
       << (s.state().errorChain.empty() ? "" : s.state().errorChain.back());
 }
+
+// The ROI selection of the session (ui/session/roi_selection.h) on lines with a known answer: eight lines
+// along x at heights z = -14, -10, ..., 14 mm, x from -12 to 12 mm in 1 mm steps.
+TEST(ViewerSession, RegionsSelectOffTheUiThreadAndTheSelectionIsDrawnSavedAndPublished) {
+  const auto dir = test::scratchDir();
+  Polylines lines;
+  lines.offsets = {0};
+  for (int i = 0; i < 8; ++i) {
+    for (int k = -12; k <= 12; ++k)
+      lines.points.emplace_back(float(k), 0.0f, float(4 * i - 14));
+    lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  }
+  const std::string tck = (dir / "lines.tck").string();
+  session::writeTracts(tck, lines, nullptr);
+  ViewerSession s("slice=axial");
+  s.apply(session::LoadTracts{tck});
+  settle(s);
+  const session::ViewerState& st = s.state();
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  // No region: every streamline counts as selected, the selection is not active.
+  const session::RoiSelection& roi = s.roiSelection();
+  EXPECT_FALSE(roi.active);
+  EXPECT_EQ(roi.count(), 8u);
+  EXPECT_EQ(roi.tracts.get(), s.tracts());
+  const std::uint64_t g0 = roi.generation;
+
+  // A sphere of radius 3 at z = -4 holds vertices of the lines at z = -6 and z = -2 (distance 2), not
+  // z = -10 or 2 (6): lines 2 and 3.
+  session::RoiAdd add;
+  add.spec = "0,0,-4,3";
+  s.apply(add);
+  EXPECT_TRUE(s.roiSelection().pending);
+  settle(s);
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  EXPECT_TRUE(s.roiSelection().active);
+  EXPECT_GT(s.roiSelection().generation, g0);
+  ASSERT_TRUE(s.roiSelection().lines);
+  EXPECT_EQ(*s.roiSelection().lines, (std::vector<std::uint32_t>{2, 3}));
+  EXPECT_EQ(st.roiSelected, 2u);
+  EXPECT_EQ(st.roiSet.regions.size(), 1u);
+  EXPECT_EQ(st.roiSet.regions[0].name, "0,0,-4,3");
+  // Hidden: the overlay draws the two selected lines only; dimmed: all eight, the others grey.
+  ASSERT_TRUE(s.shownTracts());
+  EXPECT_EQ(s.shownTracts()->lineCount(), 2u);
+  s.apply(session::RoiHideOthers{false});
+  settle(s);
+  ASSERT_EQ(s.shownTracts()->lineCount(), 8u);
+  const auto& pp = s.shownTracts()->perPoint;
+  const auto colours = std::find_if(
+      pp.begin(), pp.end(), [](const TractValues& v) { return v.name == render::kTractDisplayColours; });
+  ASSERT_NE(colours, pp.end());
+  EXPECT_EQ(colours->values[2 * 25 * 4 + 3], 0.0f) << "a selected line keeps its DEC colour";
+  EXPECT_EQ(colours->values[0 * 25 * 4 + 3], 1.0f) << "a line left out is grey";
+  EXPECT_NEAR(colours->values[0], 0.3f, 1e-6f);
+  // An exclude box on line 3 (z = -2) leaves line 2.
+  session::RoiAdd ex;
+  ex.kind = surfaces::RegionKind::Exclude;
+  ex.spec = "box:-20,-1,-3,20,1,-1";
+  s.apply(ex);
+  settle(s);
+  EXPECT_EQ(*s.roiSelection().lines, (std::vector<std::uint32_t>{2}));
+  // Ends only: line 2's end points (x = +-12, z = -6) are 12.2 mm from the sphere's centre: nothing is kept.
+  s.apply(session::RoiEndsOnly{true});
+  settle(s);
+  EXPECT_TRUE(s.roiSelection().active);
+  EXPECT_TRUE(s.roiSelection().lines->empty());
+  s.apply(session::RoiEndsOnly{false});
+  settle(s);
+  // The selected streamlines are written as `select` writes them; the region set saved and read back.
+  const std::string out = (dir / "selected.tck").string(), json = (dir / "set.json").string();
+  s.apply(session::SaveTracts{out, false, true});
+  s.apply(session::SaveRegions{json});
+  settle(s);
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  const Polylines saved = session::readTracts(out);
+  ASSERT_EQ(saved.lineCount(), 1u);
+  EXPECT_EQ(saved.points.front(), glm::vec3(-12, 0, -6));
+  s.apply(session::RoiClear{});
+  settle(s);
+  EXPECT_FALSE(s.roiSelection().active);
+  EXPECT_EQ(s.shownTracts()->lineCount(), 8u);
+  s.apply(session::LoadRegions{json});
+  settle(s);
+  EXPECT_EQ(st.roiSet.regions.size(), 2u);
+  EXPECT_EQ(*s.roiSelection().lines, (std::vector<std::uint32_t>{2}));
+  // Removing the exclude region gives lines 2 and 3 again; a bad spec names itself and changes nothing.
+  s.apply(session::RoiRemove{1});
+  settle(s);
+  EXPECT_EQ(*s.roiSelection().lines, (std::vector<std::uint32_t>{2, 3}));
+  session::RoiAdd bad;
+  bad.spec = "0,0,0,-3";
+  s.apply(bad);
+  EXPECT_TRUE(mentions(st.errorChain, "0,0,0,-3")) << (st.errorChain.empty() ? "" : st.errorChain.back());
+  EXPECT_EQ(st.roiSet.regions.size(), 1u);
+  s.apply(session::DismissError{});
+  // The region file is an input now: saving over it is refused.
+  s.apply(session::SaveRegions{json, true});
+  EXPECT_TRUE(mentions(st.errorChain, json));
+}

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// How the viewer draws the regions of the ROI selection (ui/session/roi_selection.h): a colour per kind, and
+// where a region cuts a slice plane (a circle for a sphere, a polygon for a box), in world RAS mm, for the
+// outlines of the ortho layout's slice panes and the tests that check them. Pure geometry, no GL.
+#pragma once
+
+#include "surfaces/selection/regions.h"
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
+#include <vector>
+
+namespace dtf::session {
+
+// Include green, exclude red, ordered include blue (RGB in 0..255); the Tracts panel names them.
+glm::u8vec3 regionKindColour(surfaces::RegionKind kind);
+const char* regionKindColourName(surfaces::RegionKind kind); // "green", "red", "blue"
+
+// The outline of `region` on the plane through `point` with unit normal `normal`, as a closed polygon of
+// world points in `out` (cleared first; its capacity is reused): a sphere's circle in `segments` points, a
+// box's section (3 to 6 corners, in order around it). False, with `out` empty, when the region does not cut
+// the plane or is a mask (masks are not outlined).
+bool regionOutline(const surfaces::Region& region, const glm::dvec3& point, const glm::dvec3& normal,
+                   std::vector<glm::dvec3>& out, int segments = 64);
+
+} // namespace dtf::session
