@@ -910,8 +910,7 @@ const std::vector<ScriptCommand> kCommands = {
      parseTractsSave},
     {"roi", "add KIND SPEC | ends-only on|off | others hide|dim | clear | save [--force] FILE | load FILE",
      "the regions that select streamlines, as `dtfabric select`: add a region (KIND include, exclude or "
-     "include-ordered; SPEC X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, IMAGE or IMAGE:L[,L...]), test the end points "
-     "only, "
+     "include-ordered; SPEC X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, IMAGE or IMAGE:L[,L...]), test the end points only, "
      "hide or dim the streamlines left out, remove every region, save or load the region set (`select --roi` "
      "JSON); a later line waits for the selection",
      parseRoi},

@@ -1,6 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/viewer.h"
 
+#include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/orientation_labels.h"
+#include "ui/session/roi_outline.h"
+#include "ui/session/tract_overlay.h"
+#include "ui/session/viewer_worker.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
@@ -9,12 +15,6 @@
 #include "render/text.h"
 #include "surfaces/analyses/tract_proximity.h"
 #include "surfaces/slices.h"
-#include "ui/session/fibre_input.h"
-#include "ui/session/movie_job.h"
-#include "ui/session/orientation_labels.h"
-#include "ui/session/roi_outline.h"
-#include "ui/session/tract_overlay.h"
-#include "ui/session/viewer_worker.h"
 
 #include <algorithm>
 #include <cmath>
@@ -396,8 +396,7 @@ void ViewerScene::updateOrtho() {
     } catch (const InputError&) {
       orthoMeshes_[s] = Mesh{}; // no data in this slice: the pane stays empty
     }
-    orthoPlanes_[s] =
-        orthoMeshes_[s].empty() ? std::nullopt : session::pickTracts(orthoMeshes_[s], 0.0).plane;
+    orthoPlanes_[s] = orthoMeshes_[s].empty() ? std::nullopt : session::pickTracts(orthoMeshes_[s], 0.0).plane;
     orthoMeshNew_[s] = true;
     orthoDirty_[s] = true;
     orthoIterations_[s] = 0;

@@ -129,9 +129,8 @@ public:
   glm::dvec3 orthoWorld(int s, double x, double y) const;
   // Slice pane s's plane (unit normal, offset: dot(n, p) + w = 0, world mm); nullopt while it has no slice.
   const std::optional<glm::vec4>& orthoPlane(int s) const { return orthoPlanes_[s]; }
-  // The outline of region i of the ROI set where it cuts slice pane s, as scene pixels (x, y down) of a
-  // closed polygon in `out` (its capacity is reused); false when the region is hidden, a mask, or misses the
-  // slice.
+  // The outline of region i of the ROI set where it cuts slice pane s, as scene pixels (x, y down) of a closed
+  // polygon in `out` (its capacity is reused); false when the region is hidden, a mask, or misses the slice.
   bool regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out) const;
   // The visible sphere or box region whose section holds scene pixel (x, y down) of a slice pane (the last
   // in the list first), or -1.
@@ -292,11 +291,11 @@ private:
   std::array<Mesh, 3> orthoMeshes_;
   std::array<render::Camera, 3> orthoCameras_;
   std::array<int, 3> orthoBuilt_{-1, -1, -1}; // slice index of each mesh (-1: none)
-  std::array<std::optional<glm::vec4>, 3> orthoPlanes_;        // each mesh's plane
-  std::unique_ptr<render::TractRenderer> orthoTracts_;         // every tract drawn, for the slice panes
+  std::array<std::optional<glm::vec4>, 3> orthoPlanes_;      // each mesh's plane
+  std::unique_ptr<render::TractRenderer> orthoTracts_;        // every tract drawn, for the slice panes
   std::shared_ptr<const render::DisplayTracts> orthoUploaded_; // what orthoTracts_ holds
-  std::uint64_t orthoTractKey_ = 0;                            // the tract style the slice panes drew with
-  mutable std::vector<glm::dvec3> outlineWorld_;               // regionOutlinePixels' scratch
+  std::uint64_t orthoTractKey_ = 0;                           // the tract style the slice panes drew with
+  mutable std::vector<glm::dvec3> outlineWorld_;              // regionOutlinePixels' scratch
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};
   std::array<int, 3> orthoIterations_{0, 0, 0};
   std::array<unsigned, 3> orthoCovered_{0, 0, 0};

@@ -46,9 +46,7 @@ const std::array<TargetInfo, 14>& targets() {
       {FileTarget::TractsSave, "tracts-save", "Save the tracts as", {"*.tck", "*.trk", "*.vtk"}},
       {FileTarget::SessionSave, "session-save", "Save the session as", {"*.dtfview"}},
       {FileTarget::RegionsSave, "regions-save", "Save the region set as", {"*.json"}},
-      {FileTarget::SelectedSave,
-       "selected-save",
-       "Save the selected streamlines as",
+      {FileTarget::SelectedSave, "selected-save", "Save the selected streamlines as",
        {"*.tck", "*.trk", "*.trx", "*.vtk"}},
   }};
   return t;

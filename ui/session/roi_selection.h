@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The viewer's ROI selection (issue "Dissect in the viewer"): which streamlines of the tracts on screen the
 // region set the user edits keeps. The session (ui/session/viewer_session.h) owns the region set and hands it
-// to its ROI worker (ui/session/roi_worker.h), which builds the streamlines' TractIndex once per tract set
-// and runs surfaces::selectLines off the UI thread, coalescing; the result lands here when the session's
-// update() takes it.
+// to its ROI worker (ui/session/roi_worker.h), which builds the streamlines' TractIndex once per tract set and
+// runs surfaces::selectLines off the UI thread, coalescing; the result lands here when the session's update()
+// takes it.
 //
 // How a reader gets it: `ViewerSession::roiSelection()` (and `Viewer::session().roiSelection()`), on the UI
 // thread, the thread that calls ViewerSession::update() and apply(). The struct is replaced as a whole only
@@ -31,7 +31,7 @@ namespace dtf::session {
 struct RoiSelection {
   std::shared_ptr<const Polylines> tracts;                 // the set the indices refer to; null: no tracts
   std::shared_ptr<const std::vector<std::uint32_t>> lines; // active: selected indices into *tracts, ascending
-  bool active = false;          // a region (or a length range) applies; false: every streamline is selected
+  bool active = false;         // a region (or a length range) applies; false: every streamline is selected
   std::uint64_t generation = 0; // changes with every change of the fields above
   bool pending = false;         // a newer selection is being computed; the fields above stay valid meanwhile
 

@@ -20,13 +20,9 @@ RoiWorker::RoiWorker()
 
 RoiWorker::~RoiWorker() = default;
 
-void RoiWorker::request(RoiJob job) {
-  worker_.request(std::move(job));
-}
+void RoiWorker::request(RoiJob job) { worker_.request(std::move(job)); }
 
-bool RoiWorker::poll(RoiResult& out) {
-  return worker_.poll(out);
-}
+bool RoiWorker::poll(RoiResult& out) { return worker_.poll(out); }
 
 RoiResult RoiWorker::run(const RoiJob& job, const surfaces::TractIndex* index) {
   RoiResult r;

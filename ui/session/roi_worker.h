@@ -33,10 +33,10 @@ struct RoiJob {
 
 struct RoiResult {
   std::uint64_t id = 0;
-  bool active = false;                                     // the set had a region or a length range
+  bool active = false; // the set had a region or a length range
   std::shared_ptr<const std::vector<std::uint32_t>> lines; // active: the kept streamlines, ascending
-  std::string error;  // non-empty: the selection failed (nothing else is set)
-  double indexMs = 0; // time spent building the index in this job (0: reused)
+  std::string error;   // non-empty: the selection failed (nothing else is set)
+  double indexMs = 0;  // time spent building the index in this job (0: reused)
   double selectMs = 0;
 };
 

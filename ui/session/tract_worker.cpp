@@ -2,8 +2,8 @@
 #include "ui/session/tract_worker.h"
 
 #include "io/model/error.h"
-#include "surfaces/analyses/near_surface.h"
 #include "surfaces/mesh_checks.h"
+#include "surfaces/analyses/near_surface.h"
 #include "surfaces/selection/tract_selection.h"
 #include "surfaces/slices.h"
 #include "ui/session/tract_files.h"

@@ -20,8 +20,8 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
+#include <variant>
 
 namespace dtf::session {
 

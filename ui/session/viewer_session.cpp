@@ -5,8 +5,8 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
-#include "surfaces/selection/tract_selection.h"
 #include "surfaces/slices.h"
+#include "surfaces/selection/tract_selection.h"
 #include "ui/session/region_spec.h"
 #include "ui/session/render_job.h"
 #include "ui/session/tensor_input.h"
@@ -73,8 +73,7 @@ void dimUnselected(Polylines& lines) {
   auto c = std::find_if(lines.perPoint.begin(), lines.perPoint.end(),
                         [](const TractValues& v) { return v.name == render::kTractDisplayColours; });
   if (c == lines.perPoint.end()) {
-    lines.perPoint.push_back(
-        {render::kTractDisplayColours, 4, std::vector<float>(lines.points.size() * 4, 0.0f)});
+    lines.perPoint.push_back({render::kTractDisplayColours, 4, std::vector<float>(lines.points.size() * 4, 0.0f)});
     c = std::prev(lines.perPoint.end());
     m = std::find_if(lines.perLine.begin(), lines.perLine.end(),
                      [](const TractValues& v) { return v.name == kRoiMarker; });
@@ -529,8 +528,7 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   const bool roi = roi_.active && roi_.lines && roi_.tracts == tracts_;
   const bool dim = roi && !state_.roiHideOthers;
   std::shared_ptr<const Polylines> shown = tracts_;
-  if (roi && !dim)
-    shown = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
+  if (roi && !dim) shown = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
   TractColouringApplied applied;
   if (!colour.value.empty() || !groups.all || dim) {
     // A copy once per choice (not per frame); the near-surface selection carries the display colours
@@ -546,7 +544,8 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
       else
         c.groups = groups.shown;
     }
-    if (!colour.value.empty() || !groups.all) applied = applyTractColouring(lines, c, state_.tractPath);
+    if (!colour.value.empty() || !groups.all)
+      applied = applyTractColouring(lines, c, state_.tractPath);
     if (dim) dimUnselected(lines);
     shown = std::make_shared<const Polylines>(std::move(lines));
   }
@@ -714,8 +713,8 @@ void ViewerSession::onRoiResult(RoiResult& r) {
   if (r.indexMs > 0)
     logInfo("streamline index built in " + std::to_string(static_cast<long>(r.indexMs)) + " ms");
   if (r.active)
-    logInfo("ROI selection: " + std::to_string(state_.roiSelected) + " of " +
-            std::to_string(state_.tractCount) + " streamlines");
+    logInfo("ROI selection: " + std::to_string(state_.roiSelected) + " of " + std::to_string(state_.tractCount) +
+            " streamlines");
   if (redraw) {
     applyTractChoice(tractColour_, tractGroups_);
     requestSelection();
@@ -786,16 +785,14 @@ void ViewerSession::saveTracts(const SaveTracts& a) {
   if (a.selected && !isTractFileName(a.path))
     throw UsageError(a.path + ": tract files end in .tck, .trk, .trx or .vtk");
   auto isTrx = [](std::string p) {
-    std::transform(p.begin(), p.end(), p.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(p.begin(), p.end(), p.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return p.ends_with(".trx");
   };
   if (!a.asGroup.empty() && !isTrx(a.path))
     throw UsageError(a.path + ": saving the selection as a group needs a .trx output");
   if (a.selected && roi_.pending)
     throw UsageError("the selection is still being computed (wait for it before saving it)");
-  if (!a.selected && !isTractFileName(a.path))
-    throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
+  if (!a.selected && !isTractFileName(a.path)) throw UsageError(a.path + ": tract files end in .tck, .trk or .vtk");
   if (!mayWrite(a.path, a.force, Action(a))) return; // an input, or the overwrite prompt
   SaveJob job;
   job.id = nextId_++;

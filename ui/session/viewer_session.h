@@ -169,7 +169,7 @@ private:
   std::uint64_t displaySerial_ = 0, tractStyleSerial_ = 0;
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
-  RoiSelection roi_;                                  // the ROI selection on screen (roiSelection())
+  RoiSelection roi_; // the ROI selection on screen (roiSelection())
   std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 

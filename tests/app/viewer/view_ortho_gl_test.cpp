@@ -235,8 +235,8 @@ TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
       ASSERT_FALSE(isGreen(plain, x, y)) << "the include colour is already on screen at " << x << "," << y;
 
   dtf::session::RoiAdd add;
-  add.spec = std::to_string(cross.x + 3) + "," + std::to_string(cross.y - 2) + "," +
-             std::to_string(cross.z + 1.5) + ",24";
+  add.spec = std::to_string(cross.x + 3) + "," + std::to_string(cross.y - 2) + "," + std::to_string(cross.z + 1.5) +
+             ",24";
   v.apply(add);
   v.converge();
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
@@ -252,8 +252,7 @@ TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
     const glm::dvec3 onPlane = c - d * n;
     const double rho = std::sqrt(radius * radius - d * d);
     const glm::dvec2 centre = scene.orthoPixel(s, onPlane);
-    const double rPx =
-        glm::length(scene.orthoPixel(s, onPlane + rho * scene.orthoCamera(s).right()) - centre);
+    const double rPx = glm::length(scene.orthoPixel(s, onPlane + rho * scene.orthoCamera(s).right()) - centre);
     ASSERT_GT(rPx, 10) << s;
     int on = 0, inside = 0, outside = 0;
     const int samples = 72;

@@ -49,8 +49,8 @@ TEST(ViewRoiWindow, ScriptRegionsSelectWhatSelectKeepsAndTheSavedSetReplays) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find("ROI selection: "), std::string::npos) << r.err;
 
-  const auto sel = dtf::test::runDtfabric("select " + q(tracks) + " -o " + q(dir / "select.tck") +
-                                              " --include " + kCstLow + " --include " + kCstHigh,
+  const auto sel = dtf::test::runDtfabric("select " + q(tracks) + " -o " + q(dir / "select.tck") + " --include " +
+                                              kCstLow + " --include " + kCstHigh,
                                           dir);
   ASSERT_EQ(sel.exitCode, 0) << sel.err;
   const std::size_t kept = dtf::io::readTck((dir / "select.tck").string()).lineCount();

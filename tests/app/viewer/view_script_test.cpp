@@ -267,9 +267,8 @@ TEST(ViewScript, BadTractLinesNameTheProblem) {
             std::string::npos);
   EXPECT_NE(parseError("tract-width 0").find("tract-width must lie in (0, 32]"), std::string::npos);
   EXPECT_NE(parseError("tracts-visible maybe").find("tracts-visible takes on or off"), std::string::npos);
-  EXPECT_NE(
-      parseError("tracts-save").find("usage: tracts-save [--force] [--selected [--as-group NAME]] PATH"),
-      std::string::npos);
+  EXPECT_NE(parseError("tracts-save").find("usage: tracts-save [--force] [--selected [--as-group NAME]] PATH"),
+            std::string::npos);
   EXPECT_NE(parseError("agreement 2 0").find("agreement bins must lie in 1..90"), std::string::npos);
   EXPECT_NE(parseError("agreement 1 2 3").find("usage: agreement"), std::string::npos);
   EXPECT_NE(parseError("track-cancel now").find("usage: track-cancel"), std::string::npos);
@@ -580,15 +579,12 @@ TEST(ViewScript, RoiLinesAndSavingTheSelection) {
   EXPECT_TRUE(all.selected && all.force);
   EXPECT_EQ(all.asGroup, "cst");
   EXPECT_EQ(all.path, "/out/all.trx");
-  EXPECT_NE(parseError("roi add maybe 1,2,3,4")
-                .find("demo.txt:1: roi add: the kind is include, exclude or "
-                      "include-ordered, got 'maybe'"),
+  EXPECT_NE(parseError("roi add maybe 1,2,3,4").find("demo.txt:1: roi add: the kind is include, exclude or "
+                                                     "include-ordered, got 'maybe'"),
             std::string::npos);
   EXPECT_NE(parseError("roi add include").find("usage: roi add"), std::string::npos);
   EXPECT_NE(parseError("roi spin").find("roi: unknown 'spin'"), std::string::npos);
   EXPECT_NE(parseError("roi ends-only maybe").find("roi ends-only takes on or off"), std::string::npos);
-  EXPECT_NE(parseError("tracts-save --as-group g x.trx").find("--as-group needs --selected"),
-            std::string::npos);
-  EXPECT_NE(parseError("tracts-save --frobnicate x.tck").find("unknown option '--frobnicate'"),
-            std::string::npos);
+  EXPECT_NE(parseError("tracts-save --as-group g x.trx").find("--as-group needs --selected"), std::string::npos);
+  EXPECT_NE(parseError("tracts-save --frobnicate x.tck").find("unknown option '--frobnicate'"), std::string::npos);
 }

@@ -438,8 +438,9 @@ TEST(ViewerSession, RegionsSelectOffTheUiThreadAndTheSelectionIsDrawnSavedAndPub
   settle(s);
   ASSERT_EQ(s.shownTracts()->lineCount(), 8u);
   const auto& pp = s.shownTracts()->perPoint;
-  const auto colours = std::find_if(
-      pp.begin(), pp.end(), [](const TractValues& v) { return v.name == render::kTractDisplayColours; });
+  const auto colours = std::find_if(pp.begin(), pp.end(), [](const TractValues& v) {
+    return v.name == render::kTractDisplayColours;
+  });
   ASSERT_NE(colours, pp.end());
   EXPECT_EQ(colours->values[2 * 25 * 4 + 3], 0.0f) << "a selected line keeps its DEC colour";
   EXPECT_EQ(colours->values[0 * 25 * 4 + 3], 1.0f) << "a line left out is grey";
