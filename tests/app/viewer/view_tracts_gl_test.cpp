@@ -478,20 +478,16 @@ TEST(ViewTracts, HoveringAProfileNodePutsTheCrosshairAtItsCore) {
 TEST(ViewTracts, TheFabricAlongAndTheProfileFollowTheRoiSelection) {
   BRAIN_FILES();
   const fs::path cst = cutCst(tck, test::scratchDir() / "cst");
-  Scene alone("slice=coronal:33");
-  alone.apply(session::LoadFile{tensor.string(), "auto"});
-  alone.apply(session::LoadTracts{cst.string()});
-  alone.apply(session::SetTractsVisible{false});
-  alone.apply(session::SetFabricAlong{true, 2.0});
-  alone.converge();
-  ASSERT_EQ(alone.lastError(), "");
-  const Image want = alone.image();
-
   Scene s("slice=coronal:33");
   s.apply(session::LoadFile{tensor.string(), "auto"});
-  s.apply(session::LoadTracts{tck.string()});
+  s.apply(session::LoadTracts{cst.string()});
   s.apply(session::SetTractsVisible{false});
   s.apply(session::SetFabricAlong{true, 2.0});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image want = s.image(); // the CST loaded alone
+
+  s.apply(session::LoadTracts{tck.string()});
   s.apply(session::SetProfile{true, {}});
   for (const char* spec : {"18,3.7,21.6,6", "20,0,45,10"}) {
     session::RoiAdd add;
