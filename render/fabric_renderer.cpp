@@ -31,6 +31,9 @@ void FabricRenderer::clearFibres() {
 }
 
 void FabricRenderer::setUncertainty(const ScalarVolume* cone) { pipeline_.setUncertainty(cone); }
+void FabricRenderer::setAlong(const ScalarVolume* weight) {
+  pipeline_.setAlong(weight);
+}
 
 void FabricRenderer::setBackground(const ScalarVolume* volume, float lo, float hi) {
   pipeline_.setBackground(volume, lo, hi);

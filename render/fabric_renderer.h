@@ -41,6 +41,10 @@ public:
   // widens (FabricParams::fray); nullptr removes it. One component: every direction's cone; one per fibre of
   // the fibre set (its index order, on its grid): each population frays by its own cone.
   void setUncertainty(const ScalarVolume* cone);
+  // The fabric only near streamlines (FabricPipeline::setAlong): a proximity weight in [0, 1] on a world
+  // axis-aligned grid (surfaces/analyses/tract_proximity.h); nullptr removes it.
+  void setAlong(const ScalarVolume* weight);
+  bool hasAlong() const { return pipeline_.hasAlong(); }
   // Output size in pixels; targets are re-created only when it changes.
   void resize(int width, int height);
 

@@ -147,8 +147,20 @@ struct SilhouetteProgram {
 // two textures (LobeK and LobeKB: its amplitude-weighted dyadic; common/fibre_field.glsl).
 struct ProjectionProgram {
   enum class Unit : GLuint {
-    TensorA = 0, TensorB = 1, Lobe0 = 0, Lobe1 = 1, Noise = 2, Background = 3, Lobe0B = 4, Lobe2 = 5,
-    FibreFa = 6, TensorEdge = 7, Uncertainty = 8, Lobe1B = 10, Lobe2B = 11
+    TensorA = 0,
+    TensorB = 1,
+    Lobe0 = 0,
+    Lobe1 = 1,
+    Noise = 2,
+    Background = 3,
+    Lobe0B = 4,
+    Lobe2 = 5,
+    FibreFa = 6,
+    TensorEdge = 7,
+    Uncertainty = 8,
+    Lobe1B = 10,
+    Lobe2B = 11,
+    Along = 12
   };
   // The geometry stage's target, texel by texel (an image load: inlined on llvmpipe); above the compute
   // pass's five written images.
@@ -168,11 +180,32 @@ struct ProjectionProgram {
       {unit(Unit::Background), "UNIT_BACKGROUND", "u_background"},
       {unit(ReadImage::Geometry), "IMAGE_GEOMETRY", "u_geometry"},
       {unit(Unit::Uncertainty), "UNIT_UNCERTAINTY", "u_uncertainty"},
+      {unit(Unit::Along), "UNIT_ALONG", "u_along"},
   };
   enum class Uniform {
-    ClipToEye, EyeToWorld, ViewProj, ViewRot, TargetSize, Eps, DegenerateTol, Orthographic, PixelMm,
-    PixelMmPerDepth, NoiseOrigin, Lod, NoiseBlend, WorldToTex, LobeCount, FaFloor, BackgroundWorldToTex,
-    UncertaintyWorldToTex, Fray, FrayCells, Count
+    ClipToEye,
+    EyeToWorld,
+    ViewProj,
+    ViewRot,
+    TargetSize,
+    Eps,
+    DegenerateTol,
+    Orthographic,
+    PixelMm,
+    PixelMmPerDepth,
+    NoiseOrigin,
+    Lod,
+    NoiseBlend,
+    WorldToTex,
+    LobeCount,
+    FaFloor,
+    BackgroundWorldToTex,
+    UncertaintyWorldToTex,
+    Fray,
+    FrayCells,
+    AlongScale,
+    AlongOffset,
+    Count
   };
 };
 
@@ -334,6 +367,10 @@ constexpr const char* uniformName(ProjectionProgram::Uniform u) {
   case U::UncertaintyWorldToTex: return "u_uncertaintyWorldToTex";
   case U::Fray: return "u_fray";
   case U::FrayCells: return "u_frayCells";
+  case U::AlongScale:
+    return "u_alongScale";
+  case U::AlongOffset:
+    return "u_alongOffset";
   case U::Count: break;
   }
   return "";

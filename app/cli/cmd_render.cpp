@@ -101,18 +101,24 @@ std::vector<CliOption> backgroundAndTractRows(const session::RenderRequest& d) {
       O::text("background-window", "LO,HI", "grey ramp")
           .defaultSays("fa 0,1; md 0,0.003 mm^2/s; FILE its 1st..99th percentile")
           .hidden(),
-      O::text("uncertainty", "CONE",
-              "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE; any grid) or a "
-              "bedpostx folder with merged_th1samples/merged_ph1samples: the threads fray as the cone widens "
-              "(--fray W, --fray-cells N) while keeping the data's mean direction; a legend shows the look per "
-              "cone")
+      O::text("fabric-along", "TRACTS[:MM]",
+              "draw the fabric only within MM (default 2) mm of the streamlines of a tract file (any format "
+              "--tracts reads), the background elsewhere (FA when --background is not given): one bundle's "
+              "texture alone on a slice or an FA isosurface"),
+      O::text(
+          "uncertainty", "CONE",
+          "a 95 % cone-of-uncertainty map in degrees (fit --bootstrap N --cone CONE; any grid) or a "
+          "bedpostx folder with merged_th1samples/merged_ph1samples: the threads fray as the cone widens "
+          "(--fray W, --fray-cells N) while keeping the data's mean direction; a legend shows the look per "
+          "cone")
           .under("Uncertainty"),
       O::text("tracts", "FILE", ".tck, .trk, .trk.gz, .trx, .vtk or .vtp tracts (world RAS mm)")
           .under("Tracts (drawn over the fabric, depth-tested against it, DEC coloured by tangent: x red, y "
                  "green, z blue)"),
       O::text("tracts-color", "NAME",
               "colour by this per-point or per-streamline value (viridis; a bar at the right edge, its range "
-              "printed) instead of DEC"),
+              "printed) instead of DEC; `node`: by the node index (0..99) along the bundle oriented and "
+              "resampled as `dtfabric profile` does"),
       O::text("tracts-range", "LO,HI", "the value range of the colour map")
           .defaultSays("the value's minimum..maximum"),
       O::text("tracts-group", "G[,G]", "show only the streamlines of these groups (TRX groups/)"),
@@ -244,6 +250,7 @@ void readTractOptions(ParsedOptions& args, session::RenderRequest& r) {
   r.background = args.text("background");
   r.backgroundWindow = args.text("background-window");
   r.uncertainty = args.text("uncertainty");
+  if (auto along = args.get("fabric-along")) r.fabricAlong = session::parseFabricAlong(*along);
   r.tractWidth = args.number("tract-width");
   const auto split = args.get("split");
   r.split = split ? session::parseSplitMode(*split) : session::SplitMode{};
@@ -258,9 +265,8 @@ void checkOutput(const session::RenderRequest& r, bool force) {
   if (fs::exists(r.output) && fs::equivalent(r.output, r.input, ec))
     throw UsageError("output " + r.output + " is the input: refusing to overwrite it");
   const session::TensorInputOptions& in = r.tensorOptions;
-  io::refuseOverwritingInput(
-      r.output,
-      {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value, r.background, r.tensor, r.uncertainty});
+  io::refuseOverwritingInput(r.output, {in.bval, in.bvec, in.mask, r.surface.file, r.tracts, r.split.value,
+                                        r.background, r.tensor, r.uncertainty, r.fabricAlong.path});
   if (!force && io::outputExists(r.output))
     throw InputError(r.output + " exists (use --force to overwrite it)");
 }

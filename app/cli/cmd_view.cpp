@@ -10,10 +10,12 @@
 #include "io/formats/tensor_io.h"
 #include "io/model/error.h"
 #include "ui/session/fibre_input.h"
+#include "ui/session/render_job.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/viewer_config.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <variant>
@@ -72,6 +74,9 @@ const OptionTable& viewOptions() {
             "background", "FILE|fa|md",
             "the grey beneath the fabric: a scalar volume on any grid (a T1, say; resampled in world space), "
             "or the data's FA or MD (default: a DWI's mean b=0 image; View panel: background)"),
+        O::text("fabric-along", "TRACTS[:MM]",
+                "load TRACTS and draw the fabric only within MM (default 2) mm of them, the grey beneath "
+                "elsewhere (FA when no background is chosen; Fabric panel: along the tracts)"),
         O::text("background-window", "LO,HI",
                 "the background's grey ramp (default: a FILE's 1st..99th percentile)")
             .hidden(),
@@ -125,6 +130,11 @@ int cmdView(const CommandArgs& argv) {
   const bool noConfig = args.flag("no-config");
   o.background = {args.text("background"), args.text("background-window")};
   o.furniture = {!args.flag("no-legend"), !args.flag("no-scale-bar"), !args.flag("no-colour-bar")};
+  if (auto along = args.get("fabric-along")) {
+    o.fabricAlong = session::parseFabricAlong(*along);
+    if (!std::filesystem::is_regular_file(o.fabricAlong.path)) // exit code 2 before a window opens
+      throw InputError("--fabric-along " + *along + ": no tract file " + o.fabricAlong.path);
+  }
   args.finish();
   if (!o.background.window.empty() && o.background.what.empty())
     throw UsageError("--background-window needs --background");

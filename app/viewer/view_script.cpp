@@ -471,6 +471,53 @@ void parseBackground(const ScriptLine& line, ScriptStep& step) {
   step.command = session::Action(session::SetBackground{w[1] == "default" ? "" : w[1], w.size() == 3 ? w[2] : ""});
 }
 
+// `fabric-along on|off [MM]`.
+void parseFabricAlong(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const char* usage = "fabric-along on|off [MM]";
+  if (w.size() < 2 || w.size() > 3) throw LineError{std::string("usage: ") + usage};
+  session::SetFabricAlong a;
+  a.on = onOff(w[1], "fabric-along");
+  if (w.size() == 3) {
+    const double mm = number(w[2], "fabric-along MM");
+    if (!(mm > 0 && mm <= 1000)) throw LineError{"fabric-along MM must lie in (0, 1000], got " + w[2]};
+    a.mm = mm;
+  }
+  step.command = session::Action(a);
+}
+
+// `profile on|off [fa|md|ad|rd]`.
+void parseProfile(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const char* usage = "profile on|off [fa|md|ad|rd]";
+  if (w.size() < 2 || w.size() > 3) throw LineError{std::string("usage: ") + usage};
+  session::SetProfile a;
+  a.on = onOff(w[1], "profile");
+  if (w.size() == 3) {
+    if (w[2] != "fa" && w[2] != "md" && w[2] != "ad" && w[2] != "rd")
+      throw LineError{"profile takes fa, md, ad or rd, not '" + w[2] + "'"};
+    a.scalar = w[2];
+  }
+  step.command = session::Action(a);
+}
+
+// `profile-hover K|none [pin]`.
+void parseProfileHover(const ScriptLine& line, ScriptStep& step) {
+  const std::vector<std::string>& w = line.words;
+  const char* usage = "profile-hover K|none [pin]";
+  if (w.size() < 2 || w.size() > 3 || (w.size() == 3 && w[2] != "pin"))
+    throw LineError{std::string("usage: ") + usage};
+  session::HoverProfileNode a;
+  if (w[1] != "none") {
+    const double k = number(w[1], "profile-hover K");
+    if (!(k >= 0 && k == std::floor(k) && k < 100000))
+      throw LineError{"profile-hover K must be a node index, got " + w[1]};
+    a.node = static_cast<int>(k);
+  }
+  a.pin = w.size() == 3;
+  step.command = session::Action(a);
+}
+
 void parseFurniture(const ScriptLine& line, ScriptStep& step) {
   const std::vector<std::string>& w = line.words;
   expectArgs(w, 2, "furniture legend|scale-bar|colour-bar|all on|off");
@@ -844,7 +891,8 @@ const std::vector<ScriptCommand> kCommands = {
      parseTractsClip},
     {"tracts-color", "NAME|dec [LO HI]",
      "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over "
-     "LO..HI (default: the value's min..max); dec: direction colours",
+     "LO..HI (default: the value's min..max); dec: direction colours; node: the node index (0..99) along the "
+     "bundle oriented and resampled as `dtfabric profile` does",
      parseTractsColour},
     {"tracts-groups", "G[,G...]|all|none",
      "show only the streamlines of the named groups (e.g. an AFQ .trx's bundles); all: every streamline",
@@ -897,6 +945,16 @@ const std::vector<ScriptCommand> kCommands = {
      "MD, "
      "none (FA within the data), default (a DWI's mean b=0 image); LO,HI: its grey ramp",
      parseBackground},
+    {"fabric-along", "on|off [MM]",
+     "draw the fabric only within MM (default 2) mm of the tracts on screen, the grey beneath elsewhere (FA "
+     "when no background is chosen), as `dtfabric render --fabric-along`",
+     parseFabricAlong},
+    {"profile", "on|off [fa|md|ad|rd]",
+     "the Profile panel: profile the tracts on screen along a scalar (default fa) as `dtfabric profile` does",
+     parseProfile},
+    {"profile-hover", "K|none [pin]",
+     "hover node K of the profile (the crosshair goes to its core position); pin: pin it (again: unpin)",
+     parseProfileHover},
     {"furniture", "legend|scale-bar|colour-bar|all on|off",
      "the figure furniture over the panes (and in screenshot-scene): the DEC orientation legend, the scale "
      "bar, "

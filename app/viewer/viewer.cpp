@@ -13,6 +13,7 @@
 #include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/text.h"
+#include "surfaces/analyses/tract_proximity.h"
 #include "surfaces/slices.h"
 
 #include <algorithm>
@@ -211,6 +212,11 @@ void ViewerScene::dataChanged() {
   dirty_.fill(true);
   iterationsSinceRestart_.fill(0);
   covered_.fill(0);
+  // The slice panes of the ortho layout weave the same data: they start again too (a new background, the
+  // fabric along the tracts, new parameters).
+  orthoDirty_.fill(true);
+  orthoIterations_.fill(0);
+  orthoCovered_.fill(0);
   session_.state().converged = false;
 }
 
@@ -260,6 +266,10 @@ void ViewerScene::uploadField(render::FabricRenderer& r, int slot) {
       r.setBackground(nullptr);
     backgroundUploaded_[slot] = backgroundVersion_;
   }
+  if (alongUploaded_[slot] != alongVersion_) {
+    r.setAlong(alongWeight_ ? alongWeight_.get() : nullptr);
+    alongUploaded_[slot] = alongVersion_;
+  }
   if (coneUploaded_[slot] != coneSerial_) {
     r.setUncertainty(uncertainty_ ? &cone_ : nullptr);
     coneUploaded_[slot] = coneSerial_;
@@ -290,6 +300,8 @@ void ViewerScene::update() {
     crosshairOnMesh_ = true;
     setView(session_.homeView());
   }
+  updateAlong();
+  updateProfile();
   resolveBackground();
   if (session_.meshSerial() != seenMesh_) {
     seenMesh_ = session_.meshSerial();
@@ -443,6 +455,125 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
   }
 }
 
+void ViewerScene::updateAlong() {
+  session::ViewerState& st = session_.state();
+  TractSubset lines = st.fabricAlong ? selectedTracts() : TractSubset{};
+  if (lines.lines && lines.lines->points.empty()) lines = {};
+  if (lines != alongLines_ || (lines.lines && st.fabricAlongMm != alongMm_)) {
+    alongLines_ = lines;
+    alongMm_ = st.fabricAlongMm;
+    ++alongSerial_;
+    if (lines.lines) {
+      if (!alongWorker_)
+        alongWorker_ = std::make_unique<session::CoalescingWorker<AlongJob, AlongResult>>(
+            [](AlongJob& job, session::WorkContext& context) -> std::optional<AlongResult> {
+              AlongResult r;
+              r.serial = job.serial;
+              try {
+                context.setStage("the fabric along the tracts");
+                surfaces::TractProximityOptions o;
+                o.mm = job.mm;
+                surfaces::TractProximity near = surfaces::tractProximity(*job.lines, o, job.which.get());
+                // No streamline selected: the fabric nowhere (a weight of 0; an empty volume would mean
+                // everywhere).
+                if (near.points == 0)
+                  near.weight = ScalarVolume(Grid::fromAffine({1, 1, 1}, glm::dmat4(1.0)), 1);
+                r.weight = std::make_shared<const ScalarVolume>(std::move(near.weight));
+              } catch (...) {
+                r.error = currentExceptionMessage();
+              }
+              return r;
+            },
+            std::vector<session::WorkLane>{{true, true}});
+      alongWorker_->request(AlongJob{lines.lines, lines.which, st.fabricAlongMm, alongSerial_});
+    } else if (alongWeight_) {
+      alongWeight_.reset();
+      ++alongVersion_;
+      ++backgroundSerial_; // FA beneath only while the fabric follows the tracts
+      dataChanged();
+    }
+  }
+  if (!alongWorker_) return;
+  AlongResult r;
+  while (alongWorker_->poll(r)) {
+    if (r.serial != alongSerial_) continue; // out of date
+    if (!r.error.empty()) session_.setError("while building the fabric along the tracts: " + r.error);
+    alongWeight_ = std::move(r.weight);
+    ++alongVersion_;
+    ++backgroundSerial_;
+    dataChanged();
+  }
+  st.fabricAlongPending = alongWorker_->busy();
+}
+
+void ViewerScene::updateProfile() {
+  session::ViewerState::Profile& pr = session_.state().profile;
+  const auto data = session_.dataset();
+  ProfileSource src = pr.on ? selectedTracts() : ProfileSource{};
+  if (src.lines && src.lines->points.empty()) src = {};
+  if (data && data != profiledData_) pr.scalars = session::viewerProfileScalars(*data);
+  if (src.lines != profiled_.lines || src.which != profiled_.which || data != profiledData_ ||
+      pr.scalar != profiledScalar_) {
+    profiled_ = src;
+    profiledData_ = data;
+    profiledScalar_ = pr.scalar;
+    ++profileSerial_;
+    pr.hovered = pr.pinned = -1;
+    if (src.lines && data) {
+      if (!profileWorker_)
+        profileWorker_ = std::make_unique<
+            session::CoalescingWorker<session::ViewerProfileJob, session::ViewerProfileResult>>(
+            [](session::ViewerProfileJob& job,
+               session::WorkContext& context) -> std::optional<session::ViewerProfileResult> {
+              context.setStage("profiling the tracts");
+              return session::profileForViewer(job);
+            },
+            std::vector<session::WorkLane>{{true, true}});
+      profileWorker_->request(
+          session::ViewerProfileJob{src.lines, src.which, data, pr.scalar, profileSerial_});
+    } else {
+      pr.mean.clear();
+      pr.ciLow.clear();
+      pr.ciHigh.clear();
+      pr.core.clear();
+      pr.streamlines = 0;
+      pr.error = pr.on && data ? "no tracts to profile" : "";
+    }
+  }
+  if (!profileWorker_) return;
+  session::ViewerProfileResult r;
+  while (profileWorker_->poll(r)) {
+    if (r.serial != profileSerial_) continue; // out of date
+    pr.error = r.error;
+    pr.axis = r.axis;
+    pr.streamlines = r.profile.streamlines;
+    // The panel's font has no arrow: "inferior -> superior".
+    for (std::size_t at; (at = pr.axis.find("\u2192")) != std::string::npos;)
+      pr.axis.replace(at, 3, "->");
+    pr.core = std::move(r.profile.core);
+    if (r.profile.scalars.empty()) {
+      pr.mean.clear();
+      pr.ciLow.clear();
+      pr.ciHigh.clear();
+    } else {
+      pr.mean = std::move(r.profile.scalars[0].mean);
+      pr.ciLow = std::move(r.profile.scalars[0].ciLow);
+      pr.ciHigh = std::move(r.profile.scalars[0].ciHigh);
+    }
+  }
+  pr.pending = profileWorker_->busy();
+}
+
+void ViewerScene::profileCrosshair() {
+  session::ViewerState& state = session_.state();
+  const session::ViewerState::Profile& pr = state.profile;
+  const int node = pr.hovered >= 0 ? pr.hovered : pr.pinned;
+  const auto data = session_.dataset();
+  if (node < 0 || node >= static_cast<int>(pr.core.size()) || !data) return;
+  state.crosshair = glm::clamp(pr.core[static_cast<std::size_t>(node)], data->lo, data->hi);
+  if (state.ortho) updateOrtho();
+}
+
 void ViewerScene::resolveBackground() {
   const auto data = session_.dataset();
   const bool anatomy = state().fabric.look == render::Look::Anatomy;
@@ -473,6 +604,13 @@ void ViewerScene::resolveBackground() {
     } catch (...) {
       session_.setError("while loading the background " + what + ": " + currentExceptionMessage());
     }
+  }
+  // The fabric along the tracts shows the anatomy away from them: FA when nothing else lies beneath.
+  if (data && !background_ && alongWeight_ && what != "none" && !data->fa.data.empty()) {
+    session::Background b;
+    b.volume = data->fa;
+    background_ = std::move(b);
+    shown = "fa (the fabric along the tracts)";
   }
   if (had || background_) {
     ++backgroundVersion_;
@@ -1001,6 +1139,27 @@ bool ViewerScene::applyView(const session::Action& action) {
           backgroundAsked_ = a;
           ++backgroundSerial_;
           resolveBackground();
+        } else if constexpr (std::is_same_v<T, session::SetFabricAlong>) {
+          if (a.mm && !(std::isfinite(*a.mm) && *a.mm > 0 && *a.mm <= 1000))
+            throw UsageError("the fabric along the tracts needs a distance in (0, 1000] mm, not " +
+                             std::to_string(*a.mm));
+          if (a.on) state.fabricAlong = *a.on;
+          if (a.mm) state.fabricAlongMm = *a.mm;
+          updateAlong();
+        } else if constexpr (std::is_same_v<T, session::SetProfile>) {
+          if (a.scalar && *a.scalar != "fa" && *a.scalar != "md" && *a.scalar != "ad" && *a.scalar != "rd")
+            throw UsageError("the profile takes fa, md, ad or rd, not '" + *a.scalar + "'");
+          if (a.on) state.profile.on = *a.on;
+          if (a.scalar) state.profile.scalar = *a.scalar;
+          updateProfile();
+        } else if constexpr (std::is_same_v<T, session::HoverProfileNode>) {
+          session::ViewerState::Profile& pr = state.profile;
+          if (a.node >= static_cast<int>(pr.core.size()))
+            throw UsageError("the profile has " + std::to_string(pr.core.size()) + " nodes, not node " +
+                             std::to_string(a.node));
+          pr.hovered = a.pin ? -1 : a.node;
+          if (a.pin && a.node >= 0) pr.pinned = pr.pinned == a.node ? -1 : a.node;
+          profileCrosshair();
         } else if constexpr (std::is_same_v<T, session::SetFurniture>) {
           if (a.legend) state.legend = *a.legend;
           if (a.scaleBar) state.scaleBar = *a.scaleBar;

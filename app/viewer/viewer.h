@@ -15,9 +15,11 @@
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/coalescing_worker.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/keymap.h"
 #include "ui/session/render_job.h"
+#include "ui/session/viewer_profile.h"
 #include "ui/session/viewer_session.h"
 #include "ui/session/viewer_state.h"
 
@@ -86,7 +88,10 @@ public:
   const session::SetBackground& backgroundAsked() const { return backgroundAsked_; }
   const session::ViewerState& state() const { return session_.state(); }
   // No load, extraction, tract loading, selection, tracking, agreement, save or recording queued or running.
-  bool settled() const { return session_.settled() && !recording_; }
+  bool settled() const {
+    return session_.settled() && !recording_ && !(alongWorker_ && alongWorker_->busy()) &&
+           !(profileWorker_ && profileWorker_->busy());
+  }
   // Every pane reached still quality, its tracts included.
   bool converged() const;
   // Advection iterations pane p's fabric ran since it last restarted from beta (the still refinement).
@@ -172,6 +177,30 @@ private:
   // The grey beneath for the data on screen: SetBackground's choice, else a DWI's mean b=0 image in the
   // anatomy look (as `render`); re-resolved when the choice, the data or the look change.
   void resolveBackground();
+  // The fabric along the tracts (session::SetFabricAlong): the proximity weight of alongSource() requested
+  // from alongWorker_ when the lines or the distance change, taken when it is done.
+  void updateAlong();
+  // The streamlines the fabric follows and the profile measures: the ROI selection's
+  // (session::RoiSelection: its indices into every loaded streamline) when a region applies, else the tracts
+  // on screen (their groups), every one.
+  struct TractSubset {
+    std::shared_ptr<const Polylines> lines;
+    std::shared_ptr<const std::vector<std::uint32_t>> which; // null: all of `lines`
+    bool operator==(const TractSubset&) const = default;
+  };
+  TractSubset selectedTracts() const {
+    const session::RoiSelection& sel = session_.roiSelection();
+    if (sel.active && sel.tracts) return {sel.tracts, sel.lines ? sel.lines : kNoLines};
+    return {session_.shownTractsShared(), nullptr};
+  }
+  static inline const std::shared_ptr<const std::vector<std::uint32_t>> kNoLines =
+      std::make_shared<const std::vector<std::uint32_t>>();
+  // The Profile panel (session::SetProfile): the profile of profileSource() along the chosen scalar requested
+  // from profileWorker_ when the streamlines, the data or the scalar change, taken when it is done.
+  void updateProfile();
+  using ProfileSource = TractSubset;
+  // The crosshair to the hovered node's core, else the pinned one's (nothing when neither).
+  void profileCrosshair();
   void startRecording(const session::RecordMovie& request);
   void recordFrame();
   void readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 4>& rect, Image& into) const;
@@ -205,6 +234,30 @@ private:
   std::uint64_t backgroundSerial_ = 1, backgroundResolved_ = 0, backgroundField_ = 0, backgroundVersion_ = 1;
   bool backgroundAnatomy_ = false;
   std::array<std::uint64_t, 8> backgroundUploaded_{};
+  struct AlongJob {
+    std::shared_ptr<const Polylines> lines;
+    std::shared_ptr<const std::vector<std::uint32_t>> which; // null: all of `lines`
+    double mm = 2.0;
+    std::uint64_t serial = 0;
+  };
+  struct AlongResult {
+    std::shared_ptr<const ScalarVolume> weight; // null: none (an error)
+    std::string error;
+    std::uint64_t serial = 0;
+  };
+  TractSubset alongLines_;                          // of the last request (null lines: the fabric everywhere)
+  double alongMm_ = 0.0;                            // of the last request
+  std::uint64_t alongSerial_ = 0;                   // requests made
+  std::shared_ptr<const ScalarVolume> alongWeight_; // on screen (null: the fabric everywhere)
+  std::uint64_t alongVersion_ = 1;
+  std::array<std::uint64_t, 8> alongUploaded_{};
+  std::unique_ptr<session::CoalescingWorker<AlongJob, AlongResult>> alongWorker_; // made on first use
+  ProfileSource profiled_;                                                        // of the last request
+  std::shared_ptr<const session::ViewerDataset> profiledData_;
+  std::string profiledScalar_;
+  std::uint64_t profileSerial_ = 0; // requests made
+  std::unique_ptr<session::CoalescingWorker<session::ViewerProfileJob, session::ViewerProfileResult>>
+      profileWorker_;                        // made on first use
   mutable render::ValueColourBar colourBar_; // the tracts' value and range (kept: drawing it allocates nothing)
   std::optional<FibreSet> principal_; // of the field with serial principalSerial_
   std::uint64_t principalSerial_ = 0;

@@ -876,6 +876,10 @@ int runViewerWindow(const ViewerWindowOptions& o) {
     window.setTensorPath(o.tensor);
     window.scene().apply(session::LoadFile{o.inputs.front(), o.layout, o.tensor});
   }
+  if (!o.fabricAlong.path.empty()) {
+    window.scene().apply(session::LoadTracts{o.fabricAlong.path});
+    window.scene().apply(session::SetFabricAlong{true, o.fabricAlong.mm});
+  }
   const int code = window.run();
   std::signal(SIGINT, previousInt);
   std::signal(SIGTERM, previousTerm);

@@ -6,6 +6,7 @@
 #include "io/model/volume.h"
 #include "ui/session/actions.h"
 #include "ui/session/fibre_input.h"
+#include "ui/session/render_job.h"
 
 #include <optional>
 #include <string>
@@ -24,6 +25,7 @@ struct ViewerWindowOptions {
   std::optional<session::UncertaintyMap> uncertainty; // a cone map that frays the threads; read by the caller
   session::SetBackground background;                  // --background, --background-window
   session::SetFurniture furniture;                    // --no-legend, --no-scale-bar, --no-colour-bar
+  session::FabricAlong fabricAlong;                   // --fabric-along: its tracts loaded, the switch on
   bool sizeGiven = false;                             // --size (wins over the remembered size)
   std::optional<double> uiScale;                      // --ui-scale; none: remembered, else the monitor's
   // The remembered settings (ui/session/viewer_config.h): read at the start and written at the end when

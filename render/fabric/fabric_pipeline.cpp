@@ -78,6 +78,14 @@ void FabricPipeline::uploadUncertainty() {
   uncertainty_.upload(*cone_, 0.0f, 90.0f, 3);
 }
 
+void FabricPipeline::setAlong(const ScalarVolume* weight) {
+  if (weight && weight->grid.voxelCount() > 0)
+    along_.upload(*weight, 0.0f, 1.0f);
+  else
+    along_.clear();
+  dataChanged_ = true;
+}
+
 void FabricPipeline::setBackground(const ScalarVolume* volume, float lo, float hi) {
   if (volume)
     background_.upload(*volume, lo, hi);
@@ -151,6 +159,7 @@ bool FabricPipeline::project(const FrameView& view, const FabricParams& p, const
   ps.faFloor = p.faFloor;
   ps.fibres = p.colour == ColourMode::Fibres;
   ps.uncertainty = &uncertainty_;
+  ps.along = &along_;
   ps.fray = static_cast<float>(p.fray);
   ps.frayCells = static_cast<float>(p.frayCells);
   if (ps.fibres && fibres_.empty()) throw GlError("the fibre colour mode needs a fibre set (setFibres)");

@@ -44,6 +44,11 @@ public:
   // order here.
   void setUncertainty(const ScalarVolume* cone);
   bool hasUncertainty() const { return !uncertainty_.empty(); }
+  // The fabric only near streamlines: a proximity weight in [0, 1] on a world axis-aligned grid
+  // (surfaces/analyses/tract_proximity.h) scales the data's cover, so the composite shows what lies beneath
+  // (the background volume) away from them; null removes it (the fabric everywhere).
+  void setAlong(const ScalarVolume* weight);
+  bool hasAlong() const { return !along_.empty(); }
   // World bounds of the data's voxel centres (tensor field, else fibre set); false when there is none.
   bool dataBounds(glm::vec3& lo, glm::vec3& hi) const;
   // b_min of Eq. 7 for the given parameters: the lower corner of the data bounds (the fibre set's in the
@@ -138,6 +143,7 @@ private:
   float uploadedThreshold_ = FabricParams{}.fibreThreshold;
   GpuScalarVolume background_;
   GpuScalarVolume uncertainty_;
+  GpuScalarVolume along_;
   std::optional<ScalarVolume> cone_; // as given, re-uploaded in slot order when the fibres change
   void uploadUncertainty();
   Texture noise_;

@@ -12,10 +12,10 @@ using U = ProjectionProgram::Uniform;
 
 TensorStage::TensorStage()
     : program_("fabric/projection.vert", "fabric/projection.frag",
-               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"}, programDefines<ProjectionProgram>(),
-               uniformNames<U>()),
+               {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY", "ALONG"},
+               programDefines<ProjectionProgram>(), uniformNames<U>()),
       computeProgram_({{GL_COMPUTE_SHADER, "fabric/projection.comp"}},
-                      {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY"},
+                      {"WITH_PRINCIPAL", "NOISE_BLEND", "BACKGROUND", "FIBRES", "UNCERTAINTY", "ALONG"},
                       programDefines<ProjectionComputeProgram>(), uniformNames<U>()),
       compute_(!softwareRasteriser()), vao_(createVertexArray()), samples_(createQuery(GL_SAMPLES_PASSED)),
       covered_(createBuffer()) {
@@ -59,8 +59,10 @@ void TensorStage::run(const GeometryStage& geometry, const GpuTensorField& field
   resize(geometry.size());
   const bool hasBackground = background && !background->empty();
   const bool fray = s.uncertainty && !s.uncertainty->empty() && s.fray > 0.0f;
+  const bool along = s.along && !s.along->empty();
   const unsigned variant = (s.principal && !useFibres ? 1u : 0u) | (s.noiseBlend > 0.0f ? 2u : 0u) |
-                           (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u) | (fray ? 16u : 0u);
+                           (hasBackground ? 4u : 0u) | (useFibres ? 8u : 0u) | (fray ? 16u : 0u) |
+                           (along ? 32u : 0u);
   lastCompute_ = compute_;
   if (compute_) {
     prepare(computeProgram_.get(variant), field, noise, view, s, background, fibres, useFibres, hasBackground, fray);
@@ -120,6 +122,13 @@ void TensorStage::prepare(const ShaderProgram& p, const GpuTensorField& field, c
   if (hasBackground) {
     p.set(U::BackgroundWorldToTex, background->worldToTex());
     background->bind(unit(Unit::Background));
+  }
+  if (s.along && !s.along->empty()) {
+    // The weight's grid is world axis-aligned: its world-to-texture map is a scale and an offset.
+    const glm::mat4& m = s.along->worldToTex();
+    p.set(U::AlongScale, glm::vec3(m[0][0], m[1][1], m[2][2]));
+    p.set(U::AlongOffset, glm::vec3(m[3]));
+    s.along->bind(unit(Unit::Along));
   }
   if (fray) {
     p.set(U::UncertaintyWorldToTex, s.uncertainty->worldToTex());

@@ -56,6 +56,9 @@ struct ProjectionSettings {
   const GpuScalarVolume* uncertainty = nullptr;
   float fray = 1.0f;
   float frayCells = 16.0f;
+  // Along streamlines (optional): a proximity weight in [0, 1] on a world axis-aligned grid
+  // (surfaces/analyses/tract_proximity.h) that scales the data's cover, so the fabric shows only near them.
+  const GpuScalarVolume* along = nullptr;
 };
 
 // The tensor stage: geometry buffers -> directions, beta, light, eigen, lambda (fibres).
@@ -93,7 +96,7 @@ private:
                const ProjectionSettings& s, const GpuScalarVolume* background, const GpuFibreSet* fibres,
                bool useFibres, bool hasBackground, bool fray) const;
   void dispatch(const GeometryStage& geometry, bool haveData, bool useFibres);
-  ShaderVariants program_; // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES, UNCERTAINTY
+  ShaderVariants program_;        // WITH_PRINCIPAL, NOISE_BLEND, BACKGROUND, FIBRES, UNCERTAINTY, ALONG
   ShaderVariants computeProgram_; // the same variants (compiled on first use)
   bool compute_ = false;
   bool lastCompute_ = false; // the last run was a dispatch: coveredPixels() reads covered_

@@ -4,7 +4,7 @@
 // fabric/projection.vert, which reads the uniforms (FORWARD_PARAMS) three times a draw: on llvmpipe a
 // fragment shader pays for each read of a uniform component on every block of pixels, about four times
 // what a flat input costs. Either way the code below them uses the uniforms' names. The largest variant
-// (FIBRES BACKGROUND UNCERTAINTY) hands on 108 components, 114 with the ray's: within the 128 that desktop
+// (FIBRES BACKGROUND UNCERTAINTY ALONG) hands on 114 components, 120 with the ray's: within the 128 that desktop
 // GL 4.5 drivers offer (the specification's minimum for a vertex shader's outputs is 64).
 #if defined(COMPUTE) || defined(FORWARD_PARAMS)
 uniform mat4 u_eyeToWorld;
@@ -35,6 +35,10 @@ uniform mat4 u_uncertaintyWorldToTex;
 uniform float u_fray = 1.0;       // strength: the turn is up to u_fray x the cone
 uniform float u_frayCells = 16.0; // noise cells per implicit voxel edge
 #endif
+#ifdef ALONG
+uniform vec3 u_alongScale;  // world RAS mm -> the proximity weight's texture coordinates (an axis-aligned
+uniform vec3 u_alongOffset; // grid): world * scale + offset
+#endif
 #endif
 
 #ifndef COMPUTE
@@ -61,6 +65,10 @@ PARAMS_VARYING mat4 v_backgroundWorldToTex;
 PARAMS_VARYING mat4 v_uncertaintyWorldToTex;
 PARAMS_VARYING vec2 v_fray;     // fray, fray cells
 #endif
+#ifdef ALONG
+PARAMS_VARYING vec3 v_alongScale;
+PARAMS_VARYING vec3 v_alongOffset;
+#endif
 
 #ifdef FORWARD_PARAMS
 void forwardParams() {
@@ -81,6 +89,10 @@ void forwardParams() {
 #ifdef UNCERTAINTY
   v_uncertaintyWorldToTex = u_uncertaintyWorldToTex;
   v_fray = vec2(u_fray, u_frayCells);
+#endif
+#ifdef ALONG
+  v_alongScale = u_alongScale;
+  v_alongOffset = u_alongOffset;
 #endif
 }
 #else
@@ -106,5 +118,7 @@ void forwardParams() {
 #define u_uncertaintyWorldToTex v_uncertaintyWorldToTex
 #define u_fray (v_fray.x)
 #define u_frayCells (v_fray.y)
+#define u_alongScale v_alongScale
+#define u_alongOffset v_alongOffset
 #endif
 #endif

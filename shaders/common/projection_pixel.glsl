@@ -22,6 +22,10 @@ layout(binding = UNIT_NOISE) uniform sampler2D u_noise;
 #ifdef BACKGROUND
 layout(binding = UNIT_BACKGROUND) uniform sampler3D u_background; // grey shown where there is no tensor data
 #endif
+#ifdef ALONG
+// The streamlines' proximity weight (surfaces/analyses/tract_proximity.h): 1 near them, 0 away, 0 outside.
+layout(binding = UNIT_ALONG) uniform sampler3D u_along;
+#endif
 
 // Image-space direction of world direction v at p: the pixel difference of the projections of p + eps v
 // and p (perspective-correct; the clip position of p + eps v is c0 + eps M (v, 0) by linearity), max-norm
@@ -71,7 +75,8 @@ struct Projection {
   uvec2 vectors;
   vec4 surface;
   vec4 eigen;
-  vec4 lambda; // .w: 1 where the data's cover ramp applies, multiplied by it by the caller
+  vec4 lambda; // .w: 1 where the data's cover ramp applies (ALONG: times the proximity weight), multiplied by
+               // the ramp by the caller
   // .xyz: per population packUnorm4x8(|d_k|, weight_k); .w packUnorm4x8(FA, the data's cover, the background
   // grey, 0), written by the caller once the cover ramp is applied (fibreAttributes)
   uvec4 fibres;
@@ -178,6 +183,12 @@ Projection projectPixel(ivec2 px, vec3 nearEye, vec3 farEye, out float edge) {
 #ifdef BACKGROUND
   // The grey beneath the fabric (everywhere: the anatomy look shows it through isotropic tissue).
   lambda.z = texture(u_background, (u_backgroundWorldToTex * vec4(world, 1.0)).xyz).r;
+#endif
+#ifdef ALONG
+  // The fabric only near the streamlines: their proximity weight scales the fabric's cover, so away from
+  // them the composite shows what it shows where there is no tensor data (the background volume). The
+  // directions stay, so the threads run on unbroken where the weight returns.
+  lambda.w *= texture(u_along, world * u_alongScale + u_alongOffset).r;
 #endif
   Projection r;
   r.vectors = packVectors(vectors, beta);

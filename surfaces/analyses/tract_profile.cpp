@@ -228,6 +228,57 @@ std::string nodeAxisLabel(const glm::dvec3& first, const glm::dvec3& last) {
   return from + " → " + to;
 }
 
+namespace {
+
+// Whether the profile reverses the streamline of `count` points at `p`: it ends nearer the start point than
+// it begins, or (no start point) it fits the reference (the bundle's first profiled streamline, kOrientPoints
+// points, set here from the first streamline asked about) better reversed.
+bool reversedInProfile(const glm::vec3* p, std::size_t count, const ProfileOptions& o,
+                       std::vector<glm::dvec3>& reference) {
+  if (o.start)
+    return glm::distance(glm::dvec3(p[count - 1]), *o.start) < glm::distance(glm::dvec3(p[0]), *o.start);
+  std::vector<glm::dvec3> coarse = resampleByArcLength(p, count, kOrientPoints);
+  if (!reference.empty()) return fitsBetterReversed(coarse, reference);
+  reference = std::move(coarse);
+  return false;
+}
+
+bool profiled(const glm::vec3* p, std::size_t count) {
+  return count >= 2 && polylineLength(p, count) > 0;
+}
+
+} // namespace
+
+std::vector<float> nodePerPoint(const Polylines& lines, const std::vector<std::uint32_t>* which,
+                                const ProfileOptions& o) {
+  if (o.nodes < 2) throw UsageError("a profile needs at least 2 nodes, not " + std::to_string(o.nodes));
+  std::vector<float> out(lines.points.size(), std::numeric_limits<float>::quiet_NaN());
+  std::vector<glm::dvec3> reference;
+  const auto assign = [&](std::uint32_t idx) {
+    if (idx >= lines.lineCount())
+      throw InputError("streamline " + std::to_string(idx) + " is named but there are only " +
+                       std::to_string(lines.lineCount()));
+    const std::size_t b = lines.offsets[idx], e = lines.offsets[idx + 1];
+    const glm::vec3* p = lines.points.data() + b;
+    if (!profiled(p, e - b)) return;
+    const bool flip = reversedInProfile(p, e - b, o, reference);
+    const double length = polylineLength(p, e - b), last = o.nodes - 1;
+    double along = 0;
+    for (std::size_t i = 0; i < e - b; ++i) {
+      if (i > 0) along += glm::distance(glm::dvec3(p[i - 1]), glm::dvec3(p[i]));
+      const double t = std::clamp(along / length, 0.0, 1.0);
+      out[b + i] = static_cast<float>(std::round((flip ? 1.0 - t : t) * last));
+    }
+  };
+  if (which)
+    for (std::uint32_t idx : *which)
+      assign(idx);
+  else
+    for (std::uint32_t idx = 0; idx < lines.lineCount(); ++idx)
+      assign(idx);
+  return out;
+}
+
 BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint32_t>* which,
                             const std::vector<ProfileScalar>& scalars, const ProfileOptions& o) {
   if (o.nodes < 2) throw UsageError("a profile needs at least 2 nodes, not " + std::to_string(o.nodes));
@@ -253,22 +304,12 @@ BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint3
                        std::to_string(lineCount));
     const std::size_t b = lines.offsets[idx], e = lines.offsets[idx + 1];
     const glm::vec3* p = lines.points.data() + b;
-    if (e - b < 2 || !(polylineLength(p, e - b) > 0)) {
+    if (!profiled(p, e - b)) {
       ++r.skipped;
       continue;
     }
     std::vector<glm::dvec3> res = resampleByArcLength(p, e - b, N);
-    bool flip = false;
-    if (o.start) {
-      flip = glm::distance(res.back(), *o.start) < glm::distance(res.front(), *o.start);
-    } else {
-      std::vector<glm::dvec3> coarse = resampleByArcLength(p, e - b, kOrientPoints);
-      if (reference.empty())
-        reference = std::move(coarse);
-      else
-        flip = fitsBetterReversed(coarse, reference);
-    }
-    if (flip) {
+    if (reversedInProfile(p, e - b, o, reference)) {
       std::reverse(res.begin(), res.end());
       ++r.flipped;
     }

@@ -65,6 +65,15 @@ struct BundleProfile {
 BundleProfile profileBundle(const Polylines& lines, const std::vector<std::uint32_t>* which,
                             const std::vector<ProfileScalar>& scalars, const ProfileOptions& options);
 
+// Per point of `lines` (points.size() values): the index of the node nearest it along its streamline as
+// profileBundle orients and resamples the streamlines `which` (all when null) with `options` (nodes, start):
+// round(s (N - 1)), s the point's arc-length fraction from the oriented streamline's start. So each oriented
+// streamline's first point is node 0 and its last node N - 1. NaN on the points of the other streamlines and
+// of those profileBundle skips (fewer than two points, no length). Throws InputError for an index beyond the
+// lines, UsageError for fewer than 2 nodes.
+std::vector<float> nodePerPoint(const Polylines& lines, const std::vector<std::uint32_t>* which,
+                                const ProfileOptions& options);
+
 // The building blocks, each as its DIPY counterpart (exposed for the tests).
 
 // `n` points equally spaced by arc length along the polyline, the first and last on its ends

@@ -2,11 +2,13 @@
 // The anatomy look and the data's smooth edge, measured in pixels: a background volume on another grid
 // (rotated, coarser, shifted) shows through isotropic tissue at its world-space value, white matter keeps
 // its DEC colour, the plain look covers isotropic tissue with the fabric, and the data's edge is drawn with
-// partial coverage along a sub-voxel contour.
-#include "support/gl_test.h"
-
+// partial coverage along a sub-voxel contour; the fabric along streamlines (--fabric-along) shows the anatomy
+// away from them and the full fabric on them.
+#include "io/formats/png_io.h"
 #include "render/fabric_renderer.h"
 #include "render/reference/scenes.h"
+#include "support/gl_test.h"
+#include "surfaces/analyses/tract_proximity.h"
 
 #include <algorithm>
 #include <cmath>
@@ -156,4 +158,83 @@ TEST_F(AnatomyLook, WithoutABackgroundVolumeFaIsBeneathAndTheOpacityFollowsTheRa
     for (int x = 150; x < 230; ++x)
       if (hidden.pixel(x, y)[0] > 2 * std::max<int>(hidden.pixel(x, y)[1], 8)) ++red;
   EXPECT_EQ(red, 0);
+}
+
+// --fabric-along: the fabric only near streamlines (a proximity weight, surfaces/analyses/tract_proximity.h).
+// A straight streamline across the white matter: away from it every pixel is the anatomy-only render's (the
+// background, the fabric hidden by an FA floor above any FA), near it the full fabric render's.
+TEST_F(AnatomyLook, TheFabricAlongStreamlinesShowsTheAnatomyAwayFromThemAndTheThreadsOnThem) {
+  Scene s;
+  FabricRenderer r;
+  r.setMesh(s.mesh);
+  r.setField(s.field);
+  r.setBackground(&s.background, 0.0f, 1.0f);
+  r.resize(kSize, kSize);
+  const Camera cam = Camera::standard(StandardView::Superior, s.lo, s.hi, 1.0);
+  FabricParams p;
+  p.lighting = false;
+  p.silhouette = false;
+  p.look = Look::Plain; // the fabric everywhere there is data, so the isotropic half shows it too
+  const Image full = r.renderStill(cam, p);
+  FabricParams none = p;
+  none.faFloor = 2.0f; // no fabric anywhere: the anatomy alone
+  const Image anatomy = r.renderStill(cam, none);
+
+  // One streamline along y at x = 6, z = 0, from y = -20 to 20: it crosses nothing but white matter; a second
+  // one along x at y = -12 from x = -20 to -8, in the isotropic half.
+  Polylines lines;
+  lines.offsets = {0};
+  for (int i = 0; i <= 40; ++i)
+    lines.points.emplace_back(6.0f, -20.0f + i, 0.0f);
+  lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  for (int i = 0; i <= 12; ++i)
+    lines.points.emplace_back(-20.0f + i, -12.0f, 0.0f);
+  lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  surfaces::TractProximityOptions o;
+  o.mm = 4.0;
+  const surfaces::TractProximity near = surfaces::tractProximity(lines, o);
+  ASSERT_EQ(near.voxelMm, 1.0);
+  r.setAlong(&near.weight);
+  const Image along = r.renderStill(cam, p);
+  r.setAlong(nullptr);
+  EXPECT_FALSE(r.hasAlong());
+  for (const auto& [name, img] : {std::pair<const char*, const Image*>{"full.png", &full},
+                                  {"anatomy.png", &anatomy},
+                                  {"along.png", &along}})
+    io::writePng((test::scratchDir() / name).string(), *img);
+
+  const auto distance = [&](const glm::dvec3& w) {
+    double d = 1e9;
+    for (std::size_t l = 0; l + 1 < lines.offsets.size(); ++l) {
+      const glm::dvec3 a(lines.points[lines.offsets[l]]), b(lines.points[lines.offsets[l + 1] - 1]);
+      const double t = std::clamp(glm::dot(w - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+      d = std::min(d, glm::length(w - glm::mix(a, b, t)));
+    }
+    return d;
+  };
+  const auto differs = [](const std::uint8_t* a, const std::uint8_t* b) {
+    return std::abs(a[0] - b[0]) > 1 || std::abs(a[1] - b[1]) > 1 || std::abs(a[2] - b[2]) > 1;
+  };
+  // Weight 0 beyond mm + 2.2 h and 1 within mm - 1.7 h (h = 1 mm), one more voxel either way for the
+  // trilinear sample between voxel centres.
+  int far = 0, farSame = 0, on = 0, onSame = 0, onFabric = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const glm::dvec3 w = worldOfPixel(r.frameView(), x, y);
+      if (std::abs(w.x) > 28 || std::abs(w.y) > 28) continue;
+      const double d = distance(w);
+      if (d > o.mm + 3.3) {
+        ++far;
+        if (!differs(along.pixel(x, y), anatomy.pixel(x, y))) ++farSame;
+      } else if (d < o.mm - 2.8) {
+        ++on;
+        if (!differs(along.pixel(x, y), full.pixel(x, y))) ++onSame;
+        if (differs(full.pixel(x, y), anatomy.pixel(x, y))) ++onFabric;
+      }
+    }
+  ASSERT_GT(far, 30000);
+  ASSERT_GT(on, 1500);
+  EXPECT_EQ(farSame, far); // the anatomy, exactly, away from the streamlines
+  EXPECT_EQ(onSame, on);   // the threads of the full render, exactly, on them
+  EXPECT_GT(onFabric, 0.8 * on) << onFabric << " of " << on; // where the fabric differs from the anatomy
 }

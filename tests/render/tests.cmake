@@ -18,6 +18,6 @@ dtf_test(test_gl_state SOURCES render/gl_state_gl_test.cpp LIBS dtf_render dtf_m
 dtf_test(test_gl_debug_messages SOURCES render/debug_messages_gl_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_medical_brain SOURCES render/medical_brain_gl_test.cpp LIBS dtf_render dtf_io dtf_surfaces dtf_model)
 dtf_test(test_program_bindings SOURCES render/program_bindings_gl_test.cpp LIBS dtf_render dtf_model)
-dtf_test(test_anatomy_look SOURCES render/anatomy_look_gl_test.cpp LIBS dtf_render dtf_model)
+dtf_test(test_anatomy_look SOURCES render/anatomy_look_gl_test.cpp LIBS dtf_render dtf_surfaces dtf_io dtf_model)
 dtf_test(test_figure_furniture SOURCES render/figure_furniture_test.cpp LIBS dtf_render dtf_model)
 dtf_test(test_uncertainty_render SOURCES render/uncertainty_gl_test.cpp LIBS dtf_render dtf_model)

@@ -7,6 +7,7 @@
 #include "ui/session/file_kinds.h"
 #include "ui/session/keymap.h"
 #include "ui/session/roi_outline.h"
+#include "ui/session/tract_colouring.h"
 
 #include <algorithm>
 #include <climits>
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <imgui.h>
+#include <limits>
 
 namespace dtf::ui {
 
@@ -83,8 +85,10 @@ void tractColouringWidgets(const session::ViewerState& s, PanelBuffers& b, sessi
     if (ImGui::Selectable("DEC (direction)", s.tractColourBy.empty()))
       out.push_back(session::SetTractColour{});
     for (const std::string& name : s.tractDataNames)
-      if (ImGui::Selectable(name.c_str(), name == s.tractColourBy))
+      if (name != session::kNodeColouring && ImGui::Selectable(name.c_str(), name == s.tractColourBy))
         out.push_back(session::SetTractColour{name, {}});
+    if (ImGui::Selectable("node (profile node index)", s.tractColourBy == session::kNodeColouring))
+      out.push_back(session::SetTractColour{session::kNodeColouring, {}});
     ImGui::EndCombo();
   }
   probe(b, "colour by");
@@ -350,6 +354,99 @@ void fabricPanel(const session::ViewerState& s, PanelBuffers& b, session::Action
     }
   }
   if (changed) out.push_back(session::SetFabricParams{p});
+  // The fabric only near the tracts on screen (`render --fabric-along`), the anatomy elsewhere.
+  bool along = s.fabricAlong;
+  if (ImGui::Checkbox("along the tracts", &along)) out.push_back(session::SetFabricAlong{along, {}});
+  probe(b, "along the tracts");
+  if (!s.fabricAlong) return;
+  double mm = s.fabricAlongMm;
+  if (sliderDouble("within (mm)", mm, 0.5f, 10.0f, "%.1f", false) && mm > 0)
+    out.push_back(session::SetFabricAlong{{}, mm});
+  probe(b, "within (mm)");
+  if (s.tractCount == 0)
+    ImGui::TextDisabled("no tracts loaded: the fabric everywhere");
+  else if (s.fabricAlongPending)
+    ImGui::TextDisabled("finding where the tracts pass...");
+}
+
+// The Profile panel: the profile of the tracts on screen (as `dtfabric profile` computes it) with its 95 %
+// confidence band; hovering a node moves the crosshair to its core position, a click pins it.
+void profilePanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
+  if (!header(b, "Profile", true)) return;
+  const session::ViewerState::Profile& pr = s.profile;
+  bool on = pr.on;
+  if (ImGui::Checkbox("profile the tracts", &on)) out.push_back(session::SetProfile{on, {}});
+  probe(b, "profile the tracts");
+  if (!pr.on) return;
+  if (!pr.scalars.empty() && ImGui::BeginCombo("scalar", pr.scalar.c_str())) {
+    for (const std::string& name : pr.scalars)
+      if (ImGui::Selectable(name.c_str(), name == pr.scalar)) out.push_back(session::SetProfile{{}, name});
+    ImGui::EndCombo();
+  }
+  probe(b, "scalar");
+  if (pr.pending) ImGui::TextDisabled("profiling...");
+  if (!pr.error.empty()) {
+    ImGui::TextWrapped("%s", pr.error.c_str());
+    return;
+  }
+  const std::size_t n = pr.mean.size();
+  if (n < 2 || pr.core.size() != n) return;
+  ImGui::TextWrapped("%zu streamlines, %s", pr.streamlines, pr.axis.c_str());
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < n; ++i)
+    for (double v : {pr.mean[i], pr.ciLow[i], pr.ciHigh[i]})
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (!(lo < hi)) lo = (std::isfinite(lo) ? lo : 0.0) - 0.5, hi = lo + 1.0;
+  const ImVec2 p = ImGui::GetCursorScreenPos();
+  const float w = std::max(ImGui::GetContentRegionAvail().x, 16.0f), h = em(140);
+  ImGui::InvisibleButton("profile plot", ImVec2(w, h));
+  const bool inside = ImGui::IsItemHovered();
+  probe(b, "profile plot");
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(p, ImVec2(p.x + w, p.y + h), IM_COL32(20, 20, 24, 255));
+  const auto X = [&](std::size_t i) { return p.x + w * static_cast<float>(i) / static_cast<float>(n - 1); };
+  const auto Y = [&](double v) { return p.y + h * static_cast<float>(1.0 - (v - lo) / (hi - lo)); };
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    if (std::isfinite(pr.ciLow[i]) && std::isfinite(pr.ciHigh[i]) && std::isfinite(pr.ciLow[i + 1]) &&
+        std::isfinite(pr.ciHigh[i + 1]))
+      draw->AddQuadFilled(ImVec2(X(i), Y(pr.ciHigh[i])), ImVec2(X(i + 1), Y(pr.ciHigh[i + 1])),
+                          ImVec2(X(i + 1), Y(pr.ciLow[i + 1])), ImVec2(X(i), Y(pr.ciLow[i])),
+                          IM_COL32(80, 140, 220, 90));
+    if (std::isfinite(pr.mean[i]) && std::isfinite(pr.mean[i + 1]))
+      draw->AddLine(ImVec2(X(i), Y(pr.mean[i])), ImVec2(X(i + 1), Y(pr.mean[i + 1])),
+                    IM_COL32(120, 180, 255, 255), 2.0f);
+  }
+  int node = -1; // under the mouse; else the node hovered by a script line shows
+  if (inside) {
+    const float t = (ImGui::GetIO().MousePos.x - p.x) / w;
+    node =
+        std::clamp(static_cast<int>(std::lround(t * static_cast<float>(n - 1))), 0, static_cast<int>(n) - 1);
+  }
+  if (pr.pinned >= 0 && pr.pinned < static_cast<int>(n))
+    draw->AddLine(ImVec2(X(std::size_t(pr.pinned)), p.y), ImVec2(X(std::size_t(pr.pinned)), p.y + h),
+                  IM_COL32(255, 200, 40, 255), 2.0f);
+  const int shown = inside ? node : pr.hovered;
+  if (shown >= 0 && shown < static_cast<int>(n)) {
+    const auto k = static_cast<std::size_t>(shown);
+    draw->AddLine(ImVec2(X(k), p.y), ImVec2(X(k), p.y + h), IM_COL32(255, 255, 255, 200), 1.0f);
+  }
+  if (node >= 0) {
+    const auto k = static_cast<std::size_t>(node);
+    ImGui::SetTooltip("node %d: %s %.4g (95 %% CI %.4g .. %.4g)\ncore %.1f, %.1f, %.1f mm%s", node,
+                      pr.scalar.c_str(), pr.mean[k], pr.ciLow[k], pr.ciHigh[k], pr.core[k].x, pr.core[k].y,
+                      pr.core[k].z, node == pr.pinned ? " (pinned: click to unpin)" : " (click to pin)");
+  }
+  // The mouse entering, moving over or leaving the plot sets the hover; a script's hover stays otherwise.
+  if ((inside || b.profileHovering) && node != pr.hovered) out.push_back(session::HoverProfileNode{node, false});
+  b.profileHovering = inside;
+  if (inside && ImGui::IsItemClicked()) out.push_back(session::HoverProfileNode{node, true});
+  ImGui::TextDisabled("%s %.3g .. %.3g; node 0 .. %zu", pr.scalar.c_str(), lo, hi, n - 1);
+  const int at = shown >= 0 ? shown : pr.pinned;
+  if (at >= 0 && at < static_cast<int>(n)) {
+    const auto k = static_cast<std::size_t>(at);
+    ImGui::Text("node %d%s: %s %.3g, core %.1f, %.1f, %.1f mm", at, at == pr.pinned ? " (pinned)" : "",
+                pr.scalar.c_str(), pr.mean[k], pr.core[k].x, pr.core[k].y, pr.core[k].z);
+  }
 }
 
 void fibresPanel(const session::ViewerState& s, PanelBuffers& b, session::ActionList& out) {
@@ -922,6 +1019,7 @@ void drawPanels(const session::ViewerState& s, PanelBuffers& b, const PanelLayou
   fibresPanel(s, b, out);
   viewPanel(s, b, out);
   tractsPanel(s, b, out);
+  profilePanel(s, b, out);
   ImGui::PopItemWidth();
   ImGui::End();
   statusBar(s, layout);

@@ -53,6 +53,7 @@ struct PanelBuffers {
   std::array<char, 1024> sessionPath{}; // Save session: a view script (.dtfview)
   float uiScaleEdit = 1;                 // the View panel's UI scale while its slider is held
   bool uiScaleDragging = false;
+  bool profileHovering = false; // the mouse was over the profile's plot last frame
   FileBrowserState browser;             // the in-window file browser
   // Panel header -> open, as last drawn; set before the first frame to restore them (remembered settings).
   std::map<std::string, bool> panelsOpen;

@@ -100,6 +100,14 @@ std::string describe(const Action& action) {
         } else if constexpr (std::is_same_v<T, SetBackground>) {
           return "SetBackground " + (a.what.empty() ? std::string("default") : a.what) +
                  (a.window.empty() ? std::string() : " " + a.window);
+        } else if constexpr (std::is_same_v<T, SetFabricAlong>) {
+          std::snprintf(buf, sizeof buf, " %g mm", a.mm ? *a.mm : 0.0);
+          return std::string("SetFabricAlong") + (a.on ? (*a.on ? " on" : " off") : "") + (a.mm ? buf : "");
+        } else if constexpr (std::is_same_v<T, SetProfile>) {
+          return std::string("SetProfile") + (a.on ? (*a.on ? " on" : " off") : "") +
+                 (a.scalar ? " " + *a.scalar : "");
+        } else if constexpr (std::is_same_v<T, HoverProfileNode>) {
+          return "HoverProfileNode " + std::to_string(a.node) + (a.pin ? " pin" : "");
         } else if constexpr (std::is_same_v<T, SetFurniture>) {
           auto piece = [](const char* name, const std::optional<bool>& on) {
             return on ? std::string(" ") + name + (*on ? " on" : " off") : std::string();

@@ -104,6 +104,23 @@ struct SetBackground {
   std::string what;
   std::string window;
 };
+// The fabric only near the tracts on screen (`render --fabric-along`): on/off and the distance in mm (in
+// (0, 1000]), each when given.
+struct SetFabricAlong {
+  std::optional<bool> on;
+  std::optional<double> mm;
+};
+// The Profile panel: profile the streamlines (on), along which scalar (fa, md, ad, rd), each when given.
+struct SetProfile {
+  std::optional<bool> on;
+  std::optional<std::string> scalar;
+};
+// A node of the profile hovered (-1: none): the crosshair goes to its core position; `pin` pins it (again:
+// unpins), so the crosshair returns there when no node is hovered.
+struct HoverProfileNode {
+  int node = -1;
+  bool pin = false;
+};
 // The figure furniture drawn over the panes as `dtfabric render` draws it: each piece that is given.
 struct SetFurniture {
   std::optional<bool> legend, scaleBar, colourBar;
@@ -288,12 +305,12 @@ struct Quit {};
 using Action =
     std::variant<LoadFile, SetSurfaceKind, SetSurfaceSpec, SetFaThreshold, SetSlice, SetFabricParams, SetView,
                  SetNeurological, SetSplit, SetLinkedCameras, SetSecondPane, SetOrtho, SetCrosshair,
-                 RecordMovie, SetBackground, SetFurniture, ResetView, Rotate, Pan, Zoom, Screenshot,
-                 SaveCamera, LoadCamera, LoadTracts, SetTractsVisible, SetTractsNear, SetTractWidth,
-                 SetTractsClip, SetTractColour, SetTractGroups, TrackTracts, CancelTracking, SaveTracts,
-                 RoiAdd, RoiSet, RoiVisible, RoiRemove, RoiClear, RoiEndsOnly, RoiHideOthers, SaveRegions,
-                 LoadRegions, ComputeAgreement, Browse, SetCamera, SaveSession, ShowHelp, SetUiScale, DismissError,
-                 ConfirmOverwrite, Quit>;
+                 RecordMovie, SetBackground, SetFabricAlong, SetProfile, HoverProfileNode, SetFurniture,
+                 ResetView, Rotate, Pan, Zoom, Screenshot, SaveCamera, LoadCamera, LoadTracts,
+                 SetTractsVisible, SetTractsNear, SetTractWidth, SetTractsClip, SetTractColour,
+                 SetTractGroups, TrackTracts, CancelTracking, SaveTracts, RoiAdd, RoiSet, RoiVisible,
+                 RoiRemove, RoiClear, RoiEndsOnly, RoiHideOthers, SaveRegions, LoadRegions, ComputeAgreement,
+                 Browse, SetCamera, SaveSession, ShowHelp, SetUiScale, DismissError, ConfirmOverwrite, Quit>;
 
 // Reused from frame to frame by the caller (clear(), keep the capacity), so idle frames do not allocate.
 using ActionList = std::vector<Action>;

@@ -6,10 +6,12 @@
 #include "io/diffusion/uncertainty.h"
 #include "io/model/error.h"
 #include "io/model/log.h"
+#include "io/model/range.h"
 #include "render/figure_furniture.h"
 #include "render/fray.h"
 #include "render/gl_context.h"
 #include "render/tract_renderer.h"
+#include "surfaces/analyses/tract_proximity.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/tract_files.h"
 #include "ui/session/tract_overlay.h"
@@ -17,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -34,6 +37,41 @@ bool windowByPercentiles(Background& b) {
   b.lo = v[v.size() / 100];
   b.hi = v[v.size() - 1 - v.size() / 100];
   return true;
+}
+
+FabricAlong parseFabricAlong(const std::string& text) {
+  FabricAlong a;
+  a.path = text;
+  const auto colon = text.rfind(':');
+  std::error_code ec;
+  if (colon != std::string::npos && text.find('/', colon) == std::string::npos &&
+      !std::filesystem::exists(text, ec)) {
+    a.path = text.substr(0, colon);
+    const std::string mm = text.substr(colon + 1);
+    char* end = nullptr;
+    a.mm = std::strtod(mm.c_str(), &end);
+    if (mm.empty() || end != mm.c_str() + mm.size() || !std::isfinite(a.mm) || a.mm <= 0.0 || a.mm > 1000.0)
+      throw InputError("--fabric-along " + text + ": the distance '" + mm +
+                       "' must be a number of mm in (0, 1000]");
+  }
+  if (a.path.empty()) throw InputError("--fabric-along " + text + ": no tract file named");
+  return a;
+}
+
+ScalarVolume loadFabricAlong(const FabricAlong& along) {
+  Polylines lines;
+  try {
+    lines = readTracts(along.path);
+  } catch (...) {
+    rethrowWithContext("while reading the --fabric-along tracts " + along.path);
+  }
+  surfaces::TractProximityOptions options;
+  options.mm = along.mm;
+  surfaces::TractProximity near = surfaces::tractProximity(lines, options);
+  if (near.points == 0) throw InputError(along.path + ": no streamline point to draw the fabric along");
+  logInfo("the fabric along " + std::to_string(lines.lineCount()) + " streamlines of " + along.path +
+          " (within " + shortestNumber(along.mm) + " mm, a " + shortestNumber(near.voxelMm) + " mm grid)");
+  return std::move(near.weight);
 }
 
 Background loadBackground(const std::string& what, const std::string& window, const TensorField& field,
@@ -152,6 +190,7 @@ struct Scene {
   ScalarVolume fa;
   Background background;
   ScalarVolume cone; // degrees; empty without --uncertainty
+  ScalarVolume along; // --fabric-along's proximity weight; empty without it
   SurfaceBuildOptions buildOptions;
   Mesh mesh;
   Polylines tracts;
@@ -187,6 +226,14 @@ void loadScene(const RenderRequest& r, render::FabricParams& p, Scene& s) {
   if (r.background.empty() && p.look == render::Look::Anatomy && !s.loaded.meanB0.data.empty()) {
     s.background.volume = std::move(s.loaded.meanB0);
     if (!windowByPercentiles(s.background)) s.background.volume = ScalarVolume{};
+  }
+  if (!r.fabricAlong.path.empty()) {
+    s.along = loadFabricAlong(r.fabricAlong);
+    // Away from the streamlines the anatomy shows: the background volume, FA when none was given.
+    if (s.background.volume.data.empty()) {
+      s.background = loadBackground("fa", r.backgroundWindow, *s.field, s.fa);
+      logInfo("--fabric-along: FA beneath, where the fabric is not drawn (--background B for another)");
+    }
   }
   s.buildOptions.clipToData = s.background.volume.data.empty();
   s.buildOptions.dataEdgeCells = true;
@@ -297,6 +344,7 @@ public:
     if (!s.background.volume.data.empty())
       renderer_.setBackground(&s.background.volume, s.background.lo, s.background.hi);
     if (!s.cone.data.empty()) renderer_.setUncertainty(&s.cone);
+    if (!s.along.data.empty()) renderer_.setAlong(&s.along);
     if (planesOnly(r.surface))
       dataBounds(s.mesh, *s.field, lo_, hi_);
     else

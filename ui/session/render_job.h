@@ -31,6 +31,21 @@ struct SplitMode {
 // Parses tracts | colour | color | surface=SPEC | input=FILE. Throws UsageError for anything else.
 SplitMode parseSplitMode(const std::string& text);
 
+// --fabric-along TRACTS[:MM]: the fabric drawn only within MM of the streamlines of a tract file, the
+// background (the anatomy) elsewhere.
+struct FabricAlong {
+  std::string path; // empty: the fabric everywhere
+  double mm = 2.0;
+};
+
+// Parses TRACTS[:MM]: a text after the last ':' that is not part of an existing file's name is MM, which must
+// be a number in (0, 1000]. Throws InputError naming the text (an empty path, a bad MM).
+FabricAlong parseFabricAlong(const std::string& text);
+
+// The proximity weight of `along`'s streamlines (surfaces/analyses/tract_proximity.h), read from its file.
+// Throws InputError naming the file (unreadable, or without a streamline point).
+ScalarVolume loadFabricAlong(const FabricAlong& along);
+
 struct RenderRequest {
   std::string input;                  // INPUT: a tensor file, a DWI or a fibre set
   const TensorField* field = nullptr; // when set: these tensors instead of loading `input` (which then only
@@ -51,6 +66,7 @@ struct RenderRequest {
   std::string uncertainty;      // a cone map (degrees, any grid) or a bedpostx folder: the threads fray
                                 // (params.fray) and a legend is drawn; empty: none
   std::string tracts;           // tract file or empty
+  FabricAlong fabricAlong;      // the fabric only near these streamlines (empty path: everywhere)
   TractColouring colouring;
   double tractsNear = 3.0, tractsSlab = 0.0, tractsSlabDepth = 0.0, tractWidth = 2.0;
   SplitMode split;

@@ -2,7 +2,9 @@
 #include "ui/session/tract_colouring.h"
 
 #include "io/model/error.h"
+#include "io/model/log.h"
 #include "render/tract_renderer.h"
+#include "surfaces/analyses/tract_profile.h"
 
 #include <algorithm>
 #include <cmath>
@@ -59,13 +61,24 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
     lines = lines.subset(chosen);
   }
   if (c.value.empty()) return out;
-  const std::vector<float> v = lines.valuesPerPoint(c.value);
+  const bool node = c.value == kNodeColouring;
+  if (node) {
+    const auto shadows = [](const std::vector<TractValues>& d) {
+      return std::any_of(d.begin(), d.end(), [](const TractValues& x) { return x.name == kNodeColouring; });
+    };
+    if (shadows(lines.perPoint) || shadows(lines.perLine))
+      logWarning(path + ": its data named '" + std::string(kNodeColouring) +
+                 "' is not shown: 'node' colours by the profile's node index");
+  }
+  const std::vector<float> v = node ? surfaces::nodePerPoint(lines, nullptr, surfaces::ProfileOptions{})
+                                    : lines.valuesPerPoint(c.value);
   if (v.empty() && !lines.points.empty())
     throw InputError(path + ": no per-point or per-streamline data '" + c.value +
                      "' (data: " + namesOf(lines, false) + ")");
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (float x : v)
     if (std::isfinite(x)) lo = std::min(lo, double(x)), hi = std::max(hi, double(x));
+  if (node) lo = 0, hi = surfaces::ProfileOptions{}.nodes - 1;
   if (c.range) std::tie(lo, hi) = *c.range;
   if (!(lo <= hi)) lo = hi = 0; // no finite value
   TractValues colours{render::kTractDisplayColours, 4, std::vector<float>(4 * v.size())};
@@ -80,9 +93,15 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
   out.coloured = true;
   out.lo = lo;
   out.hi = hi;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "tracts coloured by '%s' from %g (bottom of the bar) to %g (top), viridis",
-                c.value.c_str(), lo, hi);
+  char buf[320];
+  if (node)
+    std::snprintf(buf, sizeof buf,
+                  "tracts coloured by the profile's node index along the oriented bundle (as `dtfabric "
+                  "profile` orients it, %d nodes) from %g (bottom of the bar) to %g (top), viridis",
+                  surfaces::ProfileOptions{}.nodes, lo, hi);
+  else
+    std::snprintf(buf, sizeof buf, "tracts coloured by '%s' from %g (bottom of the bar) to %g (top), viridis",
+                  c.value.c_str(), lo, hi);
   out.summary = buf;
   return out;
 }

@@ -12,6 +12,11 @@
 
 namespace dtf::session {
 
+// The colouring value that is no data name: each point's node index along the oriented bundle, as
+// `dtfabric profile` orients and resamples it (surfaces::nodePerPoint, 100 nodes), from 0 at the start to 99.
+// A file's own data named so is not shown (a warning says so).
+inline constexpr const char* kNodeColouring = "node";
+
 struct TractColouring {
   std::vector<std::string> groups;                // empty: all streamlines
   std::string value;                              // data name; empty: DEC colours
@@ -25,8 +30,9 @@ struct TractColouringApplied {
 };
 
 // Keeps the chosen groups' streamlines (each once, in file order) and, when a value is chosen, adds the
-// per-point display colours (render/tract_renderer.h) of that value. Throws InputError naming `path` and
-// the names available when a group or value does not exist, UsageError for an empty range.
+// per-point display colours (render/tract_renderer.h) of that value (kNodeColouring: of the node index).
+// Throws InputError naming `path` and the names available when a group or value does not exist, UsageError
+// for an empty range.
 TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring& c, const std::string& path);
 
 // "LO,HI" -> range; UsageError otherwise.

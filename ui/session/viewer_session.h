@@ -98,6 +98,8 @@ public:
   // tract in a slab around `tractsPlane`.
   const Polylines* tracts() const { return tracts_.get(); }
   const Polylines* shownTracts() const { return shownTracts_ ? shownTracts_.get() : tracts_.get(); }
+  // The same, shared (for work off the UI thread); null without tracts.
+  std::shared_ptr<const Polylines> shownTractsShared() const { return shownTracts_ ? shownTracts_ : tracts_; }
   const std::shared_ptr<const render::DisplayTracts>& tractDisplay() const { return display_; }
   std::uint64_t displaySerial() const { return displaySerial_; }
   // The display of every tract drawn (after the ROI selection and the group choice), whatever the surface:

@@ -83,6 +83,26 @@ struct ViewerState {
   unsigned fibreSeedSerial = 0; // a re-extraction is running; the previous mesh stays on screen
 
   render::FabricParams fabric;
+  // The fabric only within fabricAlongMm of the tracts on screen (session::SetFabricAlong; `render
+  // --fabric-along`), the grey beneath elsewhere (FA when no background is chosen). fabricAlongPending: its
+  // proximity weight is being built.
+  // The Profile panel (session::SetProfile, HoverProfileNode): the profile of the streamlines profiled
+  // (ViewerScene::profileSource) along `scalar`, as `dtfabric profile` computes it, per node its mean and
+  // confidence interval and the core's position; the node hovered and the node pinned (-1: none).
+  struct Profile {
+    bool on = false;
+    std::string scalar = "fa";
+    std::vector<std::string> scalars; // offered for the data on screen
+    bool pending = false;
+    std::string error, axis;
+    std::size_t streamlines = 0;
+    std::vector<double> mean, ciLow, ciHigh;
+    std::vector<glm::dvec3> core;
+    int hovered = -1, pinned = -1;
+  } profile;
+  bool fabricAlong = false;
+  double fabricAlongMm = 2.0;
+  bool fabricAlongPending = false;
   render::StandardView view = render::StandardView::Axial;
   bool neurological = false;
   bool split = false;

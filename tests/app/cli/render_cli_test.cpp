@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `dtfabric render` end to end: writes a PNG, the same arguments give the same bytes, bad input and
 // usage give the documented exit codes (1 usage, 2 bad input).
+#include "io/formats/png_io.h"
+#include "render/figure_furniture.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
 
-#include "io/formats/png_io.h"
-#include "render/figure_furniture.h"
-
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sys/wait.h>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -154,4 +156,47 @@ TEST(RenderCli, BadUsageAndInputGiveTheirExitCodes) {
   std::ofstream(dir / "garbage.nii.gz") << "not a nifti file";
   EXPECT_EQ(dtfabric("render " + (dir / "garbage.nii.gz").string() + out).code, 2);
   EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
+// --fabric-along TRACTS[:MM]: a missing or empty tract file and a bad distance are bad input (exit 2) named
+// in the message, before anything is written; a good one renders (the pixels are tested in
+// tests/render/anatomy_look_gl_test.cpp).
+TEST(RenderCli, FabricAlongRefusesMissingTractsAndBadDistances) {
+  DTF_GL_TEST_SETUP();
+  const fs::path dir = dtf::test::scratchDir();
+  const fs::path png = dir / "x.png", tck = dir / "line.tck";
+  // .tck files (MRtrix: a text header, then float32 triplets from byte 64, NaN ends a line, Inf the data):
+  // two points across the phantom's centre, and none.
+  const auto writeTck = [](const fs::path& path, std::vector<float> pts, int count) {
+    std::ofstream f(path, std::ios::binary);
+    std::string header =
+        "mrtrix tracks\ndatatype: Float32LE\ncount: " + std::to_string(count) + "\nfile: . 64\nEND\n";
+    header.resize(64, '\0');
+    f << header;
+    pts.insert(pts.end(), {INFINITY, INFINITY, INFINITY});
+    f.write(reinterpret_cast<const char*>(pts.data()),
+            static_cast<std::streamsize>(pts.size() * sizeof(float)));
+  };
+  writeTck(tck, {-20.0f, 0.0f, 0.0f, 20.0f, 0.0f, 0.0f, NAN, NAN, NAN}, 1);
+  writeTck(dir / "empty.tck", {}, 0);
+  const std::string base =
+      "render " + kPhantom.string() + " -o " + png.string() + " --size 64x64 --fabric-along ";
+  for (const auto& [arg, says] : std::vector<std::pair<std::string, std::string>>{
+           {(dir / "missing.tck").string(), "missing.tck"},
+           {tck.string() + ":abc", "'abc' must be a number of mm"},
+           {tck.string() + ":0", "'0' must be a number of mm"},
+           {tck.string() + ":", "'' must be a number of mm"},
+           {(dir / "empty.tck").string(), "no streamline point"}}) {
+    const CliRun r = dtfabric(base + arg);
+    EXPECT_EQ(r.code, 2) << arg << "\n" << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << arg << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(png)) << arg;
+  }
+  const CliRun ok = dtfabric(base + tck.string() + ":3.5");
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("the fabric along 1 streamlines of"), std::string::npos) << ok.output;
+  EXPECT_TRUE(fs::exists(png));
+  const CliRun view = dtfabric("view --fabric-along " + (dir / "missing.tck").string());
+  EXPECT_EQ(view.code, 2) << view.output;
+  EXPECT_NE(view.output.find("missing.tck"), std::string::npos) << view.output;
 }

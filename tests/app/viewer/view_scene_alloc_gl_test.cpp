@@ -98,6 +98,9 @@ TEST(ViewScene, FramesWithTractsDoNotAllocate) {
   scene.apply(dtf::session::LoadFile{
       (dtf::test::sourceDir() / "sample_data" / "brain_phantom.nii.gz").string(), "auto"});
   scene.apply(dtf::session::LoadTracts{tck.string()});
+  // The fabric along the tracts and the Profile panel on: their workers are polled every frame.
+  scene.apply(dtf::session::SetFabricAlong{true, 2.0});
+  scene.apply(dtf::session::SetProfile{true, {}});
   for (int i = 0; i < 3000 && !(scene.settled() && scene.converged()); ++i) {
     scene.update();
     scene.render(160, 120);
@@ -107,6 +110,8 @@ TEST(ViewScene, FramesWithTractsDoNotAllocate) {
   ASSERT_TRUE(scene.converged());
   ASSERT_TRUE(scene.paneShowsTracts(0));
   ASSERT_GT(scene.state().tractsShownPoints, 0u);
+  ASSERT_TRUE(scene.paneRenderer(0).hasAlong());
+  ASSERT_EQ(scene.state().profile.core.size(), 100u) << scene.state().profile.error;
   const auto [still, moving] = countStillAndMoving(scene);
   allocations = 0;
   // The camera stops: still refinement of the fabric and the full tract set, until converged.

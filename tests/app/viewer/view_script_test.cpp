@@ -108,6 +108,18 @@ TEST(ViewScript, TractsLineLoadsStreamlines) {
   EXPECT_NE(parseError("tracts").find("usage: tracts PATH"), std::string::npos);
 }
 
+TEST(ViewScript, FabricAlongLineSwitchesTheFabricToTheTracts) {
+  const ViewScript s = parseViewScript("fabric-along on 3.5\nfabric-along off\n", "a.txt");
+  ASSERT_EQ(s.steps.size(), 2u);
+  EXPECT_EQ(actionAt<session::SetFabricAlong>(s, 0).on, std::optional<bool>(true));
+  EXPECT_EQ(actionAt<session::SetFabricAlong>(s, 0).mm, std::optional<double>(3.5));
+  EXPECT_EQ(actionAt<session::SetFabricAlong>(s, 1).on, std::optional<bool>(false));
+  EXPECT_FALSE(actionAt<session::SetFabricAlong>(s, 1).mm.has_value());
+  EXPECT_NE(parseError("fabric-along on 0").find("(0, 1000]"), std::string::npos);
+  EXPECT_NE(parseError("fabric-along maybe").find("fabric-along"), std::string::npos);
+  EXPECT_NE(parseError("fabric-along").find("usage: fabric-along on|off [MM]"), std::string::npos);
+}
+
 TEST(ViewScript, ProbeLineTakesScenePixels) {
   const ViewScript s = parseViewScript("probe 10 20.5\n", "p.txt");
   ASSERT_EQ(s.steps.size(), 1u);

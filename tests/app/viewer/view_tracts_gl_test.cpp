@@ -16,9 +16,12 @@
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_files.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <sstream>
 #include <thread>
 
 using namespace dtf;
@@ -45,6 +48,17 @@ std::size_t differing(const Image& a, const Image& b, int x0 = 0, int x1 = -1) {
       n += std::abs(p[0] - q[0]) > 40 || std::abs(p[1] - q[1]) > 40 || std::abs(p[2] - q[2]) > 40;
     }
   return n;
+}
+
+// The right corticospinal tract of the shared tracts, cut with two spheres by `dtfabric select` into `dir`.
+fs::path cutCst(const fs::path& tck, const fs::path& dir) {
+  fs::create_directories(dir);
+  const fs::path cst = dir / "cst.tck";
+  const test::CliResult r = test::runDtfabric("select '" + tck.string() + "' -o '" + cst.string() +
+                                                  "' --include 18,3.7,21.6,6 --include 20,0,45,10 --force",
+                                              dir);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  return cst;
 }
 
 #define BRAIN_FILES()                                                                                        \
@@ -348,4 +362,156 @@ TEST(ViewTracts, AMillionPointsStayInteractiveAndEndComplete) {
   s.converge(300);
   EXPECT_EQ(s.state().tractsLevel, 0);
   EXPECT_DOUBLE_EQ(s.state().tractsLevelFraction, 1.0);
+}
+
+// The Fabric panel's "along the tracts" (session::SetFabricAlong, `view --fabric-along`): the proximity
+// weight of the tracts on screen (the right corticospinal tract) is built off the UI thread and reaches the
+// pane's renderer, FA goes beneath, and the pixels away from the bundle show that FA grey instead of the
+// fabric; off restores the fabric.
+TEST(ViewTracts, TheFabricAlongTheTractsShowsFaAwayFromThem) {
+  BRAIN_FILES();
+  const fs::path cst = cutCst(tck, test::scratchDir() / "cst");
+  Scene s("slice=coronal:33");
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{cst.string()});
+  s.apply(session::SetTractsVisible{false});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image fabric = s.image();
+  EXPECT_FALSE(s.scene.paneRenderer(0).hasAlong());
+  s.apply(session::SetFabricAlong{true, 1.0});
+  EXPECT_TRUE(s.state().fabricAlong);
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  EXPECT_TRUE(s.scene.paneRenderer(0).hasAlong());
+  EXPECT_EQ(s.state().background, "fa (the fabric along the tracts)");
+  const Image along = s.image();
+  io::writePng((test::scratchDir() / "fabric.png").string(), fabric);
+  io::writePng((test::scratchDir() / "along.png").string(), along);
+  const std::size_t changed = differing(along, fabric);
+  EXPECT_GT(changed, 1000u) << "the fabric left the pixels away from the tracts";
+  // Grey (FA) is what remains where it changed: r = g = b within rounding.
+  std::size_t grey = 0, all = 0;
+  for (int y = 0; y < along.height; ++y)
+    for (int x = 0; x < along.width; ++x) {
+      const auto *p = along.pixel(x, y), *q = fabric.pixel(x, y);
+      if (std::abs(p[0] - q[0]) <= 40 && std::abs(p[1] - q[1]) <= 40 && std::abs(p[2] - q[2]) <= 40) continue;
+      ++all;
+      grey += std::abs(p[0] - p[1]) <= 2 && std::abs(p[1] - p[2]) <= 2;
+    }
+  EXPECT_GT(grey, all * 9 / 10) << grey << " of " << all;
+  s.apply(session::SetFabricAlong{{}, -1.0});
+  EXPECT_NE(s.lastError().find("(0, 1000] mm"), std::string::npos) << s.lastError();
+  EXPECT_EQ(s.state().fabricAlongMm, 1.0) << "a bad distance changes nothing";
+  s.apply(session::DismissError{});
+  s.apply(session::SetFabricAlong{false, {}});
+  s.converge();
+  EXPECT_FALSE(s.scene.paneRenderer(0).hasAlong());
+  EXPECT_LT(differing(s.image(), fabric), fabric.rgba.size() / 4 / 100) << "off: the fabric everywhere again";
+}
+
+// The Profile panel (session::SetProfile, HoverProfileNode): the right corticospinal tract cut from the
+// tracts with two spheres (`dtfabric select`) is profiled along FA as `dtfabric profile` profiles it, and
+// hovering node K puts the crosshair at the core position `dtfabric profile` reports for node K (within 1 mm;
+// the same computation, so to rounding); a click pins it, and the crosshair returns there when the hover
+// ends.
+TEST(ViewTracts, HoveringAProfileNodePutsTheCrosshairAtItsCore) {
+  BRAIN_FILES();
+  const fs::path dir = test::scratchDir() / "view_profile";
+  fs::create_directories(dir);
+  const fs::path cst = cutCst(tck, dir), tsv = dir / "cst.tsv";
+  const test::CliResult profile = test::runDtfabric("profile '" + cst.string() + "' --scalar fa --tensor '" +
+                                                        tensor.string() + "' -o '" + tsv.string() + "'",
+                                                    dir);
+  ASSERT_EQ(profile.exitCode, 0) << profile.err;
+  // node -> (x, y, z, mean) from the tidy table.
+  std::map<int, std::array<double, 4>> rows;
+  {
+    std::istringstream in(test::readText(tsv));
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line.rfind("bundle\tscalar\tnode\tx\ty\tz\tmean", 0), 0u) << line;
+    while (std::getline(in, line)) {
+      std::istringstream f(line);
+      std::string bundle, scalar;
+      int node = 0;
+      std::array<double, 4> v{};
+      f >> bundle >> scalar >> node >> v[0] >> v[1] >> v[2] >> v[3];
+      rows[node] = v;
+    }
+  }
+  ASSERT_EQ(rows.size(), 100u);
+
+  Scene s("slice=axial:22");
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{cst.string()});
+  s.apply(session::SetOrtho{true});
+  s.apply(session::SetProfile{true, std::string("fa")});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const session::ViewerState::Profile& pr = s.state().profile;
+  ASSERT_EQ(pr.error, "");
+  ASSERT_EQ(pr.core.size(), 100u);
+  EXPECT_EQ(pr.streamlines, 40u);
+  EXPECT_EQ(pr.scalars, (std::vector<std::string>{"fa", "md", "ad", "rd"}));
+  for (int k : {0, 37, 99}) {
+    s.apply(session::HoverProfileNode{k, false});
+    s.frame();
+    ASSERT_EQ(s.lastError(), "");
+    const glm::dvec3 want(rows[k][0], rows[k][1], rows[k][2]);
+    EXPECT_LT(glm::distance(s.state().crosshair, want), 1.0) << "node " << k;
+    EXPECT_NEAR(pr.mean[std::size_t(k)], rows[k][3], 1e-4) << "node " << k << ": the profile's FA";
+  }
+  s.apply(session::HoverProfileNode{37, true}); // pinned
+  s.apply(session::HoverProfileNode{80, false});
+  EXPECT_LT(glm::distance(s.state().crosshair, glm::dvec3(rows[80][0], rows[80][1], rows[80][2])), 1.0);
+  s.apply(session::HoverProfileNode{-1, false}); // the hover ends: back to the pinned node
+  EXPECT_EQ(pr.pinned, 37);
+  EXPECT_LT(glm::distance(s.state().crosshair, glm::dvec3(rows[37][0], rows[37][1], rows[37][2])), 1.0);
+  s.apply(session::HoverProfileNode{100, false});
+  EXPECT_NE(s.lastError().find("100 nodes"), std::string::npos) << s.lastError();
+}
+
+// With regions, the fabric follows the selected streamlines: the whole tractogram with the two spheres that
+// cut the right corticospinal tract shows exactly the image of that tract loaded alone; the profile too
+// measures the selection (40 streamlines). A selection of nothing leaves no fabric.
+TEST(ViewTracts, TheFabricAlongAndTheProfileFollowTheRoiSelection) {
+  BRAIN_FILES();
+  const fs::path cst = cutCst(tck, test::scratchDir() / "cst");
+  Scene s("slice=coronal:33");
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{cst.string()});
+  s.apply(session::SetTractsVisible{false});
+  s.apply(session::SetFabricAlong{true, 2.0});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image want = s.image(); // the CST loaded alone
+
+  s.apply(session::LoadTracts{tck.string()});
+  s.apply(session::SetProfile{true, {}});
+  for (const char* spec : {"18,3.7,21.6,6", "20,0,45,10"}) {
+    session::RoiAdd add;
+    add.spec = spec;
+    s.apply(add);
+  }
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  ASSERT_EQ(s.scene.session().roiSelection().count(), 40u);
+  EXPECT_EQ(s.state().profile.streamlines, 40u);
+  EXPECT_EQ(differing(s.image(), want), 0u) << "the selection's fabric is the CST's";
+  // A region that keeps nothing: no fabric anywhere, FA alone.
+  session::RoiAdd none;
+  none.spec = "box:200,200,200,201,201,201";
+  s.apply(none);
+  s.converge();
+  ASSERT_EQ(s.scene.session().roiSelection().count(), 0u);
+  const Image empty = s.image();
+  std::size_t coloured = 0;
+  for (int y = 0; y < empty.height; ++y)
+    for (int x = 0; x < empty.width; ++x) {
+      const auto* p = empty.pixel(x, y);
+      coloured += std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 8;
+    }
+  EXPECT_LT(coloured, 20u) << "grey alone (the furniture's few coloured pixels aside)";
+  EXPECT_NE(s.state().profile.error, "");
 }
