@@ -267,7 +267,22 @@ struct TractLayerProgram {
 // tracts/lines.vert + lines.geom + lines.frag (TractRenderer): no textures, uniforms only.
 struct TractLinesProgram {
   static constexpr std::span<const BindingName> kBindings{};
-  enum class Uniform { View, Proj, ViewRot, Viewport, WidthPx, DepthBiasMm, Plane, SlabMm, Count };
+  enum class Uniform {
+    View,
+    Proj,
+    ViewRot,
+    Viewport,
+    WidthPx,
+    DepthBiasMm,
+    Plane,
+    SlabMm,
+    HighlightNode,
+    HighlightHalfWidth,
+    HighlightColour,
+    NodeColoured,
+    NodeColours,
+    Count
+  };
 };
 
 // The programs' bindings as defines.
@@ -434,6 +449,16 @@ constexpr const char* uniformName(TractLinesProgram::Uniform u) {
     return "u_plane";
   case U::SlabMm:
     return "u_slabMm";
+  case U::HighlightNode:
+    return "u_highlightNode";
+  case U::HighlightHalfWidth:
+    return "u_highlightHalfWidth";
+  case U::HighlightColour:
+    return "u_highlightColour";
+  case U::NodeColoured:
+    return "u_nodeColoured";
+  case U::NodeColours:
+    return "u_nodeColour";
   case U::Count:
     break;
   }

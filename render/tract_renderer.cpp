@@ -110,6 +110,12 @@ DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints
           d.colours[i][c] = static_cast<std::uint8_t>(
               std::lround(std::clamp(a.values[4 * i + static_cast<std::size_t>(c)], 0.0f, 1.0f) * 255.0f));
     }
+  for (const auto& a : shown.perPoint)
+    if (a.name == kTractDisplayNode && a.components == 1 && a.values.size() == d.points.size()) {
+      d.nodes.resize(d.points.size());
+      for (std::size_t i = 0; i < d.points.size(); ++i)
+        d.nodes[i] = std::isfinite(a.values[i]) && a.values[i] >= 0 ? a.values[i] : -1.0f;
+    }
   if (d.lines == 0) return d;
   const std::vector<std::uint32_t> order = stratifiedOrder(d.lines);
   std::size_t previous = 0;
@@ -183,9 +189,32 @@ void TractRenderer::upload(const DisplayTracts& t) {
   } else {
     glDisableVertexArrayAttrib(vao_.id(), 1);
   }
+  nodes_ = Buffer();
+  hasNodes_ = t.nodes.size() == t.points.size();
+  if (hasNodes_) {
+    nodes_ = createBuffer();
+    glNamedBufferStorage(nodes_.id(), static_cast<GLsizeiptr>(t.nodes.size() * sizeof(float)), t.nodes.data(), 0);
+    glVertexArrayVertexBuffer(vao_.id(), 2, nodes_.id(), 0, sizeof(float));
+    glEnableVertexArrayAttrib(vao_.id(), 2);
+    glVertexArrayAttribFormat(vao_.id(), 2, 1, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_.id(), 2, 2);
+  } else {
+    glDisableVertexArrayAttrib(vao_.id(), 2);
+  }
   levelOffsets_ = t.levelOffsets;
   pointCount_ = t.points.size();
   lineCount_ = t.lines;
+}
+
+void TractRenderer::setNodeColours(std::span<const glm::vec4> colours) {
+  if (colours.size() > kMaxTractNodeColours)
+    throw UsageError("at most " + std::to_string(kMaxTractNodeColours) + " node colours, not " +
+                     std::to_string(colours.size()));
+  using U = TractLinesProgram::Uniform;
+  program_.set(U::NodeColoured, !colours.empty());
+  const GLint at = program_.location(U::NodeColours);
+  if (!colours.empty() && at >= 0)
+    glProgramUniform4fv(program_.id(), at, static_cast<GLsizei>(colours.size()), &colours[0].x);
 }
 
 std::size_t TractRenderer::segmentCount(int level) const {
@@ -214,6 +243,9 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style, int lev
   program_.set(U::DepthBiasMm, style.depthBiasMm);
   program_.set(U::Plane, style.plane);
   program_.set(U::SlabMm, style.slabMm);
+  program_.set(U::HighlightNode, style.highlightNode);
+  program_.set(U::HighlightHalfWidth, std::max(style.highlightHalfWidth, 0));
+  program_.set(U::HighlightColour, style.highlightColour);
   program_.use();
   glViewport(0, 0, view.viewport.x, view.viewport.y);
   glEnable(GL_DEPTH_TEST);
@@ -221,6 +253,7 @@ void TractRenderer::draw(const FrameView& view, const TractStyle& style, int lev
   glDepthMask(GL_TRUE);
   glBindVertexArray(vao_.id());
   glVertexAttrib4f(1, 0, 0, 0, 0); // DEC where no colour array is bound
+  glVertexAttrib1f(2, -1.0f);      // no node where no node array is bound
   // GL_LINES over the element buffer of point index pairs; the geometry shader widens each segment.
   const std::size_t start = levelOffsets_[static_cast<std::size_t>(level)] + first;
   glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,

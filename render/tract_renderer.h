@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <glm/gtc/type_precision.hpp>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -39,6 +40,12 @@ struct TractStyle {
   float slabMm = 0.0f;         // > 0: only points within slabMm of `plane` are drawn
   glm::vec4 plane{0, 0, 1, 0}; // unit normal n and offset w: signed distance dot(n, p) + w (world mm)
   float depthBiasMm = 0.05f;   // towards the viewer, so tracts lying in a surface are not lost to z-fighting
+  // >= 0: the points whose node (kTractDisplayNode) rounds to within highlightHalfWidth of this node are
+  // drawn in highlightColour, unlit (the Profile panel's hovered node: a band across the bundle; one node of
+  // 100 is about a millimetre of a long bundle, too thin to see alone).
+  int highlightNode = -1;
+  int highlightHalfWidth = 1;
+  glm::vec3 highlightColour{1.0f, 1.0f, 0.25f};
 
   bool operator==(const TractStyle&) const = default;
 };
@@ -53,6 +60,7 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints = kTr
 struct DisplayTracts {
   std::vector<glm::vec3> points;            // decimateForDisplay(lines, maxPoints).points
   std::vector<glm::u8vec4> colours;         // per point, from kTractDisplayColours; empty: DEC
+  std::vector<float> nodes;                 // per point, from kTractDisplayNode (-1: none); empty: none
   std::size_t lines = 0;                    // lines drawn (>= 2 points each)
   std::vector<std::uint32_t> segments;      // point index pairs, level after level
   std::vector<std::size_t> levelOffsets{0}; // level k's segments: [levelOffsets[k], levelOffsets[k + 1])
@@ -66,6 +74,12 @@ struct DisplayTracts {
 // A per-point array with this name (4 components, RGBA in 0..1) gives the tracts their colours: alpha 1
 // uses the RGB (lit like DEC), alpha 0 keeps the DEC colour of the tangent.
 inline constexpr const char* kTractDisplayColours = "display colour";
+// A per-point array with this name (1 component) gives each point its node along the profiled bundle
+// (surfaces::nodePerPoint; NaN: a point of no profiled streamline). With it a TractStyle can highlight one
+// node and setNodeColours colour the points by node.
+inline constexpr const char* kTractDisplayNode = "display node";
+// Node colours setNodeColours takes at most.
+inline constexpr std::size_t kMaxTractNodeColours = 128;
 // The colour map for tract values: viridis, linear between matplotlib's colours at 0, 1/4, 1/2, 3/4 and 1
 // (#440154, #3b528b, #21918c, #5ec962, #fde725); t is clamped to [0, 1]. Its legend: render/figure_furniture.h
 // drawColourBar.
@@ -92,6 +106,13 @@ public:
   void draw(const FrameView& view, const TractStyle& style, int level, std::size_t first,
             std::size_t count) const;
 
+  // Colours the points with a node (kTractDisplayNode) by their node: colours[k] for node k where its alpha
+  // is 1 (alpha 0: the point keeps its colour). An empty span turns it off. At most kMaxTractNodeColours
+  // (more: throws UsageError). Sets a uniform only; allocates nothing.
+  void setNodeColours(std::span<const glm::vec4> colours);
+  // Whether the uploaded tracts carry nodes.
+  bool hasNodes() const { return hasNodes_; }
+
   std::size_t pointCount() const { return pointCount_; }
   std::size_t lineCount() const { return lineCount_; }
   int levelCount() const { return static_cast<int>(levelOffsets_.size()) - 1; }
@@ -100,7 +121,8 @@ public:
 private:
   ShaderProgram program_; // tracts/lines.{vert,geom,frag}; uniforms by TractLinesProgram::Uniform
   VertexArray vao_;
-  Buffer points_, segments_, colours_;
+  Buffer points_, segments_, colours_, nodes_;
+  bool hasNodes_ = false;
   std::vector<std::size_t> levelOffsets_{0};
   std::size_t pointCount_ = 0, lineCount_ = 0;
 };

@@ -5,6 +5,7 @@
 #include "ui/session/movie_job.h"
 #include "ui/session/orientation_labels.h"
 #include "ui/session/roi_outline.h"
+#include "ui/session/tract_colouring.h"
 #include "ui/session/tract_overlay.h"
 #include "ui/session/viewer_worker.h"
 #include "io/formats/atomic_file.h"
@@ -20,6 +21,9 @@
 #include <cmath>
 #include <epoxy/gl.h>
 #include <fstream>
+#include <limits>
+#include <span>
+#include <tuple>
 #include <glm/gtc/matrix_inverse.hpp>
 
 namespace dtf::app {
@@ -329,7 +333,10 @@ void ViewerScene::update() {
   if (session_.displaySerial() != seenDisplay_ && session_.tractDisplay()) {
     seenDisplay_ = session_.displaySerial();
     try {
-      if (!tractRenderer_) tractRenderer_ = std::make_unique<render::TractRenderer>();
+      if (!tractRenderer_) {
+        tractRenderer_ = std::make_unique<render::TractRenderer>();
+        setNodeColours(*tractRenderer_);
+      }
       if (session_.tractDisplay() != uploaded_) {
         tractRenderer_->upload(*session_.tractDisplay());
         uploaded_ = session_.tractDisplay();
@@ -341,7 +348,10 @@ void ViewerScene::update() {
   if (state().ortho && session_.tractDisplayAll() != orthoUploaded_) {
     // The slice panes draw every tract in a slab around their planes (uploaded only in the ortho layout).
     try {
-      if (!orthoTracts_) orthoTracts_ = std::make_unique<render::TractRenderer>();
+      if (!orthoTracts_) {
+        orthoTracts_ = std::make_unique<render::TractRenderer>();
+        setNodeColours(*orthoTracts_);
+      }
       if (session_.tractDisplayAll())
         orthoTracts_->upload(*session_.tractDisplayAll());
       else
@@ -353,6 +363,7 @@ void ViewerScene::update() {
       session_.setError("while uploading the tracts for the slice panes: " + currentExceptionMessage());
     }
   }
+  updateNodeColours();
 }
 
 void ViewerScene::updateOrtho() {
@@ -413,6 +424,7 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
   std::uint64_t key = tracts ? 1 : 0;
   for (double v : {st.tractWidthPx, slabMm})
     key = key * 1000003u + static_cast<std::uint64_t>(std::llround(v * 1000.0));
+  key = (key * 1013 + nodeColourSerial_) * 131 + static_cast<std::uint64_t>(highlightedNode() + 1);
   if (key != orthoTractKey_) {
     orthoTractKey_ = key;
     orthoDirty_.fill(true);
@@ -438,6 +450,7 @@ void ViewerScene::renderOrtho(const render::FabricParams& base) {
     if (tracts && orthoPlanes_[s]) {
       render::TractStyle style;
       style.widthPx = static_cast<float>(st.tractWidthPx);
+      style.highlightNode = highlightedNode();
       style.plane = *orthoPlanes_[s];
       style.slabMm = static_cast<float>(slabMm);
       // The slab's far half lies behind the slice: drawn in front of it all the same.
@@ -509,7 +522,9 @@ void ViewerScene::updateAlong() {
 void ViewerScene::updateProfile() {
   session::ViewerState::Profile& pr = session_.state().profile;
   const auto data = session_.dataset();
-  ProfileSource src = pr.on ? selectedTracts() : ProfileSource{};
+  // Profiled while the panel is on or the tracts are coloured by the profile's value.
+  const bool wanted = pr.on || session_.state().tractColourBy == session::kProfileColouring;
+  ProfileSource src = wanted ? selectedTracts() : ProfileSource{};
   if (src.lines && src.lines->points.empty()) src = {};
   if (data && data != profiledData_) pr.scalars = session::viewerProfileScalars(*data);
   if (src.lines != profiled_.lines || src.which != profiled_.which || data != profiledData_ ||
@@ -537,13 +552,14 @@ void ViewerScene::updateProfile() {
       pr.ciHigh.clear();
       pr.core.clear();
       pr.streamlines = 0;
-      pr.error = pr.on && data ? "no tracts to profile" : "";
+      pr.error = wanted && data ? "no tracts to profile" : "";
     }
   }
   if (!profileWorker_) return;
   session::ViewerProfileResult r;
   while (profileWorker_->poll(r)) {
     if (r.serial != profileSerial_) continue; // out of date
+    ++profileResults_;
     pr.error = r.error;
     pr.axis = r.axis;
     pr.streamlines = r.profile.streamlines;
@@ -562,6 +578,46 @@ void ViewerScene::updateProfile() {
     }
   }
   pr.pending = profileWorker_->busy();
+}
+
+int ViewerScene::highlightedNode() const {
+  const session::ViewerState::Profile& pr = state().profile;
+  if (!pr.on) return -1;
+  return pr.hovered >= 0 ? pr.hovered : pr.pinned;
+}
+
+void ViewerScene::updateNodeColours() {
+  const session::ViewerState& st = state();
+  const bool coloured = st.tractColourBy == session::kProfileColouring;
+  const auto& range = session_.tractColour().range;
+  const std::uint64_t want = coloured ? profileResults_ : ~0ull;
+  if (want == nodeColoursFor_ && range == nodeColourRange_) return;
+  nodeColoursFor_ = want;
+  nodeColourRange_ = range;
+  ++nodeColourSerial_;
+  nodeColourCount_ = 0;
+  const std::vector<double>& mean = st.profile.mean;
+  if (coloured && !mean.empty() && mean.size() <= nodeColours_.size()) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (double v : mean)
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (range) std::tie(lo, hi) = *range;
+    if (lo <= hi) {
+      for (std::size_t k = 0; k < mean.size(); ++k) {
+        const float t = hi > lo ? static_cast<float>((mean[k] - lo) / (hi - lo)) : 0.5f;
+        nodeColours_[k] = std::isfinite(mean[k]) ? glm::vec4(render::tractValueColour(t), 1.0f) : glm::vec4(0.0f);
+      }
+      nodeColourCount_ = mean.size();
+      session_.state().tractColourLo = lo;
+      session_.state().tractColourHi = hi;
+    }
+  }
+  if (tractRenderer_) setNodeColours(*tractRenderer_);
+  if (orthoTracts_) setNodeColours(*orthoTracts_);
+}
+
+void ViewerScene::setNodeColours(render::TractRenderer& r) const {
+  r.setNodeColours(std::span<const glm::vec4>(nodeColours_.data(), nodeColourCount_));
 }
 
 void ViewerScene::profileCrosshair() {
@@ -1052,6 +1108,7 @@ void ViewerScene::tractFrame(int p, bool fabricChanged, bool moving) {
       session::tractClip(pick, overlay, glm::vec3(camera(p).forward()), session_.meshCentre());
   f.style.plane = clip.plane;
   f.style.slabMm = clip.slabMm;
+  f.style.highlightNode = highlightedNode();
   f.key = tractKeys_[p] = tractKey();
   f.moving = moving;
   f.draw = tractBudget_.choose(*tractRenderer_);
@@ -1149,8 +1206,10 @@ bool ViewerScene::applyView(const session::Action& action) {
         } else if constexpr (std::is_same_v<T, session::SetProfile>) {
           if (a.scalar && *a.scalar != "fa" && *a.scalar != "md" && *a.scalar != "ad" && *a.scalar != "rd")
             throw UsageError("the profile takes fa, md, ad or rd, not '" + *a.scalar + "'");
+          const bool was = state.profile.on;
           if (a.on) state.profile.on = *a.on;
           if (a.scalar) state.profile.scalar = *a.scalar;
+          if (state.profile.on != was) session_.reapplyTractChoice(); // each point's node, or none
           updateProfile();
         } else if constexpr (std::is_same_v<T, session::HoverProfileNode>) {
           session::ViewerState::Profile& pr = state.profile;

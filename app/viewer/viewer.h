@@ -216,8 +216,17 @@ private:
   // What a tract layer draws besides the camera: the selection uploaded, the surface it is depth-tested
   // against, the width and the clip slab.
   std::uint64_t tractKey() const {
-    return (seenDisplay_ * 1000003 + session_.meshSerial()) * 1009 + session_.tractStyleSerial();
+    return ((seenDisplay_ * 1000003 + session_.meshSerial()) * 1009 + session_.tractStyleSerial()) * 1013 +
+           nodeColourSerial_ * 131 + static_cast<std::uint64_t>(highlightedNode() + 1);
   }
+  // The Profile panel's node drawn as a band across the tracts: the hovered one, else the pinned one (-1:
+  // none, or the panel is off).
+  int highlightedNode() const;
+  // The colours of the nodes when the tracts are coloured by the profile's value (session::kProfileColouring):
+  // the profile's mean at each node through the tract colour map, over the chosen range or the profile's
+  // own; recomputed when the profile or the choice changes (nodeColourSerial_), set on the tract renderers.
+  void updateNodeColours();
+  void setNodeColours(render::TractRenderer& r) const;
 
   session::ViewerSession session_;
   std::array<std::unique_ptr<render::FabricRenderer>, 2> renderers_; // full size
@@ -296,6 +305,10 @@ private:
   std::array<std::optional<glm::vec4>, 3> orthoPlanes_;      // each mesh's plane
   std::unique_ptr<render::TractRenderer> orthoTracts_;        // every tract drawn, for the slice panes
   std::shared_ptr<const render::DisplayTracts> orthoUploaded_; // what orthoTracts_ holds
+  std::array<glm::vec4, render::kMaxTractNodeColours> nodeColours_{}; // of nodeColourCount_ nodes
+  std::size_t nodeColourCount_ = 0;                                     // 0: not coloured by the profile
+  std::uint64_t nodeColourSerial_ = 0, profileResults_ = 0, nodeColoursFor_ = ~0ull;
+  std::optional<std::pair<double, double>> nodeColourRange_;
   std::uint64_t orthoTractKey_ = 0;                           // the tract style the slice panes drew with
   mutable std::vector<glm::dvec3> outlineWorld_;              // regionOutlinePixels' scratch
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};

@@ -8,6 +8,7 @@ layout(triangle_strip, max_vertices = 4) out;
 in vec3 v_world[];
 in float v_planeDist[];
 in vec4 v_colour[];
+in float v_node[];
 uniform mat4 u_view;
 uniform mat4 u_proj;
 uniform vec2 u_viewport;      // pixels
@@ -17,6 +18,7 @@ out vec3 g_tangent;           // world, unit
 out float g_across;           // -1 .. 1 across the tube
 out float g_planeDist;
 out vec4 g_colour;
+out float g_node;               // interpolated along the segment: each half takes its end's node
 
 void main() {
   vec3 d = v_world[1] - v_world[0];
@@ -45,6 +47,7 @@ void main() {
     g_across = across[i];
     g_planeDist = v_planeDist[i < 2 ? 0 : 1];
     g_colour = v_colour[i < 2 ? 0 : 1];
+    g_node = v_node[i < 2 ? 0 : 1];
     EmitVertex();
   }
   EndPrimitive();

@@ -85,10 +85,13 @@ void tractColouringWidgets(const session::ViewerState& s, PanelBuffers& b, sessi
     if (ImGui::Selectable("DEC (direction)", s.tractColourBy.empty()))
       out.push_back(session::SetTractColour{});
     for (const std::string& name : s.tractDataNames)
-      if (name != session::kNodeColouring && ImGui::Selectable(name.c_str(), name == s.tractColourBy))
+      if (name != session::kNodeColouring && name != session::kProfileColouring &&
+          ImGui::Selectable(name.c_str(), name == s.tractColourBy))
         out.push_back(session::SetTractColour{name, {}});
     if (ImGui::Selectable("node (profile node index)", s.tractColourBy == session::kNodeColouring))
       out.push_back(session::SetTractColour{session::kNodeColouring, {}});
+    if (ImGui::Selectable("profile (the profile's value at each node)", s.tractColourBy == session::kProfileColouring))
+      out.push_back(session::SetTractColour{session::kProfileColouring, {}});
     ImGui::EndCombo();
   }
   probe(b, "colour by");

@@ -32,6 +32,15 @@ std::string namesOf(const Polylines& l, bool groups) {
 }
 } // namespace
 
+void shadowReservedName(const Polylines& lines, const std::string& name, const std::string& path) {
+  const auto shadows = [&](const std::vector<TractValues>& d) {
+    return std::any_of(d.begin(), d.end(), [&](const TractValues& x) { return x.name == name; });
+  };
+  if (shadows(lines.perPoint) || shadows(lines.perLine))
+    logWarning(path + ": its data named '" + name + "' is not shown: '" + name + "' colours by the " +
+               (name == kNodeColouring ? "profile's node index" : "profile's value"));
+}
+
 std::pair<double, double> parseTractRange(const std::string& text) {
   double lo = 0, hi = 0;
   char comma = 0, extra = 0;
@@ -61,15 +70,11 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
     lines = lines.subset(chosen);
   }
   if (c.value.empty()) return out;
+  if (c.value == kProfileColouring)
+    throw UsageError("'" + std::string(kProfileColouring) +
+                     "' colours by the viewer's profile (its Profile panel); here colour by 'node' or by data");
   const bool node = c.value == kNodeColouring;
-  if (node) {
-    const auto shadows = [](const std::vector<TractValues>& d) {
-      return std::any_of(d.begin(), d.end(), [](const TractValues& x) { return x.name == kNodeColouring; });
-    };
-    if (shadows(lines.perPoint) || shadows(lines.perLine))
-      logWarning(path + ": its data named '" + std::string(kNodeColouring) +
-                 "' is not shown: 'node' colours by the profile's node index");
-  }
+  if (node) shadowReservedName(lines, kNodeColouring, path);
   const std::vector<float> v = node ? surfaces::nodePerPoint(lines, nullptr, surfaces::ProfileOptions{})
                                     : lines.valuesPerPoint(c.value);
   if (v.empty() && !lines.points.empty())

@@ -16,6 +16,10 @@ namespace dtf::session {
 // `dtfabric profile` orients and resamples it (surfaces::nodePerPoint, 100 nodes), from 0 at the start to 99.
 // A file's own data named so is not shown (a warning says so).
 inline constexpr const char* kNodeColouring = "node";
+// The colouring value of the viewer's Profile panel: each point takes the profile's value (e.g. FA) at its
+// node, through the same colour map. A file's own data named so is not shown either; `render` has no
+// profile and refuses it.
+inline constexpr const char* kProfileColouring = "profile";
 
 struct TractColouring {
   std::vector<std::string> groups;                // empty: all streamlines
@@ -34,6 +38,9 @@ struct TractColouringApplied {
 // Throws InputError naming `path` and the names available when a group or value does not exist, UsageError
 // for an empty range.
 TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring& c, const std::string& path);
+
+// Warns (naming `path`) when `lines` carry data named `name`, a reserved colouring value that shadows it.
+void shadowReservedName(const Polylines& lines, const std::string& name, const std::string& path);
 
 // "LO,HI" -> range; UsageError otherwise.
 std::pair<double, double> parseTractRange(const std::string& text);

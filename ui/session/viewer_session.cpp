@@ -6,6 +6,7 @@
 #include "io/model/log.h"
 #include "io/model/tensor.h"
 #include "surfaces/slices.h"
+#include "surfaces/analyses/tract_profile.h"
 #include "surfaces/selection/tract_selection.h"
 #include "ui/session/region_spec.h"
 #include "ui/session/render_job.h"
@@ -63,6 +64,15 @@ void markRoiSelection(Polylines& lines, const std::vector<std::uint32_t>& select
   for (std::uint32_t i : selected)
     if (i < m.values.size()) m.values[i] = 1.0f;
   lines.perLine.push_back(std::move(m));
+}
+
+// Adds the per-point node (render::kTractDisplayNode) of `lines` as the profile orients the streamlines
+// `which` of them (all when null); replaces an earlier one.
+void addDisplayNodes(Polylines& lines, const std::vector<std::uint32_t>* which) {
+  std::erase_if(lines.perPoint, [](const TractValues& v) { return v.name == render::kTractDisplayNode; });
+  if (lines.points.empty()) return;
+  lines.perPoint.push_back(
+      {render::kTractDisplayNode, 1, surfaces::nodePerPoint(lines, which, surfaces::ProfileOptions{})});
 }
 
 // Gives the marked-out streamlines the dim grey as display colour (alpha 1: lit grey); the others keep
@@ -537,13 +547,22 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
     shown = roiSubset_ ? roiSubset_ // made off the UI thread
                        : std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
   TractColouringApplied applied;
-  if (!colour.value.empty() || !groups.all || dim) {
+  // Each point's node along the profiled streamlines (the Profile panel's hover band and the colouring by
+  // the profile's value, both drawn by the tract shader from this array).
+  const bool byProfile = colour.value == kProfileColouring;
+  const bool nodes = state_.profile.on || byProfile;
+  if (!colour.value.empty() || !groups.all || dim || nodes) {
     // A copy once per choice (not per frame); the near-surface selection carries the display colours
-    // of the kept points.
+    // and nodes of the kept points.
     Polylines lines = *shown;
+    if (byProfile) shadowReservedName(lines, kProfileColouring, state_.tractPath);
+    // With regions the profile measures the selection: its indices into every streamline when the others
+    // are dimmed, the subset itself when they are hidden. Without, the tracts on screen after the group
+    // choice (below).
+    if (nodes && roi) addDisplayNodes(lines, dim ? roi_.lines.get() : nullptr);
     if (dim) markRoiSelection(lines, *roi_.lines);
     TractColouring c;
-    c.value = colour.value;
+    c.value = byProfile ? std::string() : colour.value;
     c.range = colour.range;
     if (!groups.all) {
       if (groups.shown.empty())
@@ -551,10 +570,17 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
       else
         c.groups = groups.shown;
     }
-    if (!colour.value.empty() || !groups.all)
-      applied = applyTractColouring(lines, c, state_.tractPath);
+    if (!c.value.empty() || !groups.all) applied = applyTractColouring(lines, c, state_.tractPath);
+    if (nodes && !roi) addDisplayNodes(lines, nullptr);
     if (dim) dimUnselected(lines);
     shown = std::make_shared<const Polylines>(std::move(lines));
+  }
+  if (byProfile) {
+    // The range is the profile's, known when its result comes (ViewerScene); until then 0..1.
+    applied.coloured = true;
+    applied.lo = colour.range ? colour.range->first : state_.tractColourLo;
+    applied.hi = colour.range ? colour.range->second : state_.tractColourHi;
+    applied.summary = "tracts coloured by the profile's value at each point's node";
   }
   shownTracts_ = std::move(shown);
   tractColour_ = colour;

@@ -100,6 +100,13 @@ public:
   const Polylines* shownTracts() const { return shownTracts_ ? shownTracts_.get() : tracts_.get(); }
   // The same, shared (for work off the UI thread); null without tracts.
   std::shared_ptr<const Polylines> shownTractsShared() const { return shownTracts_ ? shownTracts_ : tracts_; }
+  // Redoes the colouring and group choice in effect (and the tracts' display): the Profile panel turned on
+  // or off adds or drops each point's node (render::kTractDisplayNode).
+  void reapplyTractChoice() {
+    if (!tracts_) return;
+    applyTractChoice(tractColour_, tractGroups_);
+    requestSelection();
+  }
   const std::shared_ptr<const render::DisplayTracts>& tractDisplay() const { return display_; }
   std::uint64_t displaySerial() const { return displaySerial_; }
   // The display of every tract drawn (after the ROI selection and the group choice), whatever the surface:

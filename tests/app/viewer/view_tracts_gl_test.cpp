@@ -13,6 +13,10 @@
 #include "support/view_scene.h"
 #include "support/window.h"
 #include "surfaces/analyses/near_surface.h"
+#include "surfaces/analyses/tract_profile.h"
+#include "render/tract_renderer.h"
+#include "ui/session/tract_colouring.h"
+#include "io/model/error.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_files.h"
 
@@ -514,4 +518,129 @@ TEST(ViewTracts, TheFabricAlongAndTheProfileFollowTheRoiSelection) {
     }
   EXPECT_LT(coloured, 20u) << "grey alone (the furniture's few coloured pixels aside)";
   EXPECT_NE(s.state().profile.error, "");
+}
+
+namespace {
+
+// The pixel (column, row from the top) of a world point in pane 0 of a single-pane 256 x 256 scene.
+glm::dvec2 pixelOf(const Scene& s, const glm::dvec3& world) {
+  const render::Camera& c = s.scene.camera(0);
+  const glm::dvec4 clip = c.projection(double(kW) / kH) * c.view() * glm::dvec4(world, 1.0);
+  return {(clip.x / clip.w * 0.5 + 0.5) * kW, (0.5 - clip.y / clip.w * 0.5) * kH};
+}
+
+// Pixels within `r` of `at` in the highlight colour (render::TractStyle::highlightColour, drawn unlit).
+int highlightedNear(const Image& img, glm::dvec2 at, int r) {
+  int n = 0;
+  for (int y = int(at.y) - r; y <= int(at.y) + r; ++y)
+    for (int x = int(at.x) - r; x <= int(at.x) + r; ++x) {
+      if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+      const auto* p = img.pixel(x, y);
+      n += p[0] >= 250 && p[1] >= 250 && std::abs(p[2] - 64) <= 6;
+    }
+  return n;
+}
+
+} // namespace
+
+// The right corticospinal tract (40 streamlines) seen from the front over the most posterior coronal slice,
+// every streamline drawn. Hovering profile node K draws the points of node K (surfaces::nodePerPoint, the
+// profile's orientation) in the highlight colour: pixels at node K's core position have it, pixels at the
+// cores of nodes far from K do not, and every highlighted pixel lies within a few pixels of a node-K point
+// (CPU reference: the points projected through the pane's camera). Then the tracts coloured by the profile:
+// each point takes the colour map's colour of the profile's FA at its node (lit: the pixel's colour is a
+// multiple of it).
+TEST(ViewTracts, AHoveredProfileNodeIsABandAcrossTheBundleAndTractsTakeTheProfilesValue) {
+  BRAIN_FILES();
+  const fs::path dir = test::scratchDir();
+  const fs::path cst = cutCst(tck, dir / "cst");
+  const Polylines lines = session::readTracts(cst.string());
+  const std::vector<float> node = surfaces::nodePerPoint(lines, nullptr, surfaces::ProfileOptions{});
+  Scene s("slice=coronal:0");
+  s.apply(session::LoadFile{tensor.string(), "auto"});
+  s.apply(session::LoadTracts{cst.string()});
+  s.apply(session::SetTractsNear{0.0});
+  s.apply(session::SetTractWidth{3.0});
+  s.apply(session::SetProfile{true, std::string("fa")});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const session::ViewerState::Profile& pr = s.state().profile;
+  ASSERT_EQ(pr.core.size(), 100u);
+  const Image plain = s.image();
+
+  constexpr int kNode = 50;
+  s.apply(session::HoverProfileNode{kNode, false});
+  s.converge();
+  const Image band = s.image();
+  io::writePng((dir / "profile_plain.png").string(), plain);
+  io::writePng((dir / "profile_band.png").string(), band);
+  const glm::dvec2 core = pixelOf(s, pr.core[kNode]);
+  EXPECT_GT(highlightedNear(band, core, 3), 0) << "at node " << kNode << "'s core " << core.x << "," << core.y;
+  EXPECT_EQ(highlightedNear(plain, core, 3), 0) << "nothing highlighted before the hover";
+  for (int far : {5, 20, 80, 95})
+    EXPECT_EQ(highlightedNear(band, pixelOf(s, pr.core[std::size_t(far)]), 3), 0) << "node " << far;
+  // Every highlighted pixel near a point of nodes K - 1 .. K + 1 (the band's default half-width is one node;
+  // it reaches halfway to the neighbouring points).
+  std::vector<glm::dvec2> atNode;
+  for (std::size_t i = 0; i < node.size(); ++i)
+    if (std::abs(node[i] - float(kNode)) <= 1.0f) atNode.push_back(pixelOf(s, glm::dvec3(lines.points[i])));
+  ASSERT_FALSE(atNode.empty());
+  int highlighted = 0, far = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      if (highlightedNear(band, {x + 0.5, y + 0.5}, 0) == 0) continue;
+      ++highlighted;
+      double d = 1e9;
+      for (const glm::dvec2& p : atNode)
+        d = std::min(d, glm::distance(p, glm::dvec2(x + 0.5, y + 0.5)));
+      far += d > 6.0;
+    }
+  EXPECT_GE(highlighted, 10); // the bundle is about 100 px tall here: 3 nodes are 2-3 px
+  EXPECT_EQ(far, 0) << "of " << highlighted << " highlighted pixels";
+  // The hover ends: the band goes.
+  s.apply(session::HoverProfileNode{-1, false});
+  s.converge();
+  EXPECT_EQ(differing(s.image(), plain), 0u);
+
+  // Coloured by the profile's value, over the profile's own range.
+  s.apply(session::SetTractColour{session::kProfileColouring, {}});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  const Image byProfile = s.image();
+  io::writePng((dir / "profile_coloured.png").string(), byProfile);
+  double lo = 1e9, hi = -1e9;
+  for (double v : pr.mean)
+    lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_DOUBLE_EQ(s.state().tractColourLo, lo);
+  EXPECT_DOUBLE_EQ(s.state().tractColourHi, hi);
+  EXPECT_EQ(s.state().tractColourBy, "profile");
+  // Per point of the tracts on screen: the pixel's colour against the colour of the profile's FA at the
+  // point's node, by the angle between them as RGB vectors (lighting scales the colour).
+  auto agreeing = [&](const Image& img) {
+    int agree = 0, seen = 0;
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      if (!std::isfinite(node[i])) continue;
+      const glm::dvec2 p = pixelOf(s, glm::dvec3(lines.points[i]));
+      if (p.x < 0 || p.y < 0 || p.x >= kW || p.y >= kH) continue;
+      const auto* px = img.pixel(int(p.x), int(p.y));
+      const glm::dvec3 got(px[0], px[1], px[2]);
+      const double mean = pr.mean[std::size_t(node[i])];
+      const glm::dvec3 want(render::tractValueColour(float((mean - lo) / (hi - lo))));
+      if (glm::length(got) < 30) continue; // too dark to say
+      ++seen;
+      const double cosine = glm::dot(glm::normalize(got), glm::normalize(want));
+      agree += cosine > 0.98;
+    }
+    return std::make_pair(agree, seen);
+  };
+  const auto [agree, seen] = agreeing(byProfile);
+  EXPECT_GT(seen, 200);
+  EXPECT_GT(agree, seen * 3 / 4) << agree << " of " << seen;
+  const auto [agreeDec, seenDec] = agreeing(plain);
+  EXPECT_LT(agreeDec, seenDec / 10) << "DEC does not pass this test: " << agreeDec << " of " << seenDec;
+  // render has no profile: the value is refused there.
+  Polylines copy = lines;
+  session::TractColouring c;
+  c.value = session::kProfileColouring;
+  EXPECT_THROW(session::applyTractColouring(copy, c, cst.string()), UsageError);
 }
