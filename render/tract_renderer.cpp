@@ -193,7 +193,8 @@ void TractRenderer::upload(const DisplayTracts& t) {
   hasNodes_ = t.nodes.size() == t.points.size();
   if (hasNodes_) {
     nodes_ = createBuffer();
-    glNamedBufferStorage(nodes_.id(), static_cast<GLsizeiptr>(t.nodes.size() * sizeof(float)), t.nodes.data(), 0);
+    glNamedBufferStorage(nodes_.id(), static_cast<GLsizeiptr>(t.nodes.size() * sizeof(float)), t.nodes.data(),
+                         0);
     glVertexArrayVertexBuffer(vao_.id(), 2, nodes_.id(), 0, sizeof(float));
     glEnableVertexArrayAttrib(vao_.id(), 2);
     glVertexArrayAttribFormat(vao_.id(), 2, 1, GL_FLOAT, GL_FALSE, 0);

@@ -1,13 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewer/viewer.h"
 
-#include "ui/session/fibre_input.h"
-#include "ui/session/movie_job.h"
-#include "ui/session/orientation_labels.h"
-#include "ui/session/roi_outline.h"
-#include "ui/session/tract_colouring.h"
-#include "ui/session/tract_overlay.h"
-#include "ui/session/viewer_worker.h"
 #include "io/formats/atomic_file.h"
 #include "io/formats/movie_writer.h"
 #include "io/model/error.h"
@@ -16,15 +9,22 @@
 #include "render/text.h"
 #include "surfaces/analyses/tract_proximity.h"
 #include "surfaces/slices.h"
+#include "ui/session/fibre_input.h"
+#include "ui/session/movie_job.h"
+#include "ui/session/orientation_labels.h"
+#include "ui/session/roi_outline.h"
+#include "ui/session/tract_colouring.h"
+#include "ui/session/tract_overlay.h"
+#include "ui/session/viewer_worker.h"
 
 #include <algorithm>
 #include <cmath>
 #include <epoxy/gl.h>
 #include <fstream>
+#include <glm/gtc/matrix_inverse.hpp>
 #include <limits>
 #include <span>
 #include <tuple>
-#include <glm/gtc/matrix_inverse.hpp>
 
 namespace dtf::app {
 
@@ -605,7 +605,8 @@ void ViewerScene::updateNodeColours() {
     if (lo <= hi) {
       for (std::size_t k = 0; k < mean.size(); ++k) {
         const float t = hi > lo ? static_cast<float>((mean[k] - lo) / (hi - lo)) : 0.5f;
-        nodeColours_[k] = std::isfinite(mean[k]) ? glm::vec4(render::tractValueColour(t), 1.0f) : glm::vec4(0.0f);
+        nodeColours_[k] =
+            std::isfinite(mean[k]) ? glm::vec4(render::tractValueColour(t), 1.0f) : glm::vec4(0.0f);
       }
       nodeColourCount_ = mean.size();
       session_.state().tractColourLo = lo;

@@ -222,9 +222,10 @@ private:
   // The Profile panel's node drawn as a band across the tracts: the hovered one, else the pinned one (-1:
   // none, or the panel is off).
   int highlightedNode() const;
-  // The colours of the nodes when the tracts are coloured by the profile's value (session::kProfileColouring):
-  // the profile's mean at each node through the tract colour map, over the chosen range or the profile's
-  // own; recomputed when the profile or the choice changes (nodeColourSerial_), set on the tract renderers.
+  // The colours of the nodes when the tracts are coloured by the profile's value
+  // (session::kProfileColouring): the profile's mean at each node through the tract colour map, over the
+  // chosen range or the profile's own; recomputed when the profile or the choice changes (nodeColourSerial_),
+  // set on the tract renderers.
   void updateNodeColours();
   void setNodeColours(render::TractRenderer& r) const;
 
@@ -306,7 +307,7 @@ private:
   std::unique_ptr<render::TractRenderer> orthoTracts_;        // every tract drawn, for the slice panes
   std::shared_ptr<const render::DisplayTracts> orthoUploaded_; // what orthoTracts_ holds
   std::array<glm::vec4, render::kMaxTractNodeColours> nodeColours_{}; // of nodeColourCount_ nodes
-  std::size_t nodeColourCount_ = 0;                                     // 0: not coloured by the profile
+  std::size_t nodeColourCount_ = 0;                                   // 0: not coloured by the profile
   std::uint64_t nodeColourSerial_ = 0, profileResults_ = 0, nodeColoursFor_ = ~0ull;
   std::optional<std::pair<double, double>> nodeColourRange_;
   std::uint64_t orthoTractKey_ = 0;                           // the tract style the slice panes drew with

@@ -90,7 +90,8 @@ void tractColouringWidgets(const session::ViewerState& s, PanelBuffers& b, sessi
         out.push_back(session::SetTractColour{name, {}});
     if (ImGui::Selectable("node (profile node index)", s.tractColourBy == session::kNodeColouring))
       out.push_back(session::SetTractColour{session::kNodeColouring, {}});
-    if (ImGui::Selectable("profile (the profile's value at each node)", s.tractColourBy == session::kProfileColouring))
+    if (ImGui::Selectable("profile (the profile's value at each node)",
+                          s.tractColourBy == session::kProfileColouring))
       out.push_back(session::SetTractColour{session::kProfileColouring, {}});
     ImGui::EndCombo();
   }

@@ -71,8 +71,9 @@ TractColouringApplied applyTractColouring(Polylines& lines, const TractColouring
   }
   if (c.value.empty()) return out;
   if (c.value == kProfileColouring)
-    throw UsageError("'" + std::string(kProfileColouring) +
-                     "' colours by the viewer's profile (its Profile panel); here colour by 'node' or by data");
+    throw UsageError(
+        "'" + std::string(kProfileColouring) +
+        "' colours by the viewer's profile (its Profile panel); here colour by 'node' or by data");
   const bool node = c.value == kNodeColouring;
   if (node) shadowReservedName(lines, kNodeColouring, path);
   const std::vector<float> v = node ? surfaces::nodePerPoint(lines, nullptr, surfaces::ProfileOptions{})

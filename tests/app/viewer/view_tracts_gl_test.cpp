@@ -8,16 +8,16 @@
 #include "io/formats/png_io.h"
 #include "io/formats/tensor_io.h"
 #include "io/formats/tracts.h"
+#include "io/model/error.h"
+#include "render/tract_renderer.h"
 #include "support/cli.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
 #include "support/window.h"
 #include "surfaces/analyses/near_surface.h"
 #include "surfaces/analyses/tract_profile.h"
-#include "render/tract_renderer.h"
-#include "ui/session/tract_colouring.h"
-#include "io/model/error.h"
 #include "ui/session/surface_spec.h"
+#include "ui/session/tract_colouring.h"
 #include "ui/session/tract_files.h"
 
 #include <array>
@@ -575,7 +575,8 @@ TEST(ViewTracts, AHoveredProfileNodeIsABandAcrossTheBundleAndTractsTakeTheProfil
   io::writePng((dir / "profile_plain.png").string(), plain);
   io::writePng((dir / "profile_band.png").string(), band);
   const glm::dvec2 core = pixelOf(s, pr.core[kNode]);
-  EXPECT_GT(highlightedNear(band, core, 3), 0) << "at node " << kNode << "'s core " << core.x << "," << core.y;
+  EXPECT_GT(highlightedNear(band, core, 3), 0)
+      << "at node " << kNode << "'s core " << core.x << "," << core.y;
   EXPECT_EQ(highlightedNear(plain, core, 3), 0) << "nothing highlighted before the hover";
   for (int far : {5, 20, 80, 95})
     EXPECT_EQ(highlightedNear(band, pixelOf(s, pr.core[std::size_t(far)]), 3), 0) << "node " << far;
