@@ -892,7 +892,8 @@ const std::vector<ScriptCommand> kCommands = {
     {"tracts-color", "NAME|dec [LO HI]",
      "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over "
      "LO..HI (default: the value's min..max); dec: direction colours; node: the node index (0..99) along the "
-     "bundle oriented and resampled as `dtfabric profile` does",
+     "bundle oriented and resampled as `dtfabric profile` does; profile: the Profile panel's value (e.g. FA) at "
+     "each point's node",
      parseTractsColour},
     {"tracts-groups", "G[,G...]|all|none",
      "show only the streamlines of the named groups (e.g. an AFQ .trx's bundles); all: every streamline",

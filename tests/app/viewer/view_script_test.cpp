@@ -3,6 +3,7 @@
 #include "app/viewer/view_script.h"
 #include "io/model/error.h"
 #include "surfaces/tracking/tracking_parameters.h"
+#include "ui/session/tract_colouring.h"
 #include "support/test_env.h"
 
 #include <cmath>
@@ -388,6 +389,10 @@ TEST(ViewScript, TractColourAndGroupLinesParse) {
   EXPECT_NE(parseError("tracts-groups").find("usage: tracts-groups"), std::string::npos);
   EXPECT_NE(parseError("tracts-groups A,,B").find("empty group name"), std::string::npos);
   EXPECT_NE(parseError("tracts-groups A,").find("empty group name"), std::string::npos);
+  // The reserved values: the profile's node index and the profile's value.
+  const ViewScript r = parseViewScript("tracts-color node\ntracts-color profile\n", "t.txt");
+  EXPECT_EQ(actionAt<session::SetTractColour>(r, 0).value, session::kNodeColouring);
+  EXPECT_EQ(actionAt<session::SetTractColour>(r, 1).value, session::kProfileColouring);
 }
 
 TEST(ViewScript, FibresLinesOpenAFibreSetWithItsLayoutAndPairedTensor) {
