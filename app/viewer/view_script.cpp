@@ -494,8 +494,8 @@ void parseProfile(const ScriptLine& line, ScriptStep& step) {
   session::SetProfile a;
   a.on = onOff(w[1], "profile");
   if (w.size() == 3) {
-    if (w[2] != "fa" && w[2] != "md" && w[2] != "ad" && w[2] != "rd")
-      throw LineError{"profile takes fa, md, ad or rd, not '" + w[2] + "'"};
+    if (w[2] != "fa" && w[2] != "md" && w[2] != "ad" && w[2] != "rd" && w[2].find('=') == std::string::npos)
+      throw LineError{"profile takes fa, md, ad, rd or NAME=IMAGE, not '" + w[2] + "'"};
     a.scalar = w[2];
   }
   step.command = session::Action(a);
@@ -892,7 +892,8 @@ const std::vector<ScriptCommand> kCommands = {
     {"tracts-color", "NAME|dec [LO HI]",
      "colour the tracts by the per-point or per-streamline value NAME through the viewer's colour map over "
      "LO..HI (default: the value's min..max); dec: direction colours; node: the node index (0..99) along the "
-     "bundle oriented and resampled as `dtfabric profile` does; profile: the Profile panel's value (e.g. FA) at "
+     "bundle oriented and resampled as `dtfabric profile` does; profile: the Profile panel's value (e.g. FA) "
+     "at "
      "each point's node",
      parseTractsColour},
     {"tracts-groups", "G[,G...]|all|none",
@@ -911,7 +912,8 @@ const std::vector<ScriptCommand> kCommands = {
      parseTractsSave},
     {"roi", "add KIND SPEC | ends-only on|off | others hide|dim | clear | save [--force] FILE | load FILE",
      "the regions that select streamlines, as `dtfabric select`: add a region (KIND include, exclude or "
-     "include-ordered; SPEC X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, IMAGE or IMAGE:L[,L...]), test the end points only, "
+     "include-ordered; SPEC X,Y,Z,R, box:X0,Y0,Z0,X1,Y1,Z1, IMAGE or IMAGE:L[,L...]), test the end points "
+     "only, "
      "hide or dim the streamlines left out, remove every region, save or load the region set (`select --roi` "
      "JSON); a later line waits for the selection",
      parseRoi},
@@ -950,8 +952,9 @@ const std::vector<ScriptCommand> kCommands = {
      "draw the fabric only within MM (default 2) mm of the tracts on screen, the grey beneath elsewhere (FA "
      "when no background is chosen), as `dtfabric render --fabric-along`",
      parseFabricAlong},
-    {"profile", "on|off [fa|md|ad|rd]",
-     "the Profile panel: profile the tracts on screen along a scalar (default fa) as `dtfabric profile` does",
+    {"profile", "on|off [fa|md|ad|rd|NAME=IMAGE]",
+     "the Profile panel: profile the tracts on screen along a scalar (default fa; NAME=IMAGE: any scalar "
+     "image, as `dtfabric profile --scalar`) as `dtfabric profile` does",
      parseProfile},
     {"profile-hover", "K|none [pin]",
      "hover node K of the profile (the crosshair goes to its core position); pin: pin it (again: unpin)",

@@ -15,11 +15,13 @@
 #include "ui/session/roi_outline.h"
 #include "ui/session/tract_colouring.h"
 #include "ui/session/tract_overlay.h"
+#include "ui/session/tract_profiles.h"
 #include "ui/session/viewer_worker.h"
 
 #include <algorithm>
 #include <cmath>
 #include <epoxy/gl.h>
+#include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <limits>
@@ -1205,8 +1207,14 @@ bool ViewerScene::applyView(const session::Action& action) {
           if (a.mm) state.fabricAlongMm = *a.mm;
           updateAlong();
         } else if constexpr (std::is_same_v<T, session::SetProfile>) {
-          if (a.scalar && *a.scalar != "fa" && *a.scalar != "md" && *a.scalar != "ad" && *a.scalar != "rd")
-            throw UsageError("the profile takes fa, md, ad or rd, not '" + *a.scalar + "'");
+          if (a.scalar && *a.scalar != "fa" && *a.scalar != "md" && *a.scalar != "ad" && *a.scalar != "rd") {
+            // NAME=IMAGE, as `dtfabric profile --scalar`: the image is read on the worker.
+            if (a.scalar->find('=') == std::string::npos)
+              throw UsageError("the profile takes fa, md, ad, rd or NAME=IMAGE, not '" + *a.scalar + "'");
+            const session::ScalarSpec spec = session::parseScalarSpec(*a.scalar);
+            if (!std::filesystem::is_regular_file(spec.image))
+              throw InputError(spec.image + ": no such file (the profile's scalar '" + spec.name + "')");
+          }
           const bool was = state.profile.on;
           if (a.on) state.profile.on = *a.on;
           if (a.scalar) state.profile.scalar = *a.scalar;

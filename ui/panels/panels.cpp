@@ -385,6 +385,19 @@ void profilePanel(const session::ViewerState& s, PanelBuffers& b, session::Actio
   if (!pr.scalars.empty() && ImGui::BeginCombo("scalar", pr.scalar.c_str())) {
     for (const std::string& name : pr.scalars)
       if (ImGui::Selectable(name.c_str(), name == pr.scalar)) out.push_back(session::SetProfile{{}, name});
+    // The background image, when it is a file: any scalar image (NAME=IMAGE, as `dtfabric profile --scalar`).
+    if (!s.background.empty() && s.background.find('=') == std::string::npos &&
+        std::filesystem::is_regular_file(s.background)) {
+      std::string stem = std::filesystem::path(s.background).filename().string();
+      for (const char* ext : {".nii.gz", ".nii", ".mif", ".nrrd", ".mgz"})
+        if (stem.size() > std::strlen(ext) && stem.ends_with(ext)) {
+          stem.resize(stem.size() - std::strlen(ext));
+          break;
+        }
+      const std::string spec = stem + "=" + s.background;
+      if (ImGui::Selectable(("the background: " + stem).c_str(), spec == pr.scalar))
+        out.push_back(session::SetProfile{{}, spec});
+    }
     ImGui::EndCombo();
   }
   probe(b, "scalar");

@@ -75,6 +75,8 @@ std::string tableSafe(std::string s) {
   return s;
 }
 
+} // namespace
+
 ScalarVolume readScalarImage(const ScalarSpec& spec) {
   ScalarVolume v;
   try {
@@ -88,6 +90,8 @@ ScalarVolume readScalarImage(const ScalarSpec& spec) {
   if (v.data.empty()) throw InputError(spec.image + ": has no voxels (scalar '" + spec.name + "')");
   return v;
 }
+
+namespace {
 
 std::string number(double v, const char* format) {
   if (!std::isfinite(v)) return "NaN";

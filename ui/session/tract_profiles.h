@@ -23,6 +23,8 @@ struct ScalarSpec {
 // Throws InputError naming the spec for an empty name or image, a name with a tab or line break, or a bare
 // word that is not fa, md, ad or rd.
 ScalarSpec parseScalarSpec(const std::string& text);
+// The image of a NAME=IMAGE scalar: one component, some voxels; InputError naming the file otherwise.
+ScalarVolume readScalarImage(const ScalarSpec& spec);
 
 struct ProfileRequest {
   std::vector<std::string> tracts;

@@ -3,6 +3,7 @@
 
 #include "io/model/error.h"
 #include "io/model/tensor_field.h"
+#include "ui/session/tract_profiles.h"
 
 namespace dtf::session {
 
@@ -20,7 +21,13 @@ ViewerProfileResult profileForViewer(const ViewerProfileJob& job) {
     if (!job.lines || !job.data) throw InputError("no tracts or no data to profile");
     const ViewerDataset& data = *job.data;
     ScalarVolume map;
-    if (data.fibres && !data.pairedTensor) {
+    std::string name = job.scalar;
+    if (job.scalar.find('=') != std::string::npos) {
+      // NAME=IMAGE: any scalar image, read as `dtfabric profile --scalar NAME=IMAGE` reads it.
+      const ScalarSpec spec = parseScalarSpec(job.scalar);
+      map = readScalarImage(spec);
+      name = spec.name;
+    } else if (data.fibres && !data.pairedTensor) {
       if (job.scalar != "fa" || data.fa.data.empty())
         throw InputError("a fibre set without a tensor has no " + job.scalar + " to profile");
       map = data.fa;
@@ -38,7 +45,7 @@ ViewerProfileResult profileForViewer(const ViewerProfileJob& job) {
       else
         throw InputError("no scalar '" + job.scalar + "' to profile (fa, md, ad or rd)");
     }
-    const std::vector<surfaces::ProfileScalar> scalars = {{job.scalar, &map}};
+    const std::vector<surfaces::ProfileScalar> scalars = {{name, &map}};
     r.profile = surfaces::profileBundle(*job.lines, job.which.get(), scalars, surfaces::ProfileOptions{});
     r.axis = surfaces::nodeAxisLabel(r.profile.core.front(), r.profile.core.back());
   } catch (const std::exception& e) {

@@ -474,6 +474,40 @@ TEST(ViewTracts, HoveringAProfileNodePutsTheCrosshairAtItsCore) {
   EXPECT_LT(glm::distance(s.state().crosshair, glm::dvec3(rows[37][0], rows[37][1], rows[37][2])), 1.0);
   s.apply(session::HoverProfileNode{100, false});
   EXPECT_NE(s.lastError().find("100 nodes"), std::string::npos) << s.lastError();
+  s.apply(session::DismissError{});
+
+  // Any scalar image, as `dtfabric profile --scalar NAME=IMAGE`: the shared FA map gives the command's means.
+  const fs::path faMap = tensor.parent_path() / "dti_FA.nii.gz", faTsv = dir / "fa_image.tsv";
+  const test::CliResult image = test::runDtfabric(
+      "profile '" + cst.string() + "' --scalar 'FA=" + faMap.string() + "' -o '" + faTsv.string() + "'", dir);
+  ASSERT_EQ(image.exitCode, 0) << image.err;
+  std::map<int, double> imageMean;
+  {
+    std::istringstream in(test::readText(faTsv));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::istringstream f(line);
+      std::string bundle, scalar;
+      int node = 0;
+      double x = 0, y = 0, z = 0, mean = 0;
+      f >> bundle >> scalar >> node >> x >> y >> z >> mean;
+      EXPECT_EQ(scalar, "FA");
+      imageMean[node] = mean;
+    }
+  }
+  ASSERT_EQ(imageMean.size(), 100u);
+  s.apply(session::SetProfile{{}, "FA=" + faMap.string()});
+  s.converge();
+  ASSERT_EQ(s.lastError(), "");
+  ASSERT_EQ(pr.error, "");
+  ASSERT_EQ(pr.mean.size(), 100u);
+  for (int k : {0, 37, 99})
+    EXPECT_NEAR(pr.mean[std::size_t(k)], imageMean[k], 1e-4) << "node " << k;
+  s.apply(session::SetProfile{{}, std::string("FA=") + (dir / "missing.nii.gz").string()});
+  EXPECT_NE(s.lastError().find("missing.nii.gz: no such file"), std::string::npos) << s.lastError();
+  s.apply(session::SetProfile{{}, std::string("fb")});
+  EXPECT_NE(s.lastError().find("NAME=IMAGE"), std::string::npos) << s.lastError();
 }
 
 // With regions, the fabric follows the selected streamlines: the whole tractogram with the two spheres that
