@@ -626,11 +626,9 @@ private:
         ImVec2 q[8];
         bool ok = true;
         for (int j = 0; j < 8; ++j)
-          ok &= project({j & 1 ? r.hi.x : r.lo.x, j & 2 ? r.hi.y : r.lo.y, j & 4 ? r.hi.z : r.lo.z}, q[j]);
+          ok &= project(session::boxCorner(r, j), q[j]);
         if (!ok) continue;
-        static const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                        {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
-        for (const auto& f : faces) {
+        for (const auto& f : session::kBoxFaces) {
           dl->AddQuadFilled(q[f[0]], q[f[1]], q[f[2]], q[f[3]], IM_COL32(k.x, k.y, k.z, 25));
           dl->AddQuad(q[f[0]], q[f[1]], q[f[2]], q[f[3]], line, 1.5f);
         }

@@ -60,7 +60,7 @@ bool regionOutline(const surfaces::Region& r, const glm::dvec3& point, const glm
   // The plane against the box's 12 edges; the crossings ordered by angle around their mean.
   glm::dvec3 corner[8];
   for (int i = 0; i < 8; ++i)
-    corner[i] = {i & 1 ? r.hi.x : r.lo.x, i & 2 ? r.hi.y : r.lo.y, i & 4 ? r.hi.z : r.lo.z};
+    corner[i] = boxCorner(r, i);
   for (int i = 0; i < 8; ++i)
     for (int bit = 1; bit < 8; bit <<= 1) {
       if (i & bit) continue;

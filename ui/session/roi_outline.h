@@ -20,6 +20,14 @@ const char* regionKindColourName(surfaces::RegionKind kind); // "green", "red", 
 // world points in `out` (cleared first; its capacity is reused): a sphere's circle in `segments` points, a
 // box's section (3 to 6 corners, in order around it). False, with `out` empty, when the region does not cut
 // the plane or is a mask (masks are not outlined).
+// Corner i (0..7) of a box region: bit 0 picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z. kBoxFaces lists the
+// six faces as corner indices in order around each, for drawing a box's faces and edges.
+inline glm::dvec3 boxCorner(const surfaces::Region& box, int i) {
+  return {i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z};
+}
+inline constexpr int kBoxFaces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                        {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+
 bool regionOutline(const surfaces::Region& region, const glm::dvec3& point, const glm::dvec3& normal,
                    std::vector<glm::dvec3>& out, int segments = 64);
 
