@@ -49,27 +49,44 @@ glm::vec3 tractValueColour(float t) {
   return glm::mix(anchors[i], anchors[i + 1], t - static_cast<float>(i));
 }
 
-Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
+namespace {
+
+// decimateForDisplay over the lines `keep` lists (ascending; null: every line).
+Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* keep, std::size_t maxPoints) {
   Polylines out;
-  const std::size_t count = lines.lineCount();
-  std::size_t drawable = 0, longest = 0;
-  for (std::size_t l = 0; l < count; ++l) {
-    const std::size_t n = lines.offsets[l + 1] - lines.offsets[l];
-    if (n >= 2) ++drawable;
+  out.offsets.push_back(0);
+  const std::size_t candidates = keep ? keep->size() : lines.lineCount();
+  auto lineAt = [&](std::size_t k) -> std::uint32_t {
+    return keep ? (*keep)[k] : static_cast<std::uint32_t>(k);
+  };
+  auto sizeOf = [&](std::uint32_t l) -> std::size_t {
+    return l < lines.lineCount() ? lines.offsets[l + 1] - lines.offsets[l] : 0;
+  };
+  std::size_t longest = 0, shapePoints = 0, drawableLines = 0;
+  for (std::size_t k = 0; k < candidates; ++k) {
+    const std::size_t n = sizeOf(lineAt(k));
+    if (n >= 2) shapePoints += std::min(n, kMinDisplayLinePoints), ++drawableLines;
     longest = std::max(longest, n);
   }
-  out.offsets.push_back(0);
-  if (drawable == 0 || maxPoints < 2) return out;
-  // Every m-th drawable line when even two points per line exceed the cap.
+  for (const auto& d : lines.perLine)
+    out.perLine.push_back({d.name, d.components, {}});
+  if (shapePoints == 0 || maxPoints < 2) return out;
+  // Every m-th drawable line when the lines at kMinDisplayLinePoints points each exceed the cap. The second
+  // bound makes two points per kept line always fit, however the line lengths are spread.
   const std::size_t pairs = maxPoints / 2;
-  const std::size_t lineStep = (drawable + pairs - 1) / pairs;
+  const std::size_t lineStep =
+      std::max((shapePoints + maxPoints - 1) / maxPoints, (drawableLines + pairs - 1) / pairs);
+  std::vector<std::uint32_t> kept; // source line of each output line, ascending when `keep` is
+  kept.reserve(drawableLines / lineStep + 1);
+  std::size_t drawable = 0;
+  for (std::size_t k = 0; k < candidates; ++k) {
+    const std::uint32_t l = lineAt(k);
+    if (sizeOf(l) >= 2 && drawable++ % lineStep == 0) kept.push_back(l);
+  }
   auto total = [&](std::size_t step) {
-    std::size_t sum = 0, k = 0;
-    for (std::size_t l = 0; l < count; ++l) {
-      const std::size_t n = lines.offsets[l + 1] - lines.offsets[l];
-      if (n < 2) continue;
-      if (k++ % lineStep == 0) sum += keptPoints(n, step);
-    }
+    std::size_t sum = 0;
+    for (std::uint32_t l : kept)
+      sum += keptPoints(sizeOf(l), step);
     return sum;
   };
   // total() does not increase with the step: the smallest step that fits, by bisection.
@@ -82,19 +99,56 @@ Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
       lo = mid + 1;
   }
   const std::size_t step = lo;
-  out.points.reserve(total(step));
-  auto keep = [&](std::size_t i) { out.appendPoints(lines, i, i + 1); };
-  out.offsets.reserve(drawable / lineStep + 2);
-  std::size_t k = 0;
-  for (std::size_t l = 0; l < count; ++l) {
-    const std::size_t b = lines.offsets[l], n = lines.offsets[l + 1] - b;
-    if (n < 2 || k++ % lineStep != 0) continue;
-    for (std::size_t i = 0; i < n - 1; i += step)
-      keep(b + i);
-    keep(b + n - 1);
+  const std::size_t count = total(step);
+  out.points.reserve(count);
+  out.offsets.reserve(kept.size() + 1);
+  for (const auto& d : lines.perPoint) {
+    out.perPoint.push_back({d.name, d.components, {}});
+    out.perPoint.back().values.reserve(count * static_cast<std::size_t>(d.components));
+  }
+  for (std::uint32_t l : kept) {
+    const std::size_t b = lines.offsets[l], n = sizeOf(l);
+    if (step == 1) {
+      out.appendPoints(lines, b, b + n);
+    } else if (lines.perPoint.empty()) {
+      for (std::size_t i = 0; i < n - 1; i += step)
+        out.points.push_back(lines.points[b + i]);
+      out.points.push_back(lines.points[b + n - 1]);
+    } else {
+      for (std::size_t i = 0; i < n - 1; i += step)
+        out.appendPoints(lines, b + i, b + i + 1);
+      out.appendPoints(lines, b + n - 1, b + n);
+    }
     out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
+    for (std::size_t a = 0; a < lines.perLine.size(); ++a) {
+      const auto c = static_cast<std::size_t>(lines.perLine[a].components);
+      const auto first = lines.perLine[a].values.begin() + static_cast<std::ptrdiff_t>(l * c);
+      out.perLine[a].values.insert(out.perLine[a].values.end(), first, first + static_cast<std::ptrdiff_t>(c));
+    }
+  }
+  // `kept` ascends when `keep` does: each group's members by binary search.
+  for (const TractGroup& g : lines.groups) {
+    TractGroup ng;
+    ng.name = g.name;
+    for (std::uint32_t i : g.lines) {
+      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
+      if (it != kept.end() && *it == i) ng.lines.push_back(static_cast<std::uint32_t>(it - kept.begin()));
+    }
+    std::sort(ng.lines.begin(), ng.lines.end());
+    out.groups.push_back(std::move(ng));
   }
   return out;
+}
+
+} // namespace
+
+Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
+  return decimate(lines, nullptr, maxPoints);
+}
+
+Polylines decimateForDisplay(const Polylines& lines, const std::vector<std::uint32_t>& keep,
+                             std::size_t maxPoints) {
+  return decimate(lines, &keep, maxPoints);
 }
 
 DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints, int maxLevels) {

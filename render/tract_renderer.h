@@ -50,11 +50,22 @@ struct TractStyle {
   bool operator==(const TractStyle&) const = default;
 };
 
+// Points a displayed line keeps at least (fewer only when it has fewer): past the cap, lines are thinned
+// before they are reduced to chords. At 10 M streamlines of 50 points the default cap shows 125 k lines of 8
+// points each, the range peers show (10 k - 150 k streamlines).
+inline constexpr std::size_t kMinDisplayLinePoints = 8;
+
 // For display only: keeps every n-th point of each line (n the smallest step that fits the cap) and always
-// its first and last point, so at most maxPoints points remain; when even two points per line exceed the
-// cap, every m-th line is kept. Lines with fewer than two points are dropped. Per-point data follow the
-// kept points (per-streamline data and groups are not carried). Deterministic.
+// its first and last point, so at most maxPoints points remain; when the lines at kMinDisplayLinePoints
+// points each (or all of a shorter line's) exceed the cap, every m-th line is kept. Lines with fewer than
+// two points are dropped. Per-point and per-streamline data follow what is kept, and the groups are
+// restricted to the kept lines (renumbered). Deterministic.
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
+// The same for the lines `keep` lists (ascending indices into `lines`): decimateForDisplay of
+// surfaces::subsetWithGroups(lines, keep), without making that subset (what a region change draws: its cost
+// follows the selection's line count and the cap, not its points).
+Polylines decimateForDisplay(const Polylines& lines, const std::vector<std::uint32_t>& keep,
+                             std::size_t maxPoints = kTractDisplayPointCap);
 
 // What TractRenderer uploads, prepared on any thread: the display points and the segments of each level.
 struct DisplayTracts {

@@ -6,7 +6,8 @@
 // selection of a 1 M-streamline .tck runs as `dtfabric select` and as `tckedit` in the same run (whole
 // commands, read to written, alternating), as the peer. The viewer's region move is timed on the synthetic
 // set as `selection_update_ms`: a sphere moved, the selection recomputed with the index (the ROI worker's
-// call), the drawn subset and its display prepared, uploaded and drawn once in a headless GL context.
+// call), the drawn subset and its display prepared, uploaded and drawn once under the viewer's frame budget
+// in a headless GL context (and `selection_update_full_ms` with every display point drawn instead).
 #include "app/bench/bench.h"
 #include "io/formats/json.h"
 #include "io/formats/process.h"
@@ -287,14 +288,15 @@ int benchSelect(const CommandArgs& argv) {
   // The viewer's region move, as the viewer runs it from a drag to the redrawn overlay (there on the ROI
   // worker, the tract worker and the UI thread; here one after the other): a 10 mm sphere moved 2 mm at a
   // time, the selection recomputed with the index, the selected streamlines drawn (the others hidden) on an
-  // axial slice with a 3 mm slab: their subset, its display decimation and levels of detail, the upload and
-  // one draw of every display point at 512x512 pixels, finished (glFinish): selection_update_ms. The first
-  // frame the viewer shows draws the level of detail its frame budget picks instead:
-  // selection_update_first_frame_ms.
-  double updateMs = -1, updateMsMax = -1;
-  std::array<double, 3> updateParts{-1, -1, -1}; // select, subset + display, upload + draw
-  double updateFirstMs = -1; // to the first frame the viewer shows (the budgeted level of detail)
-  std::size_t updateSelected = 0;
+  // axial slice with a 3 mm slab: their display subset (render::decimateForDisplay of the kept lines, what
+  // the ROI worker makes), its levels of detail, the upload, and the first frame the viewer shows: the
+  // level of detail its frame budget picks (render::TractBudget, learnt over the moves), finished
+  // (glFinish), at 512x512 pixels: selection_update_ms. The still frame that follows draws every display
+  // point: selection_update_full_ms (the same steps with that draw instead of the budgeted one).
+  double updateMs = -1, updateMsMax = -1, updateFullMs = -1;
+  // select, display subset, levels, upload, budgeted draw, full draw
+  std::array<double, 6> updateParts{-1, -1, -1, -1, -1, -1};
+  std::size_t updateSelected = 0, updateShownLines = 0, updateShownPoints = 0;
   try {
     render::GlContext::headless();
     render::TractRenderer tr;
@@ -310,52 +312,62 @@ int benchSelect(const CommandArgs& argv) {
     style.plane = glm::vec4(0, 0, 1, 0);
     style.slabMm = 3.0f;
     const std::shared_ptr<const Polylines> shared(std::shared_ptr<const Polylines>(), &lines); // not owned
-    std::vector<double> ums, selectMs, prepareMs, drawMs, firstMs;
+    std::vector<double> ums, fullMs;
+    std::array<std::vector<double>, 6> parts;
     render::TractBudget budget; // the viewer's frame budget: a moving frame draws what fits in its target
+    const float clearColour[4] = {0, 0, 0, 1}, one = 1.0f;
+    auto clear = [&] {
+      glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, clearColour);
+      glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+      glFinish();
+    };
+    auto ms = [](Clock::time_point a, Clock::time_point b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
     for (int k = 0; k <= 10; ++k) {
       session::RoiJob job;
       job.tracts = shared;
       job.set = sphereSet(glm::dvec3(-10.0 + 2.0 * k, 0, 0), 10.0);
-      job.subset = true; // the selected streamlines' subset, made on the ROI worker
-      const auto tu = Clock::now();
+      clear();
+      const auto t0 = Clock::now();
       const session::RoiResult r = session::RoiWorker::run(job, &index);
-      const auto tp = Clock::now();
-      const render::DisplayTracts display = session::tractOverlayDisplay(*r.subset);
-      const auto td = Clock::now();
+      const auto t1 = Clock::now();
+      const Polylines subset = render::decimateForDisplay(lines, *r.lines); // the ROI worker's subset
+      const auto t2 = Clock::now();
+      const render::DisplayTracts display = session::tractOverlayDisplay(subset);
+      const auto t3 = Clock::now();
       tr.upload(display);
-      const float clearColour[4] = {0, 0, 0, 1}, one = 1.0f;
-      glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, clearColour);
-      glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
+      glFinish();
+      const auto t4 = Clock::now();
       glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-      // The first frame the viewer shows after the change: the level of detail the budget picks.
       const render::TractBudget::Choice choice = budget.choose(tr);
-      const auto tf = Clock::now();
       tr.draw(fv, style, choice.level, 0, choice.segments);
       glFinish();
-      const double frameMs = 1000.0 * since(tf);
-      budget.measured(choice.level, choice.segments, frameMs);
-      const double firstFrame = 1000.0 * since(tu);
-      glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, clearColour);
-      glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
-      const auto tl = Clock::now();
+      const auto t5 = Clock::now();
+      budget.measured(choice.level, choice.segments, ms(t4, t5));
+      clear();
+      const auto t6 = Clock::now();
       tr.draw(fv, style); // every display point: the still frame
       glFinish();
-      const double fullMs = 1000.0 * since(tl);
+      const auto t7 = Clock::now();
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      if (k > 0) {                                    // the first move warms the caches and the GL objects
-        ums.push_back(firstFrame - frameMs + fullMs); // selection to the full overlay drawn once
-        firstMs.push_back(firstFrame);
-        selectMs.push_back(1000.0 * std::chrono::duration<double>(tp - tu).count());
-        prepareMs.push_back(1000.0 * std::chrono::duration<double>(td - tp).count());
-        drawMs.push_back(1000.0 * std::chrono::duration<double>(tf - td).count() + fullMs);
+      if (k > 0) { // the first move warms the caches and the GL objects
+        ums.push_back(ms(t0, t5));
+        fullMs.push_back(ms(t0, t4) + ms(t6, t7));
+        const double p[6] = {ms(t0, t1), ms(t1, t2), ms(t2, t3), ms(t3, t4), ms(t4, t5), ms(t6, t7)};
+        for (int i = 0; i < 6; ++i)
+          parts[static_cast<std::size_t>(i)].push_back(p[i]);
       }
       updateSelected = r.lines->size();
+      updateShownLines = display.lines;
+      updateShownPoints = display.points.size();
     }
     render::checkGl("bench select: the overlay update");
     updateMs = median(ums);
-    updateParts = {median(selectMs), median(prepareMs), median(drawMs)}; // select includes the subset
-    updateFirstMs = median(firstMs);
     updateMsMax = *std::max_element(ums.begin(), ums.end());
+    updateFullMs = median(fullMs);
+    for (std::size_t i = 0; i < 6; ++i)
+      updateParts[i] = median(parts[i]);
   } catch (...) {
     notes.push_back("no selection_update_ms: " + currentExceptionMessage());
   }
@@ -397,10 +409,17 @@ int benchSelect(const CommandArgs& argv) {
         {"sphere_query_ms_max", *std::max_element(ms.begin(), ms.end())},
         {"selection_update_ms", updateMs},
         {"selection_update_ms_max", updateMsMax},
+        {"selection_update_full_ms", updateFullMs},
         {"selection_update_selected", updateSelected},
-        {"selection_update_first_frame_ms", updateFirstMs},
+        {"selection_update_shown_lines", updateShownLines},
+        {"selection_update_shown_points", updateShownPoints},
         {"selection_update_parts_ms",
-         {{"select_subset", updateParts[0]}, {"display", updateParts[1]}, {"upload_draw", updateParts[2]}}},
+         {{"select", updateParts[0]},
+          {"display_subset", updateParts[1]},
+          {"levels", updateParts[2]},
+          {"upload", updateParts[3]},
+          {"budgeted_draw", updateParts[4]},
+          {"full_draw", updateParts[5]}}},
         {"queries", queries},
         {"query_selected_median", qs[qs.size() / 2].selected},
         {"walk_without_index_ms", walkMs},
@@ -441,12 +460,12 @@ int benchSelect(const CommandArgs& argv) {
               "(median %zu selected)\n",
               queryMs, *std::max_element(ms.begin(), ms.end()), queries, qs[qs.size() / 2].selected);
   std::printf("  the same query walking every streamline: %.0f ms (%zu selected)\n", walkMs, walked.size());
-  std::printf("  viewer update, to the first (budgeted) frame: median %.1f ms\n", updateFirstMs);
-  std::printf(
-      "  viewer update (10 mm sphere moved 2 mm: selection, subset, display, upload, one draw): median "
-      "%.1f ms, max %.1f ms (%zu selected; selection and subset %.1f, display %.1f, upload and draw %.1f "
-      "ms)\n",
-      updateMs, updateMsMax, updateSelected, updateParts[0], updateParts[1], updateParts[2]);
+  std::printf("  viewer region move (10 mm sphere moved 2 mm, %zu selected, %zu lines / %zu points drawn): "
+              "to the first frame (budgeted) median %.1f ms, max %.1f ms; to the full still frame %.1f ms\n"
+              "    select %.1f, display subset %.1f, levels %.1f, upload %.1f, budgeted draw %.1f, full draw "
+              "%.1f ms\n",
+              updateSelected, updateShownLines, updateShownPoints, updateMs, updateMsMax, updateFullMs,
+              updateParts[0], updateParts[1], updateParts[2], updateParts[3], updateParts[4], updateParts[5]);
   std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
   if (realLines)
     std::printf("  real tracts (tracks_det.tck, %zu streamlines): index %.2f ms, two CST spheres %.3f ms, %zu "

@@ -2,6 +2,7 @@
 #include "ui/session/roi_worker.h"
 
 #include "io/model/error.h"
+#include "render/tract_renderer.h"
 #include "surfaces/selection/tract_selection.h"
 
 #include <chrono>
@@ -34,8 +35,8 @@ RoiResult RoiWorker::run(const RoiJob& job, const surfaces::TractIndex* index) {
   const surfaces::TractView view = surfaces::viewOf(*job.tracts);
   r.lines = std::make_shared<const std::vector<std::uint32_t>>(surfaces::selectLines(view, tester, index));
   r.selectMs = msSince(t0);
-  if (job.subset)
-    r.subset = std::make_shared<const Polylines>(surfaces::subsetWithGroups(*job.tracts, *r.lines));
+  if (job.subset) // only what is drawn: the full subset of a large selection would be decimated anyway
+    r.subset = std::make_shared<const Polylines>(render::decimateForDisplay(*job.tracts, *r.lines));
   return r;
 }
 

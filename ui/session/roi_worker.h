@@ -29,14 +29,16 @@ struct RoiJob {
   std::shared_ptr<const Polylines> tracts;
   std::uint64_t tractsSerial = 0; // a new serial: the index is rebuilt
   surfaces::RegionSet set;        // no region and no length range: every streamline (the index is built)
-  bool subset = false;            // also make the selected streamlines' subset (what the viewer draws)
+  bool subset = false; // also make the selected streamlines' display subset (what the viewer draws)
 };
 
 struct RoiResult {
   std::uint64_t id = 0;
   bool active = false; // the set had a region or a length range
   std::shared_ptr<const std::vector<std::uint32_t>> lines; // active: the kept streamlines, ascending
-  std::shared_ptr<const Polylines> subset; // job.subset and active: those streamlines with their values
+  // job.subset and active: render::decimateForDisplay of the kept streamlines (with their values and
+  // groups): every point of a selection under render::kTractDisplayPointCap points, else a display sample.
+  std::shared_ptr<const Polylines> subset;
   std::string error;   // non-empty: the selection failed (nothing else is set)
   double indexMs = 0;  // time spent building the index in this job (0: reused)
   double selectMs = 0;

@@ -388,7 +388,8 @@ void ViewerSession::update() {
       tractsLoading_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     state_.tractsLoading = false;
     try {
-      setTracts(std::make_shared<const Polylines>(tractsLoading_.get()), pendingTractPath_);
+      LoadedTracts loaded = tractsLoading_.get();
+      setTracts(std::move(loaded.lines), pendingTractPath_, loaded.meanLengthMm);
       tractsFile_ = pendingTractPath_;
       logInfo(state_.tractPath + ": " + std::to_string(state_.tractCount) + " streamlines, " +
               std::to_string(state_.tractPoints) + " points");
@@ -494,18 +495,23 @@ std::string describeProbe(const ProbeInfo& p) {
   return text;
 }
 
-void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std::string& label) {
+double meanLineLengthMm(const Polylines& l) {
+  double total = 0;
+  for (std::size_t i = 0; i < l.lineCount(); ++i)
+    for (std::uint32_t k = l.offsets[i] + 1; k < l.offsets[i + 1]; ++k)
+      total += glm::length(l.points[k] - l.points[k - 1]);
+  return l.lineCount() ? total / static_cast<double>(l.lineCount()) : 0;
+}
+
+void ViewerSession::setTracts(std::shared_ptr<const Polylines> lines, const std::string& label,
+                              std::optional<double> meanLengthMm) {
   tracts_ = std::move(lines);
   ++tractsSerial_;
   const Polylines& l = *tracts_;
   state_.tractPath = label;
   state_.tractCount = l.lineCount();
   state_.tractPoints = l.points.size();
-  double total = 0;
-  for (std::size_t i = 0; i < l.lineCount(); ++i)
-    for (std::uint32_t k = l.offsets[i] + 1; k < l.offsets[i + 1]; ++k)
-      total += glm::length(l.points[k] - l.points[k - 1]);
-  state_.tractMeanLengthMm = l.lineCount() ? total / static_cast<double>(l.lineCount()) : 0;
+  state_.tractMeanLengthMm = meanLengthMm ? *meanLengthMm : meanLineLengthMm(l);
   state_.hasAgreement = false; // computed for other tracts
   state_.tractDataNames.clear();
   for (const auto& d : l.perPoint)
@@ -545,7 +551,7 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   std::shared_ptr<const Polylines> shown = tracts_;
   if (roi && !dim)
     shown = roiSubset_ ? roiSubset_ // made off the UI thread
-                       : std::make_shared<const Polylines>(surfaces::subsetWithGroups(*tracts_, *roi_.lines));
+                       : std::make_shared<const Polylines>(render::decimateForDisplay(*tracts_, *roi_.lines));
   TractColouringApplied applied;
   // Each point's node along the profiled streamlines (the Profile panel's hover band and the colouring by
   // the profile's value, both drawn by the tract shader from this array).
@@ -899,7 +905,12 @@ void ViewerSession::apply(const Action& action) {
             state_.tractsLoading = true;
             tractsLoading_ = std::async(std::launch::async, [path] {
               try {
-                return readTracts(path);
+                // The whole set's statistics here too: a whole-brain tractogram holds 100 M+ points.
+                LoadedTracts loaded;
+                auto lines = std::make_shared<const Polylines>(readTracts(path));
+                loaded.meanLengthMm = meanLineLengthMm(*lines);
+                loaded.lines = std::move(lines);
+                return loaded;
               } catch (...) {
                 rethrowWithContext("while loading tracts " + path);
               }

@@ -136,7 +136,9 @@ private:
   void onResult(WorkerResult& r);
   void setMesh(Mesh&& mesh);
   void countFibres();
-  void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label);
+  // meanLengthMm: the lines' mean length when already known (computed off the UI thread).
+  void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label,
+                 std::optional<double> meanLengthMm = std::nullopt);
   void requestSelection();
   // Applies the chosen groups and colouring to tracts_ into shownTracts_ (what the selection draws) and
   // the Tracts panel's state; throws (leaving the previous choice on screen) for a missing name or
@@ -164,7 +166,11 @@ private:
   LoadFile requested_, loaded_; // the latest load asked for, and the one on screen
   std::string tractsFile_;      // the file of the tracts on screen; empty: none, or tracked
 
-  std::future<Polylines> tractsLoading_; // loading on its own thread
+  struct LoadedTracts {
+    std::shared_ptr<const Polylines> lines;
+    double meanLengthMm = 0;
+  };
+  std::future<LoadedTracts> tractsLoading_; // loading on its own thread
   std::string pendingTractPath_;
   std::shared_ptr<const Polylines> tracts_;      // every point: analysis and saving use these
   std::shared_ptr<const Polylines> shownTracts_; // tracts_ filtered by group and coloured: what is drawn
@@ -177,7 +183,8 @@ private:
   bool tractsSlab_ = false;
   glm::vec4 tractsPlane_{0, 0, 1, 0};
   RoiSelection roi_; // the ROI selection on screen (roiSelection())
-  std::shared_ptr<const Polylines> roiSubset_; // its streamlines, made by the ROI worker (hidden others)
+  // Its streamlines as drawn (the others hidden): their display decimation, made by the ROI worker.
+  std::shared_ptr<const Polylines> roiSubset_;
   std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
@@ -195,5 +202,8 @@ private:
 // for a tensor, then "; fibres: (X Y Z) amplitude A (R%)[, ...]" for a fibre set, each fibre below the
 // threshold or beyond the third marked "not drawn".
 std::string describeProbe(const ProbeInfo& probe);
+
+// The mean arc length of the lines in mm (0 without lines): the Tracts panel's statistic.
+double meanLineLengthMm(const Polylines& lines);
 
 } // namespace dtf::session

@@ -7,6 +7,7 @@
 #include "support/polylines.h"
 #include "support/test_env.h"
 #include "surfaces/analyses/near_surface.h"
+#include "surfaces/selection/tract_selection.h"
 #include "ui/session/surface_spec.h"
 #include "ui/session/tract_files.h"
 
@@ -34,13 +35,18 @@ TEST(TractDecimation, KeepsEndpointsAndStaysUnderTheCap) {
   EXPECT_LE(out.points.size(), render::kTractDisplayPointCap);
   EXPECT_GT(out.points.size(), render::kTractDisplayPointCap / 2);
   expectEndpointsKept(in, out);
-  for (std::size_t cap : {7u, 1001u, 12345u}) {
+  const Polylines small = gridLines(3, 1234);
+  for (std::size_t cap : {24u, 1001u, 12345u}) { // every line fits at kMinDisplayLinePoints points
     SCOPED_TRACE(cap);
-    const Polylines small = gridLines(3, 1234);
     const Polylines o = render::decimateForDisplay(small, cap);
     EXPECT_LE(o.points.size(), cap);
     expectEndpointsKept(small, o);
   }
+  // Under 24 points one line is kept with as many points as fit, not three chords.
+  const Polylines one = render::decimateForDisplay(small, 7);
+  ASSERT_EQ(one.lineCount(), 1u);
+  EXPECT_EQ(one.points.size(), 7u);
+  EXPECT_EQ(one.points.back(), small.points[1233]);
 }
 
 TEST(TractDecimation, UnderTheCapNothingChangesAndTooManyLinesAreThinned) {
@@ -48,11 +54,83 @@ TEST(TractDecimation, UnderTheCapNothingChangesAndTooManyLinesAreThinned) {
   const Polylines same = render::decimateForDisplay(in, 500);
   EXPECT_EQ(same.points, in.points);
   EXPECT_EQ(same.offsets, in.offsets);
-  const Polylines thin = render::decimateForDisplay(gridLines(101, 10), 21); // 2 per line: 10 lines fit
-  EXPECT_LE(thin.points.size(), 21u);
-  EXPECT_GE(thin.lineCount(), 10u);
-  for (std::size_t l = 0; l < thin.lineCount(); ++l)
-    EXPECT_EQ(thin.offsets[l + 1] - thin.offsets[l], 2u);
+  // 101 lines at 8 points each need 808: every 39th line is kept (0, 39, 78), each at 6 of its 10 points
+  // (every 2nd and the last), 18 points under the cap of 21, rather than 10 chords.
+  const Polylines thin = render::decimateForDisplay(gridLines(101, 10), 21);
+  ASSERT_EQ(thin.lineCount(), 3u);
+  for (std::size_t l = 0; l < thin.lineCount(); ++l) {
+    EXPECT_EQ(thin.offsets[l + 1] - thin.offsets[l], 6u);
+    EXPECT_EQ(thin.points[thin.offsets[l]].y, 39.0f * static_cast<float>(l));
+  }
+}
+
+TEST(TractDecimation, PastTheCapLinesKeepTheirShape) {
+  // 1000 lines of 50 points under a cap of 4000: every other line at 8 points (the 1st, every 7th, the last)
+  // instead of 2000 two-point chords.
+  const Polylines in = gridLines(1000, 50);
+  const Polylines out = render::decimateForDisplay(in, 4000);
+  ASSERT_EQ(out.lineCount(), 500u);
+  EXPECT_EQ(out.points.size(), 4000u);
+  for (std::size_t l = 0; l < out.lineCount(); ++l) {
+    ASSERT_EQ(out.offsets[l + 1] - out.offsets[l], render::kMinDisplayLinePoints);
+    EXPECT_EQ(out.points[out.offsets[l]].y, 2.0f * static_cast<float>(l));
+    EXPECT_EQ(out.points[out.offsets[l] + 1].x, 7.0f);
+    EXPECT_EQ(out.points[out.offsets[l + 1] - 1].x, 49.0f);
+  }
+  // Two-point lines only when even one short line per kept line exceeds the cap: 5000 lines, cap 1000.
+  const Polylines chords = render::decimateForDisplay(gridLines(5000, 50), 1000);
+  EXPECT_LE(chords.points.size(), 1000u);
+  EXPECT_EQ(chords.lineCount(), 125u);
+}
+
+TEST(TractDecimation, OfSelectedLinesIsTheDecimatedSubsetWithValuesAndGroups) {
+  Polylines in = gridLines(60, 30);
+  for (std::size_t l = 0; l < 60; ++l)
+    in.offsets[l + 1] = static_cast<std::uint32_t>(30 * (l + 1)); // same layout, made explicit
+  TractValues id{"id", 1, {}}, xy{"xy", 2, {}};
+  for (std::size_t l = 0; l < 60; ++l)
+    id.values.push_back(static_cast<float>(l));
+  for (const glm::vec3& p : in.points)
+    xy.values.insert(xy.values.end(), {p.x, p.y});
+  in.perLine.push_back(id);
+  in.perPoint.push_back(xy);
+  TractGroup even{"even", {}}, first{"first", {}};
+  for (std::uint32_t l = 0; l < 60; l += 2)
+    even.lines.push_back(l);
+  for (std::uint32_t l = 0; l < 10; ++l)
+    first.lines.push_back(l);
+  in.groups = {even, first};
+  std::vector<std::uint32_t> keep;
+  for (std::uint32_t l = 1; l < 60; l += 3)
+    keep.push_back(l); // 1, 4, 7, ..., 58
+  keep.push_back(59);
+  for (std::size_t cap : {100000u, 300u, 40u, 5u}) {
+    SCOPED_TRACE(cap);
+    const Polylines direct = render::decimateForDisplay(in, keep, cap);
+    const Polylines viaSubset = render::decimateForDisplay(surfaces::subsetWithGroups(in, keep), cap);
+    EXPECT_LE(direct.points.size(), cap);
+    EXPECT_GT(direct.lineCount(), 0u);
+    EXPECT_EQ(direct.points, viaSubset.points);
+    EXPECT_EQ(direct.offsets, viaSubset.offsets);
+    ASSERT_EQ(direct.perPoint.size(), 1u);
+    EXPECT_EQ(direct.perPoint[0].values, viaSubset.perPoint[0].values);
+    EXPECT_EQ(direct.perPoint[0].values.size(), 2 * direct.points.size());
+    ASSERT_EQ(direct.perLine.size(), 1u);
+    EXPECT_EQ(direct.perLine[0].values, viaSubset.perLine[0].values);
+    ASSERT_EQ(direct.groups.size(), 2u);
+    for (std::size_t g = 0; g < 2; ++g) {
+      EXPECT_EQ(direct.groups[g].name, in.groups[g].name);
+      EXPECT_EQ(direct.groups[g].lines, viaSubset.groups[g].lines);
+      for (std::uint32_t line : direct.groups[g].lines) { // each member really is in the source group
+        const auto source = static_cast<std::uint32_t>(direct.perLine[0].values[line]);
+        EXPECT_TRUE(g == 0 ? source % 2 == 0 : source < 10) << source;
+      }
+    }
+  }
+  // Without thinning every kept line is there in full.
+  const Polylines all = render::decimateForDisplay(in, keep, 100000);
+  EXPECT_EQ(all.lineCount(), keep.size());
+  EXPECT_EQ(all.points.size(), 30 * keep.size());
 }
 
 TEST(TractSelection, KeepsExactlyTheSegmentsWithinDOfAPlane) {
