@@ -21,6 +21,7 @@
 #include "render/tract_renderer.h"
 #include "surfaces/selection/tract_selection.h"
 #include "ui/session/roi_worker.h"
+#include "ui/session/tract_files.h"
 #include "ui/session/tract_overlay.h"
 
 #include <array>
@@ -29,6 +30,7 @@
 #include <cstdio>
 #include <epoxy/gl.h>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
@@ -58,6 +60,9 @@ const OptionTable& benchSelectOptions() {
         O::number("cell", "MM", 0, atLeast(0), "the index's grid cell (0: from the streamlines' step, at least 4 mm)")
             .measuredIn("mm"),
         O::integer("threads", "T", 0, atLeast(0), "worker threads").defaultSays("all cores"),
+        O::text("save", "FILE",
+                "also write the synthetic tractogram there (.trx, .tck, .trk, ...; an existing file is kept), e.g. "
+                "to open 10 M streamlines in the viewer"),
         O::flag("json", "one JSON object"),
         sharedDataOption(),
     };
@@ -201,7 +206,10 @@ int benchSelect(const CommandArgs& argv) {
   const double cellMm = args.number("cell");
   const bool json = args.flag("json");
   const auto dataArg = args.get("data");
+  const auto savePath = args.get("save");
   args.finish();
+  if (savePath && std::filesystem::exists(*savePath))
+    throw UsageError("bench select --save: " + *savePath + " exists (it is kept; choose another path)");
   std::vector<std::string> notes;
 
   // The peer first, while this process holds little memory: the same sphere on a .tck of the first peerN
@@ -250,6 +258,15 @@ int benchSelect(const CommandArgs& argv) {
   Polylines lines = syntheticTractogram(n, points, threads);
   const double generateS = since(t0);
   const double positionsGb = static_cast<double>(lines.points.size() * sizeof(glm::vec3)) / (1024.0 * 1024 * 1024);
+  double saveS = -1;
+  if (savePath) {
+    // A 1 mm grid over the ellipsoid: the reference .trk and .trx need.
+    const Grid reference = Grid::fromAffine(glm::ivec3(2.0f * kHalfAxes) + 1,
+                                            glm::translate(glm::dmat4(1.0), -glm::dvec3(kHalfAxes)));
+    t0 = Clock::now();
+    session::writeTracts(*savePath, lines, &reference);
+    saveS = since(t0);
+  }
   const surfaces::TractView view = surfaces::viewOf(lines);
   t0 = Clock::now();
   const surfaces::TractIndex index(view, cellMm, threads);
@@ -425,6 +442,7 @@ int benchSelect(const CommandArgs& argv) {
         {"walk_without_index_ms", walkMs},
         {"walk_selected", walked.size()},
         {"generate_s", generateS},
+        {"save_s", saveS},
         {"index_bytes", index.bytes()},
         {"cell_mm", index.cellMm()},
         {"positions_gb", positionsGb},
@@ -466,6 +484,7 @@ int benchSelect(const CommandArgs& argv) {
               "%.1f ms\n",
               updateSelected, updateShownLines, updateShownPoints, updateMs, updateMsMax, updateFullMs,
               updateParts[0], updateParts[1], updateParts[2], updateParts[3], updateParts[4], updateParts[5]);
+  if (savePath) std::printf("  written to %s in %.1f s\n", savePath->c_str(), saveS);
   std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
   if (realLines)
     std::printf("  real tracts (tracks_det.tck, %zu streamlines): index %.2f ms, two CST spheres %.3f ms, %zu "

@@ -177,23 +177,30 @@ std::string_view ZipReader::read(const Entry& e, std::string& storage) const {
 }
 
 void ZipWriter::add(const std::string& name, const void* data, std::size_t size) {
-  if (central_.size() == 0xffff || size >= 0xffffffffu || written_ + size + 30 + name.size() >= 0xffffffffu)
-    throw InputError("cannot write " + path_ + ": too large for a zip archive without ZIP64");
+  if (name.size() > 0xffff) throw InputError("cannot write " + path_ + ": zip entry name too long");
+  constexpr std::uint64_t kMax32 = 0xffffffffu;
+  const bool zip64 = always64_ || size >= kMax32 || written_ >= kMax32;
   const std::uint32_t crc = crcOf(static_cast<const char*>(data), size);
   std::string h;
   putLe(h, kLocalSig, 4);
-  putLe(h, 20, 2);           // version needed
-  putLe(h, 0, 2);            // flags
-  putLe(h, 0, 2);            // stored
-  putLe(h, 0, 2);            // time
-  putLe(h, (1 << 5) | 1, 2); // date 1980-01-01
+  putLe(h, zip64 ? 45 : 20, 2); // version needed
+  putLe(h, 0, 2);               // flags
+  putLe(h, 0, 2);               // stored
+  putLe(h, 0, 2);               // time
+  putLe(h, (1 << 5) | 1, 2);    // date 1980-01-01
   putLe(h, crc, 4);
-  putLe(h, size, 4);
-  putLe(h, size, 4);
+  putLe(h, zip64 ? kMax32 : size, 4);
+  putLe(h, zip64 ? kMax32 : size, 4);
   putLe(h, name.size(), 2);
-  putLe(h, 0, 2);
+  putLe(h, zip64 ? 20 : 0, 2);
   h += name;
-  central_.push_back({name, crc, static_cast<std::uint32_t>(size), static_cast<std::uint32_t>(written_)});
+  if (zip64) { // the local ZIP64 extra field holds both sizes
+    putLe(h, 1, 2);
+    putLe(h, 16, 2);
+    putLe(h, size, 8);
+    putLe(h, size, 8);
+  }
+  central_.push_back({name, crc, size, written_, zip64});
   out_.write(h.data(), static_cast<std::streamsize>(h.size()));
   if (size) out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
   written_ += h.size() + size;
@@ -201,37 +208,67 @@ void ZipWriter::add(const std::string& name, const void* data, std::size_t size)
 }
 
 void ZipWriter::finish() {
+  constexpr std::uint64_t kMax32 = 0xffffffffu;
   std::string cd;
   for (const auto& c : central_) {
+    // The fields past 32 bits (or every one under Always) move to the ZIP64 extra field, in the order
+    // size, compressed size, offset.
+    const bool bigSize = always64_ || c.size >= kMax32, bigOffset = always64_ || c.offset >= kMax32;
+    std::string extra;
+    if (bigSize) putLe(extra, c.size, 8), putLe(extra, c.size, 8);
+    if (bigOffset) putLe(extra, c.offset, 8);
+    const bool zip64 = !extra.empty() || c.zip64;
     putLe(cd, kCentralSig, 4);
-    putLe(cd, 20, 2);
-    putLe(cd, 20, 2);
+    putLe(cd, zip64 ? 45 : 20, 2); // version made by
+    putLe(cd, zip64 ? 45 : 20, 2); // version needed
     putLe(cd, 0, 2);
     putLe(cd, 0, 2);
     putLe(cd, 0, 2);
     putLe(cd, (1 << 5) | 1, 2);
     putLe(cd, c.crc, 4);
-    putLe(cd, c.size, 4);
-    putLe(cd, c.size, 4);
+    putLe(cd, bigSize ? kMax32 : c.size, 4);
+    putLe(cd, bigSize ? kMax32 : c.size, 4);
     putLe(cd, c.name.size(), 2);
-    putLe(cd, 0, 2); // extra
-    putLe(cd, 0, 2); // comment
-    putLe(cd, 0, 2); // disk
-    putLe(cd, 0, 2); // internal attributes
-    putLe(cd, 0, 4); // external attributes
-    putLe(cd, c.offset, 4);
+    putLe(cd, extra.empty() ? 0 : extra.size() + 4, 2); // extra
+    putLe(cd, 0, 2);                                    // comment
+    putLe(cd, 0, 2);                                    // disk
+    putLe(cd, 0, 2);                                    // internal attributes
+    putLe(cd, 0, 4);                                    // external attributes
+    putLe(cd, bigOffset ? kMax32 : c.offset, 4);
     cd += c.name;
+    if (!extra.empty()) {
+      putLe(cd, 1, 2);
+      putLe(cd, extra.size(), 2);
+      cd += extra;
+    }
   }
-  if (written_ + cd.size() >= 0xffffffffu)
-    throw InputError("cannot write " + path_ + ": too large for a zip archive without ZIP64");
+  const std::uint64_t cdOffset = written_, count = central_.size();
+  const bool zip64 = always64_ || count >= 0xffff || cdOffset >= kMax32 || cd.size() >= kMax32;
   std::string end;
+  if (zip64) {
+    const std::uint64_t end64At = cdOffset + cd.size();
+    putLe(end, kEnd64Sig, 4);
+    putLe(end, 44, 8); // size of the record after this field
+    putLe(end, 45, 2);
+    putLe(end, 45, 2);
+    putLe(end, 0, 4); // this disk
+    putLe(end, 0, 4); // the directory's disk
+    putLe(end, count, 8);
+    putLe(end, count, 8);
+    putLe(end, cd.size(), 8);
+    putLe(end, cdOffset, 8);
+    putLe(end, kLocator64Sig, 4);
+    putLe(end, 0, 4);
+    putLe(end, end64At, 8);
+    putLe(end, 1, 4); // disks
+  }
   putLe(end, kEndSig, 4);
   putLe(end, 0, 2);
   putLe(end, 0, 2);
-  putLe(end, central_.size(), 2);
-  putLe(end, central_.size(), 2);
-  putLe(end, cd.size(), 4);
-  putLe(end, written_, 4);
+  putLe(end, zip64 ? 0xffff : count, 2);
+  putLe(end, zip64 ? 0xffff : count, 2);
+  putLe(end, zip64 ? kMax32 : cd.size(), 4);
+  putLe(end, zip64 ? kMax32 : cdOffset, 4);
   putLe(end, 0, 2);
   out_.write(cd.data(), static_cast<std::streamsize>(cd.size()));
   out_.write(end.data(), static_cast<std::streamsize>(end.size()));

@@ -53,21 +53,27 @@ private:
   std::vector<Entry> entries_;
 };
 
-// Writes a ZIP archive of stored entries to an open stream. Throws InputError (naming `path`) on a write
-// failure or more than 65,535 entries / 4 GiB (no ZIP64 output).
+// Writes a ZIP archive of stored entries to an open stream. ZIP64 records (APPNOTE 4.5.3, read by Python's
+// zipfile, libzip and trx-python) are written for the entries, offsets and counts past the classic limits,
+// or for all of them with Zip64::Always (tests). Throws InputError (naming `path`) on a write failure.
 class ZipWriter {
 public:
-  ZipWriter(std::ofstream& out, std::string path) : out_(out), path_(std::move(path)) {}
+  enum class Zip64 { AsNeeded, Always };
+  ZipWriter(std::ofstream& out, std::string path, Zip64 zip64 = Zip64::AsNeeded)
+      : out_(out), path_(std::move(path)), always64_(zip64 == Zip64::Always) {}
   void add(const std::string& name, const void* data, std::size_t size);
   void finish();
 
 private:
   struct Central {
     std::string name;
-    std::uint32_t crc, size, offset;
+    std::uint32_t crc;
+    std::uint64_t size, offset;
+    bool zip64; // the local header carries a ZIP64 extra field
   };
   std::ofstream& out_;
   std::string path_;
+  bool always64_ = false;
   std::vector<Central> central_;
   std::uint64_t written_ = 0;
 };
