@@ -4,6 +4,7 @@
 #include "io/formats/atomic_file.h"
 #include "io/formats/gzip.h"
 #include "io/model/error.h"
+#include "io/model/huge_pages.h"
 #include "io/model/log.h"
 
 #include <algorithm>
@@ -202,6 +203,7 @@ bool readTckPoints(const std::string& path, const char* base, std::size_t triple
                    Polylines& out) {
   const std::size_t triplet = 3u * static_cast<std::size_t>(width);
   out.points.reserve(triplets);
+  adviseHugePages(out.points.data(), triplets * sizeof(glm::vec3)); // see readTrxPositions
   out.offsets.push_back(0);
   for (std::size_t t = 0; t < triplets; ++t) {
     double v[3];

@@ -5,6 +5,7 @@
 #include "io/formats/json.h"
 #include "io/formats/zip_archive.h"
 #include "io/model/error.h"
+#include "io/model/huge_pages.h"
 #include "io/model/log.h"
 
 #include <algorithm>
@@ -300,6 +301,9 @@ void readTrxOffsets(const std::string& path, const TrxCore& c, const TrxInfo& in
 
 // Positions: world RAS mm as stored; float32 is copied once, the others converted.
 void readTrxPositions(const std::string& path, const TrxCore& c, std::size_t nV, Polylines& out) {
+  // Huge pages: a whole-brain set is GBs, and the spatial index and the selections read it at random.
+  out.points.reserve(nV);
+  adviseHugePages(out.points.data(), nV * sizeof(glm::vec3));
   out.points.resize(nV);
   if (c.posType.width == 4) {
     if (nV) std::memcpy(out.points.data(), c.positions.data(), nV * 12);

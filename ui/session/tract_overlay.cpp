@@ -3,6 +3,8 @@
 
 #include "surfaces/analyses/near_surface.h"
 
+#include <algorithm>
+
 namespace dtf::session {
 
 TractPick pickTracts(const Mesh& surface, double nearMm) {
@@ -13,14 +15,25 @@ TractPick pickTracts(const Mesh& surface, double nearMm) {
 }
 
 TractSelection selectTracts(const Polylines& tracts, const Mesh& surface, double nearMm,
-                            const std::atomic<bool>* cancel) {
+                            const std::atomic<bool>* cancel, std::size_t pointCap) {
   TractSelection s;
   s.pick = pickTracts(surface, nearMm);
   s.all = !s.pick.nearOnly;
   if (s.all) return s;
   surfaces::NearSurfaceOptions o;
   o.cancel = cancel;
-  s.near = surfaces::selectNearSurface(tracts, surfaces::DistanceQuery(surface), nearMm, o);
+  const surfaces::DistanceQuery query(surface);
+  pointCap = std::max<std::size_t>(pointCap, 1);
+  if (tracts.points.size() <= pointCap) {
+    s.near = surfaces::selectNearSurface(tracts, query, nearMm, o);
+    return s;
+  }
+  // Every m-th streamline, whole, so that about pointCap points are measured.
+  s.lineStep = (tracts.points.size() + pointCap - 1) / pointCap;
+  std::vector<std::uint32_t> sample;
+  for (std::size_t i = 0; i < tracts.lineCount(); i += s.lineStep)
+    sample.push_back(static_cast<std::uint32_t>(i));
+  s.near = surfaces::selectNearSurface(tracts.subset(sample), query, nearMm, o);
   return s;
 }
 

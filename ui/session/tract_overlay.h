@@ -33,15 +33,24 @@ struct TractPick {
 };
 TractPick pickTracts(const Mesh& surface, double nearMm);
 
+// Points a curved surface's near-surface selection measures at most: past it, an even sample of the
+// streamlines (every m-th, whole) is measured. The selection only feeds the display, which keeps at most
+// render::kTractDisplayPointCap points; measuring every point of a whole-brain tractogram (500 M points
+// for 10 M streamlines) against the surface takes many minutes.
+inline constexpr std::size_t kNearSurfacePointCap = 2 * render::kTractDisplayPointCap;
+
 // The tracts `surface` shows: `all` (every tract: a planar surface, or nearMm 0) or the pieces within nearMm
-// of it in `near` (surfaces/analyses/near_surface.h). A set `cancel` stops early with an empty `near`.
+// of it in `near` (surfaces/analyses/near_surface.h), of every lineStep-th streamline (1 up to
+// pointCap points). A set `cancel` stops early with an empty `near`.
 struct TractSelection {
   TractPick pick;
   bool all = true;
   Polylines near;
+  std::size_t lineStep = 1;
 };
 TractSelection selectTracts(const Polylines& tracts, const Mesh& surface, double nearMm,
-                            const std::atomic<bool>* cancel = nullptr);
+                            const std::atomic<bool>* cancel = nullptr,
+                            std::size_t pointCap = kNearSurfacePointCap);
 
 // What the overlay uploads for `shown` (the selection): its display decimation and levels of detail.
 render::DisplayTracts tractOverlayDisplay(const Polylines& shown);

@@ -120,6 +120,7 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
     r.display = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(s.near));
     r.lines = s.near.lineCount();
     r.points = s.near.points.size();
+    r.lineStep = s.lineStep;
   }
   return r;
 }

@@ -38,6 +38,7 @@ struct TractResult {
                                      // (ui/session/tract_overlay.h)
   glm::vec4 plane{0, 0, 1, 0};       // unit normal, offset (world mm)
   std::size_t lines = 0, points = 0; // selected, before display decimation
+  std::size_t lineStep = 1;          // near a curved surface: of every lineStep-th streamline (kNearSurfacePointCap)
   // Tracking: the streamlines and a one-line report; cancelled runs keep nothing.
   std::shared_ptr<const Polylines> tracts;
   std::string report;

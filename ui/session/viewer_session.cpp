@@ -637,7 +637,8 @@ void ViewerSession::onTractResult(TractResult& r) {
     state_.tractsShownLines = r.display->lines; // after the display decimation
     state_.tractsShownPoints = r.display->points.size();
     logInfo("tracts shown: " + std::to_string(r.lines) + " streamline pieces, " + std::to_string(r.points) +
-            " points" + (r.slab ? " (slab around the plane)" : ""));
+            " points" + (r.slab ? " (slab around the plane)" : "") +
+            (r.lineStep > 1 ? " (near the surface, of every " + std::to_string(r.lineStep) + "th streamline)" : ""));
   } else if (r.kind == K::Tracking) {
     if (r.id != latestTracking_) return;
     state_.tracking = false;

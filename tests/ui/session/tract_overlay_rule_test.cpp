@@ -60,6 +60,21 @@ TEST(TractOverlayRule, ACurvedSurfaceShowsThePiecesNearItOrEverythingAtDistanceZ
   EXPECT_FALSE(all.pick.plane.has_value());
 }
 
+TEST(TractOverlayRule, PastThePointCapAnEvenSampleOfTheStreamlinesIsMeasured) {
+  const Mesh sphere = render::reference::uvSphere({0, 0, 0}, 10.0, 24, 48);
+  const Polylines lines = crossingLines(5);
+  const TractSelection full = selectTracts(lines, sphere, 1.0);
+  // A cap of half the points: every 2nd streamline (0, 2, 4), whole, gives exactly their pieces.
+  const TractSelection half = selectTracts(lines, sphere, 1.0, nullptr, (lines.points.size() + 1) / 2);
+  EXPECT_EQ(full.lineStep, 1u);
+  ASSERT_EQ(half.lineStep, 2u);
+  const TractSelection sampled = selectTracts(lines.subset({0, 2, 4}), sphere, 1.0);
+  EXPECT_EQ(half.near.lineCount(), 6u); // two pieces per line
+  EXPECT_EQ(half.near.offsets, sampled.near.offsets);
+  EXPECT_TRUE(half.near.points == sampled.near.points);
+  EXPECT_LT(half.near.points.size(), full.near.points.size());
+}
+
 TEST(TractOverlayRule, ACancelledSelectionStopsWithNothing) {
   const Mesh sphere = render::reference::uvSphere({0, 0, 0}, 10.0, 24, 48);
   const std::atomic<bool> cancel{true};
