@@ -41,8 +41,9 @@ constexpr render::StandardView kOrthoView[3] = {render::StandardView::Axial, ren
                                                 render::StandardView::Sagittal};
 
 // A closed polygon of scene pixels drawn 2 pixels wide into `img`, clipped to `rect` (x, y, w, h).
+// A closed polygon, or with `segments` the segments between points 0 and 1, 2 and 3, ...
 void drawOutline(Image& img, const std::vector<glm::dvec2>& poly, const std::array<int, 4>& rect,
-                 glm::u8vec3 colour) {
+                 glm::u8vec3 colour, bool segments = false) {
   auto plot = [&](int x, int y) {
     for (int dy = 0; dy < 2; ++dy)
       for (int dx = 0; dx < 2; ++dx) {
@@ -52,7 +53,8 @@ void drawOutline(Image& img, const std::vector<glm::dvec2>& poly, const std::arr
         d[0] = colour.x, d[1] = colour.y, d[2] = colour.z, d[3] = 255;
       }
   };
-  for (std::size_t k = 0; k < poly.size(); ++k) {
+  for (std::size_t k = 0; k < poly.size(); k += segments ? 2 : 1) {
+    if (segments && k + 1 >= poly.size()) break;
     // The 2-pixel pen's top-left pixel half a pixel up and left of the line.
     const glm::dvec2 a = poly[k] - 0.5, b = poly[(k + 1) % poly.size()] - 0.5;
     const int steps =
@@ -170,17 +172,47 @@ bool ViewerScene::clickAt(double x, double y) {
   return true;
 }
 
-bool ViewerScene::regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out) const {
+bool ViewerScene::regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out, bool* segments) const {
   out.clear();
   const session::ViewerState& st = state();
   if (!st.ortho || i >= st.roiSet.regions.size() || !orthoPlanes_[s]) return false;
   if (i < st.roiVisible.size() && !st.roiVisible[i]) return false;
   const glm::dvec4 plane(*orthoPlanes_[s]);
   const glm::dvec3 n(plane);
-  if (!session::regionOutline(st.roiSet.regions[i], -plane.w * n, n, outlineWorld_)) return false;
+  const surfaces::Region& r = st.roiSet.regions[i];
+  const bool mask = r.shape == surfaces::RegionShape::Mask;
+  if (segments) *segments = mask;
+  if (mask ? !session::maskOutline(r, -plane.w * n, n, outlineWorld_, outlineSamples_)
+           : !session::regionOutline(r, -plane.w * n, n, outlineWorld_))
+    return false;
   for (const glm::dvec3& p : outlineWorld_)
     out.push_back(orthoPixel(s, p));
   return true;
+}
+
+session::RoiSet ViewerScene::regionDragged(std::size_t i, const surfaces::Region& start, int s,
+                                           const glm::dvec3& from, double x, double y) const {
+  const glm::dvec3 d = orthoWorld(s, x, y) - from;
+  session::RoiSet set{i, start};
+  set.region.centre += d;
+  set.region.lo += d;
+  set.region.hi += d;
+  return set;
+}
+
+std::optional<session::RoiSet> ViewerScene::regionScaled(double x, double y, double notches) const {
+  const int i = regionAt(x, y);
+  if (i < 0) return std::nullopt;
+  session::RoiSet set{std::size_t(i), state().roiSet.regions[std::size_t(i)]};
+  const double f = std::pow(1.1, notches);
+  surfaces::Region& r = set.region;
+  if (r.shape == surfaces::RegionShape::Box) {
+    const glm::dvec3 c = 0.5 * (r.lo + r.hi), h = 0.5 * (r.hi - r.lo) * f;
+    r.lo = c - h, r.hi = c + h;
+  } else {
+    r.radius = std::clamp(r.radius * f, 0.5, 200.0);
+  }
+  return set;
 }
 
 int ViewerScene::regionAt(double x, double y) const {
@@ -1025,9 +1057,10 @@ Image ViewerScene::layoutImage() const {
       readPane(orthoRenderers_[s]->output().id(), {r[2], r[3]}, r, img);
     // The regions' outlines where they cut the slice, in their kind's colour.
     std::vector<glm::dvec2> outline;
+    bool segments = false;
     for (std::size_t i = 0; i < state().roiSet.regions.size(); ++i)
-      if (regionOutlinePixels(s, i, outline))
-        drawOutline(img, outline, r, session::regionKindColour(state().roiSet.regions[i].kind));
+      if (regionOutlinePixels(s, i, outline, &segments))
+        drawOutline(img, outline, r, session::regionKindColour(state().roiSet.regions[i].kind), segments);
     // The crosshair: a horizontal and a vertical line through its point, clipped to the pane.
     const glm::dvec2 c = orthoPixel(s, cross);
     const int cx = static_cast<int>(std::floor(c.x)), cy = static_cast<int>(std::floor(c.y));

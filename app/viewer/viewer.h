@@ -129,12 +129,22 @@ public:
   glm::dvec3 orthoWorld(int s, double x, double y) const;
   // Slice pane s's plane (unit normal, offset: dot(n, p) + w = 0, world mm); nullopt while it has no slice.
   const std::optional<glm::vec4>& orthoPlane(int s) const { return orthoPlanes_[s]; }
-  // The outline of region i of the ROI set where it cuts slice pane s, as scene pixels (x, y down) of a closed
-  // polygon in `out` (its capacity is reused); false when the region is hidden, a mask, or misses the slice.
-  bool regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out) const;
+  // The outline of region i of the ROI set where it cuts slice pane s, as scene pixels (x, y down) in `out`
+  // (its capacity is reused): a closed polygon for a sphere or box, segments (pairs of points) for a mask
+  // (session::maskOutline), told by `segments`. False when the region is hidden or misses the slice.
+  bool regionOutlinePixels(int s, std::size_t i, std::vector<glm::dvec2>& out, bool* segments = nullptr) const;
   // The visible sphere or box region whose section holds scene pixel (x, y down) of a slice pane (the last
   // in the list first), or -1.
   int regionAt(double x, double y) const;
+  // What a drag in slice pane s does to region i: `start` (the region when the press began) moved by the
+  // world step from `from` (the press's point on the slice, orthoWorld) to scene pixel (x, y), which lies
+  // in the slice's plane.
+  session::RoiSet regionDragged(std::size_t i, const surfaces::Region& start, int s, const glm::dvec3& from,
+                                double x, double y) const;
+  // What `notches` of the wheel over scene pixel (x, y) do to the region there (regionAt): its radius or its
+  // box's half-sizes scaled by 1.1 per notch about its centre (radius kept in [0.5, 200] mm). nullopt where
+  // no region is.
+  std::optional<session::RoiSet> regionScaled(double x, double y, double notches) const;
   // The scene as a figure, width x height of the last render(), row 0 at the top: every pane as rendered, and
   // in the ortho layout the crosshair and each slice pane's orientation letters.
   Image layoutImage() const;
@@ -312,6 +322,7 @@ private:
   std::optional<std::pair<double, double>> nodeColourRange_;
   std::uint64_t orthoTractKey_ = 0;                           // the tract style the slice panes drew with
   mutable std::vector<glm::dvec3> outlineWorld_;              // regionOutlinePixels' scratch
+  mutable std::vector<unsigned char> outlineSamples_;         // its mask lattice
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};
   std::array<int, 3> orthoIterations_{0, 0, 0};
   std::array<unsigned, 3> orthoCovered_{0, 0, 0};

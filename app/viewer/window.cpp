@@ -475,12 +475,7 @@ private:
     }
     if (regionDrag_ >= 0 && (x != lastX_ || y != lastY_) &&
         std::size_t(regionDrag_) < scene_->state().roiSet.regions.size()) {
-      const glm::dvec3 d = scene_->orthoWorld(regionPane_, sx, sy) - regionFrom_;
-      session::RoiSet set{std::size_t(regionDrag_), regionStart_};
-      set.region.centre += d;
-      set.region.lo += d;
-      set.region.hi += d;
-      perform(set);
+      perform(scene_->regionDragged(std::size_t(regionDrag_), regionStart_, regionPane_, regionFrom_, sx, sy));
       lastX_ = x;
       lastY_ = y;
     }
@@ -518,15 +513,8 @@ private:
     }
     if (input_.scroll != 0 && !io.WantCaptureMouse && inScene(x, y)) {
       // Over a region in a slice pane the wheel grows or shrinks it about its centre; elsewhere it zooms.
-      const int i = scene_->regionAt(sx, sy);
-      if (i >= 0) {
-        session::RoiSet set{std::size_t(i), scene_->state().roiSet.regions[std::size_t(i)]};
-        const double f = std::pow(1.1, input_.scroll);
-        surfaces::Region& r = set.region;
-        r.radius = std::clamp(r.radius * f, 0.5, 200.0);
-        const glm::dvec3 c = 0.5 * (r.lo + r.hi), h = 0.5 * (r.hi - r.lo) * f;
-        if (r.shape == surfaces::RegionShape::Box) r.lo = c - h, r.hi = c + h;
-        perform(set);
+      if (const auto set = scene_->regionScaled(sx, sy, input_.scroll)) {
+        perform(*set);
       } else {
         scene_->apply(session::Zoom{std::pow(1.15, input_.scroll), scene_->paneAt(x * scale_ - sceneX_)});
       }
@@ -662,14 +650,19 @@ private:
       // The regions' outlines where they cut this slice.
       const auto& regions = scene_->state().roiSet.regions;
       for (std::size_t i = 0; i < regions.size(); ++i) {
-        if (!scene_->regionOutlinePixels(s, i, outlinePx_)) continue;
+        bool segments = false;
+        if (!scene_->regionOutlinePixels(s, i, outlinePx_, &segments)) continue;
         outlineIm_.clear();
         for (const glm::dvec2& p : outlinePx_)
           outlineIm_.push_back(
               ImVec2(static_cast<float>((sceneX_ + p.x) * inv), static_cast<float>(p.y * inv)));
         const glm::u8vec3 c = session::regionKindColour(regions[i].kind);
-        dl->AddPolyline(outlineIm_.data(), static_cast<int>(outlineIm_.size()), IM_COL32(c.x, c.y, c.z, 255),
-                        ImDrawFlags_Closed, 2.0f);
+        if (segments) // a mask's outline: lattice edges
+          for (std::size_t k = 0; k + 1 < outlineIm_.size(); k += 2)
+            dl->AddLine(outlineIm_[k], outlineIm_[k + 1], IM_COL32(c.x, c.y, c.z, 255), 2.0f);
+        else
+          dl->AddPolyline(outlineIm_.data(), static_cast<int>(outlineIm_.size()), IM_COL32(c.x, c.y, c.z, 255),
+                          ImDrawFlags_Closed, 2.0f);
       }
       dl->PopClipRect();
       drawPaneLetters(dl, scene_->orthoCamera(s), x0, y0, x1, y1);

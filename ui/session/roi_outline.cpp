@@ -84,4 +84,64 @@ bool regionOutline(const surfaces::Region& r, const glm::dvec3& point, const glm
   return true;
 }
 
+bool maskOutline(const surfaces::Region& r, const glm::dvec3& point, const glm::dvec3& normal,
+                 std::vector<glm::dvec3>& out, std::vector<unsigned char>& scratch) {
+  out.clear();
+  if (r.shape != surfaces::RegionShape::Mask || !r.mask) return false;
+  const glm::dvec3 n = glm::normalize(normal);
+  glm::dvec3 u, v;
+  planeAxes(n, u, v);
+  glm::dvec3 lo, hi;
+  r.bounds(lo, hi);
+  double dMin = HUGE_VAL, dMax = -HUGE_VAL, u0 = HUGE_VAL, u1 = -HUGE_VAL, v0 = HUGE_VAL, v1 = -HUGE_VAL;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 c = glm::dvec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z) - point;
+    const double d = glm::dot(c, n), a = glm::dot(c, u), b = glm::dot(c, v);
+    dMin = std::min(dMin, d), dMax = std::max(dMax, d);
+    u0 = std::min(u0, a), u1 = std::max(u1, a), v0 = std::min(v0, b), v1 = std::max(v1, b);
+  }
+  if (dMin > 0 || dMax < 0) return false; // the plane misses the mask's bounds
+  const MaskVolume& m = *r.mask;
+  const glm::dvec3 sp = m.grid.spacing;
+  double h = 0.5 * std::min({sp.x, sp.y, sp.z});
+  h = std::max(h, std::max(u1 - u0, v1 - v0) / (kMaskOutlineSamples - 3));
+  if (!(h > 0) || !std::isfinite(h)) return false;
+  // One sample of margin around the bounds: the outermost samples are outside.
+  const int nu = static_cast<int>(std::ceil((u1 - u0) / h)) + 3, nv = static_cast<int>(std::ceil((v1 - v0) / h)) + 3;
+  const glm::dvec3 origin = point + (u0 - h) * u + (v0 - h) * v;
+  const glm::dmat4 toVoxel = glm::inverse(m.grid.voxelToWorld);
+  const auto comps = static_cast<std::size_t>(m.components);
+  scratch.assign(static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv), 0);
+  bool any = false;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      // The same rule as Region::contains: the point in single precision, the nearest voxel.
+      const glm::vec3 p(origin + (i * h) * u + (j * h) * v);
+      const glm::dvec3 x(toVoxel * glm::dvec4(glm::dvec3(p), 1.0));
+      const int a = static_cast<int>(std::lround(x.x)), b = static_cast<int>(std::lround(x.y)),
+                c = static_cast<int>(std::lround(x.z));
+      if (!m.grid.contains(a, b, c) || m.data[m.grid.index(a, b, c) * comps] == 0) continue;
+      scratch[static_cast<std::size_t>(j) * static_cast<std::size_t>(nu) + static_cast<std::size_t>(i)] = 1;
+      any = true;
+    }
+  if (!any) return false;
+  auto at = [&](int i, int j) {
+    return scratch[static_cast<std::size_t>(j) * static_cast<std::size_t>(nu) + static_cast<std::size_t>(i)];
+  };
+  auto world = [&](double i, double j) { return origin + (i * h) * u + (j * h) * v; };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i + 1 < nu; ++i)
+      if (at(i, j) != at(i + 1, j)) {
+        out.push_back(world(i + 0.5, j - 0.5));
+        out.push_back(world(i + 0.5, j + 0.5));
+      }
+  for (int j = 0; j + 1 < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      if (at(i, j) != at(i, j + 1)) {
+        out.push_back(world(i - 0.5, j + 0.5));
+        out.push_back(world(i + 0.5, j + 0.5));
+      }
+  return true;
+}
+
 } // namespace dtf::session

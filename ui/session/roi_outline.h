@@ -19,7 +19,7 @@ const char* regionKindColourName(surfaces::RegionKind kind); // "green", "red", 
 // The outline of `region` on the plane through `point` with unit normal `normal`, as a closed polygon of
 // world points in `out` (cleared first; its capacity is reused): a sphere's circle in `segments` points, a
 // box's section (3 to 6 corners, in order around it). False, with `out` empty, when the region does not cut
-// the plane or is a mask (masks are not outlined).
+// the plane or is a mask (maskOutline draws those).
 // Corner i (0..7) of a box region: bit 0 picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z. kBoxFaces lists the
 // six faces as corner indices in order around each, for drawing a box's faces and edges.
 inline glm::dvec3 boxCorner(const surfaces::Region& box, int i) {
@@ -30,5 +30,16 @@ inline constexpr int kBoxFaces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}
 
 bool regionOutline(const surfaces::Region& region, const glm::dvec3& point, const glm::dvec3& normal,
                    std::vector<glm::dvec3>& out, int segments = 64);
+
+// Lattice points per side maskOutline samples at most.
+inline constexpr int kMaskOutlineSamples = 512;
+// The outline of a mask region on the same plane: the plane is sampled on a square lattice (spacing half the
+// mask's smallest voxel size, coarser where the mask's extent needs more than kMaskOutlineSamples per side)
+// with the region's own rule (nearest voxel non-zero), and every pair of neighbouring samples of which one
+// is inside gives the lattice edge between them: `out` holds these as segments, pairs of world points
+// (cleared first; `out` and `scratch` keep their capacity). A staircase at half a voxel: display only. False,
+// with `out` empty, when the region is not a mask or no sample on the plane is inside.
+bool maskOutline(const surfaces::Region& region, const glm::dvec3& point, const glm::dvec3& normal,
+                 std::vector<glm::dvec3>& out, std::vector<unsigned char>& scratch);
 
 } // namespace dtf::session

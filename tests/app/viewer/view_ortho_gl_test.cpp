@@ -4,6 +4,7 @@
 // follow to the crosshair's slices, and what they show changes); the crosshair is drawn where it lies; each
 // pane carries its orientation letters (radiological by default, neurological when chosen); the exported
 // layout has the scene's size.
+#include "io/formats/png_io.h"
 #include "render/figure_furniture.h"
 #include "support/gl_test.h"
 #include "support/view_scene.h"
@@ -286,4 +287,135 @@ TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
     for (int x = 0; x < hidden.width; ++x)
       greens += isGreen(hidden, x, y);
   EXPECT_EQ(greens, 0u);
+}
+
+// A mask region is outlined in each slice pane along the section of its voxels' cells: a 31 mm cube of
+// 1 mm voxels around the crosshair gives a square whose four sides carry the include colour, while its
+// middle and the pixels well outside do not.
+TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  auto& scene = v.scene;
+  const glm::dvec3 cross = v.state().crosshair;
+  // Voxels 5..35 of a 41^3 grid whose voxel 20 sits on the crosshair: cells within 15.5 mm of it.
+  const dtf::Grid g = dtf::Grid::fromAffine({41, 41, 41}, glm::translate(glm::dmat4(1.0), cross - 20.0));
+  auto mask = std::make_shared<dtf::MaskVolume>(g, 1);
+  for (int k = 5; k <= 35; ++k)
+    for (int j = 5; j <= 35; ++j)
+      for (int i = 5; i <= 35; ++i)
+        mask->at(i, j, k) = 1;
+  dtf::session::RoiAdd add;
+  add.kind = add.region.kind = dtf::surfaces::RegionKind::Include;
+  add.region.shape = dtf::surfaces::RegionShape::Mask;
+  add.region.mask = mask;
+  add.region.name = "cube";
+  v.apply(add);
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  const glm::u8vec3 green = dtf::session::regionKindColour(dtf::surfaces::RegionKind::Include);
+  const dtf::Image img = scene.layoutImage();
+  dtf::io::writePng((dtf::test::scratchDir() / "mask_outline.png").string(), img);
+  auto greenNear = [&](glm::dvec2 p, int reach) {
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const int x = int(std::floor(p.x)) + dx, y = int(std::floor(p.y)) + dy;
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+        const std::uint8_t* c = img.pixel(x, y);
+        if (c[0] == green.x && c[1] == green.y && c[2] == green.z) return true;
+      }
+    return false;
+  };
+  for (int s = 0; s < 3; ++s) {
+    ASSERT_TRUE(scene.orthoPlane(s)) << s;
+    const glm::dvec4 plane(*scene.orthoPlane(s));
+    const glm::dvec3 n(plane);
+    const glm::dvec3 onPlane = cross - (glm::dot(n, cross) + plane.w) * n;
+    ASSERT_LT(glm::length(onPlane - cross), 2.0) << "pane " << s << ": its slice passes near the crosshair";
+    std::vector<glm::dvec2> outline;
+    bool segments = false;
+    ASSERT_TRUE(scene.regionOutlinePixels(s, 0, outline, &segments)) << s;
+    EXPECT_TRUE(segments);
+    int sides = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      glm::dvec3 a(0.0);
+      a[axis] = 1.0;
+      if (std::abs(glm::dot(a, n)) > 0.5) continue; // the axis across the slice
+      for (double sign : {-1.0, 1.0}) {
+        sides += greenNear(scene.orthoPixel(s, onPlane + sign * 15.5 * a), 2);
+        EXPECT_FALSE(greenNear(scene.orthoPixel(s, onPlane + sign * 24.0 * a), 1)) << "pane " << s << " outside";
+      }
+    }
+    EXPECT_EQ(sides, 4) << "pane " << s << ": every side of the square";
+    EXPECT_FALSE(greenNear(scene.orthoPixel(s, onPlane), 2)) << "pane " << s << ": the middle";
+  }
+}
+
+// Dragging a region in a slice pane and turning the wheel over it, as the window does on a press, a move
+// and a wheel notch: the region moves by the world step under the pointer, within the slice's plane, and
+// grows by 1.1 per notch about its centre (a sphere's radius, a box's half-sizes).
+TEST(ViewOrtho, ARegionIsDraggedWithinItsSliceAndScaledByTheWheel) {
+  DTF_GL_TEST_SETUP();
+  dtf::test::ViewScene v("fa=0.25");
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+  ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
+  auto& scene = v.scene;
+  const glm::dvec3 cross = v.state().crosshair;
+  dtf::session::RoiAdd add;
+  add.spec = std::to_string(cross.x) + "," + std::to_string(cross.y) + "," + std::to_string(cross.z) + ",10";
+  v.apply(add);
+  v.converge();
+  ASSERT_EQ(v.state().roiSet.regions.size(), 1u);
+  const int s = 0;
+  const glm::dvec4 plane(*scene.orthoPlane(s));
+  const glm::dvec3 n(plane);
+  const dtf::surfaces::Region start = v.state().roiSet.regions[0];
+  const glm::dvec2 c = scene.orthoPixel(s, start.centre - (glm::dot(n, start.centre) + plane.w) * n);
+  ASSERT_EQ(scene.regionAt(c.x, c.y), 0);
+  // Press at the centre, move 30 px right and 12 px down.
+  const glm::dvec3 from = scene.orthoWorld(s, c.x, c.y);
+  v.apply(scene.regionDragged(0, start, s, from, c.x + 30, c.y + 12));
+  v.converge();
+  const dtf::surfaces::Region& moved = v.state().roiSet.regions[0];
+  const glm::dvec3 step = moved.centre - start.centre;
+  EXPECT_NEAR(glm::dot(step, n), 0.0, 1e-6) << "the drag stays in the slice's plane";
+  const glm::dvec2 seen = scene.orthoPixel(s, moved.centre - (glm::dot(n, moved.centre) + plane.w) * n) - c;
+  EXPECT_NEAR(seen.x, 30.0, 0.5);
+  EXPECT_NEAR(seen.y, 12.0, 0.5);
+  EXPECT_DOUBLE_EQ(moved.radius, 10.0);
+  EXPECT_EQ(scene.regionAt(c.x + 30, c.y + 12), 0) << "the region is under the pointer";
+  EXPECT_EQ(scene.regionAt(c.x - 0.6 * (seen.x + 40), c.y), -1);
+  // Two notches up over it, then one down.
+  const auto up = scene.regionScaled(c.x + 30, c.y + 12, 2);
+  ASSERT_TRUE(up.has_value());
+  EXPECT_EQ(up->index, 0u);
+  v.apply(*up);
+  v.converge();
+  EXPECT_NEAR(v.state().roiSet.regions[0].radius, 12.1, 1e-9);
+  EXPECT_EQ(v.state().roiSet.regions[0].centre, moved.centre);
+  EXPECT_FALSE(scene.regionScaled(c.x - 200, c.y - 200, 1).has_value()) << "no region there: the wheel zooms";
+  // A box scales its half-sizes about its centre.
+  dtf::session::RoiAdd box;
+  box.kind = dtf::surfaces::RegionKind::Exclude;
+  box.spec = "box:" + std::to_string(cross.x - 40) + "," + std::to_string(cross.y - 4) + "," +
+             std::to_string(cross.z - 4) + "," + std::to_string(cross.x - 30) + "," + std::to_string(cross.y + 4) +
+             "," + std::to_string(cross.z + 4);
+  v.apply(box);
+  v.converge();
+  ASSERT_EQ(v.state().roiSet.regions.size(), 2u);
+  const dtf::surfaces::Region b = v.state().roiSet.regions[1];
+  const glm::dvec3 bc = 0.5 * (b.lo + b.hi);
+  const glm::dvec2 bp = scene.orthoPixel(s, bc - (glm::dot(n, bc) + plane.w) * n);
+  const auto down = scene.regionScaled(bp.x, bp.y, -1);
+  ASSERT_TRUE(down.has_value());
+  EXPECT_EQ(down->index, 1u);
+  const glm::dvec3 half = 0.5 * (down->region.hi - down->region.lo);
+  EXPECT_NEAR(half.x, 5.0 / 1.1, 1e-9);
+  EXPECT_NEAR(half.y, 4.0 / 1.1, 1e-9);
+  EXPECT_NEAR(glm::length(0.5 * (down->region.lo + down->region.hi) - bc), 0.0, 1e-9);
 }

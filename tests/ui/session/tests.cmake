@@ -8,7 +8,8 @@ dtf_test(test_surface_spec SOURCES ui/session/surface_spec_test.cpp LIBS dtf_ses
 dtf_test(test_tract_formats SOURCES ui/session/tract_formats_test.cpp LIBS dtf_session dtf_surfaces dtf_io dtf_model ZLIB::ZLIB)
 dtf_test(test_tract_io SOURCES ui/session/tract_io_test.cpp LIBS dtf_session dtf_surfaces dtf_io dtf_model)
 dtf_test(test_coalescing_worker SOURCES ui/session/coalescing_worker_test.cpp LIBS dtf_model)
-dtf_test(test_tract_overlay_rule SOURCES ui/session/tract_overlay_rule_test.cpp ui/session/tract_node_colour_test.cpp LIBS dtf_session)
+dtf_test(test_tract_overlay_rule SOURCES ui/session/tract_overlay_rule_test.cpp ui/session/tract_node_colour_test.cpp
+  ui/session/roi_outline_test.cpp LIBS dtf_session)
 dtf_test(test_viewer_session SOURCES ui/session/viewer_session_test.cpp LIBS dtf_session)
 dtf_test(test_smooth_edge SOURCES ui/session/smooth_edge_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
 dtf_test(test_supersample SOURCES ui/session/supersample_gl_test.cpp LIBS dtf_session dtf_render dtf_io dtf_model)
