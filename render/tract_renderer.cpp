@@ -154,7 +154,7 @@ Polylines decimateForDisplay(const Polylines& lines, const std::vector<std::uint
 DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints, int maxLevels) {
   Polylines shown = decimateForDisplay(lines, maxPoints);
   DisplayTracts d;
-  d.points = std::move(shown.points);
+  d.points = shown.points.take();
   d.lines = shown.lineCount();
   for (const auto& a : shown.perPoint)
     if (a.name == kTractDisplayColours && a.components == 4 && a.values.size() == 4 * d.points.size()) {

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -122,10 +123,13 @@ bool safeEntryName(const std::string& n) {
 
 // The arrays of a TRX container, as views into mappings or inflated buffers owned here.
 struct Container {
-  std::unique_ptr<ZipReader> zip;
-  std::vector<std::unique_ptr<MappedFile>> files;
+  std::shared_ptr<const ZipReader> zip;
+  std::vector<std::shared_ptr<const MappedFile>> files;
   std::vector<std::unique_ptr<std::string>> buffers;
   std::map<std::string, std::string_view> arrays;
+  // What keeps each array's bytes mapped (the archive, or the folder's file) where they are the file's own
+  // bytes (stored, not inflated): such an array can be used in place.
+  std::map<std::string, std::shared_ptr<const void>> mapped;
 };
 
 // The entries of a TRX zip archive or folder into `box` (all names checked to stay inside).
@@ -142,22 +146,26 @@ void openTrxContainer(const std::string& path, TrxInfo& info, Container& box) {
                          "' is a symbolic link (it could point outside the folder)");
       if (it->is_directory(ec)) continue;
       if (!safeEntryName(rel)) throw InputError(path + ": TRX entry '" + rel + "' escapes the folder");
-      box.files.push_back(std::make_unique<MappedFile>(it->path().string()));
+      box.files.push_back(std::make_shared<const MappedFile>(it->path().string()));
       box.arrays[rel] = box.files.back()->bytes();
+      box.mapped[rel] = box.files.back();
     }
     if (ec) throw InputError(path + ": cannot list the TRX folder: " + ec.message());
     return;
   }
   if (const std::string why = notARegularFile(path); !why.empty())
     throw InputError(path + ": cannot read tract file: " + why);
-  box.zip = std::make_unique<ZipReader>(path);
+  box.zip = std::make_shared<const ZipReader>(path);
   for (const auto& e : box.zip->entries()) {
     if (!safeEntryName(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' escapes the archive");
     if (e.name.back() == '/') continue; // folder entry
     if (box.arrays.count(e.name)) throw InputError(path + ": TRX entry '" + e.name + "' appears twice");
     box.buffers.push_back(std::make_unique<std::string>());
     box.arrays[e.name] = box.zip->read(e, *box.buffers.back());
-    if (e.method != 0) ++info.deflatedEntries;
+    if (e.method != 0)
+      ++info.deflatedEntries;
+    else
+      box.mapped[e.name] = box.zip;
   }
 }
 
@@ -222,6 +230,7 @@ void readTrxHeader(const std::string& path, const Container& box, TrxInfo& info)
 struct TrxCore {
   std::string_view positions, offsets;
   Dtype posType{}, offType{};
+  std::shared_ptr<const void> positionsMapped; // set: the positions are the file's own bytes, mapped
 };
 
 TrxCore findTrxCore(const std::string& path, const Container& box, TrxInfo& info) {
@@ -235,6 +244,7 @@ TrxCore findTrxCore(const std::string& path, const Container& box, TrxInfo& info
         throw InputError(path + ": TRX positions '" + name + "' must be positions.3.float16|float32|float64");
       if (!core.positions.empty()) throw InputError(path + ": TRX holds two positions arrays");
       core.positions = bytes;
+      if (const auto m = box.mapped.find(name); m != box.mapped.end()) core.positionsMapped = m->second;
       info.positionsDtype = dt;
     } else if (name.rfind("offsets.", 0) == 0) {
       const std::string dt = name.substr(8);
@@ -299,9 +309,23 @@ void readTrxOffsets(const std::string& path, const TrxCore& c, const TrxInfo& in
   if (nS == 0 && nV > 0) throw InputError(path + ": TRX holds vertices but no streamlines");
 }
 
-// Positions: world RAS mm as stored; float32 is copied once, the others converted.
+// Positions: world RAS mm as stored. Float32 stored uncompressed and aligned to 4 bytes is used in place, in
+// the file's mapping (a whole-brain tractogram is GBs: no copy, and its pages stay the page cache's); float32
+// elsewhere is copied once, other types converted. Either way every position is checked to be finite.
 void readTrxPositions(const std::string& path, const TrxCore& c, std::size_t nV, Polylines& out) {
-  // Huge pages: a whole-brain set is GBs, and the spatial index and the selections read it at random.
+  auto checkFinite = [&](const glm::vec3* p) {
+    for (std::size_t i = 0; i < nV; ++i)
+      if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+        throw InputError(path + ": TRX position " + std::to_string(i) + " is not finite");
+  };
+  if (c.posType.width == 4 && c.positionsMapped && nV > 0 &&
+      reinterpret_cast<std::uintptr_t>(c.positions.data()) % alignof(glm::vec3) == 0) {
+    const auto* p = reinterpret_cast<const glm::vec3*>(c.positions.data());
+    checkFinite(p);
+    out.points = PointArray::view(c.positionsMapped, p, nV);
+    return;
+  }
+  // Huge pages: the spatial index and the selections read the positions at random.
   out.points.reserve(nV);
   adviseHugePages(out.points.data(), nV * sizeof(glm::vec3));
   out.points.resize(nV);
@@ -313,11 +337,7 @@ void readTrxPositions(const std::string& path, const TrxCore& c, std::size_t nV,
         out.points[i][k] =
             static_cast<float>(element(c.positions.data(), c.posType, 3 * i + static_cast<std::size_t>(k)));
   }
-  for (std::size_t i = 0; i < nV; ++i) {
-    const glm::vec3& p = out.points[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw InputError(path + ": TRX position " + std::to_string(i) + " is not finite");
-  }
+  checkFinite(out.points.data());
 }
 
 // A groups/ entry: one integer streamline index per member.

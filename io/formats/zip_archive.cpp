@@ -40,6 +40,7 @@ std::uint32_t crcOf(const char* data, std::size_t size) {
   return static_cast<std::uint32_t>(crc);
 }
 
+constexpr std::uint64_t kDataAlignment = 64; // where stored entries' data begin (bytes)
 constexpr std::uint32_t kLocalSig = 0x04034b50, kCentralSig = 0x02014b50, kEndSig = 0x06054b50,
                         kEnd64Sig = 0x06064b50, kLocator64Sig = 0x07064b50;
 
@@ -191,8 +192,12 @@ void ZipWriter::add(const std::string& name, const void* data, std::size_t size)
   putLe(h, crc, 4);
   putLe(h, zip64 ? kMax32 : size, 4);
   putLe(h, zip64 ? kMax32 : size, 4);
+  // The data start on a multiple of kDataAlignment bytes, so readers can use a mapped array in place: a
+  // padding extra field (zipalign's id 0xd935: the alignment, then zeros) fills the gap.
+  const std::uint64_t before = written_ + 30 + name.size() + (zip64 ? 20 : 0) + 6;
+  const std::uint64_t zeros = (kDataAlignment - before % kDataAlignment) % kDataAlignment;
   putLe(h, name.size(), 2);
-  putLe(h, zip64 ? 20 : 0, 2);
+  putLe(h, (zip64 ? 20 : 0) + 6 + zeros, 2);
   h += name;
   if (zip64) { // the local ZIP64 extra field holds both sizes
     putLe(h, 1, 2);
@@ -200,6 +205,10 @@ void ZipWriter::add(const std::string& name, const void* data, std::size_t size)
     putLe(h, size, 8);
     putLe(h, size, 8);
   }
+  putLe(h, 0xd935, 2);
+  putLe(h, 2 + zeros, 2);
+  putLe(h, kDataAlignment, 2);
+  h.append(zeros, '\0');
   central_.push_back({name, crc, size, written_, zip64});
   out_.write(h.data(), static_cast<std::streamsize>(h.size()));
   if (size) out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));

@@ -53,7 +53,8 @@ private:
   std::vector<Entry> entries_;
 };
 
-// Writes a ZIP archive of stored entries to an open stream. ZIP64 records (APPNOTE 4.5.3, read by Python's
+// Writes a ZIP archive of stored entries to an open stream, each entry's data aligned to 64 bytes in the file
+// (a padding extra field), so that a reader mapping the file can use its arrays in place. ZIP64 records (APPNOTE 4.5.3, read by Python's
 // zipfile, libzip and trx-python) are written for the entries, offsets and counts past the classic limits,
 // or for all of them with Zip64::Always (tests). Throws InputError (naming `path`) on a write failure.
 class ZipWriter {

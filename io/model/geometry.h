@@ -2,6 +2,8 @@
 // Geometry passed between surfaces, tracts and render: triangle meshes and polylines in world RAS mm.
 #pragma once
 
+#include "io/model/point_array.h"
+
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
@@ -41,7 +43,7 @@ struct TractGroup {
 };
 
 struct Polylines {
-  std::vector<glm::vec3> points;       // world RAS mm, all lines concatenated
+  PointArray points;                   // world RAS mm, all lines concatenated (possibly viewed in a file)
   std::vector<std::uint32_t> offsets;  // start of each line in `points`, plus a final entry = points.size()
   std::vector<TractValues> perLine;    // each with lineCount() * components values
   std::vector<TractValues> perPoint;   // each with points.size() * components values

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Mesh::isClosedOutward: the closed-surface test behind back-face culling in the renderer.
+// Mesh::isClosedOutward: the closed-surface test behind back-face culling in the renderer; PointArray, the
+// positions of tracts, viewed in place or owned.
 #include "io/model/geometry.h"
 
 #include <gtest/gtest.h>
+#include <iterator>
+#include <memory>
 
 using namespace dtf;
 
@@ -77,4 +80,51 @@ TEST(MeshClosure, TwoSeparateClosedSurfacesAreClosed) {
   for (auto p : b.positions) a.positions.push_back(p + glm::vec3(5, 0, 0));
   for (auto i : b.indices) a.indices.push_back(i + offset);
   EXPECT_TRUE(a.isClosedOutward());
+}
+
+// A viewed PointArray reads in place and copies itself on the first change, leaving the viewed memory as it
+// was; copies share the view until they change.
+TEST(PointArray, AViewIsReadInPlaceAndCopiedOnTheFirstChange) {
+  auto memory = std::make_shared<std::vector<glm::vec3>>(
+      std::vector<glm::vec3>{{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}});
+  const glm::vec3* at = memory->data();
+  dtf::PointArray a = dtf::PointArray::view(memory, at, 3); // the first three only
+  ASSERT_TRUE(a.viewed());
+  EXPECT_EQ(a.size(), 3u);
+  const dtf::PointArray& ca = a;
+  EXPECT_EQ(ca.data(), at) << "const access reads the viewed memory";
+  EXPECT_EQ(ca[2], glm::vec3(7, 8, 9));
+  EXPECT_EQ(ca.back(), glm::vec3(7, 8, 9));
+  EXPECT_EQ(std::distance(ca.begin(), ca.end()), 3);
+  dtf::PointArray b = a; // shares the view
+  EXPECT_TRUE(b.viewed());
+  EXPECT_EQ(static_cast<const dtf::PointArray&>(b).data(), at);
+  EXPECT_TRUE(a == b);
+  // A change copies the view first; the viewed memory and the other copy keep their values.
+  b[1] = glm::vec3(0);
+  EXPECT_FALSE(b.viewed());
+  EXPECT_NE(static_cast<const dtf::PointArray&>(b).data(), at);
+  EXPECT_EQ((*memory)[1], glm::vec3(4, 5, 6));
+  EXPECT_EQ(ca[1], glm::vec3(4, 5, 6));
+  EXPECT_FALSE(a == b);
+  // Inserting at a place in a view inserts at that place of the copy.
+  dtf::PointArray c = a;
+  c.insert(static_cast<const dtf::PointArray&>(c).begin() + 1, glm::vec3(-1));
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c[0], glm::vec3(1, 2, 3));
+  EXPECT_EQ(c[1], glm::vec3(-1));
+  EXPECT_EQ(c[3], glm::vec3(7, 8, 9));
+  // The view keeps its owner alive.
+  const std::weak_ptr<std::vector<glm::vec3>> watch = memory;
+  memory.reset();
+  EXPECT_FALSE(watch.expired());
+  EXPECT_EQ(ca[0], glm::vec3(1, 2, 3));
+  a.clear();
+  b = dtf::PointArray{};
+  EXPECT_TRUE(watch.expired()) << "the last view gone, the owner goes";
+  // A vector converts; take() moves it out.
+  dtf::PointArray d = std::vector<glm::vec3>{{1, 1, 1}};
+  EXPECT_FALSE(d.viewed());
+  EXPECT_EQ(d.take(), std::vector<glm::vec3>{glm::vec3(1)});
+  EXPECT_TRUE(d.empty());
 }

@@ -826,3 +826,34 @@ TEST(TractFormatsRoundTrip, Zip64TrxReadsHereAndInPython) {
                             path.string() + "'";
   EXPECT_EQ(std::system(check.c_str()), 0) << check;
 }
+
+// A TRX written here (stored float32, each array aligned in the file) is read in place: its positions are a
+// view of the file's mapping, equal to what was written; a changed copy leaves the file as it was. Positions
+// that cannot be viewed (a deflated entry) are read into memory alike.
+TEST(TractFormatsTrx, StoredFloat32PositionsAreReadInPlace) {
+  const fs::path dir = dtf::test::scratchDir();
+  const Polylines src = richLines();
+  const fs::path path = dir / "inplace.trx";
+  dtf::io::writeTrx(path.string(), src, lasReference());
+  Polylines read = dtf::io::readTrx(path.string());
+  ASSERT_TRUE(read.points.viewed()) << "stored float32 positions are used in place";
+  EXPECT_TRUE(read.points == src.points);
+  EXPECT_EQ(read.offsets, src.offsets);
+  Polylines copy = read;
+  copy.points[0] += glm::vec3(100);
+  EXPECT_FALSE(copy.points.viewed());
+  EXPECT_TRUE(read.points.viewed());
+  EXPECT_TRUE(read.points == src.points);
+  EXPECT_TRUE(dtf::io::readTrx(path.string()).points == src.points) << "the file is unchanged";
+  // The same arrays with the positions deflated are copied out of the archive.
+  const std::string header = R"({"NB_VERTICES": )" + std::to_string(src.points.size()) +
+                             R"(, "NB_STREAMLINES": )" + std::to_string(src.lineCount()) + "}";
+  const std::string pos(reinterpret_cast<const char*>(src.points.data()), src.points.size() * 12);
+  const std::string off(reinterpret_cast<const char*>(src.offsets.data()), src.offsets.size() * 4);
+  const fs::path deflated = dir / "deflated.trx";
+  std::ofstream(deflated, std::ios::binary)
+      << dtf::test::zipArchive({{"header.json", header}, {"positions.3.float32", pos, true}, {"offsets.uint32", off}});
+  const Polylines d = dtf::io::readTrx(deflated.string());
+  EXPECT_FALSE(d.points.viewed());
+  EXPECT_TRUE(d.points == src.points);
+}
