@@ -24,6 +24,13 @@ double regionDiff(const dtf::Image& a, const dtf::Image& b, const std::array<int
   return sum / (3.0 * r[2] * r[3]);
 }
 
+// The phantom in the ortho layout, converged.
+void showOrthoPhantom(dtf::test::ViewScene& v) {
+  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
+  v.apply(dtf::session::SetOrtho{true});
+  v.converge();
+}
+
 bool crosshairColour(const std::uint8_t* p) {
   return p[0] == 255 && p[1] == 230 && p[2] == 90;
 }
@@ -33,9 +40,7 @@ bool crosshairColour(const std::uint8_t* p) {
 TEST(ViewOrtho, ClickMovesTheCrosshairAndTheOtherPanesFollow) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::session::SetOrtho{true});
-  v.converge();
+  showOrthoPhantom(v);
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
   ASSERT_TRUE(v.state().ortho);
   auto& scene = v.scene;
@@ -96,9 +101,7 @@ TEST(ViewOrtho, ClickMovesTheCrosshairAndTheOtherPanesFollow) {
 TEST(ViewOrtho, EachSlicePaneHasItsOrientationLetters) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::session::SetOrtho{true});
-  v.converge();
+  showOrthoPhantom(v);
   const auto letters = [&](int s) {
     const dtf::render::Camera& c = v.scene.orthoCamera(s);
     const glm::dvec3 right = c.right(), up = glm::normalize(glm::cross(right, c.forward()));
@@ -218,9 +221,7 @@ TEST(ViewOrtho, AnOpenedSliceStartsTheLayoutAndTheAnatomyCoversTheGrid) {
 TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::session::SetOrtho{true});
-  v.converge();
+  showOrthoPhantom(v);
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
   auto& scene = v.scene;
   const glm::dvec3 cross = v.state().crosshair;
@@ -295,9 +296,7 @@ TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
 TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::session::SetOrtho{true});
-  v.converge();
+  showOrthoPhantom(v);
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
   auto& scene = v.scene;
   const glm::dvec3 cross = v.state().crosshair;
@@ -360,9 +359,7 @@ TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
 TEST(ViewOrtho, ARegionIsDraggedWithinItsSliceAndScaledByTheWheel) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
-  v.apply(dtf::session::LoadFile{kPhantom, "auto"});
-  v.apply(dtf::session::SetOrtho{true});
-  v.converge();
+  showOrthoPhantom(v);
   ASSERT_TRUE(v.state().errorChain.empty()) << v.lastError();
   auto& scene = v.scene;
   const glm::dvec3 cross = v.state().crosshair;
