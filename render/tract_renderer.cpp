@@ -52,7 +52,8 @@ glm::vec3 tractValueColour(float t) {
 namespace {
 
 // decimateForDisplay over the lines `keep` lists (ascending; null: every line).
-Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* keep, std::size_t maxPoints) {
+Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* keep, std::size_t maxPoints,
+                   std::size_t minLinePoints) {
   Polylines out;
   out.offsets.push_back(0);
   const std::size_t candidates = keep ? keep->size() : lines.lineCount();
@@ -65,13 +66,13 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
   std::size_t longest = 0, shapePoints = 0, drawableLines = 0;
   for (std::size_t k = 0; k < candidates; ++k) {
     const std::size_t n = sizeOf(lineAt(k));
-    if (n >= 2) shapePoints += std::min(n, kMinDisplayLinePoints), ++drawableLines;
+    if (n >= 2) shapePoints += std::min(n, std::max<std::size_t>(minLinePoints, 2)), ++drawableLines;
     longest = std::max(longest, n);
   }
   for (const auto& d : lines.perLine)
     out.perLine.push_back({d.name, d.components, {}});
   if (shapePoints == 0 || maxPoints < 2) return out;
-  // Every m-th drawable line when the lines at kMinDisplayLinePoints points each exceed the cap. The second
+  // Every m-th drawable line when the lines at minLinePoints points each exceed the cap. The second
   // bound makes two points per kept line always fit, however the line lengths are spread.
   const std::size_t pairs = maxPoints / 2;
   const std::size_t lineStep =
@@ -143,12 +144,12 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
 } // namespace
 
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints) {
-  return decimate(lines, nullptr, maxPoints);
+  return decimate(lines, nullptr, maxPoints, kMinDisplayLinePoints);
 }
 
 Polylines decimateForDisplay(const Polylines& lines, const std::vector<std::uint32_t>& keep,
-                             std::size_t maxPoints) {
-  return decimate(lines, &keep, maxPoints);
+                             std::size_t maxPoints, std::size_t minLinePoints) {
+  return decimate(lines, &keep, maxPoints, minLinePoints);
 }
 
 DisplayTracts prepareDisplayTracts(const Polylines& lines, std::size_t maxPoints, int maxLevels) {

@@ -63,9 +63,13 @@ inline constexpr std::size_t kMinDisplayLinePoints = 8;
 Polylines decimateForDisplay(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
 // The same for the lines `keep` lists (ascending indices into `lines`): decimateForDisplay of
 // surfaces::subsetWithGroups(lines, keep), without making that subset (what a region change draws: its cost
-// follows the selection's line count and the cap, not its points).
+// follows the selection's line count and the cap, not its points). `minLinePoints` replaces
+// kMinDisplayLinePoints: kWholeDisplayLines keeps the lines whole (every m-th of them), as a near-surface
+// selection needs them.
+inline constexpr std::size_t kWholeDisplayLines = static_cast<std::size_t>(-1);
 Polylines decimateForDisplay(const Polylines& lines, const std::vector<std::uint32_t>& keep,
-                             std::size_t maxPoints = kTractDisplayPointCap);
+                             std::size_t maxPoints = kTractDisplayPointCap,
+                             std::size_t minLinePoints = kMinDisplayLinePoints);
 
 // What TractRenderer uploads, prepared on any thread: the display points and the segments of each level.
 struct DisplayTracts {

@@ -4,6 +4,7 @@
 #include "io/model/error.h"
 #include "render/tract_renderer.h"
 #include "surfaces/selection/tract_selection.h"
+#include "ui/session/tract_overlay.h"
 
 #include <chrono>
 
@@ -35,8 +36,11 @@ RoiResult RoiWorker::run(const RoiJob& job, const surfaces::TractIndex* index) {
   const surfaces::TractView view = surfaces::viewOf(*job.tracts);
   r.lines = std::make_shared<const std::vector<std::uint32_t>>(surfaces::selectLines(view, tester, index));
   r.selectMs = msSince(t0);
-  if (job.subset) // only what is drawn: the full subset of a large selection would be decimated anyway
-    r.subset = std::make_shared<const Polylines>(render::decimateForDisplay(*job.tracts, *r.lines));
+  if (job.subset) // only what is drawn: the full subset of a large selection would be sampled anyway
+    r.subset = std::make_shared<const Polylines>(
+        job.subsetWholeLines
+            ? render::decimateForDisplay(*job.tracts, *r.lines, kNearSurfacePointCap, render::kWholeDisplayLines)
+            : render::decimateForDisplay(*job.tracts, *r.lines));
   return r;
 }
 

@@ -30,6 +30,9 @@ struct RoiJob {
   std::uint64_t tractsSerial = 0; // a new serial: the index is rebuilt
   surfaces::RegionSet set;        // no region and no length range: every streamline (the index is built)
   bool subset = false; // also make the selected streamlines' display subset (what the viewer draws)
+  // The subset keeps whole streamlines (every m-th, up to kNearSurfacePointCap points) for a curved surface's
+  // near-surface rule, which needs them at full resolution; else the display decimation.
+  bool subsetWholeLines = false;
 };
 
 struct RoiResult {
@@ -37,7 +40,8 @@ struct RoiResult {
   bool active = false; // the set had a region or a length range
   std::shared_ptr<const std::vector<std::uint32_t>> lines; // active: the kept streamlines, ascending
   // job.subset and active: render::decimateForDisplay of the kept streamlines (with their values and
-  // groups): every point of a selection under render::kTractDisplayPointCap points, else a display sample.
+  // groups): every point of a selection under render::kTractDisplayPointCap points (subsetWholeLines:
+  // kNearSurfacePointCap), else a display sample.
   std::shared_ptr<const Polylines> subset;
   std::string error;   // non-empty: the selection failed (nothing else is set)
   double indexMs = 0;  // time spent building the index in this job (0: reused)

@@ -37,7 +37,7 @@ TractPick pickTracts(const Mesh& surface, double nearMm);
 // streamlines (every m-th, whole) is measured. The selection only feeds the display, which keeps at most
 // render::kTractDisplayPointCap points; measuring every point of a whole-brain tractogram (500 M points
 // for 10 M streamlines) against the surface takes many minutes.
-inline constexpr std::size_t kNearSurfacePointCap = 2 * render::kTractDisplayPointCap;
+inline constexpr std::size_t kNearSurfacePointCap = render::kTractDisplayPointCap;
 
 // The tracts `surface` shows: `all` (every tract: a planar surface, or nearMm 0) or the pieces within nearMm
 // of it in `near` (surfaces/analyses/near_surface.h), of every lineStep-th streamline (1 up to

@@ -5,6 +5,7 @@
 #include "io/model/error.h"
 #include "io/model/log.h"
 #include "io/model/tensor.h"
+#include "surfaces/analyses/near_surface.h"
 #include "surfaces/analyses/tract_profile.h"
 #include "surfaces/selection/tract_selection.h"
 #include "surfaces/slices.h"
@@ -278,7 +279,13 @@ void ViewerSession::setMesh(Mesh&& mesh) {
   mesh_->bounds(lo, hi);
   meshCentre_ = 0.5f * (lo + hi);
   state_.triangles = mesh_->triangleCount();
+  reselectForSurface();
   requestSelection();
+}
+
+void ViewerSession::reselectForSurface() {
+  nearRule_ = mesh_ && state_.tractsNearMm > 0 && !surfaces::meshPlane(*mesh_);
+  if (tracts_ && roi_.active && state_.roiHideOthers && nearRule_ != roiWholeLines_) requestRoi();
 }
 
 void ViewerSession::countFibres() {
@@ -730,6 +737,7 @@ void ViewerSession::requestRoi() {
   job.tractsSerial = roiTractsSerial_;
   job.set = state_.roiSet;
   job.subset = state_.roiHideOthers;
+  job.subsetWholeLines = roiWholeLines_ = nearRule_;
   roi_.pending = true;
   state_.roiSelecting = true;
   roiWorker_.request(std::move(job));
@@ -923,6 +931,7 @@ void ViewerSession::apply(const Action& action) {
           } else if constexpr (std::is_same_v<T, SetTractsNear>) {
             if (!(a.mm >= 0 && a.mm <= 1000)) throw UsageError("tract distance must lie in [0, 1000] mm");
             state_.tractsNearMm = a.mm;
+            reselectForSurface();
             requestSelection();
           } else if constexpr (std::is_same_v<T, SetTractsClip>) {
             if (!(a.mm >= 0 && a.mm <= 1000))

@@ -186,6 +186,11 @@ private:
   // Its streamlines as drawn (the others hidden): their display decimation, made by the ROI worker.
   std::shared_ptr<const Polylines> roiSubset_;
   std::uint64_t roiTractsSerial_ = 0, latestRoi_ = 0; // the tract set the ROI worker indexes; its latest job
+  // The surface on screen is curved and tracts are drawn near it (the near-surface rule applies); the ROI
+  // subset the last request asked for keeps whole streamlines for it (RoiJob::subsetWholeLines).
+  bool nearRule_ = false, roiWholeLines_ = false;
+  // Asks for the ROI subset again when the surface's rule changed what it must hold.
+  void reselectForSurface();
   std::optional<ComputeAgreement> pendingAgreement_; // waits for the surface or tracts on their way
 
   std::vector<std::string> inputs_;        // files read so far: never written (mayWrite)

@@ -77,6 +77,17 @@ TEST(TractDecimation, PastTheCapLinesKeepTheirShape) {
     EXPECT_EQ(out.points[out.offsets[l] + 1].x, 7.0f);
     EXPECT_EQ(out.points[out.offsets[l + 1] - 1].x, 49.0f);
   }
+  // Whole lines (for the near-surface rule): every 13th line, each with all its 50 points.
+  std::vector<std::uint32_t> every(1000);
+  for (std::uint32_t i = 0; i < 1000; ++i)
+    every[i] = i;
+  const Polylines whole = render::decimateForDisplay(in, every, 4000, render::kWholeDisplayLines);
+  ASSERT_EQ(whole.lineCount(), 77u);
+  EXPECT_EQ(whole.points.size(), 77u * 50u);
+  for (std::size_t l = 0; l < whole.lineCount(); ++l) {
+    EXPECT_EQ(whole.offsets[l + 1] - whole.offsets[l], 50u);
+    EXPECT_EQ(whole.points[whole.offsets[l]].y, 13.0f * static_cast<float>(l));
+  }
   // Two-point lines only when even one short line per kept line exceeds the cap: 5000 lines, cap 1000.
   const Polylines chords = render::decimateForDisplay(gridLines(5000, 50), 1000);
   EXPECT_LE(chords.points.size(), 1000u);
