@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <thread>
 
 namespace dtf::render {
 
@@ -51,6 +52,23 @@ glm::vec3 tractValueColour(float t) {
 
 namespace {
 
+// Output points from which decimate() copies the lines on two threads.
+constexpr std::size_t kParallelDecimation = 200'000;
+
+// The groups of `lines` restricted to the lines `kept` (ascending) as `out` numbers them.
+void restrictGroups(const Polylines& lines, const std::vector<std::uint32_t>& kept, Polylines& out) {
+  for (const TractGroup& g : lines.groups) {
+    TractGroup ng;
+    ng.name = g.name;
+    for (std::uint32_t i : g.lines) {
+      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
+      if (it != kept.end() && *it == i) ng.lines.push_back(static_cast<std::uint32_t>(it - kept.begin()));
+    }
+    std::sort(ng.lines.begin(), ng.lines.end());
+    out.groups.push_back(std::move(ng));
+  }
+}
+
 // decimateForDisplay over the lines `keep` lists (ascending; null: every line).
 Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* keep, std::size_t maxPoints,
                    std::size_t minLinePoints) {
@@ -77,17 +95,22 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
   const std::size_t pairs = maxPoints / 2;
   const std::size_t lineStep =
       std::max((shapePoints + maxPoints - 1) / maxPoints, (drawableLines + pairs - 1) / pairs);
-  std::vector<std::uint32_t> kept; // source line of each output line, ascending when `keep` is
+  std::vector<std::uint32_t> kept, keptSize; // source line of each output line (ascending when `keep` is)
   kept.reserve(drawableLines / lineStep + 1);
+  keptSize.reserve(drawableLines / lineStep + 1);
   std::size_t drawable = 0;
   for (std::size_t k = 0; k < candidates; ++k) {
     const std::uint32_t l = lineAt(k);
-    if (sizeOf(l) >= 2 && drawable++ % lineStep == 0) kept.push_back(l);
+    const std::size_t n = sizeOf(l);
+    if (n >= 2 && drawable++ % lineStep == 0) {
+      kept.push_back(l);
+      keptSize.push_back(static_cast<std::uint32_t>(n));
+    }
   }
   auto total = [&](std::size_t step) {
     std::size_t sum = 0;
-    for (std::uint32_t l : kept)
-      sum += keptPoints(sizeOf(l), step);
+    for (std::uint32_t n : keptSize)
+      sum += keptPoints(n, step);
     return sum;
   };
   // total() does not increase with the step: the smallest step that fits, by bisection.
@@ -101,6 +124,36 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
   }
   const std::size_t step = lo;
   const std::size_t count = total(step);
+  if (lines.perPoint.empty() && count >= kParallelDecimation) {
+    // Positions only (a whole-brain tractogram's usual case): each kept line's place in the output is known
+    // from its size, so the lines are copied on two threads; the copy reads the positions at random.
+    out.offsets.resize(kept.size() + 1);
+    for (std::size_t k = 0; k < kept.size(); ++k)
+      out.offsets[k + 1] = out.offsets[k] + static_cast<std::uint32_t>(keptPoints(keptSize[k], step));
+    out.points.resize(count);
+    glm::vec3* dst = out.points.data();
+    auto copy = [&](std::size_t from, std::size_t to) {
+      for (std::size_t k = from; k < to; ++k) {
+        const glm::vec3* src = lines.points.data() + lines.offsets[kept[k]];
+        glm::vec3* o = dst + out.offsets[k];
+        const std::size_t n = keptSize[k];
+        for (std::size_t i = 0; i < n - 1; i += step)
+          *o++ = src[i];
+        *o = src[n - 1];
+      }
+    };
+    std::thread helper(copy, kept.size() / 2, kept.size());
+    copy(0, kept.size() / 2);
+    helper.join();
+    for (std::size_t k = 0; k < kept.size(); ++k)
+      for (std::size_t a = 0; a < lines.perLine.size(); ++a) {
+        const auto c = static_cast<std::size_t>(lines.perLine[a].components);
+        const auto first = lines.perLine[a].values.begin() + static_cast<std::ptrdiff_t>(kept[k] * c);
+        out.perLine[a].values.insert(out.perLine[a].values.end(), first, first + static_cast<std::ptrdiff_t>(c));
+      }
+    restrictGroups(lines, kept, out);
+    return out;
+  }
   out.points.reserve(count);
   out.offsets.reserve(kept.size() + 1);
   for (const auto& d : lines.perPoint) {
@@ -127,17 +180,7 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
       out.perLine[a].values.insert(out.perLine[a].values.end(), first, first + static_cast<std::ptrdiff_t>(c));
     }
   }
-  // `kept` ascends when `keep` does: each group's members by binary search.
-  for (const TractGroup& g : lines.groups) {
-    TractGroup ng;
-    ng.name = g.name;
-    for (std::uint32_t i : g.lines) {
-      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
-      if (it != kept.end() && *it == i) ng.lines.push_back(static_cast<std::uint32_t>(it - kept.begin()));
-    }
-    std::sort(ng.lines.begin(), ng.lines.end());
-    out.groups.push_back(std::move(ng));
-  }
+  restrictGroups(lines, kept, out);
   return out;
 }
 
@@ -210,21 +253,38 @@ void TractRenderer::setTracts(const Polylines& lines, std::size_t maxPoints) {
   upload(prepareDisplayTracts(lines, maxPoints));
 }
 
+namespace {
+
+// Puts `bytes` of `data` at the start of `buffer`, reusing its storage when `capacity` holds them (a region
+// change uploads a new selection of about the same size: no new allocation, no page faults on first touch);
+// else a new buffer with a quarter more room. Returns false when the GL is out of memory.
+bool fill(Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
+  if (!buffer.id() || bytes > capacity) {
+    buffer = createBuffer();
+    capacity = std::max<std::size_t>(bytes + bytes / 4, 4096);
+    glNamedBufferStorage(buffer.id(), static_cast<GLsizeiptr>(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (glGetError() == GL_OUT_OF_MEMORY) {
+      buffer = Buffer();
+      capacity = 0;
+      return false;
+    }
+  }
+  if (bytes) glNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(bytes), data);
+  return true;
+}
+
+} // namespace
+
 void TractRenderer::upload(const DisplayTracts& t) {
-  points_ = Buffer();
-  segments_ = Buffer();
   levelOffsets_.assign(1, 0);
   pointCount_ = lineCount_ = 0;
+  hasNodes_ = false;
   if (t.points.empty() || t.segments.empty()) return;
-  points_ = createBuffer();
-  glNamedBufferStorage(points_.id(), static_cast<GLsizeiptr>(t.points.size() * sizeof(glm::vec3)),
-                       t.points.data(), 0);
-  segments_ = createBuffer();
-  glNamedBufferStorage(segments_.id(), static_cast<GLsizeiptr>(t.segments.size() * sizeof(std::uint32_t)),
-                       t.segments.data(), 0);
-  if (glGetError() == GL_OUT_OF_MEMORY) {
+  if (!fill(points_, pointsCapacity_, t.points.data(), t.points.size() * sizeof(glm::vec3)) ||
+      !fill(segments_, segmentsCapacity_, t.segments.data(), t.segments.size() * sizeof(std::uint32_t))) {
     points_ = Buffer();
     segments_ = Buffer();
+    pointsCapacity_ = segmentsCapacity_ = 0;
     throw GlError("out of GPU memory for " + std::to_string(t.points.size()) + " tract points");
   }
   glVertexArrayVertexBuffer(vao_.id(), 0, points_.id(), 0, sizeof(glm::vec3));
@@ -232,11 +292,8 @@ void TractRenderer::upload(const DisplayTracts& t) {
   glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
   glVertexArrayElementBuffer(vao_.id(), segments_.id());
-  colours_ = Buffer();
-  if (t.colours.size() == t.points.size()) {
-    colours_ = createBuffer();
-    glNamedBufferStorage(colours_.id(), static_cast<GLsizeiptr>(t.colours.size() * sizeof(glm::u8vec4)),
-                         t.colours.data(), 0);
+  if (t.colours.size() == t.points.size() &&
+      fill(colours_, coloursCapacity_, t.colours.data(), t.colours.size() * sizeof(glm::u8vec4))) {
     glVertexArrayVertexBuffer(vao_.id(), 1, colours_.id(), 0, sizeof(glm::u8vec4));
     glEnableVertexArrayAttrib(vao_.id(), 1);
     glVertexArrayAttribFormat(vao_.id(), 1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
@@ -244,12 +301,9 @@ void TractRenderer::upload(const DisplayTracts& t) {
   } else {
     glDisableVertexArrayAttrib(vao_.id(), 1);
   }
-  nodes_ = Buffer();
-  hasNodes_ = t.nodes.size() == t.points.size();
+  hasNodes_ = t.nodes.size() == t.points.size() &&
+              fill(nodes_, nodesCapacity_, t.nodes.data(), t.nodes.size() * sizeof(float));
   if (hasNodes_) {
-    nodes_ = createBuffer();
-    glNamedBufferStorage(nodes_.id(), static_cast<GLsizeiptr>(t.nodes.size() * sizeof(float)), t.nodes.data(),
-                         0);
     glVertexArrayVertexBuffer(vao_.id(), 2, nodes_.id(), 0, sizeof(float));
     glEnableVertexArrayAttrib(vao_.id(), 2);
     glVertexArrayAttribFormat(vao_.id(), 2, 1, GL_FLOAT, GL_FALSE, 0);

@@ -112,7 +112,8 @@ public:
 
   // Uploads `lines` (world RAS mm) via prepareDisplayTracts(lines, maxPoints). Throws GlError.
   void setTracts(const Polylines& lines, std::size_t maxPoints = kTractDisplayPointCap);
-  // Uploads prepared display tracts (the GL part of setTracts). Throws GlError.
+  // Uploads prepared display tracts (the GL part of setTracts), into the buffers of the last upload when
+  // they are large enough. Throws GlError.
   void upload(const DisplayTracts& tracts);
   // Draws every segment of level 0 into the currently bound framebuffer (e.g. FabricRenderer::output()) at
   // view.viewport, with depth test (GL_LESS) against its depth and depth writes on; clears nothing.
@@ -137,6 +138,7 @@ private:
   ShaderProgram program_; // tracts/lines.{vert,geom,frag}; uniforms by TractLinesProgram::Uniform
   VertexArray vao_;
   Buffer points_, segments_, colours_, nodes_;
+  std::size_t pointsCapacity_ = 0, segmentsCapacity_ = 0, coloursCapacity_ = 0, nodesCapacity_ = 0; // bytes
   bool hasNodes_ = false;
   std::vector<std::size_t> levelOffsets_{0};
   std::size_t pointCount_ = 0, lineCount_ = 0;

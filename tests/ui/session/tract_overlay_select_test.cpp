@@ -260,3 +260,28 @@ TEST(TractSelection, CancelledSelectionIsEmpty) {
   EXPECT_EQ(surfaces::selectNearSurface(gridLines(200, 20), query, 1.0, o).lineCount(),
             52u); // y = 0 .. 51 (the plane ends at 50)
 }
+
+// Positions only and at least 200 k points out: the lines are copied on two threads, each into the place its
+// size gives it. Whole lines equal Polylines::subset; decimated ones hold every step-th point and the last.
+TEST(TractDecimation, TheParallelCopyPutsEveryLineInItsPlace) {
+  const Polylines in = gridLines(4001, 200);
+  std::vector<std::uint32_t> keep;
+  for (std::uint32_t l = 0; l < 4001; l += 2)
+    keep.push_back(l); // 2001 lines, 400200 points
+  const Polylines whole = render::decimateForDisplay(in, keep);
+  const Polylines reference = in.subset(keep);
+  EXPECT_EQ(whole.offsets, reference.offsets);
+  EXPECT_TRUE(whole.points == reference.points);
+  // A cap of 250 k: every line (2001 * 8 points fit) at every 2nd point and the last, 101 points each.
+  const Polylines thin = render::decimateForDisplay(in, keep, 250'000);
+  EXPECT_LE(thin.points.size(), 250'000u);
+  EXPECT_GE(thin.points.size(), 200'000u) << "the parallel path is taken";
+  ASSERT_EQ(thin.lineCount(), keep.size());
+  const std::size_t n = 101, step = 2;
+  for (std::size_t l = 0; l < thin.lineCount(); ++l) {
+    ASSERT_EQ(thin.offsets[l + 1] - thin.offsets[l], n);
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      ASSERT_EQ(thin.points[thin.offsets[l] + i], glm::vec3(float(i * step), float(keep[l]), 0)) << l << " " << i;
+    EXPECT_EQ(thin.points[thin.offsets[l + 1] - 1], glm::vec3(199, float(keep[l]), 0));
+  }
+}
