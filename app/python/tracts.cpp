@@ -121,7 +121,10 @@ py::dict selectTracts(const py::object& tracts, const py::object& include, const
   for (std::uint32_t i : keep) {
     const auto n = static_cast<py::ssize_t>(in.lines.offsets[i + 1] - in.lines.offsets[i]);
     py::array_t<float> a({n, py::ssize_t(3)});
-    if (n) std::memcpy(a.mutable_data(), &in.lines.points[in.lines.offsets[i]], static_cast<std::size_t>(n) * sizeof(glm::vec3));
+    // Through a const view: a TRX's positions are read in place, and non-const access would copy them all.
+    const Polylines& from = in.lines;
+    if (n)
+      std::memcpy(a.mutable_data(), &from.points[from.offsets[i]], static_cast<std::size_t>(n) * sizeof(glm::vec3));
     lines.append(std::move(a));
   }
   py::dict d;
