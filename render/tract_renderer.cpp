@@ -52,22 +52,8 @@ glm::vec3 tractValueColour(float t) {
 
 namespace {
 
-// Output points from which decimate() copies the lines on two threads.
+// Output points from which decimate() copies positions-only lines on two threads.
 constexpr std::size_t kParallelDecimation = 200'000;
-
-// The groups of `lines` restricted to the lines `kept` (ascending) as `out` numbers them.
-void restrictGroups(const Polylines& lines, const std::vector<std::uint32_t>& kept, Polylines& out) {
-  for (const TractGroup& g : lines.groups) {
-    TractGroup ng;
-    ng.name = g.name;
-    for (std::uint32_t i : g.lines) {
-      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
-      if (it != kept.end() && *it == i) ng.lines.push_back(static_cast<std::uint32_t>(it - kept.begin()));
-    }
-    std::sort(ng.lines.begin(), ng.lines.end());
-    out.groups.push_back(std::move(ng));
-  }
-}
 
 // decimateForDisplay over the lines `keep` lists (ascending; null: every line).
 Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* keep, std::size_t maxPoints,
@@ -124,9 +110,9 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
   }
   const std::size_t step = lo;
   const std::size_t count = total(step);
-  if (lines.perPoint.empty() && count >= kParallelDecimation) {
+  if (lines.perPoint.empty()) {
     // Positions only (a whole-brain tractogram's usual case): each kept line's place in the output is known
-    // from its size, so the lines are copied on two threads; the copy reads the positions at random.
+    // from its size, so large outputs are copied on two threads; the copy reads the positions at random.
     out.offsets.resize(kept.size() + 1);
     for (std::size_t k = 0; k < kept.size(); ++k)
       out.offsets[k + 1] = out.offsets[k] + static_cast<std::uint32_t>(keptPoints(keptSize[k], step));
@@ -142,45 +128,49 @@ Polylines decimate(const Polylines& lines, const std::vector<std::uint32_t>* kee
         *o = src[n - 1];
       }
     };
-    std::thread helper(copy, kept.size() / 2, kept.size());
-    copy(0, kept.size() / 2);
-    helper.join();
-    for (std::size_t k = 0; k < kept.size(); ++k)
-      for (std::size_t a = 0; a < lines.perLine.size(); ++a) {
-        const auto c = static_cast<std::size_t>(lines.perLine[a].components);
-        const auto first = lines.perLine[a].values.begin() + static_cast<std::ptrdiff_t>(kept[k] * c);
-        out.perLine[a].values.insert(out.perLine[a].values.end(), first, first + static_cast<std::ptrdiff_t>(c));
-      }
-    restrictGroups(lines, kept, out);
-    return out;
-  }
-  out.points.reserve(count);
-  out.offsets.reserve(kept.size() + 1);
-  for (const auto& d : lines.perPoint) {
-    out.perPoint.push_back({d.name, d.components, {}});
-    out.perPoint.back().values.reserve(count * static_cast<std::size_t>(d.components));
-  }
-  for (std::uint32_t l : kept) {
-    const std::size_t b = lines.offsets[l], n = sizeOf(l);
-    if (step == 1) {
-      out.appendPoints(lines, b, b + n);
-    } else if (lines.perPoint.empty()) {
-      for (std::size_t i = 0; i < n - 1; i += step)
-        out.points.push_back(lines.points[b + i]);
-      out.points.push_back(lines.points[b + n - 1]);
+    if (count >= kParallelDecimation) {
+      std::thread helper(copy, kept.size() / 2, kept.size());
+      copy(0, kept.size() / 2);
+      helper.join();
     } else {
-      for (std::size_t i = 0; i < n - 1; i += step)
-        out.appendPoints(lines, b + i, b + i + 1);
-      out.appendPoints(lines, b + n - 1, b + n);
+      copy(0, kept.size());
     }
-    out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
+  } else {
+    out.points.reserve(count);
+    out.offsets.reserve(kept.size() + 1);
+    for (const auto& d : lines.perPoint) {
+      out.perPoint.push_back({d.name, d.components, {}});
+      out.perPoint.back().values.reserve(count * static_cast<std::size_t>(d.components));
+    }
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const std::size_t b = lines.offsets[kept[k]], n = keptSize[k];
+      if (step == 1) {
+        out.appendPoints(lines, b, b + n);
+      } else {
+        for (std::size_t i = 0; i < n - 1; i += step)
+          out.appendPoints(lines, b + i, b + i + 1);
+        out.appendPoints(lines, b + n - 1, b + n);
+      }
+      out.offsets.push_back(static_cast<std::uint32_t>(out.points.size()));
+    }
+  }
+  for (std::uint32_t l : kept)
     for (std::size_t a = 0; a < lines.perLine.size(); ++a) {
       const auto c = static_cast<std::size_t>(lines.perLine[a].components);
       const auto first = lines.perLine[a].values.begin() + static_cast<std::ptrdiff_t>(l * c);
       out.perLine[a].values.insert(out.perLine[a].values.end(), first, first + static_cast<std::ptrdiff_t>(c));
     }
+  // `kept` ascends when `keep` does: each group's members by binary search.
+  for (const TractGroup& g : lines.groups) {
+    TractGroup ng;
+    ng.name = g.name;
+    for (std::uint32_t i : g.lines) {
+      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
+      if (it != kept.end() && *it == i) ng.lines.push_back(static_cast<std::uint32_t>(it - kept.begin()));
+    }
+    std::sort(ng.lines.begin(), ng.lines.end());
+    out.groups.push_back(std::move(ng));
   }
-  restrictGroups(lines, kept, out);
   return out;
 }
 
