@@ -182,10 +182,28 @@ bool ViewerScene::regionOutlinePixels(int s, std::size_t i, std::vector<glm::dve
   const surfaces::Region& r = st.roiSet.regions[i];
   const bool mask = r.shape == surfaces::RegionShape::Mask;
   if (segments) *segments = mask;
-  if (mask ? !session::maskOutline(r, -plane.w * n, n, outlineWorld_, outlineSamples_)
-           : !session::regionOutline(r, -plane.w * n, n, outlineWorld_))
+  const std::vector<glm::dvec3>* world = &outlineWorld_;
+  if (mask) {
+    const glm::vec4 key = *orthoPlanes_[s];
+    auto hit = std::find_if(maskOutlines_.begin(), maskOutlines_.end(),
+                            [&](const MaskOutline& m) { return m.mask == r.mask && m.plane == key; });
+    if (hit == maskOutlines_.end()) {
+      if (maskOutlines_.size() < kMaskOutlineCache) {
+        maskOutlines_.emplace_back();
+        hit = std::prev(maskOutlines_.end());
+      } else {
+        hit = maskOutlines_.begin() + static_cast<std::ptrdiff_t>(nextMaskOutline_++ % kMaskOutlineCache);
+      }
+      hit->mask = r.mask;
+      hit->plane = key;
+      hit->cuts = session::maskOutline(r, -plane.w * n, n, hit->segments, outlineSamples_);
+    }
+    if (!hit->cuts) return false;
+    world = &hit->segments;
+  } else if (!session::regionOutline(r, -plane.w * n, n, outlineWorld_)) {
     return false;
-  for (const glm::dvec3& p : outlineWorld_)
+  }
+  for (const glm::dvec3& p : *world)
     out.push_back(orthoPixel(s, p));
   return true;
 }

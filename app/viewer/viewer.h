@@ -323,6 +323,17 @@ private:
   std::uint64_t orthoTractKey_ = 0;                           // the tract style the slice panes drew with
   mutable std::vector<glm::dvec3> outlineWorld_;              // regionOutlinePixels' scratch
   mutable std::vector<unsigned char> outlineSamples_;         // its mask lattice
+  // Mask outlines by mask and slice plane: a mask's bounds and lattice cost a pass over its voxels, too much
+  // for every frame; the outline changes only with the slice or the mask.
+  struct MaskOutline {
+    std::shared_ptr<const MaskVolume> mask; // held, so its address is not reused while cached
+    glm::vec4 plane{0.0f};
+    bool cuts = false;
+    std::vector<glm::dvec3> segments;
+  };
+  mutable std::vector<MaskOutline> maskOutlines_; // at most kMaskOutlineCache, the oldest replaced
+  mutable std::size_t nextMaskOutline_ = 0;
+  static constexpr std::size_t kMaskOutlineCache = 12;
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};
   std::array<int, 3> orthoIterations_{0, 0, 0};
   std::array<unsigned, 3> orthoCovered_{0, 0, 0};
