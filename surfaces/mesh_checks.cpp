@@ -187,9 +187,10 @@ template <typename Primitive> struct WithinTraits {
   Point q;
   double r2;
   bool found = false;
+  typename Primitive::Id hit{};
   bool go_further() const { return !found; }
   void intersection(const Point&, const Primitive& p) {
-    if (CGAL::squared_distance(q, *p.id()) <= r2) found = true;
+    if (CGAL::squared_distance(q, *p.id()) <= r2) found = true, hit = p.id();
   }
   template <typename Node> bool do_intersect(const Point&, const Node& node) const {
     const CGAL::Bbox_3& b = node.bbox();
@@ -208,6 +209,15 @@ template <typename Primitive> struct WithinTraits {
 bool DistanceQuery::within(const glm::vec3& p, double r) const {
   WithinTraits<Impl::Primitive> t{Point(p.x, p.y, p.z), r * r};
   impl_->tree.traversal(t.q, t);
+  return t.found;
+}
+
+bool DistanceQuery::within(const glm::vec3& p, double r, std::uint32_t* hint) const {
+  const Point q(p.x, p.y, p.z);
+  if (*hint < impl_->triangles.size() && CGAL::squared_distance(q, impl_->triangles[*hint]) <= r * r) return true;
+  WithinTraits<Impl::Primitive> t{q, r * r};
+  impl_->tree.traversal(t.q, t);
+  if (t.found) *hint = static_cast<std::uint32_t>(t.hit - impl_->triangles.cbegin());
   return t.found;
 }
 

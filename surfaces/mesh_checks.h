@@ -40,6 +40,9 @@ public:
   // True when the surface comes within r mm of `p` (distance <= r): a traversal that stops at the first
   // triangle found and never enters boxes farther than r, cheaper than distance().
   bool within(const glm::vec3& p, double r) const;
+  // within() that first tries triangle `*hint` (e.g. the one found for the previous point of a line: a
+  // triangle within r decides at once) and leaves the triangle found, if any, in *hint. Same answer.
+  bool within(const glm::vec3& p, double r, std::uint32_t* hint) const;
   // Bounding box of the mesh (world mm).
   void bounds(glm::vec3& lo, glm::vec3& hi) const;
 

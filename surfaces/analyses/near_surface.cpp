@@ -28,10 +28,11 @@ void nearFlags(const Polylines& lines, std::size_t b, std::size_t e, const Dista
     hi = glm::max(hi, lines.points[i]);
   }
   if (glm::any(glm::lessThan(hi, boxLo)) || glm::any(glm::greaterThan(lo, boxHi))) return;
+  std::uint32_t hint = ~0u; // the triangle found near the previous point: often near this one too
   for (std::size_t i = b; i < e; ++i) {
     const glm::vec3& p = lines.points[i];
     if (glm::any(glm::lessThan(p, boxLo)) || glm::any(glm::greaterThan(p, boxHi))) continue; // > maxMm away
-    near[i - b] = surface.within(p, maxMm);
+    near[i - b] = surface.within(p, maxMm, &hint);
   }
 }
 
