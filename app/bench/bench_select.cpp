@@ -17,6 +17,7 @@
 #include "render/camera.h"
 #include "render/gl_context.h"
 #include "render/gl_objects.h"
+#include "render/reference/scenes.h"
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "surfaces/selection/tract_selection.h"
@@ -314,6 +315,8 @@ int benchSelect(const CommandArgs& argv) {
   // select, display subset, levels, upload, budgeted draw, full draw
   std::array<double, 6> updateParts{-1, -1, -1, -1, -1, -1};
   std::size_t updateSelected = 0, updateShownLines = 0, updateShownPoints = 0;
+  double nearUpdateMs = -1, nearUpdateMsMax = -1, nearUpdateFullMs = -1;
+  std::size_t nearSelected = 0, nearQuickPoints = 0, nearFullPoints = 0;
   try {
     render::GlContext::headless();
     render::TractRenderer tr;
@@ -380,6 +383,56 @@ int benchSelect(const CommandArgs& argv) {
       updateShownPoints = display.points.size();
     }
     render::checkGl("bench select: the overlay update");
+    // The same moves near a curved surface (an ellipsoid of 0.6 the brain's half axes, 3 mm rule), seen from
+    // above: the ROI worker's subset of whole streamlines, the quick near-surface pass the viewer draws first
+    // (kNearSurfaceQuickPointCap), its display, upload and budgeted frame: selection_update_near_ms; then
+    // the full pass (kNearSurfacePointCap) that follows, to its still frame: selection_update_near_full_ms.
+    Mesh ellipsoid = render::reference::uvSphere(glm::dvec3(0.0), 1.0, 96, 192);
+    for (glm::vec3& p : ellipsoid.positions)
+      p *= 0.6f * kHalfAxes;
+    const render::Camera top = render::Camera::standard(render::StandardView::Superior, lo, hi, 1.0);
+    const render::FrameView tv = render::FrameView::make(top, {size, size}, 0, lo, hi);
+    const render::TractStyle free;
+    std::vector<double> nearMs, nearFullMs;
+    render::TractBudget nearBudget;
+    for (int k = 0; k <= 6; ++k) {
+      session::RoiJob job;
+      job.tracts = shared;
+      job.set = sphereSet(glm::dvec3(-10.0 + 2.0 * k, 0, 36), 10.0); // across the ellipsoid's top
+      clear();
+      const auto t0 = Clock::now();
+      const session::RoiResult r = session::RoiWorker::run(job, &index);
+      const Polylines whole = render::decimateForDisplay(lines, *r.lines, session::kNearSurfacePointCap,
+                                                         render::kWholeDisplayLines);
+      const session::TractSelection quick =
+          session::selectTracts(whole, ellipsoid, 3.0, nullptr, session::kNearSurfaceQuickPointCap);
+      tr.upload(session::tractOverlayDisplay(quick.near));
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+      const render::TractBudget::Choice choice = nearBudget.choose(tr);
+      tr.draw(tv, free, choice.level, 0, choice.segments);
+      glFinish();
+      const auto t1 = Clock::now();
+      nearBudget.measured(choice.level, choice.segments, ms(t0, t1)); // not only the draw: a coarse budget
+      const session::TractSelection full = session::selectTracts(whole, ellipsoid, 3.0);
+      tr.upload(session::tractOverlayDisplay(full.near));
+      clear();
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+      tr.draw(tv, free);
+      glFinish();
+      const auto t2 = Clock::now();
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      if (k > 0) {
+        nearMs.push_back(ms(t0, t1));
+        nearFullMs.push_back(ms(t0, t2));
+      }
+      nearSelected = r.lines->size();
+      nearQuickPoints = quick.near.points.size();
+      nearFullPoints = full.near.points.size();
+    }
+    render::checkGl("bench select: the overlay update near a surface");
+    nearUpdateMs = median(nearMs);
+    nearUpdateMsMax = *std::max_element(nearMs.begin(), nearMs.end());
+    nearUpdateFullMs = median(nearFullMs);
     updateMs = median(ums);
     updateMsMax = *std::max_element(ums.begin(), ums.end());
     updateFullMs = median(fullMs);
@@ -437,6 +490,12 @@ int benchSelect(const CommandArgs& argv) {
           {"upload", updateParts[3]},
           {"budgeted_draw", updateParts[4]},
           {"full_draw", updateParts[5]}}},
+        {"selection_update_near_ms", nearUpdateMs},
+        {"selection_update_near_ms_max", nearUpdateMsMax},
+        {"selection_update_near_full_ms", nearUpdateFullMs},
+        {"selection_update_near_selected", nearSelected},
+        {"selection_update_near_quick_points", nearQuickPoints},
+        {"selection_update_near_full_points", nearFullPoints},
         {"queries", queries},
         {"query_selected_median", qs[qs.size() / 2].selected},
         {"walk_without_index_ms", walkMs},
@@ -484,6 +543,9 @@ int benchSelect(const CommandArgs& argv) {
               "%.1f ms\n",
               updateSelected, updateShownLines, updateShownPoints, updateMs, updateMsMax, updateFullMs,
               updateParts[0], updateParts[1], updateParts[2], updateParts[3], updateParts[4], updateParts[5]);
+  std::printf("  the same move near a curved surface (ellipsoid, 3 mm rule, %zu selected): quick pass drawn "
+              "(%zu points near it) median %.1f ms, max %.1f ms; full pass drawn (%zu points) %.1f ms\n",
+              nearSelected, nearQuickPoints, nearUpdateMs, nearUpdateMsMax, nearFullPoints, nearUpdateFullMs);
   if (savePath) std::printf("  written to %s in %.1f s\n", savePath->c_str(), saveS);
   std::printf("  peak memory %.2f GB = %.2fx the positions\n", peakGb, peakGb / positionsGb);
   if (realLines)

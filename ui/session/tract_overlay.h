@@ -38,6 +38,9 @@ TractPick pickTracts(const Mesh& surface, double nearMm);
 // render::kTractDisplayPointCap points; measuring every point of a whole-brain tractogram (500 M points
 // for 10 M streamlines) against the surface takes many minutes.
 inline constexpr std::size_t kNearSurfacePointCap = render::kTractDisplayPointCap;
+// The quick first pass after a region change near a curved surface: about a 1/7 of kNearSurfacePointCap
+// is measured, so the bundle redraws at once; the full pass follows when no newer change comes.
+inline constexpr std::size_t kNearSurfaceQuickPointCap = 150'000;
 
 // The tracts `surface` shows: `all` (every tract: a planar surface, or nearMm 0) or the pieces within nearMm
 // of it in `near` (surfaces/analyses/near_surface.h), of every lineStep-th streamline (1 up to

@@ -101,9 +101,10 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
   TractResult r;
   r.kind = TractResult::Kind::Selection;
   r.id = job.id;
+  r.pointCap = job.pointCap;
   const Polylines& all = *job.tracts;
   TractSelection s =
-      job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag()) : TractSelection{};
+      job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag(), job.pointCap) : TractSelection{};
   if (context.cancelled()) return failed(job.id, "selection", "cancelled");
   if (!all_ || allSerial_ != job.tractsSerial) {
     all_ = std::make_shared<const render::DisplayTracts>(tractOverlayDisplay(all));

@@ -14,6 +14,7 @@
 #include "surfaces/tracking/tracking.h"
 #include "ui/session/actions.h"
 #include "ui/session/track_request.h"
+#include "ui/session/tract_overlay.h"
 #include "ui/session/viewer_worker.h"
 
 #include <cstdint>
@@ -38,7 +39,8 @@ struct TractResult {
                                      // (ui/session/tract_overlay.h)
   glm::vec4 plane{0, 0, 1, 0};       // unit normal, offset (world mm)
   std::size_t lines = 0, points = 0; // selected, before display decimation
-  std::size_t lineStep = 1;          // near a curved surface: of every lineStep-th streamline (kNearSurfacePointCap)
+  std::size_t lineStep = 1;          // near a curved surface: of every lineStep-th streamline (pointCap)
+  std::size_t pointCap = 0;          // the job's
   // Tracking: the streamlines and a one-line report; cancelled runs keep nothing.
   std::shared_ptr<const Polylines> tracts;
   std::string report;
@@ -55,6 +57,7 @@ struct SelectionJob {
   std::uint64_t tractsSerial = 0; // tells the worker when its cached display of all tracts is stale
   std::shared_ptr<const Mesh> mesh;
   double nearMm = 3.0; // curved surfaces: 0 = every tract
+  std::size_t pointCap = kNearSurfacePointCap; // points the near-surface rule measures at most
 };
 
 struct TrackingJob {

@@ -25,6 +25,13 @@ namespace dtf::session {
 
 namespace {
 
+// 1st, 2nd, 3rd, 4th, ..., 11th, 12th, 13th, ..., 21st.
+std::string ordinal(std::size_t n) {
+  const std::size_t t = n % 100, u = n % 10;
+  const char* suffix = (t >= 11 && t <= 13) ? "th" : u == 1 ? "st" : u == 2 ? "nd" : u == 3 ? "rd" : "th";
+  return std::to_string(n) + suffix;
+}
+
 constexpr std::size_t kMaxRecent = 8;
 constexpr int kDrawnPopulations = 3; // the fabric weaves at most the first three fibres of a voxel
 const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
@@ -609,9 +616,10 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   if (applied.coloured) logInfo(applied.summary);
 }
 
-void ViewerSession::requestSelection() {
+void ViewerSession::requestSelection(std::size_t pointCap) {
   if (!tracts_) return;
   SelectionJob job;
+  job.pointCap = pointCap;
   job.id = latestSelection_ = nextId_++;
   job.tracts = shownTracts_ ? shownTracts_ : tracts_;
   job.tractsSerial = tractsSerial_;
@@ -635,6 +643,9 @@ void ViewerSession::onTractResult(TractResult& r) {
   if (r.kind == K::Selection) {
     if (r.id != latestSelection_) return; // a newer selection is on its way
     state_.tractsSelecting = false;
+    // A quick pass that sampled the streamlines is drawn now and followed by the full one, which a newer
+    // change cancels.
+    if (r.lineStep > 1 && r.pointCap < kNearSurfacePointCap) requestSelection();
     display_ = r.display;
     allDisplay_ = r.allDisplay;
     ++displaySerial_;
@@ -645,7 +656,7 @@ void ViewerSession::onTractResult(TractResult& r) {
     state_.tractsShownPoints = r.display->points.size();
     logInfo("tracts shown: " + std::to_string(r.lines) + " streamline pieces, " + std::to_string(r.points) +
             " points" + (r.slab ? " (slab around the plane)" : "") +
-            (r.lineStep > 1 ? " (near the surface, of every " + std::to_string(r.lineStep) + "th streamline)" : ""));
+            (r.lineStep > 1 ? " (near the surface, of every " + ordinal(r.lineStep) + " streamline)" : ""));
   } else if (r.kind == K::Tracking) {
     if (r.id != latestTracking_) return;
     state_.tracking = false;
@@ -767,7 +778,8 @@ void ViewerSession::onRoiResult(RoiResult& r) {
             " streamlines");
   if (redraw) {
     applyTractChoice(tractColour_, tractGroups_);
-    requestSelection();
+    // Near a curved surface a quick pass first (TractResult::Kind::Selection asks for the full one).
+    requestSelection(nearRule_ ? kNearSurfaceQuickPointCap : kNearSurfacePointCap);
   }
 }
 

@@ -139,7 +139,7 @@ private:
   // meanLengthMm: the lines' mean length when already known (computed off the UI thread).
   void setTracts(std::shared_ptr<const Polylines> lines, const std::string& label,
                  std::optional<double> meanLengthMm = std::nullopt);
-  void requestSelection();
+  void requestSelection(std::size_t pointCap = kNearSurfacePointCap);
   // Applies the chosen groups and colouring to tracts_ into shownTracts_ (what the selection draws) and
   // the Tracts panel's state; throws (leaving the previous choice on screen) for a missing name or
   // without tracts.

@@ -8,12 +8,15 @@
 #include "io/formats/fibre_io.h"
 #include "io/phantoms.h"
 #include "io/formats/tensor_io.h"
+#include "io/model/log.h"
 #include "support/test_env.h"
+#include "ui/session/tract_overlay.h"
 
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <gtest/gtest.h>
+#include <mutex>
 #include <thread>
 
 using namespace dtf;
@@ -511,4 +514,57 @@ TEST(ViewerSession, RegionsSelectOffTheUiThreadAndTheSelectionIsDrawnSavedAndPub
   // The region file is an input now: saving over it is refused.
   s.apply(session::SaveRegions{json, true});
   EXPECT_TRUE(mentions(st.errorChain, json));
+}
+
+// After a region change near a curved surface the overlay draws a quick pass first (every 2nd streamline of
+// the selection measured: 200 k points > kNearSurfaceQuickPointCap), then the full pass, which ends as the
+// library's selection of every selected streamline. The surface: a sphere of radius 8 mm (the isosurface of
+// |x|); the lines: 4000 lines of 50 points along x (-30..30 mm), |y|, |z| <= 10 mm.
+TEST(ViewerSession, ARegionChangeNearACurvedSurfaceDrawsAQuickPassThenTheFullOne) {
+  const auto dir = test::scratchDir();
+  io::PhantomOptions o;
+  o.size = 24;
+  const io::Phantom sphere = io::makePhantom("sphere", o);
+  const std::string tensors = (dir / "sphere.nii.gz").string(), radius = (dir / "r.nii").string();
+  io::writeTensorVolume(tensors, sphere.tensors, io::TensorLayout::Fsl);
+  io::writeScalarVolume(radius, sphere.scalar);
+  Polylines lines;
+  lines.offsets = {0};
+  for (int i = 0; i < 4000; ++i) {
+    const float y = -10.0f + 20.0f * float(i % 63) / 62.0f, z = -10.0f + 20.0f * float(i / 63) / 63.0f;
+    for (int k = 0; k < 50; ++k)
+      lines.points.emplace_back(-30.0f + 60.0f * float(k) / 49.0f, y, z);
+    lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  }
+  ASSERT_GT(lines.points.size(), session::kNearSurfaceQuickPointCap);
+  const std::string tck = (dir / "lines.tck").string();
+  session::writeTracts(tck, lines, nullptr);
+  ViewerSession s("iso=" + radius + ":8");
+  s.apply(session::LoadFile{tensors});
+  settle(s);
+  s.apply(session::LoadTracts{tck});
+  settle(s);
+  const session::ViewerState& st = s.state();
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  ASSERT_TRUE(s.mesh());
+  std::vector<std::string> shown;
+  std::mutex m;
+  setLogSink([&](LogLevel, const std::string& text) {
+    std::lock_guard<std::mutex> lock(m);
+    if (text.rfind("tracts shown:", 0) == 0) shown.push_back(text);
+  });
+  session::RoiAdd add;
+  add.spec = "0,0,0,30"; // every line
+  s.apply(add);
+  settle(s);
+  setLogSink(nullptr);
+  ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+  ASSERT_EQ(shown.size(), 2u);
+  EXPECT_NE(shown[0].find("of every 2nd streamline"), std::string::npos) << shown[0];
+  EXPECT_EQ(shown[1].find("of every"), std::string::npos) << shown[1];
+  const session::TractSelection full = session::selectTracts(lines, *s.mesh(), st.tractsNearMm);
+  EXPECT_EQ(full.lineStep, 1u);
+  EXPECT_GT(full.near.points.size(), 1000u);
+  EXPECT_LT(full.near.points.size(), lines.points.size() / 2);
+  EXPECT_EQ(st.tractsShownPoints, session::tractOverlayDisplay(full.near).points.size());
 }
