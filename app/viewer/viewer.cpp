@@ -1003,21 +1003,42 @@ void ViewerScene::readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 
   }
 }
 
+bool ViewerScene::panePixel(int p, const glm::dvec3& world, double w, double h, glm::dvec2& out) const {
+  const render::Camera& cam = camera(p);
+  const glm::dvec4 c = cam.projection(w / std::max(h, 1.0)) * cam.view() * glm::dvec4(world, 1.0);
+  if (c.w <= 1e-9) return false;
+  out = {(c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h};
+  return true;
+}
+
+const session::MaskSurface& ViewerScene::maskSurface(const surfaces::Region& r) const {
+  auto hit = std::find_if(maskShapes_.begin(), maskShapes_.end(),
+                          [&](const MaskShape& m) { return m.mask == r.mask; });
+  if (hit != maskShapes_.end()) return hit->surface;
+  if (maskShapes_.size() < kMaskOutlineCache) {
+    maskShapes_.emplace_back();
+    hit = std::prev(maskShapes_.end());
+  } else {
+    hit = maskShapes_.begin() + static_cast<std::ptrdiff_t>(nextMaskShape_++ % kMaskOutlineCache);
+  }
+  hit->mask = r.mask;
+  session::maskSurface(r, hit->surface);
+  return hit->surface;
+}
+
 void ViewerScene::drawRegions3d(Image& img, int p) const {
   // As the window draws them over a 3D pane: a sphere as its silhouette's translucent disc with an outline, a
-  // box as the outlines of its faces; over the scene, not depth-tested.
+  // box as the outlines of its faces, a mask as the creases of its voxels' surface (or, past
+  // session::kMaskFaceCap faces, the box of its bounds); over the scene, not depth-tested.
   const session::ViewerState& st = state();
   if (st.roiSet.regions.empty()) return;
   const auto rect = paneRect(p);
-  const render::Camera& cam = camera(p);
-  const double w = rect[2], h = rect[3];
-  const glm::dmat4 m = cam.projection(w / std::max(h, 1.0)) * cam.view();
   auto project = [&](const glm::dvec3& world, glm::dvec2& out) {
-    const glm::dvec4 c = m * glm::dvec4(world, 1.0);
-    if (c.w <= 1e-9) return false;
-    out = {rect[0] + (c.x / c.w * 0.5 + 0.5) * w, rect[1] + (0.5 - c.y / c.w * 0.5) * h};
+    if (!panePixel(p, world, rect[2], rect[3], out)) return false;
+    out += glm::dvec2(rect[0], rect[1]);
     return true;
   };
+  const render::Camera& cam = camera(p);
   render::ImageCanvas canvas(img);
   const glm::dvec3 up = glm::normalize(glm::cross(cam.right(), cam.forward()));
   std::vector<glm::dvec2> poly;
@@ -1040,11 +1061,24 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
       for (int j = 0; j < 48; ++j)
         poly.push_back(c + radius * glm::dvec2(std::cos(2 * M_PI * j / 48), std::sin(2 * M_PI * j / 48)));
       drawOutline(img, poly, rect, k);
-    } else if (r.shape == surfaces::RegionShape::Box) {
+    } else {
+      surfaces::Region box = r;
+      if (r.shape == surfaces::RegionShape::Mask) {
+        const session::MaskSurface& s = maskSurface(r);
+        if (s.drawn) {
+          poly.clear();
+          glm::dvec2 a, b;
+          for (std::size_t j = 0; j + 1 < s.creases.size(); j += 2)
+            if (project(s.creases[j], a) && project(s.creases[j + 1], b)) poly.push_back(a), poly.push_back(b);
+          drawOutline(img, poly, rect, k, true);
+          continue;
+        }
+        box.lo = s.lo, box.hi = s.hi;
+      }
       glm::dvec2 q[8];
       bool ok = true;
       for (int j = 0; j < 8; ++j)
-        ok &= project(session::boxCorner(r, j), q[j]);
+        ok &= project(session::boxCorner(box, j), q[j]);
       if (!ok) continue;
       for (const auto& f : session::kBoxFaces) {
         poly.assign({q[f[0]], q[f[1]], q[f[2]], q[f[3]]});

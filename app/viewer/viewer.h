@@ -15,6 +15,7 @@
 #include "render/tract_layer.h"
 #include "render/tract_renderer.h"
 #include "ui/session/actions.h"
+#include "ui/session/roi_outline.h"
 #include "ui/session/coalescing_worker.h"
 #include "ui/session/fibre_input.h"
 #include "ui/session/keymap.h"
@@ -150,6 +151,11 @@ public:
   Image layoutImage() const;
   // The regions of the ROI set over 3D pane p of `img` (a layoutImage), as the window draws them.
   void drawRegions3d(Image& img, int p) const;
+  // Where world point `world` lands in 3D pane p, in pixels from the pane's top-left corner (y down), for a
+  // pane of w x h pixels (the window's may differ from the scene's); false behind the camera.
+  bool panePixel(int p, const glm::dvec3& world, double w, double h, glm::dvec2& out) const;
+  // The 3D shape of mask region r (session::maskSurface), cached by mask: it costs a pass over the voxels.
+  const session::MaskSurface& maskSurface(const surfaces::Region& r) const;
   // Shows an error (outermost context first) in the modal; errorSerial() counts the errors shown so far.
   void setError(const std::string& message) { session_.setError(message); }
   std::uint64_t errorSerial() const { return session_.errorSerial(); }
@@ -332,6 +338,12 @@ private:
     std::vector<glm::dvec3> segments;
   };
   mutable std::vector<MaskOutline> maskOutlines_; // at most kMaskOutlineCache, the oldest replaced
+  struct MaskShape {
+    std::shared_ptr<const MaskVolume> mask; // held, as in MaskOutline
+    session::MaskSurface surface;
+  };
+  mutable std::vector<MaskShape> maskShapes_; // at most kMaskOutlineCache, the oldest replaced
+  mutable std::size_t nextMaskShape_ = 0;
   mutable std::size_t nextMaskOutline_ = 0;
   static constexpr std::size_t kMaskOutlineCache = 12;
   std::array<bool, 3> orthoDirty_{true, true, true}, orthoMeshNew_{false, false, false};

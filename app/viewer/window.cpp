@@ -582,19 +582,18 @@ private:
   }
 
   // The regions as translucent shapes over a 3D pane (window pixels x0..x1, y0..y1): a sphere as its
-  // silhouette's disc, a box as its faces and edges, in their kind's colour. Drawn over the scene, not
+  // silhouette's disc, a box as its faces and edges, a mask as its voxels' surface with its creases (past
+  // session::kMaskFaceCap faces, the box of its bounds), in their kind's colour. Drawn over the scene, not
   // depth-tested against the surface.
   void drawRegions3d(ImDrawList* dl, int p, float x0, float y0, float x1, float y1) {
     const session::ViewerState& st = scene_->state();
     if (st.roiSet.regions.empty()) return;
     const render::Camera& cam = scene_->camera(p);
     const double w = x1 - x0, h = y1 - y0;
-    const glm::dmat4 m = cam.projection(w / std::max(h, 1.0)) * cam.view();
     auto project = [&](const glm::dvec3& world, ImVec2& out) {
-      const glm::dvec4 c = m * glm::dvec4(world, 1.0);
-      if (c.w <= 1e-9) return false;
-      out = ImVec2(static_cast<float>(x0 + (c.x / c.w * 0.5 + 0.5) * w),
-                   static_cast<float>(y0 + (0.5 - c.y / c.w * 0.5) * h));
+      glm::dvec2 px;
+      if (!scene_->panePixel(p, world, w, h, px)) return false;
+      out = ImVec2(static_cast<float>(x0 + px.x), static_cast<float>(y0 + px.y));
       return true;
     };
     dl->PushClipRect(ImVec2(x0, y0), ImVec2(x1, y1), true);
@@ -610,11 +609,27 @@ private:
         const float radius = std::hypot(top.x - c.x, top.y - c.y);
         dl->AddCircleFilled(c, radius, fill, 48);
         dl->AddCircle(c, radius, line, 48, 1.5f);
-      } else if (r.shape == surfaces::RegionShape::Box) {
+      } else {
+        surfaces::Region box = r;
+        if (r.shape == surfaces::RegionShape::Mask) {
+          const session::MaskSurface& s = scene_->maskSurface(r);
+          if (s.drawn) {
+            ImVec2 q[4];
+            for (std::size_t f = 0; f + 3 < s.faces.size(); f += 4)
+              if (project(s.faces[f], q[0]) && project(s.faces[f + 1], q[1]) && project(s.faces[f + 2], q[2]) &&
+                  project(s.faces[f + 3], q[3]))
+                dl->AddQuadFilled(q[0], q[1], q[2], q[3], IM_COL32(k.x, k.y, k.z, 25));
+            for (std::size_t e = 0; e + 1 < s.creases.size(); e += 2)
+              if (project(s.creases[e], q[0]) && project(s.creases[e + 1], q[1]))
+                dl->AddLine(q[0], q[1], line, 1.5f);
+            continue;
+          }
+          box.lo = s.lo, box.hi = s.hi;
+        }
         ImVec2 q[8];
         bool ok = true;
         for (int j = 0; j < 8; ++j)
-          ok &= project(session::boxCorner(r, j), q[j]);
+          ok &= project(session::boxCorner(box, j), q[j]);
         if (!ok) continue;
         for (const auto& f : session::kBoxFaces) {
           dl->AddQuadFilled(q[f[0]], q[f[1]], q[f[2]], q[f[3]], IM_COL32(k.x, k.y, k.z, 25));

@@ -2,7 +2,9 @@
 #include "ui/session/roi_outline.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <unordered_map>
 
 namespace dtf::session {
 
@@ -141,6 +143,88 @@ bool maskOutline(const surfaces::Region& r, const glm::dvec3& point, const glm::
         out.push_back(world(i - 0.5, j + 0.5));
         out.push_back(world(i + 0.5, j + 0.5));
       }
+  return true;
+}
+
+bool maskSurface(const surfaces::Region& r, MaskSurface& out, std::size_t maxFaces) {
+  out = MaskSurface{};
+  if (r.shape != surfaces::RegionShape::Mask || !r.mask) return false;
+  const MaskVolume& m = *r.mask;
+  const glm::ivec3 dims = m.grid.dims;
+  const auto comps = static_cast<std::size_t>(m.components);
+  auto inside = [&](int i, int j, int k) {
+    return m.grid.contains(i, j, k) && m.data[m.grid.index(i, j, k) * comps] != 0;
+  };
+  // Faces in index space: the cell of voxel v spans v +- 0.5; face (v, axis, side) lies at v[axis] + side/2.
+  struct Face {
+    glm::ivec3 v;
+    int axis, side;
+  };
+  std::vector<Face> faces;
+  bool any = false, over = false;
+  for (int k = 0; k < dims.z && !over; ++k)
+    for (int j = 0; j < dims.y && !over; ++j)
+      for (int i = 0; i < dims.x; ++i) {
+        if (!inside(i, j, k)) continue;
+        any = true;
+        for (int axis = 0; axis < 3; ++axis)
+          for (int side : {-1, 1}) {
+            glm::ivec3 n(i, j, k);
+            n[axis] += side;
+            if (!inside(n.x, n.y, n.z)) faces.push_back({{i, j, k}, axis, side});
+          }
+        if (faces.size() > maxFaces) {
+          over = true;
+          break;
+        }
+      }
+  if (!any) return false;
+  r.bounds(out.lo, out.hi);
+  if (over) return true;
+  const glm::dmat4& toWorld = m.grid.voxelToWorld;
+  auto world = [&](const glm::dvec3& x) { return glm::dvec3(toWorld * glm::dvec4(x, 1.0)); };
+  // Each cell edge, as its lower corner (doubled index coordinates, so half-integers are whole) and axis,
+  // with the orientations (axis * 2 + side) of the faces along it: an edge whose faces differ is a crease.
+  std::unordered_map<std::uint64_t, std::array<int, 2>> edges; // up to two orientations seen (-1: none)
+  auto edgeKey = [](const glm::ivec3& c2, int axis) {
+    const auto f = [](int x) { return static_cast<std::uint64_t>(x + (1 << 19)) & 0xfffffu; };
+    return (f(c2.x) << 42) | (f(c2.y) << 22) | (f(c2.z) << 2) | static_cast<std::uint64_t>(axis);
+  };
+  out.faces.reserve(faces.size() * 4);
+  for (const Face& f : faces) {
+    const int a = (f.axis + 1) % 3, b = (f.axis + 2) % 3;
+    glm::dvec3 c(f.v);
+    c[f.axis] += 0.5 * f.side;
+    glm::dvec3 q[4];
+    for (int t = 0; t < 4; ++t) {
+      q[t] = c;
+      q[t][a] += (t == 1 || t == 2) ? 0.5 : -0.5;
+      q[t][b] += (t >= 2) ? 0.5 : -0.5;
+      out.faces.push_back(world(q[t]));
+    }
+    const int orientation = f.axis * 2 + (f.side > 0);
+    for (int t = 0; t < 4; ++t) {
+      const glm::dvec3 p = q[t], s = q[(t + 1) % 4];
+      const glm::dvec3 lo = glm::min(p, s);
+      const int axis = p.x != s.x ? 0 : p.y != s.y ? 1 : 2;
+      const glm::ivec3 c2(glm::round(2.0 * lo));
+      auto [it, added] = edges.try_emplace(edgeKey(c2, axis), std::array<int, 2>{orientation, -1});
+      if (!added && it->second[0] != orientation) it->second[1] = orientation;
+      (void)it;
+    }
+  }
+  for (const auto& [key, o] : edges) {
+    if (o[1] < 0) continue;
+    const auto g = [&](int shift) {
+      return static_cast<double>(static_cast<int>((key >> shift) & 0xfffffu) - (1 << 19)) / 2.0;
+    };
+    const glm::dvec3 lo(g(42), g(22), g(2));
+    glm::dvec3 hi = lo;
+    hi[static_cast<int>(key & 3u)] += 1.0;
+    out.creases.push_back(world(lo));
+    out.creases.push_back(world(hi));
+  }
+  out.drawn = true;
   return true;
 }
 

@@ -42,4 +42,20 @@ inline constexpr int kMaskOutlineSamples = 512;
 bool maskOutline(const surfaces::Region& region, const glm::dvec3& point, const glm::dvec3& normal,
                  std::vector<glm::dvec3>& out, std::vector<unsigned char>& scratch);
 
+// Boundary faces of a mask region drawn in 3D at most: past it the viewer draws the mask's bounds as a box.
+inline constexpr std::size_t kMaskFaceCap = 20000;
+// A mask region in 3D: the surface of its voxels' cells (the region's own rule: the nearest voxel non-zero),
+// in world RAS mm.
+struct MaskSurface {
+  std::vector<glm::dvec3> faces;   // 4 corners per face, in order around it: each face between a cell
+                                   // inside and a cell outside (zero, or beyond the grid)
+  std::vector<glm::dvec3> creases; // segments (pairs of points): the cell edges where faces of different
+                                   // orientations meet, the outline of the staircase
+  glm::dvec3 lo{0.0}, hi{0.0};     // world bounds of the cells inside (surfaces::Region::bounds)
+  bool drawn = false;              // faces and creases hold the surface (at most maxFaces faces)
+};
+// False, with an empty surface, when the region is not a mask or holds no voxel; `drawn` false when the
+// surface has more than maxFaces faces (bounds only).
+bool maskSurface(const surfaces::Region& region, MaskSurface& out, std::size_t maxFaces = kMaskFaceCap);
+
 } // namespace dtf::session

@@ -292,7 +292,7 @@ TEST(ViewOrtho, RegionOutlinesFollowTheSphereWhereItCutsEachSlice) {
 
 // A mask region is outlined in each slice pane along the section of its voxels' cells: a 31 mm cube of
 // 1 mm voxels around the crosshair gives a square whose four sides carry the include colour, while its
-// middle and the pixels well outside do not.
+// middle and the pixels well outside do not; in the 3D pane the cube's edges are drawn.
 TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
   DTF_GL_TEST_SETUP();
   dtf::test::ViewScene v("fa=0.25");
@@ -351,6 +351,21 @@ TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
     EXPECT_EQ(sides, 4) << "pane " << s << ": every side of the square";
     EXPECT_FALSE(greenNear(scene.orthoPixel(s, onPlane), 2)) << "pane " << s << ": the middle";
   }
+  // In the 3D pane the cube's edges are drawn (the creases of its voxels' surface): green at each of its
+  // eight corners, none well beside it.
+  const auto rect = scene.paneRect(0);
+  auto inPane = [&](const glm::dvec3& world) {
+    glm::dvec2 px;
+    EXPECT_TRUE(scene.panePixel(0, world, rect[2], rect[3], px));
+    return px + glm::dvec2(rect[0], rect[1]);
+  };
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner = cross + 15.5 * glm::dvec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
+    EXPECT_TRUE(greenNear(inPane(corner), 2)) << "3D pane: corner " << c;
+  }
+  const glm::dvec3 right = scene.camera(0).right();
+  EXPECT_FALSE(greenNear(inPane(cross + 40.0 * right), 3)) << "3D pane: beside the cube";
+  EXPECT_FALSE(greenNear(inPane(cross - 40.0 * right), 3)) << "3D pane: beside the cube";
 }
 
 // Dragging a region in a slice pane and turning the wheel over it, as the window does on a press, a move

@@ -70,3 +70,57 @@ TEST(RegionOutline, AMaskIsOutlinedAlongItsVoxelsCellsOnTheSlice) {
   for (const glm::dvec3& p : seg)
     EXPECT_NEAR(glm::dot(p - through, oblique), 0.0, 1e-9);
 }
+
+// A mask in 3D: the surface of its voxels' cells. The box mask (10 x 7 x 14 voxels) has 2 (10*7 + 10*14 +
+// 7*14) faces on its cells' box [1.5, 11.5] x [7.5, 14.5] x [1.5, 15.5], and its creases are the box's 12
+// edges cut into voxel-long pieces (4 (10 + 7 + 14) of them); one voxel added on a face makes 4 more faces,
+// and its 12 edges are creases too. Past the face cap, only the bounds.
+TEST(RegionOutline, AMaskIn3dIsItsVoxelsSurfaceWithTheCreasesAlongItsEdges) {
+  surfaces::Region mask = boxMask();
+  session::MaskSurface s;
+  ASSERT_TRUE(session::maskSurface(mask, s));
+  ASSERT_TRUE(s.drawn);
+  EXPECT_EQ(s.faces.size(), 4u * 2 * (10 * 7 + 10 * 14 + 7 * 14));
+  const glm::dvec3 lo(1.5, 7.5, 1.5), hi(11.5, 14.5, 15.5);
+  EXPECT_NEAR(glm::length(s.lo - lo), 0.0, 1e-9);
+  EXPECT_NEAR(glm::length(s.hi - hi), 0.0, 1e-9);
+  auto onBox = [&](const glm::dvec3& p) {
+    int faces = 0;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(p[a], lo[a] - 1e-9);
+      EXPECT_LE(p[a], hi[a] + 1e-9);
+      faces += std::abs(p[a] - lo[a]) < 1e-9 || std::abs(p[a] - hi[a]) < 1e-9;
+    }
+    return faces;
+  };
+  for (std::size_t f = 0; f < s.faces.size(); f += 4) {
+    glm::dvec3 c(0.0);
+    for (int t = 0; t < 4; ++t)
+      c += 0.25 * s.faces[f + t];
+    EXPECT_EQ(onBox(c), 1) << "a face's centre lies on one side of the box";
+    EXPECT_NEAR(glm::length(s.faces[f + 2] - s.faces[f]), std::sqrt(2.0), 1e-9) << "a unit square";
+  }
+  ASSERT_EQ(s.creases.size(), 2u * 4 * (10 + 7 + 14));
+  for (std::size_t e = 0; e < s.creases.size(); e += 2) {
+    EXPECT_NEAR(glm::length(s.creases[e + 1] - s.creases[e]), 1.0, 1e-9);
+    EXPECT_EQ(onBox(0.5 * (s.creases[e] + s.creases[e + 1])), 2) << "on an edge of the box";
+  }
+  // One voxel on top of the box (i 9, j 9, k 17): its top and four sides are new, the face beneath it is gone.
+  auto bumped = std::make_shared<MaskVolume>(*mask.mask);
+  bumped->at(9, 9, 17) = 1;
+  mask.mask = bumped;
+  ASSERT_TRUE(session::maskSurface(mask, s));
+  EXPECT_EQ(s.faces.size(), 4u * (2 * (10 * 7 + 10 * 14 + 7 * 14) + 4));
+  EXPECT_EQ(s.creases.size(), 2u * (4 * (10 + 7 + 14) + 12));
+  // Past the cap: the bounds only.
+  ASSERT_TRUE(session::maskSurface(mask, s, 100));
+  EXPECT_FALSE(s.drawn);
+  EXPECT_TRUE(s.faces.empty() && s.creases.empty());
+  EXPECT_NEAR(s.hi.z, 16.5, 1e-9);
+  // Not a mask, or an empty one: nothing.
+  surfaces::Region sphere;
+  sphere.radius = 3;
+  EXPECT_FALSE(session::maskSurface(sphere, s));
+  mask.mask = std::make_shared<MaskVolume>(mask.mask->grid, 1);
+  EXPECT_FALSE(session::maskSurface(mask, s));
+}
