@@ -102,7 +102,16 @@ TractResult TractWorker::select(const SelectionJob& job, const WorkContext& cont
   r.kind = TractResult::Kind::Selection;
   r.id = job.id;
   r.pointCap = job.pointCap;
-  const Polylines& all = *job.tracts;
+  if (job.choice) {
+    if (job.choice != choice_) {
+      choice_.reset();
+      chosen_ = prepareShownTracts(*job.choice);
+      choice_ = job.choice;
+    }
+    r.shown = chosen_.lines;
+    r.applied = chosen_.applied;
+  }
+  const Polylines& all = job.choice ? *r.shown : *job.tracts;
   TractSelection s =
       job.mesh ? selectTracts(all, *job.mesh, job.nearMm, &context.cancelFlag(), job.pointCap) : TractSelection{};
   if (context.cancelled()) return failed(job.id, "selection", "cancelled");

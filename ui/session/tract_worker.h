@@ -14,6 +14,7 @@
 #include "surfaces/tracking/tracking.h"
 #include "ui/session/actions.h"
 #include "ui/session/track_request.h"
+#include "ui/session/tract_colouring.h"
 #include "ui/session/tract_overlay.h"
 #include "ui/session/viewer_worker.h"
 
@@ -41,6 +42,8 @@ struct TractResult {
   std::size_t lines = 0, points = 0; // selected, before display decimation
   std::size_t lineStep = 1;          // near a curved surface: of every lineStep-th streamline (pointCap)
   std::size_t pointCap = 0;          // the job's
+  std::shared_ptr<const Polylines> shown; // the job's choice made (SelectionJob::choice)
+  TractColouringApplied applied;          // ... and what its colouring applied
   // Tracking: the streamlines and a one-line report; cancelled runs keep nothing.
   std::shared_ptr<const Polylines> tracts;
   std::string report;
@@ -58,6 +61,8 @@ struct SelectionJob {
   std::shared_ptr<const Mesh> mesh;
   double nearMm = 3.0; // curved surfaces: 0 = every tract
   std::size_t pointCap = kNearSurfacePointCap; // points the near-surface rule measures at most
+  // Set: `tracts` are made from this choice first (prepareShownTracts) and returned in TractResult::shown.
+  std::shared_ptr<const TractChoice> choice;
 };
 
 struct TrackingJob {
@@ -121,6 +126,10 @@ private:
   // the analysis thread only.
   std::uint64_t allSerial_ = 0;
   std::shared_ptr<const render::DisplayTracts> all_;
+  // The last choice made and its tracts: the jobs that follow carry the same choice until its result is
+  // taken (analysis thread only).
+  std::shared_ptr<const TractChoice> choice_;
+  ShownTracts chosen_;
   // Last: joined before the members their jobs use go.
   CoalescingWorker<AnalysisJob, TractResult> analysis_;
   CoalescingWorker<TrackingJob, TractResult> tracker_;

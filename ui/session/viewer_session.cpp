@@ -33,6 +33,7 @@ std::string ordinal(std::size_t n) {
 }
 
 constexpr std::size_t kMaxRecent = 8;
+constexpr std::size_t kMaxDimmedPoints = 50'000'000;
 constexpr int kDrawnPopulations = 3; // the fabric weaves at most the first three fibres of a voxel
 const char* const kAxisNames[3] = {"axial", "coronal", "sagittal"};
 
@@ -59,54 +60,6 @@ bool drawn(int n, float amplitude, float strongest, float threshold) {
   return n < kDrawnPopulations && amplitude > 0 && amplitude >= threshold * strongest;
 }
 
-// A per-streamline marker of the ROI selection, carried through the group choice's subset and removed by
-// dimUnselected.
-constexpr const char* kRoiMarker = "\x01roi selected";
-constexpr float kDimGrey = 0.3f; // the colour of the streamlines the selection leaves out (lit)
-constexpr std::size_t kMaxDimmedPoints = 50'000'000;
-
-void markRoiSelection(Polylines& lines, const std::vector<std::uint32_t>& selected) {
-  TractValues m;
-  m.name = kRoiMarker;
-  m.values.assign(lines.lineCount(), 0.0f);
-  for (std::uint32_t i : selected)
-    if (i < m.values.size()) m.values[i] = 1.0f;
-  lines.perLine.push_back(std::move(m));
-}
-
-// Adds the per-point node (render::kTractDisplayNode) of `lines` as the profile orients the streamlines
-// `which` of them (all when null); replaces an earlier one.
-void addDisplayNodes(Polylines& lines, const std::vector<std::uint32_t>* which) {
-  std::erase_if(lines.perPoint, [](const TractValues& v) { return v.name == render::kTractDisplayNode; });
-  if (lines.points.empty()) return;
-  lines.perPoint.push_back(
-      {render::kTractDisplayNode, 1, surfaces::nodePerPoint(lines, which, surfaces::ProfileOptions{})});
-}
-
-// Gives the marked-out streamlines the dim grey as display colour (alpha 1: lit grey); the others keep
-// theirs (DEC where none was given).
-void dimUnselected(Polylines& lines) {
-  auto m = std::find_if(lines.perLine.begin(), lines.perLine.end(),
-                        [](const TractValues& v) { return v.name == kRoiMarker; });
-  if (m == lines.perLine.end()) return;
-  auto c = std::find_if(lines.perPoint.begin(), lines.perPoint.end(),
-                        [](const TractValues& v) { return v.name == render::kTractDisplayColours; });
-  if (c == lines.perPoint.end()) {
-    lines.perPoint.push_back({render::kTractDisplayColours, 4, std::vector<float>(lines.points.size() * 4, 0.0f)});
-    c = std::prev(lines.perPoint.end());
-    m = std::find_if(lines.perLine.begin(), lines.perLine.end(),
-                     [](const TractValues& v) { return v.name == kRoiMarker; });
-  }
-  for (std::size_t i = 0; i < lines.lineCount(); ++i) {
-    if (m->values[i] != 0.0f) continue;
-    for (std::uint32_t k = lines.offsets[i]; k < lines.offsets[i + 1]; ++k) {
-      float* rgba = &c->values[static_cast<std::size_t>(k) * 4];
-      rgba[0] = rgba[1] = rgba[2] = kDimGrey;
-      rgba[3] = 1.0f;
-    }
-  }
-  lines.perLine.erase(m);
-}
 
 } // namespace
 
@@ -557,43 +510,42 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
   }
   // The ROI selection first: the streamlines it leaves out are dropped (hidden) or marked to be dimmed
   // once the colouring is done.
-  const bool roi = roi_.active && roi_.lines && roi_.tracts == tracts_;
+  TractChoice c;
+  c.roi = roi_.active && roi_.lines && roi_.tracts == tracts_;
   // Dimming copies every point with a colour (28 bytes a point): past kMaxDimmedPoints the others are hidden.
-  const bool dim = roi && !state_.roiHideOthers && tracts_->points.size() <= kMaxDimmedPoints;
-  if (roi && !state_.roiHideOthers && !dim)
+  c.dim = c.roi && !state_.roiHideOthers && tracts_->points.size() <= kMaxDimmedPoints;
+  if (c.roi && !state_.roiHideOthers && !c.dim)
     state_.roiStatus = "too many points to dim the streamlines left out: they are hidden";
-  std::shared_ptr<const Polylines> shown = tracts_;
-  if (roi && !dim)
-    shown = roiSubset_ ? roiSubset_ // made off the UI thread
-                       : std::make_shared<const Polylines>(render::decimateForDisplay(*tracts_, *roi_.lines));
-  TractColouringApplied applied;
+  c.base = tracts_;
+  if (c.roi && !c.dim)
+    c.base = roiSubset_ ? roiSubset_ // made off the UI thread
+                        : std::make_shared<const Polylines>(render::decimateForDisplay(*tracts_, *roi_.lines));
+  c.roiLines = c.roi ? roi_.lines : nullptr;
   // Each point's node along the profiled streamlines (the Profile panel's hover band and the colouring by
   // the profile's value, both drawn by the tract shader from this array).
-  const bool byProfile = colour.value == kProfileColouring;
-  const bool nodes = state_.profile.on || byProfile;
-  if (!colour.value.empty() || !groups.all || dim || nodes) {
-    // A copy once per choice (not per frame); the near-surface selection carries the display colours
-    // and nodes of the kept points.
-    Polylines lines = *shown;
-    if (byProfile) shadowReservedName(lines, kProfileColouring, state_.tractPath);
-    // With regions the profile measures the selection: its indices into every streamline when the others
-    // are dimmed, the subset itself when they are hidden. Without, the tracts on screen after the group
-    // choice (below).
-    if (nodes && roi) addDisplayNodes(lines, dim ? roi_.lines.get() : nullptr);
-    if (dim) markRoiSelection(lines, *roi_.lines);
-    TractColouring c;
-    c.value = byProfile ? std::string() : colour.value;
-    c.range = colour.range;
-    if (!groups.all) {
-      if (groups.shown.empty())
-        lines = lines.subset(std::vector<std::uint32_t>{});
-      else
-        c.groups = groups.shown;
-    }
-    if (!c.value.empty() || !groups.all) applied = applyTractColouring(lines, c, state_.tractPath);
-    if (nodes && !roi) addDisplayNodes(lines, nullptr);
-    if (dim) dimUnselected(lines);
-    shown = std::make_shared<const Polylines>(std::move(lines));
+  c.byProfile = colour.value == kProfileColouring;
+  c.nodes = state_.profile.on || c.byProfile;
+  c.colouring.value = c.byProfile ? std::string() : colour.value;
+  c.colouring.range = colour.range;
+  if (!groups.all) {
+    if (groups.shown.empty())
+      c.noGroups = true;
+    else
+      c.colouring.groups = groups.shown;
+  }
+  c.path = state_.tractPath;
+  const bool byProfile = c.byProfile;
+  checkTractColouring(*c.base, c.colouring, c.path); // a missing name fails here, whichever thread colours
+  // Past choiceSyncPoints_ the copy and the colouring run on the tract worker, before the selection that
+  // draws them (requestSelection carries the choice until its result comes).
+  pendingChoice_.reset();
+  TractColouringApplied applied;
+  if (c.copies() && c.base->points.size() > choiceSyncPoints_) {
+    pendingChoice_ = std::make_shared<const TractChoice>(std::move(c));
+  } else {
+    ShownTracts shown = prepareShownTracts(c);
+    shownTracts_ = std::move(shown.lines);
+    applied = shown.applied;
   }
   if (byProfile) {
     // The range is the profile's, known when its result comes (ViewerScene); until then 0..1.
@@ -602,18 +554,22 @@ void ViewerSession::applyTractChoice(const SetTractColour& colour, const SetTrac
     applied.hi = colour.range ? colour.range->second : state_.tractColourHi;
     applied.summary = "tracts coloured by the profile's value at each point's node";
   }
-  shownTracts_ = std::move(shown);
   tractColour_ = colour;
   tractGroups_ = groups;
   ++tractsSerial_; // the worker's cached display of every tract is stale
   state_.tractColourBy = colour.value;
-  if (applied.coloured) state_.tractColourLo = applied.lo, state_.tractColourHi = applied.hi;
   state_.tractGroupShown.assign(state_.tractGroupNames.size(), groups.all ? 1 : 0);
   if (!groups.all)
     for (std::size_t g = 0; g < state_.tractGroupNames.size(); ++g)
       for (const auto& name : groups.shown)
         if (name == state_.tractGroupNames[g]) state_.tractGroupShown[g] = 1;
-  if (applied.coloured) logInfo(applied.summary);
+  if (!pendingChoice_ || byProfile) showApplied(applied);
+}
+
+void ViewerSession::showApplied(const TractColouringApplied& applied) {
+  if (!applied.coloured) return;
+  state_.tractColourLo = applied.lo, state_.tractColourHi = applied.hi;
+  logInfo(applied.summary);
 }
 
 void ViewerSession::requestSelection(std::size_t pointCap) {
@@ -622,6 +578,7 @@ void ViewerSession::requestSelection(std::size_t pointCap) {
   job.pointCap = pointCap;
   job.id = latestSelection_ = nextId_++;
   job.tracts = shownTracts_ ? shownTracts_ : tracts_;
+  job.choice = pendingChoice_; // set: the worker makes the tracts shown first
   job.tractsSerial = tractsSerial_;
   job.mesh = mesh_;
   job.nearMm = state_.tractsNearMm;
@@ -632,7 +589,10 @@ void ViewerSession::requestSelection(std::size_t pointCap) {
 void ViewerSession::onTractResult(TractResult& r) {
   using K = TractResult::Kind;
   if (r.kind == K::Failed) {
-    if (r.id == latestSelection_) state_.tractsSelecting = false;
+    if (r.id == latestSelection_) {
+      state_.tractsSelecting = false;
+      pendingChoice_.reset(); // the choice failed: the tracts on screen stay
+    }
     if (r.id == latestTracking_) {
       state_.tracking = false;
       state_.trackStatus = "failed: " + r.error;
@@ -643,6 +603,12 @@ void ViewerSession::onTractResult(TractResult& r) {
   if (r.kind == K::Selection) {
     if (r.id != latestSelection_) return; // a newer selection is on its way
     state_.tractsSelecting = false;
+    if (r.shown && pendingChoice_) { // the choice made on the worker: now on screen
+      const bool byProfile = pendingChoice_->byProfile;
+      pendingChoice_.reset();
+      shownTracts_ = r.shown;
+      if (!byProfile) showApplied(r.applied);
+    }
     // A quick pass that sampled the streamlines is drawn now and followed by the full one, which a newer
     // change cancels.
     if (r.lineStep > 1 && r.pointCap < kNearSurfacePointCap) requestSelection();

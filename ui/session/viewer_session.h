@@ -102,6 +102,9 @@ public:
   std::shared_ptr<const Polylines> shownTractsShared() const { return shownTracts_ ? shownTracts_ : tracts_; }
   // Redoes the colouring and group choice in effect (and the tracts' display): the Profile panel turned on
   // or off adds or drops each point's node (render::kTractDisplayNode).
+  // The size past which a colouring or group choice, dimming or the profile's nodes are made off the UI
+  // thread (points of the tracts copied): kTractChoiceSyncPoints, lowered by tests.
+  void setTractChoiceSyncPoints(std::size_t points) { choiceSyncPoints_ = points; }
   void reapplyTractChoice() {
     if (!tracts_) return;
     applyTractChoice(tractColour_, tractGroups_);
@@ -144,6 +147,7 @@ private:
   // the Tracts panel's state; throws (leaving the previous choice on screen) for a missing name or
   // without tracts.
   void applyTractChoice(const SetTractColour& colour, const SetTractGroups& groups);
+  void showApplied(const TractColouringApplied& applied); // the colour bar's range and the log line
   void onTractResult(TractResult& r);
   void startTracking(const TrackRequest& request);
   void startAgreement(const ComputeAgreement& a);
@@ -174,6 +178,10 @@ private:
   std::string pendingTractPath_;
   std::shared_ptr<const Polylines> tracts_;      // every point: analysis and saving use these
   std::shared_ptr<const Polylines> shownTracts_; // tracts_ filtered by group and coloured: what is drawn
+  // A choice whose tracts the worker makes (more than choiceSyncPoints_ points to copy), until its selection
+  // result comes; smaller ones are made at once.
+  std::shared_ptr<const TractChoice> pendingChoice_;
+  std::size_t choiceSyncPoints_ = kTractChoiceSyncPoints;
   SetTractColour tractColour_;                   // the choice in effect
   SetTractGroups tractGroups_;
   std::uint64_t tractsSerial_ = 0, latestSelection_ = 0, latestTracking_ = 0, latestAgreement_ = 0;

@@ -568,3 +568,96 @@ TEST(ViewerSession, ARegionChangeNearACurvedSurfaceDrawsAQuickPassThenTheFullOne
   EXPECT_LT(full.near.points.size(), lines.points.size() / 2);
   EXPECT_EQ(st.tractsShownPoints, session::tractOverlayDisplay(full.near).points.size());
 }
+
+// A colouring, a group choice, the dimming of the streamlines a region leaves out and the profile's nodes
+// are made on the tract worker past the sync size (here 0: always), and end as the same tracts as when made
+// at once; until the worker's result comes the tracts on screen stay. A missing name is refused at once
+// either way. Eight lines along x at heights z = -14, -10, ..., 14 mm with a per-point value (x) and a
+// group of the first four.
+TEST(ViewerSession, AChoiceMadeOnTheWorkerEqualsTheOneMadeAtOnce) {
+  const auto dir = test::scratchDir();
+  Polylines lines;
+  lines.offsets = {0};
+  TractValues x{"x", 1, {}};
+  for (int i = 0; i < 8; ++i) {
+    for (int k = -12; k <= 12; ++k) {
+      lines.points.emplace_back(float(k), 0.0f, float(4 * i - 14));
+      x.values.push_back(float(k));
+    }
+    lines.offsets.push_back(static_cast<std::uint32_t>(lines.points.size()));
+  }
+  lines.perPoint.push_back(x);
+  lines.groups.push_back({"low", {0, 1, 2, 3}});
+  const std::string tensors = constantTensors(dir);
+  const std::string trx = (dir / "lines.trx").string();
+  const Grid grid = io::readTensorVolume(tensors).field.grid;
+  session::writeTracts(trx, lines, &grid);
+  std::vector<Polylines> results[2];
+  for (const bool onWorker : {false, true}) {
+    SCOPED_TRACE(onWorker);
+    ViewerSession s("slice=axial");
+    if (onWorker) s.setTractChoiceSyncPoints(0);
+    s.apply(session::LoadTracts{trx});
+    settle(s);
+    const session::ViewerState& st = s.state();
+    ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+    auto step = [&](const session::Action& a) {
+      const Polylines* before = s.shownTracts();
+      s.apply(a);
+      ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+      if (onWorker) EXPECT_EQ(s.shownTracts(), before) << "made on the worker: the tracts on screen stay";
+      settle(s);
+      ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
+      EXPECT_NE(s.shownTracts(), before);
+      results[onWorker].push_back(*s.shownTracts());
+    };
+    session::SetTractColour colour;
+    colour.value = "x";
+    step(colour);
+    EXPECT_DOUBLE_EQ(st.tractColourLo, -12.0);
+    EXPECT_DOUBLE_EQ(st.tractColourHi, 12.0);
+    session::SetTractGroups low;
+    low.all = false;
+    low.shown = {"low"};
+    step(low);
+    session::SetTractGroups all;
+    step(all);
+    session::RoiAdd add;
+    add.spec = "0,0,-4,3";
+    s.apply(add);
+    settle(s);
+    step(session::RoiHideOthers{false});
+    session::SetTractColour node;
+    node.value = "node";
+    step(node);
+    // Names the tracts do not hold are refused at once, and the choice on screen stays.
+    session::SetTractColour missing;
+    missing.value = "nope";
+    s.apply(missing);
+    EXPECT_TRUE(mentions(st.errorChain, "no per-point or per-streamline data 'nope'"));
+    s.apply(session::DismissError{});
+    session::SetTractGroups none;
+    none.all = false;
+    none.shown = {"nope"};
+    s.apply(none);
+    EXPECT_TRUE(mentions(st.errorChain, "no group 'nope'"));
+    s.apply(session::DismissError{});
+    settle(s);
+    EXPECT_EQ(st.tractColourBy, "node");
+  }
+  ASSERT_EQ(results[0].size(), 5u);
+  ASSERT_EQ(results[1].size(), results[0].size());
+  for (std::size_t i = 0; i < results[0].size(); ++i) {
+    SCOPED_TRACE(i);
+    const Polylines &a = results[0][i], &b = results[1][i];
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_EQ(a.offsets, b.offsets);
+    ASSERT_EQ(a.perPoint.size(), b.perPoint.size());
+    for (std::size_t d = 0; d < a.perPoint.size(); ++d) {
+      EXPECT_EQ(a.perPoint[d].name, b.perPoint[d].name);
+      EXPECT_EQ(a.perPoint[d].values, b.perPoint[d].values);
+    }
+  }
+  EXPECT_EQ(results[0][1].lineCount(), 4u) << "the group of the first four";
+  EXPECT_EQ(results[0][3].lineCount(), 8u) << "dimmed, not hidden";
+}
