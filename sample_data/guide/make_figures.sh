@@ -6,7 +6,8 @@
 # usage: sample_data/guide/make_figures.sh [OUTDIR]     (default: sample_data/guide/figures)
 # Environment (optional):
 #   DTFABRIC=EXE          the executable (default build/app/dtfabric; build it first)
-#   DTF_FIGURES_QUICK=1   small figures (256 px images, an 800x500 window) for the test that runs this
+#   DTF_FIGURES_QUICK=1   small figures (256 px images, an 800x500 window, 20 bootstrap fits) for the test
+#                         that runs this
 set -euo pipefail
 here=$(pwd)
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -17,9 +18,9 @@ exe=${DTFABRIC:-$repo/build/app/dtfabric}
 [ -x "$exe" ] || { echo "make_figures.sh: no dtfabric executable at $exe (build it, or set DTFABRIC)" >&2; exit 2; }
 command -v xvfb-run >/dev/null || { echo "make_figures.sh: xvfb-run is missing (Debian package xvfb)" >&2; exit 2; }
 if [ "${DTF_FIGURES_QUICK:-0}" = 1 ]; then
-  size=256 win_w=800 win_h=500
+  size=256 win_w=800 win_h=500 boot=20
 else
-  size=512 win_w=1280 win_h=1000
+  size=512 win_w=1280 win_h=1000 boot=200
 fi
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
@@ -43,7 +44,7 @@ render "$tensor" --surface slice=axial:22 --neurological -o "$out/render_neurolo
 render "$tensor" --surface slice=sagittal:36 -o "$out/render_sagittal_cc.png"
 
 # fit --bootstrap: the cone of uncertainty, shown as fraying threads.
-dtf fit sample_data/dwi.nii.gz --bootstrap 200 --cone "$work/cone.nii.gz" -o "$work/dti_boot.nii.gz" --force \
+dtf fit sample_data/dwi.nii.gz --bootstrap "$boot" --cone "$work/cone.nii.gz" -o "$work/dti_boot.nii.gz" --force \
   >"$work/bootstrap.txt" 2>&1
 render "$tensor" --surface slice=axial:22 --uncertainty "$work/cone.nii.gz" --look plain \
   -o "$out/render_uncertainty.png"
