@@ -605,7 +605,9 @@ TEST(ViewerSession, AChoiceMadeOnTheWorkerEqualsTheOneMadeAtOnce) {
       const Polylines* before = s.shownTracts();
       s.apply(a);
       ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
-      if (onWorker) EXPECT_EQ(s.shownTracts(), before) << "made on the worker: the tracts on screen stay";
+      if (onWorker) {
+        EXPECT_EQ(s.shownTracts(), before) << "made on the worker: the tracts on screen stay";
+      }
       settle(s);
       ASSERT_TRUE(st.errorChain.empty()) << st.errorChain.front();
       EXPECT_NE(s.shownTracts(), before);
