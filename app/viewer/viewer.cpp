@@ -37,6 +37,17 @@ constexpr double kMotionSeconds = 0.15; // a camera change keeps frames interact
 constexpr double kTargetFrameMs = 66;   // interactive frame time the resolution adapts to (15 fps)
 
 const char* const kOrthoAxis[3] = {"axial", "coronal", "sagittal"};
+
+// The entry of a small cache that `match` finds (found = true), else a slot for a new one: appended while
+// the cache holds fewer than `cap`, then the oldest replaced in turn (`next` counts the replacements).
+template <typename T, typename Match>
+T& cacheSlot(std::vector<T>& cache, std::size_t& next, std::size_t cap, Match match, bool& found) {
+  auto hit = std::find_if(cache.begin(), cache.end(), match);
+  found = hit != cache.end();
+  if (found) return *hit;
+  if (cache.size() < cap) return cache.emplace_back();
+  return cache[next++ % cap];
+}
 constexpr render::StandardView kOrthoView[3] = {render::StandardView::Axial, render::StandardView::Coronal,
                                                 render::StandardView::Sagittal};
 
@@ -185,21 +196,16 @@ bool ViewerScene::regionOutlinePixels(int s, std::size_t i, std::vector<glm::dve
   const std::vector<glm::dvec3>* world = &outlineWorld_;
   if (mask) {
     const glm::vec4 key = *orthoPlanes_[s];
-    auto hit = std::find_if(maskOutlines_.begin(), maskOutlines_.end(),
-                            [&](const MaskOutline& m) { return m.mask == r.mask && m.plane == key; });
-    if (hit == maskOutlines_.end()) {
-      if (maskOutlines_.size() < kMaskOutlineCache) {
-        maskOutlines_.emplace_back();
-        hit = std::prev(maskOutlines_.end());
-      } else {
-        hit = maskOutlines_.begin() + static_cast<std::ptrdiff_t>(nextMaskOutline_++ % kMaskOutlineCache);
-      }
-      hit->mask = r.mask;
-      hit->plane = key;
-      hit->cuts = session::maskOutline(r, -plane.w * n, n, hit->segments, outlineSamples_);
+    bool found = false;
+    MaskOutline& hit = cacheSlot(maskOutlines_, nextMaskOutline_, kMaskOutlineCache,
+                                 [&](const MaskOutline& m) { return m.mask == r.mask && m.plane == key; }, found);
+    if (!found) {
+      hit.mask = r.mask;
+      hit.plane = key;
+      hit.cuts = session::maskOutline(r, -plane.w * n, n, hit.segments, outlineSamples_);
     }
-    if (!hit->cuts) return false;
-    world = &hit->segments;
+    if (!hit.cuts) return false;
+    world = &hit.segments;
   } else if (!session::regionOutline(r, -plane.w * n, n, outlineWorld_)) {
     return false;
   }
@@ -1003,27 +1009,20 @@ void ViewerScene::readPane(unsigned fbo, glm::ivec2 size, const std::array<int, 
   }
 }
 
-bool ViewerScene::panePixel(int p, const glm::dvec3& world, double w, double h, glm::dvec2& out) const {
+ViewerScene::PaneProjection ViewerScene::paneProjection(int p, double w, double h) const {
   const render::Camera& cam = camera(p);
-  const glm::dvec4 c = cam.projection(w / std::max(h, 1.0)) * cam.view() * glm::dvec4(world, 1.0);
-  if (c.w <= 1e-9) return false;
-  out = {(c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h};
-  return true;
+  return {cam.projection(w / std::max(h, 1.0)) * cam.view(), w, h};
 }
 
 const session::MaskSurface& ViewerScene::maskSurface(const surfaces::Region& r) const {
-  auto hit = std::find_if(maskShapes_.begin(), maskShapes_.end(),
-                          [&](const MaskShape& m) { return m.mask == r.mask; });
-  if (hit != maskShapes_.end()) return hit->surface;
-  if (maskShapes_.size() < kMaskOutlineCache) {
-    maskShapes_.emplace_back();
-    hit = std::prev(maskShapes_.end());
-  } else {
-    hit = maskShapes_.begin() + static_cast<std::ptrdiff_t>(nextMaskShape_++ % kMaskOutlineCache);
+  bool found = false;
+  MaskShape& hit = cacheSlot(maskShapes_, nextMaskShape_, kMaskOutlineCache,
+                             [&](const MaskShape& m) { return m.mask == r.mask; }, found);
+  if (!found) {
+    hit.mask = r.mask;
+    session::maskSurface(r, hit.surface);
   }
-  hit->mask = r.mask;
-  session::maskSurface(r, hit->surface);
-  return hit->surface;
+  return hit.surface;
 }
 
 void ViewerScene::drawRegions3d(Image& img, int p) const {
@@ -1033,8 +1032,9 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
   const session::ViewerState& st = state();
   if (st.roiSet.regions.empty()) return;
   const auto rect = paneRect(p);
+  const PaneProjection toPane = paneProjection(p, rect[2], rect[3]);
   auto project = [&](const glm::dvec3& world, glm::dvec2& out) {
-    if (!panePixel(p, world, rect[2], rect[3], out)) return false;
+    if (!toPane(world, out)) return false;
     out += glm::dvec2(rect[0], rect[1]);
     return true;
   };
@@ -1062,7 +1062,7 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
         poly.push_back(c + radius * glm::dvec2(std::cos(2 * M_PI * j / 48), std::sin(2 * M_PI * j / 48)));
       drawOutline(img, poly, rect, k);
     } else {
-      surfaces::Region box = r;
+      glm::dvec3 lo = r.lo, hi = r.hi;
       if (r.shape == surfaces::RegionShape::Mask) {
         const session::MaskSurface& s = maskSurface(r);
         if (s.drawn) {
@@ -1073,12 +1073,12 @@ void ViewerScene::drawRegions3d(Image& img, int p) const {
           drawOutline(img, poly, rect, k, true);
           continue;
         }
-        box.lo = s.lo, box.hi = s.hi;
+        lo = s.lo, hi = s.hi;
       }
       glm::dvec2 q[8];
       bool ok = true;
       for (int j = 0; j < 8; ++j)
-        ok &= project(session::boxCorner(box, j), q[j]);
+        ok &= project(session::boxCorner(lo, hi, j), q[j]);
       if (!ok) continue;
       for (const auto& f : session::kBoxFaces) {
         poly.assign({q[f[0]], q[f[1]], q[f[2]], q[f[3]]});

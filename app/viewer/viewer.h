@@ -151,9 +151,23 @@ public:
   Image layoutImage() const;
   // The regions of the ROI set over 3D pane p of `img` (a layoutImage), as the window draws them.
   void drawRegions3d(Image& img, int p) const;
-  // Where world point `world` lands in 3D pane p, in pixels from the pane's top-left corner (y down), for a
-  // pane of w x h pixels (the window's may differ from the scene's); false behind the camera.
-  bool panePixel(int p, const glm::dvec3& world, double w, double h, glm::dvec2& out) const;
+  // Where world points land in 3D pane p, in pixels from the pane's top-left corner (y down), for a pane of
+  // w x h pixels (the window's may differ from the scene's); false behind the camera. The projection is made
+  // once per pane and frame, not per point.
+  struct PaneProjection {
+    glm::dmat4 m{1.0};
+    double w = 1, h = 1;
+    bool operator()(const glm::dvec3& world, glm::dvec2& out) const {
+      const glm::dvec4 c = m * glm::dvec4(world, 1.0);
+      if (c.w <= 1e-9) return false;
+      out = {(c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h};
+      return true;
+    }
+  };
+  PaneProjection paneProjection(int p, double w, double h) const;
+  bool panePixel(int p, const glm::dvec3& world, double w, double h, glm::dvec2& out) const {
+    return paneProjection(p, w, h)(world, out);
+  }
   // The 3D shape of mask region r (session::maskSurface), cached by mask: it costs a pass over the voxels.
   const session::MaskSurface& maskSurface(const surfaces::Region& r) const;
   // Shows an error (outermost context first) in the modal; errorSerial() counts the errors shown so far.

@@ -590,9 +590,10 @@ private:
     if (st.roiSet.regions.empty()) return;
     const render::Camera& cam = scene_->camera(p);
     const double w = x1 - x0, h = y1 - y0;
+    const ViewerScene::PaneProjection toPane = scene_->paneProjection(p, w, h);
     auto project = [&](const glm::dvec3& world, ImVec2& out) {
       glm::dvec2 px;
-      if (!scene_->panePixel(p, world, w, h, px)) return false;
+      if (!toPane(world, px)) return false;
       out = ImVec2(static_cast<float>(x0 + px.x), static_cast<float>(y0 + px.y));
       return true;
     };
@@ -610,7 +611,7 @@ private:
         dl->AddCircleFilled(c, radius, fill, 48);
         dl->AddCircle(c, radius, line, 48, 1.5f);
       } else {
-        surfaces::Region box = r;
+        glm::dvec3 lo = r.lo, hi = r.hi;
         if (r.shape == surfaces::RegionShape::Mask) {
           const session::MaskSurface& s = scene_->maskSurface(r);
           if (s.drawn) {
@@ -624,12 +625,12 @@ private:
                 dl->AddLine(q[0], q[1], line, 1.5f);
             continue;
           }
-          box.lo = s.lo, box.hi = s.hi;
+          lo = s.lo, hi = s.hi;
         }
         ImVec2 q[8];
         bool ok = true;
         for (int j = 0; j < 8; ++j)
-          ok &= project(session::boxCorner(box, j), q[j]);
+          ok &= project(session::boxCorner(lo, hi, j), q[j]);
         if (!ok) continue;
         for (const auto& f : session::kBoxFaces) {
           dl->AddQuadFilled(q[f[0]], q[f[1]], q[f[2]], q[f[3]], IM_COL32(k.x, k.y, k.z, 25));

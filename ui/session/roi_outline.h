@@ -22,9 +22,10 @@ const char* regionKindColourName(surfaces::RegionKind kind); // "green", "red", 
 // the plane or is a mask (maskOutline draws those).
 // Corner i (0..7) of a box region: bit 0 picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z. kBoxFaces lists the
 // six faces as corner indices in order around each, for drawing a box's faces and edges.
-inline glm::dvec3 boxCorner(const surfaces::Region& box, int i) {
-  return {i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z};
+inline glm::dvec3 boxCorner(const glm::dvec3& lo, const glm::dvec3& hi, int i) {
+  return {i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z};
 }
+inline glm::dvec3 boxCorner(const surfaces::Region& box, int i) { return boxCorner(box.lo, box.hi, i); }
 inline constexpr int kBoxFaces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                         {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
 

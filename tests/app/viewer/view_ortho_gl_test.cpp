@@ -355,7 +355,7 @@ TEST(ViewOrtho, MaskRegionsAreOutlinedAlongTheirVoxels) {
   // eight corners, none well beside it.
   const auto rect = scene.paneRect(0);
   auto inPane = [&](const glm::dvec3& world) {
-    glm::dvec2 px;
+    glm::dvec2 px(0.0);
     EXPECT_TRUE(scene.panePixel(0, world, rect[2], rect[3], px));
     return px + glm::dvec2(rect[0], rect[1]);
   };
